@@ -1,0 +1,86 @@
+// Every physical and protocol parameter of one simulation, with the GECCO-2018 defaults.
+// Units are SI throughout. See ../shared/METHOD.md sections 1-5 for where each comes from.
+#pragma once
+
+#include <string>
+
+namespace plastivox {
+
+enum class Treatment { kNone, kStress, kPressure };
+// kIntegral: E = E0 + alpha * integral(stimulus dt)   (the authors' code, default)
+// kRate:     E = E0 + alpha * (stimulus(t) - stimulus(settle))  (the paper's equations)
+enum class GrowthModel { kIntegral, kRate };
+enum class FitnessMode { k3D, kXY };
+// Which modulus a bond's *axial* stiffness uses. Bending, torsion, damping and dt always use
+// the harmonic mean. Voxelyze 0.9 (the authors' simulator) used the negative-side voxel's
+// own E for the axial stress of bonds between voxels of one palette material.
+enum class AxialModulus { kHarmonicMean, kNegativeVoxel };
+
+struct PhysicsDef {
+  // --- material (uniform; only E varies per voxel) ---
+  double density = 1e9;      // kg/m^3 ("heavy materials": a 1 cm voxel weighs 1000 kg)
+  double poisson = 0.35;     // Poisson's ratio, dimensionless
+  double mu_static = 1.0;    // floor static friction coefficient
+  double mu_kinetic = 0.5;   // floor kinetic friction coefficient
+  double e_min = 1e5;        // lower stiffness bound, Pa
+  double e_max = 1e11;       // upper stiffness bound, Pa
+
+  // --- damping ratios (fraction of critical) ---
+  double bond_damping = 1.0;       // internal, per bond
+  double collision_damping = 0.8;  // floor and voxel-voxel contact
+  double global_damping = 0.01;    // "slow" damping against absolute motion
+  // Voxelyze 0.9 applies rotational slow damping ten times stronger than translational.
+  double global_damping_rot_factor = 10.0;
+
+  // --- environment ---
+  double gravity = -9.81;     // m/s^2 along z
+  bool floor = true;          // flat floor at z = 0
+  bool self_collision = true; // contact between voxels that are not bonded
+
+  AxialModulus axial_modulus = AxialModulus::kHarmonicMean;
+  // Self-collision acts between surface voxels more than this many bonds apart, when their
+  // centres are closer than contact_diameter * (mean actuated size) (Voxelyze 0.9: 3, 1.5).
+  int collision_exclude_hops = 3;
+  double contact_diameter = 1.5;
+
+  // --- integration ---
+  double dt_frac = 0.9;       // dt = dt_frac / (2 pi sqrt(k_max / m))
+
+  // --- actuation (METHOD.md section 4) ---
+  double act_frequency = 5.0;   // Hz
+  double act_amplitude = 0.1447;// linear, fraction of voxel size
+  double act_min_factor = 0.1;  // the stiffness damping factor xi(E) never goes below this
+
+  // --- timeline ---
+  double settle_time = 0.2;   // s without actuation or development; fitness starts here
+  double duration = 5.2;      // s, total simulated time
+
+  // --- development (METHOD.md section 5) ---
+  Treatment treatment = Treatment::kNone;
+  GrowthModel growth = GrowthModel::kIntegral;
+  double max_change_per_step = 1e9;  // Pa, cap on |dE| in one step
+  double min_devo_factor = 1000.0;   // develop only while E > min_devo_factor * e_min
+
+  FitnessMode fitness = FitnessMode::k3D;
+
+  // --- recording and safety ---
+  double record_fps = 0.0;       // frames per simulated second; 0 = no recording
+  double max_speed = 100.0;      // m/s; a voxel faster than this means the run went unstable
+};
+
+// Named presets. "gecco2018-code" (the default) is what produced the published results;
+// "gecco2018-paper" uses the paper's text (E in [1e4, 1e10] Pa, rate model, xy fitness).
+PhysicsDef preset_gecco2018_code();
+PhysicsDef preset_gecco2018_paper();
+// Throws std::invalid_argument for an unknown name.
+PhysicsDef physics_preset(const std::string& name);
+
+// Throws std::invalid_argument naming the field for impossible values.
+void validate(const PhysicsDef& def);
+
+const char* to_string(Treatment t);
+const char* to_string(GrowthModel g);
+Treatment parse_treatment(const std::string& s);   // throws std::invalid_argument
+GrowthModel parse_growth(const std::string& s);    // throws std::invalid_argument
+
+}  // namespace plastivox

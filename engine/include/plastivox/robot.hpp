@@ -1,0 +1,33 @@
+// A robot as a researcher defines it: which lattice sites hold a voxel and each voxel's
+// congenital stiffness, development rate and actuation phase. Plain data, no physics.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace plastivox {
+
+// Lattice sites are indexed x fastest, then y, then z: site = x + nx*(y + ny*z).
+struct RobotDef {
+  std::string name;              // free text, carried into results
+  int nx = 10, ny = 10, nz = 10; // lattice extent in sites
+  double voxel_size = 0.01;      // edge length of one voxel, m
+  std::vector<uint8_t> present;  // 1 where a voxel exists (nx*ny*nz)
+  std::vector<double> stiffness; // congenital Young's modulus E0, Pa (nx*ny*nz)
+  std::vector<double> dev_rate;  // development rate alpha, 1/s (nx*ny*nz); 0 = none
+  std::vector<double> phase;     // actuation phase offset, cycles in (-1, 1) (nx*ny*nz)
+
+  int sites() const { return nx * ny * nz; }
+  int site(int x, int y, int z) const { return x + nx * (y + ny * z); }
+  int voxel_count() const;
+};
+
+// An empty robot of the given extent: every site absent, arrays sized and zeroed.
+RobotDef make_empty_robot(int nx, int ny, int nz, double voxel_size = 0.01);
+
+// Throws std::invalid_argument naming the field when arrays are mis-sized or values are
+// non-finite or out of range (stiffness must be > 0 where present).
+void validate(const RobotDef& robot);
+
+}  // namespace plastivox

@@ -1,0 +1,72 @@
+// Running a simulation: one step at a time (Simulator) or a whole life (simulate()).
+//
+// A Simulator owns the mutable State and a scratch workspace; the Model it reads is shared
+// and immutable, so many Simulators (one per thread) may run the same or different models
+// at once. A single simulation runs on one thread, which keeps every reduction in a fixed
+// order: results are bit-identical whatever the number of threads evaluating robots.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/recording.hpp"
+#include "plastivox/state.hpp"
+
+namespace plastivox {
+
+struct Workspace;  // per-step scratch arrays (engine/src/workspace.hpp)
+
+class Simulator {
+ public:
+  explicit Simulator(const Model& model);  // model must outlive the simulator
+  ~Simulator();
+  Simulator(Simulator&&) noexcept;
+  Simulator& operator=(Simulator&&) = delete;
+
+  const Model& model() const { return *model_; }
+  const State& state() const { return state_; }
+  State& mutable_state() { return state_; }  // for tests and checkpoint restore
+
+  // Advances one time step. Sets status to kUnstable (with a reason) instead of producing
+  // non-finite numbers; further calls then do nothing.
+  void step();
+
+  // Current actuated edge length of every voxel, m (valid after the first step).
+  const std::vector<double>& voxel_sizes() const;
+
+ private:
+  const Model* model_;
+  State state_;
+  std::unique_ptr<Workspace> ws_;
+};
+
+struct SimResult {
+  SimStatus status = SimStatus::kRunning;
+  std::string failure;          // why the run went unstable; empty when it finished
+  double fitness = 0;           // centre-of-mass displacement settle..end, voxel lengths
+  Vec3 displacement = Vec3::Zero();  // same, per axis, voxel lengths
+  Vec3 com_settled = Vec3::Zero();   // m
+  Vec3 com_final = Vec3::Zero();     // m
+  int voxels = 0;
+  int64_t steps = 0;
+  double dt_initial = 0;        // s
+  double dt_final = 0;          // s
+  double sim_time = 0;          // s reached
+  double wall_seconds = 0;
+  // Lifetime stiffness change, relative: (E_final - E0) / E0 per voxel.
+  std::vector<double> final_stiffness;  // Pa, per voxel
+  double stiffness_change_mean = 0;     // signed mean
+  double stiffness_change_abs_mean = 0; // mean of absolute values
+  double stiffness_change_var = 0;      // variance of the signed values
+  uint64_t final_state_hash = 0;
+  Recording recording;          // empty unless def.record_fps > 0
+};
+
+// Simulates a whole life (def.duration) and summarises it.
+SimResult simulate(const Model& model);
+
+const char* to_string(SimStatus s);
+
+}  // namespace plastivox

@@ -1,0 +1,58 @@
+// The mutable state of one simulation, defined in one place: everything that evolves with
+// time and must be saved to resume bit-identically. Per-voxel fields are structure-of-arrays.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "plastivox/model.hpp"
+
+namespace plastivox {
+
+using Quat = Eigen::Quaterniond;
+
+enum class SimStatus { kRunning, kFinished, kUnstable };
+
+struct State {
+  double time = 0;      // simulated time, s
+  int64_t steps = 0;    // steps taken
+  double dt = 0;        // current step, s (follows stiffness)
+  SimStatus status = SimStatus::kRunning;
+  std::string failure;  // why the run went unstable (empty otherwise)
+
+  // Per voxel (model.n entries).
+  std::vector<Vec3> pos;           // centre, m, world frame
+  std::vector<Quat> orient;        // body-to-world rotation
+  std::vector<Vec3> lin_mom;       // linear momentum, kg m/s, world frame
+  std::vector<Vec3> ang_mom;       // angular momentum, kg m^2/s, world frame
+  std::vector<double> stiffness;   // current Young's modulus E, Pa
+  std::vector<double> stimulus;    // last interoceptive signal (stress or pressure), Pa
+  std::vector<double> stim_integral;// integral of the stimulus since settling, Pa s
+  std::vector<double> stim_ref;    // stimulus at the end of settling (rate model), Pa
+  bool stim_ref_set = false;       // stim_ref has been taken
+  std::vector<uint8_t> static_friction; // 1 while held by floor static friction
+
+  // Per bond: deformation at the previous step, for the bond's internal damping.
+  std::vector<Vec3> bond_prev_pos;   // (extension, 0, 0) in the bond frame, m
+  std::vector<Vec3> bond_prev_rot1;  // rotation vector of voxel a in the bond frame, rad
+  std::vector<Vec3> bond_prev_rot2;  // rotation vector of voxel b in the bond frame, rad
+  bool bond_prev_valid = false;      // false until one step has recorded them
+
+  Vec3 com_settled = Vec3::Zero();   // centre of mass when settling ended, m
+  bool settled = false;              // true once time >= settle_time
+};
+
+// The state at t = 0: voxels at rest positions, E = E0, dt from E0.
+State make_initial_state(const Model& model);
+
+// 64-bit FNV-1a hash over every scientific field of the state, bit for bit.
+uint64_t state_hash(const State& state);
+
+// Centre of mass of all voxels, m (equal masses).
+Vec3 center_of_mass(const State& state);
+
+}  // namespace plastivox

@@ -1,0 +1,105 @@
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "plastivox/model.hpp"
+
+namespace plastivox {
+
+Model compile(const RobotDef& robot, const PhysicsDef& def) {
+  validate(robot);
+  validate(def);
+  Model m;
+  m.def = def;
+  m.robot = robot;
+  const double L = robot.voxel_size;
+  m.size = L;
+  m.mass = def.density * L * L * L;
+  m.inertia = m.mass * L * L / 6.0;
+
+  // Voxels in increasing site order; site -> voxel lookup for bonding.
+  std::vector<int> voxel_of(robot.sites(), -1);
+  for (int s = 0; s < robot.sites(); ++s) {
+    if (!robot.present[s]) continue;
+    voxel_of[s] = static_cast<int>(m.site.size());
+    m.site.push_back(s);
+  }
+  m.n = static_cast<int>(m.site.size());
+  m.rest_pos.resize(m.n);
+  m.e0.resize(m.n);
+  m.alpha.resize(m.n);
+  m.phase.resize(m.n);
+  m.voxel_bonds.assign(m.n, {-1, -1, -1, -1, -1, -1});
+  const bool develops = def.treatment != Treatment::kNone;
+  for (int i = 0; i < m.n; ++i) {
+    const int s = m.site[i];
+    const int x = s % robot.nx, y = (s / robot.nx) % robot.ny, z = s / (robot.nx * robot.ny);
+    m.rest_pos[i] = Vec3((x + 0.5) * L, (y + 0.5) * L, (z + 0.5) * L);
+    // Congenital stiffness is held to the admissible range, as the encoding maps it there.
+    m.e0[i] = std::clamp(robot.stiffness[s], def.e_min, def.e_max);
+    m.alpha[i] = develops ? robot.dev_rate[s] : 0.0;
+    m.phase[i] = robot.phase[s];
+  }
+  // Bonds in voxel order, +x then +y then +z neighbour: a fixed, documented order.
+  const int stride[3] = {1, robot.nx, robot.nx * robot.ny};
+  for (int i = 0; i < m.n; ++i) {
+    const int s = m.site[i];
+    const int c[3] = {s % robot.nx, (s / robot.nx) % robot.ny, s / (robot.nx * robot.ny)};
+    const int extent[3] = {robot.nx, robot.ny, robot.nz};
+    for (int axis = 0; axis < 3; ++axis) {
+      if (c[axis] + 1 >= extent[axis]) continue;
+      const int j = voxel_of[s + stride[axis]];
+      if (j < 0) continue;
+      const int b = m.bond_count();
+      m.bond_a.push_back(i);
+      m.bond_b.push_back(j);
+      m.bond_axis.push_back(static_cast<uint8_t>(axis));
+      m.voxel_bonds[i][axis * 2 + 1] = b;
+      m.voxel_bonds[j][axis * 2 + 0] = b;
+    }
+  }
+  // Surface voxels and the bond-hop neighbourhoods that self-collision skips.
+  m.surface.assign(m.n, 0);
+  m.near_voxels.assign(m.n, {});
+  std::vector<int> depth(m.n, -1);
+  std::vector<int> frontier, next, seen;
+  for (int i = 0; i < m.n; ++i) {
+    for (int b : m.voxel_bonds[i]) m.surface[i] |= (b < 0) ? 1 : 0;
+    if (!m.surface[i] || !def.self_collision) continue;
+    frontier.assign(1, i);
+    seen.assign(1, i);
+    depth[i] = 0;
+    for (int hop = 1; hop <= def.collision_exclude_hops && !frontier.empty(); ++hop) {
+      next.clear();
+      for (int v : frontier) {
+        for (int b : m.voxel_bonds[v]) {
+          if (b < 0) continue;
+          const int u = m.bond_a[b] == v ? m.bond_b[b] : m.bond_a[b];
+          if (depth[u] >= 0) continue;
+          depth[u] = hop;
+          next.push_back(u);
+          seen.push_back(u);
+        }
+      }
+      frontier.swap(next);
+    }
+    for (int v : seen) depth[v] = -1;
+    std::sort(seen.begin(), seen.end());
+    m.near_voxels[i] = seen;
+  }
+  return m;
+}
+
+double stable_dt(const Model& m, const std::vector<double>& E) {
+  double k_max = 0;
+  for (int b = 0; b < m.bond_count(); ++b) {
+    const double ea = E[m.bond_a[b]], eb = E[m.bond_b[b]];
+    k_max = std::max(k_max, 2.0 * ea * eb / (ea + eb) * m.size);
+  }
+  if (k_max == 0) {
+    for (int i = 0; i < m.n; ++i) k_max = std::max(k_max, E[i] * m.size);
+  }
+  return m.def.dt_frac / (2.0 * std::numbers::pi * std::sqrt(k_max / m.mass));
+}
+
+}  // namespace plastivox

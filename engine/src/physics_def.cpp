@@ -1,0 +1,78 @@
+#include "plastivox/physics_def.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace plastivox {
+
+PhysicsDef preset_gecco2018_code() { return PhysicsDef{}; }
+
+PhysicsDef preset_gecco2018_paper() {
+  PhysicsDef d;
+  d.e_min = 1e4;
+  d.e_max = 1e10;
+  d.growth = GrowthModel::kRate;
+  d.fitness = FitnessMode::kXY;
+  return d;
+}
+
+PhysicsDef physics_preset(const std::string& name) {
+  if (name == "gecco2018-code") return preset_gecco2018_code();
+  if (name == "gecco2018-paper") return preset_gecco2018_paper();
+  throw std::invalid_argument("physics preset '" + name +
+                              "' is unknown (use gecco2018-code or gecco2018-paper)");
+}
+
+void validate(const PhysicsDef& d) {
+  auto need = [](bool ok, const char* field, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("physics.") + field + ": " + what);
+  };
+  auto fin = [](double v) { return std::isfinite(v); };
+  need(d.density > 0 && fin(d.density), "density", "must be > 0 kg/m^3");
+  need(d.poisson >= 0 && d.poisson < 0.5, "poisson", "must be in [0, 0.5)");
+  need(d.mu_static >= 0 && fin(d.mu_static), "mu_static", "must be >= 0");
+  need(d.mu_kinetic >= 0 && fin(d.mu_kinetic), "mu_kinetic", "must be >= 0");
+  need(d.e_min > 0 && fin(d.e_min), "e_min", "must be > 0 Pa");
+  need(d.e_max > d.e_min && fin(d.e_max), "e_max", "must be finite and > e_min");
+  need(d.bond_damping >= 0 && fin(d.bond_damping), "bond_damping", "must be >= 0");
+  need(d.collision_damping >= 0 && fin(d.collision_damping), "collision_damping", "must be >= 0");
+  need(d.global_damping >= 0 && fin(d.global_damping), "global_damping", "must be >= 0");
+  need(fin(d.gravity), "gravity", "must be finite");
+  need(d.dt_frac > 0 && d.dt_frac <= 1.5, "dt_frac", "must be in (0, 1.5]");
+  need(d.act_frequency >= 0 && fin(d.act_frequency), "act_frequency", "must be >= 0 Hz");
+  need(d.act_amplitude >= 0 && d.act_amplitude < 0.9, "act_amplitude", "must be in [0, 0.9)");
+  need(d.act_min_factor >= 0 && d.act_min_factor <= 1, "act_min_factor", "must be in [0, 1]");
+  need(d.settle_time >= 0 && fin(d.settle_time), "settle_time", "must be >= 0 s");
+  need(d.duration >= d.settle_time && d.duration <= 1e4, "duration",
+       "must be >= settle_time and <= 1e4 s");
+  need(d.max_change_per_step > 0, "max_change_per_step", "must be > 0 Pa");
+  need(d.min_devo_factor >= 0 && fin(d.min_devo_factor), "min_devo_factor", "must be >= 0");
+  need(d.record_fps >= 0 && d.record_fps <= 10000, "record_fps", "must be in [0, 10000]");
+  need(d.max_speed > 0, "max_speed", "must be > 0 m/s");
+}
+
+const char* to_string(Treatment t) {
+  switch (t) {
+    case Treatment::kNone: return "none";
+    case Treatment::kStress: return "stress";
+    case Treatment::kPressure: return "pressure";
+  }
+  return "?";
+}
+
+const char* to_string(GrowthModel g) { return g == GrowthModel::kIntegral ? "integral" : "rate"; }
+
+Treatment parse_treatment(const std::string& s) {
+  if (s == "none") return Treatment::kNone;
+  if (s == "stress") return Treatment::kStress;
+  if (s == "pressure") return Treatment::kPressure;
+  throw std::invalid_argument("treatment '" + s + "' is unknown (use none, stress or pressure)");
+}
+
+GrowthModel parse_growth(const std::string& s) {
+  if (s == "integral") return GrowthModel::kIntegral;
+  if (s == "rate") return GrowthModel::kRate;
+  throw std::invalid_argument("growth model '" + s + "' is unknown (use integral or rate)");
+}
+
+}  // namespace plastivox

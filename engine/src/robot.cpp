@@ -1,0 +1,52 @@
+#include "plastivox/robot.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace plastivox {
+
+int RobotDef::voxel_count() const {
+  int n = 0;
+  for (uint8_t p : present) n += p ? 1 : 0;
+  return n;
+}
+
+RobotDef make_empty_robot(int nx, int ny, int nz, double voxel_size) {
+  RobotDef r;
+  r.nx = nx;
+  r.ny = ny;
+  r.nz = nz;
+  r.voxel_size = voxel_size;
+  const size_t n = static_cast<size_t>(nx) * ny * nz;
+  r.present.assign(n, 0);
+  r.stiffness.assign(n, 0.0);
+  r.dev_rate.assign(n, 0.0);
+  r.phase.assign(n, 0.0);
+  return r;
+}
+
+void validate(const RobotDef& r) {
+  auto fail = [](const std::string& field, const std::string& what) {
+    throw std::invalid_argument("robot." + field + ": " + what);
+  };
+  if (r.nx < 1 || r.ny < 1 || r.nz < 1 || r.nx > 1000 || r.ny > 1000 || r.nz > 1000)
+    fail("size", "lattice extent must be 1..1000 in each axis");
+  if (!(r.voxel_size > 0) || !std::isfinite(r.voxel_size))
+    fail("voxel_size", "must be a positive finite length in m");
+  const size_t n = static_cast<size_t>(r.sites());
+  if (r.present.size() != n) fail("present", "expected " + std::to_string(n) + " entries");
+  if (r.stiffness.size() != n) fail("stiffness", "expected " + std::to_string(n) + " entries");
+  if (r.dev_rate.size() != n) fail("dev_rate", "expected " + std::to_string(n) + " entries");
+  if (r.phase.size() != n) fail("phase", "expected " + std::to_string(n) + " entries");
+  for (size_t i = 0; i < n; ++i) {
+    if (!r.present[i]) continue;
+    if (!(r.stiffness[i] > 0) || !std::isfinite(r.stiffness[i]))
+      fail("stiffness[" + std::to_string(i) + "]", "must be a positive finite modulus in Pa");
+    if (!std::isfinite(r.dev_rate[i])) fail("dev_rate[" + std::to_string(i) + "]", "not finite");
+    if (!std::isfinite(r.phase[i])) fail("phase[" + std::to_string(i) + "]", "not finite");
+  }
+  if (r.voxel_count() == 0) fail("present", "the robot has no voxels");
+}
+
+}  // namespace plastivox

@@ -1,0 +1,116 @@
+#include "plastivox/simulator.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "workspace.hpp"
+
+namespace plastivox {
+
+Simulator::Simulator(const Model& model)
+    : model_(&model), state_(make_initial_state(model)), ws_(std::make_unique<Workspace>(model)) {}
+Simulator::~Simulator() = default;
+Simulator::Simulator(Simulator&&) noexcept = default;
+
+const std::vector<double>& Simulator::voxel_sizes() const { return ws_->size; }
+
+// One step, as a list of stages. Order follows Voxelyze 0.9 so results can be compared:
+// bonds see the sizes and stiffness left by the previous step; actuation for the next step
+// is set from the time at the start of this one; development reads this step's strains.
+void Simulator::step() {
+  const Model& m = *model_;
+  State& s = state_;
+  Workspace& w = *ws_;
+  if (s.status != SimStatus::kRunning) return;
+
+  compute_bond_forces(m, s, w);
+  if (m.def.treatment != Treatment::kNone) s.dt = stable_dt(m, s.stiffness);
+  gather_voxel_forces(m, s, w);
+  apply_self_collisions(m, s, w);
+  integrate(m, s, w);
+  actuate(m, s, w);
+  develop(m, s, w);
+
+  s.time += s.dt;
+  s.steps += 1;
+  if (!s.settled && s.time > m.def.settle_time) {
+    s.com_settled = center_of_mass(s);
+    s.settled = true;
+  }
+}
+
+namespace {
+
+void record_frame(const State& s, const std::vector<double>& sizes, Recording& rec) {
+  Frame f;
+  f.time = s.time;
+  f.pos = s.pos;
+  f.orient = s.orient;
+  f.size = sizes;
+  f.stiffness = s.stiffness;
+  f.stimulus = s.stimulus;
+  rec.frames.push_back(std::move(f));
+}
+
+}  // namespace
+
+SimResult simulate(const Model& model) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const PhysicsDef& d = model.def;
+  Simulator sim(model);
+  const State& s = sim.state();
+  SimResult r;
+  r.voxels = model.n;
+  r.dt_initial = s.dt;
+  r.recording.fps = d.record_fps;
+  double next_frame = 0;
+  // Like Voxelyze, run until time first passes the duration.
+  while (s.time <= d.duration && s.status == SimStatus::kRunning) {
+    if (d.record_fps > 0 && s.time >= next_frame) {
+      record_frame(s, sim.voxel_sizes(), r.recording);
+      next_frame = static_cast<double>(r.recording.frames.size()) / d.record_fps;
+    }
+    sim.step();
+  }
+  if (d.record_fps > 0 && s.status == SimStatus::kRunning)
+    record_frame(s, sim.voxel_sizes(), r.recording);
+
+  r.status = s.status == SimStatus::kRunning ? SimStatus::kFinished : s.status;
+  r.failure = s.failure;
+  r.steps = s.steps;
+  r.sim_time = s.time;
+  r.dt_final = s.dt;
+  r.com_final = center_of_mass(s);
+  r.com_settled = s.settled ? s.com_settled : r.com_final;
+  Vec3 disp = (r.com_final - r.com_settled) / model.size;
+  if (d.fitness == FitnessMode::kXY) disp.z() = 0;
+  r.displacement = disp;
+  r.fitness = r.status == SimStatus::kFinished ? disp.norm() : 0.0;
+  r.final_stiffness = s.stiffness;
+  double sum = 0, sum_abs = 0, sum_sq = 0;
+  for (int i = 0; i < model.n; ++i) {
+    const double rel = (s.stiffness[i] - model.e0[i]) / model.e0[i];
+    sum += rel;
+    sum_abs += std::abs(rel);
+    sum_sq += rel * rel;
+  }
+  const double n = std::max(1, model.n);
+  r.stiffness_change_mean = sum / n;
+  r.stiffness_change_abs_mean = sum_abs / n;
+  r.stiffness_change_var = std::max(0.0, sum_sq / n - r.stiffness_change_mean * r.stiffness_change_mean);
+  r.final_state_hash = state_hash(s);
+  r.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return r;
+}
+
+const char* to_string(SimStatus s) {
+  switch (s) {
+    case SimStatus::kRunning: return "running";
+    case SimStatus::kFinished: return "finished";
+    case SimStatus::kUnstable: return "unstable";
+  }
+  return "?";
+}
+
+}  // namespace plastivox

@@ -1,0 +1,70 @@
+#include "plastivox/state.hpp"
+
+#include <cstring>
+
+namespace plastivox {
+
+State make_initial_state(const Model& m) {
+  State s;
+  s.pos = m.rest_pos;
+  s.orient.assign(m.n, Quat::Identity());
+  s.lin_mom.assign(m.n, Vec3::Zero());
+  s.ang_mom.assign(m.n, Vec3::Zero());
+  s.stiffness = m.e0;
+  s.stimulus.assign(m.n, 0.0);
+  s.stim_integral.assign(m.n, 0.0);
+  s.stim_ref.assign(m.n, 0.0);
+  s.static_friction.assign(m.n, 0);
+  s.bond_prev_pos.assign(m.bond_count(), Vec3::Zero());
+  s.bond_prev_rot1.assign(m.bond_count(), Vec3::Zero());
+  s.bond_prev_rot2.assign(m.bond_count(), Vec3::Zero());
+  s.dt = stable_dt(m, s.stiffness);
+  return s;
+}
+
+namespace {
+struct Fnv {
+  uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, size_t n) {
+    const auto* c = static_cast<const unsigned char*>(p);
+    for (size_t i = 0; i < n; ++i) {
+      h ^= c[i];
+      h *= 1099511628211ull;
+    }
+  }
+  template <class T>
+  void vec(const std::vector<T>& v) {
+    const uint64_t n = v.size();
+    bytes(&n, sizeof n);
+    for (const T& x : v) bytes(&x, sizeof x);
+  }
+};
+}  // namespace
+
+uint64_t state_hash(const State& s) {
+  Fnv f;
+  f.bytes(&s.time, sizeof s.time);
+  f.bytes(&s.steps, sizeof s.steps);
+  f.bytes(&s.dt, sizeof s.dt);
+  for (const Vec3& v : s.pos) f.bytes(v.data(), 3 * sizeof(double));
+  for (const Quat& q : s.orient) f.bytes(q.coeffs().data(), 4 * sizeof(double));
+  for (const Vec3& v : s.lin_mom) f.bytes(v.data(), 3 * sizeof(double));
+  for (const Vec3& v : s.ang_mom) f.bytes(v.data(), 3 * sizeof(double));
+  f.vec(s.stiffness);
+  f.vec(s.stimulus);
+  f.vec(s.stim_integral);
+  f.vec(s.stim_ref);
+  f.vec(s.static_friction);
+  for (const Vec3& v : s.bond_prev_pos) f.bytes(v.data(), 3 * sizeof(double));
+  for (const Vec3& v : s.bond_prev_rot1) f.bytes(v.data(), 3 * sizeof(double));
+  for (const Vec3& v : s.bond_prev_rot2) f.bytes(v.data(), 3 * sizeof(double));
+  return f.h;
+}
+
+Vec3 center_of_mass(const State& s) {
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& p : s.pos) c += p;
+  return s.pos.empty() ? c : Vec3(c / static_cast<double>(s.pos.size()));
+}
+
+}  // namespace plastivox

@@ -1,0 +1,50 @@
+// Scratch arrays one step fills and consumes. Not part of State: nothing here survives a
+// step except the contact candidate list, which is a cache rebuilt from positions.
+#pragma once
+
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/state.hpp"
+
+namespace plastivox {
+
+struct Workspace {
+  // Per voxel.
+  std::vector<double> size;      // actuated edge length, m
+  std::vector<Vec3> force;       // total force, N, world frame
+  std::vector<Vec3> moment;      // total moment, N m, world frame
+  // Per bond, filled by the bond stage and gathered per voxel in a fixed order.
+  std::vector<Vec3> bond_force_a;   // force on voxel a, N, world (force on b is its negative)
+  std::vector<Vec3> bond_moment_a;  // moment on voxel a, N m, world
+  std::vector<Vec3> bond_moment_b;  // moment on voxel b, N m, world
+  std::vector<double> bond_strain;  // axial engineering strain vs. actuated rest length
+  std::vector<double> bond_stress;  // axial stress, Pa (tension > 0)
+  // Self-collision candidates: unbonded voxel pairs (i < j) near enough to touch soon.
+  std::vector<std::pair<int, int>> contact_pairs;
+  std::vector<Vec3> contact_ref_pos;  // positions when the candidate list was built
+  double travel_since_rebuild = 0;    // upper bound on any voxel's travel since then, m
+  bool contacts_valid = false;
+  bool stiffness_changed = false;     // the develop stage changed E this step
+
+  explicit Workspace(const Model& m)
+      : size(m.n, m.size),
+        force(m.n),
+        moment(m.n),
+        bond_force_a(m.bond_count()),
+        bond_moment_a(m.bond_count()),
+        bond_moment_b(m.bond_count()),
+        bond_strain(m.bond_count(), 0.0),
+        bond_stress(m.bond_count(), 0.0) {}
+};
+
+// The stages of one step, in the order Simulator::step() calls them (see stages/*.cpp).
+void actuate(const Model& m, const State& s, Workspace& w);
+void compute_bond_forces(const Model& m, State& s, Workspace& w);
+void develop(const Model& m, State& s, Workspace& w);
+void gather_voxel_forces(const Model& m, const State& s, Workspace& w);
+void apply_self_collisions(const Model& m, const State& s, Workspace& w);
+void integrate(const Model& m, State& s, Workspace& w);  // floor, friction, Euler update
+bool check_stability(const Model& m, State& s);
+
+}  // namespace plastivox
