@@ -19,6 +19,7 @@
 // of it attributed to each end), so rigid motion of the whole bond is never damped.
 #include <cmath>
 
+#include "plastivox/energy.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -46,7 +47,51 @@ inline Vec3 rotation_vector(const Quat& q) {
   return v * (2.0 * std::atan2(s, sign * q.w()) / s);
 }
 
+// The deformation of one bond, in its aligned bond frame.
+struct BondGeometry {
+  int axis;
+  Quat q1;        // rotation from the permuted body frame of a to the aligned frame
+  Vec3 th1, th2;  // rotation vectors of a and b in the aligned frame, rad
+  double ext;     // chord length minus actuated rest length, m
+};
+
+inline BondGeometry bond_geometry(const Model& m, const State& s, const std::vector<double>& size,
+                                  int b) {
+  const int ia = m.bond_a[b], ib = m.bond_b[b], d = m.bond_axis[b];
+  const Quat qa_inv = s.orient[ia].conjugate();
+  const Vec3 r = to_bond(d, qa_inv * (s.pos[ib] - s.pos[ia]));
+  const Quat qrel = qa_inv * s.orient[ib];
+  const Vec3 qrel_v = to_bond(d, qrel.vec());
+  const Quat q2(qrel.w(), qrel_v.x(), qrel_v.y(), qrel_v.z());
+  // Rotation q1 that takes the chord r onto +x (half-way quaternion between them).
+  const double len = r.norm();
+  Quat q1(len + r.x(), 0.0, r.z(), -r.y());
+  q1.normalize();
+  // Extension is measured from the actuated rest length (mean of the two current sizes).
+  return {d, q1, rotation_vector(q1), rotation_vector(q1 * q2), len - 0.5 * (size[ia] + size[ib])};
+}
+
 }  // namespace
+
+double elastic_energy(const Model& m, const State& s, const std::vector<double>& size) {
+  const double L = m.size, nu = m.def.poisson;
+  const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
+  double u = 0;
+  for (int b = 0; b < m.bond_count(); ++b) {
+    const BondGeometry g = bond_geometry(m, s, size, b);
+    const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
+    const double e = 2.0 * ea * eb / (ea + eb);
+    const double a1 = (axial_own ? ea : e) * L;
+    const double a2 = e * L * L * L / (12.0 * (1.0 + nu));
+    const double b3 = e * L * L * L / 6.0;
+    const Vec3& t1 = g.th1;
+    const Vec3& t2 = g.th2;
+    u += 0.5 * a1 * g.ext * g.ext + 0.5 * a2 * (t2.x() - t1.x()) * (t2.x() - t1.x()) +
+         b3 * (t1.y() * t1.y() + t1.y() * t2.y() + t2.y() * t2.y()) +
+         b3 * (t1.z() * t1.z() + t1.z() * t2.z() + t2.z() * t2.z());
+  }
+  return u;
+}
 
 void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   const double L = m.size;
@@ -59,24 +104,14 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
 
   for (int b = 0; b < m.bond_count(); ++b) {
-    const int ia = m.bond_a[b], ib = m.bond_b[b], d = m.bond_axis[b];
-    const Quat qa_inv = s.orient[ia].conjugate();
-    const Vec3 r = to_bond(d, qa_inv * (s.pos[ib] - s.pos[ia]));
-    const Quat qrel = qa_inv * s.orient[ib];
-    const Vec3 qrel_v = to_bond(d, qrel.vec());
-    const Quat q2(qrel.w(), qrel_v.x(), qrel_v.y(), qrel_v.z());
-
-    // Rotation q1 that takes the chord r onto +x (half-way quaternion between them).
-    const double len = r.norm();
-    Quat q1(len + r.x(), 0.0, r.z(), -r.y());
-    q1.normalize();
-    const Vec3 th1 = rotation_vector(q1);
-    const Vec3 th2 = rotation_vector(q1 * q2);
-
-    // Extension is measured from the actuated rest length (mean of the two current sizes)
-    // and, as in Voxelyze 0.9, expressed as strain of the nominal length L.
-    const double rest = 0.5 * (w.size[ia] + w.size[ib]);
-    const double ext = len - rest;
+    const int ia = m.bond_a[b], ib = m.bond_b[b];
+    const BondGeometry g = bond_geometry(m, s, w.size, b);
+    const int d = g.axis;
+    const Quat& q1 = g.q1;
+    const Vec3& th1 = g.th1;
+    const Vec3& th2 = g.th2;
+    const double ext = g.ext;
+    // As in Voxelyze 0.9, strain is the extension over the nominal length L.
     const double strain = ext / L;
     const double ea = s.stiffness[ia], eb = s.stiffness[ib];
     const double e = 2.0 * ea * eb / (ea + eb);  // harmonic mean: two springs in series
@@ -85,13 +120,16 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
     w.bond_stress[b] = stress;
 
     const double a2 = e * L * L * L / (12.0 * (1.0 + nu));
-    const double b2 = e * L * L / 2.0;
+    const double b2 = e * L * L / 2.0;  // 6 E I / L^2, for the damping coefficients
     const double b3 = e * L * L * L / 6.0;
-    Vec3 f(stress * area, -b2 * (th1.z() + th2.z()), b2 * (th1.y() + th2.y()));
-    Vec3 ma(a2 * (th2.x() - th1.x()), -b3 * (2 * th1.y() + th2.y()),
-            -b3 * (2 * th1.z() + th2.z()));
-    Vec3 mb(a2 * (th1.x() - th2.x()), -b3 * (th1.y() + 2 * th2.y()),
-            -b3 * (th1.z() + 2 * th2.z()));
+    // Shear force from end rotations: 3 b3 / chord rather than Voxelyze's b2 = 3 b3 / L.
+    // The two agree at rest length; this one makes the forces the exact gradient of the
+    // bending energy and the bond's moments balance its forces (angular momentum is then
+    // conserved), which matters once bonds stretch or actuate by several percent.
+    const double b2c = 3.0 * b3 / (g.ext + 0.5 * (w.size[ia] + w.size[ib]));
+    Vec3 f(stress * area, -b2c * (th1.z() + th2.z()), b2c * (th1.y() + th2.y()));
+    Vec3 ma(a2 * (th2.x() - th1.x()), -b3 * (2 * th1.y() + th2.y()), -b3 * (2 * th1.z() + th2.z()));
+    Vec3 mb(a2 * (th1.x() - th2.x()), -b3 * (th1.y() + 2 * th2.y()), -b3 * (th1.z() + 2 * th2.z()));
 
     if (have_prev) {
       const double dx = 0.5 * (ext - s.bond_prev_pos[b].x());

@@ -40,6 +40,10 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
     m.alpha[i] = develops ? robot.dev_rate[s] : 0.0;
     m.phase[i] = robot.phase[s];
   }
+  m.fixed.assign(m.n, 0);
+  m.load.assign(m.n, Vec3::Zero());
+  for (int site : robot.fixed_sites) m.fixed[voxel_of[site]] = 1;
+  for (const RobotDef::Load& l : robot.loads) m.load[voxel_of[l.site]] += Vec3(l.fx, l.fy, l.fz);
   // Bonds in voxel order, +x then +y then +z neighbour: a fixed, documented order.
   const int stride[3] = {1, robot.nx, robot.nx * robot.ny};
   for (int i = 0; i < m.n; ++i) {
@@ -96,9 +100,7 @@ double stable_dt(const Model& m, const std::vector<double>& E) {
     const double ea = E[m.bond_a[b]], eb = E[m.bond_b[b]];
     k_max = std::max(k_max, 2.0 * ea * eb / (ea + eb) * m.size);
   }
-  if (k_max == 0) {
-    for (int i = 0; i < m.n; ++i) k_max = std::max(k_max, E[i] * m.size);
-  }
+  for (int i = 0; i < m.n; ++i) k_max = std::max(k_max, E[i] * m.size);
   return m.def.dt_frac / (2.0 * std::numbers::pi * std::sqrt(k_max / m.mass));
 }
 

@@ -43,7 +43,7 @@ void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
     // axial spring, against absolute velocity.
     const double c_lin = 2.0 * std::sqrt(m.mass * s.stiffness[i] * L);
     f -= (zeta * c_lin / m.mass) * s.lin_mom[i];
-    w.force[i] = f + weight;
+    w.force[i] = f + weight + m.load[i];
     w.moment[i] = mo;
   }
 }
@@ -57,6 +57,11 @@ void integrate(const Model& m, State& s, Workspace& w) {
   bool finite = true;
   for (int i = 0; i < m.n; ++i) {
     const double E = s.stiffness[i];
+    if (m.fixed[i]) {  // clamped: held in place, its reaction is not tracked
+      s.lin_mom[i].setZero();
+      s.ang_mom[i].setZero();
+      continue;
+    }
     Vec3 f = w.force[i];
     Vec3& p = s.lin_mom[i];
     bool held = false;  // static friction holds the voxel this step

@@ -5,7 +5,9 @@
 
 namespace plastivox {
 
-PhysicsDef preset_gecco2018_code() { return PhysicsDef{}; }
+PhysicsDef preset_gecco2018_code() {
+  return PhysicsDef{};
+}
 
 PhysicsDef preset_gecco2018_paper() {
   PhysicsDef d;
@@ -53,14 +55,19 @@ void validate(const PhysicsDef& d) {
 
 const char* to_string(Treatment t) {
   switch (t) {
-    case Treatment::kNone: return "none";
-    case Treatment::kStress: return "stress";
-    case Treatment::kPressure: return "pressure";
+    case Treatment::kNone:
+      return "none";
+    case Treatment::kStress:
+      return "stress";
+    case Treatment::kPressure:
+      return "pressure";
   }
   return "?";
 }
 
-const char* to_string(GrowthModel g) { return g == GrowthModel::kIntegral ? "integral" : "rate"; }
+const char* to_string(GrowthModel g) {
+  return g == GrowthModel::kIntegral ? "integral" : "rate";
+}
 
 Treatment parse_treatment(const std::string& s) {
   if (s == "none") return Treatment::kNone;

@@ -47,6 +47,18 @@ void validate(const RobotDef& r) {
     if (!std::isfinite(r.phase[i])) fail("phase[" + std::to_string(i) + "]", "not finite");
   }
   if (r.voxel_count() == 0) fail("present", "the robot has no voxels");
+  for (size_t k = 0; k < r.fixed_sites.size(); ++k) {
+    const int s = r.fixed_sites[k];
+    if (s < 0 || static_cast<size_t>(s) >= n || !r.present[s])
+      fail("fixed_sites[" + std::to_string(k) + "]", "names a site without a voxel");
+  }
+  for (size_t k = 0; k < r.loads.size(); ++k) {
+    const RobotDef::Load& l = r.loads[k];
+    if (l.site < 0 || static_cast<size_t>(l.site) >= n || !r.present[l.site])
+      fail("loads[" + std::to_string(k) + "].site", "names a site without a voxel");
+    if (!std::isfinite(l.fx) || !std::isfinite(l.fy) || !std::isfinite(l.fz))
+      fail("loads[" + std::to_string(k) + "]", "force is not finite");
+  }
 }
 
 }  // namespace plastivox

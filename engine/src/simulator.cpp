@@ -12,7 +12,9 @@ Simulator::Simulator(const Model& model)
 Simulator::~Simulator() = default;
 Simulator::Simulator(Simulator&&) noexcept = default;
 
-const std::vector<double>& Simulator::voxel_sizes() const { return ws_->size; }
+const std::vector<double>& Simulator::voxel_sizes() const {
+  return ws_->size;
+}
 
 // One step, as a list of stages. Order follows Voxelyze 0.9 so results can be compared:
 // bonds see the sizes and stiffness left by the previous step; actuation for the next step
@@ -97,7 +99,8 @@ SimResult simulate(const Model& model) {
   const double n = std::max(1, model.n);
   r.stiffness_change_mean = sum / n;
   r.stiffness_change_abs_mean = sum_abs / n;
-  r.stiffness_change_var = std::max(0.0, sum_sq / n - r.stiffness_change_mean * r.stiffness_change_mean);
+  r.stiffness_change_var =
+      std::max(0.0, sum_sq / n - r.stiffness_change_mean * r.stiffness_change_mean);
   r.final_state_hash = state_hash(s);
   r.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -106,9 +109,12 @@ SimResult simulate(const Model& model) {
 
 const char* to_string(SimStatus s) {
   switch (s) {
-    case SimStatus::kRunning: return "running";
-    case SimStatus::kFinished: return "finished";
-    case SimStatus::kUnstable: return "unstable";
+    case SimStatus::kRunning:
+      return "running";
+    case SimStatus::kFinished:
+      return "finished";
+    case SimStatus::kUnstable:
+      return "unstable";
   }
   return "?";
 }

@@ -11,9 +11,9 @@ namespace plastivox {
 
 struct Workspace {
   // Per voxel.
-  std::vector<double> size;      // actuated edge length, m
-  std::vector<Vec3> force;       // total force, N, world frame
-  std::vector<Vec3> moment;      // total moment, N m, world frame
+  std::vector<double> size;  // actuated edge length, m
+  std::vector<Vec3> force;   // total force, N, world frame
+  std::vector<Vec3> moment;  // total moment, N m, world frame
   // Per bond, filled by the bond stage and gathered per voxel in a fixed order.
   std::vector<Vec3> bond_force_a;   // force on voxel a, N, world (force on b is its negative)
   std::vector<Vec3> bond_moment_a;  // moment on voxel a, N m, world
@@ -25,7 +25,7 @@ struct Workspace {
   std::vector<Vec3> contact_ref_pos;  // positions when the candidate list was built
   double travel_since_rebuild = 0;    // upper bound on any voxel's travel since then, m
   bool contacts_valid = false;
-  bool stiffness_changed = false;     // the develop stage changed E this step
+  bool stiffness_changed = false;  // the develop stage changed E this step
 
   explicit Workspace(const Model& m)
       : size(m.n, m.size),

@@ -16,24 +16,26 @@ namespace plastivox {
 using Vec3 = Eigen::Vector3d;
 
 struct Model {
-  PhysicsDef def;    // parameters, validated
-  RobotDef robot;    // the source robot (lattice-sized arrays)
+  PhysicsDef def;  // parameters, validated
+  RobotDef robot;  // the source robot (lattice-sized arrays)
 
-  int n = 0;         // number of voxels
-  double size = 0;   // nominal voxel edge length L, m
-  double mass = 0;   // per voxel, kg
-  double inertia = 0;// per voxel moment of inertia about any centre axis (m L^2 / 6), kg m^2
+  int n = 0;           // number of voxels
+  double size = 0;     // nominal voxel edge length L, m
+  double mass = 0;     // per voxel, kg
+  double inertia = 0;  // per voxel moment of inertia about any centre axis (m L^2 / 6), kg m^2
 
   // Per voxel (n entries), in voxel order = increasing lattice site.
-  std::vector<int> site;           // lattice site index of the voxel
-  std::vector<Vec3> rest_pos;      // initial centre, m, world frame; bottom layer touches z = 0
-  std::vector<double> e0;          // congenital Young's modulus, Pa
-  std::vector<double> alpha;       // development rate, 1/s (0 everywhere under kNone)
-  std::vector<double> phase;       // actuation phase, cycles
+  std::vector<int> site;       // lattice site index of the voxel
+  std::vector<Vec3> rest_pos;  // initial centre, m, world frame; bottom layer touches z = 0
+  std::vector<double> e0;      // congenital Young's modulus, Pa
+  std::vector<double> alpha;   // development rate, 1/s (0 everywhere under kNone)
+  std::vector<double> phase;   // actuation phase, cycles
   // Bond slots of each voxel: [axis*2 + 0] the bond towards -axis, [axis*2 + 1] towards +axis;
   // -1 where there is no neighbour.
   std::vector<std::array<int, 6>> voxel_bonds;
-  std::vector<uint8_t> surface;    // 1 if some face has no neighbour (collision-eligible)
+  std::vector<uint8_t> fixed;    // 1 if clamped (boundary condition)
+  std::vector<Vec3> load;        // constant external force, N, world frame
+  std::vector<uint8_t> surface;  // 1 if some face has no neighbour (collision-eligible)
   // For each voxel, the sorted ids of voxels within def.collision_exclude_hops bonds
   // (never collide with each other: their bonds already keep them apart).
   std::vector<std::vector<int>> near_voxels;
@@ -50,7 +52,10 @@ struct Model {
 Model compile(const RobotDef& robot, const PhysicsDef& def);
 
 // Stable time step for the given per-voxel stiffness: dt_frac / (2 pi sqrt(k_max / m)),
-// k_max the largest axial bond stiffness E_bond * L (or a lone voxel's own E * L).
+// k_max the largest axial stiffness E * L over bonds (harmonic-mean E) and over single voxels
+// (their own E: a stiff voxel among soft ones still meets the floor and global damping
+// with its own stiffness; for bodies whose stiffest voxel has an equally stiff neighbour
+// this is exactly Voxelyze's rule).
 double stable_dt(const Model& model, const std::vector<double>& stiffness);
 
 }  // namespace plastivox

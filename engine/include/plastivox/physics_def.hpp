@@ -18,12 +18,12 @@ enum class AxialModulus { kHarmonicMean, kNegativeVoxel };
 
 struct PhysicsDef {
   // --- material (uniform; only E varies per voxel) ---
-  double density = 1e9;      // kg/m^3 ("heavy materials": a 1 cm voxel weighs 1000 kg)
-  double poisson = 0.35;     // Poisson's ratio, dimensionless
-  double mu_static = 1.0;    // floor static friction coefficient
-  double mu_kinetic = 0.5;   // floor kinetic friction coefficient
-  double e_min = 1e5;        // lower stiffness bound, Pa
-  double e_max = 1e11;       // upper stiffness bound, Pa
+  double density = 1e9;     // kg/m^3 ("heavy materials": a 1 cm voxel weighs 1000 kg)
+  double poisson = 0.35;    // Poisson's ratio, dimensionless
+  double mu_static = 1.0;   // floor static friction coefficient
+  double mu_kinetic = 0.5;  // floor kinetic friction coefficient
+  double e_min = 1e5;       // lower stiffness bound, Pa
+  double e_max = 1e11;      // upper stiffness bound, Pa
 
   // --- damping ratios (fraction of critical) ---
   double bond_damping = 1.0;       // internal, per bond
@@ -33,9 +33,9 @@ struct PhysicsDef {
   double global_damping_rot_factor = 10.0;
 
   // --- environment ---
-  double gravity = -9.81;     // m/s^2 along z
-  bool floor = true;          // flat floor at z = 0
-  bool self_collision = true; // contact between voxels that are not bonded
+  double gravity = -9.81;      // m/s^2 along z
+  bool floor = true;           // flat floor at z = 0
+  bool self_collision = true;  // contact between voxels that are not bonded
 
   AxialModulus axial_modulus = AxialModulus::kHarmonicMean;
   // Self-collision acts between surface voxels more than this many bonds apart, when their
@@ -44,16 +44,16 @@ struct PhysicsDef {
   double contact_diameter = 1.5;
 
   // --- integration ---
-  double dt_frac = 0.9;       // dt = dt_frac / (2 pi sqrt(k_max / m))
+  double dt_frac = 0.9;  // dt = dt_frac / (2 pi sqrt(k_max / m))
 
   // --- actuation (METHOD.md section 4) ---
-  double act_frequency = 5.0;   // Hz
-  double act_amplitude = 0.1447;// linear, fraction of voxel size
-  double act_min_factor = 0.1;  // the stiffness damping factor xi(E) never goes below this
+  double act_frequency = 5.0;     // Hz
+  double act_amplitude = 0.1447;  // linear, fraction of voxel size
+  double act_min_factor = 0.1;    // the stiffness damping factor xi(E) never goes below this
 
   // --- timeline ---
-  double settle_time = 0.2;   // s without actuation or development; fitness starts here
-  double duration = 5.2;      // s, total simulated time
+  double settle_time = 0.2;  // s without actuation or development; fitness starts here
+  double duration = 5.2;     // s, total simulated time
 
   // --- development (METHOD.md section 5) ---
   Treatment treatment = Treatment::kNone;
@@ -64,8 +64,8 @@ struct PhysicsDef {
   FitnessMode fitness = FitnessMode::k3D;
 
   // --- recording and safety ---
-  double record_fps = 0.0;       // frames per simulated second; 0 = no recording
-  double max_speed = 100.0;      // m/s; a voxel faster than this means the run went unstable
+  double record_fps = 0.0;   // frames per simulated second; 0 = no recording
+  double max_speed = 100.0;  // m/s; a voxel faster than this means the run went unstable
 };
 
 // Named presets. "gecco2018-code" (the default) is what produced the published results;
@@ -80,7 +80,7 @@ void validate(const PhysicsDef& def);
 
 const char* to_string(Treatment t);
 const char* to_string(GrowthModel g);
-Treatment parse_treatment(const std::string& s);   // throws std::invalid_argument
-GrowthModel parse_growth(const std::string& s);    // throws std::invalid_argument
+Treatment parse_treatment(const std::string& s);  // throws std::invalid_argument
+GrowthModel parse_growth(const std::string& s);   // throws std::invalid_argument
 
 }  // namespace plastivox

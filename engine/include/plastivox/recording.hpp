@@ -10,12 +10,12 @@
 namespace plastivox {
 
 struct Frame {
-  double time = 0;                        // s
-  std::vector<Eigen::Vector3d> pos;       // voxel centre, m, world frame (n)
-  std::vector<Eigen::Quaterniond> orient; // body-to-world rotation (n)
-  std::vector<double> size;               // actuated edge length, m (n)
-  std::vector<double> stiffness;          // current E, Pa (n)
-  std::vector<double> stimulus;           // stress or pressure, Pa (n)
+  double time = 0;                         // s
+  std::vector<Eigen::Vector3d> pos;        // voxel centre, m, world frame (n)
+  std::vector<Eigen::Quaterniond> orient;  // body-to-world rotation (n)
+  std::vector<double> size;                // actuated edge length, m (n)
+  std::vector<double> stiffness;           // current E, Pa (n)
+  std::vector<double> stimulus;            // stress or pressure, Pa (n)
 };
 
 struct Recording {

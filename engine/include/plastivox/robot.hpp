@@ -10,13 +10,21 @@ namespace plastivox {
 
 // Lattice sites are indexed x fastest, then y, then z: site = x + nx*(y + ny*z).
 struct RobotDef {
-  std::string name;              // free text, carried into results
-  int nx = 10, ny = 10, nz = 10; // lattice extent in sites
-  double voxel_size = 0.01;      // edge length of one voxel, m
-  std::vector<uint8_t> present;  // 1 where a voxel exists (nx*ny*nz)
-  std::vector<double> stiffness; // congenital Young's modulus E0, Pa (nx*ny*nz)
-  std::vector<double> dev_rate;  // development rate alpha, 1/s (nx*ny*nz); 0 = none
-  std::vector<double> phase;     // actuation phase offset, cycles in (-1, 1) (nx*ny*nz)
+  std::string name;               // free text, carried into results
+  int nx = 10, ny = 10, nz = 10;  // lattice extent in sites
+  double voxel_size = 0.01;       // edge length of one voxel, m
+  std::vector<uint8_t> present;   // 1 where a voxel exists (nx*ny*nz)
+  std::vector<double> stiffness;  // congenital Young's modulus E0, Pa (nx*ny*nz)
+  std::vector<double> dev_rate;   // development rate alpha, 1/s (nx*ny*nz); 0 = none
+  std::vector<double> phase;      // actuation phase offset, cycles in (-1, 1) (nx*ny*nz)
+
+  // Boundary conditions, for experiments and physics tests (evolved robots have none).
+  std::vector<int> fixed_sites;  // sites whose voxel is clamped: no translation, no rotation
+  struct Load {
+    int site = 0;                   // lattice site of the loaded voxel
+    double fx = 0, fy = 0, fz = 0;  // constant external force, N, world frame
+  };
+  std::vector<Load> loads;
 
   int sites() const { return nx * ny * nz; }
   int site(int x, int y, int z) const { return x + nx * (y + ny * z); }

@@ -44,24 +44,24 @@ class Simulator {
 
 struct SimResult {
   SimStatus status = SimStatus::kRunning;
-  std::string failure;          // why the run went unstable; empty when it finished
-  double fitness = 0;           // centre-of-mass displacement settle..end, voxel lengths
+  std::string failure;               // why the run went unstable; empty when it finished
+  double fitness = 0;                // centre-of-mass displacement settle..end, voxel lengths
   Vec3 displacement = Vec3::Zero();  // same, per axis, voxel lengths
   Vec3 com_settled = Vec3::Zero();   // m
   Vec3 com_final = Vec3::Zero();     // m
   int voxels = 0;
   int64_t steps = 0;
-  double dt_initial = 0;        // s
-  double dt_final = 0;          // s
-  double sim_time = 0;          // s reached
+  double dt_initial = 0;  // s
+  double dt_final = 0;    // s
+  double sim_time = 0;    // s reached
   double wall_seconds = 0;
   // Lifetime stiffness change, relative: (E_final - E0) / E0 per voxel.
-  std::vector<double> final_stiffness;  // Pa, per voxel
-  double stiffness_change_mean = 0;     // signed mean
-  double stiffness_change_abs_mean = 0; // mean of absolute values
-  double stiffness_change_var = 0;      // variance of the signed values
+  std::vector<double> final_stiffness;   // Pa, per voxel
+  double stiffness_change_mean = 0;      // signed mean
+  double stiffness_change_abs_mean = 0;  // mean of absolute values
+  double stiffness_change_var = 0;       // variance of the signed values
   uint64_t final_state_hash = 0;
-  Recording recording;          // empty unless def.record_fps > 0
+  Recording recording;  // empty unless def.record_fps > 0
 };
 
 // Simulates a whole life (def.duration) and summarises it.

@@ -18,23 +18,23 @@ using Quat = Eigen::Quaterniond;
 enum class SimStatus { kRunning, kFinished, kUnstable };
 
 struct State {
-  double time = 0;      // simulated time, s
-  int64_t steps = 0;    // steps taken
-  double dt = 0;        // current step, s (follows stiffness)
+  double time = 0;    // simulated time, s
+  int64_t steps = 0;  // steps taken
+  double dt = 0;      // current step, s (follows stiffness)
   SimStatus status = SimStatus::kRunning;
   std::string failure;  // why the run went unstable (empty otherwise)
 
   // Per voxel (model.n entries).
-  std::vector<Vec3> pos;           // centre, m, world frame
-  std::vector<Quat> orient;        // body-to-world rotation
-  std::vector<Vec3> lin_mom;       // linear momentum, kg m/s, world frame
-  std::vector<Vec3> ang_mom;       // angular momentum, kg m^2/s, world frame
-  std::vector<double> stiffness;   // current Young's modulus E, Pa
-  std::vector<double> stimulus;    // last interoceptive signal (stress or pressure), Pa
-  std::vector<double> stim_integral;// integral of the stimulus since settling, Pa s
-  std::vector<double> stim_ref;    // stimulus at the end of settling (rate model), Pa
-  bool stim_ref_set = false;       // stim_ref has been taken
-  std::vector<uint8_t> static_friction; // 1 while held by floor static friction
+  std::vector<Vec3> pos;                 // centre, m, world frame
+  std::vector<Quat> orient;              // body-to-world rotation
+  std::vector<Vec3> lin_mom;             // linear momentum, kg m/s, world frame
+  std::vector<Vec3> ang_mom;             // angular momentum, kg m^2/s, world frame
+  std::vector<double> stiffness;         // current Young's modulus E, Pa
+  std::vector<double> stimulus;          // last interoceptive signal (stress or pressure), Pa
+  std::vector<double> stim_integral;     // integral of the stimulus since settling, Pa s
+  std::vector<double> stim_ref;          // stimulus at the end of settling (rate model), Pa
+  bool stim_ref_set = false;             // stim_ref has been taken
+  std::vector<uint8_t> static_friction;  // 1 while held by floor static friction
 
   // Per bond: deformation at the previous step, for the bond's internal damping.
   std::vector<Vec3> bond_prev_pos;   // (extension, 0, 0) in the bond frame, m
@@ -42,8 +42,8 @@ struct State {
   std::vector<Vec3> bond_prev_rot2;  // rotation vector of voxel b in the bond frame, rad
   bool bond_prev_valid = false;      // false until one step has recorded them
 
-  Vec3 com_settled = Vec3::Zero();   // centre of mass when settling ended, m
-  bool settled = false;              // true once time >= settle_time
+  Vec3 com_settled = Vec3::Zero();  // centre of mass when settling ended, m
+  bool settled = false;             // true once time >= settle_time
 };
 
 // The state at t = 0: voxels at rest positions, E = E0, dt from E0.

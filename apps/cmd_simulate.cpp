@@ -1,0 +1,117 @@
+// plastivox simulate: one robot, one life, a summary (text or JSON).
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/robot_file.hpp"
+#include "plastivox/simulator.hpp"
+#include "plastivox_version.hpp"
+
+namespace plastivox::cli {
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+double parse_seconds(const std::string& s, const std::string& option) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != s.size() || !(v >= 0))
+    throw UsageError{option + " expects a number of seconds, got '" + s + "'"};
+  return v;
+}
+
+}  // namespace
+
+int cmd_simulate(const Args& in) {
+  Args args = in;
+  const bool as_json = take_flag(args, "--json");
+  const std::string treatment = take_option(args, "--treatment", "");
+  const std::string preset = take_option(args, "--preset", "");
+  const std::string duration = take_option(args, "--duration", "");
+  reject_unknown_options(args);
+  if (args.size() > 1) throw UsageError{"expected at most one robot file"};
+
+  RobotDef robot;
+  PhysicsDef physics;
+  std::string source = "built-in demo walker";
+  if (args.empty()) {
+    robot = demo_walker();
+    physics = preset_gecco2018_code();
+    physics.treatment = Treatment::kStress;
+  } else {
+    source = args[0];
+    if (ends_with(source, ".vxa")) {
+      throw InputError(source + ": VXA import is not available in this build");
+    }
+    RobotFile f = read_robot_file(source);
+    robot = std::move(f.robot);
+    physics = f.physics;
+  }
+  if (!preset.empty()) {
+    const Treatment keep = physics.treatment;
+    physics = physics_preset(preset);
+    physics.treatment = keep;
+  }
+  if (!treatment.empty()) physics.treatment = parse_treatment(treatment);
+  if (!duration.empty()) physics.duration = parse_seconds(duration, "--duration");
+
+  const Model model = compile(robot, physics);
+  const SimResult r = simulate(model);
+
+  if (as_json) {
+    nlohmann::json j;
+    j["source"] = source;
+    j["status"] = to_string(r.status);
+    if (!r.failure.empty()) j["failure"] = r.failure;
+    j["treatment"] = to_string(physics.treatment);
+    j["growth_model"] = to_string(physics.growth);
+    j["fitness"] = r.fitness;
+    j["dist_x"] = r.displacement.x();
+    j["dist_y"] = r.displacement.y();
+    j["dist_z"] = r.displacement.z();
+    j["voxels"] = r.voxels;
+    j["steps"] = r.steps;
+    j["dt"] = r.dt_initial;
+    j["dt_final"] = r.dt_final;
+    j["sim_time"] = r.sim_time;
+    j["wall_seconds"] = r.wall_seconds;
+    j["voxel_steps_per_second"] = r.wall_seconds > 0 ? r.voxels * r.steps / r.wall_seconds : 0.0;
+    j["stiffness_change_mean"] = r.stiffness_change_mean;
+    j["stiffness_change_abs_mean"] = r.stiffness_change_abs_mean;
+    j["stiffness_change_variance"] = r.stiffness_change_var;
+    j["stiffness_change_mean_percent"] = 100.0 * r.stiffness_change_mean;
+    j["final_stiffness"] = r.final_stiffness;
+    j["final_state_hash"] = r.final_state_hash;
+    j["version"] = PLASTIVOX_VERSION;
+    std::printf("%s\n", j.dump(1).c_str());
+  } else {
+    std::printf("%s: %d voxels, treatment %s, %s\n", source.c_str(), r.voxels,
+                to_string(physics.treatment), to_string(r.status));
+    std::printf("  fitness %.4f voxel lengths (dx %.4f, dy %.4f, dz %.4f)\n", r.fitness,
+                r.displacement.x(), r.displacement.y(), r.displacement.z());
+    std::printf("  stiffness change: mean %+.3f %%, mean |change| %.3f %%\n",
+                100 * r.stiffness_change_mean, 100 * r.stiffness_change_abs_mean);
+    std::printf("  %lld steps, dt %.3g s, %.2f s wall (%.3g voxel-steps/s)\n",
+                static_cast<long long>(r.steps), r.dt_initial, r.wall_seconds,
+                r.wall_seconds > 0 ? r.voxels * r.steps / r.wall_seconds : 0.0);
+  }
+  if (r.status != SimStatus::kFinished) {
+    std::fprintf(stderr, "plastivox simulate: %s: simulation unstable: %s\n", source.c_str(),
+                 r.failure.c_str());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace plastivox::cli

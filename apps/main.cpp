@@ -1,0 +1,51 @@
+// plastivox: evolve, simulate, analyse and render soft voxel robots that develop.
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "cli.hpp"
+#include "plastivox_version.hpp"
+
+namespace {
+
+const char* kUsage =
+    "usage: plastivox <command> [options]\n"
+    "commands:\n"
+    "  simulate [ROBOT] [--treatment none|stress|pressure] [--preset NAME] [--duration S] "
+    "[--json]\n"
+    "           simulate a robot file (.json plastivox robot or .vxa); no ROBOT: the built-in\n"
+    "           ~500-voxel demo walker\n"
+    "  demo     simulate the demo walker under each treatment and print a summary\n"
+    "  version  print version and commit\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace plastivox::cli;
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return 2;
+  }
+  const std::string cmd = argv[1];
+  Args args(argv + 2, argv + argc);
+  try {
+    if (cmd == "simulate") return cmd_simulate(args);
+    if (cmd == "demo") return cmd_demo(args);
+    if (cmd == "version" || cmd == "--version") {
+      std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, PLASTIVOX_GIT_COMMIT);
+      return 0;
+    }
+    if (cmd == "help" || cmd == "--help" || cmd == "-h") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    std::fprintf(stderr, "plastivox: unknown command '%s'\n%s", cmd.c_str(), kUsage);
+    return 2;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "plastivox %s: %s\n", cmd.c_str(), e.message.c_str());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "plastivox %s: error: %s\n", cmd.c_str(), e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,19 @@
+// Energy bookkeeping, for conservation checks and diagnostics (not used by the step).
+#pragma once
+
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/state.hpp"
+
+namespace plastivox {
+
+// Translational plus rotational kinetic energy, J.
+double kinetic_energy(const Model& model, const State& state);
+// Strain energy stored in all bonds (axial, torsion, bending), J, given the actuated voxel
+// sizes (Simulator::voxel_sizes()).
+double elastic_energy(const Model& model, const State& state, const std::vector<double>& size);
+// Gravitational potential energy relative to z = 0, J.
+double gravity_energy(const Model& model, const State& state);
+
+}  // namespace plastivox

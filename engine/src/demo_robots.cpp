@@ -1,0 +1,80 @@
+#include "plastivox/demo_robots.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+namespace plastivox {
+
+RobotDef demo_walker() {
+  RobotDef r = make_empty_robot(10, 10, 10);
+  r.name = "demo-walker";
+  for (int z = 0; z < 8; ++z)
+    for (int y = 1; y < 9; ++y)
+      for (int x = 0; x < 10; ++x) {
+        const bool slab = z >= 4;
+        const bool leg = x <= 2 || x >= 7;
+        if (!slab && !leg) continue;
+        const int s = r.site(x, y, z);
+        r.present[s] = 1;
+        // Smooth fields from the lattice coordinates (like a CPPN would make them).
+        const double u = x / 9.0, v = y / 9.0, w = z / 9.0;
+        const double log_e = 8.0 + 2.0 * std::sin(3.0 * u + 2.0 * w) * std::cos(2.5 * v);
+        r.stiffness[s] = std::pow(10.0, log_e);
+        r.dev_rate[s] = 10.0 * std::sin(4.0 * u - 3.0 * w + v);
+        r.phase[s] = 0.9 * (u - 0.5) + 0.2 * w;
+      }
+  return r;
+}
+
+RobotDef demo_cube(int n, double E) {
+  RobotDef r = make_empty_robot(n, n, n);
+  r.name = "demo-cube";
+  for (int s = 0; s < r.sites(); ++s) {
+    r.present[s] = 1;
+    r.stiffness[s] = E;
+    r.phase[s] = (s % n) / static_cast<double>(n) - 0.5;
+  }
+  return r;
+}
+
+namespace {
+// SplitMix64: a tiny, fully specified generator (same numbers on every platform).
+struct SplitMix {
+  uint64_t x;
+  uint64_t next() {
+    uint64_t z = (x += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return (next() >> 11) * 0x1.0p-53; }
+};
+}  // namespace
+
+RobotDef demo_irregular(int target, unsigned seed) {
+  RobotDef r = make_empty_robot(10, 10, 10);
+  r.name = "demo-irregular";
+  SplitMix rng{seed * 0x2545f4914f6cdd1dull + 1};
+  // Grow a face-connected body from the bottom centre by random accretion.
+  std::vector<int> body{r.site(5, 5, 0)};
+  r.present[body[0]] = 1;
+  const int dx[6] = {1, -1, 0, 0, 0, 0}, dy[6] = {0, 0, 1, -1, 0, 0}, dz[6] = {0, 0, 0, 0, 1, -1};
+  while (static_cast<int>(body.size()) < target && static_cast<int>(body.size()) < r.sites()) {
+    const int s = body[rng.next() % body.size()];
+    const int k = static_cast<int>(rng.next() % 6);
+    const int x = s % 10 + dx[k], y = (s / 10) % 10 + dy[k], z = s / 100 + dz[k];
+    if (x < 0 || y < 0 || z < 0 || x > 9 || y > 9 || z > 9) continue;
+    const int t = r.site(x, y, z);
+    if (r.present[t]) continue;
+    r.present[t] = 1;
+    body.push_back(t);
+  }
+  for (int s : body) {
+    r.stiffness[s] = std::pow(10.0, 5.0 + 6.0 * rng.uniform());
+    r.dev_rate[s] = -10.0 + 20.0 * rng.uniform();
+    r.phase[s] = 2.0 * rng.uniform() - 1.0;
+  }
+  return r;
+}
+
+}  // namespace plastivox

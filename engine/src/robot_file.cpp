@@ -1,0 +1,314 @@
+#include "plastivox/robot_file.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace plastivox {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::string& source, const std::string& field,
+                       const std::string& what) {
+  throw InputError(source + ": " + field + ": " + what);
+}
+
+double number(const json& j, const std::string& source, const std::string& field) {
+  if (!j.is_number()) fail(source, field, "expected a number");
+  return j.get<double>();
+}
+
+int integer(const json& j, const std::string& source, const std::string& field) {
+  if (!j.is_number_integer()) fail(source, field, "expected an integer");
+  return j.get<int>();
+}
+
+std::string text(const json& j, const std::string& source, const std::string& field) {
+  if (!j.is_string()) fail(source, field, "expected a string");
+  return j.get<std::string>();
+}
+
+bool boolean(const json& j, const std::string& source, const std::string& field) {
+  if (!j.is_boolean()) fail(source, field, "expected true or false");
+  return j.get<bool>();
+}
+
+int site_of(const RobotDef& r, const json& xyz, const std::string& source,
+            const std::string& field) {
+  if (!xyz.is_array() || xyz.size() != 3) fail(source, field, "expected [x, y, z]");
+  const int x = integer(xyz[0], source, field + "[0]");
+  const int y = integer(xyz[1], source, field + "[1]");
+  const int z = integer(xyz[2], source, field + "[2]");
+  if (x < 0 || y < 0 || z < 0 || x >= r.nx || y >= r.ny || z >= r.nz)
+    fail(source, field, "lattice coordinate outside the lattice");
+  return r.site(x, y, z);
+}
+
+void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
+  if (!p.is_object()) fail(where, "physics", "expected an object");
+  if (p.contains("preset")) {
+    try {
+      d = physics_preset(text(p["preset"], where, "physics.preset"));
+    } catch (const std::invalid_argument& e) {
+      fail(where, "physics.preset", e.what());
+    }
+  }
+  struct Num {
+    const char* name;
+    double* value;
+  };
+  const Num numbers[] = {{"density", &d.density},
+                         {"poisson", &d.poisson},
+                         {"mu_static", &d.mu_static},
+                         {"mu_kinetic", &d.mu_kinetic},
+                         {"e_min", &d.e_min},
+                         {"e_max", &d.e_max},
+                         {"bond_damping", &d.bond_damping},
+                         {"collision_damping", &d.collision_damping},
+                         {"global_damping", &d.global_damping},
+                         {"global_damping_rot_factor", &d.global_damping_rot_factor},
+                         {"gravity", &d.gravity},
+                         {"contact_diameter", &d.contact_diameter},
+                         {"dt_frac", &d.dt_frac},
+                         {"act_frequency", &d.act_frequency},
+                         {"act_amplitude", &d.act_amplitude},
+                         {"act_min_factor", &d.act_min_factor},
+                         {"settle_time", &d.settle_time},
+                         {"duration", &d.duration},
+                         {"max_change_per_step", &d.max_change_per_step},
+                         {"min_devo_factor", &d.min_devo_factor},
+                         {"record_fps", &d.record_fps},
+                         {"max_speed", &d.max_speed}};
+  for (auto it = p.begin(); it != p.end(); ++it) {
+    const std::string key = it.key(), field = "physics." + key;
+    if (key == "preset") continue;
+    bool done = false;
+    for (const Num& n : numbers) {
+      if (key == n.name) {
+        *n.value = number(*it, where, field);
+        done = true;
+      }
+    }
+    if (done) continue;
+    try {
+      if (key == "floor")
+        d.floor = boolean(*it, where, field);
+      else if (key == "self_collision")
+        d.self_collision = boolean(*it, where, field);
+      else if (key == "collision_exclude_hops")
+        d.collision_exclude_hops = integer(*it, where, field);
+      else if (key == "treatment")
+        d.treatment = parse_treatment(text(*it, where, field));
+      else if (key == "growth")
+        d.growth = parse_growth(text(*it, where, field));
+      else if (key == "fitness") {
+        const std::string f = text(*it, where, field);
+        if (f != "3d" && f != "xy") fail(where, field, "expected \"3d\" or \"xy\"");
+        d.fitness = f == "3d" ? FitnessMode::k3D : FitnessMode::kXY;
+      } else if (key == "axial_modulus") {
+        const std::string a = text(*it, where, field);
+        if (a != "harmonic" && a != "negative-voxel")
+          fail(where, field, "expected \"harmonic\" or \"negative-voxel\"");
+        d.axial_modulus =
+            a == "harmonic" ? AxialModulus::kHarmonicMean : AxialModulus::kNegativeVoxel;
+      } else {
+        fail(where, field, "unknown field");
+      }
+    } catch (const std::invalid_argument& e) {
+      fail(where, field, e.what());
+    }
+  }
+  try {
+    validate(d);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+void apply_physics_json(const std::string& json_text, const std::string& where, PhysicsDef& def) {
+  json p;
+  try {
+    p = json::parse(json_text);
+  } catch (const json::exception& e) {
+    fail(where, "physics", std::string("not valid JSON: ") + e.what());
+  }
+  apply_physics(p, where, def);
+}
+
+RobotFile parse_robot_json(const std::string& src, const std::string& source) {
+  json j;
+  try {
+    j = json::parse(src);
+  } catch (const json::exception& e) {
+    std::string msg = e.what();
+    fail(source, "(file)", "not valid JSON: " + msg);
+  }
+  if (!j.is_object()) fail(source, "(file)", "expected a JSON object");
+  if (!j.contains("format") || j["format"] != "plastivox-robot")
+    fail(source, "format", "expected \"plastivox-robot\"");
+  if (!j.contains("version")) fail(source, "version", "missing");
+  const int version = integer(j["version"], source, "version");
+  if (version != 1)
+    fail(source, "version",
+         "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& k = it.key();
+    if (k != "format" && k != "version" && k != "name" && k != "lattice" && k != "voxels" &&
+        k != "fixed" && k != "loads" && k != "physics")
+      fail(source, k, "unknown field");
+  }
+  if (!j.contains("lattice")) fail(source, "lattice", "missing");
+  const json& lat = j["lattice"];
+  if (!lat.is_object()) fail(source, "lattice", "expected an object");
+  for (const char* k : {"nx", "ny", "nz", "voxel_size"})
+    if (!lat.contains(k)) fail(source, std::string("lattice.") + k, "missing");
+  const int nx = integer(lat["nx"], source, "lattice.nx");
+  const int ny = integer(lat["ny"], source, "lattice.ny");
+  const int nz = integer(lat["nz"], source, "lattice.nz");
+  if (nx < 1 || ny < 1 || nz < 1 || nx > 1000 || ny > 1000 || nz > 1000)
+    fail(source, "lattice", "extent must be 1..1000 per axis");
+  const double size = number(lat["voxel_size"], source, "lattice.voxel_size");
+  RobotFile out;
+  RobotDef& r = out.robot;
+  r = make_empty_robot(nx, ny, nz, size);
+  if (j.contains("name")) r.name = text(j["name"], source, "name");
+  if (!j.contains("voxels") || !j["voxels"].is_array())
+    fail(source, "voxels", "missing or not an array");
+  const json& vox = j["voxels"];
+  for (size_t k = 0; k < vox.size(); ++k) {
+    const std::string field = "voxels[" + std::to_string(k) + "]";
+    const json& v = vox[k];
+    if (!v.is_array() || v.size() != 6) fail(source, field, "expected [x, y, z, E, alpha, phase]");
+    const int s = site_of(r, json::array({v[0], v[1], v[2]}), source, field);
+    if (r.present[s]) fail(source, field, "a second voxel at the same site");
+    r.present[s] = 1;
+    r.stiffness[s] = number(v[3], source, field + "[3] (E)");
+    r.dev_rate[s] = number(v[4], source, field + "[4] (alpha)");
+    r.phase[s] = number(v[5], source, field + "[5] (phase)");
+  }
+  if (j.contains("fixed")) {
+    if (!j["fixed"].is_array()) fail(source, "fixed", "expected an array");
+    for (size_t k = 0; k < j["fixed"].size(); ++k)
+      r.fixed_sites.push_back(
+          site_of(r, j["fixed"][k], source, "fixed[" + std::to_string(k) + "]"));
+  }
+  if (j.contains("loads")) {
+    if (!j["loads"].is_array()) fail(source, "loads", "expected an array");
+    for (size_t k = 0; k < j["loads"].size(); ++k) {
+      const std::string field = "loads[" + std::to_string(k) + "]";
+      const json& l = j["loads"][k];
+      if (!l.is_object() || !l.contains("at") || !l.contains("force") || !l["force"].is_array() ||
+          l["force"].size() != 3)
+        fail(source, field, "expected {\"at\": [x, y, z], \"force\": [fx, fy, fz]}");
+      RobotDef::Load load;
+      load.site = site_of(r, l["at"], source, field + ".at");
+      load.fx = number(l["force"][0], source, field + ".force[0]");
+      load.fy = number(l["force"][1], source, field + ".force[1]");
+      load.fz = number(l["force"][2], source, field + ".force[2]");
+      r.loads.push_back(load);
+    }
+  }
+  if (j.contains("physics")) apply_physics(j["physics"], source, out.physics);
+  try {
+    validate(r);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  return out;
+}
+
+RobotFile read_robot_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_robot_json(ss.str(), path);
+}
+
+std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
+  json j;
+  j["format"] = "plastivox-robot";
+  j["version"] = 1;
+  j["name"] = r.name;
+  j["lattice"] = {{"nx", r.nx}, {"ny", r.ny}, {"nz", r.nz}, {"voxel_size", r.voxel_size}};
+  json vox = json::array();
+  for (int s = 0; s < r.sites(); ++s) {
+    if (!r.present[s]) continue;
+    const int x = s % r.nx, y = (s / r.nx) % r.ny, z = s / (r.nx * r.ny);
+    vox.push_back({x, y, z, r.stiffness[s], r.dev_rate[s], r.phase[s]});
+  }
+  j["voxels"] = vox;
+  auto xyz = [&](int s) { return json::array({s % r.nx, (s / r.nx) % r.ny, s / (r.nx * r.ny)}); };
+  if (!r.fixed_sites.empty()) {
+    j["fixed"] = json::array();
+    for (int s : r.fixed_sites) j["fixed"].push_back(xyz(s));
+  }
+  if (!r.loads.empty()) {
+    j["loads"] = json::array();
+    for (const auto& l : r.loads)
+      j["loads"].push_back({{"at", xyz(l.site)}, {"force", {l.fx, l.fy, l.fz}}});
+  }
+  if (physics) {
+    const PhysicsDef& d = *physics;
+    j["physics"] = {
+        {"density", d.density},
+        {"poisson", d.poisson},
+        {"mu_static", d.mu_static},
+        {"mu_kinetic", d.mu_kinetic},
+        {"e_min", d.e_min},
+        {"e_max", d.e_max},
+        {"bond_damping", d.bond_damping},
+        {"collision_damping", d.collision_damping},
+        {"global_damping", d.global_damping},
+        {"global_damping_rot_factor", d.global_damping_rot_factor},
+        {"gravity", d.gravity},
+        {"floor", d.floor},
+        {"self_collision", d.self_collision},
+        {"collision_exclude_hops", d.collision_exclude_hops},
+        {"contact_diameter", d.contact_diameter},
+        {"dt_frac", d.dt_frac},
+        {"act_frequency", d.act_frequency},
+        {"act_amplitude", d.act_amplitude},
+        {"act_min_factor", d.act_min_factor},
+        {"settle_time", d.settle_time},
+        {"duration", d.duration},
+        {"treatment", to_string(d.treatment)},
+        {"growth", to_string(d.growth)},
+        {"max_change_per_step", d.max_change_per_step},
+        {"min_devo_factor", d.min_devo_factor},
+        {"fitness", d.fitness == FitnessMode::k3D ? "3d" : "xy"},
+        {"axial_modulus",
+         d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
+        {"record_fps", d.record_fps},
+        {"max_speed", d.max_speed}};
+  }
+  return j.dump(1);
+}
+
+void write_robot_file(const std::string& path, const RobotDef& robot, const PhysicsDef* physics) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path + ": cannot open for writing");
+    out << robot_to_json(robot, physics) << "\n";
+    out.flush();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw InputError(path + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot rename temporary file: " + ec.message());
+  }
+}
+
+}  // namespace plastivox

@@ -1,0 +1,247 @@
+// Mechanics checked against physics: beam theory, contact, friction, conservation.
+#include <cmath>
+
+#include "plastivox/energy.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+using testing::RelNear;
+
+// A horizontal beam of `spans`+1 voxels along x, clamped at x = 0, lifted off the floor.
+RobotDef cantilever(int spans, double E) {
+  RobotDef r = testing::block(spans + 1, 1, 1, E);
+  r.fixed_sites = {0};
+  return r;
+}
+
+// First bending-mode angular frequency of a clamped beam, rad/s.
+double first_mode(double E, double density, int spans) {
+  const double L = 0.01, l = spans * L, I = L * L * L * L / 12.0;
+  return 3.516 * std::sqrt(E * I / (density * L * L * l * l * l * l));
+}
+
+PhysicsDef beam_physics(double E, double density, int spans) {
+  PhysicsDef d = testing::passive_physics();
+  d.floor = false;
+  d.density = density;
+  // Global damping near critical for the first bending mode (c = 2 m omega), so it settles
+  // within a few periods; statics do not depend on damping.
+  const double m = density * 1e-6, L = 0.01;
+  d.global_damping = first_mode(E, density, spans) * std::sqrt(m / (E * L));
+  return d;
+}
+
+// Tip deflection of a clamped beam under its own weight: delta = w l^4 / (8 E I).
+class SelfWeightCantilever : public ::testing::TestWithParam<std::tuple<int, double>> {};
+
+TEST_P(SelfWeightCantilever, SagMatchesEulerBernoulli) {
+  const auto [spans, E] = GetParam();
+  const double L = 0.01, density = 1000.0;
+  const Model m = compile(cantilever(spans, E), beam_physics(E, density, spans));
+  Simulator sim(m);
+  const double l = spans * L, I = L * L * L * L / 12.0, A = L * L;
+  testing::run_until(sim, 4 * 2 * M_PI / first_mode(E, density, spans));
+  ASSERT_EQ(sim.state().status, SimStatus::kRunning) << sim.state().failure;
+  const double w = density * A * 9.81;  // N/m
+  const double expected = w * l * l * l * l / (8 * E * I);
+  const double sag = m.rest_pos.back().z() - sim.state().pos.back().z();
+  // Lumped voxel masses overestimate the continuum sag by ~4/(3 n) (n spans): 3.4 % at
+  // n = 40, 2.2 % at n = 60; 5 % is the tolerance.
+  EXPECT_TRUE(RelNear(sag, expected, 0.05));
+}
+
+INSTANTIATE_TEST_SUITE_P(LengthsAndModuli, SelfWeightCantilever,
+                         ::testing::Combine(::testing::Values(40, 60),
+                                            ::testing::Values(1e9, 1e10)));
+
+// Tip deflection under an end load: delta = P l^3 / (3 E I), exact for beam elements.
+class EndLoadedCantilever : public ::testing::TestWithParam<std::tuple<int, double>> {};
+
+TEST_P(EndLoadedCantilever, TipDeflectionMatchesEulerBernoulli) {
+  const auto [spans, E] = GetParam();
+  const double L = 0.01, I = L * L * L * L / 12.0, l = spans * L;
+  RobotDef r = cantilever(spans, E);
+  const double P = 1e-3 * 3 * E * I / (l * l * l) * l;  // tip deflection of 0.1 % of l
+  r.loads.push_back({spans, 0, 0, -P});
+  PhysicsDef d = beam_physics(E, 1000.0, spans);
+  d.gravity = 0;
+  const Model m = compile(r, d);
+  Simulator sim(m);
+  testing::run_until(sim, 4 * 2 * M_PI / first_mode(E, 1000.0, spans));
+  ASSERT_EQ(sim.state().status, SimStatus::kRunning) << sim.state().failure;
+  const double deflection = m.rest_pos.back().z() - sim.state().pos.back().z();
+  EXPECT_TRUE(RelNear(deflection, P * l * l * l / (3 * E * I), 0.02));
+}
+
+INSTANTIATE_TEST_SUITE_P(LengthsAndModuli, EndLoadedCantilever,
+                         ::testing::Combine(::testing::Values(5, 12), ::testing::Values(1e6, 1e9)));
+
+TEST(FloorContact, DroppedVoxelRestsAtPenaltyEquilibrium) {
+  RobotDef r = testing::block(1, 1, 1, 1e9);
+  const Model m = compile(r, testing::passive_physics());
+  Simulator sim(m);
+  sim.mutable_state().pos[0].z() += 0.02;  // drop from two voxel lengths higher
+  testing::run_until(sim, 0.5);
+  ASSERT_EQ(sim.state().status, SimStatus::kRunning) << sim.state().failure;
+  // Floor spring 2 E L holds the weight: penetration m g / (2 E L) below L/2.
+  const double L = m.size, E = 1e9;
+  const double expected = L / 2 - m.mass * 9.81 / (2 * E * L);
+  EXPECT_NEAR(sim.state().pos[0].z(), expected, 1e-4 * L);
+  EXPECT_LT(std::abs(sim.state().lin_mom[0].z() / m.mass), 1e-6);
+}
+
+// A voxel resting on the floor, pushed sideways with a constant force F.
+double push(double F_over_weight, double seconds, double* mass_out) {
+  RobotDef r = testing::block(1, 1, 1, 1e9);
+  PhysicsDef d = testing::passive_physics();
+  d.global_damping = 0;  // slow damping of a 1e9 Pa voxel would rival friction here
+  const double weight = d.density * 1e-6 * 9.81;
+  r.loads.push_back({0, F_over_weight * weight, 0, 0});
+  const Model m = compile(r, d);
+  Simulator sim(m);
+  // Start at the contact equilibrium so the normal force is steady from the first step.
+  sim.mutable_state().pos[0].z() = m.size / 2 - m.mass * 9.81 / (2 * 1e9 * m.size);
+  testing::run_until(sim, seconds);
+  EXPECT_EQ(sim.state().status, SimStatus::kRunning) << sim.state().failure;
+  *mass_out = m.mass;
+  return sim.state().pos[0].x() - m.rest_pos[0].x();
+}
+
+TEST(Friction, StaticFrictionHoldsBelowTheLimit) {
+  double mass;
+  // mu_static = 1: a push of 0.9 weight must not move the block.
+  EXPECT_LT(std::abs(push(0.9, 0.2, &mass)), 1e-9);
+}
+
+TEST(Friction, KineticFrictionSetsSlidingAcceleration) {
+  double mass;
+  // Push 1.5 weight, kinetic friction 0.5 weight: a = g, x = g t^2 / 2.
+  const double t = 0.2;
+  EXPECT_TRUE(RelNear(push(1.5, t, &mass), 0.5 * 9.81 * t * t, 0.02));
+}
+
+// Free flight, no damping, no gravity: a deformed, spinning block.
+Model free_block() {
+  PhysicsDef d = testing::passive_physics();
+  d.floor = false;
+  d.gravity = 0;
+  d.bond_damping = d.global_damping = d.collision_damping = 0;
+  return compile(testing::block(3, 2, 2, 1e7), d);
+}
+
+void perturb(const Model& m, State& s) {
+  for (int i = 0; i < m.n; ++i) {
+    const double k = i + 1.0;
+    // ~1 % strains and a drift: vibration well inside the linear range
+    s.pos[i] += m.size * 0.01 * Vec3(std::sin(k), std::cos(2 * k), std::sin(3 * k));
+    s.lin_mom[i] = m.mass * Vec3(0.001 * std::cos(k), 0.02, -0.001 * std::sin(k));
+  }
+}
+
+TEST(Conservation, EnergyDoesNotDriftWithoutDamping) {
+  const Model m = free_block();
+  Simulator sim(m);
+  perturb(m, sim.mutable_state());
+  // Leapfrog-style energy: the stored momentum is a half step ahead of the positions, so
+  // average it over the step to compare energies at the same instant; then compare the
+  // mean energy of the first and last 1000 steps (the signal oscillates with the modes).
+  auto total = [&](const State& before, const State& after) {
+    State mid = before;
+    for (int i = 0; i < m.n; ++i) {
+      mid.lin_mom[i] = 0.5 * (before.lin_mom[i] + after.lin_mom[i]);
+      mid.ang_mom[i] = 0.5 * (before.ang_mom[i] + after.ang_mom[i]);
+    }
+    return kinetic_energy(m, mid) + elastic_energy(m, mid, sim.voxel_sizes());
+  };
+  double first = 0, last = 0;
+  const int steps = 10000, window = 1000;
+  for (int k = 0; k < steps; ++k) {
+    const State before = sim.state();
+    sim.step();
+    const double e = total(before, sim.state());
+    if (k < window) first += e / window;
+    if (k >= steps - window) last += e / window;
+  }
+  ASSERT_GT(first, 0);
+  EXPECT_TRUE(RelNear(last, first, 0.01));
+}
+
+TEST(Conservation, AngularMomentumInFreeFlight) {
+  // Bond moments balance bond forces exactly, so spin plus orbital momentum is conserved.
+  const Model m = free_block();
+  Simulator sim(m);
+  perturb(m, sim.mutable_state());
+  auto angular = [&] {
+    const Vec3 c = center_of_mass(sim.state());
+    Vec3 h = Vec3::Zero();
+    for (int i = 0; i < m.n; ++i)
+      h += (sim.state().pos[i] - c).cross(sim.state().lin_mom[i]) + sim.state().ang_mom[i];
+    return h;
+  };
+  const Vec3 h0 = angular();
+  for (int k = 0; k < 5000; ++k) sim.step();
+  EXPECT_LT((angular() - h0).norm(), 1e-6 * (h0.norm() + m.mass * m.size * 0.01));
+}
+
+TEST(Conservation, LinearMomentumInFreeFlight) {
+  const Model m = free_block();
+  Simulator sim(m);
+  perturb(m, sim.mutable_state());
+  auto momentum = [&] {
+    Vec3 p = Vec3::Zero();
+    for (const Vec3& v : sim.state().lin_mom) p += v;
+    return p;
+  };
+  const Vec3 p0 = momentum();
+  for (int k = 0; k < 5000; ++k) sim.step();
+  EXPECT_LT((momentum() - p0).norm(), 1e-9 * m.mass);
+}
+
+// The paper's "heavy materials": 1000 kg voxels crush a soft column, a stiff one stands.
+double column_height_ratio(double E) {
+  PhysicsDef d = testing::passive_physics();
+  d.self_collision = true;
+  const Model m = compile(testing::block(2, 2, 8, E), d);
+  Simulator sim(m);
+  testing::run_until(sim, 0.5);
+  EXPECT_EQ(sim.state().status, SimStatus::kRunning) << sim.state().failure;
+  return center_of_mass(sim.state()).z() / center_of_mass(make_initial_state(m)).z();
+}
+
+TEST(HeavyMaterials, SoftColumnIsCrushedStiffColumnStands) {
+  EXPECT_GT(column_height_ratio(1e11), 0.99);
+  EXPECT_LT(column_height_ratio(1e7), 0.6);
+}
+
+TEST(Stability, MixedExtremeStiffnessRunsAFullLife) {
+  // A checkerboard of 1e5 and 1e11 Pa neighbours, actuated, on the floor, for 5.2 s.
+  RobotDef r = testing::block(6, 6, 4, 1e5);
+  for (int s = 0; s < r.sites(); ++s) {
+    const int x = s % 6, y = (s / 6) % 6, z = s / 36;
+    if ((x + y + z) % 2) r.stiffness[s] = 1e11;
+    r.phase[s] = 0.1 * x;
+  }
+  PhysicsDef d;  // GECCO defaults: actuation, self-collision, E in [1e5, 1e11]
+  const Model m = compile(r, d);
+  const SimResult res = simulate(m);
+  EXPECT_EQ(res.status, SimStatus::kFinished) << res.failure;
+  EXPECT_TRUE(std::isfinite(res.fitness));
+}
+
+TEST(Stability, RunawaySpeedIsReportedNotReturnedAsANumber) {
+  PhysicsDef d = testing::passive_physics();
+  d.dt_frac = 1.5;  // allowed, but far too large for these contact stiffnesses
+  d.max_speed = 1.0;
+  RobotDef r = testing::block(3, 3, 3, 1e9);
+  const Model m = compile(r, d);
+  Simulator sim(m);
+  sim.mutable_state().lin_mom[0] = Vec3(0, 0, -50.0 * m.mass);
+  testing::run_until(sim, 0.5);
+  EXPECT_EQ(sim.state().status, SimStatus::kUnstable);
+  EXPECT_FALSE(sim.state().failure.empty());
+}
+
+}  // namespace
+}  // namespace plastivox

@@ -1,0 +1,36 @@
+// Shared helpers for the test suite: tiny robots built inline, quiet physics, named
+// tolerances. Every test binary also traps floating-point invalid operations, so a NaN
+// fails where it is born (see test_support.cpp).
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "plastivox/model.hpp"
+#include "plastivox/simulator.hpp"
+
+namespace plastivox::testing {
+
+// A solid nx*ny*nz block of voxels, all with modulus E, phase 0, no development.
+RobotDef block(int nx, int ny, int nz, double E, double voxel_size = 0.01);
+
+// Physics with the GECCO defaults but no actuation, no self-collision and E in [1e4, 1e12]:
+// a clean setting for mechanics checks. Duration is left to the test.
+PhysicsDef passive_physics();
+
+// Steps the simulator until its time reaches t (or it goes unstable).
+void run_until(Simulator& sim, double t);
+
+// |actual - expected| <= rel * |expected|, with a message naming both.
+inline ::testing::AssertionResult RelNear(double actual, double expected, double rel) {
+  if (std::abs(actual - expected) <= rel * std::abs(expected)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << "actual " << actual << " vs expected " << expected << " (relative error "
+         << (actual - expected) / expected << ", allowed " << rel << ")";
+}
+
+std::string shared_dir();  // ../shared beside the repository
+
+}  // namespace plastivox::testing
