@@ -8,6 +8,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/robot_file.hpp"
 #include "plastivox/simulator.hpp"
+#include "plastivox/vxa.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::cli {
@@ -39,6 +40,7 @@ int cmd_simulate(const Args& in) {
   const std::string treatment = take_option(args, "--treatment", "");
   const std::string preset = take_option(args, "--preset", "");
   const std::string duration = take_option(args, "--duration", "");
+  const std::string overrides = take_option(args, "--physics", "");
   reject_unknown_options(args);
   if (args.size() > 1) throw UsageError{"expected at most one robot file"};
 
@@ -52,11 +54,16 @@ int cmd_simulate(const Args& in) {
   } else {
     source = args[0];
     if (ends_with(source, ".vxa")) {
-      throw InputError(source + ": VXA import is not available in this build");
+      VxaRobot v = read_vxa_file(source);
+      for (const std::string& w : v.warnings)
+        std::fprintf(stderr, "plastivox simulate: warning: %s\n", w.c_str());
+      robot = std::move(v.robot);
+      physics = v.physics;
+    } else {
+      RobotFile f = read_robot_file(source);
+      robot = std::move(f.robot);
+      physics = f.physics;
     }
-    RobotFile f = read_robot_file(source);
-    robot = std::move(f.robot);
-    physics = f.physics;
   }
   if (!preset.empty()) {
     const Treatment keep = physics.treatment;
@@ -65,6 +72,7 @@ int cmd_simulate(const Args& in) {
   }
   if (!treatment.empty()) physics.treatment = parse_treatment(treatment);
   if (!duration.empty()) physics.duration = parse_seconds(duration, "--duration");
+  if (!overrides.empty()) apply_physics_json(overrides, "--physics", physics);
 
   const Model model = compile(robot, physics);
   const SimResult r = simulate(model);

@@ -14,7 +14,8 @@ const char* kUsage =
     "  simulate [ROBOT] [--treatment none|stress|pressure] [--preset NAME] [--duration S] "
     "[--json]\n"
     "           simulate a robot file (.json plastivox robot or .vxa); no ROBOT: the built-in\n"
-    "           ~500-voxel demo walker\n"
+    "           ~500-voxel demo walker. --physics '{\"field\": value, ...}' overrides\n"
+    "           physics fields (names as in docs/robot-format.md)\n"
     "  demo     simulate the demo walker under each treatment and print a summary\n"
     "  version  print version and commit\n";
 

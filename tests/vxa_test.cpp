@@ -136,7 +136,7 @@ TEST_P(VxaSample, ParsesToTheExpectedRobotAndSettings) {
   EXPECT_TRUE(p.self_collision);
   EXPECT_EQ(p.collision_exclude_hops, 3);
   EXPECT_EQ(p.dt_frac, 0.9);
-  EXPECT_EQ(p.axial_modulus, AxialModulus::kNegativeVoxel);
+  EXPECT_EQ(p.axial_modulus, AxialModulus::kHarmonicMean);
   if (s.treatment != Treatment::kNone) {
     EXPECT_EQ(p.growth, GrowthModel::kIntegral);
     EXPECT_EQ(p.max_change_per_step, 1e9);
@@ -221,7 +221,7 @@ TEST(Vxa, SyntheticRobotRoundTripsExactly) {
       p.max_change_per_step = PhysicsDef{}.max_change_per_step;
       p.min_devo_factor = PhysicsDef{}.min_devo_factor;
     }
-    p.axial_modulus = AxialModulus::kNegativeVoxel;
+    p.axial_modulus = AxialModulus::kHarmonicMean;
     p.act_amplitude = 0.8 * u(rng);  // exercises both ways of writing the thermal tags
     p.act_frequency = 1 + trial % 7;
     p.gravity = -9.81 * u(rng);
@@ -259,7 +259,7 @@ TEST(Vxa, WriterRejectsWhatTheFormatCannotExpress) {
   EXPECT_THROW(write_vxa(clamped, v.physics), VxaError);
   std::vector<std::string> warnings;
   p = v.physics;
-  p.axial_modulus = AxialModulus::kHarmonicMean;
+  p.axial_modulus = AxialModulus::kNegativeVoxel;
   write_vxa(v.robot, p, &warnings);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("axial_modulus"), std::string::npos);

@@ -17,9 +17,10 @@ void actuate(const Model& m, const State& s, Workspace& w) {
   const double inv_range = 1.0 / (d.e_max - d.e_min);
   for (int i = 0; i < m.n; ++i) {
     // Stiff voxels barely move; xi follows the *current* E, so development changes actuation.
-    const double xi = std::max((d.e_max - s.stiffness[i]) * inv_range, d.act_min_factor);
+    const double xi = (d.e_max - s.stiffness[i]) * inv_range;
     const double wave = std::sin(two_pi * (d.act_frequency * s.time + m.phase[i]));
-    w.size[i] = m.size * (1.0 + d.act_amplitude * xi * wave);
+    // The size factor never drops below act_min_factor (Voxelyze's MIN_TEMP_FACTOR).
+    w.size[i] = m.size * std::max(1.0 + d.act_amplitude * xi * wave, d.act_min_factor);
   }
 }
 

@@ -115,6 +115,11 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
           fail(where, field, "expected \"harmonic\" or \"negative-voxel\"");
         d.axial_modulus =
             a == "harmonic" ? AxialModulus::kHarmonicMean : AxialModulus::kNegativeVoxel;
+      } else if (key == "bond_model") {
+        const std::string b = text(*it, where, field);
+        if (b != "exact" && b != "voxelyze09")
+          fail(where, field, "expected \"exact\" or \"voxelyze09\"");
+        d.bond_model = b == "exact" ? BondModel::kExact : BondModel::kVoxelyze09;
       } else {
         fail(where, field, "unknown field");
       }

@@ -18,6 +18,9 @@ State make_initial_state(const Model& m) {
   s.bond_prev_pos.assign(m.bond_count(), Vec3::Zero());
   s.bond_prev_rot1.assign(m.bond_count(), Vec3::Zero());
   s.bond_prev_rot2.assign(m.bond_count(), Vec3::Zero());
+  s.bond_prev_valid.assign(m.bond_count(), 0);
+  // Voxelyze 0.9 starts every bond in its small-angle frame.
+  s.bond_small_angle.assign(m.bond_count(), m.def.bond_model == BondModel::kVoxelyze09 ? 1 : 0);
   s.dt = stable_dt(m, s.stiffness);
   return s;
 }
@@ -58,6 +61,8 @@ uint64_t state_hash(const State& s) {
   for (const Vec3& v : s.bond_prev_pos) f.bytes(v.data(), 3 * sizeof(double));
   for (const Vec3& v : s.bond_prev_rot1) f.bytes(v.data(), 3 * sizeof(double));
   for (const Vec3& v : s.bond_prev_rot2) f.bytes(v.data(), 3 * sizeof(double));
+  f.vec(s.bond_prev_valid);
+  f.vec(s.bond_small_angle);
   return f.h;
 }
 

@@ -202,7 +202,9 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
 
   VxaRobot out;
   PhysicsDef& p = out.physics;
-  p.axial_modulus = AxialModulus::kNegativeVoxel;
+  // Bond mechanics stay plastivox's defaults (harmonic-mean axial modulus, exact bond
+  // frame): against the authors' published results for ../shared/vxa they agree at least as
+  // well as imitating Voxelyze 0.9's bond details (docs/vxa.md has the comparison).
   p.act_min_factor = kMinTempFactor;
   read_simulator(r, vxa, p);
   const Thermal thermal = read_environment(r, vxa, p);

@@ -116,8 +116,10 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
     throw VxaError(
         "write_vxa: robot.fixed_sites and robot.loads cannot be written (VXA "
         "boundary conditions are regions, not supported here)");
-  if (p.axial_modulus != AxialModulus::kNegativeVoxel)
-    note("physics.axial_modulus is not carried; VXA import uses the negative-side voxel's E");
+  if (p.axial_modulus != AxialModulus::kHarmonicMean)
+    note("physics.axial_modulus is not carried; VXA import uses the harmonic mean");
+  if (p.bond_model != BondModel::kExact)
+    note("physics.bond_model is not carried; VXA import uses the exact bond model");
   if (p.global_damping_rot_factor != 10.0)
     note("physics.global_damping_rot_factor is not carried (the authors' simulator uses 10)");
   if (p.contact_diameter != 1.5)

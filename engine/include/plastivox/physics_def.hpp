@@ -15,6 +15,11 @@ enum class FitnessMode { k3D, kXY };
 // the harmonic mean. Voxelyze 0.9 (the authors' simulator) used the negative-side voxel's
 // own E for the axial stress of bonds between voxels of one palette material.
 enum class AxialModulus { kHarmonicMean, kNegativeVoxel };
+// How bond deformation is measured. kExact: always in the chord-aligned frame, with shear
+// forces that are the exact gradient of the bending energy (conserves energy and angular
+// momentum). kVoxelyze09: Voxelyze 0.9's switch between a voxel-aligned small-angle frame
+// and the chord-aligned frame, with hysteresis (what the authors' simulator did).
+enum class BondModel { kExact, kVoxelyze09 };
 
 struct PhysicsDef {
   // --- material (uniform; only E varies per voxel) ---
@@ -38,6 +43,7 @@ struct PhysicsDef {
   bool self_collision = true;  // contact between voxels that are not bonded
 
   AxialModulus axial_modulus = AxialModulus::kHarmonicMean;
+  BondModel bond_model = BondModel::kExact;
   // Self-collision acts between surface voxels more than this many bonds apart, when their
   // centres are closer than contact_diameter * (mean actuated size) (Voxelyze 0.9: 3, 1.5).
   int collision_exclude_hops = 3;
@@ -49,7 +55,7 @@ struct PhysicsDef {
   // --- actuation (METHOD.md section 4) ---
   double act_frequency = 5.0;     // Hz
   double act_amplitude = 0.1447;  // linear, fraction of voxel size
-  double act_min_factor = 0.1;    // the stiffness damping factor xi(E) never goes below this
+  double act_min_factor = 0.1;    // floor on the size factor 1 + A xi(E) sin(...)
 
   // --- timeline ---
   double settle_time = 0.2;  // s without actuation or development; fitness starts here

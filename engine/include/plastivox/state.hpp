@@ -37,10 +37,11 @@ struct State {
   std::vector<uint8_t> static_friction;  // 1 while held by floor static friction
 
   // Per bond: deformation at the previous step, for the bond's internal damping.
-  std::vector<Vec3> bond_prev_pos;   // (extension, 0, 0) in the bond frame, m
-  std::vector<Vec3> bond_prev_rot1;  // rotation vector of voxel a in the bond frame, rad
-  std::vector<Vec3> bond_prev_rot2;  // rotation vector of voxel b in the bond frame, rad
-  bool bond_prev_valid = false;      // false until one step has recorded them
+  std::vector<Vec3> bond_prev_pos;        // position of b relative to its rest place, bond frame, m
+  std::vector<Vec3> bond_prev_rot1;       // rotation vector of voxel a in the bond frame, rad
+  std::vector<Vec3> bond_prev_rot2;       // rotation vector of voxel b in the bond frame, rad
+  std::vector<uint8_t> bond_prev_valid;   // 1 once the previous deformation is recorded
+  std::vector<uint8_t> bond_small_angle;  // 1 while the bond uses the small-angle frame
 
   Vec3 com_settled = Vec3::Zero();  // centre of mass when settling ended, m
   bool settled = false;             // true once time >= settle_time
