@@ -2,21 +2,25 @@
 //
 // Each bond is an Euler-Bernoulli beam of nominal length L and square section L x L
 // joining two voxel centres. Forces are computed in a "bond frame": voxel a's body frame,
-// cyclically permuted so the bond's lattice axis is +x, then rotated (q1) so the chord
-// from a to b lies on +x. In that frame the chord carries only the axial extension and
-// the two voxels' rotation vectors carry shear, bending and torsion; this form stays
-// accurate for large rotations, unlike small-angle beam formulas in the lattice frame.
+// cyclically permuted so the bond's lattice axis is +x, then (in the chord-aligned form)
+// rotated so the chord from a to b lies on +x. In that frame the chord carries only the
+// axial extension and the two voxels' rotation vectors carry shear, bending and torsion;
+// this form stays accurate for large rotations.
 //
-// Restoring forces and moments on the two ends (x = chord, theta1/theta2 = rotation
-// vectors of a and b, b1..b3 and a2 the beam constants):
-//   F_a = ( sigma*A,  -b2 (th1z + th2z),  b2 (th1y + th2y) ),  F_b = -F_a
-//   M_a = ( a2 (th2x - th1x), -b3 (2 th1y + th2y), -b3 (2 th1z + th2z) )
-//   M_b = ( a2 (th1x - th2x), -b3 (th1y + 2 th2y), -b3 (th1z + 2 th2z) )
-// with a2 = G J / L, b2 = 6 E I / L^2, b3 = 2 E I / L, I = L^4/12, J = L^4/6.
-// Damping mirrors these with each stiffness k replaced by a critical coefficient
-// 2 sqrt(k m) (2 sqrt(k I) for rotations) times the bond damping ratio, acting on the
-// rate of the same deformations (finite difference of the bond-frame deformation, half
-// of it attributed to each end), so rigid motion of the whole bond is never damped.
+// Restoring forces and moments on the two ends (p = position of b relative to its rest
+// place, th1/th2 = rotation vectors of a and b, b1..b3 and a2 the beam constants):
+//   F_a = ( sigma A, b1 p_y - b2 (th1z + th2z), b1 p_z + b2 (th1y + th2y) ),  F_b = -F_a
+//   M_a = ( a2 (th2x - th1x), -b2 p_z - b3 (2 th1y + th2y),  b2 p_y - b3 (2 th1z + th2z) )
+//   M_b = ( a2 (th1x - th2x), -b2 p_z - b3 (th1y + 2 th2y),  b2 p_y - b3 (th1z + 2 th2z) )
+// with a2 = G J / L, b1 = 12 E I / L^3, b2 = 6 E I / L^2, b3 = 2 E I / L, I = L^4/12,
+// J = L^4/6. Damping mirrors these with each stiffness k replaced by a critical
+// coefficient 2 sqrt(k m) (2 sqrt(k I) for rotations) times the bond damping ratio, acting
+// on the rate of the same deformations (finite difference of the bond-frame deformation,
+// half of it attributed to each end), so rigid motion of the whole bond is never damped.
+//
+// This is the hot loop of the simulator (most of the time of a step), so it is written
+// in plain scalar arithmetic on the structure-of-arrays state, without temporaries.
+#include <algorithm>
 #include <cmath>
 
 #include "plastivox/energy.hpp"
@@ -25,69 +29,118 @@
 namespace plastivox {
 namespace {
 
+struct V3 {
+  double x, y, z;
+};
+
 // Cyclic permutation taking lattice axis d onto x; a proper rotation, so it applies to
 // rotation vectors as well as positions.
-inline Vec3 to_bond(int d, const Vec3& v) {
-  if (d == 0) return v;
-  if (d == 1) return Vec3(v.y(), v.z(), v.x());
-  return Vec3(v.z(), v.x(), v.y());
+inline V3 to_bond(int d, double x, double y, double z) {
+  if (d == 0) return {x, y, z};
+  if (d == 1) return {y, z, x};
+  return {z, x, y};
 }
-inline Vec3 from_bond(int d, const Vec3& v) {
+inline V3 from_bond(int d, const V3& v) {
   if (d == 0) return v;
-  if (d == 1) return Vec3(v.z(), v.x(), v.y());
-  return Vec3(v.y(), v.z(), v.x());
+  if (d == 1) return {v.z, v.x, v.y};
+  return {v.y, v.z, v.x};
+}
+
+// atan(t) / t as a function of t^2: nine terms of the alternating series leave an error
+// below 1e-19 for t < 0.1 (rotations under 11 degrees, nearly every bond, every step).
+inline double atan_over_t(double t2) {
+  if (t2 < 1e-2) {
+    return 1.0 -
+           t2 * (1.0 / 3 -
+                 t2 * (1.0 / 5 -
+                       t2 * (1.0 / 7 -
+                             t2 * (1.0 / 9 -
+                                   t2 * (1.0 / 11 -
+                                         t2 * (1.0 / 13 - t2 * (1.0 / 15 - t2 * (1.0 / 17))))))));
+  }
+  const double t = std::sqrt(t2);
+  return std::atan(t) / t;
 }
 
 // Rotation vector (axis * angle, rad) of a unit quaternion, taking the shorter arc.
-inline Vec3 rotation_vector(const Quat& q) {
-  const double sign = q.w() < 0 ? -1.0 : 1.0;
-  const Vec3 v = sign * q.vec();
-  const double s = v.norm();
-  if (s < 1e-12) return 2.0 * v;  // small-angle limit of 2 atan2(s, w) / s
-  return v * (2.0 * std::atan2(s, sign * q.w()) / s);
+inline V3 rotation_vector(double w, double x, double y, double z) {
+  if (w < 0) w = -w, x = -x, y = -y, z = -z;
+  const double s2 = x * x + y * y + z * z;
+  if (s2 == 0) return {0, 0, 0};
+  // angle = 2 atan(s / w); angle / s = 2 atan(t) / (t w) with t = s / w.
+  const double k = w > 1e-3 ? 2.0 * atan_over_t(s2 / (w * w)) / w
+                            : 2.0 * std::atan2(std::sqrt(s2), w) / std::sqrt(s2);
+  return {x * k, y * k, z * k};
 }
 
 // The deformation of one bond in its bond frame. Two frames are used:
-//  - chord-aligned ("large angle"): voxel a's permuted frame rotated by q1 so the chord lies
-//    on +x; then p = (extension, 0, 0) and both voxels carry rotation vectors th1, th2;
-//  - voxel-aligned ("small angle", Voxelyze 0.9 only): voxel a's permuted frame itself;
-//    th1 = 0 and p = r - (rest, 0, 0) keeps the transverse offset.
+//  - chord-aligned ("large angle"): voxel a's permuted frame rotated by the quaternion
+//    f = (fw, 0, fy, fz) so the chord lies on +x; then p = (extension, 0, 0);
+//  - voxel-aligned ("small angle", Voxelyze 0.9 only): voxel a's permuted frame itself
+//    (f = identity); th1 = 0 and p = r - (rest, 0, 0) keeps the transverse offset.
 struct BondGeometry {
   int axis;
-  Quat frame;     // rotation from the permuted body frame of a to the bond frame
-  Vec3 p;         // position of b relative to its rest place, m, bond frame
-  Vec3 th1, th2;  // rotation vectors of a and b, rad, bond frame
-  Vec3 r;         // chord from a to b in the permuted frame of a, m
-  double rest;    // actuated rest length, m
-  Quat q2;        // rotation of b relative to a, permuted frame
+  double fw, fy, fz;  // frame rotation (unit quaternion with zero x part)
+  V3 p;               // position of b relative to its rest place, m, bond frame
+  V3 th1, th2;        // rotation vectors of a and b, rad, bond frame
+  V3 r;               // chord from a to b in the permuted frame of a, m
+  double rest;        // actuated rest length, m
+  double q2w;         // scalar part of b's rotation relative to a
 };
 
-inline BondGeometry bond_geometry(const Model& m, const State& s, const std::vector<double>& size,
-                                  int b, bool small_angle) {
+inline BondGeometry bond_geometry(const Model& m, const State& s, const Workspace& w, int b,
+                                  bool small_angle) {
   const int ia = m.bond_a[b], ib = m.bond_b[b], d = m.bond_axis[b];
   BondGeometry g;
   g.axis = d;
-  const Quat qa_inv = s.orient[ia].conjugate();
-  g.r = to_bond(d, qa_inv * (s.pos[ib] - s.pos[ia]));
-  const Quat qrel = qa_inv * s.orient[ib];
-  const Vec3 qrel_v = to_bond(d, qrel.vec());
-  g.q2 = Quat(qrel.w(), qrel_v.x(), qrel_v.y(), qrel_v.z());
+  // Chord in a's body frame: R_a^T (p_b - p_a), then permuted.
+  const double* R = w.rot[ia].data();  // column-major: R[0..2] is the first column
+  const double dx = s.pos[ib].x() - s.pos[ia].x();
+  const double dy = s.pos[ib].y() - s.pos[ia].y();
+  const double dz = s.pos[ib].z() - s.pos[ia].z();
+  g.r = to_bond(d, R[0] * dx + R[1] * dy + R[2] * dz, R[3] * dx + R[4] * dy + R[5] * dz,
+                R[6] * dx + R[7] * dy + R[8] * dz);
+  // Rotation of b relative to a: conj(q_a) q_b, vector part permuted.
+  const Quat& qa = s.orient[ia];
+  const Quat& qb = s.orient[ib];
+  const double aw = qa.w(), ax = qa.x(), ay = qa.y(), az = qa.z();
+  const double bw = qb.w(), bx = qb.x(), by = qb.y(), bz = qb.z();
+  const double qw = aw * bw + ax * bx + ay * by + az * bz;
+  const V3 qv =
+      to_bond(d, aw * bx - ax * bw - ay * bz + az * by, aw * by + ax * bz - ay * bw - az * bx,
+              aw * bz - ax * by + ay * bx - az * bw);
+  g.q2w = qw;
   // Extension is measured from the actuated rest length (mean of the two current sizes).
-  g.rest = 0.5 * (size[ia] + size[ib]);
+  g.rest = 0.5 * (w.size[ia] + w.size[ib]);
   if (small_angle) {
-    g.frame = Quat::Identity();
-    g.p = g.r - Vec3(g.rest, 0.0, 0.0);
-    g.th1 = Vec3::Zero();
-    g.th2 = rotation_vector(g.q2);
-  } else {
-    // Rotation that takes the chord r onto +x (half-way quaternion between them).
-    const double len = g.r.norm();
-    g.frame = Quat(len + g.r.x(), 0.0, g.r.z(), -g.r.y());
-    g.frame.normalize();
-    g.p = Vec3(len - g.rest, 0.0, 0.0);
-    g.th1 = rotation_vector(g.frame);
-    g.th2 = rotation_vector(g.frame * g.q2);
+    g.fw = 1, g.fy = 0, g.fz = 0;
+    g.p = {g.r.x - g.rest, g.r.y, g.r.z};
+    g.th1 = {0, 0, 0};
+    g.th2 = rotation_vector(qw, qv.x, qv.y, qv.z);
+    return g;
   }
+  // f takes the chord onto +x: the half-way quaternion (len + r_x, 0, r_z, -r_y), whose
+  // norm is sqrt(2 len (len + r_x)).
+  const V3& r = g.r;
+  const double len = std::sqrt(r.x * r.x + r.y * r.y + r.z * r.z);
+  const double h = len + r.x;
+  g.p = {len - g.rest, 0, 0};
+  if (h > 1e-6 * len) {
+    const double inv_n = 1.0 / std::sqrt(2.0 * len * h);
+    g.fw = h * inv_n, g.fy = r.z * inv_n, g.fz = -r.y * inv_n;
+    // th1 = rotation vector of f; the tangent of its half angle is |(r_y, r_z)| / h.
+    const double k1 = 2.0 * atan_over_t((r.y * r.y + r.z * r.z) / (h * h)) / h;
+    g.th1 = {0, r.z * k1, -r.y * k1};
+  } else {
+    // The chord points (almost) backwards, or the centres coincide: a crushed or inverted
+    // bond. Any rotation onto +x will do; half a turn about z keeps the numbers finite.
+    g.fw = 0, g.fy = 0, g.fz = 1;
+    g.th1 = {0, 0, M_PI};
+  }
+  // th2 = rotation vector of f * q2 (f has no x part).
+  const double fw = g.fw, fy = g.fy, fz = g.fz;
+  g.th2 = rotation_vector(fw * qw - fy * qv.y - fz * qv.z, fw * qv.x + fy * qv.z - fz * qv.y,
+                          fw * qv.y + qw * fy + fz * qv.x, fw * qv.z + qw * fz - fy * qv.x);
   return g;
 }
 
@@ -98,10 +151,9 @@ inline bool next_small_angle(const BondGeometry& g, bool small_now) {
   constexpr double kBendTurn = 0.05;       // (|y| + |z|) / x
   constexpr double kExtension = 1.3;       // x / rest
   constexpr double kHysteresis = 1.1;
-  const double w = std::min(1.0, std::abs(g.q2.w()));
-  const double angle = 2.0 * std::acos(w);
-  const double turn = (std::abs(g.r.y()) + std::abs(g.r.z())) / g.r.x();
-  const double extend = g.r.x() / g.rest;
+  const double angle = 2.0 * std::acos(std::min(1.0, std::abs(g.q2w)));
+  const double turn = (std::abs(g.r.y) + std::abs(g.r.z)) / g.r.x;
+  const double extend = g.r.x / g.rest;
   if (small_now) {
     return !(angle >= kHysteresis * kSmallAngle || !(turn <= kHysteresis * kBendTurn) ||
              extend > kHysteresis * kExtension);
@@ -109,32 +161,55 @@ inline bool next_small_angle(const BondGeometry& g, bool small_now) {
   return angle < kSmallAngle && turn >= 0 && turn < kBendTurn && extend < kExtension;
 }
 
+// v expressed in the bond frame -> world: undo the frame rotation f (apply f^T), undo the
+// permutation, apply a's orientation.
+inline Vec3 to_world(const BondGeometry& g, const double* R, const V3& v) {
+  const double w = g.fw, y = g.fy, z = g.fz;
+  const V3 u{(1 - 2 * (y * y + z * z)) * v.x + 2 * w * z * v.y - 2 * w * y * v.z,
+             -2 * w * z * v.x + (1 - 2 * z * z) * v.y + 2 * y * z * v.z,
+             2 * w * y * v.x + 2 * y * z * v.y + (1 - 2 * y * y) * v.z};
+  const V3 o = from_bond(g.axis, u);
+  return Vec3(R[0] * o.x + R[3] * o.y + R[6] * o.z, R[1] * o.x + R[4] * o.y + R[7] * o.z,
+              R[2] * o.x + R[5] * o.y + R[8] * o.z);
+}
+
+void update_rotations(const Model& m, const State& s, Workspace& w) {
+  for (int i = 0; i < m.n; ++i) w.rot[i] = s.orient[i].toRotationMatrix();
+}
+
 }  // namespace
 
 double elastic_energy(const Model& m, const State& s, const std::vector<double>& size) {
+  Workspace w(m);
+  w.size = size;
+  update_rotations(m, s, w);
   const double L = m.size, nu = m.def.poisson;
   const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   double u = 0;
   for (int b = 0; b < m.bond_count(); ++b) {
-    const BondGeometry g = bond_geometry(m, s, size, b, false);
+    const BondGeometry g = bond_geometry(m, s, w, b, false);
     const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
     const double e = 2.0 * ea * eb / (ea + eb);
     const double a1 = (axial_own ? ea : e) * L;
     const double a2 = e * L * L * L / (12.0 * (1.0 + nu));
     const double b3 = e * L * L * L / 6.0;
-    const Vec3& t1 = g.th1;
-    const Vec3& t2 = g.th2;
-    u += 0.5 * a1 * g.p.x() * g.p.x() + 0.5 * a2 * (t2.x() - t1.x()) * (t2.x() - t1.x()) +
-         b3 * (t1.y() * t1.y() + t1.y() * t2.y() + t2.y() * t2.y()) +
-         b3 * (t1.z() * t1.z() + t1.z() * t2.z() + t2.z() * t2.z());
+    const V3& t1 = g.th1;
+    const V3& t2 = g.th2;
+    u += 0.5 * a1 * g.p.x * g.p.x + 0.5 * a2 * (t2.x - t1.x) * (t2.x - t1.x) +
+         b3 * (t1.y * t1.y + t1.y * t2.y + t2.y * t2.y) +
+         b3 * (t1.z * t1.z + t1.z * t2.z + t2.z * t2.z);
   }
   return u;
 }
 
 void compute_bond_forces(const Model& m, State& s, Workspace& w) {
+  update_rotations(m, s, w);
   const double L = m.size;
   const double area = L * L;
-  const double nu = m.def.poisson;
+  const double inv_L = 1.0 / L;
+  // Beam constants per unit modulus.
+  const double ka2 = L * L * L / (12.0 * (1.0 + m.def.poisson));
+  const double kb1 = L, kb2 = L * L / 2.0, kb3 = L * L * L / 6.0;
   // Damping multiplier 2 sqrt(m) zeta / dt: turns sqrt(k) * (deformation change) into a
   // critical-fraction damping force.
   const double damp = 2.0 * std::sqrt(m.mass) * m.def.bond_damping / s.dt;
@@ -145,7 +220,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
     const int ia = m.bond_a[b], ib = m.bond_b[b];
     bool small = s.bond_small_angle[b] != 0;
     bool damp_ok = s.bond_prev_valid[b] != 0;
-    BondGeometry g = bond_geometry(m, s, w.size, b, small);
+    BondGeometry g = bond_geometry(m, s, w, b, small);
     if (voxelyze) {
       const bool next = next_small_angle(g, small);
       if (next != small) {
@@ -153,69 +228,67 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
         // previous deformation is not refreshed), as in Voxelyze 0.9.
         small = next;
         s.bond_small_angle[b] = small ? 1 : 0;
-        g = bond_geometry(m, s, w.size, b, small);
+        g = bond_geometry(m, s, w, b, small);
         damp_ok = false;
       }
     }
-    const Vec3& p = g.p;
-    const Vec3& th1 = g.th1;
-    const Vec3& th2 = g.th2;
+    const V3& p = g.p;
+    const V3& t1 = g.th1;
+    const V3& t2 = g.th2;
     // As in Voxelyze 0.9, strain is the extension over the nominal length L.
-    const double strain = p.x() / L;
+    const double strain = p.x * inv_L;
     const double ea = s.stiffness[ia], eb = s.stiffness[ib];
     const double e = 2.0 * ea * eb / (ea + eb);  // harmonic mean: two springs in series
     const double stress = (axial_own ? ea : e) * strain;
     w.bond_strain[b] = strain;
     w.bond_stress[b] = stress;
 
-    const double a2 = e * L * L * L / (12.0 * (1.0 + nu));
-    const double b1 = e * L;            // 12 E I / L^3
-    const double b2 = e * L * L / 2.0;  // 6 E I / L^2
-    const double b3 = e * L * L * L / 6.0;
+    const double a2 = e * ka2, b1 = e * kb1, b2 = e * kb2, b3 = e * kb3;
     // Shear force from end rotations. Voxelyze uses b2 = 3 b3 / L; the exact model uses
     // 3 b3 / chord, which makes the forces the gradient of the bending energy and the
     // bond's moments balance its forces (angular momentum is conserved) once bonds stretch
     // or actuate by several percent. The two agree at rest length.
-    const double b2c = voxelyze ? b2 : 3.0 * b3 / (p.x() + g.rest);
-    Vec3 f(stress * area, b1 * p.y() - b2c * (th1.z() + th2.z()),
-           b1 * p.z() + b2c * (th1.y() + th2.y()));
-    Vec3 ma(a2 * (th2.x() - th1.x()), -b2 * p.z() - b3 * (2 * th1.y() + th2.y()),
-            b2 * p.y() - b3 * (2 * th1.z() + th2.z()));
-    Vec3 mb(a2 * (th1.x() - th2.x()), -b2 * p.z() - b3 * (th1.y() + 2 * th2.y()),
-            b2 * p.y() - b3 * (th1.z() + 2 * th2.z()));
+    const double b2c = voxelyze ? b2 : 3.0 * b3 / (p.x + g.rest);
+    V3 f{stress * area, b1 * p.y - b2c * (t1.z + t2.z), b1 * p.z + b2c * (t1.y + t2.y)};
+    V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y),
+          b2 * p.y - b3 * (2 * t1.z + t2.z)};
+    V3 mb{a2 * (t1.x - t2.x), -b2 * p.z - b3 * (t1.y + 2 * t2.y),
+          b2 * p.y - b3 * (t1.z + 2 * t2.z)};
 
+    Vec3& prev_p = s.bond_prev_pos[b];
+    Vec3& prev_1 = s.bond_prev_rot1[b];
+    Vec3& prev_2 = s.bond_prev_rot2[b];
     if (damp_ok) {
       // Half of the deformation change is attributed to each end.
-      const Vec3 dp = 0.5 * (p - s.bond_prev_pos[b]);
-      const Vec3 d1 = 0.5 * (th1 - s.bond_prev_rot1[b]);
-      const Vec3 d2 = 0.5 * (th2 - s.bond_prev_rot2[b]);
-      const double sq_a1 = std::sqrt(e * L);
-      const double sq_b1 = std::sqrt(b1);
-      const double sq_b2 = std::sqrt(b2 * L / 2.0);
-      const double sq_a2 = std::sqrt(a2 * L * L / 6.0);
-      const double sq_b3 = std::sqrt(b3 * L * L / 6.0);
-      f += damp * Vec3(sq_a1 * dp.x(), sq_b1 * dp.y() - sq_b2 * (d1.z() + d2.z()),
-                       sq_b1 * dp.z() + sq_b2 * (d1.y() + d2.y()));
-      const double half = 0.5 * damp;
-      ma += half * Vec3(sq_a2 * (d2.x() - d1.x()), -sq_b2 * dp.z() - sq_b3 * (2 * d1.y() + d2.y()),
-                        sq_b2 * dp.y() - sq_b3 * (2 * d1.z() + d2.z()));
-      mb += half * Vec3(sq_a2 * (d1.x() - d2.x()), -sq_b2 * dp.z() - sq_b3 * (d1.y() + 2 * d2.y()),
-                        sq_b2 * dp.y() - sq_b3 * (d1.z() + 2 * d2.z()));
+      const V3 dp{0.5 * (p.x - prev_p.x()), 0.5 * (p.y - prev_p.y()), 0.5 * (p.z - prev_p.z())};
+      const V3 d1{0.5 * (t1.x - prev_1.x()), 0.5 * (t1.y - prev_1.y()), 0.5 * (t1.z - prev_1.z())};
+      const V3 d2{0.5 * (t2.x - prev_2.x()), 0.5 * (t2.y - prev_2.y()), 0.5 * (t2.z - prev_2.z())};
+      // Every coefficient is sqrt(E) times a geometric constant (see Workspace).
+      const double se = std::sqrt(e) * damp;
+      const double c_a1 = se * w.damp_k.a1, c_b1 = c_a1, c_b2 = se * w.damp_k.b2;
+      const double c_a2 = 0.5 * se * w.damp_k.a2, c_b3 = 0.5 * se * w.damp_k.b3;
+      const double c_b2h = 0.5 * c_b2;
+      f.x += c_a1 * dp.x;
+      f.y += c_b1 * dp.y - c_b2 * (d1.z + d2.z);
+      f.z += c_b1 * dp.z + c_b2 * (d1.y + d2.y);
+      ma.x += c_a2 * (d2.x - d1.x);
+      ma.y += -c_b2h * dp.z - c_b3 * (2 * d1.y + d2.y);
+      ma.z += c_b2h * dp.y - c_b3 * (2 * d1.z + d2.z);
+      mb.x += c_a2 * (d1.x - d2.x);
+      mb.y += -c_b2h * dp.z - c_b3 * (d1.y + 2 * d2.y);
+      mb.z += c_b2h * dp.y - c_b3 * (d1.z + 2 * d2.z);
     }
     if (damp_ok || !s.bond_prev_valid[b]) {
-      s.bond_prev_pos[b] = p;
-      s.bond_prev_rot1[b] = th1;
-      s.bond_prev_rot2[b] = th2;
+      prev_p = Vec3(p.x, p.y, p.z);
+      prev_1 = Vec3(t1.x, t1.y, t1.z);
+      prev_2 = Vec3(t2.x, t2.y, t2.z);
     }
     s.bond_prev_valid[b] = 1;
 
-    // Back from the bond frame to world: undo the frame, undo the permutation, apply qa.
-    const Quat frame_inv = g.frame.conjugate();
-    const Quat& qa = s.orient[ia];
-    const int d = g.axis;
-    w.bond_force_a[b] = qa * from_bond(d, frame_inv * f);
-    w.bond_moment_a[b] = qa * from_bond(d, frame_inv * ma);
-    w.bond_moment_b[b] = qa * from_bond(d, frame_inv * mb);
+    const double* R = w.rot[ia].data();
+    w.bond_force_a[b] = to_world(g, R, f);
+    w.bond_moment_a[b] = to_world(g, R, ma);
+    w.bond_moment_b[b] = to_world(g, R, mb);
   }
 }
 

@@ -18,7 +18,7 @@ RobotDef demo_walker() {
         r.present[s] = 1;
         // Smooth fields from the lattice coordinates (like a CPPN would make them).
         const double u = x / 9.0, v = y / 9.0, w = z / 9.0;
-        const double log_e = 8.0 + 2.0 * std::sin(3.0 * u + 2.0 * w) * std::cos(2.5 * v);
+        const double log_e = 9.5 + 1.0 * std::sin(3.0 * u + 2.0 * w) * std::cos(2.5 * v);
         r.stiffness[s] = std::pow(10.0, log_e);
         r.dev_rate[s] = 10.0 * std::sin(4.0 * u - 3.0 * w + v);
         r.phase[s] = 0.9 * (u - 0.5) + 0.2 * w;

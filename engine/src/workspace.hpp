@@ -2,6 +2,7 @@
 // step except the contact candidate list, which is a cache rebuilt from positions.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "plastivox/model.hpp"
@@ -11,9 +12,11 @@ namespace plastivox {
 
 struct Workspace {
   // Per voxel.
-  std::vector<double> size;  // actuated edge length, m
-  std::vector<Vec3> force;   // total force, N, world frame
-  std::vector<Vec3> moment;  // total moment, N m, world frame
+  std::vector<double> size;          // actuated edge length, m
+  std::vector<Vec3> force;           // total force, N, world frame
+  std::vector<Vec3> moment;          // total moment, N m, world frame
+  std::vector<Eigen::Matrix3d> rot;  // orientation as a rotation matrix (body to world)
+  std::vector<double> sqrt_e;        // sqrt of the current stiffness, sqrt(Pa)
   // Per bond, filled by the bond stage and gathered per voxel in a fixed order.
   std::vector<Vec3> bond_force_a;   // force on voxel a, N, world (force on b is its negative)
   std::vector<Vec3> bond_moment_a;  // moment on voxel a, N m, world
@@ -27,15 +30,30 @@ struct Workspace {
   bool contacts_valid = false;
   bool stiffness_changed = false;  // the develop stage changed E this step
 
+  // Bond damping coefficients are sqrt(E) times these geometric constants:
+  // 2 sqrt(k m) with k = E L (axial, shear), E L^3 / 4 (shear-rotation coupling) and
+  // 2 sqrt(k I) with k = G J / L, 2 E I / L (torsion, bending), over 2 sqrt(m).
+  struct DampConstants {
+    double a1, b2, a2, b3;
+  } damp_k;
+
   explicit Workspace(const Model& m)
       : size(m.n, m.size),
         force(m.n),
         moment(m.n),
+        rot(m.n),
+        sqrt_e(m.n),
         bond_force_a(m.bond_count()),
         bond_moment_a(m.bond_count()),
         bond_moment_b(m.bond_count()),
         bond_strain(m.bond_count(), 0.0),
-        bond_stress(m.bond_count(), 0.0) {}
+        bond_stress(m.bond_count(), 0.0) {
+    const double L = m.size, nu = m.def.poisson;
+    damp_k.a1 = std::sqrt(L);
+    damp_k.b2 = std::sqrt(L * L * L / 4.0);
+    damp_k.a2 = std::sqrt(L * L * L * L * L / (72.0 * (1.0 + nu)));
+    damp_k.b3 = std::sqrt(L * L * L * L * L / 36.0);
+  }
 };
 
 // The stages of one step, in the order Simulator::step() calls them (see stages/*.cpp).

@@ -7,8 +7,8 @@
 namespace plastivox {
 
 // ~500-voxel four-legged walker on the 10x10x10 lattice: a slab on front and back legs,
-// with a smooth log-stiffness field spanning 1e6..1e10 Pa, development rates in [-10, 10]
-// and a phase gradient front to back. Deterministic: no randomness.
+// with a smooth log-stiffness field spanning 3e8..3e10 Pa (stiff enough to stand), development
+// rates in [-10, 10] and a phase gradient front to back. Deterministic: no randomness.
 RobotDef demo_walker();
 
 // A full n*n*n cube of uniform stiffness E (n^3 voxels), phases in a gradient along x.
