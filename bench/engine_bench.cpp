@@ -1,0 +1,86 @@
+// Engine throughput in voxel-steps per second (one voxel advanced by one time step).
+//
+// Every case first simulates past settling (0.25 s) outside the timed region, so the
+// timed steps include actuation and, under a developing treatment, development and the
+// per-step time-step update.
+#include <thread>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/simulator.hpp"
+
+namespace plastivox {
+namespace {
+
+constexpr int kStepsPerIteration = 200;
+
+void run_steps(benchmark::State& bs, const Model& m) {
+  Simulator sim(m);
+  while (sim.state().time < 0.25) sim.step();
+  for (auto _ : bs) {
+    for (int k = 0; k < kStepsPerIteration; ++k) sim.step();
+    if (sim.state().status != SimStatus::kRunning) bs.SkipWithError(sim.state().failure.c_str());
+  }
+  bs.counters["voxels"] = m.n;
+  bs.counters["voxel_steps/s"] = benchmark::Counter(
+      static_cast<double>(m.n) * kStepsPerIteration, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+PhysicsDef physics(Treatment t) {
+  PhysicsDef d = preset_gecco2018_code();
+  d.treatment = t;
+  d.duration = 1e4;  // never the limit here
+  return d;
+}
+
+// The canonical scenario: the built-in ~500-voxel walker (mixed stiffness 3e8..3e10 Pa).
+void BM_DemoWalker(benchmark::State& bs) {
+  const Model m = compile(demo_walker(), physics(static_cast<Treatment>(bs.range(0))));
+  run_steps(bs, m);
+}
+BENCHMARK(BM_DemoWalker)->Arg(0)->Arg(1)->Arg(2)->ArgName("treatment")->Unit(benchmark::kMillisecond);
+
+// A ~500-voxel irregular body, stiffness 1e5..1e11 Pa, stress development.
+void BM_Irregular500Stress(benchmark::State& bs) {
+  const Model m = compile(demo_irregular(500, 7), physics(Treatment::kStress));
+  run_steps(bs, m);
+}
+BENCHMARK(BM_Irregular500Stress)->Unit(benchmark::kMillisecond);
+
+// Scaling with voxel count: full cubes of 5^3 = 125 up to 10^3 = 1000 voxels.
+void BM_CubeScaling(benchmark::State& bs) {
+  const Model m = compile(demo_cube(static_cast<int>(bs.range(0)), 1e9), physics(Treatment::kNone));
+  run_steps(bs, m);
+}
+BENCHMARK(BM_CubeScaling)->DenseRange(5, 10)->ArgName("edge")->Unit(benchmark::kMillisecond);
+
+// Thread scaling: N independent simulations of the demo walker on N threads (how the
+// evolver uses cores). The rate counts the voxel-steps of all threads together.
+void BM_ThreadScaling(benchmark::State& bs) {
+  const int threads = static_cast<int>(bs.range(0));
+  const Model m = compile(demo_walker(), physics(Treatment::kStress));
+  std::vector<Simulator> sims;
+  for (int t = 0; t < threads; ++t) {
+    sims.emplace_back(m);
+    while (sims.back().state().time < 0.25) sims.back().step();
+  }
+  for (auto _ : bs) {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+      pool.emplace_back([&, t] {
+        for (int k = 0; k < 4 * kStepsPerIteration; ++k) sims[t].step();
+      });
+    for (auto& th : pool) th.join();
+  }
+  bs.counters["voxel_steps/s"] = benchmark::Counter(
+      static_cast<double>(m.n) * 4 * kStepsPerIteration * threads,
+      benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_ThreadScaling)->Arg(1)->Arg(2)->ArgName("threads")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace plastivox
+
+BENCHMARK_MAIN();
