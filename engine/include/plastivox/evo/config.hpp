@@ -1,0 +1,50 @@
+// The configuration of one evolutionary run: JSON, format "plastivox-evolve-config",
+// version 1 (docs/evolution.md). Every field has a default; every field present is
+// validated, and an error names it ("run.json: population: must be an integer >= 1").
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "plastivox/evo/phenotype.hpp"
+#include "plastivox/physics_def.hpp"
+
+namespace plastivox::evo {
+
+constexpr int kConfigVersion = 1;
+
+struct EvolveConfig {
+  uint64_t seed = 1;  // run seed; every random draw derives from it
+  Treatment treatment = Treatment::kNone;
+  int population = 24;            // survivors per generation
+  int generations = 5000;         // AFPO generations after the initial population
+  int nx = 10, ny = 10, nz = 10;  // lattice extent, sites
+  double voxel_size = 0.01;       // m
+  GeometryRule geometry = GeometryRule::kLargestComponent;
+  double min_fill = 0.2;          // fraction of sites a valid body fills
+  int max_mutation_tries = 1500;  // attempts per child (and draws per newcomer)
+  int checkpoint_every = 1;       // generations between checkpoints (and at the end)
+  int threads = 0;                // evaluation threads; 0 = all cores
+  std::string physics_json = R"({"preset":"gecco2018-code"})";  // as given, canonical
+  PhysicsDef physics;  // resolved from physics_json, treatment applied
+
+  ExpressionDef expression() const;  // lattice, geometry rule, mapping range, C3 use
+  // Canonical JSON of every field (sorted keys, no comment).
+  std::string canonical_json() const;
+  // canonical_json() without the fields that cannot change results (threads,
+  // checkpoint_every): two runs with equal identity produce identical science.
+  std::string identity_json() const;
+};
+
+// Parses and validates; throws plastivox::InputError ("<source>: <field>: <problem>").
+EvolveConfig parse_config(const std::string& text, const std::string& source);
+EvolveConfig read_config_file(const std::string& path);
+
+// The complete default configuration as JSON with a "_comment" block explaining each
+// field; parse_config() accepts it unchanged.
+std::string default_config_text();
+
+// All physics fields of def as a canonical JSON object (provenance: what was simulated).
+std::string resolved_physics_json(const PhysicsDef& def);
+
+}  // namespace plastivox::evo

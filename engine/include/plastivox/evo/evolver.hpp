@@ -1,0 +1,66 @@
+// The AFPO loop (METHOD.md section 7): one call of step() runs one generation.
+//
+// Generation 0 creates `population` random individuals. Every later generation:
+//   1. every survivor's age += 1;
+//   2. each survivor (ascending id) makes one mutated child that inherits its age;
+//   3. one random newcomer of age 0 is added (ids: children first, then the newcomer);
+//   4. new individuals are expressed and evaluated: invalid phenotypes and unstable
+//      simulations get kWorstFitness; a phenotype seen before takes its cached result;
+//      identical new phenotypes within a generation are simulated once;
+//   5. afpo_select() keeps `population` of the survivors and new individuals.
+// Steps 2-4 run on a thread pool; everything that orders or reduces runs serially by id,
+// so the result is bit-identical for any number of threads.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "plastivox/evo/run_state.hpp"
+
+namespace plastivox::evo {
+
+struct GenerationStats {
+  int generation = 0;
+  int created = 0;              // new individuals
+  int simulated = 0;            // of which simulated
+  int cache_hits = 0;           // of which served by the cache
+  int invalid = 0;              // of which invalid phenotypes
+  int unstable = 0;             // of which unstable simulations
+  double wall_seconds = 0;      // whole generation
+  double sim_wall_seconds = 0;  // wall time of the parallel simulation phase
+  double sim_cpu_seconds = 0;   // summed simulation time over threads
+  double best_fitness = kWorstFitness;
+  uint64_t champion_id = 0;
+};
+
+// Outcome of simulating one phenotype.
+struct Evaluation {
+  double fitness = kWorstFitness;
+  EvalStatus status = EvalStatus::kInvalid;
+  std::string failure;
+  std::vector<double> final_stiffness;  // Pa, lattice-sized, 0 where absent
+  double wall_seconds = 0;
+};
+// Simulates a valid phenotype under physics (thread-safe).
+Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics);
+
+class Evolver {
+ public:
+  // Starts a new run (generations_done = -1) or continues `state` (phenotypes of the
+  // population are re-expressed from their genomes). threads: 0 = all cores.
+  Evolver(RunState state, int threads);
+
+  static RunState new_run(const EvolveConfig& config);
+
+  GenerationStats step();  // one generation; must not be called when finished()
+  bool finished() const { return state_.finished(); }
+  const RunState& state() const { return state_; }
+  int threads() const { return threads_; }
+
+ private:
+  RunState state_;
+  Expresser expresser_;
+  int threads_;
+};
+
+}  // namespace plastivox::evo

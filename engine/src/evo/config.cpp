@@ -1,0 +1,220 @@
+// Evolution config: parsing, validation, canonical forms and the commented default.
+#include "plastivox/evo/config.hpp"
+
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/robot_file.hpp"
+
+namespace plastivox::evo {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::string& source, const std::string& field,
+                       const std::string& what) {
+  throw InputError(source + ": " + field + ": " + what);
+}
+
+int integer(const json& j, const std::string& src, const std::string& field, int lo, int hi) {
+  if (!j.is_number_integer())
+    fail(src, field,
+         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  const auto v = j.get<int64_t>();
+  if (v < lo || v > hi)
+    fail(src, field,
+         "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+             std::to_string(v));
+  return static_cast<int>(v);
+}
+
+double number(const json& j, const std::string& src, const std::string& field) {
+  if (!j.is_number()) fail(src, field, "expected a number");
+  return j.get<double>();
+}
+
+std::string text(const json& j, const std::string& src, const std::string& field) {
+  if (!j.is_string()) fail(src, field, "expected a string");
+  return j.get<std::string>();
+}
+
+json canonical(const EvolveConfig& c, bool with_run_control) {
+  json j;
+  j["format"] = "plastivox-evolve-config";
+  j["version"] = kConfigVersion;
+  j["seed"] = c.seed;
+  j["treatment"] = to_string(c.treatment);
+  j["population"] = c.population;
+  j["generations"] = c.generations;
+  j["lattice"] = {{"nx", c.nx}, {"ny", c.ny}, {"nz", c.nz}, {"voxel_size", c.voxel_size}};
+  j["geometry"] = to_string(c.geometry);
+  j["min_fill"] = c.min_fill;
+  j["max_mutation_tries"] = c.max_mutation_tries;
+  j["physics"] = json::parse(c.physics_json);
+  if (with_run_control) {
+    j["checkpoint_every"] = c.checkpoint_every;
+    j["threads"] = c.threads;
+  }
+  return j;
+}
+
+}  // namespace
+
+ExpressionDef EvolveConfig::expression() const {
+  ExpressionDef d;
+  d.nx = nx;
+  d.ny = ny;
+  d.nz = nz;
+  d.voxel_size = voxel_size;
+  d.geometry = geometry;
+  d.min_fill = min_fill;
+  d.e_min = physics.e_min;
+  d.e_max = physics.e_max;
+  d.uses_development = treatment != Treatment::kNone;
+  return d;
+}
+
+std::string EvolveConfig::canonical_json() const {
+  return canonical(*this, true).dump();
+}
+
+std::string EvolveConfig::identity_json() const {
+  return canonical(*this, false).dump();
+}
+
+EvolveConfig parse_config(const std::string& input, const std::string& src) {
+  json j;
+  try {
+    j = json::parse(input);
+  } catch (const json::exception& e) {
+    fail(src, "(file)", std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) fail(src, "(file)", "expected a JSON object");
+  if (!j.contains("format") || j["format"] != "plastivox-evolve-config")
+    fail(src, "format", "expected \"plastivox-evolve-config\"");
+  if (!j.contains("version")) fail(src, "version", "missing");
+  const int version = integer(j["version"], src, "version", 0, 1 << 30);
+  if (version != kConfigVersion)
+    fail(src, "version",
+         "unsupported version " + std::to_string(version) + " (this build reads " +
+             std::to_string(kConfigVersion) + ")");
+
+  EvolveConfig c;
+  const int kMaxInt = std::numeric_limits<int>::max();
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& k = it.key();
+    const json& v = *it;
+    if (k == "format" || k == "version" || k == "_comment") {
+      continue;
+    } else if (k == "seed") {
+      if (!v.is_number_unsigned()) fail(src, k, "expected a non-negative integer");
+      c.seed = v.get<uint64_t>();
+    } else if (k == "treatment") {
+      try {
+        c.treatment = parse_treatment(text(v, src, k));
+      } catch (const std::invalid_argument& e) {
+        fail(src, k, e.what());
+      }
+    } else if (k == "population") {
+      c.population = integer(v, src, k, 1, 100000);
+    } else if (k == "generations") {
+      c.generations = integer(v, src, k, 0, 100000000);
+    } else if (k == "lattice") {
+      if (!v.is_object()) fail(src, k, "expected an object {nx, ny, nz, voxel_size}");
+      for (auto lt = v.begin(); lt != v.end(); ++lt) {
+        const std::string f = "lattice." + lt.key();
+        if (lt.key() == "nx")
+          c.nx = integer(*lt, src, f, 1, 100);
+        else if (lt.key() == "ny")
+          c.ny = integer(*lt, src, f, 1, 100);
+        else if (lt.key() == "nz")
+          c.nz = integer(*lt, src, f, 1, 100);
+        else if (lt.key() == "voxel_size") {
+          c.voxel_size = number(*lt, src, f);
+          if (!(c.voxel_size > 0 && c.voxel_size < 1e3)) fail(src, f, "must be in (0, 1000) m");
+        } else {
+          fail(src, f, "unknown field");
+        }
+      }
+    } else if (k == "geometry") {
+      try {
+        c.geometry = parse_geometry_rule(text(v, src, k));
+      } catch (const std::invalid_argument& e) {
+        fail(src, k, e.what());
+      }
+    } else if (k == "min_fill") {
+      c.min_fill = number(v, src, k);
+      if (!(c.min_fill >= 0 && c.min_fill <= 1)) fail(src, k, "must be in [0, 1]");
+    } else if (k == "max_mutation_tries") {
+      c.max_mutation_tries = integer(v, src, k, 1, 10000000);
+    } else if (k == "checkpoint_every") {
+      c.checkpoint_every = integer(v, src, k, 1, kMaxInt);
+    } else if (k == "threads") {
+      c.threads = integer(v, src, k, 0, 4096);
+    } else if (k == "physics") {
+      if (!v.is_object()) fail(src, k, "expected an object of physics fields");
+      if (v.contains("treatment"))
+        fail(src, "physics.treatment", "set the treatment at the top level (\"treatment\")");
+      c.physics_json = v.dump();
+    } else {
+      fail(src, k, "unknown field");
+    }
+  }
+  // Physics: the preset (default gecco2018-code) with the given overrides, then the
+  // run's treatment. apply_physics_json names the field of any error.
+  c.physics = preset_gecco2018_code();
+  apply_physics_json(c.physics_json, src, c.physics);
+  c.physics.treatment = c.treatment;
+  // Evaluations never record frames (a champion can be re-simulated with recording).
+  const json given = json::parse(c.physics_json);
+  if (given.contains("record_fps") && given["record_fps"] != 0)
+    fail(src, "physics.record_fps", "must be 0 during evolution (recording is off)");
+  c.physics.record_fps = 0;
+  return c;
+}
+
+EvolveConfig read_config_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open config file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_config(ss.str(), path);
+}
+
+std::string resolved_physics_json(const PhysicsDef& d) {
+  // Reuses the robot format's physics writer so field names match docs/robot-format.md.
+  const json robot = json::parse(robot_to_json(make_empty_robot(1, 1, 1), &d));
+  json p = robot["physics"];
+  p["bond_model"] = d.bond_model == BondModel::kExact ? "exact" : "voxelyze09";
+  p["global_damping_rot_factor"] = d.global_damping_rot_factor;
+  return p.dump();
+}
+
+std::string default_config_text() {
+  const EvolveConfig c;
+  json j = canonical(c, true);
+  j["_comment"] = json::array(
+      {"plastivox evolve configuration (docs/evolution.md). JSON has no comments: this",
+       "_comment field is ignored. Defaults are the GECCO 2018 study (METHOD.md 6-7).",
+       "seed: run seed (non-negative integer); the paper used seeds 1..20.",
+       "treatment: development under life: none | stress | pressure.",
+       "population: survivors per generation (24). Each generation makes one child per",
+       "  survivor plus one random newcomer (49 candidates), then AFPO selects back down.",
+       "generations: AFPO generations after the initial random population (5000).",
+       "lattice: workspace extent in sites and voxel edge length in m (10x10x10, 0.01).",
+       "geometry: largest-component (the paper) | keep-all (the authors' code).",
+       "min_fill: a valid body fills at least this fraction of the lattice (0.2).",
+       "max_mutation_tries: attempts to make a changed, valid child (1500).",
+       "checkpoint_every: generations between checkpoints of the results file (1).",
+       "threads: evaluation threads, 0 = all cores (--threads overrides; results do not",
+       "  depend on it).",
+       "physics: a preset (gecco2018-code | gecco2018-paper) plus any PhysicsDef field to",
+       "  override, e.g. {\"preset\": \"gecco2018-code\", \"duration\": 5.2}; the",
+       "  treatment is set above, not here."});
+  return j.dump(2) + "\n";
+}
+
+}  // namespace plastivox::evo

@@ -1,0 +1,86 @@
+// content_digest(): the scientific content of a run, hashed in a fixed order.
+#include "plastivox/evo/run_state.hpp"
+
+namespace plastivox::evo {
+namespace {
+
+void hash_genome(Hasher& h, const Genome& g) {
+  for (const Cppn& net : g.nets) {
+    h.u64(net.nodes.size());
+    h.vec(net.nodes);
+    h.u64(net.links.size());
+    for (const CppnLink& l : net.links) {
+      h.u64(static_cast<uint64_t>(l.source));
+      h.u64(static_cast<uint64_t>(l.target));
+      h.f64(l.weight);
+    }
+  }
+}
+
+void hash_robot(Hasher& h, const RobotDef& r) {
+  h.u64(static_cast<uint64_t>(r.nx));
+  h.u64(static_cast<uint64_t>(r.ny));
+  h.u64(static_cast<uint64_t>(r.nz));
+  h.f64(r.voxel_size);
+  h.vec(r.present);
+  h.vec(r.stiffness);
+  h.vec(r.dev_rate);
+  h.vec(r.phase);
+}
+
+}  // namespace
+
+Hash128 content_digest(const RunState& s) {
+  Hasher h;
+  h.str("plastivox-evolution-content-v1");
+  h.str(s.config.identity_json());
+  h.str(resolved_physics_json(s.config.physics));
+  h.u64(static_cast<uint64_t>(static_cast<int64_t>(s.generations_done)));
+  h.u64(s.next_id);
+  h.u64(s.history.size());
+  for (const GenerationRecord& g : s.history) {
+    h.vec(g.id);
+    h.vec(g.parent_id);
+    h.vec(g.age);
+    h.vec(g.fitness);
+    h.vec(g.status);
+    h.u64(g.champion_id);
+    h.f64(g.best_fitness);
+  }
+  h.u64(s.births.size());
+  for (const BirthRecord& b : s.births) {
+    h.u64(b.id);
+    h.u64(static_cast<uint64_t>(b.parent_id));
+    h.u64(static_cast<uint64_t>(b.generation));
+    h.f64(b.fitness);
+    h.u64(b.status);
+    h.u64(static_cast<uint64_t>(b.voxels));
+    h.u64(static_cast<uint64_t>(b.tries));
+    h.str(b.failure);
+  }
+  h.u64(s.champions.size());
+  for (const ChampionRecord& c : s.champions) {
+    h.u64(static_cast<uint64_t>(c.generation));
+    h.u64(c.id);
+    h.u64(static_cast<uint64_t>(c.parent_id));
+    h.u64(static_cast<uint64_t>(c.age));
+    h.f64(c.fitness);
+    h.u64(c.status);
+    hash_genome(h, c.genome);
+    hash_robot(h, c.phenotype);
+    h.vec(c.final_stiffness);
+  }
+  h.u64(s.population.size());
+  for (const Individual& ind : s.population) {
+    h.u64(ind.id);
+    h.u64(static_cast<uint64_t>(ind.parent_id));
+    h.u64(static_cast<uint64_t>(ind.age));
+    h.u64(static_cast<uint64_t>(ind.born));
+    h.f64(ind.fitness);
+    h.u64(static_cast<uint8_t>(ind.status));
+    hash_genome(h, ind.genome);
+  }
+  return h.finish();
+}
+
+}  // namespace plastivox::evo

@@ -1,0 +1,260 @@
+// One AFPO generation: make, express, deduplicate, evaluate, select, record.
+#include "plastivox/evo/evolver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "plastivox/evo/afpo.hpp"
+#include "plastivox/evo/thread_pool.hpp"
+#include "plastivox/evo/variation.hpp"
+#include "plastivox/simulator.hpp"
+
+namespace plastivox::evo {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Index of the champion: highest fitness, ties to the lowest id (population is by id).
+size_t champion_index(const std::vector<Individual>& pop) {
+  size_t best = 0;
+  for (size_t i = 1; i < pop.size(); ++i)
+    if (pop[i].fitness > pop[best].fitness) best = i;
+  return best;
+}
+
+}  // namespace
+
+const char* to_string(EvalStatus s) {
+  switch (s) {
+    case EvalStatus::kOk:
+      return "ok";
+    case EvalStatus::kInvalid:
+      return "invalid";
+    case EvalStatus::kUnstable:
+      return "unstable";
+  }
+  return "?";
+}
+
+Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Evaluation e;
+  const Model model = compile(p.robot, physics);
+  const SimResult r = simulate(model);
+  e.final_stiffness.assign(p.robot.sites(), 0.0);
+  for (int v = 0; v < model.n && v < static_cast<int>(r.final_stiffness.size()); ++v)
+    e.final_stiffness[model.site[v]] = r.final_stiffness[v];
+  if (r.status == SimStatus::kFinished && std::isfinite(r.fitness)) {
+    e.status = EvalStatus::kOk;
+    e.fitness = r.fitness;
+  } else {
+    e.status = EvalStatus::kUnstable;
+    e.failure = r.failure.empty() ? "non-finite fitness" : r.failure;
+  }
+  e.wall_seconds = seconds_since(t0);
+  return e;
+}
+
+RunState Evolver::new_run(const EvolveConfig& config) {
+  RunState s;
+  s.config = config;
+  return s;
+}
+
+Evolver::Evolver(RunState state, int threads)
+    : state_(std::move(state)),
+      expresser_(state_.config.expression()),
+      threads_(threads > 0 ? threads : hardware_threads()) {
+  // Re-express the population (derived data is not stored in checkpoints).
+  std::vector<Individual>& pop = state_.population;
+  parallel_for(pop.size(), threads_, [&](size_t i) {
+    pop[i].outputs = expresser_.evaluate(pop[i].genome);
+    pop[i].phenotype = expresser_.express(pop[i].outputs);
+  });
+}
+
+GenerationStats Evolver::step() {
+  const auto t0 = std::chrono::steady_clock::now();
+  RunState& s = state_;
+  const EvolveConfig& cfg = s.config;
+  const int gen = s.generations_done + 1;
+  GenerationStats st;
+  st.generation = gen;
+
+  // --- 1-3: who is created: children of the survivors (ascending id), then one newcomer;
+  // at generation 0, `population` random individuals.
+  struct Task {
+    uint64_t id;
+    int parent;  // index into the population, -1 for a random individual
+  };
+  std::vector<Task> tasks;
+  if (gen == 0) {
+    for (int i = 0; i < cfg.population; ++i) tasks.push_back({s.next_id++, -1});
+  } else {
+    for (Individual& ind : s.population) ++ind.age;
+    for (size_t p = 0; p < s.population.size(); ++p)
+      tasks.push_back({s.next_id++, static_cast<int>(p)});
+    tasks.push_back({s.next_id++, -1});
+  }
+
+  // --- 4a: make and express, in parallel; each task draws from its own stream.
+  std::vector<Offspring> made(tasks.size());
+  parallel_for(tasks.size(), threads_, [&](size_t i) {
+    const Task& t = tasks[i];
+    if (t.parent < 0) {
+      Rng rng = Rng::stream(cfg.seed, StreamPurpose::kNewcomer, gen, t.id);
+      made[i] = random_individual(expresser_, rng, cfg.max_mutation_tries);
+    } else {
+      const Individual& parent = s.population[t.parent];
+      Rng rng = Rng::stream(cfg.seed, StreamPurpose::kMutation, gen, t.id);
+      made[i] = mutate_child(expresser_, parent.genome, parent.outputs, parent.phenotype, rng,
+                             cfg.max_mutation_tries);
+    }
+  });
+  std::vector<Individual> fresh(tasks.size());
+  std::vector<BirthRecord> births(tasks.size());
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    Individual& ind = fresh[i];
+    ind.id = tasks[i].id;
+    ind.born = gen;
+    if (tasks[i].parent >= 0) {
+      ind.parent_id = static_cast<int64_t>(s.population[tasks[i].parent].id);
+      ind.age = s.population[tasks[i].parent].age;
+    }
+    ind.genome = std::move(made[i].genome);
+    ind.outputs = std::move(made[i].outputs);
+    ind.phenotype = std::move(made[i].phenotype);
+    births[i].id = ind.id;
+    births[i].parent_id = ind.parent_id;
+    births[i].generation = gen;
+    births[i].voxels = ind.phenotype.voxels;
+    births[i].tries = made[i].tries;
+  }
+  made.clear();
+
+  // --- 4b: serially, by id: invalid, cached, duplicate of an earlier new one, or to simulate.
+  std::vector<size_t> to_sim;
+  std::vector<size_t> duplicates;
+  std::map<Hash128, size_t> first_of;  // phenotype hash -> index in fresh
+  for (size_t i = 0; i < fresh.size(); ++i) {
+    Individual& ind = fresh[i];
+    if (!ind.phenotype.valid) {
+      ind.status = EvalStatus::kInvalid;
+      ind.fitness = kWorstFitness;
+      births[i].failure = ind.phenotype.invalid_reason;
+      ++st.invalid;
+    } else if (auto c = s.cache.find(ind.phenotype.hash); c != s.cache.end()) {
+      ind.status = c->second.status;
+      ind.fitness = c->second.fitness;
+      births[i].failure = c->second.failure;
+      ++st.cache_hits;
+    } else if (first_of.count(ind.phenotype.hash)) {
+      duplicates.push_back(i);
+      ++st.cache_hits;
+    } else {
+      first_of[ind.phenotype.hash] = i;
+      to_sim.push_back(i);
+    }
+  }
+
+  // --- 4c: simulate, in parallel, largest bodies first (better load balance; the order
+  // does not affect any result).
+  std::vector<size_t> schedule = to_sim;
+  std::stable_sort(schedule.begin(), schedule.end(), [&](size_t a, size_t b) {
+    return fresh[a].phenotype.voxels > fresh[b].phenotype.voxels;
+  });
+  std::vector<Evaluation> evals(fresh.size());
+  const auto t_sim = std::chrono::steady_clock::now();
+  parallel_for(schedule.size(), threads_, [&](size_t k) {
+    const size_t i = schedule[k];
+    evals[i] = evaluate_phenotype(fresh[i].phenotype, cfg.physics);
+  });
+  st.sim_wall_seconds = seconds_since(t_sim);
+
+  // --- 4d: record results by id, fill the cache, resolve duplicates.
+  for (size_t i : to_sim) {
+    Individual& ind = fresh[i];
+    const Evaluation& e = evals[i];
+    ind.status = e.status;
+    ind.fitness = e.fitness;
+    births[i].failure = e.failure;
+    births[i].simulated = 1;
+    s.cache[ind.phenotype.hash] = CacheEntry{e.fitness, e.status, e.failure};
+    st.sim_cpu_seconds += e.wall_seconds;
+    if (e.status == EvalStatus::kUnstable) ++st.unstable;
+  }
+  for (size_t i : duplicates) {
+    const CacheEntry& c = s.cache.at(fresh[i].phenotype.hash);
+    fresh[i].status = c.status;
+    fresh[i].fitness = c.fitness;
+    births[i].failure = c.failure;
+  }
+  for (size_t i = 0; i < fresh.size(); ++i) {
+    births[i].fitness = fresh[i].fitness;
+    births[i].status = static_cast<uint8_t>(fresh[i].status);
+  }
+  st.created = static_cast<int>(fresh.size());
+  st.simulated = static_cast<int>(to_sim.size());
+
+  // --- 5: selection over survivors and new individuals.
+  std::vector<Individual> candidates = std::move(s.population);
+  for (Individual& ind : fresh) candidates.push_back(std::move(ind));
+  std::vector<Objectives> objectives;
+  for (const Individual& ind : candidates) objectives.push_back({ind.id, ind.fitness, ind.age});
+  std::vector<size_t> keep = afpo_select(objectives, static_cast<size_t>(cfg.population));
+  std::sort(keep.begin(), keep.end(),
+            [&](size_t a, size_t b) { return candidates[a].id < candidates[b].id; });
+  s.population.clear();
+  for (size_t k : keep) s.population.push_back(std::move(candidates[k]));
+
+  // --- records: births, champion, history.
+  for (BirthRecord& b : births) s.births.push_back(std::move(b));
+  const Individual& champ = s.population[champion_index(s.population)];
+  if (s.champions.empty() || s.champions.back().id != champ.id) {
+    ChampionRecord c;
+    c.generation = gen;
+    c.id = champ.id;
+    c.parent_id = champ.parent_id;
+    c.age = champ.age;
+    c.fitness = champ.fitness;
+    c.status = static_cast<uint8_t>(champ.status);
+    c.genome = champ.genome;
+    c.phenotype = champ.phenotype.robot;
+    c.final_stiffness.assign(c.phenotype.sites(), 0.0);
+    if (champ.status != EvalStatus::kInvalid) {
+      // Its life's final stiffness: from this generation's simulation, or (rarely, for
+      // a cached body) simulated again; the simulation is deterministic.
+      auto simulated_now = std::find_if(to_sim.begin(), to_sim.end(),
+                                        [&](size_t i) { return tasks[i].id == champ.id; });
+      c.final_stiffness = simulated_now != to_sim.end()
+                              ? evals[*simulated_now].final_stiffness
+                              : evaluate_phenotype(champ.phenotype, cfg.physics).final_stiffness;
+    }
+    s.champions.push_back(std::move(c));
+  }
+  GenerationRecord rec;
+  for (const Individual& ind : s.population) {
+    rec.id.push_back(ind.id);
+    rec.parent_id.push_back(ind.parent_id);
+    rec.age.push_back(ind.age);
+    rec.fitness.push_back(ind.fitness);
+    rec.status.push_back(static_cast<uint8_t>(ind.status));
+  }
+  rec.champion_id = champ.id;
+  rec.best_fitness = champ.fitness;
+  rec.simulated = st.simulated;
+  rec.cache_hits = st.cache_hits;
+  st.best_fitness = champ.fitness;
+  st.champion_id = champ.id;
+  s.generations_done = gen;
+  st.wall_seconds = seconds_since(t0);
+  rec.wall_seconds = st.wall_seconds;
+  s.history.push_back(std::move(rec));
+  return st;
+}
+
+}  // namespace plastivox::evo
