@@ -47,3 +47,44 @@ TEST(Determinism, TreatmentsDiffer) {
 
 }  // namespace
 }  // namespace plastivox
+
+namespace plastivox {
+namespace {
+
+TEST(Recording, SixtyFramesPerSimulatedSecondOfEveryVoxel) {
+  PhysicsDef d;
+  d.treatment = Treatment::kStress;
+  d.duration = 0.5;
+  ASSERT_EQ(d.record_fps, 60.0);  // the default: a life can always be replayed
+  const Model m = compile(demo_walker(), d);
+  const SimResult r = simulate(m);
+  ASSERT_EQ(r.status, SimStatus::kFinished);
+  // Frames at 0, 1/60, ..., 29/60 s, then the final state (the first step past 0.5 s).
+  ASSERT_EQ(r.recording.frames.size(), 31u);
+  EXPECT_NEAR(r.recording.frames.back().time, 0.5, 0.001);
+  for (size_t k = 0; k + 1 < r.recording.frames.size(); ++k) {
+    const Frame& f = r.recording.frames[k];
+    EXPECT_GE(f.time, k / 60.0);
+    EXPECT_LT(f.time, k / 60.0 + 0.001);  // within one step of the frame time
+    EXPECT_EQ(f.pos.size(), static_cast<size_t>(m.n));
+    EXPECT_EQ(f.orient.size(), static_cast<size_t>(m.n));
+    EXPECT_EQ(f.size.size(), static_cast<size_t>(m.n));
+    EXPECT_EQ(f.stiffness.size(), static_cast<size_t>(m.n));
+    EXPECT_EQ(f.stimulus.size(), static_cast<size_t>(m.n));
+  }
+  // The last frame is the final state: its stiffness is the result's final stiffness, and
+  // stimulus and stiffness histories move after settling.
+  EXPECT_EQ(r.recording.frames.back().stiffness, r.final_stiffness);
+  EXPECT_NE(r.recording.frames[20].stimulus, r.recording.frames[25].stimulus);
+  EXPECT_NE(r.recording.frames[0].stiffness, r.recording.frames.back().stiffness);
+}
+
+TEST(Recording, OffWhenFpsIsZero) {
+  PhysicsDef d;
+  d.duration = 0.3;
+  d.record_fps = 0;
+  EXPECT_TRUE(simulate(compile(demo_walker(), d)).recording.frames.empty());
+}
+
+}  // namespace
+}  // namespace plastivox

@@ -70,7 +70,7 @@ struct PhysicsDef {
   FitnessMode fitness = FitnessMode::k3D;
 
   // --- recording and safety ---
-  double record_fps = 0.0;   // frames per simulated second; 0 = no recording
+  double record_fps = 60.0;  // frames per simulated second; 0 = no recording
   double max_speed = 100.0;  // m/s; a voxel faster than this means the run went unstable
 };
 
