@@ -215,20 +215,29 @@ TEST(HeavyMaterials, SoftColumnIsCrushedStiffColumnStands) {
   EXPECT_LT(column_height_ratio(1e7), 0.6);
 }
 
-TEST(Stability, MixedExtremeStiffnessRunsAFullLife) {
-  // A checkerboard of 1e5 and 1e11 Pa neighbours, actuated, on the floor, for 5.2 s.
-  RobotDef r = testing::block(6, 6, 4, 1e5);
+// A checkerboard of the softest and stiffest admissible neighbours, actuated, on the floor,
+// for a full 5.2 s life: the code preset's 1e5/1e11 Pa and the paper's 1e4/1e10 Pa.
+class MixedExtremeStiffness : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(MixedExtremeStiffness, RunsAFullLifeWithoutInstability) {
+  PhysicsDef d = physics_preset(GetParam());
+  d.treatment = Treatment::kStress;
+  RobotDef r = testing::block(6, 6, 4, d.e_min);
   for (int s = 0; s < r.sites(); ++s) {
     const int x = s % 6, y = (s / 6) % 6, z = s / 36;
-    if ((x + y + z) % 2) r.stiffness[s] = 1e11;
+    if ((x + y + z) % 2) r.stiffness[s] = d.e_max;
     r.phase[s] = 0.1 * x;
+    r.dev_rate[s] = (x % 3) - 1.0;
   }
-  PhysicsDef d;  // GECCO defaults: actuation, self-collision, E in [1e5, 1e11]
-  const Model m = compile(r, d);
-  const SimResult res = simulate(m);
+  const SimResult res = simulate(compile(r, d));
   EXPECT_EQ(res.status, SimStatus::kFinished) << res.failure;
   EXPECT_TRUE(std::isfinite(res.fitness));
+  EXPECT_GT(res.sim_time, d.duration);
 }
+
+INSTANTIATE_TEST_SUITE_P(Presets, MixedExtremeStiffness,
+                         ::testing::Values("gecco2018-code", "gecco2018-paper"),
+                         [](const auto& info) { return std::string(info.param).substr(10); });
 
 TEST(Stability, RunawaySpeedIsReportedNotReturnedAsANumber) {
   PhysicsDef d = testing::passive_physics();
