@@ -15,6 +15,8 @@ struct UsageError {
 
 int cmd_simulate(const Args& args);
 int cmd_demo(const Args& args);
+int cmd_evolve(const Args& args);   // apps/cmd_evolve.cpp
+int cmd_inspect(const Args& args);  // apps/cmd_inspect.cpp
 
 // Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);

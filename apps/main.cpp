@@ -17,6 +17,12 @@ const char* kUsage =
     "           ~500-voxel demo walker. --physics '{\"field\": value, ...}' overrides\n"
     "           physics fields (names as in docs/robot-format.md)\n"
     "  demo     simulate the demo walker under each treatment and print a summary\n"
+    "  evolve   --config FILE --out RESULTS.h5 [--threads N]\n"
+    "           run an evolution (AFPO over four CPPNs); the same command resumes a killed\n"
+    "           run from its last checkpoint. --print-default-config prints a commented\n"
+    "           default config (docs/evolution.md)\n"
+    "  inspect  RESULTS.h5 [--json]\n"
+    "           summarise a results file: treatment, seed, generations, champion, digest\n"
     "  version  print version and commit\n";
 
 }  // namespace
@@ -32,6 +38,8 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "simulate") return cmd_simulate(args);
     if (cmd == "demo") return cmd_demo(args);
+    if (cmd == "evolve") return cmd_evolve(args);
+    if (cmd == "inspect") return cmd_inspect(args);
     if (cmd == "version" || cmd == "--version") {
       std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, PLASTIVOX_GIT_COMMIT);
       return 0;

@@ -1,0 +1,130 @@
+// plastivox evolve: run (or resume) an evolution described by a config file into an HDF5
+// results file; or print the default config.
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+
+#include "cli.hpp"
+#include "plastivox/evo/config.hpp"
+#include "plastivox/evo/run.hpp"
+
+namespace plastivox::cli {
+namespace {
+
+int parse_count(const std::string& s, const std::string& option) {
+  size_t used = 0;
+  long v = -1;
+  try {
+    v = std::stol(s, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != s.size() || v < 0 || v > 1 << 20)
+    throw UsageError{option + " expects a non-negative integer, got '" + s + "'"};
+  return static_cast<int>(v);
+}
+
+std::string duration(double s) {
+  char buf[64];
+  if (!(s >= 0) || s > 1e9) return "?";
+  const long t = static_cast<long>(s + 0.5);
+  if (t >= 3600)
+    std::snprintf(buf, sizeof buf, "%ldh%02ldm", t / 3600, (t % 3600) / 60);
+  else if (t >= 60)
+    std::snprintf(buf, sizeof buf, "%ldm%02lds", t / 60, t % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%lds", t);
+  return buf;
+}
+
+// Progress on stderr: one updating status line on a terminal, plain log lines otherwise.
+class Progress {
+ public:
+  Progress() : tty_(isatty(STDERR_FILENO) == 1) {}
+  ~Progress() { end_line(); }
+
+  void message(const std::string& m) {
+    end_line();
+    std::fprintf(stderr, "plastivox evolve: %s\n", m.c_str());
+  }
+
+  void generation(const evo::RunProgress& p) {
+    const evo::GenerationStats& s = p.stats;
+    const double rate = s.wall_seconds > 0 ? s.simulated / s.wall_seconds : 0.0;
+    if (tty_) {
+      std::fprintf(stderr, "\r\033[Kgeneration %d/%d  best %.4f (id %llu)  %.2f evals/s  left %s",
+                   p.generations_done, p.generations_total, s.best_fitness,
+                   static_cast<unsigned long long>(s.champion_id), rate,
+                   duration(p.eta_seconds).c_str());
+      std::fflush(stderr);
+      open_ = true;
+    } else {
+      std::fprintf(stderr,
+                   "generation %d/%d: best %.6f (id %llu); %d new: %d simulated, %d cached, %d "
+                   "invalid, %d unstable; %.2f evals/s; %.2f s%s; left %s\n",
+                   p.generations_done, p.generations_total, s.best_fitness,
+                   static_cast<unsigned long long>(s.champion_id), s.created, s.simulated,
+                   s.cache_hits, s.invalid, s.unstable, rate, s.wall_seconds,
+                   p.checkpointed ? " (checkpoint)" : "", duration(p.eta_seconds).c_str());
+    }
+  }
+
+  void end_line() {
+    if (open_) std::fputc('\n', stderr);
+    open_ = false;
+  }
+
+ private:
+  bool tty_;
+  bool open_ = false;
+};
+
+}  // namespace
+
+int cmd_evolve(const Args& in) {
+  Args args = in;
+  const bool print_default = take_flag(args, "--print-default-config");
+  const std::string config_path = take_option(args, "--config", "");
+  const std::string out = take_option(args, "--out", "");
+  const std::string threads = take_option(args, "--threads", "");
+  // Testing hook (undocumented in the usage): stop after this many generations, as if
+  // killed right after a checkpoint.
+  const std::string stop_after = take_option(args, "--stop-after", "");
+  reject_unknown_options(args);
+  if (!args.empty()) throw UsageError{"unexpected argument '" + args[0] + "'"};
+  if (print_default) {
+    if (!config_path.empty() || !out.empty())
+      throw UsageError{"--print-default-config takes no other options"};
+    std::fputs(evo::default_config_text().c_str(), stdout);
+    return 0;
+  }
+  if (config_path.empty()) throw UsageError{"--config FILE is required"};
+  if (out.empty()) throw UsageError{"--out RESULTS.h5 is required"};
+
+  evo::RunOptions opt;
+  if (!threads.empty()) opt.threads = parse_count(threads, "--threads");
+  if (!stop_after.empty()) opt.stop_after = parse_count(stop_after, "--stop-after");
+  const evo::EvolveConfig config = evo::read_config_file(config_path);
+  Progress progress;
+  opt.on_message = [&](const std::string& m) { progress.message(m); };
+  opt.on_generation = [&](const evo::RunProgress& p) { progress.generation(p); };
+  const evo::RunReport r = evo::run_evolution(config, out, opt);
+  progress.end_line();
+  switch (r.outcome) {
+    case evo::RunOutcome::kAlreadyFinished:
+      std::printf("%s: already finished (%d generations); nothing changed\n", out.c_str(),
+                  r.generations_done);
+      break;
+    case evo::RunOutcome::kStopped:
+      std::printf("%s: stopped after generation %d (resumable)\n", out.c_str(), r.generations_done);
+      break;
+    case evo::RunOutcome::kFinished:
+      std::printf("%s: finished %d generations on %d threads; content digest %s\n", out.c_str(),
+                  r.generations_done, r.threads, r.content_digest.c_str());
+      break;
+  }
+  return 0;
+}
+
+}  // namespace plastivox::cli

@@ -1,0 +1,68 @@
+// plastivox inspect: summarise an evolution results file (text or JSON).
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "plastivox/evo/results_file.hpp"
+
+namespace plastivox::cli {
+
+int cmd_inspect(const Args& in) {
+  Args args = in;
+  const bool as_json = take_flag(args, "--json");
+  reject_unknown_options(args);
+  if (args.size() != 1) throw UsageError{"expected one results file"};
+  const std::string path = args[0];
+  const evo::ResultsFile f = evo::read_results(path);
+  const evo::RunState& s = f.state;
+  const evo::GenerationRecord& last = s.history.back();
+  const evo::ChampionRecord& champ = s.champions.back();
+  int64_t simulations = 0;
+  for (const evo::GenerationRecord& g : s.history) simulations += g.simulated;
+
+  nlohmann::json j;
+  j["file"] = path;
+  j["format_version"] = evo::kResultsFormatVersion;
+  j["treatment"] = to_string(s.config.treatment);
+  j["seed"] = s.config.seed;
+  j["population"] = s.config.population;
+  j["generations_planned"] = s.config.generations;
+  j["generations_done"] = s.generations_done;
+  j["finished"] = s.finished();
+  j["best_fitness"] = last.best_fitness;
+  j["champion_id"] = last.champion_id;
+  j["champion_generation"] = champ.generation;
+  j["champion_voxels"] = champ.phenotype.voxel_count();
+  j["champion_status"] = to_string(static_cast<evo::EvalStatus>(champ.status));
+  j["individuals"] = s.births.size();
+  j["simulations"] = simulations;
+  j["content_digest"] = f.content_digest;
+  j["plastivox_version"] = f.provenance.plastivox_version;
+  j["git_commit"] = f.provenance.git_commit;
+  j["date_created"] = f.provenance.date_created;
+  j["date_updated"] = f.provenance.date_updated;
+  j["host"] = f.provenance.host;
+  j["threads"] = f.provenance.threads;
+  j["wall_seconds"] = f.provenance.wall_seconds;
+  if (as_json) {
+    std::printf("%s\n", j.dump(1).c_str());
+    return 0;
+  }
+  std::printf("%s: treatment %s, seed %llu, %d/%d generations%s\n", path.c_str(),
+              to_string(s.config.treatment), static_cast<unsigned long long>(s.config.seed),
+              s.generations_done, s.config.generations, s.finished() ? " (finished)" : "");
+  std::printf(
+      "  best fitness %.6f voxel lengths: champion id %llu (%d voxels, since generation %d)\n",
+      last.best_fitness, static_cast<unsigned long long>(last.champion_id),
+      champ.phenotype.voxel_count(), champ.generation);
+  std::printf("  %zu individuals, %lld simulated; content digest %s\n", s.births.size(),
+              static_cast<long long>(simulations), f.content_digest.c_str());
+  std::printf("  written by plastivox %s (commit %s) on %s, %s\n",
+              f.provenance.plastivox_version.c_str(), f.provenance.git_commit.c_str(),
+              f.provenance.host.c_str(), f.provenance.date_updated.c_str());
+  return 0;
+}
+
+}  // namespace plastivox::cli

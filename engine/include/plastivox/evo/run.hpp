@@ -1,0 +1,60 @@
+// Running an evolution to completion with checkpoints and resume (library plastivox_evo_h5).
+//
+// run_evolution(config, out) is what `plastivox evolve --config F --out R.h5` does:
+//   - R.h5 absent: start a new run;
+//   - R.h5 present and written by the same config identity (EvolveConfig::identity_json,
+//     and the same resolved physics): continue from its checkpoint; the end result is
+//     bit-identical to an uninterrupted run;
+//   - R.h5 present but from another config, or not a readable results file: refuse
+//     (ResultsError / InputError) and leave it untouched;
+//   - R.h5 already finished: report so and change nothing.
+// A checkpoint is written every config.checkpoint_every generations and at the end.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "plastivox/evo/evolver.hpp"
+#include "plastivox/evo/results_file.hpp"
+
+namespace plastivox::evo {
+
+struct RunProgress {
+  GenerationStats stats;       // of the generation just done
+  int generations_done = 0;    // after it
+  int generations_total = 0;   // planned
+  double session_seconds = 0;  // wall time of this session so far
+  double eta_seconds = 0;      // remaining, from this session's mean generation time
+  bool checkpointed = false;   // a checkpoint was written after this generation
+  double checkpoint_seconds = 0;
+};
+
+struct RunOptions {
+  int threads = -1;     // evaluation threads; -1: the config's; 0: all cores
+  int stop_after = -1;  // testing hook: stop once generations_done reaches this (checkpointed)
+  std::function<void(const RunProgress&)> on_generation;  // called after every generation
+  std::function<void(const std::string&)> on_message;     // "resuming from generation 12"...
+};
+
+enum class RunOutcome {
+  kFinished,         // this session completed the run
+  kAlreadyFinished,  // the results file was complete; nothing was changed
+  kStopped,          // stopped by stop_after; resumable
+};
+
+struct RunReport {
+  RunOutcome outcome = RunOutcome::kFinished;
+  int resumed_from = -1;  // generations_done found in the file; -1 for a new run
+  int generations_done = -1;
+  std::string content_digest;
+  int threads = 0;  // threads used
+};
+
+RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
+                        const RunOptions& options);
+
+// Empty when a and b may share a results file; otherwise a one-line description of the
+// first difference ("seed: 1 in the file, 2 now").
+std::string config_difference(const EvolveConfig& file, const EvolveConfig& now);
+
+}  // namespace plastivox::evo

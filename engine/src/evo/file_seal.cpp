@@ -1,0 +1,84 @@
+#include "file_seal.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "plastivox/evo/hash.hpp"
+#include "plastivox/evo/results_file.hpp"
+
+namespace plastivox::evo::seal {
+namespace {
+
+constexpr const char* kMagic = "plastivox-evolution-results\n";
+constexpr const char* kHdf5Signature = "\x89HDF\r\n\x1a\n";
+
+std::vector<char> read_all(const std::string& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ResultsError(name + ": cannot open for reading");
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw ResultsError(name + ": read error");
+  return bytes;
+}
+
+Hash128 payload_hash(const std::vector<char>& bytes) {
+  Hasher h;
+  h.bytes(bytes.data() + kUserBlockBytes, bytes.size() - kUserBlockBytes);
+  return h.finish();
+}
+
+}  // namespace
+
+void write_seal(const std::string& file, const std::string& name) {
+  const std::vector<char> bytes = read_all(file, name);
+  if (bytes.size() < kUserBlockBytes) throw ResultsError(name + ": HDF5 wrote no user block");
+  char header[kUserBlockBytes] = {};
+  const int n = std::snprintf(header, sizeof header,
+                              "%sseal_version 1\npayload_bytes %llu\npayload_hash %s\n", kMagic,
+                              static_cast<unsigned long long>(bytes.size() - kUserBlockBytes),
+                              payload_hash(bytes).hex().c_str());
+  if (n <= 0 || n >= static_cast<int>(sizeof header)) throw ResultsError(name + ": seal too long");
+  std::FILE* f = std::fopen(file.c_str(), "r+b");
+  if (!f) throw ResultsError(name + ": cannot reopen " + file + " to seal it");
+  const bool ok = std::fwrite(header, 1, sizeof header, f) == sizeof header;
+  const bool closed = std::fclose(f) == 0;
+  if (!ok || !closed) throw ResultsError(name + ": cannot write the seal (disk full?)");
+}
+
+void check_seal(const std::string& file) {
+  const std::vector<char> bytes = read_all(file, file);
+  const size_t magic_len = std::strlen(kMagic);
+  if (bytes.size() < magic_len || std::memcmp(bytes.data(), kMagic, magic_len) != 0) {
+    if (bytes.size() >= 8 && std::memcmp(bytes.data(), kHdf5Signature, 8) == 0)
+      throw ResultsError(file + ": an HDF5 file, but not a plastivox evolution results file");
+    if (bytes.empty()) throw ResultsError(file + ": empty file, not a plastivox results file");
+    throw ResultsError(
+        file + ": not a plastivox evolution results file (not HDF5, or its header is damaged)");
+  }
+  if (bytes.size() < kUserBlockBytes)
+    throw ResultsError(file + ": truncated (" + std::to_string(bytes.size()) +
+                       " bytes, header incomplete)");
+  const std::string header(bytes.data(), strnlen(bytes.data(), kUserBlockBytes));
+  std::istringstream in(header.substr(magic_len));
+  std::string k1, k2, k3, hash;
+  int version = 0;
+  unsigned long long payload = 0;
+  in >> k1 >> version >> k2 >> payload >> k3 >> hash;
+  if (!in || k1 != "seal_version" || k2 != "payload_bytes" || k3 != "payload_hash")
+    throw ResultsError(file + ": damaged header (user block)");
+  if (version != 1)
+    throw ResultsError(file + ": seal version " + std::to_string(version) + " is not supported");
+  const uint64_t have = bytes.size() - kUserBlockBytes;
+  if (have < payload)
+    throw ResultsError(file + ": truncated (" + std::to_string(have + kUserBlockBytes) + " of " +
+                       std::to_string(payload + kUserBlockBytes) + " bytes)");
+  if (have > payload)
+    throw ResultsError(file + ": has " + std::to_string(have - payload) +
+                       " unexpected bytes after its end (modified after writing?)");
+  if (payload_hash(bytes).hex() != hash)
+    throw ResultsError(file + ": corrupt (content does not match its checksum)");
+}
+
+}  // namespace plastivox::evo::seal

@@ -1,0 +1,30 @@
+// The seal: a 512-byte HDF5 user block at the start of every results file, holding a
+// text header with the payload's length and 128-bit hash (internal).
+//
+// Why: HDF5 parses untrusted metadata, and a damaged file can make a parser do anything.
+// The reader checks the seal before HDF5 sees a byte, so a truncated, corrupt or foreign
+// file is refused with a precise one-line message. HDF5 ignores user blocks; h5py and
+// h5dump open sealed files as usual (a file edited after writing no longer matches its
+// seal and is refused).
+//
+//   plastivox-evolution-results\n
+//   seal_version 1\n
+//   payload_bytes <N>\n          bytes after the user block
+//   payload_hash <32 hex>\n      Hasher over those bytes
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace plastivox::evo::seal {
+
+constexpr uint64_t kUserBlockBytes = 512;
+
+// Fills the user block of the closed HDF5 file `file` (created with that user block).
+// `name` names the destination in error messages.
+void write_seal(const std::string& file, const std::string& name);
+
+// Throws ResultsError when `file` is not a sealed results file or its payload differs.
+void check_seal(const std::string& file);
+
+}  // namespace plastivox::evo::seal

@@ -1,0 +1,291 @@
+// Reading and checking the results file. Every dataset's class and shape is checked before
+// it is read, every cross-reference after, and both digests at the end: a file that
+// passes is exactly what a writer produced.
+#include <sys/stat.h>
+
+#include "file_seal.hpp"
+#include "h5_util.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/robot_file.hpp"
+#include "results_layout.hpp"
+
+namespace plastivox::evo {
+namespace {
+
+using h5::Ctx;
+using h5::Handle;
+
+Cppn make_network(const Ctx& c, const std::string& obj, const std::vector<uint8_t>& act,
+                  const std::vector<int32_t>& src, const std::vector<int32_t>& dst,
+                  const std::vector<double>& w) {
+  Cppn net;
+  for (uint8_t a : act) {
+    if (a > static_cast<uint8_t>(Activation::kIdentity)) c.fail(obj, "unknown activation code");
+    net.nodes.push_back(static_cast<Activation>(a));
+  }
+  for (size_t k = 0; k < src.size(); ++k) net.links.push_back({src[k], dst[k], w[k]});
+  try {
+    validate(net);
+  } catch (const std::invalid_argument& e) {
+    c.fail(obj, std::string("invalid network: ") + e.what());
+  }
+  return net;
+}
+
+Cppn read_network(const Ctx& c, hid_t group, const std::string& obj) {
+  const auto act = h5::read<uint8_t>(c, group, "activation", h5::kAnyExtent);
+  std::vector<hsize_t> dims = {h5::kAnyExtent};
+  const auto src = h5::read<int32_t>(c, group, "source", dims);
+  const auto dst = h5::read<int32_t>(c, group, "target", dims[0]);
+  const auto w = h5::read<double>(c, group, "weight", dims[0]);
+  return make_network(c, obj, act, src, dst, w);
+}
+
+RobotDef read_phenotype(const Ctx& c, hid_t group, const EvolveConfig& cfg) {
+  RobotDef r = make_empty_robot(cfg.nx, cfg.ny, cfg.nz, cfg.voxel_size);
+  std::vector<hsize_t> dims = {hsize_t(cfg.nz), hsize_t(cfg.ny), hsize_t(cfg.nx)};
+  r.present = h5::read<uint8_t>(c, group, "present", dims);
+  r.stiffness = h5::read<double>(c, group, "stiffness", dims);
+  r.dev_rate = h5::read<double>(c, group, "dev_rate", dims);
+  r.phase = h5::read<double>(c, group, "phase", dims);
+  return r;
+}
+
+EvalStatus status_code(const Ctx& c, const std::string& obj, uint8_t v) {
+  if (v > static_cast<uint8_t>(EvalStatus::kUnstable)) c.fail(obj, "unknown status code");
+  return static_cast<EvalStatus>(v);
+}
+
+void read_generations(const Ctx& c, hid_t root, RunState& s) {
+  Handle g = h5::open_group(c, root, "generations");
+  const hsize_t G = static_cast<hsize_t>(s.generations_done + 1);
+  const hsize_t P = static_cast<hsize_t>(s.config.population);
+  std::vector<hsize_t> d2 = {G, P};
+  const auto id = h5::read<uint64_t>(c, g.id(), "id", d2);
+  const auto parent = h5::read<int64_t>(c, g.id(), "parent_id", d2);
+  const auto age = h5::read<int32_t>(c, g.id(), "age", d2);
+  const auto fitness = h5::read<double>(c, g.id(), "fitness", d2);
+  const auto status = h5::read<uint8_t>(c, g.id(), "status", d2);
+  const auto champion = h5::read<uint64_t>(c, g.id(), "champion_id", G);
+  const auto best = h5::read<double>(c, g.id(), "best_fitness", G);
+  const auto simulated = h5::read<int32_t>(c, g.id(), "simulated", G);
+  const auto hits = h5::read<int32_t>(c, g.id(), "cache_hits", G);
+  const auto wall = h5::read<double>(c, g.id(), "wall_seconds", G);
+  for (hsize_t k = 0; k < G; ++k) {
+    GenerationRecord r;
+    const auto row = [&](const auto& v) {
+      using T = typename std::decay_t<decltype(v)>::value_type;
+      return std::vector<T>(v.begin() + k * P, v.begin() + (k + 1) * P);
+    };
+    r.id = row(id);
+    r.parent_id = row(parent);
+    r.age = row(age);
+    r.fitness = row(fitness);
+    r.status = row(status);
+    for (uint8_t x : r.status) status_code(c, "/generations/status", x);
+    r.champion_id = champion[k];
+    r.best_fitness = best[k];
+    r.simulated = simulated[k];
+    r.cache_hits = hits[k];
+    r.wall_seconds = wall[k];
+    s.history.push_back(std::move(r));
+  }
+}
+
+void read_individuals(const Ctx& c, hid_t root, RunState& s) {
+  Handle g = h5::open_group(c, root, "individuals");
+  const hsize_t N = s.next_id;
+  const auto id = h5::read<uint64_t>(c, g.id(), "id", N);
+  const auto parent = h5::read<int64_t>(c, g.id(), "parent_id", N);
+  const auto gen = h5::read<int32_t>(c, g.id(), "generation", N);
+  const auto fitness = h5::read<double>(c, g.id(), "fitness", N);
+  const auto status = h5::read<uint8_t>(c, g.id(), "status", N);
+  const auto voxels = h5::read<int32_t>(c, g.id(), "voxels", N);
+  const auto tries = h5::read<int32_t>(c, g.id(), "tries", N);
+  const auto simulated = h5::read<uint8_t>(c, g.id(), "simulated", N);
+  std::vector<hsize_t> fd = {h5::kAnyExtent};
+  const auto failure_id = h5::read<uint64_t>(c, g.id(), "failure_id", fd);
+  const auto failure = h5::read_strings(c, g.id(), "failure_reason", fd[0]);
+  s.births.resize(N);
+  for (hsize_t i = 0; i < N; ++i) {
+    if (id[i] != i) c.fail("/individuals/id", "ids must be 0, 1, 2, ... in order");
+    BirthRecord& b = s.births[i];
+    b.id = id[i];
+    b.parent_id = parent[i];
+    b.generation = gen[i];
+    b.fitness = fitness[i];
+    b.status = static_cast<uint8_t>(status_code(c, "/individuals/status", status[i]));
+    b.voxels = voxels[i];
+    b.tries = tries[i];
+    b.simulated = simulated[i];
+  }
+  for (size_t k = 0; k < failure_id.size(); ++k) {
+    if (failure_id[k] >= N) c.fail("/individuals/failure_id", "refers to an unknown individual");
+    s.births[failure_id[k]].failure = failure[k];
+  }
+}
+
+void read_champions(const Ctx& c, hid_t root, RunState& s) {
+  Handle all = h5::open_group(c, root, "champions");
+  H5G_info_t info;
+  if (H5Gget_info(all.id(), &info) < 0) c.fail("/champions", "cannot list");
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    const std::string name = layout::champion_name(k);
+    const std::string obj = "/champions/" + name;
+    Handle g = h5::open_group(c, all.id(), name);
+    ChampionRecord ch;
+    ch.generation = static_cast<int32_t>(h5::read_attr_int(c, g.id(), obj, "generation"));
+    ch.id = h5::read_attr_u64(c, g.id(), obj, "id");
+    ch.parent_id = h5::read_attr_int(c, g.id(), obj, "parent_id");
+    ch.age = static_cast<int32_t>(h5::read_attr_int(c, g.id(), obj, "age"));
+    ch.fitness = h5::read_attr_double(c, g.id(), obj, "fitness");
+    const std::string st = h5::read_attr_string(c, g.id(), obj, "status");
+    bool known = false;
+    for (uint8_t code = 0; code <= 2; ++code)
+      if (st == to_string(static_cast<EvalStatus>(code))) ch.status = code, known = true;
+    if (!known) c.fail(obj + "@status", "unknown status '" + st + "'");
+    Handle genome = h5::open_group(c, g.id(), "genome");
+    for (int n = 0; n < kNetworkCount; ++n) {
+      Handle net = h5::open_group(c, genome.id(), layout::kNetworkNames[n]);
+      ch.genome.nets[n] = read_network(c, net.id(), obj + "/genome/" + layout::kNetworkNames[n]);
+    }
+    Handle ph = h5::open_group(c, g.id(), "phenotype");
+    ch.phenotype = read_phenotype(c, ph.id(), s.config);
+    std::vector<hsize_t> dims = {hsize_t(s.config.nz), hsize_t(s.config.ny), hsize_t(s.config.nx)};
+    ch.final_stiffness = h5::read<double>(c, g.id(), "final_stiffness", dims);
+    s.champions.push_back(std::move(ch));
+  }
+}
+
+void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
+  Handle ck = h5::open_group(c, root, "checkpoint");
+  Handle pop = h5::open_group(c, ck.id(), "population");
+  const hsize_t P = s.history.empty() ? 0 : s.history.back().id.size();
+  const auto id = h5::read<uint64_t>(c, pop.id(), "id", P);
+  const auto parent = h5::read<int64_t>(c, pop.id(), "parent_id", P);
+  const auto age = h5::read<int32_t>(c, pop.id(), "age", P);
+  const auto born = h5::read<int32_t>(c, pop.id(), "born", P);
+  const auto fitness = h5::read<double>(c, pop.id(), "fitness", P);
+  const auto status = h5::read<uint8_t>(c, pop.id(), "status", P);
+  s.population.resize(P);
+  for (hsize_t i = 0; i < P; ++i) {
+    Individual& ind = s.population[i];
+    ind.id = id[i];
+    ind.parent_id = parent[i];
+    ind.age = age[i];
+    ind.born = born[i];
+    ind.fitness = fitness[i];
+    ind.status = status_code(c, "/checkpoint/population/status", status[i]);
+    if (ind.id != s.history.back().id[i] || ind.age != s.history.back().age[i])
+      c.fail("/checkpoint/population", "does not match the last generation's population");
+  }
+  Handle genomes = h5::open_group(c, pop.id(), "genome");
+  for (int n = 0; n < kNetworkCount; ++n) {
+    const std::string obj =
+        std::string("/checkpoint/population/genome/") + layout::kNetworkNames[n];
+    Handle g = h5::open_group(c, genomes.id(), layout::kNetworkNames[n]);
+    const auto node_off = h5::read<int64_t>(c, g.id(), "node_offset", P + 1);
+    const auto link_off = h5::read<int64_t>(c, g.id(), "link_offset", P + 1);
+    const auto act = h5::read<uint8_t>(c, g.id(), "activation", h5::kAnyExtent);
+    std::vector<hsize_t> ld = {h5::kAnyExtent};
+    const auto src = h5::read<int32_t>(c, g.id(), "source", ld);
+    const auto dst = h5::read<int32_t>(c, g.id(), "target", ld[0]);
+    const auto w = h5::read<double>(c, g.id(), "weight", ld[0]);
+    for (hsize_t i = 0; i < P; ++i) {
+      const int64_t n0 = node_off[i], n1 = node_off[i + 1], l0 = link_off[i], l1 = link_off[i + 1];
+      if (n0 < 0 || n1 < n0 || n1 > static_cast<int64_t>(act.size()) || l0 < 0 || l1 < l0 ||
+          l1 > static_cast<int64_t>(w.size()))
+        c.fail(obj, "offsets out of range");
+      s.population[i].genome.nets[n] = make_network(
+          c, obj, {act.begin() + n0, act.begin() + n1}, {src.begin() + l0, src.begin() + l1},
+          {dst.begin() + l0, dst.begin() + l1}, {w.begin() + l0, w.begin() + l1});
+    }
+  }
+  Handle cache = h5::open_group(c, ck.id(), "cache");
+  std::vector<hsize_t> cd = {h5::kAnyExtent};
+  const auto hi = h5::read<uint64_t>(c, cache.id(), "hash_hi", cd);
+  const auto lo = h5::read<uint64_t>(c, cache.id(), "hash_lo", cd[0]);
+  const auto fit = h5::read<double>(c, cache.id(), "fitness", cd[0]);
+  const auto st = h5::read<uint8_t>(c, cache.id(), "status", cd[0]);
+  std::vector<hsize_t> fd = {h5::kAnyExtent};
+  const auto failure_row = h5::read<uint64_t>(c, cache.id(), "failure_row", fd);
+  const auto failure = h5::read_strings(c, cache.id(), "failure_reason", fd[0]);
+  std::vector<std::string> reasons(hi.size());
+  for (size_t k = 0; k < failure_row.size(); ++k) {
+    if (failure_row[k] >= hi.size()) c.fail("/checkpoint/cache/failure_row", "out of range");
+    reasons[failure_row[k]] = failure[k];
+  }
+  for (size_t k = 0; k < hi.size(); ++k)
+    s.cache[Hash128{hi[k], lo[k]}] =
+        CacheEntry{fit[k], status_code(c, "/checkpoint/cache/status", st[k]), reasons[k]};
+}
+
+}  // namespace
+
+ResultsFile read_results(const std::string& path) {
+  h5::quiet_hdf5();
+  struct stat sb {};
+  if (::stat(path.c_str(), &sb) != 0) throw ResultsError(path + ": no such file");
+  if (!S_ISREG(sb.st_mode)) throw ResultsError(path + ": not a regular file");
+  const Ctx c{path, static_cast<uint64_t>(sb.st_size)};
+  seal::check_seal(path);  // before HDF5 parses anything
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw ResultsError(path +
+                       ": not an HDF5 file (wrong format, or the file is corrupt or truncated)");
+  Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);
+  if (f.id() < 0)
+    throw ResultsError(path + ": cannot open as HDF5 (the file is corrupt or truncated)");
+  Handle root = h5::open_group(c, f.id(), "/");
+  const hid_t r = root.id();
+  if (!h5::has_attr(r, "format") || h5::read_attr_string(c, r, "/", "format") != layout::kFormat)
+    throw ResultsError(path + ": not a plastivox evolution results file (no format attribute \"" +
+                       std::string(layout::kFormat) + "\" on /)");
+  const int64_t version = h5::read_attr_int(c, r, "/", "format_version");
+  if (version != kResultsFormatVersion)
+    throw ResultsError(path + ": results format version " + std::to_string(version) +
+                       " is not supported (this build reads " +
+                       std::to_string(kResultsFormatVersion) + ")");
+
+  ResultsFile out;
+  RunState& s = out.state;
+  try {
+    s.config = parse_config(h5::read_attr_string(c, r, "/", "config"), path + ": /@config");
+  } catch (const InputError& e) {
+    throw ResultsError(e.what());
+  }
+  s.generations_done = static_cast<int>(h5::read_attr_int(c, r, "/", "generations_done"));
+  if (s.generations_done < 0 || s.generations_done > s.config.generations)
+    c.fail("/@generations_done", "out of range for the configured generations");
+  Handle ck = h5::open_group(c, r, "checkpoint");
+  s.next_id = h5::read_attr_u64(c, ck.id(), "/checkpoint", "next_id");
+  if (s.next_id > c.file_size) c.fail("/checkpoint@next_id", "implausible");
+  read_generations(c, r, s);
+  read_individuals(c, r, s);
+  read_champions(c, r, s);
+  read_checkpoint(c, r, s);
+
+  Provenance& p = out.provenance;
+  p.plastivox_version = h5::read_attr_string(c, r, "/", "plastivox_version");
+  p.git_commit = h5::read_attr_string(c, r, "/", "git_commit");
+  p.compiler = h5::read_attr_string(c, r, "/", "compiler");
+  p.compiler_flags = h5::read_attr_string(c, r, "/", "compiler_flags");
+  p.build_type = h5::read_attr_string(c, r, "/", "build_type");
+  p.date_created = h5::read_attr_string(c, r, "/", "date_created");
+  p.date_updated = h5::read_attr_string(c, r, "/", "date_updated");
+  p.host = h5::read_attr_string(c, r, "/", "host");
+  p.threads = h5::read_attr_int(c, r, "/", "threads");
+  p.wall_seconds = h5::read_attr_double(c, r, "/", "wall_seconds");
+
+  out.content_digest = h5::read_attr_string(c, r, "/", "content_digest");
+  if (content_digest(s).hex() != out.content_digest)
+    c.fail("/@content_digest", "does not match the content (the file was modified or is corrupt)");
+  if (layout::checkpoint_digest(s).hex() != h5::read_attr_string(c, r, "/", "checkpoint_digest"))
+    c.fail("/@checkpoint_digest",
+           "does not match the checkpoint (the file was modified or is corrupt)");
+  ck.reset();
+  root.reset();
+  if (f.close() < 0) throw ResultsError(path + ": error while closing the file");
+  return out;
+}
+
+}  // namespace plastivox::evo

@@ -1,0 +1,341 @@
+// Writing the results file (layout: docs/results-format.md), atomically.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+
+#include "evo_build_info.hpp"
+#include "file_seal.hpp"
+#include "h5_util.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "results_layout.hpp"
+
+namespace plastivox::evo {
+namespace layout {
+
+std::string champion_name(size_t k) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%06zu", k);
+  return buf;
+}
+
+Hash128 checkpoint_digest(const RunState& s) {
+  Hasher h;
+  h.str("plastivox-evolution-checkpoint-v1");
+  h.u64(s.cache.size());
+  for (const auto& [key, e] : s.cache) {
+    h.u64(key.hi);
+    h.u64(key.lo);
+    h.f64(e.fitness);
+    h.u64(static_cast<uint8_t>(e.status));
+    h.str(e.failure);
+  }
+  for (const GenerationRecord& g : s.history) {
+    h.u64(static_cast<uint64_t>(g.simulated));
+    h.u64(static_cast<uint64_t>(g.cache_hits));
+  }
+  for (const BirthRecord& b : s.births) h.u64(b.simulated);
+  return h.finish();
+}
+
+}  // namespace layout
+
+namespace {
+
+using h5::Ctx;
+using h5::Handle;
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::vector<hsize_t> lattice_dims(const RobotDef& r) {
+  return {static_cast<hsize_t>(r.nz), static_cast<hsize_t>(r.ny), static_cast<hsize_t>(r.nx)};
+}
+
+void write_network(const Ctx& c, hid_t group, const Cppn& net) {
+  std::vector<uint8_t> act(net.nodes.size());
+  for (size_t i = 0; i < act.size(); ++i) act[i] = static_cast<uint8_t>(net.nodes[i]);
+  std::vector<int32_t> src, dst;
+  std::vector<double> w;
+  for (const CppnLink& l : net.links) {
+    src.push_back(l.source);
+    dst.push_back(l.target);
+    w.push_back(l.weight);
+  }
+  h5::write(c, group, "activation", act);
+  h5::write(c, group, "source", src);
+  h5::write(c, group, "target", dst);
+  h5::write(c, group, "weight", w);
+}
+
+void write_phenotype(const Ctx& c, hid_t group, const RobotDef& r) {
+  const auto dims = lattice_dims(r);
+  h5::write(c, group, "present", r.present, dims);
+  h5::write(c, group, "stiffness", r.stiffness, dims);
+  h5::write(c, group, "dev_rate", r.dev_rate, dims);
+  h5::write(c, group, "phase", r.phase, dims);
+}
+
+void write_root_attributes(const Ctx& c, hid_t root, const RunState& s, const Provenance& p) {
+  h5::write_attr(c, root, "format", std::string(layout::kFormat));
+  h5::write_attr(c, root, "format_version", int64_t{kResultsFormatVersion});
+  h5::write_attr(c, root, "config", s.config.canonical_json());
+  h5::write_attr(c, root, "resolved_physics", resolved_physics_json(s.config.physics));
+  h5::write_attr_u64(c, root, "seed", s.config.seed);
+  h5::write_attr(c, root, "treatment", std::string(to_string(s.config.treatment)));
+  h5::write_attr(c, root, "population", int64_t{s.config.population});
+  h5::write_attr(c, root, "generations_planned", int64_t{s.config.generations});
+  h5::write_attr(c, root, "generations_done", int64_t{s.generations_done});
+  h5::write_attr(c, root, "finished", int64_t{s.finished() ? 1 : 0});
+  h5::write_attr(c, root, "content_digest", content_digest(s).hex());
+  h5::write_attr(c, root, "checkpoint_digest", layout::checkpoint_digest(s).hex());
+  h5::write_attr(c, root, "plastivox_version", p.plastivox_version);
+  h5::write_attr(c, root, "git_commit", p.git_commit);
+  h5::write_attr(c, root, "compiler", p.compiler);
+  h5::write_attr(c, root, "compiler_flags", p.compiler_flags);
+  h5::write_attr(c, root, "build_type", p.build_type);
+  h5::write_attr(c, root, "date_created", p.date_created);
+  h5::write_attr(c, root, "date_updated", p.date_updated);
+  h5::write_attr(c, root, "host", p.host);
+  h5::write_attr(c, root, "threads", p.threads);
+  h5::write_attr(c, root, "wall_seconds", p.wall_seconds);
+}
+
+void write_generations(const Ctx& c, hid_t root, const RunState& s) {
+  Handle g = h5::create_group(c, root, "generations");
+  const hsize_t G = s.history.size();
+  const hsize_t P = G ? s.history[0].id.size() : 0;
+  std::vector<uint64_t> id, champion;
+  std::vector<int64_t> parent;
+  std::vector<int32_t> age, simulated, hits;
+  std::vector<double> fitness, best, wall;
+  std::vector<uint8_t> status;
+  for (const GenerationRecord& r : s.history) {
+    if (r.id.size() != P) c.fail("/generations", "internal error: population size changed");
+    id.insert(id.end(), r.id.begin(), r.id.end());
+    parent.insert(parent.end(), r.parent_id.begin(), r.parent_id.end());
+    age.insert(age.end(), r.age.begin(), r.age.end());
+    fitness.insert(fitness.end(), r.fitness.begin(), r.fitness.end());
+    status.insert(status.end(), r.status.begin(), r.status.end());
+    champion.push_back(r.champion_id);
+    best.push_back(r.best_fitness);
+    simulated.push_back(r.simulated);
+    hits.push_back(r.cache_hits);
+    wall.push_back(r.wall_seconds);
+  }
+  h5::write(c, g.id(), "id", id, {G, P});
+  h5::write(c, g.id(), "parent_id", parent, {G, P});
+  h5::write(c, g.id(), "age", age, {G, P});
+  h5::write(c, g.id(), "fitness", fitness, {G, P});
+  h5::write(c, g.id(), "status", status, {G, P});
+  h5::write(c, g.id(), "champion_id", champion);
+  h5::write(c, g.id(), "best_fitness", best);
+  h5::write(c, g.id(), "simulated", simulated);
+  h5::write(c, g.id(), "cache_hits", hits);
+  h5::write(c, g.id(), "wall_seconds", wall);
+}
+
+void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
+  Handle g = h5::create_group(c, root, "individuals");
+  std::vector<uint64_t> id, failure_id;
+  std::vector<int64_t> parent;
+  std::vector<int32_t> gen, voxels, tries;
+  std::vector<double> fitness;
+  std::vector<uint8_t> status, simulated;
+  std::vector<std::string> failure;
+  for (const BirthRecord& b : s.births) {
+    id.push_back(b.id);
+    parent.push_back(b.parent_id);
+    gen.push_back(b.generation);
+    fitness.push_back(b.fitness);
+    status.push_back(b.status);
+    voxels.push_back(b.voxels);
+    tries.push_back(b.tries);
+    simulated.push_back(b.simulated);
+    if (!b.failure.empty()) {
+      failure_id.push_back(b.id);
+      failure.push_back(b.failure);
+    }
+  }
+  h5::write(c, g.id(), "id", id);
+  h5::write(c, g.id(), "parent_id", parent);
+  h5::write(c, g.id(), "generation", gen);
+  h5::write(c, g.id(), "fitness", fitness);
+  h5::write(c, g.id(), "status", status);
+  h5::write(c, g.id(), "voxels", voxels);
+  h5::write(c, g.id(), "tries", tries);
+  h5::write(c, g.id(), "simulated", simulated);
+  h5::write(c, g.id(), "failure_id", failure_id);
+  h5::write_strings(c, g.id(), "failure_reason", failure);
+}
+
+void write_champions(const Ctx& c, hid_t root, const RunState& s) {
+  Handle all = h5::create_group(c, root, "champions");
+  for (size_t k = 0; k < s.champions.size(); ++k) {
+    const ChampionRecord& ch = s.champions[k];
+    Handle g = h5::create_group(c, all.id(), layout::champion_name(k));
+    h5::write_attr(c, g.id(), "generation", int64_t{ch.generation});
+    h5::write_attr_u64(c, g.id(), "id", ch.id);
+    h5::write_attr(c, g.id(), "parent_id", ch.parent_id);
+    h5::write_attr(c, g.id(), "age", int64_t{ch.age});
+    h5::write_attr(c, g.id(), "fitness", ch.fitness);
+    h5::write_attr(c, g.id(), "status", std::string(to_string(static_cast<EvalStatus>(ch.status))));
+    Handle genome = h5::create_group(c, g.id(), "genome");
+    for (int n = 0; n < kNetworkCount; ++n) {
+      Handle net = h5::create_group(c, genome.id(), layout::kNetworkNames[n]);
+      write_network(c, net.id(), ch.genome.nets[n]);
+    }
+    Handle ph = h5::create_group(c, g.id(), "phenotype");
+    write_phenotype(c, ph.id(), ch.phenotype);
+    h5::write(c, g.id(), "final_stiffness", ch.final_stiffness, lattice_dims(ch.phenotype));
+  }
+  if (!s.champions.empty()) {
+    const std::string target = "/champions/" + layout::champion_name(s.champions.size() - 1);
+    if (H5Lcreate_soft(target.c_str(), root, "champion", H5P_DEFAULT, H5P_DEFAULT) < 0)
+      c.fail("/champion", "cannot create link");
+  }
+}
+
+void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
+  Handle ck = h5::create_group(c, root, "checkpoint");
+  h5::write_attr_u64(c, ck.id(), "next_id", s.next_id);
+  Handle pop = h5::create_group(c, ck.id(), "population");
+  std::vector<uint64_t> id;
+  std::vector<int64_t> parent;
+  std::vector<int32_t> age, born;
+  std::vector<double> fitness;
+  std::vector<uint8_t> status;
+  for (const Individual& ind : s.population) {
+    id.push_back(ind.id);
+    parent.push_back(ind.parent_id);
+    age.push_back(ind.age);
+    born.push_back(ind.born);
+    fitness.push_back(ind.fitness);
+    status.push_back(static_cast<uint8_t>(ind.status));
+  }
+  h5::write(c, pop.id(), "id", id);
+  h5::write(c, pop.id(), "parent_id", parent);
+  h5::write(c, pop.id(), "age", age);
+  h5::write(c, pop.id(), "born", born);
+  h5::write(c, pop.id(), "fitness", fitness);
+  h5::write(c, pop.id(), "status", status);
+  // Genomes, stacked per network: individual i owns nodes [node_offset[i], node_offset[i+1])
+  // and links [link_offset[i], link_offset[i+1]).
+  Handle genomes = h5::create_group(c, pop.id(), "genome");
+  for (int n = 0; n < kNetworkCount; ++n) {
+    std::vector<int64_t> node_off = {0}, link_off = {0};
+    std::vector<uint8_t> act;
+    std::vector<int32_t> src, dst;
+    std::vector<double> w;
+    for (const Individual& ind : s.population) {
+      const Cppn& net = ind.genome.nets[n];
+      for (Activation a : net.nodes) act.push_back(static_cast<uint8_t>(a));
+      for (const CppnLink& l : net.links) {
+        src.push_back(l.source);
+        dst.push_back(l.target);
+        w.push_back(l.weight);
+      }
+      node_off.push_back(static_cast<int64_t>(act.size()));
+      link_off.push_back(static_cast<int64_t>(w.size()));
+    }
+    Handle g = h5::create_group(c, genomes.id(), layout::kNetworkNames[n]);
+    h5::write(c, g.id(), "node_offset", node_off);
+    h5::write(c, g.id(), "activation", act);
+    h5::write(c, g.id(), "link_offset", link_off);
+    h5::write(c, g.id(), "source", src);
+    h5::write(c, g.id(), "target", dst);
+    h5::write(c, g.id(), "weight", w);
+  }
+  Handle cache = h5::create_group(c, ck.id(), "cache");
+  std::vector<uint64_t> hi, lo, failure_row;
+  std::vector<double> fit;
+  std::vector<uint8_t> st;
+  std::vector<std::string> failure;
+  for (const auto& [key, e] : s.cache) {
+    if (!e.failure.empty()) {
+      failure_row.push_back(hi.size());
+      failure.push_back(e.failure);
+    }
+    hi.push_back(key.hi);
+    lo.push_back(key.lo);
+    fit.push_back(e.fitness);
+    st.push_back(static_cast<uint8_t>(e.status));
+  }
+  h5::write(c, cache.id(), "hash_hi", hi);
+  h5::write(c, cache.id(), "hash_lo", lo);
+  h5::write(c, cache.id(), "fitness", fit);
+  h5::write(c, cache.id(), "status", st);
+  h5::write(c, cache.id(), "failure_row", failure_row);
+  h5::write_strings(c, cache.id(), "failure_reason", failure);
+}
+
+void fsync_path(const std::string& path, bool directory, const std::string& for_file) {
+  const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
+  if (fd < 0)
+    throw ResultsError(for_file + ": cannot open " + path + " to sync: " + std::strerror(errno));
+  const int rc = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  if (rc != 0 && !directory) throw ResultsError(for_file + ": fsync failed: " + std::strerror(err));
+}
+
+}  // namespace
+
+Provenance current_provenance(int threads) {
+  Provenance p;
+  p.plastivox_version = PLASTIVOX_EVO_VERSION;
+  p.git_commit = PLASTIVOX_EVO_GIT_COMMIT;
+  p.compiler = PLASTIVOX_EVO_COMPILER;
+  p.compiler_flags = PLASTIVOX_EVO_FLAGS;
+  p.build_type = PLASTIVOX_EVO_BUILD_TYPE;
+  p.date_created = p.date_updated = utc_now();
+  char host[256] = "";
+  if (gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "unknown");
+  p.host = host;
+  p.threads = threads;
+  return p;
+}
+
+void write_results(const std::string& path, const RunState& s, const Provenance& prov) {
+  h5::quiet_hdf5();
+  const std::string tmp = path + ".tmp";
+  const Ctx c{path, 0};
+  try {
+    Handle fcpl(H5Pcreate(H5P_FILE_CREATE), Handle::Kind::kPlist);
+    if (fcpl.id() < 0 || H5Pset_userblock(fcpl.id(), seal::kUserBlockBytes) < 0)
+      throw ResultsError(path + ": cannot set up the HDF5 user block");
+    Handle f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl.id(), H5P_DEFAULT), Handle::Kind::kFile);
+    if (f.id() < 0) throw ResultsError(path + ": cannot create " + tmp + " (directory writable?)");
+    {
+      Handle root = h5::open_group(c, f.id(), "/");
+      write_root_attributes(c, root.id(), s, prov);
+      write_generations(c, root.id(), s);
+      write_individuals(c, root.id(), s);
+      write_champions(c, root.id(), s);
+      write_checkpoint(c, root.id(), s);
+    }
+    if (f.close() < 0) throw ResultsError(path + ": closing " + tmp + " failed (disk full?)");
+    seal::write_seal(tmp, path);
+    fsync_path(tmp, false, path);
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw ResultsError(path + ": cannot rename " + tmp + ": " + ec.message());
+    const std::filesystem::path dir = std::filesystem::absolute(path).parent_path();
+    fsync_path(dir.string(), true, path);
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+}
+
+}  // namespace plastivox::evo

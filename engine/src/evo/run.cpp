@@ -1,0 +1,115 @@
+// The evolve driver: new run or resume, generations, checkpoints, progress.
+#include "plastivox/evo/run.hpp"
+
+#include <chrono>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/evo/thread_pool.hpp"
+
+namespace plastivox::evo {
+namespace {
+
+using nlohmann::json;
+
+// Path of the first difference between two JSON values ("" when equal).
+std::string first_difference(const json& a, const json& b, const std::string& where) {
+  if (a.is_object() && b.is_object()) {
+    for (auto it = a.begin(); it != a.end(); ++it) {
+      const std::string key = where.empty() ? it.key() : where + "." + it.key();
+      if (!b.contains(it.key())) return key + ": " + it.value().dump() + " in the file, absent now";
+      const std::string d = first_difference(it.value(), b[it.key()], key);
+      if (!d.empty()) return d;
+    }
+    for (auto it = b.begin(); it != b.end(); ++it)
+      if (!a.contains(it.key()))
+        return (where.empty() ? it.key() : where + "." + it.key()) + ": absent in the file, " +
+               it.value().dump() + " now";
+    return "";
+  }
+  if (a == b) return "";
+  return (where.empty() ? "(config)" : where) + ": " + a.dump() + " in the file, " + b.dump() +
+         " now";
+}
+
+}  // namespace
+
+std::string config_difference(const EvolveConfig& file, const EvolveConfig& now) {
+  std::string d =
+      first_difference(json::parse(file.identity_json()), json::parse(now.identity_json()), "");
+  if (!d.empty()) return d;
+  d = first_difference(json::parse(resolved_physics_json(file.physics)),
+                       json::parse(resolved_physics_json(now.physics)), "resolved physics");
+  return d;
+}
+
+RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
+                        const RunOptions& opt) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  auto say = [&](const std::string& m) {
+    if (opt.on_message) opt.on_message(m);
+  };
+  RunReport report;
+  const int requested = opt.threads >= 0 ? opt.threads : config.threads;
+  report.threads = requested > 0 ? requested : hardware_threads();
+
+  RunState state = Evolver::new_run(config);
+  Provenance prov = current_provenance(report.threads);
+  if (std::filesystem::exists(out_path)) {
+    ResultsFile f = read_results(out_path);  // throws a one-line error if unreadable
+    const std::string diff = config_difference(f.state.config, config);
+    if (!diff.empty())
+      throw ResultsError(out_path + ": written by a different configuration (" + diff +
+                         "); refusing to resume. Use the original config or another --out file");
+    report.resumed_from = f.state.generations_done;
+    report.generations_done = f.state.generations_done;
+    report.content_digest = f.content_digest;
+    if (f.state.finished()) {
+      report.outcome = RunOutcome::kAlreadyFinished;
+      return report;
+    }
+    say(out_path + ": resuming after generation " + std::to_string(f.state.generations_done));
+    // Run-control fields (threads, checkpoint_every) come from the current config.
+    f.state.config = config;
+    state = std::move(f.state);
+    prov.date_created = f.provenance.date_created;
+    prov.wall_seconds = f.provenance.wall_seconds;
+  }
+  const double wall_before = prov.wall_seconds;
+
+  Evolver ev(std::move(state), report.threads);
+  const int first_gen_this_session = ev.state().generations_done + 1;
+  while (!ev.finished()) {
+    RunProgress p;
+    p.stats = ev.step();
+    p.generations_done = ev.state().generations_done;
+    p.generations_total = config.generations;
+    const bool stop = opt.stop_after >= 0 && p.generations_done >= opt.stop_after;
+    if (p.generations_done % config.checkpoint_every == 0 || ev.finished() || stop) {
+      const auto tc = Clock::now();
+      prov.date_updated = current_provenance(report.threads).date_updated;
+      prov.wall_seconds = wall_before + std::chrono::duration<double>(Clock::now() - t0).count();
+      write_results(out_path, ev.state(), prov);
+      p.checkpointed = true;
+      p.checkpoint_seconds = std::chrono::duration<double>(Clock::now() - tc).count();
+    }
+    p.session_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    const int done_here = p.generations_done - first_gen_this_session + 1;
+    p.eta_seconds = p.session_seconds / done_here * (config.generations - p.generations_done);
+    if (opt.on_generation) opt.on_generation(p);
+    if (stop && !ev.finished()) {
+      report.outcome = RunOutcome::kStopped;
+      report.generations_done = ev.state().generations_done;
+      report.content_digest = content_digest(ev.state()).hex();
+      return report;
+    }
+  }
+  report.outcome = RunOutcome::kFinished;
+  report.generations_done = ev.state().generations_done;
+  report.content_digest = content_digest(ev.state()).hex();
+  return report;
+}
+
+}  // namespace plastivox::evo

@@ -1,0 +1,238 @@
+// The command-line contract of `plastivox evolve` and `plastivox inspect`, through the
+// real binary: default config, config errors, determinism across --threads, a real
+// kill -9 and resume, and refusal of damaged files.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/evo/config.hpp"
+#include "test_support.hpp"
+
+namespace plastivox::evo {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Output {
+  int status = -1;  // exit status
+  std::string out;  // stdout and stderr
+};
+
+Output run(const std::string& args) {
+  const std::string cmd = std::string(PLASTIVOX_CLI) + " " + args + " 2>&1";
+  Output o;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return o;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) o.out.append(buf, n);
+  const int st = pclose(p);
+  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return o;
+}
+
+std::string read_file(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+class EvoCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("plastivox_evo_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name), std::ios::binary) << text;
+    return path(name);
+  }
+  // A tiny run: 4x4x4 lattice, population 6, 0.25 s lives.
+  std::string tiny_config(const std::string& name, int seed, int generations) const {
+    return write(name, R"({"format": "plastivox-evolve-config", "version": 1, "seed": )" +
+                           std::to_string(seed) + R"(, "treatment": "stress", "population": 6,
+        "generations": )" + std::to_string(generations) +
+                           R"(, "lattice": {"nx": 4, "ny": 4, "nz": 4},
+        "physics": {"duration": 0.25, "settle_time": 0.1}})");
+  }
+  std::string digest(const std::string& results) const {
+    const Output o = run("inspect " + results + " --json");
+    EXPECT_EQ(o.status, 0) << o.out;
+    return nlohmann::json::parse(o.out).at("content_digest").get<std::string>();
+  }
+  fs::path dir_;
+};
+
+TEST_F(EvoCli, DefaultConfigIsCompleteAndParsesBack) {
+  const Output o = run("evolve --print-default-config");
+  ASSERT_EQ(o.status, 0) << o.out;
+  const EvolveConfig c = parse_config(o.out, "default");
+  EXPECT_EQ(c.population, 24);
+  EXPECT_EQ(c.generations, 5000);
+  EXPECT_EQ(c.nx * c.ny * c.nz, 1000);
+  EXPECT_EQ(c.max_mutation_tries, 1500);
+  EXPECT_EQ(c.geometry, GeometryRule::kLargestComponent);
+  const auto j = nlohmann::json::parse(o.out);
+  for (const char* k : {"_comment", "seed", "treatment", "population", "generations", "lattice",
+                        "geometry", "min_fill", "max_mutation_tries", "checkpoint_every", "threads",
+                        "physics", "format", "version"})
+    EXPECT_TRUE(j.contains(k)) << k;
+}
+
+TEST_F(EvoCli, InvalidConfigsNameTheField) {
+  const std::string head = R"({"format": "plastivox-evolve-config", "version": 1, )";
+  const struct {
+    std::string body, expect;
+  } cases[] = {
+      {"{nope", "not valid JSON"},
+      {R"({"version": 1})", "format"},
+      {R"({"format": "plastivox-evolve-config", "version": 2})", "version: unsupported version 2"},
+      {head + R"("population": 0})", "population: must be in [1, 100000], got 0"},
+      {head + R"("population": "six"})", "population: expected an integer"},
+      {head + R"("popsize": 6})", "popsize: unknown field"},
+      {head + R"("treatment": "growth"})", "treatment: treatment 'growth' is unknown"},
+      {head + R"("lattice": {"nx": 0}})", "lattice.nx: must be in [1, 100]"},
+      {head + R"("lattice": {"nw": 3}})", "lattice.nw: unknown field"},
+      {head + R"("geometry": "blob"})", "geometry: geometry rule 'blob' is unknown"},
+      {head + R"("seed": -1})", "seed: expected a non-negative integer"},
+      {head + R"("min_fill": 1.5})", "min_fill: must be in [0, 1]"},
+      {head + R"("threads": -1})", "threads: must be in [0, 4096]"},
+      {head + R"("checkpoint_every": 0})", "checkpoint_every: must be in"},
+      {head + R"("physics": {"duration": -1}})", "physics.duration"},
+      {head + R"("physics": {"bogus": 1}})", "physics.bogus: unknown field"},
+      {head + R"("physics": {"treatment": "none"}})", "physics.treatment: set the treatment"},
+      {head + R"("physics": {"preset": "gecco1999"}})", "physics.preset"},
+  };
+  for (const auto& c : cases) {
+    const std::string cfg = write("bad.json", c.body);
+    const Output o = run("evolve --config " + cfg + " --out " + path("r.h5"));
+    EXPECT_EQ(o.status, 1) << c.body << "\n" << o.out;
+    EXPECT_NE(o.out.find(c.expect), std::string::npos) << c.body << "\n" << o.out;
+    EXPECT_NE(o.out.find("bad.json"), std::string::npos) << o.out;        // names the file
+    EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;  // one line
+    EXPECT_FALSE(fs::exists(path("r.h5")));
+  }
+  EXPECT_EQ(run("evolve --config " + path("absent.json") + " --out " + path("r.h5")).status, 1);
+  EXPECT_EQ(run("evolve --out " + path("r.h5")).status, 2);  // usage
+  EXPECT_EQ(run("evolve --config x.json").status, 2);
+  EXPECT_EQ(run("evolve --config x.json --out y.h5 --threads two").status, 2);
+  EXPECT_EQ(run("inspect").status, 2);
+}
+
+TEST_F(EvoCli, SameSeedSameDigestWithOneAndTwoThreads) {
+  const std::string cfg = tiny_config("c.json", 21, 3);
+  const Output a = run("evolve --config " + cfg + " --out " + path("a.h5") + " --threads 1");
+  const Output b = run("evolve --config " + cfg + " --out " + path("b.h5") + " --threads 2");
+  ASSERT_EQ(a.status, 0) << a.out;
+  ASSERT_EQ(b.status, 0) << b.out;
+  EXPECT_EQ(digest(path("a.h5")), digest(path("b.h5")));
+  const auto j = nlohmann::json::parse(run("inspect " + path("b.h5") + " --json").out);
+  EXPECT_EQ(j["treatment"], "stress");
+  EXPECT_EQ(j["seed"], 21);
+  EXPECT_EQ(j["generations_done"], 3);
+  EXPECT_EQ(j["finished"], true);
+  EXPECT_TRUE(j.contains("best_fitness"));
+  EXPECT_TRUE(j.contains("champion_id"));
+  EXPECT_EQ(j["threads"], 2);
+  // Not a terminal: plain log lines, one per generation (0..3).
+  EXPECT_NE(a.out.find("generation 3/3"), std::string::npos) << a.out;
+  EXPECT_EQ(a.out.find('\r'), std::string::npos);
+}
+
+TEST_F(EvoCli, KillNineAndResumeEqualsUninterrupted) {
+  const std::string cfg = tiny_config("c.json", 33, 8);
+  ASSERT_EQ(run("evolve --config " + cfg + " --out " + path("full.h5")).status, 0);
+  const std::string full = digest(path("full.h5"));
+
+  // Start the same run and kill -9 it soon after its first checkpoint appears.
+  const std::string out = path("killed.h5");
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    ::dup2(devnull, 1);
+    ::dup2(devnull, 2);
+    ::execl(PLASTIVOX_CLI, PLASTIVOX_CLI, "evolve", "--config", cfg.c_str(), "--out", out.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!fs::exists(out) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  ::kill(pid, SIGKILL);
+  int st = 0;
+  ::waitpid(pid, &st, 0);
+  const bool killed = WIFSIGNALED(st);
+  if (!killed) std::fprintf(stderr, "note: the run finished before it could be killed\n");
+  // Whatever moment it died at, the file is a complete checkpoint.
+  const Output mid = run("inspect " + out + " --json");
+  ASSERT_EQ(mid.status, 0) << mid.out;
+  if (killed) {
+    EXPECT_EQ(nlohmann::json::parse(mid.out)["finished"], false);
+  }
+
+  const Output resumed = run("evolve --config " + cfg + " --out " + out);
+  ASSERT_EQ(resumed.status, 0) << resumed.out;
+  if (killed) {
+    EXPECT_NE(resumed.out.find("resuming after generation"), std::string::npos) << resumed.out;
+  }
+  EXPECT_EQ(digest(out), full);
+
+  // A finished run says so and changes nothing.
+  const std::string bytes = read_file(out);
+  const Output again = run("evolve --config " + cfg + " --out " + out);
+  EXPECT_EQ(again.status, 0);
+  EXPECT_NE(again.out.find("already finished"), std::string::npos) << again.out;
+  EXPECT_EQ(read_file(out), bytes);
+}
+
+TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {
+  const std::string cfg = tiny_config("c.json", 5, 1);
+  ASSERT_EQ(run("evolve --config " + cfg + " --out " + path("r.h5")).status, 0);
+  const std::string bytes = read_file(path("r.h5"));
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] = static_cast<char>(flipped[bytes.size() / 2] ^ 1);
+  const struct {
+    std::string name, data, expect;
+  } cases[] = {
+      {"truncated.h5", bytes.substr(0, bytes.size() / 2), "truncated"},
+      {"corrupt.h5", flipped, "corrupt"},
+      {"text.h5", "hello\n", "not a plastivox evolution results file"},
+      {"empty.h5", "", "empty file"},
+  };
+  for (const auto& c : cases) {
+    const std::string p = write(c.name, c.data);
+    const Output o = run("inspect " + p + " --json");
+    EXPECT_EQ(o.status, 1) << c.name << ": " << o.out;
+    EXPECT_NE(o.out.find(c.expect), std::string::npos) << o.out;
+    EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;
+    // evolve refuses to resume into it and leaves it alone.
+    const Output e = run("evolve --config " + cfg + " --out " + p);
+    EXPECT_EQ(e.status, 1) << e.out;
+    EXPECT_EQ(read_file(p), c.data);
+  }
+  const Output other =
+      run("evolve --config " + tiny_config("d.json", 6, 1) + " --out " + path("r.h5"));
+  EXPECT_EQ(other.status, 1);
+  EXPECT_NE(other.out.find("different configuration (seed: 5 in the file, 6 now)"),
+            std::string::npos)
+      << other.out;
+  EXPECT_EQ(run("inspect " + path("nothing.h5")).status, 1);
+}
+
+}  // namespace
+}  // namespace plastivox::evo
