@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bond_kernel.hpp"
 #include "plastivox/energy.hpp"
 #include "workspace.hpp"
 
@@ -202,8 +203,11 @@ double elastic_energy(const Model& m, const State& s, const std::vector<double>&
   return u;
 }
 
-void compute_bond_forces(const Model& m, State& s, Workspace& w) {
-  update_rotations(m, s, w);
+namespace {
+
+// The scalar path: every bond under the Voxelyze 0.9 model, and under the exact model the
+// few bonds the batched kernel flags (large rotations, degenerate chords).
+void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
   const double L = m.size;
   const double area = L * L;
   const double inv_L = 1.0 / L;
@@ -216,7 +220,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   const bool voxelyze = m.def.bond_model == BondModel::kVoxelyze09;
 
-  for (int b = 0; b < m.bond_count(); ++b) {
+  {
     const int ia = m.bond_a[b], ib = m.bond_b[b];
     bool small = s.bond_small_angle[b] != 0;
     bool damp_ok = s.bond_prev_valid[b] != 0;
@@ -289,6 +293,134 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
     w.bond_force_a[b] = to_world(g, R, f);
     w.bond_moment_a[b] = to_world(g, R, ma);
     w.bond_moment_b[b] = to_world(g, R, mb);
+  }
+}
+
+BondConstants bond_constants(const Model& m, const State& s, const Workspace& w) {
+  BondConstants k;
+  k.L = m.size;
+  k.area = m.size * m.size;
+  k.inv_L = 1.0 / m.size;
+  k.ka2 = m.size * m.size * m.size / (12.0 * (1.0 + m.def.poisson));
+  k.kb1 = m.size;
+  k.kb2 = m.size * m.size / 2.0;
+  k.kb3 = m.size * m.size * m.size / 6.0;
+  k.damp = 2.0 * std::sqrt(m.mass) * m.def.bond_damping / s.dt;
+  k.dk_a1 = w.damp_k.a1;
+  k.dk_b2 = w.damp_k.b2;
+  k.dk_a2 = w.damp_k.a2;
+  k.dk_b3 = w.damp_k.b3;
+  k.axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
+  return k;
+}
+
+}  // namespace
+
+// Exact model: gather every bond's inputs into structure-of-arrays form, run the batched
+// (vectorised) kernel, then scatter; the kernel's flagged bonds are redone in scalar.
+// Voxelyze 0.9 model: the scalar path for every bond (its frame switching branches).
+void compute_bond_forces(const Model& m, State& s, Workspace& w) {
+  update_rotations(m, s, w);
+  const int nb = m.bond_count();
+  if (m.def.bond_model == BondModel::kVoxelyze09) {
+    for (int b = 0; b < nb; ++b) scalar_bond(m, s, w, b);
+    return;
+  }
+  BondBatch& B = w.batch;
+  if (static_cast<int>(B.rx.size()) != nb) B.resize(nb);
+  // Raw pointers hoisted out of the loops: stores through std::vector elements would
+  // otherwise force the compiler to reload every vector's data pointer after each store.
+  double* __restrict rx = B.rx.data();
+  double* __restrict ry = B.ry.data();
+  double* __restrict rz = B.rz.data();
+  double* __restrict qw = B.qw.data();
+  double* __restrict qx = B.qx.data();
+  double* __restrict qy = B.qy.data();
+  double* __restrict qz = B.qz.data();
+  double* __restrict rest = B.rest.data();
+  double* __restrict ea = B.ea.data();
+  double* __restrict eb = B.eb.data();
+  double* __restrict valid = B.valid.data();
+  double* __restrict c[9];
+  double* __restrict prev[9];
+  double* __restrict out[9];
+  for (int k = 0; k < 9; ++k)
+    c[k] = B.c[k].data(), prev[k] = B.prev[k].data(), out[k] = B.out[k].data();
+  const int* __restrict bond_a = m.bond_a.data();
+  const int* __restrict bond_b = m.bond_b.data();
+  const uint8_t* __restrict axis = m.bond_axis.data();
+  const Vec3* __restrict pos = s.pos.data();
+  const Quat* __restrict orient = s.orient.data();
+  const double* __restrict size = w.size.data();
+  const double* __restrict stiff = s.stiffness.data();
+  const Eigen::Matrix3d* __restrict rot = w.rot.data();
+  Vec3* __restrict prev_p = s.bond_prev_pos.data();
+  Vec3* __restrict prev_1 = s.bond_prev_rot1.data();
+  Vec3* __restrict prev_2 = s.bond_prev_rot2.data();
+  uint8_t* __restrict prev_valid = s.bond_prev_valid.data();
+
+  for (int b = 0; b < nb; ++b) {
+    const int ia = bond_a[b], ib = bond_b[b], d = axis[b];
+    const double* R = rot[ia].data();  // column-major
+    // Column j of the permuted orientation is column (j + d) % 3 of R.
+    const double* c0 = R + 3 * d;
+    const double* c1 = R + 3 * ((d + 1) % 3);
+    const double* c2 = R + 3 * ((d + 2) % 3);
+    const double dx = pos[ib].x() - pos[ia].x();
+    const double dy = pos[ib].y() - pos[ia].y();
+    const double dz = pos[ib].z() - pos[ia].z();
+    rx[b] = c0[0] * dx + c0[1] * dy + c0[2] * dz;
+    ry[b] = c1[0] * dx + c1[1] * dy + c1[2] * dz;
+    rz[b] = c2[0] * dx + c2[1] * dy + c2[2] * dz;
+    for (int k = 0; k < 3; ++k) {
+      c[k][b] = c0[k];
+      c[3 + k][b] = c1[k];
+      c[6 + k][b] = c2[k];
+    }
+    const Quat& qa = orient[ia];
+    const Quat& qb = orient[ib];
+    const double aw = qa.w(), ax = qa.x(), ay = qa.y(), az = qa.z();
+    const double bw = qb.w(), bx = qb.x(), by = qb.y(), bz = qb.z();
+    const double v[3] = {aw * bx - ax * bw - ay * bz + az * by,
+                         aw * by + ax * bz - ay * bw - az * bx,
+                         aw * bz - ax * by + ay * bx - az * bw};
+    qw[b] = aw * bw + ax * bx + ay * by + az * bz;
+    qx[b] = v[d];
+    qy[b] = v[(d + 1) % 3];
+    qz[b] = v[(d + 2) % 3];
+    rest[b] = 0.5 * (size[ia] + size[ib]);
+    ea[b] = stiff[ia];
+    eb[b] = stiff[ib];
+    valid[b] = prev_valid[b] ? 1.0 : 0.0;
+    for (int k = 0; k < 3; ++k) {
+      prev[k][b] = prev_p[b][k];
+      prev[3 + k][b] = prev_1[b][k];
+      prev[6 + k][b] = prev_2[b][k];
+    }
+  }
+  bond_kernel_exact(B, nb, bond_constants(m, s, w));
+  const double* __restrict redo = B.redo.data();
+  const double* __restrict strain = B.strain.data();
+  const double* __restrict stress = B.stress.data();
+  double* __restrict bond_strain = w.bond_strain.data();
+  double* __restrict bond_stress = w.bond_stress.data();
+  Vec3* __restrict force_a = w.bond_force_a.data();
+  Vec3* __restrict moment_a = w.bond_moment_a.data();
+  Vec3* __restrict moment_b = w.bond_moment_b.data();
+  for (int b = 0; b < nb; ++b) {
+    if (redo[b] != 0) {
+      scalar_bond(m, s, w, b);  // reads the unchanged state, writes every output
+      continue;
+    }
+    bond_strain[b] = strain[b];
+    bond_stress[b] = stress[b];
+    force_a[b] = Vec3(out[0][b], out[1][b], out[2][b]);
+    moment_a[b] = Vec3(out[3][b], out[4][b], out[5][b]);
+    moment_b[b] = Vec3(out[6][b], out[7][b], out[8][b]);
+    prev_p[b] = Vec3(prev[0][b], prev[1][b], prev[2][b]);
+    prev_1[b] = Vec3(prev[3][b], prev[4][b], prev[5][b]);
+    prev_2[b] = Vec3(prev[6][b], prev[7][b], prev[8][b]);
+    prev_valid[b] = 1;
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "bond_kernel.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/state.hpp"
 
@@ -29,6 +30,7 @@ struct Workspace {
   double travel_since_rebuild = 0;    // upper bound on any voxel's travel since then, m
   bool contacts_valid = false;
   bool stiffness_changed = false;  // the develop stage changed E this step
+  BondBatch batch;                 // the batched bond kernel's arrays
 
   // Bond damping coefficients are sqrt(E) times these geometric constants:
   // 2 sqrt(k m) with k = E L (axial, shear), E L^3 / 4 (shear-rotation coupling) and

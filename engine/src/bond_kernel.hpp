@@ -1,0 +1,39 @@
+// The batched bond kernel: the exact bond model over arrays of bonds, written as one
+// branch-free loop over structure-of-arrays inputs so the compiler vectorises it (AVX2
+// where the build enables it). Element-wise IEEE arithmetic in the same order as the
+// scalar code, so vector and scalar builds give identical bits.
+#pragma once
+
+#include <vector>
+
+namespace plastivox {
+
+struct BondBatch {
+  // Inputs, one entry per bond (gathered by compute_bond_forces).
+  std::vector<double> rx, ry, rz;      // chord a->b in a's permuted body frame, m
+  std::vector<double> qw, qx, qy, qz;  // rotation of b relative to a, permuted
+  std::vector<double> rest;            // actuated rest length, m
+  std::vector<double> ea, eb;          // current moduli of a and b, Pa
+  std::vector<double> valid;           // 1 if the previous deformation is recorded
+  std::vector<double> c[9];            // a's orientation with columns permuted (column-major)
+  // State carried between steps (in and out): previous deformation in the bond frame.
+  std::vector<double> prev[9];  // p.xyz, th1.xyz, th2.xyz
+  // Outputs.
+  std::vector<double> out[9];  // force on a, moment on a, moment on b; world frame
+  std::vector<double> strain, stress;
+  std::vector<double> redo;  // 1: outside the series' range, recompute in scalar
+
+  void resize(int n);
+};
+
+struct BondConstants {
+  double L, area, inv_L;
+  double ka2, kb1, kb2, kb3;          // beam constants per unit modulus
+  double damp;                        // 2 sqrt(m) zeta / dt
+  double dk_a1, dk_b2, dk_a2, dk_b3;  // damping coefficients per sqrt(E) (Workspace)
+  bool axial_own;                     // axial stress from a's own modulus
+};
+
+void bond_kernel_exact(BondBatch& batch, int n, const BondConstants& k);
+
+}  // namespace plastivox
