@@ -17,6 +17,7 @@ int cmd_simulate(const Args& args);
 int cmd_demo(const Args& args);
 int cmd_evolve(const Args& args);   // apps/cmd_evolve.cpp
 int cmd_inspect(const Args& args);  // apps/cmd_inspect.cpp
+int cmd_hausdorff(const Args& args);  // apps/cmd_hausdorff.cpp
 
 // Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);

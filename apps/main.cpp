@@ -23,6 +23,10 @@ const char* kUsage =
     "           default config (docs/evolution.md)\n"
     "  inspect  RESULTS.h5 [--json]\n"
     "           summarise a results file: treatment, seed, generations, champion, digest\n"
+    "  hausdorff A B [--rotations none|paper|all] [--translation none|integer] [--json]\n"
+    "           Hausdorff distance between two robots' filled voxels (.json or .vxa), in voxel\n"
+    "           lengths, minimised over B's placements: paper = the paper's 8 orientations\n"
+    "           (default), all = the 24 cube rotations with optimal integer translation\n"
     "  version  print version and commit\n";
 
 }  // namespace
@@ -40,6 +44,7 @@ int main(int argc, char** argv) {
     if (cmd == "demo") return cmd_demo(args);
     if (cmd == "evolve") return cmd_evolve(args);
     if (cmd == "inspect") return cmd_inspect(args);
+    if (cmd == "hausdorff") return cmd_hausdorff(args);
     if (cmd == "version" || cmd == "--version") {
       std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, PLASTIVOX_GIT_COMMIT);
       return 0;
