@@ -18,6 +18,7 @@ int cmd_demo(const Args& args);
 int cmd_evolve(const Args& args);   // apps/cmd_evolve.cpp
 int cmd_inspect(const Args& args);  // apps/cmd_inspect.cpp
 int cmd_hausdorff(const Args& args);  // apps/cmd_hausdorff.cpp
+int cmd_export(const Args& args);     // apps/cmd_export.cpp
 
 // Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);

@@ -27,6 +27,9 @@ const char* kUsage =
     "           Hausdorff distance between two robots' filled voxels (.json or .vxa), in voxel\n"
     "           lengths, minimised over B's placements: paper = the paper's 8 orientations\n"
     "           (default), all = the 24 cube rotations with optimal integer translation\n"
+    "  export   RESULTS.h5 --out ROBOT.vxa|ROBOT.json [--generation G]\n"
+    "           write the champion at generation G (default: the last) as a VXA file for\n"
+    "           the authors' simulator or as a plastivox robot file\n"
     "  version  print version and commit\n";
 
 }  // namespace
@@ -45,6 +48,7 @@ int main(int argc, char** argv) {
     if (cmd == "evolve") return cmd_evolve(args);
     if (cmd == "inspect") return cmd_inspect(args);
     if (cmd == "hausdorff") return cmd_hausdorff(args);
+    if (cmd == "export") return cmd_export(args);
     if (cmd == "version" || cmd == "--version") {
       std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, PLASTIVOX_GIT_COMMIT);
       return 0;

@@ -1,0 +1,73 @@
+// plastivox export: a champion from an evolution results file as a robot file, in the
+// VXA dialect of the authors' simulator (.vxa) or the project's own format (.json).
+#include <cstdio>
+#include <string>
+
+#include "cli.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/robot_file.hpp"
+#include "plastivox/vxa.hpp"
+
+namespace plastivox::cli {
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+int cmd_export(const Args& in) {
+  Args args = in;
+  const std::string out = take_option(args, "--out", "");
+  const std::string gen_text = take_option(args, "--generation", "");
+  reject_unknown_options(args);
+  if (args.size() != 1)
+    throw UsageError{"expected one results file: plastivox export RESULTS.h5 --out ROBOT.vxa"};
+  if (out.empty()) throw UsageError{"--out ROBOT.vxa (or ROBOT.json) is required"};
+  if (!ends_with(out, ".vxa") && !ends_with(out, ".json"))
+    throw UsageError{"--out must end in .vxa or .json, got '" + out + "'"};
+
+  const evo::ResultsFile results = evo::read_results(args[0]);
+  const evo::RunState& run = results.state;
+  int generation = run.generations_done;
+  if (!gen_text.empty()) {
+    size_t used = 0;
+    try {
+      generation = std::stoi(gen_text, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (used != gen_text.size() || generation < 0)
+      throw UsageError{"--generation expects a generation number, got '" + gen_text + "'"};
+    if (generation > run.generations_done)
+      throw InputError(args[0] + ": --generation " + gen_text + " is beyond the " +
+                       std::to_string(run.generations_done) + " generations done");
+  }
+  // The champion at the end of `generation`: the last new best recorded by then.
+  const evo::ChampionRecord* champion = nullptr;
+  for (const evo::ChampionRecord& c : run.champions)
+    if (c.generation <= generation) champion = &c;
+  if (!champion)
+    throw InputError(args[0] + ": champions: none recorded by generation " +
+                     std::to_string(generation));
+
+  RobotDef robot = champion->phenotype;
+  robot.name = "champion-" + std::to_string(champion->id) + "-gen" + std::to_string(generation);
+  const PhysicsDef& physics = run.config.physics;
+  if (ends_with(out, ".vxa")) {
+    std::vector<std::string> warnings;
+    write_vxa_file(out, robot, physics, &warnings);
+    for (const std::string& w : warnings)
+      std::fprintf(stderr, "plastivox export: warning: %s\n", w.c_str());
+  } else {
+    write_robot_file(out, robot, &physics);
+  }
+  std::printf("wrote %s: champion %llu (fitness %.6g, %d voxels) at generation %d\n", out.c_str(),
+              static_cast<unsigned long long>(champion->id), champion->fitness, robot.voxel_count(),
+              generation);
+  return 0;
+}
+
+}  // namespace plastivox::cli
