@@ -60,13 +60,16 @@ class Progress {
       std::fflush(stderr);
       open_ = true;
     } else {
+      char ckpt[64] = "";
+      if (p.checkpointed)
+        std::snprintf(ckpt, sizeof ckpt, "; checkpoint %.3f s", p.checkpoint_seconds);
       std::fprintf(stderr,
                    "generation %d/%d: best %.6f (id %llu); %d new: %d simulated, %d cached, %d "
-                   "invalid, %d unstable; %.2f evals/s; %.2f s%s; left %s\n",
+                   "invalid, %d unstable; %.2f evals/s; %.2f s (simulation %.2f s)%s; left %s\n",
                    p.generations_done, p.generations_total, s.best_fitness,
                    static_cast<unsigned long long>(s.champion_id), s.created, s.simulated,
-                   s.cache_hits, s.invalid, s.unstable, rate, s.wall_seconds,
-                   p.checkpointed ? " (checkpoint)" : "", duration(p.eta_seconds).c_str());
+                   s.cache_hits, s.invalid, s.unstable, rate, s.wall_seconds, s.sim_wall_seconds,
+                   ckpt, duration(p.eta_seconds).c_str());
     }
   }
 

@@ -60,13 +60,13 @@ class EvoCli : public ::testing::Test {
     std::ofstream(path(name), std::ios::binary) << text;
     return path(name);
   }
-  // A tiny run: 4x4x4 lattice, population 6, 0.25 s lives.
+  // A tiny run: 4x4x4 lattice, population 6, 0.2 s lives.
   std::string tiny_config(const std::string& name, int seed, int generations) const {
     return write(name, R"({"format": "plastivox-evolve-config", "version": 1, "seed": )" +
                            std::to_string(seed) + R"(, "treatment": "stress", "population": 6,
         "generations": )" + std::to_string(generations) +
                            R"(, "lattice": {"nx": 4, "ny": 4, "nz": 4},
-        "physics": {"duration": 0.25, "settle_time": 0.1}})");
+        "physics": {"duration": 0.2, "settle_time": 0.1}})");
   }
   std::string digest(const std::string& results) const {
     const Output o = run("inspect " + results + " --json");

@@ -8,11 +8,11 @@
 namespace plastivox::evo {
 namespace {
 
-// Tiny and quick: 4x4x4 lattice, population 6, 0.25 s lives.
+// Tiny and quick: 4x4x4 lattice, population 6, 0.2 s lives.
 EvolveConfig tiny(Treatment t, uint64_t seed = 11) {
   EvolveConfig c = parse_config(R"({"format": "plastivox-evolve-config", "version": 1,
-      "population": 6, "generations": 4, "lattice": {"nx": 4, "ny": 4, "nz": 4},
-      "physics": {"duration": 0.25, "settle_time": 0.1}})",
+      "population": 6, "generations": 3, "lattice": {"nx": 4, "ny": 4, "nz": 4},
+      "physics": {"duration": 0.2, "settle_time": 0.1}})",
                                 "tiny");
   c.treatment = t;
   c.physics.treatment = t;
@@ -92,7 +92,7 @@ TEST(EvoEvolver, AgesChildrenAndNewcomers) {
 
 TEST(EvoEvolver, BestFitnessNeverDecreases) {
   const RunState s = run(tiny(Treatment::kPressure, 3), 2);
-  ASSERT_EQ(s.history.size(), 5u);
+  ASSERT_EQ(s.history.size(), 4u);
   for (size_t g = 1; g < s.history.size(); ++g)
     EXPECT_GE(s.history[g].best_fitness, s.history[g - 1].best_fitness);
   EXPECT_EQ(s.champions.back().id, s.history.back().champion_id);

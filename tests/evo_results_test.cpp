@@ -15,10 +15,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-EvolveConfig tiny(uint64_t seed, int generations = 4) {
+EvolveConfig tiny(uint64_t seed, int generations = 3) {
   EvolveConfig c = parse_config(R"({"format": "plastivox-evolve-config", "version": 1,
       "treatment": "pressure", "population": 6, "lattice": {"nx": 4, "ny": 4, "nz": 4},
-      "physics": {"duration": 0.25, "settle_time": 0.1}})",
+      "physics": {"duration": 0.2, "settle_time": 0.1}})",
                                 "tiny");
   c.seed = seed;
   c.generations = generations;
@@ -61,9 +61,9 @@ TEST_F(EvoResults, RoundTripKeepsEverything) {
   const RunState& s = f.state;
   EXPECT_EQ(f.content_digest, r.content_digest);
   EXPECT_EQ(content_digest(s).hex(), r.content_digest);
-  EXPECT_EQ(s.generations_done, 4);
-  EXPECT_EQ(s.history.size(), 5u);
-  EXPECT_EQ(s.births.size(), 6u + 4 * 7);
+  EXPECT_EQ(s.generations_done, 3);
+  EXPECT_EQ(s.history.size(), 4u);
+  EXPECT_EQ(s.births.size(), 6u + 3 * 7);
   EXPECT_EQ(s.population.size(), 6u);
   ASSERT_FALSE(s.champions.empty());
   EXPECT_EQ(s.champions.back().id, s.history.back().champion_id);
@@ -80,14 +80,14 @@ TEST_F(EvoResults, StopAndResumeEqualsUninterrupted) {
   stop.threads = 1;
   EXPECT_EQ(run_evolution(tiny(2), path("part.h5"), stop).outcome, RunOutcome::kStopped);
   EXPECT_EQ(read_results(path("part.h5")).state.generations_done, 1);
-  stop.stop_after = 3;
+  stop.stop_after = 2;
   stop.threads = 2;
   const RunReport mid = run_evolution(tiny(2), path("part.h5"), stop);
   EXPECT_EQ(mid.resumed_from, 1);
-  EXPECT_EQ(mid.generations_done, 3);
+  EXPECT_EQ(mid.generations_done, 2);
   const RunReport rest = run_evolution(tiny(2), path("part.h5"), {});
   EXPECT_EQ(rest.outcome, RunOutcome::kFinished);
-  EXPECT_EQ(rest.resumed_from, 3);
+  EXPECT_EQ(rest.resumed_from, 2);
   EXPECT_EQ(rest.content_digest, full.content_digest);
   EXPECT_EQ(read_results(path("part.h5")).content_digest, full.content_digest);
 }
