@@ -3,11 +3,16 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "cli.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/robot_file.hpp"
+#ifdef PLASTIVOX_HAVE_MPI
+#include "plastivox/evo/mpi_cluster.hpp"
+#endif
 
 namespace plastivox::cli {
 namespace {
@@ -108,12 +113,38 @@ int cmd_evolve(const Args& in) {
   evo::RunOptions opt;
   if (!threads.empty()) opt.threads = parse_count(threads, "--threads");
   if (!stop_after.empty()) opt.stop_after = parse_count(stop_after, "--stop-after");
-  const evo::EvolveConfig config = evo::read_config_file(config_path);
+
+    // Under mpirun every rank runs this; rank 0 alone talks (run.hpp, mpi_cluster.hpp).
+#ifdef PLASTIVOX_HAVE_MPI
+  std::unique_ptr<evo::MpiCluster> mpi;
+  if (evo::MpiCluster::launched_by_mpirun()) mpi = std::make_unique<evo::MpiCluster>();
+  opt.cluster = mpi.get();
+#endif
+  const bool leader = !opt.cluster || opt.cluster->rank() == 0;
   Progress progress;
-  opt.on_message = [&](const std::string& m) { progress.message(m); };
-  opt.on_generation = [&](const evo::RunProgress& p) { progress.generation(p); };
-  const evo::RunReport r = evo::run_evolution(config, out, opt);
+  evo::RunReport r;
+  try {
+    const evo::EvolveConfig config = evo::read_config_file(config_path);
+    opt.on_message = [&](const std::string& m) { progress.message(m); };
+    opt.on_generation = [&](const evo::RunProgress& p) { progress.generation(p); };
+    r = evo::run_evolution(config, out, opt);
+  } catch (const InputError&) {  // the same config file on every rank: all fail alike
+    if (!leader) return 1;
+    throw;
+  } catch (const evo::RunRefused&) {  // decided by rank 0, raised on every rank
+    if (!leader) return 1;
+    throw;
+  } catch (const std::exception& e) {
+#ifdef PLASTIVOX_HAVE_MPI
+    if (mpi && mpi->size() > 1) {  // the other ranks would wait forever
+      std::fprintf(stderr, "plastivox evolve: rank %d: error: %s\n", mpi->rank(), e.what());
+      mpi->abort(1);
+    }
+#endif
+    throw;
+  }
   progress.end_line();
+  if (!leader) return 0;
   switch (r.outcome) {
     case evo::RunOutcome::kAlreadyFinished:
       std::printf("%s: already finished (%d generations); nothing changed\n", out.c_str(),

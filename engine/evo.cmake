@@ -49,3 +49,19 @@ target_include_directories(plastivox_evo_h5 PRIVATE ${CMAKE_CURRENT_LIST_DIR}/sr
                            ${CMAKE_CURRENT_BINARY_DIR}/evo_generated)
 target_link_libraries(plastivox_evo_h5 PUBLIC plastivox_evo PRIVATE plastivox_hdf5
                       nlohmann_json::nlohmann_json)
+
+# MPI (Debian: libopenmpi-dev openmpi-bin): `mpirun -np N plastivox evolve ...` spreads each
+# generation's simulations over ranks. Optional: without MPI, evolve runs on threads only.
+option(PLASTIVOX_MPI "Build MPI support for plastivox evolve when MPI is found" ON)
+if(PLASTIVOX_MPI)
+  find_package(MPI COMPONENTS CXX QUIET)
+endif()
+if(MPI_CXX_FOUND)
+  add_library(plastivox_evo_mpi ${CMAKE_CURRENT_LIST_DIR}/src/evo/mpi_cluster.cpp)
+  target_link_libraries(plastivox_evo_mpi PUBLIC plastivox_evo_h5 PRIVATE MPI::MPI_CXX)
+  target_compile_definitions(plastivox_evo_mpi PUBLIC PLASTIVOX_HAVE_MPI=1)
+  set(PLASTIVOX_MPIEXEC "${MPIEXEC_EXECUTABLE}" CACHE INTERNAL "mpiexec used by the tests")
+  message(STATUS "plastivox evolve: MPI support on (${MPIEXEC_EXECUTABLE})")
+else()
+  message(STATUS "plastivox evolve: MPI not found or disabled; threads only")
+endif()

@@ -115,6 +115,28 @@ TEST(EvoEvolver, SameSeedSameDigestWithOneAndTwoThreads) {
   EXPECT_NE(content_digest(one).hex(), content_digest(run(other, 2)).hex());
 }
 
+// A backend that simulates the batch backwards on one thread, as another rank might.
+class Backwards : public Simulations {
+ public:
+  std::vector<Evaluation> run(const std::vector<const Phenotype*>& batch, const PhysicsDef& physics,
+                              int) override {
+    std::vector<Evaluation> out(batch.size());
+    for (size_t k = batch.size(); k-- > 0;) out[k] = evaluate_phenotype(*batch[k], physics);
+    calls += 1;
+    return out;
+  }
+  int calls = 0;
+};
+
+TEST(EvoEvolver, SimulationBackendDoesNotChangeResults) {
+  const EvolveConfig c = tiny(Treatment::kStress, 12);
+  Backwards backend;
+  Evolver ev(Evolver::new_run(c), 2, &backend);
+  while (!ev.finished()) ev.step();
+  EXPECT_EQ(backend.calls, 4);
+  EXPECT_EQ(content_digest(ev.state()).hex(), content_digest(run(c, 2)).hex());
+}
+
 TEST(EvoEvolver, ContinuingFromACopiedStateEqualsUninterrupted) {
   const EvolveConfig c = tiny(Treatment::kNone, 8);
   const RunState full = run(c, 2);

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 #include "plastivox/evo/afpo.hpp"
 #include "plastivox/evo/thread_pool.hpp"
@@ -65,10 +66,25 @@ RunState Evolver::new_run(const EvolveConfig& config) {
   return s;
 }
 
-Evolver::Evolver(RunState state, int threads)
+std::vector<Evaluation> simulate_on_threads(const std::vector<const Phenotype*>& batch,
+                                            const PhysicsDef& physics, int threads) {
+  // Largest bodies first: better load balance; the order does not affect any result.
+  std::vector<size_t> schedule(batch.size());
+  std::iota(schedule.begin(), schedule.end(), size_t{0});
+  std::stable_sort(schedule.begin(), schedule.end(),
+                   [&](size_t a, size_t b) { return batch[a]->voxels > batch[b]->voxels; });
+  std::vector<Evaluation> out(batch.size());
+  parallel_for(schedule.size(), threads, [&](size_t k) {
+    out[schedule[k]] = evaluate_phenotype(*batch[schedule[k]], physics);
+  });
+  return out;
+}
+
+Evolver::Evolver(RunState state, int threads, Simulations* simulations)
     : state_(std::move(state)),
       expresser_(state_.config.expression()),
-      threads_(threads > 0 ? threads : hardware_threads()) {
+      threads_(threads > 0 ? threads : hardware_threads()),
+      simulations_(simulations) {
   // Re-express the population (derived data is not stored in checkpoints).
   std::vector<Individual>& pop = state_.population;
   parallel_for(pop.size(), threads_, [&](size_t i) {
@@ -161,19 +177,17 @@ GenerationStats Evolver::step() {
     }
   }
 
-  // --- 4c: simulate, in parallel, largest bodies first (better load balance; the order
-  // does not affect any result).
-  std::vector<size_t> schedule = to_sim;
-  std::stable_sort(schedule.begin(), schedule.end(), [&](size_t a, size_t b) {
-    return fresh[a].phenotype.voxels > fresh[b].phenotype.voxels;
-  });
-  std::vector<Evaluation> evals(fresh.size());
+  // --- 4c: simulate (thread pool or MPI ranks); results land by index.
+  std::vector<const Phenotype*> batch;
+  for (size_t i : to_sim) batch.push_back(&fresh[i].phenotype);
   const auto t_sim = std::chrono::steady_clock::now();
-  parallel_for(schedule.size(), threads_, [&](size_t k) {
-    const size_t i = schedule[k];
-    evals[i] = evaluate_phenotype(fresh[i].phenotype, cfg.physics);
-  });
+  std::vector<Evaluation> results = simulations_
+                                        ? simulations_->run(batch, cfg.physics, threads_)
+                                        : simulate_on_threads(batch, cfg.physics, threads_);
   st.sim_wall_seconds = seconds_since(t_sim);
+  if (results.size() != batch.size()) throw std::logic_error("simulation backend lost results");
+  std::vector<Evaluation> evals(fresh.size());
+  for (size_t k = 0; k < to_sim.size(); ++k) evals[to_sim[k]] = std::move(results[k]);
 
   // --- 4d: record results by id, fill the cache, resolve duplicates.
   for (size_t i : to_sim) {

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -55,14 +56,36 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
   const int requested = opt.threads >= 0 ? opt.threads : config.threads;
   report.threads = requested > 0 ? requested : hardware_threads();
 
+  Cluster* cluster = opt.cluster;
+  const bool leader = !cluster || cluster->rank() == 0;
+
+  // Rank 0 (or the single process) decides; the others follow.
+  std::string decision = "new";
+  std::optional<ResultsFile> found;
+  if (leader) {
+    try {
+      if (std::filesystem::exists(out_path)) {
+        found = read_results(out_path);  // a one-line error if unreadable
+        const std::string diff = config_difference(found->state.config, config);
+        if (!diff.empty())
+          throw ResultsError(out_path + ": written by a different configuration (" + diff +
+                             "); refusing to resume. Use the original config or another "
+                             "--out file");
+        decision = "resume";
+      }
+    } catch (const std::exception& e) {
+      if (!cluster) throw;
+      decision = std::string("error:") + e.what();
+    }
+  }
+  if (cluster) cluster->broadcast(decision);
+  if (decision.rfind("error:", 0) == 0) throw RunRefused(decision.substr(6));
+
   RunState state = Evolver::new_run(config);
   Provenance prov = current_provenance(report.threads);
-  if (std::filesystem::exists(out_path)) {
-    ResultsFile f = read_results(out_path);  // throws a one-line error if unreadable
-    const std::string diff = config_difference(f.state.config, config);
-    if (!diff.empty())
-      throw ResultsError(out_path + ": written by a different configuration (" + diff +
-                         "); refusing to resume. Use the original config or another --out file");
+  if (cluster) prov.threads = static_cast<int64_t>(report.threads) * cluster->size();
+  if (decision == "resume") {
+    ResultsFile f = found ? std::move(*found) : read_results(out_path);
     report.resumed_from = f.state.generations_done;
     report.generations_done = f.state.generations_done;
     report.content_digest = f.content_digest;
@@ -70,7 +93,8 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
       report.outcome = RunOutcome::kAlreadyFinished;
       return report;
     }
-    say(out_path + ": resuming after generation " + std::to_string(f.state.generations_done));
+    if (leader)
+      say(out_path + ": resuming after generation " + std::to_string(f.state.generations_done));
     // Run-control fields (threads, checkpoint_every) come from the current config.
     f.state.config = config;
     state = std::move(f.state);
@@ -79,7 +103,7 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
   }
   const double wall_before = prov.wall_seconds;
 
-  Evolver ev(std::move(state), report.threads);
+  Evolver ev(std::move(state), report.threads, cluster);
   const int first_gen_this_session = ev.state().generations_done + 1;
   while (!ev.finished()) {
     RunProgress p;
@@ -87,7 +111,7 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
     p.generations_done = ev.state().generations_done;
     p.generations_total = config.generations;
     const bool stop = opt.stop_after >= 0 && p.generations_done >= opt.stop_after;
-    if (p.generations_done % config.checkpoint_every == 0 || ev.finished() || stop) {
+    if (leader && (p.generations_done % config.checkpoint_every == 0 || ev.finished() || stop)) {
       const auto tc = Clock::now();
       prov.date_updated = current_provenance(report.threads).date_updated;
       prov.wall_seconds = wall_before + std::chrono::duration<double>(Clock::now() - t0).count();
@@ -98,7 +122,7 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
     p.session_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     const int done_here = p.generations_done - first_gen_this_session + 1;
     p.eta_seconds = p.session_seconds / done_here * (config.generations - p.generations_done);
-    if (opt.on_generation) opt.on_generation(p);
+    if (leader && opt.on_generation) opt.on_generation(p);
     if (stop && !ev.finished()) {
       report.outcome = RunOutcome::kStopped;
       report.generations_done = ev.state().generations_done;

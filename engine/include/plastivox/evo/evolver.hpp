@@ -44,11 +44,27 @@ struct Evaluation {
 // Simulates a valid phenotype under physics (thread-safe).
 Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics);
 
+// Where the simulations of a generation run. The default (nullptr in Evolver) is the
+// evolver's thread pool; an MPI implementation spreads them over ranks (mpi_cluster.hpp).
+// Implementations must return, for every phenotype of the batch, exactly what
+// evaluate_phenotype() returns for it, in batch order.
+class Simulations {
+ public:
+  virtual ~Simulations() = default;
+  virtual std::vector<Evaluation> run(const std::vector<const Phenotype*>& batch,
+                                      const PhysicsDef& physics, int threads) = 0;
+};
+
+// The thread-pool implementation: largest bodies first on `threads` threads.
+std::vector<Evaluation> simulate_on_threads(const std::vector<const Phenotype*>& batch,
+                                            const PhysicsDef& physics, int threads);
+
 class Evolver {
  public:
   // Starts a new run (generations_done = -1) or continues `state` (phenotypes of the
   // population are re-expressed from their genomes). threads: 0 = all cores.
-  Evolver(RunState state, int threads);
+  // simulations: nullptr for the thread pool; otherwise must outlive the evolver.
+  Evolver(RunState state, int threads, Simulations* simulations = nullptr);
 
   static RunState new_run(const EvolveConfig& config);
 
@@ -61,6 +77,7 @@ class Evolver {
   RunState state_;
   Expresser expresser_;
   int threads_;
+  Simulations* simulations_;
 };
 
 }  // namespace plastivox::evo

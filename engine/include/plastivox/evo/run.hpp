@@ -29,8 +29,29 @@ struct RunProgress {
   double checkpoint_seconds = 0;
 };
 
+// A group of processes running one evolution together (implemented over MPI in
+// mpi_cluster.hpp). Every rank runs the same deterministic evolver in lockstep; only the
+// simulations are divided (Simulations::run is collective). Rank 0 alone reads the results
+// file first, decides (new run, resume, finished, refuse), writes checkpoints and reports
+// progress; the other ranks follow its decision and read the same file when resuming (so
+// it must be on a file system every rank sees).
+class Cluster : public Simulations {
+ public:
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  virtual void broadcast(std::string& text) = 0;  // collective: rank 0's text to every rank
+};
+
+// A refusal decided by rank 0 and raised on every rank alike (so no rank has to abort the
+// others): unreadable results file, different configuration.
+class RunRefused : public ResultsError {
+ public:
+  using ResultsError::ResultsError;
+};
+
 struct RunOptions {
-  int threads = -1;     // evaluation threads; -1: the config's; 0: all cores
+  Cluster* cluster = nullptr;  // nullptr: a single process
+  int threads = -1;            // evaluation threads; -1: the config's; 0: all cores
   int stop_after = -1;  // testing hook: stop once generations_done reaches this (checkpointed)
   std::function<void(const RunProgress&)> on_generation;  // called after every generation
   std::function<void(const std::string&)> on_message;     // "resuming from generation 12"...
