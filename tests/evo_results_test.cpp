@@ -130,6 +130,19 @@ TEST_F(EvoResults, DifferentConfigRefusesToResume) {
   EXPECT_EQ(read_results(path("r.h5")).state.config.seed, 5u);
 }
 
+TEST_F(EvoResults, ASecondRunOnTheSameFileIsRefused) {
+  RunOptions opt;
+  opt.stop_after = 0;
+  std::string inner;
+  opt.on_generation = [&](const RunProgress&) {
+    inner = error_of([&] { run_evolution(tiny(8), path("r.h5"), {}); });
+  };
+  run_evolution(tiny(8), path("r.h5"), opt);
+  expect_one_line_error(inner, "another plastivox evolve is running on this file");
+  // Once the first has ended the lock is free again.
+  EXPECT_EQ(run_evolution(tiny(8), path("r.h5"), {}).outcome, RunOutcome::kFinished);
+}
+
 TEST_F(EvoResults, TruncatedAndCorruptFilesGiveOneLineErrors) {
   run_evolution(tiny(7, 1), path("r.h5"), {});
   std::ifstream in(path("r.h5"), std::ios::binary);

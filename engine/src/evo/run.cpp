@@ -1,7 +1,13 @@
 // The evolve driver: new run or resume, generations, checkpoints, progress.
 #include "plastivox/evo/run.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 
@@ -34,6 +40,32 @@ std::string first_difference(const json& a, const json& b, const std::string& wh
          " now";
 }
 
+// An exclusive lock on "<out>.lock" for the life of a run, so two processes never write
+// one results file. flock() locks die with their process, so a kill -9 never leaves a
+// stale lock behind.
+class RunLock {
+ public:
+  explicit RunLock(const std::string& out) {
+    const std::string path = out + ".lock";
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0)
+      throw ResultsError(out + ": cannot create lock file " + path + ": " + std::strerror(errno));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      throw ResultsError(out + ": another plastivox evolve is running on this file (" + path +
+                         " is locked)");
+    }
+  }
+  ~RunLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  RunLock(const RunLock&) = delete;
+  RunLock& operator=(const RunLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace
 
 std::string config_difference(const EvolveConfig& file, const EvolveConfig& now) {
@@ -62,8 +94,10 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
   // Rank 0 (or the single process) decides; the others follow.
   std::string decision = "new";
   std::optional<ResultsFile> found;
+  std::optional<RunLock> lock;
   if (leader) {
     try {
+      lock.emplace(out_path);
       if (std::filesystem::exists(out_path)) {
         found = read_results(out_path);  // a one-line error if unreadable
         const std::string diff = config_difference(found->state.config, config);

@@ -9,6 +9,7 @@
 //     (ResultsError / InputError) and leave it untouched;
 //   - R.h5 already finished: report so and change nothing.
 // A checkpoint is written every config.checkpoint_every generations and at the end.
+// While it runs, "<out>.lock" is flock()ed: a second evolve on the same file is refused.
 #pragma once
 
 #include <functional>
