@@ -23,7 +23,7 @@ namespace plastivox::analysis::detail {
 class NearestVoxel {
  public:
   // voxels must be non-empty. pad: margin of the cached field around the set's bounding box,
-  // lattice units; pad < 0 builds no field (every dist2 asks the kd-tree).
+  // lattice units; pad < 0 builds no field (every query goes to the kd-tree).
   NearestVoxel(const std::vector<Voxel>& voxels, int pad);
   ~NearestVoxel();
   NearestVoxel(NearestVoxel&&) noexcept;
@@ -31,17 +31,9 @@ class NearestVoxel {
 
   // Squared distance from p to the nearest voxel of the set, asked of the kd-tree.
   int64_t query2(const Voxel& p) const;
-  // The same value, from the field when p lies inside it.
-  int64_t dist2(const Voxel& p) const {
-    const int x = p[0] - origin_[0], y = p[1] - origin_[1], z = p[2] - origin_[2];
-    if (static_cast<unsigned>(x) < static_cast<unsigned>(dims_[0]) &&
-        static_cast<unsigned>(y) < static_cast<unsigned>(dims_[1]) &&
-        static_cast<unsigned>(z) < static_cast<unsigned>(dims_[2]))
-      return field_[x + dims_[0] * (y + dims_[1] * z)];
-    return query2(p);
-  }
-  // dist2(p) when that is < bound2; otherwise some value >= bound2 (the box bound spares the
-  // kd-tree query for far points when the caller only needs to know "not below bound2").
+  // query2(p) (read from the field when p lies inside it) when that is < bound2; otherwise
+  // some value >= bound2: outside the field, the bounding-box bound spares the kd-tree query
+  // for far points when the caller only needs to know "not below bound2".
   int64_t dist2_below(const Voxel& p, int64_t bound2) const {
     const int x = p[0] - origin_[0], y = p[1] - origin_[1], z = p[2] - origin_[2];
     if (static_cast<unsigned>(x) < static_cast<unsigned>(dims_[0]) &&
@@ -51,7 +43,7 @@ class NearestVoxel {
     const int64_t box = box_dist2(p);
     return box >= bound2 ? box : query2(p);
   }
-  // Squared distance from p to the set's bounding box: a lower bound of dist2, in O(1).
+  // Squared distance from p to the set's bounding box: a lower bound of query2, in O(1).
   int64_t box_dist2(const Voxel& p) const {
     int64_t d2 = 0;
     for (int k = 0; k < 3; ++k) {
