@@ -259,9 +259,10 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     V3 mb{a2 * (t1.x - t2.x), -b2 * p.z - b3 * (t1.y + 2 * t2.y),
           b2 * p.y - b3 * (t1.z + 2 * t2.z)};
 
-    Vec3& prev_p = s.bond_prev_pos[b];
-    Vec3& prev_1 = s.bond_prev_rot1[b];
-    Vec3& prev_2 = s.bond_prev_rot2[b];
+    auto& P = s.bond_prev;
+    const Vec3 prev_p(P[0][b], P[1][b], P[2][b]);
+    const Vec3 prev_1(P[3][b], P[4][b], P[5][b]);
+    const Vec3 prev_2(P[6][b], P[7][b], P[8][b]);
     if (damp_ok) {
       // Half of the deformation change is attributed to each end.
       const V3 dp{0.5 * (p.x - prev_p.x()), 0.5 * (p.y - prev_p.y()), 0.5 * (p.z - prev_p.z())};
@@ -283,16 +284,15 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
       mb.z += c_b2h * dp.y - c_b3 * (d1.z + 2 * d2.z);
     }
     if (damp_ok || !s.bond_prev_valid[b]) {
-      prev_p = Vec3(p.x, p.y, p.z);
-      prev_1 = Vec3(t1.x, t1.y, t1.z);
-      prev_2 = Vec3(t2.x, t2.y, t2.z);
+      const double now[9] = {p.x, p.y, p.z, t1.x, t1.y, t1.z, t2.x, t2.y, t2.z};
+      for (int k = 0; k < 9; ++k) P[k][b] = now[k];
     }
     s.bond_prev_valid[b] = 1;
 
     const double* R = w.rot[ia].data();
-    w.bond_force_a[b] = to_world(g, R, f);
-    w.bond_moment_a[b] = to_world(g, R, ma);
-    w.bond_moment_b[b] = to_world(g, R, mb);
+    const Vec3 results[3] = {to_world(g, R, f), to_world(g, R, ma), to_world(g, R, mb)};
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) w.bond_out[3 * v + k][b] = results[v][k];
   }
 }
 
@@ -342,10 +342,13 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   double* __restrict eb = B.eb.data();
   double* __restrict valid = B.valid.data();
   double* __restrict c[9];
-  double* __restrict prev[9];
-  double* __restrict out[9];
-  for (int k = 0; k < 9; ++k)
-    c[k] = B.c[k].data(), prev[k] = B.prev[k].data(), out[k] = B.out[k].data();
+  for (int k = 0; k < 9; ++k) {
+    c[k] = B.c[k].data();
+    B.prev[k] = s.bond_prev[k].data();  // the kernel updates the state in place
+    B.out[k] = w.bond_out[k].data();
+  }
+  B.strain = w.bond_strain.data();
+  B.stress = w.bond_stress.data();
   const int* __restrict bond_a = m.bond_a.data();
   const int* __restrict bond_b = m.bond_b.data();
   const uint8_t* __restrict axis = m.bond_axis.data();
@@ -354,9 +357,6 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   const double* __restrict size = w.size.data();
   const double* __restrict stiff = s.stiffness.data();
   const Eigen::Matrix3d* __restrict rot = w.rot.data();
-  Vec3* __restrict prev_p = s.bond_prev_pos.data();
-  Vec3* __restrict prev_1 = s.bond_prev_rot1.data();
-  Vec3* __restrict prev_2 = s.bond_prev_rot2.data();
   uint8_t* __restrict prev_valid = s.bond_prev_valid.data();
 
   for (int b = 0; b < nb; ++b) {
@@ -392,34 +392,11 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
     ea[b] = stiff[ia];
     eb[b] = stiff[ib];
     valid[b] = prev_valid[b] ? 1.0 : 0.0;
-    for (int k = 0; k < 3; ++k) {
-      prev[k][b] = prev_p[b][k];
-      prev[3 + k][b] = prev_1[b][k];
-      prev[6 + k][b] = prev_2[b][k];
-    }
   }
   bond_kernel_exact(B, nb, bond_constants(m, s, w));
   const double* __restrict redo = B.redo.data();
-  const double* __restrict strain = B.strain.data();
-  const double* __restrict stress = B.stress.data();
-  double* __restrict bond_strain = w.bond_strain.data();
-  double* __restrict bond_stress = w.bond_stress.data();
-  Vec3* __restrict force_a = w.bond_force_a.data();
-  Vec3* __restrict moment_a = w.bond_moment_a.data();
-  Vec3* __restrict moment_b = w.bond_moment_b.data();
   for (int b = 0; b < nb; ++b) {
-    if (redo[b] != 0) {
-      scalar_bond(m, s, w, b);  // reads the unchanged state, writes every output
-      continue;
-    }
-    bond_strain[b] = strain[b];
-    bond_stress[b] = stress[b];
-    force_a[b] = Vec3(out[0][b], out[1][b], out[2][b]);
-    moment_a[b] = Vec3(out[3][b], out[4][b], out[5][b]);
-    moment_b[b] = Vec3(out[6][b], out[7][b], out[8][b]);
-    prev_p[b] = Vec3(prev[0][b], prev[1][b], prev[2][b]);
-    prev_1[b] = Vec3(prev[3][b], prev[4][b], prev[5][b]);
-    prev_2[b] = Vec3(prev[6][b], prev[7][b], prev[8][b]);
+    if (redo[b] != 0) scalar_bond(m, s, w, b);  // from the unchanged previous deformation
     prev_valid[b] = 1;
   }
 }

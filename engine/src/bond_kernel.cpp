@@ -17,14 +17,9 @@
 namespace plastivox {
 
 void BondBatch::resize(int n) {
-  for (auto* v : {&rx, &ry, &rz, &qw, &qx, &qy, &qz, &rest, &ea, &eb, &valid, &strain, &stress})
+  for (auto* v : {&rx, &ry, &rz, &qw, &qx, &qy, &qz, &rest, &ea, &eb, &valid, &redo})
     v->assign(n, 0.0);
-  for (int i = 0; i < 9; ++i) {
-    c[i].assign(n, 0.0);
-    prev[i].assign(n, 0.0);
-    out[i].assign(n, 0.0);
-  }
-  redo.assign(n, 0.0);
+  for (int i = 0; i < 9; ++i) c[i].assign(n, 0.0);
 }
 
 namespace {
@@ -109,8 +104,8 @@ inline void bond_lanes(BondBatch& B, int i, const BondConstants& k) {
   const T t2sq = (x2 * x2 + y2 * y2 + z2 * z2) / (ww * ww);
   const T k2 = 2.0 * atan_series(t2sq) / ww;
   const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
-  store(B.redo.data(), i,
-        pick(degenerate | (t1sq >= 1e-2) | (t2sq >= 1e-2) | (w2 <= 1e-3), one, zero));
+  const auto redo = degenerate | (t1sq >= 1e-2) | (t2sq >= 1e-2) | (w2 <= 1e-3);
+  store(B.redo.data(), i, pick(redo, one, zero));
 
   // Axial strain over the nominal length; harmonic-mean modulus.
   const T rest = load(B.rest.data(), i, T{});
@@ -119,8 +114,8 @@ inline void bond_lanes(BondBatch& B, int i, const BondConstants& k) {
   const T ea = load(B.ea.data(), i, T{}), eb = load(B.eb.data(), i, T{});
   const T e = 2.0 * ea * eb / (ea + eb);
   const T stress = (k.axial_own ? ea : e) * strain;
-  store(B.strain.data(), i, strain);
-  store(B.stress.data(), i, stress);
+  store(B.strain, i, strain);
+  store(B.stress, i, stress);
 
   const T a2 = e * k.ka2, b3 = e * k.kb3;
   const T b2c = 3.0 * b3 / (px + rest);
@@ -130,14 +125,15 @@ inline void bond_lanes(BondBatch& B, int i, const BondConstants& k) {
 
   // Damping on half the change of the deformation since the previous step (off until a
   // previous deformation exists: valid = 0).
-  double* P[9];
-  for (int j = 0; j < 9; ++j) P[j] = B.prev[j].data();
-  const T dpx = 0.5 * (px - load(P[0], i, T{}));
-  const T dpy = 0.5 * (zero - load(P[1], i, T{})), dpz = 0.5 * (zero - load(P[2], i, T{}));
-  const T d1x = 0.5 * (t1x - load(P[3], i, T{})), d1y = 0.5 * (t1y - load(P[4], i, T{}));
-  const T d1z = 0.5 * (t1z - load(P[5], i, T{}));
-  const T d2x = 0.5 * (t2x - load(P[6], i, T{})), d2y = 0.5 * (t2y - load(P[7], i, T{}));
-  const T d2z = 0.5 * (t2z - load(P[8], i, T{}));
+  double* const* P = B.prev;
+  T old[9];
+  for (int j = 0; j < 9; ++j) old[j] = load(P[j], i, T{});
+  const T dpx = 0.5 * (px - old[0]);
+  const T dpy = 0.5 * (zero - old[1]), dpz = 0.5 * (zero - old[2]);
+  const T d1x = 0.5 * (t1x - old[3]), d1y = 0.5 * (t1y - old[4]);
+  const T d1z = 0.5 * (t1z - old[5]);
+  const T d2x = 0.5 * (t2x - old[6]), d2y = 0.5 * (t2y - old[7]);
+  const T d2z = 0.5 * (t2z - old[8]);
   const T se = root(e) * k.damp * load(B.valid.data(), i, T{});
   const T c_a1 = se * k.dk_a1, c_b1 = c_a1, c_b2 = se * k.dk_b2;
   const T c_a2 = 0.5 * se * k.dk_a2, c_b3 = 0.5 * se * k.dk_b3;
@@ -152,9 +148,9 @@ inline void bond_lanes(BondBatch& B, int i, const BondConstants& k) {
   mby = mby + (-c_b2h * dpz - c_b3 * (d1y + 2.0 * d2y));
   mbz = mbz + (c_b2h * dpy - c_b3 * (d1z + 2.0 * d2z));
 
-  store(P[0], i, px), store(P[1], i, zero), store(P[2], i, zero);
-  store(P[3], i, t1x), store(P[4], i, t1y), store(P[5], i, t1z);
-  store(P[6], i, t2x), store(P[7], i, t2y), store(P[8], i, t2z);
+  // Flagged lanes keep their previous deformation: the scalar path redoes them from it.
+  const T now[9] = {px, zero, zero, t1x, t1y, t1z, t2x, t2y, t2z};
+  for (int j = 0; j < 9; ++j) store(P[j], i, pick(redo, old[j], now[j]));
 
   // World frame: u = f^T v (f has no x part), then the permuted orientation of a.
   const T r00 = 1.0 - 2.0 * (fy * fy + fz * fz), r01 = 2.0 * fw * fz, r02 = -2.0 * fw * fy;
@@ -167,9 +163,9 @@ inline void bond_lanes(BondBatch& B, int i, const BondConstants& k) {
     const T ux = r00 * vx[v] + r01 * vy[v] + r02 * vz[v];
     const T uy = r10 * vx[v] + r11 * vy[v] + r12 * vz[v];
     const T uz = r20 * vx[v] + r21 * vy[v] + r22 * vz[v];
-    store(B.out[3 * v].data(), i, m[0] * ux + m[3] * uy + m[6] * uz);
-    store(B.out[3 * v + 1].data(), i, m[1] * ux + m[4] * uy + m[7] * uz);
-    store(B.out[3 * v + 2].data(), i, m[2] * ux + m[5] * uy + m[8] * uz);
+    store(B.out[3 * v], i, m[0] * ux + m[3] * uy + m[6] * uz);
+    store(B.out[3 * v + 1], i, m[1] * ux + m[4] * uy + m[7] * uz);
+    store(B.out[3 * v + 2], i, m[2] * ux + m[5] * uy + m[8] * uz);
   }
 }
 

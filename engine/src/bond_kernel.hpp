@@ -16,12 +16,13 @@ struct BondBatch {
   std::vector<double> ea, eb;          // current moduli of a and b, Pa
   std::vector<double> valid;           // 1 if the previous deformation is recorded
   std::vector<double> c[9];            // a's orientation with columns permuted (column-major)
-  // State carried between steps (in and out): previous deformation in the bond frame.
-  std::vector<double> prev[9];  // p.xyz, th1.xyz, th2.xyz
-  // Outputs.
-  std::vector<double> out[9];  // force on a, moment on a, moment on b; world frame
-  std::vector<double> strain, stress;
-  std::vector<double> redo;  // 1: outside the series' range, recompute in scalar
+  std::vector<double> redo;            // output, 1: outside the series' range, recompute in scalar
+  // Where the kernel reads and writes bond state and results (State::bond_prev, in and out;
+  // Workspace::bond_out, bond_strain, bond_stress): set before each call.
+  double* prev[9] = {};
+  double* out[9] = {};
+  double* strain = nullptr;
+  double* stress = nullptr;
 
   void resize(int n);
 };

@@ -42,12 +42,14 @@ void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
     for (int k = 0; k < 6; ++k) {
       const int b = slots[k];
       if (b < 0) continue;
+      const auto& o = w.bond_out;
+      const Vec3 fa(o[0][b], o[1][b], o[2][b]);
       if (k & 1) {  // bond towards +axis: this voxel is its a end
-        f += w.bond_force_a[b];
-        mo += w.bond_moment_a[b];
+        f += fa;
+        mo += Vec3(o[3][b], o[4][b], o[5][b]);
       } else {
-        f -= w.bond_force_a[b];
-        mo += w.bond_moment_b[b];
+        f -= fa;
+        mo += Vec3(o[6][b], o[7][b], o[8][b]);
       }
     }
     // Slow (global) damping: a small fraction of the critical damping of the voxel's own

@@ -15,9 +15,7 @@ State make_initial_state(const Model& m) {
   s.stim_integral.assign(m.n, 0.0);
   s.stim_ref.assign(m.n, 0.0);
   s.static_friction.assign(m.n, 0);
-  s.bond_prev_pos.assign(m.bond_count(), Vec3::Zero());
-  s.bond_prev_rot1.assign(m.bond_count(), Vec3::Zero());
-  s.bond_prev_rot2.assign(m.bond_count(), Vec3::Zero());
+  for (auto& component : s.bond_prev) component.assign(m.bond_count(), 0.0);
   s.bond_prev_valid.assign(m.bond_count(), 0);
   // Voxelyze 0.9 starts every bond in its small-angle frame.
   s.bond_small_angle.assign(m.bond_count(), m.def.bond_model == BondModel::kVoxelyze09 ? 1 : 0);
@@ -58,9 +56,7 @@ uint64_t state_hash(const State& s) {
   f.vec(s.stim_integral);
   f.vec(s.stim_ref);
   f.vec(s.static_friction);
-  for (const Vec3& v : s.bond_prev_pos) f.bytes(v.data(), 3 * sizeof(double));
-  for (const Vec3& v : s.bond_prev_rot1) f.bytes(v.data(), 3 * sizeof(double));
-  for (const Vec3& v : s.bond_prev_rot2) f.bytes(v.data(), 3 * sizeof(double));
+  for (const auto& component : s.bond_prev) f.vec(component);
   f.vec(s.bond_prev_valid);
   f.vec(s.bond_small_angle);
   return f.h;

@@ -2,6 +2,7 @@
 // step except the contact candidate list, which is a cache rebuilt from positions.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -19,9 +20,9 @@ struct Workspace {
   std::vector<Eigen::Matrix3d> rot;  // orientation as a rotation matrix (body to world)
   std::vector<double> sqrt_e;        // sqrt of the current stiffness, sqrt(Pa)
   // Per bond, filled by the bond stage and gathered per voxel in a fixed order.
-  std::vector<Vec3> bond_force_a;   // force on voxel a, N, world (force on b is its negative)
-  std::vector<Vec3> bond_moment_a;  // moment on voxel a, N m, world
-  std::vector<Vec3> bond_moment_b;  // moment on voxel b, N m, world
+  // Per bond, world frame, one array per component: [0..2] force on voxel a (N; the force
+  // on b is its negative), [3..5] moment on a, [6..8] moment on b (N m).
+  std::array<std::vector<double>, 9> bond_out;
   std::vector<double> bond_strain;  // axial engineering strain vs. actuated rest length
   std::vector<double> bond_stress;  // axial stress, Pa (tension > 0)
   // Self-collision candidates: unbonded voxel pairs (i < j) near enough to touch soon.
@@ -45,12 +46,10 @@ struct Workspace {
         moment(m.n),
         rot(m.n),
         sqrt_e(m.n),
-        bond_force_a(m.bond_count()),
-        bond_moment_a(m.bond_count()),
-        bond_moment_b(m.bond_count()),
         bond_strain(m.bond_count(), 0.0),
         bond_stress(m.bond_count(), 0.0) {
     const double L = m.size, nu = m.def.poisson;
+    for (auto& component : bond_out) component.assign(m.bond_count(), 0.0);
     damp_k.a1 = std::sqrt(L);
     damp_k.b2 = std::sqrt(L * L * L / 4.0);
     damp_k.a2 = std::sqrt(L * L * L * L * L / (72.0 * (1.0 + nu)));

@@ -2,6 +2,7 @@
 // time and must be saved to resume bit-identically. Per-voxel fields are structure-of-arrays.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -37,9 +38,10 @@ struct State {
   std::vector<uint8_t> static_friction;  // 1 while held by floor static friction
 
   // Per bond: deformation at the previous step, for the bond's internal damping.
-  std::vector<Vec3> bond_prev_pos;        // position of b relative to its rest place, bond frame, m
-  std::vector<Vec3> bond_prev_rot1;       // rotation vector of voxel a in the bond frame, rad
-  std::vector<Vec3> bond_prev_rot2;       // rotation vector of voxel b in the bond frame, rad
+  // Per bond, one array per component (structure-of-arrays for the batched bond kernel):
+  // [0..2] position of b relative to its rest place (m), [3..5] rotation vector of a,
+  // [6..8] rotation vector of b (rad); all in the bond frame.
+  std::array<std::vector<double>, 9> bond_prev;
   std::vector<uint8_t> bond_prev_valid;   // 1 once the previous deformation is recorded
   std::vector<uint8_t> bond_small_angle;  // 1 while the bond uses the small-angle frame
 
