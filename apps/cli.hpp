@@ -15,8 +15,8 @@ struct UsageError {
 
 int cmd_simulate(const Args& args);
 int cmd_demo(const Args& args);
-int cmd_evolve(const Args& args);   // apps/cmd_evolve.cpp
-int cmd_inspect(const Args& args);  // apps/cmd_inspect.cpp
+int cmd_evolve(const Args& args);     // apps/cmd_evolve.cpp
+int cmd_inspect(const Args& args);    // apps/cmd_inspect.cpp
 int cmd_hausdorff(const Args& args);  // apps/cmd_hausdorff.cpp
 int cmd_export(const Args& args);     // apps/cmd_export.cpp
 

@@ -20,37 +20,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Output {
-  int status = -1;  // exit status
-  std::string out;  // stdout
-};
+using testing::Output;
 
 // Runs the CLI; stderr goes to `err_path` so stdout stays pure JSON.
 Output run(const std::string& args, const std::string& err_path) {
-  const std::string cmd = std::string(PLASTIVOX_CLI) + " " + args + " 2>" + err_path;
-  Output o;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return o;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) o.out.append(buf, n);
-  const int st = pclose(p);
-  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-  return o;
+  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>" + err_path);
 }
 
-class HausdorffCli : public ::testing::Test {
+class HausdorffCli : public testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plastivox_hausdorff_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
   // A robot file holding the sites for which filled(x, y, z) is true, on a 10^3 lattice.
   template <class Filled>
   std::string robot(const std::string& name, Filled filled) const {

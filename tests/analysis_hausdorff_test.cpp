@@ -254,7 +254,6 @@ TEST(HausdorffMatrix, MatchesPairwiseCallsAndDoesNotDependOnThreads) {
   }
 }
 
-
 // The figure the study quotes: 190 pairs of 20 champions, 24 rotations, optimal translation.
 // Printed, not asserted (the machine is shared); the sanity bound only catches a blow-up.
 

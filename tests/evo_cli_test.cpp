@@ -22,22 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Output {
-  int status = -1;  // exit status
-  std::string out;  // stdout and stderr
-};
+using plastivox::testing::Output;
 
 Output run(const std::string& args) {
-  const std::string cmd = std::string(PLASTIVOX_CLI) + " " + args + " 2>&1";
-  Output o;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return o;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) o.out.append(buf, n);
-  const int st = pclose(p);
-  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-  return o;
+  return plastivox::testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
 }
 
 std::string read_file(const std::string& p) {
@@ -45,17 +33,8 @@ std::string read_file(const std::string& p) {
   return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
-class EvoCli : public ::testing::Test {
+class EvoCli : public plastivox::testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plastivox_evo_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) const {
     std::ofstream(path(name), std::ios::binary) << text;
     return path(name);

@@ -1,6 +1,10 @@
 #include "test_support.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cfenv>
+#include <cstdio>
 
 namespace plastivox::testing {
 
@@ -28,6 +32,31 @@ void run_until(Simulator& sim, double t) {
 
 std::string shared_dir() {
   return PLASTIVOX_SHARED_DIR;
+}
+
+Output shell(const std::string& command_line) {
+  Output o;
+  FILE* p = popen(command_line.c_str(), "r");
+  if (!p) return o;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) o.out.append(buf, n);
+  const int st = pclose(p);
+  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return o;
+}
+
+void ScratchDirTest::SetUp() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  dir_ = std::filesystem::temp_directory_path() /
+         ("plastivox_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
+          std::to_string(::getpid()));
+  std::filesystem::remove_all(dir_);
+  std::filesystem::create_directories(dir_);
+}
+
+void ScratchDirTest::TearDown() {
+  std::filesystem::remove_all(dir_);
 }
 
 namespace {

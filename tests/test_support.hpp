@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -32,5 +33,23 @@ inline ::testing::AssertionResult RelNear(double actual, double expected, double
 }
 
 std::string shared_dir();  // ../shared beside the repository
+
+// Runs a shell command line; out is its standard output (add " 2>&1" to the command for
+// standard error too), status its exit status, or 128 + signal if it was killed.
+struct Output {
+  int status = -1;
+  std::string out;
+};
+Output shell(const std::string& command_line);
+
+// A fixture with a fresh scratch directory per test (named after the process and the
+// test), removed afterwards.
+class ScratchDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override;
+  void TearDown() override;
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+};
 
 }  // namespace plastivox::testing

@@ -50,15 +50,7 @@ inline V3 from_bond(int d, const V3& v) {
 // atan(t) / t as a function of t^2: nine terms of the alternating series leave an error
 // below 1e-19 for t < 0.1 (rotations under 11 degrees, nearly every bond, every step).
 inline double atan_over_t(double t2) {
-  if (t2 < 1e-2) {
-    return 1.0 -
-           t2 * (1.0 / 3 -
-                 t2 * (1.0 / 5 -
-                       t2 * (1.0 / 7 -
-                             t2 * (1.0 / 9 -
-                                   t2 * (1.0 / 11 -
-                                         t2 * (1.0 / 13 - t2 * (1.0 / 15 - t2 * (1.0 / 17))))))));
-  }
+  if (t2 < 1e-2) return atan_series(t2);
   const double t = std::sqrt(t2);
   return std::atan(t) / t;
 }

@@ -63,18 +63,6 @@ inline v4d pick(v4l c, v4d a, v4d b) {
 }
 #endif
 
-// atan(t)/t for t^2 < 1e-2 (error below 1e-19); the same expression as the scalar path.
-template <class T>
-inline T atan_series(T t2) {
-  return 1.0 -
-         t2 * (1.0 / 3 -
-               t2 * (1.0 / 5 -
-                     t2 * (1.0 / 7 -
-                           t2 * (1.0 / 9 -
-                                 t2 * (1.0 / 11 -
-                                       t2 * (1.0 / 13 - t2 * (1.0 / 15 - t2 * (1.0 / 17))))))));
-}
-
 template <class T>
 inline void bond_lanes(BondBatch& B, int i, const BondConstants& k) {
   const T one = splat(1.0, T{}), zero = splat(0.0, T{});

@@ -37,4 +37,18 @@ struct BondConstants {
 
 void bond_kernel_exact(BondBatch& batch, int n, const BondConstants& k);
 
+// atan(t)/t as a function of t^2: nine terms of the alternating series leave an error
+// below 1e-19 for t^2 < 1e-2 (rotations under 11 degrees). Shared by the batched kernel
+// and the scalar path so both evaluate the same expression.
+template <class T>
+inline T atan_series(T t2) {
+  return 1.0 -
+         t2 * (1.0 / 3 -
+               t2 * (1.0 / 5 -
+                     t2 * (1.0 / 7 -
+                           t2 * (1.0 / 9 -
+                                 t2 * (1.0 / 11 -
+                                       t2 * (1.0 / 13 - t2 * (1.0 / 15 - t2 * (1.0 / 17))))))));
+}
+
 }  // namespace plastivox
