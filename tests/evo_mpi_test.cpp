@@ -84,10 +84,22 @@ TEST_F(EvoMpi, ResumesAcrossModesAndRefusesAnotherConfig) {
   for (size_t at = other.out.find(needle); at != std::string::npos;
        at = other.out.find(needle, at + 1))
     ++hits;
-  // At most once (rank 0 alone reports). Known race: when another rank exits non-zero
-  // first, mpiexec may abort rank 0 before its line is flushed, so it can be missing.
-  EXPECT_LE(hits, 1u) << other.out;
+  // Exactly once: rank 0 alone reports, and the other ranks wait for it to print before
+  // they exit (with 0), so mpiexec never aborts rank 0 before its line is out.
+  EXPECT_EQ(hits, 1u) << other.out;
   EXPECT_EQ(digest(path("r.h5")), digest(path("full.h5")));
+}
+
+TEST_F(EvoMpi, AnInvalidConfigIsReportedOnceByRankZero) {
+  std::ofstream(path("bad.json")) << R"({"format": "plastivox-evolve-config", "version": 1,
+      "population": 0})";
+  const Output o = shell(mpirun(2) + " evolve --config " + path("bad.json") + " --out " +
+                         path("r.h5") + " --threads 1");
+  EXPECT_NE(o.status, 0);
+  const std::string needle = "population: must be in [1, 100000], got 0";
+  EXPECT_NE(o.out.find(needle), std::string::npos) << o.out;
+  EXPECT_EQ(o.out.find(needle), o.out.rfind(needle)) << o.out;
+  EXPECT_FALSE(fs::exists(path("r.h5")));
 }
 
 }  // namespace

@@ -71,6 +71,10 @@ void MpiCluster::broadcast(std::string& text) {
   if (n > 0) MPI_Bcast(text.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
 }
 
+void MpiCluster::barrier() {
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
 std::vector<int> assign_to_ranks(const std::vector<const Phenotype*>& batch, int ranks) {
   std::vector<size_t> order(batch.size());
   std::iota(order.begin(), order.end(), size_t{0});

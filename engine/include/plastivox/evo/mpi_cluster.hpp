@@ -30,6 +30,7 @@ class MpiCluster final : public Cluster {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   void broadcast(std::string& text) override;
+  void barrier() override;
   std::vector<Evaluation> run(const std::vector<const Phenotype*>& batch, const PhysicsDef& physics,
                               int threads) override;
 

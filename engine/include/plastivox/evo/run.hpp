@@ -41,6 +41,7 @@ class Cluster : public Simulations {
   virtual int rank() const = 0;
   virtual int size() const = 0;
   virtual void broadcast(std::string& text) = 0;  // collective: rank 0's text to every rank
+  virtual void barrier() = 0;                     // collective: wait for every rank
 };
 
 // A refusal decided by rank 0 and raised on every rank alike (so no rank has to abort the
