@@ -19,6 +19,12 @@ int cmd_evolve(const Args& args);     // apps/cmd_evolve.cpp
 int cmd_inspect(const Args& args);    // apps/cmd_inspect.cpp
 int cmd_hausdorff(const Args& args);  // apps/cmd_hausdorff.cpp
 int cmd_export(const Args& args);     // apps/cmd_export.cpp
+int cmd_analyze(const Args& args);    // apps/cmd_analyze.cpp
+int cmd_render(const Args& args);     // apps/cmd_render.cpp
+int cmd_video(const Args& args);      // apps/cmd_video.cpp
+int cmd_gallery(const Args& args);    // apps/cmd_gallery.cpp
+int cmd_figures(const Args& args);    // apps/cmd_figures.cpp
+int cmd_experiment(const Args& args); // apps/cmd_experiment.cpp
 
 // Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);

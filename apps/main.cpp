@@ -30,6 +30,15 @@ const char* kUsage =
     "  export   RESULTS.h5 --out ROBOT.vxa|ROBOT.json [--generation G]\n"
     "           write the champion at generation G (default: the last) as a VXA file for\n"
     "           the authors' simulator or as a plastivox robot file\n"
+    "  analyze  RESULTS.h5 [RESULTS.h5 ...] --out DIR\n"
+    "           analyse run champions: robustness, canalization, diversity, body plans,\n"
+    "           bootstrap statistics -> DIR/stats.json, CSV tables, report.html\n"
+    "  render   ROBOT_OR_RESULTS --out frame.png [--time T] [--color MODE] [--size WxH]\n"
+    "  video    ROBOT_OR_RESULTS --out life.mp4 [--color MODE] [--fps F]\n"
+    "  gallery  RESULTS.h5 [RESULTS.h5 ...] --out gallery.png\n"
+    "  figures  STATS.json --out DIR   figure panels A-F (PNG and SVG)\n"
+    "  experiment [--config FILE | --preset default|tiny|gecco2018] --out DIR\n"
+    "           the whole study: evolve, analyse, render, report (resumable)\n"
     "  version  print version and commit\n";
 
 }  // namespace
@@ -49,6 +58,12 @@ int main(int argc, char** argv) {
     if (cmd == "inspect") return cmd_inspect(args);
     if (cmd == "hausdorff") return cmd_hausdorff(args);
     if (cmd == "export") return cmd_export(args);
+    if (cmd == "analyze") return cmd_analyze(args);
+    if (cmd == "render") return cmd_render(args);
+    if (cmd == "video") return cmd_video(args);
+    if (cmd == "gallery") return cmd_gallery(args);
+    if (cmd == "figures") return cmd_figures(args);
+    if (cmd == "experiment") return cmd_experiment(args);
     if (cmd == "version" || cmd == "--version") {
       std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, PLASTIVOX_GIT_COMMIT);
       return 0;

@@ -1,0 +1,10 @@
+// plastivox figures: placeholder until its owner lands it (session 2 work in progress).
+#include <stdexcept>
+
+#include "cli.hpp"
+
+namespace plastivox::cli {
+
+int cmd_figures(const Args&) { throw std::runtime_error("'figures' is not built yet"); }
+
+}  // namespace plastivox::cli

@@ -1,0 +1,10 @@
+// plastivox render: placeholder until its owner lands it (session 2 work in progress).
+#include <stdexcept>
+
+#include "cli.hpp"
+
+namespace plastivox::cli {
+
+int cmd_render(const Args&) { throw std::runtime_error("'render' is not built yet"); }
+
+}  // namespace plastivox::cli
