@@ -144,7 +144,12 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
     p.stats = ev.step();
     p.generations_done = ev.state().generations_done;
     p.generations_total = config.generations;
-    const bool stop = opt.stop_after >= 0 && p.generations_done >= opt.stop_after;
+    bool stop = opt.stop_after >= 0 && p.generations_done >= opt.stop_after;
+    if (opt.stop_requested) {
+      std::string asked = opt.stop_requested->load() ? "1" : "0";
+      if (cluster) cluster->broadcast(asked);  // rank 0 decides for all
+      stop = stop || asked == "1";
+    }
     if (leader && (p.generations_done % config.checkpoint_every == 0 || ev.finished() || stop)) {
       const auto tc = Clock::now();
       prov.date_updated = current_provenance(report.threads).date_updated;

@@ -12,6 +12,7 @@
 // While it runs, "<out>.lock" is flock()ed: a second evolve on the same file is refused.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <string>
 
@@ -55,6 +56,10 @@ struct RunOptions {
   Cluster* cluster = nullptr;  // nullptr: a single process
   int threads = -1;            // evaluation threads; -1: the config's; 0: all cores
   int stop_after = -1;  // testing hook: stop once generations_done reaches this (checkpointed)
+  // Polled after every generation: when it reads true the run checkpoints and stops
+  // (outcome kStopped, resumable). Set from a SIGINT handler for a clean Ctrl-C. Under a
+  // cluster rank 0's flag decides for every rank, so all stop after the same generation.
+  const std::atomic<bool>* stop_requested = nullptr;
   std::function<void(const RunProgress&)> on_generation;  // called after every generation
   std::function<void(const std::string&)> on_message;     // "resuming from generation 12"...
 };
@@ -62,7 +67,7 @@ struct RunOptions {
 enum class RunOutcome {
   kFinished,         // this session completed the run
   kAlreadyFinished,  // the results file was complete; nothing was changed
-  kStopped,          // stopped by stop_after; resumable
+  kStopped,          // stopped by stop_after or stop_requested; resumable
 };
 
 struct RunReport {
