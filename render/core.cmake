@@ -1,0 +1,25 @@
+# plastivox_render: off-screen OpenGL through OSMesa (Debian: libosmesa6-dev), Dear ImGui
+# 1.86 (libimgui-dev: static library with the OpenGL 2 backend), PNG (libpng-dev), fonts
+# (fonts-dejavu-core). libOSMesa exports every GL entry point itself, so nothing links libGL.
+find_path(OSMESA_INCLUDE_DIR GL/osmesa.h REQUIRED)
+find_library(OSMESA_LIBRARY NAMES OSMesa REQUIRED)
+find_path(IMGUI_INCLUDE_DIR imgui.h PATH_SUFFIXES imgui REQUIRED)
+find_library(IMGUI_LIBRARY NAMES libimgui.a imgui REQUIRED)
+find_library(STB_LIBRARY NAMES stb REQUIRED)  # libstb-dev: stb_truetype, which ImGui's fonts use
+find_package(PNG REQUIRED)
+
+add_library(plastivox_render
+  ${CMAKE_CURRENT_LIST_DIR}/src/assets.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/offscreen.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/png_io.cpp
+)
+target_include_directories(plastivox_render PUBLIC ${CMAKE_CURRENT_LIST_DIR}/include
+                           PRIVATE ${CMAKE_CURRENT_LIST_DIR}/src)
+# ImGui's headers are public (callers draw with ImDrawList); SYSTEM keeps their warnings out.
+target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
+                           PRIVATE ${OSMESA_INCLUDE_DIR})
+target_link_libraries(plastivox_render PUBLIC plastivox_engine
+                      PRIVATE ${IMGUI_LIBRARY} ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
+# Compile-time default of the assets directory; $PLASTIVOX_ASSETS overrides it at run time.
+target_compile_definitions(plastivox_render PRIVATE
+  PLASTIVOX_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")

@@ -1,0 +1,70 @@
+// PNG files through libpng's simplified API (no setjmp in our code). The encoder writes
+// only IHDR, IDAT and IEND for an 8-bit RGBA image, with fixed settings, so the bytes
+// depend only on the pixels (and the libpng/zlib versions).
+#include <png.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "plastivox/render/offscreen.hpp"
+
+namespace plastivox::render {
+
+void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int width, int height) {
+  if (width < 1 || height < 1 || rgba.size() != static_cast<size_t>(width) * height * 4)
+    throw RenderError(path + ": image buffer holds " + std::to_string(rgba.size()) +
+                      " bytes, not 4 x " + std::to_string(width) + " x " + std::to_string(height));
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(width);
+  image.height = static_cast<png_uint_32>(height);
+  image.format = PNG_FORMAT_RGBA;
+  png_alloc_size_t size = 0;
+  // First call sizes the buffer, second fills it.
+  if (!png_image_write_to_memory(&image, nullptr, &size, 0, rgba.data(), 0, nullptr))
+    throw RenderError(path + ": PNG encoding failed: " + image.message);
+  std::vector<uint8_t> bytes(size);
+  if (!png_image_write_to_memory(&image, bytes.data(), &size, 0, rgba.data(), 0, nullptr))
+    throw RenderError(path + ": PNG encoding failed: " + image.message);
+  bytes.resize(size);
+
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw RenderError(path + ": cannot write (cannot create " + tmp + ")");
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw RenderError(path + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw RenderError(path + ": cannot rename " + tmp + " onto it: " + ec.message());
+  }
+}
+
+Image read_png(const std::string& path) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str()))
+    throw RenderError(path + ": cannot read PNG: " + image.message);
+  image.format = PNG_FORMAT_RGBA;
+  Image out;
+  out.width = static_cast<int>(image.width);
+  out.height = static_cast<int>(image.height);
+  out.rgba.resize(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, out.rgba.data(), 0, nullptr)) {
+    png_image_free(&image);
+    throw RenderError(path + ": cannot decode PNG: " + image.message);
+  }
+  return out;
+}
+
+}  // namespace plastivox::render
