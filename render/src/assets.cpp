@@ -2,10 +2,10 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
+#include "plastivox/atomic_file.hpp"
 #include "plastivox/render/offscreen.hpp"
+#include "plastivox/robot_file.hpp"  // InputError
 
 namespace plastivox::render {
 
@@ -23,11 +23,11 @@ std::string assets_dir() {
 
 std::string read_asset(const std::string& relative) {
   const std::string path = assets_dir() + "/" + relative;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RenderError(path + ": cannot read asset file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  try {
+    return read_file_bytes(path);
+  } catch (const InputError& e) {
+    throw RenderError(std::string(e.what()) + " (asset file)");
+  }
 }
 
 }  // namespace plastivox::render

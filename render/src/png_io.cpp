@@ -3,11 +3,11 @@
 // depend only on the pixels (and the libpng/zlib versions).
 #include <png.h>
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
+#include <string_view>
 
+#include "plastivox/atomic_file.hpp"
 #include "plastivox/render/offscreen.hpp"
+#include "plastivox/robot_file.hpp"  // InputError
 
 namespace plastivox::render {
 
@@ -27,26 +27,10 @@ void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int wi
   std::vector<uint8_t> bytes(size);
   if (!png_image_write_to_memory(&image, bytes.data(), &size, 0, rgba.data(), 0, nullptr))
     throw RenderError(path + ": PNG encoding failed: " + image.message);
-  bytes.resize(size);
-
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw RenderError(path + ": cannot write (cannot create " + tmp + ")");
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw RenderError(path + ": write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw RenderError(path + ": cannot rename " + tmp + " onto it: " + ec.message());
+  try {
+    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), size));
+  } catch (const InputError& e) {
+    throw RenderError(e.what());
   }
 }
 

@@ -108,7 +108,7 @@ class ImGuiLayer {
 };
 
 // Writes an RGBA8 image (rows top-down, 4 * width * height bytes) as an 8-bit RGBA PNG.
-// Deterministic bytes (no time stamp or text chunks); written to "<path>.tmp" and renamed,
+// Deterministic bytes (no time stamp or text chunks); written to a temporary and renamed
 // so no half-written file is ever left under path. Throws RenderError naming path.
 void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int width, int height);
 
