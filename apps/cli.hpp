@@ -4,6 +4,10 @@
 #include <string>
 #include <vector>
 
+namespace plastivox::evo {
+class Cluster;
+}
+
 namespace plastivox::cli {
 
 using Args = std::vector<std::string>;
@@ -15,16 +19,16 @@ struct UsageError {
 
 int cmd_simulate(const Args& args);
 int cmd_demo(const Args& args);
-int cmd_evolve(const Args& args);     // apps/cmd_evolve.cpp
-int cmd_inspect(const Args& args);    // apps/cmd_inspect.cpp
-int cmd_hausdorff(const Args& args);  // apps/cmd_hausdorff.cpp
-int cmd_export(const Args& args);     // apps/cmd_export.cpp
-int cmd_analyze(const Args& args);    // apps/cmd_analyze.cpp
-int cmd_render(const Args& args);     // apps/cmd_render.cpp
-int cmd_video(const Args& args);      // apps/cmd_video.cpp
-int cmd_gallery(const Args& args);    // apps/cmd_gallery.cpp
-int cmd_figures(const Args& args);    // apps/cmd_figures.cpp
-int cmd_experiment(const Args& args); // apps/cmd_experiment.cpp
+int cmd_evolve(const Args& args);      // apps/cmd_evolve.cpp
+int cmd_inspect(const Args& args);     // apps/cmd_inspect.cpp
+int cmd_hausdorff(const Args& args);   // apps/cmd_hausdorff.cpp
+int cmd_export(const Args& args);      // apps/cmd_export.cpp
+int cmd_analyze(const Args& args);     // apps/cmd_analyze.cpp
+int cmd_render(const Args& args);      // apps/cmd_render.cpp
+int cmd_video(const Args& args);       // apps/cmd_video.cpp
+int cmd_gallery(const Args& args);     // apps/cmd_gallery.cpp
+int cmd_figures(const Args& args);     // apps/cmd_figures.cpp
+int cmd_experiment(const Args& args);  // apps/cmd_experiment.cpp
 
 // Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);
@@ -32,5 +36,10 @@ std::string take_option(Args& args, const std::string& name, const std::string& 
 bool take_flag(Args& args, const std::string& name);
 // After options are taken: error on any leftover "--something".
 void reject_unknown_options(const Args& args);
+
+// An error every MPI rank raised alike: rank 0 prints "plastivox CMD: error: MESSAGE" and
+// returns 1; the others wait until it has printed and return 0, so mpirun cannot kill rank 0
+// before its line is out (mpirun still exits non-zero because rank 0 did).
+int refuse_together(evo::Cluster& cluster, const std::string& cmd, const std::string& message);
 
 }  // namespace plastivox::cli

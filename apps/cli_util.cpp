@@ -1,6 +1,9 @@
 #include "cli.hpp"
 
 #include <algorithm>
+#include <cstdio>
+
+#include "plastivox/evo/run.hpp"
 
 namespace plastivox::cli {
 
@@ -23,6 +26,15 @@ bool take_flag(Args& args, const std::string& name) {
 void reject_unknown_options(const Args& args) {
   for (const std::string& a : args)
     if (a.size() > 1 && a[0] == '-') throw UsageError{"unknown option " + a};
+}
+
+int refuse_together(evo::Cluster& cluster, const std::string& cmd, const std::string& message) {
+  if (cluster.rank() == 0) {
+    std::fprintf(stderr, "plastivox %s: error: %s\n", cmd.c_str(), message.c_str());
+    std::fflush(stderr);
+  }
+  cluster.barrier();
+  return cluster.rank() == 0 ? 1 : 0;
 }
 
 }  // namespace plastivox::cli

@@ -88,18 +88,6 @@ class Progress {
   bool open_ = false;
 };
 
-// An error every rank raised alike: rank 0 prints it and exits 1; the others wait until it
-// has printed and exit 0, so mpirun cannot kill rank 0 before its line is out (mpirun still
-// exits non-zero because rank 0 did).
-int refuse_together(evo::Cluster& cluster, const std::string& message) {
-  if (cluster.rank() == 0) {
-    std::fprintf(stderr, "plastivox evolve: error: %s\n", message.c_str());
-    std::fflush(stderr);
-  }
-  cluster.barrier();
-  return cluster.rank() == 0 ? 1 : 0;
-}
-
 }  // namespace
 
 int cmd_evolve(const Args& in) {
@@ -142,10 +130,10 @@ int cmd_evolve(const Args& in) {
     r = evo::run_evolution(config, out, opt);
   } catch (const InputError& e) {  // the same config file on every rank: all fail alike
     if (!opt.cluster) throw;
-    return refuse_together(*opt.cluster, e.what());
+    return refuse_together(*opt.cluster, "evolve", e.what());
   } catch (const evo::RunRefused& e) {  // decided by rank 0, raised on every rank
     if (!opt.cluster) throw;
-    return refuse_together(*opt.cluster, e.what());
+    return refuse_together(*opt.cluster, "evolve", e.what());
   } catch (const std::exception& e) {
 #ifdef PLASTIVOX_HAVE_MPI
     if (mpi && mpi->size() > 1) {  // the other ranks would wait forever

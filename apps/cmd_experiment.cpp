@@ -1,10 +1,148 @@
-// plastivox experiment: placeholder until its owner lands it (session 2 work in progress).
-#include <stdexcept>
+// plastivox experiment: the whole study (evolve, analyse, render, report) in one folder,
+// resumable stage by stage (apps/experiment/, docs/experiment.md).
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <thread>
 
 #include "cli.hpp"
+#include "experiment/cost_estimate.hpp"
+#include "experiment/experiment_run.hpp"
+#include "plastivox/evo/run.hpp"
+#include "plastivox/robot_file.hpp"
+#ifdef PLASTIVOX_HAVE_MPI
+#include "plastivox/evo/mpi_cluster.hpp"
+#endif
 
 namespace plastivox::cli {
+namespace {
 
-int cmd_experiment(const Args&) { throw std::runtime_error("'experiment' is not built yet"); }
+std::atomic<bool> g_stop{false};
+
+// First Ctrl-C: finish the current generation, checkpoint, stop. Second: leave at once
+// (every file is written atomically, so even that loses at most the work in flight).
+extern "C" void on_interrupt(int) {
+  if (g_stop.exchange(true)) _exit(130);
+  const char msg[] =
+      "\nplastivox experiment: stopping at the next checkpoint (Ctrl-C again to quit now)\n";
+  [[maybe_unused]] auto n = write(STDERR_FILENO, msg, sizeof msg - 1);
+}
+
+std::set<std::string> parse_force(const std::string& s) {
+  std::set<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.insert(item == "all" ? "" : item);
+  if (out.count("")) {
+    out.erase("");
+    for (const auto& st : experiment::kStages) out.insert(st);
+  }
+  return out;
+}
+
+std::string human_size(uintmax_t b) {
+  char buf[32];
+  if (b >= 1 << 20)
+    std::snprintf(buf, sizeof buf, "%.1f MB", b / 1048576.0);
+  else if (b >= 1 << 10)
+    std::snprintf(buf, sizeof buf, "%.1f kB", b / 1024.0);
+  else
+    std::snprintf(buf, sizeof buf, "%ju B", b);
+  return buf;
+}
+
+}  // namespace
+
+int cmd_experiment(const Args& in) {
+  Args args = in;
+  const std::string config_path = take_option(args, "--config", "");
+  const std::string preset = take_option(args, "--preset", "");
+  const std::string out = take_option(args, "--out", "");
+  const std::string threads = take_option(args, "--threads", "");
+  const std::string force = take_option(args, "--force", "");
+  const std::string print_preset = take_option(args, "--print-preset", "");
+  const bool estimate_only = take_flag(args, "--estimate-only");
+  reject_unknown_options(args);
+  if (!args.empty()) throw UsageError{"unexpected argument '" + args[0] + "'"};
+  if (!print_preset.empty()) {
+    std::fputs(experiment::preset_text(print_preset).c_str(), stdout);
+    return 0;
+  }
+  if (!config_path.empty() && !preset.empty())
+    throw UsageError{"give --config FILE or --preset NAME, not both"};
+  if (out.empty() && !estimate_only) throw UsageError{"--out DIR is required"};
+
+  const experiment::ExperimentConfig config =
+      config_path.empty() ? experiment::preset_config(preset.empty() ? "default" : preset)
+                          : experiment::read_experiment_config(config_path);
+  experiment::ExperimentOptions opt;
+  opt.out_dir = out;
+  opt.force = parse_force(force);
+  opt.stop_requested = &g_stop;
+  for (const auto& a : in) opt.command_line += (opt.command_line.empty() ? "" : " ") + a;
+  opt.command_line = "plastivox experiment " + opt.command_line;
+  if (!threads.empty()) {
+    try {
+      opt.threads = std::stoi(threads);
+    } catch (...) {
+      opt.threads = -1;
+    }
+    if (opt.threads < 0 || std::to_string(opt.threads) != threads)
+      throw UsageError{"--threads expects a non-negative integer, got '" + threads + "'"};
+  }
+
+#ifdef PLASTIVOX_HAVE_MPI
+  std::unique_ptr<evo::MpiCluster> mpi;
+  if (evo::MpiCluster::launched_by_mpirun()) mpi = std::make_unique<evo::MpiCluster>();
+  opt.cluster = mpi.get();
+#endif
+  const bool leader = !opt.cluster || opt.cluster->rank() == 0;
+  const int ranks = opt.cluster ? opt.cluster->size() : 1;
+
+  // The cost, from this machine's measured speed, before any work starts.
+  if (leader) {
+    int t = opt.threads >= 0 ? opt.threads : config.threads;
+    if (t == 0) t = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const auto speed = experiment::measure_speed(config);
+    const auto est = experiment::estimate_cost(config, speed, t * ranks);
+    std::fprintf(
+        stderr,
+        "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
+        "%d, %d generations, %.1f s lives\n%s\n",
+        config.name.c_str(), config.treatments.size(), config.treatments.size() == 1 ? "" : "s",
+        config.seeds.size(), config.seeds.size() == 1 ? "" : "s", config.evolution.population,
+        config.evolution.generations, config.evolution.physics.duration, est.summary().c_str());
+  }
+  if (estimate_only) return 0;
+
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  experiment::Progress progress(stderr);
+  experiment::ExperimentOutcome outcome;
+  try {
+    outcome = experiment::run_experiment(config, opt, progress);
+  } catch (const evo::RunRefused& e) {  // decided by rank 0, raised on every rank
+    if (!opt.cluster) throw;
+    return refuse_together(*opt.cluster, "experiment", e.what());
+  }
+  if (!leader) return 0;
+  if (!outcome.completed) {
+    std::fprintf(stderr, "plastivox experiment: stopped; run the same command again to resume\n");
+    return 130;
+  }
+  std::printf("plastivox experiment: done. Outputs in %s:\n", out.c_str());
+  for (const auto& f : outcome.outputs) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(out + "/" + f, ec);
+    std::printf("  %-44s %s\n", f.c_str(), ec ? "(missing)" : human_size(size).c_str());
+  }
+  return 0;
+}
 
 }  // namespace plastivox::cli

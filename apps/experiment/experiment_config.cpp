@@ -1,0 +1,273 @@
+// Experiment config: parsing, validation, canonical forms, embedded presets.
+#include "experiment_config.hpp"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "experiment_presets.hpp"  // generated from assets/presets/experiment-*.json
+#include "plastivox/robot_file.hpp"
+
+namespace plastivox::experiment {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::string& src, const std::string& field, const std::string& what) {
+  throw InputError(src + ": " + field + ": " + what);
+}
+
+int integer(const json& j, const std::string& src, const std::string& field, int lo, int hi) {
+  if (!j.is_number_integer() || j.get<int64_t>() < lo || j.get<int64_t>() > hi)
+    fail(src, field,
+         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return static_cast<int>(j.get<int64_t>());
+}
+
+std::string text(const json& j, const std::string& src, const std::string& field,
+                 const std::set<std::string>& allowed) {
+  std::string all;
+  for (const auto& a : allowed) all += (all.empty() ? "" : " | ") + a;
+  if (!j.is_string()) fail(src, field, "expected a string (" + all + ")");
+  const auto v = j.get<std::string>();
+  if (!allowed.empty() && !allowed.count(v)) fail(src, field, "'" + v + "' is not one of " + all);
+  return v;
+}
+
+bool boolean(const json& j, const std::string& src, const std::string& field) {
+  if (!j.is_boolean()) fail(src, field, "expected true or false");
+  return j.get<bool>();
+}
+
+// "1280x720" -> (1280, 720), each side in [16, 8192].
+void size(const json& j, const std::string& src, const std::string& field, int& w, int& h) {
+  if (!j.is_string()) fail(src, field, "expected \"WIDTHxHEIGHT\", e.g. \"1280x720\"");
+  const auto s = j.get<std::string>();
+  char x = 0, extra = 0;
+  std::istringstream in(s);
+  if (!(in >> w >> x >> h) || x != 'x' || (in >> extra) || w < 16 || h < 16 || w > 8192 || h > 8192)
+    fail(src, field, "'" + s + "' is not WIDTHxHEIGHT with sides in [16, 8192]");
+}
+
+std::string size_text(int w, int h) {
+  return std::to_string(w) + "x" + std::to_string(h);
+}
+
+void parse_analysis(const json& v, const std::string& src, AnalysisSettings& a) {
+  if (!v.is_object()) fail(src, "analysis", "expected an object");
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string f = "analysis." + it.key();
+    if (it.key() == "generation") {
+      if (it->is_string() && *it == "last")
+        a.generation = -1;
+      else
+        a.generation = integer(*it, src, f, 0, 100000000);
+    } else if (it.key() == "robustness_draws") {
+      a.robustness_draws = integer(*it, src, f, 1, 100000);
+    } else if (it.key() == "robustness_sampling") {
+      a.robustness_sampling = text(*it, src, f, {"linear", "log"});
+    } else if (it.key() == "resamples") {
+      a.resamples = integer(*it, src, f, 100, 100000000);
+    } else if (it.key() == "rotations") {
+      a.rotations = text(*it, src, f, {"none", "paper", "all"});
+    } else if (it.key() == "translation") {
+      a.translation = text(*it, src, f, {"none", "integer"});
+    } else if (it.key() == "seed") {
+      if (!it->is_number_unsigned()) fail(src, f, "expected a non-negative integer");
+      a.seed = it->get<uint64_t>();
+    } else {
+      fail(src, f, "unknown field");
+    }
+  }
+}
+
+void parse_rendering(const json& v, const std::string& src, RenderSettings& r) {
+  if (!v.is_object()) fail(src, "rendering", "expected an object");
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string f = "rendering." + it.key();
+    if (it.key() == "figures")
+      r.figures = boolean(*it, src, f);
+    else if (it.key() == "galleries")
+      r.galleries = boolean(*it, src, f);
+    else if (it.key() == "video")
+      r.video = boolean(*it, src, f);
+    else if (it.key() == "figure_size")
+      size(*it, src, f, r.figure_width, r.figure_height);
+    else if (it.key() == "gallery_size")
+      size(*it, src, f, r.gallery_width, r.gallery_height);
+    else if (it.key() == "video_size")
+      size(*it, src, f, r.video_width, r.video_height);
+    else if (it.key() == "video_fps") {
+      if (!it->is_number() || !(it->get<double>() >= 1 && it->get<double>() <= 240))
+        fail(src, f, "expected a number in [1, 240]");
+      r.video_fps = it->get<double>();
+    } else if (it.key() == "video_color")
+      r.video_color = text(*it, src, f, {"congenital", "stiffness", "change", "alpha", "phase"});
+    else
+      fail(src, f, "unknown field");
+  }
+}
+
+json canonical(const ExperimentConfig& c, bool with_run_control) {
+  json j;
+  j["format"] = "plastivox-experiment-config";
+  j["version"] = kExperimentConfigVersion;
+  j["name"] = c.name;
+  json t = json::array();
+  for (auto x : c.treatments) t.push_back(to_string(x));
+  j["treatments"] = t;
+  j["seeds"] = c.seeds;
+  json e =
+      json::parse(with_run_control ? c.evolution.canonical_json() : c.evolution.identity_json());
+  for (const char* k : {"format", "version", "seed", "treatment", "threads"}) e.erase(k);
+  j["evolution"] = e;
+  const auto& a = c.analysis;
+  j["analysis"] = {{"generation", a.generation < 0 ? json("last") : json(a.generation)},
+                   {"robustness_draws", a.robustness_draws},
+                   {"robustness_sampling", a.robustness_sampling},
+                   {"resamples", a.resamples},
+                   {"rotations", a.rotations},
+                   {"translation", a.translation},
+                   {"seed", a.seed}};
+  const auto& r = c.rendering;
+  j["rendering"] = {{"figures", r.figures},
+                    {"galleries", r.galleries},
+                    {"video", r.video},
+                    {"figure_size", size_text(r.figure_width, r.figure_height)},
+                    {"gallery_size", size_text(r.gallery_width, r.gallery_height)},
+                    {"video_size", size_text(r.video_width, r.video_height)},
+                    {"video_fps", r.video_fps},
+                    {"video_color", r.video_color}};
+  if (with_run_control) j["threads"] = c.threads;
+  return j;
+}
+
+}  // namespace
+
+std::string ExperimentConfig::run_label(Treatment t, uint64_t seed) {
+  return std::string(to_string(t)) + "-s" + std::to_string(seed);
+}
+
+evo::EvolveConfig ExperimentConfig::run_config(Treatment t, uint64_t seed) const {
+  evo::EvolveConfig c = evolution;
+  c.seed = seed;
+  c.treatment = t;
+  c.physics.treatment = t;
+  c.threads = threads;
+  return c;
+}
+
+std::string ExperimentConfig::canonical_json() const {
+  return canonical(*this, true).dump();
+}
+std::string ExperimentConfig::identity_json() const {
+  return canonical(*this, false).dump();
+}
+
+ExperimentConfig parse_experiment_config(const std::string& input, const std::string& src) {
+  json j;
+  try {
+    j = json::parse(input);
+  } catch (const json::exception& e) {
+    fail(src, "(file)", std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) fail(src, "(file)", "expected a JSON object");
+  if (!j.contains("format") || j["format"] != "plastivox-experiment-config")
+    fail(src, "format", "expected \"plastivox-experiment-config\"");
+  if (!j.contains("version") || !j["version"].is_number_integer() ||
+      j["version"].get<int64_t>() != kExperimentConfigVersion)
+    fail(src, "version",
+         "expected " + std::to_string(kExperimentConfigVersion) + " (this build's version)");
+
+  ExperimentConfig c;
+  json evolution = json::object();
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& k = it.key();
+    const json& v = *it;
+    if (k == "format" || k == "version" || k == "_comment") {
+      continue;
+    } else if (k == "name") {
+      if (!v.is_string() || v.get<std::string>().empty())
+        fail(src, k, "expected a non-empty string");
+      c.name = v.get<std::string>();
+    } else if (k == "treatments") {
+      if (!v.is_array() || v.empty())
+        fail(src, k, "expected a non-empty list of none | stress | pressure");
+      c.treatments.clear();
+      for (size_t i = 0; i < v.size(); ++i) {
+        const std::string f = k + "[" + std::to_string(i) + "]";
+        const auto t = parse_treatment(text(v[i], src, f, {"none", "stress", "pressure"}));
+        for (auto seen : c.treatments)
+          if (seen == t) fail(src, f, "'" + std::string(to_string(t)) + "' listed twice");
+        c.treatments.push_back(t);
+      }
+    } else if (k == "seeds") {
+      if (!v.is_array() || v.empty()) fail(src, k, "expected a non-empty list of integers");
+      c.seeds.clear();
+      for (size_t i = 0; i < v.size(); ++i) {
+        const std::string f = k + "[" + std::to_string(i) + "]";
+        if (!v[i].is_number_unsigned()) fail(src, f, "expected a non-negative integer");
+        const auto s = v[i].get<uint64_t>();
+        for (auto seen : c.seeds)
+          if (seen == s) fail(src, f, "seed " + std::to_string(s) + " listed twice");
+        c.seeds.push_back(s);
+      }
+    } else if (k == "evolution") {
+      if (!v.is_object()) fail(src, k, "expected an object of evolve-config fields");
+      for (const char* bad : {"seed", "treatment", "threads", "format", "version"})
+        if (v.contains(bad))
+          fail(src, std::string("evolution.") + bad,
+               "not allowed here (set per run by the experiment; threads at the top level)");
+      evolution = v;
+    } else if (k == "analysis") {
+      parse_analysis(v, src, c.analysis);
+    } else if (k == "rendering") {
+      parse_rendering(v, src, c.rendering);
+    } else if (k == "threads") {
+      c.threads = integer(v, src, k, 0, 4096);
+    } else {
+      fail(src, k, "unknown field");
+    }
+  }
+  // The evolve-config parser validates the shared settings; its errors read
+  // "<src>: evolution: population: ...".
+  evolution["format"] = "plastivox-evolve-config";
+  evolution["version"] = evo::kConfigVersion;
+  c.evolution = evo::parse_config(evolution.dump(), src + ": evolution");
+  if (c.analysis.generation > c.evolution.generations)
+    fail(src, "analysis.generation",
+         "generation " + std::to_string(c.analysis.generation) + " is after the last (" +
+             std::to_string(c.evolution.generations) + ")");
+  return c;
+}
+
+ExperimentConfig read_experiment_config(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open experiment config for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_experiment_config(ss.str(), path);
+}
+
+std::vector<std::string> preset_names() {
+  std::vector<std::string> names;
+  for (const auto& p : kEmbeddedPresets) names.emplace_back(p.name);
+  return names;
+}
+
+std::string preset_text(const std::string& name) {
+  std::string known;
+  for (const auto& p : kEmbeddedPresets) {
+    if (name == p.name) return p.text;
+    known += (known.empty() ? "" : " | ") + std::string(p.name);
+  }
+  throw InputError("--preset: unknown preset '" + name + "' (known: " + known + ")");
+}
+
+ExperimentConfig preset_config(const std::string& name) {
+  return parse_experiment_config(preset_text(name), "preset " + name);
+}
+
+}  // namespace plastivox::experiment

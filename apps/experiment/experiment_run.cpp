@@ -1,0 +1,142 @@
+// Orchestration: the folder's manifest, then the stages in order.
+#include "experiment_run.hpp"
+
+#include <ctime>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/evo/run.hpp"
+#include "plastivox/robot_file.hpp"
+#include "plastivox_version.hpp"
+
+namespace plastivox::experiment {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// Path of the first difference between two JSON values ("evolution.population: 4 in the
+// folder, 6 now"), empty when equal.
+std::string first_difference(const json& was, const json& now, const std::string& path) {
+  if (was == now) return "";
+  if (was.is_object() && now.is_object()) {
+    for (auto it = now.begin(); it != now.end(); ++it) {
+      const std::string p = path.empty() ? it.key() : path + "." + it.key();
+      if (!was.contains(it.key())) return p + ": absent in the folder";
+      const std::string d = first_difference(was[it.key()], *it, p);
+      if (!d.empty()) return d;
+    }
+    for (auto it = was.begin(); it != was.end(); ++it)
+      if (!now.contains(it.key()))
+        return (path.empty() ? "" : path + ".") + it.key() + ": absent now";
+  }
+  return (path.empty() ? "(config)" : path) + ": " + was.dump() + " in the folder, " + now.dump() +
+         " now";
+}
+
+// experiment.json: which experiment the folder holds and when it began. A folder holding a
+// different experiment is refused rather than mixed.
+std::string claim_folder(const ExperimentConfig& config, const std::string& dir) {
+  const std::string manifest = dir + "/experiment.json";
+  const json identity = json::parse(config.identity_json());
+  if (fs::exists(manifest)) {
+    json m;
+    try {
+      m = json::parse(read_file_bytes(manifest));
+    } catch (const json::exception&) {
+      throw InputError(manifest + ": not a plastivox experiment manifest (invalid JSON)");
+    }
+    if (!m.is_object() || m.value("format", "") != "plastivox-experiment" ||
+        !m.contains("identity") || !m.contains("created"))
+      throw InputError(manifest + ": not a plastivox experiment manifest");
+    const std::string d = first_difference(m["identity"], identity, "");
+    if (!d.empty())
+      throw InputError(dir + ": holds another experiment (" + d +
+                       "); use a new --out folder or the original config");
+    return m["created"].get<std::string>();
+  }
+  json m;
+  m["format"] = "plastivox-experiment";
+  m["format_version"] = 1;
+  m["created"] = utc_now();
+  m["plastivox_version"] = PLASTIVOX_VERSION;
+  m["git_commit"] = PLASTIVOX_GIT_COMMIT;
+  m["config"] = json::parse(config.canonical_json());
+  m["identity"] = identity;
+  write_file_atomic(manifest, m.dump(2) + "\n");
+  return m["created"].get<std::string>();
+}
+
+void make_folder(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw InputError(dir + ": cannot create the output folder (" + ec.message() + ")");
+  // Probe writability now rather than after an hour of evolution.
+  const std::string probe = dir + "/.write-test";
+  write_file_atomic(probe, "ok\n");
+  fs::remove(probe, ec);
+}
+
+}  // namespace
+
+ExperimentOutcome run_experiment(const ExperimentConfig& config, const ExperimentOptions& opt,
+                                 Progress& progress) {
+  for (const auto& s : opt.force) {
+    bool known = false;
+    for (const auto& k : kStages) known = known || s == k;
+    if (!known)
+      throw InputError("--force: unknown stage '" + s +
+                       "' (evolution | analysis | rendering | report)");
+  }
+  const bool leader = !opt.cluster || opt.cluster->rank() == 0;
+  const std::string& dir = opt.out_dir;
+  std::string created;
+  if (leader) {
+    make_folder(dir);
+    make_folder(dir + "/runs");
+    created = claim_folder(config, dir);
+    progress.set_log_file(dir + "/experiment.log");
+    progress.log("[experiment] " + config.name + " in " + dir + " (started " + created + ")");
+  }
+  if (opt.cluster) opt.cluster->barrier();
+
+  StageContext ctx{config, opt, progress, dir, created, {}, {}};
+  for (auto seed : config.seeds)
+    for (auto t : config.treatments) {
+      const std::string label = ExperimentConfig::run_label(t, seed);
+      ctx.run_labels.push_back(label);
+      ctx.run_files.push_back("runs/" + label + ".h5");
+    }
+  if (opt.force.count("evolution") && leader)
+    for (const auto& f : ctx.run_files) fs::remove(dir + "/" + f);
+  if (opt.cluster) opt.cluster->barrier();
+
+  ExperimentOutcome out;
+  out.outputs.push_back("experiment.json");
+  out.outputs.push_back("experiment.log");
+  if (!stage_evolution(ctx)) return out;
+  for (const auto& f : ctx.run_files) out.outputs.push_back(f);
+  if (!leader) {  // analysis, rendering and the report run on rank 0 alone
+    out.completed = true;
+    return out;
+  }
+  for (const auto& f : stage_analysis(ctx)) out.outputs.push_back(f);
+  for (const auto& f : stage_rendering(ctx)) out.outputs.push_back(f);
+  for (const auto& f : stage_report(ctx, out.outputs)) out.outputs.push_back(f);
+  out.completed = true;
+  return out;
+}
+
+}  // namespace plastivox::experiment
