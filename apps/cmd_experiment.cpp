@@ -67,6 +67,7 @@ int cmd_experiment(const Args& in) {
   const std::string threads = take_option(args, "--threads", "");
   const std::string force = take_option(args, "--force", "");
   const std::string print_preset = take_option(args, "--print-preset", "");
+  const std::string only_run = take_option(args, "--run", "");
   const bool estimate_only = take_flag(args, "--estimate-only");
   reject_unknown_options(args);
   if (!args.empty()) throw UsageError{"unexpected argument '" + args[0] + "'"};
@@ -84,6 +85,7 @@ int cmd_experiment(const Args& in) {
   experiment::ExperimentOptions opt;
   opt.out_dir = out;
   opt.force = parse_force(force);
+  opt.only_run = only_run;
   opt.stop_requested = &g_stop;
   for (const auto& a : in) opt.command_line += (opt.command_line.empty() ? "" : " ") + a;
   opt.command_line = "plastivox experiment " + opt.command_line;
@@ -132,6 +134,11 @@ int cmd_experiment(const Args& in) {
     return refuse_together(*opt.cluster, "experiment", e.what());
   }
   if (!leader) return 0;
+  if (outcome.completed && !only_run.empty()) {
+    std::printf("plastivox experiment: run %s evolved into %s/runs/%s.h5\n", only_run.c_str(),
+                out.c_str(), only_run.c_str());
+    return 0;
+  }
   if (!outcome.completed) {
     std::fprintf(stderr, "plastivox experiment: stopped; run the same command again to resume\n");
     return 130;

@@ -33,7 +33,7 @@ add_library(plastivox_experiment STATIC
 target_include_directories(plastivox_experiment PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}
   PRIVATE ${CMAKE_CURRENT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/experiment
   ${CMAKE_CURRENT_SOURCE_DIR}/experiment)
-target_link_libraries(plastivox_experiment PUBLIC plastivox_evo_h5 plastivox_analysis
+target_link_libraries(plastivox_experiment PUBLIC plastivox_evo_h5 plastivox_analysis plastivox_study
   PRIVATE nlohmann_json::nlohmann_json)
 foreach(lib plastivox_render plastivox_video plastivox_panels)
   if(TARGET ${lib})

@@ -112,13 +112,23 @@ ExperimentOutcome run_experiment(const ExperimentConfig& config, const Experimen
   }
   if (opt.cluster) opt.cluster->barrier();
 
-  StageContext ctx{config, opt, progress, dir, created, {}, {}};
+  StageContext ctx{config, opt, progress, dir, created, {}, {}, 0, nullptr};
   for (auto seed : config.seeds)
     for (auto t : config.treatments) {
       const std::string label = ExperimentConfig::run_label(t, seed);
       ctx.run_labels.push_back(label);
       ctx.run_files.push_back("runs/" + label + ".h5");
     }
+  if (!opt.only_run.empty()) {
+    size_t i = 0;
+    while (i < ctx.run_labels.size() && ctx.run_labels[i] != opt.only_run) ++i;
+    if (i == ctx.run_labels.size())
+      throw InputError("--run: '" + opt.only_run + "' is not a run of this experiment (" +
+                       ctx.run_labels.front() + " ... " + ctx.run_labels.back() + ")");
+    ctx.run_labels = {ctx.run_labels[i]};
+    ctx.run_files = {ctx.run_files[i]};
+    ctx.run_index_offset = static_cast<int>(i);
+  }
   if (opt.force.count("evolution") && leader)
     for (const auto& f : ctx.run_files) fs::remove(dir + "/" + f);
   if (opt.cluster) opt.cluster->barrier();
@@ -128,12 +138,17 @@ ExperimentOutcome run_experiment(const ExperimentConfig& config, const Experimen
   out.outputs.push_back("experiment.log");
   if (!stage_evolution(ctx)) return out;
   for (const auto& f : ctx.run_files) out.outputs.push_back(f);
-  if (!leader) {  // analysis, rendering and the report run on rank 0 alone
+  if (!leader || !opt.only_run.empty()) {  // analysis, rendering and the report run on rank 0 alone
     out.completed = true;
     return out;
   }
+  // A stop request between stages ends the session cleanly; every stage is resumable.
+  auto stopping = [&] { return opt.stop_requested && opt.stop_requested->load(); };
+  if (stopping()) return out;
   for (const auto& f : stage_analysis(ctx)) out.outputs.push_back(f);
+  if (stopping()) return out;
   for (const auto& f : stage_rendering(ctx)) out.outputs.push_back(f);
+  if (stopping()) return out;
   for (const auto& f : stage_report(ctx, out.outputs)) out.outputs.push_back(f);
   out.completed = true;
   return out;

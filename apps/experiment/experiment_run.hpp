@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -17,6 +18,9 @@
 
 namespace plastivox::evo {
 class Cluster;
+}
+namespace plastivox::analysis {
+struct StudyResult;
 }
 
 namespace plastivox::experiment {
@@ -30,6 +34,9 @@ struct ExperimentOptions {
   const std::atomic<bool>* stop_requested = nullptr;  // Ctrl-C: stop at the next checkpoint
   evo::Cluster* cluster = nullptr;                    // under mpirun: evolution runs on every rank
   std::string command_line;                           // for provenance
+  // Evolve only this run ("stress-s3") and stop: one task of a cluster job array; a final
+  // `plastivox experiment` without it then analyses, renders and reports.
+  std::string only_run;
 };
 
 struct ExperimentOutcome {
@@ -52,6 +59,8 @@ struct StageContext {
   std::string manifest_date;           // when the experiment was first started (UTC, ISO 8601)
   std::vector<std::string> run_files;  // runs/<label>.h5, in run order
   std::vector<std::string> run_labels;
+  int run_index_offset = 0;  // index of run_files[0] among all runs (with --run)
+  std::shared_ptr<const analysis::StudyResult> study;  // set by stage_analysis
 };
 bool stage_evolution(StageContext& ctx);  // false: stopped by request
 std::vector<std::string> stage_analysis(StageContext& ctx);

@@ -13,14 +13,15 @@ bool stage_evolution(StageContext& ctx) {
   const auto& cfg = ctx.config;
   const int64_t p = cfg.evolution.population, g = cfg.evolution.generations;
   const int64_t per_run = p + g * (p + 1);  // candidates made, before cache hits
-  const int64_t total = per_run * cfg.runs();
+  const int64_t total = per_run * static_cast<int64_t>(ctx.run_files.size());
   int64_t done_before_session = 0, done = 0;
   const auto t0 = std::chrono::steady_clock::now();
 
   for (size_t r = 0; r < ctx.run_files.size(); ++r) {
     const auto& label = ctx.run_labels[r];
-    const auto treatment = cfg.treatments[r % cfg.treatments.size()];
-    const auto seed = cfg.seeds[r / cfg.treatments.size()];
+    const size_t global = r + static_cast<size_t>(ctx.run_index_offset);
+    const auto treatment = cfg.treatments[global % cfg.treatments.size()];
+    const auto seed = cfg.seeds[global / cfg.treatments.size()];
     const std::string path = ctx.dir + "/" + ctx.run_files[r];
 
     evo::RunOptions ro;
@@ -40,10 +41,10 @@ bool stage_evolution(StageContext& ctx) {
       const double rate = (done - done_before_session) / std::max(el, 1e-9);
       char buf[256];
       std::snprintf(buf, sizeof buf,
-                    "[evolution] run %zu/%d %s  generation %d/%d  best %.3f  | %.0f%% of "
+                    "[evolution] run %zu/%zu %s  generation %d/%d  best %.3f  | %.0f%% of "
                     "evolution, ETA %s",
-                    r + 1, cfg.runs(), label.c_str(), rp.generations_done, rp.generations_total,
-                    rp.stats.best_fitness, 100.0 * done / total,
+                    r + 1, ctx.run_files.size(), label.c_str(), rp.generations_done,
+                    rp.generations_total, rp.stats.best_fitness, 100.0 * done / total,
                     rate > 0 ? human_duration((total - done) / rate).c_str() : "?");
       ctx.progress.status(buf);
     };

@@ -1,7 +1,89 @@
+// Stage 3: figure panels, champion galleries and the callus-growth video.
+//
+// Each output is redrawn only when what it depends on changed: .stamps/rendering.json maps
+// each output group to a key made of the study fingerprint (the champions' content and the
+// analysis options) and the rendering settings that group uses.
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
 #include "experiment_run.hpp"
+#include "plastivox/analysis/study.hpp"
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/render/panels.hpp"
+
 namespace plastivox::experiment {
-std::vector<std::string> stage_rendering(StageContext& ctx) {
-  ctx.progress.log("[rendering] pending");
-  return {};
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+class Stamps {
+ public:
+  explicit Stamps(std::string path) : path_(std::move(path)) {
+    try {
+      if (fs::exists(path_)) stamps_ = json::parse(read_file_bytes(path_));
+    } catch (const std::exception&) {
+      stamps_ = json::object();  // unreadable: everything is redrawn
+    }
+    if (!stamps_.is_object()) stamps_ = json::object();
+  }
+  bool current(const std::string& item, const std::string& key,
+               const std::vector<std::string>& files, const std::string& dir) const {
+    if (!stamps_.contains(item) || stamps_[item] != key) return false;
+    for (const auto& f : files)
+      if (!fs::exists(dir + "/" + f)) return false;
+    return true;
+  }
+  void record(const std::string& item, const std::string& key) {
+    stamps_[item] = key;
+    write_file_atomic(path_, stamps_.dump(1) + "\n");
+  }
+
+ private:
+  std::string path_;
+  json stamps_ = json::object();
+};
+
+std::vector<std::string> relative(const std::vector<std::string>& paths, const std::string& dir) {
+  std::vector<std::string> out;
+  for (const auto& p : paths) out.push_back(fs::relative(p, dir).string());
+  return out;
 }
+
+std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
+  const auto& r = ctx.config.rendering;
+  const std::string key = ctx.study->fingerprint + " figures " + std::to_string(r.figure_width) +
+                          "x" + std::to_string(r.figure_height);
+  std::vector<std::string> files;
+  for (const char* id : {"A", "B", "C", "D", "E", "F"})
+    for (const char* ext : {".png", ".svg"})
+      files.push_back(std::string("figures/panel_") + id + ext);
+  files.push_back("figures/figure_5.png");
+  files.push_back("figures/figure_5.svg");
+  if (!ctx.opt.force.count("rendering") && stamps.current("figures", key, files, ctx.dir)) {
+    ctx.progress.log("[rendering] figure panels up to date");
+    return files;
+  }
+  render::FigureOptions fo;
+  fo.width = r.figure_width;
+  fo.height = r.figure_height;
+  const auto figure = render::read_stats_figure(ctx.dir + "/stats.json");
+  files = relative(render::write_figures(figure, ctx.dir + "/figures", fo), ctx.dir);
+  stamps.record("figures", key);
+  ctx.progress.log("[rendering] figure panels A-F: " + std::to_string(files.size()) + " files");
+  return files;
+}
+
+}  // namespace
+
+std::vector<std::string> stage_rendering(StageContext& ctx) {
+  fs::create_directories(ctx.dir + "/.stamps");
+  Stamps stamps(ctx.dir + "/.stamps/rendering.json");
+  std::vector<std::string> out;
+  if (ctx.config.rendering.figures)
+    for (const auto& f : render_figures(ctx, stamps)) out.push_back(f);
+  return out;
+}
+
 }  // namespace plastivox::experiment

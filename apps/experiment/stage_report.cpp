@@ -1,7 +1,103 @@
+// Stage 4: report.html — the analysis report with the experiment's own sections (what was
+// run, the figure panels, galleries and video) added; rewritten only if its bytes change.
+#include <cstdio>
+#include <filesystem>
+
 #include "experiment_run.hpp"
+#include "plastivox/analysis/study.hpp"
+#include "plastivox/atomic_file.hpp"
+#include "plastivox_version.hpp"
+
 namespace plastivox::experiment {
-std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::string>&) {
-  ctx.progress.log("[report] pending");
-  return {};
+namespace {
+
+namespace fs = std::filesystem;
+using analysis::ReportMedia;
+using analysis::ReportSection;
+
+bool starts_with(const std::string& s, const std::string& p) {
+  return s.rfind(p, 0) == 0;
 }
+bool ends_with(const std::string& s, const std::string& e) {
+  return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+}
+
+ReportSection experiment_section(const StageContext& ctx) {
+  const auto& c = ctx.config;
+  const auto& e = c.evolution;
+  ReportSection s;
+  s.title = "Experiment '" + c.name + "'";
+  std::string treatments;
+  for (auto t : c.treatments)
+    treatments += (treatments.empty() ? "" : ", ") + std::string(to_string(t));
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "%d runs: treatments %s x %zu seeds; population %d, %d generations; lattice "
+                "%dx%dx%d of %.3g m voxels; %.2f s lives (%.2f s settling); E in [%.3g, %.3g] Pa.",
+                c.runs(), treatments.c_str(), c.seeds.size(), e.population, e.generations, e.nx,
+                e.ny, e.nz, e.voxel_size, e.physics.duration, e.physics.settle_time,
+                e.physics.e_min, e.physics.e_max);
+  s.paragraphs.push_back(buf);
+  s.paragraphs.push_back("Started " + ctx.manifest_date + " by plastivox " + PLASTIVOX_VERSION +
+                         " (commit " + PLASTIVOX_GIT_COMMIT +
+                         "). The full configuration is in "
+                         "experiment.json, every session's log in experiment.log.");
+  s.media.push_back({ReportMedia::Kind::kLink, "experiment.json", "configuration and provenance"});
+  s.media.push_back({ReportMedia::Kind::kLink, "experiment.log", "log of every session"});
+  for (const auto& f : ctx.run_files)
+    s.media.push_back({ReportMedia::Kind::kLink, f, "evolution results " + f});
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::string>& outputs) {
+  analysis::ReportExtras extras;
+  extras.title = "plastivox experiment '" + ctx.config.name + "'";
+  extras.sections.push_back(experiment_section(ctx));
+
+  ReportSection figures{"Figure 5: run champions compared", {}, {}, ""};
+  ReportSection galleries{
+      "Champion galleries (after settling, coloured by congenital stiffness)", {}, {}, ""};
+  ReportSection videos{"Callus growth", {}, {}, ""};
+  for (const auto& f : outputs) {
+    const std::string name = fs::path(f).filename().string();
+    if (starts_with(f, "figures/panel_") && ends_with(f, ".png"))
+      figures.media.push_back({ReportMedia::Kind::kImage, f, "Panel " + name.substr(6, 1)});
+    else if (starts_with(f, "figures/") && ends_with(f, ".svg"))
+      figures.media.push_back({ReportMedia::Kind::kLink, f, "vector " + name});
+    else if (starts_with(f, "figures/gallery_") && ends_with(f, ".png"))
+      galleries.media.push_back({ReportMedia::Kind::kImage, f, name.substr(8, name.size() - 12)});
+    else if (starts_with(f, "videos/") && ends_with(f, ".mp4"))
+      videos.media.push_back({ReportMedia::Kind::kVideo, f, name});
+  }
+  if (!figures.media.empty()) {
+    figures.paragraphs.push_back(
+        "A fitness, B diversity (Hausdorff distance within a treatment), C robustness, "
+        "D M_body, E V_body, F V_gain: treatment means with 95 % bootstrap confidence intervals; "
+        "stars mark Bonferroni-corrected bootstrap tests (* P<0.05, ** P<0.01, *** P<0.001).");
+    extras.sections.push_back(figures);
+  }
+  if (!galleries.media.empty()) extras.sections.push_back(galleries);
+  if (!videos.media.empty()) {
+    videos.paragraphs.push_back(
+        "The best developing champion's whole life, coloured by its stiffness relative to its "
+        "congenital stiffness (E/E0): stiffening and softening in a diverging colour map.");
+    extras.sections.push_back(videos);
+  }
+
+  const std::string path = ctx.dir + "/report.html";
+  const std::string html = analysis::report_html(*ctx.study, extras);
+  bool same = false;
+  if (fs::exists(path)) {
+    try {
+      same = read_file_bytes(path) == html;
+    } catch (const std::exception&) {
+    }
+  }
+  if (!same) write_file_atomic(path, html);
+  ctx.progress.log(same ? "[report] report.html up to date" : "[report] wrote report.html");
+  return {"report.html"};
+}
+
 }  // namespace plastivox::experiment
