@@ -2,6 +2,7 @@
 // resumable stage by stage (apps/experiment/, docs/experiment.md).
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -43,6 +44,11 @@ std::set<std::string> parse_force(const std::string& s) {
     out.erase("");
     for (const auto& st : experiment::kStages) out.insert(st);
   }
+  for (const auto& st : out)
+    if (std::find(experiment::kStages.begin(), experiment::kStages.end(), st) ==
+        experiment::kStages.end())
+      throw UsageError{"--force: unknown stage '" + st +
+                       "' (evolution | analysis | rendering | report | all)"};
   return out;
 }
 

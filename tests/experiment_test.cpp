@@ -1,0 +1,263 @@
+// plastivox experiment: config validation, presets, cost estimate, and the whole study end
+// to end on a micro config (seconds): every promised output, consistency between them, and
+// kills mid-evolution and mid-analysis followed by a rerun giving the same results.
+#include <fstream>
+#include <regex>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "experiment/cost_estimate.hpp"
+#include "experiment/experiment_config.hpp"
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+using experiment::parse_experiment_config;
+using nlohmann::json;
+using testing::shell;
+
+const std::string kCli = PLASTIVOX_CLI;
+
+// Three treatments x two seeds of 3x3x3 robots living 0.6 s: the smallest study that still
+// has two champions per treatment (so every statistic and interval exists).
+json micro_config() {
+  return json::parse(R"({
+    "format": "plastivox-experiment-config", "version": 1, "name": "micro",
+    "treatments": ["none", "stress", "pressure"], "seeds": [1, 2],
+    "evolution": {"population": 2, "generations": 2,
+                  "lattice": {"nx": 3, "ny": 3, "nz": 3, "voxel_size": 0.01},
+                  "physics": {"preset": "gecco2018-code", "duration": 0.6}},
+    "analysis": {"robustness_draws": 2, "resamples": 500},
+    "rendering": {"figure_size": "320x240", "gallery_size": "480x270", "video_size": "160x96",
+                  "video_fps": 10},
+    "threads": 2
+  })");
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_experiment_config(text, "study.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(ExperimentConfig, ErrorsNameTheirField) {
+  auto with = [](const std::string& key, const json& value) {
+    json j = micro_config();
+    j[key] = value;
+    return j.dump();
+  };
+  EXPECT_EQ(error_of("{"), error_of("{")) << "deterministic";
+  EXPECT_NE(error_of("{").find("study.json: (file): not valid JSON"), std::string::npos);
+  EXPECT_NE(error_of(with("colour", 1)).find("study.json: colour: unknown field"),
+            std::string::npos);
+  EXPECT_NE(error_of(with("seeds", json::array({1, 1}))).find("seeds[1]: seed 1 listed twice"),
+            std::string::npos);
+  EXPECT_NE(error_of(with("seeds", json::array({1, -2}))).find("seeds[1]"), std::string::npos);
+  EXPECT_NE(error_of(with("treatments", json::array({"none", "growth"}))).find("treatments[1]"),
+            std::string::npos);
+  json j = micro_config();
+  j["evolution"]["population"] = 0;
+  EXPECT_NE(error_of(j.dump()).find("study.json: evolution: population"), std::string::npos);
+  j = micro_config();
+  j["evolution"]["seed"] = 3;
+  EXPECT_NE(error_of(j.dump()).find("evolution.seed: not allowed here"), std::string::npos);
+  j = micro_config();
+  j["evolution"]["physics"]["e_max"] = "hard";
+  EXPECT_NE(error_of(j.dump()).find("e_max"), std::string::npos);
+  j = micro_config();
+  j["rendering"]["video_size"] = "640by480";
+  EXPECT_NE(error_of(j.dump()).find("rendering.video_size"), std::string::npos);
+  j = micro_config();
+  j["analysis"]["rotations"] = "some";
+  EXPECT_NE(error_of(j.dump()).find("analysis.rotations"), std::string::npos);
+  j = micro_config();
+  j["format"] = "plastivox-evolve-config";
+  EXPECT_NE(error_of(j.dump()).find("study.json: format"), std::string::npos);
+}
+
+TEST(ExperimentConfig, PresetsParseAndGecco2018IsThePaper) {
+  for (const auto& name : experiment::preset_names())
+    EXPECT_NO_THROW(experiment::preset_config(name)) << name;
+  const auto paper = experiment::preset_config("gecco2018");
+  EXPECT_EQ(paper.treatments.size(), 3u);
+  EXPECT_EQ(paper.seeds.size(), 20u);
+  EXPECT_EQ(paper.evolution.population, 24);
+  EXPECT_EQ(paper.evolution.generations, 5000);
+  EXPECT_EQ(paper.evolution.nx * paper.evolution.ny * paper.evolution.nz, 1000);
+  EXPECT_DOUBLE_EQ(paper.evolution.physics.duration, 5.2);
+  EXPECT_EQ(paper.analysis.robustness_draws, 10);
+  EXPECT_THROW(experiment::preset_config("huge"), InputError);
+  // The canonical form parses back to itself.
+  const auto tiny = experiment::preset_config("tiny");
+  EXPECT_EQ(parse_experiment_config(tiny.canonical_json(), "x").canonical_json(),
+            tiny.canonical_json());
+}
+
+TEST(ExperimentCost, CountsEveryEvaluation) {
+  const auto c = parse_experiment_config(micro_config().dump(), "micro");
+  experiment::SpeedSample s;
+  s.seconds_per_evaluation = 2.0;
+  const auto e = experiment::estimate_cost(c, s, 1);
+  EXPECT_EQ(e.evolution_evaluations, 6 * (2 + 2 * 3));  // runs x (P + G (P + 1))
+  EXPECT_EQ(e.analysis_evaluations, 6 * (1 + 2));       // champions x (1 + draws)
+  EXPECT_DOUBLE_EQ(e.core_hours, (48 + 18) * 2.0 / 3600);
+  const auto measured = experiment::measure_speed(c, 0.05);
+  EXPECT_GT(measured.voxel_steps_per_second, 0);
+  EXPECT_GT(measured.steps_per_life, 100);
+}
+
+class ExperimentRun : public testing::ScratchDirTest {
+ protected:
+  std::string write_config(const json& j, const std::string& name = "micro.json") {
+    const std::string p = path(name);
+    write_file_atomic(p, j.dump(2));
+    return p;
+  }
+  testing::Output run(const std::string& args) {
+    return shell(kCli + " experiment " + args + " 2>&1");
+  }
+  static json stats_without_date(const std::string& dir) {
+    json j = json::parse(read_file_bytes(dir + "/stats.json"));
+    j["provenance"].erase("date");
+    j["provenance"].erase("command");
+    return j;
+  }
+  static std::string digest_of(const std::string& h5) {
+    const auto o = shell(kCli + " inspect " + h5 + " --json");
+    return json::parse(o.out).at("content_digest").get<std::string>();
+  }
+};
+
+TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
+  const std::string cfg = write_config(micro_config());
+  const std::string dir = path("study");
+  const auto o = run("--config " + cfg + " --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("estimate:"), std::string::npos) << "the cost is printed first";
+  for (const char* f : {"experiment.json", "experiment.log", "stats.json", "champions.csv",
+                        "statistics.csv", "hausdorff.csv", "analysis.h5", "report.html"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  for (const char* id : {"A", "B", "C", "D", "E", "F"})
+    for (const char* ext : {".png", ".svg"}) {
+      const std::string f = dir + "/figures/panel_" + id + ext;
+      EXPECT_TRUE(std::filesystem::exists(f)) << f;
+    }
+  for (const char* t : {"none", "stress", "pressure"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/runs/" + std::string(t) + "-s1.h5"));
+    EXPECT_TRUE(std::filesystem::exists(dir + "/runs/" + std::string(t) + "-s2.h5"));
+  }
+  // The summary lists every output, none missing.
+  EXPECT_NE(o.out.find("report.html"), std::string::npos);
+  EXPECT_EQ(o.out.find("(missing)"), std::string::npos) << o.out;
+
+  // The report quotes the statistics of stats.json and names every champion.
+  const json stats = json::parse(read_file_bytes(dir + "/stats.json"));
+  const std::string report = read_file_bytes(dir + "/report.html");
+  ASSERT_EQ(stats["champions"].size(), 6u);
+  for (const auto& c : stats["champions"])
+    EXPECT_NE(report.find(c["label"].get<std::string>()), std::string::npos) << c["label"];
+  for (const char* id : {"A", "B", "C", "D", "E", "F"})
+    EXPECT_NE(report.find("figures/panel_" + std::string(id) + ".png"), std::string::npos) << id;
+  // Every input of the analysis is one of this experiment's runs, with its digest.
+  ASSERT_EQ(stats["provenance"]["inputs"].size(), 6u);
+  for (const auto& in : stats["provenance"]["inputs"]) {
+    const std::string f = in["file"].get<std::string>();
+    EXPECT_EQ(in["content_digest"].get<std::string>(), digest_of(f)) << f;
+  }
+
+  // A second run does nothing and changes nothing.
+  const std::string before = read_file_bytes(dir + "/stats.json");
+  const auto again = run("--config " + cfg + " --out " + dir);
+  ASSERT_EQ(again.status, 0) << again.out;
+  EXPECT_NE(again.out.find("already finished"), std::string::npos);
+  EXPECT_NE(again.out.find("[analysis] up to date"), std::string::npos) << again.out;
+  EXPECT_EQ(read_file_bytes(dir + "/stats.json"), before);
+}
+
+TEST_F(ExperimentRun, RefusesBadInputWithOneLine) {
+  const std::string cfg = write_config(micro_config());
+  // A folder holding another experiment.
+  const std::string dir = path("study");
+  json other = micro_config();
+  other["seeds"] = json::array({7, 8});
+  ASSERT_EQ(
+      run("--config " + write_config(other, "other.json") + " --out " + dir + " --estimate-only")
+          .status,
+      0);
+  std::filesystem::create_directories(dir);
+  write_file_atomic(
+      dir + "/experiment.json",
+      json{{"format", "plastivox-experiment"},
+           {"created", "x"},
+           {"identity", json::parse(parse_experiment_config(other.dump(), "o").identity_json())}}
+          .dump());
+  auto o = run("--config " + cfg + " --out " + dir);
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.out.find("holds another experiment (seeds"), std::string::npos) << o.out;
+  // An unwritable place.
+  o = run("--config " + cfg + " --out /proc/plastivox-study");
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.out.find("/proc/plastivox-study"), std::string::npos) << o.out;
+  // A config error names the file and field; an unknown stage is refused.
+  json bad = micro_config();
+  bad["evolution"]["generations"] = -1;
+  o = run("--config " + write_config(bad, "bad.json") + " --out " + path("x"));
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.out.find("bad.json: evolution: generations"), std::string::npos) << o.out;
+  o = run("--config " + cfg + " --out " + path("y") + " --force everything");
+  EXPECT_NE(o.status, 0);
+  EXPECT_NE(o.out.find("--force: unknown stage 'everything'"), std::string::npos) << o.out;
+  EXPECT_FALSE(std::filesystem::exists(path("x") + "/stats.json"));
+}
+
+// Kills the experiment with SIGKILL as soon as `marker` (a shell glob) exists.
+testing::Output kill_when(const std::string& args, const std::string& marker) {
+  return shell("(" + kCli + " experiment " + args + " >/dev/null 2>&1 & pid=$!; " +
+               "for i in $(seq 1 3000); do if ls " + marker + " >/dev/null 2>&1; then " +
+               "kill -9 $pid; wait $pid; exit 9; fi; sleep 0.01; done; wait $pid)");
+}
+
+TEST_F(ExperimentRun, KilledMidEvolutionAndMidAnalysisResumesToTheSameResults) {
+  json cfg_json = micro_config();
+  cfg_json["analysis"]["robustness_draws"] = 4;  // slower analysis: a window to kill it in
+  const std::string cfg = write_config(cfg_json);
+  const std::string ref = path("reference"), dir = path("killed");
+  ASSERT_EQ(run("--config " + cfg + " --out " + ref).status, 0);
+
+  // Killed once the second run has a checkpoint, i.e. in the middle of evolution.
+  const auto k1 = kill_when("--config " + cfg + " --out " + dir, dir + "/runs/stress-s1.h5");
+  EXPECT_EQ(k1.status, 9) << "the experiment finished before it could be killed";
+  EXPECT_FALSE(std::filesystem::exists(dir + "/stats.json"));
+  // Rerun to the end of evolution only (--force of no stage is a plain resume), then kill in
+  // the analysis once the first champion's robustness is checkpointed.
+  const auto k2 = kill_when("--config " + cfg + " --out " + dir, dir + "/cache/robustness/*");
+  EXPECT_EQ(k2.status, 9) << "the analysis finished before it could be killed";
+  const auto o = run("--config " + cfg + " --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.out;
+
+  for (const auto& e : std::filesystem::directory_iterator(ref + "/runs")) {
+    if (e.path().extension() != ".h5") continue;
+    EXPECT_EQ(digest_of(e.path().string()),
+              digest_of(dir + "/runs/" + e.path().filename().string()))
+        << e.path();
+  }
+  json a = stats_without_date(ref), b = stats_without_date(dir);
+  // The inputs' file names differ by folder; their digests must not.
+  for (auto* j : {&a, &b})
+    for (auto& in : (*j)["provenance"]["inputs"]) in.erase("file");
+  for (auto* j : {&a, &b})
+    for (auto& c : (*j)["champions"]) c.erase("file");
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(read_file_bytes(ref + "/figures/panel_C.svg"),
+            read_file_bytes(dir + "/figures/panel_C.svg"));
+}
+
+}  // namespace
+}  // namespace plastivox
