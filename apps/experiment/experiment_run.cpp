@@ -102,15 +102,26 @@ ExperimentOutcome run_experiment(const ExperimentConfig& config, const Experimen
   }
   const bool leader = !opt.cluster || opt.cluster->rank() == 0;
   const std::string& dir = opt.out_dir;
-  std::string created;
+  std::string created, refusal;
   if (leader) {
-    make_folder(dir);
-    make_folder(dir + "/runs");
-    created = claim_folder(config, dir);
-    progress.set_log_file(dir + "/experiment.log");
-    progress.log("[experiment] " + config.name + " in " + dir + " (started " + created + ")");
+    try {
+      make_folder(dir);
+      make_folder(dir + "/runs");
+      created = claim_folder(config, dir);
+    } catch (const std::exception& e) {
+      if (!opt.cluster) throw;
+      refusal = e.what();
+    }
+    if (refusal.empty()) {
+      progress.set_log_file(dir + "/experiment.log");
+      progress.log("[experiment] " + config.name + " in " + dir + " (started " + created + ")");
+    }
   }
-  if (opt.cluster) opt.cluster->barrier();
+  // Under MPI rank 0 decides and every rank raises the same refusal (none waits forever).
+  if (opt.cluster) {
+    opt.cluster->broadcast(refusal);
+    if (!refusal.empty()) throw evo::RunRefused(refusal);
+  }
 
   StageContext ctx{config, opt, progress, dir, created, {}, {}, 0, nullptr};
   for (auto seed : config.seeds)

@@ -16,6 +16,10 @@ bool stage_evolution(StageContext& ctx) {
   const int64_t total = per_run * static_cast<int64_t>(ctx.run_files.size());
   int64_t done_before_session = 0, done = 0;
   const auto t0 = std::chrono::steady_clock::now();
+  const bool leader = !ctx.opt.cluster || ctx.opt.cluster->rank() == 0;  // rank 0 talks
+  auto log = [&](const std::string& line) {
+    if (leader) ctx.progress.log(line);
+  };
 
   for (size_t r = 0; r < ctx.run_files.size(); ++r) {
     const auto& label = ctx.run_labels[r];
@@ -28,7 +32,7 @@ bool stage_evolution(StageContext& ctx) {
     ro.cluster = ctx.opt.cluster;
     ro.threads = ctx.opt.threads;
     ro.stop_requested = ctx.opt.stop_requested;
-    ro.on_message = [&](const std::string& m) { ctx.progress.log("[evolution] " + m); };
+    ro.on_message = [&](const std::string& m) { log("[evolution] " + m); };
     bool first_report = true;
     ro.on_generation = [&](const evo::RunProgress& rp) {
       const int64_t run_done = p + static_cast<int64_t>(rp.generations_done) * (p + 1);
@@ -51,16 +55,15 @@ bool stage_evolution(StageContext& ctx) {
     const evo::RunReport rep = evo::run_evolution(cfg.run_config(treatment, seed), path, ro);
     if (rep.outcome == evo::RunOutcome::kAlreadyFinished) {
       done_before_session += per_run;
-      ctx.progress.log("[evolution] " + label + ": already finished (" +
-                       std::to_string(rep.generations_done) + " generations), kept");
+      log("[evolution] " + label + ": already finished (" + std::to_string(rep.generations_done) +
+          " generations), kept");
     } else if (rep.outcome == evo::RunOutcome::kStopped) {
-      ctx.progress.log("[evolution] " + label + ": stopped after generation " +
-                       std::to_string(rep.generations_done) + " (checkpointed; rerun to resume)");
+      log("[evolution] " + label + ": stopped after generation " +
+          std::to_string(rep.generations_done) + " (checkpointed; rerun to resume)");
       return false;
     } else {
-      ctx.progress.log("[evolution] " + label + ": finished " +
-                       std::to_string(rep.generations_done) + " generations, digest " +
-                       rep.content_digest.substr(0, 12));
+      log("[evolution] " + label + ": finished " + std::to_string(rep.generations_done) +
+          " generations, digest " + rep.content_digest.substr(0, 12));
     }
   }
   return true;
