@@ -11,6 +11,7 @@
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/render/panels.hpp"
+#include "plastivox/render/render_life.hpp"
 
 namespace plastivox::experiment {
 namespace {
@@ -75,6 +76,52 @@ std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   return files;
 }
 
+// The callus-growth video: the fittest champion of a developing treatment (stress or
+// pressure), its whole life coloured by E/E0.
+std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
+  const analysis::ChampionAnalysis* best = nullptr;
+  for (const auto& c : ctx.study->champions) {
+    if (c.treatment == Treatment::kNone || c.evaluation != "ok") continue;
+    if (!best || c.fitness > best->fitness) best = &c;
+  }
+  if (!best) {
+    ctx.progress.log("[rendering] no video: no developing champion lived a stable life");
+    return {};
+  }
+  const auto& r = ctx.config.rendering;
+  const std::string file = "videos/callus_" + best->label + ".mp4";
+  const std::string key = ctx.study->fingerprint + " video " + best->label + " " +
+                          std::to_string(r.video_width) + "x" + std::to_string(r.video_height) +
+                          " " + std::to_string(r.video_fps) + " " + r.video_color;
+  if (!ctx.opt.force.count("rendering") && stamps.current("video", key, {file}, ctx.dir)) {
+    ctx.progress.log("[rendering] video up to date");
+    return {file};
+  }
+  fs::create_directories(ctx.dir + "/videos");
+  // An earlier champion's video is stale once another one is the best.
+  for (const auto& e : fs::directory_iterator(ctx.dir + "/videos"))
+    if (e.path().extension() == ".mp4") fs::remove(e.path());
+  render::FrameStyle style;
+  style.width = r.video_width;
+  style.height = r.video_height;
+  style.color = render::parse_color_mode(r.video_color);
+  render::VideoJob job;
+  job.fps = r.video_fps;
+  const std::string source = ctx.dir + "/runs/" + best->label + ".h5";
+  const auto v = render::render_video_file(
+      source, style, job, ctx.dir + "/" + file,
+      [&](const std::string& m) { ctx.progress.status("[rendering] " + m); });
+  stamps.record("video", key);
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "[rendering] %s: %d frames, %.1f s of video (%s); simulated in %.1f s, drawn and "
+                "encoded in %.1f s",
+                file.c_str(), v.frames, v.duration_s, v.codec.c_str(), v.simulate_seconds,
+                v.render_seconds);
+  ctx.progress.log(buf);
+  return {file};
+}
+
 }  // namespace
 
 std::vector<std::string> stage_rendering(StageContext& ctx) {
@@ -83,6 +130,8 @@ std::vector<std::string> stage_rendering(StageContext& ctx) {
   std::vector<std::string> out;
   if (ctx.config.rendering.figures)
     for (const auto& f : render_figures(ctx, stamps)) out.push_back(f);
+  if (ctx.config.rendering.video)
+    for (const auto& f : render_video(ctx, stamps)) out.push_back(f);
   return out;
 }
 
