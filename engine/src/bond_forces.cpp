@@ -81,13 +81,13 @@ struct BondGeometry {
   double q2w;         // scalar part of b's rotation relative to a
 };
 
-inline BondGeometry bond_geometry(const Model& m, const State& s, const Workspace& w, int b,
-                                  bool small_angle) {
+// R: voxel a's orientation as a column-major rotation matrix (R[0..2] the first column).
+inline BondGeometry bond_geometry(const Model& m, const State& s, const Workspace& w,
+                                  const double* R, int b, bool small_angle) {
   const int ia = m.bond_a[b], ib = m.bond_b[b], d = m.bond_axis[b];
   BondGeometry g;
   g.axis = d;
   // Chord in a's body frame: R_a^T (p_b - p_a), then permuted.
-  const double* R = w.rot[ia].data();  // column-major: R[0..2] is the first column
   const double dx = s.pos[ib].x() - s.pos[ia].x();
   const double dy = s.pos[ib].y() - s.pos[ia].y();
   const double dz = s.pos[ib].z() - s.pos[ia].z();
@@ -166,21 +166,17 @@ inline Vec3 to_world(const BondGeometry& g, const double* R, const V3& v) {
               R[2] * o.x + R[5] * o.y + R[8] * o.z);
 }
 
-void update_rotations(const Model& m, const State& s, Workspace& w) {
-  for (int i = 0; i < m.n; ++i) w.rot[i] = s.orient[i].toRotationMatrix();
-}
-
 }  // namespace
 
 double elastic_energy(const Model& m, const State& s, const std::vector<double>& size) {
   Workspace w(m);
   w.size = size;
-  update_rotations(m, s, w);
   const double L = m.size, nu = m.def.poisson;
   const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   double u = 0;
   for (int b = 0; b < m.bond_count(); ++b) {
-    const BondGeometry g = bond_geometry(m, s, w, b, false);
+    const Eigen::Matrix3d R = s.orient[m.bond_a[b]].toRotationMatrix();
+    const BondGeometry g = bond_geometry(m, s, w, R.data(), b, false);
     const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
     const double e = 2.0 * ea * eb / (ea + eb);
     const double a1 = (axial_own ? ea : e) * L;
@@ -216,7 +212,9 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     const int ia = m.bond_a[b], ib = m.bond_b[b];
     bool small = s.bond_small_angle[b] != 0;
     bool damp_ok = s.bond_prev_valid[b] != 0;
-    BondGeometry g = bond_geometry(m, s, w, b, small);
+    const Eigen::Matrix3d rot = s.orient[ia].toRotationMatrix();
+    const double* R = rot.data();
+    BondGeometry g = bond_geometry(m, s, w, R, b, small);
     if (voxelyze) {
       const bool next = next_small_angle(g, small);
       if (next != small) {
@@ -224,7 +222,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
         // previous deformation is not refreshed), as in Voxelyze 0.9.
         small = next;
         s.bond_small_angle[b] = small ? 1 : 0;
-        g = bond_geometry(m, s, w, b, small);
+        g = bond_geometry(m, s, w, R, b, small);
         damp_ok = false;
       }
     }
@@ -281,7 +279,6 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     }
     s.bond_prev_valid[b] = 1;
 
-    const double* R = w.rot[ia].data();
     const Vec3 results[3] = {to_world(g, R, f), to_world(g, R, ma), to_world(g, R, mb)};
     for (int v = 0; v < 3; ++v)
       for (int k = 0; k < 3; ++k) w.bond_out[3 * v + k][b] = results[v][k];
@@ -308,89 +305,38 @@ BondConstants bond_constants(const Model& m, const State& s, const Workspace& w)
 
 }  // namespace
 
-// Exact model: gather every bond's inputs into structure-of-arrays form, run the batched
-// (vectorised) kernel, then scatter; the kernel's flagged bonds are redone in scalar.
-// Voxelyze 0.9 model: the scalar path for every bond (its frame switching branches).
+// Exact model: the batched kernel reads the voxels and writes every bond's results; the
+// few bonds it cannot handle (degenerate chords, rotations near half a turn) are redone in
+// scalar code. Voxelyze 0.9 model: the scalar path for every bond (its frame switching).
 void compute_bond_forces(const Model& m, State& s, Workspace& w) {
-  update_rotations(m, s, w);
   const int nb = m.bond_count();
   if (m.def.bond_model == BondModel::kVoxelyze09) {
     for (int b = 0; b < nb; ++b) scalar_bond(m, s, w, b);
     return;
   }
-  BondBatch& B = w.batch;
-  if (static_cast<int>(B.rx.size()) != nb) B.resize(nb);
-  // Raw pointers hoisted out of the loops: stores through std::vector elements would
-  // otherwise force the compiler to reload every vector's data pointer after each store.
-  double* __restrict rx = B.rx.data();
-  double* __restrict ry = B.ry.data();
-  double* __restrict rz = B.rz.data();
-  double* __restrict qw = B.qw.data();
-  double* __restrict qx = B.qx.data();
-  double* __restrict qy = B.qy.data();
-  double* __restrict qz = B.qz.data();
-  double* __restrict rest = B.rest.data();
-  double* __restrict ea = B.ea.data();
-  double* __restrict eb = B.eb.data();
-  double* __restrict valid = B.valid.data();
-  double* __restrict c[9];
+  if (nb == 0) return;
+  static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
+  BondKernelIo io;
+  io.bond_a = m.bond_a.data();
+  io.bond_b = m.bond_b.data();
+  io.axis = m.bond_axis.data();
+  io.pos = s.pos.front().data();
+  io.quat = s.orient.front().coeffs().data();  // x, y, z, w
+  io.size = w.size.data();
+  io.stiff = s.stiffness.data();
+  io.prev_valid = s.bond_prev_valid.data();
   for (int k = 0; k < 9; ++k) {
-    c[k] = B.c[k].data();
-    B.prev[k] = s.bond_prev[k].data();  // the kernel updates the state in place
-    B.out[k] = w.bond_out[k].data();
+    io.prev[k] = s.bond_prev[k].data();  // the kernel updates the state in place
+    io.out[k] = w.bond_out[k].data();
   }
-  B.strain = w.bond_strain.data();
-  B.stress = w.bond_stress.data();
-  const int* __restrict bond_a = m.bond_a.data();
-  const int* __restrict bond_b = m.bond_b.data();
-  const uint8_t* __restrict axis = m.bond_axis.data();
-  const Vec3* __restrict pos = s.pos.data();
-  const Quat* __restrict orient = s.orient.data();
-  const double* __restrict size = w.size.data();
-  const double* __restrict stiff = s.stiffness.data();
-  const Eigen::Matrix3d* __restrict rot = w.rot.data();
-  uint8_t* __restrict prev_valid = s.bond_prev_valid.data();
-
-  for (int b = 0; b < nb; ++b) {
-    const int ia = bond_a[b], ib = bond_b[b], d = axis[b];
-    const double* R = rot[ia].data();  // column-major
-    // Column j of the permuted orientation is column (j + d) % 3 of R.
-    const double* c0 = R + 3 * d;
-    const double* c1 = R + 3 * ((d + 1) % 3);
-    const double* c2 = R + 3 * ((d + 2) % 3);
-    const double dx = pos[ib].x() - pos[ia].x();
-    const double dy = pos[ib].y() - pos[ia].y();
-    const double dz = pos[ib].z() - pos[ia].z();
-    rx[b] = c0[0] * dx + c0[1] * dy + c0[2] * dz;
-    ry[b] = c1[0] * dx + c1[1] * dy + c1[2] * dz;
-    rz[b] = c2[0] * dx + c2[1] * dy + c2[2] * dz;
-    for (int k = 0; k < 3; ++k) {
-      c[k][b] = c0[k];
-      c[3 + k][b] = c1[k];
-      c[6 + k][b] = c2[k];
-    }
-    const Quat& qa = orient[ia];
-    const Quat& qb = orient[ib];
-    const double aw = qa.w(), ax = qa.x(), ay = qa.y(), az = qa.z();
-    const double bw = qb.w(), bx = qb.x(), by = qb.y(), bz = qb.z();
-    const double v[3] = {aw * bx - ax * bw - ay * bz + az * by,
-                         aw * by + ax * bz - ay * bw - az * bx,
-                         aw * bz - ax * by + ay * bx - az * bw};
-    qw[b] = aw * bw + ax * bx + ay * by + az * bz;
-    qx[b] = v[d];
-    qy[b] = v[(d + 1) % 3];
-    qz[b] = v[(d + 2) % 3];
-    rest[b] = 0.5 * (size[ia] + size[ib]);
-    ea[b] = stiff[ia];
-    eb[b] = stiff[ib];
-    valid[b] = prev_valid[b] ? 1.0 : 0.0;
-  }
-  bond_kernel_exact(B, nb, bond_constants(m, s, w));
-  const double* __restrict redo = B.redo.data();
-  for (int b = 0; b < nb; ++b) {
-    if (redo[b] != 0) scalar_bond(m, s, w, b);  // from the unchanged previous deformation
-    prev_valid[b] = 1;
-  }
+  io.strain = w.bond_strain.data();
+  io.stress = w.bond_stress.data();
+  w.redo.resize(nb);
+  io.redo = w.redo.data();
+  const int redo = bond_kernel_exact(io, nb, bond_constants(m, s, w));
+  // From the unchanged previous deformation.
+  for (int r = 0; r < redo; ++r) scalar_bond(m, s, w, w.redo[r]);
+  std::fill(s.bond_prev_valid.begin(), s.bond_prev_valid.end(), 1);
 }
 
 }  // namespace plastivox

@@ -1,30 +1,39 @@
-// The batched bond kernel: the exact bond model over arrays of bonds, written as one
-// branch-free loop over structure-of-arrays inputs so the compiler vectorises it (AVX2
-// where the build enables it). Element-wise IEEE arithmetic in the same order as the
-// scalar code, so vector and scalar builds give identical bits.
+// The batched bond kernel: the exact bond model over arrays of bonds, written once as a
+// branch-free template over the lane type so the compiler vectorises it (four bonds at a
+// time with AVX2 where the build enables it). It reads the voxels' centres, orientations,
+// sizes and moduli directly (no intermediate per-bond copy) and writes each bond's forces,
+// strain, stress and deformation in place. Element-wise IEEE arithmetic in the same order
+// in every lane type, so vector and scalar builds give identical bits.
 #pragma once
 
-#include <vector>
+#include <cstdint>
 
 namespace plastivox {
 
-struct BondBatch {
-  // Inputs, one entry per bond (gathered by compute_bond_forces).
-  std::vector<double> rx, ry, rz;      // chord a->b in a's permuted body frame, m
-  std::vector<double> qw, qx, qy, qz;  // rotation of b relative to a, permuted
-  std::vector<double> rest;            // actuated rest length, m
-  std::vector<double> ea, eb;          // current moduli of a and b, Pa
-  std::vector<double> valid;           // 1 if the previous deformation is recorded
-  std::vector<double> c[9];            // a's orientation with columns permuted (column-major)
-  std::vector<double> redo;            // output, 1: outside the series' range, recompute in scalar
-  // Where the kernel reads and writes bond state and results (State::bond_prev, in and out;
-  // Workspace::bond_out, bond_strain, bond_stress): set before each call.
+// Where the kernel reads and writes; raw views of Model, State and Workspace arrays.
+struct BondKernelIo {
+  // Per bond (model): voxel on the negative side, voxel on the positive side, lattice axis.
+  const int* bond_a = nullptr;
+  const int* bond_b = nullptr;
+  const uint8_t* axis = nullptr;
+  // Per voxel (state): centre (x, y, z; m, world frame), orientation (x, y, z, w: Eigen's
+  // storage order of a unit quaternion, body to world), actuated size (m), modulus (Pa).
+  const double* pos = nullptr;
+  const double* quat = nullptr;
+  const double* size = nullptr;
+  const double* stiff = nullptr;
+  // Per bond: 1 once a previous deformation is recorded (read only; the caller sets it).
+  const uint8_t* prev_valid = nullptr;
+  // Per bond, in and out: the previous deformation (State::bond_prev); out: the results
+  // (Workspace::bond_out, bond_strain, bond_stress).
   double* prev[9] = {};
   double* out[9] = {};
   double* strain = nullptr;
   double* stress = nullptr;
-
-  void resize(int n);
+  // Out: indices of the bonds the kernel could not compute (degenerate chord, relative
+  // rotation near half a turn), in increasing order; room for one per bond. They keep
+  // their previous deformation and must be recomputed by the scalar path.
+  int* redo = nullptr;
 };
 
 struct BondConstants {
@@ -35,7 +44,8 @@ struct BondConstants {
   bool axial_own;                     // axial stress from a's own modulus
 };
 
-void bond_kernel_exact(BondBatch& batch, int n, const BondConstants& k);
+// Runs bonds [0, n); returns how many bond indices it wrote to io.redo.
+int bond_kernel_exact(const BondKernelIo& io, int n, const BondConstants& k);
 
 // atan(t)/t as a function of t^2: nine terms of the alternating series leave an error
 // below 1e-19 for t^2 < 1e-2 (rotations under 11 degrees). Shared by the batched kernel

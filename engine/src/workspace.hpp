@@ -14,11 +14,10 @@ namespace plastivox {
 
 struct Workspace {
   // Per voxel.
-  std::vector<double> size;          // actuated edge length, m
-  std::vector<Vec3> force;           // total force, N, world frame
-  std::vector<Vec3> moment;          // total moment, N m, world frame
-  std::vector<Eigen::Matrix3d> rot;  // orientation as a rotation matrix (body to world)
-  std::vector<double> sqrt_e;        // sqrt of the current stiffness, sqrt(Pa)
+  std::vector<double> size;    // actuated edge length, m
+  std::vector<Vec3> force;     // total force, N, world frame
+  std::vector<Vec3> moment;    // total moment, N m, world frame
+  std::vector<double> sqrt_e;  // sqrt of the current stiffness, sqrt(Pa)
   // Per bond, filled by the bond stage and gathered per voxel in a fixed order.
   // Per bond, world frame, one array per component: [0..2] force on voxel a (N; the force
   // on b is its negative), [3..5] moment on a, [6..8] moment on b (N m).
@@ -31,7 +30,7 @@ struct Workspace {
   double travel_since_rebuild = 0;    // upper bound on any voxel's travel since then, m
   bool contacts_valid = false;
   bool stiffness_changed = false;  // the develop stage changed E this step
-  BondBatch batch;                 // the batched bond kernel's arrays
+  std::vector<int> redo;           // bonds the batched kernel left to the scalar path
 
   // Bond damping coefficients are sqrt(E) times these geometric constants:
   // 2 sqrt(k m) with k = E L (axial, shear), E L^3 / 4 (shear-rotation coupling) and
@@ -44,7 +43,6 @@ struct Workspace {
       : size(m.n, m.size),
         force(m.n),
         moment(m.n),
-        rot(m.n),
         sqrt_e(m.n),
         bond_strain(m.bond_count(), 0.0),
         bond_stress(m.bond_count(), 0.0) {
