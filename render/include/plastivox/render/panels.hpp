@@ -1,0 +1,79 @@
+// Figure panels (the paper's Fig. 5, panels A-F): one bar chart per metric, treatment means
+// with 95 % confidence-interval error bars and significance brackets with stars, read from the
+// analysis output stats.json (contract: docs/analysis.md, "stats.json").
+//
+// Pipeline: read_stats_figure() parses and validates stats.json into a StatsFigure;
+// layout_panel() (panel_drawing.hpp) turns one panel into a Drawing, a flat list of
+// rectangles, lines and texts in pixel coordinates; that one Drawing is written both as SVG
+// text (panel_svg) and as a PNG drawn with Dear ImGui off-screen (panel_png), so the two
+// formats agree. write_figures() does all of it for a directory and is what `plastivox figures`
+// and `plastivox experiment` call. Everything is deterministic: same stats, same bytes.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace plastivox::render {
+
+// A malformed or foreign stats.json: one line naming the file and the field, e.g.
+// "stats.json: panels[1].groups[0].mean: missing".
+class StatsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// One bar: a treatment's mean with its confidence interval.
+struct PanelGroup {
+  std::string treatment;          // "none", "stress", "pressure" (or another producer name)
+  int n = 0;                      // sample size
+  std::optional<double> mean;     // metric unit; absent when undefined (no bar is drawn)
+  std::optional<double> ci_low;   // 95 % CI of the mean; absent when n < 2
+  std::optional<double> ci_high;  // present exactly when ci_low is
+};
+
+// One pairwise test between two groups of the panel.
+struct PanelComparison {
+  std::string a, b;  // treatments compared (each names a group of the panel)
+  std::optional<double> p_corrected;
+  std::string stars;  // "", "*", "**" or "***" (after correction); "" draws no bracket
+};
+
+struct PanelStats {
+  std::string id;                  // "A".."F": the panel letter and the output file name panel_<id>
+  std::string metric;              // e.g. "fitness"
+  std::string title;               // e.g. "Fitness", "M_body" ('_' starts a subscript when drawn)
+  std::string unit;                // y-axis label, e.g. "voxel lengths"
+  std::vector<PanelGroup> groups;  // bars, left to right
+  std::vector<PanelComparison> comparisons;
+};
+
+struct StatsFigure {
+  std::string source;  // file the data came from (for messages)
+  std::vector<PanelStats> panels;
+};
+
+// Parses a stats.json document; `source` names it in error messages. Checks the format tag
+// ("plastivox-analysis"), format_version (1) and every field the panels use. Throws StatsError.
+StatsFigure parse_stats_figure(const nlohmann::json& stats, const std::string& source);
+// Reads and parses the file. Throws StatsError (also for unreadable files and bad JSON).
+StatsFigure read_stats_figure(const std::string& path);
+
+struct FigureOptions {
+  int width = 800;  // one panel's size in pixels (PNG) and SVG user units, each 200..8192
+  int height = 600;
+  bool png = true;       // write panel_<id>.png
+  bool svg = true;       // write panel_<id>.svg
+  bool combined = true;  // also figure_5.{png,svg}: all panels in a grid of 3 columns
+};
+
+// Writes DIR/panel_<id>.{svg,png} for every panel (and the combined figure), creating DIR if
+// needed. Each file is written to a temporary and renamed. Returns the paths written, in order.
+// Throws StatsError/RenderError (one line) on bad input or an unwritable directory.
+std::vector<std::string> write_figures(const StatsFigure& figure, const std::string& out_dir,
+                                       const FigureOptions& options);
+
+}  // namespace plastivox::render
