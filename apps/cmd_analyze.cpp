@@ -1,10 +1,114 @@
-// plastivox analyze: placeholder until its owner lands it (session 2 work in progress).
-#include <stdexcept>
+// plastivox analyze: the run champions of several results files, measured and compared
+// (METHOD.md section 8) -> DIR/stats.json, CSV tables, analysis.h5 and report.html.
+// The library call is analyze_study + write_study_outputs (plastivox/analysis/study.hpp).
+#include <cstdio>
+#include <filesystem>
+#include <string>
 
 #include "cli.hpp"
+#include "plastivox/analysis/study.hpp"
 
 namespace plastivox::cli {
+namespace {
 
-int cmd_analyze(const Args&) { throw std::runtime_error("'analyze' is not built yet"); }
+long long parse_integer(const std::string& option, const std::string& text, long long min) {
+  size_t used = 0;
+  long long v = 0;
+  try {
+    v = std::stoll(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || v < min)
+    throw UsageError{option + " expects an integer >= " + std::to_string(min) + ", got '" + text +
+                     "'"};
+  return v;
+}
+
+std::vector<Treatment> parse_treatments(const std::string& list) {
+  std::vector<Treatment> out;
+  size_t start = 0;
+  while (start <= list.size()) {
+    const size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, comma - start);
+    try {
+      out.push_back(parse_treatment(name));
+    } catch (const std::exception&) {
+      throw UsageError{
+          "--treatments expects a comma-separated list of none, stress, pressure; "
+          "got '" +
+          name + "'"};
+    }
+    start = comma + 1;
+  }
+  return out;
+}
+
+analysis::StudyOptions parse_options(Args& args, std::string* out) {
+  analysis::StudyOptions o;
+  *out = take_option(args, "--out", "");
+  const std::string gen = take_option(args, "--generation", "last");
+  if (gen != "last") o.generation = static_cast<int>(parse_integer("--generation", gen, 0));
+  o.robustness_draws = static_cast<int>(
+      parse_integer("--robustness-draws", take_option(args, "--robustness-draws", "10"), 1));
+  const std::string sampling = take_option(args, "--robustness-sampling", "linear");
+  if (sampling == "log")
+    o.robustness_sampling = analysis::StiffnessDistribution::kLogUniform;
+  else if (sampling != "linear")
+    throw UsageError{"--robustness-sampling expects linear or log, got '" + sampling + "'"};
+  const std::string rotations = take_option(args, "--rotations", "paper");
+  try {
+    o.rotations = analysis::parse_rotation_search(rotations);
+  } catch (const std::exception&) {
+    throw UsageError{"--rotations expects none, paper or all, got '" + rotations + "'"};
+  }
+  const std::string translation = take_option(
+      args, "--translation", o.rotations == analysis::RotationSearch::kAll ? "integer" : "none");
+  if (translation == "integer")
+    o.translation = analysis::TranslationSearch::kInteger;
+  else if (translation != "none")
+    throw UsageError{"--translation expects none or integer, got '" + translation + "'"};
+  o.resamples = static_cast<int>(
+      parse_integer("--resamples", take_option(args, "--resamples", "10000"), 100));
+  o.seed = static_cast<uint64_t>(parse_integer("--seed", take_option(args, "--seed", "1"), 0));
+  o.threads = static_cast<int>(parse_integer("--threads", take_option(args, "--threads", "0"), 0));
+  const std::string treatments = take_option(args, "--treatments", "");
+  if (!treatments.empty()) o.treatments = parse_treatments(treatments);
+  o.allow_mixed_physics = take_flag(args, "--allow-mixed-physics");
+  reject_unknown_options(args);
+  if (out->empty()) throw UsageError{"--out DIR is required"};
+  if (args.empty())
+    throw UsageError{"expected results files: plastivox analyze RESULTS.h5 [...] --out DIR"};
+  return o;
+}
+
+}  // namespace
+
+int cmd_analyze(const Args& in) {
+  Args args = in;
+  std::string out;
+  analysis::StudyOptions options = parse_options(args, &out);
+  options.cache_dir = (std::filesystem::path(out) / "cache").string();
+  options.command = "plastivox analyze";
+  for (const std::string& a : in) options.command += " " + a;
+
+  const analysis::StudyResult r =
+      analysis::analyze_study(args, options, [](const analysis::StudyProgress& p) {
+        std::fprintf(stderr, "plastivox analyze: %s\n", p.message.c_str());
+      });
+  analysis::write_study_outputs(r, out);
+
+  const analysis::StudyTimings& t = r.timings;
+  std::printf(
+      "wrote %s/{stats.json, champions.csv, statistics.csv, hausdorff.csv, analysis.h5, "
+      "report.html}: %zu champions, %zu treatments\n",
+      out.c_str(), r.champions.size(), r.treatments.size());
+  std::printf(
+      "time: %.2f s (load %.2f, robustness %.2f [%d simulations, %d from checkpoint], "
+      "canalization %.3f, body plans %.3f, hausdorff %.3f, statistics %.3f)\n",
+      t.total, t.load, t.robustness, t.robustness_simulations, t.robustness_cached, t.canalization,
+      t.body_plans, t.hausdorff, t.statistics);
+  return 0;
+}
 
 }  // namespace plastivox::cli

@@ -5,6 +5,7 @@
 
 #include <cfenv>
 #include <cstdio>
+#include <exception>
 
 namespace plastivox::testing {
 
@@ -44,6 +45,15 @@ Output shell(const std::string& command_line) {
   const int st = pclose(p);
   o.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
   return o;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
 }
 
 void ScratchDirTest::SetUp() {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -33,6 +34,9 @@ inline ::testing::AssertionResult RelNear(double actual, double expected, double
 }
 
 std::string shared_dir();  // ../shared beside the repository
+
+// The message of the exception f throws, or "(no error)" when it throws none.
+std::string error_of(const std::function<void()>& f);
 
 // Runs a shell command line; out is its standard output (add " 2>&1" to the command for
 // standard error too), status its exit status, or 128 + signal if it was killed.

@@ -17,17 +17,6 @@ void hash_genome(Hasher& h, const Genome& g) {
   }
 }
 
-void hash_robot(Hasher& h, const RobotDef& r) {
-  h.u64(static_cast<uint64_t>(r.nx));
-  h.u64(static_cast<uint64_t>(r.ny));
-  h.u64(static_cast<uint64_t>(r.nz));
-  h.f64(r.voxel_size);
-  h.vec(r.present);
-  h.vec(r.stiffness);
-  h.vec(r.dev_rate);
-  h.vec(r.phase);
-}
-
 }  // namespace
 
 Hash128 content_digest(const RunState& s) {

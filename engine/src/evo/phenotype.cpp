@@ -18,6 +18,17 @@ GeometryRule parse_geometry_rule(const std::string& s) {
                               "' is unknown (use largest-component or keep-all)");
 }
 
+void hash_robot(Hasher& h, const RobotDef& r) {
+  h.u64(static_cast<uint64_t>(r.nx));
+  h.u64(static_cast<uint64_t>(r.ny));
+  h.u64(static_cast<uint64_t>(r.nz));
+  h.f64(r.voxel_size);
+  h.vec(r.present);
+  h.vec(r.stiffness);
+  h.vec(r.dev_rate);
+  h.vec(r.phase);
+}
+
 double logistic(double o) {
   // Never exponentiate a large positive number: exp(-|o|) is in (0, 1].
   if (o >= 0) return 1.0 / (1.0 + std::exp(-o));
@@ -143,14 +154,7 @@ Phenotype Expresser::express(const NetworkOutputs& out) const {
   }
 
   Hasher h;
-  h.u64(static_cast<uint64_t>(r.nx));
-  h.u64(static_cast<uint64_t>(r.ny));
-  h.u64(static_cast<uint64_t>(r.nz));
-  h.f64(r.voxel_size);
-  h.vec(r.present);
-  h.vec(r.stiffness);
-  h.vec(r.dev_rate);
-  h.vec(r.phase);
+  hash_robot(h, r);
   p.hash = h.finish();
   return p;
 }

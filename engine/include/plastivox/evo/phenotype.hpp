@@ -54,6 +54,10 @@ struct Phenotype {
 
 double logistic(double o);  // numerically stable; o must not be NaN
 
+// Feeds a robot's identity (lattice, voxel size, present, E0, alpha, phase; bit for bit) to
+// `h`: Phenotype::hash, the results file's content digest and the analysis all use it.
+void hash_robot(Hasher& h, const RobotDef& r);
+
 // Face-connected (6-neighbour) largest component of present sites. Ties between equally
 // large components go to the one holding the lowest site index.
 std::vector<uint8_t> largest_component(const std::vector<uint8_t>& present, int nx, int ny, int nz);

@@ -1,0 +1,207 @@
+// A whole study (METHOD.md section 8, Fig. 5): the run champions of several evolution results
+// files, grouped by treatment, measured (fitness, robustness, canalization, body plan,
+// diversity) and compared with bootstrap statistics. Library plastivox_study; what
+// `plastivox analyze` and `plastivox experiment` call.
+//
+// Why a separate library: it reads the evolver's HDF5 results and writes HDF5/JSON/CSV/HTML,
+// while plastivox_analysis (the measures themselves) stays free of file formats.
+//
+// Determinism: champions are ordered by (treatment none, stress, pressure; run seed; content
+// digest), never by file order; every random draw is keyed by the champion's content (robustness)
+// or by the panel and treatment (bootstrap), so the results do not depend on the order of the
+// files, the thread count or on resuming. Resuming: the robustness simulations (the expensive
+// part) are checkpointed per champion in options.cache_dir; a rerun reuses them.
+//
+// Threads: analyze_study parallelises simulations and Hausdorff pairs internally; call it and
+// the writers from one thread at a time (HDF5 is not thread-safe).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "plastivox/analysis/body_plan.hpp"
+#include "plastivox/analysis/bootstrap.hpp"
+#include "plastivox/analysis/canalization.hpp"
+#include "plastivox/analysis/hausdorff.hpp"
+#include "plastivox/analysis/robustness.hpp"
+#include "plastivox/physics_def.hpp"
+#include "plastivox/robot.hpp"
+
+namespace plastivox::analysis {
+
+constexpr int kStudyFormatVersion = 1;  // of stats.json ("plastivox-analysis") and analysis.h5
+
+struct StudyOptions {
+  int generation = -1;  // champion at the end of this generation; -1 = each file's last
+  int robustness_draws = 10;
+  StiffnessDistribution robustness_sampling = StiffnessDistribution::kLinear;
+  RotationSearch rotations = RotationSearch::kPaper;
+  TranslationSearch translation = TranslationSearch::kNone;
+  int resamples = 10000;              // bootstrap resamples, tests and confidence intervals
+  uint64_t seed = 1;                  // of every bootstrap and robustness draw
+  double alpha = 0.05;                // significance level, applied after the Bonferroni correction
+  double ci_level = 0.95;             // coverage of the confidence intervals of the means
+  bool allow_mixed_physics = false;   // false: files simulated with different physics -> error
+  std::vector<Treatment> treatments;  // expected treatments (each must have files); empty = any
+  // Not part of the results (never written to stats.json):
+  int threads = 0;        // 0 = all cores
+  std::string cache_dir;  // robustness checkpoints (created on demand); empty = no cache
+  std::string command;    // the command line, recorded in provenance
+};
+
+// The options as canonical JSON (the fields that can change results; not threads, cache_dir
+// or command), e.g. {"generation":"last","robustness_draws":10,...}.
+std::string options_json(const StudyOptions& o);
+
+// Progress, reported from any thread but never concurrently (calls are serialised).
+struct StudyProgress {
+  std::string stage;  // "load", "robustness", "canalization", "hausdorff", "statistics"
+  int done = 0, total = 0;
+  std::string message;  // one human-readable line, e.g. "robustness 3/12 stress-s2 R=0.41"
+};
+using StudyProgressFn = std::function<void(const StudyProgress&)>;
+
+// One input file.
+struct StudyInput {
+  std::string file;            // as given
+  std::string content_digest;  // the results file's content digest (hex)
+  Treatment treatment = Treatment::kNone;
+  uint64_t seed = 0;         // run seed
+  int generation = 0;        // of the champion analysed
+  int generations_done = 0;  // in the file
+  std::string physics_json;  // resolved physics of the run (treatment included)
+};
+
+// A value that is left out of a statistic, and why.
+struct Exclusion {
+  std::string label;
+  std::string reason;
+};
+
+struct ChampionAnalysis {
+  std::string label;  // "<treatment>-s<seed>", unique in the study
+  int input = 0;      // index into StudyResult::inputs
+  Treatment treatment = Treatment::kNone;
+  uint64_t run_seed = 0;
+  int generation = 0;  // the champion is the best individual at the end of this generation
+  uint64_t id = 0;     // individual id in its run
+  std::string phenotype_digest;         // the evolver's phenotype hash (evo::hash_robot), hex
+  RobotDef robot;                       // the champion as evolved (E0 congenital, alpha, phase)
+  std::vector<double> final_stiffness;  // lattice-sized, Pa, end of its evolved life
+  PhysicsDef physics;                   // the run's physics (treatment included)
+  int voxels = 0;
+  double fitness = 0;             // from the results file, voxel lengths
+  std::string evaluation = "ok";  // the champion's own evaluation: ok, invalid, unstable
+  // "ok" when every measure is defined; otherwise a short code naming the first problem
+  // ("unstable", "robustness-unstable", ...) with the reasons in status_detail.
+  std::string status = "ok";
+  std::string status_detail;
+  uint64_t robustness_seed = 0;  // derived from options.seed and phenotype_digest
+  RobustnessResult robustness;
+  bool robustness_from_cache = false;  // this run reused a checkpoint (not written to outputs)
+  std::optional<double> r_mean;        // mean R over valid draws; none if no draw is valid
+  std::optional<double> m_body, v_body, v_gain;
+  BodyPlanResult body_plan;
+};
+
+// One treatment's values in one panel.
+struct GroupStats {
+  Treatment treatment = Treatment::kNone;
+  std::vector<double> values;             // the sample
+  std::vector<std::string> value_labels;  // champion label, or "a|b" for a pair (panel B)
+  std::vector<Exclusion> excluded;        // champions left out, with the reason
+  std::optional<ConfidenceInterval> ci;   // percentile bootstrap CI of the mean, when n >= 2
+  std::optional<double> mean;             // when n >= 1
+};
+
+struct PanelStats {
+  std::string id, metric, title, unit;
+  std::vector<GroupStats> groups;                // in treatment order
+  std::vector<BootstrapTestResult> comparisons;  // pairs of groups with n >= 2, Bonferroni
+  uint64_t seed = 0;                             // the panel's bootstrap seed
+};
+
+// Wall time of each step, s (also in analysis.h5; never in stats.json).
+struct StudyTimings {
+  double load = 0, robustness = 0, canalization = 0, body_plans = 0, hausdorff = 0, statistics = 0,
+         total = 0;
+  int robustness_simulations = 0;  // simulations run by this call
+  int robustness_cached = 0;       // champions whose robustness came from the cache
+};
+
+struct StudyResult {
+  StudyOptions options;
+  std::vector<StudyInput> inputs;                // in champion order
+  std::vector<Treatment> treatments;             // present, in the order none, stress, pressure
+  std::vector<ChampionAnalysis> champions;       // sorted: treatment, run seed, content digest
+  std::map<Treatment, AlphaRange> alpha_ranges;  // evolved alpha range of developing treatments
+  HausdorffMatrix hausdorff;                     // over `champions`, in their order
+  std::vector<PanelStats> panels;                // A..F
+  std::vector<std::string> warnings;             // e.g. mixed physics when allowed
+  // Provenance.
+  std::string version, commit, date;  // of this program; date UTC ISO 8601
+  std::string fingerprint;            // study_fingerprint(input digests, options)
+  StudyTimings timings;
+};
+
+// Loads every file, picks the champions, measures them and computes the statistics. Throws
+// std::runtime_error (or a subclass) with one line naming the file for bad input (no files, a
+// file that is not a results file, a missing generation or champion, the same run twice, an
+// expected treatment without files, a treatment without one usable champion, mixed physics);
+// it checks all inputs before any simulation runs and writes nothing but cache files.
+StudyResult analyze_study(const std::vector<std::string>& files, const StudyOptions& options,
+                          const StudyProgressFn& progress = {});
+
+// A hex fingerprint of what a study's results depend on: the inputs' content digests (in any
+// order) and options_json(options). Equal to stats.json's provenance.fingerprint when the
+// outputs were made from these inputs with these options (the "already done" check).
+std::string study_fingerprint(const std::vector<std::string>& content_digests,
+                              const StudyOptions& options);
+
+// ---- Outputs (study_output.cpp, study_report.cpp) ----
+
+// stats.json's text (docs/analysis.md, "stats.json"): deterministic, only the date varies.
+std::string stats_json(const StudyResult& r);
+
+// Extra material for report.html (the experiment adds figures, galleries, a video).
+struct ReportMedia {
+  enum class Kind { kImage, kVideo, kLink };
+  Kind kind = Kind::kImage;
+  std::string path;     // relative to the report's folder (written into src/href as is)
+  std::string caption;  // plain text
+};
+struct ReportSection {
+  std::string title;                    // plain text
+  std::vector<std::string> paragraphs;  // plain text (escaped)
+  std::vector<ReportMedia> media;
+  std::string raw_html;  // inserted unescaped after the paragraphs (caller's responsibility)
+};
+struct ReportExtras {
+  std::string title;                    // default "plastivox diversity report"
+  std::vector<ReportSection> sections;  // after the summary, before the statistics
+};
+
+// The self-contained HTML report: inline CSS and SVG (heat map of the Hausdorff matrix), body
+// plans per treatment, most and least similar pairs, the statistics table, provenance.
+std::string report_html(const StudyResult& r, const ReportExtras& extras = {});
+
+// Writes DIR/stats.json, champions.csv, statistics.csv, hausdorff.csv, analysis.h5 and
+// report.html (DIR is created). Every file is first written under a temporary name; the final
+// names appear only once all are complete. Throws std::runtime_error naming the file.
+void write_study_outputs(const StudyResult& r, const std::string& dir,
+                         const ReportExtras& extras = {});
+
+// Only report.html (for a report rebuilt with extras), atomically.
+void write_study_report(const StudyResult& r, const std::string& path,
+                        const ReportExtras& extras = {});
+
+// The text of one output, as written (for callers and tests).
+std::string champions_csv(const StudyResult& r);
+std::string statistics_csv(const StudyResult& r);
+std::string hausdorff_csv(const StudyResult& r);
+
+}  // namespace plastivox::analysis

@@ -1,0 +1,248 @@
+// analysis.h5: the study's results in HDF5 (layout in docs/analysis.md, "analysis.h5"), with the
+// same content as stats.json plus provenance, per-pair placements and timings. Undefined values
+// are NaN here (HDF5 has no null). Uses the evolver's checked HDF5 wrappers (h5_util.hpp), so
+// every failure is one line naming the file and the object.
+#include <initializer_list>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "h5_util.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "study_internal.hpp"
+
+namespace plastivox::analysis::study {
+namespace {
+
+using evo::h5::Ctx;
+using evo::h5::Handle;
+
+constexpr double kUndefined = std::numeric_limits<double>::quiet_NaN();
+
+double value(const std::optional<double>& x) {
+  return x ? *x : kUndefined;
+}
+
+void write_inputs(const Ctx& c, hid_t root, const StudyResult& r) {
+  Handle g = evo::h5::create_group(c, root, "inputs");
+  std::vector<std::string> file, digest, treatment, physics;
+  std::vector<uint64_t> seed;
+  std::vector<int32_t> generation, done;
+  for (const StudyInput& in : r.inputs) {
+    file.push_back(in.file);
+    digest.push_back(in.content_digest);
+    treatment.push_back(to_string(in.treatment));
+    physics.push_back(in.physics_json);
+    seed.push_back(in.seed);
+    generation.push_back(in.generation);
+    done.push_back(in.generations_done);
+  }
+  evo::h5::write_strings(c, g.id(), "file", file);
+  evo::h5::write_strings(c, g.id(), "content_digest", digest);
+  evo::h5::write_strings(c, g.id(), "treatment", treatment);
+  evo::h5::write_strings(c, g.id(), "physics_json", physics);
+  evo::h5::write(c, g.id(), "seed", seed);
+  evo::h5::write(c, g.id(), "generation", generation);
+  evo::h5::write(c, g.id(), "generations_done", done);
+}
+
+void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
+  Handle g = evo::h5::create_group(c, root, "champions");
+  const size_t n = r.champions.size(), draws = static_cast<size_t>(r.options.robustness_draws);
+  std::vector<std::string> label, treatment, evaluation, status, detail, plan, digest;
+  std::vector<uint64_t> seed, id, rseed;
+  std::vector<int32_t> generation, voxels, input, valid;
+  std::vector<double> fitness, f_train, r_mean, m_body, v_body, v_gain, confidence;
+  std::vector<double> r_draw(n * draws, kUndefined), f_test(n * draws, kUndefined);
+  for (size_t i = 0; i < n; ++i) {
+    const ChampionAnalysis& ch = r.champions[i];
+    label.push_back(ch.label);
+    treatment.push_back(to_string(ch.treatment));
+    evaluation.push_back(ch.evaluation);
+    status.push_back(ch.status);
+    detail.push_back(ch.status_detail);
+    plan.push_back(to_string(ch.body_plan.plan));
+    digest.push_back(ch.phenotype_digest);
+    seed.push_back(ch.run_seed);
+    id.push_back(ch.id);
+    rseed.push_back(ch.robustness_seed);
+    generation.push_back(ch.generation);
+    voxels.push_back(ch.voxels);
+    input.push_back(ch.input);
+    valid.push_back(ch.robustness.valid_draws);
+    fitness.push_back(ch.evaluation == "ok" ? ch.fitness : kUndefined);
+    f_train.push_back(ch.robustness.train_valid ? ch.robustness.f_train : kUndefined);
+    r_mean.push_back(value(ch.r_mean));
+    m_body.push_back(value(ch.m_body));
+    v_body.push_back(value(ch.v_body));
+    v_gain.push_back(value(ch.v_gain));
+    confidence.push_back(ch.body_plan.confidence);
+    for (size_t k = 0; k < ch.robustness.draws.size() && k < draws; ++k) {
+      const RobustnessDraw& d = ch.robustness.draws[k];
+      if (!d.valid) continue;
+      r_draw[i * draws + k] = d.r;
+      f_test[i * draws + k] = d.f_test;
+    }
+  }
+  using Strings = std::pair<const char*, const std::vector<std::string>*>;
+  for (const auto& [name, v] : std::initializer_list<Strings>{{"label", &label},
+                                                              {"treatment", &treatment},
+                                                              {"evaluation", &evaluation},
+                                                              {"status", &status},
+                                                              {"status_detail", &detail},
+                                                              {"body_plan", &plan},
+                                                              {"phenotype_digest", &digest}})
+    evo::h5::write_strings(c, g.id(), name, *v);
+  evo::h5::write(c, g.id(), "seed", seed);
+  evo::h5::write(c, g.id(), "champion_id", id);
+  evo::h5::write(c, g.id(), "robustness_seed", rseed);
+  evo::h5::write(c, g.id(), "generation", generation);
+  evo::h5::write(c, g.id(), "voxels", voxels);
+  evo::h5::write(c, g.id(), "input", input);
+  evo::h5::write(c, g.id(), "valid_draws", valid);
+  using Reals = std::pair<const char*, const std::vector<double>*>;
+  for (const auto& [name, v] : std::initializer_list<Reals>{{"fitness", &fitness},
+                                                            {"f_train", &f_train},
+                                                            {"r_mean", &r_mean},
+                                                            {"m_body", &m_body},
+                                                            {"v_body", &v_body},
+                                                            {"v_gain", &v_gain},
+                                                            {"body_plan_confidence", &confidence}})
+    evo::h5::write(c, g.id(), name, *v);
+  evo::h5::write(c, g.id(), "r_draws", r_draw, {n, draws});
+  evo::h5::write(c, g.id(), "f_test", f_test, {n, draws});
+}
+
+void write_hausdorff(const Ctx& c, hid_t root, const StudyResult& r) {
+  const HausdorffMatrix& m = r.hausdorff;
+  Handle g = evo::h5::create_group(c, root, "hausdorff");
+  evo::h5::write_attr(c, g.id(), "rotations", std::string(to_string(m.options.rotations)));
+  evo::h5::write_attr(c, g.id(), "translation", std::string(to_string(m.options.translation)));
+  evo::h5::write_attr(c, g.id(), "units", std::string("voxel lengths"));
+  std::vector<std::string> labels;
+  for (const ChampionAnalysis& ch : r.champions) labels.push_back(ch.label);
+  evo::h5::write_strings(c, g.id(), "labels", labels);
+  const hsize_t n = static_cast<hsize_t>(m.n);
+  evo::h5::write(c, g.id(), "matrix", m.distance, {n, n});
+  // Placement of B (the later champion of each pair): b -> rotation * b + translation.
+  std::vector<int32_t> pa, pb, rot, trans;
+  std::vector<std::string> rot_name;
+  size_t k = 0;
+  for (int i = 0; i < m.n; ++i)
+    for (int j = i + 1; j < m.n; ++j, ++k) {
+      const HausdorffResult& h = m.pairs[k];
+      pa.push_back(i);
+      pb.push_back(j);
+      rot.push_back(h.rotation_index);
+      rot_name.push_back(h.rotation.name);
+      for (int x : h.translation) trans.push_back(x);
+    }
+  evo::h5::write(c, g.id(), "pair_a", pa);
+  evo::h5::write(c, g.id(), "pair_b", pb);
+  evo::h5::write(c, g.id(), "pair_rotation_index", rot);
+  evo::h5::write_strings(c, g.id(), "pair_rotation", rot_name);
+  evo::h5::write(c, g.id(), "pair_translation", trans, {pa.size(), 3});
+}
+
+void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
+  Handle all = evo::h5::create_group(c, root, "panels");
+  for (const PanelStats& p : r.panels) {
+    Handle g = evo::h5::create_group(c, all.id(), p.id);
+    evo::h5::write_attr(c, g.id(), "metric", p.metric);
+    evo::h5::write_attr(c, g.id(), "title", p.title);
+    evo::h5::write_attr(c, g.id(), "unit", p.unit);
+    evo::h5::write_attr(c, g.id(), "comparisons_made", static_cast<int64_t>(p.comparisons.size()));
+    evo::h5::write_attr_u64(c, g.id(), "seed", p.seed);
+    std::vector<std::string> treatment;
+    std::vector<int32_t> count;
+    std::vector<double> mean, lo, hi;
+    Handle values = evo::h5::create_group(c, g.id(), "values");
+    for (const GroupStats& s : p.groups) {
+      treatment.push_back(to_string(s.treatment));
+      count.push_back(static_cast<int32_t>(s.values.size()));
+      mean.push_back(value(s.mean));
+      lo.push_back(s.ci ? s.ci->lower : kUndefined);
+      hi.push_back(s.ci ? s.ci->upper : kUndefined);
+      evo::h5::write(c, values.id(), to_string(s.treatment), s.values);
+    }
+    evo::h5::write_strings(c, g.id(), "treatment", treatment);
+    evo::h5::write(c, g.id(), "n", count);
+    evo::h5::write(c, g.id(), "mean", mean);
+    evo::h5::write(c, g.id(), "ci_low", lo);
+    evo::h5::write(c, g.id(), "ci_high", hi);
+    std::vector<std::string> a, b, stars;
+    std::vector<double> diff, pv, pc, es;
+    for (const BootstrapTestResult& t : p.comparisons) {
+      a.push_back(t.name_a);
+      b.push_back(t.name_b);
+      stars.push_back(t.stars);
+      diff.push_back(t.difference);
+      pv.push_back(t.p_value);
+      pc.push_back(t.p_corrected);
+      es.push_back(t.effect.hedges_g);
+    }
+    Handle cg = evo::h5::create_group(c, g.id(), "comparisons");
+    evo::h5::write_strings(c, cg.id(), "a", a);
+    evo::h5::write_strings(c, cg.id(), "b", b);
+    evo::h5::write_strings(c, cg.id(), "stars", stars);
+    evo::h5::write(c, cg.id(), "mean_diff", diff);
+    evo::h5::write(c, cg.id(), "p", pv);
+    evo::h5::write(c, cg.id(), "p_corrected", pc);
+    evo::h5::write(c, cg.id(), "effect_size", es);
+  }
+}
+
+void write_root(const Ctx& c, hid_t root, const StudyResult& r) {
+  evo::h5::write_attr(c, root, "format", std::string("plastivox-analysis"));
+  evo::h5::write_attr(c, root, "format_version", static_cast<int64_t>(kStudyFormatVersion));
+  evo::h5::write_attr(c, root, "plastivox_version", r.version);
+  evo::h5::write_attr(c, root, "git_commit", r.commit);
+  evo::h5::write_attr(c, root, "date", r.date);
+  evo::h5::write_attr(c, root, "command", r.options.command);
+  evo::h5::write_attr(c, root, "options", options_json(r.options));
+  evo::h5::write_attr(c, root, "fingerprint", r.fingerprint);
+  evo::h5::write_attr(c, root, "threads", static_cast<int64_t>(r.options.threads));
+  const evo::Provenance build = evo::current_provenance(r.options.threads);
+  evo::h5::write_attr(c, root, "compiler", build.compiler);
+  evo::h5::write_attr(c, root, "build_type", build.build_type);
+  evo::h5::write_attr(c, root, "host", build.host);
+  const StudyTimings& t = r.timings;
+  using Seconds = std::pair<const char*, double>;
+  for (const auto& [name, s] :
+       std::initializer_list<Seconds>{{"seconds_load", t.load},
+                                      {"seconds_robustness", t.robustness},
+                                      {"seconds_canalization", t.canalization},
+                                      {"seconds_body_plans", t.body_plans},
+                                      {"seconds_hausdorff", t.hausdorff},
+                                      {"seconds_statistics", t.statistics},
+                                      {"seconds_total", t.total}})
+    evo::h5::write_attr(c, root, name, s);
+  evo::h5::write_attr(c, root, "robustness_simulations",
+                      static_cast<int64_t>(t.robustness_simulations));
+  evo::h5::write_attr(c, root, "robustness_from_checkpoint",
+                      static_cast<int64_t>(t.robustness_cached));
+  evo::h5::write_strings(c, root, "warnings", r.warnings);
+  evo::h5::write_strings(c, root, "stats_json", {stats_json(r)});
+}
+
+}  // namespace
+
+void write_analysis_h5(const StudyResult& r, const std::string& final_path,
+                       const std::string& path) {
+  evo::h5::quiet_hdf5();
+  const Ctx c{final_path, 0};
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), Handle::Kind::kFile);
+  if (f.id() < 0) throw evo::ResultsError(final_path + ": cannot create " + path);
+  {
+    Handle root = evo::h5::open_group(c, f.id(), "/");
+    write_root(c, root.id(), r);
+    write_inputs(c, root.id(), r);
+    write_champions(c, root.id(), r);
+    write_hausdorff(c, root.id(), r);
+    write_panels(c, root.id(), r);
+  }
+  if (f.close() < 0) throw evo::ResultsError(final_path + ": closing " + path + " failed");
+}
+
+}  // namespace plastivox::analysis::study

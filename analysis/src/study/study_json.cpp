@@ -1,0 +1,245 @@
+// stats.json: the contract between the analysis and its consumers (figures, experiment report).
+// Field names follow docs/analysis.md ("stats.json"); fields may be added, never renamed.
+// Undefined values are null (JSON has no NaN or infinity). Keys keep the documented order.
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "study_internal.hpp"
+
+namespace plastivox::analysis {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json num(double x) {
+  return std::isfinite(x) ? Json(x) : Json(nullptr);
+}
+Json num(const std::optional<double>& x) {
+  return x ? num(*x) : Json(nullptr);
+}
+
+Json numbers(const std::vector<double>& xs) {
+  Json a = Json::array();
+  for (double x : xs) a.push_back(num(x));
+  return a;
+}
+
+Json strings(const std::vector<std::string>& xs) {
+  Json a = Json::array();
+  for (const std::string& x : xs) a.push_back(x);
+  return a;
+}
+
+Json provenance(const StudyResult& r) {
+  Json inputs = Json::array();
+  for (const StudyInput& in : r.inputs)
+    inputs.push_back({{"file", in.file},
+                      {"content_digest", in.content_digest},
+                      {"treatment", to_string(in.treatment)},
+                      {"seed", in.seed},
+                      {"generation", in.generation},
+                      {"generations_done", in.generations_done}});
+  return {{"version", r.version},
+          {"commit", r.commit},
+          {"date", r.date},
+          {"command", r.options.command},
+          {"inputs", inputs},
+          {"options", Json::parse(options_json(r.options))},
+          {"fingerprint", r.fingerprint}};
+}
+
+int most_comparisons(const StudyResult& r) {
+  int m = 0;
+  for (const PanelStats& p : r.panels) m = std::max(m, static_cast<int>(p.comparisons.size()));
+  return m;
+}
+
+Json statistics(const StudyResult& r) {
+  const StudyOptions& o = r.options;
+  const std::string level = study::display(o.ci_level * 100, 4) + "%";
+  return {{"test", "two-sample bootstrap test of the difference in means (two-sided)"},
+          {"null_model",
+           "pooled: both samples resampled with replacement from their union (Efron & "
+           "Tibshirani 1993, Algorithm 16.1)"},
+          {"p_value", "(1 + #{resamples with |t*| >= |t|}) / (resamples + 1)"},
+          {"resamples", o.resamples},
+          {"alpha", o.alpha},
+          {"correction", "Bonferroni"},
+          {"comparisons", most_comparisons(r)},
+          {"comparisons_rule",
+           "per panel: p is multiplied by the number of treatment pairs compared in that panel "
+           "(the panel's comparisons_made) and capped at 1"},
+          {"ci", level + " bootstrap percentile interval of the mean"},
+          {"ci_level", o.ci_level},
+          {"stars", "* p<0.05, ** p<0.01, *** p<0.001 (after correction)"},
+          {"effect_size", "Hedges' g of a relative to b (Cohen's d with small-sample correction)"},
+          {"seed", o.seed}};
+}
+
+Json group(const GroupStats& g) {
+  Json excluded = Json::array();
+  for (const Exclusion& e : g.excluded)
+    excluded.push_back({{"label", e.label}, {"reason", e.reason}});
+  return {{"treatment", to_string(g.treatment)},
+          {"n", g.values.size()},
+          {"mean", num(g.mean)},
+          {"ci_low", g.ci ? num(g.ci->lower) : Json(nullptr)},
+          {"ci_high", g.ci ? num(g.ci->upper) : Json(nullptr)},
+          {"values", numbers(g.values)},
+          {"value_labels", strings(g.value_labels)},
+          {"excluded", excluded}};
+}
+
+Json comparison(const BootstrapTestResult& t) {
+  return {{"a", t.name_a},
+          {"b", t.name_b},
+          {"mean_diff", num(t.difference)},
+          {"p", num(t.p_value)},
+          {"p_corrected", num(t.p_corrected)},
+          {"stars", t.stars},
+          {"effect_size", num(t.effect.hedges_g)},
+          {"cohens_d", num(t.effect.cohens_d)},
+          {"significant", t.significant},
+          {"n_a", t.n_a},
+          {"n_b", t.n_b},
+          {"mean_a", num(t.mean_a)},
+          {"mean_b", num(t.mean_b)},
+          {"correction", t.comparisons > 1 ? "Bonferroni" : "none"},
+          {"comparisons", t.comparisons},
+          {"resamples", t.resamples},
+          {"seed", t.seed}};
+}
+
+Json panel(const PanelStats& p) {
+  Json groups = Json::array(), comps = Json::array();
+  for (const GroupStats& g : p.groups) groups.push_back(group(g));
+  for (const BootstrapTestResult& t : p.comparisons) comps.push_back(comparison(t));
+  return {{"id", p.id},
+          {"metric", p.metric},
+          {"title", p.title},
+          {"unit", p.unit},
+          {"groups", groups},
+          {"comparisons", comps},
+          {"comparisons_made", p.comparisons.size()},
+          {"correction", p.comparisons.size() > 1 ? "Bonferroni" : "none"},
+          {"seed", p.seed}};
+}
+
+Json plan_features(const BodyPlanResult& b) {
+  const BodyPlanFeatures& f = b.features;
+  Json matches = Json::array();
+  for (const PlanMatch& m : f.matches)
+    matches.push_back({{"plan", to_string(m.plan)},
+                       {"score", num(m.score)},
+                       {"fill", num(m.fill)},
+                       {"empty", num(m.empty)},
+                       {"inside", num(m.inside)},
+                       {"quarter_turns", m.quarter_turns},
+                       {"parameters", m.parameters}});
+  return {{"voxels", f.voxels},          {"extent", {f.extent[0], f.extent[1], f.extent[2]}},
+          {"box_fill", num(f.box_fill)}, {"footprint_components", f.footprint_components},
+          {"margin", num(b.margin)},     {"matches", matches}};
+}
+
+Json robustness(const ChampionAnalysis& c) {
+  const RobustnessResult& r = c.robustness;
+  Json draws = Json::array(), f_test = Json::array(), status = Json::array();
+  for (const RobustnessDraw& d : r.draws) {
+    draws.push_back(d.valid ? num(d.r) : Json(nullptr));
+    f_test.push_back(d.valid ? num(d.f_test) : Json(nullptr));
+    status.push_back(d.valid ? std::string("ok") : d.failure);
+  }
+  return {{"F_train", r.train_valid ? num(r.f_train) : Json(nullptr)},
+          {"draws", draws},
+          {"R_mean", num(c.r_mean)},
+          {"train_status", r.train_valid ? std::string("ok") : r.train_failure},
+          {"F_test", f_test},
+          {"draw_status", status},
+          {"valid_draws", r.valid_draws},
+          {"distribution", r.distribution},
+          {"e_lo", num(r.e_lo)},
+          {"e_hi", num(r.e_hi)},
+          {"seed", c.robustness_seed}};
+}
+
+Json champion(const StudyResult& r, const ChampionAnalysis& c) {
+  return {{"label", c.label},
+          {"file", r.inputs[c.input].file},
+          {"treatment", to_string(c.treatment)},
+          {"seed", c.run_seed},
+          {"generation", c.generation},
+          {"fitness", c.evaluation == "ok" ? num(c.fitness) : Json(nullptr)},
+          {"voxels", c.voxels},
+          {"status", c.status},
+          {"status_detail", c.status_detail},
+          {"evaluation", c.evaluation},
+          {"champion_id", c.id},
+          {"phenotype_digest", c.phenotype_digest},
+          {"body_plan", to_string(c.body_plan.plan)},
+          {"body_plan_confidence", num(c.body_plan.confidence)},
+          {"body_plan_features", plan_features(c.body_plan)},
+          {"robustness", robustness(c)},
+          {"m_body", num(c.m_body)},
+          {"v_body", num(c.v_body)},
+          {"v_gain", num(c.v_gain)}};
+}
+
+Json pair_list(const StudyResult& r, const std::vector<std::pair<int, int>>& pairs) {
+  Json a = Json::array();
+  for (const auto& [i, j] : pairs)
+    a.push_back({{"a", r.champions[i].label},
+                 {"b", r.champions[j].label},
+                 {"distance", num(r.hausdorff.at(i, j))}});
+  return a;
+}
+
+Json hausdorff(const StudyResult& r) {
+  const HausdorffMatrix& m = r.hausdorff;
+  Json labels = Json::array(), matrix = Json::array();
+  for (const ChampionAnalysis& c : r.champions) labels.push_back(c.label);
+  for (int i = 0; i < m.n; ++i) {
+    Json row = Json::array();
+    for (int j = 0; j < m.n; ++j) row.push_back(num(m.at(i, j)));
+    matrix.push_back(row);
+  }
+  const auto ranked = study::pairs_by_distance(m);
+  const size_t k = std::min<size_t>(5, ranked.size());
+  return {{"rotations", to_string(m.options.rotations)},
+          {"translation", to_string(m.options.translation)},
+          {"labels", labels},
+          {"matrix", matrix},
+          {"units", "voxel lengths"},
+          {"most_similar", pair_list(r, {ranked.begin(), ranked.begin() + k})},
+          {"least_similar", pair_list(r, {ranked.rbegin(), ranked.rbegin() + k})}};
+}
+
+}  // namespace
+
+std::string stats_json(const StudyResult& r) {
+  Json treatments = Json::array(), panels = Json::array(), champions = Json::array();
+  for (Treatment t : r.treatments) treatments.push_back(to_string(t));
+  for (const PanelStats& p : r.panels) panels.push_back(panel(p));
+  for (const ChampionAnalysis& c : r.champions) champions.push_back(champion(r, c));
+  Json ranges = Json::object();
+  for (const auto& [t, a] : r.alpha_ranges)
+    ranges[to_string(t)] = {{"min", num(a.min)}, {"max", num(a.max)}};
+  Json counts = Json::object();
+  for (const auto& [t, k] : study::body_plan_counts(r))
+    counts[to_string(t)] = {{"Pi", k[0]}, {"Gamma", k[1]}, {"Upsilon", k[2]}, {"other", k[3]}};
+  const Json j = {{"format", "plastivox-analysis"},
+                  {"format_version", kStudyFormatVersion},
+                  {"provenance", provenance(r)},
+                  {"statistics", statistics(r)},
+                  {"treatments", treatments},
+                  {"panels", panels},
+                  {"champions", champions},
+                  {"hausdorff", hausdorff(r)},
+                  {"body_plans", {{"counts", counts}, {"threshold", BodyPlanOptions{}.threshold}}},
+                  {"alpha_ranges", ranges},
+                  {"warnings", strings(r.warnings)}};
+  return j.dump(1) + "\n";
+}
+
+}  // namespace plastivox::analysis

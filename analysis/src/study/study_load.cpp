@@ -1,0 +1,178 @@
+// Loading a study's inputs: one champion per results file, checked before anything runs.
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/evo/config.hpp"
+#include "plastivox/evo/hash.hpp"
+#include "plastivox/evo/phenotype.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "study_internal.hpp"
+
+namespace plastivox::analysis::study {
+namespace {
+
+// One input before sorting.
+struct Loaded {
+  StudyInput input;
+  ChampionAnalysis champion;
+  std::string physics_without_treatment;  // resolved physics with treatment none
+};
+
+Loaded load_one(const std::string& file, const StudyOptions& options) {
+  const evo::ResultsFile rf = evo::read_results(file);  // names the file when it refuses
+  const evo::RunState& run = rf.state;
+  if (run.generations_done < 0) throw std::runtime_error(file + ": no generation done yet");
+  int generation = run.generations_done;
+  if (options.generation >= 0) {
+    if (options.generation > run.generations_done)
+      throw std::runtime_error(file + ": generation " + std::to_string(options.generation) +
+                               " not reached (the run has " + std::to_string(run.generations_done) +
+                               " generations done)");
+    generation = options.generation;
+  }
+  // The champion at the end of `generation`: the last new best recorded by then.
+  const evo::ChampionRecord* rec = nullptr;
+  for (const evo::ChampionRecord& c : run.champions)
+    if (c.generation <= generation) rec = &c;
+  if (!rec)
+    throw std::runtime_error(file + ": no champion recorded by generation " +
+                             std::to_string(generation));
+
+  Loaded l;
+  l.input.file = file;
+  l.input.content_digest = rf.content_digest;
+  l.input.treatment = run.config.treatment;
+  l.input.seed = run.config.seed;
+  l.input.generation = generation;
+  l.input.generations_done = run.generations_done;
+  l.input.physics_json = evo::resolved_physics_json(run.config.physics);
+  PhysicsDef neutral = run.config.physics;
+  neutral.treatment = Treatment::kNone;
+  l.physics_without_treatment = evo::resolved_physics_json(neutral);
+
+  ChampionAnalysis& c = l.champion;
+  c.treatment = run.config.treatment;
+  c.run_seed = run.config.seed;
+  c.generation = generation;
+  c.id = rec->id;
+  c.robot = rec->phenotype;
+  c.final_stiffness = rec->final_stiffness;
+  c.physics = run.config.physics;
+  c.voxels = c.robot.voxel_count();
+  if (c.voxels == 0)
+    throw std::runtime_error(file + ": the champion at generation " + std::to_string(generation) +
+                             " has no voxels");
+  c.fitness = rec->fitness;
+  c.evaluation = evo::to_string(static_cast<evo::EvalStatus>(rec->status));
+  if (c.evaluation != "ok") {
+    c.status = c.evaluation;
+    c.status_detail = "the champion's own evaluation: " + c.evaluation;
+    if (rec->id < run.births.size() && !run.births[rec->id].failure.empty())
+      c.status_detail += " (" + run.births[rec->id].failure + ")";
+  }
+  c.phenotype_digest = phenotype_digest(c.robot);
+  return l;
+}
+
+// The first top-level field where two physics JSON texts differ, "name: a vs b".
+std::string first_difference(const std::string& a, const std::string& b) {
+  const nlohmann::json ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
+  for (auto it = ja.begin(); it != ja.end(); ++it)
+    if (!jb.contains(it.key()) || jb.at(it.key()) != it.value())
+      return it.key() + ": " + it.value().dump() + " vs " +
+             (jb.contains(it.key()) ? jb.at(it.key()).dump() : std::string("absent"));
+  return "fields differ";
+}
+
+std::string join_treatments(const std::vector<Treatment>& ts) {
+  std::string s;
+  for (Treatment t : ts) s += (s.empty() ? "" : ", ") + std::string(to_string(t));
+  return s;
+}
+
+void check_treatments(const std::vector<Loaded>& all, const StudyOptions& options) {
+  const auto& expected = options.treatments;
+  if (!expected.empty()) {
+    for (const Loaded& l : all)
+      if (std::find(expected.begin(), expected.end(), l.input.treatment) == expected.end())
+        throw std::runtime_error(l.input.file + ": treatment " + to_string(l.input.treatment) +
+                                 " is not among the expected treatments (" +
+                                 join_treatments(expected) + ")");
+    for (Treatment t : expected)
+      if (std::none_of(all.begin(), all.end(),
+                       [&](const Loaded& l) { return l.input.treatment == t; }))
+        throw std::runtime_error(std::string("treatment ") + to_string(t) +
+                                 ": no results file given (empty treatment)");
+  }
+  // Every treatment needs at least one champion whose own evaluation is valid.
+  std::map<Treatment, std::string> files;
+  std::map<Treatment, bool> usable;
+  for (const Loaded& l : all) {
+    files[l.input.treatment] += (files[l.input.treatment].empty() ? "" : ", ") + l.input.file;
+    usable[l.input.treatment] = usable[l.input.treatment] || l.champion.evaluation == "ok";
+  }
+  for (const auto& [t, ok] : usable)
+    if (!ok)
+      throw std::runtime_error(std::string("treatment ") + to_string(t) +
+                               ": no champion with a valid evaluation (" + files[t] + ")");
+}
+
+}  // namespace
+
+std::string phenotype_digest(const RobotDef& robot) {
+  evo::Hasher h;
+  evo::hash_robot(h, robot);  // the evolver's phenotype hash
+  return h.finish().hex();
+}
+
+void load_champions(const std::vector<std::string>& files, const StudyOptions& options,
+                    StudyResult& out) {
+  if (files.empty()) throw std::runtime_error("no results files given");
+  std::vector<Loaded> all;
+  for (const std::string& f : files) all.push_back(load_one(f, options));
+
+  // File order must not matter: sort by treatment, run seed, content digest.
+  std::sort(all.begin(), all.end(), [](const Loaded& a, const Loaded& b) {
+    return std::tie(a.input.treatment, a.input.seed, a.input.content_digest) <
+           std::tie(b.input.treatment, b.input.seed, b.input.content_digest);
+  });
+  for (size_t i = 1; i < all.size(); ++i)
+    if (all[i].input.content_digest == all[i - 1].input.content_digest)
+      throw std::runtime_error(all[i].input.file + ": the same run as " + all[i - 1].input.file +
+                               " (content digest " + all[i].input.content_digest + ")");
+  check_treatments(all, options);
+
+  // Physics: every run must have been simulated alike, apart from the treatment.
+  for (size_t i = 1; i < all.size(); ++i) {
+    if (all[i].physics_without_treatment == all[0].physics_without_treatment) continue;
+    const std::string what =
+        "mixed physics: " + all[0].input.file + " and " + all[i].input.file +
+        " were simulated with different physics (" +
+        first_difference(all[0].physics_without_treatment, all[i].physics_without_treatment) + ")";
+    if (!options.allow_mixed_physics)
+      throw std::runtime_error(what + "; pass --allow-mixed-physics to analyse them anyway");
+    out.warnings.push_back(what + "; each champion is re-simulated with its own run's physics");
+  }
+
+  // Labels "<treatment>-s<seed>", made unique with "-r2", "-r3", ... in sorted order.
+  std::map<std::string, int> seen;
+  for (size_t i = 0; i < all.size(); ++i) {
+    ChampionAnalysis& c = all[i].champion;
+    c.label = std::string(to_string(c.treatment)) + "-s" + std::to_string(c.run_seed);
+    const int k = ++seen[c.label];
+    if (k > 1) c.label += "-r" + std::to_string(k);
+    c.input = static_cast<int>(i);
+    out.inputs.push_back(all[i].input);
+    out.champions.push_back(std::move(c));
+    if (std::find(out.treatments.begin(), out.treatments.end(), all[i].input.treatment) ==
+        out.treatments.end())
+      out.treatments.push_back(all[i].input.treatment);
+  }
+}
+
+}  // namespace plastivox::analysis::study

@@ -1,0 +1,315 @@
+// report.html: a self-contained diversity report (inline CSS, an inline SVG heat map of the
+// Hausdorff matrix; no scripts, no external resources apart from the caller's extra media).
+//
+// Index: escaping and small helpers · heat map (SVG) · sections (summary, extras, diversity,
+// statistics, champions, provenance) · report_html.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "study_internal.hpp"
+
+namespace plastivox::analysis {
+namespace {
+
+using study::display;
+
+// ---- escaping and small helpers ----
+
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char ch : s) {
+    switch (ch) {
+      case '&':
+        o += "&amp;";
+        break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      case '\'':
+        o += "&#39;";
+        break;
+      default:
+        o += ch;
+    }
+  }
+  return o;
+}
+
+std::string td(const std::string& s, const char* cls = nullptr) {
+  return cls ? "<td class=\"" + std::string(cls) + "\">" + s + "</td>" : "<td>" + s + "</td>";
+}
+
+std::string p_text(double p) {
+  if (p < 0.001) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1e", p);
+    return buf;
+  }
+  return display(p, 3);
+}
+
+// Viridis-like colour for t in [0, 1] (dark blue = similar, yellow = different).
+std::string colour(double t) {
+  static const double stops[5][3] = {
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  t = std::clamp(t, 0.0, 1.0) * 4;
+  const int k = std::min(3, static_cast<int>(t));
+  const double f = t - k;
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x",
+                static_cast<int>(std::lround(stops[k][0] + f * (stops[k + 1][0] - stops[k][0]))),
+                static_cast<int>(std::lround(stops[k][1] + f * (stops[k + 1][1] - stops[k][1]))),
+                static_cast<int>(std::lround(stops[k][2] + f * (stops[k + 1][2] - stops[k][2]))));
+  return buf;
+}
+
+const char* plan_symbol(BodyPlan p) {
+  return symbol(p);
+}
+
+// ---- heat map (SVG) ----
+
+std::string heat_map(const StudyResult& r) {
+  const HausdorffMatrix& m = r.hausdorff;
+  const int n = m.n;
+  double top = 0;
+  for (double d : m.distance) top = std::max(top, d);
+  const int cell = std::clamp(560 / std::max(n, 1), 8, 36);
+  const int label_w = 130, legend_h = 50;
+  const int w = label_w + n * cell + 20, h = label_w + n * cell + legend_h;
+  std::string s;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
+                "viewBox=\"0 0 %d %d\" font-family=\"sans-serif\" font-size=\"%d\" role=\"img\">"
+                "<title>Hausdorff distance between champions (voxel lengths)</title>\n",
+                w, h, w, h, std::clamp(cell - 2, 7, 12));
+  s += buf;
+  for (int i = 0; i < n; ++i) {
+    const std::string label = esc(r.champions[i].label);
+    const int c = label_w + i * cell + cell / 2;
+    std::snprintf(buf, sizeof buf,
+                  "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" dominant-baseline=\"middle\">",
+                  label_w - 4, c);
+    s += buf + label + "</text>";
+    std::snprintf(buf, sizeof buf,
+                  "<text transform=\"translate(%d,%d) rotate(-90)\" dominant-baseline=\"middle\">",
+                  c, label_w - 4);
+    s += buf + label + "</text>\n";
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double d = m.at(i, j);
+      std::snprintf(buf, sizeof buf,
+                    "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"%s\">",
+                    label_w + j * cell, label_w + i * cell, cell, cell,
+                    colour(top > 0 ? d / top : 0).c_str());
+      s += buf + std::string("<title>") + esc(r.champions[i].label) + " vs " +
+           esc(r.champions[j].label) + ": " + display(d, 4) + "</title></rect>";
+    }
+  s += "\n";
+  // Lines between treatments.
+  for (int i = 1; i < n; ++i) {
+    if (r.champions[i].treatment == r.champions[i - 1].treatment) continue;
+    const int x = label_w + i * cell;
+    std::snprintf(
+        buf, sizeof buf,
+        "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"#fff\" stroke-width=\"2\"/>"
+        "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"#fff\" stroke-width=\"2\"/>",
+        x, label_w, x, label_w + n * cell, label_w, x, label_w + n * cell, x);
+    s += buf;
+  }
+  // Legend: 0 .. the largest distance.
+  const int ly = label_w + n * cell + 16, lw = std::max(120, n * cell / 2);
+  for (int k = 0; k < 32; ++k) {
+    std::snprintf(buf, sizeof buf,
+                  "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"10\" fill=\"%s\"/>",
+                  label_w + k * lw / 32, ly, lw / 32 + 1, colour(k / 31.0).c_str());
+    s += buf;
+  }
+  std::snprintf(buf, sizeof buf,
+                "<text x=\"%d\" y=\"%d\">0</text><text x=\"%d\" y=\"%d\" text-anchor=\"end\">%s "
+                "voxel lengths</text>",
+                label_w, ly + 24, label_w + lw, ly + 24, display(top, 4).c_str());
+  s += buf;
+  return s + "</svg>\n";
+}
+
+// ---- sections ----
+
+std::string summary(const StudyResult& r) {
+  const auto counts = study::body_plan_counts(r);
+  std::string s =
+      "<h2>Champions and body plans</h2>\n<table><tr><th>treatment</th><th>champions</th>"
+      "<th>Π</th><th>Γ</th><th>Υ</th><th>other</th></tr>\n";
+  for (Treatment t : r.treatments) {
+    const auto& k = counts.at(t);
+    s += "<tr>" + td(to_string(t)) + td(std::to_string(k[0] + k[1] + k[2] + k[3]), "num");
+    for (int p = 0; p < 4; ++p) s += td(std::to_string(k[p]), "num");
+    s += "</tr>\n";
+  }
+  s += "</table>\n<p class=\"note\">Body plans by the geometric rule of docs/analysis.md "
+       "(template matching on the bounding box, threshold " +
+       display(BodyPlanOptions{}.threshold, 2) +
+       "); the confidence of each label is in the "
+       "champions table.</p>\n";
+  return s;
+}
+
+std::string extras_html(const ReportExtras& extras) {
+  std::string s;
+  for (const ReportSection& sec : extras.sections) {
+    s += "<h2>" + esc(sec.title) + "</h2>\n";
+    for (const std::string& p : sec.paragraphs) s += "<p>" + esc(p) + "</p>\n";
+    if (!sec.media.empty()) s += "<div class=\"media\">\n";
+    for (const ReportMedia& m : sec.media) {
+      s += "<figure>";
+      if (m.kind == ReportMedia::Kind::kImage)
+        s += "<img src=\"" + esc(m.path) + "\" alt=\"" + esc(m.caption) + "\">";
+      else if (m.kind == ReportMedia::Kind::kVideo)
+        s += "<video controls src=\"" + esc(m.path) + "\"></video>";
+      else
+        s += "<a href=\"" + esc(m.path) + "\">" + esc(m.path) + "</a>";
+      if (!m.caption.empty()) s += "<figcaption>" + esc(m.caption) + "</figcaption>";
+      s += "</figure>\n";
+    }
+    if (!sec.media.empty()) s += "</div>\n";
+    s += sec.raw_html;
+  }
+  return s;
+}
+
+std::string pair_table(const StudyResult& r, const std::vector<std::pair<int, int>>& pairs) {
+  std::string s = "<table><tr><th>a</th><th>b</th><th>distance</th></tr>\n";
+  for (const auto& [i, j] : pairs) {
+    const ChampionAnalysis &a = r.champions[i], &b = r.champions[j];
+    s += "<tr>" + td(esc(a.label) + " (" + plan_symbol(a.body_plan.plan) + ")") +
+         td(esc(b.label) + " (" + plan_symbol(b.body_plan.plan) + ")") +
+         td(display(r.hausdorff.at(i, j), 4), "num") + "</tr>\n";
+  }
+  return s + "</table>\n";
+}
+
+std::string diversity(const StudyResult& r) {
+  const auto ranked = study::pairs_by_distance(r.hausdorff);
+  const size_t k = std::min<size_t>(5, ranked.size());
+  std::string s =
+      "<h2>Diversity: Hausdorff distances</h2>\n<p>Between the filled-voxel sets "
+      "of every pair of champions, minimised over rotations <b>" +
+      std::string(to_string(r.hausdorff.options.rotations)) + "</b> and translation <b>" +
+      to_string(r.hausdorff.options.translation) +
+      "</b> (voxel lengths). Hover a cell for its value.</p>\n" + heat_map(r);
+  s += "<div class=\"pairs\"><div><h3>Most similar pairs</h3>" +
+       pair_table(r, {ranked.begin(), ranked.begin() + k}) + "</div>";
+  s += "<div><h3>Least similar pairs</h3>" + pair_table(r, {ranked.rbegin(), ranked.rbegin() + k}) +
+       "</div></div>\n";
+  return s;
+}
+
+std::string statistics(const StudyResult& r) {
+  const StudyOptions& o = r.options;
+  std::string s =
+      "<h2>Statistics</h2>\n<p>Means with " + display(o.ci_level * 100, 4) +
+      " % percentile bootstrap confidence intervals (" + std::to_string(o.resamples) +
+      " resamples). Treatments compared by a two-sample bootstrap test of the difference in "
+      "means (two-sided, pooled null, " +
+      std::to_string(o.resamples) + " resamples, seed " + std::to_string(o.seed) +
+      "), Bonferroni-corrected for the number "
+      "of comparisons in each panel; stars after correction: * p&lt;0.05, ** p&lt;0.01, "
+      "*** p&lt;0.001 (level " +
+      display(o.alpha, 3) + "). Effect size: Hedges' g.</p>\n";
+  s += "<table><tr><th>panel</th><th>treatment</th><th>n</th><th>mean</th><th>95 % CI</th></tr>\n";
+  for (const PanelStats& p : r.panels)
+    for (const GroupStats& g : p.groups)
+      s += "<tr>" + td(p.id + " " + esc(p.title)) + td(to_string(g.treatment)) +
+           td(std::to_string(g.values.size()), "num") + td(display(g.mean, 4), "num") +
+           td(g.ci ? "[" + display(g.ci->lower, 4) + ", " + display(g.ci->upper, 4) + "]" : "–",
+              "num") +
+           "</tr>\n";
+  s += "</table>\n<table><tr><th>panel</th><th>comparison</th><th>difference</th><th>p</th>"
+       "<th>p corrected</th><th></th><th>g</th></tr>\n";
+  for (const PanelStats& p : r.panels)
+    for (const BootstrapTestResult& t : p.comparisons)
+      s += "<tr>" + td(p.id + " " + esc(p.title)) + td(t.name_a + " vs " + t.name_b) +
+           td(display(t.difference, 4), "num") + td(p_text(t.p_value), "num") +
+           td(p_text(t.p_corrected) + " (×" + std::to_string(t.comparisons) + ")", "num") +
+           td(t.stars, "stars") + td(display(t.effect.hedges_g, 3), "num") + "</tr>\n";
+  return s + "</table>\n";
+}
+
+std::string champions(const StudyResult& r) {
+  std::string s =
+      "<h2>Champions</h2>\n<table><tr><th>champion</th><th>gen.</th><th>fitness</th><th>R</th>"
+      "<th>M_body</th><th>V_body</th><th>V_gain</th><th>plan</th><th>voxels</th>"
+      "<th>status</th></tr>\n";
+  for (const ChampionAnalysis& c : r.champions) {
+    s += "<tr>" + td(esc(c.label)) + td(std::to_string(c.generation), "num") +
+         td(c.evaluation == "ok" ? display(c.fitness, 4) : "–", "num") +
+         td(display(c.r_mean, 3), "num") + td(display(c.m_body, 3), "num") +
+         td(display(c.v_body, 3), "num") + td(display(c.v_gain, 3), "num") +
+         td(std::string(plan_symbol(c.body_plan.plan)) + " " + display(c.body_plan.confidence, 2)) +
+         td(std::to_string(c.voxels), "num") +
+         td(c.status == "ok"
+                ? "ok"
+                : "<span title=\"" + esc(c.status_detail) + "\">" + esc(c.status) + "</span>") +
+         "</tr>\n";
+  }
+  return s + "</table>\n";
+}
+
+std::string provenance(const StudyResult& r) {
+  std::string s = "<h2>Provenance</h2>\n<table class=\"kv\">";
+  s += "<tr><th>plastivox</th><td>" + esc(r.version) + " (commit " + esc(r.commit) +
+       ")</td></tr><tr><th>date</th><td>" + esc(r.date) + "</td></tr><tr><th>command</th><td>" +
+       esc(r.options.command) + "</td></tr><tr><th>options</th><td><code>" +
+       esc(options_json(r.options)) + "</code></td></tr><tr><th>fingerprint</th><td>" +
+       esc(r.fingerprint) + "</td></tr></table>\n";
+  s += "<table><tr><th>input</th><th>treatment</th><th>seed</th><th>generation</th>"
+       "<th>content digest</th></tr>\n";
+  for (const StudyInput& in : r.inputs)
+    s += "<tr>" + td(esc(in.file)) + td(to_string(in.treatment)) +
+         td(std::to_string(in.seed), "num") +
+         td(std::to_string(in.generation) + " of " + std::to_string(in.generations_done), "num") +
+         td("<code>" + esc(in.content_digest) + "</code>") + "</tr>\n";
+  return s + "</table>\n";
+}
+
+const char* kStyle = R"(<style>
+body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
+h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.6em}
+table{border-collapse:collapse;margin:.6em 0}td,th{border:1px solid #ddd;padding:.25em .6em}
+th{background:#f3f3f3;text-align:left}td.num{text-align:right;font-variant-numeric:tabular-nums}
+td.stars{font-weight:bold;color:#a00}.note{color:#555;font-size:.9em}
+.warn{background:#fff4e0;border:1px solid #e0b060;padding:.5em}
+.pairs{display:flex;gap:2em;flex-wrap:wrap}.media{display:flex;flex-wrap:wrap;gap:1em}
+figure{margin:0}figure img,figure video{max-width:520px;border:1px solid #ddd}
+figcaption{font-size:.9em;color:#555}code{font-size:.85em;word-break:break-all}
+</style>
+)";
+
+}  // namespace
+
+std::string report_html(const StudyResult& r, const ReportExtras& extras) {
+  const std::string title = extras.title.empty() ? "plastivox diversity report" : extras.title;
+  std::string s = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
+                  esc(title) + "</title>\n" + kStyle + "</head><body>\n<h1>" + esc(title) +
+                  "</h1>\n<p>" + std::to_string(r.champions.size()) +
+                  " run champions; treatments: ";
+  for (size_t i = 0; i < r.treatments.size(); ++i)
+    s += (i ? ", " : "") + std::string(to_string(r.treatments[i]));
+  s += ". Generated " + esc(r.date) + ".</p>\n";
+  for (const std::string& w : r.warnings) s += "<p class=\"warn\">Warning: " + esc(w) + "</p>\n";
+  s += summary(r) + extras_html(extras) + diversity(r) + statistics(r) + champions(r) +
+       provenance(r);
+  return s + "</body></html>\n";
+}
+
+}  // namespace plastivox::analysis

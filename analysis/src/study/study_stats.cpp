@@ -1,0 +1,145 @@
+// The six panels of Fig. 5 (METHOD.md section 8): per treatment a sample, its mean and 95 %
+// bootstrap CI; between treatments two-sample bootstrap tests, Bonferroni-corrected for the
+// number of comparisons made in the panel.
+//
+// Seeds: panel p (1 = A ... 6 = F) resamples with panel_seed = mix64(seed ^ mix64(p)); the CI of
+// treatment t uses mix64(panel_seed + 1 + t) (t = 0 none, 1 stress, 2 pressure), the tests use
+// panel_seed as pairwise_bootstrap_tests documents. So a number depends only on the seed, the
+// panel, the treatment(s) and the values.
+#include <algorithm>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "plastivox/analysis/rng.hpp"
+#include "study_internal.hpp"
+
+namespace plastivox::analysis::study {
+namespace {
+
+// A champion's value for a panel, or the reason it has none.
+struct Value {
+  std::optional<double> x;
+  std::string why_not;
+};
+using Measure = std::function<Value(const ChampionAnalysis&)>;
+
+struct PanelDef {
+  const char *id, *metric, *title, *unit;
+  bool developing_only;
+  Measure measure;  // nullptr: panel B (pairs)
+};
+
+Value optional_value(const std::optional<double>& x, const ChampionAnalysis& c, const char* what) {
+  if (x) return {x, ""};
+  return {std::nullopt,
+          c.status_detail.empty() ? std::string(what) + " undefined" : c.status_detail};
+}
+
+std::vector<PanelDef> panel_defs() {
+  return {
+      {"A", "fitness", "Fitness", "voxel lengths", false,
+       [](const ChampionAnalysis& c) -> Value {
+         if (c.evaluation == "ok") return {c.fitness, ""};
+         return {std::nullopt, c.status_detail};
+       }},
+      {"B", "diversity", "Diversity", "Hausdorff distance (voxel lengths)", false, nullptr},
+      {"C", "robustness", "Robustness", "F_test / F_train", false,
+       [](const ChampionAnalysis& c) {
+         if (c.r_mean) return Value{c.r_mean, ""};
+         return Value{std::nullopt,
+                      c.robustness.train_valid
+                          ? "robustness: no valid draw"
+                          : "robustness: F_train undefined (" + c.robustness.train_failure + ")"};
+       }},
+      {"D", "m_body", "M_body", "mean |E+/E0 - 1|", true,
+       [](const ChampionAnalysis& c) { return optional_value(c.m_body, c, "M_body"); }},
+      {"E", "v_body", "V_body", "var |E+/E0 - 1|", true,
+       [](const ChampionAnalysis& c) { return optional_value(c.v_body, c, "V_body"); }},
+      {"F", "v_gain", "V_gain", "var of normalised alpha", true,
+       [](const ChampionAnalysis& c) { return optional_value(c.v_gain, c, "V_gain"); }},
+  };
+}
+
+GroupStats group_values(const StudyResult& r, const PanelDef& def, Treatment t) {
+  GroupStats g;
+  g.treatment = t;
+  const int n = static_cast<int>(r.champions.size());
+  if (!def.measure) {  // panel B: every within-treatment pair
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (r.champions[i].treatment == t && r.champions[j].treatment == t) {
+          g.values.push_back(r.hausdorff.at(i, j));
+          g.value_labels.push_back(r.champions[i].label + "|" + r.champions[j].label);
+        }
+    return g;
+  }
+  for (const ChampionAnalysis& c : r.champions) {
+    if (c.treatment != t) continue;
+    const Value v = def.measure(c);
+    if (v.x) {
+      g.values.push_back(*v.x);
+      g.value_labels.push_back(c.label);
+    } else {
+      g.excluded.push_back({c.label, v.why_not});
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
+std::vector<PanelStats> compute_panels(const StudyResult& r) {
+  const StudyOptions& o = r.options;
+  std::vector<PanelStats> panels;
+  uint64_t number = 0;
+  for (const PanelDef& def : panel_defs()) {
+    PanelStats p;
+    p.id = def.id;
+    p.metric = def.metric;
+    p.title = def.title;
+    p.unit = def.unit;
+    p.seed = mix64(o.seed ^ mix64(++number));
+    std::vector<NamedSample> samples;
+    for (Treatment t : r.treatments) {
+      if (def.developing_only && t == Treatment::kNone) continue;
+      GroupStats g = group_values(r, def, t);
+      if (!g.values.empty()) g.mean = mean(g.values);
+      if (g.values.size() >= 2) {
+        g.ci = bootstrap_mean_ci(g.values, o.ci_level, o.resamples,
+                                 mix64(p.seed + 1 + static_cast<uint64_t>(t)));
+        samples.push_back({to_string(t), g.values});
+      }
+      p.groups.push_back(std::move(g));
+    }
+    if (samples.size() >= 2) {
+      BootstrapTestOptions bo;
+      bo.resamples = o.resamples;
+      bo.seed = p.seed;
+      bo.level = o.alpha;
+      p.comparisons = pairwise_bootstrap_tests(samples, bo);
+    }
+    panels.push_back(std::move(p));
+  }
+  return panels;
+}
+
+std::vector<std::pair<int, int>> pairs_by_distance(const HausdorffMatrix& m) {
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < m.n; ++i)
+    for (int j = i + 1; j < m.n; ++j) pairs.push_back({i, j});
+  std::stable_sort(pairs.begin(), pairs.end(), [&](const auto& a, const auto& b) {
+    return m.at(a.first, a.second) < m.at(b.first, b.second);
+  });
+  return pairs;
+}
+
+std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r) {
+  std::map<Treatment, std::array<int, 4>> counts;
+  for (Treatment t : r.treatments) counts[t] = {0, 0, 0, 0};
+  for (const ChampionAnalysis& c : r.champions)
+    ++counts[c.treatment][static_cast<int>(c.body_plan.plan)];
+  return counts;
+}
+
+}  // namespace plastivox::analysis::study

@@ -1,0 +1,462 @@
+// A whole study (plastivox/analysis/study.hpp and `plastivox analyze`) on tiny evolutions (4^3
+// lattice, population 4, one generation, 0.2 s lives): the outputs exist and agree with each
+// other and with the library's measures; results do not depend on the thread count, the file
+// order or on resuming from checkpoints; bad inputs give one clear line and leave no output.
+#include <hdf5.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "h5_util.hpp"  // engine/src/evo (internal): to read analysis.h5 back
+#include "plastivox/analysis/study.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/evo/run.hpp"
+#include "test_support.hpp"
+
+namespace plastivox::analysis {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+std::string read_text(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// stats.json without its date (the only field allowed to differ between equal analyses).
+std::string without_date(const std::string& stats) {
+  Json j = Json::parse(stats);
+  j["provenance"].erase("date");
+  return j.dump();
+}
+
+std::vector<std::vector<std::string>> read_csv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> row;
+  std::string field;
+  bool quoted = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i];
+    if (quoted) {
+      if (ch == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (ch == '"') {
+        quoted = false;
+      } else {
+        field += ch;
+      }
+    } else if (ch == '"') {
+      quoted = true;
+    } else if (ch == ',') {
+      row.push_back(field);
+      field.clear();
+    } else if (ch == '\n') {
+      row.push_back(field);
+      rows.push_back(row);
+      row.clear();
+      field.clear();
+    } else {
+      field += ch;
+    }
+  }
+  return rows;
+}
+
+// A CSV cell equals a JSON number (or null for an empty cell), bit for bit.
+::testing::AssertionResult SameNumber(const std::string& cell, const Json& j) {
+  if (j.is_null())
+    return cell.empty() ? ::testing::AssertionSuccess()
+                        : ::testing::AssertionFailure() << "'" << cell << "' vs null";
+  if (cell.empty()) return ::testing::AssertionFailure() << "empty vs " << j.dump();
+  if (std::stod(cell) == j.get<double>()) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << cell << " vs " << j.dump();
+}
+
+class Study : public testing::ScratchDirTest {
+ protected:
+  // A finished tiny run; `physics` is the JSON object of physics fields.
+  std::string run(Treatment t, uint64_t seed,
+                  const std::string& physics = R"({"duration": 0.2, "settle_time": 0.1})") {
+    evo::EvolveConfig c = evo::parse_config(
+        R"({"format": "plastivox-evolve-config", "version": 1, "treatment": ")" +
+            std::string(to_string(t)) + R"(", "seed": )" + std::to_string(seed) +
+            R"(, "population": 4, "generations": 1, "lattice": {"nx": 4, "ny": 4, "nz": 4},
+               "physics": )" +
+            physics + "}",
+        "tiny");
+    const std::string p = path(std::string(to_string(t)) + "-" + std::to_string(seed) + ".h5");
+    evo::RunOptions o;
+    o.threads = 1;
+    EXPECT_EQ(evo::run_evolution(c, p, o).outcome, evo::RunOutcome::kFinished);
+    return p;
+  }
+  // Two runs of each treatment, seeds 1..6 (one seed in two developing treatments would
+  // start from the same robots, and identical champions are simulated only once).
+  std::vector<std::string> six_runs() {
+    std::vector<std::string> files;
+    uint64_t seed = 0;
+    for (Treatment t : {Treatment::kNone, Treatment::kStress, Treatment::kPressure})
+      for (int k = 0; k < 2; ++k) files.push_back(run(t, ++seed));
+    return files;
+  }
+  static StudyOptions quick() {
+    StudyOptions o;
+    o.robustness_draws = 3;
+    o.resamples = 2000;
+    o.threads = 2;
+    return o;
+  }
+};
+
+using testing::error_of;
+
+TEST_F(Study, OutputsExistAndAgreeWithEachOther) {
+  const std::vector<std::string> files = six_runs();
+  StudyOptions o = quick();
+  o.cache_dir = path("out/cache");
+  const StudyResult r = analyze_study(files, o);
+  write_study_outputs(r, path("out"));
+
+  for (const char* f : {"stats.json", "champions.csv", "statistics.csv", "hausdorff.csv",
+                        "analysis.h5", "report.html"})
+    EXPECT_TRUE(fs::exists(path("out/") + f)) << f;
+  for (const auto& e : fs::directory_iterator(path("out")))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+
+  const std::string stats_text = read_text(path("out/stats.json"));
+  EXPECT_EQ(stats_text, stats_json(r));
+  const Json j = Json::parse(stats_text);
+  EXPECT_EQ(j["format"], "plastivox-analysis");
+  EXPECT_EQ(j["format_version"], 1);
+  EXPECT_EQ(j["treatments"], Json({"none", "stress", "pressure"}));
+  EXPECT_EQ(j["provenance"]["inputs"].size(), 6u);
+  EXPECT_EQ(j["provenance"]["fingerprint"], r.fingerprint);
+  EXPECT_EQ(j["statistics"]["correction"], "Bonferroni");
+  EXPECT_EQ(j["statistics"]["resamples"], 2000);
+
+  // Panels A..F; D, E, F only for the developing treatments.
+  ASSERT_EQ(j["panels"].size(), 6u);
+  const char* ids[] = {"A", "B", "C", "D", "E", "F"};
+  for (int p = 0; p < 6; ++p) {
+    const Json& panel = j["panels"][p];
+    EXPECT_EQ(panel["id"], ids[p]);
+    EXPECT_EQ(panel["groups"].size(), p < 3 ? 3u : 2u) << ids[p];
+    for (const Json& c : panel["comparisons"]) {
+      EXPECT_EQ(c["p_corrected"].get<double>(),
+                std::min(1.0, c["p"].get<double>() * panel["comparisons"].size()));
+      EXPECT_EQ(c["comparisons"], panel["comparisons"].size());
+    }
+  }
+
+  // Champions: 6, sorted by treatment then seed; the JSON measures are the library's.
+  ASSERT_EQ(j["champions"].size(), 6u);
+  EXPECT_EQ(j["champions"][0]["label"], "none-s1");
+  EXPECT_EQ(j["champions"][5]["label"], "pressure-s6");
+  for (const ChampionAnalysis& c : r.champions) {
+    if (c.evaluation != "ok") continue;
+    const Canalization k = canalization(body_values(c.robot, c.robot.stiffness),
+                                        body_values(c.robot, c.final_stiffness));
+    EXPECT_EQ(*c.m_body, k.m_body) << c.label;
+    EXPECT_EQ(*c.v_body, k.v_body) << c.label;
+    if (c.treatment == Treatment::kNone) {
+      // Without development the robustness baseline is the evolved robot itself.
+      EXPECT_EQ(c.robustness.f_train, c.fitness) << c.label;
+      EXPECT_EQ(*c.m_body, 0.0);
+      EXPECT_FALSE(c.v_gain.has_value());
+    } else {
+      std::vector<std::vector<double>> alphas;
+      for (const ChampionAnalysis& d : r.champions)
+        if (d.treatment == c.treatment) alphas.push_back(body_values(d.robot, d.robot.dev_rate));
+      EXPECT_EQ(*c.v_gain,
+                v_gain(body_values(c.robot, c.robot.dev_rate), evolved_alpha_range(alphas)));
+    }
+    EXPECT_EQ(c.body_plan.plan, classify_body_plan(voxel_set(c.robot)).plan);
+  }
+
+  // champions.csv: one row per champion, the same numbers as stats.json.
+  const auto rows = read_csv(read_text(path("out/champions.csv")));
+  ASSERT_EQ(rows.size(), 7u);
+  auto col = [&](const std::string& name) {
+    return static_cast<size_t>(std::find(rows[0].begin(), rows[0].end(), name) - rows[0].begin());
+  };
+  for (size_t i = 0; i < 6; ++i) {
+    const Json& c = j["champions"][i];
+    EXPECT_EQ(rows[i + 1][col("label")], c["label"]);
+    EXPECT_EQ(rows[i + 1][col("body_plan")], c["body_plan"]);
+    EXPECT_TRUE(SameNumber(rows[i + 1][col("fitness")], c["fitness"]));
+    EXPECT_TRUE(SameNumber(rows[i + 1][col("r_mean")], c["robustness"]["R_mean"]));
+    EXPECT_TRUE(SameNumber(rows[i + 1][col("m_body")], c["m_body"]));
+    EXPECT_TRUE(SameNumber(rows[i + 1][col("v_body")], c["v_body"]));
+    EXPECT_TRUE(SameNumber(rows[i + 1][col("v_gain")], c["v_gain"]));
+    for (int k = 0; k < 3; ++k)
+      EXPECT_TRUE(
+          SameNumber(rows[i + 1][col("r_draw_" + std::to_string(k))], c["robustness"]["draws"][k]));
+  }
+
+  // statistics.csv: one row per panel x treatment and per comparison.
+  const auto stats_rows = read_csv(read_text(path("out/statistics.csv")));
+  size_t row = 1;
+  for (const Json& panel : j["panels"]) {
+    for (const Json& g : panel["groups"]) {
+      ASSERT_LT(row, stats_rows.size());
+      EXPECT_EQ(stats_rows[row][0], "group");
+      EXPECT_EQ(stats_rows[row][1], panel["id"]);
+      EXPECT_EQ(stats_rows[row][4], g["treatment"]);
+      EXPECT_TRUE(SameNumber(stats_rows[row][6], g["mean"]));
+      EXPECT_TRUE(SameNumber(stats_rows[row][7], g["ci_low"]));
+      EXPECT_TRUE(SameNumber(stats_rows[row][8], g["ci_high"]));
+      ++row;
+    }
+    for (const Json& c : panel["comparisons"]) {
+      ASSERT_LT(row, stats_rows.size());
+      EXPECT_EQ(stats_rows[row][0], "comparison");
+      EXPECT_EQ(stats_rows[row][9], c["a"]);
+      EXPECT_TRUE(SameNumber(stats_rows[row][12], c["p"]));
+      EXPECT_TRUE(SameNumber(stats_rows[row][13], c["p_corrected"]));
+      EXPECT_EQ(stats_rows[row][14], c["stars"]);
+      ++row;
+    }
+  }
+  EXPECT_EQ(row, stats_rows.size());
+
+  // The Hausdorff matrix: symmetric, zero diagonal, the same in CSV; panel B's values are the
+  // within-treatment pairs.
+  const Json& m = j["hausdorff"]["matrix"];
+  const auto hrows = read_csv(read_text(path("out/hausdorff.csv")));
+  ASSERT_EQ(hrows.size(), 7u);
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < 6; ++b) {
+      EXPECT_EQ(m[a][b], m[b][a]);
+      if (a == b) {
+        EXPECT_EQ(m[a][b].get<double>(), 0.0);
+      }
+      EXPECT_TRUE(SameNumber(hrows[a + 1][b + 1], m[a][b]));
+    }
+  const Json& b_groups = j["panels"][1]["groups"];
+  for (int t = 0; t < 3; ++t) EXPECT_EQ(b_groups[t]["values"], Json::array({m[2 * t][2 * t + 1]}));
+
+  // analysis.h5 holds the same stats.json and matrix.
+  {
+    const evo::h5::Ctx ctx{path("out/analysis.h5"), 0};
+    evo::h5::Handle f(H5Fopen(path("out/analysis.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+                      evo::h5::Handle::Kind::kFile);
+    ASSERT_GE(f.id(), 0);
+    EXPECT_EQ(evo::h5::read_strings(ctx, f.id(), "stats_json", 1)[0], stats_text);
+    EXPECT_EQ(evo::h5::read_attr_string(ctx, f.id(), "/", "format"), "plastivox-analysis");
+    std::vector<hsize_t> dims = {6, 6};
+    EXPECT_EQ(evo::h5::read<double>(ctx, f.id(), "hausdorff/matrix", dims), r.hausdorff.distance);
+  }
+
+  // The report: self-contained HTML with the heat map, every champion and the statistics.
+  const std::string html = read_text(path("out/report.html"));
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  for (const ChampionAnalysis& c : r.champions) EXPECT_NE(html.find(c.label), std::string::npos);
+  EXPECT_NE(html.find("Bonferroni"), std::string::npos);
+  EXPECT_NE(html.find(r.inputs[0].content_digest), std::string::npos);
+}
+
+TEST_F(Study, ReportTakesExtraSections) {
+  const StudyResult r =
+      analyze_study({run(Treatment::kStress, 1), run(Treatment::kStress, 2)}, quick());
+  ReportExtras x;
+  x.title = "My <experiment>";
+  x.sections.push_back({"Figures",
+                        {"Panels A-F."},
+                        {{ReportMedia::Kind::kImage, "figures/panel_A.png", "Fitness"},
+                         {ReportMedia::Kind::kVideo, "videos/best.mp4", "Callus growth"}},
+                        ""});
+  const std::string html = report_html(r, x);
+  EXPECT_NE(html.find("<title>My &lt;experiment&gt;</title>"), std::string::npos);
+  EXPECT_NE(html.find("<img src=\"figures/panel_A.png\""), std::string::npos);
+  EXPECT_NE(html.find("<video controls src=\"videos/best.mp4\""), std::string::npos);
+  write_study_report(r, path("report.html"), x);
+  EXPECT_EQ(read_text(path("report.html")), html);
+}
+
+TEST_F(Study, ResultsDoNotDependOnThreadsOrFileOrder) {
+  std::vector<std::string> files = six_runs();
+  StudyOptions o = quick();
+  o.threads = 1;
+  const std::string one = without_date(stats_json(analyze_study(files, o)));
+  o.threads = 2;
+  std::reverse(files.begin(), files.end());
+  const StudyResult two = analyze_study(files, o);
+  EXPECT_EQ(without_date(stats_json(two)), one);
+
+  // Another seed draws other stiffness fields (and another bootstrap).
+  o.seed = 7;
+  const StudyResult other = analyze_study(files, o);
+  int differ = 0;
+  for (size_t i = 0; i < other.champions.size(); ++i) {
+    EXPECT_NE(other.champions[i].robustness_seed, two.champions[i].robustness_seed);
+    EXPECT_EQ(other.champions[i].robustness.f_train, two.champions[i].robustness.f_train);
+    differ += other.champions[i].robustness.draws[0].f_test !=
+              two.champions[i].robustness.draws[0].f_test;
+  }
+  EXPECT_GT(differ, 0);
+}
+
+TEST_F(Study, ResumesFromCheckpointsWithIdenticalResults) {
+  const std::vector<std::string> files = six_runs();
+  StudyOptions o = quick();
+  const std::string uninterrupted = without_date(stats_json(analyze_study(files, o)));
+
+  o.cache_dir = path("cache");
+  const StudyResult first = analyze_study(files, o);
+  EXPECT_EQ(first.timings.robustness_cached, 0);
+  EXPECT_EQ(first.timings.robustness_simulations, 6 * (1 + 3));
+  std::vector<fs::path> checkpoints;
+  for (const auto& e : fs::directory_iterator(path("cache"))) checkpoints.push_back(e.path());
+  std::sort(checkpoints.begin(), checkpoints.end());
+  ASSERT_EQ(checkpoints.size(), 6u);
+
+  // As if killed after three champions: three checkpoints gone, one damaged.
+  for (int k = 0; k < 3; ++k) fs::remove(checkpoints[k]);
+  std::ofstream(checkpoints[3], std::ios::trunc) << "{\"format\": \"plastivox-robustness";
+  std::vector<std::string> messages;
+  const StudyResult resumed =
+      analyze_study(files, o, [&](const StudyProgress& p) { messages.push_back(p.message); });
+  EXPECT_EQ(resumed.timings.robustness_cached, 2);
+  EXPECT_EQ(resumed.timings.robustness_simulations, 4 * (1 + 3));
+  EXPECT_EQ(without_date(stats_json(resumed)), uninterrupted);
+  EXPECT_EQ(without_date(stats_json(first)), uninterrupted);
+  const auto from_checkpoint = std::count_if(messages.begin(), messages.end(), [](auto& m) {
+    return m.find("(from checkpoint)") != std::string::npos;
+  });
+  EXPECT_EQ(from_checkpoint, 2);
+
+  // A third run does no simulation at all.
+  const StudyResult again = analyze_study(files, o);
+  EXPECT_EQ(again.timings.robustness_simulations, 0);
+  EXPECT_EQ(without_date(stats_json(again)), uninterrupted);
+}
+
+TEST_F(Study, BadInputsGiveOneClearLine) {
+  const std::string a = run(Treatment::kStress, 1), b = run(Treatment::kPressure, 1);
+  auto expect_error = [](const std::string& msg, const std::string& needle) {
+    EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  };
+  const StudyOptions o = quick();
+  expect_error(error_of([&] { analyze_study({}, o); }), "no results files");
+  expect_error(error_of([&] {
+                 analyze_study({a, path("missing.h5")}, o);
+               }),
+               path("missing.h5") + ": no such file");
+  expect_error(error_of([&] { analyze_study({a, a}, o); }), "the same run as");
+
+  // An HDF5 file from another tool.
+  {
+    const hid_t f = H5Fcreate(path("other.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    H5Fclose(f);
+  }
+  expect_error(error_of([&] { analyze_study({a, path("other.h5")}, o); }), path("other.h5") + ": ");
+
+  // A generation the run never reached: no champion there.
+  StudyOptions late = o;
+  late.generation = 5;
+  expect_error(error_of([&] { analyze_study({a}, late); }), a + ": generation 5 not reached");
+
+  // An expected treatment without files.
+  StudyOptions all = o;
+  all.treatments = {Treatment::kNone, Treatment::kStress, Treatment::kPressure};
+  expect_error(error_of([&] {
+                 analyze_study({a, b}, all);
+               }),
+               "treatment none: no results file given (empty treatment)");
+
+  // Mixed physics: refused unless allowed, then a warning.
+  const std::string c =
+      run(Treatment::kNone, 3, R"({"duration": 0.2, "settle_time": 0.1, "mu_static": 0.9})");
+  expect_error(error_of([&] { analyze_study({a, c}, o); }), "mixed physics");
+  StudyOptions mixed = o;
+  mixed.allow_mixed_physics = true;
+  const StudyResult r = analyze_study({a, c}, mixed);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("mu_static"), std::string::npos) << r.warnings[0];
+  EXPECT_EQ(r.champions.size(), 2u);
+}
+
+// ---- the command line ----
+
+testing::Output cli(const std::string& args) {
+  return testing::shell(std::string(PLASTIVOX_CLI) + " analyze " + args + " 2>&1");
+}
+
+TEST_F(Study, CommandWritesEveryOutputAndResumes) {
+  const std::vector<std::string> files = six_runs();
+  std::string list;
+  for (const std::string& f : files) list += f + " ";
+  const std::string opts = " --robustness-draws 2 --resamples 1000";
+  const testing::Output o1 = cli(list + "--out " + path("a") + opts + " --threads 1");
+  ASSERT_EQ(o1.status, 0) << o1.out;
+  EXPECT_NE(o1.out.find("plastivox analyze: robustness 6/6"), std::string::npos) << o1.out;
+  EXPECT_NE(o1.out.find("time: "), std::string::npos) << o1.out;
+  for (const char* f : {"stats.json", "champions.csv", "statistics.csv", "hausdorff.csv",
+                        "analysis.h5", "report.html"})
+    EXPECT_TRUE(fs::exists(path("a/") + f)) << f;
+
+  // Two threads, files in another order: the same statistics.
+  std::string reversed;
+  for (auto it = files.rbegin(); it != files.rend(); ++it) reversed += *it + " ";
+  const testing::Output o2 = cli(reversed + "--out " + path("b") + opts + " --threads 2");
+  ASSERT_EQ(o2.status, 0) << o2.out;
+  Json a = Json::parse(read_text(path("a/stats.json")));
+  Json b = Json::parse(read_text(path("b/stats.json")));
+  for (Json* j : {&a, &b}) {
+    (*j)["provenance"].erase("date");
+    (*j)["provenance"].erase("command");
+  }
+  EXPECT_EQ(a, b);
+
+  // Interrupted after some champions (outputs and half the checkpoints gone): the rerun
+  // simulates only the rest and writes the same stats.json.
+  const std::string before = without_date(read_text(path("a/stats.json")));
+  fs::remove(path("a/stats.json"));
+  int removed = 0;
+  for (const auto& e : fs::directory_iterator(path("a/cache")))
+    if (removed++ % 2 == 0) fs::remove(e.path());
+  const testing::Output o3 = cli(list + "--out " + path("a") + opts + " --threads 1");
+  ASSERT_EQ(o3.status, 0) << o3.out;
+  EXPECT_NE(o3.out.find("3 from checkpoint"), std::string::npos) << o3.out;
+  EXPECT_EQ(without_date(read_text(path("a/stats.json"))), before);
+}
+
+TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
+  const std::string a = run(Treatment::kStress, 1);
+  std::ofstream(path("junk.h5")) << "not hdf5";
+  struct Case {
+    std::string args;
+    int status;
+    std::string expect;
+  } cases[] = {
+      {"--out " + path("o"), 2, "expected results files"},
+      {a, 2, "--out DIR is required"},
+      {a + " --out " + path("o") + " --rotations some", 2, "--rotations expects"},
+      {a + " --out " + path("o") + " --robustness-draws 0", 2, "--robustness-draws expects"},
+      {a + " --out " + path("o") + " --bogus", 2, "unknown option --bogus"},
+      {a + " " + path("junk.h5") + " --out " + path("o"), 1, path("junk.h5") + ": "},
+      {a + " --out " + path("o") + " --generation 9", 1, a + ": generation 9 not reached"},
+      {a + " --out " + path("o") + " --treatments stress,pressure", 1,
+       "treatment pressure: no results file given"},
+  };
+  for (const Case& c : cases) {
+    const testing::Output o = cli(c.args);
+    EXPECT_EQ(o.status, c.status) << c.args << "\n" << o.out;
+    EXPECT_NE(o.out.find(c.expect), std::string::npos) << c.args << "\n" << o.out;
+    EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;
+    EXPECT_FALSE(fs::exists(path("o"))) << c.args;
+  }
+}
+
+}  // namespace
+}  // namespace plastivox::analysis
