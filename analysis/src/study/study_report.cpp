@@ -226,7 +226,8 @@ std::string statistics(const StudyResult& r) {
       "of comparisons in each panel; stars after correction: * p&lt;0.05, ** p&lt;0.01, "
       "*** p&lt;0.001 (level " +
       display(o.alpha, 3) + "). Effect size: Hedges' g.</p>\n";
-  s += "<table><tr><th>panel</th><th>treatment</th><th>n</th><th>mean</th><th>95 % CI</th></tr>\n";
+  s += "<table><tr><th>panel</th><th>treatment</th><th>n</th><th>mean</th><th>" +
+       display(o.ci_level * 100, 4) + " % CI</th></tr>\n";
   for (const PanelStats& p : r.panels)
     for (const GroupStats& g : p.groups)
       s += "<tr>" + td(p.id + " " + esc(p.title)) + td(to_string(g.treatment)) +
