@@ -10,6 +10,7 @@
 #include "experiment_run.hpp"
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
 #include "plastivox/render/render_life.hpp"
 
@@ -76,6 +77,55 @@ std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   return files;
 }
 
+// One gallery per treatment: its run champions, after settling, coloured by congenital
+// stiffness (the paper's Figs. 2-4). A JSON sidecar records the tiles (label, heading).
+std::vector<std::string> render_galleries(StageContext& ctx, Stamps& stamps) {
+  const auto& r = ctx.config.rendering;
+  std::vector<std::string> out;
+  fs::create_directories(ctx.dir + "/figures");
+  for (auto t : ctx.config.treatments) {
+    const std::string name = std::string("gallery_") + to_string(t);
+    const std::string file = "figures/" + name + ".png", sidecar = "figures/" + name + ".json";
+    std::vector<std::string> inputs;
+    for (size_t i = 0; i < ctx.run_files.size(); ++i)
+      if (ctx.run_labels[i].rfind(std::string(to_string(t)) + "-s", 0) == 0)
+        inputs.push_back(ctx.dir + "/" + ctx.run_files[i]);
+    const std::string key = ctx.study->fingerprint + " " + name + " " +
+                            std::to_string(r.gallery_width) + "x" +
+                            std::to_string(r.gallery_height);
+    if (!ctx.opt.force.count("rendering") && stamps.current(name, key, {file, sidecar}, ctx.dir)) {
+      ctx.progress.log("[rendering] " + file + " up to date");
+    } else {
+      render::GalleryStyle style;
+      style.width = r.gallery_width;
+      style.height = r.gallery_height;
+      const auto layout = render::render_gallery_file(
+          inputs, style, ctx.dir + "/" + file,
+          [&](const std::string& m) { ctx.progress.status("[rendering] " + name + ": " + m); });
+      json tiles = json::array();
+      for (size_t i = 0; i < layout.tiles.size(); ++i)
+        tiles.push_back({{"label", layout.labels[i]},
+                         {"file", fs::relative(inputs[i], ctx.dir).string()},
+                         {"heading_deg", layout.heading_deg[i]},
+                         {"rect",
+                          {layout.tiles[i].x, layout.tiles[i].y, layout.tiles[i].width,
+                           layout.tiles[i].height}}});
+      write_file_atomic(ctx.dir + "/" + sidecar, json{{"treatment", to_string(t)},
+                                                      {"columns", layout.columns},
+                                                      {"rows", layout.rows},
+                                                      {"tiles", tiles}}
+                                                         .dump(1) +
+                                                     "\n");
+      stamps.record(name, key);
+      ctx.progress.log("[rendering] " + file + ": " + std::to_string(layout.tiles.size()) +
+                       " champions");
+    }
+    out.push_back(file);
+    out.push_back(sidecar);
+  }
+  return out;
+}
+
 // The callus-growth video: the fittest champion of a developing treatment (stress or
 // pressure), its whole life coloured by E/E0.
 std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
@@ -130,6 +180,8 @@ std::vector<std::string> stage_rendering(StageContext& ctx) {
   std::vector<std::string> out;
   if (ctx.config.rendering.figures)
     for (const auto& f : render_figures(ctx, stamps)) out.push_back(f);
+  if (ctx.config.rendering.galleries)
+    for (const auto& f : render_galleries(ctx, stamps)) out.push_back(f);
   if (ctx.config.rendering.video)
     for (const auto& f : render_video(ctx, stamps)) out.push_back(f);
   return out;
