@@ -149,6 +149,14 @@ TEST_F(VideoWriterFiles, FullHdAnd4kWork) {
   }
 }
 
+TEST_F(VideoWriterFiles, TwoEncoderThreadsAreReproducibleToo) {
+  const VideoOptions o{.width = 160, .height = 96, .fps = 30, .codec = "h264", .threads = 2};
+  write_video(path("a.mp4"), o, 40);
+  write_video(path("b.mp4"), o, 40);
+  EXPECT_TRUE(slurp(path("a.mp4")) == slurp(path("b.mp4")));
+  EXPECT_EQ(probe_video(path("a.mp4")).frames, 40);
+}
+
 TEST_F(VideoWriterFiles, FractionalFrameRate) {
   const std::string out = path("ntsc.mp4");
   write_video(out, {.width = 32, .height = 32, .fps = 29.97}, 30);

@@ -37,6 +37,7 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
                       " is outside " + std::to_string(kMinSide) + "x" + std::to_string(kMinSide) +
                       " .. " + std::to_string(kMaxSide) + "x" + std::to_string(kMaxSide));
   if (!o.png && !o.svg) throw RenderError("no output format chosen (png, svg or both)");
+  if (figure.panels.empty()) throw StatsError(figure.source + ": no panels to draw");
   // Lay every panel out before writing anything, so bad data stops the run with no files.
   std::vector<Drawing> drawings;
   for (const PanelStats& p : figure.panels) drawings.push_back(layout_panel(p, o.width, o.height));
