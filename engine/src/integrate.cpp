@@ -69,12 +69,6 @@ void integrate(const Model& m, State& s, Workspace& w) {
   // 2 sqrt(m E L) and 2 sqrt(I E L^3) are these times sqrt(E) (cached by gather).
   const double c_lin_unit = 2.0 * std::sqrt(m.mass * L);
   const double c_rot_unit = 2.0 * std::sqrt(m.inertia * L * L * L);
-  // Collision candidates depend only on relative positions, so what matters is each
-  // voxel's speed relative to the centre of mass.
-  Vec3 com_vel = Vec3::Zero();
-  for (int i = 0; i < m.n; ++i) com_vel += s.lin_mom[i];
-  com_vel *= inv_mass / m.n;
-  double max_rel2 = 0;
   double max_speed2 = 0;
   int fastest = -1;
   bool finite = true;
@@ -132,14 +126,12 @@ void integrate(const Model& m, State& s, Workspace& w) {
     q.normalize();
 
     const double v2 = p.squaredNorm() * inv_mass * inv_mass;
-    max_rel2 = std::max(max_rel2, (p * inv_mass - com_vel).squaredNorm());
     if (v2 > max_speed2) {
       max_speed2 = v2;
       fastest = i;
     }
     finite = finite && std::isfinite(v2) && std::isfinite(h.squaredNorm());
   }
-  w.travel_since_rebuild += std::sqrt(max_rel2) * dt;
 
   if (!finite || max_speed2 > d.max_speed * d.max_speed) {
     std::ostringstream why;

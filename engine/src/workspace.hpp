@@ -12,6 +12,19 @@
 
 namespace plastivox {
 
+// Scratch of a self-collision candidate rebuild (contacts.cpp), kept to reuse its memory.
+struct ContactGrid {
+  std::vector<int> voxels;   // surface voxels, increasing
+  std::vector<int> cell_of;  // cell of voxels[k]
+  std::vector<int> start;    // members of cell c: members[start[c] .. start[c + 1])
+  std::vector<int> fill;
+  std::vector<int> members;  // surface voxels by cell, increasing within a cell
+  std::array<std::vector<double>, 3> member_pos;  // their centres (x, y, z), m
+  std::vector<int> near_mark;                     // per voxel: last voxel it was near
+  std::vector<int> found;                         // candidates of one voxel
+  int dim[3] = {0, 0, 0};                         // cells per axis
+};
+
 struct Workspace {
   // Per voxel.
   std::vector<double> size;    // actuated edge length, m
@@ -26,8 +39,8 @@ struct Workspace {
   std::vector<double> bond_stress;  // axial stress, Pa (tension > 0)
   // Self-collision candidates: unbonded voxel pairs (i < j) near enough to touch soon.
   std::vector<std::pair<int, int>> contact_pairs;
-  std::vector<Vec3> contact_ref_pos;  // positions when the candidate list was built
-  double travel_since_rebuild = 0;    // upper bound on any voxel's travel since then, m
+  std::vector<Vec3> contact_ref_pos;  // surface voxels' positions at the last rebuild, m
+  ContactGrid contact_grid;
   bool contacts_valid = false;
   bool stiffness_changed = false;  // the develop stage changed E this step
   std::vector<int> redo;           // bonds the batched kernel left to the scalar path
