@@ -10,6 +10,7 @@
 #include "experiment/cost_estimate.hpp"
 #include "experiment/experiment_config.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/render/video_writer.hpp"
 #include "plastivox/robot_file.hpp"
 #include "test_support.hpp"
 
@@ -153,13 +154,36 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/runs/" + std::string(t) + "-s1.h5"));
     EXPECT_TRUE(std::filesystem::exists(dir + "/runs/" + std::string(t) + "-s2.h5"));
   }
+  const std::string report = read_file_bytes(dir + "/report.html");
+  // One gallery per treatment with one tile per run of it, and the callus video of a
+  // developing champion that decodes to the life's length.
+  for (const char* t : {"none", "stress", "pressure"}) {
+    const std::string g = dir + "/figures/gallery_" + std::string(t) + ".png";
+    EXPECT_TRUE(std::filesystem::exists(g)) << g;
+    const json side =
+        json::parse(read_file_bytes(dir + "/figures/gallery_" + std::string(t) + ".json"));
+    ASSERT_EQ(side["tiles"].size(), 2u) << t;
+    EXPECT_EQ(side["tiles"][0]["file"], "runs/" + std::string(t) + "-s1.h5");
+    EXPECT_EQ(side["tiles"][1]["file"], "runs/" + std::string(t) + "-s2.h5");
+  }
+  std::vector<std::string> videos;
+  for (const auto& e : std::filesystem::directory_iterator(dir + "/videos"))
+    videos.push_back(e.path().string());
+  ASSERT_EQ(videos.size(), 1u);
+  EXPECT_EQ(videos[0].find("callus_none"), std::string::npos) << "a developing champion";
+  const auto info = render::probe_video(videos[0]);
+  EXPECT_EQ(info.width, 160);
+  EXPECT_EQ(info.height, 96);
+  EXPECT_NEAR(info.frames, 0.6 * 10, 1);
+  EXPECT_NEAR(info.duration_s, info.frames / 10.0, 1e-6);
+  EXPECT_NE(report.find(std::filesystem::path(videos[0]).filename().string()), std::string::npos);
+
   // The summary lists every output, none missing.
   EXPECT_NE(o.out.find("report.html"), std::string::npos);
   EXPECT_EQ(o.out.find("(missing)"), std::string::npos) << o.out;
 
   // The report quotes the statistics of stats.json and names every champion.
   const json stats = json::parse(read_file_bytes(dir + "/stats.json"));
-  const std::string report = read_file_bytes(dir + "/report.html");
   ASSERT_EQ(stats["champions"].size(), 6u);
   for (const auto& c : stats["champions"])
     EXPECT_NE(report.find(c["label"].get<std::string>()), std::string::npos) << c["label"];
