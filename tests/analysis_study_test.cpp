@@ -239,6 +239,22 @@ TEST_F(Study, OutputsExistAndAgreeWithEachOther) {
       }
       EXPECT_TRUE(SameNumber(hrows[a + 1][b + 1], m[a][b]));
     }
+  double lo = 1e300, hi = 0;
+  for (int a = 0; a < 6; ++a)
+    for (int b = a + 1; b < 6; ++b) {
+      lo = std::min(lo, m[a][b].get<double>());
+      hi = std::max(hi, m[a][b].get<double>());
+    }
+  const Json& most = j["hausdorff"]["most_similar"];
+  const Json& least = j["hausdorff"]["least_similar"];
+  ASSERT_EQ(most.size(), 5u);
+  ASSERT_EQ(least.size(), 5u);
+  EXPECT_EQ(most[0]["distance"].get<double>(), lo);
+  EXPECT_EQ(least[0]["distance"].get<double>(), hi);
+  for (int k = 1; k < 5; ++k) {
+    EXPECT_LE(most[k - 1]["distance"].get<double>(), most[k]["distance"].get<double>());
+    EXPECT_GE(least[k - 1]["distance"].get<double>(), least[k]["distance"].get<double>());
+  }
   const Json& b_groups = j["panels"][1]["groups"];
   for (int t = 0; t < 3; ++t) EXPECT_EQ(b_groups[t]["values"], Json::array({m[2 * t][2 * t + 1]}));
 

@@ -30,8 +30,10 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress);
 // ---- study_stats.cpp ----
 // Panels A..F from the measured champions and the Hausdorff matrix.
 std::vector<PanelStats> compute_panels(const StudyResult& r);
-// Every pair (i < j) of champions ordered by Hausdorff distance, smallest first (ties: i, j).
-std::vector<std::pair<int, int>> pairs_by_distance(const HausdorffMatrix& m);
+// The k pairs (i < j) of champions with the smallest (most_similar) or largest Hausdorff
+// distance, in that order; ties in increasing (i, j).
+std::vector<std::pair<int, int>> extreme_pairs(const HausdorffMatrix& m, size_t k,
+                                               bool most_similar);
 // Body-plan counts per treatment: counts[t][plan], plan in the order Pi, Gamma, Upsilon, other.
 std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r);
 

@@ -204,15 +204,13 @@ Json hausdorff(const StudyResult& r) {
     for (int j = 0; j < m.n; ++j) row.push_back(num(m.at(i, j)));
     matrix.push_back(row);
   }
-  const auto ranked = study::pairs_by_distance(m);
-  const size_t k = std::min<size_t>(5, ranked.size());
   return {{"rotations", to_string(m.options.rotations)},
           {"translation", to_string(m.options.translation)},
           {"labels", labels},
           {"matrix", matrix},
           {"units", "voxel lengths"},
-          {"most_similar", pair_list(r, {ranked.begin(), ranked.begin() + k})},
-          {"least_similar", pair_list(r, {ranked.rbegin(), ranked.rbegin() + k})}};
+          {"most_similar", pair_list(r, study::extreme_pairs(m, 5, true))},
+          {"least_similar", pair_list(r, study::extreme_pairs(m, 5, false))}};
 }
 
 }  // namespace

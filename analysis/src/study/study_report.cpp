@@ -199,8 +199,6 @@ std::string pair_table(const StudyResult& r, const std::vector<std::pair<int, in
 }
 
 std::string diversity(const StudyResult& r) {
-  const auto ranked = study::pairs_by_distance(r.hausdorff);
-  const size_t k = std::min<size_t>(5, ranked.size());
   std::string s =
       "<h2>Diversity: Hausdorff distances</h2>\n<p>Between the filled-voxel sets "
       "of every pair of champions, minimised over rotations <b>" +
@@ -208,9 +206,9 @@ std::string diversity(const StudyResult& r) {
       to_string(r.hausdorff.options.translation) +
       "</b> (voxel lengths). Hover a cell for its value.</p>\n" + heat_map(r);
   s += "<div class=\"pairs\"><div><h3>Most similar pairs</h3>" +
-       pair_table(r, {ranked.begin(), ranked.begin() + k}) + "</div>";
-  s += "<div><h3>Least similar pairs</h3>" + pair_table(r, {ranked.rbegin(), ranked.rbegin() + k}) +
-       "</div></div>\n";
+       pair_table(r, study::extreme_pairs(r.hausdorff, 5, true)) + "</div>";
+  s += "<div><h3>Least similar pairs</h3>" +
+       pair_table(r, study::extreme_pairs(r.hausdorff, 5, false)) + "</div></div>\n";
   return s;
 }
 

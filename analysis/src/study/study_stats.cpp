@@ -124,13 +124,16 @@ std::vector<PanelStats> compute_panels(const StudyResult& r) {
   return panels;
 }
 
-std::vector<std::pair<int, int>> pairs_by_distance(const HausdorffMatrix& m) {
+std::vector<std::pair<int, int>> extreme_pairs(const HausdorffMatrix& m, size_t k,
+                                               bool most_similar) {
   std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < m.n; ++i)
     for (int j = i + 1; j < m.n; ++j) pairs.push_back({i, j});
   std::stable_sort(pairs.begin(), pairs.end(), [&](const auto& a, const auto& b) {
-    return m.at(a.first, a.second) < m.at(b.first, b.second);
+    const double da = m.at(a.first, a.second), db = m.at(b.first, b.second);
+    return most_similar ? da < db : da > db;
   });
+  pairs.resize(std::min(k, pairs.size()));
   return pairs;
 }
 
