@@ -98,34 +98,15 @@ std::string tick_label(double v, double step) {
   return buf;
 }
 
-// A group's extent: the values its bar and error bar reach (with 0, where bars start).
-void extend(const PanelGroup& g, double& lo, double& hi) {
-  for (const std::optional<double>& v : {g.mean, g.ci_low, g.ci_high}) {
-    if (v) {
-      lo = std::min(lo, *v);
-      hi = std::max(hi, *v);
-    }
-  }
-}
+// The significant comparisons as bar index pairs, narrowest first (they are placed lowest).
+struct Bracket {
+  size_t left, right;  // bar indices, left < right
+  std::string stars;
+};
 
-}  // namespace
-
-Drawing layout_panel(const PanelStats& panel, int width, int height) {
-  const float s = std::min(width / 800.0f, height / 600.0f);
-  Drawing d;
-  d.width = width;
-  d.height = height;
-  d.fonts = panel_fonts(s);
-  const auto px = [&](Font f) { return d.fonts[f].pixels; };
-  std::vector<Shape>& out = d.shapes;
-
-  // The significant comparisons, as bar index pairs, narrowest first (they sit lowest).
+std::vector<Bracket> significant_brackets(const PanelStats& panel) {
   std::map<std::string, size_t> index;
   for (size_t i = 0; i < panel.groups.size(); ++i) index[panel.groups[i].treatment] = i;
-  struct Bracket {
-    size_t left, right;
-    std::string stars;
-  };
   std::vector<Bracket> brackets;
   for (const PanelComparison& c : panel.comparisons) {
     if (c.stars.empty()) continue;
@@ -138,110 +119,184 @@ Drawing layout_panel(const PanelStats& panel, int width, int height) {
   std::stable_sort(brackets.begin(), brackets.end(), [](const Bracket& x, const Bracket& y) {
     return x.right - x.left < y.right - y.left;
   });
+  return brackets;
+}
 
-  // Value axis: 0 and every mean and CI bound, rounded out to whole ticks.
+// The value axis: 0 and every mean and CI bound, rounded out to whole ticks k * step.
+struct ValueAxis {
+  double step = 1;
+  long k_lo = 0, k_hi = 1;  // ticks k_lo * step .. k_hi * step
+  double lo() const { return k_lo * step; }
+  double hi() const { return k_hi * step; }
+};
+
+ValueAxis value_axis(const PanelStats& panel) {
   double lo = 0, hi = 0;
-  for (const PanelGroup& g : panel.groups) extend(g, lo, hi);
+  for (const PanelGroup& g : panel.groups) {
+    for (const std::optional<double>& v : {g.mean, g.ci_low, g.ci_high}) {
+      if (v) lo = std::min(lo, *v), hi = std::max(hi, *v);
+    }
+  }
   if (hi - lo <= 0) hi = lo + 1;
-  const double step = nice_step(hi - lo, 5);
-  const long k_lo = static_cast<long>(std::floor(lo / step + 1e-9));
-  const long k_hi = static_cast<long>(std::ceil(hi / step - 1e-9));
-  const double axis_lo = k_lo * step, axis_hi = k_hi * step;
+  ValueAxis a;
+  a.step = nice_step(hi - lo, 5);
+  a.k_lo = static_cast<long>(std::floor(lo / a.step + 1e-9));
+  a.k_hi = static_cast<long>(std::ceil(hi / a.step - 1e-9));
+  return a;
+}
 
-  // Frame: margins for the letter and title (top), y label and tick labels (left), treatment
-  // names and n (bottom), and headroom above the axis for the brackets.
-  const float pad = std::round(14 * s), tick_len = std::round(7 * s);
-  size_t widest_tick = 1;
-  for (long k = k_lo; k <= k_hi; ++k)
-    widest_tick = std::max(widest_tick, tick_label(k * step, step).size());
-  const float y_title = std::round(pad + 0.8f * px(kLetter));
-  const float bracket_step = std::round(px(kStars) * 1.1f + 8 * s),
-              bracket_gap = std::round(10 * s);
-  const float plot_left = std::round(pad + px(kLabel) * 1.2f + 10 * s +
-                                     0.6f * px(kTick) * widest_tick + tick_len + 5 * s);
-  const float plot_right = std::round(width - 2 * pad);
-  const float plot_top = std::round(y_title + 16 * s + brackets.size() * bracket_step);
-  const float plot_bottom =
-      std::round(height - pad - px(kSmall) * 1.4f - px(kLabel) * 1.2f - tick_len - 6 * s);
-  const auto y_of = [&](double v) {
-    return static_cast<float>(plot_bottom -
-                              (v - axis_lo) / (axis_hi - axis_lo) * (plot_bottom - plot_top));
-  };
-  const float y_zero = std::round(y_of(0));
-
-  // Panel letter and title.
-  out.push_back(text(panel.id, kLetter, pad, y_title, Anchor::kStart));
-  out.push_back(text(markup(panel.title, kTitle, kTitleSub, 0.25f * px(kTitle)),
-                     std::round((plot_left + plot_right) / 2), y_title, Anchor::kMiddle));
-
-  // Bars, error bars, names and sample sizes.
-  const size_t n = std::max<size_t>(1, panel.groups.size());
-  const float slot = (plot_right - plot_left) / n;
-  const float bar_w = std::round(std::min(0.6f * slot, 160 * s));
-  const float line_w = std::max(1.0f, std::round(1.5f * s * 2) / 2);
-  std::vector<float> centre(panel.groups.size()), top(panel.groups.size());
-  for (size_t i = 0; i < panel.groups.size(); ++i) {
-    const PanelGroup& g = panel.groups[i];
-    centre[i] = std::round(plot_left + (i + 0.5f) * slot);
-    top[i] = y_zero;
-    if (g.mean) {
-      const float y_mean = std::round(y_of(*g.mean));
-      out.push_back(RectShape{std::round(centre[i] - bar_w / 2), std::min(y_mean, y_zero), bar_w,
-                              std::abs(y_zero - y_mean), treatment_colour(g.treatment, i), "bar",
-                              g.treatment});
-      top[i] = std::min(top[i], y_mean);
-    } else {
-      out.push_back(text("no data", kSmall, centre[i], y_zero - 6 * s, Anchor::kMiddle, kGrey));
-      top[i] = y_zero - 6 * s - px(kSmall);
-    }
-    if (g.ci_low && g.ci_high) {
-      const float y_low = y_of(*g.ci_low), y_high = y_of(*g.ci_high),
-                  cap = std::round(bar_w * 0.15f);
-      out.push_back(LineShape{centre[i], y_low, centre[i], y_high, line_w, kInk});
-      out.push_back(LineShape{centre[i] - cap, y_low, centre[i] + cap, y_low, line_w, kInk});
-      out.push_back(LineShape{centre[i] - cap, y_high, centre[i] + cap, y_high, line_w, kInk});
-      top[i] = std::min(top[i], y_high);
-    }
-    const float y_name = plot_bottom + tick_len + 6 * s + 0.8f * px(kLabel);
-    out.push_back(text(display_treatment(g.treatment), kLabel, centre[i], y_name, Anchor::kMiddle));
-    out.push_back(text("n = " + std::to_string(g.n), kSmall, centre[i], y_name + px(kSmall) * 1.3f,
-                       Anchor::kMiddle, kGrey));
+// One panel being laid out: its geometry (pixels) and the drawing the stages add to.
+class PanelLayout {
+ public:
+  PanelLayout(const PanelStats& panel, int width, int height)
+      : panel_(panel),
+        s_(std::min(width / 800.0f, height / 600.0f)),
+        axis_(value_axis(panel)),
+        brackets_(significant_brackets(panel)) {
+    d_.width = width;
+    d_.height = height;
+    d_.fonts = panel_fonts(s_);
+    frame();
   }
 
-  // Axes: the y axis with ticks and labels, the zero line under the bars.
-  out.push_back(LineShape{plot_left, y_of(axis_lo), plot_left, y_of(axis_hi), line_w, kInk});
-  out.push_back(LineShape{plot_left, y_zero, plot_right, y_zero, line_w, kInk});
-  for (long k = k_lo; k <= k_hi; ++k) {
-    const float y = std::round(y_of(k * step));
-    out.push_back(LineShape{plot_left - tick_len, y, plot_left, y, line_w, kInk});
-    out.push_back(text(tick_label(k * step, step), kTick, plot_left - tick_len - 5 * s,
-                       std::round(y + 0.35f * px(kTick)), Anchor::kEnd));
+  Drawing take() && {
+    add_titles();
+    add_bars();
+    add_axes();
+    add_brackets();
+    return std::move(d_);
   }
-  TextShape ylabel = text(markup(panel.unit, kLabel, kLabelSub, 0.25f * px(kLabel)),
-                          std::round(pad + 0.8f * px(kLabel)),
-                          std::round((y_of(axis_hi) + plot_bottom) / 2), Anchor::kMiddle);
-  ylabel.vertical = true;
-  out.push_back(std::move(ylabel));
 
-  // Brackets: each just above the highest bar or error bar it spans and above every bracket
-  // placed before it that it overlaps.
-  std::vector<std::pair<Bracket, float>> placed;
-  const float drop = std::round(6 * s);  // legs stop short of the bars
-  for (const Bracket& b : brackets) {
-    float y = *std::min_element(top.begin() + b.left, top.begin() + b.right + 1) - bracket_gap;
-    for (const auto& [other, oy] : placed) {
-      if (other.left <= b.right && b.left <= other.right) y = std::min(y, oy - bracket_step);
-    }
-    y = std::round(y);
-    placed.emplace_back(b, y);
-    const float xl = centre[b.left], xr = centre[b.right];
-    out.push_back(LineShape{xl, y + drop, xl, y, line_w, kInk});
-    out.push_back(LineShape{xl, y, xr, y, line_w, kInk});
-    out.push_back(LineShape{xr, y, xr, y + drop, line_w, kInk});
-    out.push_back(text(b.stars, kStars, std::round((xl + xr) / 2), y - 4 * s + 0.3f * px(kStars),
-                       Anchor::kMiddle));
+ private:
+  float px(Font f) const { return d_.fonts[f].pixels; }
+  float y_of(double v) const {
+    return static_cast<float>(bottom_ -
+                              (v - axis_.lo()) / (axis_.hi() - axis_.lo()) * (bottom_ - top_));
   }
-  return d;
+
+  // Margins: letter and title (top), y label and tick labels (left), treatment names and n
+  // (bottom), and headroom above the axis for the brackets.
+  void frame() {
+    pad_ = std::round(14 * s_);
+    tick_len_ = std::round(7 * s_);
+    line_w_ = std::max(1.0f, std::round(1.5f * s_ * 2) / 2);
+    bracket_step_ = std::round(px(kStars) * 1.1f + 8 * s_);
+    size_t widest_tick = 1;
+    for (long k = axis_.k_lo; k <= axis_.k_hi; ++k)
+      widest_tick = std::max(widest_tick, tick_label(k * axis_.step, axis_.step).size());
+    y_title_ = std::round(pad_ + 0.8f * px(kLetter));
+    left_ = std::round(pad_ + px(kLabel) * 1.2f + 10 * s_ + 0.6f * px(kTick) * widest_tick +
+                       tick_len_ + 5 * s_);
+    right_ = std::round(d_.width - 2 * pad_);
+    top_ = std::round(y_title_ + 16 * s_ + brackets_.size() * bracket_step_);
+    bottom_ =
+        std::round(d_.height - pad_ - px(kSmall) * 1.4f - px(kLabel) * 1.2f - tick_len_ - 6 * s_);
+    y_zero_ = std::round(y_of(0));
+    const size_t slots = std::max<size_t>(1, panel_.groups.size());
+    const float slot = (right_ - left_) / slots;
+    bar_w_ = std::round(std::min(0.6f * slot, 160 * s_));
+    for (size_t i = 0; i < panel_.groups.size(); ++i)
+      centre_.push_back(std::round(left_ + (i + 0.5f) * slot));
+  }
+
+  void add_titles() {
+    d_.shapes.push_back(text(panel_.id, kLetter, pad_, y_title_, Anchor::kStart));
+    d_.shapes.push_back(text(markup(panel_.title, kTitle, kTitleSub, 0.25f * px(kTitle)),
+                             std::round((left_ + right_) / 2), y_title_, Anchor::kMiddle));
+  }
+
+  // Bars from zero, error bars with caps, treatment names and sample sizes; records each
+  // bar's highest point for the brackets.
+  void add_bars() {
+    for (size_t i = 0; i < panel_.groups.size(); ++i) {
+      const PanelGroup& g = panel_.groups[i];
+      const float x = centre_[i];
+      float top = y_zero_;
+      if (g.mean) {
+        const float y_mean = std::round(y_of(*g.mean));
+        d_.shapes.push_back(RectShape{std::round(x - bar_w_ / 2), std::min(y_mean, y_zero_), bar_w_,
+                                      std::abs(y_zero_ - y_mean), treatment_colour(g.treatment, i),
+                                      "bar", g.treatment});
+        top = std::min(top, y_mean);
+      } else {
+        d_.shapes.push_back(text("no data", kSmall, x, y_zero_ - 6 * s_, Anchor::kMiddle, kGrey));
+        top = y_zero_ - 6 * s_ - px(kSmall);
+      }
+      if (g.ci_low && g.ci_high) {
+        const float lo = y_of(*g.ci_low), hi = y_of(*g.ci_high), cap = std::round(bar_w_ * 0.15f);
+        line(x, lo, x, hi);
+        line(x - cap, lo, x + cap, lo);
+        line(x - cap, hi, x + cap, hi);
+        top = std::min(top, hi);
+      }
+      bar_top_.push_back(top);
+      const float y_name = bottom_ + tick_len_ + 6 * s_ + 0.8f * px(kLabel);
+      d_.shapes.push_back(text(display_treatment(g.treatment), kLabel, x, y_name, Anchor::kMiddle));
+      d_.shapes.push_back(text("n = " + std::to_string(g.n), kSmall, x, y_name + px(kSmall) * 1.3f,
+                               Anchor::kMiddle, kGrey));
+    }
+  }
+
+  // The y axis with ticks, tick labels and the unit; the zero line under the bars.
+  void add_axes() {
+    line(left_, y_of(axis_.lo()), left_, y_of(axis_.hi()));
+    line(left_, y_zero_, right_, y_zero_);
+    for (long k = axis_.k_lo; k <= axis_.k_hi; ++k) {
+      const float y = std::round(y_of(k * axis_.step));
+      line(left_ - tick_len_, y, left_, y);
+      d_.shapes.push_back(text(tick_label(k * axis_.step, axis_.step), kTick,
+                               left_ - tick_len_ - 5 * s_, std::round(y + 0.35f * px(kTick)),
+                               Anchor::kEnd));
+    }
+    TextShape unit = text(markup(panel_.unit, kLabel, kLabelSub, 0.25f * px(kLabel)),
+                          std::round(pad_ + 0.8f * px(kLabel)),
+                          std::round((y_of(axis_.hi()) + bottom_) / 2), Anchor::kMiddle);
+    unit.vertical = true;
+    d_.shapes.push_back(std::move(unit));
+  }
+
+  // Each bracket just above the highest bar or error bar it spans, and a step above every
+  // bracket placed before it that it overlaps; legs stop short of the bars.
+  void add_brackets() {
+    const float gap = std::round(10 * s_), leg = std::round(6 * s_);
+    std::vector<std::pair<Bracket, float>> placed;
+    for (const Bracket& b : brackets_) {
+      float y = *std::min_element(bar_top_.begin() + b.left, bar_top_.begin() + b.right + 1) - gap;
+      for (const auto& [other, other_y] : placed) {
+        if (other.left <= b.right && b.left <= other.right)
+          y = std::min(y, other_y - bracket_step_);
+      }
+      y = std::round(y);
+      placed.emplace_back(b, y);
+      const float xl = centre_[b.left], xr = centre_[b.right];
+      line(xl, y + leg, xl, y);
+      line(xl, y, xr, y);
+      line(xr, y, xr, y + leg);
+      d_.shapes.push_back(text(b.stars, kStars, std::round((xl + xr) / 2),
+                               y - 4 * s_ + 0.3f * px(kStars), Anchor::kMiddle));
+    }
+  }
+
+  void line(float x0, float y0, float x1, float y1) {
+    d_.shapes.push_back(LineShape{x0, y0, x1, y1, line_w_, kInk});
+  }
+
+  const PanelStats& panel_;
+  const float s_;  // scale of an 800 x 600 panel
+  const ValueAxis axis_;
+  const std::vector<Bracket> brackets_;
+  Drawing d_;
+  float pad_ = 0, tick_len_ = 0, line_w_ = 1, bracket_step_ = 0, y_title_ = 0;
+  float left_ = 0, right_ = 0, top_ = 0, bottom_ = 0, y_zero_ = 0;  // plot area, pixels
+  float bar_w_ = 0;
+  std::vector<float> centre_;   // per bar: centre x
+  std::vector<float> bar_top_;  // per bar: highest point of bar, error bar or "no data"
+};
+
+}  // namespace
+
+Drawing layout_panel(const PanelStats& panel, int width, int height) {
+  return PanelLayout(panel, width, height).take();
 }
 
 Drawing layout_figure(const StatsFigure& figure, int width, int height, int columns) {
