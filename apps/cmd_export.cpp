@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/robot_file.hpp"
 #include "plastivox/vxa.hpp"
@@ -31,7 +32,7 @@ int cmd_export(const Args& in) {
 
   const evo::ResultsFile results = evo::read_results(args[0]);
   const evo::RunState& run = results.state;
-  int generation = run.generations_done;
+  int generation = -1;
   if (!gen_text.empty()) {
     size_t used = 0;
     try {
@@ -41,20 +42,10 @@ int cmd_export(const Args& in) {
     }
     if (used != gen_text.size() || generation < 0)
       throw UsageError{"--generation expects a generation number, got '" + gen_text + "'"};
-    if (generation > run.generations_done)
-      throw InputError(args[0] + ": --generation " + gen_text + " is beyond the " +
-                       std::to_string(run.generations_done) + " generations done");
   }
-  // The champion at the end of `generation`: the last new best recorded by then.
-  const evo::ChampionRecord* champion = nullptr;
-  for (const evo::ChampionRecord& c : run.champions)
-    if (c.generation <= generation) champion = &c;
-  if (!champion)
-    throw InputError(args[0] + ": champions: none recorded by generation " +
-                     std::to_string(generation));
-
-  RobotDef robot = champion->phenotype;
-  robot.name = "champion-" + std::to_string(champion->id) + "-gen" + std::to_string(generation);
+  const evo::ChampionRecord& champion = evo::champion_at(run, generation, args[0]);
+  if (generation < 0) generation = run.generations_done;
+  const RobotDef robot = evo::champion_robot(champion, generation);
   const PhysicsDef& physics = run.config.physics;
   if (ends_with(out, ".vxa")) {
     std::vector<std::string> warnings;
@@ -65,7 +56,7 @@ int cmd_export(const Args& in) {
     write_robot_file(out, robot, &physics);
   }
   std::printf("wrote %s: champion %llu (fitness %.6g, %d voxels) at generation %d\n", out.c_str(),
-              static_cast<unsigned long long>(champion->id), champion->fitness, robot.voxel_count(),
+              static_cast<unsigned long long>(champion.id), champion.fitness, robot.voxel_count(),
               generation);
   return 0;
 }

@@ -1,10 +1,35 @@
-// plastivox gallery: placeholder until its owner lands it (session 2 work in progress).
-#include <stdexcept>
+// plastivox gallery RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]:
+// the champions side by side (the paper's Figs. 2-4).
+#include <cstdio>
 
-#include "cli.hpp"
+#include "plastivox/render/gallery.hpp"
+#include "render_cli.hpp"
 
 namespace plastivox::cli {
 
-int cmd_gallery(const Args&) { throw std::runtime_error("'gallery' is not built yet"); }
+int cmd_gallery(const Args& in) {
+  Args args = in;
+  const std::string out = take_option(args, "--out", "");
+  render::GalleryStyle style;
+  const std::string size = take_option(args, "--size", "");
+  if (!size.empty()) parse_size(size, style.width, style.height);
+  style.columns = parse_whole(take_option(args, "--columns", "0"), "--columns");
+  style.time = parse_number(take_option(args, "--time", "-1"), "--time");
+  style.samples = parse_whole(take_option(args, "--samples", "4"), "--samples");
+  style.labels = !take_flag(args, "--no-labels");
+  style.colorbar = !take_flag(args, "--no-colorbar");
+  reject_unknown_options(args);
+  if (args.empty())
+    throw UsageError{
+        "expected results files: plastivox gallery RUN.h5 [RUN.h5 ...] --out gallery.png"};
+  if (out.empty()) throw UsageError{"--out gallery.png is required"};
+  if (style.columns < 0) throw UsageError{"--columns must be >= 0"};
+  if (style.samples < 1 || style.samples > 8) throw UsageError{"--samples must be 1..8"};
+  const render::GalleryLayout layout = render::render_gallery_file(
+      args, style, out, [](const std::string& l) { log_line("gallery", l); });
+  std::printf("wrote %s (%zu champions, %d x %d grid, %dx%d)\n", out.c_str(), layout.tiles.size(),
+              layout.columns, layout.rows, style.width, style.height);
+  return 0;
+}
 
 }  // namespace plastivox::cli

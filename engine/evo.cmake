@@ -13,6 +13,7 @@ add_library(plastivox_evo
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/thread_pool.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/evolver.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/digest.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/evo/champion.cpp
 )
 target_include_directories(plastivox_evo PRIVATE ${CMAKE_CURRENT_LIST_DIR}/src/evo)
 target_link_libraries(plastivox_evo PUBLIC plastivox_engine Threads::Threads

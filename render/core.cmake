@@ -12,14 +12,22 @@ add_library(plastivox_render
   ${CMAKE_CURRENT_LIST_DIR}/src/assets.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/offscreen.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/png_io.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/colormap.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/color_scale.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/life.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/scene.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/scene_gl.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/overlay.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/render_life.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/gallery.cpp
 )
 target_include_directories(plastivox_render PUBLIC ${CMAKE_CURRENT_LIST_DIR}/include
                            PRIVATE ${CMAKE_CURRENT_LIST_DIR}/src)
 # ImGui's headers are public (callers draw with ImDrawList); SYSTEM keeps their warnings out.
 target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
                            PRIVATE ${OSMESA_INCLUDE_DIR})
-target_link_libraries(plastivox_render PUBLIC plastivox_engine
-                      PRIVATE ${IMGUI_LIBRARY} ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
+target_link_libraries(plastivox_render PUBLIC plastivox_engine plastivox_vxa plastivox_evo_h5
+                      PRIVATE plastivox_video ${IMGUI_LIBRARY} ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
 # Compile-time default of the assets directory; $PLASTIVOX_ASSETS overrides it at run time.
 target_compile_definitions(plastivox_render PRIVATE
   PLASTIVOX_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")

@@ -134,6 +134,15 @@ std::string find_font(const std::string& name) {
 // ImGuiLayer
 // ---------------------------------------------------------------------------------------
 
+namespace {
+
+// Latin-1, Greek (α, σ, Δ), punctuation, super- and subscripts (10⁶, E₀), arrows and
+// mathematical operators (−, ±, ≤): what axis labels and units need.
+const ImWchar kGlyphRanges[] = {0x0020, 0x00FF, 0x0370, 0x03FF, 0x2000, 0x206F, 0x2070,
+                                0x209F, 0x2190, 0x21FF, 0x2200, 0x22FF, 0};
+
+}  // namespace
+
 ImGuiLayer::ImGuiLayer(OffscreenContext& ctx, const std::vector<FontSpec>& fonts) : ctx_(ctx) {
   if (fonts.empty()) throw RenderError("ImGuiLayer needs at least one font");
   std::vector<std::string> paths;
@@ -153,7 +162,8 @@ ImGuiLayer::ImGuiLayer(OffscreenContext& ctx, const std::vector<FontSpec>& fonts
     ImFontConfig config;
     config.OversampleH = 3;
     config.OversampleV = 2;
-    ImFont* font = io.Fonts->AddFontFromFileTTF(paths[i].c_str(), fonts[i].pixels, &config);
+    ImFont* font =
+        io.Fonts->AddFontFromFileTTF(paths[i].c_str(), fonts[i].pixels, &config, kGlyphRanges);
     if (!font) {
       ImGui::DestroyContext(imgui_);
       ImGui::SetCurrentContext(previous);

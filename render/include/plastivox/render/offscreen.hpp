@@ -68,7 +68,8 @@ class OffscreenContext {
   int width_ = 0, height_ = 0;
 };
 
-// A TrueType font at a pixel size (the height ImGui lays glyphs out in, ~ em size).
+// A TrueType font at a pixel size (the height ImGui lays glyphs out in, ~ em size). Glyphs
+// loaded: Latin-1, Greek, general punctuation, super/subscripts, arrows, math operators.
 struct FontSpec {
   std::string file = "DejaVuSans.ttf";  // a name resolved by find_font(), or a path
   float pixels = 16.0f;

@@ -1,0 +1,81 @@
+// Command-line options shared by `plastivox render`, `video` and `gallery`.
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "cli.hpp"
+#include "plastivox/render/offscreen.hpp"
+#include "plastivox/render/render_life.hpp"
+
+namespace plastivox::cli {
+
+inline double parse_number(const std::string& text, const std::string& option) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v))
+    throw UsageError{option + " expects a number, got '" + text + "'"};
+  return v;
+}
+
+inline int parse_whole(const std::string& text, const std::string& option) {
+  const double v = parse_number(text, option);
+  if (v != std::floor(v) || std::abs(v) > 1e9)
+    throw UsageError{option + " expects a whole number, got '" + text + "'"};
+  return static_cast<int>(v);
+}
+
+// "WxH" -> width, height (1..16384 each).
+inline void parse_size(const std::string& text, int& width, int& height) {
+  const size_t x = text.find('x');
+  if (x == std::string::npos)
+    throw UsageError{"--size expects WxH (e.g. 1920x1080), got '" + text + "'"};
+  width = parse_whole(text.substr(0, x), "--size");
+  height = parse_whole(text.substr(x + 1), "--size");
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw UsageError{"--size " + text + " is outside 1x1 .. 16384x16384"};
+}
+
+// Takes the frame-style options (size, colour, overlay, camera) out of args.
+inline render::FrameStyle take_frame_style(Args& args, int default_w, int default_h) {
+  render::FrameStyle s;
+  s.width = default_w;
+  s.height = default_h;
+  const std::string size = take_option(args, "--size", "");
+  if (!size.empty()) parse_size(size, s.width, s.height);
+  try {
+    s.color = render::parse_color_mode(take_option(args, "--color", "congenital"));
+  } catch (const render::RenderError& e) {
+    throw UsageError{std::string("--color: ") + e.what()};
+  }
+  if (take_flag(args, "--no-overlay")) s.overlay = {false, false, false, false, false};
+  if (take_flag(args, "--no-colorbar")) s.overlay.colorbar = false;
+  if (take_flag(args, "--no-time")) s.overlay.time = false;
+  if (take_flag(args, "--no-treatment")) s.overlay.treatment = false;
+  if (take_flag(args, "--no-displacement")) s.overlay.displacement = false;
+  if (take_flag(args, "--no-scalebar")) s.overlay.scalebar = false;
+  s.orthographic = take_flag(args, "--ortho");
+  s.lit = !take_flag(args, "--flat");
+  s.shadows = !take_flag(args, "--no-shadows");
+  s.zoom = parse_number(take_option(args, "--zoom", "1"), "--zoom");
+  if (!(s.zoom > 0)) throw UsageError{"--zoom must be > 0"};
+  s.azimuth_deg = parse_number(take_option(args, "--azimuth", "-60"), "--azimuth");
+  s.elevation_deg = parse_number(take_option(args, "--elevation", "25"), "--elevation");
+  if (!(s.elevation_deg > -90 && s.elevation_deg <= 90))
+    throw UsageError{"--elevation must be in (-90, 90] degrees"};
+  s.samples = parse_whole(take_option(args, "--samples", "4"), "--samples");
+  if (s.samples < 1 || s.samples > 8) throw UsageError{"--samples must be 1..8"};
+  return s;
+}
+
+inline void log_line(const std::string& cmd, const std::string& line) {
+  std::fprintf(stderr, "plastivox %s: %s\n", cmd.c_str(), line.c_str());
+}
+
+}  // namespace plastivox::cli

@@ -1,0 +1,2 @@
+// Depth-only pass: nothing to write but depth.
+void main() {}

@@ -1,0 +1,53 @@
+// What a voxel's colour means: the colour modes of `plastivox render --color MODE`, the
+// range each maps onto its colour map, and the colour bar's ticks. Plain data, no GL.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/recording.hpp"
+#include "plastivox/render/colormap.hpp"
+
+namespace plastivox::render {
+
+enum class ColorMode {
+  kCongenital,  // congenital stiffness E0, log10 over [e_min, e_max], sequential map
+  kStiffness,   // current stiffness E, log10 over [e_min, e_max], sequential map
+  kChange,      // lifetime change E/E0, log10 symmetric about 1, diverging map
+  kAlpha,       // development rate alpha (1/s), symmetric about 0, diverging map
+  kPhase,       // actuation phase (cycles, modulo 1), cyclic map
+};
+const char* to_string(ColorMode m);  // "congenital", "stiffness", "change", "alpha", "phase"
+// Throws RenderError listing the valid names.
+ColorMode parse_color_mode(const std::string& name);
+
+struct Tick {
+  double t = 0;       // position along the map, [0, 1]
+  std::string label;  // UTF-8, e.g. "10⁶", "×2", "-5", "0.25"
+};
+
+// A colour mode with its fixed range. `lo`/`hi` are in the mapped coordinate: log10 Pa for
+// the stiffness modes, log10 of the ratio for change, 1/s for alpha, cycles for phase.
+struct ColorScale {
+  ColorMode mode = ColorMode::kCongenital;
+  double lo = 5, hi = 11;
+  std::string title;  // colour-bar title with unit, e.g. "congenital stiffness E₀ (Pa)"
+
+  const Colormap& map() const;
+  double value(const Model& model, const Frame& frame, int voxel) const;  // mapped coordinate
+  double position(double value) const;  // t in [0, 1] (clamped; phase wraps)
+  Rgb8 color(const Model& model, const Frame& frame, int voxel) const {
+    return map().at(position(value(model, frame, voxel)));
+  }
+  std::vector<Tick> ticks() const;  // 3..11 labelled ticks, ascending t
+};
+
+// The scale for `mode` that stays fixed over `frames` (so a video's colours mean the same
+// in every frame): stiffness modes span the physics' [e_min, e_max]; change spans the
+// largest |log10 E/E0| seen, rounded up to a 1-2-5 step (at least a factor 1.01); alpha
+// spans the largest |alpha|, rounded likewise; phase spans one cycle.
+ColorScale make_color_scale(ColorMode mode, const Model& model,
+                            const std::vector<const Frame*>& frames);
+
+}  // namespace plastivox::render

@@ -1,0 +1,36 @@
+// Galleries of champions (the paper's Figs. 2-4): one tile per results file, each robot
+// after settling, coloured by congenital stiffness, turned so it travels towards the lower
+// right of its tile (heading taken from its own simulated displacement), all at one scale,
+// with a run label under each tile and one shared colour bar.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "plastivox/render/render_life.hpp"
+
+namespace plastivox::render {
+
+struct GalleryStyle {
+  int width = 1920, height = 1080;  // pixels of the whole gallery
+  int columns = 0;                  // 0: chosen so tiles are about as wide as tall
+  double time = -1;                 // simulated time shown, s (< 0: the end of settling)
+  int samples = 4;                  // anti-aliasing samples
+  bool labels = true;               // run label (treatment · seed) under each tile
+  bool colorbar = true;             // the shared colour bar on the right
+};
+
+struct GalleryLayout {
+  int columns = 0, rows = 0;
+  std::vector<PixelRect> tiles;  // one per input, in input order
+  std::vector<std::string> labels;
+  std::vector<double> heading_deg;  // direction of travel, degrees from +x
+};
+
+// Renders the gallery to a PNG at `out` (atomically). Inputs are results files (.h5; robot
+// files are accepted too). `log` receives one line per item. Throws on the first bad input,
+// leaving no file.
+GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
+                                  const std::string& out, const LogFn& log = {});
+
+}  // namespace plastivox::render

@@ -1,0 +1,52 @@
+// Where a rendered life comes from: a robot file (.json plastivox robot or .vxa), simulated
+// under its own physics, or an evolution results file (.h5), whose champion is simulated
+// again (deterministically, so exactly the life evolution scored) under the run's physics
+// and treatment. No GL here.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/recording.hpp"
+
+namespace plastivox::render {
+
+struct LifeSource {
+  std::string path;                   // the file read
+  RobotDef robot;                     // the robot (lattice arrays: present, E0, alpha, phase)
+  PhysicsDef physics;                 // what it is simulated under (treatment included)
+  std::string label;                  // short caption: "stress · seed 3" or the robot's name
+  std::vector<std::string> warnings;  // from reading a .vxa, one line each
+};
+
+// Reads by extension: .json, .vxa, .h5 (generation -1: the last one done). Throws
+// InputError / VxaError / ResultsError (all std::runtime_error, one line naming the file).
+LifeSource load_life_source(const std::string& path, int generation = -1);
+
+// A compiled robot with frames captured from its simulation.
+struct Life {
+  std::shared_ptr<const Model> model;
+  std::vector<Frame> frames;    // one per requested time, in the order requested
+  Eigen::Vector3d com_settled;  // centre of mass at the end of settling, m
+  bool settled = false;         // the simulation reached physics.settle_time
+};
+
+// Compiles the source and simulates it, capturing a frame at each requested time (s,
+// ascending, each within [0, physics.duration]): the state at the first step whose time is
+// >= the requested time, as the engine's own recording does. Stops after the last one.
+// `progress` (optional) is called with the simulated fraction in [0, 1]. Throws
+// RenderError if the simulation goes unstable before the last time.
+Life simulate_life(const LifeSource& source, const std::vector<double>& times,
+                   const std::function<void(double)>& progress = {});
+
+// Centre of mass of a frame (voxels have equal mass), m.
+Eigen::Vector3d center_of_mass(const Frame& frame);
+
+// Displacement of the centre of mass since settling, voxel lengths (zero before settling;
+// z ignored under the xy fitness mode), the quantity fitness measures.
+double displacement_so_far(const Life& life, const Frame& frame);
+
+}  // namespace plastivox::render

@@ -1,0 +1,86 @@
+// Rendering a robot's life: one frame as PNG, the whole life (or a part) as an MP4 video,
+// and champions side by side (gallery.hpp). These are the library calls behind
+// `plastivox render` and `plastivox video`; the experiment calls them in-process.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plastivox/render/color_scale.hpp"
+#include "plastivox/render/life.hpp"
+#include "plastivox/render/overlay.hpp"
+#include "plastivox/render/scene.hpp"
+
+namespace plastivox::render {
+
+// Message sink for progress lines (may be empty: silent).
+using LogFn = std::function<void(const std::string&)>;
+
+struct FrameStyle {
+  int width = 1280, height = 720;  // pixels (1920x1080 and 3840x2160 work)
+  ColorMode color = ColorMode::kCongenital;
+  OverlayOptions overlay;
+  bool orthographic = false;  // parallel projection (tests, technical views)
+  double zoom = 1.0;          // > 1 closer
+  double azimuth_deg = -60;   // camera direction about +z, from +x
+  double elevation_deg = 25;  // camera height above the floor plane
+  int samples = 4;            // multisample anti-aliasing (1 = off)
+  bool lit = true;            // false: flat colours (tests)
+  bool shadows = true;
+};
+
+// Draws frames of lives with one style, reusing its GL context, shaders and fonts (create
+// once, call render() for every frame; not thread-safe).
+class LifeRenderer {
+ public:
+  explicit LifeRenderer(const FrameStyle& style);  // throws RenderError
+  ~LifeRenderer();
+  LifeRenderer(const LifeRenderer&) = delete;
+  LifeRenderer& operator=(const LifeRenderer&) = delete;
+
+  // One frame of `life` coloured by `scale`, camera following the robot; returns RGBA8 rows
+  // top-down (4 * width * height bytes). `treatment` is the overlay's caption.
+  std::vector<uint8_t> render(const Life& life, const Frame& frame, const ColorScale& scale,
+                              const std::string& treatment);
+  const FrameStyle& style() const { return style_; }
+
+ private:
+  FrameStyle style_;
+  std::unique_ptr<OffscreenContext> ctx_;
+  std::unique_ptr<SceneRenderer> scene_;
+  std::unique_ptr<ImGuiLayer> ui_;
+};
+
+// Throws RenderError unless a file can be created at path (its folder exists and is
+// writable), so a long job fails before it starts rather than at the end.
+void check_output_path(const std::string& path);
+
+// Renders the frame at simulated time `time` (s) of the robot or results file `source` to
+// a PNG at `out` (written atomically).
+void render_frame_file(const std::string& source, double time, const FrameStyle& style,
+                       const std::string& out, const LogFn& log = {});
+
+struct VideoJob {
+  double fps = 30;   // frames per second of the video
+  double start = 0;  // simulated time of the first frame, s
+  double end = -1;   // simulated time the video ends, s (< 0: the end of the life)
+  int stride = 1;    // simulated time between frames = stride / fps (stride > 1: time-lapse)
+  std::string codec = "auto";
+};
+
+struct VideoSummary {
+  int frames = 0;
+  double duration_s = 0;        // of the video
+  std::string codec;            // as written
+  double simulate_seconds = 0;  // wall time simulating
+  double render_seconds = 0;    // wall time drawing and encoding
+};
+
+// Renders a life as an MP4 at `out`: frames at simulated times start + k * stride / fps
+// while < end; every frame uses one colour scale (make_color_scale over all frames).
+VideoSummary render_video_file(const std::string& source, const FrameStyle& style,
+                               const VideoJob& job, const std::string& out, const LogFn& log = {});
+
+}  // namespace plastivox::render

@@ -1,0 +1,91 @@
+// A plain description of what to draw (no GL): coloured, posed boxes on a floor, a camera
+// and a light. build_scene() turns one recorded frame into a Scene; draw_scene() (the only
+// GL code besides offscreen.cpp) rasterizes it.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/recording.hpp"
+#include "plastivox/render/color_scale.hpp"
+
+namespace plastivox::render {
+
+class OffscreenContext;
+
+struct Box {
+  Eigen::Vector3f center;     // m, world frame (z up)
+  Eigen::Quaternionf orient;  // body-to-world rotation
+  float edge = 0.01f;         // edge length, m
+  Rgb8 color{};               // sRGB
+};
+
+struct Camera {
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  // point looked at, m
+  double azimuth_deg = -60;   // direction from target to eye, about +z, from +x
+  double elevation_deg = 25;  // above the floor plane
+  double distance = 0.5;      // eye to target, m (perspective)
+  double fov_y_deg = 30;      // vertical field of view (perspective)
+  bool orthographic = false;
+  double ortho_height = 0.2;  // visible height at the target, m (orthographic)
+
+  Eigen::Vector3d eye() const;
+  // World -> clip transform for an image of the given aspect (width / height).
+  Eigen::Matrix4d view_projection(double aspect, double near_m, double far_m) const;
+  // Pixels per metre at the target's depth, for an image `height_px` tall.
+  double pixels_per_metre(int height_px) const;
+};
+
+struct Scene {
+  std::vector<Box> boxes;
+  Camera camera;
+  bool floor = true;
+  double grid_spacing = 0.01;  // floor grid, m (one voxel length); every 10th line bolder
+  bool lit = true;             // false: flat colours exactly as given (for tests)
+  bool shadows = true;         // soft shadow from the key light (shadow map, PCF)
+  bool outlines = true;        // darken voxel edges slightly so voxels read individually
+  Eigen::Vector3d light_dir = Eigen::Vector3d(-0.35, -0.5, 1.0).normalized();  // to light
+  Rgb8 background{236, 239, 243};
+  Rgb8 floor_color{214, 216, 220};
+  int samples = 4;  // multisample anti-aliasing samples (1 = none)
+};
+
+// The camera framing a robot: target at the robot's centre of mass (z at half its rest
+// height), distance so the robot's largest rest dimension fills about 60 % of the image
+// height (times zoom).
+Camera follow_camera(const Model& model, const Frame& frame, double zoom = 1.0);
+
+// Boxes of one frame: each voxel at its recorded centre, orientation and actuated edge
+// length, coloured by `scale`.
+std::vector<Box> frame_boxes(const Model& model, const Frame& frame, const ColorScale& scale);
+
+// Viewport in pixels: x from the left, y from the top of the image.
+struct PixelRect {
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
+// Rasterizes scenes into an OffscreenContext with GLSL 3.30 shaders from assets/shaders:
+// shadow-map pass from the key light, then floor and instanced voxel boxes into a
+// multisampled buffer that is resolved into the viewport. Holds GL objects of ctx (create
+// and use it while ctx is alive, on ctx's thread). Deterministic: the same scene gives the
+// same pixels.
+class SceneRenderer {
+ public:
+  explicit SceneRenderer(OffscreenContext& ctx);  // throws RenderError (assets, shaders)
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  // Draws the scene into `viewport` of the image (whole image when its width is 0),
+  // replacing what was there: background, floor, shadow, boxes.
+  void draw(const Scene& scene, PixelRect viewport = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace plastivox::render

@@ -1,0 +1,180 @@
+#include "plastivox/render/color_scale.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "plastivox/render/offscreen.hpp"  // RenderError
+
+namespace plastivox::render {
+namespace {
+
+// Smallest 1-2-5 number >= x (x > 0).
+double nice_ceil(double x) {
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * p >= x * (1 - 1e-12)) return m * p;
+  return 10 * p;
+}
+
+// A 1-2-5 step giving about `target` intervals over span.
+double nice_step(double span, int target) {
+  return nice_ceil(span / target);
+}
+
+std::string superscript(int n) {
+  static const char* digits[] = {"⁰", "¹", "²", "³", "⁴", "⁵", "⁶", "⁷", "⁸", "⁹"};
+  std::string s = n < 0 ? "⁻" : "";
+  const std::string d = std::to_string(std::abs(n));
+  for (char c : d) s += digits[c - '0'];
+  return s;
+}
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", std::abs(v) < 1e-12 ? 0.0 : v);
+  std::string s = buf;
+  if (!s.empty() && s[0] == '-') s = "−" + s.substr(1);  // U+2212 minus
+  return s;
+}
+
+}  // namespace
+
+const char* to_string(ColorMode m) {
+  switch (m) {
+    case ColorMode::kCongenital:
+      return "congenital";
+    case ColorMode::kStiffness:
+      return "stiffness";
+    case ColorMode::kChange:
+      return "change";
+    case ColorMode::kAlpha:
+      return "alpha";
+    case ColorMode::kPhase:
+      return "phase";
+  }
+  return "?";
+}
+
+ColorMode parse_color_mode(const std::string& name) {
+  for (ColorMode m : {ColorMode::kCongenital, ColorMode::kStiffness, ColorMode::kChange,
+                      ColorMode::kAlpha, ColorMode::kPhase})
+    if (name == to_string(m)) return m;
+  throw RenderError("unknown colour mode '" + name +
+                    "' (expected congenital, stiffness, change, alpha or phase)");
+}
+
+const Colormap& ColorScale::map() const {
+  switch (mode) {
+    case ColorMode::kChange:
+    case ColorMode::kAlpha:
+      return Colormap::diverging();
+    case ColorMode::kPhase:
+      return Colormap::cyclic_map();
+    default:
+      return Colormap::sequential();
+  }
+}
+
+double ColorScale::value(const Model& model, const Frame& frame, int i) const {
+  switch (mode) {
+    case ColorMode::kCongenital:
+      return std::log10(model.e0[i]);
+    case ColorMode::kStiffness:
+      return std::log10(frame.stiffness[i]);
+    case ColorMode::kChange:
+      return std::log10(frame.stiffness[i] / model.e0[i]);
+    case ColorMode::kAlpha:
+      return model.alpha[i];
+    case ColorMode::kPhase:
+      return model.phase[i];
+  }
+  return 0;
+}
+
+double ColorScale::position(double v) const {
+  if (mode == ColorMode::kPhase) return v - std::floor(v);
+  if (!std::isfinite(v)) return 0.5;
+  return std::clamp((v - lo) / (hi - lo), 0.0, 1.0);
+}
+
+std::vector<Tick> ColorScale::ticks() const {
+  std::vector<Tick> out;
+  auto add = [&](double v, std::string label) {
+    out.push_back({std::clamp((v - lo) / (hi - lo), 0.0, 1.0), std::move(label)});
+  };
+  const double span = hi - lo;
+  switch (mode) {
+    case ColorMode::kCongenital:
+    case ColorMode::kStiffness: {
+      // Decades, every second one when there are many.
+      const int step = span > 8 ? 2 : 1;
+      for (int e = static_cast<int>(std::ceil(lo - 1e-9)); e <= hi + 1e-9; e += step)
+        add(e, "10" + superscript(e));
+      break;
+    }
+    case ColorMode::kChange: {
+      // Ratios at 1-2-5 steps in log10, labelled as ratios ("×2", "×0.5").
+      const double step = nice_step(span, 4);
+      for (double v = -std::floor(hi / step) * step; v <= hi + 1e-9; v += step) {
+        const double ratio = std::pow(10.0, v);
+        char buf[32];
+        std::snprintf(buf, sizeof buf, ratio >= 0.995 && ratio < 1.005 ? "%.0f" : "%.3g", ratio);
+        add(v, std::string("×") + buf);
+      }
+      break;
+    }
+    case ColorMode::kAlpha: {
+      const double step = nice_step(span, 4);
+      for (double v = -std::floor(hi / step) * step; v <= hi + 1e-9; v += step) add(v, number(v));
+      break;
+    }
+    case ColorMode::kPhase:
+      for (double v : {0.0, 0.25, 0.5, 0.75, 1.0}) add(v, number(v));
+      break;
+  }
+  return out;
+}
+
+ColorScale make_color_scale(ColorMode mode, const Model& model,
+                            const std::vector<const Frame*>& frames) {
+  ColorScale s;
+  s.mode = mode;
+  switch (mode) {
+    case ColorMode::kCongenital:
+    case ColorMode::kStiffness:
+      s.lo = std::log10(model.def.e_min);
+      s.hi = std::log10(model.def.e_max);
+      s.title =
+          mode == ColorMode::kCongenital ? "congenital stiffness E₀ (Pa)" : "stiffness E (Pa)";
+      break;
+    case ColorMode::kChange: {
+      double m = 0;
+      for (const Frame* f : frames)
+        for (int i = 0; i < model.n; ++i) {
+          const double v = std::abs(std::log10(f->stiffness[i] / model.e0[i]));
+          if (std::isfinite(v)) m = std::max(m, v);
+        }
+      s.hi = nice_ceil(std::max(m, std::log10(1.01)));
+      s.lo = -s.hi;
+      s.title = "lifetime change E / E₀";
+      break;
+    }
+    case ColorMode::kAlpha: {
+      double m = 0;
+      for (int i = 0; i < model.n; ++i) m = std::max(m, std::abs(model.alpha[i]));
+      s.hi = nice_ceil(std::max(m, 1e-6));
+      s.lo = -s.hi;
+      s.title = "development rate α (1/s)";
+      break;
+    }
+    case ColorMode::kPhase:
+      s.lo = 0;
+      s.hi = 1;
+      s.title = "actuation phase (cycles)";
+      break;
+  }
+  return s;
+}
+
+}  // namespace plastivox::render

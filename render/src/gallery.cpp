@@ -1,0 +1,143 @@
+#include "plastivox/render/gallery.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "plastivox/render/offscreen.hpp"
+
+namespace plastivox::render {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+struct Item {
+  LifeSource source;
+  Life life;
+  double heading_deg = 0;
+};
+
+// Columns so that tiles of the grid area come out about square.
+int auto_columns(int n, double grid_w, double grid_h) {
+  int best = 1;
+  double best_err = 1e30;
+  for (int c = 1; c <= n; ++c) {
+    const int r = (n + c - 1) / c;
+    const double aspect = (grid_w / c) / (grid_h / r);
+    const double err = std::abs(std::log(aspect));
+    if (err < best_err - 1e-12) {
+      best_err = err;
+      best = c;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
+                                  const std::string& out, const LogFn& log) {
+  if (inputs.empty()) throw RenderError("gallery: no input files");
+  if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
+  check_output_path(out);
+
+  // Simulate every champion: the frame shown and the end of life (for the heading).
+  std::vector<Item> items;
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    Item it;
+    it.source = load_life_source(inputs[k]);
+    const PhysicsDef& ph = it.source.physics;
+    const double shown = style.time < 0 ? ph.settle_time : style.time;
+    if (log)
+      log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
+          inputs[k] + " (" + it.source.label + ")");
+    it.life = simulate_life(it.source, {std::min(shown, ph.duration), ph.duration});
+    const Eigen::Vector3d d = center_of_mass(it.life.frames[1]) - center_of_mass(it.life.frames[0]);
+    it.heading_deg = d.head<2>().norm() > 1e-9 ? std::atan2(d.y(), d.x()) * kRadToDeg : 0.0;
+    items.push_back(std::move(it));
+  }
+
+  // One colour scale for all: congenital stiffness over the union of the runs' ranges.
+  ColorScale scale = make_color_scale(ColorMode::kCongenital, *items[0].life.model, {});
+  for (const Item& it : items) {
+    scale.lo = std::min(scale.lo, std::log10(it.source.physics.e_min));
+    scale.hi = std::max(scale.hi, std::log10(it.source.physics.e_max));
+  }
+
+  // Layout: tiles on the left, colour bar column on the right.
+  const float text_px = overlay_text_px(style.height);
+  const int bar_column = style.colorbar ? static_cast<int>(std::round(text_px * 12)) : 0;
+  const int grid_w = style.width - bar_column, grid_h = style.height;
+  if (grid_w < 16) throw RenderError("gallery: image too narrow");
+  const int n = static_cast<int>(items.size());
+  GalleryLayout layout;
+  layout.columns = style.columns > 0 ? std::min(style.columns, n) : auto_columns(n, grid_w, grid_h);
+  layout.rows = (n + layout.columns - 1) / layout.columns;
+  const int tile_w = grid_w / layout.columns, tile_h = grid_h / layout.rows;
+  if (tile_w < 8 || tile_h < 8) throw RenderError("gallery: tiles would be under 8 pixels");
+  const int label_h = style.labels ? static_cast<int>(std::round(text_px * 1.8)) : 0;
+
+  // One scale for every tile: the largest robot fills ~60 % of the tile's scene height.
+  double zoom_extent = 0;
+  for (const Item& it : items) {
+    const Camera c = follow_camera(*it.life.model, it.life.frames[0]);
+    zoom_extent = std::max(zoom_extent, c.distance);
+  }
+
+  OffscreenContext ctx(style.width, style.height);
+  ctx.clear(1, 1, 1);
+  SceneRenderer renderer(ctx);
+  for (int k = 0; k < n; ++k) {
+    const Item& it = items[k];
+    const Model& model = *it.life.model;
+    const Frame& frame = it.life.frames[0];
+    const PixelRect tile{(k % layout.columns) * tile_w, (k / layout.columns) * tile_h, tile_w,
+                         tile_h};
+    Scene scene;
+    scene.boxes = frame_boxes(model, frame, scale);
+    scene.camera = follow_camera(model, frame);
+    scene.camera.distance = zoom_extent;
+    scene.camera.azimuth_deg = it.heading_deg - 60;  // travel towards the lower right
+    scene.grid_spacing = model.size;
+    scene.samples = style.samples;
+    renderer.draw(scene, {tile.x, tile.y, tile.width, tile.height - label_h});
+    layout.tiles.push_back(tile);
+    layout.labels.push_back(it.source.label);
+    layout.heading_deg.push_back(it.heading_deg);
+  }
+
+  // Labels, tile borders and the shared colour bar.
+  {
+    ImGuiLayer ui(ctx, overlay_fonts(style.height));
+    ui.begin_frame();
+    ImDrawList* dl = ui.draw_list();
+    const ImU32 ink = IM_COL32(34, 38, 46, 255);
+    for (int k = 0; k < n; ++k) {
+      const PixelRect& t = layout.tiles[k];
+      if (style.labels) {
+        ImFont* f = ui.font(0);
+        const std::string& s = layout.labels[k];
+        const float w = f->CalcTextSizeA(f->FontSize, 1e9f, 0, s.c_str()).x;
+        dl->AddText(f, f->FontSize,
+                    ImVec2(std::round(t.x + (t.width - w) / 2),
+                           std::round(t.y + t.height - label_h + (label_h - f->FontSize) / 2)),
+                    ink, s.c_str());
+      }
+      dl->AddRect(ImVec2(t.x + 0.5f, t.y + 0.5f),
+                  ImVec2(t.x + t.width - 0.5f, t.y + t.height - 0.5f),
+                  IM_COL32(200, 204, 210, 255));
+    }
+    if (style.colorbar) {
+      const float bar_w = std::round(std::max(8.0f, text_px * 0.9f));
+      const float bar_h = std::round(style.height * 0.5f);
+      draw_colorbar(dl, ui.font(1), ui.font(0), scale, grid_w + text_px * 1.2f,
+                    (style.height - bar_h) / 2, bar_w, bar_h);
+    }
+    ui.end_frame_and_render();
+  }
+  write_png(out, ctx.read_rgba(), style.width, style.height);
+  return layout;
+}
+
+}  // namespace plastivox::render

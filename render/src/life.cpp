@@ -1,0 +1,116 @@
+#include "plastivox/render/life.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "plastivox/evo/champion.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/render/offscreen.hpp"  // RenderError
+#include "plastivox/robot_file.hpp"
+#include "plastivox/simulator.hpp"
+#include "plastivox/vxa.hpp"
+
+namespace plastivox::render {
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+Frame capture(const State& s, const std::vector<double>& sizes, const Model& model) {
+  Frame f;
+  f.time = s.time;
+  f.pos = s.pos;
+  f.orient = s.orient;
+  // Sizes are known after the first step; before it every voxel has its nominal size.
+  f.size = sizes.size() == static_cast<size_t>(model.n) ? sizes
+                                                        : std::vector<double>(model.n, model.size);
+  f.stiffness = s.stiffness;
+  f.stimulus = s.stimulus;
+  return f;
+}
+
+}  // namespace
+
+LifeSource load_life_source(const std::string& path, int generation) {
+  LifeSource src;
+  src.path = path;
+  if (ends_with(path, ".h5")) {
+    const evo::ResultsFile results = evo::read_results(path);
+    const evo::RunState& run = results.state;
+    const evo::ChampionRecord& champion = evo::champion_at(run, generation, path);
+    src.robot = evo::champion_robot(champion, generation < 0 ? run.generations_done : generation);
+    src.physics = run.config.physics;
+    src.label =
+        std::string(to_string(run.config.treatment)) + " · seed " + std::to_string(run.config.seed);
+  } else if (ends_with(path, ".vxa")) {
+    VxaRobot vxa = read_vxa_file(path);
+    src.robot = std::move(vxa.robot);
+    src.physics = vxa.physics;
+    src.warnings = std::move(vxa.warnings);
+    src.label = src.robot.name;
+  } else if (ends_with(path, ".json")) {
+    RobotFile file = read_robot_file(path);
+    src.robot = std::move(file.robot);
+    src.physics = file.physics;
+    src.label = src.robot.name.empty() ? path : src.robot.name;
+  } else {
+    throw InputError(path + ": expected a robot (.json, .vxa) or results file (.h5)");
+  }
+  return src;
+}
+
+Life simulate_life(const LifeSource& source, const std::vector<double>& times,
+                   const std::function<void(double)>& progress) {
+  for (size_t k = 0; k < times.size(); ++k) {
+    if (!(times[k] >= 0 && times[k] <= source.physics.duration + 1e-12))
+      throw RenderError(source.path + ": time " + std::to_string(times[k]) +
+                        " s is outside the life [0, " + std::to_string(source.physics.duration) +
+                        "] s");
+    if (k > 0 && times[k] < times[k - 1])
+      throw RenderError("simulate_life: times must be ascending");
+  }
+  PhysicsDef def = source.physics;
+  def.record_fps = 0;  // frames are captured here, at the requested times
+  Life life;
+  life.model = std::make_shared<const Model>(compile(source.robot, def));
+  const Model& model = *life.model;
+  Simulator sim(model);
+  const State& s = sim.state();
+  const double end = times.empty() ? 0 : times.back();
+  double next_report = 0;
+  for (double t : times) {
+    while (s.time < t && s.status == SimStatus::kRunning) {
+      sim.step();
+      if (progress && end > 0 && s.time >= next_report) {
+        progress(std::min(1.0, s.time / end));
+        next_report = s.time + end / 100;
+      }
+    }
+    if (s.status != SimStatus::kRunning)
+      throw RenderError(source.path + ": the simulation went unstable at t = " +
+                        std::to_string(s.time) + " s (" + s.failure + ")");
+    life.frames.push_back(capture(s, sim.voxel_sizes(), model));
+  }
+  life.settled = s.settled;
+  life.com_settled = s.settled ? s.com_settled : Eigen::Vector3d::Zero();
+  if (progress) progress(1.0);
+  return life;
+}
+
+Eigen::Vector3d center_of_mass(const Frame& frame) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : frame.pos) sum += p;
+  return frame.pos.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(frame.pos.size()));
+}
+
+double displacement_so_far(const Life& life, const Frame& frame) {
+  const Model& m = *life.model;
+  if (!life.settled || frame.time < m.def.settle_time) return 0;
+  Eigen::Vector3d d = (center_of_mass(frame) - life.com_settled) / m.size;
+  if (m.def.fitness == FitnessMode::kXY) d.z() = 0;
+  return d.norm();
+}
+
+}  // namespace plastivox::render

@@ -1,0 +1,401 @@
+// The GL corner of the renderer: shaders, instanced voxel boxes, floor, shadow map and the
+// multisampled target (see scene.hpp). Everything else builds plain Scene data.
+//
+// Passes per draw():
+//   1. shadow map: depth of the boxes seen from the key light (orthographic, fitted to the
+//      boxes' bounding sphere), 2048^2, sampled with hardware comparison and 16 taps;
+//   2. colour: background clear, floor (grid, shadow, fade), boxes (instanced), into a
+//      multisampled framebuffer of the viewport's size;
+//   3. resolve: blit into the viewport of the default framebuffer (OSMesa's image).
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "fp_guard.hpp"
+#include "plastivox/render/assets.hpp"
+#include "plastivox/render/offscreen.hpp"
+#include "plastivox/render/scene.hpp"
+
+namespace plastivox::render {
+namespace {
+
+constexpr int kShadowSize = 2048;
+
+GLuint compile_shader(GLenum type, const std::string& source, const std::string& name) {
+  const GLuint sh = glCreateShader(type);
+  const char* text = source.c_str();
+  glShaderSource(sh, 1, &text, nullptr);
+  glCompileShader(sh);
+  GLint ok = 0;
+  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    std::array<char, 2048> log{};
+    glGetShaderInfoLog(sh, static_cast<GLsizei>(log.size()), nullptr, log.data());
+    glDeleteShader(sh);
+    throw RenderError("shader " + name + " does not compile: " + std::string(log.data()));
+  }
+  return sh;
+}
+
+// Program from assets/shaders/<name>.vert and .frag, with common.glsl (and, for fragment
+// shaders, shadow_lookup.glsl) prepended.
+GLuint load_program(const std::string& name) {
+  const std::string header = "#version 330 core\n";
+  const std::string common = read_asset("shaders/common.glsl");
+  const std::string lookup = read_asset("shaders/shadow_lookup.glsl");
+  const GLuint vs = compile_shader(
+      GL_VERTEX_SHADER, header + common + read_asset("shaders/" + name + ".vert"), name + ".vert");
+  const GLuint fs = compile_shader(
+      GL_FRAGMENT_SHADER, header + common + lookup + read_asset("shaders/" + name + ".frag"),
+      name + ".frag");
+  const GLuint prog = glCreateProgram();
+  glAttachShader(prog, vs);
+  glAttachShader(prog, fs);
+  glBindFragDataLocation(prog, 0, "frag_color");
+  glLinkProgram(prog);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    std::array<char, 2048> log{};
+    glGetProgramInfoLog(prog, static_cast<GLsizei>(log.size()), nullptr, log.data());
+    glDeleteProgram(prog);
+    throw RenderError("shader program " + name + " does not link: " + std::string(log.data()));
+  }
+  return prog;
+}
+
+// Column-major float copy of a double matrix, as glUniformMatrix4fv wants.
+std::array<float, 16> to_gl(const Eigen::Matrix4d& m) {
+  std::array<float, 16> out{};
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) out[c * 4 + r] = static_cast<float>(m(r, c));
+  return out;
+}
+
+void set_matrix(GLuint prog, const char* name, const Eigen::Matrix4d& m) {
+  const auto a = to_gl(m);
+  glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_FALSE, a.data());
+}
+void set_vec3(GLuint prog, const char* name, const Eigen::Vector3d& v) {
+  glUniform3f(glGetUniformLocation(prog, name), static_cast<float>(v.x()),
+              static_cast<float>(v.y()), static_cast<float>(v.z()));
+}
+void set_rgb(GLuint prog, const char* name, const Rgb8& c) {
+  glUniform3f(glGetUniformLocation(prog, name), c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f);
+}
+// An sRGB colour as linear-light components (uniforms the shaders light with).
+void set_linear(GLuint prog, const char* name, const Rgb8& c) {
+  auto lin = [](int v) {
+    const double x = v / 255.0;
+    return static_cast<float>(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+  };
+  glUniform3f(glGetUniformLocation(prog, name), lin(c[0]), lin(c[1]), lin(c[2]));
+}
+void set_float(GLuint prog, const char* name, double v) {
+  glUniform1f(glGetUniformLocation(prog, name), static_cast<float>(v));
+}
+void set_int(GLuint prog, const char* name, int v) {
+  glUniform1i(glGetUniformLocation(prog, name), v);
+}
+
+// The unit cube as 6 faces x 4 corners with outward normals, and its 36 indices.
+void cube_mesh(std::vector<float>& vertices, std::vector<GLushort>& indices) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const GLushort base = static_cast<GLushort>(vertices.size() / 6);
+      for (int k = 0; k < 4; ++k) {
+        float p[3], n[3] = {0, 0, 0};
+        p[axis] = 0.5f * sign;
+        p[u] = (k == 1 || k == 2) ? 0.5f : -0.5f;
+        p[v] = (k >= 2) ? 0.5f : -0.5f;
+        n[axis] = static_cast<float>(sign);
+        vertices.insert(vertices.end(), {p[0], p[1], p[2], n[0], n[1], n[2]});
+      }
+      // Counter-clockwise seen from outside.
+      if (sign > 0)
+        indices.insert(indices.end(),
+                       {base, static_cast<GLushort>(base + 1), static_cast<GLushort>(base + 2),
+                        base, static_cast<GLushort>(base + 2), static_cast<GLushort>(base + 3)});
+      else
+        indices.insert(indices.end(),
+                       {base, static_cast<GLushort>(base + 2), static_cast<GLushort>(base + 1),
+                        base, static_cast<GLushort>(base + 3), static_cast<GLushort>(base + 2)});
+    }
+}
+
+}  // namespace
+
+struct SceneRenderer::Impl {
+  OffscreenContext* ctx = nullptr;
+  GLuint box_prog = 0, floor_prog = 0, shadow_prog = 0;
+  GLuint box_vao = 0, floor_vao = 0;
+  GLuint cube_vbo = 0, cube_ibo = 0, instance_vbo = 0, floor_vbo = 0;
+  GLuint shadow_fbo = 0, shadow_tex = 0;
+  GLuint target_fbo = 0, target_color = 0, target_depth = 0;
+  int target_w = 0, target_h = 0, target_samples = 0;
+
+  void ensure_target(int w, int h, int samples) {
+    if (w == target_w && h == target_h && samples == target_samples) return;
+    if (target_fbo) {
+      glDeleteFramebuffers(1, &target_fbo);
+      glDeleteRenderbuffers(1, &target_color);
+      glDeleteRenderbuffers(1, &target_depth);
+    }
+    glGenFramebuffers(1, &target_fbo);
+    glGenRenderbuffers(1, &target_color);
+    glGenRenderbuffers(1, &target_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, target_color);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0, GL_RGBA8, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, target_depth);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0,
+                                     GL_DEPTH_COMPONENT24, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, target_color);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, target_depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw RenderError("the " + std::to_string(w) + "x" + std::to_string(h) + " render target (" +
+                        std::to_string(samples) + " samples) is not supported by this OpenGL");
+    target_w = w;
+    target_h = h;
+    target_samples = samples;
+  }
+};
+
+SceneRenderer::SceneRenderer(OffscreenContext& ctx) : impl_(std::make_unique<Impl>()) {
+  Impl& g = *impl_;
+  g.ctx = &ctx;
+  ctx.make_current();
+  FpTrapsMasked masked;
+  g.box_prog = load_program("box");
+  g.floor_prog = load_program("floor");
+  g.shadow_prog = load_program("shadow");
+
+  std::vector<float> verts;
+  std::vector<GLushort> idx;
+  cube_mesh(verts, idx);
+  glGenVertexArrays(1, &g.box_vao);
+  glBindVertexArray(g.box_vao);
+  glGenBuffers(1, &g.cube_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.cube_vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(verts.size() * sizeof(float)), verts.data(),
+               GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                        reinterpret_cast<void*>(3 * sizeof(float)));
+  glGenBuffers(1, &g.cube_ibo);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.cube_ibo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(idx.size() * sizeof(GLushort)),
+               idx.data(), GL_STATIC_DRAW);
+  // Per-instance: centre (3), orientation (4), edge (1), colour (3) = 11 floats.
+  glGenBuffers(1, &g.instance_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.instance_vbo);
+  const GLsizei stride = 11 * sizeof(float);
+  const int sizes[] = {3, 4, 1, 3};
+  size_t offset = 0;
+  for (int a = 0; a < 4; ++a) {
+    glEnableVertexAttribArray(2 + a);
+    glVertexAttribPointer(2 + a, sizes[a], GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(offset * sizeof(float)));
+    glVertexAttribDivisor(2 + a, 1);
+    offset += sizes[a];
+  }
+
+  const float quad[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  glGenVertexArrays(1, &g.floor_vao);
+  glBindVertexArray(g.floor_vao);
+  glGenBuffers(1, &g.floor_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.floor_vbo);
+  glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+  glBindVertexArray(0);
+
+  glGenTextures(1, &g.shadow_tex);
+  glBindTexture(GL_TEXTURE_2D, g.shadow_tex);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, kShadowSize, kShadowSize, 0,
+               GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  glGenFramebuffers(1, &g.shadow_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.shadow_fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, g.shadow_tex, 0);
+  glDrawBuffer(GL_NONE);
+  glReadBuffer(GL_NONE);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw RenderError("the shadow-map framebuffer is not supported by this OpenGL");
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+SceneRenderer::~SceneRenderer() {
+  Impl& g = *impl_;
+  g.ctx->make_current();
+  FpTrapsMasked masked;
+  glDeleteProgram(g.box_prog);
+  glDeleteProgram(g.floor_prog);
+  glDeleteProgram(g.shadow_prog);
+  const GLuint buffers[] = {g.cube_vbo, g.cube_ibo, g.instance_vbo, g.floor_vbo};
+  glDeleteBuffers(4, buffers);
+  const GLuint vaos[] = {g.box_vao, g.floor_vao};
+  glDeleteVertexArrays(2, vaos);
+  glDeleteFramebuffers(1, &g.shadow_fbo);
+  glDeleteTextures(1, &g.shadow_tex);
+  if (g.target_fbo) {
+    glDeleteFramebuffers(1, &g.target_fbo);
+    glDeleteRenderbuffers(1, &g.target_color);
+    glDeleteRenderbuffers(1, &g.target_depth);
+  }
+}
+
+void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
+  Impl& g = *impl_;
+  OffscreenContext& ctx = *g.ctx;
+  if (vp.width <= 0) vp = {0, 0, ctx.width(), ctx.height()};
+  if (vp.x < 0 || vp.y < 0 || vp.height <= 0 || vp.x + vp.width > ctx.width() ||
+      vp.y + vp.height > ctx.height())
+    throw RenderError("viewport outside the image");
+  ctx.make_current();
+  FpTrapsMasked masked;
+  const int samples = std::clamp(scene.samples, 1, 8);
+  g.ensure_target(vp.width, vp.height, samples);
+
+  // Instance data. An orthographic eye is moved back far enough that nothing near the
+  // target is clipped.
+  // Boxes go front to back, so llvmpipe's early depth test skips hidden fragments (ties
+  // broken by index: a total order, the same every time).
+  Camera cam = scene.camera;
+  if (cam.orthographic) cam.distance = std::max(cam.distance, 2.0 * cam.ortho_height);
+  const Eigen::Vector3f eye = cam.eye().cast<float>();
+  std::vector<std::pair<float, size_t>> order(scene.boxes.size());
+  for (size_t i = 0; i < scene.boxes.size(); ++i)
+    order[i] = {(scene.boxes[i].center - eye).squaredNorm(), i};
+  std::sort(order.begin(), order.end());
+  std::vector<float> inst;
+  inst.reserve(scene.boxes.size() * 11);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
+  for (const auto& [depth, index] : order) {
+    const Box& b = scene.boxes[index];
+    const Eigen::Quaternionf q = b.orient.normalized();
+    inst.insert(inst.end(),
+                {b.center.x(), b.center.y(), b.center.z(), q.x(), q.y(), q.z(), q.w(), b.edge,
+                 b.color[0] / 255.0f, b.color[1] / 255.0f, b.color[2] / 255.0f});
+    const Eigen::Vector3d c = b.center.cast<double>();
+    lo = lo.cwiseMin(c - Eigen::Vector3d::Constant(b.edge));
+    hi = hi.cwiseMax(c + Eigen::Vector3d::Constant(b.edge));
+  }
+  const GLsizei count = static_cast<GLsizei>(scene.boxes.size());
+  glBindBuffer(GL_ARRAY_BUFFER, g.instance_vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(inst.size() * sizeof(float)),
+               inst.empty() ? nullptr : inst.data(), GL_STREAM_DRAW);
+
+  const double aspect = static_cast<double>(vp.width) / vp.height;
+  const double reach = cam.distance;
+  const Eigen::Matrix4d view_proj = cam.view_projection(aspect, reach * 0.02, reach * 40);
+  const Eigen::Vector3d light = scene.light_dir.normalized();
+
+  // 1. Shadow map, fitted to the boxes' bounding sphere.
+  Eigen::Matrix4d light_vp = Eigen::Matrix4d::Identity();
+  const bool shadows = scene.shadows && scene.lit && count > 0;
+  if (shadows) {
+    const Eigen::Vector3d centre = 0.5 * (lo + hi);
+    const double radius = 0.5 * (hi - lo).norm() * 1.1;
+    Camera lc;
+    lc.target = centre;
+    lc.orthographic = true;
+    lc.ortho_height = 2 * radius;
+    lc.distance = 4 * radius;
+    lc.azimuth_deg = std::atan2(light.y(), light.x()) * 180 / 3.14159265358979323846;
+    lc.elevation_deg = std::asin(std::clamp(light.z(), -1.0, 1.0)) * 180 / 3.14159265358979323846;
+    light_vp = lc.view_projection(1.0, 0.5 * radius, 8 * radius);
+    glBindFramebuffer(GL_FRAMEBUFFER, g.shadow_fbo);
+    glViewport(0, 0, kShadowSize, kShadowSize);
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.5f, 2.0f);
+    glUseProgram(g.shadow_prog);
+    set_matrix(g.shadow_prog, "u_view_proj", light_vp);
+    glBindVertexArray(g.box_vao);
+    glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_SHORT, nullptr, count);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  }
+
+  // 2. Colour pass into the (multisampled) target.
+  glBindFramebuffer(GL_FRAMEBUFFER, g.target_fbo);
+  glViewport(0, 0, vp.width, vp.height);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
+  glClearColor(scene.background[0] / 255.0f, scene.background[1] / 255.0f,
+               scene.background[2] / 255.0f, 1.0f);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, g.shadow_tex);
+  auto common_uniforms = [&](GLuint prog) {
+    glUseProgram(prog);
+    set_matrix(prog, "u_view_proj", view_proj);
+    set_matrix(prog, "u_light_view_proj", light_vp);
+    set_int(prog, "u_shadow_map", 0);
+    set_int(prog, "u_shadows", shadows ? 1 : 0);
+    set_float(prog, "u_shadow_texel", 1.0 / kShadowSize);
+    set_int(prog, "u_lit", scene.lit ? 1 : 0);
+    set_vec3(prog, "u_light_dir", light);
+  };
+  if (count > 0) {
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    common_uniforms(g.box_prog);
+    set_int(g.box_prog, "u_outlines", scene.outlines ? 1 : 0);
+    set_vec3(g.box_prog, "u_eye", cam.eye());
+    glBindVertexArray(g.box_vao);
+    glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_SHORT, nullptr, count);
+    glDisable(GL_CULL_FACE);
+  }
+
+  // The floor after the boxes: the depth test then skips the floor behind the robot.
+  if (scene.floor) {
+    glDisable(GL_CULL_FACE);
+    common_uniforms(g.floor_prog);
+    const double fade = reach * 2.5;
+    set_vec3(g.floor_prog, "u_floor_center", cam.target);
+    set_float(g.floor_prog, "u_floor_half", fade);
+    set_vec3(g.floor_prog, "u_target", cam.target);
+    set_float(g.floor_prog, "u_fade", fade);
+    set_float(g.floor_prog, "u_grid", scene.grid_spacing);
+    set_rgb(g.floor_prog, "u_floor_color", scene.floor_color);
+    set_linear(g.floor_prog, "u_floor_linear", scene.floor_color);
+    set_linear(g.floor_prog, "u_background_linear", scene.background);
+    glBindVertexArray(g.floor_vao);
+    glDrawArrays(GL_TRIANGLE_FAN, 0, 4);
+  }
+  // 3. Resolve into the viewport of OSMesa's image (GL rows count from the bottom).
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.target_fbo);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  const int y0 = ctx.height() - vp.y - vp.height;
+  glBlitFramebuffer(0, 0, vp.width, vp.height, vp.x, y0, vp.x + vp.width, y0 + vp.height,
+                    GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDisable(GL_DEPTH_TEST);
+  glViewport(0, 0, ctx.width(), ctx.height());
+}
+
+}  // namespace plastivox::render

@@ -1,0 +1,76 @@
+// plastivox render / video / gallery through the binary: outputs, exit codes, one-line
+// errors and no file left behind on failure.
+#include <filesystem>
+#include <string>
+
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/render/offscreen.hpp"
+#include "plastivox/render/video_writer.hpp"
+#include "plastivox/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+testing::Output run(const std::string& args) {
+  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
+}
+
+class RenderCli : public testing::ScratchDirTest {
+ protected:
+  void SetUp() override {
+    testing::ScratchDirTest::SetUp();
+    write_robot_file(path("cube.json"), demo_cube(2, 1e7));
+  }
+  int files() const {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir_)) n += e.is_regular_file();
+    return n;
+  }
+};
+
+TEST_F(RenderCli, RenderWritesAPngOfTheRequestedSize) {
+  const auto r = run("render " + path("cube.json") + " --out " + path("f.png") +
+                     " --time 0.1 --size 80x60 --color phase --samples 1");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const render::Image img = render::read_png(path("f.png"));
+  EXPECT_EQ(img.width, 80);
+  EXPECT_EQ(img.height, 60);
+}
+
+TEST_F(RenderCli, UnknownColourModeIsAUsageErrorAndWritesNothing) {
+  const auto r = run("render " + path("cube.json") + " --out " + path("f.png") + " --color jet");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("unknown colour mode 'jet'"), std::string::npos) << r.out;
+  EXPECT_EQ(files(), 1);
+}
+
+TEST_F(RenderCli, UnwritableOutputIsAnErrorNamingThePath) {
+  const auto r = run("render " + path("cube.json") + " --out " + path("no/dir/f.png"));
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("no/dir/f.png"), std::string::npos) << r.out;
+  EXPECT_EQ(files(), 1);
+}
+
+TEST_F(RenderCli, VideoWritesADecodableMp4) {
+  const auto r = run("video " + path("cube.json") + " --out " + path("v.mp4") +
+                     " --size 64x48 --fps 20 --end 0.3 --samples 1 --no-overlay");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const render::VideoInfo info = render::probe_video(path("v.mp4"));
+  EXPECT_EQ(info.frames, 6);
+  EXPECT_EQ(info.width, 64);
+  EXPECT_EQ(info.height, 48);
+  EXPECT_NEAR(info.duration_s, 0.3, 0.051);
+  EXPECT_EQ(files(), 2);
+}
+
+TEST_F(RenderCli, GalleryRejectsAResultsFileThatIsNotOne) {
+  const auto r = run("gallery " + path("cube.json") + " " + path("missing.h5") + " --out " +
+                     path("g.png") + " --size 200x100");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("missing.h5"), std::string::npos) << r.out;
+  EXPECT_EQ(files(), 1);
+}
+
+}  // namespace
+}  // namespace plastivox

@@ -1,0 +1,345 @@
+// The renderer: colour maps, colour scales, pixel checks of single voxels and empty scenes,
+// determinism, galleries, videos and bad input (render/).
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/evo/config.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/evo/run.hpp"
+#include "plastivox/render/gallery.hpp"
+#include "plastivox/render/offscreen.hpp"
+#include "plastivox/render/render_life.hpp"
+#include "plastivox/render/video_writer.hpp"
+#include "plastivox/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace plastivox::render {
+namespace {
+
+using plastivox::testing::ScratchDirTest;
+
+const uint8_t* pixel(const std::vector<uint8_t>& rgba, int width, int x, int y) {
+  return rgba.data() + (static_cast<size_t>(y) * width + x) * 4;
+}
+
+int files_in(const std::filesystem::path& dir) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) n += e.is_regular_file();
+  return n;
+}
+
+// A life of one robot under physics without actuation, captured at t = 0.
+LifeSource source_of(const RobotDef& robot, Treatment treatment = Treatment::kNone) {
+  LifeSource s;
+  s.path = "inline";
+  s.robot = robot;
+  s.physics = preset_gecco2018_code();
+  s.physics.treatment = treatment;
+  return s;
+}
+
+FrameStyle small_style(int w, int h) {
+  FrameStyle st;
+  st.width = w;
+  st.height = h;
+  st.samples = 1;
+  st.overlay = {false, false, false, false, false};
+  return st;
+}
+
+// ---------------------------------------------------------------------------------------
+// Colour maps and scales
+// ---------------------------------------------------------------------------------------
+
+TEST(RenderColormap, SequentialLightnessRisesInEqualPerceptualSteps) {
+  const Colormap& m = Colormap::sequential();
+  const auto& lab = m.lab();
+  double min_step = 1e9, max_step = 0;
+  for (size_t i = 1; i < lab.size(); ++i) {
+    EXPECT_GT(lab[i][0], lab[i - 1][0]) << "lightness must rise at entry " << i;
+    const double d =
+        std::sqrt(std::pow(lab[i][0] - lab[i - 1][0], 2) + std::pow(lab[i][1] - lab[i - 1][1], 2) +
+                  std::pow(lab[i][2] - lab[i - 1][2], 2));
+    min_step = std::min(min_step, d);
+    max_step = std::max(max_step, d);
+  }
+  EXPECT_LT(max_step / min_step, 1.1) << "steps " << min_step << " .. " << max_step;
+  EXPECT_LT(lab.front()[0], 25);  // dark start, light end
+  EXPECT_GT(lab.back()[0], 85);
+}
+
+TEST(RenderColormap, DivergingIsNeutralInTheMiddleAndSymmetricInLightness) {
+  const Colormap& m = Colormap::diverging();
+  const auto& lab = m.lab();
+  const size_t n = lab.size();
+  for (size_t i = 0; i < n / 2; ++i)
+    EXPECT_NEAR(lab[i][0], lab[n - 1 - i][0], 1.0) << "entry " << i;
+  const Rgb8 mid = m.at(0.5);
+  EXPECT_LE(std::max({mid[0], mid[1], mid[2]}) - std::min({mid[0], mid[1], mid[2]}), 3);
+  EXPECT_GT(m.at(0.0)[2], m.at(0.0)[0]);  // blue end
+  EXPECT_GT(m.at(1.0)[0], m.at(1.0)[2]);  // red end
+}
+
+TEST(RenderColormap, CyclicMapWrapsAroundWithoutAJump) {
+  const Colormap& m = Colormap::cyclic_map();
+  EXPECT_EQ(m.at(0.0), m.at(1.0));
+  EXPECT_EQ(m.at(0.25), m.at(1.25));
+  EXPECT_EQ(m.clipped_entries(), 0);  // every hue fits in sRGB at this lightness and chroma
+  const auto& lab = m.lab();
+  for (const auto& c : lab) EXPECT_NEAR(c[0], lab[0][0], 1e-6);
+}
+
+TEST(RenderColorScale, ParsesModesAndRejectsUnknownNames) {
+  EXPECT_EQ(parse_color_mode("change"), ColorMode::kChange);
+  EXPECT_EQ(parse_color_mode("phase"), ColorMode::kPhase);
+  try {
+    parse_color_mode("jet");
+    FAIL() << "expected RenderError";
+  } catch (const RenderError& e) {
+    EXPECT_NE(std::string(e.what()).find("'jet'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("congenital"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RenderColorScale, StiffnessTicksAreDecadesOverThePhysicsRange) {
+  const Model model = compile(demo_cube(2, 1e8), preset_gecco2018_code());  // E in [1e5, 1e11]
+  const ColorScale s = make_color_scale(ColorMode::kCongenital, model, {});
+  EXPECT_DOUBLE_EQ(s.lo, 5);
+  EXPECT_DOUBLE_EQ(s.hi, 11);
+  const std::vector<Tick> ticks = s.ticks();
+  ASSERT_GE(ticks.size(), 3u);
+  EXPECT_EQ(ticks.front().label, "10⁵");
+  EXPECT_DOUBLE_EQ(ticks.front().t, 0.0);
+  EXPECT_DOUBLE_EQ(ticks.back().t, 1.0);
+  EXPECT_DOUBLE_EQ(s.position(std::log10(1e8)), 0.5);
+}
+
+TEST(RenderColorScale, ChangeRangeIsSymmetricAndCoversEveryFrame) {
+  const Model model = compile(demo_cube(2, 1e8), preset_gecco2018_code());
+  Frame f;
+  f.stiffness.assign(model.n, 1e8);
+  f.stiffness[0] = 3e8;  // x3 -> log10 0.477 -> range rounded up to 0.5 decades
+  const ColorScale s = make_color_scale(ColorMode::kChange, model, {&f});
+  EXPECT_DOUBLE_EQ(s.hi, 0.5);
+  EXPECT_DOUBLE_EQ(s.lo, -0.5);
+  EXPECT_DOUBLE_EQ(s.position(0), 0.5);
+}
+
+// ---------------------------------------------------------------------------------------
+// Pixels
+// ---------------------------------------------------------------------------------------
+
+// One voxel of E = 1e8 Pa seen from above with a parallel projection, flat shading: the
+// pixel at its centre is exactly the colour bar's colour at 1e8 Pa, and that colour appears
+// in the drawn colour bar at the height of 1e8.
+TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
+  const int w = 240, h = 160;
+  const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
+  const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
+  FrameStyle st = small_style(w, h);
+  st.orthographic = true;
+  st.elevation_deg = 90;
+  st.lit = false;
+  st.overlay.colorbar = true;
+  LifeRenderer renderer(st);
+  const std::vector<uint8_t> img = renderer.render(life, life.frames[0], scale, "none");
+  const Rgb8 expected = scale.map().at(scale.position(8.0));
+  const uint8_t* c = pixel(img, w, w / 2, h / 2);
+  EXPECT_EQ(c[0], expected[0]);
+  EXPECT_EQ(c[1], expected[1]);
+  EXPECT_EQ(c[2], expected[2]);
+  // Find the colour bar column (right quarter) and the rows holding exactly this colour.
+  int found_row = -1, bar_x = -1;
+  for (int y = 0; y < h && found_row < 0; ++y)
+    for (int x = 3 * w / 4; x < w; ++x) {
+      const uint8_t* p = pixel(img, w, x, y);
+      if (p[0] == expected[0] && p[1] == expected[1] && p[2] == expected[2]) {
+        found_row = y;
+        bar_x = x;
+        break;
+      }
+    }
+  ASSERT_GE(found_row, 0) << "the voxel's colour is not in the colour bar";
+  // It sits halfway between the bar's ends (1e8 is the middle of 1e5..1e11): the rows
+  // nearest the map's two end colours, in the same column, bracket it symmetrically.
+  auto distance = [&](int y, const Rgb8& c) {
+    const uint8_t* p = pixel(img, w, bar_x, y);
+    return std::abs(p[0] - c[0]) + std::abs(p[1] - c[1]) + std::abs(p[2] - c[2]);
+  };
+  const Rgb8 top = scale.map().at(1.0), bottom = scale.map().at(0.0);
+  int top_row = 0, bottom_row = 0;
+  for (int y = 0; y < h; ++y) {
+    if (distance(y, top) < distance(top_row, top)) top_row = y;
+    if (distance(y, bottom) < distance(bottom_row, bottom)) bottom_row = y;
+  }
+  EXPECT_LE(distance(top_row, top), 12);
+  EXPECT_LE(distance(bottom_row, bottom), 12);
+  ASSERT_GT(bottom_row, top_row);
+  EXPECT_NEAR(found_row, 0.5 * (top_row + bottom_row), 2.0);
+}
+
+// Lit, the voxel's top face keeps the colour's hue: the centre pixel is within shading
+// tolerance of the map colour in chromaticity (ratios of channels).
+TEST(RenderPixels, LitVoxelKeepsItsColourWithinShadingTolerance) {
+  const int w = 120, h = 90;
+  const Life life = simulate_life(source_of(demo_cube(1, 1e6)), {0.0});
+  const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
+  FrameStyle st = small_style(w, h);
+  st.orthographic = true;
+  st.elevation_deg = 90;
+  LifeRenderer renderer(st);
+  const std::vector<uint8_t> img = renderer.render(life, life.frames[0], scale, "none");
+  const Rgb8 expected = scale.color(*life.model, life.frames[0], 0);
+  const uint8_t* c = pixel(img, w, w / 2, h / 2);
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(c[d], expected[d], 40) << "channel " << d;
+}
+
+TEST(RenderPixels, EmptySceneIsFloorOnly) {
+  const int w = 160, h = 120;
+  OffscreenContext ctx(w, h);
+  SceneRenderer r(ctx);
+  Scene scene;
+  scene.samples = 1;
+  scene.lit = false;
+  scene.camera.distance = 0.3;
+  r.draw(scene);
+  const std::vector<uint8_t> flat = ctx.read_rgba();
+  int floor = 0, sky = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint8_t* p = pixel(flat, w, x, y);
+      const Rgb8 c{p[0], p[1], p[2]};
+      if (c == scene.floor_color)
+        ++floor;
+      else if (c == scene.background)
+        ++sky;
+      else
+        ADD_FAILURE() << "pixel " << x << "," << y << " is neither floor nor background";
+    }
+  EXPECT_GT(floor, w * h / 3);  // camera looks down at 25 degrees: the floor fills the bottom
+  EXPECT_EQ(pixel(flat, w, w / 2, h - 1)[0], scene.floor_color[0]);
+  // Lit: still only neutral greys (grid, shadowless floor, background fade).
+  scene.lit = true;
+  r.draw(scene);
+  const std::vector<uint8_t> lit = ctx.read_rgba();
+  for (size_t i = 0; i < lit.size(); i += 4)
+    ASSERT_LE(
+        std::max({lit[i], lit[i + 1], lit[i + 2]}) - std::min({lit[i], lit[i + 1], lit[i + 2]}), 12)
+        << "coloured pixel in an empty scene at byte " << i;
+}
+
+TEST(RenderPixels, SameSceneRenderedTwiceIsByteIdentical) {
+  const Life life = simulate_life(source_of(demo_walker(), Treatment::kStress), {0.3});
+  std::vector<const Frame*> frames{&life.frames[0]};
+  const ColorScale scale = make_color_scale(ColorMode::kChange, *life.model, frames);
+  FrameStyle st = small_style(200, 120);
+  st.samples = 4;
+  st.overlay = OverlayOptions{};
+  std::vector<uint8_t> first;
+  {
+    LifeRenderer a(st);
+    first = a.render(life, life.frames[0], scale, "stress");
+  }
+  LifeRenderer b(st);
+  EXPECT_EQ(b.render(life, life.frames[0], scale, "stress"), first);
+  EXPECT_EQ(b.render(life, life.frames[0], scale, "stress"), first);
+}
+
+// ---------------------------------------------------------------------------------------
+// Files: frames, videos, galleries, bad input
+// ---------------------------------------------------------------------------------------
+
+class RenderFiles : public ScratchDirTest {
+ protected:
+  // A tiny evolution run (4x4x4 lattice, population 4, 1 generation, 0.3 s lives).
+  std::string tiny_run(const std::string& name, uint64_t seed, const std::string& treatment) {
+    const std::string json = R"({"format": "plastivox-evolve-config", "version": 1, "seed": )" +
+                             std::to_string(seed) + R"(, "treatment": ")" + treatment +
+                             R"(", "population": 4, "generations": 1, "threads": 1,
+        "lattice": {"nx": 4, "ny": 4, "nz": 4, "voxel_size": 0.01},
+        "physics": {"preset": "gecco2018-code", "duration": 0.3, "settle_time": 0.1}})";
+    const evo::EvolveConfig config = evo::parse_config(json, name);
+    const std::string out = path(name);
+    evo::RunOptions opt;
+    opt.threads = 1;
+    evo::run_evolution(config, out, opt);
+    return out;
+  }
+};
+
+TEST_F(RenderFiles, FrameFromARobotFileIsAPngOfTheRequestedSize) {
+  write_robot_file(path("cube.json"), demo_cube(3, 1e7));
+  FrameStyle st = small_style(96, 64);
+  render_frame_file(path("cube.json"), 0.1, st, path("f.png"));
+  const Image img = read_png(path("f.png"));
+  EXPECT_EQ(img.width, 96);
+  EXPECT_EQ(img.height, 64);
+  EXPECT_EQ(files_in(dir_), 2);  // cube.json and f.png, no temporaries
+}
+
+TEST_F(RenderFiles, BadInputIsAClearErrorAndLeavesNoFile) {
+  write_robot_file(path("cube.json"), demo_cube(2, 1e7));
+  FrameStyle st = small_style(32, 32);
+  EXPECT_THROW(render_frame_file(path("cube.json"), 0.1, st, path("missing/f.png")), RenderError);
+  EXPECT_THROW(render_frame_file(path("cube.json"), 99, st, path("late.png")), RenderError);
+  EXPECT_THROW(render_frame_file(path("nothing.json"), 0.1, st, path("f.png")), std::runtime_error);
+  EXPECT_THROW(render_frame_file(path("cube.txt"), 0.1, st, path("f.png")), std::runtime_error);
+  // A results file whose run has no generation yet (hence no champion) is refused by the
+  // results reader, naming the file and the field.
+  evo::RunState empty;
+  empty.config = evo::parse_config(R"({"format": "plastivox-evolve-config", "version": 1})", "e");
+  evo::write_results(path("empty.h5"), empty, evo::current_provenance(1));
+  try {
+    render_frame_file(path("empty.h5"), 0.1, st, path("f.png"));
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("empty.h5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("generations_done"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(files_in(dir_), 2);  // only the inputs
+}
+
+TEST_F(RenderFiles, VideoDecodesWithTheExpectedFramesSizeAndDuration) {
+  write_robot_file(path("cube.json"), demo_cube(2, 1e7));
+  FrameStyle st = small_style(64, 48);
+  VideoJob job;
+  job.fps = 30;
+  job.end = 0.2;  // 6 frames
+  const VideoSummary s = render_video_file(path("cube.json"), st, job, path("v.mp4"));
+  EXPECT_EQ(s.frames, 6);
+  const VideoInfo info = probe_video(path("v.mp4"));
+  EXPECT_EQ(info.frames, 6);
+  EXPECT_EQ(info.width, 64);
+  EXPECT_EQ(info.height, 48);
+  EXPECT_NEAR(info.duration_s, 0.2, 0.034);
+  EXPECT_EQ(files_in(dir_), 2);
+}
+
+TEST_F(RenderFiles, GalleryHasOneLabelledTilePerInputEachShowingItsRobot) {
+  const std::vector<std::string> runs = {tiny_run("a.h5", 1, "none"), tiny_run("b.h5", 2, "stress"),
+                                         tiny_run("c.h5", 3, "pressure")};
+  GalleryStyle gs;
+  gs.width = 330;
+  gs.height = 120;
+  gs.samples = 1;
+  const GalleryLayout layout = render_gallery_file(runs, gs, path("g.png"));
+  ASSERT_EQ(layout.tiles.size(), runs.size());
+  EXPECT_EQ(layout.columns * layout.rows >= 3, true);
+  EXPECT_EQ(layout.labels[1], "stress · seed 2");
+  const Image img = read_png(path("g.png"));
+  // Every tile shows saturated (robot) pixels; the floor and background are grey.
+  for (const PixelRect& t : layout.tiles) {
+    int coloured = 0;
+    for (int y = t.y; y < t.y + t.height; ++y)
+      for (int x = t.x; x < t.x + t.width; ++x) {
+        const uint8_t* p = pixel(img.rgba, img.width, x, y);
+        coloured += std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 40;
+      }
+    EXPECT_GT(coloured, 20) << "tile at " << t.x << "," << t.y;
+  }
+}
+
+}  // namespace
+}  // namespace plastivox::render
