@@ -402,6 +402,49 @@ TEST_F(Study, BadInputsGiveOneClearLine) {
   EXPECT_EQ(r.champions.size(), 2u);
 }
 
+TEST_F(Study, UnstableSimulationsAreRecordedNeverTurnedIntoNumbers) {
+  // A run whose every simulation goes unstable (max_speed far below gravity's first step)
+  // next to a normal one of the same treatment.
+  const std::string ok = run(Treatment::kStress, 3);
+  const std::string bad =
+      run(Treatment::kStress, 9, R"({"duration": 0.2, "settle_time": 0.1, "max_speed": 1e-4})");
+  StudyOptions o = quick();
+  o.allow_mixed_physics = true;
+  const StudyResult r = analyze_study({ok, bad}, o);
+  write_study_outputs(r, path("out"));
+  const Json j = Json::parse(read_text(path("out/stats.json")));
+  ASSERT_EQ(j["champions"].size(), 2u);
+  const Json& u = j["champions"][1];
+  ASSERT_EQ(u["label"], "stress-s9");
+  EXPECT_EQ(u["status"], "unstable");
+  EXPECT_NE(u["status_detail"].get<std::string>().find("max_speed"), std::string::npos);
+  EXPECT_TRUE(u["fitness"].is_null());
+  EXPECT_TRUE(u["m_body"].is_null());
+  EXPECT_TRUE(u["robustness"]["F_train"].is_null());
+  EXPECT_TRUE(u["robustness"]["R_mean"].is_null());
+  for (const Json& d : u["robustness"]["draws"]) EXPECT_TRUE(d.is_null());
+  for (const Json& s : u["robustness"]["draw_status"]) EXPECT_NE(s, "ok");
+  for (const char* m : {"fitness", "robustness", "m_body", "v_body"})
+    EXPECT_TRUE(u["undefined"].contains(m)) << m;
+  EXPECT_FALSE(u["v_gain"].is_null());  // alpha is defined whatever the simulation did
+  EXPECT_EQ(j["champions"][0]["status"], "ok");
+
+  // Each panel keeps the valid value and lists the unstable champion with its reason.
+  for (const Json& panel : j["panels"]) {
+    if (panel["id"] == "B" || panel["id"] == "F") continue;
+    const Json& g = panel["groups"][0];
+    EXPECT_EQ(g["n"], 1) << panel["id"];
+    ASSERT_EQ(g["excluded"].size(), 1u) << panel["id"];
+    EXPECT_EQ(g["excluded"][0]["label"], "stress-s9");
+    EXPECT_NE(g["excluded"][0]["reason"].get<std::string>().find("unstable"), std::string::npos);
+  }
+  const auto rows = read_csv(read_text(path("out/champions.csv")));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[2][9], "");   // fitness
+  EXPECT_EQ(rows[2][12], "");  // r_mean
+  EXPECT_EQ(rows[2][7], "unstable");
+}
+
 // ---- the command line ----
 
 testing::Output cli(const std::string& args) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <initializer_list>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -19,7 +20,10 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-void note(ChampionAnalysis& c, const std::string& code, const std::string& why) {
+// Records why `metrics` have no value, and the champion's status.
+void note(ChampionAnalysis& c, const std::string& code, const std::string& why,
+          std::initializer_list<const char*> metrics) {
+  for (const char* m : metrics) c.undefined[m] = why;
   if (c.status == "ok") c.status = code;
   c.status_detail += (c.status_detail.empty() ? "" : "; ") + why;
 }
@@ -41,17 +45,22 @@ void measure_canalization(StudyResult& r) {
         c.m_body = k.m_body;
         c.v_body = k.v_body;
       } catch (const std::exception& e) {
-        note(c, "canalization-undefined", std::string("canalization: ") + e.what());
+        note(c, "canalization-undefined", std::string("canalization: ") + e.what(),
+             {"m_body", "v_body"});
       }
     }
-    if (c.treatment == Treatment::kNone) continue;  // no development: V_gain has no range
+    if (c.treatment == Treatment::kNone) {  // no development: V_gain has no range
+      c.undefined["v_gain"] = "no development under treatment none";
+      continue;
+    }
     const AlphaRange range = r.alpha_ranges.at(c.treatment);
     if (range.max > range.min)
       c.v_gain = v_gain(body_values(c.robot, c.robot.dev_rate), range);
     else
       note(c, "v-gain-undefined",
            std::string("V_gain: every alpha of treatment ") + to_string(c.treatment) +
-               " is the same, so it cannot be normalised");
+               " is the same, so it cannot be normalised",
+           {"v_gain"});
   }
 }
 

@@ -165,6 +165,8 @@ Json robustness(const ChampionAnalysis& c) {
 }
 
 Json champion(const StudyResult& r, const ChampionAnalysis& c) {
+  Json undefined = Json::object();
+  for (const auto& [metric, why] : c.undefined) undefined[metric] = why;
   return {{"label", c.label},
           {"file", r.inputs[c.input].file},
           {"treatment", to_string(c.treatment)},
@@ -174,6 +176,7 @@ Json champion(const StudyResult& r, const ChampionAnalysis& c) {
           {"voxels", c.voxels},
           {"status", c.status},
           {"status_detail", c.status_detail},
+          {"undefined", undefined},
           {"evaluation", c.evaluation},
           {"champion_id", c.id},
           {"phenotype_digest", c.phenotype_digest},

@@ -74,6 +74,7 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
     c.status_detail = "the champion's own evaluation: " + c.evaluation;
     if (rec->id < run.births.size() && !run.births[rec->id].failure.empty())
       c.status_detail += " (" + run.births[rec->id].failure + ")";
+    for (const char* m : {"fitness", "m_body", "v_body"}) c.undefined[m] = c.status_detail;
   }
   c.phenotype_digest = phenotype_digest(c.robot);
   return l;

@@ -153,6 +153,7 @@ void summarise(ChampionAnalysis& c) {
   if (!r.train_valid) {
     problem = "robustness-undefined";
     detail = "robustness: F_train undefined (" + r.train_failure + ")";
+    c.undefined["robustness"] = detail;
   } else if (r.valid_draws < static_cast<int>(r.draws.size())) {
     problem = "robustness-unstable";
     int bad = 0;
@@ -163,6 +164,7 @@ void summarise(ChampionAnalysis& c) {
       }
     detail = "robustness: " + std::to_string(bad) + " of " + std::to_string(r.draws.size()) +
              " draws invalid, excluded from R (first: " + first + ")";
+    if (r.valid_draws == 0) c.undefined["robustness"] = detail;
   }
   if (problem.empty()) return;
   if (c.status == "ok") c.status = problem;

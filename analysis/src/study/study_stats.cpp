@@ -30,34 +30,28 @@ struct PanelDef {
   Measure measure;  // nullptr: panel B (pairs)
 };
 
-Value optional_value(const std::optional<double>& x, const ChampionAnalysis& c, const char* what) {
+Value value_of(const std::optional<double>& x, const ChampionAnalysis& c, const char* metric) {
   if (x) return {x, ""};
-  return {std::nullopt,
-          c.status_detail.empty() ? std::string(what) + " undefined" : c.status_detail};
+  const auto it = c.undefined.find(metric);
+  return {std::nullopt, it != c.undefined.end() ? it->second : std::string(metric) + " undefined"};
 }
 
 std::vector<PanelDef> panel_defs() {
   return {
       {"A", "fitness", "Fitness", "voxel lengths", false,
-       [](const ChampionAnalysis& c) -> Value {
-         if (c.evaluation == "ok") return {c.fitness, ""};
-         return {std::nullopt, c.status_detail};
+       [](const ChampionAnalysis& c) {
+         return value_of(c.evaluation == "ok" ? std::optional<double>(c.fitness) : std::nullopt, c,
+                         "fitness");
        }},
       {"B", "diversity", "Diversity", "Hausdorff distance (voxel lengths)", false, nullptr},
       {"C", "robustness", "Robustness", "F_test / F_train", false,
-       [](const ChampionAnalysis& c) {
-         if (c.r_mean) return Value{c.r_mean, ""};
-         return Value{std::nullopt,
-                      c.robustness.train_valid
-                          ? "robustness: no valid draw"
-                          : "robustness: F_train undefined (" + c.robustness.train_failure + ")"};
-       }},
+       [](const ChampionAnalysis& c) { return value_of(c.r_mean, c, "robustness"); }},
       {"D", "m_body", "M_body", "mean |E+/E0 - 1|", true,
-       [](const ChampionAnalysis& c) { return optional_value(c.m_body, c, "M_body"); }},
+       [](const ChampionAnalysis& c) { return value_of(c.m_body, c, "m_body"); }},
       {"E", "v_body", "V_body", "var |E+/E0 - 1|", true,
-       [](const ChampionAnalysis& c) { return optional_value(c.v_body, c, "V_body"); }},
+       [](const ChampionAnalysis& c) { return value_of(c.v_body, c, "v_body"); }},
       {"F", "v_gain", "V_gain", "var of normalised alpha", true,
-       [](const ChampionAnalysis& c) { return optional_value(c.v_gain, c, "V_gain"); }},
+       [](const ChampionAnalysis& c) { return value_of(c.v_gain, c, "v_gain"); }},
   };
 }
 

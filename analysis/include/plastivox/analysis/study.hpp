@@ -100,6 +100,9 @@ struct ChampionAnalysis {
   // ("unstable", "robustness-unstable", ...) with the reasons in status_detail.
   std::string status = "ok";
   std::string status_detail;
+  // Why a measure has no value: metric ("fitness", "robustness", "m_body", "v_body", "v_gain")
+  // -> reason. A metric absent here has a value.
+  std::map<std::string, std::string> undefined;
   uint64_t robustness_seed = 0;  // derived from options.seed and phenotype_digest
   RobustnessResult robustness;
   bool robustness_from_cache = false;  // this run reused a checkpoint (not written to outputs)
