@@ -1,6 +1,8 @@
 // plastivox analyze: the run champions of several results files, measured and compared
 // (METHOD.md section 8) -> DIR/stats.json, CSV tables, analysis.h5 and report.html.
 // The library call is analyze_study + write_study_outputs (plastivox/analysis/study.hpp).
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -10,6 +12,12 @@
 
 namespace plastivox::cli {
 namespace {
+
+// Ctrl-C / SIGTERM: finish the champions in progress (they are checkpointed), then stop.
+std::atomic<bool> g_stop{false};
+extern "C" void on_analyze_interrupt(int) {
+  g_stop.store(true);
+}
 
 long long parse_integer(const std::string& option, const std::string& text, long long min) {
   size_t used = 0;
@@ -92,10 +100,18 @@ int cmd_analyze(const Args& in) {
   options.command = "plastivox analyze";
   for (const std::string& a : in) options.command += " " + a;
 
-  const analysis::StudyResult r =
-      analysis::analyze_study(args, options, [](const analysis::StudyProgress& p) {
-        std::fprintf(stderr, "plastivox analyze: %s\n", p.message.c_str());
-      });
+  options.stop_requested = &g_stop;
+  std::signal(SIGINT, on_analyze_interrupt);
+  std::signal(SIGTERM, on_analyze_interrupt);
+  analysis::StudyResult r;
+  try {
+    r = analysis::analyze_study(args, options, [](const analysis::StudyProgress& p) {
+      std::fprintf(stderr, "plastivox analyze: %s\n", p.message.c_str());
+    });
+  } catch (const analysis::StudyStopped& e) {
+    std::fprintf(stderr, "plastivox analyze: %s; rerun the same command to resume\n", e.what());
+    return 130;
+  }
   analysis::write_study_outputs(r, out);
 
   const analysis::StudyTimings& t = r.timings;

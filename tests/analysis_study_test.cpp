@@ -4,6 +4,7 @@
 // order or on resuming from checkpoints; bad inputs give one clear line and leave no output.
 #include <hdf5.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -353,6 +354,30 @@ TEST_F(Study, ResumesFromCheckpointsWithIdenticalResults) {
   const StudyResult again = analyze_study(files, o);
   EXPECT_EQ(again.timings.robustness_simulations, 0);
   EXPECT_EQ(without_date(stats_json(again)), uninterrupted);
+}
+
+TEST_F(Study, StopRequestKeepsFinishedChampionsAndResumes) {
+  const std::vector<std::string> files = six_runs();
+  StudyOptions o = quick();
+  o.threads = 1;
+  const std::string uninterrupted = without_date(stats_json(analyze_study(files, o)));
+
+  // Ctrl-C while the first champion runs: it finishes and is checkpointed, nothing else starts.
+  std::atomic<bool> stop{false};
+  o.cache_dir = path("cache");
+  o.stop_requested = &stop;
+  const std::string msg = error_of([&] {
+    analyze_study(files, o, [&](const StudyProgress& p) {
+      if (p.stage == "robustness") stop.store(true);
+    });
+  });
+  EXPECT_NE(msg.find("stopped on request with 1 of 6 champions"), std::string::npos) << msg;
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("cache")), fs::directory_iterator()), 1);
+
+  stop.store(false);
+  const StudyResult resumed = analyze_study(files, o);
+  EXPECT_EQ(resumed.timings.robustness_cached, 1);
+  EXPECT_EQ(without_date(stats_json(resumed)), uninterrupted);
 }
 
 TEST_F(Study, BadInputsGiveOneClearLine) {

@@ -220,23 +220,30 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress) {
   const int threads = detail::resolve_threads(o.threads);
   const int outer = std::min(threads, static_cast<int>(todo.size()));
   const int inner = std::max(1, threads / outer);
-  detail::parallel_for(static_cast<int>(todo.size()), outer, [&](int k) {
-    ChampionAnalysis& c = r.champions[todo[k]];
-    const auto t0 = std::chrono::steady_clock::now();
-    c.robustness = robustness(c.robot, c.physics, robustness_options(o, c.robustness_seed, inner));
-    summarise(c);
-    if (!o.cache_dir.empty())
-      write_atomically(checkpoint_path(o.cache_dir, keys[todo[k]]),
-                       checkpoint_text(c, keys[todo[k]]));
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::lock_guard<std::mutex> lock(mutex);
-    ++done;
-    r.timings.robustness_simulations += 1 + o.robustness_draws;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, " (%d simulations, %.1f s)", 1 + o.robustness_draws, s);
-    report("robustness " + std::to_string(done) + "/" + std::to_string(n) + " " + c.label + " " +
-           r_text(c) + buf);
-  });
+  try {
+    detail::parallel_for(static_cast<int>(todo.size()), outer, [&](int k) {
+      if (o.stop_requested && o.stop_requested->load()) throw StudyStopped("stopped on request");
+      ChampionAnalysis& c = r.champions[todo[k]];
+      const auto t0 = std::chrono::steady_clock::now();
+      c.robustness =
+          robustness(c.robot, c.physics, robustness_options(o, c.robustness_seed, inner));
+      summarise(c);
+      if (!o.cache_dir.empty())
+        write_atomically(checkpoint_path(o.cache_dir, keys[todo[k]]),
+                         checkpoint_text(c, keys[todo[k]]));
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::lock_guard<std::mutex> lock(mutex);
+      ++done;
+      r.timings.robustness_simulations += 1 + o.robustness_draws;
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " (%d simulations, %.1f s)", 1 + o.robustness_draws, s);
+      report("robustness " + std::to_string(done) + "/" + std::to_string(n) + " " + c.label + " " +
+             r_text(c) + buf);
+    });
+  } catch (const StudyStopped&) {  // the champions in progress have finished by now
+    throw StudyStopped("stopped on request with " + std::to_string(done) + " of " +
+                       std::to_string(n) + " champions' robustness done and checkpointed");
+  }
   for (int i = 0; i < n; ++i) {
     ChampionAnalysis& c = r.champions[i];
     const auto it = first.find(keys[i]);

@@ -16,10 +16,12 @@
 // the writers from one thread at a time (HDF5 is not thread-safe).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -51,6 +53,15 @@ struct StudyOptions {
   int threads = 0;        // 0 = all cores
   std::string cache_dir;  // robustness checkpoints (created on demand); empty = no cache
   std::string command;    // the command line, recorded in provenance
+  // Polled before each champion's robustness starts: when it reads true, analyze_study lets
+  // the champions in progress finish (and checkpoint) and throws StudyStopped. nullptr: never.
+  const std::atomic<bool>* stop_requested = nullptr;
+};
+
+// Thrown by analyze_study when options.stop_requested was set; rerun to resume.
+class StudyStopped : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 // The options as canonical JSON (the fields that can change results; not threads, cache_dir
