@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/simd.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox {
@@ -53,6 +54,22 @@ void BM_Irregular500Stress(benchmark::State& bs) {
   run_steps(bs, m);
 }
 BENCHMARK(BM_Irregular500Stress)->Unit(benchmark::kMillisecond);
+
+// The demo walker (stress) with the bond kernel limited to one instruction set: 0 scalar,
+// 1 AVX2, 2 AVX-512 (the other cases use the widest the CPU has; results are identical).
+void BM_SimdLevel(benchmark::State& bs) {
+  const auto level = static_cast<SimdLevel>(bs.range(0));
+  const SimdLevel best = best_simd_level();
+  if (level > best) {
+    bs.SkipWithError("instruction set not available on this CPU or build");
+    return;
+  }
+  set_simd_level(level);
+  const Model m = compile(demo_walker(), physics(Treatment::kStress));
+  run_steps(bs, m);
+  set_simd_level(best);
+}
+BENCHMARK(BM_SimdLevel)->DenseRange(0, 2)->ArgName("simd")->Unit(benchmark::kMillisecond);
 
 // Scaling with voxel count: full cubes of 5^3 = 125 up to 10^3 = 1000 voxels.
 void BM_CubeScaling(benchmark::State& bs) {

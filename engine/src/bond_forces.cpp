@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "atan_series.hpp"
 #include "bond_kernel.hpp"
 #include "plastivox/energy.hpp"
 #include "workspace.hpp"

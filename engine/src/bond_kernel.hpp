@@ -1,9 +1,9 @@
 // The batched bond kernel: the exact bond model over arrays of bonds, written once as a
-// branch-free template over the lane type so the compiler vectorises it (four bonds at a
-// time with AVX2 where the build enables it). It reads the voxels' centres, orientations,
-// sizes and moduli directly (no intermediate per-bond copy) and writes each bond's forces,
-// strain, stress and deformation in place. Element-wise IEEE arithmetic in the same order
-// in every lane type, so vector and scalar builds give identical bits.
+// template over the lane type (bond_lanes.hpp): four bonds at a time with AVX2, eight with
+// AVX-512, chosen at run time from what the CPU has (plastivox/simd.hpp). It reads the voxels'
+// centres, orientations, sizes and moduli directly (no intermediate per-bond copy) and writes each
+// bond's forces, strain, stress and deformation in place. Element-wise IEEE arithmetic in the same
+// order in every lane type, so vector and scalar builds give identical bits.
 #pragma once
 
 #include <cstdint>
@@ -44,21 +44,13 @@ struct BondConstants {
   bool axial_own;                     // axial stress from a's own modulus
 };
 
-// Runs bonds [0, n); returns how many bond indices it wrote to io.redo.
+// Runs bonds [0, n) with the instruction set in use (plastivox/simd.hpp); returns how many
+// bond indices it wrote to io.redo. Identical results on every instruction set.
 int bond_kernel_exact(const BondKernelIo& io, int n, const BondConstants& k);
 
-// atan(t)/t as a function of t^2: nine terms of the alternating series leave an error
-// below 1e-19 for t^2 < 1e-2 (rotations under 11 degrees). Shared by the batched kernel
-// and the scalar path so both evaluate the same expression.
-template <class T>
-inline T atan_series(T t2) {
-  return 1.0 -
-         t2 * (1.0 / 3 -
-               t2 * (1.0 / 5 -
-                     t2 * (1.0 / 7 -
-                           t2 * (1.0 / 9 -
-                                 t2 * (1.0 / 11 -
-                                       t2 * (1.0 / 13 - t2 * (1.0 / 15 - t2 * (1.0 / 17))))))));
-}
+// The same for one instruction set, in bond_kernel_avx2.cpp / bond_kernel_avx512.cpp, each
+// compiled for it: call only when the CPU has it (simd.hpp's levels say so).
+int bond_kernel_avx2(const BondKernelIo& io, int n, const BondConstants& k);
+int bond_kernel_avx512(const BondKernelIo& io, int n, const BondConstants& k);
 
 }  // namespace plastivox

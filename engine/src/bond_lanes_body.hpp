@@ -1,0 +1,142 @@
+// The batched bond kernel, part 2: one bond (or one group of lanes) for any lane type. See
+// bond_lanes.hpp for how it is included, and bond_kernel.cpp for the formulas' provenance.
+#pragma once
+
+#include "bond_lanes.hpp"
+
+namespace plastivox {
+namespace {
+
+template <class T>
+inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, int& redo_count) {
+  const T one = splat(1.0, T{}), zero = splat(0.0, T{});
+  const BondIn<T> in = gather(io, i, T{});
+  const auto sel = axis_select(io, i, T{});
+
+  // Rotation matrix of a (column-major, Eigen's toRotationMatrix), and its columns
+  // permuted so the bond's axis comes first: c[0..2] = column d, c[3..5] = column d + 1, ...
+  T R[9];
+  {
+    const T tx = 2.0 * in.ax, ty = 2.0 * in.ay, tz = 2.0 * in.az;
+    const T twx = tx * in.aw, twy = ty * in.aw, twz = tz * in.aw;
+    const T txx = tx * in.ax, txy = ty * in.ax, txz = tz * in.ax;
+    const T tyy = ty * in.ay, tyz = tz * in.ay, tzz = tz * in.az;
+    R[0] = 1.0 - (tyy + tzz), R[3] = txy - twz, R[6] = txz + twy;
+    R[1] = txy + twz, R[4] = 1.0 - (txx + tzz), R[7] = tyz - twx;
+    R[2] = txz - twy, R[5] = tyz + twx, R[8] = 1.0 - (txx + tyy);
+  }
+  T m[9];
+  for (int r = 0; r < 3; ++r) {
+    m[r] = sel(R[r], R[3 + r], R[6 + r]);
+    m[3 + r] = sel(R[3 + r], R[6 + r], R[r]);
+    m[6 + r] = sel(R[6 + r], R[r], R[3 + r]);
+  }
+  // Chord a->b in a's permuted body frame.
+  const T x = m[0] * in.dx + m[1] * in.dy + m[2] * in.dz;
+  const T y = m[3] * in.dx + m[4] * in.dy + m[5] * in.dz;
+  const T z = m[6] * in.dx + m[7] * in.dy + m[8] * in.dz;
+  // Rotation of b relative to a: conj(q_a) q_b, vector part permuted.
+  const T aw = in.aw, ax = in.ax, ay = in.ay, az = in.az;
+  const T bw_ = in.bw, bx_ = in.bx, by_ = in.by, bz_ = in.bz;
+  const T v0 = aw * bx_ - ax * bw_ - ay * bz_ + az * by_;
+  const T v1 = aw * by_ + ax * bz_ - ay * bw_ - az * bx_;
+  const T v2 = aw * bz_ - ax * by_ + ay * bx_ - az * bw_;
+  const T a = aw * bw_ + ax * bx_ + ay * by_ + az * bz_;
+  const T bx = sel(v0, v1, v2), by = sel(v1, v2, v0), bz = sel(v2, v0, v1);
+
+  // Chord-aligned frame f = (fw, 0, fy, fz) taking r onto +x.
+  const T len = root(x * x + y * y + z * z);
+  const T h0 = len + x;
+  const auto degenerate = h0 <= 1e-6 * len;
+  const T h = pick(degenerate, one, h0);
+  const T ln = pick(degenerate, one, len);
+  const T inv_n = 1.0 / root(2.0 * ln * h);
+  const T fw = h * inv_n, fy = z * inv_n, fz = -y * inv_n;
+  const T t1sq = (y * y + z * z) / (h * h);
+  const T k1 = 2.0 * atan_over_t(t1sq, degenerate) / h;
+  const T t1x = zero, t1y = z * k1, t1z = -y * k1;
+  // th2: rotation vector of f * q2, shorter arc.
+  T w2 = fw * a - fy * by - fz * bz;
+  T x2 = fw * bx + fy * bz - fz * by;
+  T y2 = fw * by + a * fy + fz * bx;
+  T z2 = fw * bz + a * fz - fy * bx;
+  const T sgn = pick(w2 < 0.0, splat(-1.0, T{}), one);
+  w2 = w2 * sgn, x2 = x2 * sgn, y2 = y2 * sgn, z2 = z2 * sgn;
+  const auto redo = degenerate | (w2 <= 1e-3);
+  const T ww = pick(w2 > 1e-3, w2, one);
+  const T t2sq = (x2 * x2 + y2 * y2 + z2 * z2) / (ww * ww);
+  const T k2 = 2.0 * atan_over_t(t2sq, redo) / ww;
+  const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
+  append_redo(redo, i, io, redo_count);
+  // Bonds past the series' range: world-frame results in the scalar path's order.
+  const auto large = and_not((t1sq >= 1e-2) | (t2sq >= 1e-2), redo);
+
+  // Axial strain over the nominal length; harmonic-mean modulus.
+  const T rest = 0.5 * (in.size_a + in.size_b);
+  const T px = len - rest;
+  const T strain = px * k.inv_L;
+  const T ea = in.ea, eb = in.eb;
+  const T e = 2.0 * ea * eb / (ea + eb);
+  const T stress = (k.axial_own ? ea : e) * strain;
+  store(io.strain, i, strain);
+  store(io.stress, i, stress);
+
+  const T a2 = e * k.ka2, b3 = e * k.kb3;
+  const T b2c = 3.0 * b3 / (px + rest);
+  T fx = stress * k.area, fyv = -b2c * (t1z + t2z), fzv = b2c * (t1y + t2y);
+  T max = a2 * (t2x - t1x), may = -b3 * (2.0 * t1y + t2y), maz = -b3 * (2.0 * t1z + t2z);
+  T mbx = a2 * (t1x - t2x), mby = -b3 * (t1y + 2.0 * t2y), mbz = -b3 * (t1z + 2.0 * t2z);
+
+  // Damping on half the change of the deformation since the previous step (off until a
+  // previous deformation exists: valid = 0).
+  double* const* P = io.prev;
+  T old[9];
+  for (int j = 0; j < 9; ++j) old[j] = load(P[j], i, T{});
+  const T dpx = 0.5 * (px - old[0]);
+  const T dpy = 0.5 * (zero - old[1]), dpz = 0.5 * (zero - old[2]);
+  const T d1x = 0.5 * (t1x - old[3]), d1y = 0.5 * (t1y - old[4]);
+  const T d1z = 0.5 * (t1z - old[5]);
+  const T d2x = 0.5 * (t2x - old[6]), d2y = 0.5 * (t2y - old[7]);
+  const T d2z = 0.5 * (t2z - old[8]);
+  const T se = root(e) * k.damp * in.valid;
+  const T c_a1 = se * k.dk_a1, c_b1 = c_a1, c_b2 = se * k.dk_b2;
+  const T c_a2 = 0.5 * se * k.dk_a2, c_b3 = 0.5 * se * k.dk_b3;
+  const T c_b2h = 0.5 * c_b2;
+  fx = fx + c_a1 * dpx;
+  fyv = fyv + (c_b1 * dpy - c_b2 * (d1z + d2z));
+  fzv = fzv + (c_b1 * dpz + c_b2 * (d1y + d2y));
+  max = max + c_a2 * (d2x - d1x);
+  may = may + (-c_b2h * dpz - c_b3 * (2.0 * d1y + d2y));
+  maz = maz + (c_b2h * dpy - c_b3 * (2.0 * d1z + d2z));
+  mbx = mbx + c_a2 * (d1x - d2x);
+  mby = mby + (-c_b2h * dpz - c_b3 * (d1y + 2.0 * d2y));
+  mbz = mbz + (c_b2h * dpy - c_b3 * (d1z + 2.0 * d2z));
+
+  // Flagged lanes keep their previous deformation: the scalar path redoes them from it.
+  const T now[9] = {px, zero, zero, t1x, t1y, t1z, t2x, t2y, t2z};
+  for (int j = 0; j < 9; ++j) store(P[j], i, pick(redo, old[j], now[j]));
+
+  // World frame: u = f^T v (f has no x part), then the permuted orientation of a.
+  const T r00 = 1.0 - 2.0 * (fy * fy + fz * fz), r01 = 2.0 * fw * fz, r02 = -2.0 * fw * fy;
+  const T r10 = -2.0 * fw * fz, r11 = 1.0 - 2.0 * fz * fz, r12 = 2.0 * fy * fz;
+  const T r20 = 2.0 * fw * fy, r21 = 2.0 * fy * fz, r22 = 1.0 - 2.0 * fy * fy;
+  const T vx[3] = {fx, max, mbx}, vy[3] = {fyv, may, mby}, vz[3] = {fzv, maz, mbz};
+  const bool any_large = any(large);
+  for (int v = 0; v < 3; ++v) {
+    const T ux = r00 * vx[v] + r01 * vy[v] + r02 * vz[v];
+    const T uy = r10 * vx[v] + r11 * vy[v] + r12 * vz[v];
+    const T uz = r20 * vx[v] + r21 * vy[v] + r22 * vz[v];
+    T o[3];
+    for (int c = 0; c < 3; ++c) o[c] = m[c] * ux + m[3 + c] * uy + m[6 + c] * uz;
+    if (any_large) {
+      // Undo the permutation first, then the unpermuted columns (bond_forces.cpp to_world).
+      const T ox = sel(ux, uz, uy), oy = sel(uy, ux, uz), oz = sel(uz, uy, ux);
+      for (int c = 0; c < 3; ++c)
+        o[c] = pick(large, R[c] * ox + R[3 + c] * oy + R[6 + c] * oz, o[c]);
+    }
+    for (int c = 0; c < 3; ++c) store(io.out[3 * v + c], i, o[c]);
+  }
+}
+
+}  // namespace
+}  // namespace plastivox

@@ -1,0 +1,133 @@
+// The batched bond kernel's vector lane operations, shared by the AVX2 and AVX-512 files.
+// The includer first declares, in an unnamed namespace in plastivox: the vector type V, its
+// comparison result M, the width kWidth, and root(V) (square root), lane_bits(M) (one bit
+// per lane) and load_quats() (kWidth voxels' quaternions transposed into one vector per
+// component), which need that instruction set's intrinsics. Internal linkage throughout
+// (see bond_lanes.hpp).
+#pragma once
+
+#include <immintrin.h>
+
+#include <cstring>
+#include <utility>
+
+#include "bond_lanes.hpp"
+
+namespace plastivox {
+namespace {
+
+inline V splat(double v, V) {
+  V r;
+  for (int j = 0; j < kWidth; ++j) r[j] = v;
+  return r;
+}
+inline V load(const double* p, int i, V) {
+  V v;
+  std::memcpy(&v, p + i, sizeof v);
+  return v;
+}
+inline void store(double* p, int i, V v) {
+  std::memcpy(p + i, &v, sizeof v);
+}
+inline V pick(M c, V a, V b) {
+  return c ? a : b;
+}
+inline bool any(M c) {
+  return lane_bits(c) != 0;
+}
+inline M and_not(M a, M b) {
+  return a & ~b;
+}
+// The series in every lane; lanes past its range (and not skipped) take atan, as the
+// scalar atan_over_t does.
+inline V atan_over_t(V t2, M skip) {
+  V r = atan_series(t2);
+  const int big = lane_bits(and_not(t2 >= 1e-2, skip));
+  if (big != 0) {
+    for (int j = 0; j < kWidth; ++j) {
+      if (!(big & (1 << j))) continue;
+      const double t = std::sqrt(t2[j]);
+      r[j] = std::atan(t) / t;
+    }
+  }
+  return r;
+}
+inline void append_redo(M redo, int i, const BondKernelIo& io, int& count) {
+  const int bits = lane_bits(redo);
+  if (bits == 0) return;
+  for (int j = 0; j < kWidth; ++j)
+    if (bits & (1 << j)) io.redo[count++] = i + j;
+}
+
+// Per-lane choice by the bond's lattice axis: v0 if 0, v1 if 1, v2 if 2.
+struct AxisV {
+  M is1, is2;
+  V operator()(V v0, V v1, V v2) const { return is2 ? v2 : (is1 ? v1 : v0); }
+};
+
+// Four voxels' quaternions (x, y, z, w in memory) transposed: c[0] = the four x, ... c[3] = w.
+inline void load_quats4(const double* q, const int* idx, __m256d* c) {
+  const __m256d q0 = _mm256_loadu_pd(q + 4 * idx[0]), q1 = _mm256_loadu_pd(q + 4 * idx[1]);
+  const __m256d q2 = _mm256_loadu_pd(q + 4 * idx[2]), q3 = _mm256_loadu_pd(q + 4 * idx[3]);
+  const __m256d t0 = _mm256_unpacklo_pd(q0, q1);  // x0 x1 z0 z1
+  const __m256d t1 = _mm256_unpackhi_pd(q0, q1);  // y0 y1 w0 w1
+  const __m256d t2 = _mm256_unpacklo_pd(q2, q3);  // x2 x3 z2 z3
+  const __m256d t3 = _mm256_unpackhi_pd(q2, q3);  // y2 y3 w2 w3
+  c[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  c[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+// One value per lane from a per-voxel array: p[stride * idx[j] + offset]. (A braced list,
+// which compiles to fewer instructions than assigning lane by lane.)
+template <size_t... J>
+inline V lanes(const double* p, const int* idx, int stride, int offset, std::index_sequence<J...>) {
+  return V{p[stride * idx[J] + offset]...};
+}
+inline V lanes(const double* p, const int* idx, int stride, int offset) {
+  return lanes(p, idx, stride, offset, std::make_index_sequence<kWidth>());
+}
+
+inline BondIn<V> gather(const BondKernelIo& io, int b, V) {
+  const int* ia = io.bond_a + b;
+  const int* ib = io.bond_b + b;
+  BondIn<V> in;
+  in.dx = lanes(io.pos, ib, 3, 0) - lanes(io.pos, ia, 3, 0);
+  in.dy = lanes(io.pos, ib, 3, 1) - lanes(io.pos, ia, 3, 1);
+  in.dz = lanes(io.pos, ib, 3, 2) - lanes(io.pos, ia, 3, 2);
+  load_quats(io.quat, ia, in.ax, in.ay, in.az, in.aw);
+  load_quats(io.quat, ib, in.bx, in.by, in.bz, in.bw);
+  in.size_a = lanes(io.size, ia, 1, 0), in.size_b = lanes(io.size, ib, 1, 0);
+  in.ea = lanes(io.stiff, ia, 1, 0), in.eb = lanes(io.stiff, ib, 1, 0);
+  const uint8_t* valid = io.prev_valid + b;
+  for (int j = 0; j < kWidth; ++j) in.valid[j] = valid[j] ? 1.0 : 0.0;
+  return in;
+}
+
+inline AxisV axis_select(const BondKernelIo& io, int b, V) {
+  const uint8_t* a = io.axis + b;
+  M d;
+  for (int j = 0; j < kWidth; ++j) d[j] = a[j];
+  return AxisV{d == 1, d == 2};
+}
+
+}  // namespace
+}  // namespace plastivox
+
+#include "bond_lanes_body.hpp"
+
+namespace plastivox {
+namespace {
+
+// All bonds: full groups of kWidth lanes, then the rest one by one.
+inline int run_bond_lanes(const BondKernelIo& io, int n, const BondConstants& k) {
+  int redo_count = 0;
+  int i = 0;
+  for (; i + kWidth <= n; i += kWidth) bond_lanes<V>(io, i, k, redo_count);
+  for (; i < n; ++i) bond_lanes<double>(io, i, k, redo_count);
+  return redo_count;
+}
+
+}  // namespace
+}  // namespace plastivox
