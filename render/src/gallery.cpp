@@ -67,7 +67,8 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
 
   // Layout: tiles on the left, colour bar column on the right.
   const float text_px = overlay_text_px(style.height);
-  const int bar_column = style.colorbar ? static_cast<int>(std::round(text_px * 12)) : 0;
+  // Wide enough for the colour bar title ("congenital stiffness E0 (Pa)") beside the tiles.
+  const int bar_column = style.colorbar ? static_cast<int>(std::round(text_px * 17)) : 0;
   const int grid_w = style.width - bar_column, grid_h = style.height;
   if (grid_w < 16) throw RenderError("gallery: image too narrow");
   const int n = static_cast<int>(items.size());
@@ -97,7 +98,11 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
     Scene scene;
     scene.boxes = frame_boxes(model, frame, scale);
     scene.camera = follow_camera(model, frame);
-    scene.camera.distance = zoom_extent;
+    // follow_camera frames the robot's extent vertically; seen obliquely a body is up to
+    // its horizontal diagonal wide (x1.3 covers it), and a tile narrower than tall sees less
+    // horizontally than vertically, so back off by the aspect ratio too.
+    const double aspect = static_cast<double>(tile.width) / std::max(1, tile.height - label_h);
+    scene.camera.distance = zoom_extent * 1.3 * std::max(1.0, 1.0 / aspect);
     scene.camera.azimuth_deg = it.heading_deg - 60;  // travel towards the lower right
     scene.grid_spacing = model.size;
     scene.samples = style.samples;
