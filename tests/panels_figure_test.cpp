@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <string>
 #include <vector>
@@ -182,25 +181,42 @@ struct SvgBar {
   double x, y, w, h;
 };
 
+// The value of attribute `name` in one SVG element's text, e.g. attr("<rect x=\"3\"/>", "x").
+std::string attr(const std::string& element, const std::string& name) {
+  const size_t at = element.find(" " + name + "=\"");
+  if (at == std::string::npos) return "";
+  const size_t begin = at + name.size() + 3;
+  return element.substr(begin, element.find('"', begin) - begin);
+}
+
+// Every element of the SVG that starts with `open` (e.g. "<rect class=\"bar\""), up to the end
+// of its element: "/>" or the closing tag.
+std::vector<std::string> elements(const std::string& svg, const std::string& open,
+                                  const std::string& close) {
+  std::vector<std::string> out;
+  for (size_t at = svg.find(open); at != std::string::npos; at = svg.find(open, at + 1))
+    out.push_back(svg.substr(at, svg.find(close, at) + close.size() - at));
+  return out;
+}
+
 std::vector<SvgBar> svg_bars(const std::string& svg) {
-  static const std::regex bar(
-      R"re(<rect class="bar" data-group="([a-z]+)" x="([-0-9.]+)" y="([-0-9.]+)" width="([-0-9.]+)" height="([-0-9.]+)")re");
   std::vector<SvgBar> out;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), bar); it != std::sregex_iterator();
-       ++it) {
-    const std::smatch& m = *it;
-    out.push_back({m[1], std::stod(m[2]), std::stod(m[3]), std::stod(m[4]), std::stod(m[5])});
+  for (const std::string& e : elements(svg, "<rect class=\"bar\"", "/>")) {
+    out.push_back({attr(e, "data-group"), std::stod(attr(e, "x")), std::stod(attr(e, "y")),
+                   std::stod(attr(e, "width")), std::stod(attr(e, "height"))});
   }
   return out;
 }
 
 // The contents of every <text> element made only of asterisks.
 std::multiset<std::string> svg_stars(const std::string& svg) {
-  static const std::regex star(R"re(<text [^>]*>(\*+)</text>)re");
   std::multiset<std::string> out;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), star); it != std::sregex_iterator();
-       ++it)
-    out.insert((*it)[1]);
+  for (const std::string& e : elements(svg, "<text ", "</text>")) {
+    const size_t begin = e.find('>') + 1;
+    const std::string content = e.substr(begin, e.size() - begin - 7);
+    if (!content.empty() && content.find_first_not_of('*') == std::string::npos)
+      out.insert(content);
+  }
   return out;
 }
 
