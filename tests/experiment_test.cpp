@@ -2,7 +2,6 @@
 // to end on a micro config (seconds): every promised output, consistency between them, and
 // kills mid-evolution and mid-analysis followed by a rerun giving the same results.
 #include <fstream>
-#include <regex>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
