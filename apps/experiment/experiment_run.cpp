@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/robot_file.hpp"
@@ -156,7 +157,12 @@ ExperimentOutcome run_experiment(const ExperimentConfig& config, const Experimen
   // A stop request between stages ends the session cleanly; every stage is resumable.
   auto stopping = [&] { return opt.stop_requested && opt.stop_requested->load(); };
   if (stopping()) return out;
-  for (const auto& f : stage_analysis(ctx)) out.outputs.push_back(f);
+  try {
+    for (const auto& f : stage_analysis(ctx)) out.outputs.push_back(f);
+  } catch (const analysis::StudyStopped&) {
+    progress.log("[analysis] stopped; the champions done are checkpointed (rerun to resume)");
+    return out;
+  }
   if (stopping()) return out;
   for (const auto& f : stage_rendering(ctx)) out.outputs.push_back(f);
   if (stopping()) return out;

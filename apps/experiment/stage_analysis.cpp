@@ -30,6 +30,7 @@ analysis::StudyOptions study_options(const StageContext& ctx) {
   o.threads = ctx.opt.threads >= 0 ? ctx.opt.threads : ctx.config.threads;
   o.cache_dir = ctx.dir + "/cache/robustness";
   o.command = ctx.opt.command_line;
+  o.stop_requested = ctx.opt.stop_requested;  // Ctrl-C: finish and checkpoint, then stop
   return o;
 }
 
