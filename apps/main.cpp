@@ -94,4 +94,6 @@ int main(int argc, char** argv) {
 
 // LeakSanitizer (the sanitizer CI job) reads this hook: Mesa's libOSMesa keeps a few small
 // allocations per context past OSMesaDestroyContext; they are the library's, not ours.
-extern "C" const char* __lsan_default_suppressions() { return "leak:libOSMesa.so\n"; }
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:libOSMesa.so\n";
+}

@@ -80,4 +80,6 @@ struct TrapFpe {
 
 // LeakSanitizer (the sanitizer CI job) reads this hook: Mesa's libOSMesa keeps a few small
 // allocations per context past OSMesaDestroyContext; they are the library's, not ours.
-extern "C" const char* __lsan_default_suppressions() { return "leak:libOSMesa.so\n"; }
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:libOSMesa.so\n";
+}

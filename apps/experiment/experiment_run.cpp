@@ -18,15 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 // Path of the first difference between two JSON values ("evolution.population: 4 in the
 // folder, 6 now"), empty when equal.
 std::string first_difference(const json& was, const json& now, const std::string& path) {
@@ -70,7 +61,7 @@ std::string claim_folder(const ExperimentConfig& config, const std::string& dir)
   json m;
   m["format"] = "plastivox-experiment";
   m["format_version"] = 1;
-  m["created"] = utc_now();
+  m["created"] = utc_timestamp();
   m["plastivox_version"] = PLASTIVOX_VERSION;
   m["git_commit"] = PLASTIVOX_GIT_COMMIT;
   m["config"] = json::parse(config.canonical_json());

@@ -13,7 +13,9 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-std::string timestamp() {
+}  // namespace
+
+std::string utc_timestamp() {
   const std::time_t t = std::time(nullptr);
   std::tm tm{};
   gmtime_r(&t, &tm);
@@ -21,8 +23,6 @@ std::string timestamp() {
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
 }
-
-}  // namespace
 
 Progress::Progress(std::FILE* out) : out_(out), tty_(isatty(fileno(out)) == 1) {}
 
@@ -46,7 +46,7 @@ void Progress::log(const std::string& line) {
   clear_status();
   std::fprintf(out_, "%s\n", line.c_str());
   std::fflush(out_);
-  if (log_) log_ << timestamp() << " " << line << "\n" << std::flush;
+  if (log_) log_ << utc_timestamp() << " " << line << "\n" << std::flush;
 }
 
 void Progress::status(const std::string& line) {

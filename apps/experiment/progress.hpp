@@ -8,6 +8,9 @@
 
 namespace plastivox::experiment {
 
+// Now, UTC, ISO 8601 ("2026-11-22T05:00:00Z"): log lines and the folder manifest.
+std::string utc_timestamp();
+
 class Progress {
  public:
   explicit Progress(std::FILE* out);  // a terminal is detected with isatty()

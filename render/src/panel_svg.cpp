@@ -84,7 +84,7 @@ void write(std::string& out, const TextShape& t, const Drawing& d) {
     return;
   }
   out += " xml:space=\"preserve\">";  // keep spaces at span edges ("F_test / F_train")
-  float shift = 0;  // tspan dy is relative to the previous span's baseline
+  float shift = 0;                    // tspan dy is relative to the previous span's baseline
   for (const TextSpan& span : t.spans) {
     out += "<tspan" + font_attributes(d.fonts.at(span.font));
     if (span.dy != shift) out += " dy=\"" + num(span.dy - shift) + "\"";
