@@ -14,6 +14,7 @@
 
 #include "atan_series.hpp"
 #include "bond_kernel.hpp"
+#include "lane_ops.hpp"
 
 namespace plastivox {
 namespace {
@@ -29,29 +30,6 @@ struct BondIn {
   T valid;           // 1 if the previous deformation is recorded, else 0
 };
 
-// ---- Lane operations: scalar -------------------------------------------------------------
-
-inline double splat(double v, double) {
-  return v;
-}
-inline double load(const double* p, int i, double) {
-  return p[i];
-}
-inline void store(double* p, int i, double v) {
-  p[i] = v;
-}
-inline double root(double v) {
-  return std::sqrt(v);
-}
-inline double pick(bool c, double a, double b) {
-  return c ? a : b;
-}
-inline bool any(bool c) {
-  return c;
-}
-inline bool and_not(bool a, bool b) {
-  return a && !b;
-}
 // atan(t)/t of t^2, as bond_forces.cpp's atan_over_t.
 inline double atan_over_t(double t2, bool /*skip*/) {
   if (t2 < 1e-2) return atan_series(t2);

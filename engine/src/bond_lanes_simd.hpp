@@ -12,32 +12,11 @@
 #include <utility>
 
 #include "bond_lanes.hpp"
+#include "lane_ops_simd.hpp"
 
 namespace plastivox {
 namespace {
 
-inline V splat(double v, V) {
-  V r;
-  for (int j = 0; j < kWidth; ++j) r[j] = v;
-  return r;
-}
-inline V load(const double* p, int i, V) {
-  V v;
-  std::memcpy(&v, p + i, sizeof v);
-  return v;
-}
-inline void store(double* p, int i, V v) {
-  std::memcpy(p + i, &v, sizeof v);
-}
-inline V pick(M c, V a, V b) {
-  return c ? a : b;
-}
-inline bool any(M c) {
-  return lane_bits(c) != 0;
-}
-inline M and_not(M a, M b) {
-  return a & ~b;
-}
 // The series in every lane; lanes past its range (and not skipped) take atan, as the
 // scalar atan_over_t does.
 inline V atan_over_t(V t2, M skip) {
@@ -77,16 +56,6 @@ inline void load_quats4(const double* q, const int* idx, __m256d* c) {
   c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
   c[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
   c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
-}
-
-// One value per lane from a per-voxel array: p[stride * idx[j] + offset]. (A braced list,
-// which compiles to fewer instructions than assigning lane by lane.)
-template <size_t... J>
-inline V lanes(const double* p, const int* idx, int stride, int offset, std::index_sequence<J...>) {
-  return V{p[stride * idx[J] + offset]...};
-}
-inline V lanes(const double* p, const int* idx, int stride, int offset) {
-  return lanes(p, idx, stride, offset, std::make_index_sequence<kWidth>());
 }
 
 inline BondIn<V> gather(const BondKernelIo& io, int b, V) {

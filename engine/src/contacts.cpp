@@ -151,8 +151,10 @@ void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
     const double ei = s.stiffness[i], ej = s.stiffness[j];
     const double k = 2.0 * ei * ej / (ei + ej) * L;
     const Vec3 f = d * (k * (contact - dist) / dist);  // pushes j away from i
-    w.force[j] += f;
-    w.force[i] -= f;
+    for (int c = 0; c < 3; ++c) {
+      w.force[c][j] += f[c];
+      w.force[c][i] -= f[c];
+    }
   }
 }
 

@@ -27,10 +27,12 @@ struct ContactGrid {
 
 struct Workspace {
   // Per voxel.
-  std::vector<double> size;    // actuated edge length, m
-  std::vector<Vec3> force;     // total force, N, world frame
-  std::vector<Vec3> moment;    // total moment, N m, world frame
+  std::vector<double> size;  // actuated edge length, m
+  // Total force (N) and moment (N m), world frame, one array per component.
+  std::array<std::vector<double>, 3> force, moment;
   std::vector<double> sqrt_e;  // sqrt of the current stiffness, sqrt(Pa)
+  // Model::voxel_bonds by slot (one array per slot, -1 = no bond), for the voxel kernels.
+  std::array<std::vector<int>, 6> slot_bond;
   // Per bond, filled by the bond stage and gathered per voxel in a fixed order.
   // Per bond, world frame, one array per component: [0..2] force on voxel a (N; the force
   // on b is its negative), [3..5] moment on a, [6..8] moment on b (N m).
@@ -54,13 +56,16 @@ struct Workspace {
 
   explicit Workspace(const Model& m)
       : size(m.n, m.size),
-        force(m.n),
-        moment(m.n),
         sqrt_e(m.n),
         bond_strain(m.bond_count(), 0.0),
         bond_stress(m.bond_count(), 0.0) {
     const double L = m.size, nu = m.def.poisson;
     for (auto& component : bond_out) component.assign(m.bond_count(), 0.0);
+    for (int c = 0; c < 3; ++c) force[c].assign(m.n, 0.0), moment[c].assign(m.n, 0.0);
+    for (int k = 0; k < 6; ++k) {
+      slot_bond[k].resize(m.n);
+      for (int i = 0; i < m.n; ++i) slot_bond[k][i] = m.voxel_bonds[i][k];
+    }
     damp_k.a1 = std::sqrt(L);
     damp_k.b2 = std::sqrt(L * L * L / 4.0);
     damp_k.a2 = std::sqrt(L * L * L * L * L / (72.0 * (1.0 + nu)));

@@ -1,8 +1,8 @@
-// The batched bond kernel on AVX-512: eight bonds per instruction (and 32 vector registers,
+// The batched bond and voxel kernels on AVX-512: eight per instruction (and 32 vector registers,
 // so fewer spills than with AVX2). Compiled with -mavx512f -mavx512vl -mavx512dq (see
 // engine/CMakeLists.txt); called only when the CPU has them.
 #if !defined(__AVX512F__) || !defined(__AVX512VL__) || !defined(__AVX512DQ__)
-#error "bond_kernel_avx512.cpp must be compiled with -mavx512f -mavx512vl -mavx512dq"
+#error "kernels_avx512.cpp must be compiled with -mavx512f -mavx512vl -mavx512dq"
 #endif
 
 // GCC 12 flags _mm512_undefined_pd() inside its own AVX-512 intrinsics as uninitialized
@@ -39,11 +39,16 @@ inline void load_quats(const double* q, const int* idx, V& x, V& y, V& z, V& w) 
 }  // namespace plastivox
 
 #include "bond_lanes_simd.hpp"
+#include "voxel_lanes_body.hpp"
 
 namespace plastivox {
 
 int bond_kernel_avx512(const BondKernelIo& io, int n, const BondConstants& k) {
   return run_bond_lanes(io, n, k);
+}
+
+VoxelUpdateSummary voxel_update_avx512(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+  return run_update_lanes<V, kWidth>(io, n, k);
 }
 
 }  // namespace plastivox

@@ -1,7 +1,7 @@
-// The batched bond kernel on AVX2: four bonds per instruction. Compiled with -mavx2 (see
-// engine/CMakeLists.txt); called only when the CPU has AVX2.
+// The batched bond and voxel kernels on AVX2: four bonds or voxels per instruction. Compiled with
+// -mavx2 (see engine/CMakeLists.txt); called only when the CPU has AVX2.
 #if !defined(__AVX2__)
-#error "bond_kernel_avx2.cpp must be compiled with -mavx2"
+#error "kernels_avx2.cpp must be compiled with -mavx2"
 #endif
 
 #include <immintrin.h>
@@ -32,11 +32,16 @@ inline void load_quats(const double* q, const int* idx, V& x, V& y, V& z, V& w) 
 }  // namespace plastivox
 
 #include "bond_lanes_simd.hpp"
+#include "voxel_lanes_body.hpp"
 
 namespace plastivox {
 
 int bond_kernel_avx2(const BondKernelIo& io, int n, const BondConstants& k) {
   return run_bond_lanes(io, n, k);
+}
+
+VoxelUpdateSummary voxel_update_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+  return run_update_lanes<V, kWidth>(io, n, k);
 }
 
 }  // namespace plastivox

@@ -1,0 +1,83 @@
+// Lane operations on a vector lane type (see lane_ops.hpp for the scalar ones and the rules).
+// The includer first declares, in an unnamed namespace in plastivox: the vector type V of
+// kWidth doubles, its comparison result M, root(V) (square root) and lane_bits(M) (one bit
+// per lane), which need that instruction set's intrinsics (lanes_avx2.hpp, lanes_avx512.hpp).
+#pragma once
+
+#include <cfloat>
+#include <cstring>
+#include <utility>
+
+#include "lane_ops.hpp"
+
+namespace plastivox {
+namespace {
+
+inline V splat(double v, V) {
+  V r;
+  for (int j = 0; j < kWidth; ++j) r[j] = v;
+  return r;
+}
+inline V load(const double* p, int i, V) {
+  V v;
+  std::memcpy(&v, p + i, sizeof v);
+  return v;
+}
+inline void store(double* p, int i, V v) {
+  std::memcpy(p + i, &v, sizeof v);
+}
+// One value per lane from a per-element array: p[stride * idx[j] + offset]. (A braced list,
+// which compiles to fewer instructions than assigning lane by lane.)
+template <size_t... J>
+inline V lanes(const double* p, const int* idx, int stride, int offset, std::index_sequence<J...>) {
+  return V{p[stride * idx[J] + offset]...};
+}
+inline V lanes(const double* p, const int* idx, int stride, int offset) {
+  return lanes(p, idx, stride, offset, std::make_index_sequence<kWidth>());
+}
+template <size_t... J>
+inline V load_strided(const double* p, int i, int stride, int offset, std::index_sequence<J...>) {
+  return V{p[stride * (i + static_cast<int>(J)) + offset]...};
+}
+inline V load_strided(const double* p, int i, int stride, int offset, V) {
+  return load_strided(p, i, stride, offset, std::make_index_sequence<kWidth>());
+}
+inline void store_strided(double* p, int i, int stride, int offset, V v) {
+  for (int j = 0; j < kWidth; ++j) p[stride * (i + j) + offset] = v[j];
+}
+inline M load_flag(const uint8_t* p, int i, V) {
+  M m;
+  for (int j = 0; j < kWidth; ++j) m[j] = p[i + j] != 0 ? -1 : 0;
+  return m;
+}
+inline void store_flag(uint8_t* p, int i, M c) {
+  for (int j = 0; j < kWidth; ++j) p[i + j] = c[j] != 0 ? 1 : 0;
+}
+inline V pick(M c, V a, V b) {
+  return c ? a : b;
+}
+inline bool any(M c) {
+  return lane_bits(c) != 0;
+}
+inline M and_not(M a, M b) {
+  return a & ~b;
+}
+inline M mask_not(M c) {
+  return ~c;
+}
+inline double lane_get(V v, int j) {
+  return v[j];
+}
+inline void lane_set(V& v, int j, double x) {
+  v[j] = x;
+}
+template <class F>
+inline void for_each_lane(M c, F&& f) {
+  const int bits = lane_bits(c);
+  if (bits == 0) return;
+  for (int j = 0; j < kWidth; ++j)
+    if (bits & (1 << j)) f(j);
+}
+
+}  // namespace
+}  // namespace plastivox

@@ -1,0 +1,31 @@
+// See voxel_kernel.hpp: the scalar voxel kernels and the choice of instruction set (the same
+// as the bond kernel's, plastivox/simd.hpp).
+#include "voxel_kernel.hpp"
+
+#include "plastivox/simd.hpp"
+#include "voxel_lanes_body.hpp"
+
+namespace plastivox {
+
+// Scalar on every level: the vector form needs six indexed gathers per component, which
+// measured slower than these plain loads (AVX-512 gathers on this project's machine).
+void voxel_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+  run_gather_lanes<double, 1>(io, n, k);
+}
+
+VoxelUpdateSummary voxel_update(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+  switch (simd_level()) {
+#if defined(PLASTIVOX_HAVE_AVX512)
+    case SimdLevel::kAvx512:
+      return voxel_update_avx512(io, n, k);
+#endif
+#if defined(PLASTIVOX_HAVE_AVX2)
+    case SimdLevel::kAvx2:
+      return voxel_update_avx2(io, n, k);
+#endif
+    default:
+      return run_update_lanes<double, 1>(io, n, k);
+  }
+}
+
+}  // namespace plastivox

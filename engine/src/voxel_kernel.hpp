@@ -1,0 +1,67 @@
+// The batched voxel kernels: the per-voxel stages of a step (gathering bond forces, and the
+// floor contact, friction and Euler update) over arrays of voxels, written once as templates
+// over the lane type (voxel_lanes_body.hpp) like the bond kernel: eight voxels at a time with
+// AVX-512, four with AVX2, one otherwise, with identical bits on every level.
+#pragma once
+
+#include <cstdint>
+
+namespace plastivox {
+
+// Where the kernels read and write: raw views of Model, State and Workspace arrays.
+// "xyz" arrays hold 3 doubles per voxel back to back (Eigen vectors), "quat" 4 (x, y, z, w).
+struct VoxelKernelIo {
+  // Model, per voxel.
+  const int* slot_bond[6] = {};    // bond in each slot (Model::voxel_bonds by slot), -1 = none
+  const uint8_t* fixed = nullptr;  // 1 if clamped
+  const double* load = nullptr;    // xyz: constant external force, N
+  // Workspace, per bond (gather input): force on a, moment on a, moment on b (bond_out).
+  const double* bond_out[9] = {};
+  // State, per voxel.
+  double* pos = nullptr;      // xyz, m
+  double* quat = nullptr;     // quat
+  double* lin_mom = nullptr;  // xyz, kg m/s
+  double* ang_mom = nullptr;  // xyz, kg m^2/s
+  const double* stiff = nullptr;
+  uint8_t* static_friction = nullptr;
+  // Workspace, per voxel: actuated size (m), total force and moment (one array per
+  // component), sqrt of the modulus.
+  const double* size = nullptr;
+  double* force[3] = {};
+  double* moment[3] = {};
+  double* sqrt_e = nullptr;
+};
+
+// Constants of the voxel stages, each kept as the factor the formulas multiply by (so every
+// product is rounded as in the scalar expressions of integrate.cpp's history).
+struct VoxelConstants {
+  double weight[3];   // m g, N
+  double slow_zeta;   // global (slow) damping ratio
+  double c_lin_unit;  // 2 sqrt(m L): critical damping of a voxel's axial spring per sqrt(E)
+  double c_rot_unit;  // 2 sqrt(I L^3): the same for rotation
+  double c_col_unit;  // floor damping ratio times c_lin_unit
+  double rot_damp;    // rotational slow damping: factor over the linear one times zeta
+  double mass, inv_mass, inv_inertia, L, dt;
+  double mu_static, mu_kinetic;
+  bool floor;
+};
+
+// What the update stage reports for the stability check: the largest squared speed of a
+// free voxel (m^2/s^2) and whether some free voxel's momenta are not finite.
+struct VoxelUpdateSummary {
+  double max_speed2 = 0;
+  bool non_finite = false;
+};
+
+// Gather: force[i] = sum of its bonds' forces in slot order - slow damping + weight + load;
+// moment[i] = sum of its bonds' moments; sqrt_e[i] = sqrt(E_i). Voxels [0, n).
+void voxel_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k);
+// Update: floor contact and friction on force[i], then momenta, position and orientation.
+VoxelUpdateSummary voxel_update(const VoxelKernelIo& io, int n, const VoxelConstants& k);
+
+// The update for one instruction set (kernels_avx2.cpp / kernels_avx512.cpp): call only when
+// the CPU has it. (The gather is scalar on every level: see voxel_kernel.cpp.)
+VoxelUpdateSummary voxel_update_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k);
+VoxelUpdateSummary voxel_update_avx512(const VoxelKernelIo& io, int n, const VoxelConstants& k);
+
+}  // namespace plastivox

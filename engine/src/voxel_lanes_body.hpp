@@ -1,0 +1,201 @@
+// The batched voxel kernels (voxel_kernel.hpp) for any lane type. Included after the lane
+// operations of every lane type the includer uses (lane_ops.hpp, and lane_ops_simd.hpp for a
+// vector type: vector types have no namespace for argument-dependent lookup).
+//
+// Each lane evaluates exactly the scalar operations, in the same order, whichever lane type
+// runs it; branches of the scalar formulation become selects, and the rare cases that need
+// libm (rotations over ~0.5 degrees per step) are evaluated lane by lane.
+#pragma once
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "lane_ops.hpp"
+#include "voxel_kernel.hpp"
+
+namespace plastivox {
+namespace {
+
+// Voxels [i, i + width): bond forces and moments in slot order, slow damping, weight, load.
+template <class T>
+inline void gather_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k) {
+  const T zero = splat(0.0, T{});
+  T f[3] = {zero, zero, zero}, mo[3] = {zero, zero, zero};
+  const double* const* o = io.bond_out;
+  for (int slot = 0; slot < 6; ++slot) {
+    const int* bonds = io.slot_bond[slot];
+    const auto has = indexed_mask(bonds, i, T{});
+    if (!any(has)) continue;
+    // A bond towards +axis has this voxel as its a end: +F_a and M_a; else -F_a and M_b.
+    const bool plus = slot & 1;
+    for (int c = 0; c < 3; ++c) {
+      const T fa = load_indexed(o[c], bonds, i, T{});
+      f[c] = pick(has, plus ? f[c] + fa : f[c] - fa, f[c]);
+      const T m = load_indexed(o[plus ? 3 + c : 6 + c], bonds, i, T{});
+      mo[c] = pick(has, mo[c] + m, mo[c]);
+    }
+  }
+  // Slow (global) damping: a small fraction of the critical damping of the voxel's own
+  // axial spring, against absolute velocity.
+  const T se = root(load(io.stiff, i, T{}));
+  store(io.sqrt_e, i, se);
+  const T c_lin = k.c_lin_unit * se;
+  const T coef = (k.slow_zeta * c_lin) / k.mass;
+  for (int c = 0; c < 3; ++c) {
+    const T p = load_strided(io.lin_mom, i, 3, c, T{});
+    const T fc = f[c] - coef * p;
+    store(io.force[c], i, (fc + k.weight[c]) + load_strided(io.load, i, 3, c, T{}));
+    store(io.moment[c], i, mo[c]);
+  }
+}
+
+// Voxels [i, i + width): floor contact and Coulomb friction, semi-implicit Euler update of
+// momenta and position, orientation advanced by omega dt. Folds the squared speed and the
+// finiteness of the momenta of the free voxels into max_speed2 / bad.
+template <class T, class Mask>
+inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k, T& max_speed2,
+                         Mask& bad) {
+  const T zero = splat(0.0, T{}), one = splat(1.0, T{});
+  const double dt = k.dt;
+  const Mask fixed = load_flag(io.fixed, i, T{});
+  const T E = load(io.stiff, i, T{});
+  const T se = load(io.sqrt_e, i, T{});
+  T fx = load(io.force[0], i, T{}), fy = load(io.force[1], i, T{});
+  T fz = load(io.force[2], i, T{});
+  T px = load_strided(io.lin_mom, i, 3, 0, T{}), py = load_strided(io.lin_mom, i, 3, 1, T{});
+  T pz = load_strided(io.lin_mom, i, 3, 2, T{});
+  const T x0 = load_strided(io.pos, i, 3, 0, T{}), y0 = load_strided(io.pos, i, 3, 1, T{});
+  const T z0 = load_strided(io.pos, i, 3, 2, T{});
+  Mask held = and_not(fixed, fixed);  // all clear
+
+  if (k.floor) {
+    // Penetration of the voxel's (actuated) half-size below the floor plane z = 0; the
+    // voxel's tilt is ignored, as in Voxelyze.
+    const T pen = 0.5 * load(io.size, i, T{}) - z0;
+    const Mask contact = pen > 0.0;
+    if (any(contact)) {
+      const T normal = 2.0 * E * k.L * pen;
+      const T vz = pz * k.inv_mass;
+      const T c_col = k.c_col_unit * se;
+      const T vx = px * k.inv_mass, vy = py * k.inv_mass;
+      // At rest: stick unless the lateral load exceeds the static limit.
+      const Mask at_rest = (vx == 0.0) & (vy == 0.0);
+      const Mask sticks = root(fx * fx + fy * fy) < k.mu_static * normal;
+      // Sliding: kinetic friction against the velocity, or a stop if it would reverse the
+      // motion within this step.
+      const T speed = root(vx * vx + vy * vy);
+      const T fric = k.mu_kinetic * normal;
+      const Mask moving = and_not(contact, at_rest);
+      const Mask slides = moving & (fric * dt < k.mass * speed);
+      const Mask stops = and_not(moving, slides);
+      const T divisor = pick(slides, speed, one);  // no 0/0 in lanes that do not slide
+      fx = pick(slides, fx - fric * vx / divisor, fx);
+      fy = pick(slides, fy - fric * vy / divisor, fy);
+      px = pick(stops, zero, px);
+      py = pick(stops, zero, py);
+      held = (contact & at_rest & sticks) | stops;
+      fz = pick(contact, fz + (normal - c_col * vz), fz);
+    }
+  }
+  fx = pick(held, zero, fx);
+  fy = pick(held, zero, fy);
+
+  px = px + fx * dt, py = py + fy * dt, pz = pz + fz * dt;
+  const double step = dt * k.inv_mass;
+  const T x1 = x0 + px * step, y1 = y0 + py * step, z1 = z0 + pz * step;
+
+  // Rotation: moment, then slow rotational damping as a per-step decay of the angular
+  // momentum, then the orientation advanced by the rotation vector omega * dt.
+  T hx = load_strided(io.ang_mom, i, 3, 0, T{}), hy = load_strided(io.ang_mom, i, 3, 1, T{});
+  T hz = load_strided(io.ang_mom, i, 3, 2, T{});
+  hx = hx + load(io.moment[0], i, T{}) * dt;
+  hy = hy + load(io.moment[1], i, T{}) * dt;
+  hz = hz + load(io.moment[2], i, T{}) * dt;
+  const T c_rot = k.c_rot_unit * se;
+  const T decay = 1.0 - k.rot_damp * c_rot * k.inv_inertia * dt;
+  hx = hx * decay, hy = hy * decay, hz = hz * decay;
+
+  // Rotation by v = omega dt. Per step a voxel turns by far less than 1e-2 rad, so the
+  // common case uses the series cos(h) = 1 - h^2/2 + h^4/24 - h^6/720 + h^8/40320,
+  // sin(h)/h = 1 - h^2/6 + h^4/120 - h^6/5040 + h^8/362880 (truncation error below 1e-20
+  // for h < 5e-3); larger turns take libm lane by lane.
+  const double turn = dt * k.inv_inertia;
+  const T vx = hx * turn, vy = hy * turn, vz = hz * turn;
+  const T a2 = vx * vx + vy * vy + vz * vz;
+  const T h2 = 0.25 * a2;  // (angle / 2)^2
+  T rw = 1.0 - h2 * (0.5 - h2 * (1.0 / 24 - h2 * (1.0 / 720 - h2 * (1.0 / 40320))));
+  const T sinc = 1.0 - h2 * (1.0 / 6 - h2 * (1.0 / 120 - h2 * (1.0 / 5040 - h2 * (1.0 / 362880))));
+  const T half_sinc = 0.5 * sinc;
+  T rx = half_sinc * vx, ry = half_sinc * vy, rz = half_sinc * vz;
+  for_each_lane(mask_not(h2 < 2.5e-5), [&](int j) {
+    const double angle = std::sqrt(lane_get(a2, j));
+    const double ax = lane_get(vx, j) / angle, ay = lane_get(vy, j) / angle;
+    const double az = lane_get(vz, j) / angle;
+    const double h = 0.5 * angle, sh = std::sin(h);
+    lane_set(rw, j, std::cos(h));
+    lane_set(rx, j, ax * sh), lane_set(ry, j, ay * sh), lane_set(rz, j, az * sh);
+  });
+  // q <- r q (Eigen's SSE2 quaternion product, term for term), then normalised.
+  const T bx = load_strided(io.quat, i, 4, 0, T{}), by = load_strided(io.quat, i, 4, 1, T{});
+  const T bz = load_strided(io.quat, i, 4, 2, T{}), bw = load_strided(io.quat, i, 4, 3, T{});
+  T qx = (rw * bx + ry * bz) - (rz * by - rx * bw);
+  T qy = (rw * by + ry * bw) + (rz * bx - rx * bz);
+  T qz = (rw * bz - ry * bx) + (rz * bw + rx * by);
+  T qw = (rw * bw - ry * by) - (rz * bz + rx * bx);
+  const T n2 = (qx * qx + qz * qz) + (qy * qy + qw * qw);
+  const Mask positive = n2 > 0.0;
+  const T norm = root(pick(positive, n2, one));
+  qx = pick(positive, qx / norm, qx), qy = pick(positive, qy / norm, qy);
+  qz = pick(positive, qz / norm, qz), qw = pick(positive, qw / norm, qw);
+
+  // Clamped voxels are held in place; their reaction is not tracked.
+  const T out[13] = {pick(fixed, x0, x1),   pick(fixed, y0, y1),   pick(fixed, z0, z1),
+                     pick(fixed, zero, px), pick(fixed, zero, py), pick(fixed, zero, pz),
+                     pick(fixed, zero, hx), pick(fixed, zero, hy), pick(fixed, zero, hz),
+                     pick(fixed, bx, qx),   pick(fixed, by, qy),   pick(fixed, bz, qz),
+                     pick(fixed, bw, qw)};
+  for (int c = 0; c < 3; ++c) {
+    store_strided(io.pos, i, 3, c, out[c]);
+    store_strided(io.lin_mom, i, 3, c, out[3 + c]);
+    store_strided(io.ang_mom, i, 3, c, out[6 + c]);
+  }
+  for (int c = 0; c < 4; ++c) store_strided(io.quat, i, 4, c, out[9 + c]);
+  const Mask was_held = load_flag(io.static_friction, i, T{});
+  store_flag(io.static_friction, i, and_not(held, fixed) | (fixed & was_held));
+
+  const T v2 = (px * px + py * py + pz * pz) * k.inv_mass * k.inv_mass;
+  const T w2 = hx * hx + hy * hy + hz * hz;
+  max_speed2 = pick(and_not(v2 > max_speed2, fixed), v2, max_speed2);
+  bad = bad | and_not(mask_not(v2 <= DBL_MAX) | mask_not(w2 <= DBL_MAX), fixed);
+}
+
+// All voxels [0, n): groups of W lanes of type T, then the rest one by one.
+template <class T, int W>
+inline void run_gather_lanes(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+  int i = 0;
+  for (; i + W <= n; i += W) gather_lanes<T>(io, i, k);
+  for (; i < n; ++i) gather_lanes<double>(io, i, k);
+}
+
+template <class T, int W>
+inline VoxelUpdateSummary run_update_lanes(const VoxelKernelIo& io, int n,
+                                           const VoxelConstants& k) {
+  using Mask = decltype(T{} < T{});
+  T max_speed2 = splat(0.0, T{});
+  Mask bad = max_speed2 < max_speed2;  // all clear
+  double max_speed2_tail = 0;
+  bool bad_tail = false;
+  int i = 0;
+  for (; i + W <= n; i += W) update_lanes<T, Mask>(io, i, k, max_speed2, bad);
+  for (; i < n; ++i) update_lanes<double, bool>(io, i, k, max_speed2_tail, bad_tail);
+  VoxelUpdateSummary summary;
+  summary.max_speed2 = max_speed2_tail;
+  for (int j = 0; j < W; ++j)
+    summary.max_speed2 = std::max(summary.max_speed2, lane_get(max_speed2, j));
+  summary.non_finite = bad_tail || any(bad);
+  return summary;
+}
+
+}  // namespace
+}  // namespace plastivox
