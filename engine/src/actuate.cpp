@@ -1,8 +1,8 @@
 // Actuation (METHOD.md section 4): every voxel's rest size oscillates, damped by stiffness.
+// The per-voxel formula is the batched voxel kernel's (voxel_lanes_body.hpp, actuate_lanes).
 #include <algorithm>
-#include <cmath>
-#include <numbers>
 
+#include "voxel_kernel.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -13,15 +13,14 @@ void actuate(const Model& m, const State& s, Workspace& w) {
     std::fill(w.size.begin(), w.size.end(), m.size);
     return;
   }
-  const double two_pi = 2.0 * std::numbers::pi;
-  const double inv_range = 1.0 / (d.e_max - d.e_min);
-  for (int i = 0; i < m.n; ++i) {
-    // Stiff voxels barely move; xi follows the *current* E, so development changes actuation.
-    const double xi = (d.e_max - s.stiffness[i]) * inv_range;
-    const double wave = std::sin(two_pi * (d.act_frequency * s.time + m.phase[i]));
-    // The size factor never drops below act_min_factor (Voxelyze's MIN_TEMP_FACTOR).
-    w.size[i] = m.size * std::max(1.0 + d.act_amplitude * xi * wave, d.act_min_factor);
-  }
+  ActuationConstants k;
+  k.L = m.size;
+  k.amplitude = d.act_amplitude;
+  k.min_factor = d.act_min_factor;
+  k.e_max = d.e_max;
+  k.inv_range = 1.0 / (d.e_max - d.e_min);
+  k.cycles = d.act_frequency * s.time;
+  voxel_actuate(s.stiffness.data(), m.phase.data(), w.size.data(), m.n, k);
 }
 
 }  // namespace plastivox

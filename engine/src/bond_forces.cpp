@@ -23,8 +23,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "atan_series.hpp"
 #include "bond_kernel.hpp"
+#include "elementary.hpp"
 #include "plastivox/energy.hpp"
 #include "workspace.hpp"
 
@@ -48,22 +48,20 @@ inline V3 from_bond(int d, const V3& v) {
   return {v.y, v.z, v.x};
 }
 
-// atan(t) / t as a function of t^2: nine terms of the alternating series leave an error
-// below 1e-19 for t < 0.1 (rotations under 11 degrees, nearly every bond, every step).
-inline double atan_over_t(double t2) {
-  if (t2 < 1e-2) return atan_series(t2);
-  const double t = std::sqrt(t2);
-  return std::atan(t) / t;
-}
-
 // Rotation vector (axis * angle, rad) of a unit quaternion, taking the shorter arc.
 inline V3 rotation_vector(double w, double x, double y, double z) {
   if (w < 0) w = -w, x = -x, y = -y, z = -z;
   const double s2 = x * x + y * y + z * z;
   if (s2 == 0) return {0, 0, 0};
-  // angle = 2 atan(s / w); angle / s = 2 atan(t) / (t w) with t = s / w.
-  const double k = w > 1e-3 ? 2.0 * atan_over_t(s2 / (w * w)) / w
-                            : 2.0 * std::atan2(std::sqrt(s2), w) / std::sqrt(s2);
+  // angle = 2 atan(s / w); angle / s = 2 atan(t) / (t w) with t = s / w. Near half a turn
+  // (w <= 1e-3, so s ~ 1): angle = 2 (pi/2 - atan(q)) with q = w / s <= ~1e-3.
+  double k;
+  if (w > 1e-3) {
+    k = 2.0 * atan_over_t(s2 / (w * w), false) / w;
+  } else {
+    const double s = std::sqrt(s2), q = w / s;
+    k = 2.0 * (1.5707963267948966 - q * atan_series(q * q)) / s;
+  }
   return {x * k, y * k, z * k};
 }
 
@@ -123,7 +121,7 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const Workspac
     const double inv_n = 1.0 / std::sqrt(2.0 * len * h);
     g.fw = h * inv_n, g.fy = r.z * inv_n, g.fz = -r.y * inv_n;
     // th1 = rotation vector of f; the tangent of its half angle is |(r_y, r_z)| / h.
-    const double k1 = 2.0 * atan_over_t((r.y * r.y + r.z * r.z) / (h * h)) / h;
+    const double k1 = 2.0 * atan_over_t((r.y * r.y + r.z * r.z) / (h * h), false) / h;
     g.th1 = {0, r.z * k1, -r.y * k1};
   } else {
     // The chord points (almost) backwards, or the centres coincide: a crushed or inverted

@@ -8,8 +8,8 @@
 // Bit-for-bit agreement with the scalar path (bond_forces.cpp) where the two overlap:
 //  - the rotation matrix of voxel a is Eigen's toRotationMatrix() formula, its columns
 //    cyclically permuted so the bond's axis comes first (a per-lane select);
-//  - rotations beyond the series' range (over ~11 degrees) take std::atan lane by lane,
-//    exactly as the scalar path does, and such a bond's forces go back to the world frame
+//  - rotations beyond the series' range (over ~11 degrees) take the range-reduced series of
+//    elementary.hpp, as the scalar path does, and such a bond's forces go back to the world frame
 //    in the scalar path's order of summation (unpermuted columns), so a bond gets the same
 //    bits whichever path computes it;
 //  - only degenerate chords and relative rotations near half a turn are left to the

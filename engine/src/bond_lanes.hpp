@@ -30,12 +30,6 @@ struct BondIn {
   T valid;           // 1 if the previous deformation is recorded, else 0
 };
 
-// atan(t)/t of t^2, as bond_forces.cpp's atan_over_t.
-inline double atan_over_t(double t2, bool /*skip*/) {
-  if (t2 < 1e-2) return atan_series(t2);
-  const double t = std::sqrt(t2);
-  return std::atan(t) / t;
-}
 inline void append_redo(bool redo, int i, const BondKernelIo& io, int& count) {
   if (redo) io.redo[count++] = i;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "bond_lanes.hpp"
+#include "elementary.hpp"
 
 namespace plastivox {
 namespace {

@@ -17,20 +17,6 @@
 namespace plastivox {
 namespace {
 
-// The series in every lane; lanes past its range (and not skipped) take atan, as the
-// scalar atan_over_t does.
-inline V atan_over_t(V t2, M skip) {
-  V r = atan_series(t2);
-  const int big = lane_bits(and_not(t2 >= 1e-2, skip));
-  if (big != 0) {
-    for (int j = 0; j < kWidth; ++j) {
-      if (!(big & (1 << j))) continue;
-      const double t = std::sqrt(t2[j]);
-      r[j] = std::atan(t) / t;
-    }
-  }
-  return r;
-}
 inline void append_redo(M redo, int i, const BondKernelIo& io, int& count) {
   const int bits = lane_bits(redo);
   if (bits == 0) return;

@@ -51,4 +51,9 @@ VoxelUpdateSummary voxel_update_avx512(const VoxelKernelIo& io, int n, const Vox
   return run_update_lanes<V, kWidth>(io, n, k);
 }
 
+void voxel_actuate_avx512(const double* stiff, const double* phase, double* size, int n,
+                          const ActuationConstants& k) {
+  run_actuate_lanes<V, kWidth>(stiff, phase, size, n, k);
+}
+
 }  // namespace plastivox

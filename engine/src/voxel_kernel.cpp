@@ -28,4 +28,20 @@ VoxelUpdateSummary voxel_update(const VoxelKernelIo& io, int n, const VoxelConst
   }
 }
 
+void voxel_actuate(const double* stiff, const double* phase, double* size, int n,
+                   const ActuationConstants& k) {
+  switch (simd_level()) {
+#if defined(PLASTIVOX_HAVE_AVX512)
+    case SimdLevel::kAvx512:
+      return voxel_actuate_avx512(stiff, phase, size, n, k);
+#endif
+#if defined(PLASTIVOX_HAVE_AVX2)
+    case SimdLevel::kAvx2:
+      return voxel_actuate_avx2(stiff, phase, size, n, k);
+#endif
+    default:
+      return run_actuate_lanes<double, 1>(stiff, phase, size, n, k);
+  }
+}
+
 }  // namespace plastivox

@@ -11,6 +11,7 @@
 #include <cfloat>
 #include <cmath>
 
+#include "elementary.hpp"
 #include "lane_ops.hpp"
 #include "voxel_kernel.hpp"
 
@@ -168,6 +169,26 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
   const T w2 = hx * hx + hy * hy + hz * hz;
   max_speed2 = pick(and_not(v2 > max_speed2, fixed), v2, max_speed2);
   bad = bad | and_not(mask_not(v2 <= DBL_MAX) | mask_not(w2 <= DBL_MAX), fixed);
+}
+
+// Voxels [i, i + width): the actuated size (METHOD.md section 4).
+template <class T>
+inline void actuate_lanes(const double* stiff, const double* phase, double* size, int i,
+                          const ActuationConstants& k) {
+  // Stiff voxels barely move; xi follows the *current* E, so development changes actuation.
+  const T xi = (k.e_max - load(stiff, i, T{})) * k.inv_range;
+  const T wave = sin_cycles(k.cycles + load(phase, i, T{}));
+  // The size factor never drops below min_factor (Voxelyze's MIN_TEMP_FACTOR).
+  const T factor = 1.0 + k.amplitude * xi * wave;
+  store(size, i, k.L * pick(factor < k.min_factor, splat(k.min_factor, T{}), factor));
+}
+
+template <class T, int W>
+inline void run_actuate_lanes(const double* stiff, const double* phase, double* size, int n,
+                              const ActuationConstants& k) {
+  int i = 0;
+  for (; i + W <= n; i += W) actuate_lanes<T>(stiff, phase, size, i, k);
+  for (; i < n; ++i) actuate_lanes<double>(stiff, phase, size, i, k);
 }
 
 // All voxels [0, n): groups of W lanes of type T, then the rest one by one.
