@@ -57,7 +57,8 @@ inline V3 rotation_vector(double w, double x, double y, double z) {
   // (w <= 1e-3, so s ~ 1): angle = 2 (pi/2 - atan(q)) with q = w / s <= ~1e-3.
   double k;
   if (w > 1e-3) {
-    k = 2.0 * atan_over_t(s2 / (w * w), false) / w;
+    const double inv_w = 1.0 / w;
+    k = 2.0 * atan_over_t(s2 * (inv_w * inv_w), false) * inv_w;
   } else {
     const double s = std::sqrt(s2), q = w / s;
     k = 2.0 * (1.5707963267948966 - q * atan_series(q * q)) / s;
@@ -121,7 +122,8 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const Workspac
     const double inv_n = 1.0 / std::sqrt(2.0 * len * h);
     g.fw = h * inv_n, g.fy = r.z * inv_n, g.fz = -r.y * inv_n;
     // th1 = rotation vector of f; the tangent of its half angle is |(r_y, r_z)| / h.
-    const double k1 = 2.0 * atan_over_t((r.y * r.y + r.z * r.z) / (h * h), false) / h;
+    const double inv_h = 1.0 / h;
+    const double k1 = 2.0 * atan_over_t((r.y * r.y + r.z * r.z) * (inv_h * inv_h), false) * inv_h;
     g.th1 = {0, r.z * k1, -r.y * k1};
   } else {
     // The chord points (almost) backwards, or the centres coincide: a crushed or inverted

@@ -5,15 +5,12 @@
 // -ffp-contract=off), so a bond's result does not depend on which lane type computed it.
 // This file holds the scalar kernel and the choice of instruction set.
 //
-// Bit-for-bit agreement with the scalar path (bond_forces.cpp) where the two overlap:
-//  - the rotation matrix of voxel a is Eigen's toRotationMatrix() formula, its columns
-//    cyclically permuted so the bond's axis comes first (a per-lane select);
-//  - rotations beyond the series' range (over ~11 degrees) take the range-reduced series of
-//    elementary.hpp, as the scalar path does, and such a bond's forces go back to the world frame
-//    in the scalar path's order of summation (unpermuted columns), so a bond gets the same
-//    bits whichever path computes it;
-//  - only degenerate chords and relative rotations near half a turn are left to the
-//    scalar path (listed in io.redo).
+// The kernel and the scalar path (bond_forces.cpp) evaluate the same formulas: the rotation
+// matrix of voxel a is Eigen's toRotationMatrix() formula with its columns cyclically permuted
+// so the bond's axis comes first (a per-lane select), and rotations of any size take
+// atan_over_t (elementary.hpp). Only degenerate chords and relative rotations near half a
+// turn are left to the scalar path (listed in io.redo). Every lane type gives the same bits
+// for a bond, so the results do not depend on the instruction set.
 #include <atomic>
 
 #include "bond_kernel.hpp"

@@ -53,8 +53,9 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T ln = pick(degenerate, one, len);
   const T inv_n = 1.0 / root(2.0 * ln * h);
   const T fw = h * inv_n, fy = z * inv_n, fz = -y * inv_n;
-  const T t1sq = (y * y + z * z) / (h * h);
-  const T k1 = 2.0 * atan_over_t(t1sq, degenerate) / h;
+  const T inv_h = 1.0 / h;
+  const T t1sq = (y * y + z * z) * (inv_h * inv_h);
+  const T k1 = 2.0 * atan_over_t(t1sq, degenerate) * inv_h;
   const T t1x = zero, t1y = z * k1, t1z = -y * k1;
   // th2: rotation vector of f * q2, shorter arc.
   T w2 = fw * a - fy * by - fz * bz;
@@ -65,12 +66,11 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   w2 = w2 * sgn, x2 = x2 * sgn, y2 = y2 * sgn, z2 = z2 * sgn;
   const auto redo = degenerate | (w2 <= 1e-3);
   const T ww = pick(w2 > 1e-3, w2, one);
-  const T t2sq = (x2 * x2 + y2 * y2 + z2 * z2) / (ww * ww);
-  const T k2 = 2.0 * atan_over_t(t2sq, redo) / ww;
+  const T inv_ww = 1.0 / ww;
+  const T t2sq = (x2 * x2 + y2 * y2 + z2 * z2) * (inv_ww * inv_ww);
+  const T k2 = 2.0 * atan_over_t(t2sq, redo) * inv_ww;
   const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
   append_redo(redo, i, io, redo_count);
-  // Bonds past the series' range: world-frame results in the scalar path's order.
-  const auto large = and_not((t1sq >= 1e-2) | (t2sq >= 1e-2), redo);
 
   // Axial strain over the nominal length; harmonic-mean modulus.
   const T rest = 0.5 * (in.size_a + in.size_b);
@@ -122,19 +122,12 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T r10 = -2.0 * fw * fz, r11 = 1.0 - 2.0 * fz * fz, r12 = 2.0 * fy * fz;
   const T r20 = 2.0 * fw * fy, r21 = 2.0 * fy * fz, r22 = 1.0 - 2.0 * fy * fy;
   const T vx[3] = {fx, max, mbx}, vy[3] = {fyv, may, mby}, vz[3] = {fzv, maz, mbz};
-  const bool any_large = any(large);
   for (int v = 0; v < 3; ++v) {
     const T ux = r00 * vx[v] + r01 * vy[v] + r02 * vz[v];
     const T uy = r10 * vx[v] + r11 * vy[v] + r12 * vz[v];
     const T uz = r20 * vx[v] + r21 * vy[v] + r22 * vz[v];
     T o[3];
     for (int c = 0; c < 3; ++c) o[c] = m[c] * ux + m[3 + c] * uy + m[6 + c] * uz;
-    if (any_large) {
-      // Undo the permutation first, then the unpermuted columns (bond_forces.cpp to_world).
-      const T ox = sel(ux, uz, uy), oy = sel(uy, ux, uz), oz = sel(uz, uy, ux);
-      for (int c = 0; c < 3; ++c)
-        o[c] = pick(large, R[c] * ox + R[3 + c] * oy + R[6 + c] * oz, o[c]);
-    }
     for (int c = 0; c < 3; ++c) store(io.out[3 * v + c], i, o[c]);
   }
 }

@@ -19,10 +19,11 @@ namespace {
 //  - otherwise atan(t) = y0 + atan(x), with x = t (t <= tan(pi/8)), x = (t - 1)/(t + 1) and
 //    y0 = pi/4 (up to tan(3 pi/8)), or x = -1/t and y0 = pi/2 beyond; |x| <= tan(pi/8), so
 //    twenty terms of the series leave an error below 2e-17.
-constexpr double kOddReciprocals[19] = {1.0,      1.0 / 3,  1.0 / 5,  1.0 / 7,  1.0 / 9,
+// 1 / (2 k + 1), k = 0..19.
+constexpr double kOddReciprocals[20] = {1.0,      1.0 / 3,  1.0 / 5,  1.0 / 7,  1.0 / 9,
                                         1.0 / 11, 1.0 / 13, 1.0 / 15, 1.0 / 17, 1.0 / 19,
                                         1.0 / 21, 1.0 / 23, 1.0 / 25, 1.0 / 27, 1.0 / 29,
-                                        1.0 / 31, 1.0 / 33, 1.0 / 35, 1.0 / 37};
+                                        1.0 / 31, 1.0 / 33, 1.0 / 35, 1.0 / 37, 1.0 / 39};
 
 template <class T, class Mask>
 inline T atan_over_t(T t2, Mask skip) {
@@ -36,9 +37,15 @@ inline T atan_over_t(T t2, Mask skip) {
   const Mask reduced = big | mid;
   const T x = pick(big, -1.0 / t, pick(mid, (t - 1.0) / (t + 1.0), t));
   const T z = pick(reduced, x * x, pick(wide, t2, one));
-  // 1 - z/3 + z^2/5 - ... - z^19/39, by Horner's rule from the innermost term.
-  T series = splat(1.0 / 39, T{});
-  for (int k = 18; k >= 0; --k) series = kOddReciprocals[k] - z * series;
+  // 1 - z/3 + z^2/5 - ... - z^19/39 as two interleaved Horner chains in w = z^2 (even and
+  // odd powers), so the multiplications overlap instead of waiting on each other.
+  const T w = z * z;
+  T even = splat(kOddReciprocals[18], T{}), odd = splat(kOddReciprocals[19], T{});
+  for (int j = 8; j >= 0; --j) {
+    even = kOddReciprocals[2 * j] + w * even;
+    odd = kOddReciprocals[2 * j + 1] + w * odd;
+  }
+  const T series = even - z * odd;
   const T y0 = pick(big, splat(1.5707963267948966, T{}),
                     pick(mid, splat(0.78539816339744831, T{}), splat(0.0, T{})));
   const T wide_value = pick(reduced, (y0 + x * series) / t, series);
