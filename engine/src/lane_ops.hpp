@@ -31,13 +31,9 @@ inline double load_strided(const double* p, int i, int stride, int offset, doubl
 inline void store_strided(double* p, int i, int stride, int offset, double v) {
   p[stride * i + offset] = v;
 }
-// Element idx[i] of p, or 0 where that index is negative (no element), and the mask of
-// where it is not.
+// Element idx[i] of p.
 inline double load_indexed(const double* p, const int* idx, int i, double) {
-  return idx[i] >= 0 ? p[idx[i]] : 0.0;
-}
-inline bool indexed_mask(const int* idx, int i, double) {
-  return idx[i] >= 0;
+  return p[idx[i]];
 }
 // A 0/1 flag array as a mask, and back.
 inline bool load_flag(const uint8_t* p, int i, double) {

@@ -45,6 +45,9 @@ inline V load_strided(const double* p, int i, int stride, int offset, V) {
 inline void store_strided(double* p, int i, int stride, int offset, V v) {
   for (int j = 0; j < kWidth; ++j) p[stride * (i + j) + offset] = v[j];
 }
+inline V load_indexed(const double* p, const int* idx, int i, V) {
+  return lanes(p, idx + i, 1, 0);
+}
 inline M load_flag(const uint8_t* p, int i, V) {
   M m;
   for (int j = 0; j < kWidth; ++j) m[j] = p[i + j] != 0 ? -1 : 0;

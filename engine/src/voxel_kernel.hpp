@@ -15,7 +15,8 @@ struct VoxelKernelIo {
   const int* slot_bond[6] = {};    // bond in each slot (Model::voxel_bonds by slot), -1 = none
   const uint8_t* fixed = nullptr;  // 1 if clamped
   const double* load = nullptr;    // xyz: constant external force, N
-  // Workspace, per bond (gather input): force on a, moment on a, moment on b (bond_out).
+  // Workspace, per bond and one zero entry (gather input): force on a, moment on a, moment
+  // on b (bond_out).
   const double* bond_out[9] = {};
   // State, per voxel.
   double* pos = nullptr;      // xyz, m

@@ -19,6 +19,8 @@ namespace plastivox {
 namespace {
 
 // Voxels [i, i + width): bond forces and moments in slot order, slow damping, weight, load.
+// A slot without a bond reads the zero entry past the last bond, so there is no branch (its
+// only effect on the sum is that -0 + 0 is +0).
 template <class T>
 inline void gather_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k) {
   const T zero = splat(0.0, T{});
@@ -26,15 +28,12 @@ inline void gather_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
   const double* const* o = io.bond_out;
   for (int slot = 0; slot < 6; ++slot) {
     const int* bonds = io.slot_bond[slot];
-    const auto has = indexed_mask(bonds, i, T{});
-    if (!any(has)) continue;
     // A bond towards +axis has this voxel as its a end: +F_a and M_a; else -F_a and M_b.
     const bool plus = slot & 1;
     for (int c = 0; c < 3; ++c) {
       const T fa = load_indexed(o[c], bonds, i, T{});
-      f[c] = pick(has, plus ? f[c] + fa : f[c] - fa, f[c]);
-      const T m = load_indexed(o[plus ? 3 + c : 6 + c], bonds, i, T{});
-      mo[c] = pick(has, mo[c] + m, mo[c]);
+      f[c] = plus ? f[c] + fa : f[c] - fa;
+      mo[c] = mo[c] + load_indexed(o[plus ? 3 + c : 6 + c], bonds, i, T{});
     }
   }
   // Slow (global) damping: a small fraction of the critical damping of the voxel's own

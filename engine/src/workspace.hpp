@@ -31,9 +31,11 @@ struct Workspace {
   // Total force (N) and moment (N m), world frame, one array per component.
   std::array<std::vector<double>, 3> force, moment;
   std::vector<double> sqrt_e;  // sqrt of the current stiffness, sqrt(Pa)
-  // Model::voxel_bonds by slot (one array per slot, -1 = no bond), for the voxel kernels.
+  // Model::voxel_bonds by slot (one array per slot), for the gather; a slot without a bond
+  // names the extra zero entry of bond_out (index bond_count()).
   std::array<std::vector<int>, 6> slot_bond;
-  // Per bond, filled by the bond stage and gathered per voxel in a fixed order.
+  // Per bond (plus one zero entry), filled by the bond stage, gathered per voxel in a fixed
+  // order.
   // Per bond, world frame, one array per component: [0..2] force on voxel a (N; the force
   // on b is its negative), [3..5] moment on a, [6..8] moment on b (N m).
   std::array<std::vector<double>, 9> bond_out;
@@ -60,11 +62,15 @@ struct Workspace {
         bond_strain(m.bond_count(), 0.0),
         bond_stress(m.bond_count(), 0.0) {
     const double L = m.size, nu = m.def.poisson;
-    for (auto& component : bond_out) component.assign(m.bond_count(), 0.0);
+    // One more entry than there are bonds, always 0: where a voxel slot has no bond.
+    for (auto& component : bond_out) component.assign(m.bond_count() + 1, 0.0);
     for (int c = 0; c < 3; ++c) force[c].assign(m.n, 0.0), moment[c].assign(m.n, 0.0);
     for (int k = 0; k < 6; ++k) {
       slot_bond[k].resize(m.n);
-      for (int i = 0; i < m.n; ++i) slot_bond[k][i] = m.voxel_bonds[i][k];
+      for (int i = 0; i < m.n; ++i) {
+        const int b = m.voxel_bonds[i][k];
+        slot_bond[k][i] = b >= 0 ? b : m.bond_count();
+      }
     }
     damp_k.a1 = std::sqrt(L);
     damp_k.b2 = std::sqrt(L * L * L / 4.0);
