@@ -63,6 +63,24 @@ TEST(Development, PressureWithPositiveRateStiffensUnderCompression) {
   EXPECT_GT(E[0], 1.01e9);  // bottom voxel carries the most weight
 }
 
+TEST(Development, PressureReadsEachVoxelsShareOfTheBondStrain) {
+  // Two voxels in series (bottom four times stiffer): each takes the share of the bond's
+  // strain a series spring takes, 2 E_other / (E_own + E_other), so both feel the bond's
+  // harmonic-mean stress as pressure (the authors' simulator; the bond strain itself would
+  // give the stiff voxel four times the pressure of the soft one).
+  RobotDef r = standing_column(1e9, 0.0);
+  r.present[2] = r.present[3] = r.present[4] = 0;
+  r.stiffness[0] = 4e9;
+  const Model m = compile(r, developing(Treatment::kPressure));
+  Simulator sim(m);
+  testing::run_until(sim, 0.3);
+  const State& s = sim.state();
+  ASSERT_EQ(s.status, SimStatus::kRunning) << s.failure;
+  EXPECT_GT(s.stimulus[0], 0.0);  // compression
+  EXPECT_TRUE(RelNear(s.stimulus[0], s.stimulus[1], 1e-12))
+      << s.stimulus[0] << " vs " << s.stimulus[1];
+}
+
 TEST(Development, NothingHappensBeforeSettling) {
   PhysicsDef d = developing(Treatment::kStress);
   d.settle_time = 0.3;

@@ -18,19 +18,32 @@ double stress_stimulus(const Model& m, const Workspace& w, int i) {
   return sigma;
 }
 
-// Pressure from the voxel's mean strain along each axis, positive in compression, Pa.
+// Pressure, positive in compression, Pa: -E_i (eps_x + eps_y + eps_z) / (3 (1 - 2 nu)) from
+// the voxel's own strains along its axes (the mean over its two bonds on an axis, or the one
+// bond). A bond is two springs in series, so the voxel of modulus E_i joined to one of E_j
+// takes 2 E_j / (E_i + E_j) of the bond's strain (the softer voxel stretches more), and E_i
+// times that share is the bond's harmonic-mean axial stress: the pressure sums bond stresses.
+// This is how the authors' simulator (Voxelyze 0.9, CVXS_BondInternal::UpdateBondStrain) sets
+// the per-voxel strains its pressure reads, except that it leaves the strain unsplit when the
+// two moduli are within 0.05 % of each other (its refinement loop does not run), a change of
+// that bond's term by less than 2.5e-4 that is not reproduced. Under
+// AxialModulus::kNegativeVoxel (bonds the authors' simulator treats as homogeneous: no split)
+// the voxel's own E times the bond strain is used.
 double pressure_stimulus(const Model& m, const State& s, const Workspace& w, int i) {
-  double strain_sum = 0;
+  const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
+  const std::vector<double>& per_bond = split ? w.bond_stress : w.bond_strain;
+  double sum = 0;
   for (int axis = 0; axis < 3; ++axis) {
     const int neg = m.voxel_bonds[i][axis * 2], pos = m.voxel_bonds[i][axis * 2 + 1];
     if (neg >= 0 && pos >= 0) {
-      strain_sum += 0.5 * (w.bond_strain[neg] + w.bond_strain[pos]);
+      sum += 0.5 * (per_bond[neg] + per_bond[pos]);
     } else if (neg >= 0 || pos >= 0) {
-      strain_sum += w.bond_strain[neg >= 0 ? neg : pos];
+      sum += per_bond[neg >= 0 ? neg : pos];
     }
   }
   const double nu = m.def.poisson;
-  return -s.stiffness[i] * strain_sum / (3.0 * (1.0 - 2.0 * nu));
+  const double stress_sum = split ? sum : s.stiffness[i] * sum;
+  return -stress_sum / (3.0 * (1.0 - 2.0 * nu));
 }
 
 }  // namespace
