@@ -98,19 +98,22 @@ double stable_dt(const Model& m, const std::vector<double>& E) {
   // A bond's harmonic mean never exceeds the larger of its two moduli, so a bond can only
   // set k_max (by rounding up) when both its voxels are within a relative 1e-9 of the
   // stiffest voxel: below that, 2ab/(a+b) < E_top (1 - 5e-10) even after rounding. Only
-  // those bonds are evaluated; the result is the same maximum, bit for bit.
+  // those bonds are evaluated, found from their a ends; the result is the same maximum, bit
+  // for bit, as over all bonds. The single voxels' term max_i E_i L is E_top L (rounding is
+  // monotonic).
   double e_top = 0;
-  for (int i = 0; i < m.n; ++i) e_top = std::max(e_top, E[i]);
+  for (int i = 0; i < m.n; ++i) e_top = E[i] > e_top ? E[i] : e_top;
   const double near_top = e_top * (1.0 - 1e-9);
-  double k_max = 0;
-  const int* bond_a = m.bond_a.data();
-  const int* bond_b = m.bond_b.data();
-  for (int b = 0; b < m.bond_count(); ++b) {
-    const double ea = E[bond_a[b]], eb = E[bond_b[b]];
-    if (ea >= near_top && eb >= near_top)
-      k_max = std::max(k_max, 2.0 * ea * eb / (ea + eb) * m.size);
+  double k_max = e_top * m.size;
+  for (int i = 0; i < m.n; ++i) {
+    if (!(E[i] >= near_top)) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      const int b = m.voxel_bonds[i][2 * axis + 1];  // i is this bond's a end
+      if (b < 0) continue;
+      const double ea = E[i], eb = E[m.bond_b[b]];
+      if (eb >= near_top) k_max = std::max(k_max, 2.0 * ea * eb / (ea + eb) * m.size);
+    }
   }
-  for (int i = 0; i < m.n; ++i) k_max = std::max(k_max, E[i] * m.size);
   return m.def.dt_frac / (2.0 * std::numbers::pi * std::sqrt(k_max / m.mass));
 }
 

@@ -26,7 +26,8 @@ void Simulator::step() {
   if (s.status != SimStatus::kRunning) return;
 
   compute_bond_forces(m, s, w);
-  if (m.def.treatment != Treatment::kNone) s.dt = stable_dt(m, s.stiffness);
+  // dt follows the stiffness the previous step's development left (unchanged E, same dt).
+  if (w.stiffness_changed) s.dt = stable_dt(m, s.stiffness);
   gather_voxel_forces(m, s, w);
   apply_self_collisions(m, s, w);
   integrate(m, s, w);
