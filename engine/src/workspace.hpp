@@ -12,16 +12,22 @@
 
 namespace plastivox {
 
-// Scratch of a self-collision candidate rebuild (contacts.cpp), kept to reuse its memory.
+// Self-collision candidates (contacts.cpp): per surface voxel its partner list and where it
+// was at its last refresh, and the scratch of a refresh, kept to reuse its memory.
 struct ContactGrid {
-  std::vector<int> voxels;   // surface voxels, increasing
+  std::vector<int> voxels;                 // surface voxels, increasing
+  std::vector<Vec3> ref_rel;               // voxels[k]'s centre minus the surface mean at its
+                                           // last refresh, m
+  std::vector<std::vector<int>> partners;  // per voxel: candidate partners, increasing
+  std::vector<int> stale;                  // surface voxels (indices k) to refresh this step
+  // The grid of a refresh.
   std::vector<int> cell_of;  // cell of voxels[k]
   std::vector<int> start;    // members of cell c: members[start[c] .. start[c + 1])
   std::vector<int> fill;
   std::vector<int> members;  // surface voxels by cell, increasing within a cell
   std::array<std::vector<double>, 3> member_pos;  // their centres (x, y, z), m
   std::vector<int> near_mark;                     // per voxel: last voxel it was near
-  std::vector<int> found;                         // candidates of one voxel
+  std::vector<int> found;                         // partners of one voxel
   int dim[3] = {0, 0, 0};                         // cells per axis
 };
 
@@ -41,9 +47,7 @@ struct Workspace {
   std::array<std::vector<double>, 9> bond_out;
   std::vector<double> bond_strain;  // axial engineering strain vs. actuated rest length
   std::vector<double> bond_stress;  // axial stress, Pa (tension > 0)
-  // Self-collision candidates: unbonded voxel pairs (i < j) near enough to touch soon.
-  std::vector<std::pair<int, int>> contact_pairs;
-  std::vector<Vec3> contact_ref_pos;  // surface voxels' positions at the last rebuild, m
+  // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
   ContactGrid contact_grid;
   bool contacts_valid = false;
   bool stiffness_changed = false;  // the develop stage changed E this step
