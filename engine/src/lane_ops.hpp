@@ -31,6 +31,19 @@ inline double load_strided(const double* p, int i, int stride, int offset, doubl
 inline void store_strided(double* p, int i, int stride, int offset, double v) {
   p[stride * i + offset] = v;
 }
+// Records of 3 (x, y, z) or 4 (x, y, z, w) doubles back to back: element i's components.
+inline void load3(const double* p, int i, double* c) {
+  for (int k = 0; k < 3; ++k) c[k] = p[3 * i + k];
+}
+inline void store3(double* p, int i, const double* c) {
+  for (int k = 0; k < 3; ++k) p[3 * i + k] = c[k];
+}
+inline void load4(const double* p, int i, double* c) {
+  for (int k = 0; k < 4; ++k) c[k] = p[4 * i + k];
+}
+inline void store4(double* p, int i, const double* c) {
+  for (int k = 0; k < 4; ++k) p[4 * i + k] = c[k];
+}
 // Element idx[i] of p.
 inline double load_indexed(const double* p, const int* idx, int i, double) {
   return p[idx[i]];

@@ -48,6 +48,23 @@ inline void store_strided(double* p, int i, int stride, int offset, V v) {
 inline V load_indexed(const double* p, const int* idx, int i, V) {
   return lanes(p, idx + i, 1, 0);
 }
+// load3/store3/load4/store4 for kWidth consecutive records, one vector per component. An
+// instruction set with fast cross-lane permutes defines its own before including this file
+// (and PLASTIVOX_LANES_HAVE_RECORDS); otherwise lane by lane.
+#ifndef PLASTIVOX_LANES_HAVE_RECORDS
+inline void load3(const double* p, int i, V* c) {
+  for (int k = 0; k < 3; ++k) c[k] = load_strided(p, i, 3, k, V{});
+}
+inline void store3(double* p, int i, const V* c) {
+  for (int k = 0; k < 3; ++k) store_strided(p, i, 3, k, c[k]);
+}
+inline void load4(const double* p, int i, V* c) {
+  for (int k = 0; k < 4; ++k) c[k] = load_strided(p, i, 4, k, V{});
+}
+inline void store4(double* p, int i, const V* c) {
+  for (int k = 0; k < 4; ++k) store_strided(p, i, 4, k, c[k]);
+}
+#endif
 inline M load_flag(const uint8_t* p, int i, V) {
   M m;
   for (int j = 0; j < kWidth; ++j) m[j] = p[i + j] != 0 ? -1 : 0;

@@ -42,10 +42,12 @@ inline void gather_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
   store(io.sqrt_e, i, se);
   const T c_lin = k.c_lin_unit * se;
   const T coef = (k.slow_zeta * c_lin) / k.mass;
+  T p[3], load_force[3];
+  load3(io.lin_mom, i, p);
+  load3(io.load, i, load_force);
   for (int c = 0; c < 3; ++c) {
-    const T p = load_strided(io.lin_mom, i, 3, c, T{});
-    const T fc = f[c] - coef * p;
-    store(io.force[c], i, (fc + k.weight[c]) + load_strided(io.load, i, 3, c, T{}));
+    const T fc = f[c] - coef * p[c];
+    store(io.force[c], i, (fc + k.weight[c]) + load_force[c]);
     store(io.moment[c], i, mo[c]);
   }
 }
@@ -63,10 +65,11 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
   const T se = load(io.sqrt_e, i, T{});
   T fx = load(io.force[0], i, T{}), fy = load(io.force[1], i, T{});
   T fz = load(io.force[2], i, T{});
-  T px = load_strided(io.lin_mom, i, 3, 0, T{}), py = load_strided(io.lin_mom, i, 3, 1, T{});
-  T pz = load_strided(io.lin_mom, i, 3, 2, T{});
-  const T x0 = load_strided(io.pos, i, 3, 0, T{}), y0 = load_strided(io.pos, i, 3, 1, T{});
-  const T z0 = load_strided(io.pos, i, 3, 2, T{});
+  T p[3], x[3];
+  load3(io.lin_mom, i, p);
+  load3(io.pos, i, x);
+  T px = p[0], py = p[1], pz = p[2];
+  const T x0 = x[0], y0 = x[1], z0 = x[2];
   Mask held = and_not(fixed, fixed);  // all clear
 
   if (k.floor) {
@@ -107,8 +110,9 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
 
   // Rotation: moment, then slow rotational damping as a per-step decay of the angular
   // momentum, then the orientation advanced by the rotation vector omega * dt.
-  T hx = load_strided(io.ang_mom, i, 3, 0, T{}), hy = load_strided(io.ang_mom, i, 3, 1, T{});
-  T hz = load_strided(io.ang_mom, i, 3, 2, T{});
+  T h[3];
+  load3(io.ang_mom, i, h);
+  T hx = h[0], hy = h[1], hz = h[2];
   hx = hx + load(io.moment[0], i, T{}) * dt;
   hy = hy + load(io.moment[1], i, T{}) * dt;
   hz = hz + load(io.moment[2], i, T{}) * dt;
@@ -137,8 +141,9 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
     lane_set(rx, j, ax * sh), lane_set(ry, j, ay * sh), lane_set(rz, j, az * sh);
   });
   // q <- r q (Eigen's SSE2 quaternion product, term for term), then normalised.
-  const T bx = load_strided(io.quat, i, 4, 0, T{}), by = load_strided(io.quat, i, 4, 1, T{});
-  const T bz = load_strided(io.quat, i, 4, 2, T{}), bw = load_strided(io.quat, i, 4, 3, T{});
+  T q[4];
+  load4(io.quat, i, q);
+  const T bx = q[0], by = q[1], bz = q[2], bw = q[3];
   T qx = (rw * bx + ry * bz) - (rz * by - rx * bw);
   T qy = (rw * by + ry * bw) + (rz * bx - rx * bz);
   T qz = (rw * bz - ry * bx) + (rz * bw + rx * by);
@@ -155,12 +160,10 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
                      pick(fixed, zero, hx), pick(fixed, zero, hy), pick(fixed, zero, hz),
                      pick(fixed, bx, qx),   pick(fixed, by, qy),   pick(fixed, bz, qz),
                      pick(fixed, bw, qw)};
-  for (int c = 0; c < 3; ++c) {
-    store_strided(io.pos, i, 3, c, out[c]);
-    store_strided(io.lin_mom, i, 3, c, out[3 + c]);
-    store_strided(io.ang_mom, i, 3, c, out[6 + c]);
-  }
-  for (int c = 0; c < 4; ++c) store_strided(io.quat, i, 4, c, out[9 + c]);
+  store3(io.pos, i, out);
+  store3(io.lin_mom, i, out + 3);
+  store3(io.ang_mom, i, out + 6);
+  store4(io.quat, i, out + 9);
   const Mask was_held = load_flag(io.static_friction, i, T{});
   store_flag(io.static_friction, i, and_not(held, fixed) | (fixed & was_held));
 
