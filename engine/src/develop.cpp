@@ -1,81 +1,73 @@
 // Development (METHOD.md section 5): each voxel's stiffness follows its interoceptive
 // stimulus, scaled by its evolved rate alpha. Runs after settling, on the bond strains of
 // this step; the new stiffness takes effect in the next step's bonds, actuation and dt.
-#include <algorithm>
-#include <cmath>
-
+#include "develop_kernel.hpp"
+#include "develop_lanes_body.hpp"
+#include "plastivox/simd.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
-namespace {
 
-// Largest tensile axial stress among the voxel's bonds (compression counts as 0), Pa.
-double stress_stimulus(const Model& m, const Workspace& w, int i) {
-  double sigma = 0;
-  for (int b : m.voxel_bonds[i]) {
-    if (b >= 0) sigma = std::max(sigma, w.bond_stress[b]);
+// The rule, per voxel (develop_lanes_body.hpp):
+// - stimulus under stress: the largest tensile axial stress among its bonds (compression
+//   counts as 0), Pa;
+// - under pressure, positive in compression, Pa: -E_i (eps_x + eps_y + eps_z) / (3 (1 - 2 nu))
+//   from the voxel's own strains along its axes (the mean over its two bonds on an axis, or
+//   the one bond). A bond is two springs in series, so the voxel of modulus E_i joined to one
+//   of E_j takes 2 E_j / (E_i + E_j) of the bond's strain (the softer voxel stretches more),
+//   and E_i times that share is the bond's harmonic-mean axial stress: the pressure sums bond
+//   stresses. This is how the authors' simulator (Voxelyze 0.9,
+//   CVXS_BondInternal::UpdateBondStrain) sets the per-voxel strains its pressure reads, except
+//   that it leaves the strain unsplit when the two moduli are within 0.05 % of each other (its
+//   refinement loop does not run), a change of that bond's term by less than 2.5e-4 that is
+//   not reproduced. Under AxialModulus::kNegativeVoxel (bonds the authors' simulator treats as
+//   homogeneous: no split) the voxel's own E times the bond strain is used;
+// - then (integral model) E = E0 + alpha * integral of the stimulus, or (rate model)
+//   E = E0 + alpha * (stimulus - stimulus at the end of settling); the change in one step is
+//   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor
+//   e_min) and alpha != 0 develop: soft voxels never do, and one softened to the gate stops.
+bool develop_voxels(const DevelopIo& io, int n, const DevelopConstants& k) {
+  switch (simd_level()) {
+#if defined(PLASTIVOX_HAVE_AVX512)
+    case SimdLevel::kAvx512:
+      return develop_voxels_avx512(io, n, k);
+#endif
+#if defined(PLASTIVOX_HAVE_AVX2)
+    case SimdLevel::kAvx2:
+      return develop_voxels_avx2(io, n, k);
+#endif
+    default:
+      return run_develop_lanes<double, 1>(io, n, k);
   }
-  return sigma;
 }
-
-// Pressure, positive in compression, Pa: -E_i (eps_x + eps_y + eps_z) / (3 (1 - 2 nu)) from
-// the voxel's own strains along its axes (the mean over its two bonds on an axis, or the one
-// bond). A bond is two springs in series, so the voxel of modulus E_i joined to one of E_j
-// takes 2 E_j / (E_i + E_j) of the bond's strain (the softer voxel stretches more), and E_i
-// times that share is the bond's harmonic-mean axial stress: the pressure sums bond stresses.
-// This is how the authors' simulator (Voxelyze 0.9, CVXS_BondInternal::UpdateBondStrain) sets
-// the per-voxel strains its pressure reads, except that it leaves the strain unsplit when the
-// two moduli are within 0.05 % of each other (its refinement loop does not run), a change of
-// that bond's term by less than 2.5e-4 that is not reproduced. Under
-// AxialModulus::kNegativeVoxel (bonds the authors' simulator treats as homogeneous: no split)
-// the voxel's own E times the bond strain is used.
-double pressure_stimulus(const Model& m, const State& s, const Workspace& w, int i) {
-  const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
-  const std::vector<double>& per_bond = split ? w.bond_stress : w.bond_strain;
-  double sum = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    const int neg = m.voxel_bonds[i][axis * 2], pos = m.voxel_bonds[i][axis * 2 + 1];
-    if (neg >= 0 && pos >= 0) {
-      sum += 0.5 * (per_bond[neg] + per_bond[pos]);
-    } else if (neg >= 0 || pos >= 0) {
-      sum += per_bond[neg >= 0 ? neg : pos];
-    }
-  }
-  const double nu = m.def.poisson;
-  const double stress_sum = split ? sum : s.stiffness[i] * sum;
-  return -stress_sum / (3.0 * (1.0 - 2.0 * nu));
-}
-
-}  // namespace
 
 void develop(const Model& m, State& s, Workspace& w) {
   const PhysicsDef& d = m.def;
   w.stiffness_changed = false;
   if (d.treatment == Treatment::kNone || s.time < d.settle_time) return;
-  const bool stress = d.treatment == Treatment::kStress;
-  const bool first = !s.stim_ref_set;
-  const double gate = d.min_devo_factor * d.e_min;
-  for (int i = 0; i < m.n; ++i) {
-    const double stim = stress ? stress_stimulus(m, w, i) : pressure_stimulus(m, s, w, i);
-    s.stimulus[i] = stim;
-    if (first) s.stim_ref[i] = stim;
-    const double e = s.stiffness[i];
-    // Soft voxels never develop; a voxel softened to the gate stops for good.
-    if (!(e > gate) || m.alpha[i] == 0) continue;
-    double target;
-    if (d.growth == GrowthModel::kIntegral) {
-      s.stim_integral[i] += stim * s.dt;
-      target = m.e0[i] + m.alpha[i] * s.stim_integral[i];
-    } else {
-      target = m.e0[i] + m.alpha[i] * (stim - s.stim_ref[i]);
-    }
-    const double change = std::clamp(target - e, -d.max_change_per_step, d.max_change_per_step);
-    const double next = std::clamp(e + change, d.e_min, d.e_max);
-    if (next != e) {
-      s.stiffness[i] = next;
-      w.stiffness_changed = true;
-    }
-  }
+  DevelopIo io;
+  for (int slot = 0; slot < 6; ++slot) io.slot_bond[slot] = w.slot_bond[slot].data();
+  io.no_bond = m.bond_count();
+  io.bond_stress = w.bond_stress.data();
+  io.bond_strain = w.bond_strain.data();
+  io.e0 = m.e0.data();
+  io.alpha = m.alpha.data();
+  io.stiffness = s.stiffness.data();
+  io.stimulus = s.stimulus.data();
+  io.stim_integral = s.stim_integral.data();
+  io.stim_ref = s.stim_ref.data();
+  DevelopConstants k;
+  k.stress = d.treatment == Treatment::kStress;
+  k.split = d.axial_modulus == AxialModulus::kHarmonicMean;
+  k.integral = d.growth == GrowthModel::kIntegral;
+  k.first = !s.stim_ref_set;
+  k.pressure_denominator = 3.0 * (1.0 - 2.0 * d.poisson);
+  k.gate = d.min_devo_factor * d.e_min;
+  k.dt = s.dt;
+  k.max_change = d.max_change_per_step;
+  k.e_min = d.e_min;
+  k.e_max = d.e_max;
+  w.stiffness_changed = develop_voxels(io, m.n, k);
   s.stim_ref_set = true;
 }
 

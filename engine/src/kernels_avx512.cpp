@@ -92,6 +92,7 @@ inline void load_quats(const double* q, const int* idx, V& x, V& y, V& z, V& w) 
 }  // namespace plastivox
 
 #include "bond_lanes_simd.hpp"
+#include "develop_lanes_body.hpp"
 #include "voxel_lanes_body.hpp"
 
 namespace plastivox {
@@ -107,6 +108,10 @@ VoxelUpdateSummary voxel_update_avx512(const VoxelKernelIo& io, int n, const Vox
 void voxel_actuate_avx512(const double* stiff, const double* phase, double* size, int n,
                           const ActuationConstants& k) {
   run_actuate_lanes<V, kWidth>(stiff, phase, size, n, k);
+}
+
+bool develop_voxels_avx512(const DevelopIo& io, int n, const DevelopConstants& k) {
+  return run_develop_lanes<V, kWidth>(io, n, k);
 }
 
 }  // namespace plastivox

@@ -48,6 +48,10 @@ inline void store4(double* p, int i, const double* c) {
 inline double load_indexed(const double* p, const int* idx, int i, double) {
   return p[idx[i]];
 }
+// The mask of idx[i] != value.
+inline bool index_mask_ne(const int* idx, int i, int value, double) {
+  return idx[i] != value;
+}
 // A 0/1 flag array as a mask, and back.
 inline bool load_flag(const uint8_t* p, int i, double) {
   return p[i] != 0;

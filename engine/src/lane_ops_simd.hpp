@@ -65,6 +65,11 @@ inline void store4(double* p, int i, const V* c) {
   for (int k = 0; k < 4; ++k) store_strided(p, i, 4, k, c[k]);
 }
 #endif
+inline M index_mask_ne(const int* idx, int i, int value, V) {
+  M m;
+  for (int j = 0; j < kWidth; ++j) m[j] = idx[i + j] != value ? -1 : 0;
+  return m;
+}
 inline M load_flag(const uint8_t* p, int i, V) {
   M m;
   for (int j = 0; j < kWidth; ++j) m[j] = p[i + j] != 0 ? -1 : 0;

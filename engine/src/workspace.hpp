@@ -45,6 +45,7 @@ struct Workspace {
   // Per bond, world frame, one array per component: [0..2] force on voxel a (N; the force
   // on b is its negative), [3..5] moment on a, [6..8] moment on b (N m).
   std::array<std::vector<double>, 9> bond_out;
+  // Per bond, plus the zero entry past the last one (for slots without a bond).
   std::vector<double> bond_strain;  // axial engineering strain vs. actuated rest length
   std::vector<double> bond_stress;  // axial stress, Pa (tension > 0)
   // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
@@ -63,8 +64,8 @@ struct Workspace {
   explicit Workspace(const Model& m)
       : size(m.n, m.size),
         sqrt_e(m.n),
-        bond_strain(m.bond_count(), 0.0),
-        bond_stress(m.bond_count(), 0.0) {
+        bond_strain(m.bond_count() + 1, 0.0),
+        bond_stress(m.bond_count() + 1, 0.0) {
     const double L = m.size, nu = m.def.poisson;
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
     for (auto& component : bond_out) component.assign(m.bond_count() + 1, 0.0);

@@ -1,0 +1,39 @@
+// The batched development kernel: the per-voxel rule of develop.cpp (METHOD.md section 5)
+// over arrays of voxels, lane-generic like the voxel kernels (develop_lanes_body.hpp).
+#pragma once
+
+namespace plastivox {
+
+struct DevelopIo {
+  // Workspace: the bond in each slot of every voxel (a slot without one names the zero entry
+  // past the last bond) and this step's bond stresses and strains (with that zero entry).
+  const int* slot_bond[6] = {};
+  int no_bond = 0;  // the index of that zero entry (the number of bonds)
+  const double* bond_stress = nullptr;
+  const double* bond_strain = nullptr;
+  // Model.
+  const double* e0 = nullptr;
+  const double* alpha = nullptr;
+  // State, in and out.
+  double* stiffness = nullptr;
+  double* stimulus = nullptr;
+  double* stim_integral = nullptr;
+  double* stim_ref = nullptr;
+};
+
+struct DevelopConstants {
+  bool stress;  // stimulus: largest tensile bond stress; else pressure
+  bool split;   // pressure from bond stresses (each voxel's share of the strain); else E_i x strain
+  bool integral;  // E = E0 + alpha * integral; else the rate model
+  bool first;     // the first developing step: the rate model's reference is taken now
+  double pressure_denominator;  // 3 (1 - 2 nu)
+  double gate;                  // development only while E > gate
+  double dt, max_change, e_min, e_max;
+};
+
+// Voxels [0, n); returns whether some stiffness changed.
+bool develop_voxels(const DevelopIo& io, int n, const DevelopConstants& k);
+bool develop_voxels_avx2(const DevelopIo& io, int n, const DevelopConstants& k);
+bool develop_voxels_avx512(const DevelopIo& io, int n, const DevelopConstants& k);
+
+}  // namespace plastivox

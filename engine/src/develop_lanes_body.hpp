@@ -1,0 +1,77 @@
+// develop_voxels (develop_kernel.hpp) for any lane type; included after the lane operations
+// of the lane types used (see voxel_lanes_body.hpp). develop.cpp says what the rule is and why.
+#pragma once
+
+#include "develop_kernel.hpp"
+#include "lane_ops.hpp"
+
+namespace plastivox {
+namespace {
+
+// std::clamp(v, lo, hi), lane by lane.
+template <class T>
+inline T clamp_lanes(T v, double lo, double hi) {
+  return pick(v < lo, splat(lo, T{}), pick(hi < v, splat(hi, T{}), v));
+}
+
+// Voxels [i, i + width). Returns the mask of lanes whose stiffness changed.
+template <class T>
+inline auto develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k) {
+  const T zero = splat(0.0, T{});
+  T stim;
+  if (k.stress) {
+    // Largest tensile axial stress among the voxel's bonds (compression counts as 0).
+    stim = zero;
+    for (int slot = 0; slot < 6; ++slot) {
+      const T sigma = load_indexed(io.bond_stress, io.slot_bond[slot], i, T{});
+      stim = pick(stim < sigma, sigma, stim);
+    }
+  } else {
+    // Per axis, the mean over the voxel's two bonds, or the one bond (the other reads 0).
+    const double* per_bond = k.split ? io.bond_stress : io.bond_strain;
+    T sum = zero;
+    for (int axis = 0; axis < 3; ++axis) {
+      const int* neg = io.slot_bond[2 * axis];
+      const int* pos = io.slot_bond[2 * axis + 1];
+      const T a = load_indexed(per_bond, neg, i, T{}), b = load_indexed(per_bond, pos, i, T{});
+      const auto both =
+          index_mask_ne(neg, i, io.no_bond, T{}) & index_mask_ne(pos, i, io.no_bond, T{});
+      sum = sum + pick(both, 0.5 * (a + b), a + b);
+    }
+    const T stress_sum = k.split ? sum : load(io.stiffness, i, T{}) * sum;
+    stim = -stress_sum / k.pressure_denominator;
+  }
+  store(io.stimulus, i, stim);
+  if (k.first) store(io.stim_ref, i, stim);
+
+  const T e = load(io.stiffness, i, T{});
+  const T alpha = load(io.alpha, i, T{});
+  // Soft voxels never develop; a voxel softened to the gate stops for good.
+  const auto active = and_not(e > k.gate, alpha == 0.0);
+  T target;
+  if (k.integral) {
+    const T old = load(io.stim_integral, i, T{});
+    const T integral = old + stim * k.dt;
+    store(io.stim_integral, i, pick(active, integral, old));
+    target = load(io.e0, i, T{}) + alpha * integral;
+  } else {
+    target = load(io.e0, i, T{}) + alpha * (stim - load(io.stim_ref, i, T{}));
+  }
+  const T change = clamp_lanes(target - e, -k.max_change, k.max_change);
+  const T next = clamp_lanes(e + change, k.e_min, k.e_max);
+  const auto changed = and_not(active, next == e);
+  store(io.stiffness, i, pick(changed, next, e));
+  return changed;
+}
+
+template <class T, int W>
+inline bool run_develop_lanes(const DevelopIo& io, int n, const DevelopConstants& k) {
+  bool changed = false;
+  int i = 0;
+  for (; i + W <= n; i += W) changed = any(develop_lanes<T>(io, i, k)) || changed;
+  for (; i < n; ++i) changed = any(develop_lanes<double>(io, i, k)) || changed;
+  return changed;
+}
+
+}  // namespace
+}  // namespace plastivox
