@@ -14,8 +14,9 @@
 // later-refreshed voxel moved by less than delta and the other by less than 2 delta (its
 // drift is measured from its own, earlier, refresh), so they are still more than
 // R - 3 delta >= contact distance apart. Only the voxels that move refresh: a floppy limb
-// does not make the whole body rebuild. A refresh bins the surface voxels in a uniform grid
-// (cells at least as large as R) and looks in the 27 cells around the voxel.
+// does not make the whole body rebuild. A refresh compares the voxel with every surface
+// voxel (vectorised), or when many refresh at once bins the surface in a uniform grid (cells
+// at least as large as R) and looks in the 27 cells around each.
 //
 // Forces are added pair by pair in (i, j) order, i < j. Pairs that do not touch add
 // nothing, so the results do not depend on the margin or on when lists are refreshed: any
@@ -23,6 +24,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "contact_scan.hpp"
+#include "contact_scan_body.hpp"
+#include "plastivox/simd.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -32,6 +36,9 @@ namespace {
 // refreshes a voxel's list (a little under a third of it, far beyond any rounding).
 constexpr double kMargin = 0.5;
 constexpr double kDriftLimit = 0.32 * kMargin;
+// Up to this many voxels to refresh in a step, each is compared with every surface voxel (a
+// vectorised pass over their centres); more, and the surface is binned in a grid first.
+constexpr size_t kDirectRefreshes = 48;
 
 // Bins the surface voxels' current centres in a uniform grid of cells at least `radius`
 // wide (coarser if the body is scattered far: at most ~8 cells per surface voxel).
@@ -78,8 +85,8 @@ void bin_surface(const State& s, ContactGrid& g, double radius) {
 }
 
 // The surface voxels within `radius` of surface voxel k = g.voxels[k] that are not near it
-// in the bond graph, increasing, into g.found.
-void find_partners(const Model& m, const State& s, ContactGrid& g, size_t k, double radius) {
+// in the bond graph, increasing, into g.found: from the grid of bin_surface ...
+void find_partners_binned(const Model& m, const State& s, ContactGrid& g, size_t k, double radius) {
   const int i = g.voxels[k];
   const double r2 = radius * radius;
   for (int v : m.near_voxels[i]) g.near_mark[v] = i;  // near_mark[v] == i: v is near i
@@ -104,6 +111,20 @@ void find_partners(const Model& m, const State& s, ContactGrid& g, size_t k, dou
     }
   }
   std::sort(g.found.begin(), g.found.end());
+}
+
+// ... or by comparing with every surface voxel (same voxels: the same distance test).
+void find_partners_direct(const Model& m, ContactGrid& g, size_t k, double radius) {
+  const int i = g.voxels[k];
+  for (int v : m.near_voxels[i]) g.near_mark[v] = i;
+  const int hits = scan_within(g.centre[0].data(), g.centre[1].data(), g.centre[2].data(), 0,
+                               static_cast<int>(g.voxels.size()), g.centre[0][k], g.centre[1][k],
+                               g.centre[2][k], radius * radius, g.within.data());
+  g.found.clear();
+  for (int h = 0; h < hits; ++h) {
+    const int j = g.voxels[g.within[h]];
+    if (j != i && g.near_mark[j] != i) g.found.push_back(j);
+  }
 }
 
 void erase_sorted(std::vector<int>& list, int v) {
@@ -132,8 +153,14 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
   }
   const size_t ns = g.voxels.size();
   if (ns < 2) return;
+  for (auto& coordinate : g.centre) coordinate.resize(ns);
+  g.within.resize(ns);
   Vec3 mean = Vec3::Zero();
-  for (int i : g.voxels) mean += s.pos[i];
+  for (size_t k = 0; k < ns; ++k) {
+    const Vec3& p = s.pos[g.voxels[k]];
+    mean += p;
+    for (int a = 0; a < 3; ++a) g.centre[a][k] = p[a];
+  }
   mean /= static_cast<double>(ns);
 
   const double limit = kDriftLimit * L;
@@ -143,10 +170,15 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
       g.stale.push_back(static_cast<int>(k));
   }
   if (g.stale.empty()) return;
-  bin_surface(s, g, radius);
+  const bool direct = g.stale.size() <= kDirectRefreshes;
+  if (!direct) bin_surface(s, g, radius);
   for (int k : g.stale) {
     const int i = g.voxels[k];
-    find_partners(m, s, g, k, radius);
+    if (direct) {
+      find_partners_direct(m, g, k, radius);
+    } else {
+      find_partners_binned(m, s, g, k, radius);
+    }
     // i's pairs are now decided by this refresh alone.
     for (int j : g.partners[i]) erase_sorted(g.partners[j], i);
     g.partners[i] = g.found;
@@ -156,6 +188,22 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
 }
 
 }  // namespace
+
+int scan_within(const double* px, const double* py, const double* pz, int begin, int end, double x,
+                double y, double z, double r2, int* out) {
+  switch (simd_level()) {
+#if defined(PLASTIVOX_HAVE_AVX512)
+    case SimdLevel::kAvx512:
+      return scan_within_avx512(px, py, pz, begin, end, x, y, z, r2, out);
+#endif
+#if defined(PLASTIVOX_HAVE_AVX2)
+    case SimdLevel::kAvx2:
+      return scan_within_avx2(px, py, pz, begin, end, x, y, z, r2, out);
+#endif
+    default:
+      return run_scan_within<double, 1>(px, py, pz, begin, end, x, y, z, r2, out);
+  }
+}
 
 void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
   if (!m.def.self_collision) return;

@@ -92,6 +92,7 @@ inline void load_quats(const double* q, const int* idx, V& x, V& y, V& z, V& w) 
 }  // namespace plastivox
 
 #include "bond_lanes_simd.hpp"
+#include "contact_scan_body.hpp"
 #include "develop_lanes_body.hpp"
 #include "voxel_lanes_body.hpp"
 
@@ -112,6 +113,11 @@ void voxel_actuate_avx512(const double* stiff, const double* phase, double* size
 
 bool develop_voxels_avx512(const DevelopIo& io, int n, const DevelopConstants& k) {
   return run_develop_lanes<V, kWidth>(io, n, k);
+}
+
+int scan_within_avx512(const double* px, const double* py, const double* pz, int begin, int end,
+                       double x, double y, double z, double r2, int* out) {
+  return run_scan_within<V, kWidth>(px, py, pz, begin, end, x, y, z, r2, out);
 }
 
 }  // namespace plastivox

@@ -15,11 +15,13 @@ namespace plastivox {
 // Self-collision candidates (contacts.cpp): per surface voxel its partner list and where it
 // was at its last refresh, and the scratch of a refresh, kept to reuse its memory.
 struct ContactGrid {
-  std::vector<int> voxels;                 // surface voxels, increasing
-  std::vector<Vec3> ref_rel;               // voxels[k]'s centre minus the surface mean at its
-                                           // last refresh, m
-  std::vector<std::vector<int>> partners;  // per voxel: candidate partners, increasing
-  std::vector<int> stale;                  // surface voxels (indices k) to refresh this step
+  std::vector<int> voxels;                    // surface voxels, increasing
+  std::vector<Vec3> ref_rel;                  // voxels[k]'s centre minus the surface mean at its
+                                              // last refresh, m
+  std::vector<std::vector<int>> partners;     // per voxel: candidate partners, increasing
+  std::vector<int> stale;                     // surface voxels (indices k) to refresh this step
+  std::array<std::vector<double>, 3> centre;  // voxels[k]'s centre this step (x, y, z), m
+  std::vector<int> within;                    // scratch: indices k found by a scan
   // The grid of a refresh.
   std::vector<int> cell_of;  // cell of voxels[k]
   std::vector<int> start;    // members of cell c: members[start[c] .. start[c + 1])
