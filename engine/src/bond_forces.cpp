@@ -325,6 +325,12 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   io.quat = s.orient.front().coeffs().data();  // x, y, z, w
   io.size = w.size.data();
   io.stiff = s.stiffness.data();
+  w.centre_size.resize(4 * static_cast<size_t>(m.n));
+  for (int i = 0; i < m.n; ++i) {
+    double* r = &w.centre_size[4 * static_cast<size_t>(i)];
+    r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = w.size[i];
+  }
+  io.centre_size = w.centre_size.data();
   io.prev_valid = s.bond_prev_valid.data();
   for (int k = 0; k < 9; ++k) {
     io.prev[k] = s.bond_prev[k].data();  // the kernel updates the state in place

@@ -22,6 +22,9 @@ struct BondKernelIo {
   const double* quat = nullptr;
   const double* size = nullptr;
   const double* stiff = nullptr;
+  // The same centres and sizes as records of 4 doubles per voxel (x, y, z, size), for the
+  // vector lanes' whole-record loads.
+  const double* centre_size = nullptr;
   // Per bond: 1 once a previous deformation is recorded (read only; the caller sets it).
   const uint8_t* prev_valid = nullptr;
   // Per bond, in and out: the previous deformation (State::bond_prev); out: the results

@@ -48,12 +48,14 @@ inline BondIn<V> gather(const BondKernelIo& io, int b, V) {
   const int* ia = io.bond_a + b;
   const int* ib = io.bond_b + b;
   BondIn<V> in;
-  in.dx = lanes(io.pos, ib, 3, 0) - lanes(io.pos, ia, 3, 0);
-  in.dy = lanes(io.pos, ib, 3, 1) - lanes(io.pos, ia, 3, 1);
-  in.dz = lanes(io.pos, ib, 3, 2) - lanes(io.pos, ia, 3, 2);
+  // Centres and sizes from the 4-double records (whole-record loads and a transpose, like
+  // the quaternions) rather than one load per double.
+  V xa, ya, za, xb, yb, zb;
+  load_quats(io.centre_size, ia, xa, ya, za, in.size_a);
+  load_quats(io.centre_size, ib, xb, yb, zb, in.size_b);
+  in.dx = xb - xa, in.dy = yb - ya, in.dz = zb - za;
   load_quats(io.quat, ia, in.ax, in.ay, in.az, in.aw);
   load_quats(io.quat, ib, in.bx, in.by, in.bz, in.bw);
-  in.size_a = lanes(io.size, ia, 1, 0), in.size_b = lanes(io.size, ib, 1, 0);
   in.ea = lanes(io.stiff, ia, 1, 0), in.eb = lanes(io.stiff, ib, 1, 0);
   const uint8_t* valid = io.prev_valid + b;
   for (int j = 0; j < kWidth; ++j) in.valid[j] = valid[j] ? 1.0 : 0.0;

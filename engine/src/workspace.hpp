@@ -39,6 +39,9 @@ struct Workspace {
   // Total force (N) and moment (N m), world frame, one array per component.
   std::array<std::vector<double>, 3> force, moment;
   std::vector<double> sqrt_e;  // sqrt of the current stiffness, sqrt(Pa)
+  // Per voxel, 4 doubles: centre (m) and actuated size (m), copied from the state for the
+  // bond kernel at the start of its stage.
+  std::vector<double> centre_size;
   // Model::voxel_bonds by slot (one array per slot), for the gather; a slot without a bond
   // names the extra zero entry of bond_out (index bond_count()).
   std::array<std::vector<int>, 6> slot_bond;
