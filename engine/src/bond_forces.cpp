@@ -282,7 +282,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
 
     const Vec3 results[3] = {to_world(g, R, f), to_world(g, R, ma), to_world(g, R, mb)};
     for (int v = 0; v < 3; ++v)
-      for (int k = 0; k < 3; ++k) w.bond_out[3 * v + k][b] = results[v][k];
+      for (int k = 0; k < 3; ++k) w.bond_out[v][4 * static_cast<size_t>(b) + k] = results[v][k];
   }
 }
 
@@ -332,10 +332,8 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   }
   io.centre_size = w.centre_size.data();
   io.prev_valid = s.bond_prev_valid.data();
-  for (int k = 0; k < 9; ++k) {
-    io.prev[k] = s.bond_prev[k].data();  // the kernel updates the state in place
-    io.out[k] = w.bond_out[k].data();
-  }
+  for (int k = 0; k < 9; ++k) io.prev[k] = s.bond_prev[k].data();  // updated in place
+  for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
   io.strain = w.bond_strain.data();
   io.stress = w.bond_stress.data();
   w.redo.resize(nb);

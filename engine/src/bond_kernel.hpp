@@ -28,9 +28,10 @@ struct BondKernelIo {
   // Per bond: 1 once a previous deformation is recorded (read only; the caller sets it).
   const uint8_t* prev_valid = nullptr;
   // Per bond, in and out: the previous deformation (State::bond_prev); out: the results
-  // (Workspace::bond_out, bond_strain, bond_stress).
+  // (Workspace::bond_out: force on a, moment on a, moment on b, each as records of
+  // (x, y, z, 0); bond_strain, bond_stress).
   double* prev[9] = {};
-  double* out[9] = {};
+  double* out[3] = {};
   double* strain = nullptr;
   double* stress = nullptr;
   // Out: indices of the bonds the kernel could not compute (degenerate chord, relative

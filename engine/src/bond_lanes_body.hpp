@@ -128,7 +128,8 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
     const T uz = r20 * vx[v] + r21 * vy[v] + r22 * vz[v];
     T o[3];
     for (int c = 0; c < 3; ++c) o[c] = m[c] * ux + m[3 + c] * uy + m[6 + c] * uz;
-    for (int c = 0; c < 3; ++c) store(io.out[3 * v + c], i, o[c]);
+    const T record[4] = {o[0], o[1], o[2], zero};
+    store4(io.out[v], i, record);
   }
 }
 

@@ -20,7 +20,7 @@ VoxelKernelIo voxel_io(const Model& m, const State& s, Workspace& w) {
   for (int k = 0; k < 6; ++k) io.slot_bond[k] = w.slot_bond[k].data();
   io.fixed = m.fixed.data();
   io.load = m.load.front().data();
-  for (int k = 0; k < 9; ++k) io.bond_out[k] = w.bond_out[k].data();
+  for (int v = 0; v < 3; ++v) io.bond_out[v] = w.bond_out[v].data();
   io.pos = st.pos.front().data();
   io.quat = st.orient.front().coeffs().data();
   io.lin_mom = st.lin_mom.front().data();

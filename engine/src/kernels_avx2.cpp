@@ -42,6 +42,10 @@ int bond_kernel_avx2(const BondKernelIo& io, int n, const BondConstants& k) {
   return run_bond_lanes(io, n, k);
 }
 
+void voxel_gather_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+  run_gather(io, n, k);
+}
+
 VoxelUpdateSummary voxel_update_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
   return run_update_lanes<V, kWidth>(io, n, k);
 }

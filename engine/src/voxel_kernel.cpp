@@ -7,10 +7,11 @@
 
 namespace plastivox {
 
-// Scalar on every level: the vector form needs six indexed gathers per component, which
-// measured slower than these plain loads (AVX-512 gathers on this project's machine).
 void voxel_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
-  run_gather_lanes<double, 1>(io, n, k);
+#if defined(PLASTIVOX_HAVE_AVX2)
+  if (simd_level() >= SimdLevel::kAvx2) return voxel_gather_avx2(io, n, k);
+#endif
+  run_gather(io, n, k);
 }
 
 VoxelUpdateSummary voxel_update(const VoxelKernelIo& io, int n, const VoxelConstants& k) {

@@ -12,12 +12,13 @@ namespace plastivox {
 // "xyz" arrays hold 3 doubles per voxel back to back (Eigen vectors), "quat" 4 (x, y, z, w).
 struct VoxelKernelIo {
   // Model, per voxel.
-  const int* slot_bond[6] = {};    // bond in each slot (Model::voxel_bonds by slot), -1 = none
+  const int* slot_bond[6] = {};    // bond in each slot (Model::voxel_bonds by slot); a slot
+                                   // without one names the zero record of bond_out
   const uint8_t* fixed = nullptr;  // 1 if clamped
   const double* load = nullptr;    // xyz: constant external force, N
-  // Workspace, per bond and one zero entry (gather input): force on a, moment on a, moment
-  // on b (bond_out).
-  const double* bond_out[9] = {};
+  // Workspace, per bond and one zero record (gather input): force on a, moment on a, moment
+  // on b (bond_out: records of x, y, z, 0).
+  const double* bond_out[3] = {};
   // State, per voxel.
   double* pos = nullptr;      // xyz, m
   double* quat = nullptr;     // quat
@@ -68,8 +69,10 @@ struct ActuationConstants {
 void voxel_actuate(const double* stiff, const double* phase, double* size, int n,
                    const ActuationConstants& k);
 
-// The update for one instruction set (kernels_avx2.cpp / kernels_avx512.cpp): call only when
-// the CPU has it. (The gather is scalar on every level: see voxel_kernel.cpp.)
+// The stages for one instruction set (kernels_avx2.cpp / kernels_avx512.cpp): call only when
+// the CPU has it. The gather works voxel by voxel on 4-double records, so its AVX2 form also
+// serves the AVX-512 level.
+void voxel_gather_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k);
 VoxelUpdateSummary voxel_update_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k);
 VoxelUpdateSummary voxel_update_avx512(const VoxelKernelIo& io, int n, const VoxelConstants& k);
 void voxel_actuate_avx2(const double* stiff, const double* phase, double* size, int n,

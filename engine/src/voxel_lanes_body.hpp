@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 
 #include "elementary.hpp"
 #include "lane_ops.hpp"
@@ -18,37 +19,42 @@
 namespace plastivox {
 namespace {
 
-// Voxels [i, i + width): bond forces and moments in slot order, slow damping, weight, load.
-// A slot without a bond reads the zero entry past the last bond, so there is no branch (its
-// only effect on the sum is that -0 + 0 is +0).
-template <class T>
-inline void gather_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k) {
-  const T zero = splat(0.0, T{});
-  T f[3] = {zero, zero, zero}, mo[3] = {zero, zero, zero};
-  const double* const* o = io.bond_out;
+// Four doubles as one vector (a record of bond_out: x, y, z, 0), whatever the instruction set
+// (two SSE2 operations each on the baseline, one AVX operation where compiled for it).
+typedef double Vec4 __attribute__((vector_size(32)));
+
+// (By reference: returning a 32-byte vector by value has a different ABI with and without
+// AVX, which GCC warns about.)
+inline void load_vec4(const double* p, Vec4& v) {
+  std::memcpy(&v, p, sizeof v);
+}
+
+// Voxel i: bond forces and moments in slot order, slow damping, weight, load. A bond's
+// force or moment is one record, so the three components are summed together (each exactly
+// as on its own). A slot without a bond reads the zero record past the last bond, so there
+// is no branch (its only effect on the sum is that -0 + 0 is +0).
+inline void gather_voxel(const VoxelKernelIo& io, int i, const VoxelConstants& k) {
+  Vec4 f = {0, 0, 0, 0}, mo = {0, 0, 0, 0};
   for (int slot = 0; slot < 6; ++slot) {
-    const int* bonds = io.slot_bond[slot];
+    const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]);
     // A bond towards +axis has this voxel as its a end: +F_a and M_a; else -F_a and M_b.
     const bool plus = slot & 1;
-    for (int c = 0; c < 3; ++c) {
-      const T fa = load_indexed(o[c], bonds, i, T{});
-      f[c] = plus ? f[c] + fa : f[c] - fa;
-      mo[c] = mo[c] + load_indexed(o[plus ? 3 + c : 6 + c], bonds, i, T{});
-    }
+    Vec4 fa, m;
+    load_vec4(io.bond_out[0] + b, fa);
+    load_vec4(io.bond_out[plus ? 1 : 2] + b, m);
+    f = plus ? f + fa : f - fa;
+    mo = mo + m;
   }
   // Slow (global) damping: a small fraction of the critical damping of the voxel's own
   // axial spring, against absolute velocity.
-  const T se = root(load(io.stiff, i, T{}));
-  store(io.sqrt_e, i, se);
-  const T c_lin = k.c_lin_unit * se;
-  const T coef = (k.slow_zeta * c_lin) / k.mass;
-  T p[3], load_force[3];
-  load3(io.lin_mom, i, p);
-  load3(io.load, i, load_force);
+  const double se = std::sqrt(io.stiff[i]);
+  io.sqrt_e[i] = se;
+  const double c_lin = k.c_lin_unit * se;
+  const double coef = (k.slow_zeta * c_lin) / k.mass;
   for (int c = 0; c < 3; ++c) {
-    const T fc = f[c] - coef * p[c];
-    store(io.force[c], i, (fc + k.weight[c]) + load_force[c]);
-    store(io.moment[c], i, mo[c]);
+    const double fc = f[c] - coef * io.lin_mom[3 * i + c];
+    io.force[c][i] = (fc + k.weight[c]) + io.load[3 * i + c];
+    io.moment[c][i] = mo[c];
   }
 }
 
@@ -193,12 +199,8 @@ inline void run_actuate_lanes(const double* stiff, const double* phase, double* 
   for (; i < n; ++i) actuate_lanes<double>(stiff, phase, size, i, k);
 }
 
-// All voxels [0, n): groups of W lanes of type T, then the rest one by one.
-template <class T, int W>
-inline void run_gather_lanes(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
-  int i = 0;
-  for (; i + W <= n; i += W) gather_lanes<T>(io, i, k);
-  for (; i < n; ++i) gather_lanes<double>(io, i, k);
+inline void run_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+  for (int i = 0; i < n; ++i) gather_voxel(io, i, k);
 }
 
 template <class T, int W>

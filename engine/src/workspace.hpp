@@ -45,11 +45,11 @@ struct Workspace {
   // Model::voxel_bonds by slot (one array per slot), for the gather; a slot without a bond
   // names the extra zero entry of bond_out (index bond_count()).
   std::array<std::vector<int>, 6> slot_bond;
-  // Per bond (plus one zero entry), filled by the bond stage, gathered per voxel in a fixed
-  // order.
-  // Per bond, world frame, one array per component: [0..2] force on voxel a (N; the force
-  // on b is its negative), [3..5] moment on a, [6..8] moment on b (N m).
-  std::array<std::vector<double>, 9> bond_out;
+  // Per bond (plus one zero record), filled by the bond stage, gathered per voxel in a fixed
+  // order; world frame, records of 4 doubles (x, y, z, 0) so a voxel reads a bond's vector in
+  // one load: [0] force on voxel a (N; the force on b is its negative), [1] moment on a,
+  // [2] moment on b (N m).
+  std::array<std::vector<double>, 3> bond_out;
   // Per bond, plus the zero entry past the last one (for slots without a bond).
   std::vector<double> bond_strain;  // axial engineering strain vs. actuated rest length
   std::vector<double> bond_stress;  // axial stress, Pa (tension > 0)
@@ -73,7 +73,8 @@ struct Workspace {
         bond_stress(m.bond_count() + 1, 0.0) {
     const double L = m.size, nu = m.def.poisson;
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
-    for (auto& component : bond_out) component.assign(m.bond_count() + 1, 0.0);
+    for (auto& vectors : bond_out)
+      vectors.assign(4 * (static_cast<size_t>(m.bond_count()) + 1), 0.0);
     for (int c = 0; c < 3; ++c) force[c].assign(m.n, 0.0), moment[c].assign(m.n, 0.0);
     for (int k = 0; k < 6; ++k) {
       slot_bond[k].resize(m.n);
