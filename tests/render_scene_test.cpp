@@ -127,6 +127,40 @@ TEST(RenderColorScale, ChangeRangeIsSymmetricAndCoversEveryFrame) {
   EXPECT_DOUBLE_EQ(s.position(0), 0.5);
 }
 
+std::vector<std::string> change_labels(double hi) {
+  ColorScale s;
+  s.mode = ColorMode::kChange;
+  s.lo = -hi;
+  s.hi = hi;
+  std::vector<std::string> out;
+  for (const Tick& t : s.ticks()) {
+    out.push_back(t.label);
+    EXPECT_GE(t.t, 0.0);
+    EXPECT_LE(t.t, 1.0);
+    if (t.label == "×1") {
+      EXPECT_DOUBLE_EQ(t.t, 0.5);
+    }
+  }
+  return out;
+}
+
+TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
+  using L = std::vector<std::string>;
+  EXPECT_EQ(change_labels(0.5), (L{"×0.5", "×1", "×2"}));  // not x0.316, x3.16
+  EXPECT_EQ(change_labels(1), (L{"×0.1", "×0.2", "×0.5", "×1", "×2", "×5", "×10"}));
+  EXPECT_EQ(change_labels(2), (L{"×0.01", "×0.1", "×1", "×10", "×100"}));
+  EXPECT_EQ(change_labels(5), (L{"×10⁻⁴", "×0.01", "×1", "×100", "×10⁴"}));
+  EXPECT_EQ(change_labels(0.2), (L{"×0.8", "×1", "×1.2", "×1.4"}));
+  EXPECT_EQ(change_labels(0.1), (L{"×0.8", "×0.9", "×1", "×1.1", "×1.2"}));
+  EXPECT_EQ(change_labels(0.005), (L{"×0.99", "×0.995", "×1", "×1.005", "×1.01"}));
+  // Each tick sits at its ratio's own position on the log scale.
+  ColorScale s;
+  s.mode = ColorMode::kChange;
+  s.lo = -0.5;
+  s.hi = 0.5;
+  EXPECT_NEAR(s.ticks().front().t, (std::log10(0.5) + 0.5) / 1.0, 1e-12);
+}
+
 // ---------------------------------------------------------------------------------------
 // Pixels
 // ---------------------------------------------------------------------------------------
