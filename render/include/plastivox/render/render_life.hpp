@@ -74,7 +74,8 @@ struct VideoSummary {
   int frames = 0;
   double duration_s = 0;        // of the video
   std::string codec;            // as written
-  double simulate_seconds = 0;  // wall time simulating (alongside drawing, but for "change")
+  double simulate_seconds = 0;  // time simulating (alongside drawing: the simulation
+                                // thread's CPU time; for "change", before: wall time)
   double render_seconds = 0;    // wall time drawing and encoding (after the simulation
                                 // started, or for "change" after it finished)
 };
