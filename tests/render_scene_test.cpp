@@ -484,6 +484,25 @@ TEST_F(RenderFiles, VideoBytesAreTheSameEveryRun) {
   EXPECT_EQ(files_in(dir_), 3);
 }
 
+// A simulation that goes unstable part way (a random 1000-voxel body under the stress
+// treatment, at ~0.25 s) stops the three-thread video with the simulation's error, after
+// the earlier frames were drawn, and leaves no file.
+TEST_F(RenderFiles, UnstableSimulationStopsTheVideoAndLeavesNothing) {
+  PhysicsDef physics = preset_gecco2018_code();
+  physics.treatment = Treatment::kStress;
+  write_robot_file(path("unstable.json"), demo_irregular(1000, 7), &physics);
+  FrameStyle st = small_style(64, 48);
+  VideoJob job;
+  job.end = 1.0;
+  try {
+    render_video_file(path("unstable.json"), st, job, path("v.mp4"));
+    FAIL() << "expected an error";
+  } catch (const RenderError& e) {
+    EXPECT_NE(std::string(e.what()).find("went unstable"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(files_in(dir_), 1);  // only the input
+}
+
 TEST_F(RenderFiles, GalleryHasOneLabelledTilePerInputEachShowingItsRobot) {
   const std::vector<std::string> runs = {tiny_run("a.h5", 1, "none"), tiny_run("b.h5", 2, "stress"),
                                          tiny_run("c.h5", 3, "pressure")};

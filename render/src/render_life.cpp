@@ -256,6 +256,9 @@ VideoSummary render_video_file(const std::string& source_path, const FrameStyle&
       say(log, "frame " + std::to_string(k + 1) + "/" + std::to_string(count));
   }
   to_encoder.close();
+  // Every frame is drawn, or something failed: either way the simulation has nothing more
+  // to hand over (and must not wait for room to do so).
+  from_simulation.cancel();
   if (simulation.joinable()) simulation.join();
   encoder.join();
   if (simulation_error) std::rethrow_exception(simulation_error);
