@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "plastivox/render/gallery.hpp"
+#include "plastivox/render/scene.hpp"
 #include "render_cli.hpp"
 
 namespace plastivox::cli {
@@ -15,7 +16,7 @@ int cmd_gallery(const Args& in) {
   if (!size.empty()) parse_size(size, style.width, style.height);
   style.columns = parse_whole(take_option(args, "--columns", "0"), "--columns");
   style.time = parse_number(take_option(args, "--time", "-1"), "--time");
-  style.samples = parse_whole(take_option(args, "--samples", "4"), "--samples");
+  style.samples = take_antialiasing(args, "msaa");
   style.labels = !take_flag(args, "--no-labels");
   style.colorbar = !take_flag(args, "--no-colorbar");
   reject_unknown_options(args);
@@ -24,7 +25,6 @@ int cmd_gallery(const Args& in) {
         "expected results files: plastivox gallery RUN.h5 [RUN.h5 ...] --out gallery.png"};
   if (out.empty()) throw UsageError{"--out gallery.png is required"};
   if (style.columns < 0) throw UsageError{"--columns must be >= 0"};
-  if (style.samples < 1 || style.samples > 8) throw UsageError{"--samples must be 1..8"};
   const render::GalleryLayout layout = render::render_gallery_file(
       args, style, out, [](const std::string& l) { log_line("gallery", l); });
   std::printf("wrote %s (%zu champions, %d x %d grid, %dx%d)\n", out.c_str(), layout.tiles.size(),

@@ -15,7 +15,8 @@ int cmd_video(const Args& in) {
   job.end = parse_number(take_option(args, "--end", "-1"), "--end");
   job.stride = parse_whole(take_option(args, "--stride", "1"), "--stride");
   job.codec = take_option(args, "--codec", "auto");
-  render::FrameStyle style = take_frame_style(args, 1280, 720);
+  // Edge anti-aliasing: about a third of the cost of 4x multisampling per frame on llvmpipe.
+  render::FrameStyle style = take_frame_style(args, 1280, 720, "edge");
   reject_unknown_options(args);
   if (args.size() != 1)
     throw UsageError{"expected one robot or results file: plastivox video ROBOT --out life.mp4"};
@@ -27,9 +28,10 @@ int cmd_video(const Args& in) {
       args[0], style, job, out, [](const std::string& l) { log_line("video", l); });
   std::printf(
       "wrote %s (%d frames, %dx%d, %.3g s, %s; simulated in %.1f s, rendered and "
-      "encoded in %.1f s)\n",
+      "encoded in %.1f s%s)\n",
       out.c_str(), s.frames, style.width, style.height, s.duration_s, s.codec.c_str(),
-      s.simulate_seconds, s.render_seconds);
+      s.simulate_seconds, s.render_seconds,
+      style.color == render::ColorMode::kChange ? "" : ", at the same time");
   return 0;
 }
 

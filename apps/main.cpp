@@ -40,6 +40,7 @@ const char* kUsage =
     "  render   ROBOT_OR_RESULTS --out frame.png [--time T] [--color MODE] [--size WxH]\n"
     "           one frame as PNG; MODE: congenital, stiffness, change, alpha, phase;\n"
     "           --no-overlay (or --no-colorbar/-time/-treatment/-displacement/-scalebar)\n"
+    "           --antialias msaa|edge|none (render, gallery: msaa; video: edge)\n"
     "  video    ROBOT_OR_RESULTS --out life.mp4 [--color MODE] [--fps F] [--size WxH]\n"
     "           [--start S --end S] [--stride N]   the life as MP4 (default 5.2 s, 30 fps)\n"
     "  gallery  RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]\n"

@@ -42,8 +42,28 @@ inline void parse_size(const std::string& text, int& width, int& height) {
     throw UsageError{"--size " + text + " is outside 1x1 .. 16384x16384"};
 }
 
-// Takes the frame-style options (size, colour, overlay, camera) out of args.
-inline render::FrameStyle take_frame_style(Args& args, int default_w, int default_h) {
+// Anti-aliasing options: --antialias edge|msaa|none (msaa: 4 samples) or --samples N
+// (1 = none, 2..8 = multisampling with N samples), either way a Scene::samples value.
+inline int take_antialiasing(Args& args, const std::string& default_mode) {
+  const std::string mode = take_option(args, "--antialias", default_mode);
+  const std::string samples = take_option(args, "--samples", "");
+  int n = render::kEdgeAntialiasing;
+  if (mode == "msaa")
+    n = 4;
+  else if (mode == "none")
+    n = 1;
+  else if (mode != "edge")
+    throw UsageError{"--antialias expects edge, msaa or none, got '" + mode + "'"};
+  if (!samples.empty()) {
+    n = parse_whole(samples, "--samples");
+    if (n < 1 || n > 8) throw UsageError{"--samples must be 1..8"};
+  }
+  return n;
+}
+
+// Takes the frame-style options (size, colour, overlay, camera, anti-aliasing) out of args.
+inline render::FrameStyle take_frame_style(Args& args, int default_w, int default_h,
+                                           const std::string& default_antialias) {
   render::FrameStyle s;
   s.width = default_w;
   s.height = default_h;
@@ -69,8 +89,7 @@ inline render::FrameStyle take_frame_style(Args& args, int default_w, int defaul
   s.elevation_deg = parse_number(take_option(args, "--elevation", "25"), "--elevation");
   if (!(s.elevation_deg > -90 && s.elevation_deg <= 90))
     throw UsageError{"--elevation must be in (-90, 90] degrees"};
-  s.samples = parse_whole(take_option(args, "--samples", "4"), "--samples");
-  if (s.samples < 1 || s.samples > 8) throw UsageError{"--samples must be 1..8"};
+  s.samples = take_antialiasing(args, default_antialias);
   return s;
 }
 

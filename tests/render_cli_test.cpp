@@ -45,6 +45,19 @@ TEST_F(RenderCli, UnknownColourModeIsAUsageErrorAndWritesNothing) {
   EXPECT_EQ(files(), 1);
 }
 
+TEST_F(RenderCli, AntialiasingOptions) {
+  for (const std::string mode : {"edge", "msaa", "none"}) {
+    const auto r = run("render " + path("cube.json") + " --out " + path("f.png") +
+                       " --time 0 --size 64x48 --antialias " + mode);
+    EXPECT_EQ(r.status, 0) << mode << ": " << r.out;
+  }
+  const auto r = run("video " + path("cube.json") + " --out " + path("v.mp4") +
+                     " --size 64x48 --end 0.1 --antialias smooth");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("--antialias expects edge, msaa or none"), std::string::npos) << r.out;
+  EXPECT_EQ(files(), 2);  // the robot and f.png
+}
+
 TEST_F(RenderCli, UnwritableOutputIsAnErrorNamingThePath) {
   const auto r = run("render " + path("cube.json") + " --out " + path("no/dir/f.png"));
   EXPECT_EQ(r.status, 1) << r.out;

@@ -127,6 +127,40 @@ TEST(RenderColorScale, ChangeRangeIsSymmetricAndCoversEveryFrame) {
   EXPECT_DOUBLE_EQ(s.position(0), 0.5);
 }
 
+std::vector<std::string> change_labels(double hi) {
+  ColorScale s;
+  s.mode = ColorMode::kChange;
+  s.lo = -hi;
+  s.hi = hi;
+  std::vector<std::string> out;
+  for (const Tick& t : s.ticks()) {
+    out.push_back(t.label);
+    EXPECT_GE(t.t, 0.0);
+    EXPECT_LE(t.t, 1.0);
+    if (t.label == "×1") {
+      EXPECT_DOUBLE_EQ(t.t, 0.5);
+    }
+  }
+  return out;
+}
+
+TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
+  using L = std::vector<std::string>;
+  EXPECT_EQ(change_labels(0.5), (L{"×0.5", "×1", "×2"}));  // not x0.316, x3.16
+  EXPECT_EQ(change_labels(1), (L{"×0.1", "×0.2", "×0.5", "×1", "×2", "×5", "×10"}));
+  EXPECT_EQ(change_labels(2), (L{"×0.01", "×0.1", "×1", "×10", "×100"}));
+  EXPECT_EQ(change_labels(5), (L{"×10⁻⁴", "×0.01", "×1", "×100", "×10⁴"}));
+  EXPECT_EQ(change_labels(0.2), (L{"×0.8", "×1", "×1.2", "×1.4"}));
+  EXPECT_EQ(change_labels(0.1), (L{"×0.8", "×0.9", "×1", "×1.1", "×1.2"}));
+  EXPECT_EQ(change_labels(0.005), (L{"×0.99", "×0.995", "×1", "×1.005", "×1.01"}));
+  // Each tick sits at its ratio's own position on the log scale.
+  ColorScale s;
+  s.mode = ColorMode::kChange;
+  s.lo = -0.5;
+  s.hi = 0.5;
+  EXPECT_NEAR(s.ticks().front().t, (std::log10(0.5) + 0.5) / 1.0, 1e-12);
+}
+
 // ---------------------------------------------------------------------------------------
 // Pixels
 // ---------------------------------------------------------------------------------------
@@ -247,6 +281,115 @@ TEST(RenderPixels, SameSceneRenderedTwiceIsByteIdentical) {
   EXPECT_EQ(b.render(life, life.frames[0], scale, "stress"), first);
 }
 
+// Edge anti-aliasing (the default): a flat-shaded voxel turned 30 degrees keeps its exact
+// colour inside and the floor's outside, and its stair-stepped outline gets pixels mixed
+// from the two (each on the line between them); without anti-aliasing there are none.
+TEST(RenderPixels, EdgeAntialiasingBlendsOutlinesAndNothingElse) {
+  const int w = 160, h = 120;
+  const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
+  const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
+  FrameStyle st = small_style(w, h);
+  st.orthographic = true;
+  st.elevation_deg = 90;
+  st.azimuth_deg = -60;
+  st.lit = false;
+  const Rgb8 voxel = scale.color(*life.model, life.frames[0], 0), floor = Scene{}.floor_color;
+  auto mixed_pixels = [&](int samples) {
+    st.samples = samples;
+    LifeRenderer renderer(st);
+    const std::vector<uint8_t> img = renderer.render(life, life.frames[0], scale, "none");
+    EXPECT_EQ(Rgb8({pixel(img, w, w / 2, h / 2)[0], pixel(img, w, w / 2, h / 2)[1],
+                    pixel(img, w, w / 2, h / 2)[2]}),
+              voxel);
+    EXPECT_EQ(pixel(img, w, 2, 2)[1], floor[1]);
+    int mixed = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const uint8_t* p = pixel(img, w, x, y);
+        const Rgb8 c{p[0], p[1], p[2]};
+        if (c == voxel || c == floor) continue;
+        ++mixed;
+        // On the segment floor -> voxel: one blend fraction explains every channel.
+        int best = 0;
+        double f = 0;
+        for (int d = 0; d < 3; ++d)
+          if (std::abs(voxel[d] - floor[d]) > std::abs(voxel[best] - floor[best])) best = d;
+        f = (c[best] - floor[best]) / static_cast<double>(voxel[best] - floor[best]);
+        EXPECT_GE(f, -0.02);
+        EXPECT_LE(f, 1.02);
+        for (int d = 0; d < 3; ++d)
+          EXPECT_NEAR(c[d], floor[d] + f * (voxel[d] - floor[d]), 2.0)
+              << "pixel " << x << "," << y << " channel " << d;
+      }
+    return mixed;
+  };
+  EXPECT_EQ(mixed_pixels(1), 0);
+  EXPECT_GT(mixed_pixels(kEdgeAntialiasing), 20);
+}
+
+// The floor is drawn in pieces (only the one under the robot's shadow with the shadow
+// lookup); they meet without cracks: no pixel of the near floor shows the background.
+TEST(RenderPixels, FloorPiecesLeaveNoCracks) {
+  const int w = 320, h = 240;
+  const Life life = simulate_life(source_of(demo_walker(), Treatment::kNone), {0.0});
+  const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
+  const Rgb8 background = Scene{}.background;
+  for (const int samples : {1, kEdgeAntialiasing, 4}) {
+    FrameStyle st = small_style(w, h);
+    st.samples = samples;
+    for (const double azimuth : {-60.0, 10.0, 135.0}) {
+      st.azimuth_deg = azimuth;
+      LifeRenderer turned(st);
+      const std::vector<uint8_t> img = turned.render(life, life.frames[0], scale, "none");
+      int cracks = 0;
+      for (int y = h / 2; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const uint8_t* p = pixel(img, w, x, y);
+          cracks += p[0] == background[0] && p[1] == background[1] && p[2] == background[2];
+        }
+      EXPECT_EQ(cracks, 0) << "samples " << samples << ", azimuth " << azimuth;
+    }
+  }
+}
+
+// simulate_frames hands over exactly the frames simulate_life keeps, each with the
+// settling state the finished life reports (frames before the settle time: not settled).
+TEST(RenderLife, StreamedFramesEqualTheCollectedLife) {
+  const LifeSource src = source_of(demo_walker(), Treatment::kStress);
+  const std::vector<double> times = {0.0, 0.05, 0.1, 0.2, 0.25, 0.3};
+  const Life life = simulate_life(src, times);
+  ASSERT_TRUE(life.settled);
+  const std::shared_ptr<const Model> model = compile_life_model(src);
+  std::vector<LifeFrame> streamed;
+  simulate_frames(src, *model, times, [&](LifeFrame&& f) {
+    streamed.push_back(std::move(f));
+    return true;
+  });
+  ASSERT_EQ(streamed.size(), life.frames.size());
+  for (size_t k = 0; k < streamed.size(); ++k) {
+    const Frame& a = streamed[k].frame;
+    const Frame& b = life.frames[k];
+    EXPECT_EQ(a.time, b.time);
+    EXPECT_EQ(a.pos, b.pos);
+    EXPECT_EQ(a.size, b.size);
+    EXPECT_EQ(a.stiffness, b.stiffness);
+    const bool before = a.time < model->def.settle_time;
+    EXPECT_EQ(streamed[k].settled, !before) << "frame " << k;
+    if (!before) {
+      EXPECT_EQ(streamed[k].com_settled, life.com_settled);
+    }
+    Life view;
+    view.model = model;
+    view.settled = streamed[k].settled;
+    view.com_settled = streamed[k].com_settled;
+    EXPECT_EQ(displacement_so_far(view, a), displacement_so_far(life, b));
+  }
+  // Stopping early: the sink's false ends the simulation after that frame.
+  int seen = 0;
+  simulate_frames(src, *model, times, [&](LifeFrame&&) { return ++seen < 2; });
+  EXPECT_EQ(seen, 2);
+}
+
 // ---------------------------------------------------------------------------------------
 // Files: frames, videos, galleries, bad input
 // ---------------------------------------------------------------------------------------
@@ -315,6 +458,49 @@ TEST_F(RenderFiles, VideoDecodesWithTheExpectedFramesSizeAndDuration) {
   EXPECT_EQ(info.height, 48);
   EXPECT_NEAR(info.duration_s, 0.2, 0.034);
   EXPECT_EQ(files_in(dir_), 2);
+}
+
+// Simulation, drawing and encoding run on three threads; the bytes are the same every
+// time, with the default style (edge anti-aliasing, shadows, overlay) and for the colour
+// mode that simulates first.
+TEST_F(RenderFiles, VideoBytesAreTheSameEveryRun) {
+  write_robot_file(path("walker.json"), demo_walker());
+  FrameStyle st;
+  st.width = 160;
+  st.height = 96;
+  VideoJob job;
+  job.end = 0.4;  // 12 frames, settling included
+  auto bytes = [&](const std::string& name) {
+    std::ifstream in(path(name), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const ColorMode mode : {ColorMode::kCongenital, ColorMode::kChange}) {
+    st.color = mode;
+    EXPECT_EQ(render_video_file(path("walker.json"), st, job, path("a.mp4")).frames, 12);
+    render_video_file(path("walker.json"), st, job, path("b.mp4"));
+    EXPECT_TRUE(bytes("a.mp4") == bytes("b.mp4")) << to_string(mode);
+    EXPECT_GT(bytes("a.mp4").size(), 1000u);
+  }
+  EXPECT_EQ(files_in(dir_), 3);
+}
+
+// A simulation that goes unstable part way (a random 1000-voxel body under the stress
+// treatment, at ~0.25 s) stops the three-thread video with the simulation's error, after
+// the earlier frames were drawn, and leaves no file.
+TEST_F(RenderFiles, UnstableSimulationStopsTheVideoAndLeavesNothing) {
+  PhysicsDef physics = preset_gecco2018_code();
+  physics.treatment = Treatment::kStress;
+  write_robot_file(path("unstable.json"), demo_irregular(1000, 7), &physics);
+  FrameStyle st = small_style(64, 48);
+  VideoJob job;
+  job.end = 1.0;
+  try {
+    render_video_file(path("unstable.json"), st, job, path("v.mp4"));
+    FAIL() << "expected an error";
+  } catch (const RenderError& e) {
+    EXPECT_NE(std::string(e.what()).find("went unstable"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(files_in(dir_), 1);  // only the input
 }
 
 TEST_F(RenderFiles, GalleryHasOneLabelledTilePerInputEachShowingItsRobot) {

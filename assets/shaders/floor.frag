@@ -1,6 +1,6 @@
 // Floor shading: a grid of voxel-length squares (every 10th line bolder) anti-aliased with
 // screen-space derivatives, the robot's soft shadow, and a fade into the background far
-// from the target.
+// from the target. Compiled twice: FLOOR_UNSHADOWED for the floor outside the shadow map.
 in vec3 v_world;
 
 uniform bool u_lit;
@@ -33,7 +33,11 @@ void main() {
   float minor = grid_line(v_world.xy, u_grid, 1.0);
   float major = grid_line(v_world.xy, u_grid * 10.0, 1.6);
   base *= 1.0 - 0.10 * minor - 0.16 * major;
+#ifdef FLOOR_UNSHADOWED
+  float vis = 1.0;  // outside the shadow map's footprint
+#else
   float vis = light_visibility(v_world, 0.001);
+#endif
   vec3 c = base * (0.62 + 0.38 * u_light_dir.z * mix(0.35, 1.0, vis));
   float r = length(v_world.xy - u_target.xy) / u_fade;
   float fade = smoothstep(0.45, 1.0, r);

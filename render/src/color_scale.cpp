@@ -30,6 +30,51 @@ std::string superscript(int n) {
   return s;
 }
 
+// Tick ratios for a "change" scale from 1/top to top (top > 1), ascending. From x2 up: 1-2-5
+// ratios and their reciprocals (x0.5, x1, x2, x5; then only decades if that gives more than
+// nine, then every second decade). Below: ratios 1 + k * step for a 1-2-5 step giving about
+// six intervals (x0.9, x1, x1.1), which read better than x0.891 and x1.12.
+std::vector<double> change_ticks(double top) {
+  std::vector<double> out;
+  if (top >= 2 * (1 - 1e-9)) {
+    const int decades = static_cast<int>(std::floor(std::log10(top) + 1e-9));
+    auto ticks_with = [&](std::vector<double> mantissas, int every) {
+      std::vector<double> t;
+      for (int e = -decades - 1; e <= decades; ++e) {
+        if (((e % every) + every) % every != 0) continue;
+        for (const double m : mantissas) {
+          const double up = m * std::pow(10.0, e);
+          if (up >= 1 - 1e-9 && up <= top * (1 + 1e-9)) t.push_back(up);
+        }
+      }
+      std::vector<double> all;
+      for (auto it = t.rbegin(); it != t.rend(); ++it)
+        if (*it > 1 + 1e-9) all.push_back(1 / *it);
+      all.insert(all.end(), t.begin(), t.end());
+      return all;
+    };
+    out = ticks_with({1, 2, 5}, 1);
+    if (out.size() > 9) out = ticks_with({1}, 1);
+    if (out.size() > 9) out = ticks_with({1}, 2);
+    return out;
+  }
+  const double step = nice_step(top - 1 / top, 6);
+  const int below = static_cast<int>(std::floor((1 - 1 / top) / step + 1e-9));
+  const int above = static_cast<int>(std::floor((top - 1) / step + 1e-9));
+  for (int k = -below; k <= above; ++k) out.push_back(std::round((1 + k * step) * 1e9) / 1e9);
+  return out;
+}
+
+// "×0.5", "×1", "×1.05", "×20"; decades beyond a thousand as powers ("×10⁴", "×10⁻⁴").
+std::string ratio_label(double r) {
+  const double e = std::log10(r);
+  if (std::abs(e) > 3 - 1e-9 && std::abs(e - std::round(e)) < 1e-9)
+    return "×10" + superscript(static_cast<int>(std::round(e)));
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", r);
+  return std::string("×") + buf;
+}
+
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", std::abs(v) < 1e-12 ? 0.0 : v);
@@ -113,17 +158,11 @@ std::vector<Tick> ColorScale::ticks() const {
         add(e, "10" + superscript(e));
       break;
     }
-    case ColorMode::kChange: {
-      // Ratios at 1-2-5 steps in log10, labelled as ratios ("×2", "×0.5").
-      const double step = nice_step(span, 4);
-      for (double v = -std::floor(hi / step) * step; v <= hi + 1e-9; v += step) {
-        const double ratio = std::pow(10.0, v);
-        char buf[32];
-        std::snprintf(buf, sizeof buf, ratio >= 0.995 && ratio < 1.005 ? "%.0f" : "%.3g", ratio);
-        add(v, std::string("×") + buf);
-      }
+    case ColorMode::kChange:
+      // Ratios with short exact labels, each at its own log10 position (not necessarily
+      // symmetric about x1).
+      for (const double r : change_ticks(std::pow(10.0, hi))) add(std::log10(r), ratio_label(r));
       break;
-    }
     case ColorMode::kAlpha: {
       const double step = nice_step(span, 4);
       for (double v = -std::floor(hi / step) * step; v <= hi + 1e-9; v += step) add(v, number(v));

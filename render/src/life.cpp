@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
@@ -61,41 +62,82 @@ LifeSource load_life_source(const std::string& path, int generation) {
   return src;
 }
 
-Life simulate_life(const LifeSource& source, const std::vector<double>& times,
-                   const std::function<void(double)>& progress) {
+std::shared_ptr<const Model> compile_life_model(const LifeSource& source) {
+  PhysicsDef def = source.physics;
+  def.record_fps = 0;  // frames are captured at the requested times
+  return std::make_shared<const Model>(compile(source.robot, def));
+}
+
+void simulate_frames(const LifeSource& source, const Model& model, const std::vector<double>& times,
+                     const std::function<bool(LifeFrame&&)>& sink,
+                     const std::function<void(double)>& progress) {
   for (size_t k = 0; k < times.size(); ++k) {
     if (!(times[k] >= 0 && times[k] <= source.physics.duration + 1e-12))
       throw RenderError(source.path + ": time " + std::to_string(times[k]) +
                         " s is outside the life [0, " + std::to_string(source.physics.duration) +
                         "] s");
     if (k > 0 && times[k] < times[k - 1])
-      throw RenderError("simulate_life: times must be ascending");
+      throw RenderError("simulate_frames: times must be ascending");
   }
-  PhysicsDef def = source.physics;
-  def.record_fps = 0;  // frames are captured here, at the requested times
-  Life life;
-  life.model = std::make_shared<const Model>(compile(source.robot, def));
-  const Model& model = *life.model;
   Simulator sim(model);
   const State& s = sim.state();
+  // Frames at or after the settle time wait here until the simulation has settled (it
+  // settles on the first step past the settle time), so each goes out with the centre of
+  // mass the finished life would report.
+  std::deque<Frame> waiting;
+  bool stopped = false;
+  auto hand_over = [&](bool finished) {
+    while (!stopped && !waiting.empty() &&
+           (finished || s.settled || waiting.front().time < model.def.settle_time)) {
+      LifeFrame f;
+      f.frame = std::move(waiting.front());
+      waiting.pop_front();
+      f.settled = s.settled;
+      f.com_settled = s.settled ? s.com_settled : Eigen::Vector3d::Zero();
+      stopped = !sink(std::move(f));
+    }
+  };
   const double end = times.empty() ? 0 : times.back();
   double next_report = 0;
   for (double t : times) {
     while (s.time < t && s.status == SimStatus::kRunning) {
       sim.step();
+      if (!waiting.empty()) hand_over(false);
+      if (stopped) return;
       if (progress && end > 0 && s.time >= next_report) {
         progress(std::min(1.0, s.time / end));
         next_report = s.time + end / 100;
       }
     }
-    if (s.status != SimStatus::kRunning)
+    if (s.status != SimStatus::kRunning) {
+      hand_over(true);
       throw RenderError(source.path + ": the simulation went unstable at t = " +
                         std::to_string(s.time) + " s (" + s.failure + ")");
-    life.frames.push_back(capture(s, sim.voxel_sizes(), model));
+    }
+    waiting.push_back(capture(s, sim.voxel_sizes(), model));
+    hand_over(false);
+    if (stopped) return;
   }
-  life.settled = s.settled;
-  life.com_settled = s.settled ? s.com_settled : Eigen::Vector3d::Zero();
-  if (progress) progress(1.0);
+  hand_over(true);
+  if (progress && !stopped) progress(1.0);
+}
+
+Life simulate_life(const LifeSource& source, const std::vector<double>& times,
+                   const std::function<void(double)>& progress) {
+  Life life;
+  life.model = compile_life_model(source);
+  life.frames.reserve(times.size());
+  simulate_frames(
+      source, *life.model, times,
+      [&](LifeFrame&& f) {
+        // Every frame leaves with the final settling state but the ones before settling,
+        // which leave with "not settled" and do not use it.
+        life.settled = f.settled;
+        life.com_settled = f.com_settled;
+        life.frames.push_back(std::move(f.frame));
+        return true;
+      },
+      progress);
   return life;
 }
 

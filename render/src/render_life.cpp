@@ -1,10 +1,16 @@
 #include "plastivox/render/render_life.hpp"
 
+#include <time.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <exception>
 #include <filesystem>
+#include <mutex>
+#include <thread>
 
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/video_writer.hpp"
@@ -19,6 +25,52 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 void say(const LogFn& log, const std::string& line) {
   if (log) log(line);
 }
+
+// A bounded first-in first-out hand-over between two threads. close() ends it after the
+// items already in it; cancel() ends it at once for both sides (a failure elsewhere).
+template <class T>
+class Channel {
+ public:
+  explicit Channel(size_t capacity) : capacity_(capacity) {}
+
+  // Waits while full; false if cancelled (the item is dropped).
+  bool push(T&& item) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    not_full_.wait(lock, [&] { return cancelled_ || items_.size() < capacity_; });
+    if (cancelled_) return false;
+    items_.push_back(std::move(item));
+    not_empty_.notify_one();
+    return true;
+  }
+  // Waits while empty; false once closed and drained, or cancelled.
+  bool pop(T& out) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    not_empty_.wait(lock, [&] { return cancelled_ || closed_ || !items_.empty(); });
+    if (cancelled_ || items_.empty()) return false;
+    out = std::move(items_.front());
+    items_.pop_front();
+    not_full_.notify_one();
+    return true;
+  }
+  void close() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closed_ = true;
+    not_empty_.notify_all();
+  }
+  void cancel() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cancelled_ = true;
+    not_empty_.notify_all();
+    not_full_.notify_all();
+  }
+
+ private:
+  const size_t capacity_;
+  std::mutex mutex_;
+  std::condition_variable not_full_, not_empty_;
+  std::deque<T> items_;
+  bool closed_ = false, cancelled_ = false;
+};
 
 }  // namespace
 
@@ -106,16 +158,32 @@ VideoSummary render_video_file(const std::string& source_path, const FrameStyle&
   std::vector<double> times(count);
   for (int k = 0; k < count; ++k) times[k] = job.start + k * step;
 
+  // Three stages run at once: the (single-threaded) simulation, drawing on this thread
+  // (llvmpipe adds its own threads) and encoding. Each stage works in frame order and hands
+  // frames on in order, so the bytes are those of doing one after the other. Every colour
+  // mode but "change" depends on the model alone; "change" spans the stiffness changes of
+  // all frames, so there the simulation finishes before drawing starts.
   VideoSummary summary;
-  auto t0 = std::chrono::steady_clock::now();
-  say(log, "simulating " + source_path + " (" + std::to_string(count) + " frames to capture)");
-  const Life life = simulate_life(source, times);
-  summary.simulate_seconds = seconds_since(t0);
-
+  const auto start = std::chrono::steady_clock::now();
+  const std::shared_ptr<const Model> model = compile_life_model(source);
+  const bool scale_needs_frames = style.color == ColorMode::kChange;
+  std::vector<LifeFrame> simulated;  // all frames, when the scale needs them
+  if (scale_needs_frames) {
+    say(log, "simulating " + source_path + " (" + std::to_string(count) + " frames to capture)");
+    simulated.reserve(count);
+    simulate_frames(source, *model, times, [&](LifeFrame&& f) {
+      simulated.push_back(std::move(f));
+      return true;
+    });
+    summary.simulate_seconds = seconds_since(start);
+  } else {
+    say(log, "simulating " + source_path + " (" + std::to_string(count) +
+                 " frames to capture) while drawing and encoding");
+  }
   std::vector<const Frame*> frames;
-  for (const Frame& f : life.frames) frames.push_back(&f);
-  const ColorScale scale = make_color_scale(style.color, *life.model, frames);
-  t0 = std::chrono::steady_clock::now();
+  for (const LifeFrame& f : simulated) frames.push_back(&f.frame);
+  const ColorScale scale = make_color_scale(style.color, *model, frames);
+
   VideoOptions vo;
   vo.width = style.width;
   vo.height = style.height;
@@ -124,14 +192,81 @@ VideoSummary render_video_file(const std::string& source_path, const FrameStyle&
   VideoWriter writer(out, vo);
   LifeRenderer renderer(style);
   const std::string treatment = to_string(source.physics.treatment);
+
+  Channel<LifeFrame> from_simulation(32);  // ~150 kB a frame for 1000 voxels
+  Channel<std::vector<uint8_t>> to_encoder(3);
+  std::exception_ptr simulation_error, encoder_error;
+  double simulation_seconds = 0;
+  std::thread simulation, encoder;
+  // Declared after the writer: on any exit the workers are stopped and joined before the
+  // writer (and its temporary file) goes.
+  struct Workers {
+    Channel<LifeFrame>& a;
+    Channel<std::vector<uint8_t>>& b;
+    std::thread& s;
+    std::thread& e;
+    ~Workers() {
+      a.cancel();
+      b.cancel();
+      if (s.joinable()) s.join();
+      if (e.joinable()) e.join();
+    }
+  } workers{from_simulation, to_encoder, simulation, encoder};
+
+  if (!scale_needs_frames) {
+    simulation = std::thread([&] {
+      try {
+        simulate_frames(source, *model, times,
+                        [&](LifeFrame&& f) { return from_simulation.push(std::move(f)); });
+      } catch (...) {
+        simulation_error = std::current_exception();
+      }
+      // The thread's CPU time: its wall time would include waiting for the drawing.
+      timespec cpu{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
+      simulation_seconds = cpu.tv_sec + 1e-9 * cpu.tv_nsec;
+      from_simulation.close();
+    });
+  }
+  encoder = std::thread([&] {
+    try {
+      std::vector<uint8_t> rgba;
+      while (to_encoder.pop(rgba)) writer.add_frame(rgba.data());
+    } catch (...) {
+      encoder_error = std::current_exception();
+      to_encoder.cancel();
+    }
+  });
+
+  const auto draw_start = std::chrono::steady_clock::now();
+  int drawn = 0;
   for (int k = 0; k < count; ++k) {
-    const std::vector<uint8_t> rgba = renderer.render(life, life.frames[k], scale, treatment);
-    writer.add_frame(rgba.data());
+    LifeFrame f;
+    if (scale_needs_frames)
+      f = std::move(simulated[k]);
+    else if (!from_simulation.pop(f))
+      break;    // the simulation failed
+    Life life;  // what the overlay needs of the life: the model and settling
+    life.model = model;
+    life.settled = f.settled;
+    life.com_settled = f.com_settled;
+    if (!to_encoder.push(renderer.render(life, f.frame, scale, treatment))) break;  // failed
+    ++drawn;
     if ((k + 1) % 30 == 0 || k + 1 == count)
       say(log, "frame " + std::to_string(k + 1) + "/" + std::to_string(count));
   }
+  to_encoder.close();
+  // Every frame is drawn, or something failed: either way the simulation has nothing more
+  // to hand over (and must not wait for room to do so).
+  from_simulation.cancel();
+  if (simulation.joinable()) simulation.join();
+  encoder.join();
+  if (simulation_error) std::rethrow_exception(simulation_error);
+  if (encoder_error) std::rethrow_exception(encoder_error);
+  if (drawn != count) throw RenderError(source_path + ": the simulation stopped early");
   writer.finish();
-  summary.render_seconds = seconds_since(t0);
+  if (!scale_needs_frames) summary.simulate_seconds = simulation_seconds;
+  summary.render_seconds = seconds_since(draw_start);
   summary.frames = count;
   summary.duration_s = count / job.fps;
   summary.codec = writer.codec_name();

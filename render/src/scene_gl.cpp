@@ -4,9 +4,12 @@
 // Passes per draw():
 //   1. shadow map: depth of the boxes seen from the key light (orthographic, fitted to the
 //      boxes' bounding sphere), 2048^2, sampled with hardware comparison and 16 taps;
-//   2. colour: background clear, floor (grid, shadow, fade), boxes (instanced), into a
-//      multisampled framebuffer of the viewport's size;
-//   3. resolve: blit into the viewport of the default framebuffer (OSMesa's image).
+//   2. colour: background clear, boxes (instanced, front to back), floor (grid, shadow,
+//      fade), into a framebuffer of the viewport's size: one sample per pixel (edge
+//      anti-aliasing, the default; or no anti-aliasing) or multisampled;
+//   3. into the viewport of the default framebuffer (OSMesa's image): the edge
+//      anti-aliasing pass (edge_aa.frag) reading the one-sample image, or a blit (resolving
+//      the samples).
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -41,10 +44,10 @@ GLuint compile_shader(GLenum type, const std::string& source, const std::string&
   return sh;
 }
 
-// Program from assets/shaders/<name>.vert and .frag, with common.glsl (and, for fragment
-// shaders, shadow_lookup.glsl) prepended.
-GLuint load_program(const std::string& name) {
-  const std::string header = "#version 330 core\n";
+// Program from assets/shaders/<name>.vert and .frag, with `defines` (#define lines) and
+// common.glsl (and, for fragment shaders, shadow_lookup.glsl) prepended.
+GLuint load_program(const std::string& name, const std::string& defines = "") {
+  const std::string header = "#version 330 core\n" + defines;
   const std::string common = read_asset("shaders/common.glsl");
   const std::string lookup = read_asset("shaders/shadow_lookup.glsl");
   const GLuint vs = compile_shader(
@@ -130,34 +133,105 @@ void cube_mesh(std::vector<float>& vertices, std::vector<GLushort>& indices) {
     }
 }
 
+// The rectangle (lo, hi) of the floor plane z = 0 where the boxes inside the box
+// (box_lo, box_hi) can cast a shadow from a light in direction `light` (unit, towards the
+// light, light.z > 0): the bounding rectangle of the box's corners moved along the light onto
+// the floor, and of the box's own footprint, with a margin for the filter's blur. Returns
+// false if the light grazes the floor (then no rectangle bounds the shadow).
+bool shadow_footprint(const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
+                      const Eigen::Vector3d& light, Eigen::Vector2d& lo, Eigen::Vector2d& hi) {
+  if (light.z() < 0.05) return false;
+  Eigen::Vector2d l = Eigen::Vector2d::Constant(1e30), h = -l;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d c((k & 1) ? box_hi.x() : box_lo.x(), (k & 2) ? box_hi.y() : box_lo.y(),
+                            (k & 4) ? box_hi.z() : box_lo.z());
+    for (const double z : {c.z(), 0.0}) {  // the corner's shadow and the corner above the floor
+      const Eigen::Vector2d p = c.head<2>() - std::max(z, 0.0) / light.z() * light.head<2>();
+      l = l.cwiseMin(p);
+      h = h.cwiseMax(p);
+    }
+  }
+  const double margin = 0.05 * (h - l).maxCoeff() + 1e-6;
+  lo = l.array() - margin;
+  hi = h.array() + margin;
+  return true;
+}
+
+// The floor square (half-size `half` about `centre`, z = 0) cut into a 3x3 grid of quads by
+// the rectangle (lo, hi), clamped into the square; the middle quad first. Neighbouring
+// quads share whole edges (no T-junctions), so rasterization leaves no cracks between them.
+// Two triangles (x, y, 0 per corner) per quad: 54 vertices.
+std::vector<float> floor_pieces(const Eigen::Vector2d& centre, double half, Eigen::Vector2d lo,
+                                Eigen::Vector2d hi) {
+  const Eigen::Vector2d a = centre.array() - half, b = centre.array() + half;
+  lo = lo.cwiseMax(a).cwiseMin(b);
+  hi = hi.cwiseMax(lo).cwiseMin(b);
+  const double xs[4] = {a.x(), lo.x(), hi.x(), b.x()}, ys[4] = {a.y(), lo.y(), hi.y(), b.y()};
+  std::vector<float> out;
+  out.reserve(54 * 3);
+  auto quad = [&](int i, int j) {
+    const float x0 = static_cast<float>(xs[i]), x1 = static_cast<float>(xs[i + 1]);
+    const float y0 = static_cast<float>(ys[j]), y1 = static_cast<float>(ys[j + 1]);
+    out.insert(out.end(), {x0, y0, 0, x1, y0, 0, x1, y1, 0, x0, y0, 0, x1, y1, 0, x0, y1, 0});
+  };
+  quad(1, 1);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      if (i != 1 || j != 1) quad(i, j);
+  return out;
+}
+
 }  // namespace
 
 struct SceneRenderer::Impl {
   OffscreenContext* ctx = nullptr;
-  GLuint box_prog = 0, floor_prog = 0, shadow_prog = 0;
-  GLuint box_vao = 0, floor_vao = 0;
-  GLuint cube_vbo = 0, cube_ibo = 0, instance_vbo = 0, floor_vbo = 0;
+  GLuint box_prog = 0, floor_prog = 0, floor_plain_prog = 0, shadow_prog = 0;
+  GLuint edge_prog = 0, edge_detect_prog = 0;
+  GLuint box_vao = 0, floor_vao = 0, edge_vao = 0;
+  GLuint cube_vbo = 0, cube_ibo = 0, instance_vbo = 0, floor_vbo = 0, edge_vbo = 0;
   GLuint shadow_fbo = 0, shadow_tex = 0;
-  GLuint target_fbo = 0, target_color = 0, target_depth = 0;
-  int target_w = 0, target_h = 0, target_samples = 0;
+  // The colour target: a renderbuffer (multisampled or not), or for edge anti-aliasing a
+  // texture the edge pass reads.
+  GLuint target_fbo = 0, target_color = 0, target_texture = 0, target_depth = 0;
+  int target_w = 0, target_h = 0, target_samples = -1;
 
+  void release_target() {
+    if (!target_fbo) return;
+    glDeleteFramebuffers(1, &target_fbo);
+    if (target_color) glDeleteRenderbuffers(1, &target_color);
+    if (target_texture) glDeleteTextures(1, &target_texture);
+    glDeleteRenderbuffers(1, &target_depth);
+    target_fbo = target_color = target_texture = target_depth = 0;
+  }
+
+  // samples: kEdgeAntialiasing (one sample, colour in a texture), 1, or 2..8.
   void ensure_target(int w, int h, int samples) {
     if (w == target_w && h == target_h && samples == target_samples) return;
-    if (target_fbo) {
-      glDeleteFramebuffers(1, &target_fbo);
-      glDeleteRenderbuffers(1, &target_color);
-      glDeleteRenderbuffers(1, &target_depth);
-    }
+    release_target();
     glGenFramebuffers(1, &target_fbo);
-    glGenRenderbuffers(1, &target_color);
+    glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
+    if (samples == kEdgeAntialiasing) {
+      glGenTextures(1, &target_texture);
+      glBindTexture(GL_TEXTURE_2D, target_texture);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      glBindTexture(GL_TEXTURE_2D, 0);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target_texture,
+                             0);
+    } else {
+      glGenRenderbuffers(1, &target_color);
+      glBindRenderbuffer(GL_RENDERBUFFER, target_color);
+      glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0, GL_RGBA8, w, h);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                target_color);
+    }
     glGenRenderbuffers(1, &target_depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, target_color);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0, GL_RGBA8, w, h);
     glBindRenderbuffer(GL_RENDERBUFFER, target_depth);
     glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0,
                                      GL_DEPTH_COMPONENT24, w, h);
-    glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, target_color);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, target_depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw RenderError("the " + std::to_string(w) + "x" + std::to_string(h) + " render target (" +
@@ -175,7 +249,10 @@ SceneRenderer::SceneRenderer(OffscreenContext& ctx) : impl_(std::make_unique<Imp
   FpTrapsMasked masked;
   g.box_prog = load_program("box");
   g.floor_prog = load_program("floor");
+  g.floor_plain_prog = load_program("floor", "#define FLOOR_UNSHADOWED 1\n");
   g.shadow_prog = load_program("shadow");
+  g.edge_prog = load_program("edge_aa");
+  g.edge_detect_prog = load_program("edge_aa", "#define EDGE_DETECT 1\n");
 
   std::vector<float> verts;
   std::vector<GLushort> idx;
@@ -209,12 +286,21 @@ SceneRenderer::SceneRenderer(OffscreenContext& ctx) : impl_(std::make_unique<Imp
     offset += sizes[a];
   }
 
-  const float quad[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  // Floor pieces are world positions, uploaded with each scene.
   glGenVertexArrays(1, &g.floor_vao);
   glBindVertexArray(g.floor_vao);
   glGenBuffers(1, &g.floor_vbo);
   glBindBuffer(GL_ARRAY_BUFFER, g.floor_vbo);
-  glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+
+  // One triangle covering the viewport, for the edge anti-aliasing pass.
+  const float cover[] = {-1, -1, 0, 3, -1, 0, -1, 3, 0};
+  glGenVertexArrays(1, &g.edge_vao);
+  glBindVertexArray(g.edge_vao);
+  glGenBuffers(1, &g.edge_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.edge_vbo);
+  glBufferData(GL_ARRAY_BUFFER, sizeof cover, cover, GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
   glBindVertexArray(0);
@@ -245,18 +331,17 @@ SceneRenderer::~SceneRenderer() {
   FpTrapsMasked masked;
   glDeleteProgram(g.box_prog);
   glDeleteProgram(g.floor_prog);
+  glDeleteProgram(g.floor_plain_prog);
   glDeleteProgram(g.shadow_prog);
-  const GLuint buffers[] = {g.cube_vbo, g.cube_ibo, g.instance_vbo, g.floor_vbo};
-  glDeleteBuffers(4, buffers);
-  const GLuint vaos[] = {g.box_vao, g.floor_vao};
-  glDeleteVertexArrays(2, vaos);
+  glDeleteProgram(g.edge_prog);
+  glDeleteProgram(g.edge_detect_prog);
+  const GLuint buffers[] = {g.cube_vbo, g.cube_ibo, g.instance_vbo, g.floor_vbo, g.edge_vbo};
+  glDeleteBuffers(5, buffers);
+  const GLuint vaos[] = {g.box_vao, g.floor_vao, g.edge_vao};
+  glDeleteVertexArrays(3, vaos);
   glDeleteFramebuffers(1, &g.shadow_fbo);
   glDeleteTextures(1, &g.shadow_tex);
-  if (g.target_fbo) {
-    glDeleteFramebuffers(1, &g.target_fbo);
-    glDeleteRenderbuffers(1, &g.target_color);
-    glDeleteRenderbuffers(1, &g.target_depth);
-  }
+  g.release_target();
 }
 
 void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
@@ -268,7 +353,8 @@ void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
     throw RenderError("viewport outside the image");
   ctx.make_current();
   FpTrapsMasked masked;
-  const int samples = std::clamp(scene.samples, 1, 8);
+  const int samples =
+      scene.samples == kEdgeAntialiasing ? kEdgeAntialiasing : std::clamp(scene.samples, 1, 8);
   g.ensure_target(vp.width, vp.height, samples);
 
   // Instance data. An orthographic eye is moved back far enough that nothing near the
@@ -284,7 +370,7 @@ void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
   std::sort(order.begin(), order.end());
   std::vector<float> inst;
   inst.reserve(scene.boxes.size() * 11);
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
+  Eigen::Vector3d lo3 = Eigen::Vector3d::Constant(1e30), hi3 = -lo3;  // the boxes' bounds
   for (const auto& [depth, index] : order) {
     const Box& b = scene.boxes[index];
     const Eigen::Quaternionf q = b.orient.normalized();
@@ -292,8 +378,8 @@ void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
                 {b.center.x(), b.center.y(), b.center.z(), q.x(), q.y(), q.z(), q.w(), b.edge,
                  b.color[0] / 255.0f, b.color[1] / 255.0f, b.color[2] / 255.0f});
     const Eigen::Vector3d c = b.center.cast<double>();
-    lo = lo.cwiseMin(c - Eigen::Vector3d::Constant(b.edge));
-    hi = hi.cwiseMax(c + Eigen::Vector3d::Constant(b.edge));
+    lo3 = lo3.cwiseMin(c - Eigen::Vector3d::Constant(b.edge));
+    hi3 = hi3.cwiseMax(c + Eigen::Vector3d::Constant(b.edge));
   }
   const GLsizei count = static_cast<GLsizei>(scene.boxes.size());
   glBindBuffer(GL_ARRAY_BUFFER, g.instance_vbo);
@@ -309,8 +395,8 @@ void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
   Eigen::Matrix4d light_vp = Eigen::Matrix4d::Identity();
   const bool shadows = scene.shadows && scene.lit && count > 0;
   if (shadows) {
-    const Eigen::Vector3d centre = 0.5 * (lo + hi);
-    const double radius = 0.5 * (hi - lo).norm() * 1.1;
+    const Eigen::Vector3d centre = 0.5 * (lo3 + hi3);
+    const double radius = 0.5 * (hi3 - lo3).norm() * 1.1;
     Camera lc;
     lc.target = centre;
     lc.orthographic = true;
@@ -369,29 +455,75 @@ void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
     glDisable(GL_CULL_FACE);
   }
 
-  // The floor after the boxes: the depth test then skips the floor behind the robot.
+  // The floor after the boxes: the depth test then skips the floor behind the robot. Only
+  // the part the shadow map covers is drawn with the shadow lookup; llvmpipe runs both sides
+  // of a branch, so a lookup skipped by a test in the shader would still cost its 16 taps.
   if (scene.floor) {
     glDisable(GL_CULL_FACE);
-    common_uniforms(g.floor_prog);
     const double fade = reach * 2.5;
-    set_vec3(g.floor_prog, "u_floor_center", cam.target);
-    set_float(g.floor_prog, "u_floor_half", fade);
-    set_vec3(g.floor_prog, "u_target", cam.target);
-    set_float(g.floor_prog, "u_fade", fade);
-    set_float(g.floor_prog, "u_grid", scene.grid_spacing);
-    set_rgb(g.floor_prog, "u_floor_color", scene.floor_color);
-    set_linear(g.floor_prog, "u_floor_linear", scene.floor_color);
-    set_linear(g.floor_prog, "u_background_linear", scene.background);
+    const Eigen::Vector2d centre = cam.target.head<2>();
+    // The shadowed rectangle: empty without shadows, the whole floor if the light grazes it.
+    Eigen::Vector2d lo = centre, hi = centre;
+    if (shadows && !shadow_footprint(lo3, hi3, light, lo, hi)) {
+      lo = centre.array() - fade;
+      hi = centre.array() + fade;
+    }
+    const std::vector<float> pieces = floor_pieces(centre, fade, lo, hi);
+    glBindBuffer(GL_ARRAY_BUFFER, g.floor_vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(pieces.size() * sizeof(float)),
+                 pieces.data(), GL_STREAM_DRAW);
     glBindVertexArray(g.floor_vao);
-    glDrawArrays(GL_TRIANGLE_FAN, 0, 4);
+    for (const GLuint prog : {g.floor_prog, g.floor_plain_prog}) {
+      common_uniforms(prog);
+      set_vec3(prog, "u_target", cam.target);
+      set_float(prog, "u_fade", fade);
+      set_float(prog, "u_grid", scene.grid_spacing);
+      set_rgb(prog, "u_floor_color", scene.floor_color);
+      set_linear(prog, "u_floor_linear", scene.floor_color);
+      set_linear(prog, "u_background_linear", scene.background);
+      if (prog == g.floor_prog)
+        glDrawArrays(GL_TRIANGLES, 0, 6);  // the middle piece
+      else
+        glDrawArrays(GL_TRIANGLES, 6, 48);
+    }
   }
-  // 3. Resolve into the viewport of OSMesa's image (GL rows count from the bottom).
+  // 3. Into the viewport of OSMesa's image (GL rows count from the bottom).
+  const int y0 = ctx.height() - vp.y - vp.height;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, g.target_fbo);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-  const int y0 = ctx.height() - vp.y - vp.height;
   glBlitFramebuffer(0, 0, vp.width, vp.height, vp.x, y0, vp.x + vp.width, y0 + vp.height,
                     GL_COLOR_BUFFER_BIT, GL_NEAREST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (samples == kEdgeAntialiasing) {
+    // Edge pixels are marked in the stencil buffer (1), then only they are redrawn.
+    glViewport(vp.x, y0, vp.width, vp.height);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(vp.x, y0, vp.width, vp.height);
+    glStencilMask(0xFF);
+    glClearStencil(0);
+    glClear(GL_STENCIL_BUFFER_BIT);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_STENCIL_TEST);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, g.target_texture);
+    glBindVertexArray(g.edge_vao);
+    for (const GLuint prog : {g.edge_detect_prog, g.edge_prog}) {
+      const bool detect = prog == g.edge_detect_prog;
+      glUseProgram(prog);
+      set_int(prog, "u_image", 0);
+      glUniform2i(glGetUniformLocation(prog, "u_size"), vp.width, vp.height);
+      glUniform2f(glGetUniformLocation(prog, "u_origin"), static_cast<float>(vp.x),
+                  static_cast<float>(y0));
+      glColorMask(!detect, !detect, !detect, !detect);
+      glStencilFunc(detect ? GL_ALWAYS : GL_EQUAL, 1, 0xFF);
+      glStencilOp(GL_KEEP, GL_KEEP, detect ? GL_REPLACE : GL_KEEP);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+  }
   glBindVertexArray(0);
   glUseProgram(0);
   glDisable(GL_DEPTH_TEST);

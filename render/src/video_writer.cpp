@@ -124,8 +124,11 @@ void VideoWriter::Impl::open_encoder() {
     av_dict_set(&opts, "preset", "medium", 0);
     av_dict_set_int(&opts, "crf", options.quality, 0);
     // Frame threads (not slices) so the stream is the same as a single-threaded one's in
-    // structure; the thread count itself is fixed by options.threads.
-    av_dict_set(&opts, "x264-params", "sliced-threads=0", 0);
+    // structure; the thread count itself is fixed by options.threads. No MB-tree rate
+    // control: x264 0.164's MB-tree reads memory it has not written, so its output followed
+    // whatever the heap held before (same frames, different bytes once other work -- or
+    // another thread -- had used that memory; see the heap test in video_writer_test).
+    av_dict_set(&opts, "x264-params", "sliced-threads=0:mbtree=0", 0);
   } else {
     // MPEG-4 Part 2 at a constant quantiser q = quality/5 in 2..10: CRF 20 -> q 4, which
     // looks about as clean as x264 at CRF 20 (at several times the size).

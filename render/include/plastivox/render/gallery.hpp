@@ -15,7 +15,7 @@ struct GalleryStyle {
   int width = 1920, height = 1080;  // pixels of the whole gallery
   int columns = 0;                  // 0: chosen so tiles are about as wide as tall
   double time = -1;                 // simulated time shown, s (< 0: the end of settling)
-  int samples = 4;                  // anti-aliasing samples
+  int samples = 4;                  // Scene::samples: 4x multisampling (0: edge, 1: none)
   bool labels = true;               // run label (treatment · seed) under each tile
   bool colorbar = true;             // the shared colour bar on the right
 };

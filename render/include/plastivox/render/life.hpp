@@ -42,6 +42,27 @@ struct Life {
 Life simulate_life(const LifeSource& source, const std::vector<double>& times,
                    const std::function<void(double)>& progress = {});
 
+// One captured frame as simulate_frames() hands it over, with what was known of settling
+// then: exactly what the finished Life would say (a frame at or after the settle time is
+// held back until the simulation has settled).
+struct LifeFrame {
+  Frame frame;
+  bool settled = false;
+  Eigen::Vector3d com_settled = Eigen::Vector3d::Zero();
+};
+
+// The compiled model of a source's robot under its physics, with recording off (frames are
+// captured at requested times instead).
+std::shared_ptr<const Model> compile_life_model(const LifeSource& source);
+
+// simulate_life() for a model from compile_life_model(), handing each frame to `sink` as
+// soon as it is known, in order, instead of keeping them: a caller can draw frame k while
+// the simulation runs on towards frame k + 1. `sink` returns false to stop early. Throws as
+// simulate_life() (after handing over the frames before the failure).
+void simulate_frames(const LifeSource& source, const Model& model, const std::vector<double>& times,
+                     const std::function<bool(LifeFrame&&)>& sink,
+                     const std::function<void(double)>& progress = {});
+
 // Centre of mass of a frame (voxels have equal mass), m.
 Eigen::Vector3d center_of_mass(const Frame& frame);
 

@@ -22,12 +22,12 @@ struct FrameStyle {
   int width = 1280, height = 720;  // pixels (1920x1080 and 3840x2160 work)
   ColorMode color = ColorMode::kCongenital;
   OverlayOptions overlay;
-  bool orthographic = false;  // parallel projection (tests, technical views)
-  double zoom = 1.0;          // > 1 closer
-  double azimuth_deg = -60;   // camera direction about +z, from +x
-  double elevation_deg = 25;  // camera height above the floor plane
-  int samples = 4;            // multisample anti-aliasing (1 = off)
-  bool lit = true;            // false: flat colours (tests)
+  bool orthographic = false;        // parallel projection (tests, technical views)
+  double zoom = 1.0;                // > 1 closer
+  double azimuth_deg = -60;         // camera direction about +z, from +x
+  double elevation_deg = 25;        // camera height above the floor plane
+  int samples = kEdgeAntialiasing;  // anti-aliasing: edge (0), none (1), multisampling (2..8)
+  bool lit = true;                  // false: flat colours (tests)
   bool shadows = true;
 };
 
@@ -74,12 +74,16 @@ struct VideoSummary {
   int frames = 0;
   double duration_s = 0;        // of the video
   std::string codec;            // as written
-  double simulate_seconds = 0;  // wall time simulating
-  double render_seconds = 0;    // wall time drawing and encoding
+  double simulate_seconds = 0;  // time simulating (alongside drawing: the simulation
+                                // thread's CPU time; for "change", before: wall time)
+  double render_seconds = 0;    // wall time drawing and encoding (after the simulation
+                                // started, or for "change" after it finished)
 };
 
 // Renders a life as an MP4 at `out`: frames at simulated times start + k * stride / fps
-// while < end; every frame uses one colour scale (make_color_scale over all frames).
+// while < end; every frame uses one colour scale (make_color_scale over all frames). The
+// simulation, drawing and encoding run at the same time on three threads (for the "change"
+// colour mode the simulation first), with the same bytes as one after the other.
 VideoSummary render_video_file(const std::string& source, const FrameStyle& style,
                                const VideoJob& job, const std::string& out, const LogFn& log = {});
 

@@ -39,6 +39,12 @@ struct Camera {
   double pixels_per_metre(int height_px) const;
 };
 
+// Scene::samples value selecting edge anti-aliasing: one sample per pixel, then a
+// post-process pass that smooths stair-stepped edges (assets/shaders/edge_aa.frag). On
+// llvmpipe it costs a fraction of multisampling, which shades every covered sample of every
+// box, hidden or not (the front-to-back order then saves nothing).
+constexpr int kEdgeAntialiasing = 0;
+
 struct Scene {
   std::vector<Box> boxes;
   Camera camera;
@@ -50,7 +56,9 @@ struct Scene {
   Eigen::Vector3d light_dir = Eigen::Vector3d(-0.35, -0.5, 1.0).normalized();  // to light
   Rgb8 background{236, 239, 243};
   Rgb8 floor_color{214, 216, 220};
-  int samples = 4;  // multisample anti-aliasing samples (1 = none)
+  // Anti-aliasing: kEdgeAntialiasing (0, default), 1 = none, 2..8 = multisampling with
+  // that many samples per pixel.
+  int samples = kEdgeAntialiasing;
 };
 
 // The camera framing a robot: target at the robot's centre of mass (z at half its rest
