@@ -136,8 +136,10 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
     if (style.colorbar) {
       const float bar_w = std::round(std::max(8.0f, text_px * 0.9f));
       const float bar_h = std::round(style.height * 0.5f);
+      // The title stays in the bar's column, on as many lines as it needs.
       draw_colorbar(dl, ui.font(1), ui.font(0), scale, grid_w + text_px * 1.2f,
-                    (style.height - bar_h) / 2, bar_w, bar_h);
+                    (style.height - bar_h) / 2, bar_w, bar_h, grid_w + text_px * 0.6f,
+                    style.width - text_px * 0.6f);
     }
     ui.end_frame_and_render();
   }

@@ -1,5 +1,8 @@
 #include "plastivox/render/overlay.hpp"
 
+#include <sstream>
+#include <vector>
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -45,7 +48,8 @@ std::vector<FontSpec> overlay_fonts(int height) {
 }
 
 void draw_colorbar(ImDrawList* dl, ImFont* label_font, ImFont* title_font, const ColorScale& scale,
-                   float x, float y, float bar_w, float bar_h) {
+                   float x, float y, float bar_w, float bar_h, float title_left,
+                   float title_right) {
   const Colormap& map = scale.map();
   const int rows = static_cast<int>(std::round(bar_h));
   x = std::round(x);
@@ -61,6 +65,31 @@ void draw_colorbar(ImDrawList* dl, ImFont* label_font, ImFont* title_font, const
     const float ty = std::round(y + (1.0f - static_cast<float>(t.t)) * rows);
     dl->AddLine(ImVec2(x + bar_w, ty), ImVec2(x + bar_w + tick, ty), kText, 1.0f);
     text(dl, label_font, x + bar_w + tick + 3, ty - label_font->FontSize * 0.55f, t.label);
+  }
+  const float line_h = title_font->FontSize * 1.25f;
+  if (title_left >= 0 && title_right > title_left) {
+    // Greedy line breaking at spaces within the column, lines centred, the last just above
+    // the bar.
+    std::vector<std::string> lines;
+    std::string line, word;
+    std::istringstream words(scale.title);
+    while (words >> word) {
+      const std::string longer = line.empty() ? word : line + " " + word;
+      if (!line.empty() && text_width(title_font, longer) > title_right - title_left) {
+        lines.push_back(line);
+        line = word;
+      } else {
+        line = longer;
+      }
+    }
+    if (!line.empty()) lines.push_back(line);
+    float ty = y - title_font->FontSize * 0.35f - line_h * static_cast<float>(lines.size());
+    for (const std::string& l : lines) {
+      const float w = text_width(title_font, l);
+      text(dl, title_font, std::round(title_left + (title_right - title_left - w) / 2), ty, l);
+      ty += line_h;
+    }
+    return;
   }
   const float title_w = text_width(title_font, scale.title);
   // Title above the bar, right-aligned to the tick labels' column so it stays in the image.

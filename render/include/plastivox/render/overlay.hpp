@@ -40,8 +40,11 @@ void draw_overlay(ImGuiLayer& ui, int width, int height, const ColorScale& scale
 
 // A vertical colour bar with its title above and tick labels to its right, inside the box
 // (x, y, w, h) in pixels; the bar itself takes `bar_w` pixels on the box's left. Each pixel
-// row is filled with the map's exact colour at that position.
+// row is filled with the map's exact colour at that position. Without a title column the
+// title is right-aligned to the tick labels; with one ([title_left, title_right], pixels) it
+// is centred in it, broken at spaces into as many lines as it needs to fit.
 void draw_colorbar(ImDrawList* dl, ImFont* label_font, ImFont* title_font, const ColorScale& scale,
-                   float x, float y, float bar_w, float bar_h);
+                   float x, float y, float bar_w, float bar_h, float title_left = -1,
+                   float title_right = -1);
 
 }  // namespace plastivox::render
