@@ -113,6 +113,18 @@ TEST(ExperimentCost, CountsEveryEvaluation) {
   EXPECT_GT(measured.steps_per_life, 100);
 }
 
+TEST(ExperimentCost, CalibrationThatGoesUnstableCountsOnlyStepsTaken) {
+  // A speed limit the calibration body passes almost at once: its simulation keeps stopping,
+  // and the measured speed must still be what the engine does (it was once ~1e11 voxel-steps
+  // per second, counting calls to a stopped simulation as steps).
+  json j = micro_config();
+  j["evolution"]["physics"]["max_speed"] = 1e-3;
+  const auto c = parse_experiment_config(j.dump(), "micro");
+  const auto measured = experiment::measure_speed(c, 0.05);
+  EXPECT_GT(measured.voxel_steps_per_second, 1e5);
+  EXPECT_LT(measured.voxel_steps_per_second, 1e9);
+}
+
 class ExperimentRun : public testing::ScratchDirTest {
  protected:
   std::string write_config(const json& j, const std::string& name = "micro.json") {

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "plastivox/model.hpp"
 #include "plastivox/robot.hpp"
@@ -37,20 +38,28 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds)
   physics.treatment = Treatment::kStress;
   physics.record_fps = 0;
   const Model model = compile(robot, physics);
-  Simulator sim(model);
+  auto sim = std::make_unique<Simulator>(model);
 
+  // Only steps actually taken count: a body this mixed can go unstable (a stopped
+  // simulation's step() does nothing), and then the calibration starts it over.
   const auto t0 = std::chrono::steady_clock::now();
   int64_t steps = 0;
-  double elapsed = 0;
-  while (elapsed < budget_seconds && sim.state().time < physics.duration) {
-    for (int k = 0; k < 50; ++k) sim.step();
-    steps += 50;
+  double elapsed = 0, dt = sim->state().dt;
+  while (elapsed < budget_seconds) {
+    if (sim->state().status != SimStatus::kRunning || sim->state().time >= physics.duration) {
+      steps += sim->state().steps;
+      sim = std::make_unique<Simulator>(model);
+    }
+    for (int k = 0; k < 50; ++k) sim->step();
+    if (sim->state().status == SimStatus::kRunning) dt = sim->state().dt;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
+  steps += sim->state().steps;
   SpeedSample s;
   s.voxels_per_body = static_cast<double>(model.n);
-  s.voxel_steps_per_second = s.voxels_per_body * steps / std::max(elapsed, 1e-9);
-  s.steps_per_life = physics.duration / std::max(sim.state().dt, 1e-12);
+  s.voxel_steps_per_second =
+      s.voxels_per_body * static_cast<double>(steps) / std::max(elapsed, 1e-9);
+  s.steps_per_life = physics.duration / std::max(dt, 1e-12);
   s.seconds_per_evaluation = s.voxels_per_body * s.steps_per_life / s.voxel_steps_per_second;
   return s;
 }
