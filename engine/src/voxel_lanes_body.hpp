@@ -1,6 +1,7 @@
-// The batched voxel kernels (voxel_kernel.hpp) for any lane type. Included after the lane
-// operations of every lane type the includer uses (lane_ops.hpp, and lane_ops_simd.hpp for a
-// vector type: vector types have no namespace for argument-dependent lookup).
+// The voxel kernels (voxel_kernel.hpp): the gather voxel by voxel on 4-double records, the
+// update and actuation for any lane type. Included after the lane operations of every lane
+// type the includer uses (lane_ops.hpp, and lane_ops_simd.hpp for a vector type: vector types
+// have no namespace for argument-dependent lookup).
 //
 // Each lane evaluates exactly the scalar operations, in the same order, whichever lane type
 // runs it; branches of the scalar formulation become selects, and the rare cases that need
