@@ -2,7 +2,7 @@
 // The per-voxel formula is the batched voxel kernel's (voxel_lanes_body.hpp, actuate_lanes).
 #include <algorithm>
 
-#include "voxel_kernel.hpp"
+#include "kernels.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -20,7 +20,7 @@ void actuate(const Model& m, const State& s, Workspace& w) {
   k.e_max = d.e_max;
   k.inv_range = 1.0 / (d.e_max - d.e_min);
   k.cycles = d.act_frequency * s.time;
-  voxel_actuate(s.stiffness.data(), m.phase.data(), w.size.data(), m.n, k);
+  kernels().actuate(s.stiffness.data(), m.phase.data(), w.size.data(), m.n, k);
 }
 
 }  // namespace plastivox

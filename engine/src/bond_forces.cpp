@@ -23,8 +23,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bond_kernel.hpp"
 #include "elementary.hpp"
+#include "kernels.hpp"
 #include "plastivox/energy.hpp"
 #include "workspace.hpp"
 
@@ -338,7 +338,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   io.stress = w.bond_stress.data();
   w.redo.resize(nb);
   io.redo = w.redo.data();
-  const int redo = bond_kernel_exact(io, nb, bond_constants(m, s, w));
+  const int redo = kernels().bond(io, nb, bond_constants(m, s, w));
   // From the unchanged previous deformation.
   for (int r = 0; r < redo; ++r) scalar_bond(m, s, w, w.redo[r]);
   std::fill(s.bond_prev_valid.begin(), s.bond_prev_valid.end(), 1);

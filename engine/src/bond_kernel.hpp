@@ -48,13 +48,4 @@ struct BondConstants {
   bool axial_own;                     // axial stress from a's own modulus
 };
 
-// Runs bonds [0, n) with the instruction set in use (plastivox/simd.hpp); returns how many
-// bond indices it wrote to io.redo. Identical results on every instruction set.
-int bond_kernel_exact(const BondKernelIo& io, int n, const BondConstants& k);
-
-// The same for one instruction set, in kernels_avx2.cpp / kernels_avx512.cpp, each
-// compiled for it: call only when the CPU has it (simd.hpp's levels say so).
-int bond_kernel_avx2(const BondKernelIo& io, int n, const BondConstants& k);
-int bond_kernel_avx512(const BondKernelIo& io, int n, const BondConstants& k);
-
 }  // namespace plastivox

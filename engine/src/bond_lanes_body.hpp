@@ -1,5 +1,15 @@
 // The batched bond kernel, part 2: one bond (or one group of lanes) for any lane type. See
-// bond_lanes.hpp for how it is included, and bond_kernel.cpp for the formulas' provenance.
+// bond_lanes.hpp for how it is included.
+//
+// The formulas are those of bond_forces.cpp (exact bond model, chord-aligned frame), written
+// once as a template over the lane type: `double` for the scalar set and the tails, 4-wide
+// (AVX2) and 8-wide (AVX-512) GCC vectors of doubles in their own files. All evaluate the
+// same IEEE operations in the same order (no FMA: -ffp-contract=off), so a bond's result does
+// not depend on which lane type computed it. The rotation matrix of voxel a is Eigen's
+// toRotationMatrix() formula with its columns cyclically permuted so the bond's axis comes
+// first (a per-lane select), and rotations of any size take atan_over_t (elementary.hpp).
+// Only degenerate chords and relative rotations near half a turn are left to the scalar path
+// (listed in io.redo).
 #pragma once
 
 #include "bond_lanes.hpp"
@@ -131,6 +141,16 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
     const T record[4] = {o[0], o[1], o[2], zero};
     store4(io.out[v], i, record);
   }
+}
+
+// All bonds [0, n): groups of W lanes of type T, then the rest one by one.
+template <class T, int W>
+inline int run_bond_lanes(const BondKernelIo& io, int n, const BondConstants& k) {
+  int redo_count = 0;
+  int i = 0;
+  for (; i + W <= n; i += W) bond_lanes<T>(io, i, k, redo_count);
+  for (; i < n; ++i) bond_lanes<double>(io, i, k, redo_count);
+  return redo_count;
 }
 
 }  // namespace

@@ -71,20 +71,3 @@ inline AxisV axis_select(const BondKernelIo& io, int b, V) {
 
 }  // namespace
 }  // namespace plastivox
-
-#include "bond_lanes_body.hpp"
-
-namespace plastivox {
-namespace {
-
-// All bonds: full groups of kWidth lanes, then the rest one by one.
-inline int run_bond_lanes(const BondKernelIo& io, int n, const BondConstants& k) {
-  int redo_count = 0;
-  int i = 0;
-  for (; i + kWidth <= n; i += kWidth) bond_lanes<V>(io, i, k, redo_count);
-  for (; i < n; ++i) bond_lanes<double>(io, i, k, redo_count);
-  return redo_count;
-}
-
-}  // namespace
-}  // namespace plastivox

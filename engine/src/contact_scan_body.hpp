@@ -1,8 +1,8 @@
-// scan_within (contact_scan.hpp) for any lane type; included after the lane operations of
-// the lane types used (see voxel_lanes_body.hpp).
+// KernelSet::scan_within (kernels.hpp) for any lane type: the search of a self-collision
+// refresh, which of a run of points lie within a radius of a centre. Included after the lane
+// operations of the lane types used (see voxel_lanes_body.hpp).
 #pragma once
 
-#include "contact_scan.hpp"
 #include "lane_ops.hpp"
 
 namespace plastivox {

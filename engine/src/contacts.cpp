@@ -24,9 +24,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "contact_scan.hpp"
-#include "contact_scan_body.hpp"
-#include "plastivox/simd.hpp"
+#include "kernels.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -117,9 +115,10 @@ void find_partners_binned(const Model& m, const State& s, ContactGrid& g, size_t
 void find_partners_direct(const Model& m, ContactGrid& g, size_t k, double radius) {
   const int i = g.voxels[k];
   for (int v : m.near_voxels[i]) g.near_mark[v] = i;
-  const int hits = scan_within(g.centre[0].data(), g.centre[1].data(), g.centre[2].data(), 0,
-                               static_cast<int>(g.voxels.size()), g.centre[0][k], g.centre[1][k],
-                               g.centre[2][k], radius * radius, g.within.data());
+  const int hits =
+      kernels().scan_within(g.centre[0].data(), g.centre[1].data(), g.centre[2].data(), 0,
+                            static_cast<int>(g.voxels.size()), g.centre[0][k], g.centre[1][k],
+                            g.centre[2][k], radius * radius, g.within.data());
   g.found.clear();
   for (int h = 0; h < hits; ++h) {
     const int j = g.voxels[g.within[h]];
@@ -188,22 +187,6 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
 }
 
 }  // namespace
-
-int scan_within(const double* px, const double* py, const double* pz, int begin, int end, double x,
-                double y, double z, double r2, int* out) {
-  switch (simd_level()) {
-#if defined(PLASTIVOX_HAVE_AVX512)
-    case SimdLevel::kAvx512:
-      return scan_within_avx512(px, py, pz, begin, end, x, y, z, r2, out);
-#endif
-#if defined(PLASTIVOX_HAVE_AVX2)
-    case SimdLevel::kAvx2:
-      return scan_within_avx2(px, py, pz, begin, end, x, y, z, r2, out);
-#endif
-    default:
-      return run_scan_within<double, 1>(px, py, pz, begin, end, x, y, z, r2, out);
-  }
-}
 
 void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
   if (!m.def.self_collision) return;

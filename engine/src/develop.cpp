@@ -1,9 +1,7 @@
 // Development (METHOD.md section 5): each voxel's stiffness follows its interoceptive
 // stimulus, scaled by its evolved rate alpha. Runs after settling, on the bond strains of
 // this step; the new stiffness takes effect in the next step's bonds, actuation and dt.
-#include "develop_kernel.hpp"
-#include "develop_lanes_body.hpp"
-#include "plastivox/simd.hpp"
+#include "kernels.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -26,21 +24,6 @@ namespace plastivox {
 //   E = E0 + alpha * (stimulus - stimulus at the end of settling); the change in one step is
 //   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor
 //   e_min) and alpha != 0 develop: soft voxels never do, and one softened to the gate stops.
-bool develop_voxels(const DevelopIo& io, int n, const DevelopConstants& k) {
-  switch (simd_level()) {
-#if defined(PLASTIVOX_HAVE_AVX512)
-    case SimdLevel::kAvx512:
-      return develop_voxels_avx512(io, n, k);
-#endif
-#if defined(PLASTIVOX_HAVE_AVX2)
-    case SimdLevel::kAvx2:
-      return develop_voxels_avx2(io, n, k);
-#endif
-    default:
-      return run_develop_lanes<double, 1>(io, n, k);
-  }
-}
-
 void develop(const Model& m, State& s, Workspace& w) {
   const PhysicsDef& d = m.def;
   w.stiffness_changed = false;
@@ -67,7 +50,7 @@ void develop(const Model& m, State& s, Workspace& w) {
   k.max_change = d.max_change_per_step;
   k.e_min = d.e_min;
   k.e_max = d.e_max;
-  w.stiffness_changed = develop_voxels(io, m.n, k);
+  w.stiffness_changed = kernels().develop(io, m.n, k);
   s.stim_ref_set = true;
 }
 

@@ -31,9 +31,4 @@ struct DevelopConstants {
   double dt, max_change, e_min, e_max;
 };
 
-// Voxels [0, n); returns whether some stiffness changed.
-bool develop_voxels(const DevelopIo& io, int n, const DevelopConstants& k);
-bool develop_voxels_avx2(const DevelopIo& io, int n, const DevelopConstants& k);
-bool develop_voxels_avx512(const DevelopIo& io, int n, const DevelopConstants& k);
-
 }  // namespace plastivox

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "voxel_kernel.hpp"
+#include "kernels.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -61,12 +61,12 @@ VoxelConstants voxel_constants(const Model& m, const State& s) {
 
 void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
   if (m.n == 0) return;
-  voxel_gather(voxel_io(m, s, w), m.n, voxel_constants(m, s));
+  kernels().gather(voxel_io(m, s, w), m.n, voxel_constants(m, s));
 }
 
 void integrate(const Model& m, State& s, Workspace& w) {
   if (m.n == 0) return;
-  const VoxelUpdateSummary r = voxel_update(voxel_io(m, s, w), m.n, voxel_constants(m, s));
+  const VoxelUpdateSummary r = kernels().update(voxel_io(m, s, w), m.n, voxel_constants(m, s));
   const double limit = m.def.max_speed;
   if (!r.non_finite && !(r.max_speed2 > limit * limit)) return;
 

@@ -92,32 +92,13 @@ inline void load_quats(const double* q, const int* idx, V& x, V& y, V& z, V& w) 
 }  // namespace plastivox
 
 #include "bond_lanes_simd.hpp"
-#include "contact_scan_body.hpp"
-#include "develop_lanes_body.hpp"
-#include "voxel_lanes_body.hpp"
+#include "kernel_set_body.hpp"
 
 namespace plastivox {
 
-int bond_kernel_avx512(const BondKernelIo& io, int n, const BondConstants& k) {
-  return run_bond_lanes(io, n, k);
-}
-
-VoxelUpdateSummary voxel_update_avx512(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
-  return run_update_lanes<V, kWidth>(io, n, k);
-}
-
-void voxel_actuate_avx512(const double* stiff, const double* phase, double* size, int n,
-                          const ActuationConstants& k) {
-  run_actuate_lanes<V, kWidth>(stiff, phase, size, n, k);
-}
-
-bool develop_voxels_avx512(const DevelopIo& io, int n, const DevelopConstants& k) {
-  return run_develop_lanes<V, kWidth>(io, n, k);
-}
-
-int scan_within_avx512(const double* px, const double* py, const double* pz, int begin, int end,
-                       double x, double y, double z, double r2, int* out) {
-  return run_scan_within<V, kWidth>(px, py, pz, begin, end, x, y, z, r2, out);
+const KernelSet& kernels_avx512() {
+  static const KernelSet set = make_kernel_set<V, kWidth>();
+  return set;
 }
 
 }  // namespace plastivox

@@ -23,14 +23,6 @@ inline double load(const double* p, int i, double) {
 inline void store(double* p, int i, double v) {
   p[i] = v;
 }
-// Component `offset` of element i of an array of `stride`-double records (Eigen vectors and
-// quaternions stored back to back).
-inline double load_strided(const double* p, int i, int stride, int offset, double) {
-  return p[stride * i + offset];
-}
-inline void store_strided(double* p, int i, int stride, int offset, double v) {
-  p[stride * i + offset] = v;
-}
 // Records of 3 (x, y, z) or 4 (x, y, z, w) doubles back to back: element i's components.
 inline void load3(const double* p, int i, double* c) {
   for (int k = 0; k < 3; ++k) c[k] = p[3 * i + k];

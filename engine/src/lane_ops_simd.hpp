@@ -35,6 +35,13 @@ inline V lanes(const double* p, const int* idx, int stride, int offset, std::ind
 inline V lanes(const double* p, const int* idx, int stride, int offset) {
   return lanes(p, idx, stride, offset, std::make_index_sequence<kWidth>());
 }
+inline V load_indexed(const double* p, const int* idx, int i, V) {
+  return lanes(p, idx + i, 1, 0);
+}
+// load3/store3/load4/store4 for kWidth consecutive records, one vector per component. An
+// instruction set with fast cross-lane permutes defines its own before including this file
+// (and PLASTIVOX_LANES_HAVE_RECORDS); otherwise lane by lane.
+#ifndef PLASTIVOX_LANES_HAVE_RECORDS
 template <size_t... J>
 inline V load_strided(const double* p, int i, int stride, int offset, std::index_sequence<J...>) {
   return V{p[stride * (i + static_cast<int>(J)) + offset]...};
@@ -45,13 +52,6 @@ inline V load_strided(const double* p, int i, int stride, int offset, V) {
 inline void store_strided(double* p, int i, int stride, int offset, V v) {
   for (int j = 0; j < kWidth; ++j) p[stride * (i + j) + offset] = v[j];
 }
-inline V load_indexed(const double* p, const int* idx, int i, V) {
-  return lanes(p, idx + i, 1, 0);
-}
-// load3/store3/load4/store4 for kWidth consecutive records, one vector per component. An
-// instruction set with fast cross-lane permutes defines its own before including this file
-// (and PLASTIVOX_LANES_HAVE_RECORDS); otherwise lane by lane.
-#ifndef PLASTIVOX_LANES_HAVE_RECORDS
 inline void load3(const double* p, int i, V* c) {
   for (int k = 0; k < 3; ++k) c[k] = load_strided(p, i, 3, k, V{});
 }

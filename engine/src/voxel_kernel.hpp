@@ -55,29 +55,10 @@ struct VoxelUpdateSummary {
   bool non_finite = false;
 };
 
-// Gather: force[i] = sum of its bonds' forces in slot order - slow damping + weight + load;
-// moment[i] = sum of its bonds' moments; sqrt_e[i] = sqrt(E_i). Voxels [0, n).
-void voxel_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k);
-// Update: floor contact and friction on force[i], then momenta, position and orientation.
-VoxelUpdateSummary voxel_update(const VoxelKernelIo& io, int n, const VoxelConstants& k);
-
 // Actuation: size[i] = L max(1 + A xi(E_i) sin(2 pi (f t + phase_i)), min_factor), with
 // xi(E) = (e_max - E) / (e_max - e_min); `cycles` = f t.
 struct ActuationConstants {
   double L, amplitude, min_factor, e_max, inv_range, cycles;
 };
-void voxel_actuate(const double* stiff, const double* phase, double* size, int n,
-                   const ActuationConstants& k);
-
-// The stages for one instruction set (kernels_avx2.cpp / kernels_avx512.cpp): call only when
-// the CPU has it. The gather works voxel by voxel on 4-double records, so its AVX2 form also
-// serves the AVX-512 level.
-void voxel_gather_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k);
-VoxelUpdateSummary voxel_update_avx2(const VoxelKernelIo& io, int n, const VoxelConstants& k);
-VoxelUpdateSummary voxel_update_avx512(const VoxelKernelIo& io, int n, const VoxelConstants& k);
-void voxel_actuate_avx2(const double* stiff, const double* phase, double* size, int n,
-                        const ActuationConstants& k);
-void voxel_actuate_avx512(const double* stiff, const double* phase, double* size, int n,
-                          const ActuationConstants& k);
 
 }  // namespace plastivox

@@ -1,20 +1,10 @@
-// See bond_kernel.hpp. The formulas are those of bond_forces.cpp (exact bond model,
-// chord-aligned frame), written once as a template over the lane type (bond_lanes_body.hpp):
-// `double` here and for the tails, 4-wide (AVX2) and 8-wide (AVX-512) GCC vectors of doubles
-// in their own files. All evaluate the same IEEE operations in the same order (no FMA:
-// -ffp-contract=off), so a bond's result does not depend on which lane type computed it.
-// This file holds the scalar kernel and the choice of instruction set.
-//
-// The kernel and the scalar path (bond_forces.cpp) evaluate the same formulas: the rotation
-// matrix of voxel a is Eigen's toRotationMatrix() formula with its columns cyclically permuted
-// so the bond's axis comes first (a per-lane select), and rotations of any size take
-// atan_over_t (elementary.hpp). Only degenerate chords and relative rotations near half a
-// turn are left to the scalar path (listed in io.redo). Every lane type gives the same bits
-// for a bond, so the results do not depend on the instruction set.
+// See kernels.hpp: the instruction set in use (plastivox/simd.hpp: detected from the CPU,
+// lowered by set_simd_level()) and the scalar kernel set.
 #include <atomic>
 
-#include "bond_kernel.hpp"
-#include "bond_lanes_body.hpp"
+#include "kernels.hpp"
+
+#include "kernel_set_body.hpp"
 #include "plastivox/simd.hpp"
 
 namespace plastivox {
@@ -67,22 +57,21 @@ const char* to_string(SimdLevel level) {
   return "?";
 }
 
-int bond_kernel_exact(const BondKernelIo& io, int n, const BondConstants& k) {
+const KernelSet& kernels() {
   switch (simd_level()) {
 #if defined(PLASTIVOX_HAVE_AVX512)
     case SimdLevel::kAvx512:
-      return bond_kernel_avx512(io, n, k);
+      return kernels_avx512();
 #endif
 #if defined(PLASTIVOX_HAVE_AVX2)
     case SimdLevel::kAvx2:
-      return bond_kernel_avx2(io, n, k);
+      return kernels_avx2();
 #endif
-    default:
-      break;
+    default: {
+      static const KernelSet scalar = make_kernel_set<double, 1>();
+      return scalar;
+    }
   }
-  int redo_count = 0;
-  for (int i = 0; i < n; ++i) bond_lanes<double>(io, i, k, redo_count);
-  return redo_count;
 }
 
 }  // namespace plastivox
