@@ -3,6 +3,7 @@
 // Every case first simulates past settling (0.25 s) outside the timed region, so the
 // timed steps include actuation and, under a developing treatment, development and the
 // per-step time-step update.
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -17,12 +18,24 @@ namespace {
 
 constexpr int kStepsPerIteration = 200;
 
+// Steps a settled simulation; a life that reaches 5.2 s (the evaluation's length) starts
+// again, outside the timed region, so a long measurement times lives rather than whatever a
+// body does long after its evaluation would have ended.
 void run_steps(benchmark::State& bs, const Model& m) {
-  Simulator sim(m);
-  while (sim.state().time < 0.25) sim.step();
+  auto settled = [&m] {
+    auto sim = std::make_unique<Simulator>(m);
+    while (sim->state().time < 0.25) sim->step();
+    return sim;
+  };
+  std::unique_ptr<Simulator> sim = settled();
   for (auto _ : bs) {
-    for (int k = 0; k < kStepsPerIteration; ++k) sim.step();
-    if (sim.state().status != SimStatus::kRunning) bs.SkipWithError(sim.state().failure.c_str());
+    if (sim->state().time > 5.2) {
+      bs.PauseTiming();
+      sim = settled();
+      bs.ResumeTiming();
+    }
+    for (int k = 0; k < kStepsPerIteration; ++k) sim->step();
+    if (sim->state().status != SimStatus::kRunning) bs.SkipWithError(sim->state().failure.c_str());
   }
   bs.counters["voxels"] = m.n;
   bs.counters["voxel_steps/s"] = benchmark::Counter(static_cast<double>(m.n) * kStepsPerIteration,
