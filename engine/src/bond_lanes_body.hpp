@@ -127,19 +127,24 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T now[9] = {px, zero, zero, t1x, t1y, t1z, t2x, t2y, t2z};
   for (int j = 0; j < 9; ++j) store(P[j], i, pick(redo, old[j], now[j]));
 
-  // World frame: u = f^T v (f has no x part), then the permuted orientation of a.
-  const T r00 = 1.0 - 2.0 * (fy * fy + fz * fz), r01 = 2.0 * fw * fz, r02 = -2.0 * fw * fy;
-  const T r10 = -2.0 * fw * fz, r11 = 1.0 - 2.0 * fz * fz, r12 = 2.0 * fy * fz;
-  const T r20 = 2.0 * fw * fy, r21 = 2.0 * fy * fz, r22 = 1.0 - 2.0 * fy * fy;
+  // World frame. The chord-aligned frame's axes, in world coordinates, are the chord
+  // direction u and a's permuted y and z axes turned by the smallest rotation taking a's
+  // permuted x axis (c0) onto u; for an axis c orthogonal to c0 that rotation gives
+  // c - (c0 + u) (u . c) / (1 + c0 . u), and u . c / (1 + c0 . u) is y / h (or z / h) in a's
+  // frame. About half the work of applying f^T and then a's orientation to each vector.
+  const T inv_len = 1.0 / ln;
+  const T ux = in.dx * inv_len, uy = in.dy * inv_len, uz = in.dz * inv_len;
+  const T sx = m[0] + ux, sy = m[1] + uy, sz = m[2] + uz;
+  const T ky = y * inv_h, kz = z * inv_h;
+  const T e1[3] = {m[3] - sx * ky, m[4] - sy * ky, m[5] - sz * ky};
+  const T e2[3] = {m[6] - sx * kz, m[7] - sy * kz, m[8] - sz * kz};
+  const T e0[3] = {ux, uy, uz};
   const T vx[3] = {fx, max, mbx}, vy[3] = {fyv, may, mby}, vz[3] = {fzv, maz, mbz};
   for (int v = 0; v < 3; ++v) {
-    const T ux = r00 * vx[v] + r01 * vy[v] + r02 * vz[v];
-    const T uy = r10 * vx[v] + r11 * vy[v] + r12 * vz[v];
-    const T uz = r20 * vx[v] + r21 * vy[v] + r22 * vz[v];
-    T o[3];
-    for (int c = 0; c < 3; ++c) o[c] = m[c] * ux + m[3 + c] * uy + m[6 + c] * uz;
-    const T record[4] = {o[0], o[1], o[2], zero};
-    store4(io.out[v], i, record);
+    T o[4];
+    for (int c = 0; c < 3; ++c) o[c] = e0[c] * vx[v] + e1[c] * vy[v] + e2[c] * vz[v];
+    o[3] = zero;
+    store4(io.out[v], i, o);
   }
 }
 
