@@ -1,13 +1,17 @@
 // The batched bond kernel, part 2: one bond (or one group of lanes) for any lane type. See
 // bond_lanes.hpp for how it is included.
 //
-// The formulas are those of bond_forces.cpp (exact bond model, chord-aligned frame), written
+// The model is that of bond_forces.cpp (exact bond model, chord-aligned frame), written
 // once as a template over the lane type: `double` for the scalar set and the tails, 4-wide
 // (AVX2) and 8-wide (AVX-512) GCC vectors of doubles in their own files. All evaluate the
 // same IEEE operations in the same order (no FMA: -ffp-contract=off), so a bond's result does
 // not depend on which lane type computed it. The rotation matrix of voxel a is Eigen's
 // toRotationMatrix() formula with its columns cyclically permuted so the bond's axis comes
 // first (a per-lane select), and rotations of any size take atan_over_t (elementary.hpp).
+// The arithmetic is arranged for a short chain of dependent operations (the chord frame is
+// not normalised, results go to the world frame through the frame's axes), so it matches
+// the scalar path's to rounding, not to the bit; the scalar path only ever takes whole
+// bonds, so no result mixes the two.
 // Only degenerate chords and relative rotations near half a turn are left to the scalar path
 // (listed in io.redo).
 #pragma once
@@ -55,30 +59,33 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T a = aw * bw_ + ax * bx_ + ay * by_ + az * bz_;
   const T bx = sel(v0, v1, v2), by = sel(v1, v2, v0), bz = sel(v2, v0, v1);
 
-  // Chord-aligned frame f = (fw, 0, fy, fz) taking r onto +x.
+  // Chord-aligned frame f taking r onto +x: the half-way quaternion (h, 0, z, -y), h = len + x,
+  // left unnormalised (its norm is sqrt(2 len h)): th2 below is a ratio of f * q2's parts, so
+  // the scale cancels, and skipping the square root and division shortens the chain of
+  // dependent operations, which is what bounds this kernel.
   const T len = root(x * x + y * y + z * z);
   const T h0 = len + x;
   const auto degenerate = h0 <= 1e-6 * len;
   const T h = pick(degenerate, one, h0);
   const T ln = pick(degenerate, one, len);
-  const T inv_n = 1.0 / root(2.0 * ln * h);
-  const T fw = h * inv_n, fy = z * inv_n, fz = -y * inv_n;
   const T inv_h = 1.0 / h;
   const T t1sq = (y * y + z * z) * (inv_h * inv_h);
   const T k1 = 2.0 * atan_over_t(t1sq, degenerate) * inv_h;
   const T t1x = zero, t1y = z * k1, t1z = -y * k1;
-  // th2: rotation vector of f * q2, shorter arc.
-  T w2 = fw * a - fy * by - fz * bz;
-  T x2 = fw * bx + fy * bz - fz * by;
-  T y2 = fw * by + a * fy + fz * bx;
-  T z2 = fw * bz + a * fz - fy * bx;
+  // th2: rotation vector of f * q2 (times the norm of f), shorter arc: the sign of its scalar
+  // part goes into the factor k2. Half a turn away (scalar part at most 1e-3 of the norm)
+  // is left to the scalar path.
+  const T w2 = h * a - z * by + y * bz;
+  const T x2 = h * bx + z * bz + y * by;
+  const T y2 = h * by + a * z - y * bx;
+  const T z2 = h * bz - a * y - z * bx;
   const T sgn = pick(w2 < 0.0, splat(-1.0, T{}), one);
-  w2 = w2 * sgn, x2 = x2 * sgn, y2 = y2 * sgn, z2 = z2 * sgn;
-  const auto redo = degenerate | (w2 <= 1e-3);
-  const T ww = pick(w2 > 1e-3, w2, one);
+  const T aw2 = w2 * sgn;
+  const auto redo = degenerate | (aw2 * aw2 <= 2e-6 * (ln * h));
+  const T ww = pick(redo, one, aw2);
   const T inv_ww = 1.0 / ww;
   const T t2sq = (x2 * x2 + y2 * y2 + z2 * z2) * (inv_ww * inv_ww);
-  const T k2 = 2.0 * atan_over_t(t2sq, redo) * inv_ww;
+  const T k2 = 2.0 * atan_over_t(t2sq, redo) * inv_ww * sgn;
   const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
   append_redo(redo, i, io, redo_count);
 

@@ -13,43 +13,31 @@ namespace plastivox {
 namespace {
 
 // atan(t)/t as a function of t^2 >= 0, for any t (relative error ~1e-16). Lanes set in
-// `skip` may hold anything and get an unspecified (finite) value.
-//  - t^2 < 1e-2 (rotations under 11 degrees, nearly every bond every step): nine terms of the
-//    series (atan_series.hpp);
-//  - otherwise atan(t) = y0 + atan(x), with x = t (t <= tan(pi/8)), x = (t - 1)/(t + 1) and
-//    y0 = pi/4 (up to tan(3 pi/8)), or x = -1/t and y0 = pi/2 beyond; |x| <= tan(pi/8), so
-//    twenty terms of the series leave an error below 2e-17.
-// 1 / (2 k + 1), k = 0..19.
-constexpr double kOddReciprocals[20] = {1.0,      1.0 / 3,  1.0 / 5,  1.0 / 7,  1.0 / 9,
-                                        1.0 / 11, 1.0 / 13, 1.0 / 15, 1.0 / 17, 1.0 / 19,
-                                        1.0 / 21, 1.0 / 23, 1.0 / 25, 1.0 / 27, 1.0 / 29,
-                                        1.0 / 31, 1.0 / 33, 1.0 / 35, 1.0 / 37, 1.0 / 39};
-
+// `skip` may hold anything and get an unspecified (finite) value. With t = tan(phi):
+//  - phi < pi/16 (t^2 < 0.0396; nearly every bond every step): the series (atan_series.hpp);
+//  - otherwise atan(t) = atan(c) + atan(x), x = (t - c) / (1 + t c), with c = tan(k pi/8) the
+//    nearest of tan(pi/8), 1, tan(3 pi/8), or x = -1/t and atan(c) = pi/2 beyond tan(7 pi/16);
+//    |x| <= tan(pi/16), so the same series gives atan(x) / x.
+// A lane's branch is decided by its own t^2 alone, so its value does not depend on the other
+// lanes of its group (nor on the lane width).
 template <class T, class Mask>
 inline T atan_over_t(T t2, Mask skip) {
   const T small = atan_series(t2);
-  const Mask wide = and_not(t2 >= 1e-2, skip);
+  const Mask wide = and_not(t2 >= 0.03956612989658004, skip);  // tan^2(pi / 16)
   if (!any(wide)) return small;
   const T one = splat(1.0, T{});
-  const T t = root(pick(wide, t2, one));   // 1 in the other lanes: no division by zero below
-  const Mask big = t > 2.414213562373095;  // tan(3 pi / 8)
-  const Mask mid = and_not(t > 0.41421356237309503, big);  // tan(pi / 8)
-  const Mask reduced = big | mid;
-  const T x = pick(big, -1.0 / t, pick(mid, (t - 1.0) / (t + 1.0), t));
-  const T z = pick(reduced, x * x, pick(wide, t2, one));
-  // 1 - z/3 + z^2/5 - ... - z^19/39 as two interleaved Horner chains in w = z^2 (even and
-  // odd powers), so the multiplications overlap instead of waiting on each other.
-  const T w = z * z;
-  T even = splat(kOddReciprocals[18], T{}), odd = splat(kOddReciprocals[19], T{});
-  for (int j = 8; j >= 0; --j) {
-    even = kOddReciprocals[2 * j] + w * even;
-    odd = kOddReciprocals[2 * j + 1] + w * odd;
-  }
-  const T series = even - z * odd;
-  const T y0 = pick(big, splat(1.5707963267948966, T{}),
-                    pick(mid, splat(0.78539816339744831, T{}), splat(0.0, T{})));
-  const T wide_value = pick(reduced, (y0 + x * series) / t, series);
-  return pick(wide, wide_value, small);
+  const T t = root(pick(wide, t2, one));      // 1 in the other lanes: no division by zero below
+  const Mask c2 = t2 >= 0.44646269217168955;  // tan^2(3 pi / 16)
+  const Mask c3 = t2 >= 2.23982880884355;     // tan^2(5 pi / 16)
+  const Mask big = t2 >= 25.27414236908818;   // tan^2(7 pi / 16)
+  const T c =
+      pick(c3, splat(2.414213562373095, T{}), pick(c2, one, splat(0.41421356237309503, T{})));
+  const T x = pick(big, splat(-1.0, T{}), t - c) / pick(big, t, 1.0 + t * c);
+  const T atan_c =
+      pick(big, splat(1.5707963267948966, T{}),
+           pick(c3, splat(1.1780972450961724, T{}),
+                pick(c2, splat(0.78539816339744831, T{}), splat(0.39269908169872414, T{}))));
+  return pick(wide, (atan_c + x * atan_series(x * x)) / t, small);
 }
 
 // sin(2 pi u) for |u| < 2^51. u is reduced exactly to r in [-1/4, 1/4] (sin(2 pi u) =
