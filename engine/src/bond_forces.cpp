@@ -22,6 +22,7 @@
 // in plain scalar arithmetic on the structure-of-arrays state, without temporaries.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "elementary.hpp"
 #include "kernels.hpp"
@@ -331,7 +332,9 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
     r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = w.size[i];
   }
   io.centre_size = w.centre_size.data();
+  io.axis_wide = w.bond_axis_wide.data();
   io.prev_valid = s.bond_prev_valid.data();
+  io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
   for (int k = 0; k < 9; ++k) io.prev[k] = s.bond_prev[k].data();  // updated in place
   for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
   io.strain = w.bond_strain.data();

@@ -25,8 +25,12 @@ struct BondKernelIo {
   // The same centres and sizes as records of 4 doubles per voxel (x, y, z, size), for the
   // vector lanes' whole-record loads.
   const double* centre_size = nullptr;
-  // Per bond: 1 once a previous deformation is recorded (read only; the caller sets it).
+  // The lattice axes again, as 64-bit integers for the vector lanes' whole-vector loads.
+  const int64_t* axis_wide = nullptr;
+  // Per bond: 1 once a previous deformation is recorded (read only; the caller sets it), and
+  // whether every bond's is (after the first step, always), so lanes need not read it.
   const uint8_t* prev_valid = nullptr;
+  bool all_valid = false;
   // Per bond, in and out: the previous deformation (State::bond_prev); out: the results
   // (Workspace::bond_out: force on a, moment on a, moment on b, each as records of
   // (x, y, z, 0); bond_strain, bond_stress).

@@ -57,15 +57,18 @@ inline BondIn<V> gather(const BondKernelIo& io, int b, V) {
   load_quats(io.quat, ia, in.ax, in.ay, in.az, in.aw);
   load_quats(io.quat, ib, in.bx, in.by, in.bz, in.bw);
   in.ea = lanes(io.stiff, ia, 1, 0), in.eb = lanes(io.stiff, ib, 1, 0);
-  const uint8_t* valid = io.prev_valid + b;
-  for (int j = 0; j < kWidth; ++j) in.valid[j] = valid[j] ? 1.0 : 0.0;
+  if (io.all_valid) {
+    in.valid = splat(1.0, V{});
+  } else {
+    const uint8_t* valid = io.prev_valid + b;
+    for (int j = 0; j < kWidth; ++j) in.valid[j] = valid[j] ? 1.0 : 0.0;
+  }
   return in;
 }
 
 inline AxisV axis_select(const BondKernelIo& io, int b, V) {
-  const uint8_t* a = io.axis + b;
   M d;
-  for (int j = 0; j < kWidth; ++j) d[j] = a[j];
+  std::memcpy(&d, io.axis_wide + b, sizeof d);
   return AxisV{d == 1, d == 2};
 }
 

@@ -37,7 +37,8 @@ inline T atan_over_t(T t2, Mask skip) {
       pick(big, splat(1.5707963267948966, T{}),
            pick(c3, splat(1.1780972450961724, T{}),
                 pick(c2, splat(0.78539816339744831, T{}), splat(0.39269908169872414, T{}))));
-  return pick(wide, (atan_c + x * atan_series(x * x)) / t, small);
+  const T inv_t = 1.0 / t;  // alongside x's division rather than at the end of the chain
+  return pick(wide, (atan_c + x * atan_series(x * x)) * inv_t, small);
 }
 
 // sin(2 pi u) for |u| < 2^51. u is reduced exactly to r in [-1/4, 1/4] (sin(2 pi u) =

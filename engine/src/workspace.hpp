@@ -56,8 +56,9 @@ struct Workspace {
   // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
   ContactGrid contact_grid;
   bool contacts_valid = false;
-  bool stiffness_changed = false;  // the develop stage changed E this step
-  std::vector<int> redo;           // bonds the batched kernel left to the scalar path
+  bool stiffness_changed = false;       // the develop stage changed E this step
+  std::vector<int> redo;                // bonds the batched kernel left to the scalar path
+  std::vector<int64_t> bond_axis_wide;  // Model::bond_axis as 64-bit integers (bond kernel)
 
   // Bond damping coefficients are sqrt(E) times these geometric constants:
   // 2 sqrt(k m) with k = E L (axial, shear), E L^3 / 4 (shear-rotation coupling) and
@@ -70,7 +71,8 @@ struct Workspace {
       : size(m.n, m.size),
         sqrt_e(m.n),
         bond_strain(m.bond_count() + 1, 0.0),
-        bond_stress(m.bond_count() + 1, 0.0) {
+        bond_stress(m.bond_count() + 1, 0.0),
+        bond_axis_wide(m.bond_axis.begin(), m.bond_axis.end()) {
     const double L = m.size, nu = m.def.poisson;
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
     for (auto& vectors : bond_out)
