@@ -11,13 +11,16 @@ namespace {
 // under 22.5 degrees: nearly every bond every step).
 template <class T>
 inline T atan_series(T t2) {
-  // 1 - z/3 + z^2/5 - ... - z^10/21 (z = t^2) as two Horner chains in z^2 (even and odd
-  // powers), so the multiplications of one overlap those of the other.
-  const T w = t2 * t2;
-  const T even =
-      1.0 + w * (1.0 / 5 + w * (1.0 / 9 + w * (1.0 / 13 + w * (1.0 / 17 + w * (1.0 / 21)))));
-  const T odd = 1.0 / 3 + w * (1.0 / 7 + w * (1.0 / 11 + w * (1.0 / 15 + w * (1.0 / 19))));
-  return even - t2 * odd;
+  // 1 - z/3 + z^2/5 - ... + z^10/21 (z = t^2) by Estrin's scheme: pairs of terms, then pairs
+  // of pairs with z^2, z^4, z^8, so the chain of dependent operations is four multiply-adds
+  // long instead of ten (the kernels that call this are bound by such chains).
+  const T z = t2;
+  const T z2 = z * z, z4 = z2 * z2, z8 = z4 * z4;
+  const T p01 = 1.0 - z * (1.0 / 3), p23 = 1.0 / 5 - z * (1.0 / 7);
+  const T p45 = 1.0 / 9 - z * (1.0 / 11), p67 = 1.0 / 13 - z * (1.0 / 15);
+  const T p89 = 1.0 / 17 - z * (1.0 / 19);
+  const T q0 = p01 + z2 * p23, q1 = p45 + z2 * p67, q2 = p89 + z2 * (1.0 / 21);
+  return (q0 + z4 * q1) + z8 * q2;
 }
 
 }  // namespace

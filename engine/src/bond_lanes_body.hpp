@@ -32,7 +32,9 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   // permuted so the bond's axis comes first: c[0..2] = column d, c[3..5] = column d + 1, ...
   T R[9];
   {
-    const T tx = 2.0 * in.ax, ty = 2.0 * in.ay, tz = 2.0 * in.az;
+    // Doubling by addition, here and below: the kernel is bound by its multiplications
+    // (x + x is 2 x exactly).
+    const T tx = in.ax + in.ax, ty = in.ay + in.ay, tz = in.az + in.az;
     const T twx = tx * in.aw, twy = ty * in.aw, twz = tz * in.aw;
     const T txx = tx * in.ax, txy = ty * in.ax, txz = tz * in.ax;
     const T tyy = ty * in.ay, tyz = tz * in.ay, tzz = tz * in.az;
@@ -70,7 +72,8 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T ln = pick(degenerate, one, len);
   const T inv_h = 1.0 / h;
   const T t1sq = (y * y + z * z) * (inv_h * inv_h);
-  const T k1 = 2.0 * atan_over_t(t1sq, degenerate) * inv_h;
+  const T atan1 = atan_over_t(t1sq, degenerate);
+  const T k1 = (atan1 + atan1) * inv_h;
   const T t1x = zero, t1y = z * k1, t1z = -y * k1;
   // th2: rotation vector of f * q2 (times the norm of f), shorter arc: the sign of its scalar
   // part goes into the factor k2. Half a turn away (scalar part at most 1e-3 of the norm)
@@ -81,11 +84,12 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T z2 = h * bz - a * y - z * bx;
   const T sgn = pick(w2 < 0.0, splat(-1.0, T{}), one);
   const T aw2 = w2 * sgn;
-  const auto redo = degenerate | (aw2 * aw2 <= 2e-6 * (ln * h));
+  const auto redo = degenerate | (w2 * w2 <= 2e-6 * (ln * h));
   const T ww = pick(redo, one, aw2);
   const T inv_ww = 1.0 / ww;
   const T t2sq = (x2 * x2 + y2 * y2 + z2 * z2) * (inv_ww * inv_ww);
-  const T k2 = 2.0 * atan_over_t(t2sq, redo) * inv_ww * sgn;
+  const T atan2 = atan_over_t(t2sq, redo);
+  const T k2 = (atan2 + atan2) * inv_ww * sgn;
   const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
   append_redo(redo, i, io, redo_count);
 
@@ -94,7 +98,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T px = len - rest;
   const T strain = px * k.inv_L;
   const T ea = in.ea, eb = in.eb;
-  const T e = 2.0 * ea * eb / (ea + eb);
+  const T e = (ea + ea) * eb / (ea + eb);
   const T stress = (k.axial_own ? ea : e) * strain;
   store(io.strain, i, strain);
   store(io.stress, i, stress);
@@ -102,33 +106,32 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T a2 = e * k.ka2, b3 = e * k.kb3;
   const T b2c = 3.0 * b3 / (px + rest);
   T fx = stress * k.area, fyv = -b2c * (t1z + t2z), fzv = b2c * (t1y + t2y);
-  T max = a2 * (t2x - t1x), may = -b3 * (2.0 * t1y + t2y), maz = -b3 * (2.0 * t1z + t2z);
-  T mbx = a2 * (t1x - t2x), mby = -b3 * (t1y + 2.0 * t2y), mbz = -b3 * (t1z + 2.0 * t2z);
+  T max = a2 * (t2x - t1x), may = -b3 * (t1y + t1y + t2y), maz = -b3 * (t1z + t1z + t2z);
+  T mbx = a2 * (t1x - t2x), mby = -b3 * (t1y + (t2y + t2y)), mbz = -b3 * (t1z + (t2z + t2z));
 
   // Damping on half the change of the deformation since the previous step (off until a
-  // previous deformation exists: valid = 0).
+  // previous deformation exists: valid = 0). The halves are taken in the coefficients
+  // (h_*: c (g / 2) = (c / 2) g exactly, as scaling by a power of two is), so the changes g
+  // are used whole.
   double* const* P = io.prev;
   T old[9];
   for (int j = 0; j < 9; ++j) old[j] = load(P[j], i, T{});
-  const T dpx = 0.5 * (px - old[0]);
-  const T dpy = 0.5 * (zero - old[1]), dpz = 0.5 * (zero - old[2]);
-  const T d1x = 0.5 * (t1x - old[3]), d1y = 0.5 * (t1y - old[4]);
-  const T d1z = 0.5 * (t1z - old[5]);
-  const T d2x = 0.5 * (t2x - old[6]), d2y = 0.5 * (t2y - old[7]);
-  const T d2z = 0.5 * (t2z - old[8]);
+  const T gpx = px - old[0], gpy = zero - old[1], gpz = zero - old[2];
+  const T g1x = t1x - old[3], g1y = t1y - old[4], g1z = t1z - old[5];
+  const T g2x = t2x - old[6], g2y = t2y - old[7], g2z = t2z - old[8];
   const T se = root(e) * k.damp * in.valid;
-  const T c_a1 = se * k.dk_a1, c_b1 = c_a1, c_b2 = se * k.dk_b2;
-  const T c_a2 = 0.5 * se * k.dk_a2, c_b3 = 0.5 * se * k.dk_b3;
-  const T c_b2h = 0.5 * c_b2;
-  fx = fx + c_a1 * dpx;
-  fyv = fyv + (c_b1 * dpy - c_b2 * (d1z + d2z));
-  fzv = fzv + (c_b1 * dpz + c_b2 * (d1y + d2y));
-  max = max + c_a2 * (d2x - d1x);
-  may = may + (-c_b2h * dpz - c_b3 * (2.0 * d1y + d2y));
-  maz = maz + (c_b2h * dpy - c_b3 * (2.0 * d1z + d2z));
-  mbx = mbx + c_a2 * (d1x - d2x);
-  mby = mby + (-c_b2h * dpz - c_b3 * (d1y + 2.0 * d2y));
-  mbz = mbz + (c_b2h * dpy - c_b3 * (d1z + 2.0 * d2z));
+  const T h_a1 = se * (0.5 * k.dk_a1), h_b1 = h_a1, h_b2 = se * (0.5 * k.dk_b2);
+  const T h_a2 = se * (0.25 * k.dk_a2), h_b3 = se * (0.25 * k.dk_b3);
+  const T h_b2h = se * (0.25 * k.dk_b2);
+  fx = fx + h_a1 * gpx;
+  fyv = fyv + (h_b1 * gpy - h_b2 * (g1z + g2z));
+  fzv = fzv + (h_b1 * gpz + h_b2 * (g1y + g2y));
+  max = max + h_a2 * (g2x - g1x);
+  may = may + (-h_b2h * gpz - h_b3 * (g1y + g1y + g2y));
+  maz = maz + (h_b2h * gpy - h_b3 * (g1z + g1z + g2z));
+  mbx = mbx + h_a2 * (g1x - g2x);
+  mby = mby + (-h_b2h * gpz - h_b3 * (g1y + (g2y + g2y)));
+  mbz = mbz + (h_b2h * gpy - h_b3 * (g1z + (g2z + g2z)));
 
   // Flagged lanes keep their previous deformation: the scalar path redoes them from it.
   const T now[9] = {px, zero, zero, t1x, t1y, t1z, t2x, t2y, t2z};
