@@ -22,9 +22,8 @@ namespace {
 // lanes of its group (nor on the lane width).
 template <class T, class Mask>
 inline T atan_over_t(T t2, Mask skip) {
-  const T small = atan_series(t2);
   const Mask wide = and_not(t2 >= 0.03956612989658004, skip);  // tan^2(pi / 16)
-  if (!any(wide)) return small;
+  if (!any(wide)) return atan_series(t2);
   const T one = splat(1.0, T{});
   const T t = root(pick(wide, t2, one));      // 1 in the other lanes: no division by zero below
   const Mask c2 = t2 >= 0.44646269217168955;  // tan^2(3 pi / 16)
@@ -38,7 +37,10 @@ inline T atan_over_t(T t2, Mask skip) {
            pick(c3, splat(1.1780972450961724, T{}),
                 pick(c2, splat(0.78539816339744831, T{}), splat(0.39269908169872414, T{}))));
   const T inv_t = 1.0 / t;  // alongside x's division rather than at the end of the chain
-  return pick(wide, (atan_c + x * atan_series(x * x)) * inv_t, small);
+  // One series for the group: in x^2 for the wide lanes, in t^2 (the same bits as above)
+  // for the others.
+  const T series = atan_series(pick(wide, x * x, t2));
+  return pick(wide, (atan_c + x * series) * inv_t, series);
 }
 
 // sin(2 pi u) for |u| < 2^51. u is reduced exactly to r in [-1/4, 1/4] (sin(2 pi u) =

@@ -34,7 +34,7 @@ inline void load_vec4(const double* p, Vec4& v) {
 // force or moment is one record, so the three components are summed together (each exactly
 // as on its own). A slot without a bond reads the zero record past the last bond, so there
 // is no branch (its only effect on the sum is that -0 + 0 is +0).
-inline void gather_voxel(const VoxelKernelIo& io, int i, const VoxelConstants& k) {
+inline void gather_voxel(const VoxelKernelIo& io, int i, const VoxelConstants& k, double coef) {
   Vec4 f = {0, 0, 0, 0}, mo = {0, 0, 0, 0};
   for (int slot = 0; slot < 6; ++slot) {
     const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]);
@@ -46,12 +46,6 @@ inline void gather_voxel(const VoxelKernelIo& io, int i, const VoxelConstants& k
     f = plus ? f + fa : f - fa;
     mo = mo + m;
   }
-  // Slow (global) damping: a small fraction of the critical damping of the voxel's own
-  // axial spring, against absolute velocity.
-  const double se = std::sqrt(io.stiff[i]);
-  io.sqrt_e[i] = se;
-  const double c_lin = k.c_lin_unit * se;
-  const double coef = (k.slow_zeta * c_lin) / k.mass;
   for (int c = 0; c < 3; ++c) {
     const double fc = f[c] - coef * io.lin_mom[3 * i + c];
     io.force[c][i] = (fc + k.weight[c]) + io.load[3 * i + c];
@@ -200,8 +194,26 @@ inline void run_actuate_lanes(const double* stiff, const double* phase, double* 
   for (; i < n; ++i) actuate_lanes<double>(stiff, phase, size, i, k);
 }
 
+// Slow (global) damping: a small fraction of the critical damping of the voxel's own axial
+// spring, against absolute velocity; its coefficient (and sqrt(E), kept for the update) for
+// lanes of voxels at a time, as square roots and divisions are slow one by one.
+template <class T>
+inline T slow_damping_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k) {
+  const T se = root(load(io.stiff, i, T{}));
+  store(io.sqrt_e, i, se);
+  const T c_lin = k.c_lin_unit * se;
+  return (k.slow_zeta * c_lin) / k.mass;
+}
+
+template <class T, int W>
 inline void run_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
-  for (int i = 0; i < n; ++i) gather_voxel(io, i, k);
+  int i = 0;
+  for (; i + W <= n; i += W) {
+    double coef[W];
+    store(coef, 0, slow_damping_lanes<T>(io, i, k));
+    for (int j = 0; j < W; ++j) gather_voxel(io, i + j, k, coef[j]);
+  }
+  for (; i < n; ++i) gather_voxel(io, i, k, slow_damping_lanes<double>(io, i, k));
 }
 
 template <class T, int W>
