@@ -311,6 +311,13 @@ BondConstants bond_constants(const Model& m, const State& s, const Workspace& w)
 // few bonds it cannot handle (degenerate chords, rotations near half a turn) are redone in
 // scalar code. Voxelyze 0.9 model: the scalar path for every bond (its frame switching).
 void compute_bond_forces(const Model& m, State& s, Workspace& w) {
+  // Centres and sizes as records of 4 doubles: the bond kernel's and the self-collision
+  // test's inputs (positions and sizes do not change until the update stage).
+  w.centre_size.resize(4 * static_cast<size_t>(m.n));
+  for (int i = 0; i < m.n; ++i) {
+    double* r = &w.centre_size[4 * static_cast<size_t>(i)];
+    r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = w.size[i];
+  }
   const int nb = m.bond_count();
   if (m.def.bond_model == BondModel::kVoxelyze09) {
     for (int b = 0; b < nb; ++b) scalar_bond(m, s, w, b);
@@ -326,11 +333,6 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   io.quat = s.orient.front().coeffs().data();  // x, y, z, w
   io.size = w.size.data();
   io.stiff = s.stiffness.data();
-  w.centre_size.resize(4 * static_cast<size_t>(m.n));
-  for (int i = 0; i < m.n; ++i) {
-    double* r = &w.centre_size[4 * static_cast<size_t>(i)];
-    r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = w.size[i];
-  }
   io.centre_size = w.centre_size.data();
   io.axis_wide = w.bond_axis_wide.data();
   io.prev_valid = s.bond_prev_valid.data();

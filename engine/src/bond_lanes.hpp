@@ -58,6 +58,12 @@ inline BondIn<double> gather(const BondKernelIo& io, int b, double) {
   return in;
 }
 
+// The 4-double records (x, y, z, w) of the voxels idx[0 .. width), one value per component.
+inline void load_records(const double* records, const int* idx, double* c) {
+  const double* r = records + 4 * static_cast<size_t>(idx[0]);
+  c[0] = r[0], c[1] = r[1], c[2] = r[2], c[3] = r[3];
+}
+
 inline Axis1 axis_select(const BondKernelIo& io, int b, double) {
   return Axis1{io.axis[b]};
 }

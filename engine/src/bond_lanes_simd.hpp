@@ -44,6 +44,10 @@ inline void load_quats4(const double* q, const int* idx, __m256d* c) {
   c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
+inline void load_records(const double* records, const int* idx, V* c) {
+  load_quats(records, idx, c[0], c[1], c[2], c[3]);
+}
+
 inline BondIn<V> gather(const BondKernelIo& io, int b, V) {
   const int* ia = io.bond_a + b;
   const int* ib = io.bond_b + b;

@@ -1,6 +1,7 @@
-// KernelSet::scan_within (kernels.hpp) for any lane type: the search of a self-collision
-// refresh, which of a run of points lie within a radius of a centre. Included after the lane
-// operations of the lane types used (see voxel_lanes_body.hpp).
+// KernelSet::scan_within and KernelSet::touch_candidates (kernels.hpp) for any lane type: the
+// search of a self-collision refresh, which of a run of points lie within a radius of a
+// centre, and the test of the candidate pairs each step. Included after the lane operations
+// of the lane types used (see voxel_lanes_body.hpp).
 #pragma once
 
 #include "lane_ops.hpp"
@@ -24,6 +25,34 @@ inline int run_scan_within(const double* px, const double* py, const double* pz,
   for (; e + W <= end; e += W)
     count += scan_within_lanes<T>(px, py, pz, e, x, y, z, r2, out + count);
   for (; e < end; ++e) count += scan_within_lanes<double>(px, py, pz, e, x, y, z, r2, out + count);
+  return count;
+}
+
+// Pairs [p, p + width): those whose centres are within (a hair over) their contact distance.
+template <class T>
+inline int touch_candidates_lanes(const double* records, const int* pair_a, const int* pair_b,
+                                  int p, double half_d, int* out) {
+  T a[4], b[4];
+  load_records(records, pair_a + p, a);
+  load_records(records, pair_b + p, b);
+  const T dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
+  const T contact = half_d * (a[3] + b[3]);
+  // A relative slack of 1e-9 on the squared distance: the caller decides each candidate with
+  // its own exact test, so rounding here can only add candidates, never lose a contact.
+  const T limit = contact * contact * (1.0 + 1e-9);
+  int count = 0;
+  for_each_lane(dx * dx + dy * dy + dz * dz < limit, [&](int j) { out[count++] = p + j; });
+  return count;
+}
+
+template <class T, int W>
+inline int run_touch_candidates(const double* records, const int* pair_a, const int* pair_b, int n,
+                                double half_d, int* out) {
+  int count = 0, p = 0;
+  for (; p + W <= n; p += W)
+    count += touch_candidates_lanes<T>(records, pair_a, pair_b, p, half_d, out + count);
+  for (; p < n; ++p)
+    count += touch_candidates_lanes<double>(records, pair_a, pair_b, p, half_d, out + count);
   return count;
 }
 

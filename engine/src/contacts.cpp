@@ -169,6 +169,7 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
       g.stale.push_back(static_cast<int>(k));
   }
   if (g.stale.empty()) return;
+  g.pairs_stale = true;
   const bool direct = g.stale.size() <= kDirectRefreshes;
   if (!direct) bin_surface(s, g, radius);
   for (int k : g.stale) {
@@ -191,25 +192,37 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
 void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
   if (!m.def.self_collision) return;
   refresh_partners(m, s, w);
-  const ContactGrid& g = w.contact_grid;
+  ContactGrid& g = w.contact_grid;
+  if (g.pairs_stale) {
+    g.pair_a.clear(), g.pair_b.clear();
+    for (int i : g.voxels)
+      for (int j : g.partners[i])
+        if (j > i) g.pair_a.push_back(i), g.pair_b.push_back(j);
+    g.touching.resize(g.pair_a.size());
+    g.pairs_stale = false;
+  }
   const double L = m.size;
   const double half_d = 0.5 * m.def.contact_diameter;
-  for (int i : g.voxels) {
-    for (int j : g.partners[i]) {
-      if (j < i) continue;  // each pair once, as (i, j) with i < j, in increasing order
-      const Vec3 d = s.pos[j] - s.pos[i];
-      const double contact = half_d * (w.size[i] + w.size[j]);
-      const double dist2 = d.squaredNorm();
-      if (dist2 >= contact * contact) continue;
-      const double dist = std::sqrt(dist2);
-      if (dist == 0) continue;  // coincident centres: no direction to push along
-      const double ei = s.stiffness[i], ej = s.stiffness[j];
-      const double k = 2.0 * ei * ej / (ei + ej) * L;
-      const Vec3 f = d * (k * (contact - dist) / dist);  // pushes j away from i
-      for (int c = 0; c < 3; ++c) {
-        w.force[c][j] += f[c];
-        w.force[c][i] -= f[c];
-      }
+  // A vectorised pass keeps the pairs that may touch (nearly all do not); each is then
+  // decided exactly, and forces are added pair by pair in (i, j) order, i < j.
+  const int n =
+      kernels().touch_candidates(w.centre_size.data(), g.pair_a.data(), g.pair_b.data(),
+                                 static_cast<int>(g.pair_a.size()), half_d, g.touching.data());
+  for (int c = 0; c < n; ++c) {
+    const int p = g.touching[c];
+    const int i = g.pair_a[p], j = g.pair_b[p];
+    const Vec3 d = s.pos[j] - s.pos[i];
+    const double contact = half_d * (w.size[i] + w.size[j]);
+    const double dist2 = d.squaredNorm();
+    if (dist2 >= contact * contact) continue;
+    const double dist = std::sqrt(dist2);
+    if (dist == 0) continue;  // coincident centres: no direction to push along
+    const double ei = s.stiffness[i], ej = s.stiffness[j];
+    const double k = 2.0 * ei * ej / (ei + ej) * L;
+    const Vec3 f = d * (k * (contact - dist) / dist);  // pushes j away from i
+    for (int c3 = 0; c3 < 3; ++c3) {
+      w.force[c3][j] += f[c3];
+      w.force[c3][i] -= f[c3];
     }
   }
 }

@@ -14,8 +14,9 @@ namespace {
 
 template <class T, int W>
 KernelSet make_kernel_set() {
-  return KernelSet{&run_bond_lanes<T, W>,    &run_gather<T, W>,        &run_update_lanes<T, W>,
-                   &run_actuate_lanes<T, W>, &run_develop_lanes<T, W>, &run_scan_within<T, W>};
+  return KernelSet{&run_bond_lanes<T, W>,      &run_gather<T, W>,        &run_update_lanes<T, W>,
+                   &run_actuate_lanes<T, W>,   &run_develop_lanes<T, W>, &run_scan_within<T, W>,
+                   &run_touch_candidates<T, W>};
 }
 
 }  // namespace

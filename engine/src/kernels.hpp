@@ -29,6 +29,11 @@ struct KernelSet {
   // sums); returns how many. out has room for end - begin entries. (Self-collision refresh.)
   int (*scan_within)(const double* px, const double* py, const double* pz, int begin, int end,
                      double x, double y, double z, double r2, int* out);
+  // Writes to out, increasing, every p in [0, n) whose voxels pair_a[p], pair_b[p] (records of
+  // centre and size, Workspace::centre_size) may touch: centre distance squared below
+  // (half_d (size_a + size_b))^2 (1 + 1e-9); returns how many. (Self-collision, each step.)
+  int (*touch_candidates)(const double* records, const int* pair_a, const int* pair_b, int n,
+                          double half_d, int* out);
 };
 
 // The set for the level in use.

@@ -30,7 +30,11 @@ struct ContactGrid {
   std::array<std::vector<double>, 3> member_pos;  // their centres (x, y, z), m
   std::vector<int> near_mark;                     // per voxel: last voxel it was near
   std::vector<int> found;                         // partners of one voxel
-  int dim[3] = {0, 0, 0};                         // cells per axis
+  // Every candidate pair (i, j), i < j, in increasing order, rebuilt after a refresh; and
+  // scratch for the pairs that may touch this step.
+  std::vector<int> pair_a, pair_b, touching;
+  bool pairs_stale = true;
+  int dim[3] = {0, 0, 0};  // cells per axis
 };
 
 struct Workspace {
