@@ -194,11 +194,21 @@ void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
   refresh_partners(m, s, w);
   ContactGrid& g = w.contact_grid;
   if (g.pairs_stale) {
-    g.pair_a.clear(), g.pair_b.clear();
-    for (int i : g.voxels)
-      for (int j : g.partners[i])
-        if (j > i) g.pair_a.push_back(i), g.pair_b.push_back(j);
-    g.touching.resize(g.pair_a.size());
+    // Each list is sorted, so i's pairs are the tail of its list past i, copied whole.
+    size_t n = 0;
+    for (int i : g.voxels) {
+      const std::vector<int>& list = g.partners[i];
+      const auto upper = std::upper_bound(list.begin(), list.end(), i);
+      const size_t count = static_cast<size_t>(list.end() - upper);
+      if (n + count > g.pair_a.size()) {
+        g.pair_a.resize(2 * (n + count) + 64), g.pair_b.resize(2 * (n + count) + 64);
+      }
+      std::fill_n(g.pair_a.begin() + static_cast<std::ptrdiff_t>(n), count, i);
+      std::copy(upper, list.end(), g.pair_b.begin() + static_cast<std::ptrdiff_t>(n));
+      n += count;
+    }
+    g.pair_count = n;
+    if (g.touching.size() < n) g.touching.resize(g.pair_a.size());
     g.pairs_stale = false;
   }
   const double L = m.size;
@@ -207,7 +217,7 @@ void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
   // decided exactly, and forces are added pair by pair in (i, j) order, i < j.
   const int n =
       kernels().touch_candidates(w.centre_size.data(), g.pair_a.data(), g.pair_b.data(),
-                                 static_cast<int>(g.pair_a.size()), half_d, g.touching.data());
+                                 static_cast<int>(g.pair_count), half_d, g.touching.data());
   for (int c = 0; c < n; ++c) {
     const int p = g.touching[c];
     const int i = g.pair_a[p], j = g.pair_b[p];
