@@ -146,6 +146,34 @@ TEST(HeavyMaterials, SoftColumnIsCrushedStiffColumnStands) {
   EXPECT_LT(column_height_ratio(1e7), 0.6);
 }
 
+// Heavy voxels can crush a soft bond until its centres meet (the demo walker under pressure
+// does). The shear coupling 3 b3 / chord must stay bounded there: with the chord floored at
+// L / 10 the force is at most about (1 + 10 pi) E L^2, whereas 3 b3 / chord at a chord of
+// 1e-4 L would give ~8000 E L^2 and a speed no time step survives.
+TEST(Stability, CrushedBondWhoseCentresMeetHasBoundedForces) {
+  const double E = 1e8;
+  PhysicsDef d = testing::passive_physics();
+  d.gravity = 0;
+  const Model m = compile(testing::block(1, 1, 2, E), d);
+  ASSERT_EQ(m.bond_count(), 1);
+  for (const Vec3& offset :
+       {Vec3(1e-4, 0, 0), Vec3(0, 1e-4, 1e-5), Vec3(1e-4, 1e-4, -1e-5), Vec3(1e-7, 0, -1e-4)}) {
+    Simulator sim(m);
+    State& s = sim.mutable_state();
+    // b's centre next to a's, beside it rather than above it: the chord is tiny and turned
+    // by about a right angle from the bond's axis (or pointing backwards: the scalar path).
+    s.pos[1] = s.pos[0] + offset * m.size;
+    const double dt = s.dt;
+    sim.step();
+    ASSERT_EQ(sim.state().status, SimStatus::kRunning) << sim.state().failure;
+    for (int i = 0; i < 2; ++i) {
+      const double force = sim.state().lin_mom[i].norm() / dt;
+      EXPECT_LT(force, 40 * E * m.size * m.size) << "voxel " << i;
+      EXPECT_GT(force, 0.1 * E * m.size * m.size) << "voxel " << i;  // the bond does push
+    }
+  }
+}
+
 // A checkerboard of the softest and stiffest admissible neighbours, actuated, on the floor,
 // for a full 5.2 s life: the code preset's 1e5/1e11 Pa and the paper's 1e4/1e10 Pa.
 class MixedExtremeStiffness : public ::testing::TestWithParam<const char*> {};

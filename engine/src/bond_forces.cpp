@@ -32,6 +32,12 @@
 namespace plastivox {
 namespace {
 
+// Floor of the chord in the exact model's shear coupling 3 b3 / chord, in nominal lengths.
+// Below it the coupling's stiffness, ~3 b3 / chord^2, exceeds what the step integrates: at a
+// tenth of L it is 50 E L, within the ~195x headroom of dt's 0.9 / (2 pi) over the stiffest
+// bond even for a bond of that stiffness. Only a bond crushed to a tenth of its length sees it.
+constexpr double kMinShearChord = 0.1;
+
 struct V3 {
   double x, y, z;
 };
@@ -243,8 +249,13 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     // Shear force from end rotations. Voxelyze uses b2 = 3 b3 / L; the exact model uses
     // 3 b3 / chord, which makes the forces the gradient of the bending energy and the
     // bond's moments balance its forces (angular momentum is conserved) once bonds stretch
-    // or actuate by several percent. The two agree at rest length.
-    const double b2c = voxelyze ? b2 : 3.0 * b3 / (p.x + g.rest);
+    // or actuate by several percent. The two agree at rest length. (Below a tenth of L the
+    // chord is floored; see kMinShearChord.)
+    // The chord is floored at kMinShearChord L: the shear force's 1/chord (a transverse
+    // displacement turns a short chord by a large angle) would otherwise grow without bound as
+    // a crushed bond's centres meet (heavy voxels on a soft bond), and its stiffness beyond
+    // what any time step can integrate.
+    const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, kMinShearChord * L);
     V3 f{stress * area, b1 * p.y - b2c * (t1.z + t2.z), b1 * p.z + b2c * (t1.y + t2.y)};
     V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y),
           b2 * p.y - b3 * (2 * t1.z + t2.z)};
@@ -302,6 +313,7 @@ BondConstants bond_constants(const Model& m, const State& s, const Workspace& w)
   k.dk_a2 = w.damp_k.a2;
   k.dk_b3 = w.damp_k.b3;
   k.axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
+  k.min_shear_chord = kMinShearChord * m.size;
   return k;
 }
 

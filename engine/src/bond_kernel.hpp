@@ -50,6 +50,7 @@ struct BondConstants {
   double damp;                        // 2 sqrt(m) zeta / dt
   double dk_a1, dk_b2, dk_a2, dk_b3;  // damping coefficients per sqrt(E) (Workspace)
   bool axial_own;                     // axial stress from a's own modulus
+  double min_shear_chord;             // floor of the chord in the shear coupling, m
 };
 
 }  // namespace plastivox

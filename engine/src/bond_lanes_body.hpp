@@ -104,7 +104,9 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   store(io.stress, i, stress);
 
   const T a2 = e * k.ka2, b3 = e * k.kb3;
-  const T b2c = 3.0 * b3 / (px + rest);
+  // The chord floored at kMinShearChord L, as in the scalar path (bond_forces.cpp).
+  const T chord = px + rest;
+  const T b2c = 3.0 * b3 / pick(chord < k.min_shear_chord, splat(k.min_shear_chord, T{}), chord);
   T fx = stress * k.area, fyv = -b2c * (t1z + t2z), fzv = b2c * (t1y + t2y);
   T max = a2 * (t2x - t1x), may = -b3 * (t1y + t1y + t2y), maz = -b3 * (t1z + t1z + t2z);
   T mbx = a2 * (t1x - t2x), mby = -b3 * (t1y + (t2y + t2y)), mbz = -b3 * (t1z + (t2z + t2z));
