@@ -4,8 +4,8 @@
 // have no namespace for argument-dependent lookup).
 //
 // Each lane evaluates exactly the scalar operations, in the same order, whichever lane type
-// runs it; branches of the scalar formulation become selects, and the rare cases that need
-// libm (rotations over ~0.5 degrees per step) are evaluated lane by lane.
+// runs it; branches of the scalar formulation become selects, and the rare rotations over
+// ~0.5 degrees per step are evaluated lane by lane.
 #pragma once
 
 #include <algorithm>
@@ -124,7 +124,7 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
   // Rotation by v = omega dt. Per step a voxel turns by far less than 1e-2 rad, so the
   // common case uses the series cos(h) = 1 - h^2/2 + h^4/24 - h^6/720 + h^8/40320,
   // sin(h)/h = 1 - h^2/6 + h^4/120 - h^6/5040 + h^8/362880 (truncation error below 1e-20
-  // for h < 5e-3); larger turns take libm lane by lane.
+  // for h < 5e-3); larger turns take sin_cycles lane by lane.
   const double turn = dt * k.inv_inertia;
   const T vx = hx * turn, vy = hy * turn, vz = hz * turn;
   const T a2 = vx * vx + vy * vy + vz * vz;
@@ -137,8 +137,11 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
     const double angle = std::sqrt(lane_get(a2, j));
     const double ax = lane_get(vx, j) / angle, ay = lane_get(vy, j) / angle;
     const double az = lane_get(vz, j) / angle;
-    const double h = 0.5 * angle, sh = std::sin(h);
-    lane_set(rw, j, std::cos(h));
+    // sin and cos of the half angle by the engine's own sin(2 pi u) (elementary.hpp), so no
+    // result depends on the C library.
+    const double u = (0.5 * angle) * (1.0 / (2.0 * M_PI));
+    const double sh = sin_cycles(u);
+    lane_set(rw, j, sin_cycles(u + 0.25));
     lane_set(rx, j, ax * sh), lane_set(ry, j, ay * sh), lane_set(rz, j, az * sh);
   });
   // q <- r q (Eigen's SSE2 quaternion product, term for term), then normalised.
