@@ -169,7 +169,6 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
       g.stale.push_back(static_cast<int>(k));
   }
   if (g.stale.empty()) return;
-  g.pairs_stale = true;
   const bool direct = g.stale.size() <= kDirectRefreshes;
   if (!direct) bin_surface(s, g, radius);
   for (int k : g.stale) {
@@ -179,11 +178,13 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
     } else {
       find_partners_binned(m, s, g, k, radius);
     }
-    // i's pairs are now decided by this refresh alone.
+    g.ref_rel[k] = s.pos[i] - mean;
+    // i's pairs are now decided by this refresh alone (most refreshes find the same ones).
+    if (g.found == g.partners[i]) continue;
     for (int j : g.partners[i]) erase_sorted(g.partners[j], i);
     g.partners[i] = g.found;
     for (int j : g.found) insert_sorted(g.partners[j], i);
-    g.ref_rel[k] = s.pos[i] - mean;
+    g.pairs_stale = true;
   }
 }
 
@@ -198,8 +199,9 @@ void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
     size_t n = 0;
     for (int i : g.voxels) {
       const std::vector<int>& list = g.partners[i];
-      const auto upper = std::upper_bound(list.begin(), list.end(), i);
-      const size_t count = static_cast<size_t>(list.end() - upper);
+      size_t count = 0;  // partners past i (lists are short: counted without branches)
+      for (int j : list) count += j > i ? 1 : 0;
+      const auto upper = list.end() - static_cast<std::ptrdiff_t>(count);
       if (n + count > g.pair_a.size()) {
         g.pair_a.resize(2 * (n + count) + 64), g.pair_b.resize(2 * (n + count) + 64);
       }
