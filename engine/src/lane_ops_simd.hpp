@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cfloat>
+#include <cstdint>
 #include <cstring>
 #include <utility>
 
@@ -65,18 +66,23 @@ inline void store4(double* p, int i, const V* c) {
   for (int k = 0; k < 4; ++k) store_strided(p, i, 4, k, c[k]);
 }
 #endif
+typedef int IndexLanes __attribute__((vector_size(4 * kWidth)));
 inline M index_mask_ne(const int* idx, int i, int value, V) {
-  M m;
-  for (int j = 0; j < kWidth; ++j) m[j] = idx[i + j] != value ? -1 : 0;
-  return m;
+  IndexLanes v;
+  std::memcpy(&v, idx + i, sizeof v);
+  return __builtin_convertvector(v, M) != value;
 }
+// kWidth flag bytes as one vector, widened to (or narrowed from) the mask's lanes in one
+// conversion rather than byte by byte.
+typedef uint8_t FlagBytes __attribute__((vector_size(kWidth)));
 inline M load_flag(const uint8_t* p, int i, V) {
-  M m;
-  for (int j = 0; j < kWidth; ++j) m[j] = p[i + j] != 0 ? -1 : 0;
-  return m;
+  FlagBytes b;
+  std::memcpy(&b, p + i, sizeof b);
+  return __builtin_convertvector(b, M) != 0;
 }
 inline void store_flag(uint8_t* p, int i, M c) {
-  for (int j = 0; j < kWidth; ++j) p[i + j] = c[j] != 0 ? 1 : 0;
+  const FlagBytes b = __builtin_convertvector(c & 1, FlagBytes);  // lanes are 0 or -1
+  std::memcpy(p + i, &b, sizeof b);
 }
 inline V pick(M c, V a, V b) {
   return c ? a : b;
