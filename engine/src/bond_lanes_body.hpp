@@ -32,8 +32,8 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   // permuted so the bond's axis comes first: c[0..2] = column d, c[3..5] = column d + 1, ...
   T R[9];
   {
-    // Doubling by addition, here and below: the kernel is bound by its multiplications
-    // (x + x is 2 x exactly).
+    // Doubling by addition, here and below: one multiplication fewer each, and x + x is 2 x
+    // exactly.
     const T tx = in.ax + in.ax, ty = in.ay + in.ay, tz = in.az + in.az;
     const T twx = tx * in.aw, twy = ty * in.aw, twz = tz * in.aw;
     const T txx = tx * in.ax, txy = ty * in.ax, txz = tz * in.ax;
@@ -72,8 +72,8 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T ln = pick(degenerate, one, len);
   const T inv_h = 1.0 / h;
   const T t1sq = (y * y + z * z) * (inv_h * inv_h);
-  const T atan1 = atan_over_t(t1sq, degenerate);
-  const T k1 = (atan1 + atan1) * inv_h;
+  const T ratio1 = atan_over_t(t1sq, degenerate);  // atan(t1) / t1
+  const T k1 = (ratio1 + ratio1) * inv_h;
   const T t1x = zero, t1y = z * k1, t1z = -y * k1;
   // th2: rotation vector of f * q2 (times the norm of f), shorter arc: the sign of its scalar
   // part goes into the factor k2. Half a turn away (scalar part at most 1e-3 of the norm)
@@ -88,8 +88,8 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T ww = pick(redo, one, aw2);
   const T inv_ww = 1.0 / ww;
   const T t2sq = (x2 * x2 + y2 * y2 + z2 * z2) * (inv_ww * inv_ww);
-  const T atan2 = atan_over_t(t2sq, redo);
-  const T k2 = (atan2 + atan2) * inv_ww * sgn;
+  const T ratio2 = atan_over_t(t2sq, redo);
+  const T k2 = (ratio2 + ratio2) * inv_ww * sgn;
   const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
   append_redo(redo, i, io, redo_count);
 
