@@ -49,6 +49,15 @@ FrameStyle small_style(int w, int h) {
   return st;
 }
 
+// Straight down, parallel projection, flat colours: a voxel's pixels are exactly its colour.
+FrameStyle flat_top_view(int w, int h) {
+  FrameStyle st = small_style(w, h);
+  st.orthographic = true;
+  st.elevation_deg = 90;
+  st.lit = false;
+  return st;
+}
+
 // ---------------------------------------------------------------------------------------
 // Colour maps and scales
 // ---------------------------------------------------------------------------------------
@@ -172,10 +181,7 @@ TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
   const int w = 240, h = 160;
   const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
-  FrameStyle st = small_style(w, h);
-  st.orthographic = true;
-  st.elevation_deg = 90;
-  st.lit = false;
+  FrameStyle st = flat_top_view(w, h);
   st.overlay.colorbar = true;
   LifeRenderer renderer(st);
   const std::vector<uint8_t> img = renderer.render(life, life.frames[0], scale, "none");
@@ -288,11 +294,8 @@ TEST(RenderPixels, EdgeAntialiasingBlendsOutlinesAndNothingElse) {
   const int w = 160, h = 120;
   const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
-  FrameStyle st = small_style(w, h);
-  st.orthographic = true;
-  st.elevation_deg = 90;
+  FrameStyle st = flat_top_view(w, h);
   st.azimuth_deg = -60;
-  st.lit = false;
   const Rgb8 voxel = scale.color(*life.model, life.frames[0], 0), floor = Scene{}.floor_color;
   auto mixed_pixels = [&](int samples) {
     st.samples = samples;

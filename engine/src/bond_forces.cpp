@@ -249,12 +249,9 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     // Shear force from end rotations. Voxelyze uses b2 = 3 b3 / L; the exact model uses
     // 3 b3 / chord, which makes the forces the gradient of the bending energy and the
     // bond's moments balance its forces (angular momentum is conserved) once bonds stretch
-    // or actuate by several percent. The two agree at rest length. (Below a tenth of L the
-    // chord is floored; see kMinShearChord.)
-    // The chord is floored at kMinShearChord L: the shear force's 1/chord (a transverse
-    // displacement turns a short chord by a large angle) would otherwise grow without bound as
-    // a crushed bond's centres meet (heavy voxels on a soft bond), and its stiffness beyond
-    // what any time step can integrate.
+    // or actuate by several percent. The two agree at rest length. The chord is floored at
+    // kMinShearChord L: as a crushed bond's centres meet, 1/chord (a transverse displacement
+    // turns a short chord by a large angle) would grow without bound.
     const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, kMinShearChord * L);
     V3 f{stress * area, b1 * p.y - b2c * (t1.z + t2.z), b1 * p.z + b2c * (t1.y + t2.y)};
     V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y),

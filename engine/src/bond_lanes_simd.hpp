@@ -30,18 +30,23 @@ struct AxisV {
   V operator()(V v0, V v1, V v2) const { return is2 ? v2 : (is1 ? v1 : v0); }
 };
 
-// Four voxels' quaternions (x, y, z, w in memory) transposed: c[0] = the four x, ... c[3] = w.
-inline void load_quats4(const double* q, const int* idx, __m256d* c) {
-  const __m256d q0 = _mm256_loadu_pd(q + 4 * idx[0]), q1 = _mm256_loadu_pd(q + 4 * idx[1]);
-  const __m256d q2 = _mm256_loadu_pd(q + 4 * idx[2]), q3 = _mm256_loadu_pd(q + 4 * idx[3]);
+// Four records of 4 doubles (x, y, z, w) transposed: c[0] = the four x, ... c[3] = the four w.
+// Its own inverse, so it also turns four component vectors back into records.
+inline void transpose4x4(__m256d q0, __m256d q1, __m256d q2, __m256d q3, __m256d* c) {
   const __m256d t0 = _mm256_unpacklo_pd(q0, q1);  // x0 x1 z0 z1
   const __m256d t1 = _mm256_unpackhi_pd(q0, q1);  // y0 y1 w0 w1
   const __m256d t2 = _mm256_unpacklo_pd(q2, q3);  // x2 x3 z2 z3
   const __m256d t3 = _mm256_unpackhi_pd(q2, q3);  // y2 y3 w2 w3
   c[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
-  c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
   c[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
   c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+// Four voxels' quaternions (x, y, z, w in memory) transposed: c[0] = the four x, ... c[3] = w.
+inline void load_quats4(const double* q, const int* idx, __m256d* c) {
+  transpose4x4(_mm256_loadu_pd(q + 4 * idx[0]), _mm256_loadu_pd(q + 4 * idx[1]),
+               _mm256_loadu_pd(q + 4 * idx[2]), _mm256_loadu_pd(q + 4 * idx[3]), c);
 }
 
 inline void load_records(const double* records, const int* idx, V* c) {

@@ -195,22 +195,15 @@ void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
   refresh_partners(m, s, w);
   ContactGrid& g = w.contact_grid;
   if (g.pairs_stale) {
-    // Each list is sorted, so i's pairs are the tail of its list past i, copied whole.
-    size_t n = 0;
+    // Each list is sorted, so i's pairs are the tail of its list past i.
+    g.pair_a.clear(), g.pair_b.clear();
     for (int i : g.voxels) {
       const std::vector<int>& list = g.partners[i];
-      size_t count = 0;  // partners past i (lists are short: counted without branches)
-      for (int j : list) count += j > i ? 1 : 0;
-      const auto upper = list.end() - static_cast<std::ptrdiff_t>(count);
-      if (n + count > g.pair_a.size()) {
-        g.pair_a.resize(2 * (n + count) + 64), g.pair_b.resize(2 * (n + count) + 64);
-      }
-      std::fill_n(g.pair_a.begin() + static_cast<std::ptrdiff_t>(n), count, i);
-      std::copy(upper, list.end(), g.pair_b.begin() + static_cast<std::ptrdiff_t>(n));
-      n += count;
+      const auto upper = std::upper_bound(list.begin(), list.end(), i);
+      g.pair_a.insert(g.pair_a.end(), static_cast<size_t>(list.end() - upper), i);
+      g.pair_b.insert(g.pair_b.end(), upper, list.end());
     }
-    g.pair_count = n;
-    if (g.touching.size() < n) g.touching.resize(g.pair_a.size());
+    g.touching.resize(g.pair_a.size());
     g.pairs_stale = false;
   }
   const double L = m.size;
@@ -219,7 +212,7 @@ void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
   // decided exactly, and forces are added pair by pair in (i, j) order, i < j.
   const int n =
       kernels().touch_candidates(w.centre_size.data(), g.pair_a.data(), g.pair_b.data(),
-                                 static_cast<int>(g.pair_count), half_d, g.touching.data());
+                                 static_cast<int>(g.pair_a.size()), half_d, g.touching.data());
   for (int c = 0; c < n; ++c) {
     const int p = g.touching[c];
     const int i = g.pair_a[p], j = g.pair_b[p];

@@ -47,25 +47,18 @@ inline void store3(double* p, int i, const V* in) {
   _mm256_storeu_pd(p + 3 * i + 4, _mm256_permute2f128_pd(yz, xy, 0x30));
   _mm256_storeu_pd(p + 3 * i + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
 }
-inline void transpose4(__m256d q0, __m256d q1, __m256d q2, __m256d q3, V* out) {
-  const __m256d t0 = _mm256_unpacklo_pd(q0, q1);  // x0 x1 z0 z1
-  const __m256d t1 = _mm256_unpackhi_pd(q0, q1);  // y0 y1 w0 w1
-  const __m256d t2 = _mm256_unpacklo_pd(q2, q3);  // x2 x3 z2 z3
-  const __m256d t3 = _mm256_unpackhi_pd(q2, q3);  // y2 y3 w2 w3
-  out[0] = (V)_mm256_permute2f128_pd(t0, t2, 0x20);
-  out[1] = (V)_mm256_permute2f128_pd(t1, t3, 0x20);
-  out[2] = (V)_mm256_permute2f128_pd(t0, t2, 0x31);
-  out[3] = (V)_mm256_permute2f128_pd(t1, t3, 0x31);
-}
+inline void transpose4x4(__m256d q0, __m256d q1, __m256d q2, __m256d q3,
+                         __m256d* c);  // bond_lanes_simd.hpp
 inline void load4(const double* p, int i, V* out) {
-  transpose4(_mm256_loadu_pd(p + 4 * i), _mm256_loadu_pd(p + 4 * i + 4),
-             _mm256_loadu_pd(p + 4 * i + 8), _mm256_loadu_pd(p + 4 * i + 12), out);
+  __m256d c[4];
+  transpose4x4(_mm256_loadu_pd(p + 4 * i), _mm256_loadu_pd(p + 4 * i + 4),
+               _mm256_loadu_pd(p + 4 * i + 8), _mm256_loadu_pd(p + 4 * i + 12), c);
+  for (int k = 0; k < 4; ++k) out[k] = (V)c[k];
 }
 inline void store4(double* p, int i, const V* in) {
-  // The same transpose turns component vectors back into records.
-  V r[4];
-  transpose4((__m256d)in[0], (__m256d)in[1], (__m256d)in[2], (__m256d)in[3], r);
-  for (int k = 0; k < 4; ++k) _mm256_storeu_pd(p + 4 * i + 4 * k, (__m256d)r[k]);
+  __m256d r[4];
+  transpose4x4((__m256d)in[0], (__m256d)in[1], (__m256d)in[2], (__m256d)in[3], r);
+  for (int k = 0; k < 4; ++k) _mm256_storeu_pd(p + 4 * i + 4 * k, r[k]);
 }
 inline void load_quats4(const double* q, const int* idx, __m256d* c);  // bond_lanes_simd.hpp
 inline void load_quats(const double* q, const int* idx, V& x, V& y, V& z, V& w) {

@@ -30,11 +30,9 @@ struct ContactGrid {
   std::array<std::vector<double>, 3> member_pos;  // their centres (x, y, z), m
   std::vector<int> near_mark;                     // per voxel: last voxel it was near
   std::vector<int> found;                         // partners of one voxel
-  // Every candidate pair (i, j), i < j, in increasing order, rebuilt after a refresh (the
-  // first pair_count entries; the arrays keep their size), and scratch for the pairs that
-  // may touch this step.
+  // Every candidate pair (i, j), i < j, in increasing order, rebuilt after a refresh that
+  // changed some partners, and scratch for the pairs that may touch this step.
   std::vector<int> pair_a, pair_b, touching;
-  size_t pair_count = 0;
   bool pairs_stale = true;
   int dim[3] = {0, 0, 0};  // cells per axis
 };
