@@ -1,0 +1,132 @@
+// Golden bits: the final-state hash of eight lives, fixed here as the engine produced them
+// on 2026-12-02 (main at 22a63f5). The determinism tests compare a run with itself, so a
+// change of bits passes them silently; these do not. Whole 5.2 s lives (what `plastivox
+// simulate` prints) are checked at the widest SIMD level; the first second of the same lives
+// (settling, then actuation and development) at every level the CPU has, run one after
+// another and two at a time.
+//
+// A commit that changes a value here must say in its message why the bits moved (a physics
+// fix, a documented agreement change), and update the values in this one table.
+#include <atomic>
+#include <functional>
+#include <thread>
+#include <vector>
+
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/simd.hpp"
+#include "plastivox/vxa.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+struct GoldenLife {
+  const char* name;
+  std::function<Model(double duration)> model;  // duration 0: the robot's own (5.2 s)
+  uint64_t whole_life_hash;
+  uint64_t first_second_hash;
+};
+
+PhysicsDef with_duration(PhysicsDef d, double duration) {
+  if (duration > 0) d.duration = duration;
+  return d;
+}
+
+// `plastivox simulate` of the built-in walker: gecco2018-code.
+Model demo_walker_life(Treatment t, double duration) {
+  PhysicsDef d = preset_gecco2018_code();
+  d.treatment = t;
+  return compile(demo_walker(), with_duration(d, duration));
+}
+
+// The benchmark's irregular body: ~500 voxels of 1e5..1e11 Pa, stress development.
+Model irregular_life(double duration) {
+  PhysicsDef d = preset_gecco2018_code();
+  d.treatment = Treatment::kStress;
+  return compile(demo_irregular(500, 7), with_duration(d, duration));
+}
+
+// `plastivox simulate ../shared/vxa/NAME.vxa`: the file's own physics.
+Model vxa_life(const std::string& name, double duration) {
+  VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/" + name + ".vxa");
+  return compile(v.robot, with_duration(v.physics, duration));
+}
+
+const std::vector<GoldenLife>& golden_lives() {
+  using T = Treatment;
+  static const std::vector<GoldenLife> lives = {
+      {"demo walker, none", [](double d) { return demo_walker_life(T::kNone, d); },
+       4025732667124313481ull, 11348900301318304256ull},
+      {"demo walker, stress", [](double d) { return demo_walker_life(T::kStress, d); },
+       8377212778813926271ull, 16016211280296417979ull},
+      {"demo walker, pressure", [](double d) { return demo_walker_life(T::kPressure, d); },
+       9291457324341009512ull, 16234545210584402503ull},
+      {"irregular 500, stress", irregular_life, 13976156401097478024ull, 17084138678365463286ull},
+      {"vxa walker-none", [](double d) { return vxa_life("walker-none", d); },
+       9422991771863055224ull, 6257154358162615497ull},
+      {"vxa walker-stress", [](double d) { return vxa_life("walker-stress", d); },
+       3739100755737854475ull, 16926189286144411196ull},
+      {"vxa walker-pressure", [](double d) { return vxa_life("walker-pressure", d); },
+       11643125597847862271ull, 13050182906260634883ull},
+      {"vxa settle-cube-1e9", [](double d) { return vxa_life("settle-cube-1e9", d); },
+       4932132624103916072ull, 4932132624103916072ull},
+  };
+  return lives;
+}
+
+// Simulates every golden life (duration 0: whole, else that long) on `threads` threads at
+// `level`, each life on one thread as the evolver runs them, and checks its hash.
+void expect_golden_hashes(SimdLevel level, int threads, double duration) {
+  const SimdLevel best = best_simd_level();
+  if (level > best) GTEST_SKIP() << to_string(level) << " is not available on this CPU or build";
+  set_simd_level(level);
+  ASSERT_EQ(simd_level(), level);
+  const std::vector<GoldenLife>& lives = golden_lives();
+  std::vector<Model> models;
+  for (const GoldenLife& g : lives) models.push_back(g.model(duration));
+  std::vector<SimResult> results(lives.size());
+  std::atomic<size_t> next{0};
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t)
+    pool.emplace_back([&] {
+      for (size_t k; (k = next++) < lives.size();) results[k] = simulate(models[k]);
+    });
+  for (std::thread& th : pool) th.join();
+  set_simd_level(best);
+  for (size_t k = 0; k < lives.size(); ++k) {
+    const GoldenLife& g = lives[k];
+    EXPECT_EQ(results[k].status, SimStatus::kFinished) << g.name << ": " << results[k].failure;
+    EXPECT_EQ(results[k].final_state_hash, duration > 0 ? g.first_second_hash : g.whole_life_hash)
+        << g.name << (duration > 0 ? ", first second" : ", whole life") << " at "
+        << to_string(level) << " on " << threads << " thread" << (threads == 1 ? "" : "s");
+  }
+}
+
+constexpr double kFirstSecond = 1.0;
+
+TEST(GoldenLives, WholeLivesAtTheWidestLevel) {
+  expect_golden_hashes(best_simd_level(), 2, 0);
+}
+
+// One case per level and thread count, so ctest runs them side by side.
+TEST(GoldenLives, FirstSecondAvx512OneThread) {
+  expect_golden_hashes(SimdLevel::kAvx512, 1, kFirstSecond);
+}
+TEST(GoldenLives, FirstSecondAvx512TwoThreads) {
+  expect_golden_hashes(SimdLevel::kAvx512, 2, kFirstSecond);
+}
+TEST(GoldenLives, FirstSecondAvx2OneThread) {
+  expect_golden_hashes(SimdLevel::kAvx2, 1, kFirstSecond);
+}
+TEST(GoldenLives, FirstSecondAvx2TwoThreads) {
+  expect_golden_hashes(SimdLevel::kAvx2, 2, kFirstSecond);
+}
+TEST(GoldenLives, FirstSecondScalarOneThread) {
+  expect_golden_hashes(SimdLevel::kScalar, 1, kFirstSecond);
+}
+TEST(GoldenLives, FirstSecondScalarTwoThreads) {
+  expect_golden_hashes(SimdLevel::kScalar, 2, kFirstSecond);
+}
+
+}  // namespace
+}  // namespace plastivox
