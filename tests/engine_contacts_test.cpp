@@ -23,14 +23,14 @@ long check_every_touching_pair_is_listed(const Model& m, int steps) {
   long touching = 0;
   for (int step = 0; step < steps && s.status == SimStatus::kRunning; ++step) {
     compute_bond_forces(m, s, w);
-    if (w.stiffness_changed) s.dt = stable_dt(m, s.stiffness);
+    follow_stiffness(m, s);
     gather_voxel_forces(m, s, w);
     apply_self_collisions(m, s, w);
     const auto& partners = w.contact_grid.partners;
     for (size_t a = 0; a < surface.size(); ++a) {
       for (size_t b = a + 1; b < surface.size(); ++b) {
         const int i = surface[a], j = surface[b];
-        const double contact = half_d * (w.size[i] + w.size[j]);
+        const double contact = half_d * (s.size[i] + s.size[j]);
         if ((s.pos[j] - s.pos[i]).squaredNorm() >= contact * contact) continue;
         if (std::binary_search(m.near_voxels[i].begin(), m.near_voxels[i].end(), j)) continue;
         ++touching;
@@ -42,7 +42,7 @@ long check_every_touching_pair_is_listed(const Model& m, int steps) {
       }
     }
     integrate(m, s, w);
-    actuate(m, s, w);
+    actuate(m, s);
     develop(m, s, w);
     s.time += s.dt;
     s.steps += 1;

@@ -3,14 +3,14 @@
 #include <algorithm>
 
 #include "kernels.hpp"
-#include "workspace.hpp"
+#include "workspace.hpp"  // the stage declarations
 
 namespace plastivox {
 
-void actuate(const Model& m, const State& s, Workspace& w) {
+void actuate(const Model& m, State& s) {
   const PhysicsDef& d = m.def;
   if (s.time < d.settle_time || d.act_amplitude == 0 || d.act_frequency == 0) {
-    std::fill(w.size.begin(), w.size.end(), m.size);
+    std::fill(s.size.begin(), s.size.end(), m.size);
     return;
   }
   ActuationConstants k;
@@ -20,7 +20,7 @@ void actuate(const Model& m, const State& s, Workspace& w) {
   k.e_max = d.e_max;
   k.inv_range = 1.0 / (d.e_max - d.e_min);
   k.cycles = d.act_frequency * s.time;
-  kernels().actuate(s.stiffness.data(), m.phase.data(), w.size.data(), m.n, k);
+  kernels().actuate(s.stiffness.data(), m.phase.data(), s.size.data(), m.n, k);
 }
 
 }  // namespace plastivox

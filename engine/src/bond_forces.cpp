@@ -89,8 +89,8 @@ struct BondGeometry {
 };
 
 // R: voxel a's orientation as a column-major rotation matrix (R[0..2] the first column).
-inline BondGeometry bond_geometry(const Model& m, const State& s, const Workspace& w,
-                                  const double* R, int b, bool small_angle) {
+inline BondGeometry bond_geometry(const Model& m, const State& s, const double* R, int b,
+                                  bool small_angle) {
   const int ia = m.bond_a[b], ib = m.bond_b[b], d = m.bond_axis[b];
   BondGeometry g;
   g.axis = d;
@@ -111,7 +111,7 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const Workspac
               aw * bz - ax * by + ay * bx - az * bw);
   g.q2w = qw;
   // Extension is measured from the actuated rest length (mean of the two current sizes).
-  g.rest = 0.5 * (w.size[ia] + w.size[ib]);
+  g.rest = 0.5 * (s.size[ia] + s.size[ib]);
   if (small_angle) {
     g.fw = 1, g.fy = 0, g.fz = 0;
     g.p = {g.r.x - g.rest, g.r.y, g.r.z};
@@ -176,15 +176,13 @@ inline Vec3 to_world(const BondGeometry& g, const double* R, const V3& v) {
 
 }  // namespace
 
-double elastic_energy(const Model& m, const State& s, const std::vector<double>& size) {
-  Workspace w(m);
-  w.size = size;
+double elastic_energy(const Model& m, const State& s) {
   const double L = m.size, nu = m.def.poisson;
   const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   double u = 0;
   for (int b = 0; b < m.bond_count(); ++b) {
     const Eigen::Matrix3d R = s.orient[m.bond_a[b]].toRotationMatrix();
-    const BondGeometry g = bond_geometry(m, s, w, R.data(), b, false);
+    const BondGeometry g = bond_geometry(m, s, R.data(), b, false);
     const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
     const double e = 2.0 * ea * eb / (ea + eb);
     const double a1 = (axial_own ? ea : e) * L;
@@ -222,7 +220,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     bool damp_ok = s.bond_prev_valid[b] != 0;
     const Eigen::Matrix3d rot = s.orient[ia].toRotationMatrix();
     const double* R = rot.data();
-    BondGeometry g = bond_geometry(m, s, w, R, b, small);
+    BondGeometry g = bond_geometry(m, s, R, b, small);
     if (voxelyze) {
       const bool next = next_small_angle(g, small);
       if (next != small) {
@@ -230,7 +228,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
         // previous deformation is not refreshed), as in Voxelyze 0.9.
         small = next;
         s.bond_small_angle[b] = small ? 1 : 0;
-        g = bond_geometry(m, s, w, R, b, small);
+        g = bond_geometry(m, s, R, b, small);
         damp_ok = false;
       }
     }
@@ -325,7 +323,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   w.centre_size.resize(4 * static_cast<size_t>(m.n));
   for (int i = 0; i < m.n; ++i) {
     double* r = &w.centre_size[4 * static_cast<size_t>(i)];
-    r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = w.size[i];
+    r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = s.size[i];
   }
   const int nb = m.bond_count();
   if (m.def.bond_model == BondModel::kVoxelyze09) {
@@ -340,7 +338,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   io.axis = m.bond_axis.data();
   io.pos = s.pos.front().data();
   io.quat = s.orient.front().coeffs().data();  // x, y, z, w
-  io.size = w.size.data();
+  io.size = s.size.data();
   io.stiff = s.stiffness.data();
   io.centre_size = w.centre_size.data();
   io.axis_wide = w.bond_axis_wide.data();

@@ -217,7 +217,7 @@ void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
     const int p = g.touching[c];
     const int i = g.pair_a[p], j = g.pair_b[p];
     const Vec3 d = s.pos[j] - s.pos[i];
-    const double contact = half_d * (w.size[i] + w.size[j]);
+    const double contact = half_d * (s.size[i] + s.size[j]);
     const double dist2 = d.squaredNorm();
     if (dist2 >= contact * contact) continue;
     const double dist = std::sqrt(dist2);

@@ -24,9 +24,8 @@ namespace plastivox {
 //   E = E0 + alpha * (stimulus - stimulus at the end of settling); the change in one step is
 //   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor
 //   e_min) and alpha != 0 develop: soft voxels never do, and one softened to the gate stops.
-void develop(const Model& m, State& s, Workspace& w) {
+void develop(const Model& m, State& s, const Workspace& w) {
   const PhysicsDef& d = m.def;
-  w.stiffness_changed = false;
   if (d.treatment == Treatment::kNone || s.time < d.settle_time) return;
   DevelopIo io;
   for (int slot = 0; slot < 6; ++slot) io.slot_bond[slot] = w.slot_bond[slot].data();
@@ -50,7 +49,7 @@ void develop(const Model& m, State& s, Workspace& w) {
   k.max_change = d.max_change_per_step;
   k.e_min = d.e_min;
   k.e_max = d.e_max;
-  w.stiffness_changed = kernels().develop(io, m.n, k);
+  kernels().develop(io, m.n, k);
   s.stim_ref_set = true;
 }
 

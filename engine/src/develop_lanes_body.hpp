@@ -14,9 +14,9 @@ inline T clamp_lanes(T v, double lo, double hi) {
   return pick(v < lo, splat(lo, T{}), pick(hi < v, splat(hi, T{}), v));
 }
 
-// Voxels [i, i + width). Returns the mask of lanes whose stiffness changed.
+// Voxels [i, i + width).
 template <class T>
-inline auto develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k) {
+inline void develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k) {
   const T zero = splat(0.0, T{});
   T stim;
   if (k.stress) {
@@ -59,18 +59,14 @@ inline auto develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k)
   }
   const T change = clamp_lanes(target - e, -k.max_change, k.max_change);
   const T next = clamp_lanes(e + change, k.e_min, k.e_max);
-  const auto changed = and_not(active, next == e);
-  store(io.stiffness, i, pick(changed, next, e));
-  return changed;
+  store(io.stiffness, i, pick(active, next, e));
 }
 
 template <class T, int W>
-inline bool run_develop_lanes(const DevelopIo& io, int n, const DevelopConstants& k) {
-  bool changed = false;
+inline void run_develop_lanes(const DevelopIo& io, int n, const DevelopConstants& k) {
   int i = 0;
-  for (; i + W <= n; i += W) changed = any(develop_lanes<T>(io, i, k)) || changed;
-  for (; i < n; ++i) changed = any(develop_lanes<double>(io, i, k)) || changed;
-  return changed;
+  for (; i + W <= n; i += W) develop_lanes<T>(io, i, k);
+  for (; i < n; ++i) develop_lanes<double>(io, i, k);
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ VoxelKernelIo voxel_io(const Model& m, const State& s, Workspace& w) {
   io.ang_mom = st.ang_mom.front().data();
   io.stiff = st.stiffness.data();
   io.static_friction = st.static_friction.data();
-  io.size = w.size.data();
+  io.size = st.size.data();
   for (int c = 0; c < 3; ++c) {
     io.force[c] = w.force[c].data();
     io.moment[c] = w.moment[c].data();

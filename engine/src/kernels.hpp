@@ -22,8 +22,8 @@ struct KernelSet {
   // Voxels [0, n): the actuated sizes.
   void (*actuate)(const double* stiff, const double* phase, double* size, int n,
                   const ActuationConstants& k);
-  // Voxels [0, n): stimulus and stiffness update; returns whether some stiffness changed.
-  bool (*develop)(const DevelopIo& io, int n, const DevelopConstants& k);
+  // Voxels [0, n): stimulus and stiffness update.
+  void (*develop)(const DevelopIo& io, int n, const DevelopConstants& k);
   // Writes to out, increasing, every e in [begin, end) with
   // (px[e] - x)^2 + (py[e] - y)^2 + (pz[e] - z)^2 < r2 (a plain comparison of those rounded
   // sums); returns how many. out has room for end - begin entries. (Self-collision refresh.)

@@ -12,10 +12,6 @@ Simulator::Simulator(const Model& model)
 Simulator::~Simulator() = default;
 Simulator::Simulator(Simulator&&) noexcept = default;
 
-const std::vector<double>& Simulator::voxel_sizes() const {
-  return ws_->size;
-}
-
 // One step, as a list of stages. Order follows Voxelyze 0.9 so results can be compared:
 // bonds see the sizes and stiffness left by the previous step; actuation for the next step
 // is set from the time at the start of this one; development reads this step's strains.
@@ -26,12 +22,11 @@ void Simulator::step() {
   if (s.status != SimStatus::kRunning) return;
 
   compute_bond_forces(m, s, w);
-  // dt follows the stiffness the previous step's development left (unchanged E, same dt).
-  if (w.stiffness_changed) s.dt = stable_dt(m, s.stiffness);
+  follow_stiffness(m, s);
   gather_voxel_forces(m, s, w);
   apply_self_collisions(m, s, w);
   integrate(m, s, w);
-  actuate(m, s, w);
+  actuate(m, s);
   develop(m, s, w);
 
   s.time += s.dt;
@@ -44,18 +39,26 @@ void Simulator::step() {
 
 namespace {
 
-void record_frame(const State& s, const std::vector<double>& sizes, Recording& rec) {
+void record_frame(const State& s, Recording& rec) {
   Frame f;
   f.time = s.time;
   f.pos = s.pos;
   f.orient = s.orient;
-  f.size = sizes;
+  f.size = s.size;
   f.stiffness = s.stiffness;
   f.stimulus = s.stimulus;
   rec.frames.push_back(std::move(f));
 }
 
 }  // namespace
+
+// Derived from the state, not carried in a flag: after any step that may have developed
+// (time past the settle time) dt is recomputed, and for unchanged stiffness stable_dt gives
+// the same dt, bit for bit.
+void follow_stiffness(const Model& m, State& s) {
+  if (m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time)
+    s.dt = stable_dt(m, s.stiffness);
+}
 
 SimResult simulate(const Model& model) {
   const auto wall_start = std::chrono::steady_clock::now();
@@ -70,13 +73,12 @@ SimResult simulate(const Model& model) {
   // Like Voxelyze, run until time first passes the duration.
   while (s.time <= d.duration && s.status == SimStatus::kRunning) {
     if (d.record_fps > 0 && s.time >= next_frame) {
-      record_frame(s, sim.voxel_sizes(), r.recording);
+      record_frame(s, r.recording);
       next_frame = static_cast<double>(r.recording.frames.size()) / d.record_fps;
     }
     sim.step();
   }
-  if (d.record_fps > 0 && s.status == SimStatus::kRunning)
-    record_frame(s, sim.voxel_sizes(), r.recording);
+  if (d.record_fps > 0 && s.status == SimStatus::kRunning) record_frame(s, r.recording);
 
   r.status = s.status == SimStatus::kRunning ? SimStatus::kFinished : s.status;
   r.failure = s.failure;

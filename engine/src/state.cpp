@@ -11,6 +11,7 @@ State make_initial_state(const Model& m) {
   s.lin_mom.assign(m.n, Vec3::Zero());
   s.ang_mom.assign(m.n, Vec3::Zero());
   s.stiffness = m.e0;
+  s.size.assign(m.n, m.size);  // no actuation before the first step
   s.stimulus.assign(m.n, 0.0);
   s.stim_integral.assign(m.n, 0.0);
   s.stim_ref.assign(m.n, 0.0);

@@ -1,5 +1,7 @@
-// Scratch arrays one step fills and consumes. Not part of State: nothing here survives a
-// step except the contact candidate list, which is a cache rebuilt from positions.
+// Scratch arrays one step fills and consumes. Not part of State: nothing here carries
+// information from one step to the next. The self-collision candidates persist as a cache
+// (rebuilt from positions when stale; a fresh workspace finds the same contacts), and the
+// model-derived constants are computed once here.
 #pragma once
 
 #include <array>
@@ -39,7 +41,6 @@ struct ContactGrid {
 
 struct Workspace {
   // Per voxel.
-  std::vector<double> size;  // actuated edge length, m
   // Total force (N) and moment (N m), world frame, one array per component.
   std::array<std::vector<double>, 3> force, moment;
   std::vector<double> sqrt_e;  // sqrt of the current stiffness, sqrt(Pa)
@@ -60,7 +61,6 @@ struct Workspace {
   // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
   ContactGrid contact_grid;
   bool contacts_valid = false;
-  bool stiffness_changed = false;       // the develop stage changed E this step
   std::vector<int> redo;                // bonds the batched kernel left to the scalar path
   std::vector<int64_t> bond_axis_wide;  // Model::bond_axis as 64-bit integers (bond kernel)
 
@@ -72,8 +72,7 @@ struct Workspace {
   } damp_k;
 
   explicit Workspace(const Model& m)
-      : size(m.n, m.size),
-        sqrt_e(m.n),
+      : sqrt_e(m.n),
         bond_strain(m.bond_count() + 1, 0.0),
         bond_stress(m.bond_count() + 1, 0.0),
         bond_axis_wide(m.bond_axis.begin(), m.bond_axis.end()) {
@@ -96,13 +95,14 @@ struct Workspace {
   }
 };
 
-// The stages of one step, in the order Simulator::step() calls them (see stages/*.cpp).
-void actuate(const Model& m, const State& s, Workspace& w);
+// The stages of one step, in the order Simulator::step() calls them (one file each:
+// bond_forces.cpp, simulator.cpp, integrate.cpp, contacts.cpp, actuate.cpp, develop.cpp).
 void compute_bond_forces(const Model& m, State& s, Workspace& w);
-void develop(const Model& m, State& s, Workspace& w);
+void follow_stiffness(const Model& m, State& s);  // dt from the stiffness development left
 void gather_voxel_forces(const Model& m, const State& s, Workspace& w);
 void apply_self_collisions(const Model& m, const State& s, Workspace& w);
 void integrate(const Model& m, State& s, Workspace& w);  // floor, friction, Euler update
-bool check_stability(const Model& m, State& s);
+void actuate(const Model& m, State& s);
+void develop(const Model& m, State& s, const Workspace& w);
 
 }  // namespace plastivox

@@ -19,14 +19,12 @@ bool ends_with(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-Frame capture(const State& s, const std::vector<double>& sizes, const Model& model) {
+Frame capture(const State& s) {
   Frame f;
   f.time = s.time;
   f.pos = s.pos;
   f.orient = s.orient;
-  // Sizes are known after the first step; before it every voxel has its nominal size.
-  f.size = sizes.size() == static_cast<size_t>(model.n) ? sizes
-                                                        : std::vector<double>(model.n, model.size);
+  f.size = s.size;
   f.stiffness = s.stiffness;
   f.stimulus = s.stimulus;
   return f;
@@ -114,7 +112,7 @@ void simulate_frames(const LifeSource& source, const Model& model, const std::ve
       throw RenderError(source.path + ": the simulation went unstable at t = " +
                         std::to_string(s.time) + " s (" + s.failure + ")");
     }
-    waiting.push_back(capture(s, sim.voxel_sizes(), model));
+    waiting.push_back(capture(s));
     hand_over(false);
     if (stopped) return;
   }

@@ -10,9 +10,9 @@ namespace plastivox {
 
 // Translational plus rotational kinetic energy, J.
 double kinetic_energy(const Model& model, const State& state);
-// Strain energy stored in all bonds (axial, torsion, bending), J, given the actuated voxel
-// sizes (Simulator::voxel_sizes()).
-double elastic_energy(const Model& model, const State& state, const std::vector<double>& size);
+// Strain energy stored in all bonds (axial, torsion, bending), J, measured from the actuated
+// rest lengths (state.size).
+double elastic_energy(const Model& model, const State& state);
 // Gravitational potential energy relative to z = 0, J.
 double gravity_energy(const Model& model, const State& state);
 

@@ -27,14 +27,13 @@ class Simulator {
 
   const Model& model() const { return *model_; }
   const State& state() const { return state_; }
-  State& mutable_state() { return state_; }  // for tests and checkpoint restore
+  // The state may be replaced by one saved from another Simulator of the same model: the
+  // life then continues bit-identically (State holds everything that carries over).
+  State& mutable_state() { return state_; }
 
   // Advances one time step. Sets status to kUnstable (with a reason) instead of producing
   // non-finite numbers; further calls then do nothing.
   void step();
-
-  // Current actuated edge length of every voxel, m (valid after the first step).
-  const std::vector<double>& voxel_sizes() const;
 
  private:
   const Model* model_;
