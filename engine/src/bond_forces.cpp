@@ -18,9 +18,11 @@
 // on the rate of the same deformations (finite difference of the bond-frame deformation,
 // half of it attributed to each end), so rigid motion of the whole bond is never damped.
 //
-// This is the hot loop of the simulator (most of the time of a step), so it is written
-// in plain scalar arithmetic on the structure-of-arrays state, without temporaries.
+// The exact model's bonds run in the batched kernel (bond_lanes_body.hpp), most of a step's
+// time; this file holds the stage that drives it and the scalar path, which serves the
+// Voxelyze 0.9 model and the few bonds the kernel hands back.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 
@@ -177,7 +179,7 @@ inline Vec3 to_world(const BondGeometry& g, const double* R, const V3& v) {
 }  // namespace
 
 double elastic_energy(const Model& m, const State& s) {
-  const double L = m.size, nu = m.def.poisson;
+  const ModelConstants& k = m.k;
   const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   double u = 0;
   for (int b = 0; b < m.bond_count(); ++b) {
@@ -185,9 +187,9 @@ double elastic_energy(const Model& m, const State& s) {
     const BondGeometry g = bond_geometry(m, s, R.data(), b, false);
     const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
     const double e = 2.0 * ea * eb / (ea + eb);
-    const double a1 = (axial_own ? ea : e) * L;
-    const double a2 = e * L * L * L / (12.0 * (1.0 + nu));
-    const double b3 = e * L * L * L / 6.0;
+    const double a1 = (axial_own ? ea : e) * k.kb1;
+    const double a2 = e * k.ka2;
+    const double b3 = e * k.kb3;
     const V3& t1 = g.th1;
     const V3& t2 = g.th2;
     u += 0.5 * a1 * g.p.x * g.p.x + 0.5 * a2 * (t2.x - t1.x) * (t2.x - t1.x) +
@@ -202,111 +204,103 @@ namespace {
 // The scalar path: every bond under the Voxelyze 0.9 model, and under the exact model the
 // few bonds the batched kernel flags (large rotations, degenerate chords).
 void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
+  const ModelConstants& mk = m.k;
   const double L = m.size;
-  const double area = L * L;
-  const double inv_L = 1.0 / L;
-  // Beam constants per unit modulus.
-  const double ka2 = L * L * L / (12.0 * (1.0 + m.def.poisson));
-  const double kb1 = L, kb2 = L * L / 2.0, kb3 = L * L * L / 6.0;
   // Damping multiplier 2 sqrt(m) zeta / dt: turns sqrt(k) * (deformation change) into a
   // critical-fraction damping force.
-  const double damp = 2.0 * std::sqrt(m.mass) * m.def.bond_damping / s.dt;
+  const double damp = mk.bond_damp / s.dt;
   const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   const bool voxelyze = m.def.bond_model == BondModel::kVoxelyze09;
-
-  {
-    const int ia = m.bond_a[b], ib = m.bond_b[b];
-    bool small = s.bond_small_angle[b] != 0;
-    bool damp_ok = s.bond_prev_valid[b] != 0;
-    const Eigen::Matrix3d rot = s.orient[ia].toRotationMatrix();
-    const double* R = rot.data();
-    BondGeometry g = bond_geometry(m, s, R, b, small);
-    if (voxelyze) {
-      const bool next = next_small_angle(g, small);
-      if (next != small) {
-        // Switching frames: deformation rates are undefined this step (no damping, and the
-        // previous deformation is not refreshed), as in Voxelyze 0.9.
-        small = next;
-        s.bond_small_angle[b] = small ? 1 : 0;
-        g = bond_geometry(m, s, R, b, small);
-        damp_ok = false;
-      }
+  const int ia = m.bond_a[b], ib = m.bond_b[b];
+  bool small = s.bond_small_angle[b] != 0;
+  bool damp_ok = s.bond_prev_valid[b] != 0;
+  const Eigen::Matrix3d rot = s.orient[ia].toRotationMatrix();
+  const double* R = rot.data();
+  BondGeometry g = bond_geometry(m, s, R, b, small);
+  if (voxelyze) {
+    const bool next = next_small_angle(g, small);
+    if (next != small) {
+      // Switching frames: deformation rates are undefined this step (no damping, and the
+      // previous deformation is not refreshed), as in Voxelyze 0.9.
+      small = next;
+      s.bond_small_angle[b] = small ? 1 : 0;
+      g = bond_geometry(m, s, R, b, small);
+      damp_ok = false;
     }
-    const V3& p = g.p;
-    const V3& t1 = g.th1;
-    const V3& t2 = g.th2;
-    // As in Voxelyze 0.9, strain is the extension over the nominal length L.
-    const double strain = p.x * inv_L;
-    const double ea = s.stiffness[ia], eb = s.stiffness[ib];
-    const double e = 2.0 * ea * eb / (ea + eb);  // harmonic mean: two springs in series
-    const double stress = (axial_own ? ea : e) * strain;
-    w.bond_strain[b] = strain;
-    w.bond_stress[b] = stress;
-
-    const double a2 = e * ka2, b1 = e * kb1, b2 = e * kb2, b3 = e * kb3;
-    // Shear force from end rotations. Voxelyze uses b2 = 3 b3 / L; the exact model uses
-    // 3 b3 / chord, which makes the forces the gradient of the bending energy and the
-    // bond's moments balance its forces (angular momentum is conserved) once bonds stretch
-    // or actuate by several percent. The two agree at rest length. The chord is floored at
-    // kMinShearChord L: as a crushed bond's centres meet, 1/chord (a transverse displacement
-    // turns a short chord by a large angle) would grow without bound.
-    const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, kMinShearChord * L);
-    V3 f{stress * area, b1 * p.y - b2c * (t1.z + t2.z), b1 * p.z + b2c * (t1.y + t2.y)};
-    V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y),
-          b2 * p.y - b3 * (2 * t1.z + t2.z)};
-    V3 mb{a2 * (t1.x - t2.x), -b2 * p.z - b3 * (t1.y + 2 * t2.y),
-          b2 * p.y - b3 * (t1.z + 2 * t2.z)};
-
-    auto& P = s.bond_prev;
-    const Vec3 prev_p(P[0][b], P[1][b], P[2][b]);
-    const Vec3 prev_1(P[3][b], P[4][b], P[5][b]);
-    const Vec3 prev_2(P[6][b], P[7][b], P[8][b]);
-    if (damp_ok) {
-      // Half of the deformation change is attributed to each end.
-      const V3 dp{0.5 * (p.x - prev_p.x()), 0.5 * (p.y - prev_p.y()), 0.5 * (p.z - prev_p.z())};
-      const V3 d1{0.5 * (t1.x - prev_1.x()), 0.5 * (t1.y - prev_1.y()), 0.5 * (t1.z - prev_1.z())};
-      const V3 d2{0.5 * (t2.x - prev_2.x()), 0.5 * (t2.y - prev_2.y()), 0.5 * (t2.z - prev_2.z())};
-      // Every coefficient is sqrt(E) times a geometric constant (see Workspace).
-      const double se = std::sqrt(e) * damp;
-      const double c_a1 = se * w.damp_k.a1, c_b1 = c_a1, c_b2 = se * w.damp_k.b2;
-      const double c_a2 = 0.5 * se * w.damp_k.a2, c_b3 = 0.5 * se * w.damp_k.b3;
-      const double c_b2h = 0.5 * c_b2;
-      f.x += c_a1 * dp.x;
-      f.y += c_b1 * dp.y - c_b2 * (d1.z + d2.z);
-      f.z += c_b1 * dp.z + c_b2 * (d1.y + d2.y);
-      ma.x += c_a2 * (d2.x - d1.x);
-      ma.y += -c_b2h * dp.z - c_b3 * (2 * d1.y + d2.y);
-      ma.z += c_b2h * dp.y - c_b3 * (2 * d1.z + d2.z);
-      mb.x += c_a2 * (d1.x - d2.x);
-      mb.y += -c_b2h * dp.z - c_b3 * (d1.y + 2 * d2.y);
-      mb.z += c_b2h * dp.y - c_b3 * (d1.z + 2 * d2.z);
-    }
-    if (damp_ok || !s.bond_prev_valid[b]) {
-      const double now[9] = {p.x, p.y, p.z, t1.x, t1.y, t1.z, t2.x, t2.y, t2.z};
-      for (int k = 0; k < 9; ++k) P[k][b] = now[k];
-    }
-    s.bond_prev_valid[b] = 1;
-
-    const Vec3 results[3] = {to_world(g, R, f), to_world(g, R, ma), to_world(g, R, mb)};
-    for (int v = 0; v < 3; ++v)
-      for (int k = 0; k < 3; ++k) w.bond_out[v][4 * static_cast<size_t>(b) + k] = results[v][k];
   }
+  const V3& p = g.p;
+  const V3& t1 = g.th1;
+  const V3& t2 = g.th2;
+  // As in Voxelyze 0.9, strain is the extension over the nominal length L.
+  const double strain = p.x * mk.inv_L;
+  const double ea = s.stiffness[ia], eb = s.stiffness[ib];
+  const double e = 2.0 * ea * eb / (ea + eb);  // harmonic mean: two springs in series
+  const double stress = (axial_own ? ea : e) * strain;
+  w.bond_strain[b] = strain;
+  w.bond_stress[b] = stress;
+
+  const double a2 = e * mk.ka2, b1 = e * mk.kb1, b2 = e * mk.kb2, b3 = e * mk.kb3;
+  // Shear force from end rotations. Voxelyze uses b2 = 3 b3 / L; the exact model uses
+  // 3 b3 / chord, which makes the forces the gradient of the bending energy and the
+  // bond's moments balance its forces (angular momentum is conserved) once bonds stretch
+  // or actuate by several percent. The two agree at rest length. The chord is floored at
+  // kMinShearChord L: as a crushed bond's centres meet, 1/chord (a transverse displacement
+  // turns a short chord by a large angle) would grow without bound.
+  const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, kMinShearChord * L);
+  V3 f{stress * mk.area, b1 * p.y - b2c * (t1.z + t2.z), b1 * p.z + b2c * (t1.y + t2.y)};
+  V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y), b2 * p.y - b3 * (2 * t1.z + t2.z)};
+  V3 mb{a2 * (t1.x - t2.x), -b2 * p.z - b3 * (t1.y + 2 * t2.y), b2 * p.y - b3 * (t1.z + 2 * t2.z)};
+
+  auto& P = s.bond_prev;
+  const Vec3 prev_p(P[0][b], P[1][b], P[2][b]);
+  const Vec3 prev_1(P[3][b], P[4][b], P[5][b]);
+  const Vec3 prev_2(P[6][b], P[7][b], P[8][b]);
+  if (damp_ok) {
+    // Half of the deformation change is attributed to each end.
+    const V3 dp{0.5 * (p.x - prev_p.x()), 0.5 * (p.y - prev_p.y()), 0.5 * (p.z - prev_p.z())};
+    const V3 d1{0.5 * (t1.x - prev_1.x()), 0.5 * (t1.y - prev_1.y()), 0.5 * (t1.z - prev_1.z())};
+    const V3 d2{0.5 * (t2.x - prev_2.x()), 0.5 * (t2.y - prev_2.y()), 0.5 * (t2.z - prev_2.z())};
+    // Every coefficient is sqrt(E) times a geometric constant (ModelConstants).
+    const double se = std::sqrt(e) * damp;
+    const double c_a1 = se * mk.damp_a1, c_b1 = c_a1, c_b2 = se * mk.damp_b2;
+    const double c_a2 = 0.5 * se * mk.damp_a2, c_b3 = 0.5 * se * mk.damp_b3;
+    const double c_b2h = 0.5 * c_b2;
+    f.x += c_a1 * dp.x;
+    f.y += c_b1 * dp.y - c_b2 * (d1.z + d2.z);
+    f.z += c_b1 * dp.z + c_b2 * (d1.y + d2.y);
+    ma.x += c_a2 * (d2.x - d1.x);
+    ma.y += -c_b2h * dp.z - c_b3 * (2 * d1.y + d2.y);
+    ma.z += c_b2h * dp.y - c_b3 * (2 * d1.z + d2.z);
+    mb.x += c_a2 * (d1.x - d2.x);
+    mb.y += -c_b2h * dp.z - c_b3 * (d1.y + 2 * d2.y);
+    mb.z += c_b2h * dp.y - c_b3 * (d1.z + 2 * d2.z);
+  }
+  if (damp_ok || !s.bond_prev_valid[b]) {
+    const double now[9] = {p.x, p.y, p.z, t1.x, t1.y, t1.z, t2.x, t2.y, t2.z};
+    for (int k = 0; k < 9; ++k) P[k][b] = now[k];
+  }
+  s.bond_prev_valid[b] = 1;
+
+  const Vec3 results[3] = {to_world(g, R, f), to_world(g, R, ma), to_world(g, R, mb)};
+  for (int v = 0; v < 3; ++v)
+    for (int k = 0; k < 3; ++k) w.bond_out[v][4 * static_cast<size_t>(b) + k] = results[v][k];
 }
 
-BondConstants bond_constants(const Model& m, const State& s, const Workspace& w) {
+BondConstants bond_constants(const Model& m, const State& s) {
+  const ModelConstants& mk = m.k;
   BondConstants k;
   k.L = m.size;
-  k.area = m.size * m.size;
-  k.inv_L = 1.0 / m.size;
-  k.ka2 = m.size * m.size * m.size / (12.0 * (1.0 + m.def.poisson));
-  k.kb1 = m.size;
-  k.kb2 = m.size * m.size / 2.0;
-  k.kb3 = m.size * m.size * m.size / 6.0;
-  k.damp = 2.0 * std::sqrt(m.mass) * m.def.bond_damping / s.dt;
-  k.dk_a1 = w.damp_k.a1;
-  k.dk_b2 = w.damp_k.b2;
-  k.dk_a2 = w.damp_k.a2;
-  k.dk_b3 = w.damp_k.b3;
+  k.area = mk.area;
+  k.inv_L = mk.inv_L;
+  k.ka2 = mk.ka2;
+  k.kb1 = mk.kb1;
+  k.kb2 = mk.kb2;
+  k.kb3 = mk.kb3;
+  k.damp = mk.bond_damp / s.dt;
+  k.dk_a1 = mk.damp_a1;
+  k.dk_b2 = mk.damp_b2;
+  k.dk_a2 = mk.damp_a2;
+  k.dk_b3 = mk.damp_b3;
   k.axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   k.min_shear_chord = kMinShearChord * m.size;
   return k;
@@ -326,6 +320,9 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
     r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = s.size[i];
   }
   const int nb = m.bond_count();
+  assert(w.bond_out[0].size() == 4 * (static_cast<size_t>(nb) + 1) &&
+         w.bond_stress.size() == static_cast<size_t>(nb) + 1 &&
+         "the Workspace was built for another Model: build it from the model it runs");
   if (m.def.bond_model == BondModel::kVoxelyze09) {
     for (int b = 0; b < nb; ++b) scalar_bond(m, s, w, b);
     return;
@@ -350,7 +347,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   io.stress = w.bond_stress.data();
   w.redo.resize(nb);
   io.redo = w.redo.data();
-  const int redo = kernels().bond(io, nb, bond_constants(m, s, w));
+  const int redo = kernels().bond(io, nb, bond_constants(m, s));
   // From the unchanged previous deformation.
   for (int r = 0; r < redo; ++r) scalar_bond(m, s, w, w.redo[r]);
   std::fill(s.bond_prev_valid.begin(), s.bond_prev_valid.end(), 1);

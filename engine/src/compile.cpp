@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numbers>
 
@@ -11,11 +12,25 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
   validate(def);
   Model m;
   m.def = def;
-  m.robot = robot;
   const double L = robot.voxel_size;
   m.size = L;
   m.mass = def.density * L * L * L;
   m.inertia = m.mass * L * L / 6.0;
+  ModelConstants& k = m.k;
+  const double nu = def.poisson;
+  k.area = L * L;
+  k.inv_L = 1.0 / L;
+  k.ka2 = L * L * L / (12.0 * (1.0 + nu));
+  k.kb1 = L;
+  k.kb2 = L * L / 2.0;
+  k.kb3 = L * L * L / 6.0;
+  k.bond_damp = 2.0 * std::sqrt(m.mass) * def.bond_damping;
+  k.damp_a1 = std::sqrt(L);
+  k.damp_b2 = std::sqrt(L * L * L / 4.0);
+  k.damp_a2 = std::sqrt(L * L * L * L * L / (72.0 * (1.0 + nu)));
+  k.damp_b3 = std::sqrt(L * L * L * L * L / 36.0);
+  k.c_lin_unit = 2.0 * std::sqrt(m.mass * L);
+  k.c_rot_unit = 2.0 * std::sqrt(m.inertia * L * L * L);
 
   // Voxels in increasing site order; site -> voxel lookup for bonding.
   std::vector<int> voxel_of(robot.sites(), -1);
@@ -91,6 +106,16 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
     std::sort(seen.begin(), seen.end());
     m.near_voxels[i] = seen;
   }
+  // What the kernels index without checks: every bond joins two voxels, a before b along
+  // its axis; every voxel slot names a bond of that voxel or none.
+  for (int b = 0; b < m.bond_count(); ++b)
+    assert(m.bond_a[b] >= 0 && m.bond_a[b] < m.bond_b[b] && m.bond_b[b] < m.n &&
+           m.bond_axis[b] < 3 && "compile() built an inconsistent bond list");
+  for (int i = 0; i < m.n; ++i)
+    for (int slot = 0; slot < 6; ++slot)
+      assert((m.voxel_bonds[i][slot] < 0 ||
+              (slot & 1 ? m.bond_a : m.bond_b)[m.voxel_bonds[i][slot]] == i) &&
+             "compile() built an inconsistent slot table");
   return m;
 }
 

@@ -12,10 +12,9 @@
 namespace plastivox {
 namespace {
 
-VoxelKernelIo voxel_io(const Model& m, const State& s, Workspace& w) {
-  static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
-  // The kernels update the state in place; State& is taken by the stage that calls them.
-  State& st = const_cast<State&>(s);
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
+
+VoxelKernelIo voxel_io(const Model& m, const State& st, Workspace& w) {
   VoxelKernelIo io;
   for (int k = 0; k < 6; ++k) io.slot_bond[k] = w.slot_bond[k].data();
   io.fixed = m.fixed.data();
@@ -36,20 +35,30 @@ VoxelKernelIo voxel_io(const Model& m, const State& s, Workspace& w) {
   return io;
 }
 
+VoxelStateOut voxel_out(State& s) {
+  VoxelStateOut out;
+  out.pos = s.pos.front().data();
+  out.quat = s.orient.front().coeffs().data();
+  out.lin_mom = s.lin_mom.front().data();
+  out.ang_mom = s.ang_mom.front().data();
+  out.static_friction = s.static_friction.data();
+  return out;
+}
+
+// From the model's precomputed constants and this step's dt (cheap: no square roots).
 VoxelConstants voxel_constants(const Model& m, const State& s) {
   const PhysicsDef& d = m.def;
-  const double L = m.size;
   VoxelConstants k;
   k.weight[0] = 0, k.weight[1] = 0, k.weight[2] = m.mass * d.gravity;
   k.slow_zeta = d.global_damping;
-  k.c_lin_unit = 2.0 * std::sqrt(m.mass * L);
-  k.c_rot_unit = 2.0 * std::sqrt(m.inertia * L * L * L);
+  k.c_lin_unit = m.k.c_lin_unit;
+  k.c_rot_unit = m.k.c_rot_unit;
   k.c_col_unit = d.collision_damping * k.c_lin_unit;
   k.rot_damp = d.global_damping_rot_factor * d.global_damping;
   k.mass = m.mass;
   k.inv_mass = 1.0 / m.mass;
   k.inv_inertia = 1.0 / m.inertia;
-  k.L = L;
+  k.L = m.size;
   k.dt = s.dt;
   k.mu_static = d.mu_static;
   k.mu_kinetic = d.mu_kinetic;
@@ -66,7 +75,7 @@ void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
 
 void integrate(const Model& m, State& s, Workspace& w) {
   if (m.n == 0) return;
-  const VoxelUpdateSummary r = kernels().update(voxel_io(m, s, w), m.n, voxel_constants(m, s));
+  const VoxelUpdateSummary r = kernels().update(voxel_io(m, s, w), voxel_out(s), m.n, voxel_constants(m, s));
   const double limit = m.def.max_speed;
   if (!r.non_finite && !(r.max_speed2 > limit * limit)) return;
 

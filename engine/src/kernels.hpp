@@ -18,7 +18,8 @@ struct KernelSet {
   void (*gather)(const VoxelKernelIo& io, int n, const VoxelConstants& k);
   // Voxels [0, n): floor contact and friction on force[i], then momenta, position and
   // orientation.
-  VoxelUpdateSummary (*update)(const VoxelKernelIo& io, int n, const VoxelConstants& k);
+  VoxelUpdateSummary (*update)(const VoxelKernelIo& io, const VoxelStateOut& st, int n,
+                               const VoxelConstants& k);
   // Voxels [0, n): the actuated sizes.
   void (*actuate)(const double* stiff, const double* phase, double* size, int n,
                   const ActuationConstants& k);

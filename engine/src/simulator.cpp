@@ -1,5 +1,6 @@
 #include "plastivox/simulator.hpp"
 
+#include <cassert>
 #include <chrono>
 #include <cmath>
 
@@ -20,6 +21,11 @@ void Simulator::step() {
   State& s = state_;
   Workspace& w = *ws_;
   if (s.status != SimStatus::kRunning) return;
+  assert(s.pos.size() == static_cast<size_t>(m.n) && s.size.size() == s.pos.size() &&
+         s.stiffness.size() == s.pos.size() &&
+         s.bond_prev_valid.size() == static_cast<size_t>(m.bond_count()) &&
+         "the State was not made for this Model: restore only a State saved from a Simulator "
+         "of the same compiled model");
 
   compute_bond_forces(m, s, w);
   follow_stiffness(m, s);

@@ -19,19 +19,28 @@ struct VoxelKernelIo {
   // Workspace, per bond and one zero record (gather input): force on a, moment on a, moment
   // on b (bond_out: records of x, y, z, 0).
   const double* bond_out[3] = {};
-  // State, per voxel.
-  double* pos = nullptr;      // xyz, m
-  double* quat = nullptr;     // quat
-  double* lin_mom = nullptr;  // xyz, kg m/s
-  double* ang_mom = nullptr;  // xyz, kg m^2/s
-  const double* stiff = nullptr;
-  uint8_t* static_friction = nullptr;
-  // Workspace, per voxel: actuated size (m), total force and moment (one array per
-  // component), sqrt of the modulus.
-  const double* size = nullptr;
+  // State, per voxel (read; the update stage writes through VoxelStateOut).
+  const double* pos = nullptr;      // xyz, m
+  const double* quat = nullptr;     // quat
+  const double* lin_mom = nullptr;  // xyz, kg m/s
+  const double* ang_mom = nullptr;  // xyz, kg m^2/s
+  const double* stiff = nullptr;    // E, Pa
+  const uint8_t* static_friction = nullptr;
+  const double* size = nullptr;  // actuated edge length, m
+  // Workspace, per voxel: total force and moment (one array per component), sqrt of the
+  // modulus.
   double* force[3] = {};
   double* moment[3] = {};
   double* sqrt_e = nullptr;
+};
+
+// What the update stage writes: the same State arrays as VoxelKernelIo's, writable.
+struct VoxelStateOut {
+  double* pos = nullptr;
+  double* quat = nullptr;
+  double* lin_mom = nullptr;
+  double* ang_mom = nullptr;
+  uint8_t* static_friction = nullptr;
 };
 
 // Constants of the voxel stages, each kept as the factor the formulas multiply by (so every

@@ -57,8 +57,8 @@ inline void gather_voxel(const VoxelKernelIo& io, int i, const VoxelConstants& k
 // momenta and position, orientation advanced by omega dt. Folds the squared speed and the
 // finiteness of the momenta of the free voxels into max_speed2 / bad.
 template <class T, class Mask>
-inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k, T& max_speed2,
-                         Mask& bad) {
+inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i,
+                         const VoxelConstants& k, T& max_speed2, Mask& bad) {
   const T zero = splat(0.0, T{}), one = splat(1.0, T{});
   const double dt = k.dt;
   const Mask fixed = load_flag(io.fixed, i, T{});
@@ -164,12 +164,12 @@ inline void update_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k
                      pick(fixed, zero, hx), pick(fixed, zero, hy), pick(fixed, zero, hz),
                      pick(fixed, bx, qx),   pick(fixed, by, qy),   pick(fixed, bz, qz),
                      pick(fixed, bw, qw)};
-  store3(io.pos, i, out);
-  store3(io.lin_mom, i, out + 3);
-  store3(io.ang_mom, i, out + 6);
-  store4(io.quat, i, out + 9);
+  store3(st.pos, i, out);
+  store3(st.lin_mom, i, out + 3);
+  store3(st.ang_mom, i, out + 6);
+  store4(st.quat, i, out + 9);
   const Mask was_held = load_flag(io.static_friction, i, T{});
-  store_flag(io.static_friction, i, and_not(held, fixed) | (fixed & was_held));
+  store_flag(st.static_friction, i, and_not(held, fixed) | (fixed & was_held));
 
   const T v2 = (px * px + py * py + pz * pz) * k.inv_mass * k.inv_mass;
   const T w2 = hx * hx + hy * hy + hz * hz;
@@ -220,16 +220,16 @@ inline void run_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) 
 }
 
 template <class T, int W>
-inline VoxelUpdateSummary run_update_lanes(const VoxelKernelIo& io, int n,
-                                           const VoxelConstants& k) {
+inline VoxelUpdateSummary run_update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st,
+                                           int n, const VoxelConstants& k) {
   using Mask = decltype(T{} < T{});
   T max_speed2 = splat(0.0, T{});
   Mask bad = max_speed2 < max_speed2;  // all clear
   double max_speed2_tail = 0;
   bool bad_tail = false;
   int i = 0;
-  for (; i + W <= n; i += W) update_lanes<T, Mask>(io, i, k, max_speed2, bad);
-  for (; i < n; ++i) update_lanes<double, bool>(io, i, k, max_speed2_tail, bad_tail);
+  for (; i + W <= n; i += W) update_lanes<T, Mask>(io, st, i, k, max_speed2, bad);
+  for (; i < n; ++i) update_lanes<double, bool>(io, st, i, k, max_speed2_tail, bad_tail);
   VoxelUpdateSummary summary;
   summary.max_speed2 = max_speed2_tail;
   for (int j = 0; j < W; ++j)

@@ -1,7 +1,7 @@
 // Scratch arrays one step fills and consumes. Not part of State: nothing here carries
 // information from one step to the next. The self-collision candidates persist as a cache
 // (rebuilt from positions when stale; a fresh workspace finds the same contacts), and the
-// model-derived constants are computed once here.
+// model's index tables in the layout the kernels read are built once here.
 #pragma once
 
 #include <array>
@@ -64,19 +64,11 @@ struct Workspace {
   std::vector<int> redo;                // bonds the batched kernel left to the scalar path
   std::vector<int64_t> bond_axis_wide;  // Model::bond_axis as 64-bit integers (bond kernel)
 
-  // Bond damping coefficients are sqrt(E) times these geometric constants:
-  // 2 sqrt(k m) with k = E L (axial, shear), E L^3 / 4 (shear-rotation coupling) and
-  // 2 sqrt(k I) with k = G J / L, 2 E I / L (torsion, bending), over 2 sqrt(m).
-  struct DampConstants {
-    double a1, b2, a2, b3;
-  } damp_k;
-
   explicit Workspace(const Model& m)
       : sqrt_e(m.n),
         bond_strain(m.bond_count() + 1, 0.0),
         bond_stress(m.bond_count() + 1, 0.0),
         bond_axis_wide(m.bond_axis.begin(), m.bond_axis.end()) {
-    const double L = m.size, nu = m.def.poisson;
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
     for (auto& vectors : bond_out)
       vectors.assign(4 * (static_cast<size_t>(m.bond_count()) + 1), 0.0);
@@ -88,10 +80,6 @@ struct Workspace {
         slot_bond[k][i] = b >= 0 ? b : m.bond_count();
       }
     }
-    damp_k.a1 = std::sqrt(L);
-    damp_k.b2 = std::sqrt(L * L * L / 4.0);
-    damp_k.a2 = std::sqrt(L * L * L * L * L / (72.0 * (1.0 + nu)));
-    damp_k.b3 = std::sqrt(L * L * L * L * L / 36.0);
   }
 };
 
