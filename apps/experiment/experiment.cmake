@@ -35,8 +35,4 @@ target_include_directories(plastivox_experiment PUBLIC ${CMAKE_CURRENT_SOURCE_DI
   ${CMAKE_CURRENT_SOURCE_DIR}/experiment)
 target_link_libraries(plastivox_experiment PUBLIC plastivox_evo_h5 plastivox_analysis plastivox_study
   PRIVATE nlohmann_json::nlohmann_json)
-foreach(lib plastivox_render plastivox_video plastivox_panels)
-  if(TARGET ${lib})
-    target_link_libraries(plastivox_experiment PRIVATE ${lib})
-  endif()
-endforeach()
+target_link_libraries(plastivox_experiment PRIVATE plastivox_render plastivox_video plastivox_panels)

@@ -1,7 +1,7 @@
 // Lane operations on a vector lane type (see lane_ops.hpp for the scalar ones and the rules).
 // The includer first declares, in an unnamed namespace in plastivox: the vector type V of
 // kWidth doubles, its comparison result M, root(V) (square root) and lane_bits(M) (one bit
-// per lane), which need that instruction set's intrinsics (lanes_avx2.hpp, lanes_avx512.hpp).
+// per lane), which need that instruction set's intrinsics (kernels_avx2.cpp, kernels_avx512.cpp).
 #pragma once
 
 #include <cfloat>

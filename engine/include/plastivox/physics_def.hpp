@@ -32,7 +32,7 @@ struct PhysicsDef {
 
   // --- damping ratios (fraction of critical) ---
   double bond_damping = 1.0;       // internal, per bond
-  double collision_damping = 0.8;  // floor and voxel-voxel contact
+  double collision_damping = 0.8;  // floor contact (self-contact is undamped)
   double global_damping = 0.01;    // "slow" damping against absolute motion
   // Voxelyze 0.9 applies rotational slow damping ten times stronger than translational.
   double global_damping_rot_factor = 10.0;
