@@ -75,7 +75,8 @@ void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
 
 void integrate(const Model& m, State& s, Workspace& w) {
   if (m.n == 0) return;
-  const VoxelUpdateSummary r = kernels().update(voxel_io(m, s, w), voxel_out(s), m.n, voxel_constants(m, s));
+  const VoxelUpdateSummary r =
+      kernels().update(voxel_io(m, s, w), voxel_out(s), m.n, voxel_constants(m, s));
   const double limit = m.def.max_speed;
   if (!r.non_finite && !(r.max_speed2 > limit * limit)) return;
 
