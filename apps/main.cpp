@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "plastivox/one_line.hpp"
 #include "plastivox_version.hpp"
 
 namespace {
@@ -95,7 +96,9 @@ int main(int argc, char** argv) {
                  cmd.c_str());
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "plastivox %s: error: %s\n", cmd.c_str(), e.what());
+    // One line whatever the message quotes (a damaged tag name, a path with a newline).
+    std::fprintf(stderr, "plastivox %s: error: %s\n", cmd.c_str(),
+                 plastivox::one_line(e.what()).c_str());
     return 1;
   }
 }

@@ -105,7 +105,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
 
 int64_t max_life_steps() {
   const char* env = std::getenv("PLASTIVOX_MAX_STEPS");
-  if (!env) return 10'000'000;
+  if (!env) return 100'000'000;
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(env, &end, 10);

@@ -3,6 +3,7 @@
 #include <set>
 #include <vector>
 
+#include "plastivox/one_line.hpp"
 #include "plastivox/robot_file.hpp"  // InputError
 
 namespace plastivox {
@@ -49,10 +50,7 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
   try {
     return json::parse(text, check);
   } catch (const json::exception& e) {
-    std::string what = e.what();
-    for (char& c : what)
-      if (c == '\n' || c == '\r') c = ' ';
-    throw InputError(source + ": " + field + ": not valid JSON: " + what);
+    throw InputError(one_line(source + ": " + field + ": not valid JSON: " + e.what()));
   }
 }
 

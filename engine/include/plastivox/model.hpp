@@ -62,7 +62,7 @@ double stable_dt(const Model& model, const std::vector<double>& stiffness);
 
 // ---- Bounds on one life (docs/robot-format.md, "Limits"), so no input runs for ever ----
 
-// Most time steps one life may take: 1e7 (about 275 times a default 5.2 s life at e_max),
+// Most time steps one life may take: 1e8 (about 2750 times a default 5.2 s life at e_max),
 // or the value of the environment variable PLASTIVOX_MAX_STEPS. Throws
 // std::invalid_argument if that variable is not a positive whole number.
 int64_t max_life_steps();
