@@ -187,7 +187,7 @@ TEST_F(FuzzResults, SimulateCommand) {
                 {robot_to_json(demo_walker(), &physics), "f.json", 14007}};
   for (const auto& in : inputs) {
     Mutator mutate(in.seed);
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < 6; ++k) {
       std::ofstream(path(in.name), std::ios::binary | std::ios::trunc) << mutate(in.valid);
       // A valid damaged robot runs at most 2000 steps (or is refused by that limit).
       const testing::Output o =
