@@ -1,6 +1,7 @@
 // The plastivox command line: one function per subcommand, shared argument helpers.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,13 @@ std::string take_option(Args& args, const std::string& name, const std::string& 
 bool take_flag(Args& args, const std::string& name);
 // After options are taken: error on any leftover "--something".
 void reject_unknown_options(const Args& args);
+
+// Graceful stop for long commands (evolve, experiment): the first SIGINT or SIGTERM prints
+// "plastivox COMMAND: stopping at the next checkpoint ..." and sets the returned flag (the
+// command checkpoints, stops and exits 130); a second one exits 130 at once. SIGTERM is
+// always caught, so a background process (which inherits SIGINT ignored) stops on it too.
+// Call once per process; `command` must outlive it (a string literal).
+const std::atomic<bool>* install_stop_signals(const char* command);
 
 // An error every MPI rank raised alike: rank 0 prints "plastivox CMD: error: MESSAGE" and
 // returns 1; the others wait until it has printed and return 0, so mpirun cannot kill rank 0

@@ -1,11 +1,37 @@
 #include "cli.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 
 #include "plastivox/evo/run.hpp"
 
 namespace plastivox::cli {
+namespace {
+
+std::atomic<bool> g_stop{false};
+char g_stop_message[160] = "";
+
+// First signal: ask for a stop at the next checkpoint. Second: leave at once (every file is
+// written atomically, so even that loses at most the work in flight).
+extern "C" void on_stop_signal(int) {
+  if (g_stop.exchange(true)) _exit(130);
+  [[maybe_unused]] auto n = write(STDERR_FILENO, g_stop_message, std::strlen(g_stop_message));
+}
+
+}  // namespace
+
+const std::atomic<bool>* install_stop_signals(const char* command) {
+  std::snprintf(g_stop_message, sizeof g_stop_message,
+                "\nplastivox %s: stopping at the next checkpoint (Ctrl-C again to quit now)\n",
+                command);
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+  return &g_stop;
+}
 
 std::string take_option(Args& args, const std::string& name, const std::string& fallback) {
   auto it = std::find(args.begin(), args.end(), name);

@@ -68,13 +68,15 @@ class Progress {
       char ckpt[64] = "";
       if (p.checkpointed)
         std::snprintf(ckpt, sizeof ckpt, "; checkpoint %.3f s", p.checkpoint_seconds);
-      std::fprintf(stderr,
-                   "generation %d/%d: best %.6f (id %llu); %d new: %d simulated, %d cached, %d "
-                   "invalid, %d unstable; %.2f evals/s; %.2f s (simulation %.2f s)%s; left %s\n",
-                   p.generations_done, p.generations_total, s.best_fitness,
-                   static_cast<unsigned long long>(s.champion_id), s.created, s.simulated,
-                   s.cache_hits, s.invalid, s.unstable, rate, s.wall_seconds, s.sim_wall_seconds,
-                   ckpt, duration(p.eta_seconds).c_str());
+      std::fprintf(
+          stderr,
+          "generation %d/%d: best %.6f (id %llu); %d new: %d simulated, %d cached, %d "
+          "invalid, %d unstable, %d sank through the floor; %.2f evals/s; %.2f s (simulation "
+          "%.2f s)%s; left %s\n",
+          p.generations_done, p.generations_total, s.best_fitness,
+          static_cast<unsigned long long>(s.champion_id), s.created, s.simulated, s.cache_hits,
+          s.invalid, s.unstable, s.sank, rate, s.wall_seconds, s.sim_wall_seconds, ckpt,
+          duration(p.eta_seconds).c_str());
     }
   }
 
@@ -121,6 +123,8 @@ int cmd_evolve(const Args& in) {
   opt.cluster = mpi.get();
 #endif
   const bool leader = !opt.cluster || opt.cluster->rank() == 0;
+  // Ctrl-C or SIGTERM: finish the generation, checkpoint, exit 130 (rank 0 decides under MPI).
+  opt.stop_requested = install_stop_signals("evolve");
   Progress progress;
   evo::RunReport r;
   try {
@@ -152,6 +156,10 @@ int cmd_evolve(const Args& in) {
       break;
     case evo::RunOutcome::kStopped:
       std::printf("%s: stopped after generation %d (resumable)\n", out.c_str(), r.generations_done);
+      if (opt.stop_requested->load()) {
+        std::fprintf(stderr, "plastivox evolve: stopped; run the same command again to resume\n");
+        return 130;
+      }
       break;
     case evo::RunOutcome::kFinished:
       std::printf("%s: finished %d generations on %d threads; content digest %s\n", out.c_str(),

@@ -3,8 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -22,17 +20,6 @@
 
 namespace plastivox::cli {
 namespace {
-
-std::atomic<bool> g_stop{false};
-
-// First Ctrl-C: finish the current generation, checkpoint, stop. Second: leave at once
-// (every file is written atomically, so even that loses at most the work in flight).
-extern "C" void on_interrupt(int) {
-  if (g_stop.exchange(true)) _exit(130);
-  const char msg[] =
-      "\nplastivox experiment: stopping at the next checkpoint (Ctrl-C again to quit now)\n";
-  [[maybe_unused]] auto n = write(STDERR_FILENO, msg, sizeof msg - 1);
-}
 
 std::set<std::string> parse_force(const std::string& s) {
   std::set<std::string> out;
@@ -77,6 +64,15 @@ int cmd_experiment(const Args& in) {
   const bool estimate_only = take_flag(args, "--estimate-only");
   reject_unknown_options(args);
   if (!args.empty()) throw UsageError{"unexpected argument '" + args[0] + "'"};
+  const std::pair<const char*, std::string> named[] = {{"--preset", preset},
+                                                       {"--print-preset", print_preset}};
+  for (const auto& [option, name] : named) {
+    const auto known = experiment::preset_names();
+    if (name.empty() || std::find(known.begin(), known.end(), name) != known.end()) continue;
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : " | ") + k;
+    throw UsageError{std::string(option) + ": unknown preset '" + name + "' (known: " + list + ")"};
+  }
   if (!print_preset.empty()) {
     std::fputs(experiment::preset_text(print_preset).c_str(), stdout);
     return 0;
@@ -92,7 +88,6 @@ int cmd_experiment(const Args& in) {
   opt.out_dir = out;
   opt.force = parse_force(force);
   opt.only_run = only_run;
-  opt.stop_requested = &g_stop;
   for (const auto& a : in) opt.command_line += (opt.command_line.empty() ? "" : " ") + a;
   opt.command_line = "plastivox experiment " + opt.command_line;
   if (!threads.empty()) {
@@ -129,8 +124,7 @@ int cmd_experiment(const Args& in) {
   }
   if (estimate_only) return 0;
 
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
+  opt.stop_requested = install_stop_signals("experiment");
   experiment::Progress progress(stderr);
   experiment::ExperimentOutcome outcome;
   try {

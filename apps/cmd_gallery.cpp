@@ -25,6 +25,12 @@ int cmd_gallery(const Args& in) {
         "expected results files: plastivox gallery RUN.h5 [RUN.h5 ...] --out gallery.png"};
   if (out.empty()) throw UsageError{"--out gallery.png is required"};
   if (style.columns < 0) throw UsageError{"--columns must be >= 0"};
+  try {
+    render::check_gallery_size(style, static_cast<int>(args.size()));
+  } catch (const render::GallerySizeError& e) {
+    throw UsageError{"--size " + (size.empty() ? std::string("(default)") : size) + ": " +
+                     e.what()};
+  }
   const render::GalleryLayout layout = render::render_gallery_file(
       args, style, out, [](const std::string& l) { log_line("gallery", l); });
   std::printf("wrote %s (%zu champions, %d x %d grid, %dx%d)\n", out.c_str(), layout.tiles.size(),

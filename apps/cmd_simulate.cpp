@@ -1,5 +1,7 @@
 // plastivox simulate: one robot, one life, a summary (text or JSON).
 #include <cstdio>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -43,6 +45,20 @@ int cmd_simulate(const Args& in) {
   const std::string overrides = take_option(args, "--physics", "");
   reject_unknown_options(args);
   if (args.size() > 1) throw UsageError{"expected at most one robot file"};
+  // Command-line values are checked before any file is read (a bad one exits 2).
+  std::optional<PhysicsDef> preset_physics;
+  std::optional<Treatment> treatment_given;
+  try {
+    if (!preset.empty()) preset_physics = physics_preset(preset);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{std::string("--preset: ") + e.what()};
+  }
+  try {
+    if (!treatment.empty()) treatment_given = parse_treatment(treatment);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{std::string("--treatment: ") + e.what()};
+  }
+  const double duration_s = duration.empty() ? 0.0 : parse_seconds(duration, "--duration");
 
   RobotDef robot;
   PhysicsDef physics;
@@ -67,21 +83,30 @@ int cmd_simulate(const Args& in) {
   }
   if (!preset.empty()) {
     const Treatment keep = physics.treatment;
-    physics = physics_preset(preset);
+    physics = *preset_physics;
     physics.treatment = keep;
   }
-  if (!treatment.empty()) physics.treatment = parse_treatment(treatment);
-  if (!duration.empty()) physics.duration = parse_seconds(duration, "--duration");
+  if (treatment_given) physics.treatment = *treatment_given;
+  if (!duration.empty()) physics.duration = duration_s;
   if (!overrides.empty()) apply_physics_json(overrides, "--physics", physics);
 
-  const Model model = compile(robot, physics);
+  Model model;
+  try {  // validation and the life's bounds (docs/robot-format.md, "Limits"), naming the file
+    model = compile(robot, physics);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source + ": " + e.what());
+  }
   const SimResult r = simulate(model);
+  // Health warnings (a body that sank through the floor): on stderr always, and in the JSON.
+  for (const std::string& w : r.warnings)
+    std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 
   if (as_json) {
     nlohmann::json j;
     j["source"] = source;
     j["status"] = to_string(r.status);
     if (!r.failure.empty()) j["failure"] = r.failure;
+    j["warnings"] = r.warnings;
     j["treatment"] = to_string(physics.treatment);
     j["growth_model"] = to_string(physics.growth);
     j["fitness"] = r.fitness;

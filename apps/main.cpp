@@ -1,9 +1,11 @@
 // plastivox: evolve, simulate, analyse and render soft voxel robots that develop.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "cli.hpp"
+#include "plastivox/one_line.hpp"
 #include "plastivox_version.hpp"
 
 namespace {
@@ -87,8 +89,16 @@ int main(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "plastivox %s: %s\n", cmd.c_str(), e.message.c_str());
     return 2;
+  } catch (const std::bad_alloc&) {  // never the bare "std::bad_alloc"
+    std::fprintf(stderr,
+                 "plastivox %s: error: out of memory (the input needs more memory than this "
+                 "machine has)\n",
+                 cmd.c_str());
+    return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "plastivox %s: error: %s\n", cmd.c_str(), e.what());
+    // One line whatever the message quotes (a damaged tag name, a path with a newline).
+    std::fprintf(stderr, "plastivox %s: error: %s\n", cmd.c_str(),
+                 plastivox::one_line(e.what()).c_str());
     return 1;
   }
 }

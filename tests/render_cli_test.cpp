@@ -79,7 +79,7 @@ TEST_F(RenderCli, VideoWritesADecodableMp4) {
 
 TEST_F(RenderCli, GalleryRejectsAResultsFileThatIsNotOne) {
   const auto r = run("gallery " + path("cube.json") + " " + path("missing.h5") + " --out " +
-                     path("g.png") + " --size 200x100");
+                     path("g.png") + " --size 400x200");
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("missing.h5"), std::string::npos) << r.out;
   EXPECT_EQ(files(), 1);

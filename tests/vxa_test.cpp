@@ -96,6 +96,23 @@ void expect_same(const VxaRobot& a, const VxaRobot& b) {
   EXPECT_EQ(p.growth, q.growth);
 }
 
+// The one warning a file of treatment none carries: it has no adaptation block (the
+// authors' files of that treatment have none), and the reader says so (issue 14, item 8).
+bool is_no_development_note(const std::string& w) {
+  return w.find(
+             "no <StressAdaptationRate> or <PressureAdaptationRate>: the robot does not "
+             "develop (treatment none)") != std::string::npos;
+}
+
+std::vector<std::string> unexpected_warnings(const VxaRobot& v) {
+  std::vector<std::string> out;
+  for (const std::string& w : v.warnings)
+    if (!(v.physics.treatment == Treatment::kNone && is_no_development_note(w))) out.push_back(w);
+  if (v.physics.treatment == Treatment::kNone && out.size() == v.warnings.size())
+    out.push_back("(missing: the no-development note)");
+  return out;
+}
+
 struct Sample {
   const char* name;
   Treatment treatment;
@@ -107,7 +124,7 @@ class VxaSample : public ::testing::TestWithParam<Sample> {};
 TEST_P(VxaSample, ParsesToTheExpectedRobotAndSettings) {
   const Sample s = GetParam();
   const VxaRobot v = read_vxa_file(kVxaDir + s.name + ".vxa");
-  for (const std::string& w : v.warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  for (const std::string& w : unexpected_warnings(v)) ADD_FAILURE() << "unexpected warning: " << w;
   const RobotDef& r = v.robot;
   const PhysicsDef& p = v.physics;
   EXPECT_EQ(r.name, s.name);
@@ -167,7 +184,7 @@ TEST_P(VxaSample, RoundTripIsExact) {
   const std::string text = write_vxa(a.robot, a.physics, &warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
   const VxaRobot b = parse_vxa(text, std::string(s.name) + ".vxa");
-  EXPECT_TRUE(b.warnings.empty()) << b.warnings.front();
+  for (const std::string& w : unexpected_warnings(b)) ADD_FAILURE() << "unexpected warning: " << w;
   expect_same(a, b);
   // The written file looks like the authors' (TempBase 25, CTE 0.01, material 3) and writing
   // it again gives the same text.
@@ -356,8 +373,8 @@ TEST(Vxa, MalformedInputsFailWithOneLineNamingTheTag) {
 TEST(Vxa, IgnoredButMeaningfulTagsWarn) {
   const VxaRobot v =
       parse_vxa(edited("walker-none", "<StickyFloor>0<", "<StickyFloor>1<"), "robot.vxa");
-  ASSERT_EQ(v.warnings.size(), 1u);
-  EXPECT_NE(v.warnings[0].find("StickyFloor"), std::string::npos) << v.warnings[0];
+  ASSERT_EQ(unexpected_warnings(v).size(), 1u);
+  EXPECT_NE(unexpected_warnings(v)[0].find("StickyFloor"), std::string::npos) << v.warnings[0];
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "experiment_presets.hpp"  // generated from assets/presets/experiment-*.json
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/json_input.hpp"
 #include "plastivox/robot_file.hpp"
 
 namespace plastivox::experiment {
@@ -167,12 +169,7 @@ std::string ExperimentConfig::identity_json() const {
 }
 
 ExperimentConfig parse_experiment_config(const std::string& input, const std::string& src) {
-  json j;
-  try {
-    j = json::parse(input);
-  } catch (const json::exception& e) {
-    fail(src, "(file)", std::string("not valid JSON: ") + e.what());
-  }
+  json j = parse_json_input(input, src);
   if (!j.is_object()) fail(src, "(file)", "expected a JSON object");
   if (!j.contains("format") || j["format"] != "plastivox-experiment-config")
     fail(src, "format", "expected \"plastivox-experiment-config\"");
@@ -244,11 +241,7 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
 }
 
 ExperimentConfig read_experiment_config(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open experiment config for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_experiment_config(ss.str(), path);
+  return parse_experiment_config(read_file_bytes(path), path);
 }
 
 std::vector<std::string> preset_names() {

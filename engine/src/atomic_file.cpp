@@ -1,14 +1,14 @@
 // Atomic whole-file writes (temporary + rename) and whole-file reads.
 #include "plastivox/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "plastivox/robot_file.hpp"  // InputError
 
@@ -33,13 +33,40 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
   }
 }
 
-std::string read_file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": read failed");
-  return ss.str();
+std::string read_file_bytes(const std::string& path, uint64_t max_bytes) {
+  // Open first, then look at what was opened (no race between a check and the read).
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);  // a FIFO must not block
+  if (fd < 0) throw InputError(path + ": cannot open for reading (" + std::strerror(errno) + ")");
+  struct stat st {};
+  std::string what;
+  if (::fstat(fd, &st) != 0)
+    what = std::string("cannot read its status (") + std::strerror(errno) + ")";
+  else if (S_ISDIR(st.st_mode))
+    what = "is a directory, not a file";
+  else if (!S_ISREG(st.st_mode))
+    what = "is not a regular file (a device, pipe or socket)";
+  else if (static_cast<uint64_t>(st.st_size) > max_bytes)
+    what = "is " + std::to_string(st.st_size) + " bytes, more than the limit of " +
+           std::to_string(max_bytes) + " bytes for this kind of file";
+  std::string bytes;
+  if (what.empty()) {
+    bytes.resize(static_cast<size_t>(st.st_size));
+    size_t got = 0;
+    while (got < bytes.size()) {
+      const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) {
+        what = std::string("read failed (") + std::strerror(errno) + ")";
+        break;
+      }
+      if (n == 0) break;  // shrank while reading: take what is there
+      got += static_cast<size_t>(n);
+    }
+    bytes.resize(got);
+  }
+  ::close(fd);
+  if (!what.empty()) throw InputError(path + ": " + what);
+  return bytes;
 }
 
 }  // namespace plastivox

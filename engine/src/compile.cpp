@@ -1,7 +1,12 @@
 #include <algorithm>
 #include <cassert>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "plastivox/model.hpp"
 
@@ -55,6 +60,10 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
     m.alpha[i] = develops ? robot.dev_rate[s] : 0.0;
     m.phase[i] = robot.phase[s];
   }
+  // Bounded in time before anything runs: the stiffest voxel, or e_max if E can grow.
+  double e_top = 0;
+  for (double e : m.e0) e_top = std::max(e_top, e);
+  check_life_bounds(def, L, develops ? def.e_max : e_top);
   m.fixed.assign(m.n, 0);
   m.load.assign(m.n, Vec3::Zero());
   for (int site : robot.fixed_sites) m.fixed[voxel_of[site]] = 1;
@@ -117,6 +126,46 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
               (slot & 1 ? m.bond_a : m.bond_b)[m.voxel_bonds[i][slot]] == i) &&
              "compile() built an inconsistent slot table");
   return m;
+}
+
+int64_t max_life_steps() {
+  const char* env = std::getenv("PLASTIVOX_MAX_STEPS");
+  if (!env) return 100'000'000;
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(env, &end, 10);
+  if (errno != 0 || end == env || *end != '\0' || v < 1)
+    throw std::invalid_argument(std::string("PLASTIVOX_MAX_STEPS: expected a positive whole "
+                                            "number of steps, got '") +
+                                env + "'");
+  return v;
+}
+
+double time_step_at(const PhysicsDef& def, double voxel_size, double e_top) {
+  const double mass = def.density * voxel_size * voxel_size * voxel_size;
+  return def.dt_frac / (2.0 * std::numbers::pi * std::sqrt(e_top * voxel_size / mass));
+}
+
+void check_life_bounds(const PhysicsDef& def, double voxel_size, double e_top) {
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return std::string(buf);
+  };
+  const double dt = time_step_at(def, voxel_size, e_top);
+  const double steps = def.duration / dt;
+  const int64_t limit = max_life_steps();
+  if (!(steps <= static_cast<double>(limit)))
+    throw std::invalid_argument(
+        "physics.duration: a life of " + num(def.duration) + " s at time step " + num(dt) +
+        " s takes about " + num(steps) + " steps, more than the limit of " + std::to_string(limit) +
+        " (dt_frac, voxel_size, density and the stiffness set the step; the environment "
+        "variable PLASTIVOX_MAX_STEPS raises the limit)");
+  const double dt_min = time_step_at(def, voxel_size, def.e_max);
+  if (def.act_frequency > 0 && !(1.0 / def.act_frequency >= 2.0 * dt_min))
+    throw std::invalid_argument("physics.act_frequency: " + num(def.act_frequency) +
+                                " Hz is faster than the time step resolves (dt " + num(dt_min) +
+                                " s at e_max; at most " + num(0.5 / dt_min) + " Hz)");
 }
 
 double stable_dt(const Model& m, const std::vector<double>& E) {

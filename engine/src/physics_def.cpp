@@ -40,7 +40,7 @@ void validate(const PhysicsDef& d) {
   need(d.collision_damping >= 0 && fin(d.collision_damping), "collision_damping", "must be >= 0");
   need(d.global_damping >= 0 && fin(d.global_damping), "global_damping", "must be >= 0");
   need(fin(d.gravity), "gravity", "must be finite");
-  need(d.dt_frac > 0 && d.dt_frac <= 1.5, "dt_frac", "must be in (0, 1.5]");
+  need(d.dt_frac >= 1e-3 && d.dt_frac <= 1.5, "dt_frac", "must be in [0.001, 1.5]");
   need(d.act_frequency >= 0 && fin(d.act_frequency), "act_frequency", "must be >= 0 Hz");
   need(d.act_amplitude >= 0 && d.act_amplitude < 0.9, "act_amplitude", "must be in [0, 0.9)");
   need(d.act_min_factor >= 0 && d.act_min_factor <= 1, "act_min_factor", "must be in [0, 1]");

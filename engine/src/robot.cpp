@@ -1,6 +1,8 @@
 #include "plastivox/robot.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -12,7 +14,33 @@ int RobotDef::voxel_count() const {
   return n;
 }
 
+int64_t max_lattice_sites() {
+  const char* env = std::getenv("PLASTIVOX_MAX_LATTICE_SITES");
+  if (!env) return int64_t{1} << 21;
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(env, &end, 10);
+  if (errno != 0 || end == env || *end != '\0' || v < 1)
+    throw std::invalid_argument(std::string("PLASTIVOX_MAX_LATTICE_SITES: expected a positive "
+                                            "whole number of sites, got '") +
+                                env + "'");
+  return v;
+}
+
+void check_lattice_size(int nx, int ny, int nz) {
+  if (nx < 1 || ny < 1 || nz < 1 || nx > 1000 || ny > 1000 || nz > 1000)
+    throw std::invalid_argument("robot.size: lattice extent must be 1..1000 in each axis");
+  const int64_t sites = int64_t{nx} * ny * nz, limit = max_lattice_sites();
+  if (sites > limit)
+    throw std::invalid_argument(
+        "robot.size: a " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
+        std::to_string(nz) + " lattice has " + std::to_string(sites) +
+        " sites, more than the limit of " + std::to_string(limit) +
+        " (the environment variable PLASTIVOX_MAX_LATTICE_SITES raises it)");
+}
+
 RobotDef make_empty_robot(int nx, int ny, int nz, double voxel_size) {
+  check_lattice_size(nx, ny, nz);
   RobotDef r;
   r.nx = nx;
   r.ny = ny;
@@ -30,10 +58,9 @@ void validate(const RobotDef& r) {
   auto fail = [](const std::string& field, const std::string& what) {
     throw std::invalid_argument("robot." + field + ": " + what);
   };
-  if (r.nx < 1 || r.ny < 1 || r.nz < 1 || r.nx > 1000 || r.ny > 1000 || r.nz > 1000)
-    fail("size", "lattice extent must be 1..1000 in each axis");
-  if (!(r.voxel_size > 0) || !std::isfinite(r.voxel_size))
-    fail("voxel_size", "must be a positive finite length in m");
+  check_lattice_size(r.nx, r.ny, r.nz);
+  if (!(r.voxel_size >= kMinVoxelSize && r.voxel_size <= kMaxVoxelSize))
+    fail("voxel_size", "must be in [1e-4, 10] m");
   const size_t n = static_cast<size_t>(r.sites());
   if (r.present.size() != n) fail("present", "expected " + std::to_string(n) + " entries");
   if (r.stiffness.size() != n) fail("stiffness", "expected " + std::to_string(n) + " entries");

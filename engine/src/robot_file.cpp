@@ -1,11 +1,15 @@
 #include "plastivox/robot_file.hpp"
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/json_input.hpp"
 
 namespace plastivox {
 namespace {
@@ -99,6 +103,8 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
         d.floor = boolean(*it, where, field);
       else if (key == "self_collision")
         d.self_collision = boolean(*it, where, field);
+      else if (key == "sinking_invalid")
+        d.sinking_invalid = boolean(*it, where, field);
       else if (key == "collision_exclude_hops")
         d.collision_exclude_hops = integer(*it, where, field);
       else if (key == "treatment")
@@ -137,23 +143,11 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
 }  // namespace
 
 void apply_physics_json(const std::string& json_text, const std::string& where, PhysicsDef& def) {
-  json p;
-  try {
-    p = json::parse(json_text);
-  } catch (const json::exception& e) {
-    fail(where, "physics", std::string("not valid JSON: ") + e.what());
-  }
-  apply_physics(p, where, def);
+  apply_physics(parse_json_input(json_text, where, "physics"), where, def);
 }
 
 RobotFile parse_robot_json(const std::string& src, const std::string& source) {
-  json j;
-  try {
-    j = json::parse(src);
-  } catch (const json::exception& e) {
-    std::string msg = e.what();
-    fail(source, "(file)", "not valid JSON: " + msg);
-  }
+  json j = parse_json_input(src, source);
   if (!j.is_object()) fail(source, "(file)", "expected a JSON object");
   if (!j.contains("format") || j["format"] != "plastivox-robot")
     fail(source, "format", "expected \"plastivox-robot\"");
@@ -176,9 +170,14 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
   const int nx = integer(lat["nx"], source, "lattice.nx");
   const int ny = integer(lat["ny"], source, "lattice.ny");
   const int nz = integer(lat["nz"], source, "lattice.nz");
-  if (nx < 1 || ny < 1 || nz < 1 || nx > 1000 || ny > 1000 || nz > 1000)
-    fail(source, "lattice", "extent must be 1..1000 per axis");
+  try {  // before anything is allocated
+    check_lattice_size(nx, ny, nz);
+  } catch (const std::invalid_argument& e) {
+    fail(source, "lattice", std::string(e.what()).substr(std::strlen("robot.size: ")));
+  }
   const double size = number(lat["voxel_size"], source, "lattice.voxel_size");
+  if (!(size >= kMinVoxelSize && size <= kMaxVoxelSize))
+    fail(source, "lattice.voxel_size", "must be in [1e-4, 10] m");
   RobotFile out;
   RobotDef& r = out.robot;
   r = make_empty_robot(nx, ny, nz, size);
@@ -229,11 +228,7 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
 }
 
 RobotFile read_robot_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_robot_json(ss.str(), path);
+  return parse_robot_json(read_file_bytes(path), path);
 }
 
 std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
@@ -292,6 +287,9 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
          d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
         {"record_fps", d.record_fps},
         {"max_speed", d.max_speed}};
+    // Written only when on, so every file and digest made before this option existed (and
+    // every config that leaves it off) stays byte-identical.
+    if (d.sinking_invalid) j["physics"]["sinking_invalid"] = true;
   }
   return j.dump(1);
 }

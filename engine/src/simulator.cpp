@@ -3,6 +3,8 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "workspace.hpp"
 
@@ -111,6 +113,30 @@ SimResult simulate(const Model& model) {
   r.stiffness_change_var =
       std::max(0.0, sum_sq / n - r.stiffness_change_mean * r.stiffness_change_mean);
   r.final_state_hash = state_hash(s);
+  // Health: did the body end below the floor? (A report; the life itself is unchanged.)
+  if (d.floor && r.status == SimStatus::kFinished) {
+    double lowest_top = std::numeric_limits<double>::infinity();  // m
+    for (int i = 0; i < model.n; ++i) {
+      const double top = s.pos[i].z() + 0.5 * model.size;
+      lowest_top = std::min(lowest_top, top);
+      r.voxels_below_floor += top < 0 ? 1 : 0;
+    }
+    if (r.com_final.z() < 0 || r.voxels_below_floor > 0) {
+      r.sank = true;
+      char buf[256];
+      std::snprintf(buf, sizeof buf,
+                    "sank through the floor: %d of %d voxels end wholly below z = 0 (the lowest "
+                    "top face at z = %.4g m, %.4g voxel lengths); centre of mass at z = %.4g m",
+                    r.voxels_below_floor, model.n, lowest_top, lowest_top / model.size,
+                    r.com_final.z());
+      r.warnings.push_back(buf);
+      if (d.sinking_invalid) {
+        r.status = SimStatus::kUnstable;
+        r.failure = std::string(buf) + " (physics.sinking_invalid)";
+        r.fitness = 0;
+      }
+    }
+  }
   r.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return r;

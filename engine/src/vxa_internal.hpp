@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "plastivox/one_line.hpp"
 #include "plastivox/vxa.hpp"
 
 namespace plastivox::vxa_detail {
@@ -69,11 +70,7 @@ inline double frequency_from_period(double period) {
 
 using tinyxml2::XMLElement;
 
-inline std::string one_line(std::string s) {
-  std::replace_if(
-      s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return s;
-}
+using plastivox::one_line;
 
 inline std::string quoted(std::string_view s) {
   s = trim(s);

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/robot_file.hpp"  // InputError
 #include "plastivox/vxa.hpp"
 #include "vxa_internal.hpp"
 
@@ -182,6 +184,219 @@ const VxaMaterial& used_material(Reader& r, const Palette& pal) {
   return *first;
 }
 
+// Every tag of the authors' VXA dialect this reader knows: the ones it reads, and the ones
+// their files carry that have no effect on a simulation (display, GA bookkeeping, failure
+// and plasticity models of unused materials, controller gains). Any other tag is warned of.
+bool known_tag(std::string_view name) {
+  static const char* const kKnown[] = {
+      "AfterlifeTime",
+      "AggregateDragCoefficient",
+      "Alpha",
+      "AlterGravityHalfway",
+      "BlendingEnabled",
+      "Blue",
+      "BondDampingZ",
+      "Boundary_Conditions",
+      "CMesh",
+      "CTE",
+      "ColDampingZ",
+      "ColSystem",
+      "CollisionHorizon",
+      "Collisions",
+      "CurvaturesTmpFile",
+      "Damping",
+      "Data",
+      "Density",
+      "Display",
+      "DrawSmooth",
+      "DtFrac",
+      "Elastic_Mod",
+      "EnforceLatticeEnabled",
+      "Environment",
+      "EquilibriumMode",
+      "EquilibriumModeEnabled",
+      "ErrorThreshold",
+      "Facets",
+      "FailModel",
+      "Fail_Strain",
+      "Fail_Stress",
+      "Features",
+      "FitnessFileName",
+      "Fixed_Regions",
+      "FloorEnabled",
+      "FloorSlope",
+      "FluidDampEnabled",
+      "FluidEnvironment",
+      "Forced_Regions",
+      "GA",
+      "GravAcc",
+      "GravEnabled",
+      "Gravity",
+      "Green",
+      "GrowthModel",
+      "InitCmTime",
+      "Integration",
+      "Integrator",
+      "Lattice",
+      "Lattice_Dim",
+      "Layer",
+      "Lines",
+      "MatModel",
+      "MatType",
+      "Material",
+      "MaxANTIWINDUP",
+      "MaxAdaptationRate",
+      "MaxElasticMod",
+      "MaxKI",
+      "MaxKP",
+      "MaxStiffnessChange",
+      "MaxTempFactChange",
+      "MaxVelLimitEnabled",
+      "Mechanical",
+      "MidLifeFreezeTime",
+      "MinDevo",
+      "MinElasticMod",
+      "MinTempFact",
+      "Name",
+      "NumBCs",
+      "NumFixed",
+      "NumForced",
+      "Palette",
+      "PhaseOffset",
+      "Plastic_Mod",
+      "PoissonKickBackEnabled",
+      "Poissons_Ratio",
+      "PressureAdaptationRate",
+      "QhullTmpFile",
+      "Red",
+      "SelfColEnabled",
+      "Simulator",
+      "SlowDampingZ",
+      "StickyFloor",
+      "Stiffness",
+      "StopCondition",
+      "StopConditionType",
+      "StopConditionValue",
+      "StressAdaptationRate",
+      "Structure",
+      "SurfMesh",
+      "TempAmp",
+      "TempAmplitude",
+      "TempBase",
+      "TempEnabled",
+      "TempPeriod",
+      "Thermal",
+      "ThresholdTime",
+      "TimeBetweenTraces",
+      "VXA",
+      "VXC",
+      "VaryTempEnabled",
+      "Vertices",
+      "VolumeEffectsEnabled",
+      "Vox_Name",
+      "Voxel",
+      "WriteFitnessFile",
+      "X_Dim_Adj",
+      "X_Layer_Offset",
+      "X_Line_Offset",
+      "X_Squeeze",
+      "X_Voxels",
+      "Y_Dim_Adj",
+      "Y_Layer_Offset",
+      "Y_Line_Offset",
+      "Y_Squeeze",
+      "Y_Voxels",
+      "Yield_Stress",
+      "Z_Dim_Adj",
+      "Z_Squeeze",
+      "Z_Voxels",
+      "uDynamic",
+      "uStatic",
+  };
+  return std::find(std::begin(kKnown), std::end(kKnown), name) != std::end(kKnown);
+}
+
+// One warning per unknown tag name, at its first occurrence (document order).
+void warn_unknown_tags(Reader& r, const XMLElement* e, std::vector<std::string>& seen) {
+  for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    const std::string name = c->Name();
+    if (!known_tag(name) && std::find(seen.begin(), seen.end(), name) == seen.end()) {
+      seen.push_back(name);
+      r.warn(c, "unknown tag: ignored");
+    }
+    warn_unknown_tags(r, c, seen);
+  }
+}
+
+// The first element named `name` at or below `e`, depth first.
+const XMLElement* find_tag(const XMLElement* e, const std::string& name) {
+  if (!e) return nullptr;
+  if (name == e->Name()) return e;
+  for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
+    if (const XMLElement* f = find_tag(c, name)) return f;
+  return nullptr;
+}
+
+// A validate() message ("physics.density: ...", "robot.stiffness[112]: ...") in the file's
+// own terms: the tag a field was read from, and for a per-voxel value its layer and position.
+std::string in_file_terms(const std::string& what, const XMLElement* vxa,
+                          const XMLElement* material, const XMLElement* structure,
+                          const XMLElement* rate_block, const RobotDef& robot) {
+  const size_t colon = what.find(": ");
+  if (colon == std::string::npos) return what;
+  const std::string field = what.substr(0, colon), rest = what.substr(colon + 2);
+  struct Tag {
+    const char* field;
+    const char* tag;
+    bool in_material;
+  };
+  static const Tag kTags[] = {
+      {"physics.density", "Density", true},
+      {"physics.poisson", "Poissons_Ratio", true},
+      {"physics.mu_static", "uStatic", true},
+      {"physics.mu_kinetic", "uDynamic", true},
+      {"physics.e_min", "MinElasticMod", false},
+      {"physics.e_max", "MaxElasticMod", false},
+      {"physics.bond_damping", "BondDampingZ", false},
+      {"physics.collision_damping", "ColDampingZ", false},
+      {"physics.global_damping", "SlowDampingZ", false},
+      {"physics.gravity", "GravAcc", false},
+      {"physics.dt_frac", "DtFrac", false},
+      {"physics.act_frequency", "TempPeriod", false},
+      {"physics.act_amplitude", "TempAmplitude", false},
+      {"physics.settle_time", "InitCmTime", false},
+      {"physics.duration", "StopConditionValue", false},
+      {"physics.max_change_per_step", "MaxStiffnessChange", false},
+      {"physics.min_devo_factor", "MinDevo", false},
+      {"robot.voxel_size", "Lattice_Dim", false},
+      {"robot.present", "Data", false},
+  };
+  for (const Tag& t : kTags) {
+    if (field != t.field) continue;
+    const XMLElement* e = find_tag(t.in_material ? material : vxa, t.tag);
+    return (e ? tag_path(e) : std::string("<") + t.tag + "> (absent: the default)") + ": " + rest;
+  }
+  // Per-voxel values: robot.stiffness[site] and the like.
+  struct Block {
+    const char* prefix;
+    const XMLElement* block;
+  };
+  const Block blocks[] = {{"robot.stiffness[", Reader::child(structure, "Stiffness")},
+                          {"robot.phase[", Reader::child(structure, "PhaseOffset")},
+                          {"robot.dev_rate[", rate_block}};
+  for (const Block& b : blocks) {
+    const std::string prefix = b.prefix;
+    if (field.rfind(prefix, 0) != 0 || field.back() != ']') continue;
+    const long site = std::strtol(field.c_str() + prefix.size(), nullptr, 10);
+    const long per_layer = static_cast<long>(robot.nx) * robot.ny;
+    const std::string where = b.block ? tag_path(b.block) : "<Material>/<Elastic_Mod>";
+    return where + ": layer " + std::to_string(site / per_layer + 1) +
+           ", x=" + std::to_string(site % robot.nx) +
+           " y=" + std::to_string((site % per_layer) / robot.nx) + ": " + rest;
+  }
+  return what;
+}
+
 }  // namespace
 
 VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) {
@@ -199,6 +414,9 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
   if (const char* v = vxa->Attribute("Version");
       v && parse_double(v, &vxa_version) && vxa_version > 1.1)
     r.warn(vxa, std::string("Version=\"") + v + "\" is newer than the authors' simulator (1.1)");
+
+  std::vector<std::string> unknown;
+  warn_unknown_tags(r, vxa, unknown);
 
   VxaRobot out;
   PhysicsDef& p = out.physics;
@@ -232,21 +450,34 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
     return e ? r.whole(e, r.number(e), 1, 1000) : static_cast<int>(r.opt(st, tag, 1));
   };
   const int nx = extent("X_Voxels"), ny = extent("Y_Voxels"), nz = extent("Z_Voxels");
-  RobotDef& robot = out.robot;
-  robot = make_empty_robot(nx, ny, nz, dim);
-  robot.name = std::filesystem::path(source_name).stem().string();
-  out.material.assign(robot.sites(), 0);
-
+  if (!(dim >= kMinVoxelSize && dim <= kMaxVoxelSize))
+    r.fail(r.need(lat, "Lattice_Dim"), format_double(dim) + " is not in [1e-4, 10] m");
+  try {
+    check_lattice_size(nx, ny, nz);
+  } catch (const std::invalid_argument& e) {
+    r.fail(st, "<X_Voxels>*<Y_Voxels>*<Z_Voxels>: " +
+                   std::string(e.what()).substr(std::strlen("robot.size: ")));
+  }
+  // The declared extents must match the data before the lattice is allocated.
   const XMLElement* data = r.need(st, "Data");
   const auto data_layers = r.layers(data, nz);
   const size_t per_layer = static_cast<size_t>(nx) * ny;
   for (int z = 0; z < nz; ++z) {
     const char* raw = data_layers[z]->GetText();
+    const size_t size = raw ? std::strlen(raw) : 0;
+    if (size != per_layer)
+      r.fail(data_layers[z], "layer " + std::to_string(z + 1) + " has " + std::to_string(size) +
+                                 " characters, expected " + std::to_string(per_layer) +
+                                 " (X_Voxels*Y_Voxels)");
+  }
+  RobotDef& robot = out.robot;
+  robot = make_empty_robot(nx, ny, nz, dim);
+  robot.name = std::filesystem::path(source_name).stem().string();
+  out.material.assign(robot.sites(), 0);
+
+  for (int z = 0; z < nz; ++z) {
+    const char* raw = data_layers[z]->GetText();
     const std::string_view text = raw ? raw : "";
-    if (text.size() != per_layer)
-      r.fail(data_layers[z], "layer " + std::to_string(z + 1) + " has " +
-                                 std::to_string(text.size()) + " characters, expected " +
-                                 std::to_string(per_layer) + " (X_Voxels*Y_Voxels)");
     for (size_t k = 0; k < per_layer; ++k) {
       const int id = static_cast<unsigned char>(text[k]) - '0';
       if (id == 0) continue;
@@ -284,6 +515,8 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
 
   if (const XMLElement* ph = Reader::child(st, "PhaseOffset"))
     robot.phase = r.site_values(ph, nx, ny, nz);
+  else
+    r.warn(st, "no <PhaseOffset>: every voxel actuates in phase (offset 0)");
   const XMLElement* stiff = Reader::child(st, "Stiffness");
   if (stiff) {
     p.e_min = r.required(stiff, "MinElasticMod");
@@ -319,13 +552,20 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
     p.growth = GrowthModel::kIntegral;
     p.min_devo_factor = r.required(ab, "MinDevo");
     robot.dev_rate = r.site_values(ab, nx, ny, nz);
+  } else {
+    r.warn(st,
+           "no <StressAdaptationRate> or <PressureAdaptationRate>: the robot does not "
+           "develop (treatment none)");
   }
 
   try {
     validate(robot);
     validate(p);
   } catch (const std::invalid_argument& e) {
-    throw VxaError(one_line(source_name + ": " + e.what()));
+    const XMLElement* material = pal.elements[static_cast<size_t>(mat.index - 1)];
+    const XMLElement* rate = sb ? sb : pb;
+    throw VxaError(
+        one_line(source_name + ": " + in_file_terms(e.what(), vxa, material, st, rate, robot)));
   }
   out.palette = std::move(pal.materials);
   out.warnings = std::move(r.warnings);
@@ -333,12 +573,13 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
 }
 
 VxaRobot read_vxa_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw VxaError(path + ": cannot open: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw VxaError(path + ": read error");
-  return parse_vxa(text.str(), path);
+  std::string text;
+  try {
+    text = read_file_bytes(path);
+  } catch (const InputError& e) {
+    throw VxaError(one_line(e.what()));
+  }
+  return parse_vxa(text, path);
 }
 
 }  // namespace plastivox

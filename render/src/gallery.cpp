@@ -34,13 +34,45 @@ int auto_columns(int n, double grid_w, double grid_h) {
   return best;
 }
 
+// The grid of n tiles in a gallery of this style: tiles on the left, the colour bar column
+// on the right. Throws GallerySizeError when the image is too small for them.
+struct Grid {
+  float text_px = 0;
+  int bar_column = 0, grid_w = 0, columns = 0, rows = 0, tile_w = 0, tile_h = 0;
+};
+
+Grid plan_grid(const GalleryStyle& style, int n) {
+  Grid g;
+  g.text_px = overlay_text_px(style.height);
+  // Wide enough for the colour bar title ("congenital stiffness E0 (Pa)") beside the tiles.
+  g.bar_column = style.colorbar ? static_cast<int>(std::round(g.text_px * 17)) : 0;
+  g.grid_w = style.width - g.bar_column;
+  const int grid_w = g.grid_w, grid_h = style.height;
+  if (grid_w < 16)
+    throw GallerySizeError("gallery: image too narrow (" + std::to_string(style.width) +
+                           " pixels, of which the colour bar takes " +
+                           std::to_string(g.bar_column) + "; try --no-colorbar or a larger size)");
+  g.columns = style.columns > 0 ? std::min(style.columns, n) : auto_columns(n, grid_w, grid_h);
+  g.rows = (n + g.columns - 1) / g.columns;
+  g.tile_w = grid_w / g.columns;
+  g.tile_h = grid_h / g.rows;
+  if (g.tile_w < 8 || g.tile_h < 8)
+    throw GallerySizeError("gallery: tiles would be under 8 pixels");
+  return g;
+}
+
 }  // namespace
+
+void check_gallery_size(const GalleryStyle& style, int inputs) {
+  if (inputs > 0) plan_grid(style, inputs);
+}
 
 GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
                                   const std::string& out, const LogFn& log) {
   if (inputs.empty()) throw RenderError("gallery: no input files");
   if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
   check_output_path(out);
+  check_gallery_size(style, static_cast<int>(inputs.size()));  // before any simulation
 
   // Simulate every champion: the frame shown and the end of life (for the heading).
   std::vector<Item> items;
@@ -66,17 +98,13 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
   }
 
   // Layout: tiles on the left, colour bar column on the right.
-  const float text_px = overlay_text_px(style.height);
-  // Wide enough for the colour bar title ("congenital stiffness E0 (Pa)") beside the tiles.
-  const int bar_column = style.colorbar ? static_cast<int>(std::round(text_px * 17)) : 0;
-  const int grid_w = style.width - bar_column, grid_h = style.height;
-  if (grid_w < 16) throw RenderError("gallery: image too narrow");
   const int n = static_cast<int>(items.size());
+  const Grid grid = plan_grid(style, n);
+  const float text_px = grid.text_px;
+  const int grid_w = grid.grid_w, tile_w = grid.tile_w, tile_h = grid.tile_h;
   GalleryLayout layout;
-  layout.columns = style.columns > 0 ? std::min(style.columns, n) : auto_columns(n, grid_w, grid_h);
-  layout.rows = (n + layout.columns - 1) / layout.columns;
-  const int tile_w = grid_w / layout.columns, tile_h = grid_h / layout.rows;
-  if (tile_w < 8 || tile_h < 8) throw RenderError("gallery: tiles would be under 8 pixels");
+  layout.columns = grid.columns;
+  layout.rows = grid.rows;
   const int label_h = style.labels ? static_cast<int>(std::round(text_px * 1.8)) : 0;
 
   // One scale for every tile: the largest robot fills ~60 % of the tile's scene height.

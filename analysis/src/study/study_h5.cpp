@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "h5_util.hpp"
+#include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "study_internal.hpp"
 
@@ -230,19 +231,21 @@ void write_root(const Ctx& c, hid_t root, const StudyResult& r) {
 
 void write_analysis_h5(const StudyResult& r, const std::string& final_path,
                        const std::string& path) {
-  evo::h5::quiet_hdf5();
   const Ctx c{final_path, 0};
-  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), Handle::Kind::kFile);
-  if (f.id() < 0) throw evo::ResultsError(final_path + ": cannot create " + path);
+  std::string bytes;
   {
-    Handle root = evo::h5::open_group(c, f.id(), "/");
-    write_root(c, root.id(), r);
-    write_inputs(c, root.id(), r);
-    write_champions(c, root.id(), r);
-    write_hausdorff(c, root.id(), r);
-    write_panels(c, root.id(), r);
+    evo::h5::MemoryFile f(c, 0);  // built in memory: a full disk never reaches HDF5
+    {
+      Handle root = evo::h5::open_group(c, f.id(), "/");
+      write_root(c, root.id(), r);
+      write_inputs(c, root.id(), r);
+      write_champions(c, root.id(), r);
+      write_hausdorff(c, root.id(), r);
+      write_panels(c, root.id(), r);
+    }
+    bytes = f.image();
   }
-  if (f.close() < 0) throw evo::ResultsError(final_path + ": closing " + path + " failed");
+  write_file_atomic(path, bytes);
 }
 
 }  // namespace plastivox::analysis::study

@@ -178,6 +178,7 @@ Json champion(const StudyResult& r, const ChampionAnalysis& c) {
           {"status_detail", c.status_detail},
           {"undefined", undefined},
           {"evaluation", c.evaluation},
+          {"health", c.health},
           {"champion_id", c.id},
           {"phenotype_digest", c.phenotype_digest},
           {"body_plan", to_string(c.body_plan.plan)},

@@ -60,7 +60,8 @@ std::string champions_csv(const StudyResult& r) {
                                    "extent_y",
                                    "extent_z",
                                    "box_fill",
-                                   "phenotype_digest"};
+                                   "phenotype_digest",
+                                   "health"};
   for (int k = 0; k < draws; ++k) head.push_back("r_draw_" + std::to_string(k));
   std::string out = row(head);
   for (const ChampionAnalysis& c : r.champions) {
@@ -90,7 +91,8 @@ std::string champions_csv(const StudyResult& r) {
                                   std::to_string(f.extent[1]),
                                   std::to_string(f.extent[2]),
                                   number(f.box_fill),
-                                  c.phenotype_digest};
+                                  c.phenotype_digest,
+                                  c.health};
     for (const RobustnessDraw& d : rb.draws) v.push_back(d.valid ? number(d.r) : "");
     out += row(v);
   }

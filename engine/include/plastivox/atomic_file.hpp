@@ -3,6 +3,7 @@
 // POSIX file systems). A full disk or an unwritable folder throws InputError naming path.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -10,7 +11,12 @@ namespace plastivox {
 
 void write_file_atomic(const std::string& path, std::string_view bytes);
 
-// The whole file as bytes; throws InputError naming path if it cannot be read.
-std::string read_file_bytes(const std::string& path);
+// Largest robot, config or other input file read whole: 256 MiB (docs/robot-format.md).
+constexpr uint64_t kMaxInputFileBytes = uint64_t{256} << 20;
+
+// The whole file as bytes. Throws InputError naming path if it cannot be read, is not a
+// regular file (a directory, a device such as /dev/zero, a pipe) or holds more than
+// max_bytes; the size is checked before anything is read.
+std::string read_file_bytes(const std::string& path, uint64_t max_bytes = kMaxInputFileBytes);
 
 }  // namespace plastivox

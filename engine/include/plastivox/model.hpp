@@ -2,6 +2,8 @@
 // parameters they run under. Built once by compile(); every stage reads it as const Model&.
 #pragma once
 
+#include <cstdint>
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -72,5 +74,23 @@ Model compile(const RobotDef& robot, const PhysicsDef& def);
 // with its own stiffness; for bodies whose stiffest voxel has an equally stiff neighbour
 // this is exactly Voxelyze's rule).
 double stable_dt(const Model& model, const std::vector<double>& stiffness);
+
+// ---- Bounds on one life (docs/robot-format.md, "Limits"), so no input runs for ever ----
+
+// Most time steps one life may take: 1e8 (about 2750 times a default 5.2 s life at e_max),
+// or the value of the environment variable PLASTIVOX_MAX_STEPS. Throws
+// std::invalid_argument if that variable is not a positive whole number.
+int64_t max_life_steps();
+// The time step of a body whose stiffest voxel has modulus e_top (Pa): the same formula as
+// stable_dt, dt_frac / (2 pi sqrt(e_top L / (density L^3))).
+double time_step_at(const PhysicsDef& def, double voxel_size, double e_top);
+// Throws std::invalid_argument naming the field when a life cannot run in bounded time:
+//   - duration / time_step_at(e_top) > max_life_steps() ("physics.duration: ... steps");
+//     e_top bounds the stiffness the life can reach (compile: the stiffest voxel, or e_max
+//     when it develops), so the estimate is an upper bound;
+//   - an actuation period shorter than 2 time steps even at e_max (the smallest dt any
+//     body of this physics reaches): "physics.act_frequency".
+// compile() calls it; an evolution config calls it with e_max, so no body it makes fails.
+void check_life_bounds(const PhysicsDef& def, double voxel_size, double e_top);
 
 }  // namespace plastivox

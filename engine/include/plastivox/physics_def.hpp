@@ -72,6 +72,10 @@ struct PhysicsDef {
   // --- recording and safety ---
   double record_fps = 60.0;  // frames per simulated second; 0 = no recording
   double max_speed = 100.0;  // m/s; a voxel faster than this means the run went unstable
+  // A life whose body ends below the floor (SimResult::sank) counts as unstable (fitness 0)
+  // instead of being reported only. Off in every preset: the authors' simulator scores such
+  // lives, so the faithful default does too (docs/physics.md).
+  bool sinking_invalid = false;
 };
 
 // Named presets. "gecco2018-code" (the default) is what produced the published results;

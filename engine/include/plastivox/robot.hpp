@@ -31,7 +31,20 @@ struct RobotDef {
   int voxel_count() const;
 };
 
-// An empty robot of the given extent: every site absent, arrays sized and zeroed.
+// Voxel edge lengths a robot may have, m (docs/robot-format.md, "Limits").
+constexpr double kMinVoxelSize = 1e-4, kMaxVoxelSize = 10.0;
+
+// Most lattice sites (nx*ny*nz) a robot may declare: 2^21 (128^3), or the value of the
+// environment variable PLASTIVOX_MAX_LATTICE_SITES. Memory grows with the sites (about
+// 60 bytes each in the robot and its compiled model), so a damaged or hostile file that
+// declares a huge lattice is refused before anything is allocated.
+int64_t max_lattice_sites();
+// Throws std::invalid_argument ("robot.size: ...") when an extent is outside 1..1000 or
+// nx*ny*nz exceeds max_lattice_sites(); the message names the override.
+void check_lattice_size(int nx, int ny, int nz);
+
+// An empty robot of the given extent: every site absent, arrays sized and zeroed. Calls
+// check_lattice_size first.
 RobotDef make_empty_robot(int nx, int ny, int nz, double voxel_size = 0.01);
 
 // Throws std::invalid_argument naming the field when arrays are mis-sized or values are

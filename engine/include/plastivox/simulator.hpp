@@ -61,6 +61,13 @@ struct SimResult {
   double stiffness_change_var = 0;       // variance of the signed values
   uint64_t final_state_hash = 0;
   Recording recording;  // empty unless def.record_fps > 0
+  // Health: with the floor on, the body ended below it (its centre of mass, or a whole
+  // voxel, under z = 0). Heavy, soft bodies do this: their time step is long enough for
+  // them to pass through the floor in one step (docs/physics.md, "Sinking through the
+  // floor"). Reported, not acted on, unless def.sinking_invalid (then status is kUnstable).
+  bool sank = false;
+  int voxels_below_floor = 0;         // voxels whose top face ends below z = 0
+  std::vector<std::string> warnings;  // one line each, e.g. what sank and by how much
 };
 
 // Simulates a whole life (def.duration) and summarises it.

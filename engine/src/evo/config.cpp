@@ -7,6 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/json_input.hpp"
+#include "plastivox/model.hpp"
 #include "plastivox/robot_file.hpp"
 
 namespace plastivox::evo {
@@ -86,12 +89,7 @@ std::string EvolveConfig::identity_json() const {
 }
 
 EvolveConfig parse_config(const std::string& input, const std::string& src) {
-  json j;
-  try {
-    j = json::parse(input);
-  } catch (const json::exception& e) {
-    fail(src, "(file)", std::string("not valid JSON: ") + e.what());
-  }
+  json j = parse_json_input(input, src);
   if (!j.is_object()) fail(src, "(file)", "expected a JSON object");
   if (!j.contains("format") || j["format"] != "plastivox-evolve-config")
     fail(src, "format", "expected \"plastivox-evolve-config\"");
@@ -134,7 +132,8 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
           c.nz = integer(*lt, src, f, 1, 100);
         else if (lt.key() == "voxel_size") {
           c.voxel_size = number(*lt, src, f);
-          if (!(c.voxel_size > 0 && c.voxel_size < 1e3)) fail(src, f, "must be in (0, 1000) m");
+          if (!(c.voxel_size >= kMinVoxelSize && c.voxel_size <= kMaxVoxelSize))
+            fail(src, f, "must be in [1e-4, 10] m");
         } else {
           fail(src, f, "unknown field");
         }
@@ -173,15 +172,16 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   if (given.contains("record_fps") && given["record_fps"] != 0)
     fail(src, "physics.record_fps", "must be 0 during evolution (recording is off)");
   c.physics.record_fps = 0;
+  try {  // every body this run makes is bounded by e_max, so none can fail later
+    check_life_bounds(c.physics, c.voxel_size, c.physics.e_max);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(src + ": " + e.what());
+  }
   return c;
 }
 
 EvolveConfig read_config_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open config file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_config(ss.str(), path);
+  return parse_config(read_file_bytes(path), path);
 }
 
 std::string resolved_physics_json(const PhysicsDef& d) {

@@ -46,6 +46,7 @@ Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   Evaluation e;
   const Model model = compile(p.robot, physics);
   const SimResult r = simulate(model);
+  e.sank = r.sank;
   e.final_stiffness.assign(p.robot.sites(), 0.0);
   for (int v = 0; v < model.n && v < static_cast<int>(r.final_stiffness.size()); ++v)
     e.final_stiffness[model.site[v]] = r.final_stiffness[v];
@@ -167,6 +168,7 @@ GenerationStats Evolver::step() {
       ind.status = c->second.status;
       ind.fitness = c->second.fitness;
       births[i].failure = c->second.failure;
+      births[i].sank = c->second.sank ? 1 : 0;
       ++st.cache_hits;
     } else if (first_of.count(ind.phenotype.hash)) {
       duplicates.push_back(i);
@@ -197,15 +199,18 @@ GenerationStats Evolver::step() {
     ind.fitness = e.fitness;
     births[i].failure = e.failure;
     births[i].simulated = 1;
-    s.cache[ind.phenotype.hash] = CacheEntry{e.fitness, e.status, e.failure};
+    births[i].sank = e.sank ? 1 : 0;
+    s.cache[ind.phenotype.hash] = CacheEntry{e.fitness, e.status, e.failure, e.sank};
     st.sim_cpu_seconds += e.wall_seconds;
     if (e.status == EvalStatus::kUnstable) ++st.unstable;
+    if (e.sank) ++st.sank;
   }
   for (size_t i : duplicates) {
     const CacheEntry& c = s.cache.at(fresh[i].phenotype.hash);
     fresh[i].status = c.status;
     fresh[i].fitness = c.fitness;
     births[i].failure = c.failure;
+    births[i].sank = c.sank ? 1 : 0;
   }
   for (size_t i = 0; i < fresh.size(); ++i) {
     births[i].fitness = fresh[i].fitness;

@@ -2,12 +2,15 @@
 
 #include <cstdio>
 #include <cstring>
-#include <fstream>
+#include <limits>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
+#include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/hash.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "plastivox/robot_file.hpp"  // InputError
 
 namespace plastivox::evo::seal {
 namespace {
@@ -15,15 +18,15 @@ namespace {
 constexpr const char* kMagic = "plastivox-evolution-results\n";
 constexpr const char* kHdf5Signature = "\x89HDF\r\n\x1a\n";
 
-std::vector<char> read_all(const std::string& file, const std::string& name) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw ResultsError(name + ": cannot open for reading");
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw ResultsError(name + ": read error");
-  return bytes;
+std::string read_all(const std::string& file, const std::string& name) {
+  try {  // a results file may be large: no size limit, but only a regular file
+    return read_file_bytes(file, std::numeric_limits<uint64_t>::max());
+  } catch (const InputError& e) {
+    throw ResultsError(name + ": " + std::string(e.what()).substr(file.size() + 2));
+  }
 }
 
-Hash128 payload_hash(const std::vector<char>& bytes) {
+Hash128 payload_hash(std::string_view bytes) {
   Hasher h;
   h.bytes(bytes.data() + kUserBlockBytes, bytes.size() - kUserBlockBytes);
   return h.finish();
@@ -31,8 +34,7 @@ Hash128 payload_hash(const std::vector<char>& bytes) {
 
 }  // namespace
 
-void write_seal(const std::string& file, const std::string& name) {
-  const std::vector<char> bytes = read_all(file, name);
+void seal_image(std::string& bytes, const std::string& name) {
   if (bytes.size() < kUserBlockBytes) throw ResultsError(name + ": HDF5 wrote no user block");
   char header[kUserBlockBytes] = {};
   const int n = std::snprintf(header, sizeof header,
@@ -40,15 +42,21 @@ void write_seal(const std::string& file, const std::string& name) {
                               static_cast<unsigned long long>(bytes.size() - kUserBlockBytes),
                               payload_hash(bytes).hex().c_str());
   if (n <= 0 || n >= static_cast<int>(sizeof header)) throw ResultsError(name + ": seal too long");
+  std::memcpy(bytes.data(), header, sizeof header);
+}
+
+void write_seal(const std::string& file, const std::string& name) {
+  std::string bytes = read_all(file, name);
+  seal_image(bytes, name);
   std::FILE* f = std::fopen(file.c_str(), "r+b");
   if (!f) throw ResultsError(name + ": cannot reopen " + file + " to seal it");
-  const bool ok = std::fwrite(header, 1, sizeof header, f) == sizeof header;
+  const bool ok = std::fwrite(bytes.data(), 1, kUserBlockBytes, f) == kUserBlockBytes;
   const bool closed = std::fclose(f) == 0;
   if (!ok || !closed) throw ResultsError(name + ": cannot write the seal (disk full?)");
 }
 
 void check_seal(const std::string& file) {
-  const std::vector<char> bytes = read_all(file, file);
+  const std::string bytes = read_all(file, file);
   const size_t magic_len = std::strlen(kMagic);
   if (bytes.size() < magic_len || std::memcmp(bytes.data(), kMagic, magic_len) != 0) {
     if (bytes.size() >= 8 && std::memcmp(bytes.data(), kHdf5Signature, 8) == 0)

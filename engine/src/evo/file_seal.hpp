@@ -20,8 +20,10 @@ namespace plastivox::evo::seal {
 
 constexpr uint64_t kUserBlockBytes = 512;
 
-// Fills the user block of the closed HDF5 file `file` (created with that user block).
-// `name` names the destination in error messages.
+// Fills the user block at the start of `bytes` (a whole HDF5 file made with that user
+// block). `name` names the destination in error messages.
+void seal_image(std::string& bytes, const std::string& name);
+// The same for the closed HDF5 file `file`, in place.
 void write_seal(const std::string& file, const std::string& name);
 
 // Throws ResultsError when `file` is not a sealed results file or its payload differs.

@@ -157,6 +157,31 @@ void Ctx::fail(const std::string& object, const std::string& what) const {
   throw ResultsError(file + ": " + object + ": " + what);
 }
 
+MemoryFile::MemoryFile(const Ctx& c, hsize_t user_block) : c_(c), user_block_(user_block) {
+  quiet_hdf5();
+  Handle fcpl = check(c, H5Pcreate(H5P_FILE_CREATE), Handle::Kind::kPlist, "(file)",
+                      "cannot make a file-creation property list");
+  if (user_block > 0)
+    check(c, H5Pset_userblock(fcpl.id(), user_block), "(file)", "cannot set up the user block");
+  Handle fapl = check(c, H5Pcreate(H5P_FILE_ACCESS), Handle::Kind::kPlist, "(file)",
+                      "cannot make a file-access property list");
+  check(c, H5Pset_fapl_core(fapl.id(), size_t{1} << 20, 0), "(file)",
+        "cannot select the in-memory driver");
+  file_ = check(c, H5Fcreate(c.file.c_str(), H5F_ACC_TRUNC, fcpl.id(), fapl.id()),
+                Handle::Kind::kFile, "(file)", "cannot create the file in memory");
+}
+
+std::string MemoryFile::image() {
+  check(c_, H5Fflush(file_.id(), H5F_SCOPE_GLOBAL), "(file)", "cannot flush (out of memory?)");
+  const ssize_t n = H5Fget_file_image(file_.id(), nullptr, 0);
+  if (n < 0) c_.fail("(file)", "cannot read back the file image");
+  std::string bytes(user_block_ + static_cast<size_t>(n), '\0');
+  if (H5Fget_file_image(file_.id(), bytes.data() + user_block_, static_cast<size_t>(n)) != n)
+    c_.fail("(file)", "cannot read back the file image");
+  check(c_, file_.close(), "(file)", "cannot close the in-memory file");
+  return bytes;
+}
+
 bool has_link(hid_t loc, const std::string& name) {
   // Check each component, so a missing parent group is not an error inside HDF5.
   size_t start = 0;

@@ -45,6 +45,26 @@ struct Ctx {
   [[noreturn]] void fail(const std::string& object, const std::string& what) const;
 };
 
+// An HDF5 file built in memory (the core driver, no backing store). Why: when HDF5 itself
+// writes to a full disk, a failed flush can leave the file half-closed inside the library,
+// which then faults while closing it again at exit. Built in memory, nothing HDF5 does can
+// fail for lack of disk; the caller writes image() with checked POSIX writes. Every handle
+// is a Handle, so an exception on any path closes everything it opened.
+class MemoryFile {
+ public:
+  // user_block: bytes reserved before the HDF5 superblock (0 or a power of two >= 512).
+  MemoryFile(const Ctx& c, hsize_t user_block);
+  hid_t id() const { return file_.id(); }
+  // The file's bytes: `user_block` zero bytes, then the HDF5 image. Closes the file; every
+  // object opened in it must be closed first.
+  std::string image();
+
+ private:
+  Ctx c_;
+  hsize_t user_block_;
+  Handle file_;
+};
+
 Handle create_group(const Ctx& c, hid_t loc, const std::string& name);
 Handle open_group(const Ctx& c, hid_t loc, const std::string& name);
 bool has_link(hid_t loc, const std::string& name);

@@ -11,7 +11,7 @@
 namespace plastivox::evo {
 namespace {
 
-// Evaluation <-> bytes: index u64, fitness f64, status u8, failure (u64 length + bytes),
+// Evaluation <-> bytes: index u64, fitness f64, status u8, sank u8, failure (u64 length + bytes),
 // final stiffness (u64 count + f64s). Same machine architecture on every rank.
 template <class T>
 void put(std::vector<char>& b, const T& v) {
@@ -32,6 +32,7 @@ void pack(std::vector<char>& b, uint64_t index, const Evaluation& e) {
   put(b, index);
   put(b, e.fitness);
   put(b, static_cast<uint8_t>(e.status));
+  put(b, static_cast<uint8_t>(e.sank ? 1 : 0));
   put(b, static_cast<uint64_t>(e.failure.size()));
   b.insert(b.end(), e.failure.begin(), e.failure.end());
   put(b, static_cast<uint64_t>(e.final_stiffness.size()));
@@ -123,6 +124,7 @@ std::vector<Evaluation> MpiCluster::run(const std::vector<const Phenotype*>& bat
     Evaluation& e = results[index];
     e.fitness = get<double>(all, at);
     e.status = static_cast<EvalStatus>(get<uint8_t>(all, at));
+    e.sank = get<uint8_t>(all, at) != 0;
     const auto len = get<uint64_t>(all, at);
     if (at + len > all.size()) throw std::runtime_error("MPI: truncated evaluation message");
     e.failure.assign(all.data() + at, len);

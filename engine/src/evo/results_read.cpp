@@ -103,6 +103,9 @@ void read_individuals(const Ctx& c, hid_t root, RunState& s) {
   const auto voxels = h5::read<int32_t>(c, g.id(), "voxels", N);
   const auto tries = h5::read<int32_t>(c, g.id(), "tries", N);
   const auto simulated = h5::read<uint8_t>(c, g.id(), "simulated", N);
+  // Health flag added after format version 1 was fixed: absent in older files (all 0).
+  const auto sank = h5::has_link(g.id(), "sank") ? h5::read<uint8_t>(c, g.id(), "sank", N)
+                                                 : std::vector<uint8_t>(N, 0);
   std::vector<hsize_t> fd = {h5::kAnyExtent};
   const auto failure_id = h5::read<uint64_t>(c, g.id(), "failure_id", fd);
   const auto failure = h5::read_strings(c, g.id(), "failure_reason", fd[0]);
@@ -118,6 +121,7 @@ void read_individuals(const Ctx& c, hid_t root, RunState& s) {
     b.voxels = voxels[i];
     b.tries = tries[i];
     b.simulated = simulated[i];
+    b.sank = sank[i] ? 1 : 0;
   }
   for (size_t k = 0; k < failure_id.size(); ++k) {
     if (failure_id[k] >= N) c.fail("/individuals/failure_id", "refers to an unknown individual");
@@ -207,6 +211,9 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
   const auto lo = h5::read<uint64_t>(c, cache.id(), "hash_lo", cd[0]);
   const auto fit = h5::read<double>(c, cache.id(), "fitness", cd[0]);
   const auto st = h5::read<uint8_t>(c, cache.id(), "status", cd[0]);
+  const auto sank = h5::has_link(cache.id(), "sank")
+                        ? h5::read<uint8_t>(c, cache.id(), "sank", cd[0])
+                        : std::vector<uint8_t>(hi.size(), 0);
   std::vector<hsize_t> fd = {h5::kAnyExtent};
   const auto failure_row = h5::read<uint64_t>(c, cache.id(), "failure_row", fd);
   const auto failure = h5::read_strings(c, cache.id(), "failure_reason", fd[0]);
@@ -216,8 +223,8 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
     reasons[failure_row[k]] = failure[k];
   }
   for (size_t k = 0; k < hi.size(); ++k)
-    s.cache[Hash128{hi[k], lo[k]}] =
-        CacheEntry{fit[k], status_code(c, "/checkpoint/cache/status", st[k]), reasons[k]};
+    s.cache[Hash128{hi[k], lo[k]}] = CacheEntry{
+        fit[k], status_code(c, "/checkpoint/cache/status", st[k]), reasons[k], sank[k] != 0};
 }
 
 }  // namespace

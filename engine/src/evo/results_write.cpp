@@ -11,7 +11,9 @@
 #include "evo_build_info.hpp"
 #include "file_seal.hpp"
 #include "h5_util.hpp"
+#include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "plastivox/robot_file.hpp"  // InputError
 #include "results_layout.hpp"
 
 namespace plastivox::evo {
@@ -151,9 +153,10 @@ void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
   std::vector<int64_t> parent;
   std::vector<int32_t> gen, voxels, tries;
   std::vector<double> fitness;
-  std::vector<uint8_t> status, simulated;
+  std::vector<uint8_t> status, simulated, sank;
   std::vector<std::string> failure;
   for (const BirthRecord& b : s.births) {
+    sank.push_back(b.sank);
     id.push_back(b.id);
     parent.push_back(b.parent_id);
     gen.push_back(b.generation);
@@ -175,6 +178,7 @@ void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, g.id(), "voxels", voxels);
   h5::write(c, g.id(), "tries", tries);
   h5::write(c, g.id(), "simulated", simulated);
+  h5::write(c, g.id(), "sank", sank);
   h5::write(c, g.id(), "failure_id", failure_id);
   h5::write_strings(c, g.id(), "failure_reason", failure);
 }
@@ -259,9 +263,10 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   Handle cache = h5::create_group(c, ck.id(), "cache");
   std::vector<uint64_t> hi, lo, failure_row;
   std::vector<double> fit;
-  std::vector<uint8_t> st;
+  std::vector<uint8_t> st, sank;
   std::vector<std::string> failure;
   for (const auto& [key, e] : s.cache) {
+    sank.push_back(e.sank ? 1 : 0);
     if (!e.failure.empty()) {
       failure_row.push_back(hi.size());
       failure.push_back(e.failure);
@@ -275,6 +280,7 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, cache.id(), "hash_lo", lo);
   h5::write(c, cache.id(), "fitness", fit);
   h5::write(c, cache.id(), "status", st);
+  h5::write(c, cache.id(), "sank", sank);
   h5::write(c, cache.id(), "failure_row", failure_row);
   h5::write_strings(c, cache.id(), "failure_reason", failure);
 }
@@ -307,15 +313,13 @@ Provenance current_provenance(int threads) {
 }
 
 void write_results(const std::string& path, const RunState& s, const Provenance& prov) {
-  h5::quiet_hdf5();
-  const std::string tmp = path + ".tmp";
   const Ctx c{path, 0};
-  try {
-    Handle fcpl(H5Pcreate(H5P_FILE_CREATE), Handle::Kind::kPlist);
-    if (fcpl.id() < 0 || H5Pset_userblock(fcpl.id(), seal::kUserBlockBytes) < 0)
-      throw ResultsError(path + ": cannot set up the HDF5 user block");
-    Handle f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl.id(), H5P_DEFAULT), Handle::Kind::kFile);
-    if (f.id() < 0) throw ResultsError(path + ": cannot create " + tmp + " (directory writable?)");
+  // Built in memory (h5::MemoryFile: a full disk never reaches HDF5), sealed, then written
+  // to a temporary file and renamed over path, so the previous file stays intact until the
+  // new one is complete on disk.
+  std::string bytes;
+  {
+    h5::MemoryFile f(c, seal::kUserBlockBytes);
     {
       Handle root = h5::open_group(c, f.id(), "/");
       write_root_attributes(c, root.id(), s, prov);
@@ -324,18 +328,16 @@ void write_results(const std::string& path, const RunState& s, const Provenance&
       write_champions(c, root.id(), s);
       write_checkpoint(c, root.id(), s);
     }
-    if (f.close() < 0) throw ResultsError(path + ": closing " + tmp + " failed (disk full?)");
-    seal::write_seal(tmp, path);
-    fsync_path(tmp, false, path);
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw ResultsError(path + ": cannot rename " + tmp + ": " + ec.message());
-    const std::filesystem::path dir = std::filesystem::absolute(path).parent_path();
-    fsync_path(dir.string(), true, path);
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
+    bytes = f.image();
   }
+  seal::seal_image(bytes, path);
+  try {
+    write_file_atomic(path, bytes);
+  } catch (const InputError& e) {  // a results-file error for the caller (and MPI's rank 0)
+    throw ResultsError(e.what());
+  }
+  const std::filesystem::path dir = std::filesystem::absolute(path).parent_path();
+  fsync_path(dir.string(), true, path);
 }
 
 }  // namespace plastivox::evo

@@ -111,6 +111,9 @@ struct ChampionAnalysis {
   // ("unstable", "robustness-unstable", ...) with the reasons in status_detail.
   std::string status = "ok";
   std::string status_detail;
+  // Health flags of the champion's own life from the results file: "" (none) or
+  // "sank-through-floor" (its body ended below the floor; evo::BirthRecord::sank).
+  std::string health;
   // Why a measure has no value: metric ("fitness", "robustness", "m_body", "v_body", "v_gain")
   // -> reason. A metric absent here has a value.
   std::map<std::string, std::string> undefined;

@@ -26,6 +26,7 @@ struct GenerationStats {
   int cache_hits = 0;           // of which served by the cache
   int invalid = 0;              // of which invalid phenotypes
   int unstable = 0;             // of which unstable simulations
+  int sank = 0;                 // of which simulated lives that sank through the floor
   double wall_seconds = 0;      // whole generation
   double sim_wall_seconds = 0;  // wall time of the parallel simulation phase
   double sim_cpu_seconds = 0;   // summed simulation time over threads
@@ -38,6 +39,7 @@ struct Evaluation {
   double fitness = kWorstFitness;
   EvalStatus status = EvalStatus::kInvalid;
   std::string failure;
+  bool sank = false;                    // SimResult::sank: the body ended below the floor
   std::vector<double> final_stiffness;  // Pa, lattice-sized, 0 where absent
   double wall_seconds = 0;
 };

@@ -65,6 +65,8 @@ struct BirthRecord {
   int32_t tries = 0;      // mutation attempts (child) or draws (random individual)
   uint8_t simulated = 0;  // 1 if simulated, 0 if cached or invalid (bookkeeping)
   std::string failure;    // why the phenotype was invalid or the simulation unstable
+  uint8_t sank = 0;       // 1 if its life sank through the floor (SimResult::sank); a
+                          // health flag, not part of content_digest
 };
 
 // A new best individual: recorded when the champion changes (and at generation 0).
@@ -85,6 +87,7 @@ struct CacheEntry {
   double fitness = kWorstFitness;
   EvalStatus status = EvalStatus::kOk;
   std::string failure;
+  bool sank = false;  // SimResult::sank
 };
 
 struct RunState {

@@ -27,6 +27,14 @@ struct GalleryLayout {
   std::vector<double> heading_deg;  // direction of travel, degrees from +x
 };
 
+// The image is too small for the tiles and colour bar asked for (a command-line problem).
+class GallerySizeError : public RenderError {
+ public:
+  using RenderError::RenderError;
+};
+// Throws GallerySizeError when a gallery of `inputs` tiles does not fit this style's size.
+void check_gallery_size(const GalleryStyle& style, int inputs);
+
 // Renders the gallery to a PNG at `out` (atomically). Inputs are results files (.h5; robot
 // files are accepted too). `log` receives one line per item. Throws on the first bad input,
 // leaving no file.

@@ -1,0 +1,57 @@
+#include "plastivox/json_input.hpp"
+
+#include <set>
+#include <vector>
+
+#include "plastivox/one_line.hpp"
+#include "plastivox/robot_file.hpp"  // InputError
+
+namespace plastivox {
+
+nlohmann::json parse_json_input(std::string_view text, const std::string& source,
+                                const std::string& field) {
+  using nlohmann::json;
+  // One frame per open object or array: its path and, for objects, the keys seen so far.
+  struct Frame {
+    std::string path;
+    std::set<std::string> keys;
+    std::string last_key;
+  };
+  std::vector<Frame> open;
+  auto child_path = [&]() {
+    if (open.empty()) return std::string();
+    const Frame& f = open.back();
+    const std::string name = f.last_key.empty() ? "[]" : f.last_key;
+    return f.path.empty() ? name : f.path + (name == "[]" ? "" : ".") + name;
+  };
+  const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        open.push_back({child_path(), {}, {}});
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        if (!open.empty()) open.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        Frame& f = open.back();
+        f.last_key = parsed.get<std::string>();
+        if (!f.keys.insert(f.last_key).second)
+          throw InputError(source + ": " + (f.path.empty() ? "" : f.path + ".") + f.last_key +
+                           ": given twice (a key may appear once in an object)");
+        break;
+      }
+      case json::parse_event_t::value:
+        break;
+    }
+    return true;
+  };
+  try {
+    return json::parse(text, check);
+  } catch (const json::exception& e) {
+    throw InputError(one_line(source + ": " + field + ": not valid JSON: " + e.what()));
+  }
+}
+
+}  // namespace plastivox

@@ -1,0 +1,212 @@
+// Seeded, bounded fuzzing of every reader (issue 14): the VXA reader, the robot JSON reader,
+// the evolution and experiment config readers and the results-file reader each get a few
+// hundred damaged versions of a valid input. Every one must either parse or be refused with
+// the reader's own error type and a one-line message naming the source: no crash, no other
+// exception (std::bad_alloc, a JSON library error), no message split over lines. A sample
+// also goes through the real binary, which must exit 1 with one error line (or run).
+// Deterministic (one pinned engine, fixed seeds) and a few seconds long, so it runs in the
+// sanitizer job as well.
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "experiment/experiment_config.hpp"
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/evo/config.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/evo/run.hpp"
+#include "plastivox/model.hpp"
+#include "plastivox/robot_file.hpp"
+#include "plastivox/vxa.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_file(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// Damage to text: byte changes to characters that matter to XML, JSON and numbers, deleted,
+// repeated and moved spans, truncation, numbers replaced by extreme ones. The engine's raw
+// output is used (no std distributions, which differ between standard libraries).
+class Mutator {
+ public:
+  explicit Mutator(uint64_t seed) : rng_(seed) {}
+  std::string operator()(std::string s) {
+    const int edits = 1 + static_cast<int>(below(4));
+    for (int e = 0; e < edits && !s.empty(); ++e) {
+      const size_t at = below(s.size());
+      switch (below(7)) {
+        case 0: {
+          static const char kChars[] = "<>/=\"'![]{},:-+.e0123456789\n\r\t \x01\xff";
+          s[at] = kChars[below(sizeof kChars - 1)];
+          break;
+        }
+        case 1:
+          s.erase(at, 1 + below(64));
+          break;
+        case 2:
+          s.insert(at, s.substr(below(s.size()), 1 + below(64)));
+          break;
+        case 3:
+          s.resize(at);
+          break;
+        case 4: {  // a number replaced by an extreme one
+          const size_t d = s.find_first_of("0123456789", at);
+          if (d == std::string::npos) break;
+          const size_t end = s.find_first_not_of("0123456789.e-+", d);
+          static const char* kNumbers[] = {"0",      "-1",  "1e308", "-1e308",
+                                           "1e-320", "nan", "inf",   "2147483648",
+                                           "1000",   "1e6", "0.5",   "99999999999999999999999"};
+          s.replace(d, end == std::string::npos ? std::string::npos : end - d,
+                    kNumbers[below(std::size(kNumbers))]);
+          break;
+        }
+        case 5:  // a span moved elsewhere
+        {
+          const size_t n = 1 + below(32);
+          const std::string span = s.substr(at, n);
+          s.erase(at, n);
+          s.insert(below(s.size() + 1), span);
+          break;
+        }
+        default:
+          s[at] = static_cast<char>(rng_());
+      }
+    }
+    return s;
+  }
+
+ private:
+  uint64_t below(uint64_t n) { return n ? rng_() % n : 0; }
+  std::mt19937_64 rng_;
+};
+
+// The refusal is the reader's own type with one line starting with the source name.
+void expect_clean(const std::string& what, const std::string& source, const std::string& input) {
+  const bool control = std::any_of(what.begin(), what.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  EXPECT_FALSE(control) << "a line-breaking character in: " << what;
+  EXPECT_EQ(what.rfind(source, 0), 0u) << what << "\ninput:\n" << input.substr(0, 2000);
+}
+
+template <class Error, class Parse>
+void fuzz(const std::string& valid, const std::string& source, uint64_t seed, int cases,
+          const Parse& parse) {
+  Mutator mutate(seed);
+  int refused = 0;
+  for (int k = 0; k < cases; ++k) {
+    const std::string input = mutate(valid);
+    SCOPED_TRACE(source + " case " + std::to_string(k));
+    try {
+      parse(input);
+    } catch (const Error& e) {
+      ++refused;
+      expect_clean(e.what(), source, input);
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "not a " << typeid(Error).name() << ": " << typeid(e).name() << ": "
+                    << e.what() << "\ninput:\n"
+                    << input.substr(0, 2000);
+    }
+  }
+  EXPECT_GT(refused, cases / 4);  // the damage is real: most inputs are refused
+}
+
+TEST(FuzzInputs, VxaReader) {
+  const std::string valid = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  ASSERT_FALSE(valid.empty());
+  fuzz<VxaError>(valid, "fuzz.vxa", 14001, 400, [](const std::string& text) {
+    const VxaRobot v = parse_vxa(text, "fuzz.vxa");
+    for (const std::string& w : v.warnings) expect_clean(w, "fuzz.vxa", text);
+    try {
+      compile(v.robot, v.physics);  // the life bounds: std::invalid_argument, one line
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  });
+}
+
+TEST(FuzzInputs, RobotJsonReader) {
+  const PhysicsDef physics = preset_gecco2018_code();
+  const std::string valid = robot_to_json(demo_walker(), &physics);
+  fuzz<InputError>(valid, "fuzz.json", 14002, 400, [](const std::string& text) {
+    const RobotFile f = parse_robot_json(text, "fuzz.json");
+    try {
+      compile(f.robot, f.physics);
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  });
+}
+
+TEST(FuzzInputs, ConfigReaders) {
+  fuzz<InputError>(evo::default_config_text(), "fuzz-config.json", 14003, 300,
+                   [](const std::string& text) { evo::parse_config(text, "fuzz-config.json"); });
+  fuzz<InputError>(experiment::preset_text("tiny"), "fuzz-experiment.json", 14004, 300,
+                   [](const std::string& text) {
+                     experiment::parse_experiment_config(text, "fuzz-experiment.json");
+                   });
+}
+
+class FuzzResults : public testing::ScratchDirTest {};
+
+TEST_F(FuzzResults, ResultsReader) {
+  evo::EvolveConfig c = evo::parse_config(R"({"format": "plastivox-evolve-config", "version": 1,
+    "population": 4, "generations": 1, "lattice": {"nx": 3, "ny": 3, "nz": 3},
+    "physics": {"duration": 0.1, "settle_time": 0.05}})",
+                                          "tiny");
+  evo::RunOptions opt;
+  opt.threads = 1;
+  evo::run_evolution(c, path("r.h5"), opt);
+  const std::string valid = read_file(path("r.h5"));
+  ASSERT_GT(valid.size(), 1000u);
+  const std::string damaged = path("d.h5");
+  fuzz<evo::ResultsError>(valid, damaged, 14005, 200, [&](const std::string& bytes) {
+    std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
+    evo::read_results(damaged);
+  });
+}
+
+// Through the binary: exit 0, 1 or 3 (a damaged file can still be a valid robot, or go
+// unstable), never a signal; on exit 1 exactly one error line; every line the command's own.
+TEST_F(FuzzResults, SimulateCommand) {
+  const PhysicsDef physics = preset_gecco2018_code();
+  const struct {
+    std::string valid, name;
+    uint64_t seed;
+  } inputs[] = {{read_file(testing::shared_dir() + "/vxa/walker-stress.vxa"), "f.vxa", 14006},
+                {robot_to_json(demo_walker(), &physics), "f.json", 14007}};
+  for (const auto& in : inputs) {
+    Mutator mutate(in.seed);
+    for (int k = 0; k < 6; ++k) {
+      std::ofstream(path(in.name), std::ios::binary | std::ios::trunc) << mutate(in.valid);
+      // A valid damaged robot runs at most 2000 steps (or is refused by that limit).
+      const testing::Output o =
+          testing::shell("PLASTIVOX_MAX_STEPS=2000 " + std::string(PLASTIVOX_CLI) + " simulate " +
+                         path(in.name) + " 2>&1 >/dev/null");
+      SCOPED_TRACE(in.name + " case " + std::to_string(k) + ": " + o.out);
+      EXPECT_TRUE(o.status == 0 || o.status == 1 || o.status == 3) << o.status;
+      size_t errors = 0, start = 0;
+      while (start < o.out.size()) {
+        const size_t end = o.out.find('\n', start);
+        const std::string line = o.out.substr(start, end - start);
+        EXPECT_EQ(line.rfind("plastivox simulate: ", 0), 0u) << line;
+        errors += line.rfind("plastivox simulate: error: ", 0) == 0;
+        start = end == std::string::npos ? o.out.size() : end + 1;
+      }
+      EXPECT_EQ(errors, o.status == 1 ? 1u : 0u);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace plastivox

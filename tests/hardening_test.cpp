@@ -1,0 +1,485 @@
+// Hostile but fair inputs and interruptions (issue 14), through the real binary: a full disk,
+// huge or endless inputs, bodies that sink through the floor, graceful stops, messages that
+// name the file's own tags, and exit codes. Each case failed before its fix.
+#include <signal.h>
+#include <sys/mount.h>
+#include <sys/statvfs.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/evo/config.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::Output;
+
+Output run(const std::string& args) {
+  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
+}
+
+std::string read_file(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// Line breaks as a line-counting reader sees them (Python's str.splitlines): \n \r \v \f
+// \x1c-\x1e, NEL and the Unicode line and paragraph separators.
+int line_breaks(const std::string& s) {
+  int n = 0;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    n += c == '\n' || c == '\r' || c == '\v' || c == '\f' || (c >= 0x1c && c <= 0x1e);
+    n += c == 0xc2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x85;
+    n += c == 0xe2 && i + 2 < s.size() && s.compare(i + 1, 2, "\x80\xa8") == 0;
+    n += c == 0xe2 && i + 2 < s.size() && s.compare(i + 1, 2, "\x80\xa9") == 0;
+  }
+  return n;
+}
+
+// The output is exactly one line (one trailing newline), and it names `expect`.
+void expect_one_line(const Output& o, const std::string& expect) {
+  EXPECT_EQ(line_breaks(o.out), 1) << o.out;
+  EXPECT_NE(o.out.find(expect), std::string::npos) << "expected '" << expect << "' in: " << o.out;
+  EXPECT_EQ(o.out.find("bad_alloc"), std::string::npos) << o.out;
+}
+
+// A tiny run: 4x4x4 lattice, population 6, 0.2 s lives.
+const char* kTinyConfig = R"({"format": "plastivox-evolve-config", "version": 1, "seed": 7,
+  "treatment": "stress", "population": 6, "generations": GENS,
+  "lattice": {"nx": 4, "ny": 4, "nz": 4}, "physics": {"duration": 0.2, "settle_time": 0.1}})";
+
+std::string tiny_config(int generations) {
+  return std::regex_replace(kTinyConfig, std::regex("GENS"), std::to_string(generations));
+}
+
+// A 2x2x2 block of E = 1e5 Pa, 1000 kg voxels, 1 s life: its time step (0.14 s) lets it pass
+// through the floor in one step, as in the authors' simulator.
+std::string sinking_robot(const std::string& extra_physics = "") {
+  std::string vox;
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x)
+        vox += std::string(vox.empty() ? "" : ",") + "[" + std::to_string(x) + "," +
+               std::to_string(y) + "," + std::to_string(z) + ",1e5,0,0]";
+  return R"({"format":"plastivox-robot","version":1,
+    "lattice":{"nx":2,"ny":2,"nz":2,"voxel_size":0.01},"voxels":[)" +
+         vox + R"(], "physics":{"duration":1.0)" + extra_physics + "}}";
+}
+
+class Hardening : public testing::ScratchDirTest {
+ protected:
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name), std::ios::binary) << text;
+    return path(name);
+  }
+  std::string walker_with(const std::string& physics_json) const {
+    RobotFile f;
+    f.robot = demo_walker();
+    std::string text = robot_to_json(f.robot);
+    text.insert(text.rfind('}'), ", \"physics\": " + physics_json);
+    return write("walker.json", text);
+  }
+};
+
+// ---- 1. A full disk: one line, exit 1, the previous results file intact ----
+
+// Mounts a 2 MB tmpfs at dir; false (with the reason) when not root or mount fails.
+bool mount_small_tmpfs(const std::string& dir, std::string& why) {
+  if (geteuid() != 0) {
+    why = "needs root to mount a tmpfs (CI runs as root)";
+    return false;
+  }
+  fs::create_directories(dir);
+  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=2m") != 0) {
+    why = std::string("mount -t tmpfs failed: ") + std::strerror(errno);
+    return false;
+  }
+  return true;
+}
+
+// Fills the file system at dir with a ballast file until `leave` bytes are free.
+void fill_to(const std::string& dir, uint64_t leave) {
+  struct statvfs v {};
+  ASSERT_EQ(statvfs(dir.c_str(), &v), 0);
+  const uint64_t free_bytes = static_cast<uint64_t>(v.f_bavail) * v.f_frsize;
+  ASSERT_GT(free_bytes, leave);
+  std::ofstream(dir + "/ballast", std::ios::binary) << std::string(free_bytes - leave, 'x');
+}
+
+TEST_F(Hardening, FullDiskDuringEvolveIsOneLineExitOneAndKeepsTheLastCheckpoint) {
+  const std::string mnt = path("full");
+  std::string why;
+  if (!mount_small_tmpfs(mnt, why)) GTEST_SKIP() << why;
+  struct Unmount {
+    std::string dir;
+    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
+  } unmount{mnt};
+  const std::string cfg = write("c.json", tiny_config(3));
+  const std::string out = mnt + "/e.h5";
+  ASSERT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1 --stop-after 1").status,
+            0);
+  const std::string before = read_file(out);
+  fill_to(mnt, before.size() / 2);  // too little room for the next checkpoint
+  const Output o = run("evolve --config " + cfg + " --out " + out + " --threads 1");
+  EXPECT_EQ(o.status, 1) << o.out;  // was 139: a SIGSEGV in HDF5's exit-time close
+  // The progress lines of the generation before the failed checkpoint, then one error line.
+  const std::string last = o.out.substr(o.out.rfind('\n', o.out.size() - 2) + 1);
+  EXPECT_NE(last.find("plastivox evolve: error: " + out), std::string::npos) << o.out;
+  EXPECT_NE(last.find("No space left on device"), std::string::npos) << o.out;
+  EXPECT_EQ(read_file(out), before);  // the previous checkpoint, byte for byte
+  EXPECT_EQ(evo::read_results(out).state.generations_done, 1);
+  for (const auto& e : fs::directory_iterator(mnt))  // no temporary left behind
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  // With room again, the same command resumes and finishes.
+  fs::remove(mnt + "/ballast");
+  EXPECT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
+  EXPECT_EQ(evo::read_results(out).state.generations_done, 3);
+}
+
+// ---- 2 and 3. Huge lattices and unbounded reads: refused before allocating ----
+
+TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string json = write("huge.json", R"({"format":"plastivox-robot","version":1,
+    "lattice":{"nx":1000,"ny":1000,"nz":1000,"voxel_size":0.01},"voxels":[[0,0,0,1e6,0,0]]})");
+  Output o = run("simulate " + json);
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "huge.json: lattice: a 1000x1000x1000 lattice has 1000000000 sites");
+  EXPECT_NE(o.out.find("PLASTIVOX_MAX_LATTICE_SITES"), std::string::npos) << o.out;
+
+  // VXA: X/Y/Z_Voxels 1000 with 10 layers of 4 characters.
+  std::string vxa = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  vxa =
+      std::regex_replace(vxa, std::regex("<X_Voxels>[^<]*</X_Voxels>"), "<X_Voxels>100</X_Voxels>");
+  vxa =
+      std::regex_replace(vxa, std::regex("<Y_Voxels>[^<]*</Y_Voxels>"), "<Y_Voxels>100</Y_Voxels>");
+  o = run("simulate " + write("wide.vxa", vxa));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "characters, expected 10000 (X_Voxels*Y_Voxels)");
+  vxa = std::regex_replace(vxa, std::regex("<Z_Voxels>[^<]*</Z_Voxels>"),
+                           "<Z_Voxels>1000</Z_Voxels>");
+  vxa = std::regex_replace(vxa, std::regex("<X_Voxels>[^<]*</X_Voxels>"),
+                           "<X_Voxels>1000</X_Voxels>");
+  vxa = std::regex_replace(vxa, std::regex("<Y_Voxels>[^<]*</Y_Voxels>"),
+                           "<Y_Voxels>1000</Y_Voxels>");
+  o = run("simulate " + write("huge.vxa", vxa));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o,
+                  "huge.vxa: <VXC>/<Structure>: <X_Voxels>*<Y_Voxels>*<Z_Voxels>: a "
+                  "1000x1000x1000 lattice has 1000000000 sites");
+  // Refused at once (it used to allocate 9 GB and run for more than 20 s).
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(20));
+
+  // The cap is an override: a small limit refuses the demo walker's 10x10x10 lattice...
+  const std::string walker = walker_with(R"({"duration": 0.01, "settle_time": 0})");
+  o = run("simulate " + walker);
+  EXPECT_EQ(o.status, 0) << o.out;
+  o = testing::shell("PLASTIVOX_MAX_LATTICE_SITES=999 " + std::string(PLASTIVOX_CLI) +
+                     " simulate " + walker + " 2>&1");
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "more than the limit of 999");
+  // ...and a larger one admits a lattice past the default.
+  const std::string big = write("big.json", R"({"format":"plastivox-robot","version":1,
+    "lattice":{"nx":130,"ny":130,"nz":130,"voxel_size":0.01},"voxels":[[0,0,0,1e6,0,0]],
+    "physics":{"duration":0.01,"settle_time":0}})");
+  EXPECT_EQ(run("simulate " + big).status, 1);
+  EXPECT_EQ(testing::shell("PLASTIVOX_MAX_LATTICE_SITES=3000000 " + std::string(PLASTIVOX_CLI) +
+                           " simulate " + big + " >/dev/null 2>&1")
+                .status,
+            0);
+}
+
+TEST_F(Hardening, NonRegularAndOversizedInputsAreRefusedUnread) {
+  Output o = run("simulate /dev/zero");
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "/dev/zero: is not a regular file");
+  o = run("simulate " + dir_.string());
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, ": is a directory, not a file");
+  o = run("evolve --config /dev/zero --out " + path("r.h5"));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "/dev/zero: is not a regular file");
+  // A sparse 300 MB file is refused by its size, not read.
+  for (const char* name : {"sparse.json", "sparse.vxa"}) {
+    const std::string p = write(name, "{");
+    fs::resize_file(p, uint64_t{300} << 20);
+    const auto t0 = std::chrono::steady_clock::now();
+    o = run("simulate " + p);
+    EXPECT_EQ(o.status, 1);
+    expect_one_line(o,
+                    std::string(name) + ": is 314572800 bytes, more than the limit of 268435456");
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+  }
+}
+
+// ---- 4. Runs that never end ----
+
+TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
+  Output o = run("simulate " + walker_with(R"({"dt_frac": 1e-9})"));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "physics.dt_frac: must be in [0.001, 1.5]");
+  std::string robot = robot_to_json(demo_walker());
+  robot =
+      std::regex_replace(robot, std::regex("\"voxel_size\": [0-9.e-]+"), "\"voxel_size\": 1e-9");
+  o = run("simulate " + write("tiny_voxels.json", robot));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "lattice.voxel_size: must be in [1e-4, 10] m");
+  // Allowed values that multiply into a life of too many steps: refused, naming the limit.
+  o = run("simulate " + walker_with(R"({"dt_frac": 0.001, "duration": 1000})"));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "physics.duration: a life of 1e+03 s at time step");
+  EXPECT_NE(o.out.find("more than the limit of 100000000"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("PLASTIVOX_MAX_STEPS"), std::string::npos) << o.out;
+  // The override is read: a limit below the walker's 0.01 s life refuses it.
+  const std::string walker = walker_with(R"({"duration": 0.01, "settle_time": 0})");
+  EXPECT_EQ(run("simulate " + walker).status, 0);
+  o = testing::shell("PLASTIVOX_MAX_STEPS=10 " + std::string(PLASTIVOX_CLI) + " simulate " +
+                     walker + " 2>&1");
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "more than the limit of 10 ");
+  o = testing::shell("PLASTIVOX_MAX_STEPS=ten " + std::string(PLASTIVOX_CLI) + " simulate " +
+                     walker + " 2>&1");
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "PLASTIVOX_MAX_STEPS: expected a positive whole number");
+  // An actuation faster than the time step resolves is an error naming the field.
+  o = run("simulate " + walker_with(R"({"act_frequency": 1e6})"));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "physics.act_frequency: 1e+06 Hz is faster than the time step resolves");
+  // VXA: the tag is named.
+  std::string vxa = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  vxa = std::regex_replace(vxa, std::regex("<DtFrac>[^<]*</DtFrac>"), "<DtFrac>1e-9</DtFrac>");
+  o = run("simulate " + write("dt.vxa", vxa));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "dt.vxa: <Simulator>/<Integration>/<DtFrac>: must be in [0.001, 1.5]");
+  // An evolution config is refused up front, before any generation.
+  std::string cfg = tiny_config(2);
+  cfg.replace(cfg.find("\"duration\": 0.2"), 15, "\"duration\": 5000, \"dt_frac\": 0.001");
+  o = run("evolve --config " + write("c.json", cfg) + " --out " + path("r.h5"));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "c.json: physics.duration: a life of 5e+03 s");
+  EXPECT_FALSE(fs::exists(path("r.h5")));
+}
+
+// ---- 5. Bodies that sink through the floor ----
+
+TEST_F(Hardening, SinkingThroughTheFloorIsReportedAndOptionallyInvalid) {
+  Output o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
+                            write("soft.json", sinking_robot()) + " 2>/dev/null");
+  ASSERT_EQ(o.status, 0) << o.out;
+  auto j = nlohmann::json::parse(o.out);
+  EXPECT_EQ(j["status"], "finished");  // faithful: the authors' simulator scores it too
+  EXPECT_LT(j["dist_z"].get<double>(), -100);
+  ASSERT_EQ(j["warnings"].size(), 1u) << o.out;
+  const std::string w = j["warnings"][0];
+  EXPECT_NE(w.find("sank through the floor"), std::string::npos) << w;
+  EXPECT_NE(w.find("8 of 8 voxels end wholly below z = 0"), std::string::npos) << w;
+  // The demo walker stands on the floor: no warning.
+  o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
+                     walker_with(R"({"duration": 0.3})") + " 2>/dev/null");
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_TRUE(nlohmann::json::parse(o.out)["warnings"].empty()) << o.out;
+  // The option makes such a life invalid: unstable, fitness 0, exit 3.
+  o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
+                     write("soft2.json", sinking_robot(", \"sinking_invalid\": true")) +
+                     " 2>/dev/null");
+  EXPECT_EQ(o.status, 3) << o.out;
+  j = nlohmann::json::parse(o.out);
+  EXPECT_EQ(j["status"], "unstable");
+  EXPECT_EQ(j["fitness"], 0.0);
+  EXPECT_NE(j["failure"].get<std::string>().find("sinking_invalid"), std::string::npos);
+}
+
+TEST_F(Hardening, SinkingIsCountedInTheEvolutionLogAndStoredPerIndividual) {
+  // Every body soft (E <= 2e5 Pa) and heavy: every life sinks.
+  const std::string cfg = write("sink.json", R"({"format": "plastivox-evolve-config",
+    "version": 1, "seed": 3, "treatment": "none", "population": 4, "generations": 1,
+    "lattice": {"nx": 4, "ny": 4, "nz": 4},
+    "physics": {"duration": 1.0, "settle_time": 0.1, "e_max": 2e5, "act_frequency": 1}})");
+  Output o = run("evolve --config " + cfg + " --out " + path("s.h5") + " --threads 1");
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("0 unstable, 5 sank through the floor"), std::string::npos) << o.out;
+  const evo::ResultsFile f = evo::read_results(path("s.h5"));
+  int sank = 0;
+  for (const evo::BirthRecord& b : f.state.births) sank += b.sank;
+  EXPECT_EQ(sank, static_cast<int>(f.state.births.size()));
+  // Reported only: same content digest as before the flag existed (main at 22a63f5).
+  EXPECT_EQ(f.content_digest, "50f549804e26508c3c4e0992ef2c95f0");
+  // With the option on the same lives are unstable.
+  std::string text = read_file(cfg);
+  text.replace(text.find("\"e_max\": 2e5"), 12, "\"e_max\": 2e5, \"sinking_invalid\": true");
+  o = run("evolve --config " + write("sink2.json", text) + " --out " + path("s2.h5") +
+          " --threads 1");
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("5 unstable, 5 sank through the floor"), std::string::npos) << o.out;
+}
+
+TEST_F(Hardening, ExistingConfigsKeepTheirContentDigest) {
+  // The tiny run's digest on main before the sinking_invalid field (22a63f5): a field at
+  // its default serialises exactly as before.
+  const std::string cfg = write("c.json", tiny_config(2));
+  ASSERT_EQ(run("evolve --config " + cfg + " --out " + path("t.h5") + " --threads 1").status, 0);
+  EXPECT_EQ(evo::read_results(path("t.h5")).content_digest, "0a455dd9a0d7033334c66c41613d8f91");
+  const evo::EvolveConfig c = evo::read_config_file(cfg);
+  EXPECT_EQ(evo::resolved_physics_json(c.physics).find("sinking_invalid"), std::string::npos);
+  PhysicsDef on = c.physics;
+  on.sinking_invalid = true;
+  EXPECT_NE(evo::resolved_physics_json(on).find("\"sinking_invalid\":true"), std::string::npos);
+}
+
+// ---- 6. A graceful stop for evolve ----
+
+// Starts `plastivox evolve` (with SIGINT ignored when ignore_int, as a background job
+// inherits it), waits for its first checkpoint, sends sig and returns the exit status.
+int stop_evolve(const std::string& cfg, const std::string& out, int sig, bool ignore_int) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (ignore_int) signal(SIGINT, SIG_IGN);
+    const int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, STDOUT_FILENO);
+    dup2(devnull, STDERR_FILENO);
+    execl(PLASTIVOX_CLI, PLASTIVOX_CLI, "evolve", "--config", cfg.c_str(), "--out", out.c_str(),
+          "--threads", "1", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int i = 0; i < 600 && !fs::exists(out); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  kill(pid, sig);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+TEST_F(Hardening, EvolveStopsAtACheckpointOnSigintOrSigterm) {
+  const std::string cfg = write("c.json", tiny_config(100000));
+  for (const auto& [sig, ignore_int, name] :
+       {std::tuple{SIGINT, false, "int.h5"}, {SIGTERM, true, "term.h5"}}) {
+    const std::string out = path(name);
+    EXPECT_EQ(stop_evolve(cfg, out, sig, ignore_int), 130) << name;  // was killed by the signal
+    const evo::ResultsFile f = evo::read_results(out);
+    EXPECT_GE(f.state.generations_done, 1) << name;
+    EXPECT_LT(f.state.generations_done, 100000) << name;
+    EXPECT_FALSE(fs::exists(out + ".tmp")) << name;
+  }
+}
+
+// ---- 7 and 8. VXA messages in the file's own terms; nothing dropped silently ----
+
+TEST_F(Hardening, VxaErrorsNameTheFilesOwnTags) {
+  const std::string base = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  const struct {
+    std::string from, to, expect;
+  } cases[] = {
+      {"<Density>[^<]*</Density>", "<Density>0</Density>", "<Mechanical>/<Density>: must be > 0"},
+      {"<Lattice_Dim>[^<]*</Lattice_Dim>", "<Lattice_Dim>0</Lattice_Dim>",
+       "<VXC>/<Lattice>/<Lattice_Dim>: 0 is not in [1e-4, 10] m"},
+      {"<Poissons_Ratio>[^<]*</Poissons_Ratio>", "<Poissons_Ratio>0.7</Poissons_Ratio>",
+       "<Poissons_Ratio>: must be in [0, 0.5)"},
+  };
+  for (const auto& c : cases) {
+    const Output o =
+        run("simulate " + write("bad.vxa", std::regex_replace(base, std::regex(c.from), c.to)));
+    EXPECT_EQ(o.status, 1) << c.to;
+    expect_one_line(o, c.expect);
+    EXPECT_EQ(o.out.find("physics."), std::string::npos) << o.out;
+  }
+  // A stiffness of 0 at the first voxel of layer 1 (site 13: x=3, y=1): named by layer and
+  // position.
+  std::string vxa = base;
+  const size_t block = vxa.find("<Stiffness>");
+  size_t value = vxa.find("<Layer><![CDATA[", block) + 16;
+  for (int k = 0; k < 13; ++k) value = vxa.find(',', value) + 1;
+  vxa.replace(value, vxa.find(',', value) - value, "0");
+  const Output o = run("simulate " + write("stiff.vxa", vxa));
+  EXPECT_EQ(o.status, 1) << o.out;
+  expect_one_line(o, "<Structure>/<Stiffness>: layer 1, x=3 y=1: must be a positive");
+  EXPECT_EQ(o.out.find("robot.stiffness["), std::string::npos) << o.out;
+}
+
+TEST_F(Hardening, DamagedTagNamesGiveOneLine) {
+  const std::string base = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  for (const char* damaged :
+       {"<Dens\vity>", "<Dens\fity>", "<Dens\xc2\x85ity>", "<Dens\xe2\x80\xa8ity>", "<Den\x1csity>",
+        "<Dens\nity>", "</Dens\r\nity>"}) {
+    std::string vxa = base;
+    vxa.replace(vxa.find("<Density>"), 9, damaged);
+    const Output o = run("simulate " + write("torn.vxa", vxa));
+    EXPECT_EQ(o.status, 1) << o.out;
+    expect_one_line(o, "torn.vxa: ");
+  }
+}
+
+TEST_F(Hardening, NothingIsDroppedSilently) {
+  std::string vxa = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  vxa.insert(vxa.find("<DtFrac>"), "<DtFracc>0.5</DtFracc>");
+  const size_t ph = vxa.find("<PhaseOffset>");
+  vxa.erase(ph, vxa.find("</PhaseOffset>") + 14 - ph);
+  const Output o =
+      run("simulate --physics '{\"settle_time\": 0}' --duration 0.01 " + write("odd.vxa", vxa));
+  EXPECT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("odd.vxa: <Simulator>/<Integration>/<DtFracc>: unknown tag: ignored"),
+            std::string::npos)
+      << o.out;
+  EXPECT_NE(o.out.find("odd.vxa: <VXC>/<Structure>: no <PhaseOffset>"), std::string::npos) << o.out;
+  // Duplicate JSON keys are refused (the last one used to win), in robots, configs and
+  // --physics alike.
+  std::string robot = robot_to_json(demo_walker());
+  robot.insert(robot.find("\"name\""), "\"name\": \"first\", ");
+  Output d = run("simulate " + write("dup.json", robot));
+  EXPECT_EQ(d.status, 1);
+  expect_one_line(d, "dup.json: name: given twice");
+  d = run("simulate " + walker_with(R"({"duration": 0.01, "duration": 0.02})"));
+  EXPECT_EQ(d.status, 1);
+  expect_one_line(d, "walker.json: physics.duration: given twice");
+  std::string cfg = tiny_config(1);
+  cfg.replace(cfg.find("\"nz\": 4"), 7, "\"nz\": 4, \"nx\": 5");
+  d = run("evolve --config " + write("c.json", cfg) + " --out " + path("r.h5"));
+  EXPECT_EQ(d.status, 1);
+  expect_one_line(d, "c.json: lattice.nx: given twice");
+  d = run("simulate --duration 0.01 --physics '{\"gravity\": 0, \"gravity\": -1}'");
+  EXPECT_EQ(d.status, 1);
+  expect_one_line(d, "--physics: gravity: given twice");
+}
+
+// ---- 9. Exit codes: a bad command-line value exits 2 ----
+
+TEST_F(Hardening, BadCommandLineValuesExitTwo) {
+  const struct {
+    std::string args, expect;
+  } cases[] = {
+      {"simulate --treatment x", "--treatment: treatment 'x' is unknown"},
+      {"simulate --preset nope", "--preset: physics preset 'nope' is unknown"},
+      {"simulate /nonexistent.json --treatment x", "--treatment"},  // before the file is read
+      {"experiment --preset nope --out " + path("x"), "--preset: unknown preset 'nope'"},
+      {"experiment --print-preset nope", "--print-preset: unknown preset 'nope'"},
+      {"gallery " + path("none.h5") + " --out " + path("g.png") + " --size 160x120",
+       "--size 160x120: gallery: image too narrow"},
+  };
+  for (const auto& c : cases) {
+    const Output o = run(c.args);
+    EXPECT_EQ(o.status, 2) << c.args << "\n" << o.out;
+    expect_one_line(o, c.expect);
+  }
+  // A directory passed as a robot says so (it used to be "not valid JSON").
+  const Output o = run("simulate " + dir_.string());
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "is a directory, not a file");
+  EXPECT_EQ(o.out.find("JSON"), std::string::npos) << o.out;
+}
+
+}  // namespace
+}  // namespace plastivox
