@@ -290,6 +290,7 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
         {"fitness", d.fitness == FitnessMode::k3D ? "3d" : "xy"},
         {"axial_modulus",
          d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
+        {"bond_model", d.bond_model == BondModel::kExact ? "exact" : "voxelyze09"},
         {"record_fps", d.record_fps},
         {"max_speed", d.max_speed}};
   }
