@@ -117,3 +117,32 @@ def test_read_study(tiny_run, tmp_path):
     assert study.statistics and all("kind" in row for row in study.statistics)
     with pytest.raises(plastivox.InputError, match="stats.json"):
         plastivox.read_study(tmp_path)
+
+
+def test_ctrl_c_from_outside_during_a_long_run(tmp_path):
+    """A real SIGINT arriving while the run is in C++ (GIL released): the process ends with
+    KeyboardInterrupt after a checkpoint, and the file resumes."""
+    import json
+    import subprocess
+    import sys
+    import time
+    config = tiny_config(generations=100000)
+    cfg = tmp_path / "long.json"
+    cfg.write_text(json.dumps(config))
+    out = tmp_path / "long.h5"
+    script = ("import sys, plastivox\n"
+              "plastivox.evolve(sys.argv[1], sys.argv[2], threads=1)\n")
+    p = subprocess.Popen([sys.executable, "-c", script, str(cfg), str(out)],
+                         stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while not out.exists() and time.time() < deadline:  # the first checkpoint is written
+        time.sleep(0.05)
+    assert out.exists()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    assert p.returncode != 0 and "KeyboardInterrupt" in err
+    partial = plastivox.read_results(out)
+    assert 0 <= partial.generations_done < 100000
+    again = plastivox.evolve(str(cfg), str(out), threads=1,
+                             stop_after=partial.generations_done + 1)
+    assert again["outcome"] == "stopped" and again["resumed_from"] == partial.generations_done
