@@ -6,7 +6,8 @@
    of the Python call less the engine's own wall time for the life (Result.wall_seconds,
    timed inside the C++ simulate()), as a fraction of the engine time. Compiling the model,
    building the summary and crossing into Python all count as overhead here.
-2. simulate_many on 2 threads against 1: 16 different bodies, 0.5 s lives each.
+2. simulate_many on 2 threads against 1: 16 different bodies (the demo walker with random
+   stiffness), 1 s lives each.
 Medians over the repeats; the machine should be otherwise idle.
 """
 
@@ -41,7 +42,7 @@ def speedup(repeats):
                                           np.where(base.geometry, 10 ** rng.uniform(6, 8, base.shape), 0),
                                           base.phase, treatment="stress")
               for _ in range(16)]
-    physics = {"duration": 0.5, "settle_time": 0.1}
+    physics = {"duration": 1.0, "settle_time": 0.1}
     times = {1: [], 2: []}
     for _ in range(repeats):
         for threads in (1, 2):
@@ -61,7 +62,7 @@ def main():
     print(f"simulate, demo walker, 0.2 s life: Python call {total * 1e3:.2f} ms, engine "
           f"{engine * 1e3:.2f} ms, overhead {100 * fraction:.2f} % (median of {args.repeats})")
     one, two, ratio = speedup(max(3, args.repeats // 5))
-    print(f"simulate_many, 16 bodies x 0.5 s: 1 thread {one:.3f} s, 2 threads {two:.3f} s, "
+    print(f"simulate_many, 16 bodies x 1 s: 1 thread {one:.3f} s, 2 threads {two:.3f} s, "
           f"speed-up {ratio:.2f}x")
 
 
