@@ -4,11 +4,10 @@
 #include <stdexcept>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "cli.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/robot_file.hpp"
+#include "plastivox/sim_summary.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/vxa.hpp"
 #include "plastivox_version.hpp"
@@ -102,32 +101,7 @@ int cmd_simulate(const Args& in) {
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 
   if (as_json) {
-    nlohmann::json j;
-    j["source"] = source;
-    j["status"] = to_string(r.status);
-    if (!r.failure.empty()) j["failure"] = r.failure;
-    j["warnings"] = r.warnings;
-    j["treatment"] = to_string(physics.treatment);
-    j["growth_model"] = to_string(physics.growth);
-    j["fitness"] = r.fitness;
-    j["dist_x"] = r.displacement.x();
-    j["dist_y"] = r.displacement.y();
-    j["dist_z"] = r.displacement.z();
-    j["voxels"] = r.voxels;
-    j["steps"] = r.steps;
-    j["dt"] = r.dt_initial;
-    j["dt_final"] = r.dt_final;
-    j["sim_time"] = r.sim_time;
-    j["wall_seconds"] = r.wall_seconds;
-    j["voxel_steps_per_second"] = r.wall_seconds > 0 ? r.voxels * r.steps / r.wall_seconds : 0.0;
-    j["stiffness_change_mean"] = r.stiffness_change_mean;
-    j["stiffness_change_abs_mean"] = r.stiffness_change_abs_mean;
-    j["stiffness_change_variance"] = r.stiffness_change_var;
-    j["stiffness_change_mean_percent"] = 100.0 * r.stiffness_change_mean;
-    j["final_stiffness"] = r.final_stiffness;
-    j["final_state_hash"] = r.final_state_hash;
-    j["version"] = PLASTIVOX_VERSION;
-    std::printf("%s\n", j.dump(1).c_str());
+    std::printf("%s\n", sim_summary_json(r, physics, source, PLASTIVOX_VERSION).c_str());
   } else {
     std::printf("%s: %d voxels, treatment %s, %s\n", source.c_str(), r.voxels,
                 to_string(physics.treatment), to_string(r.status));

@@ -285,6 +285,7 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
         {"fitness", d.fitness == FitnessMode::k3D ? "3d" : "xy"},
         {"axial_modulus",
          d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
+        {"bond_model", d.bond_model == BondModel::kExact ? "exact" : "voxelyze09"},
         {"record_fps", d.record_fps},
         {"max_speed", d.max_speed}};
     // Written only when on, so every file and digest made before this option existed (and

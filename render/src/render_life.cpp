@@ -132,12 +132,14 @@ void render_frame_file(const std::string& source_path, double time, const FrameS
   const LifeSource source = load_life_source(source_path);
   for (const std::string& w : source.warnings) say(log, "warning: " + w);
   say(log, "simulating " + source_path + " to t = " + std::to_string(time) + " s");
+  write_png(out, render_frame(source, time, style), style.width, style.height);
+}
+
+std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {
   const Life life = simulate_life(source, {time});
   const ColorScale scale = make_color_scale(style.color, *life.model, {&life.frames[0]});
   LifeRenderer renderer(style);
-  const std::vector<uint8_t> rgba =
-      renderer.render(life, life.frames[0], scale, to_string(source.physics.treatment));
-  write_png(out, rgba, style.width, style.height);
+  return renderer.render(life, life.frames[0], scale, to_string(source.physics.treatment));
 }
 
 VideoSummary render_video_file(const std::string& source_path, const FrameStyle& style,

@@ -57,6 +57,10 @@ class LifeRenderer {
 // writable), so a long job fails before it starts rather than at the end.
 void check_output_path(const std::string& path);
 
+// The frame at simulated time `time` (s) of `source`'s life as RGBA8 rows, top-down
+// (4 * style.width * style.height bytes). Throws RenderError.
+std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style);
+
 // Renders the frame at simulated time `time` (s) of the robot or results file `source` to
 // a PNG at `out` (written atomically).
 void render_frame_file(const std::string& source, double time, const FrameStyle& style,

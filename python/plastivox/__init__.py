@@ -1,0 +1,447 @@
+"""plastivox from Python: robots, physics, simulation, evolution, results and rendering.
+
+A thin layer over the C++ library (the compiled ``plastivox._core``): numpy arrays in and
+out, the GIL released in every long call, bad arguments as ``ValueError``/``TypeError``
+naming the argument, bad files as ``plastivox.InputError`` (a ``ValueError``) with the
+command line's one-line message. docs/python.md describes every function.
+
+Lattice arrays are shaped ``(nx, ny, nz)`` and indexed ``[x, y, z]``; the engine stores
+sites x fastest, so they are converted in Fortran order.
+"""
+
+import csv
+import json
+import math
+import os
+
+import numpy as np
+
+from . import _core
+from ._core import InputError, RenderError
+
+__version__ = _core.__version__
+__all__ = [
+    "InputError", "RenderError", "Robot", "Result", "Trajectory", "Simulator", "Results",
+    "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
+    "read_results", "read_study", "evolve", "default_config", "render",
+]
+
+_TREATMENTS = ("none", "stress", "pressure")
+
+
+# --- argument checks -------------------------------------------------------------------
+
+def _lattice_array(value, name, shape=None, kinds="biuf"):
+    """value as a 3-D numpy array; TypeError/ValueError naming `name` otherwise."""
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name}: expected a numpy array shaped (nx, ny, nz), got {type(value).__name__}")
+    try:
+        a = np.asarray(value)
+    except Exception as e:  # ragged nested lists and the like
+        raise ValueError(f"{name}: not an array: {e}") from None
+    if a.dtype.kind not in kinds:
+        raise TypeError(f"{name}: expected a {'bool or integer' if kinds == 'biu' else 'numeric'} "
+                        f"array, got dtype {a.dtype}")
+    if a.ndim != 3:
+        raise ValueError(f"{name}: expected shape (nx, ny, nz), got shape {a.shape}")
+    if 0 in a.shape:
+        raise ValueError(f"{name}: the lattice is empty (shape {a.shape})")
+    if shape is not None and a.shape != shape:
+        raise ValueError(f"{name}: shape {a.shape} disagrees with geometry's shape {shape}")
+    return a
+
+
+def _flat(a, dtype):
+    """The engine's site order: x fastest (Fortran order), contiguous, of dtype."""
+    return np.ascontiguousarray(np.ravel(a, order="F").astype(dtype, copy=False))
+
+
+def _check_treatment(treatment):
+    if treatment is None:
+        return None
+    if treatment not in _TREATMENTS:
+        raise ValueError(f"treatment: expected one of {', '.join(_TREATMENTS)}, got {treatment!r}")
+    return treatment
+
+
+def _physics_json(physics):
+    """A physics dict (as physics() returns, or a partial one) as JSON text, or None."""
+    if physics is None:
+        return None
+    if not isinstance(physics, dict):
+        raise TypeError(f"physics: expected a dict (see plastivox.physics()), got {type(physics).__name__}")
+    for key, value in physics.items():
+        if not isinstance(key, str):
+            raise TypeError(f"physics: field names must be strings, got {key!r}")
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ValueError(f"physics.{key}: must be finite, got {value}")
+        if isinstance(value, (np.integer, np.floating, np.bool_)):
+            physics = {**physics, key: value.item()}
+    return json.dumps(physics)
+
+
+def _robot_core(robot, name="robot"):
+    if not isinstance(robot, Robot):
+        raise TypeError(f"{name}: expected a plastivox.Robot, got {type(robot).__name__}")
+    return robot._core
+
+
+# --- robots ----------------------------------------------------------------------------
+
+class Robot:
+    """A robot (lattice arrays) and the physics it came with.
+
+    Build one with ``Robot.from_arrays`` or ``load_robot``; it is immutable. Properties return
+    fresh numpy arrays shaped ``(nx, ny, nz)``.
+    """
+
+    def __init__(self, core):
+        if not isinstance(core, _core.Robot):
+            raise TypeError("use Robot.from_arrays(...) or plastivox.load_robot(path)")
+        self._core = core
+
+    @classmethod
+    def from_arrays(cls, geometry, stiffness, phase, dev_rate=None, treatment="none",
+                    voxel_size=0.01, name="robot"):
+        """A robot from (nx, ny, nz) arrays: geometry bool/int (non-zero = voxel), stiffness
+        E0 in Pa (> 0 where a voxel is), phase in cycles, dev_rate alpha in 1/s (default 0).
+        Simulated under the default preset with `treatment` unless physics is given later."""
+        g = _lattice_array(geometry, "geometry", kinds="biu")
+        e = _lattice_array(stiffness, "stiffness", g.shape)
+        p = _lattice_array(phase, "phase", g.shape)
+        d = np.zeros(g.shape) if dev_rate is None else _lattice_array(dev_rate, "dev_rate", g.shape)
+        present = g != 0
+        for label, a in (("stiffness", e), ("phase", p), ("dev_rate", d)):
+            bad = ~np.isfinite(a.astype(np.float64)) & present
+            if bad.any():
+                x, y, z = np.argwhere(bad)[0]
+                raise ValueError(f"{label}: not finite at voxel [{x}, {y}, {z}]")
+        if not present.any():
+            raise ValueError("geometry: no voxel is present")
+        if not (e[present] > 0).all():
+            x, y, z = np.argwhere(present & ~(e > 0))[0]
+            raise ValueError(f"stiffness: must be > 0 where a voxel is; not at [{x}, {y}, {z}]")
+        if not isinstance(voxel_size, (int, float)) or not (0 < voxel_size < math.inf):
+            raise ValueError(f"voxel_size: must be a positive number of metres, got {voxel_size!r}")
+        _check_treatment(treatment)
+        nx, ny, nz = g.shape
+        core = _core.from_flat(nx, ny, nz, _flat(present, np.uint8), _flat(e, np.float64),
+                               _flat(d, np.float64), _flat(p, np.float64), float(voxel_size),
+                               treatment, str(name))
+        return cls(core)
+
+    def _lattice(self, flat, dtype=None):
+        a = np.reshape(flat, self.shape, order="F")
+        return a if dtype is None else a.astype(dtype)
+
+    shape = property(lambda self: self._core.shape, doc="(nx, ny, nz) lattice sites")
+    voxel_size = property(lambda self: self._core.voxel_size, doc="voxel edge length, m")
+    name = property(lambda self: self._core.name)
+    source = property(lambda self: self._core.source, doc="the file read, or the name")
+    voxel_count = property(lambda self: self._core.voxel_count)
+    treatment = property(lambda self: self._core.treatment)
+    geometry = property(lambda self: self._lattice(self._core.present_flat, bool),
+                        doc="(nx, ny, nz) bool: where a voxel is")
+    stiffness = property(lambda self: self._lattice(self._core.stiffness_flat),
+                         doc="(nx, ny, nz) congenital Young's modulus E0, Pa (0 where empty)")
+    phase = property(lambda self: self._lattice(self._core.phase_flat),
+                     doc="(nx, ny, nz) actuation phase, cycles")
+    dev_rate = property(lambda self: self._lattice(self._core.dev_rate_flat),
+                        doc="(nx, ny, nz) development rate alpha, 1/s")
+
+    @property
+    def physics(self):
+        """The robot's own physics as a dict (what simulate uses when given none)."""
+        return json.loads(self._core.physics_json)
+
+    def with_physics(self, physics=None, treatment=None):
+        """A copy simulated under `physics` (dict fields applied on top) and `treatment`."""
+        return Robot(self._core.with_physics(_physics_json(physics), _check_treatment(treatment)))
+
+    def save(self, path):
+        """Writes the robot and its physics as .json (plastivox-robot) or .vxa, atomically."""
+        self._core.save(os.fspath(path))
+
+    def __repr__(self):
+        return (f"Robot({self.name!r}, shape={self.shape}, voxels={self.voxel_count}, "
+                f"treatment={self.treatment!r})")
+
+
+def load_robot(path):
+    """Reads a robot file: .json (plastivox-robot) or .vxa (the authors' format)."""
+    return Robot(_core.load_robot(os.fspath(path)))
+
+
+def demo_walker():
+    """The built-in demo walker under the stress treatment (`plastivox simulate`'s robot)."""
+    return Robot(_core.demo_walker())
+
+
+def physics(preset="gecco2018-code", **overrides):
+    """Every physics field of `preset` with `overrides` applied, as a plain dict.
+    Unknown fields and bad values raise plastivox.InputError naming the field."""
+    return json.loads(_core.physics_json(preset, _physics_json(overrides) if overrides else None))
+
+
+# --- simulation ------------------------------------------------------------------------
+
+class Trajectory:
+    """A recorded life: times[T] (s), positions[T, n, 3] (m, world frame),
+    orientations[T, n, 4] (unit quaternions w, x, y, z), sizes[T, n] (m),
+    stiffness[T, n] (Pa)."""
+
+    def __init__(self, arrays):
+        self.times = arrays["times"]
+        self.positions = arrays["positions"]
+        self.orientations = arrays["orientations"]
+        self.sizes = arrays["sizes"]
+        self.stiffness = arrays["stiffness"]
+
+    def __len__(self):
+        return len(self.times)
+
+    def __repr__(self):
+        return f"Trajectory({len(self)} frames, {self.positions.shape[1]} voxels)"
+
+
+class Result:
+    """One simulated life: every key of `plastivox simulate --json` as an attribute (and
+    in to_dict()); `status` is "finished" or "unstable" (then `failure` says why);
+    `trajectory` is a Trajectory when recorded (record_fps > 0), else None."""
+
+    def __init__(self, summary_json, trajectory, robot):
+        self._data = json.loads(summary_json)
+        self._data["final_stiffness"] = np.asarray(self._data["final_stiffness"], dtype=np.float64)
+        self.trajectory = None if trajectory is None else Trajectory(trajectory)
+        self.robot = robot
+
+    def __getattr__(self, key):
+        data = self.__dict__.get("_data", {})
+        if key in data:
+            return data[key]
+        if key == "failure":
+            return ""
+        raise AttributeError(f"Result has no field {key!r}")
+
+    def to_dict(self):
+        """The summary as `simulate --json` prints it (final_stiffness as a list)."""
+        d = dict(self._data)
+        d["final_stiffness"] = d["final_stiffness"].tolist()
+        return d
+
+    def keys(self):
+        return self._data.keys()
+
+    def __repr__(self):
+        return (f"Result(status={self.status!r}, fitness={self.fitness!r}, "
+                f"voxels={self.voxels}, steps={self.steps})")
+
+
+def _record_fps(record_fps):
+    if isinstance(record_fps, bool) or not isinstance(record_fps, (int, float)) or \
+            not (0 <= record_fps <= 1e6):
+        raise ValueError(f"record_fps: expected frames per simulated second in [0, 1e6], got {record_fps!r}")
+    return float(record_fps)
+
+
+def simulate(robot, physics=None, treatment=None, record_fps=0):
+    """Simulates one whole life (GIL released) and returns a Result.
+    physics: a dict of fields applied on top of the robot's own physics; treatment: "none",
+    "stress" or "pressure" (overrides both); record_fps > 0 records a Trajectory."""
+    core = _robot_core(robot)
+    summary, traj = _core.simulate(core, _physics_json(physics), _check_treatment(treatment),
+                                   _record_fps(record_fps))
+    if physics is not None or treatment is not None:
+        robot = robot.with_physics(physics, treatment)  # what render(result) shows
+    return Result(summary, traj, robot)
+
+
+def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0):
+    """Simulates every robot on C++ threads (0: all cores), results in input order, each
+    bit-identical to simulate() of that robot alone."""
+    robots = list(robots)
+    cores = [_robot_core(r, f"robots[{i}]") for i, r in enumerate(robots)]
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
+        raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
+    lives = _core.simulate_many(cores, _physics_json(physics), _check_treatment(treatment),
+                                _record_fps(record_fps), threads)
+    return [Result(s, t, r) for (s, t), r in zip(lives, robots)]
+
+
+class Simulator:
+    """Step-wise control of one life: step(n) advances up to n steps (GIL released) and stops
+    when the life is over; positions (n, 3) m, velocities (n, 3) m/s and stiffness (n,) Pa are
+    numpy copies of the current state, in voxel order (increasing lattice site)."""
+
+    def __init__(self, robot, physics=None, treatment=None):
+        self._core = _core.Simulator(_robot_core(robot), _physics_json(physics),
+                                     _check_treatment(treatment))
+
+    def step(self, n=1):
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+            raise ValueError(f"n: expected a number of steps >= 0, got {n!r}")
+        return self._core.step(int(n))
+
+    def run(self):
+        """Steps to the end of the life; returns the steps taken."""
+        taken = 0
+        while self.status == "running":
+            taken += self._core.step(1 << 20)
+        return taken
+
+    time = property(lambda self: self._core.time, doc="simulated time, s")
+    steps = property(lambda self: self._core.steps)
+    dt = property(lambda self: self._core.dt, doc="current time step, s")
+    duration = property(lambda self: self._core.duration, doc="length of the life, s")
+    status = property(lambda self: self._core.status, doc='"running", "finished" or "unstable"')
+    failure = property(lambda self: self._core.failure, doc="why it went unstable")
+    state_hash = property(lambda self: self._core.state_hash,
+                          doc="the state's hash (final_state_hash at the end of a life)")
+    positions = property(lambda self: self._core.positions)
+    velocities = property(lambda self: self._core.velocities)
+    stiffness = property(lambda self: self._core.stiffness)
+
+
+# --- evolution and results -------------------------------------------------------------
+
+class Results:
+    """An evolution results file (.h5): run settings, provenance, champions and curves."""
+
+    def __init__(self, core):
+        self._core = core
+        self.best_fitness, self.mean_fitness = core.fitness_curves()
+
+    path = property(lambda self: self._core.path)
+    treatment = property(lambda self: self._core.treatment)
+    seed = property(lambda self: self._core.seed)
+    generations_done = property(lambda self: self._core.generations_done)
+    generations = property(lambda self: self._core.generations, doc="planned")
+    finished = property(lambda self: self._core.finished)
+    content_digest = property(lambda self: self._core.content_digest)
+    provenance = property(lambda self: self._core.provenance)
+
+    @property
+    def config(self):
+        """The run's configuration as a dict (canonical JSON, as the file stores it)."""
+        return json.loads(self._core.config_json)
+
+    def champion(self, generation=-1):
+        """The champion at the end of `generation` (-1: the last done) as a Robot under the
+        run's physics; what `plastivox export` writes."""
+        if isinstance(generation, bool) or not isinstance(generation, (int, np.integer)) or generation < -1:
+            raise ValueError(f"generation: expected a generation number or -1, got {generation!r}")
+        return Robot(self._core.champion(int(generation)))
+
+    def __repr__(self):
+        return (f"Results({self.path!r}, treatment={self.treatment!r}, seed={self.seed}, "
+                f"generations_done={self.generations_done}/{self.generations})")
+
+
+def read_results(path):
+    """Reads and checks an evolution results file."""
+    return Results(_core.read_results(os.fspath(path)))
+
+
+def default_config():
+    """The default evolve configuration as a dict."""
+    config = json.loads(_core.default_config())
+    config.pop("_comment", None)
+    return config
+
+
+def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_after=None):
+    """Runs (or resumes) an evolution into the results file `out`: the same run as
+    `plastivox evolve --config ... --out ...`. `config` is a dict or a config file path.
+    on_generation(progress_dict) is called after every generation; raising from it, or
+    Ctrl-C, stops the run at the next checkpoint (resumable: call evolve again). Returns a
+    dict with outcome ("finished", "stopped", "already-finished") and generations_done."""
+    if isinstance(config, dict):
+        text, path = json.dumps(config), ""
+    elif isinstance(config, (str, os.PathLike)):
+        text, path = "", os.fspath(config)
+    else:
+        raise TypeError(f"config: expected a dict or a file path, got {type(config).__name__}")
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
+        raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
+    for name, fn in (("on_generation", on_generation), ("on_message", on_message)):
+        if fn is not None and not callable(fn):
+            raise TypeError(f"{name}: expected a callable")
+    stop = -1 if stop_after is None else int(stop_after)
+    return _core.evolve(text, path, os.fspath(out), threads, stop, on_generation, on_message)
+
+
+class Study:
+    """An analysed study (the folder `plastivox analyze` or `experiment` writes):
+    stats (stats.json as a dict), champions and statistics (the CSV tables as lists of
+    dicts, numbers as float/int, empty cells as None)."""
+
+    def __init__(self, folder, stats, champions, statistics):
+        self.folder = folder
+        self.stats = stats
+        self.champions = champions
+        self.statistics = statistics
+
+    def __repr__(self):
+        return f"Study({self.folder!r}, {len(self.champions)} champions)"
+
+
+def _cell(text):
+    if text == "":
+        return None
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _read_table(path):
+    try:
+        with open(path, newline="") as f:
+            return [{k: _cell(v) for k, v in row.items()} for row in csv.DictReader(f)]
+    except OSError as e:
+        raise InputError(f"{path}: cannot read: {e.strerror}") from None
+
+
+def read_study(folder):
+    """Reads an analysed study: stats.json, champions.csv and statistics.csv in `folder`."""
+    folder = os.fspath(folder)
+    stats_path = os.path.join(folder, "stats.json")
+    try:
+        with open(stats_path) as f:
+            stats = json.load(f)
+    except OSError as e:
+        raise InputError(f"{stats_path}: cannot read: {e.strerror} (not an analysed study?)") from None
+    except ValueError as e:
+        raise InputError(f"{stats_path}: not valid JSON: {e}") from None
+    if not isinstance(stats, dict) or stats.get("format") != "plastivox-analysis":
+        raise InputError(f"{stats_path}: format: expected \"plastivox-analysis\"")
+    return Study(folder, stats, _read_table(os.path.join(folder, "champions.csv")),
+                 _read_table(os.path.join(folder, "statistics.csv")))
+
+
+# --- rendering -------------------------------------------------------------------------
+
+def render(source, time=0.2, color="congenital", size=(640, 480), out=None, generation=-1,
+           overlay=True, zoom=1.0, azimuth=-60.0, elevation=25.0, antialias="msaa"):
+    """One frame of a life at simulated `time` (s) as an (h, w, 3) uint8 array, drawn
+    off-screen; also written as a PNG when `out` is given. `source` is a Robot, a Result
+    (its robot), a Results (its champion at `generation`) or a .json/.vxa/.h5 path. color:
+    congenital, stiffness, change, alpha or phase; the other options are those of
+    `plastivox render` (--no-overlay, --zoom, --azimuth, --elevation, --antialias)."""
+    try:
+        w, h = (int(v) for v in size)
+    except (TypeError, ValueError):
+        raise TypeError(f"size: expected (width, height), got {size!r}") from None
+    args = (float(time), str(color), w, h, bool(overlay), float(zoom), float(azimuth),
+            float(elevation), str(antialias), "" if out is None else os.fspath(out))
+    if isinstance(source, Result):
+        source = source.robot
+    if isinstance(source, Robot):
+        return _core.render_robot(source._core, *args)
+    if isinstance(source, Results):
+        return _core.render_file(source.path, int(generation), *args)
+    if isinstance(source, (str, os.PathLike)):
+        return _core.render_file(os.fspath(source), int(generation), *args)
+    raise TypeError(f"source: expected a Robot, Result, Results or file path, got {type(source).__name__}")

@@ -1,0 +1,48 @@
+// Shared pieces of the compiled part of the Python module (plastivox._core): the robot a
+// Python Robot wraps, and how a call's physics is resolved. The pure-Python layer
+// (python/plastivox/__init__.py) checks arguments and shapes; this layer converts and calls
+// the C++ library, releasing the GIL around every long call.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "plastivox/physics_def.hpp"
+#include "plastivox/robot.hpp"
+
+namespace plastivox::py {
+
+namespace pyb = pybind11;
+
+// A robot and the physics it came with (a file's own physics section, or the default
+// preset with the treatment given to from_arrays). Plain data; copied into each call.
+struct PyRobot {
+  RobotDef def;
+  PhysicsDef physics;
+  std::string source;  // file path, or the robot's name for robots built in Python
+};
+
+// The physics of one call: the robot's own, then `physics_json` (a JSON object of
+// PhysicsDef fields, "preset" first) applied on top, then `treatment`; record_fps is set
+// here and nowhere else (0: no recording). Throws InputError / std::invalid_argument.
+PhysicsDef resolve_physics(const PhysicsDef& base, const std::optional<std::string>& physics_json,
+                           const std::optional<std::string>& treatment, double record_fps);
+
+// All fields of def as a JSON object text (the keys physics() returns).
+std::string physics_to_json(const PhysicsDef& def);
+
+// Hands a library warning to Python's warnings machinery (which may turn it into an error).
+void warn(const std::string& message);
+
+// A 1-D float64 copy of values.
+pyb::array_t<double> to_array(const std::vector<double>& values);
+
+void bind_robot(pyb::module_& m);     // robot.cpp
+void bind_simulate(pyb::module_& m);  // simulate.cpp
+void bind_evo(pyb::module_& m);       // evo.cpp
+void bind_render(pyb::module_& m);    // render.cpp
+
+}  // namespace plastivox::py

@@ -1,0 +1,86 @@
+// Rendering for Python: one frame of a robot's life (off-screen, OSMesa) as an (h, w, 3)
+// uint8 array, optionally written as a PNG; the same call as `plastivox render`.
+#include <cmath>
+
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "plastivox/render/offscreen.hpp"
+#include "plastivox/render/render_life.hpp"
+
+namespace plastivox::py {
+namespace {
+
+pyb::array_t<uint8_t> render_source(const render::LifeSource& source, double time,
+                                    const std::string& color, int width, int height, bool overlay,
+                                    double zoom, double azimuth, double elevation,
+                                    const std::string& antialias, const std::string& out) {
+  if (!(time >= 0 && time <= source.physics.duration))
+    throw std::invalid_argument("time: must be within the life, [0, " +
+                                std::to_string(source.physics.duration) + "] s");
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw std::invalid_argument("size: each side must be 1..16384 pixels");
+  if (!(zoom > 0 && std::isfinite(zoom))) throw std::invalid_argument("zoom: must be > 0");
+  if (!(elevation > -90 && elevation <= 90 && std::isfinite(azimuth)))
+    throw std::invalid_argument("elevation: must be in (-90, 90] degrees");
+  render::FrameStyle style;
+  style.width = width;
+  style.height = height;
+  try {
+    style.color = render::parse_color_mode(color);
+  } catch (const render::RenderError& e) {
+    throw std::invalid_argument(std::string("color: ") + e.what());
+  }
+  if (!overlay) style.overlay = {false, false, false, false, false};
+  style.zoom = zoom;
+  style.azimuth_deg = azimuth;
+  style.elevation_deg = elevation;
+  // As `plastivox render --antialias`: msaa = 4 samples.
+  if (antialias == "msaa")
+    style.samples = 4;
+  else if (antialias == "none")
+    style.samples = 1;
+  else if (antialias == "edge")
+    style.samples = render::kEdgeAntialiasing;
+  else
+    throw std::invalid_argument("antialias: expected msaa, edge or none, got '" + antialias + "'");
+  if (!out.empty()) render::check_output_path(out);
+  std::vector<uint8_t> rgba;
+  {
+    pyb::gil_scoped_release unlocked;
+    rgba = render::render_frame(source, time, style);
+    if (!out.empty()) render::write_png(out, rgba, width, height);
+  }
+  pyb::array_t<uint8_t> rgb({pyb::ssize_t{height}, pyb::ssize_t{width}, pyb::ssize_t{3}});
+  uint8_t* dst = rgb.mutable_data();
+  for (size_t p = 0; p < static_cast<size_t>(width) * height; ++p)
+    for (int c = 0; c < 3; ++c) dst[3 * p + c] = rgba[4 * p + c];
+  return rgb;
+}
+
+}  // namespace
+
+void bind_render(pyb::module_& m) {
+  m.def("render_robot", [](const PyRobot& robot, double time, const std::string& color, int width,
+                           int height, bool overlay, double zoom, double azimuth, double elevation,
+                           const std::string& antialias, const std::string& out) {
+    render::LifeSource source;
+    source.path = robot.source;
+    source.robot = robot.def;
+    source.physics = robot.physics;
+    source.label = robot.def.name;
+    return render_source(source, time, color, width, height, overlay, zoom, azimuth, elevation,
+                         antialias, out);
+  });
+  m.def("render_file",
+        [](const std::string& path, int generation, double time, const std::string& color,
+           int width, int height, bool overlay, double zoom, double azimuth, double elevation,
+           const std::string& antialias, const std::string& out) {
+          const render::LifeSource source = render::load_life_source(path, generation);
+          for (const std::string& w : source.warnings) warn(path + ": " + w);
+          return render_source(source, time, color, width, height, overlay, zoom, azimuth,
+                               elevation, antialias, out);
+        });
+}
+
+}  // namespace plastivox::py

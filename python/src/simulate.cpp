@@ -1,0 +1,165 @@
+// Simulation for Python: a whole life (simulate), many lives on C++ threads
+// (simulate_many) and step-wise control (Simulator). Each life runs on one thread with the
+// GIL released, so results are the bits `plastivox simulate` gives, whatever the threads.
+#include <memory>
+
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "plastivox/evo/thread_pool.hpp"
+#include "plastivox/sim_summary.hpp"
+#include "plastivox/simulator.hpp"
+#include "plastivox_version.hpp"
+
+namespace plastivox::py {
+namespace {
+
+// One simulated life as the Python layer receives it: the summary JSON of
+// `simulate --json` and, when recorded, the trajectory arrays.
+pyb::tuple life_to_python(const SimResult& r, const PhysicsDef& physics,
+                          const std::string& source) {
+  const std::string summary = sim_summary_json(r, physics, source, PLASTIVOX_VERSION);
+  if (r.recording.frames.empty()) return pyb::make_tuple(summary, pyb::none());
+  const auto& frames = r.recording.frames;
+  const pyb::ssize_t t_count = static_cast<pyb::ssize_t>(frames.size());
+  const pyb::ssize_t n = static_cast<pyb::ssize_t>(frames[0].pos.size());
+  pyb::array_t<double> times(t_count);
+  pyb::array_t<double> pos({t_count, n, pyb::ssize_t{3}});
+  pyb::array_t<double> orient({t_count, n, pyb::ssize_t{4}});
+  pyb::array_t<double> size({t_count, n});
+  pyb::array_t<double> stiff({t_count, n});
+  auto tv = times.mutable_unchecked<1>();
+  auto pv = pos.mutable_unchecked<3>();
+  auto ov = orient.mutable_unchecked<3>();
+  auto sv = size.mutable_unchecked<2>();
+  auto ev = stiff.mutable_unchecked<2>();
+  for (pyb::ssize_t t = 0; t < t_count; ++t) {
+    const Frame& f = frames[t];
+    tv(t) = f.time;
+    for (pyb::ssize_t i = 0; i < n; ++i) {
+      for (int k = 0; k < 3; ++k) pv(t, i, k) = f.pos[i][k];
+      ov(t, i, 0) = f.orient[i].w();  // (w, x, y, z)
+      ov(t, i, 1) = f.orient[i].x();
+      ov(t, i, 2) = f.orient[i].y();
+      ov(t, i, 3) = f.orient[i].z();
+      sv(t, i) = f.size[i];
+      ev(t, i) = f.stiffness[i];
+    }
+  }
+  pyb::dict traj;
+  traj["times"] = times;
+  traj["positions"] = pos;
+  traj["orientations"] = orient;
+  traj["sizes"] = size;
+  traj["stiffness"] = stiff;
+  return pyb::make_tuple(summary, traj);
+}
+
+pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& physics_json,
+                        const std::optional<std::string>& treatment, double record_fps) {
+  const PhysicsDef physics = resolve_physics(robot.physics, physics_json, treatment, record_fps);
+  SimResult r;
+  {
+    pyb::gil_scoped_release unlocked;
+    r = simulate(compile(robot.def, physics));
+  }
+  return life_to_python(r, physics, robot.source);
+}
+
+pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
+                        const std::optional<std::string>& physics_json,
+                        const std::optional<std::string>& treatment, double record_fps,
+                        int threads) {
+  if (threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
+  std::vector<PhysicsDef> physics;
+  physics.reserve(robots.size());
+  for (const PyRobot* r : robots)
+    physics.push_back(resolve_physics(r->physics, physics_json, treatment, record_fps));
+  std::vector<SimResult> results(robots.size());
+  {
+    pyb::gil_scoped_release unlocked;
+    evo::parallel_for(
+        robots.size(), threads == 0 ? evo::hardware_threads() : threads,
+        [&](size_t i) { results[i] = simulate(compile(robots[i]->def, physics[i])); });
+  }
+  pyb::list out;
+  for (size_t i = 0; i < robots.size(); ++i)
+    out.append(life_to_python(results[i], physics[i], robots[i]->source));
+  return out;
+}
+
+// Step-wise control: the model is compiled once and owned here, the Simulator reads it.
+class PySimulator {
+ public:
+  PySimulator(const PyRobot& robot, const std::optional<std::string>& physics_json,
+              const std::optional<std::string>& treatment)
+      : model_(std::make_shared<const Model>(
+            compile(robot.def, resolve_physics(robot.physics, physics_json, treatment, 0)))),
+        sim_(std::make_unique<Simulator>(*model_)) {}
+
+  // Advances up to n steps, stopping when the life is over (time past the duration, as in
+  // simulate()) or unstable. Returns the steps taken.
+  int64_t step(int64_t n) {
+    if (n < 0) throw std::invalid_argument("n: must be >= 0");
+    pyb::gil_scoped_release unlocked;
+    int64_t done = 0;
+    const State& s = sim_->state();
+    while (done < n && s.status == SimStatus::kRunning && s.time <= model_->def.duration) {
+      sim_->step();
+      ++done;
+    }
+    return done;
+  }
+
+  const State& state() const { return sim_->state(); }
+  const Model& model() const { return *model_; }
+  const char* status() const {
+    const State& s = sim_->state();
+    if (s.status == SimStatus::kRunning && s.time > model_->def.duration)
+      return to_string(SimStatus::kFinished);
+    return to_string(s.status);
+  }
+
+  pyb::array_t<double> vectors(const std::vector<Vec3>& v, double scale) const {
+    pyb::array_t<double> a({static_cast<pyb::ssize_t>(v.size()), pyb::ssize_t{3}});
+    auto av = a.mutable_unchecked<2>();
+    for (size_t i = 0; i < v.size(); ++i)
+      for (int k = 0; k < 3; ++k) av(static_cast<pyb::ssize_t>(i), k) = v[i][k] * scale;
+    return a;
+  }
+
+ private:
+  std::shared_ptr<const Model> model_;
+  std::unique_ptr<Simulator> sim_;
+};
+
+}  // namespace
+
+void bind_simulate(pyb::module_& m) {
+  m.def("simulate", &simulate_one, pyb::arg("robot"), pyb::arg("physics_json"),
+        pyb::arg("treatment"), pyb::arg("record_fps"));
+  m.def("simulate_many", &simulate_many, pyb::arg("robots"), pyb::arg("physics_json"),
+        pyb::arg("treatment"), pyb::arg("record_fps"), pyb::arg("threads"));
+  pyb::class_<PySimulator>(m, "Simulator")
+      .def(pyb::init<const PyRobot&, const std::optional<std::string>&,
+                     const std::optional<std::string>&>())
+      .def("step", &PySimulator::step, pyb::arg("n") = 1)
+      .def_property_readonly("time", [](const PySimulator& s) { return s.state().time; })
+      .def_property_readonly("steps", [](const PySimulator& s) { return s.state().steps; })
+      .def_property_readonly("dt", [](const PySimulator& s) { return s.state().dt; })
+      .def_property_readonly("duration",
+                             [](const PySimulator& s) { return s.model().def.duration; })
+      .def_property_readonly("status", &PySimulator::status)
+      .def_property_readonly("failure", [](const PySimulator& s) { return s.state().failure; })
+      .def_property_readonly("state_hash",
+                             [](const PySimulator& s) { return state_hash(s.state()); })
+      .def_property_readonly("positions",
+                             [](const PySimulator& s) { return s.vectors(s.state().pos, 1.0); })
+      .def_property_readonly(
+          "velocities",
+          [](const PySimulator& s) { return s.vectors(s.state().lin_mom, 1.0 / s.model().mass); })
+      .def_property_readonly("stiffness",
+                             [](const PySimulator& s) { return to_array(s.state().stiffness); });
+}
+
+}  // namespace plastivox::py

@@ -1,0 +1,148 @@
+"""evolve, read_results and read_study: the same runs and files as the command line."""
+
+import os
+import signal
+import warnings
+
+import numpy as np
+import pytest
+
+import plastivox
+from conftest import run_cli, tiny_config
+
+
+def test_read_results_champion_is_what_export_writes(tiny_run, tmp_path):
+    path, config = tiny_run
+    res = plastivox.read_results(path)
+    assert res.treatment == "pressure" and res.seed == config["seed"]
+    assert res.generations_done == 2 and res.generations == 2 and res.finished
+    assert res.config["population"] == 4
+    assert res.provenance["plastivox_version"] == plastivox.__version__
+    assert res.best_fitness.shape == (3,) and res.mean_fitness.shape == (3,)
+    assert np.all(np.diff(res.best_fitness) >= 0)  # AFPO keeps its best
+    assert np.all(res.mean_fitness <= res.best_fitness)
+    for generation in (-1, 0, 2):
+        exported = tmp_path / f"champion{generation}.json"
+        args = ["export", path, "--out", str(exported)]
+        if generation >= 0:
+            args += ["--generation", str(generation)]
+        run_cli(*args)
+        want = plastivox.load_robot(exported)
+        got = res.champion(generation)
+        for field in ("geometry", "stiffness", "phase", "dev_rate"):
+            assert np.array_equal(getattr(got, field), getattr(want, field)), field
+        assert got.physics == want.physics and got.name == want.name
+    # the champion simulates to its recorded fitness
+    assert plastivox.simulate(res.champion()).fitness == res.best_fitness[-1]
+    with pytest.raises(plastivox.InputError, match="generation"):
+        res.champion(7)
+
+
+def test_bad_results_files(tmp_path):
+    with pytest.raises(plastivox.InputError, match="nothing.h5"):
+        plastivox.read_results(tmp_path / "nothing.h5")
+    junk = tmp_path / "junk.h5"
+    junk.write_bytes(b"not hdf5 at all" * 10)
+    with pytest.raises(plastivox.InputError, match="junk.h5"):
+        plastivox.read_results(junk)
+    with pytest.raises(plastivox.InputError, match="population"):
+        plastivox.evolve({**tiny_config(), "population": 0}, str(tmp_path / "x.h5"))
+    with pytest.raises(TypeError, match="config"):
+        plastivox.evolve(42, str(tmp_path / "x.h5"))
+
+
+def test_evolve_matches_the_cli_and_resumes(tmp_path, tiny_run):
+    path, config = tiny_run
+    import json
+    cfg = tmp_path / "tiny.json"
+    cfg.write_text(json.dumps(config))
+    cli_out = tmp_path / "cli.h5"
+    run_cli("evolve", "--config", str(cfg), "--out", str(cli_out), "--threads", "1")
+    digest = plastivox.read_results(cli_out).content_digest
+    assert plastivox.read_results(path).content_digest == digest
+    # stopped after generation 1, then resumed from the file path config: same science
+    out = str(tmp_path / "resumed.h5")
+    seen = []
+    stopped = plastivox.evolve(str(cfg), out, threads=2, stop_after=1,
+                               on_generation=lambda p: seen.append(p["generation"]))
+    assert stopped["outcome"] == "stopped" and stopped["generations_done"] == 1
+    assert seen == [0, 1]
+    messages = []
+    done = plastivox.evolve(str(cfg), out, threads=1, on_message=messages.append)
+    assert done["outcome"] == "finished" and done["resumed_from"] == 1
+    assert any("resuming" in m for m in messages)
+    assert plastivox.read_results(out).content_digest == digest
+    again = plastivox.evolve(str(cfg), out)
+    assert again["outcome"] == "already-finished"
+
+
+def test_ctrl_c_stops_at_a_checkpoint(tmp_path):
+    config = tiny_config(generations=4)
+    out = str(tmp_path / "interrupted.h5")
+    def interrupt(progress):
+        if progress["generation"] == 1:
+            os.kill(os.getpid(), signal.SIGINT)  # what Ctrl-C does
+    with pytest.raises(KeyboardInterrupt):
+        plastivox.evolve(config, out, threads=1, on_generation=interrupt)
+    partial = plastivox.read_results(out)
+    assert 1 <= partial.generations_done < 4 and not partial.finished
+    done = plastivox.evolve(config, out, threads=1)
+    assert done["outcome"] == "finished" and done["resumed_from"] == partial.generations_done
+    whole = str(tmp_path / "whole.h5")
+    plastivox.evolve(config, whole, threads=1)
+    assert plastivox.read_results(out).content_digest == plastivox.read_results(whole).content_digest
+
+
+def test_callback_error_stops_and_propagates(tmp_path):
+    out = str(tmp_path / "cb.h5")
+    def fail(progress):
+        raise RuntimeError("my optimiser broke")
+    with pytest.raises(RuntimeError, match="my optimiser broke"):
+        plastivox.evolve(tiny_config(generations=4), out, threads=1, on_generation=fail)
+    assert not plastivox.read_results(out).finished
+
+
+def test_read_study(tiny_run, tmp_path):
+    path, _ = tiny_run
+    study_dir = tmp_path / "study"
+    run_cli("analyze", path, "--out", str(study_dir), "--robustness-draws", "1",
+            "--resamples", "100", "--threads", "1")
+    study = plastivox.read_study(study_dir)
+    assert study.stats["format"] == "plastivox-analysis"
+    assert len(study.champions) == 1
+    champ = study.champions[0]
+    assert champ["treatment"] == "pressure"
+    assert champ["fitness"] == plastivox.read_results(path).best_fitness[-1]
+    assert isinstance(champ["voxels"], int)
+    assert study.statistics and all("kind" in row for row in study.statistics)
+    with pytest.raises(plastivox.InputError, match="stats.json"):
+        plastivox.read_study(tmp_path)
+
+
+def test_ctrl_c_from_outside_during_a_long_run(tmp_path):
+    """A real SIGINT arriving while the run is in C++ (GIL released): the process ends with
+    KeyboardInterrupt after a checkpoint, and the file resumes."""
+    import json
+    import subprocess
+    import sys
+    import time
+    config = tiny_config(generations=100000)
+    cfg = tmp_path / "long.json"
+    cfg.write_text(json.dumps(config))
+    out = tmp_path / "long.h5"
+    script = ("import sys, plastivox\n"
+              "plastivox.evolve(sys.argv[1], sys.argv[2], threads=1)\n")
+    p = subprocess.Popen([sys.executable, "-c", script, str(cfg), str(out)],
+                         stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while not out.exists() and time.time() < deadline:  # the first checkpoint is written
+        time.sleep(0.05)
+    assert out.exists()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    assert p.returncode != 0 and "KeyboardInterrupt" in err
+    partial = plastivox.read_results(out)
+    assert 0 <= partial.generations_done < 100000
+    again = plastivox.evolve(str(cfg), str(out), threads=1,
+                             stop_after=partial.generations_done + 1)
+    assert again["outcome"] == "stopped" and again["resumed_from"] == partial.generations_done

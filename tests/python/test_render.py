@@ -1,0 +1,49 @@
+"""render: the frame `plastivox render` draws, as an (h, w, 3) uint8 array."""
+
+import numpy as np
+import pytest
+
+import plastivox
+from conftest import run_cli
+
+def test_render_matches_the_cli_png(tmp_path):
+    robot = plastivox.demo_walker().with_physics({"duration": 0.3, "settle_time": 0.1})
+    json_path = tmp_path / "walker.json"
+    robot.save(json_path)
+    ours = tmp_path / "py.png"
+    img = plastivox.render(robot, time=0.15, size=(160, 120), out=ours)
+    assert img.shape == (120, 160, 3) and img.dtype == np.uint8
+    assert img.std() > 5  # a robot, a floor and an overlay, not a blank frame
+    cli = tmp_path / "cli.png"
+    run_cli("render", str(json_path), "--out", str(cli), "--time", "0.15", "--size", "160x120")
+    assert ours.read_bytes() == cli.read_bytes()
+    # the same frame from the path, and from a Result of that robot
+    assert np.array_equal(plastivox.render(str(json_path), time=0.15, size=(160, 120)), img)
+    result = plastivox.simulate(robot)
+    assert np.array_equal(plastivox.render(result, time=0.15, size=(160, 120)), img)
+    stiff = plastivox.render(robot, time=0.15, size=(160, 120), color="stiffness", overlay=False)
+    assert not np.array_equal(stiff, img)
+
+def test_render_champion(tiny_run):
+    path, _ = tiny_run
+    res = plastivox.read_results(path)
+    a = plastivox.render(res, time=0.2, size=(64, 48))
+    b = plastivox.render(path, time=0.2, size=(64, 48))
+    assert a.shape == (48, 64, 3) and np.array_equal(a, b)
+
+def test_render_errors(tmp_path):
+    robot = plastivox.demo_walker()
+    with pytest.raises(ValueError, match="color"):
+        plastivox.render(robot, color="plaid", size=(32, 32))
+    with pytest.raises(ValueError, match="size"):
+        plastivox.render(robot, size=(0, 32))
+    with pytest.raises(TypeError, match="size"):
+        plastivox.render(robot, size="big")
+    with pytest.raises(ValueError, match="time"):
+        plastivox.render(robot, time=99, size=(32, 32))
+    with pytest.raises(TypeError, match="source"):
+        plastivox.render(42)
+    with pytest.raises(plastivox.InputError, match="absent.vxa"):
+        plastivox.render(str(tmp_path / "absent.vxa"))
+    with pytest.raises(plastivox.RenderError):
+        plastivox.render(robot, size=(32, 32), out=str(tmp_path / "no" / "dir" / "x.png"))

@@ -1,0 +1,138 @@
+"""simulate / simulate_many / Simulator give the bits of `plastivox simulate --json`."""
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import plastivox
+from conftest import cli_json, vxa
+
+# The summary keys that are science (the rest are wall time and speed).
+TIMING = {"wall_seconds", "voxel_steps_per_second"}
+
+
+def same_science(result, cli):
+    d = result.to_dict()
+    assert set(d) == set(cli), set(d) ^ set(cli)
+    for key in cli:
+        if key in TIMING or key == "source":
+            continue
+        assert d[key] == cli[key], key
+
+
+@pytest.mark.parametrize("treatment", ["none", "stress", "pressure"])
+def test_demo_walker_matches_cli(treatment):
+    cli = cli_json("simulate", "--treatment", treatment, "--json")
+    r = plastivox.simulate(plastivox.demo_walker(), treatment=treatment)
+    same_science(r, cli)
+    assert r.source == cli["source"]
+    assert r.status == "finished" and r.fitness > 0
+    assert r.final_state_hash == cli["final_state_hash"]
+
+
+@pytest.mark.parametrize("name", ["walker-none.vxa", "walker-stress.vxa", "walker-pressure.vxa",
+                                  "settle-cube-1e9.vxa"])
+def test_vxa_samples_match_cli(name):
+    path = vxa(name)
+    cli = cli_json("simulate", path, "--json")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the CLI prints the same tag warnings
+        r = plastivox.simulate(plastivox.load_robot(path))
+    same_science(r, cli)
+    assert r.source == path
+
+
+def short_walker(duration=0.3):
+    return plastivox.demo_walker().with_physics({"duration": duration, "settle_time": 0.1})
+
+
+def test_from_arrays_simulates_like_the_json_robot(tmp_path):
+    src = plastivox.demo_walker()
+    path = tmp_path / "walker.json"
+    src.save(path)
+    loaded = plastivox.load_robot(path)
+    built = plastivox.Robot.from_arrays(loaded.geometry, loaded.stiffness, loaded.phase,
+                                        dev_rate=loaded.dev_rate, treatment="stress",
+                                        voxel_size=loaded.voxel_size)
+    phys = {"duration": 0.4, "settle_time": 0.1}
+    a = plastivox.simulate(loaded, physics=phys)
+    b = plastivox.simulate(built, physics=phys)
+    assert a.final_state_hash == b.final_state_hash
+    assert a.fitness == b.fitness
+    assert np.array_equal(a.final_stiffness, b.final_stiffness)
+    # and the same as the CLI on that JSON file with the same physics
+    cli = cli_json("simulate", str(path), "--physics", json.dumps(phys), "--json")
+    assert cli["final_state_hash"] == a.final_state_hash
+
+
+def test_result_attributes_and_trajectory():
+    r = plastivox.simulate(short_walker(), record_fps=100)
+    d = r.to_dict()
+    for key in d:
+        if key != "final_stiffness":
+            assert getattr(r, key) == d[key]
+    t = r.trajectory
+    n = r.voxels
+    assert t.positions.shape == (len(t.times), n, 3)
+    assert t.orientations.shape == (len(t.times), n, 4)
+    assert t.sizes.shape == (len(t.times), n) and t.stiffness.shape == (len(t.times), n)
+    # frames at 0, 0.01, ... and one at the end of the life
+    assert t.times[0] == 0 and np.all(np.diff(t.times) > 0) and t.times[-1] >= 0.3
+    assert np.allclose(np.linalg.norm(t.orientations, axis=2), 1)
+    assert np.array_equal(t.stiffness[-1], r.final_stiffness)
+    # recording does not change the life
+    assert plastivox.simulate(short_walker()).final_state_hash == r.final_state_hash
+    assert plastivox.simulate(short_walker()).trajectory is None
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_simulate_many_equals_separate_calls(threads):
+    base = short_walker(0.25)
+    rng = np.random.default_rng(7)
+    robots = []
+    for _ in range(8):
+        e = np.where(base.geometry, 10 ** rng.uniform(6, 8, base.shape), 0)
+        robots.append(plastivox.Robot.from_arrays(base.geometry, e, base.phase,
+                                                  treatment="stress").with_physics(
+                                                      {"duration": 0.25, "settle_time": 0.1}))
+    many = plastivox.simulate_many(robots, threads=threads)
+    alone = [plastivox.simulate(r) for r in robots]
+    assert len(many) == 8
+    for m, a in zip(many, alone):
+        assert m.final_state_hash == a.final_state_hash
+        assert m.fitness == a.fitness
+        assert np.array_equal(m.final_stiffness, a.final_stiffness)
+    assert len({m.final_state_hash for m in many}) == 8  # really different robots
+
+
+def test_simulator_steps_to_the_same_hash():
+    robot = short_walker()
+    whole = plastivox.simulate(robot)
+    sim = plastivox.Simulator(robot)
+    assert sim.status == "running" and sim.time == 0
+    p0 = sim.positions
+    assert p0.shape == (whole.voxels, 3) and sim.velocities.shape == (whole.voxels, 3)
+    assert sim.stiffness.shape == (whole.voxels,)
+    assert sim.step() == 1 and sim.steps == 1 and sim.time > 0
+    assert sim.step(10) == 10
+    while sim.status == "running":
+        sim.step(997)
+    assert sim.status == "finished"
+    assert sim.steps == whole.steps
+    assert sim.state_hash == whole.final_state_hash
+    assert np.array_equal(sim.stiffness, whole.final_stiffness)
+    assert sim.step(5) == 0  # the life is over
+    assert not np.array_equal(sim.positions, p0)
+
+
+def test_unstable_simulation_reports_status_not_exception():
+    # A speed limit every falling voxel exceeds: the engine's instability guard fires.
+    r = plastivox.simulate(short_walker(), physics={"max_speed": 1e-6})
+    assert r.status == "unstable"
+    assert r.failure
+    assert r.fitness == 0
+    sim = plastivox.Simulator(short_walker(), physics={"max_speed": 1e-6})
+    sim.run()
+    assert sim.status == "unstable" and sim.failure
