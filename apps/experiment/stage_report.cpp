@@ -1,5 +1,6 @@
 // Stage 4: report.html — the analysis report with the experiment's own sections (what was
 // run, the figure panels, galleries and video) added; rewritten only if its bytes change.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -42,10 +43,16 @@ ReportSection experiment_section(const StageContext& ctx) {
                          " (commit " + PLASTIVOX_GIT_COMMIT +
                          "). The full configuration is in "
                          "experiment.json, every session's log in experiment.log.");
-  s.media.push_back({ReportMedia::Kind::kLink, "experiment.json", "configuration and provenance"});
-  s.media.push_back({ReportMedia::Kind::kLink, "experiment.log", "log of every session"});
-  for (const auto& f : ctx.run_files)
-    s.media.push_back({ReportMedia::Kind::kLink, f, "evolution results " + f});
+  const auto link = [](const std::string& path, const std::string& caption) {
+    ReportMedia m;
+    m.kind = ReportMedia::Kind::kLink;
+    m.path = path;
+    m.caption = caption;
+    return m;
+  };
+  s.media.push_back(link("experiment.json", "configuration and provenance"));
+  s.media.push_back(link("experiment.log", "log of every session"));
+  for (const auto& f : ctx.run_files) s.media.push_back(link(f, "evolution results " + f));
   return s;
 }
 
@@ -56,20 +63,47 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
   extras.title = "plastivox experiment '" + ctx.config.name + "'";
   extras.sections.push_back(experiment_section(ctx));
 
-  ReportSection figures{"Figure 5: run champions compared", {}, {}, ""};
-  ReportSection galleries{
-      "Champion galleries (after settling, coloured by congenital stiffness)", {}, {}, ""};
-  ReportSection videos{"Callus growth", {}, {}, ""};
+  ReportSection evolution, figures, galleries, videos;
+  evolution.title = "Evolution: best fitness over generations";
+  figures.title = "Figure 5: run champions compared";
+  galleries.title = "Champion galleries (after settling, coloured by congenital stiffness)";
+  galleries.wide = true;
+  videos.title = "Callus growth";
+  videos.wide = true;
+  // Every figure with its own caption and its vector version beside it ("SVG").
+  const auto image = [&](const std::string& png, const std::string& caption) {
+    ReportMedia m;
+    m.path = png;
+    m.caption = caption;
+    const std::string svg = png.substr(0, png.size() - 4) + ".svg";
+    if (std::find(outputs.begin(), outputs.end(), svg) != outputs.end())
+      m.links.push_back({"SVG", svg});
+    return m;
+  };
   for (const auto& f : outputs) {
     const std::string name = fs::path(f).filename().string();
-    if (starts_with(f, "figures/panel_") && ends_with(f, ".png"))
-      figures.media.push_back({ReportMedia::Kind::kImage, f, "Panel " + name.substr(6, 1)});
-    else if (starts_with(f, "figures/") && ends_with(f, ".svg"))
-      figures.media.push_back({ReportMedia::Kind::kLink, f, "vector " + name});
-    else if (starts_with(f, "figures/gallery_") && ends_with(f, ".png"))
-      galleries.media.push_back({ReportMedia::Kind::kImage, f, name.substr(8, name.size() - 12)});
-    else if (starts_with(f, "videos/") && ends_with(f, ".mp4"))
-      videos.media.push_back({ReportMedia::Kind::kVideo, f, name});
+    if (f == "figures/evolution.png") {
+      evolution.media.push_back(image(f, "Best fitness per generation"));
+    } else if (starts_with(f, "figures/panel_") && ends_with(f, ".png")) {
+      figures.media.push_back(image(f, "Panel " + name.substr(6, 1)));
+    } else if (f == "figures/figure_5.png") {
+      figures.media.push_back(image(f, "All panels"));
+    } else if (starts_with(f, "figures/gallery_") && ends_with(f, ".png")) {
+      galleries.media.push_back(image(f, name.substr(8, name.size() - 12)));
+    } else if (starts_with(f, "videos/") && ends_with(f, ".mp4")) {
+      ReportMedia v;
+      v.kind = ReportMedia::Kind::kVideo;
+      v.path = f;
+      v.caption = name;
+      videos.media.push_back(v);
+    }
+  }
+  if (!evolution.media.empty()) {
+    evolution.paragraphs.push_back(
+        "Best fitness of each run (thin lines) and, per treatment, the mean over its runs "
+        "(thick line) with a 95 % percentile-bootstrap confidence band; the numbers are in "
+        "stats.json under \"evolution\", with each run's mean fitness and lineage count.");
+    extras.sections.insert(extras.sections.begin(), evolution);  // the top of the report
   }
   if (!figures.media.empty()) {
     figures.paragraphs.push_back(
