@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
 #include "experiment_run.hpp"
+
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox_version.hpp"
@@ -54,6 +56,50 @@ ReportSection experiment_section(const StageContext& ctx) {
   s.media.push_back(link("experiment.log", "log of every session"));
   for (const auto& f : ctx.run_files) s.media.push_back(link(f, "evolution results " + f));
   return s;
+}
+
+// The body plan of every champion with its picture: a thumbnail cut out of its treatment's
+// gallery (CSS background offsets from the gallery's sidecar, no extra image files).
+std::string body_plan_table(const StageContext& ctx, const std::vector<std::string>& outputs) {
+  const auto& r = ctx.config.rendering;
+  const double thumb_w = 150;
+  std::string rows;
+  for (const auto& f : outputs) {
+    if (!(starts_with(f, "figures/gallery_") && ends_with(f, ".json"))) continue;
+    const std::string png = f.substr(0, f.size() - 5) + ".png";
+    nlohmann::json side;
+    try {
+      side = nlohmann::json::parse(read_file_bytes(ctx.dir + "/" + f));
+    } catch (const std::exception&) {
+      continue;  // no sidecar: no thumbnails for this treatment
+    }
+    for (const auto& tile : side.at("tiles")) {
+      const std::string file = tile.at("file").get<std::string>();
+      const std::string label = fs::path(file).stem().string();
+      const auto& rect = tile.at("rect");
+      const double k = thumb_w / rect.at(2).get<double>();
+      char style[320];
+      std::snprintf(style, sizeof style,
+                    "width:%.0fpx;height:%.0fpx;background:url(%s) -%.0fpx -%.0fpx/%.0fpx %.0fpx",
+                    thumb_w, rect.at(3).get<double>() * k, png.c_str(),
+                    rect.at(0).get<double>() * k, rect.at(1).get<double>() * k, r.gallery_width * k,
+                    r.gallery_height * k);
+      std::string plan = "?", confidence;
+      for (const auto& c : ctx.study->champions)
+        if (c.label == label) {
+          plan = analysis::symbol(c.body_plan.plan);
+          char buf[32];
+          std::snprintf(buf, sizeof buf, "%.2f", c.body_plan.confidence);
+          confidence = buf;
+        }
+      rows += "<tr><td><div class=\"thumb\" role=\"img\" aria-label=\"" + label + "\" style=\"" +
+              style + "\"></div></td><td>" + label + "</td><td>" + plan +
+              "</td><td class=\"num\">" + confidence + "</td></tr>\n";
+    }
+  }
+  if (rows.empty()) return "";
+  return "<table><tr><th>champion</th><th>run</th><th>body plan</th><th>confidence</th></tr>\n" +
+         rows + "</table>\n<style>.thumb{border:1px solid #ddd}</style>\n";
 }
 
 }  // namespace
@@ -113,6 +159,15 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
     extras.sections.push_back(figures);
   }
   if (!galleries.media.empty()) extras.sections.push_back(galleries);
+  ReportSection plans;
+  plans.title = "Body plans of the champions";
+  plans.raw_html = body_plan_table(ctx, outputs);
+  if (!plans.raw_html.empty()) {
+    plans.paragraphs.push_back(
+        "Each champion after settling (cut from its treatment's gallery) with its body plan "
+        "(Π, Γ, Υ or other) and the rule's confidence (docs/analysis.md).");
+    extras.sections.push_back(plans);
+  }
   if (!videos.media.empty()) {
     videos.paragraphs.push_back(
         "The best developing champion's whole life, coloured by its stiffness relative to its "

@@ -132,11 +132,11 @@ RobotDef demo_example(const std::string& name) {
           return x < 2 || dy * dy + dz * dz <= 25;
         },
         smooth_log_e);
-  if (name == "mixture")  // a four-legged table of soft (1e6 Pa) and stiff (1e10 Pa) 2x2x2 blocks
+  if (name == "mixture")  // a four-legged table of soft (1e8 Pa) and stiff (1e10 Pa) 2x2x2 blocks
     return shaped(
         "example-mixture", 10, 8, 6,
         [](int x, int y, int z) { return z >= 3 || ((x < 3 || x >= 7) && (y < 3 || y >= 5)); },
-        [](int x, int y, int z) { return (x / 2 + y / 2 + z / 2) % 2 ? 6.0 : 10.0; });
+        [](int x, int y, int z) { return (x / 2 + y / 2 + z / 2) % 2 ? 8.0 : 10.0; });
   std::string known;
   for (const std::string& n : demo_example_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown example robot '" + name + "' (known: " + known + ")");

@@ -381,8 +381,8 @@ class EvolutionLayout {
                        5 * s_);
     right_ = std::round(d_.width - 2 * pad_);
     top_ = std::round(y_title_ + 20 * s_);
-    bottom_ = std::round(d_.height - pad_ - px(kLabel) * 1.3f - px(kTick) * 1.2f - tick_len_ -
-                         6 * s_);
+    bottom_ =
+        std::round(d_.height - pad_ - px(kLabel) * 1.3f - px(kTick) * 1.2f - tick_len_ - 6 * s_);
     d_.shapes.push_back(text("Best fitness over generations", kTitle,
                              std::round((left_ + right_) / 2), y_title_, Anchor::kMiddle));
   }
@@ -391,16 +391,15 @@ class EvolutionLayout {
   void add_bands() {
     const std::vector<int> g = thinned();
     for (const EvolutionTreatmentBand& b : e_.treatments) {
-      const Rgb fill = tint(colour(b.treatment), 0.72f);
+      const Rgb fill = tint(colour(b.treatment), 0.8f);
       for (size_t i = 0; i < g.size(); ++i) {
         const int k = g[i];
         if (k >= static_cast<int>(b.mean.size()) || !b.ci_low[k] || !b.ci_high[k]) continue;
         const double half = (i + 1 < g.size() ? g[i + 1] - k : (i > 0 ? k - g[i - 1] : 1)) / 2.0;
         const float x0 = std::max(left_, x_of(k - half)), x1 = std::min(right_, x_of(k + half));
         const float y0 = y_of(*b.ci_high[k]), y1 = y_of(*b.ci_low[k]);
-        d_.shapes.push_back(
-            RectShape{x0, y0, std::max(0.0f, x1 - x0), std::max(1.0f, y1 - y0), fill, "band",
-                      b.treatment});
+        d_.shapes.push_back(RectShape{x0, y0, std::max(0.0f, x1 - x0), std::max(1.0f, y1 - y0),
+                                      fill, "band", b.treatment});
       }
     }
   }
@@ -415,6 +414,11 @@ class EvolutionLayout {
   }
 
   void add_lines() {
+    // Each band's edges over every fill, so a band under another one still shows.
+    for (const EvolutionTreatmentBand& b : e_.treatments)
+      for (const auto* edge : {&b.ci_low, &b.ci_high})
+        polyline(*edge, std::max(1.0f, std::round(1.0f * s_ * 2) / 2),
+                 tint(colour(b.treatment), 0.5f));
     for (const EvolutionRunCurve& r : e_.runs)
       polyline(r.best, std::max(1.0f, std::round(1.0f * s_ * 2) / 2),
                tint(colour(r.treatment), 0.35f));
@@ -440,9 +444,9 @@ class EvolutionLayout {
     }
     d_.shapes.push_back(text("generation", kLabel, std::round((left_ + right_) / 2),
                              std::round(d_.height - pad_), Anchor::kMiddle));
-    TextShape unit = text("best fitness (" + e_.unit + ")", kLabel,
-                          std::round(pad_ + 0.8f * px(kLabel)), std::round((top_ + bottom_) / 2),
-                          Anchor::kMiddle);
+    TextShape unit =
+        text("best fitness (" + e_.unit + ")", kLabel, std::round(pad_ + 0.8f * px(kLabel)),
+             std::round((top_ + bottom_) / 2), Anchor::kMiddle);
     unit.vertical = true;
     d_.shapes.push_back(std::move(unit));
   }
@@ -456,9 +460,9 @@ class EvolutionLayout {
       d_.shapes.push_back(RectShape{x, std::round(y - 0.7f * px(kSmall)), sw,
                                     std::round(0.7f * px(kSmall)), tint(c, 0.72f), "legend",
                                     b.treatment});
-      d_.shapes.push_back(
-          LineShape{x, std::round(y - 0.35f * px(kSmall)), x + sw,
-                    std::round(y - 0.35f * px(kSmall)), std::max(1.5f, 3.0f * s_), c});
+      d_.shapes.push_back(LineShape{x, std::round(y - 0.35f * px(kSmall)), x + sw,
+                                    std::round(y - 0.35f * px(kSmall)), std::max(1.5f, 3.0f * s_),
+                                    c});
       d_.shapes.push_back(text(display_treatment(b.treatment) + " (" + std::to_string(b.runs) +
                                    (b.runs == 1 ? " run)" : " runs)"),
                                kSmall, x + sw + 8 * s_, y, Anchor::kStart));
