@@ -238,7 +238,9 @@ TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
 TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
   const int w = 240, h = 160;
   const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
-  const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
+  // The paper's fixed range, so 1e8 Pa sits in the middle of the bar.
+  const ColorScale scale =
+      make_color_scale(ColorMode::kCongenital, *life.model, {}, ColorRange::kPaper);
   FrameStyle st = flat_top_view(w, h);
   st.overlay.colorbar = true;
   LifeRenderer renderer(st);

@@ -120,7 +120,8 @@ void remove_stale_temporaries(const std::string& path) {
     const std::string name = e.path().filename().string();
     if (name.rfind(prefix, 0) != 0) continue;
     const std::string pid = name.substr(prefix.size());
-    if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos)
+      continue;  // not a temporary of ours (pids have at most 7 digits)
     const long id = std::stol(pid);
     if (id == ::getpid() || ::kill(static_cast<pid_t>(id), 0) == 0 || errno != ESRCH) continue;
     std::error_code rm;
@@ -261,8 +262,9 @@ VideoWriter::VideoWriter(const std::string& path, const VideoOptions& options)
 
   const char* muxer = muxer_for(path);
   if (!muxer)
-    m.fail("cannot choose a container from the extension: use .mp4 (or .m4v) or .mkv "
-           "(WebM, AVI and others are not written)");
+    m.fail(
+        "cannot choose a container from the extension: use .mp4 (or .m4v) or .mkv "
+        "(WebM, AVI and others are not written)");
   remove_stale_temporaries(path);
   m.tmp = path + ".tmp." + std::to_string(::getpid());
   const int err = avformat_alloc_output_context2(&m.format, nullptr, muxer, m.tmp.c_str());
