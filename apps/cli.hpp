@@ -31,6 +31,13 @@ int cmd_gallery(const Args& args);     // apps/cmd_gallery.cpp
 int cmd_figures(const Args& args);     // apps/cmd_figures.cpp
 int cmd_experiment(const Args& args);  // apps/cmd_experiment.cpp
 
+// The usage text of one command (apps/help.cpp), or nullptr for an unknown command.
+const char* command_help(const std::string& command);
+// Whether args ask for help (--help or -h).
+bool wants_help(const Args& args);
+// "1 thread", "2 threads": a count and its noun, plural by appending "s".
+std::string count_of(long long n, const std::string& noun);
+
 // Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);
 // Removes "--name" from args and returns whether it was there.

@@ -49,6 +49,10 @@ bool take_flag(Args& args, const std::string& name) {
   return true;
 }
 
+std::string count_of(long long n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
 void reject_unknown_options(const Args& args) {
   for (const std::string& a : args)
     if (a.size() > 1 && a[0] == '-') throw UsageError{"unknown option " + a};

@@ -117,8 +117,9 @@ int cmd_analyze(const Args& in) {
   const analysis::StudyTimings& t = r.timings;
   std::printf(
       "wrote %s/{stats.json, champions.csv, statistics.csv, hausdorff.csv, analysis.h5, "
-      "report.html}: %zu champions, %zu treatments\n",
-      out.c_str(), r.champions.size(), r.treatments.size());
+      "report.html}: %s, %s\n",
+      out.c_str(), count_of(static_cast<long long>(r.champions.size()), "champion").c_str(),
+      count_of(static_cast<long long>(r.treatments.size()), "treatment").c_str());
   std::printf(
       "time: %.2f s (load %.2f, robustness %.2f [%d simulations, %d from checkpoint], "
       "canalization %.3f, body plans %.3f, hausdorff %.3f, statistics %.3f)\n",

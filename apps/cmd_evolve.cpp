@@ -151,8 +151,8 @@ int cmd_evolve(const Args& in) {
   if (!leader) return 0;
   switch (r.outcome) {
     case evo::RunOutcome::kAlreadyFinished:
-      std::printf("%s: already finished (%d generations); nothing changed\n", out.c_str(),
-                  r.generations_done);
+      std::printf("%s: already finished (%s); nothing changed\n", out.c_str(),
+                  count_of(r.generations_done, "generation").c_str());
       break;
     case evo::RunOutcome::kStopped:
       std::printf("%s: stopped after generation %d (resumable)\n", out.c_str(), r.generations_done);
@@ -162,8 +162,9 @@ int cmd_evolve(const Args& in) {
       }
       break;
     case evo::RunOutcome::kFinished:
-      std::printf("%s: finished %d generations on %d threads; content digest %s\n", out.c_str(),
-                  r.generations_done, r.threads, r.content_digest.c_str());
+      std::printf("%s: finished %s on %s; content digest %s\n", out.c_str(),
+                  count_of(r.generations_done, "generation").c_str(),
+                  count_of(r.threads, "thread").c_str(), r.content_digest.c_str());
       break;
   }
   return 0;

@@ -17,6 +17,7 @@ int cmd_gallery(const Args& in) {
   style.columns = parse_whole(take_option(args, "--columns", "0"), "--columns");
   style.time = parse_number(take_option(args, "--time", "-1"), "--time");
   style.samples = take_antialiasing(args, "msaa");
+  style.color_range = take_color_range(args);
   style.labels = !take_flag(args, "--no-labels");
   style.colorbar = !take_flag(args, "--no-colorbar");
   reject_unknown_options(args);
@@ -33,7 +34,8 @@ int cmd_gallery(const Args& in) {
   }
   const render::GalleryLayout layout = render::render_gallery_file(
       args, style, out, [](const std::string& l) { log_line("gallery", l); });
-  std::printf("wrote %s (%zu champions, %d x %d grid, %dx%d)\n", out.c_str(), layout.tiles.size(),
+  std::printf("wrote %s (%s, %d x %d grid, %dx%d)\n", out.c_str(),
+              count_of(static_cast<long long>(layout.tiles.size()), "champion").c_str(),
               layout.columns, layout.rows, style.width, style.height);
   return 0;
 }

@@ -51,7 +51,8 @@ const char* kUsage =
     "  experiment [--config FILE | --preset default|tiny|gecco2018] --out DIR [--threads N]\n"
     "           [--force STAGE,...] [--run LABEL] [--estimate-only] [--print-preset NAME]\n"
     "           the whole study: evolve, analyse, render, report (resumable)\n"
-    "  version  print version and commit\n";
+    "  version  print version and commit\n"
+    "plastivox CMD --help (or plastivox help CMD) prints a command's options and an example.\n";
 
 }  // namespace
 
@@ -63,6 +64,19 @@ int main(int argc, char** argv) {
   }
   const std::string cmd = argv[1];
   Args args(argv + 2, argv + argc);
+  // plastivox CMD --help|-h and plastivox help CMD: the command's own usage, exit 0.
+  if (const char* help = command_help(cmd); help && wants_help(args)) {
+    std::fputs(help, stdout);
+    return 0;
+  }
+  if (cmd == "help" && !args.empty()) {
+    if (const char* help = command_help(args[0])) {
+      std::fputs(help, stdout);
+      return 0;
+    }
+    std::fprintf(stderr, "plastivox help: unknown command '%s'\n%s", args[0].c_str(), kUsage);
+    return 2;
+  }
   try {
     if (cmd == "simulate") return cmd_simulate(args);
     if (cmd == "demo") return cmd_demo(args);
@@ -87,7 +101,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "plastivox: unknown command '%s'\n%s", cmd.c_str(), kUsage);
     return 2;
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "plastivox %s: %s\n", cmd.c_str(), e.message.c_str());
+    std::fprintf(stderr, "plastivox %s: %s (plastivox %s --help lists the options)\n", cmd.c_str(),
+                 e.message.c_str(), cmd.c_str());
     return 2;
   } catch (const std::bad_alloc&) {  // never the bare "std::bad_alloc"
     std::fprintf(stderr,

@@ -61,6 +61,15 @@ inline int take_antialiasing(Args& args, const std::string& default_mode) {
   return n;
 }
 
+// --color-range data|paper (default data).
+inline render::ColorRange take_color_range(Args& args) {
+  try {
+    return render::parse_color_range(take_option(args, "--color-range", "data"));
+  } catch (const render::RenderError& e) {
+    throw UsageError{std::string("--color-range: ") + e.what()};
+  }
+}
+
 // Takes the frame-style options (size, colour, overlay, camera, anti-aliasing) out of args.
 inline render::FrameStyle take_frame_style(Args& args, int default_w, int default_h,
                                            const std::string& default_antialias) {
@@ -74,12 +83,18 @@ inline render::FrameStyle take_frame_style(Args& args, int default_w, int defaul
   } catch (const render::RenderError& e) {
     throw UsageError{std::string("--color: ") + e.what()};
   }
+  s.color_range = take_color_range(args);
   if (take_flag(args, "--no-overlay")) s.overlay = {false, false, false, false, false};
   if (take_flag(args, "--no-colorbar")) s.overlay.colorbar = false;
   if (take_flag(args, "--no-time")) s.overlay.time = false;
   if (take_flag(args, "--no-treatment")) s.overlay.treatment = false;
   if (take_flag(args, "--no-displacement")) s.overlay.displacement = false;
   if (take_flag(args, "--no-scalebar")) s.overlay.scalebar = false;
+  const std::string camera = take_option(args, "--camera", "life");
+  if (camera == "follow")
+    s.camera = render::FrameStyle::CameraPath::kFollow;
+  else if (camera != "life")
+    throw UsageError{"--camera expects life or follow, got '" + camera + "'"};
   s.orthographic = take_flag(args, "--ortho");
   s.lit = !take_flag(args, "--flat");
   s.shadows = !take_flag(args, "--no-shadows");

@@ -16,6 +16,7 @@ add_library(plastivox_render
   ${CMAKE_CURRENT_LIST_DIR}/src/color_scale.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/life.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/camera_path.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene_gl.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/overlay.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/render_life.cpp

@@ -280,17 +280,76 @@ TEST_F(Study, OutputsExistAndAgreeWithEachOther) {
   EXPECT_NE(html.find(r.inputs[0].content_digest), std::string::npos);
 }
 
+// The evolution curves come from each file's stored history: best fitness per generation as
+// recorded, mean fitness over the valid survivors, lineages among the survivors; the band is
+// the mean over a treatment's runs inside its bootstrap CI. Nothing is written to the runs.
+TEST_F(Study, EvolutionCurvesComeFromTheRunsHistory) {
+  const std::vector<std::string> files = {run(Treatment::kStress, 1), run(Treatment::kStress, 2)};
+  std::vector<std::string> digests;
+  for (const auto& f : files) digests.push_back(evo::read_results(f).content_digest);
+  const StudyResult r = analyze_study(files, quick());
+  ASSERT_EQ(r.inputs.size(), 2u);
+  for (size_t k = 0; k < r.inputs.size(); ++k) {
+    const evo::ResultsFile rf = evo::read_results(r.inputs[k].file);
+    EXPECT_EQ(rf.content_digest, digests[k]);  // reading changed nothing
+    const EvolutionCurve& e = r.inputs[k].evolution;
+    ASSERT_EQ(e.best.size(), rf.state.history.size());
+    for (size_t g = 0; g < e.best.size(); ++g) {
+      const evo::GenerationRecord& h = rf.state.history[g];
+      EXPECT_EQ(e.best[g], h.best_fitness);
+      double sum = 0;
+      int valid = 0;
+      for (size_t i = 0; i < h.fitness.size(); ++i)
+        if (h.status[i] == 0) sum += h.fitness[i], ++valid;
+      if (valid) {
+        EXPECT_DOUBLE_EQ(e.mean[g], sum / valid);
+      }
+      EXPECT_GE(e.lineages[g], 1);
+      EXPECT_LE(e.lineages[g], static_cast<int>(h.id.size()));
+    }
+    // Generation 0 is all random individuals: as many lineages as survivors.
+    EXPECT_EQ(e.lineages[0], static_cast<int>(rf.state.history[0].id.size()));
+  }
+  ASSERT_EQ(r.evolution.size(), 1u);
+  const EvolutionBand& b = r.evolution[0];
+  EXPECT_EQ(b.runs, 2);
+  ASSERT_EQ(b.mean.size(), r.inputs[0].evolution.best.size());
+  for (size_t g = 0; g < b.mean.size(); ++g) {
+    EXPECT_DOUBLE_EQ(b.mean[g],
+                     (r.inputs[0].evolution.best[g] + r.inputs[1].evolution.best[g]) / 2);
+    EXPECT_LE(b.ci_low[g], b.mean[g]);
+    EXPECT_GE(b.ci_high[g], b.mean[g]);
+  }
+  const Json j = Json::parse(stats_json(r));
+  ASSERT_TRUE(j.contains("evolution"));
+  EXPECT_EQ(j["evolution"]["runs"].size(), 2u);
+  EXPECT_EQ(j["evolution"]["runs"][0]["best_fitness"].size(), b.mean.size());
+  EXPECT_EQ(j["evolution"]["treatments"][0]["treatment"], "stress");
+}
+
 TEST_F(Study, ReportTakesExtraSections) {
   const StudyResult r =
       analyze_study({run(Treatment::kStress, 1), run(Treatment::kStress, 2)}, quick());
   ReportExtras x;
   x.title = "My <experiment>";
-  x.sections.push_back({"Figures",
-                        {"Panels A-F."},
-                        {{ReportMedia::Kind::kImage, "figures/panel_A.png", "Fitness"},
-                         {ReportMedia::Kind::kVideo, "videos/best.mp4", "Callus growth"}},
-                        ""});
+  ReportSection sec;
+  sec.title = "Figures";
+  sec.paragraphs = {"Panels A-F."};
+  ReportMedia panel, video;
+  panel.path = "figures/panel_A.png";
+  panel.caption = "Fitness";
+  panel.links = {{"SVG", "figures/panel_A.svg"}};
+  video.kind = ReportMedia::Kind::kVideo;
+  video.path = "videos/best.mp4";
+  video.caption = "Callus growth";
+  sec.media = {panel, video};
+  x.sections.push_back(sec);
   const std::string html = report_html(r, x);
+  // The figure's own caption carries its vector link, inside the same <figure>.
+  EXPECT_NE(html.find("<figure><img src=\"figures/panel_A.png\" alt=\"Fitness\"><figcaption>"
+                      "Fitness <a href=\"figures/panel_A.svg\">SVG</a></figcaption></figure>"),
+            std::string::npos)
+      << html;
   EXPECT_NE(html.find("<title>My &lt;experiment&gt;</title>"), std::string::npos);
   EXPECT_NE(html.find("<img src=\"figures/panel_A.png\""), std::string::npos);
   EXPECT_NE(html.find("<video controls src=\"videos/best.mp4\""), std::string::npos);

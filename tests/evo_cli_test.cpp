@@ -126,6 +126,9 @@ TEST_F(EvoCli, SameSeedSameDigestWithOneAndTwoThreads) {
   EXPECT_TRUE(j.contains("best_fitness"));
   EXPECT_TRUE(j.contains("champion_id"));
   EXPECT_EQ(j["threads"], 2);
+  // Counts read as English: "on 1 thread", "on 2 threads".
+  EXPECT_NE(a.out.find("finished 3 generations on 1 thread;"), std::string::npos) << a.out;
+  EXPECT_NE(b.out.find("finished 3 generations on 2 threads;"), std::string::npos) << b.out;
   // Not a terminal: plain log lines, one per generation (0..3).
   EXPECT_NE(a.out.find("generation 3/3"), std::string::npos) << a.out;
   EXPECT_EQ(a.out.find('\r'), std::string::npos);

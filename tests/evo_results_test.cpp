@@ -157,7 +157,12 @@ TEST_F(EvoResults, TruncatedAndCorruptFilesGiveOneLineErrors) {
     std::string bad = bytes;
     bad[at] = static_cast<char>(bad[at] ^ 0x5a);
     expect_one_line_error(error_of([&] { read_results(write("c.h5", bad)); }), "corrupt");
+    // A file changed in place says how to get the data out instead.
+    expect_one_line_error(error_of([&] { read_results(write("c.h5", bad)); }),
+                          "read it with h5py.File(path, 'r') and copy what you need");
   }
+  expect_one_line_error(error_of([&] { read_results(write("grown.h5", bytes + "appended")); }),
+                        "copy what you need into a new file");
   expect_one_line_error(error_of([&] { read_results(write("x.h5", "not hdf5 at all\n")); }),
                         "not a plastivox evolution results file");
   expect_one_line_error(error_of([&] { read_results(path("missing.h5")); }), "no such file");

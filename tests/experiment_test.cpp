@@ -2,6 +2,8 @@
 // to end on a micro config (seconds): every promised output, consistency between them, and
 // kills mid-evolution and mid-analysis followed by a rerun giving the same results.
 #include <fstream>
+#include <regex>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -9,6 +11,7 @@
 #include "experiment/cost_estimate.hpp"
 #include "experiment/experiment_config.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/video_writer.hpp"
 #include "plastivox/robot_file.hpp"
 #include "test_support.hpp"
@@ -200,6 +203,26 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
     EXPECT_NE(report.find(c["label"].get<std::string>()), std::string::npos) << c["label"];
   for (const char* id : {"A", "B", "C", "D", "E", "F"})
     EXPECT_NE(report.find("figures/panel_" + std::string(id) + ".png"), std::string::npos) << id;
+  // A body-plan table with a thumbnail (cut from the gallery) for each of the six champions.
+  size_t thumbs = 0;
+  for (size_t at = 0; (at = report.find("<div class=\"thumb\"", at)) != std::string::npos; ++at)
+    ++thumbs;
+  EXPECT_EQ(thumbs, 6u);
+  EXPECT_NE(report.find("background:url(figures/gallery_stress.png)"), std::string::npos);
+  // Evolution curves first; every figure with its own caption and its own SVG link.
+  for (const char* ext : {".png", ".svg"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/figures/evolution" + ext)) << ext;
+  const size_t evolution = report.find("<img src=\"figures/evolution.png\"");
+  ASSERT_NE(evolution, std::string::npos);
+  EXPECT_LT(evolution, report.find("<h2>Experiment"));
+  for (const char* stem : {"evolution", "panel_A", "panel_F", "figure_5"}) {
+    const std::string f = std::string("figures/") + stem;
+    const size_t at = report.find("<figure><img src=\"" + f + ".png\"");
+    ASSERT_NE(at, std::string::npos) << stem;
+    const std::string figure = report.substr(at, report.find("</figure>", at) - at);
+    EXPECT_NE(figure.find("<figcaption>"), std::string::npos) << figure;
+    EXPECT_NE(figure.find("<a href=\"" + f + ".svg\">SVG</a>"), std::string::npos) << figure;
+  }
   // Every input of the analysis is one of this experiment's runs, with its digest.
   ASSERT_EQ(stats["provenance"]["inputs"].size(), 6u);
   for (const auto& in : stats["provenance"]["inputs"]) {
@@ -292,6 +315,72 @@ TEST_F(ExperimentRun, KilledMidEvolutionAndMidAnalysisResumesToTheSameResults) {
   EXPECT_EQ(a, b);
   EXPECT_EQ(read_file_bytes(ref + "/figures/panel_C.svg"),
             read_file_bytes(dir + "/figures/panel_C.svg"));
+  // The report of the interrupted and resumed experiment is the uninterrupted one's, but for
+  // the dates it quotes and the folder it names (the two studies are in different folders).
+  const auto undated = [](std::string html, const std::string& folder) {
+    static const std::regex date(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d(\.\d+)?Z)");
+    for (size_t at; (at = html.find(folder)) != std::string::npos;)
+      html.replace(at, folder.size(), "OUT");
+    return std::regex_replace(html, date, "DATE");
+  };
+  EXPECT_EQ(undated(read_file_bytes(ref + "/report.html"), ref),
+            undated(read_file_bytes(dir + "/report.html"), dir));
+}
+
+// The experiment's report in headless Chromium (Debian package chromium): it loads without
+// console errors, every image decodes and every video has its metadata, and a screenshot is
+// not blank. Skipped, saying so, where chromium is not installed.
+TEST_F(ExperimentRun, ReportLoadsInHeadlessChromium) {
+  const auto which = shell("command -v chromium 2>/dev/null");
+  if (which.status != 0 || which.out.empty())
+    GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium); report not checked";
+  const std::string chromium = which.out.substr(0, which.out.find('\n'));
+  const std::string cfg = write_config(micro_config());
+  const std::string dir = path("study");
+  ASSERT_EQ(run("--config " + cfg + " --out " + dir).status, 0);
+  // A copy beside the report (same relative paths) with a script that records, once the
+  // page and its media have loaded, which images decoded and which videos have metadata.
+  std::string html = read_file_bytes(dir + "/report.html");
+  const std::string probe = R"(<script>
+window.addEventListener("load", () => setTimeout(() => {
+  const img = [...document.images].map(i => i.complete && i.naturalWidth > 0 ? "1" : "0");
+  const vid = [...document.querySelectorAll("video")].map(v => v.readyState >= 1 ? "1" : "0");
+  document.body.setAttribute("data-images", img.join(""));
+  document.body.setAttribute("data-videos", vid.join(""));
+}, 500));
+</script>)";
+  html.insert(html.rfind("</body>"), probe);
+  write_file_atomic(dir + "/check.html", html);
+  const std::string flags =
+      " --headless --no-sandbox --disable-gpu --disable-background-networking "
+      "--disable-component-update --disable-sync --no-first-run --user-data-dir=" +
+      path("profile") + " --virtual-time-budget=10000 --window-size=1200,2400 ";
+  const auto dom = shell(chromium + flags + "--enable-logging=stderr --v=0 --dump-dom file://" +
+                         dir + "/check.html 2>" + path("console.log"));
+  ASSERT_EQ(dom.status, 0) << dom.out;
+  const std::string console = read_file_bytes(path("console.log"));
+  for (const char* bad : {"Uncaught", "Failed to load resource", "ERR_FILE_NOT_FOUND"})
+    EXPECT_EQ(console.find(bad), std::string::npos) << bad << " in:\n" << console;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(dom.out, m, std::regex("data-images=\"([01]*)\""))) << dom.out;
+  const std::string images = m[1];
+  EXPECT_GE(images.size(), 8u);  // evolution, 6 panels, figure 5, galleries
+  EXPECT_EQ(images.find('0'), std::string::npos) << "an image did not load: " << images;
+  ASSERT_TRUE(std::regex_search(dom.out, m, std::regex("data-videos=\"([01]*)\""))) << dom.out;
+  EXPECT_EQ(m[1].str(), "1") << "the callus video did not load";
+  // The report itself, as a user opens it: a screenshot with text and figures on it.
+  const auto shot = shell(chromium + flags + "--screenshot=" + path("report.png") + " file://" +
+                          dir + "/report.html 2>/dev/null");
+  ASSERT_EQ(shot.status, 0) << shot.out;
+  const render::Image img = render::read_png(path("report.png"));
+  std::set<uint32_t> colours;
+  size_t dark = 0;
+  for (size_t i = 0; i + 3 < img.rgba.size(); i += 4) {
+    colours.insert(img.rgba[i] << 16 | img.rgba[i + 1] << 8 | img.rgba[i + 2]);
+    dark += img.rgba[i] < 100 && img.rgba[i + 1] < 100 && img.rgba[i + 2] < 100;
+  }
+  EXPECT_GT(colours.size(), 200u) << "the screenshot is (nearly) blank";
+  EXPECT_GT(dark, 2000u) << "no text on the screenshot";
 }
 
 }  // namespace

@@ -383,6 +383,73 @@ TEST_F(PanelFiles, WritesEveryPanelAndTheCombinedFigureDeterministically) {
   EXPECT_EQ(all.height, 600);  // 2 rows
 }
 
+// stats.json's "evolution" as the analysis writes it: two treatments of two runs, 4 generations.
+Json with_evolution() {
+  Json j = sample_stats();
+  Json runs = Json::array(), bands = Json::array();
+  const std::vector<std::vector<double>> best = {
+      {0.1, 0.2, 0.4, 0.5}, {0.2, 0.3, 0.3, 0.6}, {0.0, 0.5, 0.9, 1.2}, {0.1, 0.6, 0.8, 1.0}};
+  for (int k = 0; k < 4; ++k)
+    runs.push_back({{"label", (k < 2 ? "none-s" : "stress-s") + std::to_string(k + 1)},
+                    {"treatment", k < 2 ? "none" : "stress"},
+                    {"seed", k + 1},
+                    {"best_fitness", best[k]},
+                    {"mean_fitness", best[k]},
+                    {"lineages", {4, 3, 3, 2}}});
+  for (int t = 0; t < 2; ++t) {
+    Json mean = Json::array(), lo = Json::array(), hi = Json::array();
+    for (int g = 0; g < 4; ++g) {
+      const double m = (best[2 * t][g] + best[2 * t + 1][g]) / 2;
+      mean.push_back(m);
+      lo.push_back(m - 0.05);
+      hi.push_back(m + 0.05);
+    }
+    bands.push_back({{"treatment", t ? "stress" : "none"},
+                     {"runs", 2},
+                     {"mean", mean},
+                     {"ci_low", lo},
+                     {"ci_high", hi}});
+  }
+  j["evolution"] = {{"metric", "best fitness"},
+                    {"unit", "voxel lengths"},
+                    {"runs", runs},
+                    {"treatments", bands}};
+  return j;
+}
+
+TEST_F(PanelFiles, EvolutionCurvesAreDrawnWhenTheStatsHaveThem) {
+  const StatsFigure f = parse_stats_figure(with_evolution(), "stats.json");
+  ASSERT_TRUE(f.evolution.has_value());
+  EXPECT_EQ(f.evolution->runs.size(), 4u);
+  EXPECT_FALSE(parse_stats_figure(sample_stats(), "stats.json").evolution.has_value());
+  const std::vector<std::string> written =
+      write_figures(f, path("ev"), {.width = 400, .height = 300});
+  EXPECT_NE(std::find(written.begin(), written.end(), path("ev/evolution.png")), written.end());
+  const Drawing d = layout_evolution(*f.evolution, 800, 600);
+  int bands = 0, lines = 0;
+  std::set<std::string> texts;
+  for (const Shape& sh : d.shapes) {
+    if (const auto* r = std::get_if<RectShape>(&sh)) bands += r->css_class == "band";
+    if (std::holds_alternative<LineShape>(sh)) ++lines;
+    if (const auto* t = std::get_if<TextShape>(&sh)) texts.insert(t->spans[0].text);
+  }
+  EXPECT_EQ(bands, 2 * 4);                 // a step per generation and treatment
+  EXPECT_GE(lines, 4 * 3 + 2 * 3);         // 3 segments per run and per mean line
+  EXPECT_TRUE(texts.count("generation"));  // the axis is labelled
+  EXPECT_TRUE(texts.count("Stress (2 runs)"));
+  // The PNG shows the stress colour's mean line (Okabe-Ito blue) somewhere.
+  const Image img = read_png(path("ev/evolution.png"));
+  int blue = 0;
+  for (size_t i = 0; i + 3 < img.rgba.size(); i += 4)
+    blue += img.rgba[i] < 40 && img.rgba[i + 1] > 90 && img.rgba[i + 1] < 140 && img.rgba[i + 2] > 150;
+  EXPECT_GT(blue, 50);
+  Json bad = with_evolution();
+  bad["evolution"]["treatments"][1]["ci_low"] = Json::array({0.1});
+  EXPECT_NE(testing::error_of([&] { parse_stats_figure(bad, "stats.json"); })
+                .find("stats.json: evolution.treatments[1].ci_low"),
+            std::string::npos);
+}
+
 TEST_F(PanelFiles, BadSizeWritesNothing) {
   const StatsFigure f = parse_stats_figure(sample_stats(), "stats.json");
   EXPECT_THROW(write_figures(f, path("x"), {.width = 50, .height = 300}), RenderError);

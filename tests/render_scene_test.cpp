@@ -18,6 +18,7 @@
 namespace plastivox::render {
 namespace {
 
+using plastivox::testing::error_of;
 using plastivox::testing::ScratchDirTest;
 
 const uint8_t* pixel(const std::vector<uint8_t>& rgba, int width, int x, int y) {
@@ -112,9 +113,10 @@ TEST(RenderColorScale, ParsesModesAndRejectsUnknownNames) {
   }
 }
 
-TEST(RenderColorScale, StiffnessTicksAreDecadesOverThePhysicsRange) {
+TEST(RenderColorScale, PaperRangeTicksAreDecadesOverThePhysicsRange) {
   const Model model = compile(demo_cube(2, 1e8), preset_gecco2018_code());  // E in [1e5, 1e11]
-  const ColorScale s = make_color_scale(ColorMode::kCongenital, model, {});
+  const ColorScale s = make_color_scale(ColorMode::kCongenital, model, {}, ColorRange::kPaper);
+  EXPECT_NE(s.title.find("paper's range"), std::string::npos) << s.title;
   EXPECT_DOUBLE_EQ(s.lo, 5);
   EXPECT_DOUBLE_EQ(s.hi, 11);
   const std::vector<Tick> ticks = s.ticks();
@@ -123,6 +125,62 @@ TEST(RenderColorScale, StiffnessTicksAreDecadesOverThePhysicsRange) {
   EXPECT_DOUBLE_EQ(ticks.front().t, 0.0);
   EXPECT_DOUBLE_EQ(ticks.back().t, 1.0);
   EXPECT_DOUBLE_EQ(s.position(std::log10(1e8)), 0.5);
+}
+
+// The champions of the default study lie between about 1.6e9 and 4.8e10 Pa: the default
+// (data) range is 1e9..5e10 with 1-2-5 ticks, not the paper's 1e5..1e11.
+TEST(RenderColorScale, DataRangeIsTheValuesShownRoundedToReadableTicks) {
+  RobotDef r = demo_cube(2, 1.6e9);
+  r.stiffness[3] = 4.8e10;
+  const Model model = compile(r, preset_gecco2018_code());
+  const ColorScale s = make_color_scale(ColorMode::kCongenital, model, {});
+  EXPECT_DOUBLE_EQ(s.lo, 9);
+  EXPECT_DOUBLE_EQ(s.hi, std::log10(5e10));
+  EXPECT_NE(s.title.find("range of the data"), std::string::npos) << s.title;
+  std::vector<std::string> labels;
+  for (const Tick& t : s.ticks()) labels.push_back(t.label);
+  EXPECT_EQ(labels,
+            (std::vector<std::string>{"10⁹", "2×10⁹", "5×10⁹", "10¹⁰", "2×10¹⁰", "5×10¹⁰"}));
+  EXPECT_DOUBLE_EQ(s.ticks().front().t, 0.0);
+  EXPECT_DOUBLE_EQ(s.ticks().back().t, 1.0);
+  // The two robots' colours are far apart on this scale, close on the paper's.
+  const ColorScale paper = make_color_scale(ColorMode::kCongenital, model, {}, ColorRange::kPaper);
+  EXPECT_GT(s.position(std::log10(4.8e10)) - s.position(std::log10(1.6e9)), 0.8);
+  EXPECT_LT(paper.position(std::log10(4.8e10)) - paper.position(std::log10(1.6e9)), 0.3);
+}
+
+TEST(RenderColorScale, DataRangeOfManyDecadesUsesDecadesAndAUniformRobotStillHasASpan) {
+  RobotDef r = demo_cube(2, 3e5);
+  r.stiffness[1] = 7e10;
+  const Model wide = compile(r, preset_gecco2018_code());
+  const ColorScale s = make_color_scale(ColorMode::kCongenital, wide, {});
+  EXPECT_DOUBLE_EQ(s.lo, 5);
+  EXPECT_DOUBLE_EQ(s.hi, 11);
+  EXPECT_EQ(s.ticks().front().label, "10⁵");
+  const Model uniform = compile(demo_cube(2, 1e8), preset_gecco2018_code());
+  const ColorScale u = make_color_scale(ColorMode::kCongenital, uniform, {});
+  EXPECT_DOUBLE_EQ(u.lo, 8);
+  EXPECT_DOUBLE_EQ(u.hi, std::log10(2e8));
+  // Current stiffness: the range of the frames' values, not of E0.
+  Frame f;
+  f.stiffness.assign(uniform.n, 1e8);
+  f.stiffness[0] = 3e9;
+  const ColorScale cur = make_color_scale(ColorMode::kStiffness, uniform, {&f});
+  EXPECT_DOUBLE_EQ(cur.lo, 8);
+  EXPECT_DOUBLE_EQ(cur.hi, std::log10(5e9));
+  EXPECT_EQ(parse_color_range("paper"), ColorRange::kPaper);
+  EXPECT_NE(error_of([] { parse_color_range("auto"); }).find("data or paper"), std::string::npos);
+}
+
+TEST(RenderColorScale, ChangePaperRangeIsTheWidestChangeThePhysicsAllows) {
+  const Model model = compile(demo_cube(2, 1e8), preset_gecco2018_code());
+  Frame f;
+  f.stiffness.assign(model.n, 1e8);
+  f.stiffness[0] = 3e8;
+  const ColorScale s = make_color_scale(ColorMode::kChange, model, {&f}, ColorRange::kPaper);
+  EXPECT_DOUBLE_EQ(s.hi, 6);
+  EXPECT_DOUBLE_EQ(s.lo, -6);
+  EXPECT_NE(s.title.find("paper's range"), std::string::npos) << s.title;
 }
 
 TEST(RenderColorScale, ChangeRangeIsSymmetricAndCoversEveryFrame) {
@@ -180,7 +238,9 @@ TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
 TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
   const int w = 240, h = 160;
   const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
-  const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
+  // The paper's fixed range, so 1e8 Pa sits in the middle of the bar.
+  const ColorScale scale =
+      make_color_scale(ColorMode::kCongenital, *life.model, {}, ColorRange::kPaper);
   FrameStyle st = flat_top_view(w, h);
   st.overlay.colorbar = true;
   LifeRenderer renderer(st);
@@ -391,6 +451,70 @@ TEST(RenderLife, StreamedFramesEqualTheCollectedLife) {
   int seen = 0;
   simulate_frames(src, *model, times, [&](LifeFrame&&) { return ++seen < 2; });
   EXPECT_EQ(seen, 2);
+}
+
+// The demo walker's whole life at 10 frames a second, seen with the video's default camera
+// path at 16:9: every corner of every voxel, and the floor under every voxel, projects inside
+// the image in every frame; the scale is one for the life and the camera glides (its target
+// moves less between frames than the body's own bounding-box centre may jump).
+TEST(RenderCamera, WalkingRobotStaysInsideTheImageInEveryFrame) {
+  const LifeSource src = source_of(demo_walker(), Treatment::kStress);
+  std::vector<double> times;
+  for (int k = 0; k * 0.1 < src.physics.duration; ++k) times.push_back(k * 0.1);
+  const Life life = simulate_life(src, times);
+  ASSERT_EQ(life.frames.size(), times.size());
+  std::vector<const Frame*> frames;
+  for (const Frame& f : life.frames) frames.push_back(&f);
+  const double aspect = 16.0 / 9.0;
+  FrameStyle style;
+  const std::vector<Camera> cams =
+      life_cameras(*life.model, frames, styled_camera(style, Camera{}), aspect);
+  ASSERT_EQ(cams.size(), frames.size());
+  const Model& m = *life.model;
+  double worst = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    EXPECT_EQ(cams[k].distance, cams[0].distance);
+    const Eigen::Matrix4d vp =
+        cams[k].view_projection(aspect, 0.02 * cams[k].distance, 40 * cams[k].distance);
+    const Frame& f = *frames[k];
+    for (int i = 0; i < m.n; ++i) {
+      std::vector<Eigen::Vector3d> points;
+      for (int c = 0; c < 8; ++c) {
+        const Eigen::Vector3d local((c & 1 ? 0.5 : -0.5), (c & 2 ? 0.5 : -0.5),
+                                    (c & 4 ? 0.5 : -0.5));
+        points.push_back(f.pos[i] + f.orient[i] * (f.size[i] * local));
+      }
+      points.push_back({f.pos[i].x(), f.pos[i].y(), 0.0});  // the floor under the voxel
+      for (const Eigen::Vector3d& p : points) {
+        const Eigen::Vector4d q = vp * Eigen::Vector4d(p.x(), p.y(), p.z(), 1);
+        ASSERT_GT(q.w(), 0.02 * cams[k].distance) << "frame " << k << " voxel " << i;
+        worst = std::max({worst, std::abs(q.x() / q.w()), std::abs(q.y() / q.w())});
+      }
+    }
+  }
+  EXPECT_LE(worst, 1.0) << "a voxel leaves the image";
+  EXPECT_GT(worst, 0.5) << "the robot should fill a good part of the image";
+  // Moving robot, gliding camera: the target travels with the body, in small steps.
+  EXPECT_GT((cams.back().target - cams.front().target).head<2>().norm(), 0.005);
+  for (size_t k = 1; k < cams.size(); ++k)
+    EXPECT_LT((cams[k].target - cams[k - 1].target).norm(), 0.01) << "frame " << k;
+}
+
+// A body whose pose leaves follow_camera's view (a tall thin tower seen from close by):
+// life_cameras backs off until it fits.
+TEST(RenderCamera, LifeCamerasBackOffUntilATallBodyFits) {
+  const LifeSource src = source_of(demo_cube(1, 1e8));
+  const Life life = simulate_life(src, {0.0});
+  Frame tall = life.frames[0];
+  tall.pos[0].z() = 0.2;  // a voxel 20 voxel lengths up
+  const std::vector<Camera> cams =
+      life_cameras(*life.model, {&tall}, styled_camera(FrameStyle{}, Camera{}), 1.0);
+  const Eigen::Matrix4d vp = cams[0].view_projection(1.0, 0.01, 100);
+  for (const double z : {0.0, 0.2}) {
+    const Eigen::Vector4d q = vp * Eigen::Vector4d(tall.pos[0].x(), tall.pos[0].y(), z, 1);
+    EXPECT_LE(std::abs(q.y() / q.w()), 1.0) << z;
+  }
+  EXPECT_GT(cams[0].distance, follow_camera(*life.model, tall).distance * 3);
 }
 
 // ---------------------------------------------------------------------------------------

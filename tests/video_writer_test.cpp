@@ -1,6 +1,8 @@
 // The MP4 writer: files decode (read back with libavformat/libavcodec) with the frame count,
 // size, duration and colours written; output is byte-identical run to run; odd and large sizes
 // work; bad options and unwritable paths fail with one line and leave no file behind.
+#include <unistd.h>
+
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -226,6 +228,35 @@ std::string open_error(const std::string& out, const VideoOptions& o) {
     return e.what();
   }
   return "(no error)";
+}
+
+// The container follows the extension: .mkv is Matroska (the bytes start with EBML's magic,
+// an MP4 with its "ftyp" box); .avi or .webm is refused with the list, and writes nothing.
+TEST_F(VideoWriterFiles, ContainerFollowsTheExtensionOrIsRefused) {
+  write_video(path("a.mkv"), {.width = 32, .height = 32, .fps = 10}, 5);
+  write_video(path("a.mp4"), {.width = 32, .height = 32, .fps = 10}, 5);
+  const std::string mkv = slurp(path("a.mkv")), mp4 = slurp(path("a.mp4"));
+  ASSERT_GE(mkv.size(), 8u);
+  EXPECT_EQ(mkv.substr(0, 4), std::string("\x1a\x45\xdf\xa3"));
+  EXPECT_EQ(mp4.substr(4, 4), "ftyp");
+  EXPECT_EQ(probe_video(path("a.mkv")).frames, 5);
+  for (const char* bad : {"x.avi", "x.webm", "x"}) {
+    const std::string msg = open_error(path(bad), {.width = 16, .height = 16, .fps = 5});
+    EXPECT_NE(msg.find(".mp4 (or .m4v) or .mkv"), std::string::npos) << msg;
+    EXPECT_FALSE(fs::exists(path(bad)));
+  }
+}
+
+// A killed writer's temporary (its process gone) is removed by the next writer of that path;
+// a temporary of a live process (this one's parent) is left alone.
+TEST_F(VideoWriterFiles, TemporariesOfKilledWritersAreRemoved) {
+  const std::string out = path("life.mp4");
+  std::ofstream(out + ".tmp.999999999") << "half a video";
+  std::ofstream(out + ".tmp." + std::to_string(::getppid())) << "someone else's";
+  write_video(out, {.width = 16, .height = 16, .fps = 5}, 3);
+  EXPECT_FALSE(fs::exists(out + ".tmp.999999999"));
+  EXPECT_TRUE(fs::exists(out + ".tmp." + std::to_string(::getppid())));
+  EXPECT_TRUE(fs::exists(out));
 }
 
 TEST_F(VideoWriterFiles, BadOptionsGiveOneLineErrors) {

@@ -69,7 +69,8 @@ std::vector<std::string> stage_analysis(StageContext& ctx) {
   ctx.progress.log(outputs_current
                        ? "[analysis] up to date (fingerprint " + fingerprint.substr(0, 12) +
                              "); re-reading the champions for the report"
-                       : "[analysis] " + std::to_string(files.size()) + " champions");
+                       : "[analysis] " + std::to_string(files.size()) +
+                             (files.size() == 1 ? " champion" : " champions"));
   auto result = std::make_shared<analysis::StudyResult>(
       analysis::analyze_study(files, options, [&](const analysis::StudyProgress& p) {
         if (!p.message.empty()) ctx.progress.status("[analysis] " + p.message);

@@ -47,22 +47,19 @@ class Stamps {
   json stamps_ = json::object();
 };
 
-std::vector<std::string> relative(const std::vector<std::string>& paths, const std::string& dir) {
-  std::vector<std::string> out;
-  for (const auto& p : paths) out.push_back(fs::relative(p, dir).string());
-  return out;
-}
-
 std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   const auto& r = ctx.config.rendering;
   const std::string key = ctx.study->fingerprint + " figures " + std::to_string(r.figure_width) +
                           "x" + std::to_string(r.figure_height);
+  const auto figure = render::read_stats_figure(ctx.dir + "/stats.json");
+  // One fixed order, whether drawn now or found up to date (the report lists them so).
   std::vector<std::string> files;
-  for (const char* id : {"A", "B", "C", "D", "E", "F"})
-    for (const char* ext : {".png", ".svg"})
-      files.push_back(std::string("figures/panel_") + id + ext);
-  files.push_back("figures/figure_5.png");
-  files.push_back("figures/figure_5.svg");
+  std::vector<std::string> stems;
+  if (figure.evolution) stems.push_back("evolution");
+  for (const char* id : {"A", "B", "C", "D", "E", "F"}) stems.push_back(std::string("panel_") + id);
+  stems.push_back("figure_5");
+  for (const auto& stem : stems)
+    for (const char* ext : {".png", ".svg"}) files.push_back("figures/" + stem + ext);
   if (!ctx.opt.force.count("rendering") && stamps.current("figures", key, files, ctx.dir)) {
     ctx.progress.log("[rendering] figure panels up to date");
     return files;
@@ -70,10 +67,11 @@ std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   render::FigureOptions fo;
   fo.width = r.figure_width;
   fo.height = r.figure_height;
-  const auto figure = render::read_stats_figure(ctx.dir + "/stats.json");
-  files = relative(render::write_figures(figure, ctx.dir + "/figures", fo), ctx.dir);
+  const auto written = render::write_figures(figure, ctx.dir + "/figures", fo);
   stamps.record("figures", key);
-  ctx.progress.log("[rendering] figure panels A-F: " + std::to_string(files.size()) + " files");
+  ctx.progress.log("[rendering] figure panels A-F" +
+                   std::string(figure.evolution ? " and evolution curves: " : ": ") +
+                   std::to_string(written.size()) + " files");
   return files;
 }
 
@@ -90,7 +88,8 @@ std::vector<std::string> render_galleries(StageContext& ctx, Stamps& stamps) {
     for (size_t i = 0; i < ctx.run_files.size(); ++i)
       if (ctx.run_labels[i].rfind(std::string(to_string(t)) + "-s", 0) == 0)
         inputs.push_back(ctx.dir + "/" + ctx.run_files[i]);
-    const std::string key = ctx.study->fingerprint + " " + name + " " +
+    // "data range": galleries drawn before the colour range was the data's are redrawn.
+    const std::string key = ctx.study->fingerprint + " " + name + " data range " +
                             std::to_string(r.gallery_width) + "x" +
                             std::to_string(r.gallery_height);
     if (!ctx.opt.force.count("rendering") && stamps.current(name, key, {file, sidecar}, ctx.dir)) {
@@ -118,7 +117,7 @@ std::vector<std::string> render_galleries(StageContext& ctx, Stamps& stamps) {
                                                      "\n");
       stamps.record(name, key);
       ctx.progress.log("[rendering] " + file + ": " + std::to_string(layout.tiles.size()) +
-                       " champions");
+                       (layout.tiles.size() == 1 ? " champion" : " champions"));
     }
     out.push_back(file);
     out.push_back(sidecar);
@@ -140,7 +139,9 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
   }
   const auto& r = ctx.config.rendering;
   const std::string file = "videos/callus_" + best->label + ".mp4";
-  const std::string key = ctx.study->fingerprint + " video " + best->label + " " +
+  // "life camera, data range": videos from before both are redrawn.
+  const std::string key = ctx.study->fingerprint + " video life camera, data range " +
+                          best->label + " " +
                           std::to_string(r.video_width) + "x" + std::to_string(r.video_height) +
                           " " + std::to_string(r.video_fps) + " " + r.video_color;
   if (!ctx.opt.force.count("rendering") && stamps.current("video", key, {file}, ctx.dir)) {

@@ -1,9 +1,12 @@
 // Stage 4: report.html — the analysis report with the experiment's own sections (what was
 // run, the figure panels, galleries and video) added; rewritten only if its bytes change.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
 #include "experiment_run.hpp"
+
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox_version.hpp"
@@ -42,11 +45,61 @@ ReportSection experiment_section(const StageContext& ctx) {
                          " (commit " + PLASTIVOX_GIT_COMMIT +
                          "). The full configuration is in "
                          "experiment.json, every session's log in experiment.log.");
-  s.media.push_back({ReportMedia::Kind::kLink, "experiment.json", "configuration and provenance"});
-  s.media.push_back({ReportMedia::Kind::kLink, "experiment.log", "log of every session"});
-  for (const auto& f : ctx.run_files)
-    s.media.push_back({ReportMedia::Kind::kLink, f, "evolution results " + f});
+  const auto link = [](const std::string& path, const std::string& caption) {
+    ReportMedia m;
+    m.kind = ReportMedia::Kind::kLink;
+    m.path = path;
+    m.caption = caption;
+    return m;
+  };
+  s.media.push_back(link("experiment.json", "configuration and provenance"));
+  s.media.push_back(link("experiment.log", "log of every session"));
+  for (const auto& f : ctx.run_files) s.media.push_back(link(f, "evolution results " + f));
   return s;
+}
+
+// The body plan of every champion with its picture: a thumbnail cut out of its treatment's
+// gallery (CSS background offsets from the gallery's sidecar, no extra image files).
+std::string body_plan_table(const StageContext& ctx, const std::vector<std::string>& outputs) {
+  const auto& r = ctx.config.rendering;
+  const double thumb_w = 150;
+  std::string rows;
+  for (const auto& f : outputs) {
+    if (!(starts_with(f, "figures/gallery_") && ends_with(f, ".json"))) continue;
+    const std::string png = f.substr(0, f.size() - 5) + ".png";
+    nlohmann::json side;
+    try {
+      side = nlohmann::json::parse(read_file_bytes(ctx.dir + "/" + f));
+    } catch (const std::exception&) {
+      continue;  // no sidecar: no thumbnails for this treatment
+    }
+    for (const auto& tile : side.at("tiles")) {
+      const std::string file = tile.at("file").get<std::string>();
+      const std::string label = fs::path(file).stem().string();
+      const auto& rect = tile.at("rect");
+      const double k = thumb_w / rect.at(2).get<double>();
+      char style[320];
+      std::snprintf(style, sizeof style,
+                    "width:%.0fpx;height:%.0fpx;background:url(%s) -%.0fpx -%.0fpx/%.0fpx %.0fpx",
+                    thumb_w, rect.at(3).get<double>() * k, png.c_str(),
+                    rect.at(0).get<double>() * k, rect.at(1).get<double>() * k, r.gallery_width * k,
+                    r.gallery_height * k);
+      std::string plan = "?", confidence;
+      for (const auto& c : ctx.study->champions)
+        if (c.label == label) {
+          plan = analysis::symbol(c.body_plan.plan);
+          char buf[32];
+          std::snprintf(buf, sizeof buf, "%.2f", c.body_plan.confidence);
+          confidence = buf;
+        }
+      rows += "<tr><td><div class=\"thumb\" role=\"img\" aria-label=\"" + label + "\" style=\"" +
+              style + "\"></div></td><td>" + label + "</td><td>" + plan +
+              "</td><td class=\"num\">" + confidence + "</td></tr>\n";
+    }
+  }
+  if (rows.empty()) return "";
+  return "<table><tr><th>champion</th><th>run</th><th>body plan</th><th>confidence</th></tr>\n" +
+         rows + "</table>\n<style>.thumb{border:1px solid #ddd}</style>\n";
 }
 
 }  // namespace
@@ -56,20 +109,47 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
   extras.title = "plastivox experiment '" + ctx.config.name + "'";
   extras.sections.push_back(experiment_section(ctx));
 
-  ReportSection figures{"Figure 5: run champions compared", {}, {}, ""};
-  ReportSection galleries{
-      "Champion galleries (after settling, coloured by congenital stiffness)", {}, {}, ""};
-  ReportSection videos{"Callus growth", {}, {}, ""};
+  ReportSection evolution, figures, galleries, videos;
+  evolution.title = "Evolution: best fitness over generations";
+  figures.title = "Figure 5: run champions compared";
+  galleries.title = "Champion galleries (after settling, coloured by congenital stiffness)";
+  galleries.wide = true;
+  videos.title = "Callus growth";
+  videos.wide = true;
+  // Every figure with its own caption and its vector version beside it ("SVG").
+  const auto image = [&](const std::string& png, const std::string& caption) {
+    ReportMedia m;
+    m.path = png;
+    m.caption = caption;
+    const std::string svg = png.substr(0, png.size() - 4) + ".svg";
+    if (std::find(outputs.begin(), outputs.end(), svg) != outputs.end())
+      m.links.push_back({"SVG", svg});
+    return m;
+  };
   for (const auto& f : outputs) {
     const std::string name = fs::path(f).filename().string();
-    if (starts_with(f, "figures/panel_") && ends_with(f, ".png"))
-      figures.media.push_back({ReportMedia::Kind::kImage, f, "Panel " + name.substr(6, 1)});
-    else if (starts_with(f, "figures/") && ends_with(f, ".svg"))
-      figures.media.push_back({ReportMedia::Kind::kLink, f, "vector " + name});
-    else if (starts_with(f, "figures/gallery_") && ends_with(f, ".png"))
-      galleries.media.push_back({ReportMedia::Kind::kImage, f, name.substr(8, name.size() - 12)});
-    else if (starts_with(f, "videos/") && ends_with(f, ".mp4"))
-      videos.media.push_back({ReportMedia::Kind::kVideo, f, name});
+    if (f == "figures/evolution.png") {
+      evolution.media.push_back(image(f, "Best fitness per generation"));
+    } else if (starts_with(f, "figures/panel_") && ends_with(f, ".png")) {
+      figures.media.push_back(image(f, "Panel " + name.substr(6, 1)));
+    } else if (f == "figures/figure_5.png") {
+      figures.media.push_back(image(f, "All panels"));
+    } else if (starts_with(f, "figures/gallery_") && ends_with(f, ".png")) {
+      galleries.media.push_back(image(f, name.substr(8, name.size() - 12)));
+    } else if (starts_with(f, "videos/") && ends_with(f, ".mp4")) {
+      ReportMedia v;
+      v.kind = ReportMedia::Kind::kVideo;
+      v.path = f;
+      v.caption = name;
+      videos.media.push_back(v);
+    }
+  }
+  if (!evolution.media.empty()) {
+    evolution.paragraphs.push_back(
+        "Best fitness of each run (thin lines) and, per treatment, the mean over its runs "
+        "(thick line) with a 95 % percentile-bootstrap confidence band; the numbers are in "
+        "stats.json under \"evolution\", with each run's mean fitness and lineage count.");
+    extras.sections.insert(extras.sections.begin(), evolution);  // the top of the report
   }
   if (!figures.media.empty()) {
     figures.paragraphs.push_back(
@@ -79,6 +159,15 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
     extras.sections.push_back(figures);
   }
   if (!galleries.media.empty()) extras.sections.push_back(galleries);
+  ReportSection plans;
+  plans.title = "Body plans of the champions";
+  plans.raw_html = body_plan_table(ctx, outputs);
+  if (!plans.raw_html.empty()) {
+    plans.paragraphs.push_back(
+        "Each champion after settling (cut from its treatment's gallery) with its body plan "
+        "(Π, Γ, Υ or other) and the rule's confidence (docs/analysis.md).");
+    extras.sections.push_back(plans);
+  }
   if (!videos.media.empty()) {
     videos.paragraphs.push_back(
         "The best developing champion's whole life, coloured by its stiffness relative to its "

@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
+
+#include "plastivox/robot_file.hpp"
 
 namespace plastivox {
 
@@ -75,6 +78,68 @@ RobotDef demo_irregular(int target, unsigned seed) {
     r.phase[s] = 2.0 * rng.uniform() - 1.0;
   }
   return r;
+}
+
+namespace {
+
+// An nx*ny*nz lattice holding the cells where `inside` is true, log10 of stiffness from
+// `log_e`, and demo_walker's smooth development-rate and phase fields.
+RobotDef shaped(const std::string& name, int nx, int ny, int nz,
+                const std::function<bool(int, int, int)>& inside,
+                const std::function<double(int, int, int)>& log_e) {
+  RobotDef r = make_empty_robot(nx, ny, nz);
+  r.name = name;
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        if (!inside(x, y, z)) continue;
+        const int s = r.site(x, y, z);
+        const double u = x / (nx - 1.0), v = y / (ny - 1.0), w = z / (nz - 1.0);
+        r.present[s] = 1;
+        r.stiffness[s] = std::pow(10.0, log_e(x, y, z));
+        r.dev_rate[s] = 10.0 * std::sin(4.0 * u - 3.0 * w + v);
+        r.phase[s] = 0.9 * (u - 0.5) + 0.2 * w;
+      }
+  return r;
+}
+
+// 1e9..1e10 Pa, varying smoothly with the cell: stiff enough to keep its shape.
+double smooth_log_e(int x, int y, int z) {
+  return 9.5 + 0.5 * std::sin(0.7 * x + 0.4 * z) * std::cos(0.5 * y);
+}
+
+}  // namespace
+
+const std::vector<std::string>& demo_example_names() {
+  static const std::vector<std::string> names{"walker", "pi", "gamma", "upsilon", "mixture"};
+  return names;
+}
+
+RobotDef demo_example(const std::string& name) {
+  if (name == "walker") return demo_walker();
+  if (name == "pi")  // front and back legs 3 wide under a 3-high bridge, a 4x4 gap
+    return shaped(
+        "example-pi", 10, 8, 7, [](int x, int, int z) { return x < 3 || x >= 7 || z >= 4; },
+        smooth_log_e);
+  if (name == "gamma")  // side view "L": a 3-thick wall on a 3-thick floor plate
+    return shaped(
+        "example-gamma", 10, 8, 8, [](int x, int, int z) { return x < 3 || z < 3; }, smooth_log_e);
+  if (name == "upsilon")  // a 10x10 upright plate, 2 thick, a rod of radius 2.5 from its centre
+    return shaped(
+        "example-upsilon", 10, 10, 10,
+        [](int x, int y, int z) {
+          const int dy = 2 * y - 9, dz = 2 * z - 9;  // twice the offset from the centre 4.5
+          return x < 2 || dy * dy + dz * dz <= 25;
+        },
+        smooth_log_e);
+  if (name == "mixture")  // a four-legged table of soft (1e8 Pa) and stiff (1e10 Pa) 2x2x2 blocks
+    return shaped(
+        "example-mixture", 10, 8, 6,
+        [](int x, int y, int z) { return z >= 3 || ((x < 3 || x >= 7) && (y < 3 || y >= 5)); },
+        [](int x, int y, int z) { return (x / 2 + y / 2 + z / 2) % 2 ? 8.0 : 10.0; });
+  std::string known;
+  for (const std::string& n : demo_example_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("unknown example robot '" + name + "' (known: " + known + ")");
 }
 
 }  // namespace plastivox

@@ -17,6 +17,14 @@ double nice_ceil(double x) {
   return 10 * p;
 }
 
+// Largest 1-2-5 number <= x (x > 0).
+double nice_floor(double x) {
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  for (double m : {10.0, 5.0, 2.0, 1.0})
+    if (m * p <= x * (1 + 1e-12)) return m * p;
+  return p;
+}
+
 // A 1-2-5 step giving about `target` intervals over span.
 double nice_step(double span, int target) {
   return nice_ceil(span / target);
@@ -75,6 +83,13 @@ std::string ratio_label(double r) {
   return std::string("×") + buf;
 }
 
+// "10⁹", "2×10⁹", "5×10¹⁰" for a 1-2-5 (or other whole-mantissa) value given as log10.
+std::string power_label(double log_value) {
+  const int e = static_cast<int>(std::floor(log_value + 1e-9));
+  const int m = static_cast<int>(std::round(std::pow(10.0, log_value - e)));
+  return (m == 1 ? std::string() : std::to_string(m) + "×") + "10" + superscript(e);
+}
+
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", std::abs(v) < 1e-12 ? 0.0 : v);
@@ -99,6 +114,16 @@ const char* to_string(ColorMode m) {
       return "phase";
   }
   return "?";
+}
+
+const char* to_string(ColorRange r) {
+  return r == ColorRange::kPaper ? "paper" : "data";
+}
+
+ColorRange parse_color_range(const std::string& name) {
+  if (name == "data") return ColorRange::kData;
+  if (name == "paper") return ColorRange::kPaper;
+  throw RenderError("unknown colour range '" + name + "' (expected data or paper)");
 }
 
 ColorMode parse_color_mode(const std::string& name) {
@@ -152,7 +177,24 @@ std::vector<Tick> ColorScale::ticks() const {
   switch (mode) {
     case ColorMode::kCongenital:
     case ColorMode::kStiffness: {
-      // Decades, every second one when there are many.
+      // Decades, every second one when there are many; within three decades 1-2-5 values
+      // (or 1-3, or decades alone) when they give at most nine ticks.
+      if (span <= 3 + 1e-9) {
+        for (const std::vector<double>& ms :
+             {std::vector<double>{1, 2, 5}, std::vector<double>{1, 3}, std::vector<double>{1}}) {
+          std::vector<double> values;
+          for (int e = static_cast<int>(std::floor(lo)) - 1; e <= hi + 1; ++e)
+            for (double m : ms) {
+              const double v = e + std::log10(m);
+              if (v >= lo - 1e-9 && v <= hi + 1e-9) values.push_back(v);
+            }
+          if (values.size() <= 9 || ms.size() == 1) {
+            for (double v : values) add(v, power_label(v));
+            break;
+          }
+        }
+        break;
+      }
       const int step = span > 8 ? 2 : 1;
       for (int e = static_cast<int>(std::ceil(lo - 1e-9)); e <= hi + 1e-9; e += step)
         add(e, "10" + superscript(e));
@@ -175,28 +217,68 @@ std::vector<Tick> ColorScale::ticks() const {
   return out;
 }
 
-ColorScale make_color_scale(ColorMode mode, const Model& model,
-                            const std::vector<const Frame*>& frames) {
+ColorScale stiffness_data_scale(ColorMode mode, double lo_value, double hi_value) {
   ColorScale s;
   s.mode = mode;
+  if (hi_value - lo_value > 3) {  // decades
+    s.lo = std::floor(lo_value + 1e-9);
+    s.hi = std::ceil(hi_value - 1e-9);
+  } else {  // 1-2-5 values
+    s.lo = std::log10(nice_floor(std::pow(10.0, lo_value)));
+    s.hi = std::log10(nice_ceil(std::pow(10.0, hi_value)));
+  }
+  // One value (a uniform robot): up to the next 1-2-5 value, so the bar has a span.
+  if (s.hi - s.lo < 1e-9) s.hi = std::log10(nice_ceil(std::pow(10.0, s.lo) * 1.0001));
+  s.title = std::string(mode == ColorMode::kCongenital ? "congenital stiffness E₀ (Pa)"
+                                                       : "stiffness E (Pa)") +
+            ", range of the data";
+  return s;
+}
+
+ColorScale make_color_scale(ColorMode mode, const Model& model,
+                            const std::vector<const Frame*>& frames, ColorRange range) {
+  ColorScale s;
+  s.mode = mode;
+  const bool paper = range == ColorRange::kPaper;
   switch (mode) {
     case ColorMode::kCongenital:
     case ColorMode::kStiffness:
+      if (!paper && model.n > 0) {
+        double lo = 1e300, hi = -1e300;
+        const auto see = [&](double e) {
+          if (!(e > 0) || !std::isfinite(e)) return;
+          lo = std::min(lo, std::log10(e));
+          hi = std::max(hi, std::log10(e));
+        };
+        if (mode == ColorMode::kStiffness && !frames.empty()) {
+          for (const Frame* f : frames)
+            for (int i = 0; i < model.n; ++i) see(f->stiffness[i]);
+        } else {
+          for (int i = 0; i < model.n; ++i) see(model.e0[i]);
+        }
+        if (lo <= hi) return stiffness_data_scale(mode, lo, hi);
+      }
       s.lo = std::log10(model.def.e_min);
       s.hi = std::log10(model.def.e_max);
-      s.title =
-          mode == ColorMode::kCongenital ? "congenital stiffness E₀ (Pa)" : "stiffness E (Pa)";
+      s.title = std::string(mode == ColorMode::kCongenital ? "congenital stiffness E₀ (Pa)"
+                                                           : "stiffness E (Pa)") +
+                ", paper's range";
       break;
     case ColorMode::kChange: {
-      double m = 0;
-      for (const Frame* f : frames)
-        for (int i = 0; i < model.n; ++i) {
-          const double v = std::abs(std::log10(f->stiffness[i] / model.e0[i]));
-          if (std::isfinite(v)) m = std::max(m, v);
-        }
-      s.hi = nice_ceil(std::max(m, std::log10(1.01)));
+      if (paper) {
+        s.hi = std::log10(model.def.e_max / model.def.e_min);
+        s.title = "lifetime change E / E₀, paper's range";
+      } else {
+        double m = 0;
+        for (const Frame* f : frames)
+          for (int i = 0; i < model.n; ++i) {
+            const double v = std::abs(std::log10(f->stiffness[i] / model.e0[i]));
+            if (std::isfinite(v)) m = std::max(m, v);
+          }
+        s.hi = nice_ceil(std::max(m, std::log10(1.01)));
+        s.title = "lifetime change E / E₀, range of the data";
+      }
       s.lo = -s.hi;
-      s.title = "lifetime change E / E₀";
       break;
     }
     case ColorMode::kAlpha: {

@@ -90,11 +90,24 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
     items.push_back(std::move(it));
   }
 
-  // One colour scale for all: congenital stiffness over the union of the runs' ranges.
-  ColorScale scale = make_color_scale(ColorMode::kCongenital, *items[0].life.model, {});
-  for (const Item& it : items) {
-    scale.lo = std::min(scale.lo, std::log10(it.source.physics.e_min));
-    scale.hi = std::max(scale.hi, std::log10(it.source.physics.e_max));
+  // One colour scale for all: congenital stiffness over the range of every champion's
+  // voxels (rounded outward), or over the union of the runs' physics ranges.
+  ColorScale scale =
+      make_color_scale(ColorMode::kCongenital, *items[0].life.model, {}, style.color_range);
+  if (style.color_range == ColorRange::kPaper) {
+    for (const Item& it : items) {
+      scale.lo = std::min(scale.lo, std::log10(it.source.physics.e_min));
+      scale.hi = std::max(scale.hi, std::log10(it.source.physics.e_max));
+    }
+  } else {
+    double lo = 1e300, hi = -1e300;
+    for (const Item& it : items)
+      for (double e : it.life.model->e0)
+        if (e > 0) {
+          lo = std::min(lo, std::log10(e));
+          hi = std::max(hi, std::log10(e));
+        }
+    if (lo <= hi) scale = stiffness_data_scale(ColorMode::kCongenital, lo, hi);
   }
 
   // Layout: tiles on the left, colour bar column on the right.

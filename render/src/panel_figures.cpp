@@ -1,5 +1,6 @@
-// write_figures: every panel of a stats.json as DIR/panel_<id>.svg and .png, and all of them
-// together as DIR/figure_5.svg and .png (three columns). Files are written whole to a temporary
+// write_figures: every panel of a stats.json as DIR/panel_<id>.svg and .png, the evolution
+// curves as DIR/evolution.svg and .png, and all panels together as DIR/figure_5.svg and .png
+// (three columns). Files are written whole to a temporary
 // and renamed (write_file_atomic, write_png), so a failure never leaves half a figure.
 #include <filesystem>
 #include <string>
@@ -41,6 +42,7 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
   // Lay every panel out before writing anything, so bad data stops the run with no files.
   std::vector<Drawing> drawings;
   for (const PanelStats& p : figure.panels) drawings.push_back(layout_panel(p, o.width, o.height));
+  if (figure.evolution) layout_evolution(*figure.evolution, o.width, o.height);  // checks it
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw RenderError(out_dir + ": cannot create the output directory: " + ec.message());
@@ -50,6 +52,9 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
   for (size_t i = 0; i < drawings.size(); ++i) {
     write_drawing(drawings[i], (dir / ("panel_" + figure.panels[i].id)).string(), o, written);
   }
+  if (figure.evolution)
+    write_drawing(layout_evolution(*figure.evolution, o.width, o.height),
+                  (dir / "evolution").string(), o, written);
   if (o.combined) {
     write_drawing(layout_figure(figure, o.width, o.height), (dir / "figure_5").string(), o,
                   written);

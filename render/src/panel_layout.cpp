@@ -293,10 +293,208 @@ class PanelLayout {
   std::vector<float> bar_top_;  // per bar: highest point of bar, error bar or "no data"
 };
 
+// ---- The evolution figure ----------------------------------------------------------------
+
+// c mixed with white: amount 0 = c, 1 = white (opaque tints stand in for transparency).
+Rgb tint(Rgb c, float amount) {
+  const auto mix = [&](uint8_t v) {
+    return static_cast<uint8_t>(std::lround(v + (255 - v) * amount));
+  };
+  return {mix(c.r), mix(c.g), mix(c.b)};
+}
+
+class EvolutionLayout {
+ public:
+  EvolutionLayout(const EvolutionStats& e, int width, int height)
+      : e_(e), s_(std::min(width / 800.0f, height / 600.0f)) {
+    d_.width = width;
+    d_.height = height;
+    d_.fonts = panel_fonts(s_);
+    // Axes: generations 0..last; fitness over every value drawn, from 0 when all are >= 0.
+    double lo = 0, hi = 0;
+    bool any = false;
+    const auto see = [&](const std::vector<std::optional<double>>& v) {
+      last_ = std::max(last_, static_cast<int>(v.size()) - 1);
+      for (const auto& x : v)
+        if (x) {
+          lo = any ? std::min(lo, *x) : std::min(0.0, *x);
+          hi = any ? std::max(hi, *x) : std::max(0.0, *x);
+          any = true;
+        }
+    };
+    for (const EvolutionRunCurve& r : e_.runs) see(r.best);
+    for (const EvolutionTreatmentBand& b : e_.treatments) {
+      see(b.mean);
+      see(b.ci_low);
+      see(b.ci_high);
+    }
+    if (last_ < 0) throw StatsError("evolution: no generations to draw");
+    if (hi - lo <= 0) hi = lo + 1;
+    y_.step = nice_step(hi - lo, 5);
+    y_.k_lo = static_cast<long>(std::floor(lo / y_.step + 1e-9));
+    y_.k_hi = static_cast<long>(std::ceil(hi / y_.step - 1e-9));
+    x_step_ = last_ > 0 ? nice_step(last_, 6) : 1;
+    if (x_step_ < 1) x_step_ = 1;
+    for (size_t i = 0; i < e_.treatments.size(); ++i) colour_[e_.treatments[i].treatment] = i;
+    for (const EvolutionRunCurve& r : e_.runs)
+      colour_.emplace(r.treatment, colour_.size());  // a run whose treatment has no band
+  }
+
+  Drawing take() && {
+    frame();
+    add_bands();
+    add_lines();
+    add_axes();
+    add_legend();
+    return std::move(d_);
+  }
+
+ private:
+  float px(Font f) const { return d_.fonts[f].pixels; }
+  float x_of(double g) const {
+    return static_cast<float>(left_ + (last_ > 0 ? g / last_ : 0.5) * (right_ - left_));
+  }
+  float y_of(double v) const {
+    return static_cast<float>(bottom_ - (v - y_.lo()) / (y_.hi() - y_.lo()) * (bottom_ - top_));
+  }
+  Rgb colour(const std::string& treatment) const {
+    return treatment_colour(treatment, colour_.at(treatment));
+  }
+  // Generations drawn: every one up to ~400, else every k-th and the last.
+  std::vector<int> thinned() const {
+    const int every = std::max(1, (last_ + 399) / 400);
+    std::vector<int> g;
+    for (int k = 0; k <= last_; k += every) g.push_back(k);
+    if (g.back() != last_) g.push_back(last_);
+    return g;
+  }
+
+  void frame() {
+    pad_ = std::round(14 * s_);
+    tick_len_ = std::round(7 * s_);
+    line_w_ = std::max(1.0f, std::round(1.5f * s_ * 2) / 2);
+    size_t widest = 1;
+    for (long k = y_.k_lo; k <= y_.k_hi; ++k)
+      widest = std::max(widest, tick_label(k * y_.step, y_.step).size());
+    y_title_ = std::round(pad_ + 0.8f * px(kLetter));
+    left_ = std::round(pad_ + px(kLabel) * 1.2f + 10 * s_ + 0.6f * px(kTick) * widest + tick_len_ +
+                       5 * s_);
+    right_ = std::round(d_.width - 2 * pad_);
+    top_ = std::round(y_title_ + 20 * s_);
+    bottom_ =
+        std::round(d_.height - pad_ - px(kLabel) * 1.3f - px(kTick) * 1.2f - tick_len_ - 6 * s_);
+    d_.shapes.push_back(text("Best fitness over generations", kTitle,
+                             std::round((left_ + right_) / 2), y_title_, Anchor::kMiddle));
+  }
+
+  // 95 % CI per generation as a step: one rectangle per generation drawn, in a light tint.
+  void add_bands() {
+    const std::vector<int> g = thinned();
+    for (const EvolutionTreatmentBand& b : e_.treatments) {
+      const Rgb fill = tint(colour(b.treatment), 0.8f);
+      for (size_t i = 0; i < g.size(); ++i) {
+        const int k = g[i];
+        if (k >= static_cast<int>(b.mean.size()) || !b.ci_low[k] || !b.ci_high[k]) continue;
+        const double half = (i + 1 < g.size() ? g[i + 1] - k : (i > 0 ? k - g[i - 1] : 1)) / 2.0;
+        const float x0 = std::max(left_, x_of(k - half)), x1 = std::min(right_, x_of(k + half));
+        const float y0 = y_of(*b.ci_high[k]), y1 = y_of(*b.ci_low[k]);
+        d_.shapes.push_back(RectShape{x0, y0, std::max(0.0f, x1 - x0), std::max(1.0f, y1 - y0),
+                                      fill, "band", b.treatment});
+      }
+    }
+  }
+
+  void polyline(const std::vector<std::optional<double>>& v, float width, Rgb c) {
+    const std::vector<int> g = thinned();
+    for (size_t i = 1; i < g.size(); ++i) {
+      const int a = g[i - 1], b = g[i];
+      if (b >= static_cast<int>(v.size()) || !v[a] || !v[b]) continue;
+      d_.shapes.push_back(LineShape{x_of(a), y_of(*v[a]), x_of(b), y_of(*v[b]), width, c});
+    }
+  }
+
+  void add_lines() {
+    // Each band's edges over every fill, so a band under another one still shows.
+    for (const EvolutionTreatmentBand& b : e_.treatments)
+      for (const auto* edge : {&b.ci_low, &b.ci_high})
+        polyline(*edge, std::max(1.0f, std::round(1.0f * s_ * 2) / 2),
+                 tint(colour(b.treatment), 0.5f));
+    for (const EvolutionRunCurve& r : e_.runs)
+      polyline(r.best, std::max(1.0f, std::round(1.0f * s_ * 2) / 2),
+               tint(colour(r.treatment), 0.35f));
+    for (const EvolutionTreatmentBand& b : e_.treatments)
+      polyline(b.mean, std::max(1.5f, std::round(3.0f * s_ * 2) / 2), colour(b.treatment));
+  }
+
+  void add_axes() {
+    line(left_, top_, left_, bottom_);
+    line(left_, bottom_, right_, bottom_);
+    for (long k = y_.k_lo; k <= y_.k_hi; ++k) {
+      const float y = std::round(y_of(k * y_.step));
+      line(left_ - tick_len_, y, left_, y);
+      d_.shapes.push_back(text(tick_label(k * y_.step, y_.step), kTick, left_ - tick_len_ - 5 * s_,
+                               std::round(y + 0.35f * px(kTick)), Anchor::kEnd));
+    }
+    for (double g = 0; g <= last_ + 1e-9; g += x_step_) {
+      const float x = std::round(x_of(g));
+      line(x, bottom_, x, bottom_ + tick_len_);
+      d_.shapes.push_back(text(tick_label(g, x_step_), kTick, x,
+                               std::round(bottom_ + tick_len_ + 4 * s_ + px(kTick)),
+                               Anchor::kMiddle));
+    }
+    d_.shapes.push_back(text("generation", kLabel, std::round((left_ + right_) / 2),
+                             std::round(d_.height - pad_), Anchor::kMiddle));
+    TextShape unit =
+        text("best fitness (" + e_.unit + ")", kLabel, std::round(pad_ + 0.8f * px(kLabel)),
+             std::round((top_ + bottom_) / 2), Anchor::kMiddle);
+    unit.vertical = true;
+    d_.shapes.push_back(std::move(unit));
+  }
+
+  // Top left of the plot: a swatch and "Stress (2 runs)" per treatment, then the key.
+  void add_legend() {
+    float y = top_ + px(kSmall) * 1.4f;
+    const float x = left_ + 14 * s_, sw = std::round(22 * s_);
+    for (const EvolutionTreatmentBand& b : e_.treatments) {
+      const Rgb c = colour(b.treatment);
+      d_.shapes.push_back(RectShape{x, std::round(y - 0.7f * px(kSmall)), sw,
+                                    std::round(0.7f * px(kSmall)), tint(c, 0.72f), "legend",
+                                    b.treatment});
+      d_.shapes.push_back(LineShape{x, std::round(y - 0.35f * px(kSmall)), x + sw,
+                                    std::round(y - 0.35f * px(kSmall)), std::max(1.5f, 3.0f * s_),
+                                    c});
+      d_.shapes.push_back(text(display_treatment(b.treatment) + " (" + std::to_string(b.runs) +
+                                   (b.runs == 1 ? " run)" : " runs)"),
+                               kSmall, x + sw + 8 * s_, y, Anchor::kStart));
+      y += px(kSmall) * 1.5f;
+    }
+    d_.shapes.push_back(text("thick: mean over runs; band: 95 % bootstrap CI; thin: each run",
+                             kSmall, x, y, Anchor::kStart, kGrey));
+  }
+
+  void line(float x0, float y0, float x1, float y1) {
+    d_.shapes.push_back(LineShape{x0, y0, x1, y1, line_w_, kInk});
+  }
+
+  const EvolutionStats& e_;
+  const float s_;
+  Drawing d_;
+  ValueAxis y_;
+  int last_ = -1;  // last generation
+  double x_step_ = 1;
+  std::map<std::string, size_t> colour_;  // treatment -> colour index
+  float pad_ = 0, tick_len_ = 0, line_w_ = 1, y_title_ = 0;
+  float left_ = 0, right_ = 0, top_ = 0, bottom_ = 0;
+};
+
 }  // namespace
 
 Drawing layout_panel(const PanelStats& panel, int width, int height) {
   return PanelLayout(panel, width, height).take();
+}
+
+Drawing layout_evolution(const EvolutionStats& evolution, int width, int height) {
+  return EvolutionLayout(evolution, width, height).take();
 }
 
 Drawing layout_figure(const StatsFigure& figure, int width, int height, int columns) {

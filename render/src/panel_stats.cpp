@@ -121,6 +121,40 @@ PanelStats read_panel(const Reader& r, std::set<std::string>& ids) {
   return p;
 }
 
+std::vector<std::optional<double>> series(const Reader& r, const std::string& key) {
+  const Json& a = r.array(key);
+  std::vector<std::optional<double>> out;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].is_null())
+      out.push_back(std::nullopt);
+    else if (a[i].is_number())
+      out.push_back(a[i].get<double>());
+    else
+      r.fail(r.field(key) + "[" + std::to_string(i) + "]", "expected a number or null");
+  }
+  return out;
+}
+
+EvolutionStats read_evolution(const Reader& r) {
+  EvolutionStats e;
+  e.unit = r.str("unit");
+  const Json& runs = r.array("runs");
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const Reader run = r.child(runs[i], r.field("runs") + "[" + std::to_string(i) + "]");
+    e.runs.push_back({run.str("label"), run.str("treatment"), series(run, "best_fitness")});
+  }
+  const Json& bands = r.array("treatments");
+  for (size_t i = 0; i < bands.size(); ++i) {
+    const Reader b = r.child(bands[i], r.field("treatments") + "[" + std::to_string(i) + "]");
+    EvolutionTreatmentBand t{b.str("treatment"), b.count("runs"), series(b, "mean"),
+                             series(b, "ci_low"), series(b, "ci_high")};
+    if (t.ci_low.size() != t.mean.size() || t.ci_high.size() != t.mean.size())
+      b.fail(b.field("ci_low"), "ci_low, ci_high and mean must have the same length");
+    e.treatments.push_back(std::move(t));
+  }
+  return e;
+}
+
 }  // namespace
 
 StatsFigure parse_stats_figure(const Json& stats, const std::string& source) {
@@ -141,6 +175,8 @@ StatsFigure parse_stats_figure(const Json& stats, const std::string& source) {
     figure.panels.push_back(
         read_panel(top.child(panels[i], "panels[" + std::to_string(i) + "]"), ids));
   }
+  if (stats.contains("evolution"))
+    figure.evolution = read_evolution(top.child(top.at("evolution"), "evolution"));
   return figure;
 }
 

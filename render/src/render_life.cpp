@@ -85,15 +85,26 @@ LifeRenderer::~LifeRenderer() {
   scene_.reset();
 }
 
+Camera styled_camera(const FrameStyle& style, Camera c) {
+  c.orthographic = style.orthographic;
+  c.azimuth_deg = style.azimuth_deg;
+  c.elevation_deg = style.elevation_deg;
+  return c;
+}
+
 std::vector<uint8_t> LifeRenderer::render(const Life& life, const Frame& frame,
                                           const ColorScale& scale, const std::string& treatment) {
+  return render(life, frame, scale, treatment,
+                styled_camera(style_, follow_camera(*life.model, frame, style_.zoom)));
+}
+
+std::vector<uint8_t> LifeRenderer::render(const Life& life, const Frame& frame,
+                                          const ColorScale& scale, const std::string& treatment,
+                                          const Camera& camera) {
   const Model& model = *life.model;
   Scene scene;
   scene.boxes = frame_boxes(model, frame, scale);
-  scene.camera = follow_camera(model, frame, style_.zoom);
-  scene.camera.orthographic = style_.orthographic;
-  scene.camera.azimuth_deg = style_.azimuth_deg;
-  scene.camera.elevation_deg = style_.elevation_deg;
+  scene.camera = camera;
   scene.grid_spacing = model.size;
   scene.lit = style_.lit;
   scene.shadows = style_.shadows;
@@ -137,9 +148,13 @@ void render_frame_file(const std::string& source_path, double time, const FrameS
 
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {
   const Life life = simulate_life(source, {time});
-  const ColorScale scale = make_color_scale(style.color, *life.model, {&life.frames[0]});
+  const ColorScale scale =
+      make_color_scale(style.color, *life.model, {&life.frames[0]}, style.color_range);
+  const Camera camera =
+      life_cameras(*life.model, {&life.frames[0]}, styled_camera(style, Camera{}),
+                   static_cast<double>(style.width) / style.height, style.zoom)[0];
   LifeRenderer renderer(style);
-  return renderer.render(life, life.frames[0], scale, to_string(source.physics.treatment));
+  return renderer.render(life, life.frames[0], scale, to_string(source.physics.treatment), camera);
 }
 
 VideoSummary render_video_file(const std::string& source_path, const FrameStyle& style,
@@ -163,12 +178,15 @@ VideoSummary render_video_file(const std::string& source_path, const FrameStyle&
   // Three stages run at once: the (single-threaded) simulation, drawing on this thread
   // (llvmpipe adds its own threads) and encoding. Each stage works in frame order and hands
   // frames on in order, so the bytes are those of doing one after the other. Every colour
-  // mode but "change" depends on the model alone; "change" spans the stiffness changes of
-  // all frames, so there the simulation finishes before drawing starts.
+  // mode but "change" and data-range "stiffness" depends on the model alone; those span the
+  // stiffness of all frames, and the life camera path spans all poses, so there the
+  // simulation finishes before drawing starts.
   VideoSummary summary;
   const auto start = std::chrono::steady_clock::now();
   const std::shared_ptr<const Model> model = compile_life_model(source);
-  const bool scale_needs_frames = style.color == ColorMode::kChange;
+  const bool scale_needs_frames =
+      style.camera == FrameStyle::CameraPath::kLife || style.color == ColorMode::kChange ||
+      (style.color == ColorMode::kStiffness && style.color_range == ColorRange::kData);
   std::vector<LifeFrame> simulated;  // all frames, when the scale needs them
   if (scale_needs_frames) {
     say(log, "simulating " + source_path + " (" + std::to_string(count) + " frames to capture)");
@@ -184,7 +202,12 @@ VideoSummary render_video_file(const std::string& source_path, const FrameStyle&
   }
   std::vector<const Frame*> frames;
   for (const LifeFrame& f : simulated) frames.push_back(&f.frame);
-  const ColorScale scale = make_color_scale(style.color, *model, frames);
+  const ColorScale scale = make_color_scale(style.color, *model, frames, style.color_range);
+  const std::vector<Camera> cameras =
+      style.camera == FrameStyle::CameraPath::kLife
+          ? life_cameras(*model, frames, styled_camera(style, Camera{}),
+                         static_cast<double>(style.width) / style.height, style.zoom)
+          : std::vector<Camera>{};
 
   VideoOptions vo;
   vo.width = style.width;
@@ -252,7 +275,10 @@ VideoSummary render_video_file(const std::string& source_path, const FrameStyle&
     life.model = model;
     life.settled = f.settled;
     life.com_settled = f.com_settled;
-    if (!to_encoder.push(renderer.render(life, f.frame, scale, treatment))) break;  // failed
+    std::vector<uint8_t> rgba = cameras.empty()
+                                    ? renderer.render(life, f.frame, scale, treatment)
+                                    : renderer.render(life, f.frame, scale, treatment, cameras[k]);
+    if (!to_encoder.push(std::move(rgba))) break;  // failed
     ++drawn;
     if ((k + 1) % 30 == 0 || k + 1 == count)
       say(log, "frame " + std::to_string(k + 1) + "/" + std::to_string(count));

@@ -6,7 +6,10 @@
 // SWS_BITEXACT | SWS_ACCURATE_RND so its SIMD paths give the C path's bytes; libavformat and
 // libavcodec get their BITEXACT flags, which drop creation times and version strings from the
 // container. Timestamps are frame indices in a 1/fps time base, so durations are exact.
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <algorithm>
 #include <cmath>
@@ -94,6 +97,37 @@ struct VideoWriter::Impl {
   void open_file();
   void drain(bool flushing);
 };
+
+// The muxer for the path's extension: ".mp4" (and ".m4v") MP4, ".mkv" Matroska; both carry
+// H.264 and MPEG-4 Part 2. Anything else (".avi", ".webm": WebM needs VP8/VP9/AV1, which this
+// writer does not encode) is refused with the list.
+const char* muxer_for(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".mp4" || ext == ".m4v") return "mp4";
+  if (ext == ".mkv") return "matroska";
+  return nullptr;
+}
+
+// Temporaries "<path>.tmp.<pid>" left by writers that were killed (their process is gone):
+// removed, so they cannot pile up beside the video.
+void remove_stale_temporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  const std::string prefix = p.filename().string() + ".tmp.";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const std::string pid = name.substr(prefix.size());
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos)
+      continue;  // not a temporary of ours (pids have at most 7 digits)
+    const long id = std::stol(pid);
+    if (id == ::getpid() || ::kill(static_cast<pid_t>(id), 0) == 0 || errno != ESRCH) continue;
+    std::error_code rm;
+    fs::remove(e.path(), rm);
+  }
+}
 
 void VideoWriter::Impl::open_encoder() {
   const AVCodec* enc = find_encoder(codec);
@@ -226,9 +260,16 @@ VideoWriter::VideoWriter(const std::string& path, const VideoOptions& options)
     m.padded.resize(4 * static_cast<size_t>(m.coded_w) * m.coded_h);
   }
 
+  const char* muxer = muxer_for(path);
+  if (!muxer)
+    m.fail(
+        "cannot choose a container from the extension: use .mp4 (or .m4v) or .mkv "
+        "(WebM, AVI and others are not written)");
+  remove_stale_temporaries(path);
   m.tmp = path + ".tmp." + std::to_string(::getpid());
-  const int err = avformat_alloc_output_context2(&m.format, nullptr, "mp4", m.tmp.c_str());
-  if (err < 0 || !m.format) m.fail(av_error("cannot set up the MP4 muxer", err));
+  const int err = avformat_alloc_output_context2(&m.format, nullptr, muxer, m.tmp.c_str());
+  if (err < 0 || !m.format)
+    m.fail(av_error(std::string("cannot set up the ") + muxer + " muxer", err));
   m.format->flags |= AVFMT_FLAG_BITEXACT;
   m.open_encoder();
   try {

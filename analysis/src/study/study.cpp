@@ -127,7 +127,8 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
                                    [&](const ChampionAnalysis& c) { return c.treatment == t; });
       counts += (counts.empty() ? "" : ", ") + std::string(to_string(t)) + " " + std::to_string(k);
     }
-    report(progress, "load", n, n, "load: " + std::to_string(n) + " champions (" + counts + ")");
+    report(progress, "load", n, n,
+           "load: " + std::to_string(n) + (n == 1 ? " champion (" : " champions (") + counts + ")");
     for (const std::string& w : r.warnings) report(progress, "load", n, n, "warning: " + w);
   }
   std::vector<std::string> digests;
@@ -168,6 +169,7 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
 
   t0 = Clock::now();
   r.panels = study::compute_panels(r);
+  r.evolution = study::compute_evolution(r);
   r.timings.statistics = since(t0);
   {
     char buf[128];

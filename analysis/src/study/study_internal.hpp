@@ -30,6 +30,9 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress);
 // ---- study_stats.cpp ----
 // Panels A..F from the measured champions and the Hausdorff matrix.
 std::vector<PanelStats> compute_panels(const StudyResult& r);
+// Per treatment, the mean best-fitness curve over its runs with a bootstrap CI per generation
+// (study_stats.cpp).
+std::vector<EvolutionBand> compute_evolution(const StudyResult& r);
 // The k pairs (i < j) of champions with the smallest (most_similar) or largest Hausdorff
 // distance, in that order; ties in increasing (i, j).
 std::vector<std::pair<int, int>> extreme_pairs(const HausdorffMatrix& m, size_t k,

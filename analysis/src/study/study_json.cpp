@@ -1,6 +1,7 @@
 // stats.json: the contract between the analysis and its consumers (figures, experiment report).
 // Field names follow docs/analysis.md ("stats.json"); fields may be added, never renamed.
 // Undefined values are null (JSON has no NaN or infinity). Keys keep the documented order.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -217,6 +218,33 @@ Json hausdorff(const StudyResult& r) {
           {"least_similar", pair_list(r, study::extreme_pairs(m, 5, false))}};
 }
 
+// Per run and per treatment, one value per generation (docs/analysis.md, "evolution").
+Json evolution(const StudyResult& r) {
+  Json runs = Json::array(), bands = Json::array();
+  for (const ChampionAnalysis& c : r.champions) {
+    const EvolutionCurve& e = r.inputs[c.input].evolution;
+    runs.push_back({{"label", c.label},
+                    {"treatment", to_string(c.treatment)},
+                    {"seed", c.run_seed},
+                    {"best_fitness", numbers(e.best)},
+                    {"mean_fitness", numbers(e.mean)},
+                    {"lineages", e.lineages}});
+  }
+  for (const EvolutionBand& b : r.evolution)
+    bands.push_back({{"treatment", to_string(b.treatment)},
+                     {"runs", b.runs},
+                     {"mean", numbers(b.mean)},
+                     {"ci_low", numbers(b.ci_low)},
+                     {"ci_high", numbers(b.ci_high)}});
+  return {{"metric", "best fitness"},
+          {"unit", "voxel lengths"},
+          {"ci", {{"method", "percentile bootstrap of the mean over runs"},
+                  {"level", r.options.ci_level},
+                  {"resamples", std::min(r.options.resamples, 2000)}}},
+          {"runs", runs},
+          {"treatments", bands}};
+}
+
 }  // namespace
 
 std::string stats_json(const StudyResult& r) {
@@ -236,6 +264,7 @@ std::string stats_json(const StudyResult& r) {
                   {"statistics", statistics(r)},
                   {"treatments", treatments},
                   {"panels", panels},
+                  {"evolution", evolution(r)},
                   {"champions", champions},
                   {"hausdorff", hausdorff(r)},
                   {"body_plans", {{"counts", counts}, {"threshold", BodyPlanOptions{}.threshold}}},

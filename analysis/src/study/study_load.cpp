@@ -1,5 +1,6 @@
 // Loading a study's inputs: one champion per results file, checked before anything runs.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,36 @@ struct Loaded {
   ChampionAnalysis champion;
   std::string physics_without_treatment;  // resolved physics with treatment none
 };
+
+// The run's best and mean fitness and lineage count for generations 0..last.
+EvolutionCurve evolution_curve(const evo::RunState& run, int last) {
+  // The random individual each one descends from: parents are created before their children.
+  std::vector<uint64_t> root(run.births.size());
+  for (size_t i = 0; i < run.births.size(); ++i) {
+    const int64_t parent = run.births[i].parent_id;
+    root[i] = parent >= 0 && static_cast<size_t>(parent) < i ? root[parent] : i;
+  }
+  EvolutionCurve c;
+  for (int g = 0; g <= last && g < static_cast<int>(run.history.size()); ++g) {
+    const evo::GenerationRecord& h = run.history[g];
+    double sum = 0;
+    int valid = 0;
+    std::vector<uint64_t> lineages;
+    for (size_t k = 0; k < h.id.size(); ++k) {
+      if (h.status[k] == static_cast<uint8_t>(evo::EvalStatus::kOk)) {
+        sum += h.fitness[k];
+        ++valid;
+      }
+      lineages.push_back(h.id[k] < root.size() ? root[h.id[k]] : h.id[k]);
+    }
+    std::sort(lineages.begin(), lineages.end());
+    c.best.push_back(h.best_fitness);
+    c.mean.push_back(valid ? sum / valid : std::nan(""));
+    c.lineages.push_back(static_cast<int>(std::unique(lineages.begin(), lineages.end()) -
+                                          lineages.begin()));
+  }
+  return c;
+}
 
 Loaded load_one(const std::string& file, const StudyOptions& options) {
   const evo::ResultsFile rf = evo::read_results(file);  // names the file when it refuses
@@ -51,6 +82,7 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
   l.input.generation = generation;
   l.input.generations_done = run.generations_done;
   l.input.physics_json = evo::resolved_physics_json(run.config.physics);
+  l.input.evolution = evolution_curve(run, generation);
   PhysicsDef neutral = run.config.physics;
   neutral.treatment = Treatment::kNone;
   l.physics_without_treatment = evo::resolved_physics_json(neutral);

@@ -169,7 +169,7 @@ std::string extras_html(const ReportExtras& extras) {
   for (const ReportSection& sec : extras.sections) {
     s += "<h2>" + esc(sec.title) + "</h2>\n";
     for (const std::string& p : sec.paragraphs) s += "<p>" + esc(p) + "</p>\n";
-    if (!sec.media.empty()) s += "<div class=\"media\">\n";
+    if (!sec.media.empty()) s += sec.wide ? "<div class=\"media wide\">\n" : "<div class=\"media\">\n";
     for (const ReportMedia& m : sec.media) {
       s += "<figure>";
       if (m.kind == ReportMedia::Kind::kImage)
@@ -178,7 +178,12 @@ std::string extras_html(const ReportExtras& extras) {
         s += "<video controls src=\"" + esc(m.path) + "\"></video>";
       else
         s += "<a href=\"" + esc(m.path) + "\">" + esc(m.path) + "</a>";
-      if (!m.caption.empty()) s += "<figcaption>" + esc(m.caption) + "</figcaption>";
+      if (!m.caption.empty() || !m.links.empty()) {
+        s += "<figcaption>" + esc(m.caption);
+        for (const auto& [label, path] : m.links)
+          s += " <a href=\"" + esc(path) + "\">" + esc(label) + "</a>";
+        s += "</figcaption>";
+      }
       s += "</figure>\n";
     }
     if (!sec.media.empty()) s += "</div>\n";
@@ -288,8 +293,10 @@ table{border-collapse:collapse;margin:.6em 0}td,th{border:1px solid #ddd;padding
 th{background:#f3f3f3;text-align:left}td.num{text-align:right;font-variant-numeric:tabular-nums}
 td.stars{font-weight:bold;color:#a00}.note{color:#555;font-size:.9em}
 .warn{background:#fff4e0;border:1px solid #e0b060;padding:.5em}
-.pairs{display:flex;gap:2em;flex-wrap:wrap}.media{display:flex;flex-wrap:wrap;gap:1em}
-figure{margin:0}figure img,figure video{max-width:520px;border:1px solid #ddd}
+.pairs{display:flex;gap:2em;flex-wrap:wrap}
+.media{display:grid;grid-template-columns:repeat(auto-fill,minmax(300px,1fr));gap:1em}
+.media.wide{grid-template-columns:repeat(auto-fill,minmax(480px,1fr))}
+figure{margin:0}figure img,figure video{width:100%;height:auto;border:1px solid #ddd}
 figcaption{font-size:.9em;color:#555}code{font-size:.85em;word-break:break-all}
 </style>
 )";

@@ -7,6 +7,7 @@
 // panel_seed as pairwise_bootstrap_tests documents. So a number depends only on the seed, the
 // panel, the treatment(s) and the values.
 #include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -116,6 +117,45 @@ std::vector<PanelStats> compute_panels(const StudyResult& r) {
     panels.push_back(std::move(p));
   }
   return panels;
+}
+
+std::vector<EvolutionBand> compute_evolution(const StudyResult& r) {
+  const StudyOptions& o = r.options;
+  // Seeds: generation g of treatment t resamples with mix64(evolution_seed + 1000003 * t + g),
+  // evolution_seed = mix64(seed ^ mix64(100)), apart from the panels' (which use 1..6).
+  const uint64_t evolution_seed = mix64(o.seed ^ mix64(100));
+  std::vector<EvolutionBand> bands;
+  for (Treatment t : r.treatments) {
+    EvolutionBand b;
+    b.treatment = t;
+    std::vector<const EvolutionCurve*> curves;
+    size_t length = SIZE_MAX;
+    for (const StudyInput& in : r.inputs)
+      if (in.treatment == t) {
+        curves.push_back(&in.evolution);
+        length = std::min(length, in.evolution.best.size());
+      }
+    b.runs = static_cast<int>(curves.size());
+    if (curves.empty()) length = 0;
+    for (size_t g = 0; g < length; ++g) {
+      std::vector<double> x;
+      for (const EvolutionCurve* c : curves) x.push_back(c->best[g]);
+      const double m = mean(x);
+      b.mean.push_back(m);
+      if (x.size() >= 2) {
+        const ConfidenceInterval ci = bootstrap_mean_ci(
+            x, o.ci_level, std::min(o.resamples, 2000),
+            mix64(evolution_seed + 1000003 * static_cast<uint64_t>(t) + g));
+        b.ci_low.push_back(ci.lower);
+        b.ci_high.push_back(ci.upper);
+      } else {
+        b.ci_low.push_back(m);
+        b.ci_high.push_back(m);
+      }
+    }
+    bands.push_back(std::move(b));
+  }
+  return bands;
 }
 
 std::vector<std::pair<int, int>> extreme_pairs(const HausdorffMatrix& m, size_t k,

@@ -2,6 +2,9 @@
 // benchmark and the renderer (one fixed robot, so a golden hash means something).
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "plastivox/robot.hpp"
 
 namespace plastivox {
@@ -17,5 +20,14 @@ RobotDef demo_cube(int n, double E);
 // An irregular body of roughly `target` voxels on a 10x10x10 lattice, mixed stiffness
 // (1e5..1e11 Pa), development rates in [-10, 10]; same seed, same robot.
 RobotDef demo_irregular(int target, unsigned seed);
+
+// The example robots shipped in examples/ (`plastivox export --demo NAME` writes them):
+// "walker" (demo_walker), "pi", "gamma" and "upsilon" (one body of each of the paper's body
+// plans, analysis/include/plastivox/analysis/body_plan.hpp) and "mixture" (soft and stiff
+// blocks). Deterministic; smooth development-rate and phase fields like demo_walker's.
+// Throws InputError for another name.
+RobotDef demo_example(const std::string& name);
+// The names demo_example knows, in the order above.
+const std::vector<std::string>& demo_example_names();
 
 }  // namespace plastivox

@@ -13,6 +13,12 @@
 #include "plastivox/robot_file.hpp"  // InputError
 
 namespace plastivox::evo::seal {
+
+// What to do instead of editing a results file in place (the seal refuses such files).
+const std::string kCopyOut =
+    "; a results file changed after plastivox wrote it (e.g. opened by h5py in 'r+' or 'a' "
+    "mode) is refused: read it with h5py.File(path, 'r') and copy what you need into a new "
+    "file";
 namespace {
 
 constexpr const char* kMagic = "plastivox-evolution-results\n";
@@ -84,9 +90,9 @@ void check_seal(const std::string& file) {
                        std::to_string(payload + kUserBlockBytes) + " bytes)");
   if (have > payload)
     throw ResultsError(file + ": has " + std::to_string(have - payload) +
-                       " unexpected bytes after its end (modified after writing?)");
+                       " unexpected bytes after its end (modified after writing?)" + kCopyOut);
   if (payload_hash(bytes).hex() != hash)
-    throw ResultsError(file + ": corrupt (content does not match its checksum)");
+    throw ResultsError(file + ": corrupt (content does not match its checksum)" + kCopyOut);
 }
 
 }  // namespace plastivox::evo::seal

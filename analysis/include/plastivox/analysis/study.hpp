@@ -76,6 +76,24 @@ struct StudyProgress {
 };
 using StudyProgressFn = std::function<void(const StudyProgress&)>;
 
+// One run's course, one value per generation 0..StudyInput::generation, derived from the
+// results file's stored history (the population after selection each generation) and births.
+struct EvolutionCurve {
+  std::vector<double> best;  // best fitness, voxel lengths
+  std::vector<double> mean;  // mean fitness of the valid survivors (NaN when none is valid)
+  // Population diversity: distinct lineages among the survivors (individuals descending from
+  // different random individuals; AFPO injects a new random one each generation).
+  std::vector<int> lineages;
+};
+
+// One treatment's best-fitness curves summarised per generation, over the generations every
+// one of its runs has: the mean over runs and its percentile-bootstrap CI (n >= 2).
+struct EvolutionBand {
+  Treatment treatment = Treatment::kNone;
+  int runs = 0;
+  std::vector<double> mean, ci_low, ci_high;  // voxel lengths; CI = mean when runs < 2
+};
+
 // One input file.
 struct StudyInput {
   std::string file;            // as given
@@ -85,6 +103,7 @@ struct StudyInput {
   int generation = 0;        // of the champion analysed
   int generations_done = 0;  // in the file
   std::string physics_json;  // resolved physics of the run (treatment included)
+  EvolutionCurve evolution;  // generations 0..generation
 };
 
 // A value that is left out of a statistic, and why.
@@ -158,6 +177,7 @@ struct StudyResult {
   std::map<Treatment, AlphaRange> alpha_ranges;  // evolved alpha range of developing treatments
   HausdorffMatrix hausdorff;                     // over `champions`, in their order
   std::vector<PanelStats> panels;                // A..F
+  std::vector<EvolutionBand> evolution;          // one per treatment, in treatment order
   std::vector<std::string> warnings;             // e.g. mixed physics when allowed
   // Provenance.
   std::string version, commit, date;  // of this program; date UTC ISO 8601
@@ -190,12 +210,15 @@ struct ReportMedia {
   Kind kind = Kind::kImage;
   std::string path;     // relative to the report's folder (written into src/href as is)
   std::string caption;  // plain text
+  // Further files of the same figure, shown in its caption: (label, path), e.g. ("SVG", ...).
+  std::vector<std::pair<std::string, std::string>> links;
 };
 struct ReportSection {
   std::string title;                    // plain text
   std::vector<std::string> paragraphs;  // plain text (escaped)
   std::vector<ReportMedia> media;
   std::string raw_html;  // inserted unescaped after the paragraphs (caller's responsibility)
+  bool wide = false;     // media in wider grid cells (galleries, videos)
 };
 struct ReportExtras {
   std::string title;                    // default "plastivox diversity report"

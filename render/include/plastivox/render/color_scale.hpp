@@ -22,6 +22,14 @@ const char* to_string(ColorMode m);  // "congenital", "stiffness", "change", "al
 // Throws RenderError listing the valid names.
 ColorMode parse_color_mode(const std::string& name);
 
+// Which range a stiffness or change scale spans (`--color-range`): the data's own (default:
+// the values shown, rounded outward to readable ticks) or the paper's fixed one (the
+// physics' [e_min, e_max] for stiffness; for change the widest change that range allows).
+enum class ColorRange { kData, kPaper };
+const char* to_string(ColorRange r);  // "data", "paper"
+// Throws RenderError listing the valid names.
+ColorRange parse_color_range(const std::string& name);
+
 struct Tick {
   double t = 0;       // position along the map, [0, 1]
   std::string label;  // UTF-8, e.g. "10⁶", "×2", "-5", "0.25"
@@ -44,10 +52,18 @@ struct ColorScale {
 };
 
 // The scale for `mode` that stays fixed over `frames` (so a video's colours mean the same
-// in every frame): stiffness modes span the physics' [e_min, e_max]; change spans the
-// largest |log10 E/E0| seen, rounded up to a 1-2-5 step (at least a factor 1.01); alpha
-// spans the largest |alpha|, rounded likewise; phase spans one cycle.
+// in every frame). With ColorRange::kData, stiffness modes span the values shown (E0 for
+// congenital, E over `frames` for stiffness, E0 when there are none) rounded outward to 1-2-5
+// values (to decades beyond three decades); change spans the largest |log10 E/E0| seen,
+// rounded up to a 1-2-5 step (at least a factor 1.01). With kPaper, stiffness modes span the
+// physics' [e_min, e_max] and change +-log10(e_max / e_min). Alpha spans the largest |alpha|,
+// rounded likewise; phase one cycle (both whatever the range). The title says which range.
 ColorScale make_color_scale(ColorMode mode, const Model& model,
-                            const std::vector<const Frame*>& frames);
+                            const std::vector<const Frame*>& frames,
+                            ColorRange range = ColorRange::kData);
+
+// A congenital or stiffness scale over the data range [lo_value, hi_value] (log10 Pa),
+// rounded outward as make_color_scale does (for a gallery spanning several robots).
+ColorScale stiffness_data_scale(ColorMode mode, double lo_value, double hi_value);
 
 }  // namespace plastivox::render

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/render_life.hpp"
 
 namespace plastivox::render {
@@ -18,6 +19,7 @@ struct GalleryStyle {
   int samples = 4;                  // Scene::samples: 4x multisampling (0: edge, 1: none)
   bool labels = true;               // run label (treatment · seed) under each tile
   bool colorbar = true;             // the shared colour bar on the right
+  ColorRange color_range = ColorRange::kData;  // all champions' E0, or the paper's [1e5, 1e11]
 };
 
 struct GalleryLayout {

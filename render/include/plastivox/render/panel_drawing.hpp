@@ -67,6 +67,11 @@ struct Drawing {
 // comparison names a treatment that has no group.
 Drawing layout_panel(const PanelStats& panel, int width, int height);
 
+// The evolution figure: generation on x, best fitness on y; per treatment a tinted 95 % CI
+// band (a step per generation), one thin line per run and a thick line for the mean; a legend
+// with each treatment's number of runs. Long runs are thinned to at most ~400 points a line.
+Drawing layout_evolution(const EvolutionStats& evolution, int width, int height);
+
 // All panels in a grid of `columns` columns, each cell width x height.
 Drawing layout_figure(const StatsFigure& figure, int width, int height, int columns = 3);
 

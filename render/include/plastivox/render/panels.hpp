@@ -51,9 +51,27 @@ struct PanelStats {
   std::vector<PanelComparison> comparisons;
 };
 
+// The evolution curves of stats.json's "evolution" (docs/analysis.md): best fitness per
+// generation of every run, and per treatment the mean over its runs with a 95 % CI band.
+struct EvolutionRunCurve {
+  std::string label, treatment;
+  std::vector<std::optional<double>> best;  // per generation from 0; absent = undefined
+};
+struct EvolutionTreatmentBand {
+  std::string treatment;
+  int runs = 0;
+  std::vector<std::optional<double>> mean, ci_low, ci_high;  // per generation, same length
+};
+struct EvolutionStats {
+  std::string unit;  // of the fitness axis, e.g. "voxel lengths"
+  std::vector<EvolutionRunCurve> runs;
+  std::vector<EvolutionTreatmentBand> treatments;
+};
+
 struct StatsFigure {
   std::string source;  // file the data came from (for messages)
   std::vector<PanelStats> panels;
+  std::optional<EvolutionStats> evolution;  // absent in stats.json written before it existed
 };
 
 // Parses a stats.json document; `source` names it in error messages. Checks the format tag
@@ -70,7 +88,8 @@ struct FigureOptions {
   bool combined = true;  // also figure_5.{png,svg}: all panels in a grid of 3 columns
 };
 
-// Writes DIR/panel_<id>.{svg,png} for every panel (and the combined figure), creating DIR if
+// Writes DIR/panel_<id>.{svg,png} for every panel, DIR/evolution.{svg,png} when the stats
+// have evolution curves (and the combined figure), creating DIR if
 // needed. Each file is written to a temporary and renamed. Returns the paths written, in order.
 // Throws StatsError/RenderError (one line) on bad input or an unwritable directory.
 std::vector<std::string> write_figures(const StatsFigure& figure, const std::string& out_dir,

@@ -21,6 +21,7 @@ using LogFn = std::function<void(const std::string&)>;
 struct FrameStyle {
   int width = 1280, height = 720;  // pixels (1920x1080 and 3840x2160 work)
   ColorMode color = ColorMode::kCongenital;
+  ColorRange color_range = ColorRange::kData;  // the data's own range or the paper's
   OverlayOptions overlay;
   bool orthographic = false;        // parallel projection (tests, technical views)
   double zoom = 1.0;                // > 1 closer
@@ -29,7 +30,15 @@ struct FrameStyle {
   int samples = kEdgeAntialiasing;  // anti-aliasing: edge (0), none (1), multisampling (2..8)
   bool lit = true;                  // false: flat colours (tests)
   bool shadows = true;
+  // Videos: kLife frames the camera from the whole life (life_cameras in scene.hpp: the body
+  // and the floor under it stay in the image; the simulation runs before drawing), kFollow
+  // per frame with follow_camera (the simulation runs alongside drawing; a body that rears
+  // up or stretches may leave the image).
+  enum class CameraPath { kLife, kFollow } camera = CameraPath::kLife;
 };
+
+// The camera `c` with the style's projection, azimuth and elevation.
+Camera styled_camera(const FrameStyle& style, Camera c);
 
 // Draws frames of lives with one style, reusing its GL context, shaders and fonts (create
 // once, call render() for every frame; not thread-safe).
@@ -44,6 +53,9 @@ class LifeRenderer {
   // top-down (4 * width * height bytes). `treatment` is the overlay's caption.
   std::vector<uint8_t> render(const Life& life, const Frame& frame, const ColorScale& scale,
                               const std::string& treatment);
+  // The same seen by `camera` (styled_camera already applied).
+  std::vector<uint8_t> render(const Life& life, const Frame& frame, const ColorScale& scale,
+                              const std::string& treatment, const Camera& camera);
   const FrameStyle& style() const { return style_; }
 
  private:
@@ -62,7 +74,7 @@ void check_output_path(const std::string& path);
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style);
 
 // Renders the frame at simulated time `time` (s) of the robot or results file `source` to
-// a PNG at `out` (written atomically).
+// a PNG at `out` (written atomically), the camera framing it as life_cameras does.
 void render_frame_file(const std::string& source, double time, const FrameStyle& style,
                        const std::string& out, const LogFn& log = {});
 
@@ -85,9 +97,10 @@ struct VideoSummary {
 };
 
 // Renders a life as an MP4 at `out`: frames at simulated times start + k * stride / fps
-// while < end; every frame uses one colour scale (make_color_scale over all frames). The
-// simulation, drawing and encoding run at the same time on three threads (for the "change"
-// colour mode the simulation first), with the same bytes as one after the other.
+// while < end; every frame uses one colour scale (make_color_scale over all frames) and, by
+// default, the cameras of life_cameras over all frames. Drawing and encoding run at the same
+// time on two threads, after the simulation when the camera path or the colour scale needs
+// every frame, else alongside it on a third; the bytes are those of one after the other.
 VideoSummary render_video_file(const std::string& source, const FrameStyle& style,
                                const VideoJob& job, const std::string& out, const LogFn& log = {});
 

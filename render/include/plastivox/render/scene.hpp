@@ -66,6 +66,18 @@ struct Scene {
 // height (times zoom).
 Camera follow_camera(const Model& model, const Frame& frame, double zoom = 1.0);
 
+// The cameras of a whole life, one per frame, that keep every voxel and the floor under the
+// body in the image in every frame (render/src/camera_path.cpp). `base` gives the view
+// direction, field of view and projection; its target and distance are replaced: the target
+// follows the centre of each frame's bounding box (voxels as their circumscribed spheres,
+// down to the floor), smoothed over about `smoothing_s` seconds of frames; the distance (or
+// orthographic height) is one for the whole life, at least follow_camera's for `zoom`, and
+// far enough that every frame's box projects inside `fill` of the image (fraction of the
+// half-width and half-height around the centre). `aspect` = image width / height.
+std::vector<Camera> life_cameras(const Model& model, const std::vector<const Frame*>& frames,
+                                 const Camera& base, double aspect, double zoom = 1.0,
+                                 double smoothing_s = 0.5, double fill = 0.92);
+
 // Boxes of one frame: each voxel at its recorded centre, orientation and actuated edge
 // length, coloured by `scale`.
 std::vector<Box> frame_boxes(const Model& model, const Frame& frame, const ColorScale& scale);

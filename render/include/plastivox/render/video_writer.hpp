@@ -4,9 +4,12 @@
 // same frames and options give the same file on every run (fixed encoder threads and parameters,
 // bit-exact colour conversion, no creation time, no version strings from libavformat).
 //
+// The container follows the path's extension: .mp4 or .m4v (MP4), .mkv (Matroska); any other
+// extension is refused with that list.
 // The file is written to a temporary name beside the final path ("<path>.tmp.<pid>") and renamed
 // into place by finish(); a writer destroyed before finish() removes the temporary, so a final
-// name never holds half a video. Errors are VideoError with one line naming the path.
+// name never holds half a video, and a new writer removes temporaries of the same path whose
+// process is gone (a killed run). Errors are VideoError with one line naming the path.
 #pragma once
 
 #include <cstdint>

@@ -1,0 +1,213 @@
+// Per-command usage: `plastivox CMD --help`, `plastivox CMD -h` and `plastivox help CMD`
+// print the same text. Every option a command takes is listed here (tests/cli_help_test.cpp
+// checks this against the options each apps/cmd_*.cpp takes).
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+
+namespace plastivox::cli {
+namespace {
+
+struct CommandHelp {
+  const char* name;
+  const char* text;
+};
+
+// The frame-style options render and video share (apps/render_cli.hpp take_frame_style).
+#define PLASTIVOX_FRAME_OPTIONS                                                            \
+  "  --size WxH            image size in pixels (default 1280x720)\n"                      \
+  "  --color MODE          congenital (default), stiffness, change, alpha or phase\n"      \
+  "  --color-range R       data (default: the values shown, rounded to readable ticks)\n"  \
+  "                        or paper (fixed: E 1e5..1e11 Pa, change over that range)\n"     \
+  "  --no-overlay          no overlays at all; or one by one: --no-colorbar, --no-time,\n" \
+  "                        --no-treatment, --no-displacement, --no-scalebar\n"             \
+  "  --camera PATH         life (default: framed from the whole life, body and floor in\n" \
+  "                        view throughout) or follow (per frame; video draws while it\n"  \
+  "                        simulates)\n"                                                   \
+  "  --ortho               orthographic camera (default perspective)\n"                    \
+  "  --flat                no lighting; --no-shadows: no floor shadows\n"                  \
+  "  --zoom Z              camera zoom factor (default 1)\n"                               \
+  "  --azimuth DEG         camera azimuth (default -60); --elevation DEG (default 25)\n"
+
+#define PLASTIVOX_ANTIALIAS_OPTIONS(dflt)                     \
+  "  --antialias MODE      msaa, edge or none (default " dflt \
+  ")\n"                                                       \
+  "  --samples N           multisampling with N samples, 1..8 (overrides --antialias)\n"
+
+const CommandHelp kHelp[] = {
+    {"simulate",
+     "usage: plastivox simulate [ROBOT] [options]\n"
+     "Simulate one robot's life and print a summary. ROBOT is a plastivox robot (.json,\n"
+     "docs/robot-format.md) or a VXA file (.vxa); without ROBOT, the built-in ~500-voxel\n"
+     "demo walker under stress development.\n"
+     "options:\n"
+     "  --treatment T         none, stress or pressure (default: the file's own)\n"
+     "  --preset NAME         physics preset gecco2018-code or gecco2018-paper\n"
+     "  --duration S          life length in seconds\n"
+     "  --physics JSON        override physics fields, e.g. '{\"self_collision\": false}'\n"
+     "  --json                print one JSON object (fitness, final_state_hash, ...)\n"
+     "exit status: 0 done, 1 bad input, 2 bad command line, 3 unstable simulation\n"
+     "example:\n"
+     "  plastivox simulate examples/walker.json --treatment pressure --json\n"},
+    {"demo",
+     "usage: plastivox demo\n"
+     "Simulate the built-in demo walker under each treatment (none, stress, pressure) and\n"
+     "print fitness and stiffness change side by side. Takes no options.\n"
+     "example:\n"
+     "  plastivox demo\n"},
+    {"evolve",
+     "usage: plastivox evolve --config FILE --out RESULTS.h5 [options]\n"
+     "Run an evolution (AFPO over four CPPNs) into an HDF5 results file. The same command\n"
+     "resumes a killed run from its last checkpoint (docs/evolution.md).\n"
+     "options:\n"
+     "  --config FILE         evolution config (JSON)\n"
+     "  --out RESULTS.h5      results file (created, or resumed when it exists)\n"
+     "  --threads N           worker threads (default: the config's; 0 = all cores)\n"
+     "  --print-default-config  print a commented default config and exit\n"
+     "  --stop-after N        stop after N generations as if killed (for testing resume)\n"
+     "examples:\n"
+     "  plastivox evolve --print-default-config > run.json\n"
+     "  plastivox evolve --config run.json --out run.h5 --threads 2\n"},
+    {"inspect",
+     "usage: plastivox inspect RESULTS.h5 [--json]\n"
+     "Summarise a results file: treatment, seed, generations done, champion, content digest.\n"
+     "options:\n"
+     "  --json                print one JSON object\n"
+     "example:\n"
+     "  plastivox inspect run.h5 --json\n"},
+    {"hausdorff",
+     "usage: plastivox hausdorff A B [options]\n"
+     "Hausdorff distance between two robots' filled voxels (.json or .vxa), in voxel lengths,\n"
+     "minimised over B's placements.\n"
+     "options:\n"
+     "  --rotations R         none, paper (the paper's 8 orientations, default) or all (24)\n"
+     "  --translation T       none or integer (optimal integer shift; default with all)\n"
+     "  --json                print one JSON object\n"
+     "example:\n"
+     "  plastivox hausdorff examples/pi.json examples/gamma.json --rotations all --json\n"},
+    {"export",
+     "usage: plastivox export RESULTS.h5 --out ROBOT.vxa|ROBOT.json [--generation G]\n"
+     "       plastivox export --demo NAME --out ROBOT.vxa|ROBOT.json\n"
+     "Write a run's champion as a VXA file (for the authors' simulator) or a plastivox\n"
+     "robot file; the extension of --out chooses.\n"
+     "options:\n"
+     "  --out FILE            .vxa or .json\n"
+     "  --generation G        the champion at generation G (default: the last)\n"
+     "  --demo NAME           a built-in example robot instead: walker, pi, gamma, upsilon\n"
+     "                        or mixture (examples/ holds them), stress development\n"
+     "examples:\n"
+     "  plastivox export run.h5 --out champion.vxa\n"
+     "  plastivox export --demo pi --out pi.json\n"},
+    {"analyze",
+     "usage: plastivox analyze RESULTS.h5 [RESULTS.h5 ...] --out DIR [options]\n"
+     "Analyse run champions: robustness, canalization, diversity, body plans and bootstrap\n"
+     "statistics -> DIR/stats.json, CSV tables, analysis.h5, report.html. Rerun after a kill\n"
+     "to resume (docs/analysis.md).\n"
+     "options:\n"
+     "  --out DIR             output folder\n"
+     "  --generation G        analyse the champions of generation G (default: last)\n"
+     "  --threads N           worker threads (default 0 = all cores)\n"
+     "  --robustness-draws N  lives per champion in the robustness test (default 10)\n"
+     "  --robustness-sampling S  linear (default) or log\n"
+     "  --seed S              seed of the robustness draws and bootstrap (default 1)\n"
+     "  --rotations R         none, paper (default) or all, for the Hausdorff diversity\n"
+     "  --translation T       none or integer (default integer with --rotations all)\n"
+     "  --resamples N         bootstrap resamples (default 10000, at least 100)\n"
+     "  --treatments LIST     comma-separated subset of none,stress,pressure\n"
+     "  --allow-mixed-physics analyse runs whose physics differ\n"
+     "example:\n"
+     "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
+    {"render",
+     "usage: plastivox render ROBOT_OR_RESULTS --out frame.png [options]\n"
+     "One frame of a robot's life (or a results file's champion's) as a PNG.\n"
+     "options:\n"
+     "  --out FILE            PNG to write\n"
+     "  --time T              time of the frame in seconds (default 0.2)\n" PLASTIVOX_FRAME_OPTIONS
+         PLASTIVOX_ANTIALIAS_OPTIONS("msaa") "example:\n"
+                                             "  plastivox render examples/walker.json --out "
+                                             "frame.png --time 1.5 --color stiffness\n"},
+    {"video",
+     "usage: plastivox video ROBOT_OR_RESULTS --out life.mp4 [options]\n"
+     "A robot's life (or a results file's champion's) as a video (default 5.2 s, 30 fps); the\n"
+     "extension of --out picks the container: .mp4 (or .m4v) or .mkv.\n"
+     "options:\n"
+     "  --out FILE            video to write\n"
+     "  --fps F               frames per second of life time (default 30)\n"
+     "  --start S             first time shown, seconds (default 0)\n"
+     "  --end S               last time shown, seconds (default: the end of the life)\n"
+     "  --stride N            render every Nth frame (default 1)\n"
+     "  --codec NAME          auto (default: H.264, else MPEG-4 Part 2) or an encoder "
+     "name\n" PLASTIVOX_FRAME_OPTIONS PLASTIVOX_ANTIALIAS_OPTIONS(
+         "edge") "example:\n"
+                 "  plastivox video "
+                 "examples/walker.json --out "
+                 "life.mp4 --color change\n"},
+    {"gallery",
+     "usage: plastivox gallery RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [options]\n"
+     "The run champions side by side, coloured by stiffness (the paper's Figs. 2-4).\n"
+     "options:\n"
+     "  --out FILE            PNG to write\n"
+     "  --size WxH            image size in pixels\n"
+     "  --columns N           tiles per row (default 0 = automatic)\n"
+     "  --time T              time shown, seconds (default -1 = the end of the life)\n"
+     "  --no-labels           no seed/fitness labels\n"
+     "  --no-colorbar         no colour bar\n"
+     "  --color-range R       data (default: the champions' own E0 range) or paper "
+     "(fixed)\n" PLASTIVOX_ANTIALIAS_OPTIONS("msaa") "example:\n"
+                                                     "  plastivox "
+                                                     "gallery "
+                                                     "runs/"
+                                                     "stress-*.h5 "
+                                                     "--out "
+                                                     "stress.png\n"},
+    {"figures",
+     "usage: plastivox figures STATS.json --out DIR [options]\n"
+     "Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json.\n"
+     "options:\n"
+     "  --out DIR             output folder\n"
+     "  --size WxH            panel size in pixels\n"
+     "  --format LIST         png, svg or png,svg (default png,svg)\n"
+     "  --no-combined         no combined figure, panels only\n"
+     "example:\n"
+     "  plastivox figures analysis/stats.json --out figures\n"},
+    {"experiment",
+     "usage: plastivox experiment [--config FILE | --preset NAME] --out DIR [options]\n"
+     "The whole study in one folder: evolve every run, analyse, render, report. Resumable:\n"
+     "after a kill or Ctrl-C the same command continues (docs/experiment.md).\n"
+     "options:\n"
+     "  --config FILE         experiment config (JSON; see examples/experiment.json)\n"
+     "  --preset NAME         default (used without --config), tiny or gecco2018\n"
+     "  --out DIR             output folder\n"
+     "  --threads N           worker threads (default: the config's; 0 = all cores)\n"
+     "  --force STAGE,...     redo these stages: evolution, analysis, rendering, report\n"
+     "  --run LABEL           evolve only this run (e.g. stress-1), for cluster jobs\n"
+     "  --estimate-only       print the cost estimate and exit\n"
+     "  --print-preset NAME   print a preset's config and exit\n"
+     "example:\n"
+     "  plastivox experiment --preset tiny --out smoke --threads 2\n"},
+    {"version",
+     "usage: plastivox version\n"
+     "Print the version and the git commit it was built from.\n"
+     "example:\n"
+     "  plastivox version\n"},
+};
+
+#undef PLASTIVOX_FRAME_OPTIONS
+#undef PLASTIVOX_ANTIALIAS_OPTIONS
+
+}  // namespace
+
+const char* command_help(const std::string& command) {
+  for (const CommandHelp& h : kHelp)
+    if (command == h.name) return h.text;
+  return nullptr;
+}
+
+bool wants_help(const Args& args) {
+  return std::any_of(args.begin(), args.end(),
+                     [](const std::string& a) { return a == "--help" || a == "-h"; });
+}
+
+}  // namespace plastivox::cli

@@ -1,0 +1,75 @@
+// examples/: the robots are exactly what `plastivox export --demo` writes, the body-plan
+// examples are classified as their names say, the walker file is the built-in walker.
+// (readme_usage_test runs the README's usage lines.)
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "plastivox/analysis/body_plan.hpp"
+#include "plastivox/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+const std::string kExamples = std::string(PLASTIVOX_SOURCE_DIR) + "/examples";
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+testing::Output run(const std::string& args) {
+  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
+}
+
+class Examples : public testing::ScratchDirTest {};
+
+TEST_F(Examples, RobotFilesAreWhatExportDemoWrites) {
+  for (const char* name : {"walker", "pi", "gamma", "upsilon", "mixture"})
+    for (const char* ext : {".json", ".vxa"}) {
+      SCOPED_TRACE(std::string(name) + ext);
+      const std::string out = path(std::string(name) + ext);
+      const testing::Output r = run("export --demo " + std::string(name) + " --out " + out);
+      ASSERT_EQ(r.status, 0) << r.out;
+      const std::string shipped = file_text(kExamples + "/" + name + ext);
+      ASSERT_FALSE(shipped.empty()) << "examples/" << name << ext << " is missing";
+      EXPECT_EQ(file_text(out), shipped)
+          << "examples/" << name << ext << " differs from `plastivox export --demo " << name
+          << "`; regenerate it";
+    }
+  EXPECT_EQ(run("export --demo dodecahedron --out " + path("x.json")).status, 1);
+  EXPECT_EQ(run("export --demo pi --out " + path("x.txt")).status, 2);
+}
+
+TEST(ExamplesBodies, BodyPlanExamplesAreClassifiedAsNamed) {
+  const std::pair<const char*, analysis::BodyPlan> cases[] = {
+      {"pi", analysis::BodyPlan::kPi},
+      {"gamma", analysis::BodyPlan::kGamma},
+      {"upsilon", analysis::BodyPlan::kUpsilon}};
+  for (const auto& [name, plan] : cases) {
+    const RobotFile f = read_robot_file(kExamples + "/" + name + ".json");
+    const analysis::BodyPlanResult r = analysis::classify_body_plan(analysis::voxel_set(f.robot));
+    EXPECT_EQ(r.plan, plan) << name << " classified as " << analysis::to_string(r.plan);
+    EXPECT_GT(r.confidence, 0.9) << name;
+  }
+}
+
+TEST(ExamplesBodies, WalkerFileSimulatesLikeTheBuiltInWalker) {
+  const testing::Output builtin = run("simulate --json");
+  const testing::Output file = run("simulate " + kExamples + "/walker.json --json");
+  ASSERT_EQ(builtin.status, 0) << builtin.out;
+  ASSERT_EQ(file.status, 0) << file.out;
+  const auto hash = [](const std::string& out) {
+    const size_t at = out.find("\"final_state_hash\"");
+    return out.substr(at, out.find_first_of(",\n}", at) - at);
+  };
+  EXPECT_EQ(hash(file.out), hash(builtin.out));
+  EXPECT_NE(hash(file.out).find("8377212778813926271"), std::string::npos) << file.out;
+}
+
+}  // namespace
+}  // namespace plastivox
