@@ -15,13 +15,6 @@ namespace {
 
 const std::string kExamples = std::string(PLASTIVOX_SOURCE_DIR) + "/examples";
 
-std::string file_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 testing::Output run(const std::string& args) {
   return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
 }
@@ -35,9 +28,9 @@ TEST_F(Examples, RobotFilesAreWhatExportDemoWrites) {
       const std::string out = path(std::string(name) + ext);
       const testing::Output r = run("export --demo " + std::string(name) + " --out " + out);
       ASSERT_EQ(r.status, 0) << r.out;
-      const std::string shipped = file_text(kExamples + "/" + name + ext);
+      const std::string shipped = testing::file_text(kExamples + "/" + name + ext);
       ASSERT_FALSE(shipped.empty()) << "examples/" << name << ext << " is missing";
-      EXPECT_EQ(file_text(out), shipped)
+      EXPECT_EQ(testing::file_text(out), shipped)
           << "examples/" << name << ext << " differs from `plastivox export --demo " << name
           << "`; regenerate it";
     }

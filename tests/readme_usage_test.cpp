@@ -16,17 +16,10 @@ namespace fs = std::filesystem;
 
 const std::string kExamples = std::string(PLASTIVOX_SOURCE_DIR) + "/examples";
 
-std::string file_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // The command lines of the first ```sh block after `heading` in a Markdown file (comments
 // after '#' dropped, blank lines skipped).
 std::vector<std::string> usage_lines(const std::string& markdown, const std::string& heading) {
-  const std::string text = file_text(markdown);
+  const std::string text = testing::file_text(markdown);
   size_t at = text.find(heading);
   EXPECT_NE(at, std::string::npos) << markdown << " has no '" << heading << "'";
   at = text.find("```sh\n", at);

@@ -18,11 +18,6 @@ const uint8_t* pixel(const std::vector<uint8_t>& rgba, int width, int x, int y) 
   return rgba.data() + (static_cast<size_t>(y) * width + x) * 4;
 }
 
-std::string file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 TEST(RenderOffscreen, ClearsFullHdAnd4kBuffers) {
   for (auto [w, h] : {std::pair{1920, 1080}, std::pair{3840, 2160}}) {
     OffscreenContext ctx(w, h);
@@ -112,7 +107,7 @@ TEST_F(RenderPng, RoundTripsWithIdenticalBytesAndNoTemporaryLeft) {
   for (size_t i = 0; i < rgba.size(); ++i) rgba[i] = static_cast<uint8_t>(i * 37 % 256);
   write_png(path("a.png"), rgba, w, h);
   write_png(path("b.png"), rgba, w, h);
-  EXPECT_EQ(file_bytes(path("a.png")), file_bytes(path("b.png")));
+  EXPECT_EQ(testing::file_text(path("a.png")), testing::file_text(path("b.png")));
   int files = 0;  // a.png and b.png, no temporaries
   for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
     (void)entry;

@@ -6,6 +6,8 @@
 #include <cfenv>
 #include <cstdio>
 #include <exception>
+#include <fstream>
+#include <sstream>
 
 namespace plastivox::testing {
 
@@ -33,6 +35,14 @@ void run_until(Simulator& sim, double t) {
 
 std::string shared_dir() {
   return PLASTIVOX_SHARED_DIR;
+}
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  EXPECT_TRUE(in) << "cannot read " << path;
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 Output shell(const std::string& command_line) {

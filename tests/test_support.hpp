@@ -35,6 +35,9 @@ inline ::testing::AssertionResult RelNear(double actual, double expected, double
 
 std::string shared_dir();  // ../shared beside the repository
 
+// The whole content of a file, byte for byte; a test failure (and "") if it cannot be read.
+std::string file_text(const std::string& path);
+
 // The message of the exception f throws, or "(no error)" when it throws none.
 std::string error_of(const std::function<void()>& f);
 

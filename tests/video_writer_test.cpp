@@ -55,11 +55,6 @@ void write_video(const std::string& path, const VideoOptions& o, int count, Rgb 
   w.finish();
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
 std::vector<std::string> files_in(const fs::path& dir) {
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
@@ -104,9 +99,9 @@ TEST_P(VideoWriterTest, SameFramesGiveIdenticalBytes) {
   const VideoOptions o{.width = 64, .height = 48, .fps = 24, .codec = GetParam()};
   write_video(path("a.mp4"), o, 20);
   write_video(path("b.mp4"), o, 20);
-  const std::string a = slurp(path("a.mp4"));
+  const std::string a = testing::file_text(path("a.mp4"));
   ASSERT_GT(a.size(), 100u);
-  EXPECT_TRUE(a == slurp(path("b.mp4")));
+  EXPECT_TRUE(a == testing::file_text(path("b.mp4")));
 }
 
 // Heap memory handed out again after being freed holds whatever was there. The encoder's
@@ -127,7 +122,8 @@ TEST_P(VideoWriterTest, SameFramesGiveIdenticalBytesWhateverTheHeapHeld) {
     }
     for (void* b : blocks) std::free(b);
     write_video(path("b.mp4"), o, 30);
-    EXPECT_TRUE(slurp(path("a.mp4")) == slurp(path("b.mp4"))) << "round " << round;
+    EXPECT_TRUE(testing::file_text(path("a.mp4")) == testing::file_text(path("b.mp4")))
+        << "round " << round;
   }
 }
 
@@ -178,7 +174,7 @@ TEST_F(VideoWriterFiles, TwoEncoderThreadsAreReproducibleToo) {
   const VideoOptions o{.width = 160, .height = 96, .fps = 30, .codec = "h264", .threads = 2};
   write_video(path("a.mp4"), o, 40);
   write_video(path("b.mp4"), o, 40);
-  EXPECT_TRUE(slurp(path("a.mp4")) == slurp(path("b.mp4")));
+  EXPECT_TRUE(testing::file_text(path("a.mp4")) == testing::file_text(path("b.mp4")));
   EXPECT_EQ(probe_video(path("a.mp4")).frames, 40);
 }
 
@@ -235,7 +231,8 @@ std::string open_error(const std::string& out, const VideoOptions& o) {
 TEST_F(VideoWriterFiles, ContainerFollowsTheExtensionOrIsRefused) {
   write_video(path("a.mkv"), {.width = 32, .height = 32, .fps = 10}, 5);
   write_video(path("a.mp4"), {.width = 32, .height = 32, .fps = 10}, 5);
-  const std::string mkv = slurp(path("a.mkv")), mp4 = slurp(path("a.mp4"));
+  const std::string mkv = testing::file_text(path("a.mkv")),
+                    mp4 = testing::file_text(path("a.mp4"));
   ASSERT_GE(mkv.size(), 8u);
   EXPECT_EQ(mkv.substr(0, 4), std::string("\x1a\x45\xdf\xa3"));
   EXPECT_EQ(mp4.substr(4, 4), "ftyp");

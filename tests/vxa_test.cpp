@@ -18,23 +18,16 @@
 
 #include "plastivox/model.hpp"
 #include "plastivox/vxa.hpp"
+#include "test_support.hpp"
 
 namespace plastivox {
 namespace {
 
 const std::string kVxaDir = std::string(PLASTIVOX_SHARED_DIR) + "/vxa/";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in) << path;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The "voxels" number of a NAME.expected.json (no JSON library needed for one integer).
 int expected_voxels(const std::string& name) {
-  const std::string json = slurp(kVxaDir + name + ".expected.json");
+  const std::string json = testing::file_text(kVxaDir + name + ".expected.json");
   const size_t key = json.find("\"voxels\"");
   EXPECT_NE(key, std::string::npos);
   const size_t colon = json.find(':', key);
@@ -44,7 +37,7 @@ int expected_voxels(const std::string& name) {
 // Text of a sample with the first occurrence of `from` (at or after `after`) replaced.
 std::string edited(const std::string& name, const std::string& from, const std::string& to,
                    const std::string& after = "") {
-  std::string text = slurp(kVxaDir + name + ".vxa");
+  std::string text = testing::file_text(kVxaDir + name + ".vxa");
   const size_t start = after.empty() ? 0 : text.find(after);
   EXPECT_NE(start, std::string::npos) << after;
   const size_t at = text.find(from, start);
@@ -307,7 +300,7 @@ struct Malformed {
 };
 
 std::vector<Malformed> malformed_inputs() {
-  const std::string stress = slurp(kVxaDir + "walker-stress.vxa");
+  const std::string stress = testing::file_text(kVxaDir + "walker-stress.vxa");
   std::string missing_structure = stress;
   const size_t s0 = missing_structure.find("<Structure");
   const size_t s1 = missing_structure.find("</Structure>\n") + std::strlen("</Structure>\n");
