@@ -123,8 +123,11 @@ TEST(ExperimentCost, CalibrationThatGoesUnstableCountsOnlyStepsTaken) {
   json j = micro_config();
   j["evolution"]["physics"]["max_speed"] = 1e-3;
   const auto c = parse_experiment_config(j.dump(), "micro");
+  // The bug counted steps never taken: the upper bound catches it. The lower one only says
+  // some steps were measured; it is not a speed claim (the sanitizer build on a loaded
+  // 2-core machine measured 7.5e4, a release build ~2e7).
   const auto measured = experiment::measure_speed(c, 0.05);
-  EXPECT_GT(measured.voxel_steps_per_second, 1e5);
+  EXPECT_GT(measured.voxel_steps_per_second, 1e3);
   EXPECT_LT(measured.voxel_steps_per_second, 1e9);
 }
 
