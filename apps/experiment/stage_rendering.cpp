@@ -140,10 +140,10 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
   const auto& r = ctx.config.rendering;
   const std::string file = "videos/callus_" + best->label + ".mp4";
   // "life camera, data range": videos from before both are redrawn.
-  const std::string key = ctx.study->fingerprint + " video life camera, data range " +
-                          best->label + " " +
-                          std::to_string(r.video_width) + "x" + std::to_string(r.video_height) +
-                          " " + std::to_string(r.video_fps) + " " + r.video_color;
+  const std::string key = ctx.study->fingerprint + " video life camera, data range " + best->label +
+                          " " + std::to_string(r.video_width) + "x" +
+                          std::to_string(r.video_height) + " " + std::to_string(r.video_fps) + " " +
+                          r.video_color;
   if (!ctx.opt.force.count("rendering") && stamps.current("video", key, {file}, ctx.dir)) {
     ctx.progress.log("[rendering] video up to date");
     return {file};

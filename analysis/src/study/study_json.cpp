@@ -238,9 +238,10 @@ Json evolution(const StudyResult& r) {
                      {"ci_high", numbers(b.ci_high)}});
   return {{"metric", "best fitness"},
           {"unit", "voxel lengths"},
-          {"ci", {{"method", "percentile bootstrap of the mean over runs"},
-                  {"level", r.options.ci_level},
-                  {"resamples", std::min(r.options.resamples, 2000)}}},
+          {"ci",
+           {{"method", "percentile bootstrap of the mean over runs"},
+            {"level", r.options.ci_level},
+            {"resamples", std::min(r.options.resamples, 2000)}}},
           {"runs", runs},
           {"treatments", bands}};
 }

@@ -48,8 +48,8 @@ EvolutionCurve evolution_curve(const evo::RunState& run, int last) {
     std::sort(lineages.begin(), lineages.end());
     c.best.push_back(h.best_fitness);
     c.mean.push_back(valid ? sum / valid : std::nan(""));
-    c.lineages.push_back(static_cast<int>(std::unique(lineages.begin(), lineages.end()) -
-                                          lineages.begin()));
+    c.lineages.push_back(
+        static_cast<int>(std::unique(lineages.begin(), lineages.end()) - lineages.begin()));
   }
   return c;
 }

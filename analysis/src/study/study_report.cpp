@@ -169,7 +169,8 @@ std::string extras_html(const ReportExtras& extras) {
   for (const ReportSection& sec : extras.sections) {
     s += "<h2>" + esc(sec.title) + "</h2>\n";
     for (const std::string& p : sec.paragraphs) s += "<p>" + esc(p) + "</p>\n";
-    if (!sec.media.empty()) s += sec.wide ? "<div class=\"media wide\">\n" : "<div class=\"media\">\n";
+    if (!sec.media.empty())
+      s += sec.wide ? "<div class=\"media wide\">\n" : "<div class=\"media\">\n";
     for (const ReportMedia& m : sec.media) {
       s += "<figure>";
       if (m.kind == ReportMedia::Kind::kImage)

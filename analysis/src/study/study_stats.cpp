@@ -143,9 +143,9 @@ std::vector<EvolutionBand> compute_evolution(const StudyResult& r) {
       const double m = mean(x);
       b.mean.push_back(m);
       if (x.size() >= 2) {
-        const ConfidenceInterval ci = bootstrap_mean_ci(
-            x, o.ci_level, std::min(o.resamples, 2000),
-            mix64(evolution_seed + 1000003 * static_cast<uint64_t>(t) + g));
+        const ConfidenceInterval ci =
+            bootstrap_mean_ci(x, o.ci_level, std::min(o.resamples, 2000),
+                              mix64(evolution_seed + 1000003 * static_cast<uint64_t>(t) + g));
         b.ci_low.push_back(ci.lower);
         b.ci_high.push_back(ci.upper);
       } else {
