@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/error.hpp"
+
 namespace plastivox::evo {
 class Cluster;
 }
@@ -13,10 +15,8 @@ namespace plastivox::cli {
 
 using Args = std::vector<std::string>;
 
-// Thrown for a malformed command line; main prints the message and exits with status 2.
-struct UsageError {
-  std::string message;
-};
+// A malformed command line throws UsageError (plastivox/base/error.hpp); main prints the
+// message and exits with status 2.
 
 int cmd_simulate(const Args& args);
 int cmd_demo(const Args& args);

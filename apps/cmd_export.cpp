@@ -8,27 +8,17 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
-#include "plastivox/robot_file.hpp"
-#include "plastivox/vxa.hpp"
+#include "plastivox/robot_io.hpp"
 
 namespace plastivox::cli {
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 // Writes robot with physics as .vxa (printing the writer's warnings) or .json.
 void write_robot(const std::string& out, const RobotDef& robot, const PhysicsDef& physics) {
-  if (ends_with(out, ".vxa")) {
-    std::vector<std::string> warnings;
-    write_vxa_file(out, robot, physics, &warnings);
-    for (const std::string& w : warnings)
-      std::fprintf(stderr, "plastivox export: warning: %s\n", w.c_str());
-  } else {
-    write_robot_file(out, robot, &physics);
-  }
+  std::vector<std::string> warnings;
+  save_robot(out, robot, physics, &warnings);
+  for (const std::string& w : warnings)
+    std::fprintf(stderr, "plastivox export: warning: %s\n", w.c_str());
 }
 
 // export --demo NAME: a built-in example robot (demo_example) with the physics `plastivox
@@ -36,7 +26,7 @@ void write_robot(const std::string& out, const RobotDef& robot, const PhysicsDef
 int export_demo(const std::string& name, const std::string& out, const Args& rest) {
   if (!rest.empty()) throw UsageError{"--demo NAME takes no results file"};
   if (out.empty()) throw UsageError{"--out ROBOT.vxa (or ROBOT.json) is required"};
-  if (!ends_with(out, ".vxa") && !ends_with(out, ".json"))
+  if (!out.ends_with(".vxa") && !out.ends_with(".json"))
     throw UsageError{"--out must end in .vxa or .json, got '" + out + "'"};
   const RobotDef robot = demo_example(name);
   PhysicsDef physics = preset_gecco2018_code();
@@ -59,7 +49,7 @@ int cmd_export(const Args& in) {
   if (args.size() != 1)
     throw UsageError{"expected one results file: plastivox export RESULTS.h5 --out ROBOT.vxa"};
   if (out.empty()) throw UsageError{"--out ROBOT.vxa (or ROBOT.json) is required"};
-  if (!ends_with(out, ".vxa") && !ends_with(out, ".json"))
+  if (!out.ends_with(".vxa") && !out.ends_with(".json"))
     throw UsageError{"--out must end in .vxa or .json, got '" + out + "'"};
 
   const evo::ResultsFile results = evo::read_results(args[0]);

@@ -7,23 +7,15 @@
 
 #include "cli.hpp"
 #include "plastivox/analysis/hausdorff.hpp"
-#include "plastivox/robot_file.hpp"
-#include "plastivox/vxa.hpp"
+#include "plastivox/robot_io.hpp"
 
 namespace plastivox::cli {
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 // The geometry of a robot file: .vxa in the authors' dialect, anything else the project's JSON.
 // Only which sites are filled matters here, so VXA warnings about physics are not shown.
 analysis::VoxelSet read_geometry(const std::string& path) {
-  const RobotDef robot =
-      ends_with(path, ".vxa") ? read_vxa_file(path).robot : read_robot_file(path).robot;
-  analysis::VoxelSet set = analysis::voxel_set(robot);
+  analysis::VoxelSet set = analysis::voxel_set(load_robot(path).robot);
   if (set.voxels.empty()) throw std::runtime_error(path + ": the robot has no voxels");
   return set;
 }

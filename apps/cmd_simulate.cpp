@@ -7,18 +7,13 @@
 #include "cli.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/robot_file.hpp"
+#include "plastivox/robot_io.hpp"
 #include "plastivox/sim_summary.hpp"
 #include "plastivox/simulator.hpp"
-#include "plastivox/vxa.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::cli {
 namespace {
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 double parse_seconds(const std::string& s, const std::string& option) {
   size_t used = 0;
@@ -38,6 +33,7 @@ double parse_seconds(const std::string& s, const std::string& option) {
 int cmd_simulate(const Args& in) {
   Args args = in;
   const bool as_json = take_flag(args, "--json");
+  const bool timed = take_flag(args, "--timings");
   const std::string treatment = take_option(args, "--treatment", "");
   const std::string preset = take_option(args, "--preset", "");
   const std::string duration = take_option(args, "--duration", "");
@@ -68,17 +64,11 @@ int cmd_simulate(const Args& in) {
     physics.treatment = Treatment::kStress;
   } else {
     source = args[0];
-    if (ends_with(source, ".vxa")) {
-      VxaRobot v = read_vxa_file(source);
-      for (const std::string& w : v.warnings)
-        std::fprintf(stderr, "plastivox simulate: warning: %s\n", w.c_str());
-      robot = std::move(v.robot);
-      physics = v.physics;
-    } else {
-      RobotFile f = read_robot_file(source);
-      robot = std::move(f.robot);
-      physics = f.physics;
-    }
+    LoadedRobot file = load_robot(source);
+    for (const std::string& w : file.warnings)
+      std::fprintf(stderr, "plastivox simulate: warning: %s\n", w.c_str());
+    robot = std::move(file.robot);
+    physics = file.physics;
   }
   if (!preset.empty()) {
     const Treatment keep = physics.treatment;
@@ -95,13 +85,18 @@ int cmd_simulate(const Args& in) {
   } catch (const std::invalid_argument& e) {
     throw InputError(source + ": " + e.what());
   }
-  const SimResult r = simulate(model);
+  StageTimings timings;
+  SimOptions options;
+  if (timed) options.timings = &timings;
+  const SimResult r = simulate(model, options);
   // Health warnings (a body that sank through the floor): on stderr always, and in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 
   if (as_json) {
-    std::printf("%s\n", sim_summary_json(r, physics, source, PLASTIVOX_VERSION).c_str());
+    const std::string summary =
+        sim_summary_json(r, physics, source, PLASTIVOX_VERSION, timed ? &timings : nullptr);
+    std::printf("%s\n", summary.c_str());
   } else {
     std::printf("%s: %d voxels, treatment %s, %s\n", source.c_str(), r.voxels,
                 to_string(physics.treatment), to_string(r.status));
@@ -112,6 +107,12 @@ int cmd_simulate(const Args& in) {
     std::printf("  %lld steps, dt %.3g s, %.2f s wall (%.3g voxel-steps/s)\n",
                 static_cast<long long>(r.steps), r.dt_initial, r.wall_seconds,
                 r.wall_seconds > 0 ? r.voxels * r.steps / r.wall_seconds : 0.0);
+    if (timed) {
+      std::printf("  stages (wall time of %lld steps):\n", static_cast<long long>(timings.steps));
+      for (const StageName& s : kStageNames)
+        std::printf("    %-16s %8.3f s  %5.1f %%\n", s.name, timings.*s.seconds,
+                    timings.total() > 0 ? 100 * timings.*s.seconds / timings.total() : 0.0);
+    }
   }
   if (r.status != SimStatus::kFinished) {
     std::fprintf(stderr, "plastivox simulate: %s: simulation unstable: %s\n", source.c_str(),

@@ -48,6 +48,8 @@ const CommandHelp kHelp[] = {
      "  --duration S          life length in seconds\n"
      "  --physics JSON        override physics fields, e.g. '{\"self_collision\": false}'\n"
      "  --json                print one JSON object (fitness, final_state_hash, ...)\n"
+     "  --timings             also report the wall time of each stage of a step\n"
+     "                        (\"stage_seconds\" in the JSON)\n"
      "exit status: 0 done, 1 bad input, 2 bad command line, 3 unstable simulation\n"
      "example:\n"
      "  plastivox simulate examples/walker.json --treatment pressure --json\n"},

@@ -58,6 +58,7 @@ const char* kUsage =
 
 int main(int argc, char** argv) {
   using namespace plastivox::cli;
+  using plastivox::UsageError;
   if (argc < 2) {
     std::fputs(kUsage, stderr);
     return 2;
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const UsageError& e) {
     std::fprintf(stderr, "plastivox %s: %s (plastivox %s --help lists the options)\n", cmd.c_str(),
-                 e.message.c_str(), cmd.c_str());
+                 e.what(), cmd.c_str());
     return 2;
   } catch (const std::bad_alloc&) {  // never the bare "std::bad_alloc"
     std::fprintf(stderr,

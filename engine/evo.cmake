@@ -1,8 +1,6 @@
 # Evolution (METHOD.md sections 6-7): CPPN genomes, AFPO, thread-pool evaluation.
 # plastivox_evo depends only on the engine. Included from engine/CMakeLists.txt.
 add_library(plastivox_evo
-  ${CMAKE_CURRENT_LIST_DIR}/src/evo/rng.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/src/evo/hash.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/cppn_eval.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/cppn_mutate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/genome.cpp
@@ -10,7 +8,6 @@ add_library(plastivox_evo
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/variation.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/afpo.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/config.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/src/evo/thread_pool.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/evolver.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/digest.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/champion.cpp

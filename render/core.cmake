@@ -27,8 +27,11 @@ target_include_directories(plastivox_render PUBLIC ${CMAKE_CURRENT_LIST_DIR}/inc
 # ImGui's headers are public (callers draw with ImDrawList); SYSTEM keeps their warnings out.
 target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
                            PRIVATE ${OSMESA_INCLUDE_DIR})
-target_link_libraries(plastivox_render PUBLIC plastivox_engine plastivox_vxa plastivox_evo_h5
-                      PRIVATE plastivox_video ${IMGUI_LIBRARY} ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
+# Evolution results and VXA files are read inside (load_life_source); nothing of them is in
+# the public headers, so they stay private.
+target_link_libraries(plastivox_render PUBLIC plastivox_engine
+                      PRIVATE plastivox_vxa plastivox_evo_h5 plastivox_video ${IMGUI_LIBRARY}
+                              ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
 # Compile-time default of the assets directory; $PLASTIVOX_ASSETS overrides it at run time.
 target_compile_definitions(plastivox_render PRIVATE
   PLASTIVOX_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")

@@ -8,4 +8,4 @@ add_library(plastivox_video STATIC
 )
 target_include_directories(plastivox_video PUBLIC ${CMAKE_CURRENT_LIST_DIR}/include
                                            PRIVATE ${CMAKE_CURRENT_LIST_DIR}/src)
-target_link_libraries(plastivox_video PRIVATE PkgConfig::FFMPEG)
+target_link_libraries(plastivox_video PUBLIC plastivox_base PRIVATE PkgConfig::FFMPEG)

@@ -53,7 +53,6 @@ TEST(Robustness, FTrainIsTheFitnessWithoutDevelopment) {
   const RobustnessResult r = robustness(robot, short_life(), o);
   PhysicsDef none = short_life();
   none.treatment = Treatment::kNone;
-  none.record_fps = 0;
   EXPECT_EQ(r.f_train, simulate(compile(robot, none)).fitness);
   EXPECT_EQ(without_development(robot).dev_rate, std::vector<double>(robot.sites(), 0.0));
   EXPECT_EQ(robustness_physics(short_life()).treatment, Treatment::kNone);

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "h5_util.hpp"  // engine/src/evo (internal): to read analysis.h5 back
+#include "plastivox/evo/h5_util.hpp"  // to read analysis.h5 back
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"

@@ -1,5 +1,6 @@
 // Determinism: a run is defined by its robot and parameters; same inputs, same bits out,
 // whichever thread runs it and whatever runs beside it.
+#include <algorithm>
 #include <thread>
 
 #include "plastivox/demo_robots.hpp"
@@ -78,9 +79,10 @@ TEST(Recording, SixtyFramesPerSimulatedSecondOfEveryVoxel) {
   PhysicsDef d;
   d.treatment = Treatment::kStress;
   d.duration = 0.5;
-  ASSERT_EQ(d.record_fps, 60.0);  // the default: a life can always be replayed
   const Model m = compile(demo_walker(), d);
-  const SimResult r = simulate(m);
+  SimOptions o;
+  o.record_fps = 60;
+  const SimResult r = simulate(m, o);
   ASSERT_EQ(r.status, SimStatus::kFinished);
   // Frames at 0, 1/60, ..., 29/60 s, then the final state (the first step past 0.5 s).
   ASSERT_EQ(r.recording.frames.size(), 31u);
@@ -102,11 +104,84 @@ TEST(Recording, SixtyFramesPerSimulatedSecondOfEveryVoxel) {
   EXPECT_NE(r.recording.frames[0].stiffness, r.recording.frames.back().stiffness);
 }
 
-TEST(Recording, OffWhenFpsIsZero) {
+TEST(Recording, OffByDefault) {
   PhysicsDef d;
   d.duration = 0.3;
-  d.record_fps = 0;
   EXPECT_TRUE(simulate(compile(demo_walker(), d)).recording.frames.empty());
+}
+
+// Frames at given times: each the first state at or after its time (two times inside one
+// step share a state), and the life ends after the last one, at the same bits as the
+// uninterrupted life had there.
+TEST(Recording, AtGivenTimesEndsTheLifeAfterTheLast) {
+  PhysicsDef d = preset_gecco2018_code();
+  d.treatment = Treatment::kStress;
+  d.duration = 0.5;
+  const Model m = compile(demo_walker(), d);
+  SimOptions o;
+  o.frame_times = {0.0, 0.1, 0.1 + 1e-9, 0.3};
+  const SimResult r = simulate(m, o);
+  EXPECT_EQ(r.status, SimStatus::kRunning);  // ended early, by design
+  ASSERT_EQ(r.recording.frames.size(), 4u);
+  EXPECT_EQ(r.recording.frames[0].time, 0.0);
+  EXPECT_EQ(r.recording.frames[1].time, r.recording.frames[2].time);
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_GE(r.recording.frames[k].time, o.frame_times[k]);
+    EXPECT_LT(r.recording.frames[k].time, o.frame_times[k] + 2 * r.dt_initial);
+  }
+  EXPECT_EQ(r.sim_time, r.recording.frames.back().time);
+
+  Simulator sim(m);
+  testing::run_until(sim, 0.3);
+  EXPECT_EQ(sim.state().time, r.sim_time);
+  EXPECT_EQ(state_hash(sim.state()), r.final_state_hash);
+}
+
+// on_frame sees every frame and can end the life; frames then stay out of the result.
+TEST(Recording, OnFrameReceivesFramesAndCanStop) {
+  PhysicsDef d;
+  d.duration = 0.5;
+  const Model m = compile(demo_walker(), d);
+  SimOptions o;
+  o.record_fps = 20;
+  std::vector<double> seen;
+  o.on_frame = [&](const State& s) {
+    seen.push_back(s.time);
+    return seen.size() < 3;
+  };
+  const SimResult r = simulate(m, o);
+  EXPECT_EQ(r.status, SimStatus::kRunning);
+  EXPECT_TRUE(r.recording.frames.empty());
+  ASSERT_EQ(seen.size(), 3u);
+  EXPECT_EQ(r.sim_time, seen.back());
+  EXPECT_GE(seen[2], 2 / 20.0);
+}
+
+// Progress runs from 0 to 1 and never backwards; per-stage timings add up, count every
+// step, and change no bits.
+TEST(Simulate, ProgressAndStageTimings) {
+  PhysicsDef d = preset_gecco2018_code();
+  d.treatment = Treatment::kPressure;
+  d.duration = 0.4;
+  const Model m = compile(demo_walker(), d);
+  const SimResult plain = simulate(m);
+  StageTimings timings;
+  std::vector<double> progress;
+  SimOptions o;
+  o.timings = &timings;
+  o.progress = [&](double f) { progress.push_back(f); };
+  const SimResult r = simulate(m, o);
+  EXPECT_EQ(r.final_state_hash, plain.final_state_hash);
+  EXPECT_EQ(r.status, SimStatus::kFinished);
+  EXPECT_EQ(timings.steps, r.steps);
+  EXPECT_GT(timings.bond_forces, 0);
+  EXPECT_GT(timings.integrate, 0);
+  EXPECT_GT(timings.develop, 0);
+  EXPECT_LE(timings.total(), r.wall_seconds);
+  ASSERT_GE(progress.size(), 50u);
+  EXPECT_EQ(progress.front(), 0.0);
+  EXPECT_EQ(progress.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
 }
 
 }  // namespace
@@ -123,7 +198,6 @@ TEST(Determinism, CopiedStateContinuesBitIdentically) {
     PhysicsDef d = preset_gecco2018_code();
     d.treatment = t;
     d.duration = 1.5;
-    d.record_fps = 0;
     const Model m = compile(demo_walker(), d);
     const SimResult whole = simulate(m);
     ASSERT_EQ(whole.status, SimStatus::kFinished) << whole.failure;

@@ -78,7 +78,7 @@ TEST(GoldenEvolution, IdentitySerialisationIsByteStable) {
             R"("e_min":10000.0,"fitness":"xy","floor":true,"global_damping":0.01,)"
             R"("global_damping_rot_factor":10.0,"gravity":-9.81,"growth":"rate",)"
             R"("max_change_per_step":1000000000.0,"max_speed":100.0,"min_devo_factor":1000.0,)"
-            R"("mu_kinetic":0.5,"mu_static":1.0,"poisson":0.35,"record_fps":60.0,)"
+            R"("mu_kinetic":0.5,"mu_static":1.0,"poisson":0.35,"record_fps":0.0,)"
             R"("self_collision":true,"settle_time":0.2,"treatment":"none"})");
 }
 

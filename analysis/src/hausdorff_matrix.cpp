@@ -5,8 +5,8 @@
 #include <utility>
 
 #include "hausdorff_search.hpp"
-#include "parallel_for.hpp"
 #include "plastivox/analysis/hausdorff.hpp"
+#include "plastivox/base/parallel.hpp"
 
 namespace plastivox::analysis {
 
@@ -19,7 +19,8 @@ HausdorffMatrix hausdorff_matrix(const std::vector<VoxelSet>& sets, const Hausdo
 
   // Each set's index is built once and then only read, by every pair that uses it.
   std::vector<std::unique_ptr<detail::PreparedShape>> prepared(n);
-  detail::parallel_for(n, threads, [&](int i) {
+  parallel_for(static_cast<size_t>(n), threads, [&](size_t i_) {
+    const int i = static_cast<int>(i_);
     prepared[i] = std::make_unique<detail::PreparedShape>(sets[i], options.field_pad);
   });
 
@@ -32,7 +33,8 @@ HausdorffMatrix hausdorff_matrix(const std::vector<VoxelSet>& sets, const Hausdo
   m.options = options;
   m.distance.assign(static_cast<size_t>(n) * n, 0.0);
   m.pairs.resize(pair_index.size());
-  detail::parallel_for(static_cast<int>(pair_index.size()), threads, [&](int k) {
+  parallel_for(pair_index.size(), threads, [&](size_t k_) {
+    const int k = static_cast<int>(k_);
     const auto [i, j] = pair_index[k];
     m.pairs[k] = detail::search_placements(*prepared[i], *prepared[j], options);
   });

@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "parallel_for.hpp"
 #include "plastivox/analysis/rng.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/simulator.hpp"
 
@@ -26,7 +26,6 @@ RobotDef without_development(const RobotDef& robot) {
 PhysicsDef robustness_physics(const PhysicsDef& physics) {
   PhysicsDef p = physics;
   p.treatment = Treatment::kNone;
-  p.record_fps = 0;
   return p;
 }
 
@@ -97,7 +96,8 @@ RobustnessResult robustness(const RobotDef& champion, const PhysicsDef& physics,
 
   // Item 0 is F_train; item k + 1 is draw k. Each writes only its own slot.
   std::vector<Outcome> outcomes(static_cast<size_t>(options.draws) + 1);
-  detail::parallel_for(options.draws + 1, options.threads, [&](int i) {
+  parallel_for(static_cast<size_t>(options.draws + 1), options.threads, [&](size_t i_) {
+    const int i = static_cast<int>(i_);
     outcomes[i] =
         i == 0 ? run(reduced, phys) : run(random_stiffness(reduced, options, lo, hi, i - 1), phys);
   });

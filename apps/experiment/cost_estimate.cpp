@@ -36,7 +36,6 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds)
       }
   PhysicsDef physics = e.physics;
   physics.treatment = Treatment::kStress;
-  physics.record_fps = 0;
   const Model model = compile(robot, physics);
   auto sim = std::make_unique<Simulator>(model);
 

@@ -17,16 +17,9 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& src, const std::string& field, const std::string& what) {
-  throw InputError(src + ": " + field + ": " + what);
-}
-
-int integer(const json& j, const std::string& src, const std::string& field, int lo, int hi) {
-  if (!j.is_number_integer() || j.get<int64_t>() < lo || j.get<int64_t>() > hi)
-    fail(src, field,
-         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return static_cast<int>(j.get<int64_t>());
-}
+using json_field::boolean;
+using json_field::fail;
+using json_field::integer;
 
 std::string text(const json& j, const std::string& src, const std::string& field,
                  const std::set<std::string>& allowed) {
@@ -36,11 +29,6 @@ std::string text(const json& j, const std::string& src, const std::string& field
   const auto v = j.get<std::string>();
   if (!allowed.empty() && !allowed.count(v)) fail(src, field, "'" + v + "' is not one of " + all);
   return v;
-}
-
-bool boolean(const json& j, const std::string& src, const std::string& field) {
-  if (!j.is_boolean()) fail(src, field, "expected true or false");
-  return j.get<bool>();
 }
 
 // "1280x720" -> (1280, 720), each side in [16, 8192].

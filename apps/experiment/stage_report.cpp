@@ -18,13 +18,6 @@ namespace fs = std::filesystem;
 using analysis::ReportMedia;
 using analysis::ReportSection;
 
-bool starts_with(const std::string& s, const std::string& p) {
-  return s.rfind(p, 0) == 0;
-}
-bool ends_with(const std::string& s, const std::string& e) {
-  return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
-}
-
 ReportSection experiment_section(const StageContext& ctx) {
   const auto& c = ctx.config;
   const auto& e = c.evolution;
@@ -65,7 +58,7 @@ std::string body_plan_table(const StageContext& ctx, const std::vector<std::stri
   const double thumb_w = 150;
   std::string rows;
   for (const auto& f : outputs) {
-    if (!(starts_with(f, "figures/gallery_") && ends_with(f, ".json"))) continue;
+    if (!(f.starts_with("figures/gallery_") && f.ends_with(".json"))) continue;
     const std::string png = f.substr(0, f.size() - 5) + ".png";
     nlohmann::json side;
     try {
@@ -130,13 +123,13 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
     const std::string name = fs::path(f).filename().string();
     if (f == "figures/evolution.png") {
       evolution.media.push_back(image(f, "Best fitness per generation"));
-    } else if (starts_with(f, "figures/panel_") && ends_with(f, ".png")) {
+    } else if (f.starts_with("figures/panel_") && f.ends_with(".png")) {
       figures.media.push_back(image(f, "Panel " + name.substr(6, 1)));
     } else if (f == "figures/figure_5.png") {
       figures.media.push_back(image(f, "All panels"));
-    } else if (starts_with(f, "figures/gallery_") && ends_with(f, ".png")) {
+    } else if (f.starts_with("figures/gallery_") && f.ends_with(".png")) {
       galleries.media.push_back(image(f, name.substr(8, name.size() - 12)));
-    } else if (starts_with(f, "videos/") && ends_with(f, ".mp4")) {
+    } else if (f.starts_with("videos/") && f.ends_with(".mp4")) {
       ReportMedia v;
       v.kind = ReportMedia::Kind::kVideo;
       v.path = f;

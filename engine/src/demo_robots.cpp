@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "plastivox/base/rng.hpp"
 #include "plastivox/robot_file.hpp"
 
 namespace plastivox {
@@ -40,31 +41,17 @@ RobotDef demo_cube(int n, double E) {
   return r;
 }
 
-namespace {
-// SplitMix64: a tiny, fully specified generator (same numbers on every platform).
-struct SplitMix {
-  uint64_t x;
-  uint64_t next() {
-    uint64_t z = (x += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return (next() >> 11) * 0x1.0p-53; }
-};
-}  // namespace
-
 RobotDef demo_irregular(int target, unsigned seed) {
   RobotDef r = make_empty_robot(10, 10, 10);
   r.name = "demo-irregular";
-  SplitMix rng{seed * 0x2545f4914f6cdd1dull + 1};
+  Rng rng(seed * 0x2545f4914f6cdd1dull + 1);
   // Grow a face-connected body from the bottom centre by random accretion.
   std::vector<int> body{r.site(5, 5, 0)};
   r.present[body[0]] = 1;
   const int dx[6] = {1, -1, 0, 0, 0, 0}, dy[6] = {0, 0, 1, -1, 0, 0}, dz[6] = {0, 0, 0, 0, 1, -1};
   while (static_cast<int>(body.size()) < target && static_cast<int>(body.size()) < r.sites()) {
-    const int s = body[rng.next() % body.size()];
-    const int k = static_cast<int>(rng.next() % 6);
+    const int s = body[rng.next_u64() % body.size()];
+    const int k = static_cast<int>(rng.next_u64() % 6);
     const int x = s % 10 + dx[k], y = (s / 10) % 10 + dy[k], z = s / 100 + dz[k];
     if (x < 0 || y < 0 || z < 0 || x > 9 || y > 9 || z > 9) continue;
     const int t = r.site(x, y, z);

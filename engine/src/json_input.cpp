@@ -1,5 +1,7 @@
 #include "plastivox/json_input.hpp"
 
+#include <cstdint>
+#include <limits>
 #include <set>
 #include <vector>
 
@@ -54,4 +56,43 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
   }
 }
 
+namespace json_field {
+
+void fail(const std::string& source, const std::string& field, const std::string& what) {
+  throw InputError(source + ": " + field + ": " + what);
+}
+
+double number(const nlohmann::json& j, const std::string& source, const std::string& field) {
+  if (!j.is_number()) fail(source, field, "expected a number");
+  return j.get<double>();
+}
+
+int integer(const nlohmann::json& j, const std::string& source, const std::string& field) {
+  if (!j.is_number_integer()) fail(source, field, "expected an integer");
+  const auto v = j.get<int64_t>();
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+    fail(source, field, "is out of range, got " + std::to_string(v));
+  return static_cast<int>(v);
+}
+
+int integer(const nlohmann::json& j, const std::string& source, const std::string& field, int lo,
+            int hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  if (!j.is_number_integer()) fail(source, field, "expected an integer in " + range);
+  const auto v = j.get<int64_t>();
+  if (v < lo || v > hi) fail(source, field, "must be in " + range + ", got " + std::to_string(v));
+  return static_cast<int>(v);
+}
+
+std::string text(const nlohmann::json& j, const std::string& source, const std::string& field) {
+  if (!j.is_string()) fail(source, field, "expected a string");
+  return j.get<std::string>();
+}
+
+bool boolean(const nlohmann::json& j, const std::string& source, const std::string& field) {
+  if (!j.is_boolean()) fail(source, field, "expected true or false");
+  return j.get<bool>();
+}
+
+}  // namespace json_field
 }  // namespace plastivox

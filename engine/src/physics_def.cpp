@@ -49,7 +49,6 @@ void validate(const PhysicsDef& d) {
        "must be >= settle_time and <= 1e4 s");
   need(d.max_change_per_step > 0, "max_change_per_step", "must be > 0 Pa");
   need(d.min_devo_factor >= 0 && fin(d.min_devo_factor), "min_devo_factor", "must be >= 0");
-  need(d.record_fps >= 0 && d.record_fps <= 10000, "record_fps", "must be in [0, 10000]");
   need(d.max_speed > 0, "max_speed", "must be > 0 m/s");
 }
 

@@ -16,30 +16,11 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& source, const std::string& field,
-                       const std::string& what) {
-  throw InputError(source + ": " + field + ": " + what);
-}
-
-double number(const json& j, const std::string& source, const std::string& field) {
-  if (!j.is_number()) fail(source, field, "expected a number");
-  return j.get<double>();
-}
-
-int integer(const json& j, const std::string& source, const std::string& field) {
-  if (!j.is_number_integer()) fail(source, field, "expected an integer");
-  return j.get<int>();
-}
-
-std::string text(const json& j, const std::string& source, const std::string& field) {
-  if (!j.is_string()) fail(source, field, "expected a string");
-  return j.get<std::string>();
-}
-
-bool boolean(const json& j, const std::string& source, const std::string& field) {
-  if (!j.is_boolean()) fail(source, field, "expected true or false");
-  return j.get<bool>();
-}
+using json_field::boolean;
+using json_field::fail;
+using json_field::integer;
+using json_field::number;
+using json_field::text;
 
 int site_of(const RobotDef& r, const json& xyz, const std::string& source,
             const std::string& field) {
@@ -85,7 +66,6 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
                          {"duration", &d.duration},
                          {"max_change_per_step", &d.max_change_per_step},
                          {"min_devo_factor", &d.min_devo_factor},
-                         {"record_fps", &d.record_fps},
                          {"max_speed", &d.max_speed}};
   for (auto it = p.begin(); it != p.end(); ++it) {
     const std::string key = it.key(), field = "physics." + key;
@@ -105,7 +85,12 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
         d.self_collision = boolean(*it, where, field);
       else if (key == "sinking_invalid")
         d.sinking_invalid = boolean(*it, where, field);
-      else if (key == "collision_exclude_hops")
+      else if (key == "record_fps") {
+        // Files written while recording was a physics field carry it: checked, and otherwise
+        // unused (a recording is asked for by the command: simulate --record, --fps).
+        const double fps = number(*it, where, field);
+        if (!(fps >= 0 && fps <= 10000)) fail(where, field, "must be in [0, 10000]");
+      } else if (key == "collision_exclude_hops")
         d.collision_exclude_hops = integer(*it, where, field);
       else if (key == "treatment")
         d.treatment = parse_treatment(text(*it, where, field));
@@ -286,7 +271,6 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
         {"axial_modulus",
          d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
         {"bond_model", d.bond_model == BondModel::kExact ? "exact" : "voxelyze09"},
-        {"record_fps", d.record_fps},
         {"max_speed", d.max_speed}};
     // Written only when on, so every file and digest made before this option existed (and
     // every config that leaves it off) stays byte-identical.

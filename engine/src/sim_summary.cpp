@@ -5,7 +5,8 @@
 namespace plastivox {
 
 std::string sim_summary_json(const SimResult& r, const PhysicsDef& physics,
-                             const std::string& source, const std::string& version) {
+                             const std::string& source, const std::string& version,
+                             const StageTimings* timings) {
   nlohmann::json j;
   j["source"] = source;
   j["status"] = to_string(r.status);
@@ -31,6 +32,8 @@ std::string sim_summary_json(const SimResult& r, const PhysicsDef& physics,
   j["final_stiffness"] = r.final_stiffness;
   j["final_state_hash"] = r.final_state_hash;
   j["version"] = version;
+  if (timings)
+    for (const StageName& s : kStageNames) j["stage_seconds"][s.name] = timings->*s.seconds;
   return j.dump(1);
 }
 

@@ -1,11 +1,12 @@
 #include "plastivox/simulator.hpp"
 
 #include <cassert>
-#include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 
+#include "plastivox/base/clock.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -15,10 +16,26 @@ Simulator::Simulator(const Model& model)
 Simulator::~Simulator() = default;
 Simulator::Simulator(Simulator&&) noexcept = default;
 
+namespace {
+
+// Runs one stage, adding its wall time to *seconds when timing is on.
+template <class Stage>
+inline void run_stage(StageTimings* timings, double StageTimings::*seconds, Stage&& stage) {
+  if (!timings) {
+    stage();
+    return;
+  }
+  const auto start = WallClock::now();
+  stage();
+  timings->*seconds += seconds_since(start);
+}
+
+}  // namespace
+
 // One step, as a list of stages. Order follows Voxelyze 0.9 so results can be compared:
 // bonds see the sizes and stiffness left by the previous step; actuation for the next step
 // is set from the time at the start of this one; development reads this step's strains.
-void Simulator::step() {
+void Simulator::step(StageTimings* t) {
   const Model& m = *model_;
   State& s = state_;
   Workspace& w = *ws_;
@@ -29,13 +46,15 @@ void Simulator::step() {
          "the State was not made for this Model: restore only a State saved from a Simulator "
          "of the same compiled model");
 
-  compute_bond_forces(m, s, w);
-  follow_stiffness(m, s);
-  gather_voxel_forces(m, s, w);
-  apply_self_collisions(m, s, w);
-  integrate(m, s, w);
-  actuate(m, s);
-  develop(m, s, w);
+  using T = StageTimings;
+  run_stage(t, &T::bond_forces, [&] { compute_bond_forces(m, s, w); });
+  run_stage(t, &T::time_step, [&] { follow_stiffness(m, s); });
+  run_stage(t, &T::voxel_forces, [&] { gather_voxel_forces(m, s, w); });
+  run_stage(t, &T::self_collisions, [&] { apply_self_collisions(m, s, w); });
+  run_stage(t, &T::integrate, [&] { integrate(m, s, w); });
+  run_stage(t, &T::actuate, [&] { actuate(m, s); });
+  run_stage(t, &T::develop, [&] { develop(m, s, w); });
+  if (t) t->steps += 1;
 
   s.time += s.dt;
   s.steps += 1;
@@ -45,9 +64,7 @@ void Simulator::step() {
   }
 }
 
-namespace {
-
-void record_frame(const State& s, Recording& rec) {
+Frame capture_frame(const State& s) {
   Frame f;
   f.time = s.time;
   f.pos = s.pos;
@@ -55,10 +72,14 @@ void record_frame(const State& s, Recording& rec) {
   f.size = s.size;
   f.stiffness = s.stiffness;
   f.stimulus = s.stimulus;
-  rec.frames.push_back(std::move(f));
+  return f;
 }
 
-}  // namespace
+Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, const Vec3& com) {
+  Vec3 d = (com - com_settled) / model.size;
+  if (model.def.fitness == FitnessMode::kXY) d.z() = 0;
+  return d;
+}
 
 // Derived from the state, not carried in a flag: after any step that may have developed
 // (time past the settle time) dt is recomputed, and for unchanged stiffness stable_dt gives
@@ -68,37 +89,70 @@ void follow_stiffness(const Model& m, State& s) {
     s.dt = stable_dt(m, s.stiffness);
 }
 
-SimResult simulate(const Model& model) {
-  const auto wall_start = std::chrono::steady_clock::now();
+SimResult simulate(const Model& model, const SimOptions& o) {
+  const auto wall_start = WallClock::now();
   const PhysicsDef& d = model.def;
   Simulator sim(model);
   const State& s = sim.state();
   SimResult r;
   r.voxels = model.n;
   r.dt_initial = s.dt;
-  r.recording.fps = d.record_fps;
-  double next_frame = 0;
+
+  // Frame k is due once time reaches frame_time(k).
+  const bool at_times = !o.frame_times.empty();
+  const bool at_fps = !at_times && o.record_fps > 0;
+  if (at_fps) r.recording.fps = o.record_fps;
+  const size_t last_frame = at_times ? o.frame_times.size() : std::numeric_limits<size_t>::max();
+  auto frame_time = [&](size_t k) {
+    return at_times ? o.frame_times[k] : static_cast<double>(k) / o.record_fps;
+  };
+  size_t frames = 0;
+  bool stopped = false;           // on_frame asked to end the life
+  int64_t last_frame_step = -1;  // the step count of the state last taken as a frame
+  auto take_frame = [&] {
+    frames += 1;
+    last_frame_step = s.steps;
+    if (o.on_frame)
+      stopped = !o.on_frame(s);
+    else
+      r.recording.frames.push_back(capture_frame(s));
+  };
+  const double end = at_times ? o.frame_times.back() : d.duration;
+  double next_progress = 0;
+
   // Like Voxelyze, run until time first passes the duration.
   while (s.time <= d.duration && s.status == SimStatus::kRunning) {
-    if (d.record_fps > 0 && s.time >= next_frame) {
-      record_frame(s, r.recording);
-      next_frame = static_cast<double>(r.recording.frames.size()) / d.record_fps;
+    // One frame per step at most under record_fps, as the recording always did.
+    if (at_fps && s.time >= frame_time(frames)) take_frame();
+    while (at_times && frames < last_frame && s.time >= frame_time(frames) && !stopped)
+      take_frame();
+    if (stopped || frames == last_frame) break;
+    if (o.progress && s.time >= next_progress) {
+      o.progress(end > 0 ? std::min(1.0, s.time / end) : 1.0);
+      next_progress = s.time + end / 100;
     }
-    sim.step();
+    sim.step(o.timings);
   }
-  if (d.record_fps > 0 && s.status == SimStatus::kRunning) record_frame(s, r.recording);
+  // The life ran to its end: frames due at the last state, and under record_fps the last
+  // state itself, are still to take.
+  const bool whole_life = s.status == SimStatus::kRunning && s.time > d.duration && !stopped;
+  if (whole_life) {
+    while (at_times && frames < last_frame && s.time >= frame_time(frames) && !stopped)
+      take_frame();
+    if (at_fps && last_frame_step != s.steps) take_frame();
+  }
+  if (o.progress && !stopped) o.progress(1.0);
 
-  r.status = s.status == SimStatus::kRunning ? SimStatus::kFinished : s.status;
+  r.status = whole_life ? SimStatus::kFinished : s.status;
   r.failure = s.failure;
   r.steps = s.steps;
   r.sim_time = s.time;
   r.dt_final = s.dt;
   r.com_final = center_of_mass(s);
+  r.settled = s.settled;
   r.com_settled = s.settled ? s.com_settled : r.com_final;
-  Vec3 disp = (r.com_final - r.com_settled) / model.size;
-  if (d.fitness == FitnessMode::kXY) disp.z() = 0;
-  r.displacement = disp;
-  r.fitness = r.status == SimStatus::kFinished ? disp.norm() : 0.0;
+  r.displacement = displacement_since_settling(model, r.com_settled, r.com_final);
+  r.fitness = r.status == SimStatus::kFinished ? r.displacement.norm() : 0.0;
   r.final_stiffness = s.stiffness;
   double sum = 0, sum_abs = 0, sum_sq = 0;
   for (int i = 0; i < model.n; ++i) {
@@ -137,8 +191,7 @@ SimResult simulate(const Model& model) {
       }
     }
   }
-  r.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  r.wall_seconds = seconds_since(wall_start);
   return r;
 }
 

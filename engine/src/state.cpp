@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "plastivox/base/hash.hpp"
+
 namespace plastivox {
 
 State make_initial_state(const Model& m) {
@@ -24,27 +26,9 @@ State make_initial_state(const Model& m) {
   return s;
 }
 
-namespace {
-struct Fnv {
-  uint64_t h = 1469598103934665603ull;
-  void bytes(const void* p, size_t n) {
-    const auto* c = static_cast<const unsigned char*>(p);
-    for (size_t i = 0; i < n; ++i) {
-      h ^= c[i];
-      h *= 1099511628211ull;
-    }
-  }
-  template <class T>
-  void vec(const std::vector<T>& v) {
-    const uint64_t n = v.size();
-    bytes(&n, sizeof n);
-    for (const T& x : v) bytes(&x, sizeof x);
-  }
-};
-}  // namespace
 
 uint64_t state_hash(const State& s) {
-  Fnv f;
+  Fnv1a64 f;
   f.bytes(&s.time, sizeof s.time);
   f.bytes(&s.steps, sizeof s.steps);
   f.bytes(&s.dt, sizeof s.dt);
@@ -60,13 +44,13 @@ uint64_t state_hash(const State& s) {
   for (const auto& component : s.bond_prev) f.vec(component);
   f.vec(s.bond_prev_valid);
   f.vec(s.bond_small_angle);
-  return f.h;
+  return f.value();
 }
 
-Vec3 center_of_mass(const State& s) {
+Vec3 center_of_mass(const std::vector<Vec3>& pos) {
   Vec3 c = Vec3::Zero();
-  for (const Vec3& p : s.pos) c += p;
-  return s.pos.empty() ? c : Vec3(c / static_cast<double>(s.pos.size()));
+  for (const Vec3& p : pos) c += p;
+  return pos.empty() ? c : Vec3(c / static_cast<double>(pos.size()));
 }
 
 }  // namespace plastivox

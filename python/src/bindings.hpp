@@ -26,10 +26,10 @@ struct PyRobot {
 };
 
 // The physics of one call: the robot's own, then `physics_json` (a JSON object of
-// PhysicsDef fields, "preset" first) applied on top, then `treatment`; record_fps is set
-// here and nowhere else (0: no recording). Throws InputError / std::invalid_argument.
+// PhysicsDef fields, "preset" first) applied on top, then `treatment`. Throws InputError /
+// std::invalid_argument.
 PhysicsDef resolve_physics(const PhysicsDef& base, const std::optional<std::string>& physics_json,
-                           const std::optional<std::string>& treatment, double record_fps);
+                           const std::optional<std::string>& treatment);
 
 // All fields of def as a JSON object text (the keys physics() returns).
 std::string physics_to_json(const PhysicsDef& def);

@@ -8,46 +8,29 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/robot_file.hpp"
-#include "plastivox/vxa.hpp"
+#include "plastivox/robot_io.hpp"
 
 namespace plastivox::py {
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 PyRobot load_robot(const std::string& path) {
   PyRobot r;
   r.source = path;
-  if (ends_with(path, ".vxa")) {
-    VxaRobot v = read_vxa_file(path);
-    for (const std::string& w : v.warnings) warn(path + ": " + w);
-    r.def = std::move(v.robot);
-    r.physics = v.physics;
-  } else if (ends_with(path, ".json")) {
-    RobotFile f = read_robot_file(path);
-    r.def = std::move(f.robot);
-    r.physics = f.physics;
-  } else {
-    throw InputError(path + ": expected a robot file ending in .json or .vxa");
-  }
+  LoadedRobot file = plastivox::load_robot(path);
+  for (const std::string& w : file.warnings) warn(path + ": " + w);
+  r.def = std::move(file.robot);
+  r.physics = file.physics;
   return r;
 }
 
 void save_robot(const PyRobot& r, const std::string& path) {
-  if (ends_with(path, ".vxa")) {
-    std::vector<std::string> warnings;
-    write_vxa_file(path, r.def, r.physics, &warnings);
-    for (const std::string& w : warnings) warn(path + ": " + w);
-  } else if (ends_with(path, ".json")) {
-    validate(r.def);
-    write_robot_file(path, r.def, &r.physics);
-  } else {
+  if (!path.ends_with(".vxa") && !path.ends_with(".json"))
     throw std::invalid_argument("path: expected a file name ending in .json or .vxa, got '" + path +
                                 "'");
-  }
+  validate(r.def);
+  std::vector<std::string> warnings;
+  plastivox::save_robot(path, r.def, r.physics, &warnings);
+  for (const std::string& w : warnings) warn(path + ": " + w);
 }
 
 // Copies a flat float64 array of one value per lattice site into out.
@@ -100,13 +83,10 @@ void warn(const std::string& message) {
 }
 
 PhysicsDef resolve_physics(const PhysicsDef& base, const std::optional<std::string>& physics_json,
-                           const std::optional<std::string>& treatment, double record_fps) {
+                           const std::optional<std::string>& treatment) {
   PhysicsDef d = base;
   if (physics_json) apply_physics_json(*physics_json, "physics", d);
   if (treatment) d.treatment = parse_treatment(*treatment);
-  if (!(record_fps >= 0 && record_fps <= 1e6))
-    throw std::invalid_argument("record_fps: must be in [0, 1e6] frames per second");
-  d.record_fps = record_fps;
   validate(d);
   return d;
 }
@@ -144,7 +124,7 @@ void bind_robot(pyb::module_& m) {
               const std::optional<std::string>& treatment) {
              PyRobot out = r;
              out.physics =
-                 resolve_physics(r.physics, physics_json, treatment, r.physics.record_fps);
+                 resolve_physics(r.physics, physics_json, treatment);
              return out;
            })
       .def("save", &save_robot, pyb::arg("path"));

@@ -14,6 +14,15 @@
 namespace plastivox::py {
 namespace {
 
+// What a call records: frames at record_fps (0: none), checked here and nowhere else.
+SimOptions recording(double record_fps) {
+  if (!(record_fps >= 0 && record_fps <= 1e6))
+    throw std::invalid_argument("record_fps: must be in [0, 1e6] frames per second");
+  SimOptions o;
+  o.record_fps = record_fps;
+  return o;
+}
+
 // One simulated life as the Python layer receives it: the summary JSON of
 // `simulate --json` and, when recorded, the trajectory arrays.
 pyb::tuple life_to_python(const SimResult& r, const PhysicsDef& physics,
@@ -57,11 +66,12 @@ pyb::tuple life_to_python(const SimResult& r, const PhysicsDef& physics,
 
 pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& physics_json,
                         const std::optional<std::string>& treatment, double record_fps) {
-  const PhysicsDef physics = resolve_physics(robot.physics, physics_json, treatment, record_fps);
+  const PhysicsDef physics = resolve_physics(robot.physics, physics_json, treatment);
+  const SimOptions options = recording(record_fps);
   SimResult r;
   {
     pyb::gil_scoped_release unlocked;
-    r = simulate(compile(robot.def, physics));
+    r = simulate(compile(robot.def, physics), options);
   }
   return life_to_python(r, physics, robot.source);
 }
@@ -71,16 +81,17 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
                         const std::optional<std::string>& treatment, double record_fps,
                         int threads) {
   if (threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
+  const SimOptions options = recording(record_fps);
   std::vector<PhysicsDef> physics;
   physics.reserve(robots.size());
   for (const PyRobot* r : robots)
-    physics.push_back(resolve_physics(r->physics, physics_json, treatment, record_fps));
+    physics.push_back(resolve_physics(r->physics, physics_json, treatment));
   std::vector<SimResult> results(robots.size());
   {
     pyb::gil_scoped_release unlocked;
     evo::parallel_for(
         robots.size(), threads == 0 ? evo::hardware_threads() : threads,
-        [&](size_t i) { results[i] = simulate(compile(robots[i]->def, physics[i])); });
+        [&](size_t i) { results[i] = simulate(compile(robots[i]->def, physics[i]), options); });
   }
   pyb::list out;
   for (size_t i = 0; i < robots.size(); ++i)
@@ -94,7 +105,7 @@ class PySimulator {
   PySimulator(const PyRobot& robot, const std::optional<std::string>& physics_json,
               const std::optional<std::string>& treatment)
       : model_(std::make_shared<const Model>(
-            compile(robot.def, resolve_physics(robot.physics, physics_json, treatment, 0)))),
+            compile(robot.def, resolve_physics(robot.physics, physics_json, treatment)))),
         sim_(std::make_unique<Simulator>(*model_)) {}
 
   // Advances up to n steps, stopping when the life is over (time past the duration, as in

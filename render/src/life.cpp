@@ -9,33 +9,17 @@
 #include "plastivox/render/offscreen.hpp"  // RenderError
 #include "plastivox/robot_file.hpp"
 #include "plastivox/simulator.hpp"
-#include "plastivox/vxa.hpp"
+#include "plastivox/robot_io.hpp"
 
 namespace plastivox::render {
 namespace {
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-Frame capture(const State& s) {
-  Frame f;
-  f.time = s.time;
-  f.pos = s.pos;
-  f.orient = s.orient;
-  f.size = s.size;
-  f.stiffness = s.stiffness;
-  f.stimulus = s.stimulus;
-  return f;
-}
 
 }  // namespace
 
 LifeSource load_life_source(const std::string& path, int generation) {
   LifeSource src;
   src.path = path;
-  if (ends_with(path, ".h5")) {
+  if (path.ends_with(".h5")) {
     const evo::ResultsFile results = evo::read_results(path);
     const evo::RunState& run = results.state;
     const evo::ChampionRecord& champion = evo::champion_at(run, generation, path);
@@ -43,16 +27,11 @@ LifeSource load_life_source(const std::string& path, int generation) {
     src.physics = run.config.physics;
     src.label =
         std::string(to_string(run.config.treatment)) + " · seed " + std::to_string(run.config.seed);
-  } else if (ends_with(path, ".vxa")) {
-    VxaRobot vxa = read_vxa_file(path);
-    src.robot = std::move(vxa.robot);
-    src.physics = vxa.physics;
-    src.warnings = std::move(vxa.warnings);
-    src.label = src.robot.name;
-  } else if (ends_with(path, ".json")) {
-    RobotFile file = read_robot_file(path);
+  } else if (path.ends_with(".vxa") || path.ends_with(".json")) {
+    LoadedRobot file = load_robot(path);
     src.robot = std::move(file.robot);
     src.physics = file.physics;
+    src.warnings = std::move(file.warnings);
     src.label = src.robot.name.empty() ? path : src.robot.name;
   } else {
     throw InputError(path + ": expected a robot (.json, .vxa) or results file (.h5)");
@@ -61,9 +40,7 @@ LifeSource load_life_source(const std::string& path, int generation) {
 }
 
 std::shared_ptr<const Model> compile_life_model(const LifeSource& source) {
-  PhysicsDef def = source.physics;
-  def.record_fps = 0;  // frames are captured at the requested times
-  return std::make_shared<const Model>(compile(source.robot, def));
+  return std::make_shared<const Model>(compile(source.robot, source.physics));
 }
 
 void simulate_frames(const LifeSource& source, const Model& model, const std::vector<double>& times,
@@ -77,47 +54,36 @@ void simulate_frames(const LifeSource& source, const Model& model, const std::ve
     if (k > 0 && times[k] < times[k - 1])
       throw RenderError("simulate_frames: times must be ascending");
   }
-  Simulator sim(model);
-  const State& s = sim.state();
-  // Frames at or after the settle time wait here until the simulation has settled (it
+  // A frame at or after the settle time waits here until the simulation has settled (it
   // settles on the first step past the settle time), so each goes out with the centre of
-  // mass the finished life would report.
-  std::deque<Frame> waiting;
+  // mass the finished life reports.
+  std::deque<LifeFrame> waiting;
+  size_t taken = 0;
   bool stopped = false;
-  auto hand_over = [&](bool finished) {
+  auto hand_over = [&](bool settled, const Eigen::Vector3d& com_settled, bool finished) {
     while (!stopped && !waiting.empty() &&
-           (finished || s.settled || waiting.front().time < model.def.settle_time)) {
-      LifeFrame f;
-      f.frame = std::move(waiting.front());
+           (finished || settled || waiting.front().frame.time < model.def.settle_time)) {
+      LifeFrame f = std::move(waiting.front());
       waiting.pop_front();
-      f.settled = s.settled;
-      f.com_settled = s.settled ? s.com_settled : Eigen::Vector3d::Zero();
+      f.settled = settled;
+      f.com_settled = settled ? com_settled : Eigen::Vector3d::Zero();
       stopped = !sink(std::move(f));
     }
   };
-  const double end = times.empty() ? 0 : times.back();
-  double next_report = 0;
-  for (double t : times) {
-    while (s.time < t && s.status == SimStatus::kRunning) {
-      sim.step();
-      if (!waiting.empty()) hand_over(false);
-      if (stopped) return;
-      if (progress && end > 0 && s.time >= next_report) {
-        progress(std::min(1.0, s.time / end));
-        next_report = s.time + end / 100;
-      }
-    }
-    if (s.status != SimStatus::kRunning) {
-      hand_over(true);
-      throw RenderError(source.path + ": the simulation went unstable at t = " +
-                        std::to_string(s.time) + " s (" + s.failure + ")");
-    }
-    waiting.push_back(capture(s));
-    hand_over(false);
-    if (stopped) return;
-  }
-  hand_over(true);
-  if (progress && !stopped) progress(1.0);
+  SimOptions options;
+  options.frame_times = times;
+  options.progress = progress;
+  options.on_frame = [&](const State& s) {
+    waiting.push_back(LifeFrame{capture_frame(s), false, Eigen::Vector3d::Zero()});
+    taken += 1;
+    hand_over(s.settled, s.com_settled, false);
+    return !stopped;
+  };
+  const SimResult r = simulate(model, options);
+  hand_over(r.settled, r.com_settled, true);
+  if (!stopped && taken < times.size() && r.status == SimStatus::kUnstable)
+    throw RenderError(source.path + ": the simulation went unstable at t = " +
+                      std::to_string(r.sim_time) + " s (" + r.failure + ")");
 }
 
 Life simulate_life(const LifeSource& source, const std::vector<double>& times,
@@ -139,18 +105,10 @@ Life simulate_life(const LifeSource& source, const std::vector<double>& times,
   return life;
 }
 
-Eigen::Vector3d center_of_mass(const Frame& frame) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : frame.pos) sum += p;
-  return frame.pos.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(frame.pos.size()));
-}
-
 double displacement_so_far(const Life& life, const Frame& frame) {
   const Model& m = *life.model;
   if (!life.settled || frame.time < m.def.settle_time) return 0;
-  Eigen::Vector3d d = (center_of_mass(frame) - life.com_settled) / m.size;
-  if (m.def.fitness == FitnessMode::kXY) d.z() = 0;
-  return d.norm();
+  return displacement_since_settling(m, life.com_settled, center_of_mass(frame.pos)).norm();
 }
 
 }  // namespace plastivox::render

@@ -12,15 +12,12 @@
 #include <mutex>
 #include <thread>
 
+#include "plastivox/base/clock.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/video_writer.hpp"
 
 namespace plastivox::render {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 void say(const LogFn& log, const std::string& line) {
   if (log) log(line);

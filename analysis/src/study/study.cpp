@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/base/clock.hpp"
 #include "plastivox/evo/hash.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "study_internal.hpp"
@@ -15,10 +16,7 @@
 namespace plastivox::analysis {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = WallClock;
 
 // Records why `metrics` have no value, and the champion's status.
 void note(ChampionAnalysis& c, const std::string& code, const std::string& why,
@@ -118,7 +116,7 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
 
   auto t0 = Clock::now();
   study::load_champions(files, options, r);
-  r.timings.load = since(t0);
+  r.timings.load = seconds_since(t0);
   const int n = static_cast<int>(r.champions.size());
   {
     std::string counts;
@@ -141,15 +139,15 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
 
   t0 = Clock::now();
   study::run_robustness(r, progress);
-  r.timings.robustness = since(t0);
+  r.timings.robustness = seconds_since(t0);
 
   t0 = Clock::now();
   measure_canalization(r);
-  r.timings.canalization = since(t0);
+  r.timings.canalization = seconds_since(t0);
 
   t0 = Clock::now();
   for (ChampionAnalysis& c : r.champions) c.body_plan = classify_body_plan(voxel_set(c.robot));
-  r.timings.body_plans = since(t0);
+  r.timings.body_plans = seconds_since(t0);
 
   t0 = Clock::now();
   std::vector<VoxelSet> sets;
@@ -158,7 +156,7 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
   ho.rotations = options.rotations;
   ho.translation = options.translation;
   r.hausdorff = hausdorff_matrix(sets, ho, options.threads);
-  r.timings.hausdorff = since(t0);
+  r.timings.hausdorff = seconds_since(t0);
   {
     char buf[128];
     std::snprintf(buf, sizeof buf, "hausdorff: %d pairs, rotations %s, translation %s, %.2f s",
@@ -170,14 +168,14 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
   t0 = Clock::now();
   r.panels = study::compute_panels(r);
   r.evolution = study::compute_evolution(r);
-  r.timings.statistics = since(t0);
+  r.timings.statistics = seconds_since(t0);
   {
     char buf[128];
     std::snprintf(buf, sizeof buf, "statistics: %zu panels, %d resamples, %.2f s", r.panels.size(),
                   options.resamples, r.timings.statistics);
     report(progress, "statistics", 1, 1, buf);
   }
-  r.timings.total = since(start);
+  r.timings.total = seconds_since(start);
   return r;
 }
 

@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "parallel_for.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/hash.hpp"
 #include "study_internal.hpp"
@@ -217,11 +217,12 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress) {
   if (!o.cache_dir.empty()) std::filesystem::create_directories(o.cache_dir);
 
   // Champions in parallel; a champion's own 1 + draws simulations share the spare threads.
-  const int threads = detail::resolve_threads(o.threads);
+  const int threads = o.threads > 0 ? o.threads : hardware_threads();
   const int outer = std::min(threads, static_cast<int>(todo.size()));
   const int inner = std::max(1, threads / outer);
   try {
-    detail::parallel_for(static_cast<int>(todo.size()), outer, [&](int k) {
+    parallel_for(todo.size(), outer, [&](size_t k_) {
+      const int k = static_cast<int>(k_);
       if (o.stop_requested && o.stop_requested->load()) throw StudyStopped("stopped on request");
       ChampionAnalysis& c = r.champions[todo[k]];
       const auto t0 = std::chrono::steady_clock::now();

@@ -16,4 +16,16 @@ namespace plastivox {
 nlohmann::json parse_json_input(std::string_view text, const std::string& source,
                                 const std::string& field = "(file)");
 
+// Reading one field of a parsed input: each throws InputError "<source>: <field>: <what>"
+// when the value has the wrong type or range, so every input names its mistakes alike.
+namespace json_field {
+[[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what);
+double number(const nlohmann::json& j, const std::string& source, const std::string& field);
+int integer(const nlohmann::json& j, const std::string& source, const std::string& field);
+int integer(const nlohmann::json& j, const std::string& source, const std::string& field, int lo,
+            int hi);
+std::string text(const nlohmann::json& j, const std::string& source, const std::string& field);
+bool boolean(const nlohmann::json& j, const std::string& source, const std::string& field);
+}  // namespace json_field
+
 }  // namespace plastivox

@@ -69,8 +69,7 @@ struct PhysicsDef {
 
   FitnessMode fitness = FitnessMode::k3D;
 
-  // --- recording and safety ---
-  double record_fps = 60.0;  // frames per simulated second; 0 = no recording
+  // --- safety --- (recording is an output option: SimOptions in simulator.hpp)
   double max_speed = 100.0;  // m/s; a voxel faster than this means the run went unstable
   // A life whose body ends below the floor (SimResult::sank) counts as unstable (fitness 0)
   // instead of being reported only. Off in every preset: the authors' simulator scores such

@@ -11,16 +11,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
 
 namespace plastivox {
-
-// Any problem with an input file: what() is one line naming the file and the field.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct RobotFile {
   RobotDef robot;

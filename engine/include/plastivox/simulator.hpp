@@ -6,6 +6,8 @@
 // order: results are bit-identical whatever the number of threads evaluating robots.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +19,38 @@
 namespace plastivox {
 
 struct Workspace;  // per-step scratch arrays (engine/src/workspace.hpp)
+
+// Wall time spent in each stage of Simulator::step, summed over the steps timed (as
+// MuJoCo's timers do). Costs two clock reads per stage, so only on request.
+struct StageTimings {
+  double bond_forces = 0;      // s: strains and forces of every bond
+  double time_step = 0;        // s: dt follows developed stiffness
+  double voxel_forces = 0;     // s: bond forces gathered per voxel, gravity, floor contact
+  double self_collisions = 0;  // s
+  double integrate = 0;        // s: velocities and poses
+  double actuate = 0;          // s: sizes for the next step
+  double develop = 0;          // s: stimulus and stiffness
+  int64_t steps = 0;
+  double total() const;
+};
+
+// The stages by name, in step order, for reports.
+struct StageName {
+  const char* name;
+  double StageTimings::*seconds;
+};
+inline constexpr StageName kStageNames[] = {{"bond_forces", &StageTimings::bond_forces},
+                                            {"time_step", &StageTimings::time_step},
+                                            {"voxel_forces", &StageTimings::voxel_forces},
+                                            {"self_collisions", &StageTimings::self_collisions},
+                                            {"integrate", &StageTimings::integrate},
+                                            {"actuate", &StageTimings::actuate},
+                                            {"develop", &StageTimings::develop}};
+inline double StageTimings::total() const {
+  double sum = 0;
+  for (const StageName& s : kStageNames) sum += this->*s.seconds;
+  return sum;
+}
 
 class Simulator {
  public:
@@ -32,8 +66,9 @@ class Simulator {
   State& mutable_state() { return state_; }
 
   // Advances one time step. Sets status to kUnstable (with a reason) instead of producing
-  // non-finite numbers; further calls then do nothing.
-  void step();
+  // non-finite numbers; further calls then do nothing. Adds each stage's wall time to
+  // `timings` when given.
+  void step(StageTimings* timings = nullptr);
 
  private:
   const Model* model_;
@@ -60,18 +95,48 @@ struct SimResult {
   double stiffness_change_abs_mean = 0;  // mean of absolute values
   double stiffness_change_var = 0;       // variance of the signed values
   uint64_t final_state_hash = 0;
-  Recording recording;  // empty unless def.record_fps > 0
+  Recording recording;  // frames, when SimOptions asked for them without an on_frame
   // Health: with the floor on, the body ended below it (its centre of mass, or a whole
   // voxel, under z = 0). Heavy, soft bodies do this: their time step is long enough for
   // them to pass through the floor in one step (docs/physics.md, "Sinking through the
   // floor"). Reported, not acted on, unless def.sinking_invalid (then status is kUnstable).
   bool sank = false;
+  bool settled = false;  // the life passed the settle time (else com_settled is com_final)
   int voxels_below_floor = 0;         // voxels whose top face ends below z = 0
   std::vector<std::string> warnings;  // one line each, e.g. what sank and by how much
 };
 
-// Simulates a whole life (def.duration) and summarises it.
-SimResult simulate(const Model& model);
+// What simulate() records and reports besides the summary. The default records nothing.
+//
+// Frames are taken at frame times, each the first state whose time is >= the frame time
+// (several frame times inside one step get the same state):
+//   - record_fps > 0: at k / record_fps over the whole life, plus the last state;
+//   - frame_times (ascending, s): at those times only, and the life ends after the last one
+//     (a still at t = 2.6 s does not simulate the rest); times past the end of the life are
+//     not taken. frame_times wins over record_fps.
+// Each frame goes to on_frame when it is set, else into SimResult::recording.
+struct SimOptions {
+  double record_fps = 0;            // frames per simulated second, 0 = none
+  std::vector<double> frame_times;  // s, ascending
+  // Called with the state at each frame time; returning false ends the life there.
+  std::function<bool(const State&)> on_frame;
+  // Called with the fraction of the life simulated, in [0, 1], about every 1 %, and with 1
+  // when the life is over.
+  std::function<void(double)> progress;
+  StageTimings* timings = nullptr;  // per-stage wall time of every step, when set
+};
+
+// Simulates a life and summarises it: to def.duration (like Voxelyze, until time first
+// passes it), or to the last of options.frame_times, or until on_frame returns false. A life
+// ended early keeps status kRunning, and its summary describes the life so far.
+SimResult simulate(const Model& model, const SimOptions& options = {});
+
+// The frame simulate() records of a state: pose, size, stiffness and stimulus per voxel.
+Frame capture_frame(const State& state);
+
+// Displacement of the centre of mass from com_settled to com in voxel lengths, z zeroed
+// under the xy fitness mode: the vector whose norm is fitness.
+Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, const Vec3& com);
 
 const char* to_string(SimStatus s);
 

@@ -14,15 +14,16 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/error.hpp"
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
 
 namespace plastivox {
 
 // what() is one line: "<file>: <Tag>/<Path>: what is wrong".
-class VxaError : public std::runtime_error {
+class VxaError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 // One <Palette>/<Material> entry as read (the physics keeps only what PhysicsDef can hold).

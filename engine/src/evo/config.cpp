@@ -17,32 +17,10 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& source, const std::string& field,
-                       const std::string& what) {
-  throw InputError(source + ": " + field + ": " + what);
-}
-
-int integer(const json& j, const std::string& src, const std::string& field, int lo, int hi) {
-  if (!j.is_number_integer())
-    fail(src, field,
-         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  const auto v = j.get<int64_t>();
-  if (v < lo || v > hi)
-    fail(src, field,
-         "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-             std::to_string(v));
-  return static_cast<int>(v);
-}
-
-double number(const json& j, const std::string& src, const std::string& field) {
-  if (!j.is_number()) fail(src, field, "expected a number");
-  return j.get<double>();
-}
-
-std::string text(const json& j, const std::string& src, const std::string& field) {
-  if (!j.is_string()) fail(src, field, "expected a string");
-  return j.get<std::string>();
-}
+using json_field::fail;
+using json_field::integer;
+using json_field::number;
+using json_field::text;
 
 json canonical(const EvolveConfig& c, bool with_run_control) {
   json j;
@@ -171,7 +149,6 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   const json given = json::parse(c.physics_json);
   if (given.contains("record_fps") && given["record_fps"] != 0)
     fail(src, "physics.record_fps", "must be 0 during evolution (recording is off)");
-  c.physics.record_fps = 0;
   try {  // every body this run makes is bounded by e_max, so none can fail later
     check_life_bounds(c.physics, c.voxel_size, c.physics.e_max);
   } catch (const std::invalid_argument& e) {
@@ -190,6 +167,9 @@ std::string resolved_physics_json(const PhysicsDef& d) {
   json p = robot["physics"];
   p["bond_model"] = d.bond_model == BondModel::kExact ? "exact" : "voxelyze09";
   p["global_damping_rot_factor"] = d.global_damping_rot_factor;
+  // Recording left the physics for SimOptions; evolution never recorded, so every identity
+  // and digest made before the move said 0 here and still does.
+  p["record_fps"] = 0.0;
   return p.dump();
 }
 

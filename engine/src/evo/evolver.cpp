@@ -7,6 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "plastivox/base/clock.hpp"
 #include "plastivox/evo/afpo.hpp"
 #include "plastivox/evo/thread_pool.hpp"
 #include "plastivox/evo/variation.hpp"
@@ -14,10 +15,6 @@
 
 namespace plastivox::evo {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Index of the champion: highest fitness, ties to the lowest id (population is by id).
 size_t champion_index(const std::vector<Individual>& pop) {

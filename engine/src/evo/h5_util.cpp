@@ -1,4 +1,4 @@
-#include "h5_util.hpp"
+#include "plastivox/evo/h5_util.hpp"
 
 #include <cstring>
 #include <limits>

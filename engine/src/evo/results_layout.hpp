@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "h5_util.hpp"
+#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/run_state.hpp"
 
 namespace plastivox::evo::layout {

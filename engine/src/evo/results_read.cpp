@@ -4,7 +4,7 @@
 #include <sys/stat.h>
 
 #include "file_seal.hpp"
-#include "h5_util.hpp"
+#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/robot_file.hpp"
 #include "results_layout.hpp"

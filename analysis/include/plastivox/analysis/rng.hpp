@@ -14,6 +14,8 @@
 #include <array>
 #include <cstdint>
 
+#include "plastivox/base/rng.hpp"
+
 namespace plastivox::analysis {
 
 // What a stream is for; part of its key so two purposes never share numbers.
@@ -43,7 +45,7 @@ class Rng {
   std::array<uint64_t, 4> s_;
 };
 
-// SplitMix64's output function: a bijective 64-bit mixer (also used to derive stream keys).
-uint64_t mix64(uint64_t x);
+// SplitMix64's mixer, the base layer's (also used to derive stream keys).
+using plastivox::mix64;
 
 }  // namespace plastivox::analysis

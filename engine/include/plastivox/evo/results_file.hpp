@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "plastivox/base/error.hpp"
 #include "plastivox/evo/run_state.hpp"
 
 namespace plastivox::evo {
@@ -17,9 +18,9 @@ namespace plastivox::evo {
 constexpr int kResultsFormatVersion = 1;
 
 // Any problem with a results file; what() is one line naming the file and the object.
-class ResultsError : public std::runtime_error {
+class ResultsError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 // Where and how a file was produced (root attributes; not part of the content digest).

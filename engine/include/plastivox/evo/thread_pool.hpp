@@ -1,18 +1,9 @@
-// Parallel loops for evaluation. Work items are claimed dynamically, but every item writes
-// only its own result slot, so results never depend on the number of threads or on timing.
+// The evolver's parallel loop is the base layer's (plastivox/base/parallel.hpp).
 #pragma once
 
-#include <cstddef>
-#include <functional>
+#include "plastivox/base/parallel.hpp"
 
 namespace plastivox::evo {
-
-// Number of hardware threads (at least 1).
-int hardware_threads();
-
-// Calls fn(i) for every i in [0, n) on up to `threads` threads (the caller's thread
-// included; threads <= 1 runs serially in order). If calls throw, the exception of the
-// lowest index is rethrown after all threads have stopped.
-void parallel_for(size_t n, int threads, const std::function<void(size_t)>& fn);
-
+using plastivox::hardware_threads;
+using plastivox::parallel_for;
 }  // namespace plastivox::evo

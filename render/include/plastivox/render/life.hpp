@@ -63,9 +63,6 @@ void simulate_frames(const LifeSource& source, const Model& model, const std::ve
                      const std::function<bool(LifeFrame&&)>& sink,
                      const std::function<void(double)>& progress = {});
 
-// Centre of mass of a frame (voxels have equal mass), m.
-Eigen::Vector3d center_of_mass(const Frame& frame);
-
 // Displacement of the centre of mass since settling, voxel lengths (zero before settling;
 // z ignored under the xy fitness mode), the quantity fitness measures.
 double displacement_so_far(const Life& life, const Frame& frame);

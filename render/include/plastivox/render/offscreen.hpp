@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/error.hpp"
+
 struct ImDrawList;
 struct ImFont;
 struct ImGuiContext;
@@ -33,9 +35,9 @@ namespace plastivox::render {
 
 // Any rendering failure (no GL context, missing font or asset, unwritable output);
 // what() is one line naming the file or setting at fault.
-class RenderError : public std::runtime_error {
+class RenderError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 // An off-screen RGBA8 OpenGL context of width x height pixels with a 24-bit depth and 8-bit

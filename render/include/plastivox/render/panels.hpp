@@ -15,15 +15,17 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/error.hpp"
+
 #include <nlohmann/json_fwd.hpp>
 
 namespace plastivox::render {
 
 // A malformed or foreign stats.json: one line naming the file and the field, e.g.
 // "stats.json: panels[1].groups[0].mean: missing".
-class StatsError : public std::runtime_error {
+class StatsError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 // One bar: a treatment's mean with its confidence interval.

@@ -18,12 +18,14 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/error.hpp"
+
 namespace plastivox::render {
 
 // Any failure of the writer or reader: one line, naming the file.
-class VideoError : public std::runtime_error {
+class VideoError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 struct VideoOptions {

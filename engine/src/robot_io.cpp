@@ -1,0 +1,37 @@
+#include "plastivox/robot_io.hpp"
+
+#include <stdexcept>
+
+#include "plastivox/robot_file.hpp"
+#include "plastivox/vxa.hpp"
+
+namespace plastivox {
+
+LoadedRobot load_robot(const std::string& path) {
+  LoadedRobot out;
+  if (path.ends_with(".vxa")) {
+    VxaRobot v = read_vxa_file(path);
+    out.robot = std::move(v.robot);
+    out.physics = v.physics;
+    out.warnings = std::move(v.warnings);
+  } else {
+    RobotFile f = read_robot_file(path);
+    out.robot = std::move(f.robot);
+    out.physics = f.physics;
+  }
+  return out;
+}
+
+void save_robot(const std::string& path, const RobotDef& robot, const PhysicsDef& physics,
+                std::vector<std::string>* warnings) {
+  if (path.ends_with(".vxa")) {
+    write_vxa_file(path, robot, physics, warnings);
+  } else if (path.ends_with(".json")) {
+    write_robot_file(path, robot, &physics);
+  } else {
+    throw std::invalid_argument("expected a robot file name ending in .json or .vxa, got '" +
+                                path + "'");
+  }
+}
+
+}  // namespace plastivox
