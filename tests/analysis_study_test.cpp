@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/evo/h5_util.hpp"  // to read analysis.h5 back
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/evo/h5_util.hpp"  // to read analysis.h5 back
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "test_support.hpp"

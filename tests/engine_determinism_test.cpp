@@ -41,8 +41,8 @@ TEST(Determinism, SameResultOnConcurrentThreads) {
 
 // The bond kernel runs four (AVX2) or eight (AVX-512) bonds per instruction where the CPU
 // has them: every instruction set must give the same bits. The irregular body has soft
-// voxels that bend far, so its bonds also take the large-rotation lanes (the engine's own arctangent series, wide reduction)
-// and the scalar redo path.
+// voxels that bend far, so its bonds also take the large-rotation lanes (the engine's own
+// arctangent series, wide reduction) and the scalar redo path.
 TEST(Determinism, SameBitsOnEveryInstructionSet) {
   const Model m = compile(demo_irregular(500, 7), short_life(Treatment::kStress));
   const SimdLevel best = best_simd_level();

@@ -29,8 +29,8 @@ void save_robot(const std::string& path, const RobotDef& robot, const PhysicsDef
   } else if (path.ends_with(".json")) {
     write_robot_file(path, robot, &physics);
   } else {
-    throw std::invalid_argument("expected a robot file name ending in .json or .vxa, got '" +
-                                path + "'");
+    throw std::invalid_argument("expected a robot file name ending in .json or .vxa, got '" + path +
+                                "'");
   }
 }
 

@@ -1,8 +1,8 @@
 #include "plastivox/simulator.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <algorithm>
 #include <cstdio>
 #include <limits>
 
@@ -107,7 +107,7 @@ SimResult simulate(const Model& model, const SimOptions& o) {
     return at_times ? o.frame_times[k] : static_cast<double>(k) / o.record_fps;
   };
   size_t frames = 0;
-  bool stopped = false;           // on_frame asked to end the life
+  bool stopped = false;          // on_frame asked to end the life
   int64_t last_frame_step = -1;  // the step count of the state last taken as a frame
   auto take_frame = [&] {
     frames += 1;

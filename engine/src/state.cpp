@@ -26,7 +26,6 @@ State make_initial_state(const Model& m) {
   return s;
 }
 
-
 uint64_t state_hash(const State& s) {
   Fnv1a64 f;
   f.bytes(&s.time, sizeof s.time);

@@ -123,8 +123,7 @@ void bind_robot(pyb::module_& m) {
            [](const PyRobot& r, const std::optional<std::string>& physics_json,
               const std::optional<std::string>& treatment) {
              PyRobot out = r;
-             out.physics =
-                 resolve_physics(r.physics, physics_json, treatment);
+             out.physics = resolve_physics(r.physics, physics_json, treatment);
              return out;
            })
       .def("save", &save_robot, pyb::arg("path"));

@@ -86,7 +86,8 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
       log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
           inputs[k] + " (" + it.source.label + ")");
     it.life = simulate_life(it.source, {std::min(shown, ph.duration), ph.duration});
-    const Eigen::Vector3d d = center_of_mass(it.life.frames[1].pos) - center_of_mass(it.life.frames[0].pos);
+    const Eigen::Vector3d d =
+        center_of_mass(it.life.frames[1].pos) - center_of_mass(it.life.frames[0].pos);
     it.heading_deg = d.head<2>().norm() > 1e-9 ? std::atan2(d.y(), d.x()) * kRadToDeg : 0.0;
     items.push_back(std::move(it));
   }

@@ -8,13 +8,11 @@
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/render/offscreen.hpp"  // RenderError
 #include "plastivox/robot_file.hpp"
-#include "plastivox/simulator.hpp"
 #include "plastivox/robot_io.hpp"
+#include "plastivox/simulator.hpp"
 
 namespace plastivox::render {
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 LifeSource load_life_source(const std::string& path, int generation) {
   LifeSource src;

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "study_internal.hpp"
 

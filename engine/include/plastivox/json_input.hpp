@@ -19,7 +19,8 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
 // Reading one field of a parsed input: each throws InputError "<source>: <field>: <what>"
 // when the value has the wrong type or range, so every input names its mistakes alike.
 namespace json_field {
-[[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what);
+[[noreturn]] void fail(const std::string& source, const std::string& field,
+                       const std::string& what);
 double number(const nlohmann::json& j, const std::string& source, const std::string& field);
 int integer(const nlohmann::json& j, const std::string& source, const std::string& field);
 int integer(const nlohmann::json& j, const std::string& source, const std::string& field, int lo,

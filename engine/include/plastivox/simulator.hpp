@@ -101,8 +101,8 @@ struct SimResult {
   // them to pass through the floor in one step (docs/physics.md, "Sinking through the
   // floor"). Reported, not acted on, unless def.sinking_invalid (then status is kUnstable).
   bool sank = false;
-  bool settled = false;  // the life passed the settle time (else com_settled is com_final)
-  int voxels_below_floor = 0;         // voxels whose top face ends below z = 0
+  bool settled = false;        // the life passed the settle time (else com_settled is com_final)
+  int voxels_below_floor = 0;  // voxels whose top face ends below z = 0
   std::vector<std::string> warnings;  // one line each, e.g. what sank and by how much
 };
 

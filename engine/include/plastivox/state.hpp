@@ -62,6 +62,8 @@ uint64_t state_hash(const State& state);
 // Centre of mass of all voxels, m (equal masses): of a state, or of voxel centres as a
 // recorded frame holds them.
 Vec3 center_of_mass(const std::vector<Vec3>& pos);
-inline Vec3 center_of_mass(const State& state) { return center_of_mass(state.pos); }
+inline Vec3 center_of_mass(const State& state) {
+  return center_of_mass(state.pos);
+}
 
 }  // namespace plastivox

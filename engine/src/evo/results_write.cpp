@@ -10,8 +10,8 @@
 
 #include "evo_build_info.hpp"
 #include "file_seal.hpp"
-#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/robot_file.hpp"  // InputError
 #include "results_layout.hpp"
