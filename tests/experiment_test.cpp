@@ -278,11 +278,15 @@ TEST_F(ExperimentRun, RefusesBadInputWithOneLine) {
   EXPECT_FALSE(std::filesystem::exists(path("x") + "/stats.json"));
 }
 
-// Kills the experiment with SIGKILL as soon as `marker` (a shell glob) exists.
-testing::Output kill_when(const std::string& args, const std::string& marker) {
+// Kills the experiment with SIGKILL as soon as `marker` (a shell glob) exists: status 9 (or
+// the experiment's own status if it ended first). With `signal` "TERM": the experiment's
+// status after SIGTERM (130 for a clean stop).
+testing::Output kill_when(const std::string& args, const std::string& marker,
+                          const std::string& signal = "KILL") {
+  const std::string after = signal == "KILL" ? "exit 9" : "exit $?";
   return shell("(" + kCli + " experiment " + args + " >/dev/null 2>&1 & pid=$!; " +
-               "for i in $(seq 1 3000); do if ls " + marker + " >/dev/null 2>&1; then " +
-               "kill -9 $pid; wait $pid; exit 9; fi; sleep 0.01; done; wait $pid)");
+               "for i in $(seq 1 3000); do if ls " + marker + " >/dev/null 2>&1; then " + "kill -" +
+               signal + " $pid; wait $pid; " + after + "; fi; sleep 0.01; done; wait $pid)");
 }
 
 TEST_F(ExperimentRun, KilledMidEvolutionAndMidAnalysisResumesToTheSameResults) {
@@ -392,14 +396,19 @@ TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
   }
 }
 
-TEST_F(ExperimentRun, KilledDuringConcurrentEvolutionResumesToTheSameDigests) {
+TEST_F(ExperimentRun, StoppedAndKilledDuringConcurrentEvolutionResumesToTheSameDigests) {
   json j = three_by_three();
   j["evolution"]["generations"] = 8;  // a window to kill it in
   const std::string cfg = write_config(j);
   const auto c = parse_experiment_config(j.dump(), "3x3");
   ASSERT_EQ(run("--config " + cfg + " --out " + path("ref")).status, 0);
-  // Killed as soon as any run has a checkpoint: every run is in flight.
+  // Stopped by SIGTERM (Ctrl-C alike) once any run has a checkpoint: every run is in flight
+  // and stops after its generation, checkpointed; then killed with SIGKILL on the rerun.
   const std::string dir = path("killed");
+  const auto t = kill_when("--config " + cfg + " --out " + dir, dir + "/runs/*.h5", "TERM");
+  EXPECT_EQ(t.status, 130) << "not a clean stop (or it finished first)";
+  for (const std::string& label : run_labels(c))
+    EXPECT_TRUE(std::filesystem::exists(dir + "/runs/" + label + ".h5")) << label;
   const auto k = kill_when("--config " + cfg + " --out " + dir, dir + "/runs/*.h5");
   EXPECT_EQ(k.status, 9) << "the experiment finished before it could be killed";
   EXPECT_FALSE(std::filesystem::exists(dir + "/stats.json"));
