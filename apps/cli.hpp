@@ -40,6 +40,8 @@ std::string count_of(long long n, const std::string& noun);
 
 // Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);
+// A non-negative whole number (at most 2^20) given to `option`; UsageError otherwise.
+int parse_count(const std::string& s, const std::string& option);
 // Removes "--name" from args and returns whether it was there.
 bool take_flag(Args& args, const std::string& name);
 // After options are taken: error on any leftover "--something".

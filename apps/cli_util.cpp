@@ -42,6 +42,19 @@ std::string take_option(Args& args, const std::string& name, const std::string& 
   return value;
 }
 
+int parse_count(const std::string& s, const std::string& option) {
+  size_t used = 0;
+  long v = -1;
+  try {
+    v = std::stol(s, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != s.size() || v < 0 || v > 1 << 20)
+    throw UsageError{option + " expects a non-negative integer, got '" + s + "'"};
+  return static_cast<int>(v);
+}
+
 bool take_flag(Args& args, const std::string& name) {
   auto it = std::find(args.begin(), args.end(), name);
   if (it == args.end()) return false;

@@ -2,9 +2,11 @@
 // results file; or print the default config.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli.hpp"
 #include "plastivox/evo/config.hpp"
@@ -16,19 +18,6 @@
 
 namespace plastivox::cli {
 namespace {
-
-int parse_count(const std::string& s, const std::string& option) {
-  size_t used = 0;
-  long v = -1;
-  try {
-    v = std::stol(s, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used != s.size() || v < 0 || v > 1 << 20)
-    throw UsageError{option + " expects a non-negative integer, got '" + s + "'"};
-  return static_cast<int>(v);
-}
 
 std::string duration(double s) {
   char buf[64];
@@ -54,12 +43,12 @@ class Progress {
     std::fprintf(stderr, "plastivox evolve: %s\n", m.c_str());
   }
 
-  void generation(const evo::RunProgress& p) {
+  void generation(const evo::RunProgress& p, const std::string& who = "") {
     const evo::GenerationStats& s = p.stats;
     const double rate = s.wall_seconds > 0 ? s.simulated / s.wall_seconds : 0.0;
     if (tty_) {
-      std::fprintf(stderr, "\r\033[Kgeneration %d/%d  best %.4f (id %llu)  %.2f evals/s  left %s",
-                   p.generations_done, p.generations_total, s.best_fitness,
+      std::fprintf(stderr, "\r\033[K%sgeneration %d/%d  best %.4f (id %llu)  %.2f evals/s  left %s",
+                   who.c_str(), p.generations_done, p.generations_total, s.best_fitness,
                    static_cast<unsigned long long>(s.champion_id), rate,
                    duration(p.eta_seconds).c_str());
       std::fflush(stderr);
@@ -70,10 +59,10 @@ class Progress {
         std::snprintf(ckpt, sizeof ckpt, "; checkpoint %.3f s", p.checkpoint_seconds);
       std::fprintf(
           stderr,
-          "generation %d/%d: best %.6f (id %llu); %d new: %d simulated, %d cached, %d "
+          "%sgeneration %d/%d: best %.6f (id %llu); %d new: %d simulated, %d cached, %d "
           "invalid, %d unstable, %d sank through the floor; %.2f evals/s; %.2f s (simulation "
           "%.2f s)%s; left %s\n",
-          p.generations_done, p.generations_total, s.best_fitness,
+          who.c_str(), p.generations_done, p.generations_total, s.best_fitness,
           static_cast<unsigned long long>(s.champion_id), s.created, s.simulated, s.cache_hits,
           s.invalid, s.unstable, s.sank, rate, s.wall_seconds, s.sim_wall_seconds, ckpt,
           duration(p.eta_seconds).c_str());
@@ -90,13 +79,35 @@ class Progress {
   bool open_ = false;
 };
 
+// The one-line outcome of a run on stdout; 130 for a stop by request.
+int report_outcome(const evo::RunReport& r, const std::string& out, bool stop_requested) {
+  switch (r.outcome) {
+    case evo::RunOutcome::kAlreadyFinished:
+      std::printf("%s: already finished (%s); nothing changed\n", out.c_str(),
+                  count_of(r.generations_done, "generation").c_str());
+      break;
+    case evo::RunOutcome::kStopped:
+      std::printf("%s: stopped after generation %d (resumable)\n", out.c_str(), r.generations_done);
+      if (stop_requested) return 130;
+      break;
+    case evo::RunOutcome::kFinished:
+      std::printf("%s: finished %s on %s; content digest %s\n", out.c_str(),
+                  count_of(r.generations_done, "generation").c_str(),
+                  count_of(r.threads, "thread").c_str(), r.content_digest.c_str());
+      break;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int cmd_evolve(const Args& in) {
   Args args = in;
   const bool print_default = take_flag(args, "--print-default-config");
-  const std::string config_path = take_option(args, "--config", "");
-  const std::string out = take_option(args, "--out", "");
+  // --config and --out may repeat, paired in order: several runs at once (run.hpp).
+  std::vector<std::string> config_paths, outs;
+  for (std::string c; !(c = take_option(args, "--config", "")).empty();) config_paths.push_back(c);
+  for (std::string o; !(o = take_option(args, "--out", "")).empty();) outs.push_back(o);
   const std::string threads = take_option(args, "--threads", "");
   // Testing hook (undocumented in the usage): stop after this many generations, as if
   // killed right after a checkpoint.
@@ -104,13 +115,21 @@ int cmd_evolve(const Args& in) {
   reject_unknown_options(args);
   if (!args.empty()) throw UsageError{"unexpected argument '" + args[0] + "'"};
   if (print_default) {
-    if (!config_path.empty() || !out.empty())
+    if (!config_paths.empty() || !outs.empty())
       throw UsageError{"--print-default-config takes no other options"};
     std::fputs(evo::default_config_text().c_str(), stdout);
     return 0;
   }
-  if (config_path.empty()) throw UsageError{"--config FILE is required"};
-  if (out.empty()) throw UsageError{"--out RESULTS.h5 is required"};
+  if (config_paths.empty()) throw UsageError{"--config FILE is required"};
+  if (outs.empty()) throw UsageError{"--out RESULTS.h5 is required"};
+  if (outs.size() != config_paths.size())
+    throw UsageError{"give one --out per --config (" + count_of(config_paths.size(), "config") +
+                     ", " + count_of(outs.size(), "output") + ")"};
+  for (size_t i = 0; i < outs.size(); ++i)
+    for (size_t k = 0; k < i; ++k)
+      if (outs[i] == outs[k]) throw UsageError{"--out " + outs[i] + " is given twice"};
+  if (!stop_after.empty() && outs.size() > 1)
+    throw UsageError{"--stop-after takes a single --config"};
 
   evo::RunOptions opt;
   if (!threads.empty()) opt.threads = parse_count(threads, "--threads");
@@ -126,12 +145,30 @@ int cmd_evolve(const Args& in) {
   // Ctrl-C or SIGTERM: finish the generation, checkpoint, exit 130 (rank 0 decides under MPI).
   opt.stop_requested = install_stop_signals("evolve");
   Progress progress;
-  evo::RunReport r;
+  const bool several = outs.size() > 1;
+  auto who = [&](size_t r) { return several ? outs[r] + ": " : std::string(); };
+  std::vector<evo::RunReport> reports;
   try {
-    const evo::EvolveConfig config = evo::read_config_file(config_path);
-    opt.on_message = [&](const std::string& m) { progress.message(m); };
-    opt.on_generation = [&](const evo::RunProgress& p) { progress.generation(p); };
-    r = evo::run_evolution(config, out, opt);
+    std::vector<evo::RunSpec> specs;
+    for (size_t r = 0; r < outs.size(); ++r)
+      specs.push_back({evo::read_config_file(config_paths[r]), outs[r]});
+    if (!several) {
+      // One run, under mpirun spread over every rank in lockstep.
+      opt.on_message = [&](const std::string& m) { progress.message(m); };
+      opt.on_generation = [&](const evo::RunProgress& p) { progress.generation(p); };
+      reports.push_back(evo::run_evolution(specs[0].config, specs[0].out_path, opt));
+    } else {
+      // Every run at once over one evaluation pool (under mpirun: every rank's threads).
+      evo::ManyRunOptions mo;
+      mo.cluster = opt.cluster;
+      mo.threads = opt.threads;
+      mo.stop_requested = opt.stop_requested;
+      mo.on_message = [&](size_t r, const std::string& m) { progress.message(who(r) + m); };
+      mo.on_generation = [&](size_t r, const evo::RunProgress& p) {
+        progress.generation(p, who(r));
+      };
+      reports = evo::run_evolutions(specs, mo);
+    }
   } catch (const InputError& e) {  // the same config file on every rank: all fail alike
     if (!opt.cluster) throw;
     return refuse_together(*opt.cluster, "evolve", e.what());
@@ -149,25 +186,12 @@ int cmd_evolve(const Args& in) {
   }
   progress.end_line();
   if (!leader) return 0;
-  switch (r.outcome) {
-    case evo::RunOutcome::kAlreadyFinished:
-      std::printf("%s: already finished (%s); nothing changed\n", out.c_str(),
-                  count_of(r.generations_done, "generation").c_str());
-      break;
-    case evo::RunOutcome::kStopped:
-      std::printf("%s: stopped after generation %d (resumable)\n", out.c_str(), r.generations_done);
-      if (opt.stop_requested->load()) {
-        std::fprintf(stderr, "plastivox evolve: stopped; run the same command again to resume\n");
-        return 130;
-      }
-      break;
-    case evo::RunOutcome::kFinished:
-      std::printf("%s: finished %s on %s; content digest %s\n", out.c_str(),
-                  count_of(r.generations_done, "generation").c_str(),
-                  count_of(r.threads, "thread").c_str(), r.content_digest.c_str());
-      break;
-  }
-  return 0;
+  int status = 0;
+  for (size_t r = 0; r < reports.size(); ++r)
+    status = std::max(status, report_outcome(reports[r], outs[r], opt.stop_requested->load()));
+  if (status == 130)
+    std::fprintf(stderr, "plastivox evolve: stopped; run the same command again to resume\n");
+  return status;
 }
 
 }  // namespace plastivox::cli

@@ -62,6 +62,9 @@ int cmd_experiment(const Args& in) {
   const std::string print_preset = take_option(args, "--print-preset", "");
   const std::string only_run = take_option(args, "--run", "");
   const bool estimate_only = take_flag(args, "--estimate-only");
+  const std::string cores_opt = take_option(args, "--cores", "");
+  const std::string ranks_opt = take_option(args, "--ranks", "");
+  const bool json_out = take_flag(args, "--json");
   reject_unknown_options(args);
   if (!args.empty()) throw UsageError{"unexpected argument '" + args[0] + "'"};
   const std::pair<const char*, std::string> named[] = {{"--preset", preset},
@@ -80,6 +83,8 @@ int cmd_experiment(const Args& in) {
   if (!config_path.empty() && !preset.empty())
     throw UsageError{"give --config FILE or --preset NAME, not both"};
   if (out.empty() && !estimate_only) throw UsageError{"--out DIR is required"};
+  if (!estimate_only && (!cores_opt.empty() || !ranks_opt.empty() || json_out))
+    throw UsageError{"--cores, --ranks and --json go with --estimate-only"};
 
   const experiment::ExperimentConfig config =
       config_path.empty() ? experiment::preset_config(preset.empty() ? "default" : preset)
@@ -90,15 +95,7 @@ int cmd_experiment(const Args& in) {
   opt.only_run = only_run;
   for (const auto& a : in) opt.command_line += (opt.command_line.empty() ? "" : " ") + a;
   opt.command_line = "plastivox experiment " + opt.command_line;
-  if (!threads.empty()) {
-    try {
-      opt.threads = std::stoi(threads);
-    } catch (...) {
-      opt.threads = -1;
-    }
-    if (opt.threads < 0 || std::to_string(opt.threads) != threads)
-      throw UsageError{"--threads expects a non-negative integer, got '" + threads + "'"};
-  }
+  if (!threads.empty()) opt.threads = parse_count(threads, "--threads");
 
 #ifdef PLASTIVOX_HAVE_MPI
   std::unique_ptr<evo::MpiCluster> mpi;
@@ -108,19 +105,36 @@ int cmd_experiment(const Args& in) {
   const bool leader = !opt.cluster || opt.cluster->rank() == 0;
   const int ranks = opt.cluster ? opt.cluster->size() : 1;
 
-  // The cost, from this machine's measured speed, before any work starts.
+  // The cost, from this machine's measured speed, before any work starts: the schedule of
+  // this layout (or of --cores/--ranks) replayed with costs of this lattice's bodies.
   if (leader) {
     int t = opt.threads >= 0 ? opt.threads : config.threads;
     if (t == 0) t = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    experiment::Layout layout{ranks, t};
+    if (!ranks_opt.empty()) layout.ranks = parse_count(ranks_opt, "--ranks");
+    if (!cores_opt.empty()) {
+      const int cores = parse_count(cores_opt, "--cores");
+      if (cores < 1) throw UsageError{"--cores must be at least 1, got " + cores_opt};
+      if (layout.ranks < 1 || cores % layout.ranks != 0)
+        throw UsageError{"--cores " + cores_opt + " must be a multiple of --ranks " +
+                         std::to_string(layout.ranks)};
+      layout.threads = cores / layout.ranks;
+    } else if (layout.ranks < 1) {
+      throw UsageError{"--ranks must be at least 1, got " + ranks_opt};
+    }
     const auto speed = experiment::measure_speed(config);
-    const auto est = experiment::estimate_cost(config, speed, t * ranks);
-    std::fprintf(
-        stderr,
-        "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
-        "%d, %d generations, %.1f s lives\n%s\n",
-        config.name.c_str(), config.treatments.size(), config.treatments.size() == 1 ? "" : "s",
-        config.seeds.size(), config.seeds.size() == 1 ? "" : "s", config.evolution.population,
-        config.evolution.generations, config.evolution.physics.duration, est.summary().c_str());
+    const auto est = experiment::estimate_cost(config, speed);
+    const auto bodies = experiment::sample_bodies(config, speed);
+    const auto plan = experiment::predict_schedule(config, bodies, layout);
+    std::fprintf(stderr,
+                 "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
+                 "%d, %d generations, %.1f s lives\n%s\n%s\n",
+                 config.name.c_str(), config.treatments.size(),
+                 config.treatments.size() == 1 ? "" : "s", config.seeds.size(),
+                 config.seeds.size() == 1 ? "" : "s", config.evolution.population,
+                 config.evolution.generations, config.evolution.physics.duration,
+                 est.summary().c_str(), plan.summary().c_str());
+    if (json_out) std::printf("%s\n", plan.json().c_str());
   }
   if (estimate_only) return 0;
 

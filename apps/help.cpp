@@ -60,12 +60,13 @@ const CommandHelp kHelp[] = {
      "example:\n"
      "  plastivox demo\n"},
     {"evolve",
-     "usage: plastivox evolve --config FILE --out RESULTS.h5 [options]\n"
+     "usage: plastivox evolve --config FILE --out RESULTS.h5 [--config FILE --out R.h5 ...]\n"
      "Run an evolution (AFPO over four CPPNs) into an HDF5 results file. The same command\n"
-     "resumes a killed run from its last checkpoint (docs/evolution.md).\n"
+     "resumes a killed run from its last checkpoint (docs/evolution.md). Several --config /\n"
+     "--out pairs evolve at once, sharing one pool of worker threads.\n"
      "options:\n"
-     "  --config FILE         evolution config (JSON)\n"
-     "  --out RESULTS.h5      results file (created, or resumed when it exists)\n"
+     "  --config FILE         evolution config (JSON); repeat for several runs\n"
+     "  --out RESULTS.h5      results file (new, or resumed if it exists), one per --config\n"
      "  --threads N           worker threads (default: the config's; 0 = all cores)\n"
      "  --print-default-config  print a commented default config and exit\n"
      "  --stop-after N        stop after N generations as if killed (for testing resume)\n"
@@ -186,6 +187,9 @@ const CommandHelp kHelp[] = {
      "  --force STAGE,...     redo these stages: evolution, analysis, rendering, report\n"
      "  --run LABEL           evolve only this run (e.g. stress-1), for cluster jobs\n"
      "  --estimate-only       print the cost estimate and exit\n"
+     "  --cores N             with --estimate-only: predict for N cores (default: this run's)\n"
+     "  --ranks R             with --estimate-only: ... split into R MPI ranks (default 1)\n"
+     "  --json                with --estimate-only: also print the prediction as JSON\n"
      "  --print-preset NAME   print a preset's config and exit\n"
      "example:\n"
      "  plastivox experiment --preset tiny --out smoke --threads 2\n"},

@@ -8,6 +8,7 @@ add_library(plastivox_evo
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/variation.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/afpo.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/config.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/evo/eval_pool.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/evolver.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/digest.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/champion.cpp
@@ -42,6 +43,7 @@ add_library(plastivox_evo_h5
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/results_write.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/results_read.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/run.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/evo/run_many.cpp
 )
 target_include_directories(plastivox_evo_h5 PRIVATE ${CMAKE_CURRENT_LIST_DIR}/src/evo
                            ${CMAKE_CURRENT_BINARY_DIR}/evo_generated)

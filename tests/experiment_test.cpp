@@ -107,7 +107,7 @@ TEST(ExperimentCost, CountsEveryEvaluation) {
   const auto c = parse_experiment_config(micro_config().dump(), "micro");
   experiment::SpeedSample s;
   s.seconds_per_evaluation = 2.0;
-  const auto e = experiment::estimate_cost(c, s, 1);
+  const auto e = experiment::estimate_cost(c, s);
   EXPECT_EQ(e.evolution_evaluations, 6 * (2 + 2 * 3));  // runs x (P + G (P + 1))
   EXPECT_EQ(e.analysis_evaluations, 6 * (1 + 2));       // champions x (1 + draws)
   EXPECT_DOUBLE_EQ(e.core_hours, (48 + 18) * 2.0 / 3600);
@@ -278,11 +278,15 @@ TEST_F(ExperimentRun, RefusesBadInputWithOneLine) {
   EXPECT_FALSE(std::filesystem::exists(path("x") + "/stats.json"));
 }
 
-// Kills the experiment with SIGKILL as soon as `marker` (a shell glob) exists.
-testing::Output kill_when(const std::string& args, const std::string& marker) {
+// Kills the experiment with SIGKILL as soon as `marker` (a shell glob) exists: status 9 (or
+// the experiment's own status if it ended first). With `signal` "TERM": the experiment's
+// status after SIGTERM (130 for a clean stop).
+testing::Output kill_when(const std::string& args, const std::string& marker,
+                          const std::string& signal = "KILL") {
+  const std::string after = signal == "KILL" ? "exit 9" : "exit $?";
   return shell("(" + kCli + " experiment " + args + " >/dev/null 2>&1 & pid=$!; " +
-               "for i in $(seq 1 3000); do if ls " + marker + " >/dev/null 2>&1; then " +
-               "kill -9 $pid; wait $pid; exit 9; fi; sleep 0.01; done; wait $pid)");
+               "for i in $(seq 1 3000); do if ls " + marker + " >/dev/null 2>&1; then " + "kill -" +
+               signal + " $pid; wait $pid; " + after + "; fi; sleep 0.01; done; wait $pid)");
 }
 
 TEST_F(ExperimentRun, KilledMidEvolutionAndMidAnalysisResumesToTheSameResults) {
@@ -328,6 +332,93 @@ TEST_F(ExperimentRun, KilledMidEvolutionAndMidAnalysisResumesToTheSameResults) {
   };
   EXPECT_EQ(undated(read_file_bytes(ref + "/report.html"), ref),
             undated(read_file_bytes(dir + "/report.html"), dir));
+}
+
+// Three treatments x three seeds, evolution only (no renderings), for comparing run digests.
+json three_by_three() {
+  json j = micro_config();
+  j["seeds"] = json::array({1, 2, 3});
+  j["evolution"]["generations"] = 3;
+  j["evolution"]["physics"]["duration"] = 0.4;
+  j["analysis"]["robustness_draws"] = 1;
+  j["analysis"]["resamples"] = 100;
+  j["rendering"] = {{"figures", false}, {"galleries", false}, {"video", false}};
+  return j;
+}
+
+std::vector<std::string> run_labels(const experiment::ExperimentConfig& c) {
+  std::vector<std::string> out;
+  for (auto seed : c.seeds)
+    for (auto t : c.treatments) out.push_back(experiment::ExperimentConfig::run_label(t, seed));
+  return out;
+}
+
+// The evolution stage runs every run at once over one pool of threads: each run's results are
+// still those of the run alone, on 1 or 2 threads, under mpirun, as separate `plastivox
+// evolve` runs and as one `plastivox evolve` given every config.
+TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
+  const json j = three_by_three();
+  const std::string cfg = write_config(j);
+  const auto c = parse_experiment_config(j.dump(), "3x3");
+  ASSERT_EQ(run("--config " + cfg + " --out " + path("t1") + " --threads 1").status, 0);
+  const auto two = run("--config " + cfg + " --out " + path("t2") + " --threads 2");
+  ASSERT_EQ(two.status, 0) << two.out;
+  std::string several;
+  std::filesystem::create_directories(path("alone"));
+  std::filesystem::create_directories(path("many"));
+  for (auto seed : c.seeds)
+    for (auto t : c.treatments) {
+      const std::string label = experiment::ExperimentConfig::run_label(t, seed);
+      const std::string rc = path(label + ".json");
+      write_file_atomic(rc, c.run_config(t, seed).identity_json());
+      const auto alone = shell(kCli + " evolve --config " + rc + " --out " + path("alone/") +
+                               label + ".h5 --threads 1 2>&1");
+      ASSERT_EQ(alone.status, 0) << alone.out;
+      several += " --config " + rc + " --out " + path("many/") + label + ".h5";
+    }
+  const auto many = shell(kCli + " evolve" + several + " --threads 2 2>&1");
+  ASSERT_EQ(many.status, 0) << many.out;
+  std::vector<std::string> folders{"t2", "alone", "many"};
+#ifdef PLASTIVOX_MPIEXEC
+  const auto mpi = shell(
+      "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ASAN_OPTIONS=detect_leaks=0 " +
+      std::string(PLASTIVOX_MPIEXEC) + " -np 2 --oversubscribe " + kCli + " experiment --config " +
+      cfg + " --out " + path("mpi") + " --threads 1 2>&1");
+  ASSERT_EQ(mpi.status, 0) << mpi.out;
+  folders.push_back("mpi/runs");
+#endif
+  for (const std::string& label : run_labels(c)) {
+    const std::string want = digest_of(path("t1/runs/") + label + ".h5");
+    for (const std::string& f : folders) {
+      const std::string file = path(f == "t2" ? "t2/runs/" : f + "/") + label + ".h5";
+      EXPECT_EQ(digest_of(file), want) << file;
+    }
+  }
+}
+
+TEST_F(ExperimentRun, StoppedAndKilledDuringConcurrentEvolutionResumesToTheSameDigests) {
+  json j = three_by_three();
+  j["evolution"]["generations"] = 8;  // a window to kill it in
+  const std::string cfg = write_config(j);
+  const auto c = parse_experiment_config(j.dump(), "3x3");
+  ASSERT_EQ(run("--config " + cfg + " --out " + path("ref")).status, 0);
+  // Stopped by SIGTERM (Ctrl-C alike) once any run has a checkpoint: every run is in flight
+  // and stops after its generation, checkpointed; then killed with SIGKILL on the rerun.
+  const std::string dir = path("killed");
+  const auto t = kill_when("--config " + cfg + " --out " + dir, dir + "/runs/*.h5", "TERM");
+  EXPECT_EQ(t.status, 130) << "not a clean stop (or it finished first)";
+  for (const std::string& label : run_labels(c))
+    EXPECT_TRUE(std::filesystem::exists(dir + "/runs/" + label + ".h5")) << label;
+  const auto k = kill_when("--config " + cfg + " --out " + dir, dir + "/runs/*.h5");
+  EXPECT_EQ(k.status, 9) << "the experiment finished before it could be killed";
+  EXPECT_FALSE(std::filesystem::exists(dir + "/stats.json"));
+  const auto o = run("--config " + cfg + " --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("resuming after generation"), std::string::npos) << o.out;
+  for (const std::string& label : run_labels(c))
+    EXPECT_EQ(digest_of(dir + "/runs/" + label + ".h5"),
+              digest_of(path("ref/runs/") + label + ".h5"))
+        << label;
 }
 
 // The experiment's report in headless Chromium (Debian package chromium): it loads without

@@ -3,6 +3,12 @@
 // 22a63f5 produced them on 2026-12-02. A content digest is about science, not layout: moving
 // a field between structs or renaming one in the code must not change it. A commit that
 // changes a value here must say why in its message.
+#include <iterator>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "plastivox/evo/eval_pool.hpp"
 #include "plastivox/evo/evolver.hpp"
 #include "test_support.hpp"
 
@@ -43,6 +49,26 @@ TEST(GoldenEvolution, TinyRunDigestPerTreatmentOnOneAndTwoThreads) {
     for (int threads : {1, 2})
       EXPECT_EQ(evolved_digest(g.treatment, threads), g.digest)
           << to_string(g.treatment) << " on " << threads << " thread" << (threads == 1 ? "" : "s");
+}
+
+// The three runs at once, their candidates in one evaluation pool (as `plastivox experiment`
+// evolves): each run still gives its golden digest.
+TEST(GoldenEvolution, RunsSharingOneEvaluationPoolKeepTheirDigests) {
+  for (int threads : {1, 2}) {
+    EvaluationPool pool(threads);
+    std::vector<std::string> digests(std::size(kRuns));
+    std::vector<std::thread> drivers;
+    for (size_t r = 0; r < std::size(kRuns); ++r)
+      drivers.emplace_back([&, r] {
+        Evolver ev(Evolver::new_run(tiny(kRuns[r].treatment)), 1, &pool);
+        while (!ev.finished()) ev.step();
+        digests[r] = content_digest(ev.state()).hex();
+      });
+    for (std::thread& d : drivers) d.join();
+    for (size_t r = 0; r < std::size(kRuns); ++r)
+      EXPECT_EQ(digests[r], kRuns[r].digest)
+          << to_string(kRuns[r].treatment) << " on a pool of " << threads;
+  }
 }
 
 // The identity a results file is matched and digested by, byte for byte.

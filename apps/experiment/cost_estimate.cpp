@@ -5,13 +5,29 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 
+#include <nlohmann/json.hpp>
+
+#include "plastivox/evo/evolver.hpp"
+#include "plastivox/evo/rng.hpp"
+#include "plastivox/evo/variation.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/robot.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::experiment {
+namespace {
+
+// CPU time of the calling thread, s: what one core gives, however loaded the machine is.
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+}  // namespace
 
 SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds) {
   const auto& e = config.evolution;
@@ -42,6 +58,7 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds)
   // Only steps actually taken count: a body this mixed can go unstable (a stopped
   // simulation's step() does nothing), and then the calibration starts it over.
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = thread_cpu_seconds();
   int64_t steps = 0;
   double elapsed = 0, dt = sim->state().dt;
   while (elapsed < budget_seconds) {
@@ -54,19 +71,18 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds)
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   steps += sim->state().steps;
+  const double cpu = thread_cpu_seconds() - cpu0;
   SpeedSample s;
   s.voxels_per_body = static_cast<double>(model.n);
-  s.voxel_steps_per_second =
-      s.voxels_per_body * static_cast<double>(steps) / std::max(elapsed, 1e-9);
+  s.voxel_steps_per_second = s.voxels_per_body * static_cast<double>(steps) / std::max(cpu, 1e-9);
   s.steps_per_life = physics.duration / std::max(dt, 1e-12);
   s.seconds_per_evaluation = s.voxels_per_body * s.steps_per_life / s.voxel_steps_per_second;
   return s;
 }
 
-CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& speed, int threads) {
+CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& speed) {
   CostEstimate c;
   c.speed = speed;
-  c.threads = std::max(1, threads);
   const int64_t p = config.evolution.population, g = config.evolution.generations;
   c.evolution_evaluations = config.runs() * (p + g * (p + 1));
   c.analysis_evaluations =
@@ -74,9 +90,109 @@ CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& sp
   const double evals = static_cast<double>(c.evolution_evaluations + c.analysis_evaluations);
   const double core_seconds = evals * speed.seconds_per_evaluation;
   c.core_hours = core_seconds / 3600.0;
-  const double efficiency = c.threads > 1 ? 0.9 : 1.0;
-  c.wall_seconds = core_seconds / (c.threads * efficiency);
   return c;
+}
+
+BodySample sample_bodies(const ExperimentConfig& config, const SpeedSample& speed, int count) {
+  BodySample s;
+  int64_t draws = 0;
+  const double cpu0 = thread_cpu_seconds();
+  for (int k = 0; k < count; ++k) {
+    const Treatment t = config.treatments[static_cast<size_t>(k) % config.treatments.size()];
+    const evo::EvolveConfig run = config.run_config(t, 1);
+    const evo::Expresser expresser(run.expression());
+    evo::Rng rng = evo::Rng::stream(1, evo::StreamPurpose::kNewcomer, 0, static_cast<uint64_t>(k));
+    const evo::Offspring o = evo::random_individual(expresser, rng, run.max_mutation_tries);
+    draws += o.tries;
+    if (!o.phenotype.valid) continue;  // not simulated by evolution either
+    Job j;
+    j.voxels = o.phenotype.voxels;
+    j.steps = evo::expected_steps(o.phenotype, run.physics);
+    j.seconds = j.voxels * j.steps / std::max(speed.voxel_steps_per_second, 1e-9);
+    s.bodies.push_back(j);
+  }
+  s.seconds_per_expression =
+      (thread_cpu_seconds() - cpu0) / static_cast<double>(std::max<int64_t>(draws, 1));
+  return s;
+}
+
+SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySample& sample,
+                                    const Layout& layout) {
+  SchedulePrediction p;
+  p.layout = layout;
+  p.policy = Policy::kPool;  // one process or mpirun: every rank serves the pool
+  const int pop = config.evolution.population;
+  Workload w;
+  w.runs = config.runs();
+  w.generations = config.evolution.generations + 1;
+  // Candidate k of (run, generation): a fixed pseudo-random pick from the sample.
+  w.jobs = [&](int run, int gen) {
+    std::vector<Job> jobs;
+    if (sample.bodies.empty()) return jobs;
+    const int n = gen == 0 ? pop : pop + 1;
+    for (int k = 0; k < n; ++k) {
+      const uint64_t h = evo::mix64(
+          evo::mix64(evo::mix64(static_cast<uint64_t>(run)) ^ static_cast<uint64_t>(gen)) ^
+          static_cast<uint64_t>(k));
+      jobs.push_back(sample.bodies[h % sample.bodies.size()]);
+    }
+    return jobs;
+  };
+  // Making and expressing a generation: on every thread of a rank run by run, on the run's
+  // own thread in the pool.
+  const double express = (pop + 1) * sample.seconds_per_expression;
+  w.seconds_between_generations = express;
+  p.evolution = simulate_schedule(w, layout, p.policy);
+  w.seconds_between_generations = express / layout.threads;
+  p.run_by_run = simulate_schedule(w, layout, Policy::kRunByRun);
+  double mean = 0;
+  for (const Job& j : sample.bodies) mean += j.seconds / static_cast<double>(sample.bodies.size());
+  const int64_t analysis =
+      static_cast<int64_t>(config.runs()) * (1 + config.analysis.robustness_draws);
+  p.analysis_seconds = static_cast<double>(analysis) * mean / layout.cores();
+  p.wall_seconds = p.evolution.wall_seconds + p.analysis_seconds;
+  p.simulations = p.evolution.simulations + analysis;
+  p.mean_candidate_seconds = mean;
+  const double capacity = p.wall_seconds * layout.cores();
+  p.utilization = capacity > 0 ? (p.evolution.busy_seconds + analysis * mean) / capacity : 0;
+  p.core_hours = capacity / 3600.0;
+  return p;
+}
+
+std::string SchedulePrediction::summary() const {
+  char buf[640];
+  std::snprintf(buf, sizeof buf,
+                "schedule: %d cores (%d rank%s x %d thread%s), %s: evolution %s at %.1f %% "
+                "utilisation; with analysis about %s, %.3g core-hours\n"
+                "schedule: run by run (as before the evaluation pool) the evolution would take "
+                "%s at %.1f %%",
+                layout.cores(), layout.ranks, layout.ranks == 1 ? "" : "s", layout.threads,
+                layout.threads == 1 ? "" : "s",
+                policy == Policy::kPool ? "evaluation pool" : "run by run",
+                human_duration(evolution.wall_seconds).c_str(), 100 * evolution.utilization,
+                human_duration(wall_seconds).c_str(), core_hours,
+                human_duration(run_by_run.wall_seconds).c_str(), 100 * run_by_run.utilization);
+  return buf;
+}
+
+std::string SchedulePrediction::json() const {
+  nlohmann::json j;
+  j["cores"] = layout.cores();
+  j["ranks"] = layout.ranks;
+  j["threads_per_rank"] = layout.threads;
+  j["policy"] = policy == Policy::kPool ? "pool" : "run-by-run";
+  j["utilization"] = utilization;
+  j["wall_seconds"] = wall_seconds;
+  j["core_hours"] = core_hours;
+  j["simulations"] = simulations;
+  j["evolution"] = {{"wall_seconds", evolution.wall_seconds},
+                    {"utilization", evolution.utilization},
+                    {"simulations", evolution.simulations}};
+  j["run_by_run"] = {{"wall_seconds", run_by_run.wall_seconds},
+                     {"utilization", run_by_run.utilization}};
+  j["analysis_seconds"] = analysis_seconds;
+  j["mean_candidate_seconds"] = mean_candidate_seconds;
+  return j.dump(2);
 }
 
 std::string human_duration(double s) {
@@ -100,12 +216,11 @@ std::string CostEstimate::summary() const {
   std::snprintf(buf, sizeof buf,
                 "estimate: %lld evolution + %lld analysis simulations of ~%.0f voxels x %.0f "
                 "steps; measured %.2f M voxel-steps/s per core = %.2f s per life\n"
-                "estimate: %.3g core-hours; about %s on %d thread%s of this machine",
+                "estimate: %.3g core-hours of simulation at that body's cost",
                 static_cast<long long>(evolution_evaluations),
                 static_cast<long long>(analysis_evaluations), speed.voxels_per_body,
                 speed.steps_per_life, speed.voxel_steps_per_second / 1e6,
-                speed.seconds_per_evaluation, core_hours, human_duration(wall_seconds).c_str(),
-                threads, threads == 1 ? "" : "s");
+                speed.seconds_per_evaluation, core_hours);
   return buf;
 }
 

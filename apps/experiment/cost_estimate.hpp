@@ -4,13 +4,15 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "experiment_config.hpp"
+#include "schedule.hpp"
 
 namespace plastivox::experiment {
 
 struct SpeedSample {
-  double voxel_steps_per_second = 0;  // one core
+  double voxel_steps_per_second = 0;  // one core (the calibration thread's CPU time)
   double steps_per_life = 0;          // simulated life / dt of a typical body
   double voxels_per_body = 0;         // typical body (half the lattice filled)
   double seconds_per_evaluation = 0;  // one core, one full life
@@ -18,20 +20,48 @@ struct SpeedSample {
 
 // Simulates a typical body of the config's lattice and physics (half the sites filled,
 // stiffness spread log-uniformly over [E_min, E_max], development on) for about
-// `budget_seconds` of wall time and extrapolates a whole life.
+// `budget_seconds` of wall time and extrapolates a whole life. Speed is per CPU second of
+// the calibrating thread, so other jobs on a shared machine do not lower it.
 SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds = 0.5);
 
 struct CostEstimate {
   int64_t evolution_evaluations = 0;  // runs x (P + G (P + 1)), before cache hits
   int64_t analysis_evaluations = 0;   // champions x (1 + robustness draws)
-  double core_hours = 0;
-  double wall_seconds = 0;  // on `threads` cores of this machine (parallel efficiency 0.9)
-  int threads = 1;
+  double core_hours = 0;              // simulation alone, at the typical body's cost (busy cores)
   SpeedSample speed;
   std::string summary() const;  // two lines for the terminal
 };
 
-CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& speed, int threads);
+// Wall time and utilisation on a given layout: predict_schedule below.
+CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& speed);
+
+// What evolution's candidates cost: bodies of random genomes of the config's lattice (every
+// treatment in turn, the same draws on every call), each priced at the measured speed.
+struct BodySample {
+  std::vector<Job> bodies;            // seconds = voxels x steps / voxel-steps per second
+  double seconds_per_expression = 0;  // one genome drawn and expressed, one core
+};
+BodySample sample_bodies(const ExperimentConfig& config, const SpeedSample& speed, int count = 96);
+
+// The experiment's evolution replayed on `layout` (schedule.hpp), candidates' costs drawn
+// from `sample`, plus the analysis simulations spread evenly over the cores.
+struct SchedulePrediction {
+  Layout layout;
+  Policy policy = Policy::kPool;      // what the code runs, in one process or under mpirun
+  ScheduleResult evolution;           // under `policy`
+  ScheduleResult run_by_run;          // the same workload run by run (the code before the pool)
+  double analysis_seconds = 0;        // analysis simulations / cores
+  double wall_seconds = 0;            // evolution + analysis, s
+  double utilization = 0;             // of the whole: busy / (cores x wall), 0-1
+  double core_hours = 0;              // cores x wall: what the allocation is charged
+  int64_t simulations = 0;            // evolution + analysis simulations (before cache hits)
+  double mean_candidate_seconds = 0;  // mean cost of one sampled body, one core, s
+  std::string summary() const;        // two lines for the terminal
+  std::string json() const;           // one object; keys: cores, ranks, utilization,
+                                      // wall_seconds, core_hours, simulations (and more)
+};
+SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySample& sample,
+                                    const Layout& layout);
 
 // "3 h 12 min", "48 s": durations for people.
 std::string human_duration(double seconds);

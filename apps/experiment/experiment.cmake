@@ -23,6 +23,7 @@ ${_body}};
 add_library(plastivox_experiment STATIC
   experiment/experiment_config.cpp
   experiment/cost_estimate.cpp
+  experiment/schedule.cpp
   experiment/progress.cpp
   experiment/experiment_run.cpp
   experiment/stage_evolution.cpp

@@ -58,6 +58,14 @@ Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   return e;
 }
 
+double expected_steps(const Phenotype& p, const PhysicsDef& physics) {
+  double e_top = 0;
+  for (size_t i = 0; i < p.robot.present.size(); ++i)
+    if (p.robot.present[i]) e_top = std::max(e_top, p.robot.stiffness[i]);
+  if (!(e_top > 0)) return 0;
+  return physics.duration / time_step_at(physics, p.robot.voxel_size, e_top);
+}
+
 RunState Evolver::new_run(const EvolveConfig& config) {
   RunState s;
   s.config = config;

@@ -3,10 +3,20 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
+#include <map>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
+#include <thread>
+#include <type_traits>
+
+#include "plastivox/evo/eval_pool.hpp"
 
 namespace plastivox::evo {
 namespace {
@@ -39,6 +49,89 @@ void pack(std::vector<char>& b, uint64_t index, const Evaluation& e) {
   for (double x : e.final_stiffness) put(b, x);
   put(b, e.wall_seconds);
 }
+
+// The rest of pack(): an evaluation after its index.
+Evaluation unpack(const std::vector<char>& b, size_t& at) {
+  Evaluation e;
+  e.fitness = get<double>(b, at);
+  e.status = static_cast<EvalStatus>(get<uint8_t>(b, at));
+  e.sank = get<uint8_t>(b, at) != 0;
+  const auto len = get<uint64_t>(b, at);
+  if (at + len > b.size()) throw std::runtime_error("MPI: truncated evaluation message");
+  e.failure.assign(b.data() + at, len);
+  at += len;
+  const auto count = get<uint64_t>(b, at);
+  if (count > (b.size() - at) / sizeof(double))
+    throw std::runtime_error("MPI: truncated evaluation message");
+  e.final_stiffness.resize(count);
+  for (double& x : e.final_stiffness) x = get<double>(b, at);
+  e.wall_seconds = get<double>(b, at);
+  return e;
+}
+
+template <class T>
+void put_array(std::vector<char>& b, const std::vector<T>& v) {
+  put(b, static_cast<uint64_t>(v.size()));
+  const char* p = reinterpret_cast<const char*>(v.data());
+  b.insert(b.end(), p, p + v.size() * sizeof(T));
+}
+
+template <class T>
+std::vector<T> get_array(const std::vector<char>& b, size_t& at) {
+  const auto n = get<uint64_t>(b, at);
+  if (n > (b.size() - at) / sizeof(T)) throw std::runtime_error("MPI: truncated body message");
+  std::vector<T> v(n);
+  std::memcpy(v.data(), b.data() + at, n * sizeof(T));
+  at += n * sizeof(T);
+  return v;
+}
+
+// A simulation for another rank: id u64, physics (plain data, same binary on every rank),
+// lattice extent and voxel size, voxel count, then the four lattice arrays.
+static_assert(std::is_trivially_copyable_v<PhysicsDef>, "PhysicsDef is sent as bytes");
+void pack_body(std::vector<char>& b, uint64_t id, const Phenotype& p, const PhysicsDef& physics) {
+  const RobotDef& r = p.robot;
+  if (!r.fixed_sites.empty() || !r.loads.empty())
+    throw std::logic_error("MPI: an evolved body has no boundary conditions");
+  put(b, id);
+  put(b, physics);
+  put(b, r.nx);
+  put(b, r.ny);
+  put(b, r.nz);
+  put(b, r.voxel_size);
+  put(b, p.voxels);
+  put_array(b, r.present);
+  put_array(b, r.stiffness);
+  put_array(b, r.dev_rate);
+  put_array(b, r.phase);
+}
+
+struct RemoteBody {
+  uint64_t id = 0;
+  PhysicsDef physics;
+  Phenotype body;
+};
+
+RemoteBody unpack_body(const std::vector<char>& b) {
+  RemoteBody t;
+  size_t at = 0;
+  t.id = get<uint64_t>(b, at);
+  t.physics = get<PhysicsDef>(b, at);
+  RobotDef& r = t.body.robot;
+  r.nx = get<int>(b, at);
+  r.ny = get<int>(b, at);
+  r.nz = get<int>(b, at);
+  r.voxel_size = get<double>(b, at);
+  t.body.voxels = get<int>(b, at);
+  r.present = get_array<uint8_t>(b, at);
+  r.stiffness = get_array<double>(b, at);
+  r.dev_rate = get_array<double>(b, at);
+  r.phase = get_array<double>(b, at);
+  t.body.valid = true;
+  return t;
+}
+
+constexpr int kTagBody = 71, kTagResult = 72, kTagRelease = 73;
 
 }  // namespace
 
@@ -91,6 +184,123 @@ std::vector<int> assign_to_ranks(const std::vector<const Phenotype*>& batch, int
   return owner;
 }
 
+void MpiCluster::serve(EvaluationPool& pool, const std::function<bool()>& finished) {
+  int none = 0;
+  std::vector<int> capacity(size_, 0);  // threads of each rank
+  MPI_Gather(&none, 1, MPI_INT, capacity.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> out(size_, 0);
+  std::map<uint64_t, EvaluationPool::Claim> sent;
+  uint64_t next_id = 0;
+  std::vector<char> buf;
+  for (;;) {
+    bool busy = false;
+    for (int r = 1; r < size_; ++r) {
+      EvaluationPool::Claim c;
+      while (out[r] < capacity[r] && pool.try_claim(c)) {
+        buf.clear();
+        pack_body(buf, next_id, *c.body, *c.physics);
+        MPI_Send(buf.data(), static_cast<int>(buf.size()), MPI_BYTE, r, kTagBody, MPI_COMM_WORLD);
+        sent[next_id++] = c;
+        ++out[r];
+        busy = true;
+      }
+    }
+    for (;;) {
+      int arrived = 0;
+      MPI_Status st;
+      MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, MPI_COMM_WORLD, &arrived, &st);
+      if (!arrived) break;
+      int bytes = 0;
+      MPI_Get_count(&st, MPI_BYTE, &bytes);
+      buf.resize(static_cast<size_t>(bytes));
+      MPI_Recv(buf.data(), bytes, MPI_BYTE, st.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
+               MPI_STATUS_IGNORE);
+      size_t at = 0;
+      const auto id = get<uint64_t>(buf, at);
+      const auto it = sent.find(id);
+      if (it == sent.end()) throw std::runtime_error("MPI: a result for no body sent");
+      pool.complete(it->second, unpack(buf, at));
+      sent.erase(it);
+      --out[st.MPI_SOURCE];
+      busy = true;
+    }
+    if (sent.empty() && finished()) break;
+    if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  for (int r = 1; r < size_; ++r) MPI_Send(nullptr, 0, MPI_BYTE, r, kTagRelease, MPI_COMM_WORLD);
+}
+
+void MpiCluster::work(int threads) {
+  int mine = threads;
+  MPI_Gather(&mine, 1, MPI_INT, nullptr, 0, MPI_INT, 0, MPI_COMM_WORLD);
+  // Bodies in, packed results out; the threads simulate, the main thread talks MPI.
+  std::mutex m;
+  std::condition_variable arrived;
+  std::deque<RemoteBody> inbox;
+  std::deque<std::vector<char>> outbox;
+  bool released = false;
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t)
+    pool.emplace_back([&] {
+      std::unique_lock<std::mutex> lock(m);
+      for (;;) {
+        arrived.wait(lock, [&] { return released || !inbox.empty(); });
+        if (inbox.empty()) return;
+        RemoteBody job = std::move(inbox.front());
+        inbox.pop_front();
+        lock.unlock();
+        std::vector<char> result;
+        try {
+          pack(result, job.id, evaluate_phenotype(job.body, job.physics));
+        } catch (const std::exception& e) {  // rank 0 would wait for ever
+          std::fprintf(stderr, "plastivox: rank %d: error: %s\n", rank_, e.what());
+          abort(1);
+        }
+        lock.lock();
+        outbox.push_back(std::move(result));
+      }
+    });
+  std::vector<char> buf;
+  for (bool done = false; !done;) {
+    bool busy = false;
+    {
+      std::deque<std::vector<char>> ready;
+      {
+        std::lock_guard<std::mutex> lock(m);
+        ready.swap(outbox);
+      }
+      for (const auto& r : ready)
+        MPI_Send(r.data(), static_cast<int>(r.size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD);
+      busy = !ready.empty();
+    }
+    int got = 0;
+    MPI_Status st;
+    MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &got, &st);
+    if (got) {
+      int bytes = 0;
+      MPI_Get_count(&st, MPI_BYTE, &bytes);
+      buf.resize(static_cast<size_t>(bytes));
+      MPI_Recv(buf.data(), bytes, MPI_BYTE, 0, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      if (st.MPI_TAG == kTagRelease) {
+        done = true;  // rank 0 releases only when nothing is out
+      } else {
+        RemoteBody job = unpack_body(buf);
+        std::lock_guard<std::mutex> lock(m);
+        inbox.push_back(std::move(job));
+        arrived.notify_one();
+      }
+      busy = true;
+    }
+    if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  {
+    std::lock_guard<std::mutex> lock(m);
+    released = true;
+  }
+  arrived.notify_all();
+  for (std::thread& t : pool) t.join();
+}
+
 std::vector<Evaluation> MpiCluster::run(const std::vector<const Phenotype*>& batch,
                                         const PhysicsDef& physics, int threads) {
   // Every rank computes the same assignment and simulates its share.
@@ -121,18 +331,7 @@ std::vector<Evaluation> MpiCluster::run(const std::vector<const Phenotype*>& bat
   while (at < all.size()) {
     const auto index = get<uint64_t>(all, at);
     if (index >= batch.size()) throw std::runtime_error("MPI: evaluation index out of range");
-    Evaluation& e = results[index];
-    e.fitness = get<double>(all, at);
-    e.status = static_cast<EvalStatus>(get<uint8_t>(all, at));
-    e.sank = get<uint8_t>(all, at) != 0;
-    const auto len = get<uint64_t>(all, at);
-    if (at + len > all.size()) throw std::runtime_error("MPI: truncated evaluation message");
-    e.failure.assign(all.data() + at, len);
-    at += len;
-    const auto count = get<uint64_t>(all, at);
-    e.final_stiffness.resize(count);
-    for (double& x : e.final_stiffness) x = get<double>(all, at);
-    e.wall_seconds = get<double>(all, at);
+    results[index] = unpack(all, at);
     filled[index] = 1;
   }
   for (uint8_t f : filled)

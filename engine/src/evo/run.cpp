@@ -137,7 +137,8 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
   }
   const double wall_before = prov.wall_seconds;
 
-  Evolver ev(std::move(state), report.threads, cluster);
+  Simulations* backend = cluster ? cluster : opt.simulations;
+  Evolver ev(std::move(state), cluster || !opt.simulations ? report.threads : 1, backend);
   const int first_gen_this_session = ev.state().generations_done + 1;
   while (!ev.finished()) {
     RunProgress p;

@@ -46,6 +46,11 @@ struct Evaluation {
 // Simulates a valid phenotype under physics (thread-safe).
 Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics);
 
+// Time steps a valid phenotype's life is expected to take: duration over the time step of its
+// stiffest voxel at birth (development may change it). With voxels, the cost that schedulers
+// order by (longest first); never part of any result.
+double expected_steps(const Phenotype& p, const PhysicsDef& physics);
+
 // Where the simulations of a generation run. The default (nullptr in Evolver) is the
 // evolver's thread pool; an MPI implementation spreads them over ranks (mpi_cluster.hpp).
 // Implementations must return, for every phenotype of the batch, exactly what

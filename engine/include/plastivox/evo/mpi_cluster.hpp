@@ -7,6 +7,12 @@
 // exchanged (MPI_Allgatherv) so every rank continues with identical state. Which rank
 // simulated a body never changes its result, so the run is bit-identical for any number
 // of ranks and threads. MPI is called from the main thread only (MPI_THREAD_FUNNELED).
+//
+// Several runs at once (run_evolutions) use the ranks differently: rank 0 drives every run
+// and keeps the evaluation pool's queue; serve() sends each queued body (its lattice arrays
+// and physics) to a free thread of another rank and completes the pool's batch with the
+// result; work() on the other ranks simulates what arrives and sends results back as each
+// finishes. The results are what evaluate_phenotype() gives, wherever it ran.
 #pragma once
 
 #include <string>
@@ -33,6 +39,8 @@ class MpiCluster final : public Cluster {
   void barrier() override;
   std::vector<Evaluation> run(const std::vector<const Phenotype*>& batch, const PhysicsDef& physics,
                               int threads) override;
+  void serve(EvaluationPool& pool, const std::function<bool()>& finished) override;
+  void work(int threads) override;
 
   // Ends every rank (MPI_Abort): for errors on one rank that the others cannot see.
   [[noreturn]] void abort(int code);

@@ -15,11 +15,14 @@
 #include <atomic>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "plastivox/evo/evolver.hpp"
 #include "plastivox/evo/results_file.hpp"
 
 namespace plastivox::evo {
+
+class EvaluationPool;
 
 struct RunProgress {
   GenerationStats stats;       // of the generation just done
@@ -43,6 +46,13 @@ class Cluster : public Simulations {
   virtual int size() const = 0;
   virtual void broadcast(std::string& text) = 0;  // collective: rank 0's text to every rank
   virtual void barrier() = 0;                     // collective: wait for every rank
+  // The evaluation pool over every rank (run_evolutions under mpirun). Rank 0 alone drives
+  // the runs; its main thread calls serve(), which hands simulations queued in `pool` to
+  // the other ranks (as many at a time as each has threads) and completes them with the
+  // results, until finished() is true and none is out, then releases the ranks. Every
+  // other rank calls work() meanwhile: it simulates what rank 0 sends on `threads` threads.
+  virtual void serve(EvaluationPool& pool, const std::function<bool()>& finished) = 0;
+  virtual void work(int threads) = 0;
 };
 
 // A refusal decided by rank 0 and raised on every rank alike (so no rank has to abort the
@@ -54,7 +64,10 @@ class RunRefused : public ResultsError {
 
 struct RunOptions {
   Cluster* cluster = nullptr;  // nullptr: a single process
-  int threads = -1;            // evaluation threads; -1: the config's; 0: all cores
+  // A backend shared with other runs (EvaluationPool, eval_pool.hpp), used when there is no
+  // cluster; the run then makes and expresses candidates on the calling thread alone.
+  Simulations* simulations = nullptr;
+  int threads = -1;     // evaluation threads; -1: the config's; 0: all cores
   int stop_after = -1;  // testing hook: stop once generations_done reaches this (checkpointed)
   // Polled after every generation: when it reads true the run checkpoints and stops
   // (outcome kStopped, resumable). Set from a SIGINT handler for a clean Ctrl-C. Under a
@@ -80,6 +93,31 @@ struct RunReport {
 
 RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
                         const RunOptions& options);
+
+// Several evolutions at once, one results file each (what `plastivox experiment` and
+// `plastivox evolve` with several configs do in one process): every run drives its own
+// evolver on its own thread, and all their candidates share one EvaluationPool of
+// `threads` workers (-1: the first config's threads; 0: all cores). Each run behaves as
+// run_evolution() alone (new, resume, finished, refuse; checkpoints; its own lock) and
+// gives the same bits. stop_requested stops every run after its generation in flight
+// (checkpointed); so does the first run that fails, whose exception (lowest run index)
+// is rethrown once every run has stopped. The callbacks are called one at a time, with
+// the run's index. Output paths must differ. With a cluster, rank 0 alone runs the drivers
+// (decides, writes files, reports) and every rank's threads serve the queue; the other
+// ranks return no reports.
+struct RunSpec {
+  EvolveConfig config;
+  std::string out_path;
+};
+struct ManyRunOptions {
+  Cluster* cluster = nullptr;  // under mpirun: rank 0 drives, every rank simulates
+  int threads = -1;
+  const std::atomic<bool>* stop_requested = nullptr;
+  std::function<void(size_t run, const RunProgress&)> on_generation;
+  std::function<void(size_t run, const std::string&)> on_message;
+};
+std::vector<RunReport> run_evolutions(const std::vector<RunSpec>& runs,
+                                      const ManyRunOptions& options);
 
 // Empty when a and b may share a results file; otherwise a one-line description of the
 // first difference ("seed: 1 in the file, 2 now").
