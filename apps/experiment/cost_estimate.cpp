@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
@@ -157,6 +158,8 @@ DiskEstimate estimate_disk(const ExperimentConfig& config) {
 }
 
 void check_free_space(const ExperimentConfig& config, const std::string& dir) {
+  const char* skip = std::getenv("PLASTIVOX_SKIP_DISK_CHECK");
+  if (skip && *skip) return;  // the estimate is typical, not a bound: the user knows better
   struct statvfs v {};
   if (statvfs(dir.c_str(), &v) != 0) return;  // unknown: the writes will say
   const uint64_t free_bytes = static_cast<uint64_t>(v.f_bavail) * v.f_frsize;
@@ -166,7 +169,8 @@ void check_free_space(const ExperimentConfig& config, const std::string& dir) {
   if (free_bytes < need)
     throw InputError(dir + ": the study needs about " + human_size(need) + " more on disk (" +
                      human_size(d.total()) + " in all) but only " + human_size(free_bytes) +
-                     " is free there; free some space or use another --out folder");
+                     " is free there; free some space, use another --out folder, or set "
+                     "PLASTIVOX_SKIP_DISK_CHECK=1");
 }
 
 std::string human_size(uint64_t b) {

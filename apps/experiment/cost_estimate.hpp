@@ -48,7 +48,8 @@ DiskEstimate estimate_disk(const ExperimentConfig& config);
 
 // Refuses (InputError, one line naming dir and both sizes) when the file system holding dir
 // has less free space than the study still needs: the estimate less what dir already holds
-// (a resumed study), plus room for one temporary copy of the largest file.
+// (a resumed study), plus room for one temporary copy of the largest file. The environment
+// variable PLASTIVOX_SKIP_DISK_CHECK (non-empty) turns the check off.
 void check_free_space(const ExperimentConfig& config, const std::string& dir);
 
 // "3 h 12 min", "48 s": durations for people.
