@@ -39,17 +39,6 @@ std::set<std::string> parse_force(const std::string& s) {
   return out;
 }
 
-std::string human_size(uintmax_t b) {
-  char buf[32];
-  if (b >= 1 << 20)
-    std::snprintf(buf, sizeof buf, "%.1f MB", b / 1048576.0);
-  else if (b >= 1 << 10)
-    std::snprintf(buf, sizeof buf, "%.1f kB", b / 1024.0);
-  else
-    std::snprintf(buf, sizeof buf, "%ju B", b);
-  return buf;
-}
-
 }  // namespace
 
 int cmd_experiment(const Args& in) {
@@ -128,12 +117,13 @@ int cmd_experiment(const Args& in) {
     const auto plan = experiment::predict_schedule(config, bodies, layout);
     std::fprintf(stderr,
                  "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
-                 "%d, %d generations, %.1f s lives\n%s\n%s\n",
+                 "%d, %d generations, %.1f s lives\n%s\n%s\nestimate: about %s on disk\n",
                  config.name.c_str(), config.treatments.size(),
                  config.treatments.size() == 1 ? "" : "s", config.seeds.size(),
                  config.seeds.size() == 1 ? "" : "s", config.evolution.population,
                  config.evolution.generations, config.evolution.physics.duration,
-                 est.summary().c_str(), plan.summary().c_str());
+                 est.summary().c_str(), plan.summary().c_str(),
+                 experiment::human_size(experiment::estimate_disk(config).total()).c_str());
     if (json_out) std::printf("%s\n", plan.json().c_str());
   }
   if (estimate_only) return 0;
@@ -161,7 +151,7 @@ int cmd_experiment(const Args& in) {
   for (const auto& f : outcome.outputs) {
     std::error_code ec;
     const auto size = std::filesystem::file_size(out + "/" + f, ec);
-    std::printf("  %-44s %s\n", f.c_str(), ec ? "(missing)" : human_size(size).c_str());
+    std::printf("  %-44s %s\n", f.c_str(), ec ? "(missing)" : experiment::human_size(size).c_str());
   }
   return 0;
 }

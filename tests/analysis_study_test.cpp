@@ -4,6 +4,7 @@
 // order or on resuming from checkpoints; bad inputs give one clear line and leave no output.
 #include <hdf5.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -527,6 +528,60 @@ TEST_F(Study, UnstableSimulationsAreRecordedNeverTurnedIntoNumbers) {
   EXPECT_EQ(rows[2][9], "");   // fitness
   EXPECT_EQ(rows[2][12], "");  // r_mean
   EXPECT_EQ(rows[2][7], "unstable");
+}
+
+TEST_F(Study, HealthColumnFlagsChampionsThatSankOrWentUnstable) {
+  // Three runs of one treatment: a healthy one; one whose every body is soft (E <= 2e5 Pa)
+  // and heavy, so every life sinks through the floor (docs/engine.md); one whose every
+  // simulation goes unstable.
+  const std::string ok = run(Treatment::kStress, 3);
+  const std::string sank = run(Treatment::kStress, 5,
+                               R"({"duration": 1.0, "settle_time": 0.1, "e_max": 2e5,
+                                   "act_frequency": 1})");
+  const std::string bad =
+      run(Treatment::kStress, 9, R"({"duration": 0.2, "settle_time": 0.1, "max_speed": 1e-4})");
+  for (const auto& [file, sinks] : {std::pair{ok, false}, {sank, true}}) {
+    const evo::ResultsFile f = evo::read_results(file);
+    const uint64_t champion = f.state.history.back().champion_id;
+    EXPECT_EQ(f.state.births.at(champion).sank, sinks) << file;  // what the column must show
+  }
+  StudyOptions o = quick();
+  o.allow_mixed_physics = true;
+  const StudyResult r = analyze_study({ok, sank, bad}, o);
+  write_study_outputs(r, path("out"));
+
+  const char* expect_label[] = {"stress-s3", "stress-s5", "stress-s9"};
+  const char* expect_status[] = {"ok", "ok", "unstable"};
+  const char* expect_health[] = {"", "sank-through-floor", ""};
+  // champions.csv: the health column, found by its header.
+  const auto rows = read_csv(read_text(path("out/champions.csv")));
+  ASSERT_EQ(rows.size(), 4u);
+  const auto column = [&](const std::string& name) {
+    const auto at = std::find(rows[0].begin(), rows[0].end(), name);
+    EXPECT_NE(at, rows[0].end()) << name << " column";
+    return static_cast<size_t>(at - rows[0].begin());
+  };
+  const size_t label = column("label"), status = column("status"), health = column("health");
+  // stats.json and analysis.h5 say the same.
+  const Json j = Json::parse(read_text(path("out/stats.json")));
+  ASSERT_EQ(j["champions"].size(), 3u);
+  const evo::h5::Ctx ctx{path("out/analysis.h5"), 0};
+  evo::h5::Handle f(H5Fopen(path("out/analysis.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+                    evo::h5::Handle::Kind::kFile);
+  const std::vector<std::string> h5_health =
+      evo::h5::read_strings(ctx, f.id(), "champions/health", 3);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(rows[i + 1][label], expect_label[i]);
+    EXPECT_EQ(rows[i + 1][status], expect_status[i]) << expect_label[i];
+    EXPECT_EQ(rows[i + 1][health], expect_health[i]) << expect_label[i];
+    EXPECT_EQ(j["champions"][i]["label"], expect_label[i]);
+    EXPECT_EQ(j["champions"][i]["health"], expect_health[i]) << expect_label[i];
+    EXPECT_EQ(h5_health[i], expect_health[i]) << expect_label[i];
+  }
+  // The report's champions table shows the flag beside the status.
+  const std::string report = read_text(path("out/report.html"));
+  EXPECT_NE(report.find("<td>ok, sank-through-floor</td>"), std::string::npos);
+  EXPECT_EQ(report.find("sank-through-floor"), report.rfind("sank-through-floor"));
 }
 
 // ---- the command line ----

@@ -195,6 +195,19 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
   EXPECT_NEAR(info.duration_s, info.frames / 10.0, 1e-6);
   EXPECT_NE(report.find(std::filesystem::path(videos[0]).filename().string()), std::string::npos);
 
+  // The disk estimate printed up front is a real estimate: within a factor of two of what
+  // the study wrote.
+  uint64_t written = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) written += e.file_size();
+  const uint64_t estimate =
+      experiment::estimate_disk(parse_experiment_config(micro_config().dump(), "micro")).total();
+  EXPECT_GT(estimate, written / 2) << "estimate " << estimate << " B, written " << written;
+  EXPECT_LT(estimate, written * 2) << "estimate " << estimate << " B, written " << written;
+  EXPECT_NE(o.out.find("estimate: about " + experiment::human_size(estimate) + " on disk"),
+            std::string::npos)
+      << o.out;
+
   // The summary lists every output, none missing.
   EXPECT_NE(o.out.find("report.html"), std::string::npos);
   EXPECT_EQ(o.out.find("(missing)"), std::string::npos) << o.out;

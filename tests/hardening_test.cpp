@@ -98,14 +98,16 @@ class Hardening : public testing::ScratchDirTest {
 
 // ---- 1. A full disk: one line, exit 1, the previous results file intact ----
 
-// Mounts a 2 MB tmpfs at dir; false (with the reason) when not root or mount fails.
-bool mount_small_tmpfs(const std::string& dir, std::string& why) {
+// Mounts a tmpfs (2 MB unless options say) at dir; false (with the reason) when not root or mount
+// fails.
+bool mount_small_tmpfs(const std::string& dir, std::string& why,
+                       const std::string& options = "size=2m") {
   if (geteuid() != 0) {
     why = "needs root to mount a tmpfs (CI runs as root)";
     return false;
   }
   fs::create_directories(dir);
-  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=2m") != 0) {
+  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, options.c_str()) != 0) {
     why = std::string("mount -t tmpfs failed: ") + std::strerror(errno);
     return false;
   }
@@ -149,6 +151,51 @@ TEST_F(Hardening, FullDiskDuringEvolveIsOneLineExitOneAndKeepsTheLastCheckpoint)
   fs::remove(mnt + "/ballast");
   EXPECT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
   EXPECT_EQ(evo::read_results(out).state.generations_done, 3);
+}
+
+// Bytes of every file under dir.
+uint64_t bytes_under(const std::string& dir) {
+  uint64_t sum = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) sum += e.file_size();
+  return sum;
+}
+
+TEST_F(Hardening, ExperimentEstimatesItsDiskAndIsRefusedUpFrontWhenItCannotFit) {
+  const std::string mnt = path("full");
+  std::string why;
+  if (!mount_small_tmpfs(mnt, why, "size=8m")) GTEST_SKIP() << why;
+  struct Unmount {
+    std::string dir;
+    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
+  } unmount{mnt};
+  // With room, the tiny preset runs, and the disk estimate printed first is within a factor
+  // of two of what it wrote.
+  const std::string out = mnt + "/X";
+  Output o = run("experiment --preset tiny --out " + out + " --threads 2");
+  ASSERT_EQ(o.status, 0) << o.out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(o.out, m, std::regex("estimate: about ([0-9.]+) (kB|MB) on disk")))
+      << o.out;
+  const double estimate = std::stod(m[1]) * (m[2] == "MB" ? 1048576.0 : 1024.0);
+  const double written = static_cast<double>(bytes_under(out));
+  EXPECT_GT(estimate, written / 2) << "estimate " << estimate << " B, written " << written;
+  EXPECT_LT(estimate, written * 2) << "estimate " << estimate << " B, written " << written;
+
+  // With 148 kB free (the case: it used to run until the disk filled and end in a
+  // SIGSEGV), it is refused before any work, with one line naming the folder and the sizes.
+  fs::remove_all(out);
+  fill_to(mnt, 148 << 10);
+  const auto t0 = std::chrono::steady_clock::now();
+  o = run("experiment --preset tiny --out " + out + " --threads 2");
+  EXPECT_EQ(o.status, 1) << o.out;
+  const std::string last = o.out.substr(o.out.rfind('\n', o.out.size() - 2) + 1);
+  expect_one_line(Output{o.status, last},
+                  "plastivox experiment: error: " + out + ": the study needs about ");
+  EXPECT_NE(last.find(" is free there"), std::string::npos) << last;
+  EXPECT_NE(last.find("PLASTIVOX_SKIP_DISK_CHECK=1"), std::string::npos) << last;  // override
+  EXPECT_FALSE(fs::exists(out + "/runs")) << o.out;  // no evolution started
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30));
 }
 
 // ---- 2 and 3. Huge lattices and unbounded reads: refused before allocating ----

@@ -5,16 +5,20 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <memory>
 
 #include <nlohmann/json.hpp>
+#include <sys/statvfs.h>
 
 #include "plastivox/evo/evolver.hpp"
 #include "plastivox/evo/rng.hpp"
 #include "plastivox/evo/variation.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/robot.hpp"
+#include "plastivox/robot_file.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::experiment {
@@ -193,6 +197,107 @@ std::string SchedulePrediction::json() const {
   j["analysis_seconds"] = analysis_seconds;
   j["mean_candidate_seconds"] = mean_candidate_seconds;
   return j.dump(2);
+}
+
+// ---- disk ----
+//
+// Bytes measured on real outputs (uncompressed HDF5, PNG, H.264; docs/experiment.md, "Disk
+// space"), fitted per item: the tiny preset (6 runs of 2 generations, 1.5 MB in all) and a
+// 200-generation evolution of population 6 (1.39 MB, 74 champions, 1406 individuals). A
+// typical size, not a bound: champions and image content vary from run to run.
+namespace {
+
+constexpr double kRunFixed = 40e3;                 // a results file's headers, attributes, config
+constexpr double kPerBirth = 70;                   // its /individuals row and cache entry
+constexpr double kPerGeneration = 35;              // the /generations columns of one generation...
+constexpr double kPerSurvivor = 30;                // ...and of each survivor in it
+constexpr double kPerChampion = 14e3;              // genomes, groups and dataset headers
+constexpr double kPerChampionSite = 33;            // phenotype: present u8 + four f64 per site
+constexpr double kPerCheckpointGenome = 3e3;       // the stacked population in /checkpoint
+constexpr double kAnalysisFixed = 120e3;           // analysis.h5 and report headers, CSS, stats
+constexpr double kPerChampionAnalysis = 12e3;      // a champion's rows in every table
+constexpr double kFigureBytesPerPixel = 0.085;     // PNG figures (lines on white)
+constexpr double kGalleryBytesPerPixel = 0.29;     // PNG galleries (shaded bodies)
+constexpr double kSvgBytes = 6e3;                  // one vector figure
+constexpr double kVideoBytesPerPixelFrame = 0.02;  // H.264 of a body on a plain floor
+constexpr int kFigureStems = 8;                    // evolution, panels A-F, figure 5
+
+// New champions a run records: 3 in 2 generations, 74 in 200 (short, noisy lives); the
+// rate falls as improvements get rarer.
+double champions_per_run(int generations) {
+  const double g = generations;
+  return std::min(g + 1, 1 + std::pow(g, 0.8));
+}
+
+uint64_t folder_bytes(const std::string& dir) {
+  std::error_code ec;
+  uint64_t sum = 0;
+  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+    std::error_code size_ec;
+    if (it->is_regular_file(size_ec)) sum += it->file_size(size_ec);
+  }
+  return sum;
+}
+
+}  // namespace
+
+DiskEstimate estimate_disk(const ExperimentConfig& config) {
+  const evo::EvolveConfig& e = config.evolution;
+  const double p = e.population, g = e.generations, runs = config.runs();
+  const double sites = static_cast<double>(e.nx) * e.ny * e.nz;
+  const double births = p + g * (p + 1);
+  const double run_file =
+      kRunFixed + births * kPerBirth + g * (kPerGeneration + p * kPerSurvivor) +
+      champions_per_run(e.generations) * (kPerChampion + kPerChampionSite * sites) +
+      p * kPerCheckpointGenome;
+  DiskEstimate d;
+  d.evolution = static_cast<uint64_t>(runs * run_file);
+  const double draws = config.analysis.robustness_draws;
+  d.analysis = static_cast<uint64_t>(kAnalysisFixed + runs * (kPerChampionAnalysis + 16 * draws) +
+                                     runs * runs * 16);
+  const RenderSettings& r = config.rendering;
+  double figures = 0, galleries = 0, video = 0;
+  if (r.figures)
+    figures = kFigureStems * (r.figure_width * r.figure_height * kFigureBytesPerPixel + kSvgBytes);
+  if (r.galleries)
+    galleries =
+        config.treatments.size() * r.gallery_width * r.gallery_height * kGalleryBytesPerPixel;
+  if (r.video)
+    video = r.video_width * r.video_height * kVideoBytesPerPixelFrame * r.video_fps *
+            e.physics.duration;
+  d.rendering = static_cast<uint64_t>(figures + galleries + video);
+  d.largest_file = static_cast<uint64_t>(std::max({run_file, video, d.analysis / 2.0}));
+  return d;
+}
+
+void check_free_space(const ExperimentConfig& config, const std::string& dir) {
+  const char* skip = std::getenv("PLASTIVOX_SKIP_DISK_CHECK");
+  if (skip && *skip) return;  // the estimate is typical, not a bound: the user knows better
+  struct statvfs v {};
+  if (statvfs(dir.c_str(), &v) != 0) return;  // unknown: the writes will say
+  const uint64_t free_bytes = static_cast<uint64_t>(v.f_bavail) * v.f_frsize;
+  const DiskEstimate d = estimate_disk(config);
+  const uint64_t have = folder_bytes(dir);
+  const uint64_t need = (d.total() > have ? d.total() - have : 0) + d.largest_file;
+  if (free_bytes < need)
+    throw InputError(dir + ": the study needs about " + human_size(need) + " more on disk (" +
+                     human_size(d.total()) + " in all) but only " + human_size(free_bytes) +
+                     " is free there; free some space, use another --out folder, or set "
+                     "PLASTIVOX_SKIP_DISK_CHECK=1");
+}
+
+std::string human_size(uint64_t b) {
+  char buf[32];
+  if (b >= uint64_t{1} << 30)
+    std::snprintf(buf, sizeof buf, "%.1f GB", b / 1073741824.0);
+  else if (b >= 1 << 20)
+    std::snprintf(buf, sizeof buf, "%.1f MB", b / 1048576.0);
+  else if (b >= 1 << 10)
+    std::snprintf(buf, sizeof buf, "%.1f kB", b / 1024.0);
+  else
+    std::snprintf(buf, sizeof buf, "%ju B", static_cast<uintmax_t>(b));
+  return buf;
 }
 
 std::string human_duration(double s) {

@@ -63,7 +63,28 @@ struct SchedulePrediction {
 SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySample& sample,
                                     const Layout& layout);
 
+// What a study writes in its folder, bytes, from its plan: runs x individuals x the record
+// of each, champions' genomes and phenotypes, the analysis tables, the figures, galleries
+// and video at their configured sizes. Constants calibrated against real studies on disk
+// (cost_estimate.cpp says which); a typical figure, not a bound.
+struct DiskEstimate {
+  uint64_t evolution = 0;     // runs/*.h5
+  uint64_t analysis = 0;      // stats.json, CSV tables, analysis.h5, report.html, cache/
+  uint64_t rendering = 0;     // figures/, videos/
+  uint64_t largest_file = 0;  // the biggest single output (atomic rewrites need it twice)
+  uint64_t total() const { return evolution + analysis + rendering; }
+};
+DiskEstimate estimate_disk(const ExperimentConfig& config);
+
+// Refuses (InputError, one line naming dir and both sizes) when the file system holding dir
+// has less free space than the study still needs: the estimate less what dir already holds
+// (a resumed study), plus room for one temporary copy of the largest file. The environment
+// variable PLASTIVOX_SKIP_DISK_CHECK (non-empty) turns the check off.
+void check_free_space(const ExperimentConfig& config, const std::string& dir);
+
 // "3 h 12 min", "48 s": durations for people.
 std::string human_duration(double seconds);
+// "3.1 GB", "1.4 MB", "312 kB", "80 B": sizes for people (MB = 2^20 bytes).
+std::string human_size(uint64_t bytes);
 
 }  // namespace plastivox::experiment

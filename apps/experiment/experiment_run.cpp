@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cost_estimate.hpp"
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/run.hpp"
@@ -98,6 +99,7 @@ ExperimentOutcome run_experiment(const ExperimentConfig& config, const Experimen
   if (leader) {
     try {
       make_folder(dir);
+      check_free_space(config, dir);  // before an hour of work, not when the disk fills
       make_folder(dir + "/runs");
       created = claim_folder(config, dir);
     } catch (const std::exception& e) {

@@ -11,7 +11,7 @@ namespace plastivox::experiment {
 namespace {
 
 // Makespan of `jobs` (in claim order) on `threads` threads that each take the next job
-// when free: the thread pool's dynamic claiming (thread_pool.cpp parallel_for).
+// when free: the thread pool's dynamic claiming (base/parallel.cpp parallel_for).
 double list_schedule(const std::vector<const Job*>& jobs, int threads) {
   std::priority_queue<double, std::vector<double>, std::greater<>> free_at;
   for (int t = 0; t < threads; ++t) free_at.push(0.0);

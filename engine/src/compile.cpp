@@ -37,14 +37,16 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
   k.c_lin_unit = 2.0 * std::sqrt(m.mass * L);
   k.c_rot_unit = 2.0 * std::sqrt(m.inertia * L * L * L);
 
-  // Voxels in increasing site order; site -> voxel lookup for bonding.
-  std::vector<int> voxel_of(robot.sites(), -1);
-  for (int s = 0; s < robot.sites(); ++s) {
-    if (!robot.present[s]) continue;
-    voxel_of[s] = static_cast<int>(m.site.size());
-    m.site.push_back(s);
-  }
+  // Voxels in increasing site order. The site -> voxel lookup for bonding searches that
+  // sorted list, so the model costs memory per voxel, not per lattice site.
+  m.site.reserve(static_cast<size_t>(robot.voxel_count()));
+  for (int s = 0; s < robot.sites(); ++s)
+    if (robot.present[s]) m.site.push_back(s);
   m.n = static_cast<int>(m.site.size());
+  const auto voxel_of = [&m](int s) {
+    const auto at = std::lower_bound(m.site.begin(), m.site.end(), s);
+    return at != m.site.end() && *at == s ? static_cast<int>(at - m.site.begin()) : -1;
+  };
   m.rest_pos.resize(m.n);
   m.e0.resize(m.n);
   m.alpha.resize(m.n);
@@ -66,8 +68,8 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
   check_life_bounds(def, L, develops ? def.e_max : e_top);
   m.fixed.assign(m.n, 0);
   m.load.assign(m.n, Vec3::Zero());
-  for (int site : robot.fixed_sites) m.fixed[voxel_of[site]] = 1;
-  for (const RobotDef::Load& l : robot.loads) m.load[voxel_of[l.site]] += Vec3(l.fx, l.fy, l.fz);
+  for (int site : robot.fixed_sites) m.fixed[voxel_of(site)] = 1;
+  for (const RobotDef::Load& l : robot.loads) m.load[voxel_of(l.site)] += Vec3(l.fx, l.fy, l.fz);
   // Bonds in voxel order, +x then +y then +z neighbour: a fixed, documented order.
   const int stride[3] = {1, robot.nx, robot.nx * robot.ny};
   for (int i = 0; i < m.n; ++i) {
@@ -76,7 +78,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
     const int extent[3] = {robot.nx, robot.ny, robot.nz};
     for (int axis = 0; axis < 3; ++axis) {
       if (c[axis] + 1 >= extent[axis]) continue;
-      const int j = voxel_of[s + stride[axis]];
+      const int j = voxel_of(s + stride[axis]);
       if (j < 0) continue;
       const int b = m.bond_count();
       m.bond_a.push_back(i);

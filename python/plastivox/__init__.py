@@ -249,11 +249,13 @@ def simulate(robot, physics=None, treatment=None, record_fps=0):
     physics: a dict of fields applied on top of the robot's own physics; treatment: "none",
     "stress" or "pressure" (overrides both); record_fps > 0 records a Trajectory."""
     core = _robot_core(robot)
-    summary, traj = _core.simulate(core, _physics_json(physics), _check_treatment(treatment),
-                                   _record_fps(record_fps))
+    summary, traj, cxx_seconds = _core.simulate(core, _physics_json(physics),
+                                                _check_treatment(treatment), _record_fps(record_fps))
     if physics is not None or treatment is not None:
         robot = robot.with_physics(physics, treatment)  # what render(result) shows
-    return Result(summary, traj, robot)
+    result = Result(summary, traj, robot)
+    result._cxx_seconds = cxx_seconds  # the C++ part of this call (bench/python_bench.py)
+    return result
 
 
 def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0):

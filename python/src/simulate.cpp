@@ -1,6 +1,7 @@
 // Simulation for Python: a whole life (simulate), many lives on C++ threads
 // (simulate_many) and step-wise control (Simulator). Each life runs on one thread with the
 // GIL released, so results are the bits `plastivox simulate` gives, whatever the threads.
+#include <chrono>
 #include <memory>
 
 #include <pybind11/stl.h>
@@ -24,10 +25,8 @@ SimOptions recording(double record_fps) {
 }
 
 // One simulated life as the Python layer receives it: the summary JSON of
-// `simulate --json` and, when recorded, the trajectory arrays.
-pyb::tuple life_to_python(const SimResult& r, const PhysicsDef& physics,
-                          const std::string& source) {
-  const std::string summary = sim_summary_json(r, physics, source, PLASTIVOX_VERSION);
+// `simulate --json` (built by the caller) and, when recorded, the trajectory arrays.
+pyb::tuple life_to_python(const SimResult& r, const std::string& summary) {
   if (r.recording.frames.empty()) return pyb::make_tuple(summary, pyb::none());
   const auto& frames = r.recording.frames;
   const pyb::ssize_t t_count = static_cast<pyb::ssize_t>(frames.size());
@@ -64,8 +63,12 @@ pyb::tuple life_to_python(const SimResult& r, const PhysicsDef& physics,
   return pyb::make_tuple(summary, traj);
 }
 
+// (summary, trajectory, seconds): seconds is the wall time of the work `plastivox simulate
+// --json` does in C++ for this life (resolve the physics, compile, simulate, build the
+// summary), so bench/python_bench.py can set the whole Python call against it.
 pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& physics_json,
                         const std::optional<std::string>& treatment, double record_fps) {
+  const auto t0 = std::chrono::steady_clock::now();
   const PhysicsDef physics = resolve_physics(robot.physics, physics_json, treatment);
   const SimOptions options = recording(record_fps);
   SimResult r;
@@ -73,7 +76,11 @@ pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& 
     pyb::gil_scoped_release unlocked;
     r = simulate(compile(robot.def, physics), options);
   }
-  return life_to_python(r, physics, robot.source);
+  const std::string summary = sim_summary_json(r, physics, robot.source, PLASTIVOX_VERSION);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  pyb::tuple life = life_to_python(r, summary);
+  return pyb::make_tuple(life[0], life[1], seconds);
 }
 
 pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
@@ -95,7 +102,8 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
   }
   pyb::list out;
   for (size_t i = 0; i < robots.size(); ++i)
-    out.append(life_to_python(results[i], physics[i], robots[i]->source));
+    out.append(life_to_python(results[i], sim_summary_json(results[i], physics[i],
+                                                           robots[i]->source, PLASTIVOX_VERSION)));
   return out;
 }
 

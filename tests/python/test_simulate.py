@@ -1,6 +1,8 @@
 """simulate / simulate_many / Simulator give the bits of `plastivox simulate --json`."""
 
 import json
+import threading
+import time
 import warnings
 
 import numpy as np
@@ -136,3 +138,32 @@ def test_unstable_simulation_reports_status_not_exception():
     sim = plastivox.Simulator(short_walker(), physics={"max_speed": 1e-6})
     sim.run()
     assert sim.status == "unstable" and sim.failure
+
+
+@pytest.mark.parametrize("call", ["simulate", "simulate_many", "step"])
+def test_long_calls_release_the_gil(call):
+    """While a life runs in C++ another Python thread keeps running: with the GIL held it
+    could run only in the few bytecodes before and after the call."""
+    robot = short_walker(1.0)
+    inside = threading.Event()
+    done = threading.Event()
+
+    def work():
+        inside.set()
+        if call == "simulate":
+            plastivox.simulate(robot)
+        elif call == "simulate_many":
+            plastivox.simulate_many([robot, robot], threads=2)
+        else:
+            plastivox.Simulator(robot).step(1 << 30)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    inside.wait()
+    turns = 0
+    while not done.is_set():
+        turns += 1
+        time.sleep(0.001)
+    worker.join()
+    assert turns >= 20, f"{call}: the main thread ran {turns} times during the call"

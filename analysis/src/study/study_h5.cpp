@@ -51,7 +51,7 @@ void write_inputs(const Ctx& c, hid_t root, const StudyResult& r) {
 void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
   Handle g = evo::h5::create_group(c, root, "champions");
   const size_t n = r.champions.size(), draws = static_cast<size_t>(r.options.robustness_draws);
-  std::vector<std::string> label, treatment, evaluation, status, detail, plan, digest;
+  std::vector<std::string> label, treatment, evaluation, status, detail, health, plan, digest;
   std::vector<uint64_t> seed, id, rseed;
   std::vector<int32_t> generation, voxels, input, valid;
   std::vector<double> fitness, f_train, r_mean, m_body, v_body, v_gain, confidence;
@@ -63,6 +63,7 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
     evaluation.push_back(ch.evaluation);
     status.push_back(ch.status);
     detail.push_back(ch.status_detail);
+    health.push_back(ch.health);
     plan.push_back(to_string(ch.body_plan.plan));
     digest.push_back(ch.phenotype_digest);
     seed.push_back(ch.run_seed);
@@ -92,6 +93,7 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
                                                               {"evaluation", &evaluation},
                                                               {"status", &status},
                                                               {"status_detail", &detail},
+                                                              {"health", &health},
                                                               {"body_plan", &plan},
                                                               {"phenotype_digest", &digest}})
     evo::h5::write_strings(c, g.id(), name, *v);

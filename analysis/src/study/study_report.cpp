@@ -262,9 +262,10 @@ std::string champions(const StudyResult& r) {
          td(display(c.v_body, 3), "num") + td(display(c.v_gain, 3), "num") +
          td(std::string(plan_symbol(c.body_plan.plan)) + " " + display(c.body_plan.confidence, 2)) +
          td(std::to_string(c.voxels), "num") +
-         td(c.status == "ok"
-                ? "ok"
-                : "<span title=\"" + esc(c.status_detail) + "\">" + esc(c.status) + "</span>") +
+         td((c.status == "ok"
+                 ? "ok"
+                 : "<span title=\"" + esc(c.status_detail) + "\">" + esc(c.status) + "</span>") +
+            (c.health.empty() ? "" : ", " + esc(c.health))) +
          "</tr>\n";
   }
   return s + "</table>\n";

@@ -35,9 +35,9 @@ struct RobotDef {
 constexpr double kMinVoxelSize = 1e-4, kMaxVoxelSize = 10.0;
 
 // Most lattice sites (nx*ny*nz) a robot may declare: 2^21 (128^3), or the value of the
-// environment variable PLASTIVOX_MAX_LATTICE_SITES. Memory grows with the sites (about
-// 60 bytes each in the robot and its compiled model), so a damaged or hostile file that
-// declares a huge lattice is refused before anything is allocated.
+// environment variable PLASTIVOX_MAX_LATTICE_SITES. A RobotDef's arrays are dense (25 bytes
+// a site; the compiled Model and the simulation hold voxels only), so a damaged or hostile
+// file that declares a huge lattice is refused before anything is allocated.
 int64_t max_lattice_sites();
 // Throws std::invalid_argument ("robot.size: ...") when an extent is outside 1..1000 or
 // nx*ny*nz exceeds max_lattice_sites(); the message names the override.
