@@ -33,6 +33,7 @@ Frame capture(const State& s) {
 }  // namespace
 
 LifeSource load_life_source(const std::string& path, int generation) {
+  if (ends_with(path, ".h5") && evo::is_life_file(path)) return recorded_life_source(path);
   LifeSource src;
   src.path = path;
   if (ends_with(path, ".h5")) {
@@ -55,7 +56,8 @@ LifeSource load_life_source(const std::string& path, int generation) {
     src.physics = file.physics;
     src.label = src.robot.name.empty() ? path : src.robot.name;
   } else {
-    throw InputError(path + ": expected a robot (.json, .vxa) or results file (.h5)");
+    throw InputError(path +
+                     ": expected a robot (.json, .vxa), a results file or a recorded life (.h5)");
   }
   return src;
 }
