@@ -35,8 +35,11 @@ struct Lived {
 };
 Lived live(double fps) {
   Lived l;
-  l.robot = testing::block(3, 3, 2, 1e7);
-  for (size_t s = 0; s < l.robot.phase.size(); ++s) l.robot.phase[s] = 0.1 * (s % 3);
+  l.robot = testing::block(3, 3, 2, 1e9);  // above the development gate
+  for (size_t s = 0; s < l.robot.phase.size(); ++s) {
+    l.robot.phase[s] = 0.1 * (s % 3);
+    l.robot.dev_rate[s] = s % 2 ? 10.0 : -10.0;  // 1/s, as the demo robots' range
+  }
   l.physics = preset_gecco2018_code();
   l.physics.treatment = Treatment::kStress;
   l.physics.duration = 0.3;

@@ -4,14 +4,12 @@
 // to the life's fitness, every voxel decoded as recorded, and no network needed.
 #include <cmath>
 #include <regex>
-#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/demo_robots.hpp"
-#include "plastivox/render/offscreen.hpp"  // read_png
 #include "plastivox/render/viewer.hpp"
 #include "plastivox/robot_file.hpp"
 #include "test_support.hpp"
@@ -83,7 +81,8 @@ TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
   physics.duration = 0.6;
   physics.settle_time = 0.1;
   write_robot_file(path("block.json"), robot, &physics);
-  const auto sim = run("simulate " + path("block.json") + " --json");
+  const auto sim =
+      shell(std::string(PLASTIVOX_CLI) + " simulate " + path("block.json") + " --json 2>/dev/null");
   ASSERT_EQ(sim.status, 0) << sim.out;
   const double fitness = nlohmann::json::parse(sim.out).at("fitness").get<double>();
   ASSERT_GT(fitness, 0.001);
@@ -148,6 +147,9 @@ TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
   const SimResult r = simulate(model);
   ASSERT_EQ(probe_out.at("frames").get<size_t>(), r.recording.frames.size());
   const Frame& end = r.recording.frames.back();
+  double size_lo = 1, size_hi = 0;  // sizes are u8 over the life's range
+  for (const Frame& f : r.recording.frames)
+    for (double x : f.size) size_lo = std::min(size_lo, x), size_hi = std::max(size_hi, x);
   const auto& voxels = probe_out.at("voxels");
   ASSERT_EQ(voxels.size(), static_cast<size_t>(model.n));
   for (int i = 0; i < model.n; ++i) {
@@ -156,17 +158,8 @@ TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
     const Eigen::Quaterniond q(d[3].get<double>(), d[4].get<double>(), d[5].get<double>(),
                                d[6].get<double>());
     EXPECT_LT(q.angularDistance(end.orient[i]), 0.005) << i;
-    EXPECT_NEAR(d[7].get<double>(), end.size[i], 2e-4 * end.size[i]) << i;
+    EXPECT_NEAR(d[7].get<double>(), end.size[i], 0.51 * (size_hi - size_lo) / 255 + 1e-9) << i;
   }
-  // A screenshot as a reader sees the page: the viewer is drawn (many colours).
-  const auto shot = shell(chromium + flags + "--screenshot=" + path("page.png") + " file://" +
-                          path("page.html") + " 2>/dev/null");
-  ASSERT_EQ(shot.status, 0) << shot.out;
-  const render::Image img = render::read_png(path("page.png"));
-  std::set<uint32_t> colours;
-  for (size_t i = 0; i + 3 < img.rgba.size(); i += 4)
-    colours.insert(img.rgba[i] << 16 | img.rgba[i + 1] << 8 | img.rgba[i + 2]);
-  EXPECT_GT(colours.size(), 100u) << "the screenshot is (nearly) blank";
 }
 
 }  // namespace

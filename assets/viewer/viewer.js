@@ -186,9 +186,18 @@
     this.grid.rotation.x = Math.PI / 2;
     this.grid.position.set(cx, cy, 0);
     this.scene.add(this.grid);
-    // Camera: azimuth -60 deg, elevation 25 deg, the body in view (as the renderer's default).
-    const span = Math.max(life.hi[0] - life.lo[0], life.hi[1] - life.lo[1], life.hi[2] - life.lo[2], 4 * L);
-    const d = 2.6 * span / Math.tan((this.camera.fov * Math.PI) / 360);
+    // Camera: azimuth -60 deg, elevation 25 deg, the body at t = 0 filling about half the
+    // view (as the renderer's default framing).
+    const lo0 = [Infinity, Infinity, Infinity], hi0 = [-Infinity, -Infinity, -Infinity];
+    for (let i = 0; i < n; ++i) {
+      voxel(life, 0, i, this.vox);
+      for (let a = 0; a < 3; ++a) {
+        lo0[a] = Math.min(lo0[a], this.vox.p[a]);
+        hi0[a] = Math.max(hi0[a], this.vox.p[a]);
+      }
+    }
+    const span = Math.max(hi0[0] - lo0[0], hi0[1] - lo0[1], hi0[2] - lo0[2]) + L;
+    const d = 1.5 * span / Math.tan((this.camera.fov * Math.PI) / 360);
     const az = (-60 * Math.PI) / 180, el = (25 * Math.PI) / 180;
     this.offset = new THREE.Vector3(Math.cos(el) * Math.cos(az), Math.cos(el) * Math.sin(az), Math.sin(el)).multiplyScalar(d);
     this.camera.near = d / 100;
@@ -278,7 +287,7 @@
     if (!cb || !this.life) return;
     const scale = this.life.meta.scales[this.mode];
     const ctx = cb.getContext("2d");
-    const W = cb.width, H = cb.height, x0 = 10, x1 = W - 10, y0 = 22, y1 = 38;
+    const W = cb.width, H = cb.height, x0 = 30, x1 = W - 30, y0 = 22, y1 = 38;
     ctx.clearRect(0, 0, W, H);
     const rgb = [0, 0, 0];
     for (let x = x0; x < x1; ++x) {
