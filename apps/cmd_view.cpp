@@ -43,8 +43,9 @@ bool show(const std::string& file, int generation, double fps, Shown& out) {
     life.fitness = source.recorded->fitness;
     return true;
   }
-  log_line("view", "simulating " + file + " (" + std::to_string(def.duration) + " s at " +
-                       std::to_string(fps) + " frames per second)");
+  char what[96];
+  std::snprintf(what, sizeof what, " (%g s at %g frames per second)", def.duration, fps);
+  log_line("view", "simulating " + file + what);
   SimResult r = simulate(out.model);
   if (r.status != SimStatus::kFinished) {
     std::fprintf(stderr, "plastivox view: %s: simulation unstable: %s\n", file.c_str(),

@@ -208,6 +208,10 @@ TEST_F(RecordedLives, ForeignAndBrokenFilesAreRefusedInOneLine) {
   write_file_atomic(path("x.h5"), "not hdf5");
   EXPECT_FALSE(evo::is_life_file(path("x.h5")));
   EXPECT_FALSE(evo::is_life_file(path("missing.h5")));
+  // A results file starts with its seal, which is checked before HDF5 reads anything: the
+  // test for a recorded life does not hand it to HDF5 either.
+  write_file_atomic(path("r.h5"), "plastivox-evolution-results\nseal_version 1\n");
+  EXPECT_FALSE(evo::is_life_file(path("r.h5")));
   const std::string e = testing::error_of([&] { evo::read_life_file(path("x.h5")); });
   EXPECT_NE(e.find("x.h5: not an HDF5 file"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;

@@ -122,7 +122,7 @@
     this.readout = q("pv-readout");
     this.colorbar = q("pv-colorbar");
     this.caption = q("pv-caption");
-    this.renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: true,
+    this.renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: false,
                                               preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(1);
     this.renderer.setSize(this.canvas.clientWidth || 800, this.canvas.clientHeight || 450, false);

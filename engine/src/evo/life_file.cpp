@@ -9,6 +9,8 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 
 #include "h5_util.hpp"
 #include "plastivox/atomic_file.hpp"
@@ -123,12 +125,20 @@ bool is_life_file(const std::string& path) {
   h5::quiet_hdf5();
   struct stat sb {};
   if (::stat(path.c_str(), &sb) != 0 || !S_ISREG(sb.st_mode)) return false;
+  // A sealed results file is never handed to HDF5 before its seal is checked (file_seal.hpp):
+  // it starts with the seal's text, a recorded life with HDF5's signature.
+  char head[8] = {};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  const size_t got = std::fread(head, 1, sizeof head, f);
+  std::fclose(f);
+  if (got != sizeof head || std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) != 0) return false;
   if (H5Fis_hdf5(path.c_str()) <= 0) return false;
-  Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);
-  if (f.id() < 0) return false;
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);
+  if (file.id() < 0) return false;
   try {
     const Ctx c{path, static_cast<uint64_t>(sb.st_size)};
-    Handle root = h5::open_group(c, f.id(), "/");
+    Handle root = h5::open_group(c, file.id(), "/");
     return h5::has_attr(root.id(), "format") &&
            h5::read_attr_string(c, root.id(), "/", "format") == kLifeFormat;
   } catch (const ResultsError&) {

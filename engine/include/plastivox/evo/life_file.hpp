@@ -40,7 +40,8 @@ void write_life_file(const std::string& path, const RecordedLife& life);
 RecordedLife read_life_file(const std::string& path);
 
 // True when `path` is an HDF5 file whose root says format "plastivox-life" (false for a
-// results file, a missing file or anything else). Never throws.
+// results file, which is recognised by its seal before HDF5 reads it, a missing file or
+// anything else). Never throws.
 bool is_life_file(const std::string& path);
 
 }  // namespace plastivox::evo
