@@ -27,6 +27,7 @@ int cmd_export(const Args& args);      // apps/cmd_export.cpp
 int cmd_analyze(const Args& args);     // apps/cmd_analyze.cpp
 int cmd_render(const Args& args);      // apps/cmd_render.cpp
 int cmd_video(const Args& args);       // apps/cmd_video.cpp
+int cmd_view(const Args& args);        // apps/cmd_view.cpp
 int cmd_gallery(const Args& args);     // apps/cmd_gallery.cpp
 int cmd_figures(const Args& args);     // apps/cmd_figures.cpp
 int cmd_experiment(const Args& args);  // apps/cmd_experiment.cpp

@@ -4,8 +4,13 @@
 #include <stdexcept>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "cli.hpp"
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/evo/life_file.hpp"
+#include "plastivox/json_input.hpp"
+#include "plastivox/render/history_file.hpp"
 #include "plastivox/robot_file.hpp"
 #include "plastivox/robot_io.hpp"
 #include "plastivox/sim_summary.hpp"
@@ -28,6 +33,32 @@ double parse_seconds(const std::string& s, const std::string& option) {
   return v;
 }
 
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// Writes the life's frames to `path`: a recorded life (.h5) or a voxcraft-viz history.
+void write_recording(const std::string& path, const std::string& source, const RobotDef& robot,
+                     const PhysicsDef& physics, const Model& model, const SimResult& r) {
+  if (path.ends_with(".history")) {
+    render::write_history_file(path, model, r.recording);
+    return;
+  }
+  evo::RecordedLife life;
+  life.source = source;
+  life.robot = robot;
+  life.physics = physics;
+  life.recording = r.recording;
+  life.status = to_string(r.status);
+  life.fitness = r.fitness;
+  life.settled = r.settled;
+  life.com_settled = r.com_settled;
+  life.final_state_hash = r.final_state_hash;
+  evo::write_life_file(path, life);
+}
+
 }  // namespace
 
 int cmd_simulate(const Args& in) {
@@ -38,8 +69,23 @@ int cmd_simulate(const Args& in) {
   const std::string preset = take_option(args, "--preset", "");
   const std::string duration = take_option(args, "--duration", "");
   const std::string overrides = take_option(args, "--physics", "");
+  const std::string record = take_option(args, "--record", "");
+  const std::string fps_text = take_option(args, "--fps", "");
   reject_unknown_options(args);
   if (args.size() > 1) throw UsageError{"expected at most one robot file"};
+  if (!record.empty() && !record.ends_with(".h5") && !record.ends_with(".history"))
+    throw UsageError{"--record " + record +
+                     ": expected a recorded life (.h5) or a voxcraft-viz history (.history)"};
+  if (!fps_text.empty() && record.empty())
+    throw UsageError{
+        "--fps sets the frame rate of --record: plastivox simulate ROBOT --record "
+        "life.h5 --fps " +
+        fps_text};
+  double fps = 30;  // frames per simulated second of --record
+  if (!fps_text.empty()) {
+    fps = parse_seconds(fps_text, "--fps");
+    if (!(fps > 0 && fps <= 10000)) throw UsageError{"--fps must be in (0, 10000]"};
+  }
   // Command-line values are checked before any file is read (a bad one exits 2).
   std::optional<PhysicsDef> preset_physics;
   std::optional<Treatment> treatment_given;
@@ -77,7 +123,21 @@ int cmd_simulate(const Args& in) {
   }
   if (treatment_given) physics.treatment = *treatment_given;
   if (!duration.empty()) physics.duration = duration_s;
-  if (!overrides.empty()) apply_physics_json(overrides, "--physics", physics);
+  if (!overrides.empty()) {
+    apply_physics_json(overrides, "--physics", physics);
+    // Recording is not physics: frames are kept only in a file, at --fps.
+    const nlohmann::json given = parse_json_input(overrides, "--physics", "--physics");
+    if (given.contains("record_fps")) {
+      const double asked = given["record_fps"].is_number() ? given["record_fps"].get<double>() : 0;
+      if (record.empty())
+        throw UsageError{
+            "--physics: record_fps keeps frames only in a file: use plastivox "
+            "simulate ROBOT --record life.h5 --fps " +
+            number(asked) + " (or life.history)"};
+      if (fps_text.empty()) fps = asked;
+      if (!(fps > 0)) throw UsageError{"--physics: record_fps must be > 0 with --record"};
+    }
+  }
 
   Model model;
   try {  // validation and the life's bounds (docs/robot-format.md, "Limits"), naming the file
@@ -88,14 +148,26 @@ int cmd_simulate(const Args& in) {
   StageTimings timings;
   SimOptions options;
   if (timed) options.timings = &timings;
+  if (!record.empty()) options.record_fps = fps;
   const SimResult r = simulate(model, options);
   // Health warnings (a body that sank through the floor): on stderr always, and in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 
+  if (!record.empty()) write_recording(record, source, robot, physics, model, r);
+
   if (as_json) {
-    const std::string summary =
+    std::string summary =
         sim_summary_json(r, physics, source, PLASTIVOX_VERSION, timed ? &timings : nullptr);
+    if (!record.empty()) {  // what was recorded, in the same (sorted, indented) JSON
+      nlohmann::json j = nlohmann::json::parse(summary);
+      j["recording"] = {
+          {"file", record},
+          {"format", record.ends_with(".history") ? "voxcraft-viz history" : "plastivox-life"},
+          {"fps", fps},
+          {"frames", r.recording.frames.size()}};
+      summary = j.dump(1);
+    }
     std::printf("%s\n", summary.c_str());
   } else {
     std::printf("%s: %d voxels, treatment %s, %s\n", source.c_str(), r.voxels,
@@ -113,6 +185,10 @@ int cmd_simulate(const Args& in) {
         std::printf("    %-16s %8.3f s  %5.1f %%\n", s.name, timings.*s.seconds,
                     timings.total() > 0 ? 100 * timings.*s.seconds / timings.total() : 0.0);
     }
+    if (!record.empty())
+      std::printf("  recorded %s at %g fps to %s\n",
+                  count_of(static_cast<long long>(r.recording.frames.size()), "frame").c_str(), fps,
+                  record.c_str());
   }
   if (r.status != SimStatus::kFinished) {
     std::fprintf(stderr, "plastivox simulate: %s: simulation unstable: %s\n", source.c_str(),

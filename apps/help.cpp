@@ -50,9 +50,14 @@ const CommandHelp kHelp[] = {
      "  --json                print one JSON object (fitness, final_state_hash, ...)\n"
      "  --timings             also report the wall time of each stage of a step\n"
      "                        (\"stage_seconds\" in the JSON)\n"
+     "  --record FILE         keep the life's frames: LIFE.h5 (a recorded life: poses, sizes,\n"
+     "                        stiffness, stimulus, floor contact; docs/results-format.md) or\n"
+     "                        LIFE.history (voxcraft-viz's history format)\n"
+     "  --fps F               frames per simulated second of --record (default 30)\n"
      "exit status: 0 done, 1 bad input, 2 bad command line, 3 unstable simulation\n"
-     "example:\n"
-     "  plastivox simulate examples/walker.json --treatment pressure --json\n"},
+     "examples:\n"
+     "  plastivox simulate examples/walker.json --treatment pressure --json\n"
+     "  plastivox simulate examples/walker.json --record life.h5 --fps 30\n"},
     {"demo",
      "usage: plastivox demo\n"
      "Simulate the built-in demo walker under each treatment (none, stress, pressure) and\n"
@@ -124,7 +129,8 @@ const CommandHelp kHelp[] = {
      "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
     {"render",
      "usage: plastivox render ROBOT_OR_RESULTS --out frame.png [options]\n"
-     "One frame of a robot's life (or a results file's champion's) as a PNG.\n"
+     "One frame of a robot's life (or a results file's champion's) as a PNG. A recorded life\n"
+     "(simulate --record LIFE.h5) is drawn as recorded, without simulating again.\n"
      "options:\n"
      "  --out FILE            PNG to write\n"
      "  --time T              time of the frame in seconds (default 0.2)\n" PLASTIVOX_FRAME_OPTIONS
@@ -134,7 +140,9 @@ const CommandHelp kHelp[] = {
     {"video",
      "usage: plastivox video ROBOT_OR_RESULTS --out life.mp4 [options]\n"
      "A robot's life (or a results file's champion's) as a video (default 5.2 s, 30 fps); the\n"
-     "extension of --out picks the container: .mp4 (or .m4v) or .mkv.\n"
+     "extension of --out picks the container: .mp4 (or .m4v) or .mkv. A recorded life\n"
+     "(simulate --record LIFE.h5) is drawn from its frames (each video frame shows the first\n"
+     "recorded frame at or after its time), without simulating again.\n"
      "options:\n"
      "  --out FILE            video to write\n"
      "  --fps F               frames per second of life time (default 30)\n"
@@ -147,6 +155,21 @@ const CommandHelp kHelp[] = {
                  "  plastivox video "
                  "examples/walker.json --out "
                  "life.mp4 --color change\n"},
+    {"view",
+     "usage: plastivox view LIFE.h5|RESULTS.h5|ROBOT [...] --out page.html [options]\n"
+     "Robots' lives as one self-contained HTML page with an interactive 3-D viewer (three.js\n"
+     "from Debian's libjs-three, inlined: it opens from file:// with the network off). Orbit\n"
+     "or follow camera, time slider, play/pause at 0.25x-4x, colour by congenital stiffness,\n"
+     "stiffness, change E/E0, stimulus or phase. A recorded life (simulate --record) is shown\n"
+     "as recorded; a robot or a results file's champion is simulated once. With several\n"
+     "inputs, one viewer and a button per life to load it.\n"
+     "options:\n"
+     "  --out FILE            page to write (.html)\n"
+     "  --fps F               frames per simulated second to record (default 30; not for a\n"
+     "                        recorded life, which keeps its own)\n"
+     "  --generation G        a results file's champion at generation G (default: the last)\n"
+     "example:\n"
+     "  plastivox view run.h5 --out champion.html\n"},
     {"gallery",
      "usage: plastivox gallery RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [options]\n"
      "The run champions side by side, coloured by stiffness (the paper's Figs. 2-4).\n"

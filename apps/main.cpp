@@ -45,6 +45,8 @@ const char* kUsage =
     "           --antialias msaa|edge|none (render, gallery: msaa; video: edge)\n"
     "  video    ROBOT_OR_RESULTS --out life.mp4 [--color MODE] [--fps F] [--size WxH]\n"
     "           [--start S --end S] [--stride N]   the life as MP4 (default 5.2 s, 30 fps)\n"
+    "  view     LIFE.h5|RESULTS.h5|ROBOT --out page.html [--fps F] [--generation G]\n"
+    "           the life in an interactive 3-D page (opens offline, from file://)\n"
     "  gallery  RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]\n"
     "  figures  STATS.json --out DIR [--size WxH] [--format png,svg] [--no-combined]\n"
     "           Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json\n"
@@ -88,6 +90,7 @@ int main(int argc, char** argv) {
     if (cmd == "analyze") return cmd_analyze(args);
     if (cmd == "render") return cmd_render(args);
     if (cmd == "video") return cmd_video(args);
+    if (cmd == "view") return cmd_view(args);
     if (cmd == "gallery") return cmd_gallery(args);
     if (cmd == "figures") return cmd_figures(args);
     if (cmd == "experiment") return cmd_experiment(args);

@@ -42,6 +42,7 @@ add_library(plastivox_evo_h5
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/file_seal.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/results_write.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/results_read.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/evo/life_file.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/run.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/evo/run_many.cpp
 )

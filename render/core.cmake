@@ -15,6 +15,9 @@ add_library(plastivox_render
   ${CMAKE_CURRENT_LIST_DIR}/src/colormap.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/color_scale.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/life.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/history_file.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/recorded_life.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/viewer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/camera_path.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene_gl.cpp
@@ -30,8 +33,9 @@ target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
 # Evolution results and VXA files are read inside (load_life_source); nothing of them is in
 # the public headers, so they stay private.
 target_link_libraries(plastivox_render PUBLIC plastivox_engine
-                      PRIVATE plastivox_vxa plastivox_evo_h5 plastivox_video ${IMGUI_LIBRARY}
-                              ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
+                      PRIVATE plastivox_vxa plastivox_evo_h5 plastivox_video
+                              nlohmann_json::nlohmann_json ${IMGUI_LIBRARY} ${STB_LIBRARY}
+                              ${OSMESA_LIBRARY} PNG::PNG)
 # Compile-time default of the assets directory; $PLASTIVOX_ASSETS overrides it at run time.
 target_compile_definitions(plastivox_render PRIVATE
   PLASTIVOX_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")

@@ -80,8 +80,8 @@ TEST(CliHelp, SharedRenderOptionsAreSeen) {
   EXPECT_EQ(options_of("gallery").count("--color-range"), 1u);
 }
 
-TEST(CliHelp, MainDispatchesTheThirteenCommands) {
-  EXPECT_EQ(dispatched_commands().size(), 13u);
+TEST(CliHelp, MainDispatchesTheFourteenCommands) {
+  EXPECT_EQ(dispatched_commands().size(), 14u);
 }
 
 TEST(CliHelp, EveryCommandHasItsOwnHelpWithEveryOptionAndAnExample) {

@@ -12,9 +12,9 @@
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::render {
-namespace {}  // namespace
 
 LifeSource load_life_source(const std::string& path, int generation) {
+  if (path.ends_with(".h5") && evo::is_life_file(path)) return recorded_life_source(path);
   LifeSource src;
   src.path = path;
   if (path.ends_with(".h5")) {
@@ -32,7 +32,8 @@ LifeSource load_life_source(const std::string& path, int generation) {
     src.warnings = std::move(file.warnings);
     src.label = src.robot.name.empty() ? path : src.robot.name;
   } else {
-    throw InputError(path + ": expected a robot (.json, .vxa) or results file (.h5)");
+    throw InputError(path +
+                     ": expected a robot (.json, .vxa), a results file or a recorded life (.h5)");
   }
   return src;
 }

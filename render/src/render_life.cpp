@@ -139,12 +139,14 @@ void render_frame_file(const std::string& source_path, double time, const FrameS
   check_output_path(out);
   const LifeSource source = load_life_source(source_path);
   for (const std::string& w : source.warnings) say(log, "warning: " + w);
-  say(log, "simulating " + source_path + " to t = " + std::to_string(time) + " s");
+  const std::string at = "t = " + std::to_string(time) + " s";
+  say(log, source.recorded ? "reading the recorded frame at " + at
+                           : "simulating " + source_path + " to " + at);
   write_png(out, render_frame(source, time, style), style.width, style.height);
 }
 
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {
-  const Life life = simulate_life(source, {time});
+  const Life life = source.recorded ? recorded_life(source, {time}) : simulate_life(source, {time});
   const ColorScale scale =
       make_color_scale(style.color, *life.model, {&life.frames[0]}, style.color_range);
   const Camera camera =
@@ -182,10 +184,14 @@ VideoSummary render_video_file(const std::string& source_path, const FrameStyle&
   const auto start = std::chrono::steady_clock::now();
   const std::shared_ptr<const Model> model = compile_life_model(source);
   const bool scale_needs_frames =
-      style.camera == FrameStyle::CameraPath::kLife || style.color == ColorMode::kChange ||
+      source.recorded || style.camera == FrameStyle::CameraPath::kLife ||
+      style.color == ColorMode::kChange ||
       (style.color == ColorMode::kStiffness && style.color_range == ColorRange::kData);
   std::vector<LifeFrame> simulated;  // all frames, when the scale needs them
-  if (scale_needs_frames) {
+  if (source.recorded) {             // drawn as recorded: nothing to simulate
+    say(log, "reading " + std::to_string(count) + " frames of the recorded life " + source_path);
+    simulated = recorded_frames(source, times);
+  } else if (scale_needs_frames) {
     say(log, "simulating " + source_path + " (" + std::to_string(count) + " frames to capture)");
     simulated.reserve(count);
     simulate_frames(source, *model, times, [&](LifeFrame&& f) {

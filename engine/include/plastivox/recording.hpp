@@ -2,6 +2,7 @@
 // so the renderer and analysis can replay a simulation without re-running it.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -17,6 +18,16 @@ struct Frame {
   std::vector<double> stiffness;           // current E, Pa (n)
   std::vector<double> stimulus;            // stress or pressure, Pa (n)
 };
+
+// Which voxels touch the floor in `frame` (1) and which do not (0), with the engine's own
+// test: the voxel's actuated half-size reaches below z = 0, its tilt ignored, as the next
+// step's floor contact sees it (engine/src/voxel_lanes_body.hpp). All 0 without a floor.
+inline std::vector<uint8_t> floor_contact(const Frame& frame, bool floor) {
+  std::vector<uint8_t> touching(frame.pos.size(), 0);
+  for (size_t i = 0; floor && i < frame.pos.size(); ++i)
+    touching[i] = 0.5 * frame.size[i] - frame.pos[i].z() > 0.0 ? 1 : 0;
+  return touching;
+}
 
 struct Recording {
   double fps = 0;             // frames per simulated second

@@ -252,12 +252,65 @@ PLASTIVOX_H5_INSTANTIATE(double)
 
 namespace {
 
-// A fixed-length, NUL-terminated string type of `size` bytes.
-Handle string_type(const Ctx& c, size_t size, const std::string& obj) {
+// A fixed-length, NUL-terminated string type of `size` bytes in character set `cset`.
+Handle string_type(const Ctx& c, size_t size, const std::string& obj,
+                   H5T_cset_t cset = H5T_CSET_ASCII) {
   Handle t = check(c, H5Tcopy(H5T_C_S1), Handle::Kind::kDatatype, obj, "cannot make string type");
   check(c, H5Tset_size(t.id(), size), obj, "cannot size string type");
   check(c, H5Tset_strpad(t.id(), H5T_STR_NULLTERM), obj, "cannot set string padding");
+  check(c, H5Tset_cset(t.id(), cset), obj, "cannot set the character set");
   return t;
+}
+
+// The type every string is written with: variable-length UTF-8, which h5py returns as str
+// (fixed-length strings come back as bytes).
+Handle utf8_type(const Ctx& c, const std::string& obj) {
+  return string_type(c, H5T_VARIABLE, obj, H5T_CSET_UTF8);
+}
+
+// Frees what HDF5 allocated reading variable-length strings into `buf` (type `mem`).
+void reclaim(hid_t mem, hid_t space, void* buf) {
+#if H5_VERSION_GE(1, 12, 0)
+  H5Treclaim(mem, space, H5P_DEFAULT, buf);
+#else
+  H5Dvlen_reclaim(mem, space, H5P_DEFAULT, buf);
+#endif
+}
+
+// Strings read from an object of file type `ft` holding `n` values, through `read` (a
+// dataset or attribute read into a buffer of memory type `mt`): variable-length (what this
+// build writes) or fixed-length (files written before it), in the file's own character set
+// (HDF5 does not convert between ASCII and UTF-8).
+template <class Read>
+std::vector<std::string> read_string_values(const Ctx& c, hid_t ft, hsize_t n,
+                                            const std::string& obj, const Read& read) {
+  const H5T_cset_t cset = H5Tget_cset(ft);
+  if (cset != H5T_CSET_ASCII && cset != H5T_CSET_UTF8) c.fail(obj, "unknown character set");
+  std::vector<std::string> out(n);
+  if (H5Tis_variable_str(ft) > 0) {
+    Handle mt = string_type(c, H5T_VARIABLE, obj, cset);
+    std::vector<char*> ptrs(n, nullptr);
+    if (n == 0) return out;
+    check(c, read(mt.id(), static_cast<void*>(ptrs.data())), obj,
+          "read failed (corrupt or truncated file)");
+    for (hsize_t i = 0; i < n; ++i) out[i] = ptrs[i] ? std::string(ptrs[i]) : std::string();
+    Handle sp = check(c, H5Screate_simple(1, &n, nullptr), Handle::Kind::kDataspace, obj,
+                      "cannot create dataspace");
+    reclaim(mt.id(), sp.id(), ptrs.data());
+    return out;
+  }
+  const size_t width = H5Tget_size(ft);
+  if (width == 0 || width > (1u << 24)) c.fail(obj, "implausible string width");
+  if (c.file_size > 0 && n * width > c.file_size)
+    c.fail(obj, "claims more data than the file holds");
+  Handle mt = string_type(c, width, obj, cset);
+  std::vector<char> buf(width * n + 1, '\0');
+  if (n > 0)
+    check(c, read(mt.id(), static_cast<void*>(buf.data())), obj,
+          "read failed (corrupt or truncated file)");
+  for (hsize_t i = 0; i < n; ++i)
+    out[i] = std::string(&buf[i * width], strnlen(&buf[i * width], width));
+  return out;
 }
 
 }  // namespace
@@ -265,11 +318,10 @@ Handle string_type(const Ctx& c, size_t size, const std::string& obj) {
 void write_strings(const Ctx& c, hid_t loc, const std::string& name,
                    const std::vector<std::string>& s) {
   const std::string obj = path_of(loc, name);
-  size_t width = 1;
-  for (const std::string& x : s) width = std::max(width, x.size() + 1);
-  std::vector<char> buf(width * s.size(), '\0');
-  for (size_t i = 0; i < s.size(); ++i) std::memcpy(&buf[i * width], s[i].data(), s[i].size());
-  Handle t = string_type(c, width, obj);
+  std::vector<const char*> ptrs;
+  ptrs.reserve(s.size());
+  for (const std::string& x : s) ptrs.push_back(x.c_str());
+  Handle t = utf8_type(c, obj);
   const hsize_t n = s.size();
   Handle sp = check(c, H5Screate_simple(1, &n, nullptr), Handle::Kind::kDataspace, obj,
                     "cannot create dataspace");
@@ -277,7 +329,7 @@ void write_strings(const Ctx& c, hid_t loc, const std::string& name,
       c, H5Dcreate2(loc, name.c_str(), t.id(), sp.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
       Handle::Kind::kDataset, obj, "cannot create dataset");
   if (n > 0)
-    check(c, H5Dwrite(d.id(), t.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()), obj,
+    check(c, H5Dwrite(d.id(), t.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), obj,
           "write failed (disk full?)");
 }
 
@@ -286,20 +338,9 @@ std::vector<std::string> read_strings(const Ctx& c, hid_t loc, const std::string
   std::vector<hsize_t> dims = {n};
   Handle d = open_checked(c, loc, name, H5T_STRING, 1, dims);
   Handle ft = check(c, H5Dget_type(d.id()), Handle::Kind::kDatatype, obj, "cannot read type");
-  if (H5Tis_variable_str(ft.id()) != 0) c.fail(obj, "expected fixed-length strings");
-  const size_t width = H5Tget_size(ft.id());
-  if (width == 0 || width > (1u << 20)) c.fail(obj, "implausible string width");
-  if (c.file_size > 0 && n * width > c.file_size)
-    c.fail(obj, "claims more data than the file holds");
-  Handle mt = string_type(c, width, obj);
-  std::vector<char> buf(width * n + 1, '\0');
-  if (n > 0)
-    check(c, H5Dread(d.id(), mt.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()), obj,
-          "read failed (corrupt or truncated file)");
-  std::vector<std::string> out(n);
-  for (hsize_t i = 0; i < n; ++i)
-    out[i] = std::string(&buf[i * width], strnlen(&buf[i * width], width));
-  return out;
+  return read_string_values(c, ft.id(), n, obj, [&](hid_t mt, void* buf) {
+    return H5Dread(d.id(), mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf);
+  });
 }
 
 namespace {
@@ -336,8 +377,9 @@ Handle open_attr(const Ctx& c, hid_t obj_id, const std::string& where, const std
 }  // namespace
 
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, const std::string& value) {
-  Handle t = string_type(c, value.size() + 1, name);
-  write_attr_raw(c, obj, name, t.id(), t.id(), value.c_str());
+  Handle t = utf8_type(c, name);
+  const char* text = value.c_str();
+  write_attr_raw(c, obj, name, t.id(), t.id(), static_cast<const void*>(&text));
 }
 
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, int64_t value) {
@@ -361,13 +403,8 @@ std::string read_attr_string(const Ctx& c, hid_t obj, const std::string& where,
   Handle a = open_attr(c, obj, where, name, H5T_STRING);
   const std::string o = where + "@" + name;
   Handle ft = check(c, H5Aget_type(a.id()), Handle::Kind::kDatatype, o, "cannot read type");
-  if (H5Tis_variable_str(ft.id()) != 0) c.fail(o, "expected a fixed-length string");
-  const size_t width = H5Tget_size(ft.id());
-  if (width == 0 || width > (1u << 24)) c.fail(o, "implausible string length");
-  Handle mt = string_type(c, width, o);
-  std::vector<char> buf(width + 1, '\0');
-  check(c, H5Aread(a.id(), mt.id(), buf.data()), o, "cannot read attribute");
-  return std::string(buf.data(), strnlen(buf.data(), width));
+  return read_string_values(c, ft.id(), 1, o,
+                            [&](hid_t mt, void* buf) { return H5Aread(a.id(), mt, buf); })[0];
 }
 
 int64_t read_attr_int(const Ctx& c, hid_t obj, const std::string& where, const std::string& name) {

@@ -1,4 +1,4 @@
-// Thin, checked wrappers over the HDF5 C API, for the results file and analysis.h5.
+// Thin, checked wrappers over the HDF5 C API, for the results file, analysis.h5 and lives.
 //
 // Every call's return value is checked; a failure throws ResultsError with one line that
 // names the file and the object. HDF5's own error printing is switched off
@@ -88,6 +88,8 @@ std::vector<T> read(const Ctx& c, hid_t loc, const std::string& name, hsize_t n)
   return read<T>(c, loc, name, dims);
 }
 
+// Strings (datasets and attributes) are written as variable-length UTF-8, which h5py reads
+// as str; readers also accept fixed-length ASCII or UTF-8 strings (files written before).
 void write_strings(const Ctx& c, hid_t loc, const std::string& name,
                    const std::vector<std::string>& s);
 std::vector<std::string> read_strings(const Ctx& c, hid_t loc, const std::string& name, hsize_t n);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/evo/life_file.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
 
@@ -20,11 +21,18 @@ struct LifeSource {
   PhysicsDef physics;                 // what it is simulated under (treatment included)
   std::string label;                  // short caption: "stress · seed 3" or the robot's name
   std::vector<std::string> warnings;  // from reading a .vxa, one line each
+  // A recorded life (`plastivox simulate --record life.h5`): its frames are drawn as
+  // recorded, never simulated again (recorded_life() below). Null for every other source.
+  std::shared_ptr<const evo::RecordedLife> recorded;
 };
 
-// Reads by extension: .json, .vxa, .h5 (generation -1: the last one done). Throws
-// InputError / VxaError / ResultsError (all std::runtime_error, one line naming the file).
+// Reads by extension: .json, .vxa, .h5 (a results file, generation -1: the last one done;
+// or a recorded life). Throws InputError / VxaError / ResultsError (all
+// std::runtime_error, one line naming the file).
 LifeSource load_life_source(const std::string& path, int generation = -1);
+
+// The source of a recorded-life file (evo::read_life_file): its robot, physics and frames.
+LifeSource recorded_life_source(const std::string& path);
 
 // A compiled robot with frames captured from its simulation.
 struct Life {
@@ -62,6 +70,15 @@ std::shared_ptr<const Model> compile_life_model(const LifeSource& source);
 void simulate_frames(const LifeSource& source, const Model& model, const std::vector<double>& times,
                      const std::function<bool(LifeFrame&&)>& sink,
                      const std::function<void(double)>& progress = {});
+
+// For a recorded source: the frames simulate_frames() would hand over for `times` (s,
+// ascending), taken from the recording instead: for each time the first recorded frame at
+// or after it (a time within 1e-9 s of a frame counts as that frame's), with the life's
+// settling as the recording holds it. Throws RenderError for a time past the last frame.
+std::vector<LifeFrame> recorded_frames(const LifeSource& source, const std::vector<double>& times);
+
+// simulate_life() for a recorded source, from recorded_frames(): no simulation.
+Life recorded_life(const LifeSource& source, const std::vector<double>& times);
 
 // Displacement of the centre of mass since settling, voxel lengths (zero before settling;
 // z ignored under the xy fitness mode), the quantity fitness measures.

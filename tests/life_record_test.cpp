@@ -1,0 +1,384 @@
+// Recorded lives (issue 16): the plastivox-life HDF5 file round-trips every frame and reads
+// as h5py users expect (variable-length UTF-8 strings), old fixed-length strings still read,
+// the voxcraft-viz history has the structure its player parses, and render/video draw a
+// recorded life without simulating it, pixel for pixel as the simulated one.
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "plastivox/evo/h5_util.hpp"
+#include "plastivox/atomic_file.hpp"
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/evo/life_file.hpp"
+#include "plastivox/render/history_file.hpp"
+#include "plastivox/render/render_life.hpp"
+#include "plastivox/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+testing::Output run(const std::string& args) {
+  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
+}
+
+// A 3x3x2 block under the code preset with actuation and stress development, 0.3 s.
+struct Lived {
+  RobotDef robot;
+  PhysicsDef physics;
+  Model model;
+  SimResult result;
+};
+Lived live(double fps) {
+  Lived l;
+  l.robot = testing::block(3, 3, 2, 1e9);  // above the development gate
+  for (size_t s = 0; s < l.robot.phase.size(); ++s) {
+    l.robot.phase[s] = 0.1 * (s % 3);
+    l.robot.dev_rate[s] = s % 2 ? 10.0 : -10.0;  // 1/s, as the demo robots' range
+  }
+  l.physics = preset_gecco2018_code();
+  l.physics.treatment = Treatment::kStress;
+  l.physics.duration = 0.3;
+  l.physics.settle_time = 0.1;
+  l.model = compile(l.robot, l.physics);
+  SimOptions options;
+  options.record_fps = fps;
+  l.result = simulate(l.model, options);
+  return l;
+}
+
+evo::RecordedLife recorded(const Lived& l) {
+  evo::RecordedLife life;
+  life.source = "inline block";
+  life.robot = l.robot;
+  life.physics = l.physics;
+  life.recording = l.result.recording;
+  life.status = to_string(l.result.status);
+  life.fitness = l.result.fitness;
+  life.settled = true;
+  life.com_settled = l.result.com_settled;
+  life.final_state_hash = l.result.final_state_hash;
+  return life;
+}
+
+// Type of attribute `name` on the root of `file`: variable-length? and character set.
+struct StringType {
+  bool variable = false;
+  H5T_cset_t cset = H5T_CSET_ERROR;
+};
+StringType attr_type(const std::string& file, const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+  const hid_t t = H5Aget_type(a);
+  StringType out{H5Tis_variable_str(t) > 0, H5Tget_cset(t)};
+  H5Tclose(t);
+  H5Aclose(a);
+  H5Fclose(f);
+  return out;
+}
+
+class RecordedLives : public testing::ScratchDirTest {};
+
+TEST_F(RecordedLives, TheFileHoldsEveryFrameBitForBit) {
+  const Lived l = live(50);
+  ASSERT_EQ(l.result.status, SimStatus::kFinished);
+  ASSERT_EQ(l.result.recording.frames.size(), 16u);  // t = 0, 0.02, ..., 0.28 and the end
+  evo::write_life_file(path("life.h5"), recorded(l));
+  ASSERT_TRUE(evo::is_life_file(path("life.h5")));
+  const evo::RecordedLife back = evo::read_life_file(path("life.h5"));
+  EXPECT_EQ(back.source, "inline block");
+  EXPECT_EQ(back.status, "finished");
+  EXPECT_EQ(back.fitness, l.result.fitness);
+  EXPECT_EQ(back.final_state_hash, l.result.final_state_hash);
+  EXPECT_EQ(back.physics.treatment, Treatment::kStress);
+  EXPECT_EQ(back.robot.present, l.robot.present);
+  EXPECT_EQ(back.robot.phase, l.robot.phase);
+  EXPECT_EQ(back.recording.fps, 50);
+  EXPECT_FALSE(back.provenance.plastivox_version.empty());
+  EXPECT_FALSE(back.provenance.date_created.empty());
+  ASSERT_EQ(back.recording.frames.size(), l.result.recording.frames.size());
+  for (size_t k = 0; k < back.recording.frames.size(); ++k) {
+    const Frame& a = l.result.recording.frames[k];
+    const Frame& b = back.recording.frames[k];
+    EXPECT_EQ(a.time, b.time);
+    ASSERT_EQ(b.pos.size(), 18u);
+    for (size_t i = 0; i < a.pos.size(); ++i) {
+      EXPECT_EQ(a.pos[i], b.pos[i]);
+      EXPECT_EQ(a.orient[i].coeffs(), b.orient[i].coeffs());
+      EXPECT_EQ(a.size[i], b.size[i]);
+      EXPECT_EQ(a.stiffness[i], b.stiffness[i]);
+      EXPECT_EQ(a.stimulus[i], b.stimulus[i]);
+    }
+  }
+  // The stress treatment changed stiffness after settling: the file holds it.
+  EXPECT_NE(back.recording.frames.back().stiffness, back.recording.frames.front().stiffness);
+  // The robot in the file simulates to the same end state.
+  Model again = compile(back.robot, back.physics);
+  EXPECT_EQ(simulate(again).final_state_hash, l.result.final_state_hash);
+}
+
+TEST_F(RecordedLives, ContactIsTheFloorTestOfEachFrame) {
+  const Lived l = live(20);
+  evo::write_life_file(path("life.h5"), recorded(l));
+  const evo::h5::Ctx c{path("life.h5"), 0};
+  const hid_t f = H5Fopen(path("life.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  std::vector<hsize_t> dims = {evo::h5::kAnyExtent, 18};
+  const std::vector<uint8_t> contact = evo::h5::read<uint8_t>(c, f, "contact", dims);
+  H5Fclose(f);
+  const auto& frames = l.result.recording.frames;
+  ASSERT_EQ(dims[0], frames.size());
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const std::vector<uint8_t> expected = floor_contact(frames[k], true);
+    EXPECT_EQ(std::vector<uint8_t>(contact.begin() + 18 * k, contact.begin() + 18 * (k + 1)),
+              expected)
+        << "frame " << k;
+  }
+  // At rest at t = 0 nothing presses into the floor; resting under gravity at the end the
+  // bottom layer (9 voxels, z < L) does and the top layer does not.
+  int at_start = 0, bottom = 0, top = 0;
+  for (int i = 0; i < 18; ++i) {
+    at_start += contact[i];
+    (frames.back().pos[i].z() < 0.01 ? bottom : top) += contact[18 * (frames.size() - 1) + i];
+  }
+  EXPECT_EQ(at_start, 0);
+  EXPECT_GT(bottom, 0);
+  EXPECT_EQ(top, 0);
+}
+
+TEST_F(RecordedLives, StringsAreVariableLengthUtf8AndOldFixedOnesStillRead) {
+  const Lived l = live(10);
+  evo::write_life_file(path("life.h5"), recorded(l));
+  for (const char* name : {"treatment", "format", "robot", "source"}) {
+    const StringType t = attr_type(path("life.h5"), name);
+    EXPECT_TRUE(t.variable) << name;
+    EXPECT_EQ(t.cset, H5T_CSET_UTF8) << name;
+  }
+  // Datasets of strings, and a non-ASCII value, through the shared writer and reader.
+  const evo::h5::Ctx c{path("s.h5"), 0};
+  std::string image;
+  {
+    evo::h5::MemoryFile mf(c, 0);
+    evo::h5::write_strings(c, mf.id(), "names", {"stress", "Γ body", ""});
+    evo::h5::write_attr(c, mf.id(), "label", std::string("E₀ · 10⁶ Pa"));
+    image = mf.image();
+  }
+  write_file_atomic(path("s.h5"), image);
+  const hid_t f = H5Fopen(path("s.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, "names", H5P_DEFAULT);
+  const hid_t t = H5Dget_type(d);
+  EXPECT_GT(H5Tis_variable_str(t), 0);
+  EXPECT_EQ(H5Tget_cset(t), H5T_CSET_UTF8);
+  H5Tclose(t);
+  H5Dclose(d);
+  EXPECT_EQ(evo::h5::read_strings(c, f, "names", 3),
+            (std::vector<std::string>{"stress", "Γ body", ""}));
+  EXPECT_EQ(evo::h5::read_attr_string(c, f, "/", "label"), "E₀ · 10⁶ Pa");
+  H5Fclose(f);
+
+  // A file as this project wrote them before: fixed-length, NUL-terminated ASCII.
+  const hid_t old = H5Fcreate(path("old.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t st = H5Tcopy(H5T_C_S1);
+  H5Tset_size(st, 7);
+  H5Tset_strpad(st, H5T_STR_NULLTERM);
+  const hid_t scalar = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(old, "treatment", st, scalar, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, st, "stress");
+  H5Aclose(a);
+  const hsize_t two = 2;
+  const hid_t sp = H5Screate_simple(1, &two, nullptr);
+  const hid_t ds = H5Dcreate2(old, "names", st, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const char fixed[14] = "none\0\0\0press";
+  H5Dwrite(ds, st, H5S_ALL, H5S_ALL, H5P_DEFAULT, fixed);
+  H5Dclose(ds);
+  H5Sclose(sp);
+  H5Sclose(scalar);
+  H5Tclose(st);
+  H5Fclose(old);
+  const evo::h5::Ctx oc{path("old.h5"), 0};
+  const hid_t o = H5Fopen(path("old.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_EQ(evo::h5::read_attr_string(oc, o, "/", "treatment"), "stress");
+  EXPECT_EQ(evo::h5::read_strings(oc, o, "names", 2), (std::vector<std::string>{"none", "press"}));
+  H5Fclose(o);
+}
+
+TEST_F(RecordedLives, ForeignAndBrokenFilesAreRefusedInOneLine) {
+  write_file_atomic(path("x.h5"), "not hdf5");
+  EXPECT_FALSE(evo::is_life_file(path("x.h5")));
+  EXPECT_FALSE(evo::is_life_file(path("missing.h5")));
+  // A results file starts with its seal, which is checked before HDF5 reads anything: the
+  // test for a recorded life does not hand it to HDF5 either.
+  write_file_atomic(path("r.h5"), "plastivox-evolution-results\nseal_version 1\n");
+  EXPECT_FALSE(evo::is_life_file(path("r.h5")));
+  const std::string e = testing::error_of([&] { evo::read_life_file(path("x.h5")); });
+  EXPECT_NE(e.find("x.h5: not an HDF5 file"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
+// Splits s at every `sep`.
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string part;
+  std::istringstream in(s);
+  while (std::getline(in, part, sep)) out.push_back(part);
+  return out;
+}
+
+TEST_F(RecordedLives, TheHistoryHasTheStructureVoxcraftVizParses) {
+  const Lived l = live(25);
+  const std::string text = render::history_text(l.model, l.result.recording);
+  const std::vector<std::string> lines = split(text, '\n');
+  int settings = 0, colours = 0;
+  std::vector<std::string> frames;
+  for (const std::string& line : lines) {
+    if (line.rfind("{{{setting}}}", 0) == 0) {
+      ++settings;
+      colours += line.find("<matcolor><id>") != std::string::npos;
+    } else {
+      frames.push_back(line);
+    }
+  }
+  EXPECT_EQ(lines[0], "{{{setting}}}<rescale>0.001</rescale>");
+  EXPECT_EQ(lines[1], "{{{setting}}}<voxel_size>0.01</voxel_size>");
+  EXPECT_EQ(colours, render::kHistoryClasses);
+  EXPECT_EQ(settings, 2 + render::kHistoryClasses);
+  ASSERT_EQ(frames.size(), l.result.recording.frames.size());
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const std::string& line = frames[k];
+    const Frame& f = l.result.recording.frames[k];
+    // "<<<Step<k> Time:<t>>>>" ... "<<<>>>", as the player cuts it.
+    const size_t head = line.find(">>>");
+    ASSERT_EQ(line.rfind("<<<Step" + std::to_string(k) + " Time:", 0), 0u) << line.substr(0, 40);
+    EXPECT_NEAR(std::stod(line.substr(line.find("Time:") + 5, head)), f.time, 1e-6);
+    ASSERT_EQ(line.substr(line.size() - 7), ";<<<>>>");
+    const std::string body = line.substr(head + 3, line.size() - head - 10);  // the player's cut
+    const std::vector<std::string> voxels = split(body, ';');
+    ASSERT_EQ(voxels.size(), static_cast<size_t>(l.model.n));
+    for (int i = 0; i < l.model.n; ++i) {
+      const std::vector<std::string> v = split(voxels[i], ',');
+      ASSERT_EQ(v.size(), 15u) << voxels[i];  // the player needs at least 15
+      // Centre in mm (rescale 0.001) to 0.1 um.
+      for (int a = 0; a < 3; ++a) EXPECT_NEAR(std::stod(v[a]) / 1000, f.pos[i][a], 1e-7);
+      // Angle and axis give back the orientation.
+      const Eigen::Vector3d axis(std::stod(v[4]), std::stod(v[5]), std::stod(v[6]));
+      const Eigen::Quaterniond q(
+          Eigen::AngleAxisd(std::stod(v[3]) * M_PI / 180, axis.normalized()));
+      EXPECT_LT(q.angularDistance(f.orient[i]), 1e-4);
+      // Corners: +-half the actuated size, in mm.
+      EXPECT_NEAR(std::stod(v[7]), -500 * f.size[i], 1e-4);
+      EXPECT_NEAR(std::stod(v[12]), 500 * f.size[i], 1e-4);
+      const int material = std::stoi(v[13]);
+      EXPECT_GE(material, 1);
+      EXPECT_LE(material, render::kHistoryClasses);
+      const double signal = std::stod(v[14]);
+      EXPECT_GE(signal, 0);
+      EXPECT_LE(signal, 100);
+    }
+  }
+  render::write_history_file(path("life.history"), l.model, l.result.recording);
+  EXPECT_EQ(testing::file_text(path("life.history")), text);
+}
+
+TEST_F(RecordedLives, ARecordedFrameDrawsAsTheSimulatedOne) {
+  const Lived l = live(20);
+  evo::write_life_file(path("life.h5"), recorded(l));
+  write_robot_file(path("block.json"), l.robot, &l.physics);
+  const render::LifeSource from_file = render::load_life_source(path("life.h5"));
+  ASSERT_TRUE(from_file.recorded);
+  const render::LifeSource simulated = render::load_life_source(path("block.json"));
+  ASSERT_FALSE(simulated.recorded);
+  render::FrameStyle st;
+  st.width = 96;
+  st.height = 64;
+  st.samples = 1;
+  st.color = render::ColorMode::kStiffness;
+  for (double t : {0.0, 5 / 20.0}) {  // before settling and after (the frame at t = 0.25 s)
+    EXPECT_EQ(render::render_frame(from_file, t, st), render::render_frame(simulated, t, st))
+        << "t = " << t;
+  }
+  EXPECT_NE(testing::error_of([&] {
+              render::recorded_frames(from_file, {1.0});
+            }).find("past the recording's last frame"),
+            std::string::npos);
+}
+
+TEST_F(RecordedLives, TheCommandLineRecordsAndReplays) {
+  write_robot_file(path("cube.json"), demo_cube(2, 1e7));
+  const std::string cube = path("cube.json");
+  auto r =
+      run("simulate " + cube + " --duration 0.3 --record " + path("life.h5") + " --fps 10 --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("\"format\": \"plastivox-life\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"frames\": 4"), std::string::npos) << r.out;  // 0, .1, .2, end
+  EXPECT_EQ(evo::read_life_file(path("life.h5")).recording.frames.size(), 4u);
+  // A frame rate in --physics alone would record and drop the frames: refused, saying how.
+  r = run("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 10}' --json");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("--record life.h5 --fps 10"), std::string::npos) << r.out;
+  // ... and with --record it is the frame rate.
+  r = run("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 20}' --record " +
+          path("l.history"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("recorded 7 frames at 20 fps"), std::string::npos) << r.out;
+  EXPECT_EQ(run("simulate " + cube + " --record " + path("x.txt")).status, 2);
+  EXPECT_EQ(run("simulate " + cube + " --fps 10").status, 2);
+  // render and video draw the recorded life without simulating.
+  r = run("render " + path("life.h5") + " --out " + path("f.png") + " --time 0.1 --size 64x48");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("reading the recorded frame"), std::string::npos) << r.out;
+  r = run("video " + path("life.h5") + " --out " + path("v.mp4") + " --size 64x48 --fps 10");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("frames of the recorded life"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wrote"), std::string::npos) << r.out;
+}
+
+// What an h5py user sees (Debian python3-h5py): str attributes in a results file and a
+// recorded life, arrays of the documented shapes; and a file h5py changed is refused with
+// the way to copy the data out.
+TEST_F(RecordedLives, H5pyReadsStringsAsStr) {
+  if (testing::shell("/usr/bin/python3 -c 'import h5py' 2>&1").status != 0)
+    GTEST_SKIP() << "h5py is not installed (apt-get install -y python3-h5py); not checked";
+  write_file_atomic(path("c.json"), R"({"format": "plastivox-evolve-config", "version": 1,
+    "seed": 4, "treatment": "stress", "population": 6, "generations": 1,
+    "lattice": {"nx": 4, "ny": 4, "nz": 4}, "physics": {"duration": 0.2, "settle_time": 0.1}})");
+  auto r = run("evolve --config " + path("c.json") + " --out " + path("run.h5"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  r = run("simulate --treatment stress --duration 0.3 --record " + path("life.h5") + " --fps 10");
+  ASSERT_EQ(r.status, 0) << r.out;
+  write_file_atomic(path("check.py"), R"(import sys, h5py
+run = h5py.File(sys.argv[1], "r")
+life = h5py.File(sys.argv[2], "r")
+assert run.attrs["treatment"] == "stress", repr(run.attrs["treatment"])
+assert isinstance(run.attrs["config"], str)
+assert run["individuals/failure_reason"].asstr()[:].dtype == object
+assert life.attrs["treatment"] == "stress", repr(life.attrs["treatment"])
+assert life.attrs["format"] == "plastivox-life"
+n = life.attrs["voxels"]
+assert life["position"].shape == (4, n, 3), life["position"].shape
+assert life["orientation"].shape == (4, n, 4)
+assert life["contact"].shape == (4, n)
+print("h5py ok", n)
+)");
+  const testing::Output py = testing::shell("/usr/bin/python3 " + path("check.py") + " " +
+                                            path("run.h5") + " " + path("life.h5") + " 2>&1");
+  EXPECT_EQ(py.status, 0) << py.out;
+  EXPECT_NE(py.out.find("h5py ok"), std::string::npos) << py.out;
+  // Reading left it intact; writing one attribute breaks the seal, and the refusal says how
+  // to copy the data out instead.
+  EXPECT_EQ(run("inspect " + path("run.h5")).status, 0);
+  const testing::Output edit =
+      testing::shell("/usr/bin/python3 -c \"import h5py; f = h5py.File('" + path("run.h5") +
+                     "', 'a'); f.attrs['note'] = 'mine'; f.close()\" 2>&1");
+  ASSERT_EQ(edit.status, 0) << edit.out;
+  r = run("inspect " + path("run.h5"));
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("read it with h5py.File(path, 'r') and copy what you need"),
+            std::string::npos)
+      << r.out;
+}
+
+}  // namespace
+}  // namespace plastivox
