@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/life_file.hpp"
 #include "plastivox/render/history_file.hpp"
 #include "plastivox/render/render_life.hpp"

@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <memory>
 
-#include <nlohmann/json.hpp>
 #include <sys/statvfs.h>
+#include <nlohmann/json.hpp>
 
 #include "plastivox/evo/evolver.hpp"
 #include "plastivox/evo/rng.hpp"

@@ -15,11 +15,11 @@
 
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/render/assets.hpp"
-#include "plastivox/state.hpp"
 #include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/life.hpp"
 #include "plastivox/render/offscreen.hpp"  // RenderError
 #include "plastivox/robot_file.hpp"        // InputError
+#include "plastivox/state.hpp"
 
 namespace plastivox::render {
 namespace {

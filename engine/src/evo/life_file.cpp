@@ -12,8 +12,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/robot_file.hpp"
 
 namespace plastivox::evo {
