@@ -16,6 +16,9 @@ namespace {
 PyRobot load_robot(const std::string& path) {
   PyRobot r;
   r.source = path;
+  // The command line reads any other name as JSON; a library call says what it expects.
+  if (!path.ends_with(".vxa") && !path.ends_with(".json"))
+    throw plastivox::InputError(path + ": expected a robot file ending in .json or .vxa");
   LoadedRobot file = plastivox::load_robot(path);
   for (const std::string& w : file.warnings) warn(path + ": " + w);
   r.def = std::move(file.robot);

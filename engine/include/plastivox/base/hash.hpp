@@ -42,7 +42,9 @@ class Hasher {
   uint64_t a_, b_, n_ = 0;
 };
 
-// 64-bit FNV-1a over bytes; vec() hashes the length first, then the elements' bytes.
+// 64-bit FNV-1a over bytes; vec() hashes the length first, then the elements' bytes. The
+// offset basis is 1469598103934665603, not the published 14695981039346656037 (a digit lost
+// long ago); state_hash and every golden hash depend on it, so it is kept.
 class Fnv1a64 {
  public:
   void bytes(const void* data, size_t n) {
