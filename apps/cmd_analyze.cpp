@@ -9,6 +9,7 @@
 
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/render/viewer.hpp"
 
 namespace plastivox::cli {
 namespace {
@@ -52,9 +53,10 @@ std::vector<Treatment> parse_treatments(const std::string& list) {
   return out;
 }
 
-analysis::StudyOptions parse_options(Args& args, std::string* out) {
+analysis::StudyOptions parse_options(Args& args, std::string* out, bool* viewer) {
   analysis::StudyOptions o;
   *out = take_option(args, "--out", "");
+  *viewer = !take_flag(args, "--no-viewer");
   const std::string gen = take_option(args, "--generation", "last");
   if (gen != "last") o.generation = static_cast<int>(parse_integer("--generation", gen, 0));
   o.robustness_draws = static_cast<int>(
@@ -95,7 +97,8 @@ analysis::StudyOptions parse_options(Args& args, std::string* out) {
 int cmd_analyze(const Args& in) {
   Args args = in;
   std::string out;
-  analysis::StudyOptions options = parse_options(args, &out);
+  bool viewer = true;
+  analysis::StudyOptions options = parse_options(args, &out, &viewer);
   options.cache_dir = (std::filesystem::path(out) / "cache").string();
   options.command = "plastivox analyze";
   for (const std::string& a : in) options.command += " " + a;
@@ -112,13 +115,35 @@ int cmd_analyze(const Args& in) {
     std::fprintf(stderr, "plastivox analyze: %s; rerun the same command to resume\n", e.what());
     return 130;
   }
-  analysis::write_study_outputs(r, out);
+  // The report's 3-D viewer: every champion's life, simulated once more with frames, in
+  // OUT/lives/ (--no-viewer: none).
+  analysis::ReportExtras extras;
+  if (viewer) {
+    std::vector<render::ReportLifeSource> sources;
+    for (const auto& c : r.champions)
+      sources.push_back({c.label, r.inputs[c.input].file, c.generation});
+    std::fprintf(stderr, "plastivox analyze: lives for the 3-D viewer: simulating %zu champions\n",
+                 sources.size());
+    const auto lives = render::write_report_lives(
+        sources, out, render::kViewerFps, options.threads,
+        [](const std::string& m) { std::fprintf(stderr, "plastivox analyze: %s\n", m.c_str()); });
+    analysis::ReportSection section;
+    section.title = "Lives in 3-D";
+    section.wide = true;
+    section.paragraphs.push_back(
+        "Each champion's whole life (lives/): drag to orbit, scroll to zoom; pick a champion "
+        "by its button.");
+    section.raw_html = render::viewer_fragment(lives, true);
+    if (!lives.empty()) extras.sections.push_back(section);
+  }
+  analysis::write_study_outputs(r, out, extras);
 
   const analysis::StudyTimings& t = r.timings;
   std::printf(
       "wrote %s/{stats.json, champions.csv, statistics.csv, hausdorff.csv, analysis.h5, "
-      "report.html}: %s, %s\n",
-      out.c_str(), count_of(static_cast<long long>(r.champions.size()), "champion").c_str(),
+      "report.html%s}: %s, %s\n",
+      out.c_str(), viewer ? ", lives/" : "",
+      count_of(static_cast<long long>(r.champions.size()), "champion").c_str(),
       count_of(static_cast<long long>(r.treatments.size()), "treatment").c_str());
   std::printf(
       "time: %.2f s (load %.2f, robustness %.2f [%d simulations, %d from checkpoint], "

@@ -4,63 +4,12 @@
 // recorded life is shown as recorded; a robot or a run's champion is simulated once,
 // recording F frames per simulated second.
 #include <cstdio>
-#include <stdexcept>
 
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/robot_file.hpp"  // InputError
-#include "plastivox/simulator.hpp"
 #include "render_cli.hpp"
 
 namespace plastivox::cli {
-namespace {
-
-// One input's life: its model and frames (owned here; the ViewerLife points at them).
-struct Shown {
-  Model model;
-  Recording recording;
-  render::ViewerLife life;
-};
-
-// Loads (a recorded life) or simulates (anything else) one input; false if it went unstable.
-bool show(const std::string& file, int generation, double fps, Shown& out) {
-  const render::LifeSource source = render::load_life_source(file, generation);
-  for (const std::string& w : source.warnings) log_line("view", "warning: " + w);
-  render::ViewerLife& life = out.life;
-  life.label = source.label;
-  life.treatment = to_string(source.physics.treatment);
-  const PhysicsDef& def = source.physics;
-  try {
-    out.model = compile(source.robot, def);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(file + ": " + e.what());
-  }
-  if (source.recorded) {
-    out.recording = source.recorded->recording;
-    life.settled = source.recorded->settled;
-    life.com_settled = source.recorded->com_settled;
-    life.fitness = source.recorded->fitness;
-    return true;
-  }
-  char what[96];
-  std::snprintf(what, sizeof what, " (%g s at %g frames per second)", def.duration, fps);
-  log_line("view", "simulating " + file + what);
-  SimOptions options;
-  options.record_fps = fps;
-  SimResult r = simulate(out.model, options);
-  if (r.status != SimStatus::kFinished) {
-    std::fprintf(stderr, "plastivox view: %s: simulation unstable: %s\n", file.c_str(),
-                 r.failure.c_str());
-    return false;
-  }
-  out.recording = std::move(r.recording);
-  life.settled = r.settled;
-  life.com_settled = r.com_settled;
-  life.fitness = r.fitness;
-  return true;
-}
-
-}  // namespace
 
 int cmd_view(const Args& in) {
   Args args = in;
@@ -75,15 +24,20 @@ int cmd_view(const Args& in) {
   if (out.empty()) throw UsageError{"--out page.html is required"};
   if (!(fps > 0 && fps <= 1000)) throw UsageError{"--fps must be in (0, 1000]"};
   render::check_output_path(out);
-  std::vector<Shown> shown(args.size());
-  for (size_t i = 0; i < args.size(); ++i)
-    if (!show(args[i], generation, fps, shown[i])) return 3;
+  // Each input loaded or simulated once (render::show_life), then packed into one page.
+  std::vector<render::ShownLife> shown;
+  for (const std::string& file : args) {
+    shown.push_back(render::show_life(file, generation, fps,
+                                      [](const std::string& m) { log_line("view", m); }));
+    if (!shown.back().failure.empty()) {
+      std::fprintf(stderr, "plastivox view: %s: %s\n", file.c_str(), shown.back().failure.c_str());
+      return 3;
+    }
+  }
   std::vector<render::ViewerLife> lives;
   size_t frames = 0;
-  for (Shown& s : shown) {
-    s.life.model = &s.model;
-    s.life.recording = &s.recording;
-    lives.push_back(s.life);
+  for (const render::ShownLife& s : shown) {
+    lives.push_back(s.life());
     frames += s.recording.frames.size();
   }
   const std::string how_many =

@@ -125,6 +125,7 @@ const CommandHelp kHelp[] = {
      "  --resamples N         bootstrap resamples (default 10000, at least 100)\n"
      "  --treatments LIST     comma-separated subset of none,stress,pressure\n"
      "  --allow-mixed-physics analyse runs whose physics differ\n"
+     "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
      "example:\n"
      "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
     {"render",
@@ -213,6 +214,7 @@ const CommandHelp kHelp[] = {
      "  --cores N             with --estimate-only: predict for N cores (default: this run's)\n"
      "  --ranks R             with --estimate-only: ... split into R MPI ranks (default 1)\n"
      "  --json                with --estimate-only: also print the prediction as JSON\n"
+     "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
      "  --print-preset NAME   print a preset's config and exit\n"
      "example:\n"
      "  plastivox experiment --preset tiny --out smoke --threads 2\n"},

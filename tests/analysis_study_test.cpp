@@ -602,11 +602,22 @@ TEST_F(Study, CommandWritesEveryOutputAndResumes) {
   for (const char* f : {"stats.json", "champions.csv", "statistics.csv", "hausdorff.csv",
                         "analysis.h5", "report.html"})
     EXPECT_TRUE(fs::exists(path("a/") + f)) << f;
+  // The report's 3-D viewer, one life per champion beside it (--no-viewer below: none).
+  const Json stats = Json::parse(read_text(path("a/stats.json")));
+  for (const auto& c : stats.at("champions")) {
+    const std::string life = path("a/lives/") + c.at("label").get<std::string>() + ".js";
+    EXPECT_TRUE(fs::exists(life)) << life;
+  }
+  EXPECT_NE(read_text(path("a/report.html")).find("pv-viewer"), std::string::npos);
 
   // Two threads, files in another order: the same statistics.
   std::string reversed;
   for (auto it = files.rbegin(); it != files.rend(); ++it) reversed += *it + " ";
-  const testing::Output o2 = cli(reversed + "--out " + path("b") + opts + " --threads 2");
+  const testing::Output o2 =
+      cli(reversed + "--out " + path("b") + opts + " --threads 2 --no-viewer");
+  ASSERT_EQ(o2.status, 0) << o2.out;
+  EXPECT_FALSE(fs::exists(path("b/lives")));
+  EXPECT_EQ(read_text(path("b/report.html")).find("pv-viewer"), std::string::npos);
   ASSERT_EQ(o2.status, 0) << o2.out;
   Json a = Json::parse(read_text(path("a/stats.json")));
   Json b = Json::parse(read_text(path("b/stats.json")));

@@ -1,6 +1,7 @@
 // plastivox experiment: config validation, presets, cost estimate, and the whole study end
 // to end on a micro config (seconds): every promised output, consistency between them, and
 // kills mid-evolution and mid-analysis followed by a rerun giving the same results.
+#include <cmath>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -454,19 +455,43 @@ window.addEventListener("load", () => setTimeout(() => {
   const vid = [...document.querySelectorAll("video")].map(v => v.readyState >= 1 ? "1" : "0");
   document.body.setAttribute("data-images", img.join(""));
   document.body.setAttribute("data-videos", vid.join(""));
+  // The 3-D viewer: the first champion's life is shown at once; clicking the last
+  // thumbnail loads that champion's life from lives/, and the time slider moved to the end
+  // shows its displacement there.
+  const pv = window.plastivoxViewer, b = document.body;
+  const thumbs = [...document.querySelectorAll(".thumb[onclick]")];
+  const colours = (px) => { const s = new Set(); for (let i = 0; i < px.length; i += 4 * 7)
+    s.add((px[i] << 16) | (px[i + 1] << 8) | px[i + 2]); return s.size; };
+  const first = pv.viewer.life ? PLASTIVOX_LIVES[pv.current].id : "";
+  const firstColours = pv.viewer.life ? colours(pv.viewer.pixels()) : 0;
+  thumbs[thumbs.length - 1].click();
+  setTimeout(() => {
+    const v = pv.viewer, start = v.pixels();
+    v.slider.value = v.slider.max;
+    v.slider.dispatchEvent(new Event("input"));
+    const end = v.pixels();
+    let changed = 0;
+    for (let i = 0; i < start.length; i += 4)
+      changed += start[i] !== end[i] || start[i + 1] !== end[i + 1] || start[i + 2] !== end[i + 2];
+    b.setAttribute("data-viewer", JSON.stringify({ thumbs: thumbs.length, first: first,
+      first_colours: firstColours, shown: PLASTIVOX_LIVES[pv.current].id,
+      loaded: !!v.life && v.life.meta.label, changed: changed,
+      displacement: +v.readout.dataset.displacement }));
+  }, 1000);
 }, 500));
 </script>)";
   html.insert(html.rfind("</body>"), probe);
   write_file_atomic(dir + "/check.html", html);
   const std::string flags =
-      " --headless --no-sandbox --disable-gpu --disable-background-networking "
+      " --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
+      "--host-resolver-rules='MAP * ~NOTFOUND' --disable-background-networking "
       "--disable-component-update --disable-sync --no-first-run --user-data-dir=" +
       path("profile") + " --virtual-time-budget=10000 --window-size=1200,2400 ";
   const auto dom = shell(chromium + flags + "--enable-logging=stderr --v=0 --dump-dom file://" +
                          dir + "/check.html 2>" + path("console.log"));
   ASSERT_EQ(dom.status, 0) << dom.out;
   const std::string console = read_file_bytes(path("console.log"));
-  for (const char* bad : {"Uncaught", "Failed to load resource", "ERR_FILE_NOT_FOUND"})
+  for (const char* bad : {"Uncaught", "Failed to load resource", "ERR_", "WebGL: "})
     EXPECT_EQ(console.find(bad), std::string::npos) << bad << " in:\n" << console;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(dom.out, m, std::regex("data-images=\"([01]*)\""))) << dom.out;
@@ -475,6 +500,24 @@ window.addEventListener("load", () => setTimeout(() => {
   EXPECT_EQ(images.find('0'), std::string::npos) << "an image did not load: " << images;
   ASSERT_TRUE(std::regex_search(dom.out, m, std::regex("data-videos=\"([01]*)\""))) << dom.out;
   EXPECT_EQ(m[1].str(), "1") << "the callus video did not load";
+  ASSERT_TRUE(std::regex_search(dom.out, m, std::regex("data-viewer=\"([^\"]*)\""))) << dom.out;
+  std::string text = m[1];
+  for (size_t at; (at = text.find("&quot;")) != std::string::npos;) text.replace(at, 6, "\"");
+  const json viewer = json::parse(text);
+  EXPECT_EQ(viewer.at("thumbs").get<int>(), 6) << "every champion's thumbnail opens its life";
+  EXPECT_EQ(viewer.at("first"), "none-s1");
+  EXPECT_GT(viewer.at("first_colours").get<int>(), 10) << "the viewer's canvas is (nearly) blank";
+  EXPECT_EQ(viewer.at("shown"), "pressure-s2");
+  EXPECT_EQ(viewer.at("loaded"), "pressure · seed 2") << "the linked life did not load";
+  EXPECT_GT(viewer.at("changed").get<int>(), 200) << "the end of the life looks like its start";
+  // The displacement shown at the end is the run's recorded fitness, to 3 digits.
+  double fitness = std::nan("");
+  const json stats = json::parse(read_file_bytes(dir + "/stats.json"));
+  for (const auto& c : stats.at("champions"))
+    if (c.at("label") == "pressure-s2") fitness = c.at("fitness").get<double>();
+  ASSERT_TRUE(std::isfinite(fitness));
+  EXPECT_NEAR(viewer.at("displacement").get<double>(), fitness, 5e-4 * std::abs(fitness))
+      << viewer.dump();
   // The report itself, as a user opens it: a screenshot with text and figures on it.
   const auto shot = shell(chromium + flags + "--screenshot=" + path("report.png") + " file://" +
                           dir + "/report.html 2>/dev/null");
@@ -488,6 +531,23 @@ window.addEventListener("load", () => setTimeout(() => {
   }
   EXPECT_GT(colours.size(), 200u) << "the screenshot is (nearly) blank";
   EXPECT_GT(dark, 2000u) << "no text on the screenshot";
+}
+
+// --no-viewer: no lives written and no viewer in the report; the default writes both.
+TEST_F(ExperimentRun, NoViewerWritesNoLives) {
+  const std::string cfg = write_config(micro_config());
+  const std::string dir = path("study");
+  ASSERT_EQ(run("--config " + cfg + " --out " + dir + " --no-viewer").status, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/lives"));
+  EXPECT_EQ(read_file_bytes(dir + "/report.html").find("pv-viewer"), std::string::npos);
+  // The same folder again with the viewer: only the lives are added (nothing else redone).
+  const auto o = run("--config " + cfg + " --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.out;
+  for (const char* t : {"none", "stress", "pressure"})
+    for (const char* s : {"1", "2"})
+      EXPECT_TRUE(std::filesystem::exists(dir + "/lives/" + std::string(t) + "-s" + s + ".js"));
+  EXPECT_NE(read_file_bytes(dir + "/report.html").find("pv-viewer"), std::string::npos);
+  EXPECT_NE(o.out.find("video up to date"), std::string::npos) << o.out;
 }
 
 }  // namespace

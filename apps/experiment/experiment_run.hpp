@@ -37,6 +37,8 @@ struct ExperimentOptions {
   // Evolve only this run ("stress-s3") and stop: one task of a cluster job array; a final
   // `plastivox experiment` without it then analyses, renders and reports.
   std::string only_run;
+  // The report's 3-D viewer: every champion's life in lives/ (--no-viewer: none).
+  bool viewer = true;
 };
 
 struct ExperimentOutcome {

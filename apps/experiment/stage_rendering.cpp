@@ -1,8 +1,11 @@
-// Stage 3: figure panels, champion galleries and the callus-growth video.
+// Stage 3: figure panels, champion galleries, the callus-growth video and the champions'
+// lives for the report's 3-D viewer.
 //
 // Each output is redrawn only when what it depends on changed: .stamps/rendering.json maps
 // each output group to a key made of the study fingerprint (the champions' content and the
 // analysis options) and the rendering settings that group uses.
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -10,9 +13,11 @@
 #include "experiment_run.hpp"
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/base/clock.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
 #include "plastivox/render/render_life.hpp"
+#include "plastivox/render/viewer.hpp"
 
 namespace plastivox::experiment {
 namespace {
@@ -173,6 +178,41 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
   return {file};
 }
 
+// Every champion's life for the report's 3-D viewer: lives/<label>.js, recorded at
+// render::kViewerFps frames per simulated second (docs/rendering.md, "The 3-D viewer").
+std::vector<std::string> render_lives(StageContext& ctx, Stamps& stamps) {
+  const std::string key = ctx.study->fingerprint + " lives " + std::to_string(render::kViewerFps);
+  std::vector<render::ReportLifeSource> sources;
+  std::vector<std::string> files;
+  for (const auto& c : ctx.study->champions) {
+    sources.push_back({c.label, ctx.study->inputs[c.input].file, c.generation});
+    files.push_back("lives/" + c.label + ".js");
+  }
+  if (!ctx.opt.force.count("rendering") && stamps.current("lives", key, files, ctx.dir)) {
+    ctx.progress.log("[rendering] lives for the 3-D viewer up to date");
+    return files;
+  }
+  const auto t0 = WallClock::now();
+  ctx.progress.status("[rendering] lives for the 3-D viewer: simulating " +
+                      std::to_string(sources.size()) + " champions");
+  const int threads = ctx.opt.threads >= 0 ? ctx.opt.threads : ctx.config.threads;
+  const auto links = render::write_report_lives(
+      sources, ctx.dir, render::kViewerFps, threads,
+      [&](const std::string& m) { ctx.progress.log("[rendering] " + m); });
+  std::vector<std::string> out;
+  uintmax_t bytes = 0;
+  for (const auto& l : links) {
+    out.push_back(l.src);
+    bytes += fs::file_size(ctx.dir + "/" + l.src);
+  }
+  if (out.size() == files.size()) stamps.record("lives", key);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "[rendering] lives/: %zu of %zu champions, %.1f MB, in %.1f s",
+                links.size(), sources.size(), bytes / 1e6, seconds_since(t0));
+  ctx.progress.log(buf);
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> stage_rendering(StageContext& ctx) {
@@ -185,6 +225,8 @@ std::vector<std::string> stage_rendering(StageContext& ctx) {
     for (const auto& f : render_galleries(ctx, stamps)) out.push_back(f);
   if (ctx.config.rendering.video)
     for (const auto& f : render_video(ctx, stamps)) out.push_back(f);
+  if (ctx.opt.viewer)
+    for (const auto& f : render_lives(ctx, stamps)) out.push_back(f);
   return out;
 }
 

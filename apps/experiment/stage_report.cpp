@@ -9,6 +9,7 @@
 
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/render/viewer.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::experiment {
@@ -53,7 +54,9 @@ ReportSection experiment_section(const StageContext& ctx) {
 
 // The body plan of every champion with its picture: a thumbnail cut out of its treatment's
 // gallery (CSS background offsets from the gallery's sidecar, no extra image files).
-std::string body_plan_table(const StageContext& ctx, const std::vector<std::string>& outputs) {
+// Clicking a thumbnail shows that champion in the 3-D viewer, when it has a life there.
+std::string body_plan_table(const StageContext& ctx, const std::vector<std::string>& outputs,
+                            const std::vector<render::LifeLink>& lives) {
   const auto& r = ctx.config.rendering;
   const double thumb_w = 150;
   std::string rows;
@@ -85,14 +88,20 @@ std::string body_plan_table(const StageContext& ctx, const std::vector<std::stri
           std::snprintf(buf, sizeof buf, "%.2f", c.body_plan.confidence);
           confidence = buf;
         }
+      std::string click;
+      for (size_t i = 0; i < lives.size(); ++i)
+        if (lives[i].id == label)
+          click = " title=\"show in the 3-D viewer\" onclick=\"plastivoxViewer.load(" +
+                  std::to_string(i) + ");document.getElementById('pv-viewer').scrollIntoView()\"";
       rows += "<tr><td><div class=\"thumb\" role=\"img\" aria-label=\"" + label + "\" style=\"" +
-              style + "\"></div></td><td>" + label + "</td><td>" + plan +
+              style + "\"" + click + "></div></td><td>" + label + "</td><td>" + plan +
               "</td><td class=\"num\">" + confidence + "</td></tr>\n";
     }
   }
   if (rows.empty()) return "";
   return "<table><tr><th>champion</th><th>run</th><th>body plan</th><th>confidence</th></tr>\n" +
-         rows + "</table>\n<style>.thumb{border:1px solid #ddd}</style>\n";
+         rows +
+         "</table>\n<style>.thumb{border:1px solid #ddd}.thumb[onclick]{cursor:pointer}</style>\n";
 }
 
 }  // namespace
@@ -152,14 +161,32 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
     extras.sections.push_back(figures);
   }
   if (!galleries.media.empty()) extras.sections.push_back(galleries);
+  // The lives the rendering stage wrote, in champion order (lives/<label>.js).
+  std::vector<render::LifeLink> lives;
+  for (const auto& f : outputs)
+    if (f.starts_with("lives/") && f.ends_with(".js"))
+      lives.push_back({fs::path(f).stem().string(), f});
   ReportSection plans;
   plans.title = "Body plans of the champions";
-  plans.raw_html = body_plan_table(ctx, outputs);
+  plans.raw_html = body_plan_table(ctx, outputs, lives);
   if (!plans.raw_html.empty()) {
     plans.paragraphs.push_back(
         "Each champion after settling (cut from its treatment's gallery) with its body plan "
         "(Π, Γ, Υ or other) and the rule's confidence (docs/analysis.md).");
     extras.sections.push_back(plans);
+  }
+  if (!lives.empty()) {
+    ReportSection viewer;
+    viewer.title = "Lives in 3-D";
+    viewer.wide = true;
+    viewer.paragraphs.push_back(
+        "Each champion's whole life, replayed from its recording (" +
+        std::to_string(static_cast<int>(render::kViewerFps)) +
+        " frames per simulated second, in lives/): drag to orbit, scroll to zoom; pick a "
+        "champion by its thumbnail above or its button here. Colour modes use the renderer's "
+        "maps.");
+    viewer.raw_html = render::viewer_fragment(lives, true);
+    extras.sections.push_back(viewer);
   }
   if (!videos.media.empty()) {
     videos.paragraphs.push_back(

@@ -222,6 +222,7 @@
 
   Viewer.prototype.setFrame = function (k) {
     const life = this.life;
+    if (!life) return;  // a linked life still loading
     k = Math.max(0, Math.min(life.frames - 1, k | 0));
     const moved = k !== this.frame;
     this.frame = k;
@@ -359,10 +360,31 @@
       this.load(i);
       return this.viewer;
     },
+    // Shows life i. A life a report links rather than embeds ({id, src}) is loaded from its
+    // script on first use; the script calls deliver() below.
     load: function (i) {
-      this.viewer.load(window.PLASTIVOX_LIVES[i]);
+      const entry = window.PLASTIVOX_LIVES[i];
+      this.current = i;
       document.querySelectorAll("[data-pv-life]").forEach((b) =>
         b.classList.toggle("pv-current", +b.dataset.pvLife === i));
+      if (entry.data) { this.viewer.load(entry); return; }
+      if (this.viewer.caption) this.viewer.caption.textContent = "loading " + entry.src + " \u2026";
+      if (entry.requested) return;
+      entry.requested = true;
+      const script = document.createElement("script");
+      script.src = entry.src;
+      script.onerror = () => {
+        entry.requested = false;
+        if (this.viewer.caption) this.viewer.caption.textContent = "could not load " + entry.src;
+      };
+      document.head.appendChild(script);
+    },
+    // Called by a linked life's script with its packed bytes and meta.
+    deliver: function (id, life) {
+      const i = window.PLASTIVOX_LIVES.findIndex((e) => e.id === id);
+      if (i < 0) return;
+      Object.assign(window.PLASTIVOX_LIVES[i], life);
+      if (this.current === i) this.load(i);
     },
   };
 })();

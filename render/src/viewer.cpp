@@ -9,16 +9,20 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/render/assets.hpp"
 #include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/life.hpp"
 #include "plastivox/render/offscreen.hpp"  // RenderError
 #include "plastivox/robot_file.hpp"        // InputError
+#include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 
 namespace plastivox::render {
@@ -109,7 +113,95 @@ std::string script_safe(std::string s) {
   return s;
 }
 
+// The renderer's colour maps as the viewer reads them: name -> flat RGB bytes.
+std::string colormaps_json() {
+  nlohmann::json maps;
+  const std::pair<const char*, const Colormap*> all[] = {{"sequential", &Colormap::sequential()},
+                                                         {"diverging", &Colormap::diverging()},
+                                                         {"cyclic", &Colormap::cyclic_map()}};
+  for (const auto& [name, map] : all) {
+    std::vector<int> rgb;
+    for (int k = 0; k < Colormap::kEntries; ++k)
+      for (uint8_t c : map->at(k / static_cast<double>(Colormap::kEntries - 1))) rgb.push_back(c);
+    maps[name] = rgb;
+  }
+  return maps.dump();
+}
+
+// three.js, its OrbitControls, the colour maps and the viewer, inlined; `lives_js` (already
+// script-safe) fills PLASTIVOX_LIVES before the viewer's script runs.
+std::string scripts_html(const std::string& lives_js) {
+  const ViewerScripts js = viewer_scripts();
+  std::string html;
+  html += "<script>" + script_safe(js.three) + "</script>\n";
+  html += "<script>" + script_safe(js.orbit) + "</script>\n";
+  html += "<script>window.PLASTIVOX_COLORMAPS = " + colormaps_json() +
+          ";\nwindow.PLASTIVOX_LIVES = [];\n" + lives_js + "</script>\n";
+  html += "<script>" + script_safe(js.viewer) + "</script>\n";
+  return html;
+}
+
+// A button per life (labels set by the script from each life's meta).
+std::string buttons_html(size_t n) {
+  std::string html = "<div class=\"pv-lives\">";
+  for (size_t i = 0; i < n; ++i)
+    html += "<button type=\"button\" data-pv-life=\"" + std::to_string(i) +
+            "\" onclick=\"plastivoxViewer.load(" + std::to_string(i) + ")\"></button>";
+  return html + "</div>\n";
+}
+
+const char* kStart =
+    "<script>plastivoxViewer.start(document.getElementById(\"pv-viewer\"), 0);</script>\n";
+
 }  // namespace
+
+ViewerLife ShownLife::life() const {
+  ViewerLife l = info;
+  l.model = &model;
+  l.recording = &recording;
+  return l;
+}
+
+ShownLife show_life(const std::string& file, int generation, double fps,
+                    const std::function<void(const std::string&)>& log) {
+  const LifeSource source = load_life_source(file, generation);
+  ShownLife out;
+  if (log)
+    for (const std::string& w : source.warnings) log("warning: " + w);
+  ViewerLife& info = out.info;
+  info.label = source.label;
+  info.treatment = to_string(source.physics.treatment);
+  const PhysicsDef& def = source.physics;
+  try {
+    out.model = compile(source.robot, def);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(file + ": " + e.what());
+  }
+  if (source.recorded) {
+    out.recording = source.recorded->recording;
+    info.settled = source.recorded->settled;
+    info.com_settled = source.recorded->com_settled;
+    info.fitness = source.recorded->fitness;
+    return out;
+  }
+  if (log) {
+    char what[96];
+    std::snprintf(what, sizeof what, " (%g s at %g frames per second)", def.duration, fps);
+    log("simulating " + file + what);
+  }
+  SimOptions options;
+  options.record_fps = fps;
+  SimResult r = simulate(out.model, options);
+  if (r.status != SimStatus::kFinished) {
+    out.failure = "simulation unstable: " + r.failure;
+    return out;
+  }
+  out.recording = std::move(r.recording);
+  info.settled = r.settled;
+  info.com_settled = r.com_settled;
+  info.fitness = r.fitness;
+  return out;
+}
 
 std::string pack_life(const ViewerLife& life) {
   const Model& m = *life.model;
@@ -230,46 +322,80 @@ ViewerScripts viewer_scripts() {
 }
 
 std::string viewer_page(const std::vector<ViewerLife>& lives, const std::string& title) {
-  const ViewerScripts js = viewer_scripts();
-  nlohmann::json maps;
-  const std::pair<const char*, const Colormap*> all[] = {{"sequential", &Colormap::sequential()},
-                                                         {"diverging", &Colormap::diverging()},
-                                                         {"cyclic", &Colormap::cyclic_map()}};
-  for (const auto& [name, map] : all) {
-    std::vector<int> rgb;
-    for (int k = 0; k < Colormap::kEntries; ++k)
-      for (uint8_t c : map->at(k / static_cast<double>(Colormap::kEntries - 1))) rgb.push_back(c);
-    maps[name] = rgb;
-  }
   // Text from files (robot names, labels) reaches the page only as JSON, set by the script
   // as text: nothing in it is parsed as HTML.
   std::string html;
   html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html +=
       "<title>plastivox viewer</title>\n<meta name=\"viewport\" content=\"width=device-width\">\n";
+  html += "<style>body { font-family: sans-serif; margin: 1em; color: #222; }</style>\n";
   html += read_asset("viewer/viewer.css.html");
   html += "</head>\n<body>\n<h1 class=\"pv-title\"></h1>\n";
-  if (lives.size() > 1) {  // one viewer; these pick the life it shows (labels set by the script)
-    html += "<div class=\"pv-lives\">";
-    for (size_t i = 0; i < lives.size(); ++i)
-      html += "<button type=\"button\" data-pv-life=\"" + std::to_string(i) +
-              "\" onclick=\"plastivoxViewer.load(" + std::to_string(i) + ")\"></button>";
-    html += "</div>\n";
-  }
+  if (lives.size() > 1) html += buttons_html(lives.size());  // one viewer; these pick its life
   html += read_asset("viewer/viewer_panel.html");
-  html += "<script>" + script_safe(js.three) + "</script>\n";
-  html += "<script>" + script_safe(js.orbit) + "</script>\n";
-  html +=
-      "<script>window.PLASTIVOX_COLORMAPS = " + maps.dump() + ";\nwindow.PLASTIVOX_LIVES = [];\n";
+  std::string list;
   for (const ViewerLife& life : lives)
-    html += "PLASTIVOX_LIVES.push({meta: " + script_safe(life_meta_json(life)) + ", data: \"" +
+    list += "PLASTIVOX_LIVES.push({meta: " + script_safe(life_meta_json(life)) + ", data: \"" +
             base64(pack_life(life)) + "\"});\n";
-  html += "</script>\n<script>" + script_safe(js.viewer) + "</script>\n";
+  html += scripts_html(list);
   html += "<script>document.title = document.querySelector(\".pv-title\").textContent = " +
-          script_safe(nlohmann::json(title).dump()) + ";\n";
-  html += "plastivoxViewer.start(document.getElementById(\"pv-viewer\"), 0);</script>\n";
+          script_safe(nlohmann::json(title).dump()) + ";</script>\n";
+  html += kStart;
   html += "</body>\n</html>\n";
   return html;
+}
+
+std::string life_script(const std::string& id, const ViewerLife& life) {
+  return "plastivoxViewer.deliver(" + nlohmann::json(id).dump() +
+         ", {meta: " + life_meta_json(life) + ", data: \"" + base64(pack_life(life)) + "\"});\n";
+}
+
+std::string viewer_fragment(const std::vector<LifeLink>& lives, bool buttons) {
+  if (lives.empty()) return "";
+  std::string html = read_asset("viewer/viewer.css.html");
+  if (buttons) html += buttons_html(lives.size());
+  html += read_asset("viewer/viewer_panel.html");
+  std::string list;
+  for (const LifeLink& l : lives)
+    list += "PLASTIVOX_LIVES.push({id: " + nlohmann::json(l.id).dump() +
+            ", src: " + nlohmann::json(l.src).dump() +
+            ", meta: {label: " + nlohmann::json(l.id).dump() + "}});\n";
+  html += scripts_html(script_safe(list));
+  html += kStart;
+  return html;
+}
+
+std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
+                                         const std::string& dir, double fps, int threads,
+                                         const std::function<void(const std::string&)>& log) {
+  namespace fs = std::filesystem;
+  const std::string lives_dir = dir + "/lives";
+  fs::create_directories(lives_dir);
+  std::vector<std::optional<LifeLink>> links(sources.size());
+  std::vector<std::string> failures(sources.size());
+  parallel_for(sources.size(), threads, [&](size_t i) {
+    const std::string& id = sources[i].id;
+    const ShownLife shown = show_life(sources[i].file, sources[i].generation, fps);
+    if (!shown.failure.empty()) {
+      failures[i] = sources[i].file + ": no 3-D replay, " + shown.failure;
+      return;
+    }
+    write_file_atomic(lives_dir + "/" + id + ".js", life_script(id, shown.life()));
+    links[i] = LifeLink{id, "lives/" + id + ".js"};
+  });
+  std::vector<LifeLink> out;
+  for (size_t i = 0; i < links.size(); ++i) {
+    if (links[i]) out.push_back(*links[i]);
+    if (!failures[i].empty() && log) log(failures[i]);
+  }
+  // Lives of runs no longer in the study are stale.
+  for (const auto& e : fs::directory_iterator(lives_dir)) {
+    const std::string name = e.path().filename().string();
+    const bool current = std::any_of(out.begin(), out.end(),
+                                     [&](const LifeLink& l) { return l.src == "lives/" + name; });
+    if (!current && e.path().extension() == ".js") fs::remove(e.path());
+  }
+  return out;
 }
 
 }  // namespace plastivox::render

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,8 +52,61 @@ struct ViewerScripts {
 };
 ViewerScripts viewer_scripts();
 
+// A life to show that owns its model and frames: as recorded (a recorded-life file) or
+// simulated once at `fps` frames per simulated second (a robot, or a results file's
+// champion of `generation`, -1 the last). `failure` says why a simulation did not finish
+// ("" when it did; the frames are then unusable). Throws on unreadable input, one line.
+struct ShownLife {
+  Model model;
+  Recording recording;
+  ViewerLife info;  // label, treatment, settling and fitness; model and recording unset
+  std::string failure;
+  // `info` pointing at this object's model and frames (valid while this object lives).
+  ViewerLife life() const;
+};
+ShownLife show_life(const std::string& file, int generation, double fps,
+                    const std::function<void(const std::string&)>& log = {});
+
 // A self-contained page replaying `lives` (one at a time; a list to pick from when there are
 // several): everything inlined, so it opens from file:// with the network off.
 std::string viewer_page(const std::vector<ViewerLife>& lives, const std::string& title);
+
+// ---- Lives beside a report ---------------------------------------------------------------
+// A report links its lives rather than embedding them: each is a small script,
+// lives/<id>.js, that hands its packed bytes to the page's viewer when first picked (a
+// <script> element loads from file://, where fetch() is refused).
+
+// The script of one life: plastivoxViewer.deliver(id, {meta, data}).
+std::string life_script(const std::string& id, const ViewerLife& life);
+
+// One life a report offers: its id (the run label), and its script relative to the page.
+struct LifeLink {
+  std::string id;
+  std::string src;
+};
+
+// The viewer as part of a larger page: panel, styles, three.js, the viewer and the list of
+// lives, the first of them loaded at once. With `buttons`, a button per life above the
+// viewer; without, the page offers its own way to call plastivoxViewer.load(i), as the
+// experiment's report does from its champions' thumbnails.
+std::string viewer_fragment(const std::vector<LifeLink>& lives, bool buttons);
+
+// Frames per simulated second of the lives a report replays.
+constexpr double kViewerFps = 30;
+
+// A champion a report replays: its id (the run label, also the script's name), its results
+// file and generation (-1: the last).
+struct ReportLifeSource {
+  std::string id;
+  std::string file;
+  int generation = -1;
+};
+
+// Writes each champion's life to `dir`/lives/<id>.js (simulated at `fps` frames per
+// simulated second, on up to `threads` threads), removes other lives there, and returns the
+// links in the sources' order. A life that does not finish is left out, with a line to `log`.
+std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
+                                         const std::string& dir, double fps, int threads,
+                                         const std::function<void(const std::string&)>& log);
 
 }  // namespace plastivox::render
