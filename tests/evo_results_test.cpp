@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "file_seal.hpp"  // engine/src/evo (internal): to build sealed-but-wrong files
+#include "file_seal.hpp"  // engine/evo/src (internal): to build sealed-but-wrong files
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "test_support.hpp"

@@ -1,4 +1,5 @@
 #include "plastivox/render/life.hpp"
+#include "plastivox/evo/life_file.hpp"
 
 #include <algorithm>
 #include <cmath>

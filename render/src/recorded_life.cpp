@@ -2,6 +2,7 @@
 // the renderer's LifeSource / LifeFrame from the file (declared in plastivox/render/life.hpp).
 #include <cmath>
 
+#include "plastivox/evo/life_file.hpp"
 #include "plastivox/render/life.hpp"
 #include "plastivox/render/offscreen.hpp"  // RenderError
 

@@ -17,6 +17,7 @@
 
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/base/parallel.hpp"
+#include "plastivox/evo/life_file.hpp"
 #include "plastivox/render/assets.hpp"
 #include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/life.hpp"

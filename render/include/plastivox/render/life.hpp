@@ -9,9 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "plastivox/evo/life_file.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
+
+namespace plastivox::evo {
+struct RecordedLife;  // plastivox/evo/life_file.hpp (the evolver's files; render links them
+                      // privately, so its public headers only name the type)
+}  // namespace plastivox::evo
 
 namespace plastivox::render {
 
