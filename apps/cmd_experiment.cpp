@@ -117,15 +117,15 @@ int cmd_experiment(const Args& in) {
     const auto est = experiment::estimate_cost(config, speed);
     const auto bodies = experiment::sample_bodies(config, speed);
     const auto plan = experiment::predict_schedule(config, bodies, layout);
-    std::fprintf(stderr,
-                 "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
-                 "%d, %d generations, %.1f s lives\n%s\n%s\nestimate: about %s on disk\n",
-                 config.name.c_str(), config.treatments.size(),
-                 config.treatments.size() == 1 ? "" : "s", config.seeds.size(),
-                 config.seeds.size() == 1 ? "" : "s", config.evolution.population,
-                 config.evolution.generations, config.evolution.physics.duration,
-                 est.summary().c_str(), plan.summary().c_str(),
-                 experiment::human_size(experiment::estimate_disk(config).total()).c_str());
+    std::fprintf(
+        stderr,
+        "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
+        "%d, %d generations, %.1f s lives\n%s\n%s\nestimate: about %s on disk\n",
+        config.name.c_str(), config.treatments.size(), config.treatments.size() == 1 ? "" : "s",
+        config.seeds.size(), config.seeds.size() == 1 ? "" : "s", config.evolution.population,
+        config.evolution.generations, config.evolution.physics.duration, est.summary().c_str(),
+        plan.summary().c_str(),
+        experiment::human_size(experiment::estimate_disk(config, !no_viewer).total()).c_str());
     if (json_out) std::printf("%s\n", plan.json().c_str());
   }
   if (estimate_only) return 0;

@@ -439,10 +439,9 @@ TEST_F(ExperimentRun, StoppedAndKilledDuringConcurrentEvolutionResumesToTheSameD
 // console errors, every image decodes and every video has its metadata, and a screenshot is
 // not blank. Skipped, saying so, where chromium is not installed.
 TEST_F(ExperimentRun, ReportLoadsInHeadlessChromium) {
-  const auto which = shell("command -v chromium 2>/dev/null");
-  if (which.status != 0 || which.out.empty())
+  const std::string chromium = testing::headless_chromium(path("profile"));
+  if (chromium.empty())
     GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium); report not checked";
-  const std::string chromium = which.out.substr(0, which.out.find('\n'));
   const std::string cfg = write_config(micro_config());
   const std::string dir = path("study");
   ASSERT_EQ(run("--config " + cfg + " --out " + dir).status, 0);
@@ -482,13 +481,9 @@ window.addEventListener("load", () => setTimeout(() => {
 </script>)";
   html.insert(html.rfind("</body>"), probe);
   write_file_atomic(dir + "/check.html", html);
-  const std::string flags =
-      " --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
-      "--host-resolver-rules='MAP * ~NOTFOUND' --disable-background-networking "
-      "--disable-component-update --disable-sync --no-first-run --user-data-dir=" +
-      path("profile") + " --virtual-time-budget=10000 --window-size=1200,2400 ";
-  const auto dom = shell(chromium + flags + "--enable-logging=stderr --v=0 --dump-dom file://" +
-                         dir + "/check.html 2>" + path("console.log"));
+  const std::string flags = chromium + "--virtual-time-budget=10000 --window-size=1200,2400 ";
+  const auto dom = shell(flags + "--enable-logging=stderr --v=0 --dump-dom file://" + dir +
+                         "/check.html 2>" + path("console.log"));
   ASSERT_EQ(dom.status, 0) << dom.out;
   const std::string console = read_file_bytes(path("console.log"));
   for (const char* bad : {"Uncaught", "Failed to load resource", "ERR_", "WebGL: "})
@@ -500,9 +495,8 @@ window.addEventListener("load", () => setTimeout(() => {
   EXPECT_EQ(images.find('0'), std::string::npos) << "an image did not load: " << images;
   ASSERT_TRUE(std::regex_search(dom.out, m, std::regex("data-videos=\"([01]*)\""))) << dom.out;
   EXPECT_EQ(m[1].str(), "1") << "the callus video did not load";
-  ASSERT_TRUE(std::regex_search(dom.out, m, std::regex("data-viewer=\"([^\"]*)\""))) << dom.out;
-  std::string text = m[1];
-  for (size_t at; (at = text.find("&quot;")) != std::string::npos;) text.replace(at, 6, "\"");
+  const std::string text = testing::dom_attribute(dom.out, "data-viewer");
+  ASSERT_FALSE(text.empty()) << dom.out;
   const json viewer = json::parse(text);
   EXPECT_EQ(viewer.at("thumbs").get<int>(), 6) << "every champion's thumbnail opens its life";
   EXPECT_EQ(viewer.at("first"), "none-s1");
@@ -519,8 +513,8 @@ window.addEventListener("load", () => setTimeout(() => {
   EXPECT_NEAR(viewer.at("displacement").get<double>(), fitness, 5e-4 * std::abs(fitness))
       << viewer.dump();
   // The report itself, as a user opens it: a screenshot with text and figures on it.
-  const auto shot = shell(chromium + flags + "--screenshot=" + path("report.png") + " file://" +
-                          dir + "/report.html 2>/dev/null");
+  const auto shot = shell(flags + "--screenshot=" + path("report.png") + " file://" + dir +
+                          "/report.html 2>/dev/null");
   ASSERT_EQ(shot.status, 0) << shot.out;
   const render::Image img = render::read_png(path("report.png"));
   std::set<uint32_t> colours;

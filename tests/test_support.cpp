@@ -57,6 +57,39 @@ Output shell(const std::string& command_line) {
   return o;
 }
 
+std::string headless_chromium(const std::string& profile_dir) {
+  const Output which = shell("command -v chromium 2>/dev/null");
+  if (which.status != 0 || which.out.empty()) return "";
+  return which.out.substr(0, which.out.find('\n')) +
+         " --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
+         "--host-resolver-rules='MAP * ~NOTFOUND' --disable-background-networking "
+         "--disable-component-update --disable-sync --no-first-run --user-data-dir=" +
+         profile_dir + " ";
+}
+
+std::string dom_attribute(const std::string& dom, const std::string& name) {
+  // Built by appending, not with operator+ or replace: GCC 12 at -O3 reports a false
+  // -Wrestrict on those here.
+  std::string open = " ";
+  open += name;
+  open += "=\"";
+  const size_t at = dom.find(open);
+  if (at == std::string::npos) return "";
+  std::string v;
+  for (size_t i = at + open.size(); i < dom.size() && dom[i] != '"';) {
+    if (dom.compare(i, 6, "&quot;") == 0) {
+      v += '"';
+      i += 6;
+    } else if (dom.compare(i, 5, "&amp;") == 0) {
+      v += '&';
+      i += 5;
+    } else {
+      v += dom[i++];
+    }
+  }
+  return v;
+}
+
 std::string error_of(const std::function<void()>& f) {
   try {
     f();

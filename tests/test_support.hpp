@@ -49,6 +49,15 @@ struct Output {
 };
 Output shell(const std::string& command_line);
 
+// Headless Chromium (Debian package chromium) with software WebGL (SwiftShader) and every
+// host name unresolvable, as with the network off: the program and its flags, with a fresh
+// profile in `profile_dir`, ready for more flags and a URL. "" when chromium is not installed.
+std::string headless_chromium(const std::string& profile_dir);
+
+// The value of attribute `name` in a page as `chromium --dump-dom` prints it (with &quot;
+// and &amp; decoded), or "" when no element has it.
+std::string dom_attribute(const std::string& dom, const std::string& name);
+
 // A fixture with a fresh scratch directory per test (named after the process and the
 // test), removed afterwards.
 class ScratchDirTest : public ::testing::Test {

@@ -71,16 +71,17 @@ struct DiskEstimate {
   uint64_t evolution = 0;     // runs/*.h5
   uint64_t analysis = 0;      // stats.json, CSV tables, analysis.h5, report.html, cache/
   uint64_t rendering = 0;     // figures/, videos/
+  uint64_t viewer = 0;        // lives/ and the 3-D viewer's scripts in report.html
   uint64_t largest_file = 0;  // the biggest single output (atomic rewrites need it twice)
-  uint64_t total() const { return evolution + analysis + rendering; }
+  uint64_t total() const { return evolution + analysis + rendering + viewer; }
 };
-DiskEstimate estimate_disk(const ExperimentConfig& config);
+DiskEstimate estimate_disk(const ExperimentConfig& config, bool viewer = true);
 
 // Refuses (InputError, one line naming dir and both sizes) when the file system holding dir
 // has less free space than the study still needs: the estimate less what dir already holds
 // (a resumed study), plus room for one temporary copy of the largest file. The environment
 // variable PLASTIVOX_SKIP_DISK_CHECK (non-empty) turns the check off.
-void check_free_space(const ExperimentConfig& config, const std::string& dir);
+void check_free_space(const ExperimentConfig& config, const std::string& dir, bool viewer = true);
 
 // "3 h 12 min", "48 s": durations for people.
 std::string human_duration(double seconds);

@@ -99,7 +99,7 @@ ExperimentOutcome run_experiment(const ExperimentConfig& config, const Experimen
   if (leader) {
     try {
       make_folder(dir);
-      check_free_space(config, dir);  // before an hour of work, not when the disk fills
+      check_free_space(config, dir, opt.viewer);  // before an hour of work, not when the disk fills
       make_folder(dir + "/runs");
       created = claim_folder(config, dir);
     } catch (const std::exception& e) {
