@@ -172,10 +172,13 @@
       sites.add(c.join(","));
     }
     const faces = [];
+    this.exposed = new Uint8Array(6 * n);  // setFrame skips the hidden faces' vertices too
     for (let i = 0; i < n; ++i)
       for (let f = 0; f < 6; ++f) {
         const d = FACES[f][0], c = cell[i];
-        if (!sites.has([c[0] + d[0], c[1] + d[1], c[2] + d[2]].join(","))) faces.push(4 * (6 * i + f));
+        if (sites.has([c[0] + d[0], c[1] + d[1], c[2] + d[2]].join(","))) continue;
+        this.exposed[6 * i + f] = 1;
+        faces.push(4 * (6 * i + f));
       }
     const index = new Uint32Array(6 * faces.length);
     faces.forEach((b, j) => index.set([b, b + 1, b + 2, b, b + 2, b + 3], 6 * j));
@@ -254,6 +257,7 @@
       mapColor(scale.map, position(this.mode, scale, colourValue(this.mode, life, i, vox)), rgb);
       let at = 72 * i;
       for (let f = 0; f < 6; ++f) {
+        if (!this.exposed[6 * i + f]) { at += 12; continue; }
         const [nrm, corners] = FACES[f];
         const nx = r00 * nrm[0] + r01 * nrm[1] + r02 * nrm[2];
         const ny = r10 * nrm[0] + r11 * nrm[1] + r12 * nrm[2];

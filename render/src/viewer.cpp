@@ -151,6 +151,11 @@ std::string buttons_html(size_t n) {
   return html + "</div>\n";
 }
 
+// One life as the viewer reads it: {meta: <life_meta_json>, data: "<base64 of pack_life>"}.
+std::string life_object_js(const ViewerLife& life) {
+  return "{meta: " + life_meta_json(life) + ", data: \"" + base64(pack_life(life)) + "\"}";
+}
+
 const char* kStart =
     "<script>plastivoxViewer.start(document.getElementById(\"pv-viewer\"), 0);</script>\n";
 
@@ -336,8 +341,7 @@ std::string viewer_page(const std::vector<ViewerLife>& lives, const std::string&
   html += read_asset("viewer/viewer_panel.html");
   std::string list;
   for (const ViewerLife& life : lives)
-    list += "PLASTIVOX_LIVES.push({meta: " + script_safe(life_meta_json(life)) + ", data: \"" +
-            base64(pack_life(life)) + "\"});\n";
+    list += "PLASTIVOX_LIVES.push(" + script_safe(life_object_js(life)) + ");\n";
   html += scripts_html(list);
   html += "<script>document.title = document.querySelector(\".pv-title\").textContent = " +
           script_safe(nlohmann::json(title).dump()) + ";</script>\n";
@@ -347,8 +351,8 @@ std::string viewer_page(const std::vector<ViewerLife>& lives, const std::string&
 }
 
 std::string life_script(const std::string& id, const ViewerLife& life) {
-  return "plastivoxViewer.deliver(" + nlohmann::json(id).dump() +
-         ", {meta: " + life_meta_json(life) + ", data: \"" + base64(pack_life(life)) + "\"});\n";
+  return "plastivoxViewer.deliver(" + nlohmann::json(id).dump() + ", " + life_object_js(life) +
+         ");\n";
 }
 
 std::string viewer_fragment(const std::vector<LifeLink>& lives, bool buttons) {
