@@ -392,7 +392,23 @@ TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
     }
   const auto many = shell(kCli + " evolve" + several + " --threads 2 2>&1");
   ASSERT_EQ(many.status, 0) << many.out;
-  std::vector<std::string> folders{"t2", "alone", "many"};
+  // As a job array does it: one `experiment --run LABEL` per run, sharing one folder. Each
+  // evolves only its own run and stops before the analysis.
+  for (const std::string& label : run_labels(c)) {
+    const auto task = run("--config " + cfg + " --out " + path("array") + " --run " + label +
+                          " --threads 1");
+    ASSERT_EQ(task.status, 0) << task.out;
+    EXPECT_FALSE(std::filesystem::exists(path("array/stats.json"))) << label;
+  }
+  size_t array_runs = 0;
+  for (const auto& e : std::filesystem::directory_iterator(path("array/runs")))
+    array_runs += e.path().extension() == ".h5";
+  EXPECT_EQ(array_runs, run_labels(c).size());
+  // The final job finds every run evolved and only analyses.
+  const auto final_job = run("--config " + cfg + " --out " + path("array") + " --threads 2");
+  ASSERT_EQ(final_job.status, 0) << final_job.out;
+  EXPECT_TRUE(std::filesystem::exists(path("array/stats.json")));
+  std::vector<std::string> folders{"t2", "alone", "many", "array/runs"};
 #ifdef PLASTIVOX_MPIEXEC
   const auto mpi = shell(
       "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ASAN_OPTIONS=detect_leaks=0 " +
