@@ -18,7 +18,8 @@ struct CommandHelp {
 // The frame-style options render and video share (apps/render_cli.hpp take_frame_style).
 #define PLASTIVOX_FRAME_OPTIONS                                                            \
   "  --size WxH            image size in pixels (default 1280x720)\n"                      \
-  "  --color MODE          congenital (default), stiffness, change, alpha or phase\n"      \
+  "  --color MODE          congenital (default), stiffness, change, alpha, phase or\n"     \
+  "                        stimulus (the treatment's, docs/development.md)\n"              \
   "  --color-range R       data (default: the values shown, rounded to readable ticks)\n"  \
   "                        or paper (fixed: E 1e5..1e11 Pa, change over that range)\n"     \
   "  --no-overlay          no overlays at all; or one by one: --no-colorbar, --no-time,\n" \
@@ -43,7 +44,8 @@ const CommandHelp kHelp[] = {
      "docs/robot-format.md) or a VXA file (.vxa); without ROBOT, the built-in ~500-voxel\n"
      "demo walker under stress development.\n"
      "options:\n"
-     "  --treatment T         none, stress or pressure (default: the file's own)\n"
+     "  --treatment T         none, stress, pressure, strain, strain_energy, contact or\n"
+     "                        kinetic (default: the file's own; docs/development.md)\n"
      "  --preset NAME         physics preset gecco2018-code or gecco2018-paper\n"
      "  --duration S          life length in seconds\n"
      "  --physics JSON        override physics fields, e.g. '{\"self_collision\": false}'\n"

@@ -1,6 +1,7 @@
 // plastivox experiment: config validation, presets, cost estimate, and the whole study end
 // to end on a micro config (seconds): every promised output, consistency between them, and
 // kills mid-evolution and mid-analysis followed by a rerun giving the same results.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <regex>
@@ -395,8 +396,8 @@ TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
   // As a job array does it: one `experiment --run LABEL` per run, sharing one folder. Each
   // evolves only its own run and stops before the analysis.
   for (const std::string& label : run_labels(c)) {
-    const auto task = run("--config " + cfg + " --out " + path("array") + " --run " + label +
-                          " --threads 1");
+    const auto task =
+        run("--config " + cfg + " --out " + path("array") + " --run " + label + " --threads 1");
     ASSERT_EQ(task.status, 0) << task.out;
     EXPECT_FALSE(std::filesystem::exists(path("array/stats.json"))) << label;
   }
@@ -449,6 +450,37 @@ TEST_F(ExperimentRun, StoppedAndKilledDuringConcurrentEvolutionResumesToTheSameD
     EXPECT_EQ(digest_of(dir + "/runs/" + label + ".h5"),
               digest_of(path("ref/runs/") + label + ".h5"))
         << label;
+}
+
+// Treatments beyond the paper's (docs/development.md) go through every stage with no code that
+// names them: four treatments evolve, are analysed, drawn in every figure and reported; a run
+// of a new stimulus exports to the project's format and is refused, in one line, as VXA.
+TEST_F(ExperimentRun, FourTreatmentsIncludingNewStimuliRunEndToEnd) {
+  json j = micro_config();
+  j["treatments"] = json::array({"none", "stress", "contact", "kinetic"});
+  j["rendering"]["video"] = false;
+  const std::string dir = path("four");
+  const auto o = run("--config " + write_config(j) + " --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.out;
+  const json stats = json::parse(read_file_bytes(dir + "/stats.json"));
+  EXPECT_EQ(stats.at("treatments"), json({"none", "stress", "contact", "kinetic"}));
+  const std::string report = read_file_bytes(dir + "/report.html");
+  const std::string panel = read_file_bytes(dir + "/figures/panel_A.svg");
+  for (const char* t : {"none", "stress", "contact", "kinetic"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/runs/" + std::string(t) + "-s1.h5")) << t;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/figures/gallery_" + std::string(t) + ".png")) << t;
+    EXPECT_NE(report.find(std::string(t) + "-s2"), std::string::npos) << t;
+  }
+  for (const char* label : {"None", "Stress", "Contact", "Kinetic"})
+    EXPECT_NE(panel.find(label), std::string::npos) << label;
+  const auto json_out = shell(kCli + " export " + dir + "/runs/contact-s1.h5 --out " +
+                              path("contact.json") + " 2>&1");
+  EXPECT_EQ(json_out.status, 0) << json_out.out;
+  const auto vxa =
+      shell(kCli + " export " + dir + "/runs/contact-s1.h5 --out " + path("contact.vxa") + " 2>&1");
+  EXPECT_NE(vxa.status, 0);
+  EXPECT_NE(vxa.out.find("treatment 'contact' cannot be written"), std::string::npos) << vxa.out;
+  EXPECT_EQ(std::count(vxa.out.begin(), vxa.out.end(), '\n'), 1) << vxa.out;
 }
 
 // The experiment's report in headless Chromium (Debian package chromium): it loads without

@@ -113,6 +113,34 @@ TEST(RenderColorScale, ParsesModesAndRejectsUnknownNames) {
   }
 }
 
+// --color stimulus: from 0 to the largest stimulus shown, rounded up to a 1-2-5 value; a signed
+// stimulus (pressure is negative in tension) is symmetric about 0 on the diverging map.
+TEST(RenderColorScale, StimulusSpansTheStimulusShown) {
+  PhysicsDef d = preset_gecco2018_code();
+  d.treatment = Treatment::kContact;
+  const Model model = compile(demo_cube(2, 1e8), d);
+  Frame a, b;
+  a.stimulus = {0, 0, 1.2e8, 3e7, 0, 0, 0, 0};
+  b.stimulus = {0, 0, 1.7e8, 0, 0, 0, 0, 0};
+  EXPECT_EQ(parse_color_mode("stimulus"), ColorMode::kStimulus);
+  const ColorScale s = make_color_scale(ColorMode::kStimulus, model, {&a, &b});
+  EXPECT_DOUBLE_EQ(s.lo, 0);
+  EXPECT_DOUBLE_EQ(s.hi, 2e8);
+  EXPECT_NE(s.title.find("contact"), std::string::npos) << s.title;
+  EXPECT_EQ(&s.map(), &Colormap::sequential());
+  EXPECT_DOUBLE_EQ(s.position(s.value(model, b, 2)), 0.85);
+  const std::vector<Tick> ticks = s.ticks();
+  ASSERT_GE(ticks.size(), 3u);
+  EXPECT_EQ(ticks.front().label, "0");
+  EXPECT_EQ(ticks.back().label, "2×10⁸");
+  b.stimulus[5] = -4e8;
+  const ColorScale signed_scale = make_color_scale(ColorMode::kStimulus, model, {&a, &b});
+  EXPECT_DOUBLE_EQ(signed_scale.lo, -5e8);
+  EXPECT_DOUBLE_EQ(signed_scale.hi, 5e8);
+  EXPECT_EQ(&signed_scale.map(), &Colormap::diverging());
+  EXPECT_EQ(signed_scale.ticks().front().label, "−5×10⁸");
+}
+
 TEST(RenderColorScale, PaperRangeTicksAreDecadesOverThePhysicsRange) {
   const Model model = compile(demo_cube(2, 1e8), preset_gecco2018_code());  // E in [1e5, 1e11]
   const ColorScale s = make_color_scale(ColorMode::kCongenital, model, {}, ColorRange::kPaper);

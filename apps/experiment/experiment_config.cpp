@@ -179,11 +179,16 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
       c.name = v.get<std::string>();
     } else if (k == "treatments") {
       if (!v.is_array() || v.empty())
-        fail(src, k, "expected a non-empty list of none | stress | pressure");
+        fail(src, k, "expected a non-empty list of treatments (" + treatment_names() + ")");
       c.treatments.clear();
       for (size_t i = 0; i < v.size(); ++i) {
         const std::string f = k + "[" + std::to_string(i) + "]";
-        const auto t = parse_treatment(text(v[i], src, f, {"none", "stress", "pressure"}));
+        Treatment t{};
+        try {
+          t = parse_treatment(text(v[i], src, f, {}));
+        } catch (const std::invalid_argument& e) {
+          fail(src, f, e.what());
+        }
         for (auto seen : c.treatments)
           if (seen == t) fail(src, f, "'" + std::string(to_string(t)) + "' listed twice");
         c.treatments.push_back(t);

@@ -20,6 +20,8 @@ namespace plastivox {
 //   refinement loop does not run), a change of that bond's term by less than 2.5e-4 that is
 //   not reproduced. Under AxialModulus::kNegativeVoxel (bonds the authors' simulator treats as
 //   homogeneous: no split) the voxel's own E times the bond strain is used;
+// - the other stimuli (strain, strain_energy, contact, kinetic) are defined where the enum
+//   is (physics_def.hpp) and computed beside these two in develop_lanes_body.hpp;
 // - then (integral model) E = E0 + alpha * integral of the stimulus, or (rate model)
 //   E = E0 + alpha * (stimulus - stimulus at the end of settling); the change in one step is
 //   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor
@@ -32,6 +34,10 @@ void develop(const Model& m, State& s, const Workspace& w) {
   io.no_bond = m.bond_count();
   io.bond_stress = w.bond_stress.data();
   io.bond_strain = w.bond_strain.data();
+  io.floor_normal = w.floor_normal.data();
+  io.size = s.size.data();
+  io.lin_mom = s.lin_mom.empty() ? nullptr : s.lin_mom.front().data();
+  io.ang_mom = s.ang_mom.empty() ? nullptr : s.ang_mom.front().data();
   io.e0 = m.e0.data();
   io.alpha = m.alpha.data();
   io.stiffness = s.stiffness.data();
@@ -39,7 +45,7 @@ void develop(const Model& m, State& s, const Workspace& w) {
   io.stim_integral = s.stim_integral.data();
   io.stim_ref = s.stim_ref.data();
   DevelopConstants k;
-  k.stress = d.treatment == Treatment::kStress;
+  k.stimulus = d.treatment;
   k.split = d.axial_modulus == AxialModulus::kHarmonicMean;
   k.integral = d.growth == GrowthModel::kIntegral;
   k.first = !s.stim_ref_set;
@@ -49,6 +55,9 @@ void develop(const Model& m, State& s, const Workspace& w) {
   k.max_change = d.max_change_per_step;
   k.e_min = d.e_min;
   k.e_max = d.e_max;
+  k.inv_mass = 1.0 / m.mass;
+  k.inv_inertia = 1.0 / m.inertia;
+  k.inv_volume = 1.0 / (m.size * m.size * m.size);
   kernels().develop(io, m.n, k);
   s.stim_ref_set = true;
 }

@@ -19,13 +19,41 @@ template <class T>
 inline void develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k) {
   const T zero = splat(0.0, T{});
   T stim;
-  if (k.stress) {
+  if (k.stimulus == Treatment::kStress) {
     // Largest tensile axial stress among the voxel's bonds (compression counts as 0).
     stim = zero;
     for (int slot = 0; slot < 6; ++slot) {
       const T sigma = load_indexed(io.bond_stress, io.slot_bond[slot], i, T{});
       stim = pick(stim < sigma, sigma, stim);
     }
+  } else if (k.stimulus == Treatment::kStrain) {
+    // Largest absolute axial strain among the voxel's bonds (a slot without one reads 0).
+    stim = zero;
+    for (int slot = 0; slot < 6; ++slot) {
+      const T eps = load_indexed(io.bond_strain, io.slot_bond[slot], i, T{});
+      const T magnitude = pick(eps < 0.0, -eps, eps);
+      stim = pick(stim < magnitude, magnitude, stim);
+    }
+  } else if (k.stimulus == Treatment::kStrainEnergy) {
+    // Axial elastic energy per unit volume of the voxel's half of each of its bonds.
+    T sum = zero;
+    for (int slot = 0; slot < 6; ++slot) {
+      const T sigma = load_indexed(io.bond_stress, io.slot_bond[slot], i, T{});
+      const T eps = load_indexed(io.bond_strain, io.slot_bond[slot], i, T{});
+      sum = sum + sigma * eps;
+    }
+    stim = 0.25 * sum;
+  } else if (k.stimulus == Treatment::kContact) {
+    // Floor normal force over the voxel's (actuated) face area; 0 off the floor.
+    const T side = load(io.size, i, T{});
+    stim = load(io.floor_normal, i, T{}) / (side * side);
+  } else if (k.stimulus == Treatment::kKinetic) {
+    T p[3], h[3];
+    load3(io.lin_mom, i, p);
+    load3(io.ang_mom, i, h);
+    const T p2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    const T h2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
+    stim = (0.5 * k.inv_mass * p2 + 0.5 * k.inv_inertia * h2) * k.inv_volume;
   } else {
     // Per axis, the mean over the voxel's two bonds, or the one bond (the other reads 0).
     const double* per_bond = k.split ? io.bond_stress : io.bond_strain;

@@ -32,6 +32,7 @@ VoxelKernelIo voxel_io(const Model& m, const State& st, Workspace& w) {
     io.moment[c] = w.moment[c].data();
   }
   io.sqrt_e = w.sqrt_e.data();
+  io.floor_normal = w.floor_normal.empty() ? nullptr : w.floor_normal.data();
   return io;
 }
 

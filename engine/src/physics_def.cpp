@@ -60,8 +60,32 @@ const char* to_string(Treatment t) {
       return "stress";
     case Treatment::kPressure:
       return "pressure";
+    case Treatment::kStrain:
+      return "strain";
+    case Treatment::kStrainEnergy:
+      return "strain_energy";
+    case Treatment::kContact:
+      return "contact";
+    case Treatment::kKinetic:
+      return "kinetic";
   }
   return "?";
+}
+
+const std::vector<Treatment>& all_treatments() {
+  static const std::vector<Treatment> all = {
+      Treatment::kNone,         Treatment::kStress,  Treatment::kPressure, Treatment::kStrain,
+      Treatment::kStrainEnergy, Treatment::kContact, Treatment::kKinetic};
+  return all;
+}
+
+std::string treatment_names() {
+  std::string out;
+  for (Treatment t : all_treatments()) {
+    if (!out.empty()) out += ", ";
+    out += to_string(t);
+  }
+  return out;
 }
 
 const char* to_string(GrowthModel g) {
@@ -69,10 +93,14 @@ const char* to_string(GrowthModel g) {
 }
 
 Treatment parse_treatment(const std::string& s) {
-  if (s == "none") return Treatment::kNone;
-  if (s == "stress") return Treatment::kStress;
-  if (s == "pressure") return Treatment::kPressure;
-  throw std::invalid_argument("treatment '" + s + "' is unknown (use none, stress or pressure)");
+  for (Treatment t : all_treatments())
+    if (s == to_string(t)) return t;
+  std::string msg = "treatment '";
+  msg += s;
+  msg += "' is unknown (use ";
+  msg += treatment_names();
+  msg += ")";
+  throw std::invalid_argument(msg);
 }
 
 GrowthModel parse_growth(const std::string& s) {

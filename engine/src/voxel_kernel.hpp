@@ -32,6 +32,9 @@ struct VoxelKernelIo {
   double* force[3] = {};
   double* moment[3] = {};
   double* sqrt_e = nullptr;
+  // Workspace, per voxel, written by the update stage when not null: the floor's normal
+  // force on the voxel, N (0 off the floor). Only the contact stimulus reads it.
+  double* floor_normal = nullptr;
 };
 
 // What the update stage writes: the same State arrays as VoxelKernelIo's, writable.

@@ -72,6 +72,7 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
   T px = p[0], py = p[1], pz = p[2];
   const T x0 = x[0], y0 = x[1], z0 = x[2];
   Mask held = and_not(fixed, fixed);  // all clear
+  T floor_normal = zero;
 
   if (k.floor) {
     // Penetration of the voxel's (actuated) half-size below the floor plane z = 0; the
@@ -100,8 +101,10 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
       py = pick(stops, zero, py);
       held = (contact & at_rest & sticks) | stops;
       fz = pick(contact, fz + (normal - c_col * vz), fz);
+      floor_normal = pick(contact, normal, zero);
     }
   }
+  if (io.floor_normal) store(io.floor_normal, i, floor_normal);
   fx = pick(held, zero, fx);
   fy = pick(held, zero, fy);
 
@@ -220,8 +223,8 @@ inline void run_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) 
 }
 
 template <class T, int W>
-inline VoxelUpdateSummary run_update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st,
-                                           int n, const VoxelConstants& k) {
+inline VoxelUpdateSummary run_update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int n,
+                                           const VoxelConstants& k) {
   using Mask = decltype(T{} < T{});
   T max_speed2 = splat(0.0, T{});
   Mask bad = max_speed2 < max_speed2;  // all clear

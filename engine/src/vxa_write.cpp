@@ -108,6 +108,13 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
     throw VxaError(
         "write_vxa: physics.growth 'rate' cannot be written: <GrowthModel> 1 is the "
         "integral model and 0 adds the integral to E every step");
+  if (p.treatment != Treatment::kNone && p.treatment != Treatment::kStress &&
+      p.treatment != Treatment::kPressure) {
+    std::string msg = "write_vxa: physics.treatment '";
+    msg += to_string(p.treatment);
+    msg += "' cannot be written: the authors' simulator develops under stress or pressure only";
+    throw VxaError(msg);
+  }
   if (!(p.act_frequency > 0))
     throw VxaError(
         "write_vxa: physics.act_frequency 0 cannot be written (<TempPeriod> would be "

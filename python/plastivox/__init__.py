@@ -26,7 +26,7 @@ __all__ = [
     "read_results", "read_study", "evolve", "default_config", "render",
 ]
 
-_TREATMENTS = ("none", "stress", "pressure")
+_TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
 
 
 # --- argument checks -------------------------------------------------------------------

@@ -90,6 +90,22 @@ std::string power_label(double log_value) {
   return (m == 1 ? std::string() : std::to_string(m) + "×") + "10" + superscript(e);
 }
 
+// "0", "10⁸", "1.5×10⁸", "−5×10⁷": stimulus ticks in Pa.
+std::string scientific(double v) {
+  if (std::abs(v) < 1e-300) return "0";
+  const int e = static_cast<int>(std::floor(std::log10(std::abs(v)) + 1e-9));
+  char mantissa[32];
+  std::snprintf(mantissa, sizeof mantissa, "%.3g", std::abs(v) / std::pow(10.0, e));
+  std::string out = v < 0 ? "−" : "";
+  if (std::string(mantissa) != "1") {
+    out += mantissa;
+    out += "×";
+  }
+  out += "10";
+  out += superscript(e);
+  return out;
+}
+
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", std::abs(v) < 1e-12 ? 0.0 : v);
@@ -112,6 +128,8 @@ const char* to_string(ColorMode m) {
       return "alpha";
     case ColorMode::kPhase:
       return "phase";
+    case ColorMode::kStimulus:
+      return "stimulus";
   }
   return "?";
 }
@@ -128,10 +146,10 @@ ColorRange parse_color_range(const std::string& name) {
 
 ColorMode parse_color_mode(const std::string& name) {
   for (ColorMode m : {ColorMode::kCongenital, ColorMode::kStiffness, ColorMode::kChange,
-                      ColorMode::kAlpha, ColorMode::kPhase})
+                      ColorMode::kAlpha, ColorMode::kPhase, ColorMode::kStimulus})
     if (name == to_string(m)) return m;
   throw RenderError("unknown colour mode '" + name +
-                    "' (expected congenital, stiffness, change, alpha or phase)");
+                    "' (expected congenital, stiffness, change, alpha, phase or stimulus)");
 }
 
 const Colormap& ColorScale::map() const {
@@ -141,6 +159,8 @@ const Colormap& ColorScale::map() const {
       return Colormap::diverging();
     case ColorMode::kPhase:
       return Colormap::cyclic_map();
+    case ColorMode::kStimulus:
+      return lo < 0 ? Colormap::diverging() : Colormap::sequential();
     default:
       return Colormap::sequential();
   }
@@ -158,6 +178,8 @@ double ColorScale::value(const Model& model, const Frame& frame, int i) const {
       return model.alpha[i];
     case ColorMode::kPhase:
       return model.phase[i];
+    case ColorMode::kStimulus:
+      return frame.stimulus.empty() ? 0.0 : frame.stimulus[i];
   }
   return 0;
 }
@@ -213,6 +235,12 @@ std::vector<Tick> ColorScale::ticks() const {
     case ColorMode::kPhase:
       for (double v : {0.0, 0.25, 0.5, 0.75, 1.0}) add(v, number(v));
       break;
+    case ColorMode::kStimulus: {
+      const double step = nice_step(hi, lo < 0 ? 2 : 4);
+      for (int k = static_cast<int>(std::ceil(lo / step - 1e-9)); k * step <= hi * (1 + 1e-9); ++k)
+        add(k * step, scientific(k * step));
+      break;
+    }
   }
   return out;
 }
@@ -294,6 +322,18 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
       s.hi = 1;
       s.title = "actuation phase (cycles)";
       break;
+    case ColorMode::kStimulus: {
+      double m = 0;
+      bool negative = false;
+      for (const Frame* f : frames)
+        for (double v : f->stimulus)
+          if (std::isfinite(v)) m = std::max(m, std::abs(v)), negative = negative || v < 0;
+      s.hi = nice_ceil(std::max(m, 1e-12));
+      s.lo = negative ? -s.hi : 0;
+      s.title =
+          std::string("stimulus (Pa), ") + to_string(model.def.treatment) + ", range of the data";
+      break;
+    }
   }
   return s;
 }

@@ -24,7 +24,8 @@ def same_science(result, cli):
         assert d[key] == cli[key], key
 
 
-@pytest.mark.parametrize("treatment", ["none", "stress", "pressure"])
+@pytest.mark.parametrize("treatment", ["none", "stress", "pressure", "strain", "strain_energy",
+                                       "contact", "kinetic"])
 def test_demo_walker_matches_cli(treatment):
     cli = cli_json("simulate", "--treatment", treatment, "--json")
     r = plastivox.simulate(plastivox.demo_walker(), treatment=treatment)

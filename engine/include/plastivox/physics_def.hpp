@@ -3,10 +3,23 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace plastivox {
 
-enum class Treatment { kNone, kStress, kPressure };
+// The stimulus development follows (docs/development.md has each formula, its units and its
+// size on the paper's bodies). none, stress and pressure are the paper's three treatments;
+// the others are new developmental feedback loops, per voxel, in Pa (= J/m^3):
+// - kStrain: the largest absolute axial strain among the voxel's bonds (dimensionless,
+//   scaled by 1 Pa so that alpha keeps its units of Pa per stimulus-second);
+// - kStrainEnergy: the axial elastic energy density of the voxel's share of its bonds,
+//   sum of sigma * eps / 4 (each bond's energy sigma eps / 2 per unit volume, half to each end);
+// - kContact: the floor's normal force on the voxel per face area (size^2), 0 off the floor:
+//   the paper's "calluses in response to pressure on its feet";
+// - kKinetic: kinetic energy density, (|p|^2 / 2m + |h|^2 / 2I) / L^3.
+// Adding one: the enum and its name here, its formula in develop_lanes_body.hpp (the one
+// place that computes a stimulus), a test in tests/engine_stimuli_test.cpp.
+enum class Treatment { kNone, kStress, kPressure, kStrain, kStrainEnergy, kContact, kKinetic };
 // kIntegral: E = E0 + alpha * integral(stimulus dt)   (the authors' code, default)
 // kRate:     E = E0 + alpha * (stimulus(t) - stimulus(settle))  (the paper's equations)
 enum class GrowthModel { kIntegral, kRate };
@@ -90,6 +103,8 @@ void validate(const PhysicsDef& def);
 const char* to_string(Treatment t);
 const char* to_string(GrowthModel g);
 Treatment parse_treatment(const std::string& s);  // throws std::invalid_argument
+const std::vector<Treatment>& all_treatments();   // in the enum's order
+std::string treatment_names();                    // "none, stress, pressure, ..."
 GrowthModel parse_growth(const std::string& s);   // throws std::invalid_argument
 
 }  // namespace plastivox

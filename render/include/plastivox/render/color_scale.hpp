@@ -17,8 +17,11 @@ enum class ColorMode {
   kChange,      // lifetime change E/E0, log10 symmetric about 1, diverging map
   kAlpha,       // development rate alpha (1/s), symmetric about 0, diverging map
   kPhase,       // actuation phase (cycles, modulo 1), cyclic map
+  kStimulus,    // the treatment's stimulus (Pa, docs/development.md), linear from 0, or
+                // symmetric about 0 on a diverging map when some value is negative
 };
-const char* to_string(ColorMode m);  // "congenital", "stiffness", "change", "alpha", "phase"
+// "congenital", "stiffness", "change", "alpha", "phase", "stimulus"
+const char* to_string(ColorMode m);
 // Throws RenderError listing the valid names.
 ColorMode parse_color_mode(const std::string& name);
 
@@ -57,7 +60,8 @@ struct ColorScale {
 // values (to decades beyond three decades); change spans the largest |log10 E/E0| seen,
 // rounded up to a 1-2-5 step (at least a factor 1.01). With kPaper, stiffness modes span the
 // physics' [e_min, e_max] and change +-log10(e_max / e_min). Alpha spans the largest |alpha|,
-// rounded likewise; phase one cycle (both whatever the range). The title says which range.
+// rounded likewise; phase one cycle (both whatever the range); stimulus from 0 (or -max) to
+// the largest |stimulus| over `frames`, rounded up to a 1-2-5 value. The title says which range.
 ColorScale make_color_scale(ColorMode mode, const Model& model,
                             const std::vector<const Frame*>& frames,
                             ColorRange range = ColorRange::kData);
