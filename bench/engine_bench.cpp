@@ -119,6 +119,24 @@ BENCHMARK(BM_ThreadScaling)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
+// The development stage alone, per voxel-step, under each developing treatment (1..6 as in
+// BM_DemoWalker): the stage timings of Simulator::step around it, so the stimulus's own cost
+// shows apart from the rest of the step.
+void BM_DevelopStage(benchmark::State& bs) {
+  const Model m = compile(demo_walker(), physics(static_cast<Treatment>(bs.range(0))));
+  Simulator sim(m);
+  while (sim.state().time < 0.25) sim.step();
+  StageTimings t;
+  for (auto _ : bs) {
+    for (int k = 0; k < kStepsPerIteration; ++k) sim.step(&t);
+    if (sim.state().status != SimStatus::kRunning) bs.SkipWithError(sim.state().failure.c_str());
+  }
+  bs.counters["develop_ns/voxel_step"] =
+      1e9 * t.develop / (static_cast<double>(t.steps) * static_cast<double>(m.n));
+  bs.counters["develop_share"] = t.develop / t.total();
+}
+BENCHMARK(BM_DevelopStage)->DenseRange(1, 6)->ArgName("treatment")->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace plastivox
 

@@ -1,4 +1,4 @@
-// Golden bits: the final-state hash of eight lives, fixed here as the engine produced them
+// Golden bits: the final-state hash of twelve lives, fixed here as the engine produced them
 // on 2026-12-02 (main at 22a63f5). The determinism tests compare a run with itself, so a
 // change of bits passes them silently; these do not. Whole 5.2 s lives (what `plastivox
 // simulate` prints) are checked at the widest SIMD level; the first second of the same lives
@@ -70,6 +70,16 @@ const std::vector<GoldenLife>& golden_lives() {
        11643125597847862271ull, 13050182906260634883ull},
       {"vxa settle-cube-1e9", [](double d) { return vxa_life("settle-cube-1e9", d); },
        4932132624103916072ull, 4932132624103916072ull},
+      // The stimuli added after the paper's (docs/development.md), pinned when they were
+      // introduced (2026-12-02).
+      {"demo walker, strain", [](double d) { return demo_walker_life(T::kStrain, d); },
+       1932955413896861748ull, 3081563897699764816ull},
+      {"demo walker, strain_energy", [](double d) { return demo_walker_life(T::kStrainEnergy, d); },
+       11755921505075606212ull, 829781412801151095ull},
+      {"demo walker, contact", [](double d) { return demo_walker_life(T::kContact, d); },
+       3036560256848269660ull, 15699903052351945782ull},
+      {"demo walker, kinetic", [](double d) { return demo_walker_life(T::kKinetic, d); },
+       16493919945179345909ull, 12035588143592874515ull},
   };
   return lives;
 }

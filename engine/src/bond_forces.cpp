@@ -238,6 +238,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
   const double stress = (axial_own ? ea : e) * strain;
   w.bond_strain[b] = strain;
   w.bond_stress[b] = stress;
+  if (!w.bond_energy.empty()) w.bond_energy[b] = stress * strain;
 
   const double a2 = e * mk.ka2, b1 = e * mk.kb1, b2 = e * mk.kb2, b3 = e * mk.kb3;
   // Shear force from end rotations. Voxelyze uses b2 = 3 b3 / L; the exact model uses
@@ -345,6 +346,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
   io.strain = w.bond_strain.data();
   io.stress = w.bond_stress.data();
+  io.energy = w.bond_energy.empty() ? nullptr : w.bond_energy.data();
   w.redo.resize(nb);
   io.redo = w.redo.data();
   const int redo = kernels().bond(io, nb, bond_constants(m, s));

@@ -38,6 +38,8 @@ struct BondKernelIo {
   double* out[3] = {};
   double* strain = nullptr;
   double* stress = nullptr;
+  // Out when not null: stress times strain (Workspace::bond_energy; the strain_energy stimulus).
+  double* energy = nullptr;
   // Out: indices of the bonds the kernel could not compute (degenerate chord, relative
   // rotation near half a turn), in increasing order; room for one per bond. They keep
   // their previous deformation and must be recomputed by the scalar path.

@@ -102,6 +102,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T stress = (k.axial_own ? ea : e) * strain;
   store(io.strain, i, strain);
   store(io.stress, i, stress);
+  if (io.energy) store(io.energy, i, stress * strain);
 
   const T a2 = e * k.ka2, b3 = e * k.kb3;
   // The chord floored at kMinShearChord L, as in the scalar path (bond_forces.cpp).

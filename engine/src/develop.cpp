@@ -34,6 +34,7 @@ void develop(const Model& m, State& s, const Workspace& w) {
   io.no_bond = m.bond_count();
   io.bond_stress = w.bond_stress.data();
   io.bond_strain = w.bond_strain.data();
+  io.bond_energy = w.bond_energy.data();
   io.floor_normal = w.floor_normal.data();
   io.size = s.size.data();
   io.lin_mom = s.lin_mom.empty() ? nullptr : s.lin_mom.front().data();

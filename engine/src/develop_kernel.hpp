@@ -13,6 +13,7 @@ struct DevelopIo {
   int no_bond = 0;  // the index of that zero entry (the number of bonds)
   const double* bond_stress = nullptr;
   const double* bond_strain = nullptr;
+  const double* bond_energy = nullptr;  // stress x strain (strain_energy only)
   // Read by the contact stimulus: the floor's normal force on each voxel this step, N
   // (Workspace::floor_normal), and the actuated sizes, m.
   const double* floor_normal = nullptr;

@@ -36,12 +36,10 @@ inline void develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k)
     }
   } else if (k.stimulus == Treatment::kStrainEnergy) {
     // Axial elastic energy per unit volume of the voxel's half of each of its bonds.
+    // (The bond stage stores each bond's stress x strain for it: one gather per slot, not two.)
     T sum = zero;
-    for (int slot = 0; slot < 6; ++slot) {
-      const T sigma = load_indexed(io.bond_stress, io.slot_bond[slot], i, T{});
-      const T eps = load_indexed(io.bond_strain, io.slot_bond[slot], i, T{});
-      sum = sum + sigma * eps;
-    }
+    for (int slot = 0; slot < 6; ++slot)
+      sum = sum + load_indexed(io.bond_energy, io.slot_bond[slot], i, T{});
     stim = 0.25 * sum;
   } else if (k.stimulus == Treatment::kContact) {
     // Floor normal force over the voxel's (actuated) face area; 0 off the floor.

@@ -58,6 +58,9 @@ struct Workspace {
   // Per bond, plus the zero entry past the last one (for slots without a bond).
   std::vector<double> bond_strain;  // axial engineering strain vs. actuated rest length
   std::vector<double> bond_stress;  // axial stress, Pa (tension > 0)
+  // Per bond (and the zero entry), stress times strain, Pa; filled only for the strain_energy
+  // stimulus, which would otherwise gather both arrays.
+  std::vector<double> bond_energy;
   // Per voxel: the floor's normal force this step, N; filled only for the contact stimulus.
   std::vector<double> floor_normal;
   // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
@@ -70,6 +73,7 @@ struct Workspace {
       : sqrt_e(m.n),
         bond_strain(m.bond_count() + 1, 0.0),
         bond_stress(m.bond_count() + 1, 0.0),
+        bond_energy(m.def.treatment == Treatment::kStrainEnergy ? m.bond_count() + 1 : 0, 0.0),
         floor_normal(m.def.treatment == Treatment::kContact ? m.n : 0, 0.0),
         bond_axis_wide(m.bond_axis.begin(), m.bond_axis.end()) {
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
