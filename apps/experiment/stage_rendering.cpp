@@ -4,9 +4,12 @@
 // Each output is redrawn only when what it depends on changed: .stamps/rendering.json maps
 // each output group to a key made of the study fingerprint (the champions' content and the
 // analysis options) and the rendering settings that group uses.
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +17,7 @@
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/base/clock.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
 #include "plastivox/render/render_life.hpp"
@@ -80,52 +84,167 @@ std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   return files;
 }
 
-// One gallery per treatment: its run champions, after settling, coloured by congenital
-// stiffness (the paper's Figs. 2-4). A JSON sidecar records the tiles (label, heading).
-std::vector<std::string> render_galleries(StageContext& ctx, Stamps& stamps) {
+// The champions' galleries (one per treatment: its run champions after settling, coloured by
+// congenital stiffness, the paper's Figs. 2-4; a JSON sidecar records the tiles) and their
+// lives for the report's 3-D viewer (lives/<label>.js at render::kViewerFps frames per
+// simulated second; docs/rendering.md, "The 3-D viewer"). Both show the same champions, so
+// each champion out of date in either is simulated once, on the experiment's threads, and
+// only the two frames a gallery tile needs are kept in memory.
+struct ChampionOutputs {
+  std::vector<std::string> galleries;  // figures/gallery_<t>.png and .json, per treatment
+  std::vector<std::string> lives;      // lives/<label>.js
+};
+
+ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
   const auto& r = ctx.config.rendering;
-  std::vector<std::string> out;
-  fs::create_directories(ctx.dir + "/figures");
-  for (auto t : ctx.config.treatments) {
-    const std::string name = std::string("gallery_") + to_string(t);
-    const std::string file = "figures/" + name + ".png", sidecar = "figures/" + name + ".json";
-    std::vector<std::string> inputs;
-    for (size_t i = 0; i < ctx.run_files.size(); ++i)
-      if (ctx.run_labels[i].rfind(std::string(to_string(t)) + "-s", 0) == 0)
-        inputs.push_back(ctx.dir + "/" + ctx.run_files[i]);
-    // "data range": galleries drawn before the colour range was the data's are redrawn.
-    const std::string key = ctx.study->fingerprint + " " + name + " data range " +
-                            std::to_string(r.gallery_width) + "x" +
-                            std::to_string(r.gallery_height);
-    if (!ctx.opt.force.count("rendering") && stamps.current(name, key, {file, sidecar}, ctx.dir)) {
-      ctx.progress.log("[rendering] " + file + " up to date");
+  const analysis::StudyResult& study = *ctx.study;
+  const bool force = ctx.opt.force.count("rendering") > 0;
+  ChampionOutputs out;
+  render::GalleryStyle style;
+  style.width = r.gallery_width;
+  style.height = r.gallery_height;
+
+  // What is out of date. Study champion k is the champion of run file k (stage_analysis).
+  struct Gallery {
+    std::string name, file, sidecar, key;
+    std::vector<size_t> champions;
+  };
+  std::vector<Gallery> galleries;
+  if (r.galleries) {
+    fs::create_directories(ctx.dir + "/figures");
+    for (auto t : ctx.config.treatments) {
+      Gallery g;
+      g.name = std::string("gallery_") + to_string(t);
+      g.file = "figures/" + g.name + ".png";
+      g.sidecar = "figures/" + g.name + ".json";
+      for (size_t i = 0; i < study.champions.size(); ++i)
+        if (study.champions[i].treatment == t) g.champions.push_back(i);
+      // "data range": galleries drawn before the colour range was the data's are redrawn.
+      g.key = study.fingerprint + " " + g.name + " data range " + std::to_string(r.gallery_width) +
+              "x" + std::to_string(r.gallery_height);
+      if (g.champions.empty()) continue;  // a treatment with no run here (--run)
+      out.galleries.push_back(g.file);
+      out.galleries.push_back(g.sidecar);
+      if (!force && stamps.current(g.name, g.key, {g.file, g.sidecar}, ctx.dir)) {
+        ctx.progress.log("[rendering] " + g.file + " up to date");
+        continue;
+      }
+      galleries.push_back(std::move(g));
+    }
+  }
+  const std::string lives_key = study.fingerprint + " lives " + std::to_string(render::kViewerFps);
+  std::vector<std::string> life_files;
+  for (const auto& c : study.champions) life_files.push_back("lives/" + c.label + ".js");
+  bool lives = false;
+  if (ctx.opt.viewer) {
+    lives = force || !stamps.current("lives", lives_key, life_files, ctx.dir);
+    if (!lives) {
+      ctx.progress.log("[rendering] lives for the 3-D viewer up to date");
+      out.lives = life_files;
+    }
+  }
+  std::vector<char> framed(study.champions.size(), 0);
+  for (const Gallery& g : galleries)
+    for (size_t i : g.champions) framed[i] = 1;
+  std::vector<size_t> todo;
+  for (size_t i = 0; i < study.champions.size(); ++i)
+    if (lives || framed[i]) todo.push_back(i);
+  if (todo.empty()) return out;
+
+  // One simulation per champion: the viewer's life written at once, a gallery's two frames kept.
+  const auto t0 = WallClock::now();
+  const int threads = ctx.opt.threads >= 0 ? ctx.opt.threads : ctx.config.threads;
+  std::vector<render::GalleryEntry> entries(study.champions.size());
+  std::vector<std::string> frame_failures(study.champions.size()), life_failures(todo.size());
+  std::vector<std::optional<render::LifeLink>> links(todo.size());
+  std::atomic<int> done{0};
+  std::mutex status_mutex;
+  double life_seconds = 0;  // writing the lives (packing, base64, files), summed over threads
+  parallel_for(todo.size(), threads, [&](size_t j) {
+    const auto& c = study.champions[todo[j]];
+    render::GalleryEntry& e = entries[todo[j]];
+    e.source = render::load_life_source(study.inputs[c.input].file, c.generation);
+    const auto times =
+        framed[todo[j]] ? render::gallery_times(e.source.physics, style) : std::vector<double>{};
+    if (lives) {
+      render::ReportLife life = render::simulate_report_life(e.source, render::kViewerFps, times);
+      e.life = std::move(life.frames);
+      frame_failures[todo[j]] = life.frames_failure;
+      if (!life.shown.failure.empty()) {
+        life_failures[j] = study.inputs[c.input].file + ": no 3-D replay, " + life.shown.failure;
+      } else {
+        const auto w0 = WallClock::now();
+        links[j] = render::write_report_life(ctx.dir, c.label, life.shown.life());
+        std::lock_guard<std::mutex> lock(status_mutex);
+        life_seconds += seconds_since(w0);
+      }
     } else {
-      render::GalleryStyle style;
-      style.width = r.gallery_width;
-      style.height = r.gallery_height;
-      const auto layout = render::render_gallery_file(
-          inputs, style, ctx.dir + "/" + file,
-          [&](const std::string& m) { ctx.progress.status("[rendering] " + name + ": " + m); });
-      json tiles = json::array();
-      for (size_t i = 0; i < layout.tiles.size(); ++i)
-        tiles.push_back({{"label", layout.labels[i]},
-                         {"file", fs::relative(inputs[i], ctx.dir).string()},
-                         {"heading_deg", layout.heading_deg[i]},
-                         {"rect",
-                          {layout.tiles[i].x, layout.tiles[i].y, layout.tiles[i].width,
-                           layout.tiles[i].height}}});
-      write_file_atomic(ctx.dir + "/" + sidecar, json{{"treatment", to_string(t)},
+      try {
+        e.life = render::simulate_life(e.source, times);
+      } catch (const render::RenderError& err) {
+        frame_failures[todo[j]] = err.what();
+      }
+    }
+    std::lock_guard<std::mutex> lock(status_mutex);
+    ctx.progress.status("[rendering] champions simulated: " + std::to_string(++done) + "/" +
+                        std::to_string(todo.size()));
+  });
+  char buf[240];
+  std::snprintf(buf, sizeof buf, "[rendering] %zu champions simulated for %s in %.1f s",
+                todo.size(),
+                lives && !galleries.empty() ? "the galleries and the 3-D viewer"
+                : lives                     ? "the 3-D viewer"
+                                            : "the galleries",
+                seconds_since(t0));
+  ctx.progress.log(buf);
+
+  if (lives) {
+    uintmax_t bytes = 0;
+    for (size_t j = 0; j < todo.size(); ++j) {
+      if (!life_failures[j].empty()) ctx.progress.log("[rendering] " + life_failures[j]);
+      if (!links[j]) continue;
+      out.lives.push_back(links[j]->src);
+      bytes += fs::file_size(ctx.dir + "/" + links[j]->src);
+    }
+    std::vector<render::LifeLink> kept;
+    for (const auto& l : links)
+      if (l) kept.push_back(*l);
+    render::remove_other_lives(ctx.dir, kept);
+    if (out.lives.size() == life_files.size()) stamps.record("lives", lives_key);
+    std::snprintf(buf, sizeof buf,
+                  "[rendering] lives/: %zu of %zu champions, %.1f MB, written in %.1f s "
+                  "(thread-seconds)",
+                  out.lives.size(), life_files.size(), bytes / 1e6, life_seconds);
+    ctx.progress.log(buf);
+  }
+
+  for (const Gallery& g : galleries) {
+    std::vector<render::GalleryEntry> items;
+    for (size_t i : g.champions) {
+      if (!frame_failures[i].empty()) throw render::RenderError(frame_failures[i]);
+      items.push_back(std::move(entries[i]));
+    }
+    const auto layout = render::render_gallery(items, style, ctx.dir + "/" + g.file);
+    json tiles = json::array();
+    for (size_t k = 0; k < layout.tiles.size(); ++k)
+      tiles.push_back(
+          {{"label", layout.labels[k]},
+           {"file", fs::relative(study.inputs[study.champions[g.champions[k]].input].file, ctx.dir)
+                        .string()},
+           {"heading_deg", layout.heading_deg[k]},
+           {"rect",
+            {layout.tiles[k].x, layout.tiles[k].y, layout.tiles[k].width,
+             layout.tiles[k].height}}});
+    const std::string treatment = g.name.substr(std::string("gallery_").size());
+    write_file_atomic(ctx.dir + "/" + g.sidecar, json{{"treatment", treatment},
                                                       {"columns", layout.columns},
                                                       {"rows", layout.rows},
                                                       {"tiles", tiles}}
                                                          .dump(1) +
                                                      "\n");
-      stamps.record(name, key);
-      ctx.progress.log("[rendering] " + file + ": " + std::to_string(layout.tiles.size()) +
-                       (layout.tiles.size() == 1 ? " champion" : " champions"));
-    }
-    out.push_back(file);
-    out.push_back(sidecar);
+    stamps.record(g.name, g.key);
+    ctx.progress.log("[rendering] " + g.file + ": " + std::to_string(layout.tiles.size()) +
+                     (layout.tiles.size() == 1 ? " champion" : " champions"));
   }
   return out;
 }
@@ -178,41 +297,6 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
   return {file};
 }
 
-// Every champion's life for the report's 3-D viewer: lives/<label>.js, recorded at
-// render::kViewerFps frames per simulated second (docs/rendering.md, "The 3-D viewer").
-std::vector<std::string> render_lives(StageContext& ctx, Stamps& stamps) {
-  const std::string key = ctx.study->fingerprint + " lives " + std::to_string(render::kViewerFps);
-  std::vector<render::ReportLifeSource> sources;
-  std::vector<std::string> files;
-  for (const auto& c : ctx.study->champions) {
-    sources.push_back({c.label, ctx.study->inputs[c.input].file, c.generation});
-    files.push_back("lives/" + c.label + ".js");
-  }
-  if (!ctx.opt.force.count("rendering") && stamps.current("lives", key, files, ctx.dir)) {
-    ctx.progress.log("[rendering] lives for the 3-D viewer up to date");
-    return files;
-  }
-  const auto t0 = WallClock::now();
-  ctx.progress.status("[rendering] lives for the 3-D viewer: simulating " +
-                      std::to_string(sources.size()) + " champions");
-  const int threads = ctx.opt.threads >= 0 ? ctx.opt.threads : ctx.config.threads;
-  const auto links = render::write_report_lives(
-      sources, ctx.dir, render::kViewerFps, threads,
-      [&](const std::string& m) { ctx.progress.log("[rendering] " + m); });
-  std::vector<std::string> out;
-  uintmax_t bytes = 0;
-  for (const auto& l : links) {
-    out.push_back(l.src);
-    bytes += fs::file_size(ctx.dir + "/" + l.src);
-  }
-  if (out.size() == files.size()) stamps.record("lives", key);
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "[rendering] lives/: %zu of %zu champions, %.1f MB, in %.1f s",
-                links.size(), sources.size(), bytes / 1e6, seconds_since(t0));
-  ctx.progress.log(buf);
-  return out;
-}
-
 }  // namespace
 
 std::vector<std::string> stage_rendering(StageContext& ctx) {
@@ -221,12 +305,11 @@ std::vector<std::string> stage_rendering(StageContext& ctx) {
   std::vector<std::string> out;
   if (ctx.config.rendering.figures)
     for (const auto& f : render_figures(ctx, stamps)) out.push_back(f);
-  if (ctx.config.rendering.galleries)
-    for (const auto& f : render_galleries(ctx, stamps)) out.push_back(f);
+  const ChampionOutputs champions = render_champions(ctx, stamps);
+  for (const auto& f : champions.galleries) out.push_back(f);
   if (ctx.config.rendering.video)
     for (const auto& f : render_video(ctx, stamps)) out.push_back(f);
-  if (ctx.opt.viewer)
-    for (const auto& f : render_lives(ctx, stamps)) out.push_back(f);
+  for (const auto& f : champions.lives) out.push_back(f);
   return out;
 }
 

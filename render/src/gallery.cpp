@@ -68,24 +68,42 @@ void check_gallery_size(const GalleryStyle& style, int inputs) {
   if (inputs > 0) plan_grid(style, inputs);
 }
 
+std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle& style) {
+  const double shown = style.time < 0 ? physics.settle_time : style.time;
+  return {std::min(shown, physics.duration), physics.duration};
+}
+
 GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
                                   const std::string& out, const LogFn& log) {
   if (inputs.empty()) throw RenderError("gallery: no input files");
   if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
   check_output_path(out);
   check_gallery_size(style, static_cast<int>(inputs.size()));  // before any simulation
-
-  // Simulate every champion: the frame shown and the end of life (for the heading).
-  std::vector<Item> items;
+  std::vector<GalleryEntry> entries;
   for (size_t k = 0; k < inputs.size(); ++k) {
-    Item it;
-    it.source = load_life_source(inputs[k]);
-    const PhysicsDef& ph = it.source.physics;
-    const double shown = style.time < 0 ? ph.settle_time : style.time;
+    GalleryEntry e;
+    e.source = load_life_source(inputs[k]);
     if (log)
       log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
-          inputs[k] + " (" + it.source.label + ")");
-    it.life = simulate_life(it.source, {std::min(shown, ph.duration), ph.duration});
+          inputs[k] + " (" + e.source.label + ")");
+    e.life = simulate_life(e.source, gallery_times(e.source.physics, style));
+    entries.push_back(std::move(e));
+  }
+  return render_gallery(entries, style, out);
+}
+
+GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const GalleryStyle& style,
+                             const std::string& out) {
+  if (entries.empty()) throw RenderError("gallery: no input files");
+  if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
+  check_output_path(out);
+  check_gallery_size(style, static_cast<int>(entries.size()));
+
+  // Heading: from the frame shown to the end of life.
+  std::vector<Item> items;
+  for (const GalleryEntry& e : entries) {
+    if (e.life.frames.size() != 2) throw RenderError("gallery: a champion's frames are missing");
+    Item it{e.source, e.life, 0.0};
     const Eigen::Vector3d d =
         center_of_mass(it.life.frames[1].pos) - center_of_mass(it.life.frames[0].pos);
     it.heading_deg = d.head<2>().norm() > 1e-9 ? std::atan2(d.y(), d.x()) * kRadToDeg : 0.0;

@@ -168,45 +168,99 @@ ViewerLife ShownLife::life() const {
   return l;
 }
 
+ReportLife simulate_report_life(const LifeSource& source, double fps,
+                                const std::vector<double>& times) {
+  const PhysicsDef& def = source.physics;
+  ReportLife out;
+  ShownLife& shown = out.shown;
+  shown.info.label = source.label;
+  shown.info.treatment = to_string(def.treatment);
+  try {
+    shown.model = compile(source.robot, def);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source.path + ": " + e.what());
+  }
+  if (!(fps > 0)) throw RenderError("simulate_report_life: fps must be > 0");
+  for (size_t k = 0; k < times.size(); ++k)
+    if (!(times[k] >= 0 && times[k] <= def.duration) || (k > 0 && times[k] < times[k - 1]))
+      throw RenderError(source.path + ": frame times must ascend within the life [0, " +
+                        std::to_string(def.duration) + "] s");
+
+  // One list of frame times for the engine: the viewer's (k / fps, then the first state past
+  // the end, as the engine's own recording ends) and the caller's. Each wanted frame keeps
+  // where it goes: >= 0 an index into `times`, -1 the viewer.
+  std::vector<std::pair<double, int>> wanted;
+  for (int64_t k = 0;; ++k) {
+    const double t = static_cast<double>(k) / fps;
+    if (t > def.duration) break;
+    wanted.push_back({t, -1});
+  }
+  wanted.push_back({std::nextafter(def.duration, std::numeric_limits<double>::infinity()), -1});
+  for (size_t k = 0; k < times.size(); ++k) wanted.push_back({times[k], static_cast<int>(k)});
+  std::stable_sort(wanted.begin(), wanted.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  SimOptions options;
+  for (const auto& w : wanted) options.frame_times.push_back(w.first);
+  shown.recording.fps = fps;
+  out.frames.frames.resize(times.size());
+  size_t taken = 0, extra = 0;
+  int64_t last_viewer_step = -1;
+  options.on_frame = [&](const State& s) {
+    const int to = wanted[taken++].second;
+    if (to >= 0) {
+      out.frames.frames[to] = capture_frame(s);
+      extra += 1;
+    } else if (s.steps != last_viewer_step) {  // one frame per state, as the recording does
+      shown.recording.frames.push_back(capture_frame(s));
+      last_viewer_step = s.steps;
+    }
+    return true;
+  };
+  const SimResult r = simulate(shown.model, options);
+  shown.info.settled = r.settled;
+  shown.info.com_settled = r.com_settled;
+  shown.info.fitness = r.fitness;
+  if (r.status != SimStatus::kFinished) shown.failure = "simulation unstable: " + r.failure;
+  out.frames.model = std::make_shared<const Model>(shown.model);
+  out.frames.settled = r.settled;
+  out.frames.com_settled = r.com_settled;
+  if (extra < times.size()) {
+    out.frames.frames.clear();
+    out.frames_failure = source.path +
+                         ": the simulation went unstable at t = " + std::to_string(r.sim_time) +
+                         " s (" + r.failure + ")";
+  }
+  return out;
+}
+
 ShownLife show_life(const std::string& file, int generation, double fps,
                     const std::function<void(const std::string&)>& log) {
   const LifeSource source = load_life_source(file, generation);
-  ShownLife out;
   if (log)
     for (const std::string& w : source.warnings) log("warning: " + w);
-  ViewerLife& info = out.info;
-  info.label = source.label;
-  info.treatment = to_string(source.physics.treatment);
-  const PhysicsDef& def = source.physics;
-  try {
-    out.model = compile(source.robot, def);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(file + ": " + e.what());
-  }
   if (source.recorded) {
+    ShownLife out;
+    try {
+      out.model = compile(source.robot, source.physics);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(file + ": " + e.what());
+    }
+    out.info.label = source.label;
+    out.info.treatment = to_string(source.physics.treatment);
     out.recording = source.recorded->recording;
-    info.settled = source.recorded->settled;
-    info.com_settled = source.recorded->com_settled;
-    info.fitness = source.recorded->fitness;
+    out.info.settled = source.recorded->settled;
+    out.info.com_settled = source.recorded->com_settled;
+    out.info.fitness = source.recorded->fitness;
     return out;
   }
   if (log) {
     char what[96];
-    std::snprintf(what, sizeof what, " (%g s at %g frames per second)", def.duration, fps);
+    std::snprintf(what, sizeof what, " (%g s at %g frames per second)", source.physics.duration,
+                  fps);
     log("simulating " + file + what);
   }
-  SimOptions options;
-  options.record_fps = fps;
-  SimResult r = simulate(out.model, options);
-  if (r.status != SimStatus::kFinished) {
-    out.failure = "simulation unstable: " + r.failure;
-    return out;
-  }
-  out.recording = std::move(r.recording);
-  info.settled = r.settled;
-  info.com_settled = r.com_settled;
-  info.fitness = r.fitness;
-  return out;
+  return simulate_report_life(source, fps, {}).shown;
 }
 
 std::string pack_life(const ViewerLife& life) {
@@ -370,36 +424,41 @@ std::string viewer_fragment(const std::vector<LifeLink>& lives, bool buttons) {
   return html;
 }
 
+LifeLink write_report_life(const std::string& dir, const std::string& id, const ViewerLife& life) {
+  std::filesystem::create_directories(dir + "/lives");
+  write_file_atomic(dir + "/lives/" + id + ".js", life_script(id, life));
+  return LifeLink{id, "lives/" + id + ".js"};
+}
+
+void remove_other_lives(const std::string& dir, const std::vector<LifeLink>& keep) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(dir + "/lives")) return;
+  for (const auto& e : fs::directory_iterator(dir + "/lives")) {
+    const std::string src = "lives/" + e.path().filename().string();
+    const bool kept =
+        std::any_of(keep.begin(), keep.end(), [&](const LifeLink& l) { return l.src == src; });
+    if (!kept && e.path().extension() == ".js") fs::remove(e.path());
+  }
+}
+
 std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
                                          const std::string& dir, double fps, int threads,
                                          const std::function<void(const std::string&)>& log) {
-  namespace fs = std::filesystem;
-  const std::string lives_dir = dir + "/lives";
-  fs::create_directories(lives_dir);
   std::vector<std::optional<LifeLink>> links(sources.size());
   std::vector<std::string> failures(sources.size());
   parallel_for(sources.size(), threads, [&](size_t i) {
-    const std::string& id = sources[i].id;
     const ShownLife shown = show_life(sources[i].file, sources[i].generation, fps);
-    if (!shown.failure.empty()) {
+    if (!shown.failure.empty())
       failures[i] = sources[i].file + ": no 3-D replay, " + shown.failure;
-      return;
-    }
-    write_file_atomic(lives_dir + "/" + id + ".js", life_script(id, shown.life()));
-    links[i] = LifeLink{id, "lives/" + id + ".js"};
+    else
+      links[i] = write_report_life(dir, sources[i].id, shown.life());
   });
   std::vector<LifeLink> out;
   for (size_t i = 0; i < links.size(); ++i) {
     if (links[i]) out.push_back(*links[i]);
     if (!failures[i].empty() && log) log(failures[i]);
   }
-  // Lives of runs no longer in the study are stale.
-  for (const auto& e : fs::directory_iterator(lives_dir)) {
-    const std::string name = e.path().filename().string();
-    const bool current = std::any_of(out.begin(), out.end(),
-                                     [&](const LifeLink& l) { return l.src == "lives/" + name; });
-    if (!current && e.path().extension() == ".js") fs::remove(e.path());
-  }
+  remove_other_lives(dir, out);
   return out;
 }
 

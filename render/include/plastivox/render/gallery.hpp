@@ -43,4 +43,17 @@ void check_gallery_size(const GalleryStyle& style, int inputs);
 GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
                                   const std::string& out, const LogFn& log = {});
 
+// A tile's champion and its life's frames at gallery_times(), in that order.
+struct GalleryEntry {
+  LifeSource source;
+  Life life;
+};
+// The times a gallery needs of each life: the frame shown (style.time, or the end of
+// settling) and the end of life (for the heading).
+std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle& style);
+// Renders the gallery from champions already simulated (render_gallery_file simulates them
+// itself; the experiment shares one simulation per champion with the 3-D viewer's lives).
+GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const GalleryStyle& style,
+                             const std::string& out);
+
 }  // namespace plastivox::render

@@ -11,6 +11,7 @@
 
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
+#include "plastivox/render/life.hpp"
 
 namespace plastivox::render {
 
@@ -64,6 +65,18 @@ struct ShownLife {
   // `info` pointing at this object's model and frames (valid while this object lives).
   ViewerLife life() const;
 };
+// One simulation of `source` for a report: the viewer's life at `fps` frames per simulated
+// second (the state at the first step at or after each k / fps, and the last state) and, from
+// the same run, a frame at each of `times` (ascending, within the life; a gallery's, see
+// gallery_times()), so a report showing both simulates each champion once. `frames_failure`
+// says why `frames` is empty (the life went unstable before the last of `times`).
+struct ReportLife {
+  ShownLife shown;
+  Life frames;
+  std::string frames_failure;
+};
+ReportLife simulate_report_life(const LifeSource& source, double fps,
+                                const std::vector<double>& times);
 ShownLife show_life(const std::string& file, int generation, double fps,
                     const std::function<void(const std::string&)>& log = {});
 
@@ -102,6 +115,10 @@ struct ReportLifeSource {
   int generation = -1;
 };
 
+// Writes one life to `dir`/lives/<id>.js (atomically) and returns its link.
+LifeLink write_report_life(const std::string& dir, const std::string& id, const ViewerLife& life);
+// Removes every life in `dir`/lives/ but those of `keep` (lives of runs no longer shown).
+void remove_other_lives(const std::string& dir, const std::vector<LifeLink>& keep);
 // Writes each champion's life to `dir`/lives/<id>.js (simulated at `fps` frames per
 // simulated second, on up to `threads` threads), removes other lives there, and returns the
 // links in the sources' order. A life that does not finish is left out, with a line to `log`.
