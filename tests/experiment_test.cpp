@@ -184,6 +184,13 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
     ASSERT_EQ(side["tiles"].size(), 2u) << t;
     EXPECT_EQ(side["tiles"][0]["file"], "runs/" + std::string(t) + "-s1.h5");
     EXPECT_EQ(side["tiles"][1]["file"], "runs/" + std::string(t) + "-s2.h5");
+    // The stage shares each champion's simulation with its 3-D viewer life; the gallery is
+    // still the one `plastivox gallery` draws on its own from the same runs.
+    const std::string alone = path(std::string("alone_") + t + ".png");
+    const auto g_cli = shell(kCli + " gallery " + dir + "/runs/" + t + "-s1.h5 " + dir + "/runs/" +
+                             t + "-s2.h5 --size 480x270 --out " + alone + " 2>&1");
+    ASSERT_EQ(g_cli.status, 0) << g_cli.out;
+    EXPECT_EQ(read_file_bytes(alone), read_file_bytes(g)) << t;
   }
   std::vector<std::string> videos;
   for (const auto& e : std::filesystem::directory_iterator(dir + "/videos"))
