@@ -4,7 +4,6 @@
 // Each output is redrawn only when what it depends on changed: .stamps/rendering.json maps
 // each output group to a key made of the study fingerprint (the champions' content and the
 // analysis options) and the rendering settings that group uses.
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -106,6 +105,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
 
   // What is out of date. Study champion k is the champion of run file k (stage_analysis).
   struct Gallery {
+    Treatment treatment;
     std::string name, file, sidecar, key;
     std::vector<size_t> champions;
   };
@@ -114,6 +114,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
     fs::create_directories(ctx.dir + "/figures");
     for (auto t : ctx.config.treatments) {
       Gallery g;
+      g.treatment = t;
       g.name = std::string("gallery_") + to_string(t);
       g.file = "figures/" + g.name + ".png";
       g.sidecar = "figures/" + g.name + ".json";
@@ -157,7 +158,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
   std::vector<render::GalleryEntry> entries(study.champions.size());
   std::vector<std::string> frame_failures(study.champions.size()), life_failures(todo.size());
   std::vector<std::optional<render::LifeLink>> links(todo.size());
-  std::atomic<int> done{0};
+  int done = 0;  // champions simulated, and life_seconds below: under status_mutex
   std::mutex status_mutex;
   double life_seconds = 0;  // writing the lives (packing, base64, files), summed over threads
   parallel_for(todo.size(), threads, [&](size_t j) {
@@ -200,15 +201,14 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
 
   if (lives) {
     uintmax_t bytes = 0;
+    std::vector<render::LifeLink> kept;
     for (size_t j = 0; j < todo.size(); ++j) {
       if (!life_failures[j].empty()) ctx.progress.log("[rendering] " + life_failures[j]);
       if (!links[j]) continue;
+      kept.push_back(*links[j]);
       out.lives.push_back(links[j]->src);
       bytes += fs::file_size(ctx.dir + "/" + links[j]->src);
     }
-    std::vector<render::LifeLink> kept;
-    for (const auto& l : links)
-      if (l) kept.push_back(*l);
     render::remove_other_lives(ctx.dir, kept);
     if (out.lives.size() == life_files.size()) stamps.record("lives", lives_key);
     std::snprintf(buf, sizeof buf,
@@ -235,8 +235,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
            {"rect",
             {layout.tiles[k].x, layout.tiles[k].y, layout.tiles[k].width,
              layout.tiles[k].height}}});
-    const std::string treatment = g.name.substr(std::string("gallery_").size());
-    write_file_atomic(ctx.dir + "/" + g.sidecar, json{{"treatment", treatment},
+    write_file_atomic(ctx.dir + "/" + g.sidecar, json{{"treatment", to_string(g.treatment)},
                                                       {"columns", layout.columns},
                                                       {"rows", layout.rows},
                                                       {"tiles", tiles}}

@@ -73,12 +73,21 @@ std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle&
   return {std::min(shown, physics.duration), physics.duration};
 }
 
-GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
-                                  const std::string& out, const LogFn& log) {
-  if (inputs.empty()) throw RenderError("gallery: no input files");
+namespace {
+
+// Everything about a gallery request that can be wrong before anything is simulated.
+void check_gallery_request(const GalleryStyle& style, size_t tiles, const std::string& out) {
+  if (tiles == 0) throw RenderError("gallery: no input files");
   if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
   check_output_path(out);
-  check_gallery_size(style, static_cast<int>(inputs.size()));  // before any simulation
+  check_gallery_size(style, static_cast<int>(tiles));
+}
+
+}  // namespace
+
+GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
+                                  const std::string& out, const LogFn& log) {
+  check_gallery_request(style, inputs.size(), out);  // before any simulation
   std::vector<GalleryEntry> entries;
   for (size_t k = 0; k < inputs.size(); ++k) {
     GalleryEntry e;
@@ -94,10 +103,7 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
 
 GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const GalleryStyle& style,
                              const std::string& out) {
-  if (entries.empty()) throw RenderError("gallery: no input files");
-  if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
-  check_output_path(out);
-  check_gallery_size(style, static_cast<int>(entries.size()));
+  check_gallery_request(style, entries.size(), out);
 
   // Heading: from the frame shown to the end of life.
   std::vector<Item> items;

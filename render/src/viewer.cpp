@@ -168,18 +168,29 @@ ViewerLife ShownLife::life() const {
   return l;
 }
 
+namespace {
+
+// A life to show with its model compiled and its caption set; no frames yet.
+ShownLife compiled_life(const LifeSource& source) {
+  ShownLife out;
+  out.info.label = source.label;
+  out.info.treatment = to_string(source.physics.treatment);
+  try {
+    out.model = compile(source.robot, source.physics);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source.path + ": " + e.what());
+  }
+  return out;
+}
+
+}  // namespace
+
 ReportLife simulate_report_life(const LifeSource& source, double fps,
                                 const std::vector<double>& times) {
   const PhysicsDef& def = source.physics;
   ReportLife out;
+  out.shown = compiled_life(source);
   ShownLife& shown = out.shown;
-  shown.info.label = source.label;
-  shown.info.treatment = to_string(def.treatment);
-  try {
-    shown.model = compile(source.robot, def);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(source.path + ": " + e.what());
-  }
   if (!(fps > 0)) throw RenderError("simulate_report_life: fps must be > 0");
   for (size_t k = 0; k < times.size(); ++k)
     if (!(times[k] >= 0 && times[k] <= def.duration) || (k > 0 && times[k] < times[k - 1]))
@@ -240,14 +251,7 @@ ShownLife show_life(const std::string& file, int generation, double fps,
   if (log)
     for (const std::string& w : source.warnings) log("warning: " + w);
   if (source.recorded) {
-    ShownLife out;
-    try {
-      out.model = compile(source.robot, source.physics);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(file + ": " + e.what());
-    }
-    out.info.label = source.label;
-    out.info.treatment = to_string(source.physics.treatment);
+    ShownLife out = compiled_life(source);
     out.recording = source.recorded->recording;
     out.info.settled = source.recorded->settled;
     out.info.com_settled = source.recorded->com_settled;
