@@ -13,8 +13,7 @@ namespace {
 const char* kUsage =
     "usage: plastivox <command> [options]\n"
     "commands:\n"
-    "  simulate [ROBOT] [--treatment none|stress|pressure] [--preset NAME] [--duration S] "
-    "[--json]\n"
+    "  simulate [ROBOT] [--treatment STIMULUS] [--preset NAME] [--duration S] [--json]\n"
     "           simulate a robot file (.json plastivox robot or .vxa); no ROBOT: the built-in\n"
     "           ~500-voxel demo walker. --physics '{\"field\": value, ...}' overrides\n"
     "           physics fields (names as in docs/robot-format.md)\n"

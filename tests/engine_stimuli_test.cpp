@@ -2,6 +2,7 @@
 // each against an analytic value, development in the right direction under each, and the
 // same bits at every SIMD level.
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/robot_file.hpp"
 #include "plastivox/simd.hpp"
 #include "test_support.hpp"
 
@@ -157,6 +158,36 @@ TEST(Stimuli, EveryStimulusGivesTheSameBitsAtEverySimdLevel) {
     }
   }
   set_simd_level(best);
+}
+
+TEST(Stimuli, TreatmentObjectInPhysicsSetsStimulusAndLaw) {
+  PhysicsDef d;
+  apply_physics_json(R"({"treatment": {"stimulus": "contact", "law": "rate"}})", "over", d);
+  EXPECT_EQ(d.treatment, Treatment::kContact);
+  EXPECT_EQ(d.growth, GrowthModel::kRate);
+  PhysicsDef e;
+  apply_physics_json(R"({"treatment": {"stimulus": "strain"}, "growth": "rate"})", "over", e);
+  EXPECT_EQ(e.treatment, Treatment::kStrain);
+  EXPECT_EQ(e.growth, GrowthModel::kRate);
+  auto error_of = [](const std::string& text) {
+    PhysicsDef x;
+    try {
+      apply_physics_json(text, "over", x);
+    } catch (const InputError& err) {
+      return std::string(err.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_EQ(
+      error_of(R"({"treatment": {"stimulus": "contact", "law": "rate"}, "growth": "integral"})"),
+      "over: physics.treatment.law: contradicts physics.growth (give the law once)");
+  EXPECT_EQ(error_of(R"({"treatment": {"stimulus": "contact", "law": "fast"}})"),
+            "over: physics.treatment.law: growth model 'fast' is unknown (use integral or rate)");
+  EXPECT_EQ(error_of(R"({"treatment": {"law": "rate"}})"),
+            "over: physics.treatment.stimulus: missing");
+  EXPECT_EQ(
+      error_of(R"({"treatment": ["contact"]})"),
+      "over: physics.treatment: expected a stimulus name or {\"stimulus\": ..., \"law\": ...}");
 }
 
 TEST(Stimuli, NamesRoundTripAndUnknownNamesListTheKnownOnes) {

@@ -87,6 +87,84 @@ TEST(ExperimentConfig, ErrorsNameTheirField) {
   EXPECT_NE(error_of(j.dump()).find("study.json: format"), std::string::npos);
 }
 
+// A treatment written {"stimulus", "law"} is the stimulus plus physics.growth: the law enters
+// a config's identity only where it differs from the physics' own, so the shorthand, the
+// object without a law and the object naming the default law are one config, byte for byte.
+TEST(ExperimentConfig, TreatmentObjectsNameTheLawOnce) {
+  auto canonical_with = [](const json& treatments, const json& physics) {
+    json j = micro_config();
+    j["treatments"] = treatments;
+    j["evolution"]["physics"] = physics;
+    return parse_experiment_config(j.dump(), "study.json").canonical_json();
+  };
+  const json physics = micro_config()["evolution"]["physics"];
+  json rate_physics = physics;
+  rate_physics["growth"] = "rate";
+  const std::string shorthand = canonical_with({"none", "contact"}, physics);
+  EXPECT_EQ(canonical_with({"none", {{"stimulus", "contact"}}}, physics), shorthand);
+  EXPECT_EQ(canonical_with({"none", {{"stimulus", "contact"}, {"law", "integral"}}}, physics),
+            shorthand);
+  const std::string rate =
+      canonical_with({"none", {{"stimulus", "contact"}, {"law", "rate"}}}, physics);
+  EXPECT_NE(rate, shorthand);
+  EXPECT_EQ(rate, canonical_with({"none", "contact"}, rate_physics));
+  json j = micro_config();
+  j["treatments"] = {{{"stimulus", "contact"}, {"law", "rate"}}, "none"};
+  const auto c = parse_experiment_config(j.dump(), "study.json");
+  EXPECT_EQ(c.treatments, std::vector<Treatment>({Treatment::kContact, Treatment::kNone}));
+  for (Treatment t : c.treatments)
+    EXPECT_EQ(c.run_config(t, 1).physics.growth, GrowthModel::kRate) << to_string(t);
+
+  j["treatments"] = {{{"stimulus", "stress"}, {"law", "integral"}},
+                     {{"stimulus", "contact"}, {"law", "rate"}}};
+  EXPECT_NE(error_of(j.dump()).find("study.json: treatments[1].law: 'rate' differs from "
+                                    "treatments[0].law's 'integral'"),
+            std::string::npos)
+      << error_of(j.dump());
+  j["treatments"] = {{{"stimulus", "contact"}, {"law", "rate"}}};
+  j["evolution"]["physics"]["growth"] = "integral";
+  EXPECT_NE(error_of(j.dump()).find("treatments[0].law: contradicts physics.growth"),
+            std::string::npos)
+      << error_of(j.dump());
+  j = micro_config();
+  j["treatments"] = {{{"stimulus", "contact"}, {"rule", "rate"}}};
+  EXPECT_NE(error_of(j.dump()).find("treatments[0].rule: unknown field"), std::string::npos);
+  j["treatments"] = {{{"law", "rate"}}};
+  EXPECT_NE(error_of(j.dump()).find("treatments[0].stimulus: missing"), std::string::npos);
+  j["treatments"] = {{{"stimulus", "heat"}}};
+  EXPECT_NE(error_of(j.dump()).find("treatments[0].stimulus: treatment 'heat' is unknown"),
+            std::string::npos);
+  j["treatments"] = {"contact", {{"stimulus", "contact"}, {"law", "rate"}}};
+  EXPECT_NE(error_of(j.dump()).find("treatments[1]: 'contact' listed twice"), std::string::npos);
+}
+
+// The same in one evolve config: the object's law is folded into the physics overrides.
+TEST(EvolveConfig, TreatmentObjectIsTheStimulusPlusPhysicsGrowth) {
+  auto config = [](const json& treatment, const json& physics) {
+    json j = {{"format", "plastivox-evolve-config"}, {"version", 1}, {"treatment", treatment}};
+    if (!physics.is_null()) j["physics"] = physics;
+    return evo::parse_config(j.dump(), "run.json");
+  };
+  const auto shorthand = config("kinetic", nullptr);
+  EXPECT_EQ(config({{"stimulus", "kinetic"}, {"law", "integral"}}, nullptr).identity_json(),
+            shorthand.identity_json());
+  const auto rate = config({{"stimulus", "kinetic"}, {"law", "rate"}}, nullptr);
+  EXPECT_EQ(rate.treatment, Treatment::kKinetic);
+  EXPECT_EQ(rate.physics.treatment, Treatment::kKinetic);
+  EXPECT_EQ(rate.physics.growth, GrowthModel::kRate);
+  EXPECT_EQ(rate.identity_json(),
+            config("kinetic", {{"preset", "gecco2018-code"}, {"growth", "rate"}}).identity_json());
+  // Under the paper's preset the law is already rate: naming it changes nothing.
+  const json paper = {{"preset", "gecco2018-paper"}};
+  EXPECT_EQ(config({{"stimulus", "kinetic"}, {"law", "rate"}}, paper).identity_json(),
+            config("kinetic", paper).identity_json());
+  EXPECT_EQ(config({{"stimulus", "kinetic"}, {"law", "integral"}}, paper).physics.growth,
+            GrowthModel::kIntegral);
+  EXPECT_THROW(config({{"stimulus", "kinetic"}, {"law", "integral"}},
+                      {{"preset", "gecco2018-paper"}, {"growth", "rate"}}),
+               InputError);
+}
+
 TEST(ExperimentConfig, PresetsParseAndGecco2018IsThePaper) {
   for (const auto& name : experiment::preset_names())
     EXPECT_NO_THROW(experiment::preset_config(name)) << name;
@@ -464,7 +542,9 @@ TEST_F(ExperimentRun, StoppedAndKilledDuringConcurrentEvolutionResumesToTheSameD
 // of a new stimulus exports to the project's format and is refused, in one line, as VXA.
 TEST_F(ExperimentRun, FourTreatmentsIncludingNewStimuliRunEndToEnd) {
   json j = micro_config();
-  j["treatments"] = json::array({"none", "stress", "contact", "kinetic"});
+  // The object form with the default law is the same treatment as "contact" (same run files).
+  j["treatments"] =
+      json::array({"none", "stress", {{"stimulus", "contact"}, {"law", "integral"}}, "kinetic"});
   j["rendering"]["video"] = false;
   const std::string dir = path("four");
   const auto o = run("--config " + write_config(j) + " --out " + dir);

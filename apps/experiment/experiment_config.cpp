@@ -2,6 +2,7 @@
 #include "experiment_config.hpp"
 
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -168,6 +169,8 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
 
   ExperimentConfig c;
   json evolution = json::object();
+  std::optional<TreatmentSpec> law;  // the first treatment that names its law
+  std::string law_field;
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& k = it.key();
     const json& v = *it;
@@ -183,11 +186,16 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
       c.treatments.clear();
       for (size_t i = 0; i < v.size(); ++i) {
         const std::string f = k + "[" + std::to_string(i) + "]";
-        Treatment t{};
-        try {
-          t = parse_treatment(text(v[i], src, f, {}));
-        } catch (const std::invalid_argument& e) {
-          fail(src, f, e.what());
+        const TreatmentSpec spec = json_field::treatment(v[i], src, f);
+        const Treatment t = spec.stimulus;
+        // One study compares its treatments under one physics, so one law serves them all.
+        if (spec.has_law) {
+          if (law && law->law != spec.law)
+            fail(src, f + ".law",
+                 std::string("'") + to_string(spec.law) + "' differs from " + law_field + "'s '" +
+                     to_string(law->law) + "' (one experiment uses one law for every treatment)");
+          if (!law) law_field = f + ".law";
+          law = spec;
         }
         for (auto seen : c.treatments)
           if (seen == t) fail(src, f, "'" + std::string(to_string(t)) + "' listed twice");
@@ -223,6 +231,9 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
   }
   // The evolve-config parser validates the shared settings; its errors read
   // "<src>: evolution: population: ...".
+  if (law && (!evolution.contains("physics") || evolution["physics"].is_object()))
+    evolution["physics"] = json::parse(
+        evo::fold_law(evolution.value("physics", json::object()).dump(), law->law, src, law_field));
   evolution["format"] = "plastivox-evolve-config";
   evolution["version"] = evo::kConfigVersion;
   c.evolution = evo::parse_config(evolution.dump(), src + ": evolution");

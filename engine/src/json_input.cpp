@@ -99,5 +99,37 @@ bool boolean(const nlohmann::json& j, const std::string& source, const std::stri
   return j.get<bool>();
 }
 
+TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
+                        const std::string& field) {
+  const char* expected = "expected a stimulus name or {\"stimulus\": ..., \"law\": ...}";
+  if (!j.is_string() && !j.is_object()) fail(source, field, expected);
+  TreatmentSpec t;
+  const nlohmann::json* stimulus = &j;
+  std::string stimulus_field = field;
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (it.key() != "stimulus" && it.key() != "law")
+        fail(source, field + "." + it.key(), "unknown field (a treatment has stimulus and law)");
+    if (!j.contains("stimulus")) fail(source, field + ".stimulus", "missing");
+    stimulus = &j["stimulus"];
+    stimulus_field += ".stimulus";
+    if (j.contains("law")) {
+      const std::string law_field = field + ".law";
+      try {
+        t.law = parse_growth(text(j["law"], source, law_field));
+      } catch (const std::invalid_argument& e) {
+        fail(source, law_field, e.what());
+      }
+      t.has_law = true;
+    }
+  }
+  try {
+    t.stimulus = parse_treatment(text(*stimulus, source, stimulus_field));
+  } catch (const std::invalid_argument& e) {
+    fail(source, stimulus_field, e.what());
+  }
+  return t;
+}
+
 }  // namespace json_field
 }  // namespace plastivox

@@ -92,9 +92,16 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
         if (!(fps >= 0 && fps <= 10000)) fail(where, field, "must be in [0, 10000]");
       } else if (key == "collision_exclude_hops")
         d.collision_exclude_hops = integer(*it, where, field);
-      else if (key == "treatment")
-        d.treatment = parse_treatment(text(*it, where, field));
-      else if (key == "growth")
+      else if (key == "treatment") {
+        const TreatmentSpec t = json_field::treatment(*it, where, field);
+        d.treatment = t.stimulus;
+        if (t.has_law) {
+          if (p.contains("growth") &&
+              parse_growth(text(p["growth"], where, "physics.growth")) != t.law)
+            fail(where, field + ".law", "contradicts physics.growth (give the law once)");
+          d.growth = t.law;
+        }
+      } else if (key == "growth")
         d.growth = parse_growth(text(*it, where, field));
       else if (key == "fitness") {
         const std::string f = text(*it, where, field);

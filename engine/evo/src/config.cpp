@@ -79,6 +79,7 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
              std::to_string(kConfigVersion) + ")");
 
   EvolveConfig c;
+  TreatmentSpec treatment;
   const int kMaxInt = std::numeric_limits<int>::max();
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& k = it.key();
@@ -89,11 +90,8 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       if (!v.is_number_unsigned()) fail(src, k, "expected a non-negative integer");
       c.seed = v.get<uint64_t>();
     } else if (k == "treatment") {
-      try {
-        c.treatment = parse_treatment(text(v, src, k));
-      } catch (const std::invalid_argument& e) {
-        fail(src, k, e.what());
-      }
+      treatment = json_field::treatment(v, src, k);
+      c.treatment = treatment.stimulus;
     } else if (k == "population") {
       c.population = integer(v, src, k, 1, 100000);
     } else if (k == "generations") {
@@ -142,6 +140,8 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   }
   // Physics: the preset (default gecco2018-code) with the given overrides, then the
   // run's treatment. apply_physics_json names the field of any error.
+  if (treatment.has_law)
+    c.physics_json = fold_law(c.physics_json, treatment.law, src, "treatment.law");
   c.physics = preset_gecco2018_code();
   apply_physics_json(c.physics_json, src, c.physics);
   c.physics.treatment = c.treatment;
@@ -159,6 +159,21 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
 
 EvolveConfig read_config_file(const std::string& path) {
   return parse_config(read_file_bytes(path), path);
+}
+
+std::string fold_law(const std::string& physics_json, GrowthModel law, const std::string& source,
+                     const std::string& field) {
+  json p = json::parse(physics_json);
+  if (p.contains("growth")) {
+    if (!p["growth"].is_string() || p["growth"].get<std::string>() != to_string(law))
+      fail(source, field, "contradicts physics.growth (give the law once)");
+    return physics_json;
+  }
+  PhysicsDef resolved = preset_gecco2018_code();
+  apply_physics_json(physics_json, source, resolved);
+  if (resolved.growth == law) return physics_json;
+  p["growth"] = to_string(law);
+  return p.dump();
 }
 
 std::string resolved_physics_json(const PhysicsDef& d) {
@@ -181,7 +196,9 @@ std::string default_config_text() {
        "_comment field is ignored. Defaults are the GECCO 2018 study (METHOD.md 6-7).",
        "seed: run seed (non-negative integer); the paper used seeds 1..20.",
        "treatment: what development follows: none | stress | pressure (the paper's) | strain |",
-       "  strain_energy | contact | kinetic (docs/development.md).",
+       "  strain_energy | contact | kinetic (docs/development.md), or with its law:",
+       "  {\"stimulus\": \"contact\", \"law\": \"integral\" | \"rate\"} (the law is "
+       "physics.growth).",
        "population: survivors per generation (24). Each generation makes one child per",
        "  survivor plus one random newcomer (49 candidates), then AFPO selects back down.",
        "generations: AFPO generations after the initial random population (5000).",

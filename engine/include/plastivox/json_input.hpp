@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/physics_def.hpp"
+
 namespace plastivox {
 
 // Throws InputError: "<source>: <field>: not valid JSON: ..." for a syntax error (field is
@@ -27,6 +29,9 @@ int integer(const nlohmann::json& j, const std::string& source, const std::strin
             int hi);
 std::string text(const nlohmann::json& j, const std::string& source, const std::string& field);
 bool boolean(const nlohmann::json& j, const std::string& source, const std::string& field);
+// A treatment: "stress" or {"stimulus": "stress", "law": "rate"} ("law" optional).
+TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
+                        const std::string& field);
 }  // namespace json_field
 
 }  // namespace plastivox

@@ -34,6 +34,15 @@ enum class AxialModulus { kHarmonicMean, kNegativeVoxel };
 // and the chord-aligned frame, with hysteresis (what the authors' simulator did).
 enum class BondModel { kExact, kVoxelyze09 };
 
+// A treatment as configs write it: a stimulus name ("contact", the shorthand) or
+// {"stimulus": "contact", "law": "integral"}. The law is PhysicsDef::growth; has_law says the
+// object named it, so that a law equal to the physics' own leaves a config's identity alone.
+struct TreatmentSpec {
+  Treatment stimulus = Treatment::kNone;
+  bool has_law = false;
+  GrowthModel law = GrowthModel::kIntegral;
+};
+
 struct PhysicsDef {
   // --- material (uniform; only E varies per voxel) ---
   double density = 1e9;     // kg/m^3 ("heavy materials": a 1 cm voxel weighs 1000 kg)

@@ -44,6 +44,14 @@ EvolveConfig read_config_file(const std::string& path);
 // field; parse_config() accepts it unchanged.
 std::string default_config_text();
 
+// A treatment's law folded into a physics override object (JSON text), so that a law is
+// part of the physics like any other field: adds "growth" only when the law differs from what
+// the object resolves to (a law equal to the physics' own leaves the text, and so every
+// identity and digest, as it was). Throws InputError "<source>: <field>: ..." when the object
+// sets a different growth itself.
+std::string fold_law(const std::string& physics_json, GrowthModel law, const std::string& source,
+                     const std::string& field);
+
 // All physics fields of def as a canonical JSON object (provenance: what was simulated).
 std::string resolved_physics_json(const PhysicsDef& def);
 
