@@ -149,13 +149,21 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const double* 
 
 // Voxelyze 0.9's switch between the two frames, with hysteresis: small-angle while the
 // relative rotation, the chord's turn and the extension all stay small.
+// The turn is computed as the authors' evolution build computed it. Its source writes
+// (abs(y) + abs(z)) / x, but that build's abs took an int: each offset, in metres, is
+// truncated towards zero first (the two cvttsd2si of CVXS_BondInternal::CalcLinForce in the
+// fork's shipped VXS_BondInternal.o). A bond's offsets are far below a metre, so the turn is
+// 0 and never switches a bond; only the rotation and the extension do. Linking the fork's
+// own library into a trace harness and rebuilding its source with the truncation both give
+// the settling cube's published fall (docs/vxa.md); with a real |y| + |z| the cube falls the
+// other way.
 inline bool next_small_angle(const BondGeometry& g, bool small_now) {
   constexpr double kSmallAngle = 0.01732;  // rad
   constexpr double kBendTurn = 0.05;       // (|y| + |z|) / x
   constexpr double kExtension = 1.3;       // x / rest
   constexpr double kHysteresis = 1.1;
   const double angle = 2.0 * std::acos(std::min(1.0, std::abs(g.q2w)));
-  const double turn = (std::abs(g.r.y) + std::abs(g.r.z)) / g.r.x;
+  const double turn = (std::abs(std::trunc(g.r.y)) + std::abs(std::trunc(g.r.z))) / g.r.x;
   const double extend = g.r.x / g.rest;
   if (small_now) {
     return !(angle >= kHysteresis * kSmallAngle || !(turn <= kHysteresis * kBendTurn) ||
