@@ -35,6 +35,19 @@ def test_demo_walker_matches_cli(treatment):
     assert r.final_state_hash == cli["final_state_hash"]
 
 
+def test_treatment_object_in_physics_is_stimulus_plus_growth():
+    walker = plastivox.demo_walker()
+    quick = {"duration": 0.5}
+    a = plastivox.simulate(walker, physics={**quick, "treatment": {"stimulus": "contact",
+                                                                   "law": "rate"}})
+    b = plastivox.simulate(walker, physics={**quick, "growth": "rate"}, treatment="contact")
+    assert a.final_state_hash == b.final_state_hash
+    c = plastivox.simulate(walker, physics=quick, treatment="contact")
+    assert c.final_state_hash != a.final_state_hash  # the default law is integral
+    with pytest.raises(Exception, match="physics.treatment.law"):
+        plastivox.simulate(walker, physics={"treatment": {"stimulus": "contact", "law": "fast"}})
+
+
 @pytest.mark.parametrize("name", ["walker-none.vxa", "walker-stress.vxa", "walker-pressure.vxa",
                                   "settle-cube-1e9.vxa"])
 def test_vxa_samples_match_cli(name):
