@@ -169,7 +169,7 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
 
   ExperimentConfig c;
   json evolution = json::object();
-  std::optional<TreatmentSpec> law;  // the first treatment that names its law
+  std::optional<GrowthModel> law;  // the law the treatments name, and the first to name it
   std::string law_field;
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& k = it.key();
@@ -189,13 +189,13 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
         const TreatmentSpec spec = json_field::treatment(v[i], src, f);
         const Treatment t = spec.stimulus;
         // One study compares its treatments under one physics, so one law serves them all.
-        if (spec.has_law) {
-          if (law && law->law != spec.law)
+        if (spec.law) {
+          if (law && *law != *spec.law)
             fail(src, f + ".law",
-                 std::string("'") + to_string(spec.law) + "' differs from " + law_field + "'s '" +
-                     to_string(law->law) + "' (one experiment uses one law for every treatment)");
+                 std::string("'") + to_string(*spec.law) + "' differs from " + law_field + "'s '" +
+                     to_string(*law) + "' (one experiment uses one law for every treatment)");
           if (!law) law_field = f + ".law";
-          law = spec;
+          law = spec.law;
         }
         for (auto seen : c.treatments)
           if (seen == t) fail(src, f, "'" + std::string(to_string(t)) + "' listed twice");
@@ -233,7 +233,7 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
   // "<src>: evolution: population: ...".
   if (law && (!evolution.contains("physics") || evolution["physics"].is_object()))
     evolution["physics"] = json::parse(
-        evo::fold_law(evolution.value("physics", json::object()).dump(), law->law, src, law_field));
+        evo::fold_law(evolution.value("physics", json::object()).dump(), *law, src, law_field));
   evolution["format"] = "plastivox-evolve-config";
   evolution["version"] = evo::kConfigVersion;
   c.evolution = evo::parse_config(evolution.dump(), src + ": evolution");

@@ -120,7 +120,6 @@ TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
       } catch (const std::invalid_argument& e) {
         fail(source, law_field, e.what());
       }
-      t.has_law = true;
     }
   }
   try {

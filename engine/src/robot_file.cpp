@@ -95,11 +95,11 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
       else if (key == "treatment") {
         const TreatmentSpec t = json_field::treatment(*it, where, field);
         d.treatment = t.stimulus;
-        if (t.has_law) {
+        if (t.law) {
           if (p.contains("growth") &&
-              parse_growth(text(p["growth"], where, "physics.growth")) != t.law)
+              parse_growth(text(p["growth"], where, "physics.growth")) != *t.law)
             fail(where, field + ".law", "contradicts physics.growth (give the law once)");
-          d.growth = t.law;
+          d.growth = *t.law;
         }
       } else if (key == "growth")
         d.growth = parse_growth(text(*it, where, field));

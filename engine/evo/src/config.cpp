@@ -140,8 +140,8 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   }
   // Physics: the preset (default gecco2018-code) with the given overrides, then the
   // run's treatment. apply_physics_json names the field of any error.
-  if (treatment.has_law)
-    c.physics_json = fold_law(c.physics_json, treatment.law, src, "treatment.law");
+  if (treatment.law)
+    c.physics_json = fold_law(c.physics_json, *treatment.law, src, "treatment.law");
   c.physics = preset_gecco2018_code();
   apply_physics_json(c.physics_json, src, c.physics);
   c.physics.treatment = c.treatment;

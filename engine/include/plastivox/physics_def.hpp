@@ -2,6 +2,7 @@
 // Units are SI throughout. See ../shared/METHOD.md sections 1-5 for where each comes from.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,12 +36,11 @@ enum class AxialModulus { kHarmonicMean, kNegativeVoxel };
 enum class BondModel { kExact, kVoxelyze09 };
 
 // A treatment as configs write it: a stimulus name ("contact", the shorthand) or
-// {"stimulus": "contact", "law": "integral"}. The law is PhysicsDef::growth; has_law says the
-// object named it, so that a law equal to the physics' own leaves a config's identity alone.
+// {"stimulus": "contact", "law": "integral"}. The law is PhysicsDef::growth, set only when the
+// object names it, so that a law equal to the physics' own leaves a config's identity alone.
 struct TreatmentSpec {
   Treatment stimulus = Treatment::kNone;
-  bool has_law = false;
-  GrowthModel law = GrowthModel::kIntegral;
+  std::optional<GrowthModel> law;
 };
 
 struct PhysicsDef {
