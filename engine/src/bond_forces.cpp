@@ -75,6 +75,27 @@ inline V3 rotation_vector(double w, double x, double y, double z) {
   return {x * k, y * k, z * k};
 }
 
+// The same as Voxelyze 0.9's CQuat::ToRotationVector computes it (PREC_MED): from 1 - w^2
+// rather than x^2 + y^2 + z^2, so a relative rotation whose w rounds to 1 (below about 2e-8
+// rad) is no rotation at all, with acos(w) ~ sqrt(2 - 2w) below about 0.1 rad and no
+// shorter-arc flip.
+inline V3 voxelyze_rotation_vector(double w, double x, double y, double z) {
+  constexpr double kWAcos2Sqrt = 0.9988;
+  constexpr double kAcos2Sqrt = 1.0 - kWAcos2Sqrt * kWAcos2Sqrt;
+  const double sl = 1.0 - w * w;
+  if (sl <= 0) return {0, 0, 0};
+  const double wc = w > 1 ? 1 : w;
+  if (sl < kAcos2Sqrt) {
+    const double k = std::sqrt((2 - 2 * wc) / sl);
+    return {x * 2.0 * k, y * 2.0 * k, z * 2.0 * k};
+  }
+  const double a = std::acos(wc), r = std::sqrt(sl);
+  return {x * 2.0 * a / r, y * 2.0 * a / r, z * 2.0 * a / r};
+}
+
+struct BondGeometry;
+inline void voxelyze_frame(const V3& r, BondGeometry& g);
+
 // The deformation of one bond in its bond frame. Two frames are used:
 //  - chord-aligned ("large angle"): voxel a's permuted frame rotated by the quaternion
 //    f = (fw, 0, fy, fz) so the chord lies on +x; then p = (extension, 0, 0);
@@ -92,7 +113,8 @@ struct BondGeometry {
 
 // R: voxel a's orientation as a column-major rotation matrix (R[0..2] the first column).
 inline BondGeometry bond_geometry(const Model& m, const State& s, const double* R, int b,
-                                  bool small_angle) {
+                                  bool small_angle, bool voxelyze) {
+  const auto rotvec = voxelyze ? voxelyze_rotation_vector : rotation_vector;
   const int ia = m.bond_a[b], ib = m.bond_b[b], d = m.bond_axis[b];
   BondGeometry g;
   g.axis = d;
@@ -118,7 +140,7 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const double* 
     g.fw = 1, g.fy = 0, g.fz = 0;
     g.p = {g.r.x - g.rest, g.r.y, g.r.z};
     g.th1 = {0, 0, 0};
-    g.th2 = rotation_vector(qw, qv.x, qv.y, qv.z);
+    g.th2 = rotvec(qw, qv.x, qv.y, qv.z);
     return g;
   }
   // f takes the chord onto +x: the half-way quaternion (len + r_x, 0, r_z, -r_y), whose
@@ -127,7 +149,9 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const double* 
   const double len = std::sqrt(r.x * r.x + r.y * r.y + r.z * r.z);
   const double h = len + r.x;
   g.p = {len - g.rest, 0, 0};
-  if (h > 1e-6 * len) {
+  if (voxelyze) {
+    voxelyze_frame(r, g);
+  } else if (h > 1e-6 * len) {
     const double inv_n = 1.0 / std::sqrt(2.0 * len * h);
     g.fw = h * inv_n, g.fy = r.z * inv_n, g.fz = -r.y * inv_n;
     // th1 = rotation vector of f; the tangent of its half angle is |(r_y, r_z)| / h.
@@ -142,9 +166,40 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const double* 
   }
   // th2 = rotation vector of f * q2 (f has no x part).
   const double fw = g.fw, fy = g.fy, fz = g.fz;
-  g.th2 = rotation_vector(fw * qw - fy * qv.y - fz * qv.z, fw * qv.x + fy * qv.z - fz * qv.y,
-                          fw * qv.y + qw * fy + fz * qv.x, fw * qv.z + qw * fz - fy * qv.x);
+  g.th2 = rotvec(fw * qw - fy * qv.y - fz * qv.z, fw * qv.x + fy * qv.z - fz * qv.y,
+                 fw * qv.y + qw * fy + fz * qv.x, fw * qv.z + qw * fz - fy * qv.x);
   return g;
+}
+
+// The chord-aligned frame as Voxelyze 0.9's CQuat::FromAngleToPosX builds it, and th1 its
+// rotation vector: within 0.01732 of the axis in both y/x and z/x, the first-order
+// (w, 0, z/2x, -y/2x) with w = 1 - (y^2 + z^2)/2 (not normalised: tan for sin, an error
+// below 1e-4); otherwise half the angle acos(x/|r|) about the normal; a chord within 1e-7
+// rad of backwards turns half a turn about y.
+inline void voxelyze_frame(const V3& r, BondGeometry& g) {
+  constexpr double kSmallAngle = 1.732e-2, kDiscard = 1e-7, kPi = 3.14159265358979;
+  g.fw = 1, g.fy = 0, g.fz = 0;
+  if (r.x == 0 && r.y == 0 && r.z == 0) {
+    g.th1 = {0, 0, 0};
+    return;
+  }
+  const double yx = r.y / r.x, zx = r.z / r.x;
+  if (yx < kSmallAngle && yx > -kSmallAngle && zx < kSmallAngle && zx > -kSmallAngle) {
+    g.fy = 0.5 * zx, g.fz = -0.5 * yx;
+    g.fw = 1 + 0.5 * (-g.fy * g.fy - g.fz * g.fz);
+  } else {
+    const double l = std::sqrt(r.x * r.x + r.y * r.y + r.z * r.z), li = 1.0 / l;
+    const double nx = r.x * li, ny = r.y * li, nz = r.z * li;
+    const double theta = std::acos(nx);
+    if (theta > kPi - kDiscard) {
+      g.fw = 0, g.fy = 1, g.fz = 0;
+    } else {
+      const double inv = 1.0 / std::sqrt(nz * nz + ny * ny), a = 0.5 * theta;
+      const double sa = std::sin(a);
+      g.fw = std::cos(a), g.fy = nz * inv * sa, g.fz = -ny * inv * sa;
+    }
+  }
+  g.th1 = voxelyze_rotation_vector(g.fw, 0, g.fy, g.fz);
 }
 
 // Voxelyze 0.9's switch between the two frames, with hysteresis: small-angle while the
@@ -192,7 +247,7 @@ double elastic_energy(const Model& m, const State& s) {
   double u = 0;
   for (int b = 0; b < m.bond_count(); ++b) {
     const Eigen::Matrix3d R = s.orient[m.bond_a[b]].toRotationMatrix();
-    const BondGeometry g = bond_geometry(m, s, R.data(), b, false);
+    const BondGeometry g = bond_geometry(m, s, R.data(), b, false, false);
     const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
     const double e = 2.0 * ea * eb / (ea + eb);
     const double a1 = (axial_own ? ea : e) * k.kb1;
@@ -224,7 +279,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
   bool damp_ok = s.bond_prev_valid[b] != 0;
   const Eigen::Matrix3d rot = s.orient[ia].toRotationMatrix();
   const double* R = rot.data();
-  BondGeometry g = bond_geometry(m, s, R, b, small);
+  BondGeometry g = bond_geometry(m, s, R, b, small, voxelyze);
   if (voxelyze) {
     const bool next = next_small_angle(g, small);
     if (next != small) {
@@ -232,7 +287,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
       // previous deformation is not refreshed), as in Voxelyze 0.9.
       small = next;
       s.bond_small_angle[b] = small ? 1 : 0;
-      g = bond_geometry(m, s, R, b, small);
+      g = bond_geometry(m, s, R, b, small, voxelyze);
       damp_ok = false;
     }
   }

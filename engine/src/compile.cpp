@@ -170,7 +170,28 @@ void check_life_bounds(const PhysicsDef& def, double voxel_size, double e_top) {
                                 " s at e_max; at most " + num(0.5 / dt_min) + " Hz)");
 }
 
+namespace {
+
+// Voxelyze 0.9's CVX_Sim::CalcMaxDt: the largest a1 / m = E_bond (L L) / L / m over all bonds
+// (no single-voxel term unless there are no bonds, then E / m as written there), and pi as
+// the literal 3.1415926, in its order of operations (dt 1.7e-8 longer than with pi).
+double voxelyze_dt(const Model& m, const std::vector<double>& E) {
+  double f2 = 0;
+  const double area = m.size * m.size;
+  for (int b = 0; b < m.bond_count(); ++b) {
+    const double e1 = E[m.bond_a[b]], e2 = E[m.bond_b[b]];
+    const double a1 = (e1 * e2 / (e1 + e2)) * 2 * area / m.size;
+    f2 = std::max(f2, a1 / m.mass);
+  }
+  if (m.bond_count() == 0)
+    for (int i = 0; i < m.n; ++i) f2 = std::max(f2, E[i] / m.mass);
+  return m.def.dt_frac * (1.0 / (std::sqrt(f2) * 2 * 3.1415926));
+}
+
+}  // namespace
+
 double stable_dt(const Model& m, const std::vector<double>& E) {
+  if (m.def.bond_model == BondModel::kVoxelyze09) return voxelyze_dt(m, E);
   // A bond's harmonic mean never exceeds the larger of its two moduli, so a bond can only
   // set k_max (by rounding up) when both its voxels are within a relative 1e-9 of the
   // stiffest voxel: below that, 2ab/(a+b) < E_top (1 - 5e-10) even after rounding. Only

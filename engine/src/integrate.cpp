@@ -64,6 +64,7 @@ VoxelConstants voxel_constants(const Model& m, const State& s) {
   k.mu_static = d.mu_static;
   k.mu_kinetic = d.mu_kinetic;
   k.floor = d.floor;
+  k.voxelyze_turns = d.bond_model == BondModel::kVoxelyze09;
   return k;
 }
 

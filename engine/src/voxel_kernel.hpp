@@ -58,6 +58,9 @@ struct VoxelConstants {
   double mass, inv_mass, inv_inertia, L, dt;
   double mu_static, mu_kinetic;
   bool floor;
+  // bond_model voxelyze09: turn as Voxelyze 0.9 does (first-order quaternion step, and an
+  // orientation within about 3e-8 rad of the lattice's reset to exactly none).
+  bool voxelyze_turns;
 };
 
 // What the update stage reports for the stability check: the largest squared speed of a

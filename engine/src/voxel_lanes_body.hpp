@@ -124,42 +124,65 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
   const T decay = 1.0 - k.rot_damp * c_rot * k.inv_inertia * dt;
   hx = hx * decay, hy = hy * decay, hz = hz * decay;
 
-  // Rotation by v = omega dt. Per step a voxel turns by far less than 1e-2 rad, so the
-  // common case uses the series cos(h) = 1 - h^2/2 + h^4/24 - h^6/720 + h^8/40320,
-  // sin(h)/h = 1 - h^2/6 + h^4/120 - h^6/5040 + h^8/362880 (truncation error below 1e-20
-  // for h < 5e-3); larger turns take sin_cycles lane by lane.
-  const double turn = dt * k.inv_inertia;
-  const T vx = hx * turn, vy = hy * turn, vz = hz * turn;
-  const T a2 = vx * vx + vy * vy + vz * vz;
-  const T h2 = 0.25 * a2;  // (angle / 2)^2
-  T rw = 1.0 - h2 * (0.5 - h2 * (1.0 / 24 - h2 * (1.0 / 720 - h2 * (1.0 / 40320))));
-  const T sinc = 1.0 - h2 * (1.0 / 6 - h2 * (1.0 / 120 - h2 * (1.0 / 5040 - h2 * (1.0 / 362880))));
-  const T half_sinc = 0.5 * sinc;
-  T rx = half_sinc * vx, ry = half_sinc * vy, rz = half_sinc * vz;
-  for_each_lane(mask_not(h2 < 2.5e-5), [&](int j) {
-    const double angle = std::sqrt(lane_get(a2, j));
-    const double ax = lane_get(vx, j) / angle, ay = lane_get(vy, j) / angle;
-    const double az = lane_get(vz, j) / angle;
-    // sin and cos of the half angle by the engine's own sin(2 pi u) (elementary.hpp), so no
-    // result depends on the C library.
-    const double u = (0.5 * angle) * (1.0 / (2.0 * M_PI));
-    const double sh = sin_cycles(u);
-    lane_set(rw, j, sin_cycles(u + 0.25));
-    lane_set(rx, j, ax * sh), lane_set(ry, j, ay * sh), lane_set(rz, j, az * sh);
-  });
-  // q <- r q (Eigen's SSE2 quaternion product, term for term), then normalised.
   T q[4];
   load4(io.quat, i, q);
   const T bx = q[0], by = q[1], bz = q[2], bw = q[3];
-  T qx = (rw * bx + ry * bz) - (rz * by - rx * bw);
-  T qy = (rw * by + ry * bw) + (rz * bx - rx * bz);
-  T qz = (rw * bz - ry * bx) + (rz * bw + rx * by);
-  T qw = (rw * bw - ry * by) - (rz * bz + rx * bx);
-  const T n2 = (qx * qx + qz * qz) + (qy * qy + qw * qw);
-  const Mask positive = n2 > 0.0;
-  const T norm = root(pick(positive, n2, one));
-  qx = pick(positive, qx / norm, qx), qy = pick(positive, qy / norm, qy);
-  qz = pick(positive, qz / norm, qz), qw = pick(positive, qw / norm, qw);
+  T qx, qy, qz, qw;
+  if (k.voxelyze_turns) {
+    // Voxelyze 0.9 (CVXS_Voxel::EulerStep, CQuat::NormalizeFast): q += dt (0, omega/2) q,
+    // then q *= 1/|q|, and a q whose w is then 1 becomes exactly no turn. So a voxel turned
+    // less than about 3e-8 rad from the lattice stays unturned while its angular momentum
+    // grows; mixed-stiffness bodies feel it from their first steps.
+    const T ax = 0.5 * (hx * k.inv_inertia), ay = 0.5 * (hy * k.inv_inertia);
+    const T az = 0.5 * (hz * k.inv_inertia);
+    qw = bw + (((zero - ax * bx) - ay * by) - az * bz) * dt;
+    qx = bx + ((ax * bw + ay * bz) - az * by) * dt;
+    qy = by + ((ay * bw - ax * bz) + az * bx) * dt;
+    qz = bz + ((ax * by - ay * bx) + az * bw) * dt;
+    const T len = root(((qx * qx + qy * qy) + qz * qz) + qw * qw);
+    const Mask some = len > 0.0;
+    const T inv = one / pick(some, len, one);
+    qw = pick(some, qw * inv, qw), qx = pick(some, qx * inv, qx);
+    qy = pick(some, qy * inv, qy), qz = pick(some, qz * inv, qz);
+    const Mask none = mask_not(qw < 1.0);
+    qx = pick(none, zero, qx), qy = pick(none, zero, qy), qz = pick(none, zero, qz);
+    qw = pick(none, one, qw);
+  } else {
+    // Rotation by v = omega dt. Per step a voxel turns by far less than 1e-2 rad, so the
+    // common case uses the series cos(h) = 1 - h^2/2 + h^4/24 - h^6/720 + h^8/40320,
+    // sin(h)/h = 1 - h^2/6 + h^4/120 - h^6/5040 + h^8/362880 (truncation error below 1e-20
+    // for h < 5e-3); larger turns take sin_cycles lane by lane.
+    const double turn = dt * k.inv_inertia;
+    const T vx = hx * turn, vy = hy * turn, vz = hz * turn;
+    const T a2 = vx * vx + vy * vy + vz * vz;
+    const T h2 = 0.25 * a2;  // (angle / 2)^2
+    T rw = 1.0 - h2 * (0.5 - h2 * (1.0 / 24 - h2 * (1.0 / 720 - h2 * (1.0 / 40320))));
+    const T sinc =
+        1.0 - h2 * (1.0 / 6 - h2 * (1.0 / 120 - h2 * (1.0 / 5040 - h2 * (1.0 / 362880))));
+    const T half_sinc = 0.5 * sinc;
+    T rx = half_sinc * vx, ry = half_sinc * vy, rz = half_sinc * vz;
+    for_each_lane(mask_not(h2 < 2.5e-5), [&](int j) {
+      const double angle = std::sqrt(lane_get(a2, j));
+      const double ax = lane_get(vx, j) / angle, ay = lane_get(vy, j) / angle;
+      const double az = lane_get(vz, j) / angle;
+      // sin and cos of the half angle by the engine's own sin(2 pi u) (elementary.hpp), so no
+      // result depends on the C library.
+      const double u = (0.5 * angle) * (1.0 / (2.0 * M_PI));
+      const double sh = sin_cycles(u);
+      lane_set(rw, j, sin_cycles(u + 0.25));
+      lane_set(rx, j, ax * sh), lane_set(ry, j, ay * sh), lane_set(rz, j, az * sh);
+    });
+    // q <- r q (Eigen's SSE2 quaternion product, term for term), then normalised.
+    qx = (rw * bx + ry * bz) - (rz * by - rx * bw);
+    qy = (rw * by + ry * bw) + (rz * bx - rx * bz);
+    qz = (rw * bz - ry * bx) + (rz * bw + rx * by);
+    qw = (rw * bw - ry * by) - (rz * bz + rx * bx);
+    const T n2 = (qx * qx + qz * qz) + (qy * qy + qw * qw);
+    const Mask positive = n2 > 0.0;
+    const T norm = root(pick(positive, n2, one));
+    qx = pick(positive, qx / norm, qx), qy = pick(positive, qy / norm, qy);
+    qz = pick(positive, qz / norm, qz), qw = pick(positive, qw / norm, qw);
+  }
 
   // Clamped voxels are held in place; their reaction is not tracked.
   const T out[13] = {pick(fixed, x0, x1),   pick(fixed, y0, y1),   pick(fixed, z0, z1),
