@@ -2,6 +2,8 @@
 #pragma once
 
 #include <atomic>
+#include <exception>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -59,5 +61,12 @@ const std::atomic<bool>* install_stop_signals(const char* command);
 // returns 1; the others wait until it has printed and return 0, so mpirun cannot kill rank 0
 // before its line is out (mpirun still exits non-zero because rank 0 did).
 int refuse_together(evo::Cluster& cluster, const std::string& cmd, const std::string& message);
+
+// Under mpirun, this process's place in the MPI job (MPI initialised; keep it alive while
+// the work runs); otherwise, and in builds without MPI, null: a single process.
+std::unique_ptr<evo::Cluster> join_mpi_job();
+// For an error only this rank has seen: under an MPI job of several ranks, prints it with the
+// rank and ends every rank (MPI_Abort); otherwise returns, for the caller to rethrow.
+void abort_other_ranks(evo::Cluster* cluster, const char* cmd, const std::exception& e);
 
 }  // namespace plastivox::cli

@@ -8,6 +8,9 @@
 #include <cstring>
 
 #include "plastivox/evo/run.hpp"
+#ifdef PLASTIVOX_HAVE_MPI
+#include "plastivox/evo/mpi_cluster.hpp"
+#endif
 
 namespace plastivox::cli {
 namespace {
@@ -69,6 +72,25 @@ std::string count_of(long long n, const std::string& noun) {
 void reject_unknown_options(const Args& args) {
   for (const std::string& a : args)
     if (a.size() > 1 && a[0] == '-') throw UsageError{"unknown option " + a};
+}
+
+std::unique_ptr<evo::Cluster> join_mpi_job() {
+#ifdef PLASTIVOX_HAVE_MPI
+  if (evo::MpiCluster::launched_by_mpirun()) return std::make_unique<evo::MpiCluster>();
+#endif
+  return nullptr;
+}
+
+void abort_other_ranks(evo::Cluster* cluster, const char* cmd, const std::exception& e) {
+#ifdef PLASTIVOX_HAVE_MPI
+  auto* mpi = dynamic_cast<evo::MpiCluster*>(cluster);
+  if (mpi && mpi->size() > 1) {
+    std::fprintf(stderr, "plastivox %s: rank %d: error: %s\n", cmd, mpi->rank(), e.what());
+    mpi->abort(1);
+  }
+#else
+  (void)cluster, (void)cmd, (void)e;
+#endif
 }
 
 int refuse_together(evo::Cluster& cluster, const std::string& cmd, const std::string& message) {

@@ -12,9 +12,6 @@
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/robot_file.hpp"
-#ifdef PLASTIVOX_HAVE_MPI
-#include "plastivox/evo/mpi_cluster.hpp"
-#endif
 
 namespace plastivox::cli {
 namespace {
@@ -135,12 +132,9 @@ int cmd_evolve(const Args& in) {
   if (!threads.empty()) opt.threads = parse_count(threads, "--threads");
   if (!stop_after.empty()) opt.stop_after = parse_count(stop_after, "--stop-after");
 
-    // Under mpirun every rank runs this; rank 0 alone talks (run.hpp, mpi_cluster.hpp).
-#ifdef PLASTIVOX_HAVE_MPI
-  std::unique_ptr<evo::MpiCluster> mpi;
-  if (evo::MpiCluster::launched_by_mpirun()) mpi = std::make_unique<evo::MpiCluster>();
+  // Under mpirun every rank runs this; rank 0 alone talks (run.hpp, mpi_cluster.hpp).
+  const std::unique_ptr<evo::Cluster> mpi = join_mpi_job();
   opt.cluster = mpi.get();
-#endif
   const bool leader = !opt.cluster || opt.cluster->rank() == 0;
   // Ctrl-C or SIGTERM: finish the generation, checkpoint, exit 130 (rank 0 decides under MPI).
   opt.stop_requested = install_stop_signals("evolve");
@@ -176,12 +170,7 @@ int cmd_evolve(const Args& in) {
     if (!opt.cluster) throw;
     return refuse_together(*opt.cluster, "evolve", e.what());
   } catch (const std::exception& e) {
-#ifdef PLASTIVOX_HAVE_MPI
-    if (mpi && mpi->size() > 1) {  // the other ranks would wait forever
-      std::fprintf(stderr, "plastivox evolve: rank %d: error: %s\n", mpi->rank(), e.what());
-      mpi->abort(1);
-    }
-#endif
+    abort_other_ranks(opt.cluster, "evolve", e);  // they would wait forever
     throw;
   }
   progress.end_line();

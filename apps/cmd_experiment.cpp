@@ -14,9 +14,6 @@
 #include "experiment/experiment_run.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/robot_file.hpp"
-#ifdef PLASTIVOX_HAVE_MPI
-#include "plastivox/evo/mpi_cluster.hpp"
-#endif
 
 namespace plastivox::cli {
 namespace {
@@ -88,11 +85,8 @@ int cmd_experiment(const Args& in) {
   opt.command_line = "plastivox experiment " + opt.command_line;
   if (!threads.empty()) opt.threads = parse_count(threads, "--threads");
 
-#ifdef PLASTIVOX_HAVE_MPI
-  std::unique_ptr<evo::MpiCluster> mpi;
-  if (evo::MpiCluster::launched_by_mpirun()) mpi = std::make_unique<evo::MpiCluster>();
+  const std::unique_ptr<evo::Cluster> mpi = join_mpi_job();
   opt.cluster = mpi.get();
-#endif
   const bool leader = !opt.cluster || opt.cluster->rank() == 0;
   const int ranks = opt.cluster ? opt.cluster->size() : 1;
 

@@ -15,15 +15,6 @@ double now_seconds() {
 
 }  // namespace
 
-std::string utc_timestamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 Progress::Progress(std::FILE* out) : out_(out), tty_(isatty(fileno(out)) == 1) {}
 
 Progress::~Progress() {

@@ -6,10 +6,9 @@
 #include <fstream>
 #include <string>
 
-namespace plastivox::experiment {
+#include "plastivox/base/clock.hpp"  // utc_timestamp: log lines and the folder manifest
 
-// Now, UTC, ISO 8601 ("2026-11-22T05:00:00Z"): log lines and the folder manifest.
-std::string utc_timestamp();
+namespace plastivox::experiment {
 
 class Progress {
  public:

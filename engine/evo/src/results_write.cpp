@@ -11,6 +11,7 @@
 #include "evo_build_info.hpp"
 #include "file_seal.hpp"
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/base/clock.hpp"
 #include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/robot_file.hpp"  // InputError
@@ -50,15 +51,6 @@ namespace {
 
 using h5::Ctx;
 using h5::Handle;
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 std::vector<hsize_t> lattice_dims(const RobotDef& r) {
   return {static_cast<hsize_t>(r.nz), static_cast<hsize_t>(r.ny), static_cast<hsize_t>(r.nx)};
@@ -304,7 +296,7 @@ Provenance current_provenance(int threads) {
   p.compiler = PLASTIVOX_EVO_COMPILER;
   p.compiler_flags = PLASTIVOX_EVO_FLAGS;
   p.build_type = PLASTIVOX_EVO_BUILD_TYPE;
-  p.date_created = p.date_updated = utc_now();
+  p.date_created = p.date_updated = utc_timestamp();
   char host[256] = "";
   if (gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "unknown");
   p.host = host;
