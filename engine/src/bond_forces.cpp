@@ -75,6 +75,10 @@ inline V3 rotation_vector(double w, double x, double y, double z) {
   return {x * k, y * k, z * k};
 }
 
+// Voxelyze 0.9's SMALL_ANGLE_RAD (Vec3D.h, PREC_MED): its small-angle limit for a bond's
+// relative rotation and for the chord frame's first-order form, rad.
+constexpr double kVoxelyzeSmallAngle = 1.732e-2;
+
 // The same as Voxelyze 0.9's CQuat::ToRotationVector computes it (PREC_MED): from 1 - w^2
 // rather than x^2 + y^2 + z^2, so a relative rotation whose w rounds to 1 (below about 2e-8
 // rad) is no rotation at all, with acos(w) ~ sqrt(2 - 2w) below about 0.1 rad and no
@@ -93,9 +97,6 @@ inline V3 voxelyze_rotation_vector(double w, double x, double y, double z) {
   return {x * 2.0 * a / r, y * 2.0 * a / r, z * 2.0 * a / r};
 }
 
-struct BondGeometry;
-inline void voxelyze_frame(const V3& r, BondGeometry& g);
-
 // The deformation of one bond in its bond frame. Two frames are used:
 //  - chord-aligned ("large angle"): voxel a's permuted frame rotated by the quaternion
 //    f = (fw, 0, fy, fz) so the chord lies on +x; then p = (extension, 0, 0);
@@ -103,13 +104,46 @@ inline void voxelyze_frame(const V3& r, BondGeometry& g);
 //    (f = identity); th1 = 0 and p = r - (rest, 0, 0) keeps the transverse offset.
 struct BondGeometry {
   int axis;
-  double fw, fy, fz;  // frame rotation (unit quaternion with zero x part)
+  double fw, fy, fz;  // frame rotation (a quaternion with zero x part; unit but for voxelyze09's
+                      // first-order frame, within 1e-8 of it)
   V3 p;               // position of b relative to its rest place, m, bond frame
   V3 th1, th2;        // rotation vectors of a and b, rad, bond frame
   V3 r;               // chord from a to b in the permuted frame of a, m
   double rest;        // actuated rest length, m
   double q2w;         // scalar part of b's rotation relative to a
 };
+
+// The chord-aligned frame as Voxelyze 0.9's CQuat::FromAngleToPosX builds it, and th1 its
+// rotation vector: within 0.01732 of the axis in both y/x and z/x, the first-order
+// (w, 0, z/2x, -y/2x) with w = 1 - (y^2 + z^2)/2 (not normalised: tan for sin, an error
+// below 1e-4); otherwise half the angle acos(x/|r|) about the normal; a chord within 1e-7
+// rad of backwards turns half a turn about y.
+inline void voxelyze_frame(const V3& r, BondGeometry& g) {
+  constexpr double kDiscard = 1e-7, kPi = 3.14159265358979;
+  g.fw = 1, g.fy = 0, g.fz = 0;
+  if (r.x == 0 && r.y == 0 && r.z == 0) {
+    g.th1 = {0, 0, 0};
+    return;
+  }
+  const double yx = r.y / r.x, zx = r.z / r.x;
+  if (yx < kVoxelyzeSmallAngle && yx > -kVoxelyzeSmallAngle && zx < kVoxelyzeSmallAngle &&
+      zx > -kVoxelyzeSmallAngle) {
+    g.fy = 0.5 * zx, g.fz = -0.5 * yx;
+    g.fw = 1 + 0.5 * (-g.fy * g.fy - g.fz * g.fz);
+  } else {
+    const double l = std::sqrt(r.x * r.x + r.y * r.y + r.z * r.z), li = 1.0 / l;
+    const double nx = r.x * li, ny = r.y * li, nz = r.z * li;
+    const double theta = std::acos(nx);
+    if (theta > kPi - kDiscard) {
+      g.fw = 0, g.fy = 1, g.fz = 0;
+    } else {
+      const double inv = 1.0 / std::sqrt(nz * nz + ny * ny), a = 0.5 * theta;
+      const double sa = std::sin(a);
+      g.fw = std::cos(a), g.fy = nz * inv * sa, g.fz = -ny * inv * sa;
+    }
+  }
+  g.th1 = voxelyze_rotation_vector(g.fw, 0, g.fy, g.fz);
+}
 
 // R: voxel a's orientation as a column-major rotation matrix (R[0..2] the first column).
 inline BondGeometry bond_geometry(const Model& m, const State& s, const double* R, int b,
@@ -171,37 +205,6 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const double* 
   return g;
 }
 
-// The chord-aligned frame as Voxelyze 0.9's CQuat::FromAngleToPosX builds it, and th1 its
-// rotation vector: within 0.01732 of the axis in both y/x and z/x, the first-order
-// (w, 0, z/2x, -y/2x) with w = 1 - (y^2 + z^2)/2 (not normalised: tan for sin, an error
-// below 1e-4); otherwise half the angle acos(x/|r|) about the normal; a chord within 1e-7
-// rad of backwards turns half a turn about y.
-inline void voxelyze_frame(const V3& r, BondGeometry& g) {
-  constexpr double kSmallAngle = 1.732e-2, kDiscard = 1e-7, kPi = 3.14159265358979;
-  g.fw = 1, g.fy = 0, g.fz = 0;
-  if (r.x == 0 && r.y == 0 && r.z == 0) {
-    g.th1 = {0, 0, 0};
-    return;
-  }
-  const double yx = r.y / r.x, zx = r.z / r.x;
-  if (yx < kSmallAngle && yx > -kSmallAngle && zx < kSmallAngle && zx > -kSmallAngle) {
-    g.fy = 0.5 * zx, g.fz = -0.5 * yx;
-    g.fw = 1 + 0.5 * (-g.fy * g.fy - g.fz * g.fz);
-  } else {
-    const double l = std::sqrt(r.x * r.x + r.y * r.y + r.z * r.z), li = 1.0 / l;
-    const double nx = r.x * li, ny = r.y * li, nz = r.z * li;
-    const double theta = std::acos(nx);
-    if (theta > kPi - kDiscard) {
-      g.fw = 0, g.fy = 1, g.fz = 0;
-    } else {
-      const double inv = 1.0 / std::sqrt(nz * nz + ny * ny), a = 0.5 * theta;
-      const double sa = std::sin(a);
-      g.fw = std::cos(a), g.fy = nz * inv * sa, g.fz = -ny * inv * sa;
-    }
-  }
-  g.th1 = voxelyze_rotation_vector(g.fw, 0, g.fy, g.fz);
-}
-
 // Voxelyze 0.9's switch between the two frames, with hysteresis: small-angle while the
 // relative rotation, the chord's turn and the extension all stay small.
 // The turn is computed as the authors' evolution build computed it. Its source writes
@@ -213,18 +216,17 @@ inline void voxelyze_frame(const V3& r, BondGeometry& g) {
 // the settling cube's published fall (docs/vxa.md); with a real |y| + |z| the cube falls the
 // other way.
 inline bool next_small_angle(const BondGeometry& g, bool small_now) {
-  constexpr double kSmallAngle = 0.01732;  // rad
-  constexpr double kBendTurn = 0.05;       // (|y| + |z|) / x
-  constexpr double kExtension = 1.3;       // x / rest
+  constexpr double kBendTurn = 0.05;  // (|y| + |z|) / x
+  constexpr double kExtension = 1.3;  // x / rest
   constexpr double kHysteresis = 1.1;
   const double angle = 2.0 * std::acos(std::min(1.0, std::abs(g.q2w)));
   const double turn = (std::abs(std::trunc(g.r.y)) + std::abs(std::trunc(g.r.z))) / g.r.x;
   const double extend = g.r.x / g.rest;
   if (small_now) {
-    return !(angle >= kHysteresis * kSmallAngle || !(turn <= kHysteresis * kBendTurn) ||
+    return !(angle >= kHysteresis * kVoxelyzeSmallAngle || !(turn <= kHysteresis * kBendTurn) ||
              extend > kHysteresis * kExtension);
   }
-  return angle < kSmallAngle && turn >= 0 && turn < kBendTurn && extend < kExtension;
+  return angle < kVoxelyzeSmallAngle && turn >= 0 && turn < kBendTurn && extend < kExtension;
 }
 
 // v expressed in the bond frame -> world: undo the frame rotation f (apply f^T), undo the

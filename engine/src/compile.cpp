@@ -176,16 +176,17 @@ namespace {
 // (no single-voxel term unless there are no bonds, then E / m as written there), and pi as
 // the literal 3.1415926, in its order of operations (dt 1.7e-8 longer than with pi).
 double voxelyze_dt(const Model& m, const std::vector<double>& E) {
-  double f2 = 0;
+  // Dividing by the one mass after taking the maximum gives the same double (rounding is
+  // monotonic), so the loop does no division but the harmonic mean's.
+  double k = 0;
   const double area = m.size * m.size;
   for (int b = 0; b < m.bond_count(); ++b) {
     const double e1 = E[m.bond_a[b]], e2 = E[m.bond_b[b]];
-    const double a1 = (e1 * e2 / (e1 + e2)) * 2 * area / m.size;
-    f2 = std::max(f2, a1 / m.mass);
+    k = std::max(k, (e1 * e2 / (e1 + e2)) * 2 * area / m.size);
   }
   if (m.bond_count() == 0)
-    for (int i = 0; i < m.n; ++i) f2 = std::max(f2, E[i] / m.mass);
-  return m.def.dt_frac * (1.0 / (std::sqrt(f2) * 2 * 3.1415926));
+    for (int i = 0; i < m.n; ++i) k = std::max(k, E[i]);
+  return m.def.dt_frac * (1.0 / (std::sqrt(k / m.mass) * 2 * 3.1415926));
 }
 
 }  // namespace
