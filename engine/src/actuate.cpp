@@ -1,5 +1,5 @@
 // Actuation (METHOD.md section 4): every voxel's rest size oscillates, damped by stiffness.
-// The per-voxel formula is the batched voxel kernel's (voxel_lanes_body.hpp, actuate_lanes).
+// The per-voxel formula is the batched voxel kernel's (voxel_body.hpp, actuate_lanes).
 #include <algorithm>
 
 #include "kernels.hpp"

@@ -18,7 +18,7 @@
 // on the rate of the same deformations (finite difference of the bond-frame deformation,
 // half of it attributed to each end), so rigid motion of the whole bond is never damped.
 //
-// The exact model's bonds run in the batched kernel (bond_lanes_body.hpp), most of a step's
+// The exact model's bonds run in the batched kernel (bond_body.hpp), most of a step's
 // time; this file holds the stage that drives it and the scalar path, which serves the
 // Voxelyze 0.9 model and the few bonds the kernel hands back.
 #include <algorithm>
@@ -398,10 +398,7 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   BondKernelIo io;
   io.bond_a = m.bond_a.data();
   io.bond_b = m.bond_b.data();
-  io.axis = m.bond_axis.data();
-  io.pos = s.pos.front().data();
   io.quat = s.orient.front().coeffs().data();  // x, y, z, w
-  io.size = s.size.data();
   io.stiff = s.stiffness.data();
   io.centre_size = w.centre_size.data();
   io.axis_wide = w.bond_axis_wide.data();

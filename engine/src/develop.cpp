@@ -6,7 +6,7 @@
 
 namespace plastivox {
 
-// The rule, per voxel (develop_lanes_body.hpp):
+// The rule, per voxel (develop_body.hpp):
 // - stimulus under stress: the largest tensile axial stress among its bonds (compression
 //   counts as 0), Pa;
 // - under pressure, positive in compression, Pa: -E_i (eps_x + eps_y + eps_z) / (3 (1 - 2 nu))
@@ -21,7 +21,7 @@ namespace plastivox {
 //   not reproduced. Under AxialModulus::kNegativeVoxel (bonds the authors' simulator treats as
 //   homogeneous: no split) the voxel's own E times the bond strain is used;
 // - the other stimuli (strain, strain_energy, contact, kinetic) are defined where the enum
-//   is (physics_def.hpp) and computed beside these two in develop_lanes_body.hpp;
+//   is (physics_def.hpp) and computed beside these two in develop_body.hpp;
 // - then (integral model) E = E0 + alpha * integral of the stimulus, or (rate model)
 //   E = E0 + alpha * (stimulus - stimulus at the end of settling); the change in one step is
 //   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor

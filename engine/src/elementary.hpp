@@ -1,13 +1,12 @@
-// The engine's own elementary functions, as lane-generic templates (lane_ops.hpp): atan(t)/t
+// The engine's own elementary functions, as lane-generic templates (lanes.hpp): atan(t)/t
 // and sin(2 pi u). Written in plain IEEE arithmetic (series and exact range reductions), so
 // they vectorise like the rest of a kernel and give the same bits on every machine and lane
 // width, whichever C library is installed (libm's results are not specified to the bit).
-// Included after the lane operations of every lane type used; internal linkage (see
-// lane_ops.hpp).
+// Internal linkage (see lanes.hpp).
 #pragma once
 
 #include "atan_series.hpp"
-#include "lane_ops.hpp"
+#include "lanes.hpp"
 
 namespace plastivox {
 namespace {

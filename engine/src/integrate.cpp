@@ -1,5 +1,5 @@
 // Force gathering and the semi-implicit Euler update of every voxel, with floor contact
-// and Coulomb friction: the batched voxel kernels (voxel_kernel.hpp) over the model, state
+// and Coulomb friction: the batched voxel kernels (voxel_body.hpp) over the model, state
 // and workspace, and the stability check on what they report. Per-voxel work in index
 // order; bond contributions are summed in slot order, so the result does not depend on
 // anything but the model and the state.

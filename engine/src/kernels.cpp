@@ -4,7 +4,7 @@
 
 #include "kernels.hpp"
 
-#include "kernel_set_body.hpp"
+#include "kernels_body.hpp"
 #include "plastivox/simd.hpp"
 
 namespace plastivox {
@@ -60,15 +60,19 @@ const char* to_string(SimdLevel level) {
 const KernelSet& kernels() {
   switch (simd_level()) {
 #if defined(PLASTIVOX_HAVE_AVX512)
-    case SimdLevel::kAvx512:
-      return kernels_avx512();
+    case SimdLevel::kAvx512: {
+      static const KernelSet avx512 = kernels_avx512();
+      return avx512;
+    }
 #endif
 #if defined(PLASTIVOX_HAVE_AVX2)
-    case SimdLevel::kAvx2:
-      return kernels_avx2();
+    case SimdLevel::kAvx2: {
+      static const KernelSet avx2 = kernels_avx2();
+      return avx2;
+    }
 #endif
     default: {
-      static const KernelSet scalar = make_kernel_set<double, 1>();
+      static const KernelSet scalar = make_kernel_set<double>();
       return scalar;
     }
   }

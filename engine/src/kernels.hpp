@@ -1,17 +1,173 @@
-// The batched kernels of a step, one set per instruction set: scalar (kernels.cpp), AVX2
-// (kernels_avx2.cpp) and AVX-512 (kernels_avx512.cpp), each the same lane-generic templates
-// compiled for it (kernel_set_body.hpp). kernels() is the one place that chooses by
-// plastivox/simd.hpp's level; every set gives the same bits.
+// The batched kernels of a step: what each reads and writes, and one set of them per
+// instruction set. Each kernel is written once, as a template over the lane type (lanes.hpp),
+// in its own body (bond_body.hpp, voxel_body.hpp, develop_body.hpp, contact_body.hpp), and
+// compiled three times: for `double` (kernels.cpp: the scalar set, and every set's tails),
+// 4-wide AVX2 (kernels_avx2.cpp) and 8-wide AVX-512 (kernels_avx512.cpp). Element-wise IEEE
+// arithmetic in the same order in every lane type, so every set gives the same bits;
+// kernels() is the one place that chooses, by plastivox/simd.hpp's level.
 #pragma once
 
-#include "bond_kernel.hpp"
-#include "develop_kernel.hpp"
-#include "voxel_kernel.hpp"
+#include <cstdint>
+
+#include "plastivox/physics_def.hpp"
 
 namespace plastivox {
 
+// ---- Bonds: the exact bond model (bond_forces.cpp says what it is) ----
+
+// Where the kernel reads and writes; raw views of Model, State and Workspace arrays.
+struct BondKernelIo {
+  // Per bond (model): voxel on the negative side, voxel on the positive side, and the lattice
+  // axis as 64-bit integers (whole-vector loads).
+  const int* bond_a = nullptr;
+  const int* bond_b = nullptr;
+  const int64_t* axis_wide = nullptr;
+  // Per voxel: centre and actuated size as records of 4 doubles (x, y, z, size; m, world
+  // frame; Workspace::centre_size), orientation (x, y, z, w: Eigen's storage order of a unit
+  // quaternion, body to world), modulus (Pa).
+  const double* centre_size = nullptr;
+  const double* quat = nullptr;
+  const double* stiff = nullptr;
+  // Per bond: 1 once a previous deformation is recorded (read only; the caller sets it), and
+  // whether every bond's is (after the first step, always), so lanes need not read it.
+  const uint8_t* prev_valid = nullptr;
+  bool all_valid = false;
+  // Per bond, in and out: the previous deformation (State::bond_prev); out: the results
+  // (Workspace::bond_out: force on a, moment on a, moment on b, each as records of
+  // (x, y, z, 0); bond_strain, bond_stress).
+  double* prev[9] = {};
+  double* out[3] = {};
+  double* strain = nullptr;
+  double* stress = nullptr;
+  // Out when not null: stress times strain (Workspace::bond_energy; the strain_energy stimulus).
+  double* energy = nullptr;
+  // Out: indices of the bonds the kernel could not compute (degenerate chord, relative
+  // rotation near half a turn), in increasing order; room for one per bond. They keep
+  // their previous deformation and must be recomputed by the scalar path.
+  int* redo = nullptr;
+};
+
+struct BondConstants {
+  double L, area, inv_L;
+  double ka2, kb1, kb2, kb3;          // beam constants per unit modulus
+  double damp;                        // 2 sqrt(m) zeta / dt
+  double dk_a1, dk_b2, dk_a2, dk_b3;  // damping coefficients per sqrt(E) (Workspace)
+  bool axial_own;                     // axial stress from a's own modulus
+  double min_shear_chord;             // floor of the chord in the shear coupling, m
+};
+
+// ---- Voxels: gathering bond forces, floor contact, friction and the Euler update ----
+
+// Where the kernels read and write: raw views of Model, State and Workspace arrays.
+// "xyz" arrays hold 3 doubles per voxel back to back (Eigen vectors), "quat" 4 (x, y, z, w).
+struct VoxelKernelIo {
+  // Model, per voxel.
+  const int* slot_bond[6] = {};    // bond in each slot (Model::voxel_bonds by slot); a slot
+                                   // without one names the zero record of bond_out
+  const uint8_t* fixed = nullptr;  // 1 if clamped
+  const double* load = nullptr;    // xyz: constant external force, N
+  // Workspace, per bond and one zero record (gather input): force on a, moment on a, moment
+  // on b (bond_out: records of x, y, z, 0).
+  const double* bond_out[3] = {};
+  // State, per voxel (read; the update stage writes through VoxelStateOut).
+  const double* pos = nullptr;      // xyz, m
+  const double* quat = nullptr;     // quat
+  const double* lin_mom = nullptr;  // xyz, kg m/s
+  const double* ang_mom = nullptr;  // xyz, kg m^2/s
+  const double* stiff = nullptr;    // E, Pa
+  const uint8_t* static_friction = nullptr;
+  const double* size = nullptr;  // actuated edge length, m
+  // Workspace, per voxel: total force and moment (one array per component), sqrt of the
+  // modulus.
+  double* force[3] = {};
+  double* moment[3] = {};
+  double* sqrt_e = nullptr;
+  // Workspace, per voxel, written by the update stage when not null: the floor's normal
+  // force on the voxel, N (0 off the floor). Only the contact stimulus reads it.
+  double* floor_normal = nullptr;
+};
+
+// What the update stage writes: the same State arrays as VoxelKernelIo's, writable.
+struct VoxelStateOut {
+  double* pos = nullptr;
+  double* quat = nullptr;
+  double* lin_mom = nullptr;
+  double* ang_mom = nullptr;
+  uint8_t* static_friction = nullptr;
+};
+
+// Constants of the voxel stages, each kept as the factor the formulas multiply by (so every
+// product is rounded as in the scalar expressions of integrate.cpp's history).
+struct VoxelConstants {
+  double weight[3];   // m g, N
+  double slow_zeta;   // global (slow) damping ratio
+  double c_lin_unit;  // 2 sqrt(m L): critical damping of a voxel's axial spring per sqrt(E)
+  double c_rot_unit;  // 2 sqrt(I L^3): the same for rotation
+  double c_col_unit;  // floor damping ratio times c_lin_unit
+  double rot_damp;    // rotational slow damping: factor over the linear one times zeta
+  double mass, inv_mass, inv_inertia, L, dt;
+  double mu_static, mu_kinetic;
+  bool floor;
+  // bond_model voxelyze09: turn as Voxelyze 0.9 does (first-order quaternion step, and an
+  // orientation within about 3e-8 rad of the lattice's reset to exactly none).
+  bool voxelyze_turns;
+};
+
+// What the update stage reports for the stability check: the largest squared speed of a
+// free voxel (m^2/s^2) and whether some free voxel's momenta are not finite.
+struct VoxelUpdateSummary {
+  double max_speed2 = 0;
+  bool non_finite = false;
+};
+
+// Actuation: size[i] = L max(1 + A xi(E_i) sin(2 pi (f t + phase_i)), min_factor), with
+// xi(E) = (e_max - E) / (e_max - e_min); `cycles` = f t.
+struct ActuationConstants {
+  double L, amplitude, min_factor, e_max, inv_range, cycles;
+};
+
+// ---- Development: the per-voxel rule of develop.cpp (METHOD.md section 5) ----
+
+struct DevelopIo {
+  // Workspace: the bond in each slot of every voxel (a slot without one names the zero entry
+  // past the last bond) and this step's bond stresses and strains (with that zero entry).
+  const int* slot_bond[6] = {};
+  int no_bond = 0;  // the index of that zero entry (the number of bonds)
+  const double* bond_stress = nullptr;
+  const double* bond_strain = nullptr;
+  const double* bond_energy = nullptr;  // stress x strain (strain_energy only)
+  // Read by the contact stimulus: the floor's normal force on each voxel this step, N
+  // (Workspace::floor_normal), and the actuated sizes, m.
+  const double* floor_normal = nullptr;
+  const double* size = nullptr;
+  // Read by the kinetic stimulus: momenta after this step's update, xyz per voxel.
+  const double* lin_mom = nullptr;
+  const double* ang_mom = nullptr;
+  // Model.
+  const double* e0 = nullptr;
+  const double* alpha = nullptr;
+  // State, in and out.
+  double* stiffness = nullptr;
+  double* stimulus = nullptr;
+  double* stim_integral = nullptr;
+  double* stim_ref = nullptr;
+};
+
+struct DevelopConstants {
+  Treatment stimulus;  // which stimulus (never kNone here)
+  bool split;  // pressure from bond stresses (each voxel's share of the strain); else E_i x strain
+  bool integral;  // E = E0 + alpha * integral; else the rate model
+  bool first;     // the first developing step: the rate model's reference is taken now
+  double pressure_denominator;  // 3 (1 - 2 nu)
+  double gate;                  // development only while E > gate
+  double dt, max_change, e_min, e_max;
+  double inv_mass, inv_inertia, inv_volume;  // kinetic: 1/m, 1/I, 1/L^3
+};
+
+// ---- The set ----
+
 struct KernelSet {
-  // Bonds [0, n) (bond_kernel.hpp); returns how many bond indices it wrote to io.redo.
+  // Bonds [0, n); returns how many bond indices it wrote to io.redo.
   int (*bond)(const BondKernelIo& io, int n, const BondConstants& k);
   // Voxels [0, n): force[i] = the sum of its bonds' forces in slot order - slow damping +
   // weight + load; moment[i] = the sum of its bonds' moments; sqrt_e[i] = sqrt(E_i).
@@ -41,7 +197,7 @@ struct KernelSet {
 const KernelSet& kernels();
 
 // The set of one instruction set, compiled for it: use only when the CPU has it.
-const KernelSet& kernels_avx2();
-const KernelSet& kernels_avx512();
+KernelSet kernels_avx2();
+KernelSet kernels_avx512();
 
 }  // namespace plastivox

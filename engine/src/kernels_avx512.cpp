@@ -1,6 +1,6 @@
-// The batched bond and voxel kernels on AVX-512: eight per instruction (and 32 vector registers,
-// so fewer spills than with AVX2). Compiled with -mavx512f -mavx512vl -mavx512dq (see
-// engine/CMakeLists.txt); called only when the CPU has them.
+// The kernel set on AVX-512: eight doubles per lane group (and 32 vector registers, so fewer
+// spills than with AVX2). Compiled with -mavx512f -mavx512vl -mavx512dq (engine/CMakeLists.txt);
+// used only when the CPU has them.
 #if !defined(__AVX512F__) || !defined(__AVX512VL__) || !defined(__AVX512DQ__)
 #error "kernels_avx512.cpp must be compiled with -mavx512f -mavx512vl -mavx512dq"
 #endif
@@ -10,14 +10,11 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #include <immintrin.h>
 
-#include "bond_lanes.hpp"
-
 namespace plastivox {
 namespace {
 
 typedef double V __attribute__((vector_size(64)));
-typedef long M __attribute__((vector_size(64)));  // what comparing two V yields
-constexpr int kWidth = 8;
+typedef long M __attribute__((vector_size(64)));
 
 inline V root(V v) {
   return (V)_mm512_sqrt_pd((__m512d)v);
@@ -25,12 +22,27 @@ inline V root(V v) {
 inline int lane_bits(M c) {
   return _mm512_movepi64_mask((__m512i)c);
 }
-// Eight consecutive records of 3 or 4 doubles to one vector per component and back, by
-// two-source permutes (the lane-by-lane form costs a load or store per double).
-#define PLASTIVOX_LANES_HAVE_RECORDS 1
+// Lane indices of a two-source permute (0-7 the first source, 8-15 the second), lane 0 first.
 inline __m512i idx8(long a, long b, long c, long d, long e, long f, long g, long h) {
   return _mm512_set_epi64(h, g, f, e, d, c, b, a);
 }
+// Eight records of 4 doubles, one per lane, transposed into one vector per component: records
+// j and j + 4 share a register, whose 128-bit halves are then interleaved and gathered.
+inline void load_records(const double* r, const int* idx, V* c) {
+  __m512d q[4];
+  for (int j = 0; j < 4; ++j)
+    q[j] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(r + 4 * idx[j])),
+                              _mm256_loadu_pd(r + 4 * idx[j + 4]), 1);
+  const __m512d xz01 = _mm512_unpacklo_pd(q[0], q[1]), yw01 = _mm512_unpackhi_pd(q[0], q[1]);
+  const __m512d xz23 = _mm512_unpacklo_pd(q[2], q[3]), yw23 = _mm512_unpackhi_pd(q[2], q[3]);
+  const __m512i first = idx8(0, 1, 8, 9, 4, 5, 12, 13), second = idx8(2, 3, 10, 11, 6, 7, 14, 15);
+  c[0] = (V)_mm512_permutex2var_pd(xz01, first, xz23);
+  c[1] = (V)_mm512_permutex2var_pd(yw01, first, yw23);
+  c[2] = (V)_mm512_permutex2var_pd(xz01, second, xz23);
+  c[3] = (V)_mm512_permutex2var_pd(yw01, second, yw23);
+}
+// Eight consecutive records of 3 or 4 doubles to one vector per component and back, by
+// two-source permutes (lanes_simd.hpp's lane-by-lane form costs a load or store per double).
 inline void load3(const double* p, int i, V* out) {
   const __m512d a = _mm512_loadu_pd(p + 3 * i), b = _mm512_loadu_pd(p + 3 * i + 8);
   const __m512d c = _mm512_loadu_pd(p + 3 * i + 16);
@@ -78,27 +90,19 @@ inline void store4(double* p, int i, const V* in) {
   _mm512_storeu_pd(p + 4 * i + 16, _mm512_permutex2var_pd(xy_hi, r01, zw_hi));
   _mm512_storeu_pd(p + 4 * i + 24, _mm512_permutex2var_pd(xy_hi, r23, zw_hi));
 }
-inline void load_quats4(const double* q, const int* idx, __m256d* c);  // bond_lanes_simd.hpp
-inline void load_quats(const double* q, const int* idx, V& x, V& y, V& z, V& w) {
-  __m256d lo[4], hi[4];
-  load_quats4(q, idx, lo);
-  load_quats4(q, idx + 4, hi);
-  V* out[4] = {&x, &y, &z, &w};
-  for (int c = 0; c < 4; ++c)
-    *out[c] = (V)_mm512_insertf64x4(_mm512_castpd256_pd512(lo[c]), hi[c], 1);
-}
 
 }  // namespace
 }  // namespace plastivox
 
-#include "bond_lanes_simd.hpp"
-#include "kernel_set_body.hpp"
+// The vector vocabulary for V, then the kernels written in it (in this order: lanes.hpp).
+#include "lanes_simd.hpp"
+
+#include "kernels_body.hpp"
 
 namespace plastivox {
 
-const KernelSet& kernels_avx512() {
-  static const KernelSet set = make_kernel_set<V, kWidth>();
-  return set;
+KernelSet kernels_avx512() {
+  return make_kernel_set<V>();
 }
 
 }  // namespace plastivox

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "bond_kernel.hpp"
+#include "kernels.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/state.hpp"
 

@@ -18,7 +18,7 @@ namespace plastivox {
 // - kContact: the floor's normal force on the voxel per face area (size^2), 0 off the floor:
 //   the paper's "calluses in response to pressure on its feet";
 // - kKinetic: kinetic energy density, (|p|^2 / 2m + |h|^2 / 2I) / L^3.
-// Adding one: the enum and its name here, its formula in develop_lanes_body.hpp (the one
+// Adding one: the enum and its name here, its formula in engine/src/develop_body.hpp (the one
 // place that computes a stimulus), a test in tests/engine_stimuli_test.cpp.
 enum class Treatment { kNone, kStress, kPressure, kStrain, kStrainEnergy, kContact, kKinetic };
 // kIntegral: E = E0 + alpha * integral(stimulus dt)   (the authors' code, default)

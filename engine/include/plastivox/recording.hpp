@@ -21,7 +21,7 @@ struct Frame {
 
 // Which voxels touch the floor in `frame` (1) and which do not (0), with the engine's own
 // test: the voxel's actuated half-size reaches below z = 0, its tilt ignored, as the next
-// step's floor contact sees it (engine/src/voxel_lanes_body.hpp). All 0 without a floor.
+// step's floor contact sees it (engine/src/voxel_body.hpp). All 0 without a floor.
 inline std::vector<uint8_t> floor_contact(const Frame& frame, bool floor) {
   std::vector<uint8_t> touching(frame.pos.size(), 0);
   for (size_t i = 0; floor && i < frame.pos.size(); ++i)

@@ -1,10 +1,9 @@
-// KernelSet::scan_within and KernelSet::touch_candidates (kernels.hpp) for any lane type: the
-// search of a self-collision refresh, which of a run of points lie within a radius of a
-// centre, and the test of the candidate pairs each step. Included after the lane operations
-// of the lane types used (see voxel_lanes_body.hpp).
+// The self-collision kernels (KernelSet::scan_within and touch_candidates, kernels.hpp) for
+// any lane type (lanes.hpp): the search of a refresh, which of a run of points lie within a
+// radius of a centre, and the test of the candidate pairs each step.
 #pragma once
 
-#include "lane_ops.hpp"
+#include "lanes.hpp"
 
 namespace plastivox {
 namespace {
@@ -18,13 +17,13 @@ inline int scan_within_lanes(const double* px, const double* py, const double* p
   return count;
 }
 
-template <class T, int W>
+template <class T>
 inline int run_scan_within(const double* px, const double* py, const double* pz, int begin, int end,
                            double x, double y, double z, double r2, int* out) {
-  int count = 0, e = begin;
-  for (; e + W <= end; e += W)
-    count += scan_within_lanes<T>(px, py, pz, e, x, y, z, r2, out + count);
-  for (; e < end; ++e) count += scan_within_lanes<double>(px, py, pz, e, x, y, z, r2, out + count);
+  int count = 0;
+  over_lanes<T>(end - begin, [&](auto lane, int i) {
+    count += scan_within_lanes<decltype(lane)>(px, py, pz, begin + i, x, y, z, r2, out + count);
+  });
   return count;
 }
 
@@ -45,14 +44,14 @@ inline int touch_candidates_lanes(const double* records, const int* pair_a, cons
   return count;
 }
 
-template <class T, int W>
+template <class T>
 inline int run_touch_candidates(const double* records, const int* pair_a, const int* pair_b, int n,
                                 double half_d, int* out) {
-  int count = 0, p = 0;
-  for (; p + W <= n; p += W)
-    count += touch_candidates_lanes<T>(records, pair_a, pair_b, p, half_d, out + count);
-  for (; p < n; ++p)
-    count += touch_candidates_lanes<double>(records, pair_a, pair_b, p, half_d, out + count);
+  int count = 0;
+  over_lanes<T>(n, [&](auto lane, int p) {
+    count +=
+        touch_candidates_lanes<decltype(lane)>(records, pair_a, pair_b, p, half_d, out + count);
+  });
   return count;
 }
 

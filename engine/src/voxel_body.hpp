@@ -1,7 +1,5 @@
-// The voxel kernels (voxel_kernel.hpp): the gather voxel by voxel on 4-double records, the
-// update and actuation for any lane type. Included after the lane operations of every lane
-// type the includer uses (lane_ops.hpp, and lane_ops_simd.hpp for a vector type: vector types
-// have no namespace for argument-dependent lookup).
+// The voxel kernels (KernelSet::gather, update and actuate, kernels.hpp): the gather voxel by
+// voxel on 4-double records, the update and actuation for any lane type (lanes.hpp).
 //
 // Each lane evaluates exactly the scalar operations, in the same order, whichever lane type
 // runs it; branches of the scalar formulation become selects, and the rare rotations over
@@ -14,8 +12,8 @@
 #include <cstring>
 
 #include "elementary.hpp"
-#include "lane_ops.hpp"
-#include "voxel_kernel.hpp"
+#include "kernels.hpp"
+#include "lanes.hpp"
 
 namespace plastivox {
 namespace {
@@ -215,12 +213,11 @@ inline void actuate_lanes(const double* stiff, const double* phase, double* size
   store(size, i, k.L * pick(factor < k.min_factor, splat(k.min_factor, T{}), factor));
 }
 
-template <class T, int W>
-inline void run_actuate_lanes(const double* stiff, const double* phase, double* size, int n,
-                              const ActuationConstants& k) {
-  int i = 0;
-  for (; i + W <= n; i += W) actuate_lanes<T>(stiff, phase, size, i, k);
-  for (; i < n; ++i) actuate_lanes<double>(stiff, phase, size, i, k);
+template <class T>
+inline void run_actuate(const double* stiff, const double* phase, double* size, int n,
+                        const ActuationConstants& k) {
+  over_lanes<T>(n,
+                [&](auto lane, int i) { actuate_lanes<decltype(lane)>(stiff, phase, size, i, k); });
 }
 
 // Slow (global) damping: a small fraction of the critical damping of the voxel's own axial
@@ -234,31 +231,33 @@ inline T slow_damping_lanes(const VoxelKernelIo& io, int i, const VoxelConstants
   return (k.slow_zeta * c_lin) / k.mass;
 }
 
-template <class T, int W>
+template <class T>
 inline void run_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
-  int i = 0;
-  for (; i + W <= n; i += W) {
-    double coef[W];
-    store(coef, 0, slow_damping_lanes<T>(io, i, k));
-    for (int j = 0; j < W; ++j) gather_voxel(io, i + j, k, coef[j]);
-  }
-  for (; i < n; ++i) gather_voxel(io, i, k, slow_damping_lanes<double>(io, i, k));
+  over_lanes<T>(n, [&](auto lane, int i) {
+    using L = decltype(lane);
+    double coef[kLanes<L>];
+    store(coef, 0, slow_damping_lanes<L>(io, i, k));
+    for (int j = 0; j < kLanes<L>; ++j) gather_voxel(io, i + j, k, coef[j]);
+  });
 }
 
-template <class T, int W>
-inline VoxelUpdateSummary run_update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int n,
-                                           const VoxelConstants& k) {
+template <class T>
+inline VoxelUpdateSummary run_update(const VoxelKernelIo& io, const VoxelStateOut& st, int n,
+                                     const VoxelConstants& k) {
   using Mask = decltype(T{} < T{});
   T max_speed2 = splat(0.0, T{});
   Mask bad = max_speed2 < max_speed2;  // all clear
   double max_speed2_tail = 0;
   bool bad_tail = false;
-  int i = 0;
-  for (; i + W <= n; i += W) update_lanes<T, Mask>(io, st, i, k, max_speed2, bad);
-  for (; i < n; ++i) update_lanes<double, bool>(io, st, i, k, max_speed2_tail, bad_tail);
+  over_lanes<T>(n, [&](auto lane, int i) {
+    if constexpr (kLanes<decltype(lane)> == 1)
+      update_lanes<double, bool>(io, st, i, k, max_speed2_tail, bad_tail);
+    else
+      update_lanes<T, Mask>(io, st, i, k, max_speed2, bad);
+  });
   VoxelUpdateSummary summary;
   summary.max_speed2 = max_speed2_tail;
-  for (int j = 0; j < W; ++j)
+  for (int j = 0; j < kLanes<T>; ++j)
     summary.max_speed2 = std::max(summary.max_speed2, lane_get(max_speed2, j));
   summary.non_finite = bad_tail || any(bad);
   return summary;

@@ -1,13 +1,11 @@
-// The batched bond kernel, part 2: one bond (or one group of lanes) for any lane type. See
-// bond_lanes.hpp for how it is included.
+// The batched bond kernel (KernelSet::bond, kernels.hpp) for any lane type (lanes.hpp).
 //
-// The model is that of bond_forces.cpp (exact bond model, chord-aligned frame), written
-// once as a template over the lane type: `double` for the scalar set and the tails, 4-wide
-// (AVX2) and 8-wide (AVX-512) GCC vectors of doubles in their own files. All evaluate the
-// same IEEE operations in the same order (no FMA: -ffp-contract=off), so a bond's result does
-// not depend on which lane type computed it. The rotation matrix of voxel a is Eigen's
-// toRotationMatrix() formula with its columns cyclically permuted so the bond's axis comes
-// first (a per-lane select), and rotations of any size take atan_over_t (elementary.hpp).
+// The model is that of bond_forces.cpp (exact bond model, chord-aligned frame), written once
+// as a template over the lane type; all lane types evaluate the same IEEE operations in the
+// same order (no FMA: -ffp-contract=off), so a bond's result does not depend on which lane
+// type computed it. The rotation matrix of voxel a is Eigen's toRotationMatrix() formula with
+// its columns cyclically permuted so the bond's axis comes first (a per-lane select), and
+// rotations of any size take atan_over_t (elementary.hpp).
 // The arithmetic is arranged for a short chain of dependent operations (the chord frame is
 // not normalised, results go to the world frame through the frame's axes), so it matches
 // the scalar path's to rounding, not to the bit; the scalar path only ever takes whole
@@ -16,17 +14,52 @@
 // (listed in io.redo).
 #pragma once
 
-#include "bond_lanes.hpp"
 #include "elementary.hpp"
+#include "kernels.hpp"
+#include "lanes.hpp"
 
 namespace plastivox {
 namespace {
 
+// Inputs of one group of bonds: what the kernel reads from their voxels.
+template <class T>
+struct BondIn {
+  T dx, dy, dz;      // centre of b minus centre of a, m, world frame
+  T ax, ay, az, aw;  // orientation of a
+  T bx, by, bz, bw;  // orientation of b
+  T size_a, size_b;  // actuated sizes, m
+  T ea, eb;          // moduli, Pa
+  T valid;           // 1 if the previous deformation is recorded, else 0
+};
+
+template <class T>
+inline BondIn<T> gather(const BondKernelIo& io, int b) {
+  const int* ia = io.bond_a + b;
+  const int* ib = io.bond_b + b;
+  BondIn<T> in;
+  T ca[4], cb[4];
+  load_records(io.centre_size, ia, ca);
+  load_records(io.centre_size, ib, cb);
+  in.dx = cb[0] - ca[0], in.dy = cb[1] - ca[1], in.dz = cb[2] - ca[2];
+  in.size_a = ca[3], in.size_b = cb[3];
+  T qa[4], qb[4];
+  load_records(io.quat, ia, qa);
+  load_records(io.quat, ib, qb);
+  in.ax = qa[0], in.ay = qa[1], in.az = qa[2], in.aw = qa[3];
+  in.bx = qb[0], in.by = qb[1], in.bz = qb[2], in.bw = qb[3];
+  in.ea = load_indexed(io.stiff, ia, 0, T{}), in.eb = load_indexed(io.stiff, ib, 0, T{});
+  const T one = splat(1.0, T{});
+  in.valid = io.all_valid ? one : pick(load_flag(io.prev_valid, b, T{}), one, splat(0.0, T{}));
+  return in;
+}
+
 template <class T>
 inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, int& redo_count) {
   const T one = splat(1.0, T{}), zero = splat(0.0, T{});
-  const BondIn<T> in = gather(io, i, T{});
-  const auto sel = axis_select(io, i, T{});
+  const BondIn<T> in = gather<T>(io, i);
+  // Per-lane choice by the bond's lattice axis: v0 if 0, v1 if 1, v2 if 2.
+  const auto is1 = mask_eq(io.axis_wide, i, 1, T{}), is2 = mask_eq(io.axis_wide, i, 2, T{});
+  const auto sel = [&](T v0, T v1, T v2) { return pick(is2, v2, pick(is1, v1, v0)); };
 
   // Rotation matrix of a (column-major, Eigen's toRotationMatrix), and its columns
   // permuted so the bond's axis comes first: c[0..2] = column d, c[3..5] = column d + 1, ...
@@ -91,7 +124,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   const T ratio2 = atan_over_t(t2sq, redo);
   const T k2 = (ratio2 + ratio2) * inv_ww * sgn;
   const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
-  append_redo(redo, i, io, redo_count);
+  for_each_lane(redo, [&](int j) { io.redo[redo_count++] = i + j; });
 
   // Axial strain over the nominal length; harmonic-mean modulus.
   const T rest = 0.5 * (in.size_a + in.size_b);
@@ -161,13 +194,10 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   }
 }
 
-// All bonds [0, n): groups of W lanes of type T, then the rest one by one.
-template <class T, int W>
-inline int run_bond_lanes(const BondKernelIo& io, int n, const BondConstants& k) {
+template <class T>
+inline int run_bonds(const BondKernelIo& io, int n, const BondConstants& k) {
   int redo_count = 0;
-  int i = 0;
-  for (; i + W <= n; i += W) bond_lanes<T>(io, i, k, redo_count);
-  for (; i < n; ++i) bond_lanes<double>(io, i, k, redo_count);
+  over_lanes<T>(n, [&](auto lane, int i) { bond_lanes<decltype(lane)>(io, i, k, redo_count); });
   return redo_count;
 }
 

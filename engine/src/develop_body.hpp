@@ -1,9 +1,9 @@
-// develop_voxels (develop_kernel.hpp) for any lane type; included after the lane operations
-// of the lane types used (see voxel_lanes_body.hpp). develop.cpp says what the rule is and why.
+// The development kernel (KernelSet::develop, kernels.hpp) for any lane type (lanes.hpp).
+// develop.cpp says what the rule is and why.
 #pragma once
 
-#include "develop_kernel.hpp"
-#include "lane_ops.hpp"
+#include "kernels.hpp"
+#include "lanes.hpp"
 
 namespace plastivox {
 namespace {
@@ -88,11 +88,9 @@ inline void develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k)
   store(io.stiffness, i, pick(active, next, e));
 }
 
-template <class T, int W>
-inline void run_develop_lanes(const DevelopIo& io, int n, const DevelopConstants& k) {
-  int i = 0;
-  for (; i + W <= n; i += W) develop_lanes<T>(io, i, k);
-  for (; i < n; ++i) develop_lanes<double>(io, i, k);
+template <class T>
+inline void run_develop(const DevelopIo& io, int n, const DevelopConstants& k) {
+  over_lanes<T>(n, [&](auto lane, int i) { develop_lanes<decltype(lane)>(io, i, k); });
 }
 
 }  // namespace
