@@ -9,6 +9,7 @@
 
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
 
 namespace plastivox::cli {
@@ -86,6 +87,7 @@ analysis::StudyOptions parse_options(Args& args, std::string* out, bool* viewer)
   if (!treatments.empty()) o.treatments = parse_treatments(treatments);
   o.allow_mixed_physics = take_flag(args, "--allow-mixed-physics");
   reject_unknown_options(args);
+  render::limit_raster_threads(o.threads);
   if (out->empty()) throw UsageError{"--out DIR is required"};
   if (args.empty())
     throw UsageError{"expected results files: plastivox analyze RESULTS.h5 [...] --out DIR"};

@@ -13,6 +13,7 @@
 #include "experiment/cost_estimate.hpp"
 #include "experiment/experiment_run.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/render/offscreen.hpp"
 #include "plastivox/robot_file.hpp"
 
 namespace plastivox::cli {
@@ -123,6 +124,7 @@ int cmd_experiment(const Args& in) {
     if (json_out) std::printf("%s\n", plan.json().c_str());
   }
   if (estimate_only) return 0;
+  render::limit_raster_threads(opt.threads >= 0 ? opt.threads : config.threads);
 
   opt.stop_requested = install_stop_signals("experiment");
   experiment::Progress progress(stderr);

@@ -12,10 +12,19 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <string>
+#include <thread>
 
 #include "fp_guard.hpp"
 
 namespace plastivox::render {
+
+void limit_raster_threads(int threads) {
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (threads <= 0 || (cores > 0 && static_cast<unsigned>(threads) >= cores)) return;
+  // 0: no rasteriser threads, llvmpipe draws on the thread that calls GL.
+  setenv("LP_NUM_THREADS", std::to_string(threads == 1 ? 0 : threads).c_str(), /*overwrite=*/0);
+}
 
 // ---------------------------------------------------------------------------------------
 // OffscreenContext

@@ -40,6 +40,13 @@ class RenderError : public Error {
   using Error::Error;
 };
 
+// Caps llvmpipe's rasteriser threads at what a command was given (`--threads`): with 1, it
+// draws on the calling thread only; with n below this machine's cores, on n threads; with 0
+// or at least the cores, Mesa's default (one per core). Sets LP_NUM_THREADS, unless the user
+// set it, for the contexts created after the call (Mesa reads it when it creates its first
+// one): call before any drawing. The pixels do not depend on the count.
+void limit_raster_threads(int threads);
+
 // An off-screen RGBA8 OpenGL context of width x height pixels with a 24-bit depth and 8-bit
 // stencil buffer, current on the calling thread after construction. Not copyable; use from
 // one thread. Sizes from 1x1 to 16384x16384 (1920x1080 and 3840x2160 are routine).
