@@ -9,6 +9,7 @@
 
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
 

@@ -2,6 +2,7 @@
 // the champions side by side (the paper's Figs. 2-4).
 #include <cstdio>
 
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/scene.hpp"
 #include "render_cli.hpp"

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "plastivox/atomic_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/viewer.hpp"
 #include "render_cli.hpp"
 

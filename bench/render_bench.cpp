@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/robot_file.hpp"

@@ -30,12 +30,17 @@ target_include_directories(plastivox_render PUBLIC ${CMAKE_CURRENT_LIST_DIR}/inc
 # ImGui's headers are public (callers draw with ImDrawList); SYSTEM keeps their warnings out.
 target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
                            PRIVATE ${OSMESA_INCLUDE_DIR})
-# Evolution results and VXA files are read inside (load_life_source); nothing of them is in
-# the public headers, so they stay private.
+# Drawing knows lives and frames only: reading them from robot, results and recorded-life
+# files is plastivox_render_files' (below).
 target_link_libraries(plastivox_render PUBLIC plastivox_engine
-                      PRIVATE plastivox_vxa plastivox_evo_h5 plastivox_video
-                              nlohmann_json::nlohmann_json ${IMGUI_LIBRARY} ${STB_LIBRARY}
-                              ${OSMESA_LIBRARY} PNG::PNG)
+                      PRIVATE plastivox_video nlohmann_json::nlohmann_json ${IMGUI_LIBRARY}
+                              ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
 # Compile-time default of the assets directory; $PLASTIVOX_ASSETS overrides it at run time.
 target_compile_definitions(plastivox_render PRIVATE
   PLASTIVOX_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")
+
+# plastivox_render_files: lives read from robot (.json, .vxa), results and recorded-life (.h5)
+# files, and the rendering commands that take file names (plastivox/render/files.hpp).
+add_library(plastivox_render_files ${CMAKE_CURRENT_LIST_DIR}/src/files.cpp)
+target_link_libraries(plastivox_render_files PUBLIC plastivox_render
+                      PRIVATE plastivox_vxa plastivox_evo_h5)

@@ -14,6 +14,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/life_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/history_file.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/robot_file.hpp"

@@ -8,6 +8,7 @@
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"

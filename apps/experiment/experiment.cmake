@@ -36,4 +36,4 @@ target_include_directories(plastivox_experiment PUBLIC ${CMAKE_CURRENT_SOURCE_DI
   ${CMAKE_CURRENT_SOURCE_DIR}/experiment)
 target_link_libraries(plastivox_experiment PUBLIC plastivox_evo_h5 plastivox_analysis plastivox_study
   PRIVATE nlohmann_json::nlohmann_json)
-target_link_libraries(plastivox_experiment PRIVATE plastivox_render plastivox_video plastivox_panels)
+target_link_libraries(plastivox_experiment PRIVATE plastivox_render_files plastivox_video plastivox_panels)

@@ -17,6 +17,7 @@
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/parallel.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
 #include "plastivox/render/render_life.hpp"

@@ -73,32 +73,11 @@ std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle&
   return {std::min(shown, physics.duration), physics.duration};
 }
 
-namespace {
-
-// Everything about a gallery request that can be wrong before anything is simulated.
 void check_gallery_request(const GalleryStyle& style, size_t tiles, const std::string& out) {
   if (tiles == 0) throw RenderError("gallery: no input files");
   if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
   check_output_path(out);
   check_gallery_size(style, static_cast<int>(tiles));
-}
-
-}  // namespace
-
-GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
-                                  const std::string& out, const LogFn& log) {
-  check_gallery_request(style, inputs.size(), out);  // before any simulation
-  std::vector<GalleryEntry> entries;
-  for (size_t k = 0; k < inputs.size(); ++k) {
-    GalleryEntry e;
-    e.source = load_life_source(inputs[k]);
-    if (log)
-      log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
-          inputs[k] + " (" + e.source.label + ")");
-    e.life = simulate_life(e.source, gallery_times(e.source.physics, style));
-    entries.push_back(std::move(e));
-  }
-  return render_gallery(entries, style, out);
 }
 
 GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const GalleryStyle& style,

@@ -1,43 +1,14 @@
 #include "plastivox/render/life.hpp"
-#include "plastivox/evo/life_file.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
 
-#include "plastivox/evo/champion.hpp"
-#include "plastivox/evo/results_file.hpp"
 #include "plastivox/render/offscreen.hpp"  // RenderError
 #include "plastivox/robot_file.hpp"
-#include "plastivox/robot_io.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::render {
-
-LifeSource load_life_source(const std::string& path, int generation) {
-  if (path.ends_with(".h5") && evo::is_life_file(path)) return recorded_life_source(path);
-  LifeSource src;
-  src.path = path;
-  if (path.ends_with(".h5")) {
-    const evo::ResultsFile results = evo::read_results(path);
-    const evo::RunState& run = results.state;
-    const evo::ChampionRecord& champion = evo::champion_at(run, generation, path);
-    src.robot = evo::champion_robot(champion, generation < 0 ? run.generations_done : generation);
-    src.physics = run.config.physics;
-    src.label =
-        std::string(to_string(run.config.treatment)) + " · seed " + std::to_string(run.config.seed);
-  } else if (path.ends_with(".vxa") || path.ends_with(".json")) {
-    LoadedRobot file = load_robot(path);
-    src.robot = std::move(file.robot);
-    src.physics = file.physics;
-    src.warnings = std::move(file.warnings);
-    src.label = src.robot.name.empty() ? path : src.robot.name;
-  } else {
-    throw InputError(path +
-                     ": expected a robot (.json, .vxa), a results file or a recorded life (.h5)");
-  }
-  return src;
-}
 
 std::shared_ptr<const Model> compile_life_model(const LifeSource& source) {
   return std::make_shared<const Model>(compile(source.robot, source.physics));

@@ -1,31 +1,15 @@
 // Drawing a recorded life (plastivox simulate --record life.h5) without simulating it again:
-// the renderer's LifeSource / LifeFrame from the file (declared in plastivox/render/life.hpp).
+// its frames as the renderer's LifeFrames (declared in plastivox/render/life.hpp).
 #include <cmath>
 
-#include "plastivox/evo/life_file.hpp"
 #include "plastivox/render/life.hpp"
 #include "plastivox/render/offscreen.hpp"  // RenderError
 
 namespace plastivox::render {
 
-LifeSource recorded_life_source(const std::string& path) {
-  auto life = std::make_shared<evo::RecordedLife>(evo::read_life_file(path));
-  if (life->recording.frames.empty()) throw RenderError(path + ": the recorded life has no frames");
-  LifeSource src;
-  src.path = path;
-  src.robot = life->robot;
-  src.physics = life->physics;
-  // The life is as long as its recording (a life that went unstable ends early).
-  src.physics.duration = std::min(src.physics.duration, life->recording.frames.back().time);
-  src.label = "recorded · " + std::string(to_string(life->physics.treatment));
-  if (life->seed) src.label += " · seed " + std::to_string(*life->seed);
-  src.recorded = std::move(life);
-  return src;
-}
-
 std::vector<LifeFrame> recorded_frames(const LifeSource& source, const std::vector<double>& times) {
   if (!source.recorded) throw RenderError(source.path + ": not a recorded life");
-  const evo::RecordedLife& life = *source.recorded;
+  const RecordedFrames& life = *source.recorded;
   const std::vector<Frame>& frames = life.recording.frames;
   std::vector<LifeFrame> out;
   out.reserve(times.size());

@@ -134,17 +134,6 @@ void check_output_path(const std::string& path) {
   if (fs::is_directory(p, ec)) throw RenderError(path + ": cannot write: it is a folder");
 }
 
-void render_frame_file(const std::string& source_path, double time, const FrameStyle& style,
-                       const std::string& out, const LogFn& log) {
-  check_output_path(out);
-  const LifeSource source = load_life_source(source_path);
-  for (const std::string& w : source.warnings) say(log, "warning: " + w);
-  const std::string at = "t = " + std::to_string(time) + " s";
-  say(log, source.recorded ? "reading the recorded frame at " + at
-                           : "simulating " + source_path + " to " + at);
-  write_png(out, render_frame(source, time, style), style.width, style.height);
-}
-
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {
   const Life life = source.recorded ? recorded_life(source, {time}) : simulate_life(source, {time});
   const ColorScale scale =
@@ -156,13 +145,16 @@ std::vector<uint8_t> render_frame(const LifeSource& source, double time, const F
   return renderer.render(life, life.frames[0], scale, to_string(source.physics.treatment), camera);
 }
 
-VideoSummary render_video_file(const std::string& source_path, const FrameStyle& style,
-                               const VideoJob& job, const std::string& out, const LogFn& log) {
+void check_video_request(const VideoJob& job, const std::string& out) {
   if (!(job.fps > 0 && job.fps <= 1000)) throw RenderError("--fps must be in (0, 1000]");
   if (job.stride < 1) throw RenderError("--stride must be a positive whole number");
   check_output_path(out);
-  const LifeSource source = load_life_source(source_path);
-  for (const std::string& w : source.warnings) say(log, "warning: " + w);
+}
+
+VideoSummary render_video(const LifeSource& source, const FrameStyle& style, const VideoJob& job,
+                          const std::string& out, const LogFn& log) {
+  check_video_request(job, out);
+  const std::string& source_path = source.path;
   const double end = job.end < 0 ? source.physics.duration : job.end;
   if (!(job.start >= 0 && end <= source.physics.duration + 1e-9 && job.start < end))
     throw RenderError(source_path + ": time range [" + std::to_string(job.start) + ", " +

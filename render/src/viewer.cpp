@@ -17,7 +17,6 @@
 
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/base/parallel.hpp"
-#include "plastivox/evo/life_file.hpp"
 #include "plastivox/render/assets.hpp"
 #include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/life.hpp"
@@ -245,11 +244,7 @@ ReportLife simulate_report_life(const LifeSource& source, double fps,
   return out;
 }
 
-ShownLife show_life(const std::string& file, int generation, double fps,
-                    const std::function<void(const std::string&)>& log) {
-  const LifeSource source = load_life_source(file, generation);
-  if (log)
-    for (const std::string& w : source.warnings) log("warning: " + w);
+ShownLife show_life(const LifeSource& source, double fps) {
   if (source.recorded) {
     ShownLife out = compiled_life(source);
     out.recording = source.recorded->recording;
@@ -257,12 +252,6 @@ ShownLife show_life(const std::string& file, int generation, double fps,
     out.info.com_settled = source.recorded->com_settled;
     out.info.fitness = source.recorded->fitness;
     return out;
-  }
-  if (log) {
-    char what[96];
-    std::snprintf(what, sizeof what, " (%g s at %g frames per second)", source.physics.duration,
-                  fps);
-    log("simulating " + file + what);
   }
   return simulate_report_life(source, fps, {}).shown;
 }
@@ -443,27 +432,6 @@ void remove_other_lives(const std::string& dir, const std::vector<LifeLink>& kee
         std::any_of(keep.begin(), keep.end(), [&](const LifeLink& l) { return l.src == src; });
     if (!kept && e.path().extension() == ".js") fs::remove(e.path());
   }
-}
-
-std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
-                                         const std::string& dir, double fps, int threads,
-                                         const std::function<void(const std::string&)>& log) {
-  std::vector<std::optional<LifeLink>> links(sources.size());
-  std::vector<std::string> failures(sources.size());
-  parallel_for(sources.size(), threads, [&](size_t i) {
-    const ShownLife shown = show_life(sources[i].file, sources[i].generation, fps);
-    if (!shown.failure.empty())
-      failures[i] = sources[i].file + ": no 3-D replay, " + shown.failure;
-    else
-      links[i] = write_report_life(dir, sources[i].id, shown.life());
-  });
-  std::vector<LifeLink> out;
-  for (size_t i = 0; i < links.size(); ++i) {
-    if (links[i]) out.push_back(*links[i]);
-    if (!failures[i].empty() && log) log(failures[i]);
-  }
-  remove_other_lives(dir, out);
-  return out;
 }
 
 }  // namespace plastivox::render

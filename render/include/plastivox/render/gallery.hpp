@@ -37,11 +37,9 @@ class GallerySizeError : public RenderError {
 // Throws GallerySizeError when a gallery of `inputs` tiles does not fit this style's size.
 void check_gallery_size(const GalleryStyle& style, int inputs);
 
-// Renders the gallery to a PNG at `out` (atomically). Inputs are results files (.h5; robot
-// files are accepted too). `log` receives one line per item. Throws on the first bad input,
-// leaving no file.
-GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
-                                  const std::string& out, const LogFn& log = {});
+// Everything about a gallery of `tiles` champions to `out` that can be wrong before anything
+// is simulated; throws RenderError.
+void check_gallery_request(const GalleryStyle& style, size_t tiles, const std::string& out);
 
 // A tile's champion and its life's frames at gallery_times(), in that order.
 struct GalleryEntry {
@@ -51,8 +49,9 @@ struct GalleryEntry {
 // The times a gallery needs of each life: the frame shown (style.time, or the end of
 // settling) and the end of life (for the heading).
 std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle& style);
-// Renders the gallery from champions already simulated (render_gallery_file simulates them
-// itself; the experiment shares one simulation per champion with the 3-D viewer's lives).
+// Renders the gallery to a PNG at `out` (atomically) from champions already simulated
+// (render_gallery_file, plastivox/render/files.hpp, reads and simulates them; the experiment
+// shares one simulation per champion with the 3-D viewer's lives).
 GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const GalleryStyle& style,
                              const std::string& out);
 

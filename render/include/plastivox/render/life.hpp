@@ -1,7 +1,7 @@
-// Where a rendered life comes from: a robot file (.json plastivox robot or .vxa), simulated
-// under its own physics, or an evolution results file (.h5), whose champion is simulated
-// again (deterministically, so exactly the life evolution scored) under the run's physics
-// and treatment. No GL here.
+// A life to draw: a robot under its physics, simulated (deterministically, so a champion's is
+// exactly the life evolution scored), or frames recorded earlier. Reading one from a file is
+// plastivox/render/files.hpp's (library plastivox_render_files); nothing here reads files.
+// No GL here.
 #pragma once
 
 #include <functional>
@@ -12,31 +12,27 @@
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
 
-namespace plastivox::evo {
-struct RecordedLife;  // plastivox/evo/life_file.hpp (the evolver's files; render links them
-                      // privately, so its public headers only name the type)
-}  // namespace plastivox::evo
-
 namespace plastivox::render {
 
+// A life as recorded (plastivox simulate --record life.h5): its frames and what was known of
+// its settling and fitness.
+struct RecordedFrames {
+  Recording recording;  // frames in time order
+  bool settled = false;
+  Eigen::Vector3d com_settled = Eigen::Vector3d::Zero();  // m
+  double fitness = 0;                                     // voxel lengths
+};
+
 struct LifeSource {
-  std::string path;                   // the file read
+  std::string path;                   // the file read (names the life in messages)
   RobotDef robot;                     // the robot (lattice arrays: present, E0, alpha, phase)
   PhysicsDef physics;                 // what it is simulated under (treatment included)
   std::string label;                  // short caption: "stress · seed 3" or the robot's name
   std::vector<std::string> warnings;  // from reading a .vxa, one line each
   // A recorded life (`plastivox simulate --record life.h5`): its frames are drawn as
   // recorded, never simulated again (recorded_life() below). Null for every other source.
-  std::shared_ptr<const evo::RecordedLife> recorded;
+  std::shared_ptr<const RecordedFrames> recorded;
 };
-
-// Reads by extension: .json, .vxa, .h5 (a results file, generation -1: the last one done;
-// or a recorded life). Throws InputError / VxaError / ResultsError (all
-// std::runtime_error, one line naming the file).
-LifeSource load_life_source(const std::string& path, int generation = -1);
-
-// The source of a recorded-life file (evo::read_life_file): its robot, physics and frames.
-LifeSource recorded_life_source(const std::string& path);
 
 // A compiled robot with frames captured from its simulation.
 struct Life {

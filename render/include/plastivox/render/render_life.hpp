@@ -73,11 +73,6 @@ void check_output_path(const std::string& path);
 // (4 * style.width * style.height bytes). Throws RenderError.
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style);
 
-// Renders the frame at simulated time `time` (s) of the robot or results file `source` to
-// a PNG at `out` (written atomically), the camera framing it as life_cameras does.
-void render_frame_file(const std::string& source, double time, const FrameStyle& style,
-                       const std::string& out, const LogFn& log = {});
-
 struct VideoJob {
   double fps = 30;   // frames per second of the video
   double start = 0;  // simulated time of the first frame, s
@@ -96,12 +91,16 @@ struct VideoSummary {
                                 // started, or for "change" after it finished)
 };
 
+// Throws RenderError unless `job` is a valid request for a video at `out`.
+void check_video_request(const VideoJob& job, const std::string& out);
+
 // Renders a life as an MP4 at `out`: frames at simulated times start + k * stride / fps
 // while < end; every frame uses one colour scale (make_color_scale over all frames) and, by
 // default, the cameras of life_cameras over all frames. Drawing and encoding run at the same
 // time on two threads, after the simulation when the camera path or the colour scale needs
 // every frame, else alongside it on a third; the bytes are those of one after the other.
-VideoSummary render_video_file(const std::string& source, const FrameStyle& style,
-                               const VideoJob& job, const std::string& out, const LogFn& log = {});
+// (render_video_file, plastivox/render/files.hpp, reads the life from a file first.)
+VideoSummary render_video(const LifeSource& source, const FrameStyle& style, const VideoJob& job,
+                          const std::string& out, const LogFn& log = {});
 
 }  // namespace plastivox::render

@@ -77,8 +77,9 @@ struct ReportLife {
 };
 ReportLife simulate_report_life(const LifeSource& source, double fps,
                                 const std::vector<double>& times);
-ShownLife show_life(const std::string& file, int generation, double fps,
-                    const std::function<void(const std::string&)>& log = {});
+// The viewer's life of `source`: its recording as recorded, or simulated at `fps` frames per
+// simulated second.
+ShownLife show_life(const LifeSource& source, double fps);
 
 // A self-contained page replaying `lives` (one at a time; a list to pick from when there are
 // several): everything inlined, so it opens from file:// with the network off.
@@ -107,23 +108,8 @@ std::string viewer_fragment(const std::vector<LifeLink>& lives, bool buttons);
 // Frames per simulated second of the lives a report replays.
 constexpr double kViewerFps = 30;
 
-// A champion a report replays: its id (the run label, also the script's name), its results
-// file and generation (-1: the last).
-struct ReportLifeSource {
-  std::string id;
-  std::string file;
-  int generation = -1;
-};
-
 // Writes one life to `dir`/lives/<id>.js (atomically) and returns its link.
 LifeLink write_report_life(const std::string& dir, const std::string& id, const ViewerLife& life);
 // Removes every life in `dir`/lives/ but those of `keep` (lives of runs no longer shown).
 void remove_other_lives(const std::string& dir, const std::vector<LifeLink>& keep);
-// Writes each champion's life to `dir`/lives/<id>.js (simulated at `fps` frames per
-// simulated second, on up to `threads` threads), removes other lives there, and returns the
-// links in the sources' order. A life that does not finish is left out, with a line to `log`.
-std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
-                                         const std::string& dir, double fps, int threads,
-                                         const std::function<void(const std::string&)>& log);
-
 }  // namespace plastivox::render
