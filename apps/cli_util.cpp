@@ -58,6 +58,17 @@ int parse_count(const std::string& s, const std::string& option) {
   return static_cast<int>(v);
 }
 
+bool read_number(const std::string& text, double& v) {
+  size_t used = 0;
+  v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  return used == text.size();
+}
+
 bool take_flag(Args& args, const std::string& name) {
   auto it = std::find(args.begin(), args.end(), name);
   if (it == args.end()) return false;

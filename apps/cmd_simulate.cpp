@@ -21,14 +21,8 @@ namespace plastivox::cli {
 namespace {
 
 double parse_seconds(const std::string& s, const std::string& option) {
-  size_t used = 0;
   double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used != s.size() || !(v >= 0))
+  if (!read_number(s, v) || !(v >= 0))
     throw UsageError{option + " expects a number of seconds, got '" + s + "'"};
   return v;
 }

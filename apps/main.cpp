@@ -55,6 +55,22 @@ const char* kUsage =
     "  version  print version and commit\n"
     "plastivox CMD --help (or plastivox help CMD) prints a command's options and an example.\n";
 
+// The commands main() dispatches to, by name.
+using namespace plastivox::cli;
+struct Command {
+  const char* name;
+  int (*run)(const Args&);
+};
+const Command kCommands[] = {
+    {"simulate", cmd_simulate},     {"demo", cmd_demo},
+    {"evolve", cmd_evolve},         {"inspect", cmd_inspect},
+    {"hausdorff", cmd_hausdorff},   {"export", cmd_export},
+    {"analyze", cmd_analyze},       {"render", cmd_render},
+    {"video", cmd_video},           {"view", cmd_view},
+    {"gallery", cmd_gallery},       {"figures", cmd_figures},
+    {"experiment", cmd_experiment},
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,19 +96,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    if (cmd == "simulate") return cmd_simulate(args);
-    if (cmd == "demo") return cmd_demo(args);
-    if (cmd == "evolve") return cmd_evolve(args);
-    if (cmd == "inspect") return cmd_inspect(args);
-    if (cmd == "hausdorff") return cmd_hausdorff(args);
-    if (cmd == "export") return cmd_export(args);
-    if (cmd == "analyze") return cmd_analyze(args);
-    if (cmd == "render") return cmd_render(args);
-    if (cmd == "video") return cmd_video(args);
-    if (cmd == "view") return cmd_view(args);
-    if (cmd == "gallery") return cmd_gallery(args);
-    if (cmd == "figures") return cmd_figures(args);
-    if (cmd == "experiment") return cmd_experiment(args);
+    for (const Command& c : kCommands)
+      if (cmd == c.name) return c.run(args);
     if (cmd == "version" || cmd == "--version") {
       std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, PLASTIVOX_GIT_COMMIT);
       return 0;

@@ -12,14 +12,8 @@
 namespace plastivox::cli {
 
 inline double parse_number(const std::string& text, const std::string& option) {
-  size_t used = 0;
   double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(v))
+  if (!read_number(text, v) || !std::isfinite(v))
     throw UsageError{option + " expects a number, got '" + text + "'"};
   return v;
 }

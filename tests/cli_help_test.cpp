@@ -23,11 +23,11 @@ std::string source(const std::string& relative) {
   return ss.str();
 }
 
-// The subcommands main.cpp dispatches (`if (cmd == "NAME") return cmd_...`), plus version.
+// The subcommands main.cpp dispatches (its kCommands rows `{"NAME", cmd_NAME}`), plus version.
 std::vector<std::string> dispatched_commands() {
   const std::string main_cpp = source("apps/main.cpp");
   std::vector<std::string> names;
-  const std::regex dispatch(R"re(if \(cmd == "([a-z]+)"\) return cmd_)re");
+  const std::regex dispatch(R"re(\{"([a-z]+)", cmd_[a-z]+\})re");  // a row of kCommands
   for (auto it = std::sregex_iterator(main_cpp.begin(), main_cpp.end(), dispatch);
        it != std::sregex_iterator(); ++it)
     names.push_back((*it)[1]);

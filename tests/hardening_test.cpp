@@ -94,6 +94,13 @@ class Hardening : public testing::ScratchDirTest {
     text.insert(text.rfind('}'), ", \"physics\": " + physics_json);
     return write("walker.json", text);
   }
+  // `plastivox evolve` on tiny_config(generations) with `from` replaced by `to` (c.json,
+  // out r.h5).
+  Output evolve_edited(int generations, const std::string& from, const std::string& to) const {
+    std::string cfg = tiny_config(generations);
+    cfg.replace(cfg.find(from), from.size(), to);
+    return run("evolve --config " + write("c.json", cfg) + " --out " + path("r.h5"));
+  }
 };
 
 // ---- 1. A full disk: one line, exit 1, the previous results file intact ----
@@ -314,9 +321,7 @@ TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "dt.vxa: <Simulator>/<Integration>/<DtFrac>: must be in [0.001, 1.5]");
   // An evolution config is refused up front, before any generation.
-  std::string cfg = tiny_config(2);
-  cfg.replace(cfg.find("\"duration\": 0.2"), 15, "\"duration\": 5000, \"dt_frac\": 0.001");
-  o = run("evolve --config " + write("c.json", cfg) + " --out " + path("r.h5"));
+  o = evolve_edited(2, "\"duration\": 0.2", "\"duration\": 5000, \"dt_frac\": 0.001");
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "c.json: physics.duration: a life of 5e+03 s");
   EXPECT_FALSE(fs::exists(path("r.h5")));
@@ -492,9 +497,7 @@ TEST_F(Hardening, NothingIsDroppedSilently) {
   d = run("simulate " + walker_with(R"({"duration": 0.01, "duration": 0.02})"));
   EXPECT_EQ(d.status, 1);
   expect_one_line(d, "walker.json: physics.duration: given twice");
-  std::string cfg = tiny_config(1);
-  cfg.replace(cfg.find("\"nz\": 4"), 7, "\"nz\": 4, \"nx\": 5");
-  d = run("evolve --config " + write("c.json", cfg) + " --out " + path("r.h5"));
+  d = evolve_edited(1, "\"nz\": 4", "\"nz\": 4, \"nx\": 5");
   EXPECT_EQ(d.status, 1);
   expect_one_line(d, "c.json: lattice.nx: given twice");
   d = run("simulate --duration 0.01 --physics '{\"gravity\": 0, \"gravity\": -1}'");

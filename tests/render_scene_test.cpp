@@ -156,12 +156,17 @@ TEST(RenderColorScale, PaperRangeTicksAreDecadesOverThePhysicsRange) {
   EXPECT_DOUBLE_EQ(s.position(std::log10(1e8)), 0.5);
 }
 
+// A 2x2x2 cube of E = e but voxel k of E = e_k, compiled with the paper's physics.
+Model cube_with_one_voxel_at(double e, int k, double e_k) {
+  RobotDef r = demo_cube(2, e);
+  r.stiffness[k] = e_k;
+  return compile(r, preset_gecco2018_code());
+}
+
 // The champions of the default study lie between about 1.6e9 and 4.8e10 Pa: the default
 // (data) range is 1e9..5e10 with 1-2-5 ticks, not the paper's 1e5..1e11.
 TEST(RenderColorScale, DataRangeIsTheValuesShownRoundedToReadableTicks) {
-  RobotDef r = demo_cube(2, 1.6e9);
-  r.stiffness[3] = 4.8e10;
-  const Model model = compile(r, preset_gecco2018_code());
+  const Model model = cube_with_one_voxel_at(1.6e9, 3, 4.8e10);
   const ColorScale s = make_color_scale(ColorMode::kCongenital, model, {});
   EXPECT_DOUBLE_EQ(s.lo, 9);
   EXPECT_DOUBLE_EQ(s.hi, std::log10(5e10));
@@ -179,9 +184,7 @@ TEST(RenderColorScale, DataRangeIsTheValuesShownRoundedToReadableTicks) {
 }
 
 TEST(RenderColorScale, DataRangeOfManyDecadesUsesDecadesAndAUniformRobotStillHasASpan) {
-  RobotDef r = demo_cube(2, 3e5);
-  r.stiffness[1] = 7e10;
-  const Model wide = compile(r, preset_gecco2018_code());
+  const Model wide = cube_with_one_voxel_at(3e5, 1, 7e10);
   const ColorScale s = make_color_scale(ColorMode::kCongenital, wide, {});
   EXPECT_DOUBLE_EQ(s.lo, 5);
   EXPECT_DOUBLE_EQ(s.hi, 11);

@@ -9,31 +9,30 @@
 
 namespace plastivox::analysis {
 
+namespace {
+
+// Each body plan's name and symbol, in one place.
+struct PlanNames {
+  BodyPlan plan;
+  const char* name;
+  const char* symbol;  // UTF-8
+};
+constexpr PlanNames kPlanNames[] = {{BodyPlan::kPi, "Pi", "Π"},
+                                    {BodyPlan::kGamma, "Gamma", "Γ"},
+                                    {BodyPlan::kUpsilon, "Upsilon", "Υ"},
+                                    {BodyPlan::kOther, "other", "other"}};
+
+}  // namespace
+
 const char* to_string(BodyPlan p) {
-  switch (p) {
-    case BodyPlan::kPi:
-      return "Pi";
-    case BodyPlan::kGamma:
-      return "Gamma";
-    case BodyPlan::kUpsilon:
-      return "Upsilon";
-    case BodyPlan::kOther:
-      return "other";
-  }
+  for (const PlanNames& n : kPlanNames)
+    if (n.plan == p) return n.name;
   return "?";
 }
 
 const char* symbol(BodyPlan p) {
-  switch (p) {
-    case BodyPlan::kPi:
-      return "Π";
-    case BodyPlan::kGamma:
-      return "Γ";
-    case BodyPlan::kUpsilon:
-      return "Υ";
-    case BodyPlan::kOther:
-      return "other";
-  }
+  for (const PlanNames& n : kPlanNames)
+    if (n.plan == p) return n.symbol;
   return "?";
 }
 

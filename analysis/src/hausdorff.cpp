@@ -26,9 +26,8 @@ const char* to_string(TranslationSearch t) {
 }
 
 RotationSearch parse_rotation_search(const std::string& s) {
-  if (s == "none") return RotationSearch::kNone;
-  if (s == "paper") return RotationSearch::kPaper;
-  if (s == "all") return RotationSearch::kAll;
+  for (RotationSearch r : {RotationSearch::kNone, RotationSearch::kPaper, RotationSearch::kAll})
+    if (s == to_string(r)) return r;
   throw std::invalid_argument("unknown rotation search '" + s + "' (expected none, paper or all)");
 }
 

@@ -158,10 +158,7 @@ std::string ExperimentConfig::identity_json() const {
 }
 
 ExperimentConfig parse_experiment_config(const std::string& input, const std::string& src) {
-  json j = parse_json_input(input, src);
-  if (!j.is_object()) fail(src, "(file)", "expected a JSON object");
-  if (!j.contains("format") || j["format"] != "plastivox-experiment-config")
-    fail(src, "format", "expected \"plastivox-experiment-config\"");
+  json j = parse_json_file(input, src, "plastivox-experiment-config");
   if (!j.contains("version") || !j["version"].is_number_integer() ||
       j["version"].get<int64_t>() != kExperimentConfigVersion)
     fail(src, "version",

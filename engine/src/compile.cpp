@@ -1,6 +1,5 @@
 #include <algorithm>
 #include <cassert>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -8,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "plastivox/base/env.hpp"
 #include "plastivox/model.hpp"
 
 namespace plastivox {
@@ -131,16 +131,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
 }
 
 int64_t max_life_steps() {
-  const char* env = std::getenv("PLASTIVOX_MAX_STEPS");
-  if (!env) return 100'000'000;
-  char* end = nullptr;
-  errno = 0;
-  const long long v = std::strtoll(env, &end, 10);
-  if (errno != 0 || end == env || *end != '\0' || v < 1)
-    throw std::invalid_argument(std::string("PLASTIVOX_MAX_STEPS: expected a positive whole "
-                                            "number of steps, got '") +
-                                env + "'");
-  return v;
+  return positive_env_limit("PLASTIVOX_MAX_STEPS", 100'000'000, "steps");
 }
 
 double time_step_at(const PhysicsDef& def, double voxel_size, double e_top) {

@@ -56,6 +56,15 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
   }
 }
 
+nlohmann::json parse_json_file(std::string_view text, const std::string& source,
+                               const std::string& format) {
+  nlohmann::json j = parse_json_input(text, source);
+  if (!j.is_object()) json_field::fail(source, "(file)", "expected a JSON object");
+  if (!j.contains("format") || j["format"] != format)
+    json_field::fail(source, "format", "expected \"" + format + "\"");
+  return j;
+}
+
 namespace json_field {
 
 void fail(const std::string& source, const std::string& field, const std::string& what) {

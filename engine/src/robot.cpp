@@ -1,10 +1,11 @@
 #include "plastivox/robot.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+
+#include "plastivox/base/env.hpp"
 
 namespace plastivox {
 
@@ -15,16 +16,7 @@ int RobotDef::voxel_count() const {
 }
 
 int64_t max_lattice_sites() {
-  const char* env = std::getenv("PLASTIVOX_MAX_LATTICE_SITES");
-  if (!env) return int64_t{1} << 21;
-  char* end = nullptr;
-  errno = 0;
-  const long long v = std::strtoll(env, &end, 10);
-  if (errno != 0 || end == env || *end != '\0' || v < 1)
-    throw std::invalid_argument(std::string("PLASTIVOX_MAX_LATTICE_SITES: expected a positive "
-                                            "whole number of sites, got '") +
-                                env + "'");
-  return v;
+  return positive_env_limit("PLASTIVOX_MAX_LATTICE_SITES", int64_t{1} << 21, "sites");
 }
 
 void check_lattice_size(int nx, int ny, int nz) {

@@ -139,10 +139,7 @@ void apply_physics_json(const std::string& json_text, const std::string& where, 
 }
 
 RobotFile parse_robot_json(const std::string& src, const std::string& source) {
-  json j = parse_json_input(src, source);
-  if (!j.is_object()) fail(source, "(file)", "expected a JSON object");
-  if (!j.contains("format") || j["format"] != "plastivox-robot")
-    fail(source, "format", "expected \"plastivox-robot\"");
+  json j = parse_json_file(src, source, "plastivox-robot");
   if (!j.contains("version")) fail(source, "version", "missing");
   const int version = integer(j["version"], source, "version");
   if (version != 1)

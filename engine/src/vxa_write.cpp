@@ -34,6 +34,12 @@ class Xml {
     s_ += "<" + name + ">" + text + "</" + name + ">\n";
   }
   void tag(const std::string& name, double v) { tag(name, format_double(v)); }
+  // An element holding one number: <name><inner>v</inner></name>.
+  void block(const std::string& name, const std::string& inner, double v) {
+    open(name);
+    tag(inner, v);
+    close();
+  }
   void layer(const std::string& text) { s_ += "<Layer><![CDATA[" + text + "]]></Layer>\n"; }
   std::string& text() { return s_; }
 
@@ -190,9 +196,7 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
   x.tag("MidLifeFreezeTime", 0);
   x.tag("InitCmTime", p.settle_time);
   x.close();
-  x.open("EquilibriumMode");
-  x.tag("EquilibriumModeEnabled", 0);
-  x.close();
+  x.block("EquilibriumMode", "EquilibriumModeEnabled", 0);
   x.open("GA");
   x.tag("WriteFitnessFile", 1);
   x.tag("FitnessFileName", "fitness.xml");
@@ -202,12 +206,8 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
   x.close();  // Simulator
 
   x.open("Environment");
-  x.open("Fixed_Regions");
-  x.tag("NumFixed", 0);
-  x.close();
-  x.open("Forced_Regions");
-  x.tag("NumForced", 0);
-  x.close();
+  x.block("Fixed_Regions", "NumFixed", 0);
+  x.block("Forced_Regions", "NumForced", 0);
   x.open("Gravity");
   x.tag("GravEnabled", 1);
   x.tag("GravAcc", p.gravity);

@@ -119,8 +119,8 @@ Vec srgb_to_lab(const Vec& rgb) {
   return {116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)};
 }
 
-Colormap::Colormap(std::string name, bool cyclic, const std::vector<Vec>& lab_path)
-    : name_(std::move(name)), cyclic_(cyclic), lab_(lab_path) {
+Colormap::Colormap(std::string name, bool cyclic, const std::vector<Vec>& lab_path, int clipped)
+    : name_(std::move(name)), cyclic_(cyclic), lab_(lab_path), clipped_(clipped) {
   for (const Vec& lab : lab_) {
     Vec rgb = lab_to_srgb(lab);
     for (double& c : rgb) c = std::clamp(c, 0.0, 1.0);
@@ -158,9 +158,7 @@ const Colormap& Colormap::sequential() {
           return Vec{mix(18, 90, s), c, mix(295, 100, s)};
         },
         kEntries, &clipped);
-    Colormap m("sequential", false, path);
-    m.clipped_ = clipped;
-    return m;
+    return Colormap("sequential", false, path, clipped);
   }();
   return map;
 }
@@ -183,9 +181,7 @@ const Colormap& Colormap::diverging() {
         },
         half, &clipped, true);
     low.insert(low.end(), high.begin(), high.end());
-    Colormap m("diverging", false, low);
-    m.clipped_ = clipped;
-    return m;
+    return Colormap("diverging", false, low, clipped);
   }();
   return map;
 }
@@ -196,9 +192,7 @@ const Colormap& Colormap::cyclic_map() {
   static const Colormap map = [] {
     int clipped = 0;
     auto path = uniform_path([](double s) { return Vec{70, 37, 360 * s}; }, kEntries, &clipped);
-    Colormap m("cyclic", true, path);
-    m.clipped_ = clipped;
-    return m;
+    return Colormap("cyclic", true, path, clipped);
   }();
   return map;
 }

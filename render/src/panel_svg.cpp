@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "plastivox/base/markup.hpp"
 #include "plastivox/render/panel_drawing.hpp"
 
 namespace plastivox::render {
@@ -29,26 +30,7 @@ std::string colour(const Rgb& c) {
 }
 
 std::string escape(const std::string& text) {
-  std::string out;
-  for (char ch : text) {
-    switch (ch) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += ch;
-    }
-  }
-  return out;
+  return escape_markup(text, false);
 }
 
 std::string font_attributes(const FontFace& f) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "plastivox/base/markup.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis {
@@ -17,30 +18,9 @@ using study::display;
 
 // ---- escaping and small helpers ----
 
+// HTML text and attribute values.
 std::string esc(const std::string& s) {
-  std::string o;
-  for (char ch : s) {
-    switch (ch) {
-      case '&':
-        o += "&amp;";
-        break;
-      case '<':
-        o += "&lt;";
-        break;
-      case '>':
-        o += "&gt;";
-        break;
-      case '"':
-        o += "&quot;";
-        break;
-      case '\'':
-        o += "&#39;";
-        break;
-      default:
-        o += ch;
-    }
-  }
-  return o;
+  return escape_markup(s, true);
 }
 
 std::string td(const std::string& s, const char* cls = nullptr) {

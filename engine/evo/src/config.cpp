@@ -67,10 +67,7 @@ std::string EvolveConfig::identity_json() const {
 }
 
 EvolveConfig parse_config(const std::string& input, const std::string& src) {
-  json j = parse_json_input(input, src);
-  if (!j.is_object()) fail(src, "(file)", "expected a JSON object");
-  if (!j.contains("format") || j["format"] != "plastivox-evolve-config")
-    fail(src, "format", "expected \"plastivox-evolve-config\"");
+  json j = parse_json_file(input, src, "plastivox-evolve-config");
   if (!j.contains("version")) fail(src, "version", "missing");
   const int version = integer(j["version"], src, "version", 0, 1 << 30);
   if (version != kConfigVersion)

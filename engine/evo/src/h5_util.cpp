@@ -1,5 +1,7 @@
 #include "plastivox/evo/h5_util.hpp"
 
+#include <sys/stat.h>
+
 #include <cstring>
 #include <limits>
 
@@ -155,6 +157,14 @@ void Handle::reset() {
 
 void Ctx::fail(const std::string& object, const std::string& what) const {
   throw ResultsError(file + ": " + object + ": " + what);
+}
+
+Ctx read_context(const std::string& path) {
+  quiet_hdf5();
+  struct stat sb {};
+  if (::stat(path.c_str(), &sb) != 0) throw ResultsError(path + ": no such file");
+  if (!S_ISREG(sb.st_mode)) throw ResultsError(path + ": not a regular file");
+  return Ctx{path, static_cast<uint64_t>(sb.st_size)};
 }
 
 MemoryFile::MemoryFile(const Ctx& c, hsize_t user_block) : c_(c), user_block_(user_block) {

@@ -147,11 +147,7 @@ bool is_life_file(const std::string& path) {
 }
 
 RecordedLife read_life_file(const std::string& path) {
-  h5::quiet_hdf5();
-  struct stat sb {};
-  if (::stat(path.c_str(), &sb) != 0) throw ResultsError(path + ": no such file");
-  if (!S_ISREG(sb.st_mode)) throw ResultsError(path + ": not a regular file");
-  const Ctx c{path, static_cast<uint64_t>(sb.st_size)};
+  const Ctx c = h5::read_context(path);
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw ResultsError(path + ": not an HDF5 file (wrong format, or corrupt or truncated)");
   Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);

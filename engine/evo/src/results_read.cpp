@@ -1,8 +1,6 @@
 // Reading and checking the results file. Every dataset's class and shape is checked before
 // it is read, every cross-reference after, and both digests at the end: a file that
 // passes is exactly what a writer produced.
-#include <sys/stat.h>
-
 #include "file_seal.hpp"
 #include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
@@ -230,11 +228,7 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
 }  // namespace
 
 ResultsFile read_results(const std::string& path) {
-  h5::quiet_hdf5();
-  struct stat sb {};
-  if (::stat(path.c_str(), &sb) != 0) throw ResultsError(path + ": no such file");
-  if (!S_ISREG(sb.st_mode)) throw ResultsError(path + ": not a regular file");
-  const Ctx c{path, static_cast<uint64_t>(sb.st_size)};
+  const Ctx c = h5::read_context(path);
   seal::check_seal(path);  // before HDF5 parses anything
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw ResultsError(path +

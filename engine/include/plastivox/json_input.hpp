@@ -18,6 +18,12 @@ namespace plastivox {
 nlohmann::json parse_json_input(std::string_view text, const std::string& source,
                                 const std::string& field = "(file)");
 
+// A whole input file: parse_json_input, then an object whose "format" is `format`. Throws
+// InputError "<source>: (file): expected a JSON object" or "<source>: format: expected
+// \"<format>\"".
+nlohmann::json parse_json_file(std::string_view text, const std::string& source,
+                               const std::string& format);
+
 // Reading one field of a parsed input: each throws InputError "<source>: <field>: <what>"
 // when the value has the wrong type or range, so every input names its mistakes alike.
 namespace json_field {

@@ -32,7 +32,9 @@ class Colormap {
   static const Colormap& cyclic_map();
 
  private:
-  Colormap(std::string name, bool cyclic, const std::vector<std::array<double, 3>>& lab_path);
+  // `clipped`: how many entries of lab_path the gamut mapping reduced in chroma.
+  Colormap(std::string name, bool cyclic, const std::vector<std::array<double, 3>>& lab_path,
+           int clipped);
   std::string name_;
   bool cyclic_ = false;
   std::vector<std::array<double, 3>> lab_;  // kEntries CIELAB colours (after gamut mapping)

@@ -45,6 +45,10 @@ struct Ctx {
   [[noreturn]] void fail(const std::string& object, const std::string& what) const;
 };
 
+// The context for reading the file at `path`, bounded by its size; quiets HDF5 first.
+// Throws ResultsError "<path>: no such file" or "<path>: not a regular file".
+Ctx read_context(const std::string& path);
+
 // An HDF5 file built in memory (the core driver, no backing store). Why: when HDF5 itself
 // writes to a full disk, a failed flush can leave the file half-closed inside the library,
 // which then faults while closing it again at exit. Built in memory, nothing HDF5 does can
