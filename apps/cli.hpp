@@ -45,8 +45,8 @@ std::string count_of(long long n, const std::string& noun);
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);
 // A non-negative whole number (at most 2^20) given to `option`; UsageError otherwise.
 int parse_count(const std::string& s, const std::string& option);
-// Reads `text` as one number (std::stod) into v: false when it is not one or has more after
-// it. As std::stod is called, the empty text reads as 0.
+// Reads `text` as one number (std::stod) into v: false when it is empty, not a number or has
+// more after it.
 bool read_number(const std::string& text, double& v);
 // Removes "--name" from args and returns whether it was there.
 bool take_flag(Args& args, const std::string& name);

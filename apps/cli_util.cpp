@@ -41,6 +41,8 @@ std::string take_option(Args& args, const std::string& name, const std::string& 
   if (it == args.end()) return fallback;
   if (it + 1 == args.end()) throw UsageError{"option " + name + " needs a value"};
   std::string value = *(it + 1);
+  // Empty is never a value: it would read as "not given" (or as 0) without a word.
+  if (value.empty()) throw UsageError{"option " + name + " needs a value, got ''"};
   args.erase(it, it + 2);
   return value;
 }
@@ -53,7 +55,7 @@ int parse_count(const std::string& s, const std::string& option) {
   } catch (...) {
     used = 0;
   }
-  if (used != s.size() || v < 0 || v > 1 << 20)
+  if (s.empty() || used != s.size() || v < 0 || v > 1 << 20)
     throw UsageError{option + " expects a non-negative integer, got '" + s + "'"};
   return static_cast<int>(v);
 }
@@ -66,7 +68,7 @@ bool read_number(const std::string& text, double& v) {
   } catch (...) {
     used = 0;
   }
-  return used == text.size();
+  return !text.empty() && used == text.size();
 }
 
 bool take_flag(Args& args, const std::string& name) {

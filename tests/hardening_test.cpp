@@ -518,6 +518,11 @@ TEST_F(Hardening, BadCommandLineValuesExitTwo) {
       {"experiment --print-preset nope", "--print-preset: unknown preset 'nope'"},
       {"gallery " + path("none.h5") + " --out " + path("g.png") + " --size 160x120",
        "--size 160x120: gallery: image too narrow"},
+      // An empty value is refused, not read as 0 or as "not given".
+      {"render /nonexistent.json --out " + path("r.png") + " --time ''",
+       "option --time needs a value, got ''"},
+      {"experiment --preset tiny --out " + path("e") + " --threads ''",
+       "option --threads needs a value, got ''"},
   };
   for (const auto& c : cases) {
     const Output o = run(c.args);
