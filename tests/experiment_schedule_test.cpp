@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "experiment/cost_estimate.hpp"
 #include "experiment/schedule.hpp"
 #include "test_support.hpp"
 
@@ -82,6 +83,23 @@ TEST(Schedule, SerialWorkBetweenGenerationsDelaysOnlyItsRun) {
   EXPECT_DOUBLE_EQ(simulate_schedule(w, {1, 2}, Policy::kPool).wall_seconds, 4);
 }
 
+// The rendering stage's estimate: with nothing drawn, the champions' simulations shared out
+// over the threads; drawing on a machine twice as fast takes half the time; more video frames
+// cost more, and a second thread draws them faster.
+TEST(RenderingEstimate, ChampionsOverThreadsPlusDrawingAtTheMachinesSpeed) {
+  ExperimentConfig c;  // 3 treatments x 2 seeds
+  c.rendering.figures = c.rendering.galleries = c.rendering.video = false;
+  EXPECT_DOUBLE_EQ(rendering_seconds(c, 0.5, 20e6, 1), 6 * 0.5);
+  EXPECT_DOUBLE_EQ(rendering_seconds(c, 0.5, 20e6, 2), 6 * 0.5 / 2);
+  c.rendering.figures = c.rendering.galleries = c.rendering.video = true;
+  const double drawing = rendering_seconds(c, 0.5, 20e6, 1) - 3;
+  EXPECT_GT(drawing, 0);
+  EXPECT_NEAR(rendering_seconds(c, 0.5, 40e6, 1) - 3, drawing / 2, 1e-9);
+  c.rendering.video_fps *= 2;
+  EXPECT_GT(rendering_seconds(c, 0.5, 20e6, 1) - 3, drawing);
+  EXPECT_LT(rendering_seconds(c, 0.5, 20e6, 2) - 1.5, rendering_seconds(c, 0.5, 20e6, 1) - 3);
+}
+
 // The estimate through the binary: the promised JSON keys, and the simulation count of the
 // tiny preset (6 runs x (3 + 2 x 4) evolution + 6 x (1 + 2) analysis simulations).
 TEST(ScheduleCli, EstimateOnlyJson) {
@@ -95,6 +113,7 @@ TEST(ScheduleCli, EstimateOnlyJson) {
   EXPECT_GT(j.at("utilization").get<double>(), 0);
   EXPECT_LE(j.at("utilization").get<double>(), 1);
   EXPECT_GT(j.at("wall_seconds").get<double>(), 0);
+  EXPECT_GT(j.at("rendering_seconds").get<double>(), 0);
   EXPECT_NEAR(j.at("core_hours").get<double>(), 8 * j.at("wall_seconds").get<double>() / 3600,
               1e-12);
   const auto bad = testing::shell(std::string(PLASTIVOX_CLI) +

@@ -118,7 +118,57 @@ BodySample sample_bodies(const ExperimentConfig& config, const SpeedSample& spee
   }
   s.seconds_per_expression =
       (thread_cpu_seconds() - cpu0) / static_cast<double>(std::max<int64_t>(draws, 1));
+  s.voxel_steps_per_second = speed.voxel_steps_per_second;
   return s;
+}
+
+namespace {
+
+// ---- The stages around the simulations ----
+//
+// Seconds measured on the machine the constants were fitted on (2-core AMD EPYC, idle,
+// 2026-12-04; the calibration read 19.7-21.4 M voxel-steps/s there), from the stage times of
+// the tiny and default presets at 1 and 2 threads (docs/experiment.md, "Measured"). Drawing
+// is priced at this machine's measured speed against that one: llvmpipe draws on the CPU.
+constexpr double kReferenceSpeed = 20e6;      // voxel-steps/s of the calibration there
+constexpr double kStartSeconds = 0.3;         // start-up and this calibration, before any stage
+constexpr double kGenerationSeconds = 0.03;   // a run's generation recorded, checkpoint included
+constexpr int kFigureStems = 8;               // figures drawn: evolution, panels A-F, figure 5
+constexpr double kDrawStart = 0.15;           // the first OpenGL context (llvmpipe's shaders)
+constexpr double kFigureSecondsPerMP = 0.37;  // a figure: drawn, PNG written (one thread)
+// On one drawing thread: a gallery (4x multisampled) and a video frame (drawn and encoded), a
+// fixed part and one per megapixel. The bodies' size mattered less than the pixels.
+constexpr double kGallerySeconds = 0.13, kGallerySecondsPerMP = 0.44;
+constexpr double kFrameSeconds = 0.030, kFrameSecondsPerMP = 0.076;
+// llvmpipe's speed-up with t rasteriser threads: 1.55 measured at 2; assumed to grow at that
+// rate up to 4 and no further.
+double raster_speedup(int threads) {
+  return 1 + 0.55 * (std::clamp(threads, 1, 4) - 1);
+}
+
+}  // namespace
+
+double rendering_seconds(const ExperimentConfig& config, double life_seconds, double speed,
+                         int threads) {
+  // Every champion simulated once for the galleries and the 3-D viewer, on every thread.
+  const double champions = config.runs() * life_seconds / std::max(threads, 1);
+  const RenderSettings& r = config.rendering;
+  if (!r.figures && !r.galleries && !r.video) return champions;
+  const auto mp = [](int w, int h) { return static_cast<double>(w) * h / 1e6; };
+  const double raster = raster_speedup(threads);
+  double draw = kDrawStart;
+  if (r.figures) draw += kFigureStems * kFigureSecondsPerMP * mp(r.figure_width, r.figure_height);
+  if (r.galleries)
+    draw += static_cast<double>(config.treatments.size()) *
+            (kGallerySeconds + kGallerySecondsPerMP * mp(r.gallery_width, r.gallery_height)) /
+            raster;
+  if (r.video) {
+    // As render_video counts them: every 1/fps s of the life.
+    const double frames = std::floor(r.video_fps * config.evolution.physics.duration + 1e-9);
+    draw +=
+        frames * (kFrameSeconds + kFrameSecondsPerMP * mp(r.video_width, r.video_height)) / raster;
+  }
+  return draw * kReferenceSpeed / std::max(speed, 1.0) + champions;
 }
 
 SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySample& sample,
@@ -143,9 +193,9 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
     }
     return jobs;
   };
-  // Making and expressing a generation: on every thread of a rank run by run, on the run's
-  // own thread in the pool.
-  const double express = (pop + 1) * sample.seconds_per_expression;
+  // Making and expressing a generation, and recording it (its rows and checkpoint): on every
+  // thread of a rank run by run, on the run's own thread in the pool.
+  const double express = (pop + 1) * sample.seconds_per_expression + kGenerationSeconds;
   w.seconds_between_generations = express;
   p.evolution = simulate_schedule(w, layout, p.policy);
   w.seconds_between_generations = express / layout.threads;
@@ -155,11 +205,17 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
   const int64_t analysis =
       static_cast<int64_t>(config.runs()) * (1 + config.analysis.robustness_draws);
   p.analysis_seconds = static_cast<double>(analysis) * mean / layout.cores();
-  p.wall_seconds = p.evolution.wall_seconds + p.analysis_seconds;
+  p.rendering_seconds =
+      rendering_seconds(config, mean, sample.voxel_steps_per_second, layout.threads);
+  p.wall_seconds =
+      kStartSeconds + p.evolution.wall_seconds + p.analysis_seconds + p.rendering_seconds;
   p.simulations = p.evolution.simulations + analysis;
   p.mean_candidate_seconds = mean;
   const double capacity = p.wall_seconds * layout.cores();
-  p.utilization = capacity > 0 ? (p.evolution.busy_seconds + analysis * mean) / capacity : 0;
+  // Rendering keeps about one core busy (the champions' simulation, on every thread, is small).
+  p.utilization =
+      capacity > 0 ? (p.evolution.busy_seconds + analysis * mean + p.rendering_seconds) / capacity
+                   : 0;
   p.core_hours = capacity / 3600.0;
   return p;
 }
@@ -168,7 +224,7 @@ std::string SchedulePrediction::summary() const {
   char buf[640];
   std::snprintf(buf, sizeof buf,
                 "schedule: %d cores (%d rank%s x %d thread%s), %s: evolution %s at %.1f %% "
-                "utilisation; with analysis about %s, %.3g core-hours\n"
+                "utilisation; with analysis and rendering about %s, %.3g core-hours\n"
                 "schedule: run by run (as before the evaluation pool) the evolution would take "
                 "%s at %.1f %%",
                 layout.cores(), layout.ranks, layout.ranks == 1 ? "" : "s", layout.threads,
@@ -196,6 +252,7 @@ std::string SchedulePrediction::json() const {
   j["run_by_run"] = {{"wall_seconds", run_by_run.wall_seconds},
                      {"utilization", run_by_run.utilization}};
   j["analysis_seconds"] = analysis_seconds;
+  j["rendering_seconds"] = rendering_seconds;
   j["mean_candidate_seconds"] = mean_candidate_seconds;
   return j.dump(2);
 }
@@ -221,7 +278,6 @@ constexpr double kFigureBytesPerPixel = 0.085;     // PNG figures (lines on whit
 constexpr double kGalleryBytesPerPixel = 0.29;     // PNG galleries (shaded bodies)
 constexpr double kSvgBytes = 6e3;                  // one vector figure
 constexpr double kVideoBytesPerPixelFrame = 0.02;  // H.264 of a body on a plain floor
-constexpr int kFigureStems = 8;                    // evolution, panels A-F, figure 5
 // The 3-D viewer (docs/rendering.md): three.js, OrbitControls, the viewer and colour maps
 // inlined in report.html once; per champion a life of 60 + 20F + n (8 + 13F) packed bytes
 // (F frames at render::kViewerFps per simulated second, n voxels, about half the lattice for

@@ -40,6 +40,7 @@ CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& sp
 struct BodySample {
   std::vector<Job> bodies;            // seconds = voxels x steps / voxel-steps per second
   double seconds_per_expression = 0;  // one genome drawn and expressed, one core
+  double voxel_steps_per_second = 0;  // the speed they were priced at (SpeedSample's)
 };
 BodySample sample_bodies(const ExperimentConfig& config, const SpeedSample& speed, int count = 96);
 
@@ -51,7 +52,8 @@ struct SchedulePrediction {
   ScheduleResult evolution;           // under `policy`
   ScheduleResult run_by_run;          // the same workload run by run (the code before the pool)
   double analysis_seconds = 0;        // analysis simulations / cores
-  double wall_seconds = 0;            // evolution + analysis, s
+  double rendering_seconds = 0;       // figures, galleries, video: rendering_seconds() below
+  double wall_seconds = 0;            // start-up + evolution + analysis + rendering, s
   double utilization = 0;             // of the whole: busy / (cores x wall), 0-1
   double core_hours = 0;              // cores x wall: what the allocation is charged
   int64_t simulations = 0;            // evolution + analysis simulations (before cache hits)
@@ -62,6 +64,13 @@ struct SchedulePrediction {
 };
 SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySample& sample,
                                     const Layout& layout);
+
+// The rendering stage's wall time on `threads` threads: figure panels, one gallery per
+// treatment and the video at their configured sizes, drawn at this machine's measured `speed`
+// (voxel-steps/s; the drawing constants were measured against it, cost_estimate.cpp), and
+// every champion simulated once (`life_seconds` each).
+double rendering_seconds(const ExperimentConfig& config, double life_seconds, double speed,
+                         int threads);
 
 // What a study writes in its folder, bytes, from its plan: runs x individuals x the record
 // of each, champions' genomes and phenotypes, the analysis tables, the figures, galleries
