@@ -7,20 +7,10 @@
 
 #include "cli.hpp"
 #include "plastivox/render/panels.hpp"
+#include "render_cli.hpp"  // parse_size: one --size syntax for every command
 
 namespace plastivox::cli {
 namespace {
-
-// "800x600" -> width, height (positive integers).
-void parse_size(const std::string& text, int& width, int& height) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w <= 0 ||
-      h <= 0)
-    throw UsageError{"--size expects WIDTHxHEIGHT in pixels, e.g. 800x600; got '" + text + "'"};
-  width = w;
-  height = h;
-}
 
 // "png,svg" -> which formats to write.
 void parse_formats(const std::string& text, render::FigureOptions& o) {

@@ -487,7 +487,7 @@ TEST_F(PanelFiles, CommandErrorsAreOneLine) {
 
   r = testing::shell(cli + path("foreign.json") + " --out " + path("o") + " --size 800by600 2>&1");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.out.find("--size expects WIDTHxHEIGHT"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--size expects WxH"), std::string::npos) << r.out;
   r = testing::shell(cli + path("foreign.json") + " --out " + path("o") + " --format pdf 2>&1");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("--format expects png, svg or png,svg"), std::string::npos) << r.out;

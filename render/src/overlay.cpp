@@ -10,6 +10,7 @@
 #include <cstdio>
 
 #include "plastivox/render/offscreen.hpp"
+#include "text_format.hpp"
 
 namespace plastivox::render {
 namespace {
@@ -26,12 +27,6 @@ void text(ImDrawList* dl, ImFont* f, float x, float y, const std::string& s, ImU
 
 float text_width(ImFont* f, const std::string& s) {
   return f->CalcTextSizeA(f->FontSize, 1e9f, 0, s.c_str()).x;
-}
-
-std::string format(const char* fmt, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
 }
 
 }  // namespace

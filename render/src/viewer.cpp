@@ -24,6 +24,7 @@
 #include "plastivox/robot_file.hpp"        // InputError
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
+#include "text_format.hpp"
 
 namespace plastivox::render {
 namespace {
@@ -78,12 +79,6 @@ nlohmann::json scale_json(const ColorScale& s, const char* map) {
   nlohmann::json ticks = nlohmann::json::array();
   for (const Tick& t : s.ticks()) ticks.push_back({{"t", t.t}, {"label", t.label}});
   return {{"lo", s.lo}, {"hi", s.hi}, {"map", map}, {"title", s.title}, {"ticks", ticks}};
-}
-
-std::string format(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
 }
 
 double largest_stimulus(const Recording& rec) {
