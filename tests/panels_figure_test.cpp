@@ -410,10 +410,8 @@ Json with_evolution() {
                      {"ci_low", lo},
                      {"ci_high", hi}});
   }
-  j["evolution"] = {{"metric", "best fitness"},
-                    {"unit", "voxel lengths"},
-                    {"runs", runs},
-                    {"treatments", bands}};
+  j["evolution"] = {
+      {"metric", "best fitness"}, {"unit", "voxel lengths"}, {"runs", runs}, {"treatments", bands}};
   return j;
 }
 
@@ -441,12 +439,14 @@ TEST_F(PanelFiles, EvolutionCurvesAreDrawnWhenTheStatsHaveThem) {
   const Image img = read_png(path("ev/evolution.png"));
   int blue = 0;
   for (size_t i = 0; i + 3 < img.rgba.size(); i += 4)
-    blue += img.rgba[i] < 40 && img.rgba[i + 1] > 90 && img.rgba[i + 1] < 140 && img.rgba[i + 2] > 150;
+    blue +=
+        img.rgba[i] < 40 && img.rgba[i + 1] > 90 && img.rgba[i + 1] < 140 && img.rgba[i + 2] > 150;
   EXPECT_GT(blue, 50);
   Json bad = with_evolution();
   bad["evolution"]["treatments"][1]["ci_low"] = Json::array({0.1});
-  EXPECT_NE(testing::error_of([&] { parse_stats_figure(bad, "stats.json"); })
-                .find("stats.json: evolution.treatments[1].ci_low"),
+  EXPECT_NE(testing::error_of([&] {
+              parse_stats_figure(bad, "stats.json");
+            }).find("stats.json: evolution.treatments[1].ci_low"),
             std::string::npos);
 }
 
