@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/champion.hpp"
@@ -42,7 +43,7 @@ LifeSource load_life_source(const std::string& path, int generation) {
 }
 
 LifeSource recorded_life_source(const std::string& path) {
-  const evo::RecordedLife life = evo::read_life_file(path);
+  evo::RecordedLife life = evo::read_life_file(path);
   if (life.recording.frames.empty()) throw RenderError(path + ": the recorded life has no frames");
   LifeSource src;
   src.path = path;
@@ -53,7 +54,7 @@ LifeSource recorded_life_source(const std::string& path) {
   src.label = "recorded · " + std::string(to_string(life.physics.treatment));
   if (life.seed) src.label += " · seed " + std::to_string(*life.seed);
   auto frames = std::make_shared<RecordedFrames>();
-  frames->recording = life.recording;
+  frames->recording = std::move(life.recording);  // its frames are not read again here
   frames->settled = life.settled;
   frames->com_settled = life.com_settled;
   frames->fitness = life.fitness;
