@@ -144,7 +144,8 @@ int cmd_simulate(const Args& in) {
   if (timed) options.timings = &timings;
   if (!record.empty()) options.record_fps = fps;
   const SimResult r = simulate(model, options);
-  // Health warnings (a body that sank through the floor): on stderr always, and in the JSON.
+  // Health warnings (a body pressed into or sunk through the floor): on stderr always, and
+  // in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 
@@ -168,6 +169,10 @@ int cmd_simulate(const Args& in) {
                 to_string(physics.treatment), to_string(r.status));
     std::printf("  fitness %.4f voxel lengths (dx %.4f, dy %.4f, dz %.4f)\n", r.fitness,
                 r.displacement.x(), r.displacement.y(), r.displacement.z());
+    std::printf(
+        "  floor: %s, %.3g voxel lengths deep at the deepest; vertical share of "
+        "fitness %.3f\n",
+        to_string(r.floor_health), r.floor_depth, r.vertical_share);
     std::printf("  stiffness change: mean %+.3f %%, mean |change| %.3f %%\n",
                 100 * r.stiffness_change_mean, 100 * r.stiffness_change_abs_mean);
     std::printf("  %lld steps, dt %.3g s, %.2f s wall (%.3g voxel-steps/s)\n",
@@ -185,8 +190,8 @@ int cmd_simulate(const Args& in) {
                   record.c_str());
   }
   if (r.status != SimStatus::kFinished) {
-    std::fprintf(stderr, "plastivox simulate: %s: simulation unstable: %s\n", source.c_str(),
-                 r.failure.c_str());
+    std::fprintf(stderr, "plastivox simulate: %s: %s: %s\n", source.c_str(),
+                 r.sank ? "life invalid" : "simulation unstable", r.failure.c_str());
     return 3;
   }
   return 0;

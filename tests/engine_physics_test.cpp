@@ -147,6 +147,58 @@ TEST(HeavyMaterials, SoftColumnIsCrushedStiffColumnStands) {
   EXPECT_LT(column_height_ratio(1e7), 0.6);
 }
 
+// Floor contact as a health (docs/engine.md, "Floor contact and sinking"): a 3x3x3 block
+// resting on the floor for 1 s, graded from its deepest penetration over the life. Its
+// bottom voxels carry three voxels' weight: 3 m g / (2 E L) below L/2 at rest.
+SimResult resting_block(double E, bool sinking_invalid = true) {
+  PhysicsDef d = testing::passive_physics();
+  d.duration = 1.0;
+  d.sinking_invalid = sinking_invalid;
+  return simulate(compile(testing::block(3, 3, 3, E), d));
+}
+
+TEST(FloorHealth, StiffBlockStandsOk) {
+  const SimResult r = resting_block(1e10);  // 0.015 voxel lengths at rest
+  EXPECT_EQ(r.status, SimStatus::kFinished) << r.failure;
+  EXPECT_EQ(r.floor_health, FloorHealth::kOk);
+  EXPECT_GT(r.floor_depth, 0.0);
+  EXPECT_LT(r.floor_depth, kFloorPenetratingDepth);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(FloorHealth, BlockWithItsFeetPressedALittleIntoTheFloorIsPenetrating) {
+  const SimResult r = resting_block(2e8);  // 0.74 voxel lengths at rest
+  EXPECT_EQ(r.status, SimStatus::kFinished) << r.failure;
+  EXPECT_EQ(r.floor_health, FloorHealth::kPenetrating);
+  EXPECT_GT(r.floor_depth, kFloorPenetratingDepth);
+  EXPECT_LT(r.floor_depth, kFloorSankDepth);
+  EXPECT_EQ(r.voxels_deep_max, 9);  // the bottom layer
+  EXPECT_EQ(r.voxels_below_floor, 0);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0].rfind("pressed into the floor: ", 0), 0u) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("9 of 27 voxels at once deeper than 0.5"), std::string::npos)
+      << r.warnings[0];
+}
+
+TEST(FloorHealth, SoftHeavyCubeSankAndIsInvalidByDefault) {
+  const SimResult r = resting_block(1e5);
+  EXPECT_EQ(r.floor_health, FloorHealth::kSank);
+  EXPECT_TRUE(r.sank);
+  EXPECT_GT(r.floor_depth, 100.0);
+  EXPECT_EQ(r.voxels_below_floor, 27);
+  EXPECT_GT(r.vertical_share, 0.99);
+  EXPECT_EQ(r.status, SimStatus::kUnstable);
+  EXPECT_EQ(r.fitness, 0.0);
+  EXPECT_NE(r.failure.find("sank through the floor"), std::string::npos) << r.failure;
+  // The authors' rule scores the same life; observing it changed nothing.
+  const SimResult authors = resting_block(1e5, false);
+  EXPECT_EQ(authors.status, SimStatus::kFinished);
+  EXPECT_EQ(authors.floor_health, FloorHealth::kSank);
+  EXPECT_GT(authors.fitness, 100.0);
+  EXPECT_EQ(authors.final_state_hash, r.final_state_hash);
+  EXPECT_EQ(authors.floor_depth, r.floor_depth);
+}
+
 // Heavy voxels can crush a soft bond until its centres meet (the demo walker under pressure
 // does). The shear coupling 3 b3 / chord must stay bounded there: with the chord floored at
 // L / 10 the force is at most about (1 + 10 pi) E L^2, whereas 3 b3 / chord at a chord of

@@ -3,6 +3,9 @@
 // 22a63f5 produced them on 2026-12-02. A content digest is about science, not layout: moving
 // a field between structs or renaming one in the code must not change it. A commit that
 // changes a value here must say why in its message.
+// Issue 33 made a sunk life invalid by default: every digest moved then, since the resolved
+// physics (and, for the authors' rule, the config) names the rule; 22a63f5's digests were
+// c96a412c…, 7e9bf1c5…, 95c4c030…. What evolved moved only where a life sank.
 #include <iterator>
 #include <string>
 #include <thread>
@@ -16,33 +19,62 @@ namespace plastivox::evo {
 namespace {
 
 // 5x5x5 lattice, population 6, 3 generations after the first, 0.5 s lives (0.3 s of
-// walking and development after settling).
-EvolveConfig tiny(Treatment t) {
-  EvolveConfig c = parse_config(R"({"format": "plastivox-evolve-config", "version": 1,
-      "seed": 3, "population": 6, "generations": 3, "lattice": {"nx": 5, "ny": 5, "nz": 5},
-      "physics": {"duration": 0.5, "settle_time": 0.2}})",
+// walking and development after settling). Sunk lives invalid (the default) or scored (the
+// authors' rule).
+EvolveConfig tiny(Treatment t, bool authors_rule = false) {
+  EvolveConfig c = parse_config(std::string(R"({"format": "plastivox-evolve-config",
+      "version": 1, "seed": 3, "population": 6, "generations": 3,
+      "lattice": {"nx": 5, "ny": 5, "nz": 5}, "physics": {"duration": 0.5, "settle_time": 0.2)") +
+                                    (authors_rule ? R"(, "sinking_invalid": false}})" : "}}"),
                                 "golden");
   c.treatment = t;
   c.physics.treatment = t;
   return c;
 }
 
-std::string evolved_digest(Treatment t, int threads) {
-  Evolver ev(Evolver::new_run(tiny(t)), threads);
+std::string evolved_digest(Treatment t, int threads, bool authors_rule = false) {
+  Evolver ev(Evolver::new_run(tiny(t, authors_rule)), threads);
   while (!ev.finished()) ev.step();
   return content_digest(ev.state()).hex();
 }
 
 struct GoldenRun {
   Treatment treatment;
-  const char* digest;
+  const char* digest;          // sunk lives invalid (the default since issue 33)
+  const char* authors_digest;  // the authors' rule: sunk lives scored
 };
 
 const GoldenRun kRuns[] = {
-    {Treatment::kNone, "c96a412ce9ee6a25a301407de2359b98"},
-    {Treatment::kStress, "7e9bf1c5393272367762efe23c448e1d"},
-    {Treatment::kPressure, "95c4c030b7c4afc22e74f07bd372c002"},
+    {Treatment::kNone, "1e7bfa9045ce3cf25b50dd14e4fb054d", "e5a843b369cbb33042461d1c67f8bb7b"},
+    {Treatment::kStress, "f9e0bdcd268fb7c6a8bf5fdb6e672367", "6fa238df5b2d3959f9d4926bba896d9b"},
+    {Treatment::kPressure, "03d2a9182a94ecef00c3c5388edd9c3a", "28d047b079e938ddee45f25a0eca2ef5"},
 };
+
+// Both rules evolve the same individuals with the same fitness, but for the lives that sank
+// (fitness 0 and unstable under the default rule) and what their selection changed after.
+TEST(GoldenEvolution, TheRuleChangesOnlyWhatSank) {
+  for (const GoldenRun& g : kRuns) {
+    EXPECT_EQ(evolved_digest(g.treatment, 1, true), g.authors_digest) << to_string(g.treatment);
+    Evolver on(Evolver::new_run(tiny(g.treatment)), 1);
+    Evolver off(Evolver::new_run(tiny(g.treatment, true)), 1);
+    while (!on.finished()) on.step();
+    while (!off.finished()) off.step();
+    const auto& a = on.state().births;
+    const auto& b = off.state().births;
+    ASSERT_EQ(a.size(), b.size()) << to_string(g.treatment);
+    size_t first_sunk = a.size();
+    for (size_t i = 0; i < b.size(); ++i)
+      if (b[i].sank) {
+        first_sunk = i;
+        EXPECT_EQ(a[i].fitness, 0.0);
+        break;
+      }
+    for (size_t i = 0; i < first_sunk; ++i) {
+      EXPECT_EQ(a[i].fitness, b[i].fitness) << to_string(g.treatment) << " birth " << i;
+      EXPECT_EQ(a[i].status, b[i].status) << to_string(g.treatment) << " birth " << i;
+    }
+  }
+}
 
 TEST(GoldenEvolution, TinyRunDigestPerTreatmentOnOneAndTwoThreads) {
   for (const GoldenRun& g : kRuns)
@@ -80,32 +112,34 @@ TEST(GoldenEvolution, IdentitySerialisationIsByteStable) {
       R"("lattice":{"nx":5,"ny":5,"nz":5,"voxel_size":0.01},"max_mutation_tries":1500,)"
       R"("min_fill":0.2,"physics":{"duration":0.5,"settle_time":0.2},"population":6,"seed":3,)"
       R"("treatment":"stress","version":1})");
-  EXPECT_EQ(resolved_physics_json(c.physics),
-            R"({"act_amplitude":0.1447,"act_frequency":5.0,"act_min_factor":0.1,)"
-            R"("axial_modulus":"harmonic","bond_damping":1.0,"bond_model":"exact",)"
-            R"("collision_damping":0.8,"collision_exclude_hops":3,"contact_diameter":1.5,)"
-            R"("density":1000000000.0,"dt_frac":0.9,"duration":0.5,"e_max":100000000000.0,)"
-            R"("e_min":100000.0,"fitness":"3d","floor":true,"global_damping":0.01,)"
-            R"("global_damping_rot_factor":10.0,"gravity":-9.81,"growth":"integral",)"
-            R"("max_change_per_step":1000000000.0,"max_speed":100.0,"min_devo_factor":1000.0,)"
-            R"("mu_kinetic":0.5,"mu_static":1.0,"poisson":0.35,"record_fps":0.0,)"
-            R"("self_collision":true,"settle_time":0.2,"treatment":"stress"})");
+  EXPECT_EQ(
+      resolved_physics_json(c.physics),
+      R"({"act_amplitude":0.1447,"act_frequency":5.0,"act_min_factor":0.1,)"
+      R"("axial_modulus":"harmonic","bond_damping":1.0,"bond_model":"exact",)"
+      R"("collision_damping":0.8,"collision_exclude_hops":3,"contact_diameter":1.5,)"
+      R"("density":1000000000.0,"dt_frac":0.9,"duration":0.5,"e_max":100000000000.0,)"
+      R"("e_min":100000.0,"fitness":"3d","floor":true,"global_damping":0.01,)"
+      R"("global_damping_rot_factor":10.0,"gravity":-9.81,"growth":"integral",)"
+      R"("max_change_per_step":1000000000.0,"max_speed":100.0,"min_devo_factor":1000.0,)"
+      R"("mu_kinetic":0.5,"mu_static":1.0,"poisson":0.35,"record_fps":0.0,)"
+      R"("self_collision":true,"settle_time":0.2,"sinking_invalid":true,"treatment":"stress"})");
   EXPECT_EQ(EvolveConfig().identity_json(),
             R"({"format":"plastivox-evolve-config","generations":5000,)"
             R"("geometry":"largest-component","lattice":{"nx":10,"ny":10,"nz":10,)"
             R"("voxel_size":0.01},"max_mutation_tries":1500,"min_fill":0.2,)"
             R"("physics":{"preset":"gecco2018-code"},"population":24,"seed":1,"treatment":"none",)"
             R"("version":1})");
-  EXPECT_EQ(resolved_physics_json(preset_gecco2018_paper()),
-            R"({"act_amplitude":0.1447,"act_frequency":5.0,"act_min_factor":0.1,)"
-            R"("axial_modulus":"harmonic","bond_damping":1.0,"bond_model":"exact",)"
-            R"("collision_damping":0.8,"collision_exclude_hops":3,"contact_diameter":1.5,)"
-            R"("density":1000000000.0,"dt_frac":0.9,"duration":5.2,"e_max":10000000000.0,)"
-            R"("e_min":10000.0,"fitness":"xy","floor":true,"global_damping":0.01,)"
-            R"("global_damping_rot_factor":10.0,"gravity":-9.81,"growth":"rate",)"
-            R"("max_change_per_step":1000000000.0,"max_speed":100.0,"min_devo_factor":1000.0,)"
-            R"("mu_kinetic":0.5,"mu_static":1.0,"poisson":0.35,"record_fps":0.0,)"
-            R"("self_collision":true,"settle_time":0.2,"treatment":"none"})");
+  EXPECT_EQ(
+      resolved_physics_json(preset_gecco2018_paper()),
+      R"({"act_amplitude":0.1447,"act_frequency":5.0,"act_min_factor":0.1,)"
+      R"("axial_modulus":"harmonic","bond_damping":1.0,"bond_model":"exact",)"
+      R"("collision_damping":0.8,"collision_exclude_hops":3,"contact_diameter":1.5,)"
+      R"("density":1000000000.0,"dt_frac":0.9,"duration":5.2,"e_max":10000000000.0,)"
+      R"("e_min":10000.0,"fitness":"xy","floor":true,"global_damping":0.01,)"
+      R"("global_damping_rot_factor":10.0,"gravity":-9.81,"growth":"rate",)"
+      R"("max_change_per_step":1000000000.0,"max_speed":100.0,"min_devo_factor":1000.0,)"
+      R"("mu_kinetic":0.5,"mu_static":1.0,"poisson":0.35,"record_fps":0.0,)"
+      R"("self_collision":true,"settle_time":0.2,"sinking_invalid":true,"treatment":"none"})");
 }
 
 }  // namespace

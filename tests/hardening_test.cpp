@@ -18,6 +18,7 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
+#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/robot_file.hpp"
 #include "test_support.hpp"
@@ -329,68 +330,102 @@ TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
 
 // ---- 5. Bodies that sink through the floor ----
 
-TEST_F(Hardening, SinkingThroughTheFloorIsReportedAndOptionallyInvalid) {
+TEST_F(Hardening, SinkingThroughTheFloorIsInvalidByDefault) {
+  // The soft heavy block sinks: graded "sank", its life invalid (unstable, fitness 0, exit 3).
   Output o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
-                            write("soft.json", sinking_robot()) + " 2>/dev/null");
-  ASSERT_EQ(o.status, 0) << o.out;
+                            write("soft.json", sinking_robot()) + " 2>" + path("err.txt"));
+  EXPECT_EQ(o.status, 3) << o.out;
   auto j = nlohmann::json::parse(o.out);
-  EXPECT_EQ(j["status"], "finished");  // faithful: the authors' simulator scores it too
-  EXPECT_LT(j["dist_z"].get<double>(), -100);
+  EXPECT_EQ(j["status"], "unstable");
+  EXPECT_EQ(j["fitness"], 0.0);
+  EXPECT_EQ(j["health"], "sank");
+  EXPECT_GT(j["floor_depth"].get<double>(), 100);
+  EXPECT_EQ(j["voxels_below_floor"], 8);
+  EXPECT_GT(j["vertical_share"].get<double>(), 0.99);
+  EXPECT_LT(j["dist_z"].get<double>(), -100);  // the displacement is still reported
   ASSERT_EQ(j["warnings"].size(), 1u) << o.out;
   const std::string w = j["warnings"][0];
-  EXPECT_NE(w.find("sank through the floor"), std::string::npos) << w;
-  EXPECT_NE(w.find("8 of 8 voxels end wholly below z = 0"), std::string::npos) << w;
-  // The demo walker stands on the floor: no warning.
+  EXPECT_NE(w.find("sank through the floor: "), std::string::npos) << w;
+  EXPECT_NE(w.find("voxel lengths deep at the deepest; 8 of 8 voxels at once deeper than 0.5, "
+                   "8 end wholly below z = 0"),
+            std::string::npos)
+      << w;
+  EXPECT_NE(j["failure"].get<std::string>().find("sinking_invalid"), std::string::npos);
+  EXPECT_NE(read_file(path("err.txt")).find("soft.json: life invalid: sank through the floor"),
+            std::string::npos);
+  // The demo walker's softest legs carry eight heavy voxels: pressed into the floor, warned,
+  // and valid.
   o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
                      walker_with(R"({"duration": 0.3})") + " 2>/dev/null");
   ASSERT_EQ(o.status, 0) << o.out;
-  EXPECT_TRUE(nlohmann::json::parse(o.out)["warnings"].empty()) << o.out;
-  // The option makes such a life invalid: unstable, fitness 0, exit 3.
-  o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
-                     write("soft2.json", sinking_robot(", \"sinking_invalid\": true")) +
-                     " 2>/dev/null");
-  EXPECT_EQ(o.status, 3) << o.out;
   j = nlohmann::json::parse(o.out);
-  EXPECT_EQ(j["status"], "unstable");
-  EXPECT_EQ(j["fitness"], 0.0);
-  EXPECT_NE(j["failure"].get<std::string>().find("sinking_invalid"), std::string::npos);
+  EXPECT_EQ(j["status"], "finished");
+  EXPECT_EQ(j["health"], "penetrating");
+  ASSERT_EQ(j["warnings"].size(), 1u) << o.out;
+  EXPECT_EQ(j["warnings"][0].get<std::string>().rfind("pressed into the floor: ", 0), 0u);
+  // sinking_invalid: false restores the authors' rule: the same life scores its fall.
+  o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
+                     write("soft2.json", sinking_robot(", \"sinking_invalid\": false")) +
+                     " 2>/dev/null");
+  ASSERT_EQ(o.status, 0) << o.out;
+  j = nlohmann::json::parse(o.out);
+  EXPECT_EQ(j["status"], "finished");  // as the authors' simulator scores it
+  EXPECT_EQ(j["health"], "sank");
+  EXPECT_GT(j["fitness"].get<double>(), 100);
+  EXPECT_EQ(j["warnings"].size(), 1u);
 }
 
 TEST_F(Hardening, SinkingIsCountedInTheEvolutionLogAndStoredPerIndividual) {
-  // Every body soft (E <= 2e5 Pa) and heavy: every life sinks.
+  // Every body soft (E <= 2e5 Pa) and heavy: every life sinks, and is invalid.
   const std::string cfg = write("sink.json", R"({"format": "plastivox-evolve-config",
     "version": 1, "seed": 3, "treatment": "none", "population": 4, "generations": 1,
     "lattice": {"nx": 4, "ny": 4, "nz": 4},
     "physics": {"duration": 1.0, "settle_time": 0.1, "e_max": 2e5, "act_frequency": 1}})");
   Output o = run("evolve --config " + cfg + " --out " + path("s.h5") + " --threads 1");
   ASSERT_EQ(o.status, 0) << o.out;
-  EXPECT_NE(o.out.find("0 unstable, 5 sank through the floor"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("5 unstable, 5 sank through the floor"), std::string::npos) << o.out;
   const evo::ResultsFile f = evo::read_results(path("s.h5"));
   int sank = 0;
   for (const evo::BirthRecord& b : f.state.births) sank += b.sank;
   EXPECT_EQ(sank, static_cast<int>(f.state.births.size()));
-  // Reported only: same content digest as before the flag existed (main at 22a63f5).
-  EXPECT_EQ(f.content_digest, "50f549804e26508c3c4e0992ef2c95f0");
-  // With the option on the same lives are unstable.
+  EXPECT_TRUE(f.state.config.physics.sinking_invalid);
+  // Under the authors' rule the same lives are scored.
   std::string text = read_file(cfg);
-  text.replace(text.find("\"e_max\": 2e5"), 12, "\"e_max\": 2e5, \"sinking_invalid\": true");
+  text.replace(text.find("\"e_max\": 2e5"), 12, "\"e_max\": 2e5, \"sinking_invalid\": false");
   o = run("evolve --config " + write("sink2.json", text) + " --out " + path("s2.h5") +
           " --threads 1");
   ASSERT_EQ(o.status, 0) << o.out;
-  EXPECT_NE(o.out.find("5 unstable, 5 sank through the floor"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("0 unstable, 5 sank through the floor"), std::string::npos) << o.out;
+  const evo::ResultsFile authors = evo::read_results(path("s2.h5"));
+  EXPECT_FALSE(authors.state.config.physics.sinking_invalid);
+  EXPECT_GT(authors.state.history.back().best_fitness, 100);
 }
 
-TEST_F(Hardening, ExistingConfigsKeepTheirContentDigest) {
-  // The tiny run's digest on main before the sinking_invalid field (22a63f5): a field at
-  // its default serialises exactly as before.
-  const std::string cfg = write("c.json", tiny_config(2));
-  ASSERT_EQ(run("evolve --config " + cfg + " --out " + path("t.h5") + " --threads 1").status, 0);
-  EXPECT_EQ(evo::read_results(path("t.h5")).content_digest, "0a455dd9a0d7033334c66c41613d8f91");
-  const evo::EvolveConfig c = evo::read_config_file(cfg);
-  EXPECT_EQ(evo::resolved_physics_json(c.physics).find("sinking_invalid"), std::string::npos);
-  PhysicsDef on = c.physics;
-  on.sinking_invalid = true;
-  EXPECT_NE(evo::resolved_physics_json(on).find("\"sinking_invalid\":true"), std::string::npos);
+TEST_F(Hardening, TheRuleForSunkLivesIsRecordedAndOldFilesKeepTheirs) {
+  // The resolved physics spells the authors' rule as every file before the default changed
+  // did: without the field.
+  std::string text = tiny_config(2);
+  const std::string authors = write(
+      "a.json",
+      text.replace(text.find("\"duration\""), 10, "\"sinking_invalid\": false, \"duration\""));
+  ASSERT_EQ(run("evolve --config " + authors + " --out " + path("a.h5") + " --threads 1").status,
+            0);
+  const evo::EvolveConfig a = evo::read_config_file(authors);
+  EXPECT_EQ(evo::resolved_physics_json(a.physics).find("sinking_invalid"), std::string::npos);
+  const evo::EvolveConfig d = evo::read_config_file(write("d.json", tiny_config(2)));
+  EXPECT_NE(evo::resolved_physics_json(d.physics).find("\"sinking_invalid\":true"),
+            std::string::npos);
+  // The results file names the rule in an attribute of its own.
+  const evo::h5::Ctx ctx{path("a.h5"), 0};
+  evo::h5::Handle f(H5Fopen(path("a.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+                    evo::h5::Handle::Kind::kFile);
+  EXPECT_EQ(evo::h5::read_attr_string(ctx, f.id(), "/", "sunk_lives"), "scored");
+  // A file written before the rule became the default (main at 22a63f5, 3x3x3 bodies that
+  // all sink; tests/data/results/README.md) reads as the authors' rule, its digest intact.
+  const evo::ResultsFile old = evo::read_results(std::string(PLASTIVOX_SOURCE_DIR) +
+                                                 "/tests/data/results/old-rule-sinker.h5");
+  EXPECT_FALSE(old.state.config.physics.sinking_invalid);
+  EXPECT_EQ(old.content_digest, "a524aa88471257e05faeeebf2e97dc2e");
 }
 
 // ---- 6. A graceful stop for evolve ----

@@ -19,8 +19,10 @@ double expected_value(const std::string& name, const std::string& key) {
   return j.value(key, 0.0);
 }
 
+// Compared with the authors' simulator, so under their rule: a sunk life is scored.
 SimResult run(const std::string& name) {
-  const VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/" + name + ".vxa");
+  VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/" + name + ".vxa");
+  v.physics.sinking_invalid = false;
   return simulate(compile(v.robot, v.physics));
 }
 
@@ -35,6 +37,8 @@ TEST_P(AuthorsWalker, AgreesWithTheAuthorsSimulator) {
   const std::string name = GetParam().name;
   const SimResult r = run(name);
   ASSERT_EQ(r.status, SimStatus::kFinished) << r.failure;
+  // The authors' walkers stand and walk: their feet stay near the floor's surface.
+  EXPECT_EQ(r.floor_health, FloorHealth::kOk) << r.floor_depth << " voxel lengths deep";
   EXPECT_EQ(r.voxels, expected_value(name, "voxels"));
   // Settling is near-deterministic mechanics: within 1 % of a voxel length.
   EXPECT_NEAR(r.displacement.z(), expected_value(name, "dist_z"), 0.01);
@@ -81,6 +85,7 @@ TEST(AuthorsSettleCube, FallsTheAuthorsWayUnderTheirBondModel) {
   // chord frame and its time step (pi as 3.1415926, bonds only).
   VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/settle-cube-1e9.vxa");
   v.physics.bond_model = BondModel::kVoxelyze09;
+  v.physics.sinking_invalid = false;  // the authors' rule
   const SimResult r = simulate(compile(v.robot, v.physics));
   ASSERT_EQ(r.status, SimStatus::kFinished) << r.failure;
   const double x = expected_value("settle-cube-1e9", "dist_x");
@@ -103,6 +108,7 @@ TEST(AuthorsSettleCube, FlipsItsFallWhereTheAuthorsDoes) {
   for (const auto& c : cases) {
     VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/settle-cube-1e9.vxa");
     v.physics.bond_model = BondModel::kVoxelyze09;
+    v.physics.sinking_invalid = false;  // the authors' rule
     for (double& e : v.robot.stiffness) e *= c.factor;
     const SimResult r = simulate(compile(v.robot, v.physics));
     ASSERT_EQ(r.status, SimStatus::kFinished) << r.failure;
@@ -190,8 +196,18 @@ TEST(AgreementSet, VoxelyzeBondModelAgreesWithTheAuthorsSimulator) {
     std::ifstream here(dir + name + ".vxa");
     VxaRobot v = read_vxa_file((here ? dir : source + "/examples/") + name + ".vxa");
     v.physics.bond_model = BondModel::kVoxelyze09;
+    v.physics.sinking_invalid = false;  // the authors' rule, as their simulator scores
     const SimResult r = simulate(compile(v.robot, v.physics));
     ASSERT_EQ(r.status, SimStatus::kFinished) << name << ": " << r.failure;
+    // The walking robots (the evolved champions and the stiff walker) stand on the floor;
+    // the soft walker falls through it (docs/engine.md, "Floor contact and sinking").
+    const std::string robot = name;
+    if (robot.starts_with("champion-") || robot == "walker-stiff-1e10") {
+      EXPECT_EQ(r.floor_health, FloorHealth::kOk) << name << ": " << r.floor_depth;
+    }
+    if (robot == "walker-soft-1e7") {
+      EXPECT_EQ(r.floor_health, FloorHealth::kSank) << name;
+    }
     EXPECT_EQ(r.voxels, want["voxels"].get<int>()) << name;
     const double fitness = want["fitness"].get<double>();
     EXPECT_TRUE(testing::RelNear(r.fitness, fitness, 0.03)) << name;

@@ -276,9 +276,9 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
          d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
         {"bond_model", d.bond_model == BondModel::kExact ? "exact" : "voxelyze09"},
         {"max_speed", d.max_speed}};
-    // Written only when on, so every file and digest made before this option existed (and
-    // every config that leaves it off) stays byte-identical.
-    if (d.sinking_invalid) j["physics"]["sinking_invalid"] = true;
+    // Written only when off (the authors' rule; on is the default), so every file made
+    // under the default stays byte-identical.
+    if (!d.sinking_invalid) j["physics"]["sinking_invalid"] = false;
   }
   return j.dump(1);
 }

@@ -19,6 +19,12 @@ std::string sim_summary_json(const SimResult& r, const PhysicsDef& physics,
   j["dist_y"] = r.displacement.y();
   j["dist_z"] = r.displacement.z();
   j["voxels"] = r.voxels;
+  j["health"] = to_string(r.floor_health);
+  j["floor_depth"] = r.floor_depth;
+  j["voxels_deep_max"] = r.voxels_deep_max;
+  j["voxels_below_floor"] = r.voxels_below_floor;
+  j["vertical_share"] = r.vertical_share;
+  j["sinking_invalid"] = physics.sinking_invalid;
   j["steps"] = r.steps;
   j["dt"] = r.dt_initial;
   j["dt_final"] = r.dt_final;

@@ -30,6 +30,71 @@ inline void run_stage(StageTimings* timings, double StageTimings::*seconds, Stag
   timings->*seconds += seconds_since(start);
 }
 
+// Watches the floor over a life: after every step, the deepest penetration of any voxel's
+// bottom face below z = 0 (as the next step's floor contact sees it: half the actuated size
+// below the centre, tilt ignored) and the most voxels at once deeper than
+// kFloorPenetratingDepth. Reads the state only, so the life is unchanged.
+struct FloorWatch {
+  double deepest = 0;  // m
+  int most_deep = 0;
+
+  void see(const Model& m, const State& s) {
+    if (!m.def.floor) return;
+    const double limit = kFloorPenetratingDepth * m.size;
+    double step_deepest = 0;
+    int deep = 0;
+    for (int i = 0; i < m.n; ++i) {
+      const double pen = 0.5 * s.size[i] - s.pos[i].z();
+      step_deepest = std::max(step_deepest, pen);
+      deep += pen > limit ? 1 : 0;
+    }
+    deepest = std::max(deepest, step_deepest);
+    most_deep = std::max(most_deep, deep);
+  }
+};
+
+// Fills the floor health of r (SimResult, "Health") from what the watch saw, with a warning
+// past kFloorPenetratingDepth; a sunk finished life becomes unstable under
+// def.sinking_invalid.
+void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, SimResult& r) {
+  const Vec3& d = r.displacement;
+  const double d2 = d.squaredNorm();
+  r.vertical_share = d2 > 0 ? d.z() * d.z() / d2 : 0.0;
+  if (!m.def.floor) return;
+  for (int i = 0; i < m.n; ++i) r.voxels_below_floor += s.pos[i].z() + 0.5 * m.size < 0 ? 1 : 0;
+  r.floor_depth = w.deepest / m.size;
+  r.voxels_deep_max = w.most_deep;
+  if (r.floor_depth >= kFloorSankDepth || r.com_final.z() < 0)
+    r.floor_health = FloorHealth::kSank;
+  else if (r.floor_depth > kFloorPenetratingDepth)
+    r.floor_health = FloorHealth::kPenetrating;
+  r.sank = r.floor_health == FloorHealth::kSank;
+  if (r.floor_health == FloorHealth::kOk) return;
+
+  char buf[320];
+  if (r.sank)
+    std::snprintf(buf, sizeof buf,
+                  "sank through the floor: %.4g voxel lengths deep at the deepest; %d of %d "
+                  "voxels at once deeper than %g, %d end wholly below z = 0; centre of mass "
+                  "ends at z = %.4g voxel lengths",
+                  r.floor_depth, r.voxels_deep_max, m.n, kFloorPenetratingDepth,
+                  r.voxels_below_floor, r.com_final.z() / m.size);
+  else
+    std::snprintf(buf, sizeof buf,
+                  "pressed into the floor: %.3g voxel lengths deep at the deepest (more than "
+                  "%g); %d of %d voxels at once deeper than %g",
+                  r.floor_depth, kFloorPenetratingDepth, r.voxels_deep_max, m.n,
+                  kFloorPenetratingDepth);
+  r.warnings.push_back(buf);
+  if (r.sank && m.def.sinking_invalid && r.status == SimStatus::kFinished) {
+    r.status = SimStatus::kUnstable;
+    r.failure = std::string(buf) +
+                " (sunk lives are invalid: physics.sinking_invalid; false restores the "
+                "authors' rule, which scores them)";
+    r.fitness = 0;
+  }
+}
+
 }  // namespace
 
 // One step, as a list of stages. Order follows Voxelyze 0.9 so results can be compared:
@@ -118,6 +183,7 @@ SimResult simulate(const Model& model, const SimOptions& o) {
       r.recording.frames.push_back(capture_frame(s));
   };
   const double end = at_times ? o.frame_times.back() : d.duration;
+  FloorWatch floor;
   double next_progress = 0;
 
   // Like Voxelyze, run until time first passes the duration.
@@ -132,6 +198,7 @@ SimResult simulate(const Model& model, const SimOptions& o) {
       next_progress = s.time + end / 100;
     }
     sim.step(o.timings);
+    floor.see(model, s);
   }
   // The life ran to its end: frames due at the last state, and under record_fps the last
   // state itself, are still to take.
@@ -167,32 +234,21 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   r.stiffness_change_var =
       std::max(0.0, sum_sq / n - r.stiffness_change_mean * r.stiffness_change_mean);
   r.final_state_hash = state_hash(s);
-  // Health: did the body end below the floor? (A report; the life itself is unchanged.)
-  if (d.floor && r.status == SimStatus::kFinished) {
-    double lowest_top = std::numeric_limits<double>::infinity();  // m
-    for (int i = 0; i < model.n; ++i) {
-      const double top = s.pos[i].z() + 0.5 * model.size;
-      lowest_top = std::min(lowest_top, top);
-      r.voxels_below_floor += top < 0 ? 1 : 0;
-    }
-    if (r.com_final.z() < 0 || r.voxels_below_floor > 0) {
-      r.sank = true;
-      char buf[256];
-      std::snprintf(buf, sizeof buf,
-                    "sank through the floor: %d of %d voxels end wholly below z = 0 (the lowest "
-                    "top face at z = %.4g m, %.4g voxel lengths); centre of mass at z = %.4g m",
-                    r.voxels_below_floor, model.n, lowest_top, lowest_top / model.size,
-                    r.com_final.z());
-      r.warnings.push_back(buf);
-      if (d.sinking_invalid) {
-        r.status = SimStatus::kUnstable;
-        r.failure = std::string(buf) + " (physics.sinking_invalid)";
-        r.fitness = 0;
-      }
-    }
-  }
+  grade_floor_contact(model, s, floor, r);
   r.wall_seconds = seconds_since(wall_start);
   return r;
+}
+
+const char* to_string(FloorHealth h) {
+  switch (h) {
+    case FloorHealth::kOk:
+      return "ok";
+    case FloorHealth::kPenetrating:
+      return "penetrating";
+    case FloorHealth::kSank:
+      return "sank";
+  }
+  return "?";
 }
 
 const char* to_string(SimStatus s) {

@@ -78,6 +78,7 @@ pyb::dict progress_dict(const evo::RunProgress& p) {
   d["cache_hits"] = p.stats.cache_hits;
   d["invalid"] = p.stats.invalid;
   d["unstable"] = p.stats.unstable;
+  d["sank"] = p.stats.sank;  // of the simulated: sank through the floor (also unstable by default)
   d["wall_seconds"] = p.stats.wall_seconds;
   d["checkpointed"] = p.checkpointed;
   d["eta_seconds"] = p.eta_seconds;

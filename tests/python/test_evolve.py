@@ -146,3 +146,19 @@ def test_ctrl_c_from_outside_during_a_long_run(tmp_path):
     again = plastivox.evolve(str(cfg), str(out), threads=1,
                              stop_after=partial.generations_done + 1)
     assert again["outcome"] == "stopped" and again["resumed_from"] == partial.generations_done
+
+
+def test_evolve_treats_a_sunk_life_as_unstable(tmp_path):
+    # Every body soft (E <= 2e5 Pa) and heavy: every life sinks through the floor.
+    config = tiny_config(generations=1)
+    config["physics"] = {**config["physics"], "duration": 1.0, "e_max": 2e5, "act_frequency": 1}
+    seen = []
+    plastivox.evolve(config, str(tmp_path / "s.h5"), threads=1, on_generation=seen.append)
+    assert seen and all(g["sank"] == g["simulated"] > 0 for g in seen)
+    assert all(g["unstable"] == g["simulated"] for g in seen)
+    assert max(plastivox.read_results(str(tmp_path / "s.h5")).best_fitness) == 0
+    # The authors' rule scores them.
+    config["physics"]["sinking_invalid"] = False
+    seen = []
+    plastivox.evolve(config, str(tmp_path / "a.h5"), threads=1, on_generation=seen.append)
+    assert all(g["sank"] == g["simulated"] and g["unstable"] == 0 for g in seen)

@@ -181,3 +181,19 @@ def test_long_calls_release_the_gil(call):
         time.sleep(0.001)
     worker.join()
     assert turns >= 20, f"{call}: the main thread ran {turns} times during the call"
+
+
+def test_a_sunk_life_is_invalid_by_default_in_simulate_and_simulate_many():
+    # A 2x2x2 block of soft (1e5 Pa), heavy voxels falls through the floor; a stiff one stands.
+    shape = (2, 2, 2)
+    geometry = np.ones(shape, dtype=bool)
+    soft = plastivox.Robot.from_arrays(geometry, np.full(shape, 1e5), np.zeros(shape))
+    stiff = plastivox.Robot.from_arrays(geometry, np.full(shape, 1e10), np.zeros(shape))
+    sunk, stood = plastivox.simulate_many([soft, stiff], physics={"duration": 1.0}, threads=2)
+    assert sunk.status == "unstable" and sunk.fitness == 0 and sunk.health == "sank"
+    assert "sank through the floor" in sunk.failure and sunk.floor_depth > 100
+    assert stood.status == "finished" and stood.health == "ok" and stood.floor_depth < 0.5
+    # The authors' rule scores the same life, bit for bit the same.
+    authors = plastivox.simulate(soft, physics={"duration": 1.0, "sinking_invalid": False})
+    assert authors.status == "finished" and authors.health == "sank" and authors.fitness > 100
+    assert authors.final_state_hash == sunk.final_state_hash

@@ -182,6 +182,13 @@ std::string resolved_physics_json(const PhysicsDef& d) {
   // Recording left the physics for SimOptions; evolution never recorded, so every identity
   // and digest made before the move said 0 here and still does.
   p["record_fps"] = 0.0;
+  // The selection rule for sunk lives, spelled as before it became the default: present
+  // when they are invalid, absent under the authors' rule. Every file and digest made
+  // before then (the authors' rule, unless it said true) keeps its meaning and its digest.
+  if (d.sinking_invalid)
+    p["sinking_invalid"] = true;
+  else
+    p.erase("sinking_invalid");
   return p.dump();
 }
 

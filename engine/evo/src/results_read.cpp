@@ -1,6 +1,8 @@
 // Reading and checking the results file. Every dataset's class and shape is checked before
 // it is read, every cross-reference after, and both digests at the end: a file that
 // passes is exactly what a writer produced.
+#include <nlohmann/json.hpp>
+
 #include "file_seal.hpp"
 #include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
@@ -253,6 +255,16 @@ ResultsFile read_results(const std::string& path) {
     s.config = parse_config(h5::read_attr_string(c, r, "/", "config"), path + ": /@config");
   } catch (const InputError& e) {
     throw ResultsError(e.what());
+  }
+  // The rule for sunk lives the run selected under, as its resolved physics spells it
+  // (evo::resolved_physics_json): "sinking_invalid": true, or absent for the authors' rule,
+  // the only rule of files written before the other became the default.
+  if (h5::has_attr(r, "resolved_physics")) {
+    const std::string text = h5::read_attr_string(c, r, "/", "resolved_physics");
+    const nlohmann::json p = nlohmann::json::parse(text, nullptr, false);
+    if (!p.is_object()) c.fail("/@resolved_physics", "is not a JSON object");
+    s.config.physics.sinking_invalid =
+        p.contains("sinking_invalid") && p["sinking_invalid"] == true;
   }
   s.generations_done = static_cast<int>(h5::read_attr_int(c, r, "/", "generations_done"));
   if (s.generations_done < 0 || s.generations_done > s.config.generations)

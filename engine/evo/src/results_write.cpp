@@ -85,6 +85,8 @@ void write_root_attributes(const Ctx& c, hid_t root, const RunState& s, const Pr
   h5::write_attr(c, root, "format_version", int64_t{kResultsFormatVersion});
   h5::write_attr(c, root, "config", s.config.canonical_json());
   h5::write_attr(c, root, "resolved_physics", resolved_physics_json(s.config.physics));
+  h5::write_attr(c, root, "sunk_lives",
+                 std::string(s.config.physics.sinking_invalid ? "invalid" : "scored"));
   h5::write_attr_u64(c, root, "seed", s.config.seed);
   h5::write_attr(c, root, "treatment", std::string(to_string(s.config.treatment)));
   h5::write_attr(c, root, "population", int64_t{s.config.population});

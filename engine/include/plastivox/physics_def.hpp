@@ -95,10 +95,11 @@ struct PhysicsDef {
 
   // --- safety --- (recording is an output option: SimOptions in simulator.hpp)
   double max_speed = 100.0;  // m/s; a voxel faster than this means the run went unstable
-  // A life whose body ends below the floor (SimResult::sank) counts as unstable (fitness 0)
-  // instead of being reported only. Off in every preset: the authors' simulator scores such
-  // lives, so the faithful default does too (docs/physics.md).
-  bool sinking_invalid = false;
+  // A finished life that sank through the floor (SimResult::sank) counts as unstable
+  // (fitness 0), so selection never rewards sinking. On in every preset; false restores the
+  // authors' rule, which scores such a life like any other (docs/engine.md, "Floor contact
+  // and sinking"), for reproduction studies.
+  bool sinking_invalid = true;
 };
 
 // Named presets. "gecco2018-code" (the default) is what produced the published results;

@@ -76,6 +76,18 @@ class Simulator {
   std::unique_ptr<Workspace> ws_;
 };
 
+// How a life met the floor, graded from its deepest penetration (SimResult::floor_depth).
+enum class FloorHealth {
+  kOk,           // no deeper than kFloorPenetratingDepth: a body that stands and walks
+  kPenetrating,  // deeper, but not kFloorSankDepth: pressed into the floor
+  kSank,         // kFloorSankDepth or deeper, or the centre of mass ended below z = 0
+};
+// Thresholds in voxel lengths, set from measured lives (docs/engine.md, "Floor contact and
+// sinking"): every walker measured goes at most 0.42 deep, bodies pressed into the floor by
+// their own weight 0.6 to 1.8, and bodies that fall through it 7.9 and more.
+inline constexpr double kFloorPenetratingDepth = 0.5;  // a voxel's centre reaches the floor
+inline constexpr double kFloorSankDepth = 2.0;
+
 struct SimResult {
   SimStatus status = SimStatus::kRunning;
   std::string failure;               // why the run went unstable; empty when it finished
@@ -96,13 +108,21 @@ struct SimResult {
   double stiffness_change_var = 0;       // variance of the signed values
   uint64_t final_state_hash = 0;
   Recording recording;  // frames, when SimOptions asked for them without an on_frame
-  // Health: with the floor on, the body ended below it (its centre of mass, or a whole
-  // voxel, under z = 0). Heavy, soft bodies do this: their time step is long enough for
-  // them to pass through the floor in one step (docs/physics.md, "Sinking through the
-  // floor"). Reported, not acted on, unless def.sinking_invalid (then status is kUnstable).
-  bool sank = false;
-  bool settled = false;        // the life passed the settle time (else com_settled is com_final)
+  // Health: how the body met the floor over its whole life (docs/engine.md, "Floor
+  // contact and sinking"). A voxel's penetration is how far its bottom face (half its
+  // actuated size below its centre, tilt ignored, as the floor contact sees it) is below
+  // z = 0; the deepest over every step is floor_depth. Heavy, soft bodies pass through the
+  // floor: their time step is long enough to cross the contact in one step. A sunk life
+  // counts as unstable unless def.sinking_invalid is off (the authors' rule).
+  FloorHealth floor_health = FloorHealth::kOk;
+  double floor_depth = 0;      // deepest penetration over the life, voxel lengths (>= 0)
+  int voxels_deep_max = 0;     // most voxels at once deeper than kFloorPenetratingDepth
   int voxels_below_floor = 0;  // voxels whose top face ends below z = 0
+  bool sank = false;           // floor_health == kSank
+  // Share of the fitness from vertical displacement: dz^2 / |d|^2 of `displacement`, in
+  // [0, 1] (0 without displacement, and always 0 under xy fitness, which ignores dz).
+  double vertical_share = 0;
+  bool settled = false;  // the life passed the settle time (else com_settled is com_final)
   std::vector<std::string> warnings;  // one line each, e.g. what sank and by how much
 };
 
@@ -139,5 +159,6 @@ Frame capture_frame(const State& state);
 Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, const Vec3& com);
 
 const char* to_string(SimStatus s);
+const char* to_string(FloorHealth h);  // "ok", "penetrating", "sank"
 
 }  // namespace plastivox
