@@ -56,7 +56,9 @@ const CommandHelp kHelp[] = {
      "                        stiffness, stimulus, floor contact; docs/results-format.md) or\n"
      "                        LIFE.history (voxcraft-viz's history format)\n"
      "  --fps F               frames per simulated second of --record (default 30)\n"
-     "exit status: 0 done, 1 bad input, 2 bad command line, 3 unstable simulation\n"
+     "exit status: 0 done, 1 bad input, 2 bad command line, 3 unstable simulation or a\n"
+     "life that sank through the floor (invalid unless --physics '{\"sinking_invalid\":\n"
+     "false}', the authors' rule; docs/engine.md)\n"
      "examples:\n"
      "  plastivox simulate examples/walker.json --treatment pressure --json\n"
      "  plastivox simulate examples/walker.json --record life.h5 --fps 30\n"},
@@ -127,6 +129,8 @@ const CommandHelp kHelp[] = {
      "  --resamples N         bootstrap resamples (default 10000, at least 100)\n"
      "  --treatments LIST     comma-separated subset of none,stress,pressure\n"
      "  --allow-mixed-physics analyse runs whose physics differ\n"
+     "  --keep-artifacts      keep champions whose life is unstable or sank through the\n"
+     "                        floor in the statistics and figures (default: excluded)\n"
      "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
      "example:\n"
      "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
@@ -218,6 +222,8 @@ const CommandHelp kHelp[] = {
      "  --ranks R             with --estimate-only: ... split into R MPI ranks (default 1)\n"
      "  --json                with --estimate-only: also print the prediction as JSON\n"
      "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
+     "  --keep-artifacts      keep champions whose life is unstable or sank through the\n"
+     "                        floor in the statistics and figures (default: excluded)\n"
      "  --print-preset NAME   print a preset's config and exit\n"
      "example:\n"
      "  plastivox experiment --preset tiny --out smoke --threads 2\n"},

@@ -16,6 +16,7 @@
 #include "plastivox/evo/h5_util.hpp"  // to read analysis.h5 back
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/simulator.hpp"
 #include "test_support.hpp"
 
 namespace plastivox::analysis {
@@ -495,6 +496,7 @@ TEST_F(Study, UnstableSimulationsAreRecordedNeverTurnedIntoNumbers) {
       run(Treatment::kStress, 9, R"({"duration": 0.2, "settle_time": 0.1, "max_speed": 1e-4})");
   StudyOptions o = quick();
   o.allow_mixed_physics = true;
+  o.keep_artifacts = true;  // measured like any other champion (by default it is left out)
   const StudyResult r = analyze_study({ok, bad}, o);
   write_study_outputs(r, path("out"));
   const Json j = Json::parse(read_text(path("out/stats.json")));
@@ -512,6 +514,8 @@ TEST_F(Study, UnstableSimulationsAreRecordedNeverTurnedIntoNumbers) {
   for (const char* m : {"fitness", "robustness", "m_body", "v_body"})
     EXPECT_TRUE(u["undefined"].contains(m)) << m;
   EXPECT_FALSE(u["v_gain"].is_null());  // alpha is defined whatever the simulation did
+  EXPECT_EQ(u["life_status"], "unstable");
+  EXPECT_TRUE(u["excluded"].is_null());
   EXPECT_EQ(j["champions"][0]["status"], "ok");
 
   // Each panel keeps the valid value and lists the unstable champion with its reason.
@@ -528,22 +532,45 @@ TEST_F(Study, UnstableSimulationsAreRecordedNeverTurnedIntoNumbers) {
   EXPECT_EQ(rows[2][9], "");   // fitness
   EXPECT_EQ(rows[2][12], "");  // r_mean
   EXPECT_EQ(rows[2][7], "unstable");
+
+  // By default the unstable champion is an artifact: left out of every panel (diversity
+  // too), its robustness not measured.
+  o.keep_artifacts = false;
+  const StudyResult d = analyze_study({ok, bad}, o);
+  ASSERT_EQ(d.champions.size(), 2u);
+  EXPECT_TRUE(d.champions[0].artifact.empty());
+  EXPECT_NE(d.champions[1].artifact.find("its life is unstable"), std::string::npos);
+  EXPECT_TRUE(d.champions[1].robustness.draws.empty());
+  for (const PanelStats& p : d.panels) {
+    ASSERT_EQ(p.groups.size(), 1u);
+    if (p.id == "B") {
+      EXPECT_TRUE(p.groups[0].values.empty());  // no pair without the artifact
+      continue;
+    }
+    if (p.id != "F") {  // F: V_gain of s3, when its alpha range is defined
+      EXPECT_EQ(p.groups[0].values.size(), 1u) << p.id;
+    }
+    ASSERT_FALSE(p.groups[0].excluded.empty()) << p.id;
+    EXPECT_EQ(p.groups[0].excluded.back().label, "stress-s9") << p.id;
+    EXPECT_NE(p.groups[0].excluded.back().reason.find("excluded as an artifact"),
+              std::string::npos);
+  }
 }
 
-TEST_F(Study, HealthColumnFlagsChampionsThatSankOrWentUnstable) {
-  // Three runs of one treatment: a healthy one; one whose every body is soft (E <= 2e5 Pa)
-  // and heavy, so every life sinks through the floor (docs/engine.md); one whose every
-  // simulation goes unstable.
+TEST_F(Study, ChampionsAreAuditedAndArtifactsExcluded) {
+  // Three runs of one treatment: a healthy one; one evolved under the authors' rule whose
+  // every body is soft (E <= 2e5 Pa) and heavy, so its champion sank through the floor
+  // (docs/engine.md); one whose every simulation goes unstable.
   const std::string ok = run(Treatment::kStress, 3);
   const std::string sank = run(Treatment::kStress, 5,
                                R"({"duration": 1.0, "settle_time": 0.1, "e_max": 2e5,
-                                   "act_frequency": 1})");
+                                   "act_frequency": 1, "sinking_invalid": false})");
   const std::string bad =
       run(Treatment::kStress, 9, R"({"duration": 0.2, "settle_time": 0.1, "max_speed": 1e-4})");
   for (const auto& [file, sinks] : {std::pair{ok, false}, {sank, true}}) {
     const evo::ResultsFile f = evo::read_results(file);
     const uint64_t champion = f.state.history.back().champion_id;
-    EXPECT_EQ(f.state.births.at(champion).sank, sinks) << file;  // what the column must show
+    EXPECT_EQ(f.state.births.at(champion).sank, sinks) << file;
   }
   StudyOptions o = quick();
   o.allow_mixed_physics = true;
@@ -551,9 +578,16 @@ TEST_F(Study, HealthColumnFlagsChampionsThatSankOrWentUnstable) {
   write_study_outputs(r, path("out"));
 
   const char* expect_label[] = {"stress-s3", "stress-s5", "stress-s9"};
-  const char* expect_status[] = {"ok", "ok", "unstable"};
-  const char* expect_health[] = {"", "sank-through-floor", ""};
-  // champions.csv: the health column, found by its header.
+  const char* expect_status[] = {"ok", "sank", "unstable"};
+  const char* expect_life[] = {"finished", "finished", "unstable"};
+  const bool expect_excluded[] = {false, true, true};
+  ASSERT_EQ(r.champions.size(), 3u);
+  EXPECT_NE(r.champions[0].health, "sank");
+  EXPECT_EQ(r.champions[1].health, "sank");
+  EXPECT_GT(r.champions[1].floor_depth, kFloorSankDepth);
+  EXPECT_GT(r.champions[1].vertical_share, 0.9);
+  EXPECT_LT(r.champions[0].floor_depth, kFloorSankDepth);
+  // champions.csv, stats.json and analysis.h5 say the same.
   const auto rows = read_csv(read_text(path("out/champions.csv")));
   ASSERT_EQ(rows.size(), 4u);
   const auto column = [&](const std::string& name) {
@@ -561,8 +595,8 @@ TEST_F(Study, HealthColumnFlagsChampionsThatSankOrWentUnstable) {
     EXPECT_NE(at, rows[0].end()) << name << " column";
     return static_cast<size_t>(at - rows[0].begin());
   };
-  const size_t label = column("label"), status = column("status"), health = column("health");
-  // stats.json and analysis.h5 say the same.
+  const size_t label = column("label"), status = column("status"), health = column("health"),
+               depth = column("floor_depth"), excluded = column("excluded");
   const Json j = Json::parse(read_text(path("out/stats.json")));
   ASSERT_EQ(j["champions"].size(), 3u);
   const evo::h5::Ctx ctx{path("out/analysis.h5"), 0};
@@ -571,17 +605,76 @@ TEST_F(Study, HealthColumnFlagsChampionsThatSankOrWentUnstable) {
   const std::vector<std::string> h5_health =
       evo::h5::read_strings(ctx, f.id(), "champions/health", 3);
   for (size_t i = 0; i < 3; ++i) {
-    EXPECT_EQ(rows[i + 1][label], expect_label[i]);
-    EXPECT_EQ(rows[i + 1][status], expect_status[i]) << expect_label[i];
-    EXPECT_EQ(rows[i + 1][health], expect_health[i]) << expect_label[i];
-    EXPECT_EQ(j["champions"][i]["label"], expect_label[i]);
-    EXPECT_EQ(j["champions"][i]["health"], expect_health[i]) << expect_label[i];
-    EXPECT_EQ(h5_health[i], expect_health[i]) << expect_label[i];
+    const ChampionAnalysis& c = r.champions[i];
+    EXPECT_EQ(c.label, expect_label[i]);
+    EXPECT_EQ(c.status, expect_status[i]) << c.label;
+    EXPECT_EQ(c.life_status, expect_life[i]) << c.label;
+    EXPECT_EQ(!c.artifact.empty(), expect_excluded[i]) << c.label;
+    EXPECT_EQ(rows[i + 1][label], c.label);
+    EXPECT_EQ(rows[i + 1][status], c.status) << c.label;
+    EXPECT_EQ(rows[i + 1][health], c.health) << c.label;
+    EXPECT_EQ(rows[i + 1][excluded], c.artifact) << c.label;
+    EXPECT_DOUBLE_EQ(std::stod(rows[i + 1][depth]), c.floor_depth) << c.label;
+    EXPECT_EQ(j["champions"][i]["health"], c.health) << c.label;
+    EXPECT_EQ(j["champions"][i]["excluded"].is_null(), c.artifact.empty()) << c.label;
+    EXPECT_EQ(h5_health[i], c.health) << c.label;
   }
-  // The report's champions table shows the flag beside the status.
+  // The fitness panel and the evolution band keep the healthy run only.
+  const PanelStats& a = r.panels[0];
+  ASSERT_EQ(a.id, "A");
+  EXPECT_EQ(a.groups[0].values.size(), 1u);
+  ASSERT_EQ(a.groups[0].excluded.size(), 2u);
+  EXPECT_EQ(a.groups[0].excluded[0].label, "stress-s5");
+  EXPECT_NE(a.groups[0].excluded[0].reason.find("sank through the floor"), std::string::npos);
+  ASSERT_EQ(r.evolution.size(), 1u);
+  EXPECT_EQ(r.evolution[0].runs, 1);
+  // report.html says so at the top, in one sentence with the count, and states the rule
+  // and the direction of fitness.
   const std::string report = read_text(path("out/report.html"));
-  EXPECT_NE(report.find("<td>ok, sank-through-floor</td>"), std::string::npos);
-  EXPECT_EQ(report.find("sank-through-floor"), report.rfind("sank-through-floor"));
+  const size_t sentence = report.find(
+      "2 of 3 champions are excluded from the statistics and "
+      "figures because their lives, simulated again, are "
+      "unstable or sank through the floor (stress-s5: it sank");
+  ASSERT_NE(sentence, std::string::npos) << report.substr(0, 2000);
+  EXPECT_LT(sentence, report.find("<h2>"));
+  EXPECT_NE(report.find("Fitness is the 3-D displacement of the centre of mass (as in the "
+                        "authors&#39; code)"),
+            std::string::npos);
+  EXPECT_NE(report.find("Lives that sank through the floor were mixed: invalid; scored (the "
+                        "authors&#39; rule) during evolution"),
+            std::string::npos);
+  EXPECT_EQ(j["audit"]["sinking_rule"], "mixed: invalid; scored (the authors' rule)");
+
+  // --keep-artifacts keeps them in: flagged, counted in the statistics, no sentence.
+  o.keep_artifacts = true;
+  const StudyResult kept = analyze_study({ok, sank, bad}, o);
+  EXPECT_EQ(kept.champions[1].status, "sank");
+  EXPECT_TRUE(kept.champions[1].artifact.empty());
+  EXPECT_EQ(kept.panels[0].groups[0].values.size(), 2u);  // s9's fitness stays undefined
+  EXPECT_EQ(report_html(kept).find("excluded from the statistics"), std::string::npos);
+}
+
+TEST_F(Study, AChampionOfAnOldResultsFileIsSimulatedAgainAndExcluded) {
+  // Written before sunk lives became invalid (tests/data/results/README.md): its champion
+  // was scored for falling through the floor, and the study finds that out by itself.
+  const std::string old =
+      std::string(PLASTIVOX_SOURCE_DIR) + "/tests/data/results/old-rule-sinker.h5";
+  const StudyResult r = analyze_study({old}, quick());
+  ASSERT_EQ(r.champions.size(), 1u);
+  const ChampionAnalysis& c = r.champions[0];
+  EXPECT_EQ(c.evaluation, "ok");  // what the old rule said
+  EXPECT_GT(c.fitness, 100);
+  EXPECT_EQ(c.status, "sank");
+  EXPECT_EQ(c.health, "sank");
+  EXPECT_NE(c.artifact.find("it sank through the floor"), std::string::npos);
+  EXPECT_EQ(r.sinking_rule, "scored (the authors' rule)");
+  EXPECT_TRUE(r.panels[0].groups[0].values.empty());
+  const std::string report = report_html(r);
+  EXPECT_NE(report.find("1 of 1 champion is excluded from the statistics and figures because "
+                        "its life, simulated again, is unstable or sank through the floor "
+                        "(none-s3: it sank through the floor ("),
+            std::string::npos);
+  EXPECT_NE(report.find("sank</span>, excluded</td><td>sank</td>"), std::string::npos);
 }
 
 // ---- the command line ----

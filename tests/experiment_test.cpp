@@ -663,6 +663,29 @@ window.addEventListener("load", () => setTimeout(() => {
 }
 
 // --no-viewer: no lives written and no viewer in the report; the default writes both.
+// Issue 33: the study audits every champion; under the default rule no sunk body wins a
+// run, and the report says which rule and which direction of fitness the runs used.
+TEST_F(ExperimentRun, TinyPresetCrownsNoSunkChampionAndTheReportStatesTheRule) {
+  const std::string dir = path("tiny");
+  const auto o = run("--preset tiny --out " + dir + " --threads 2 --no-viewer");
+  ASSERT_EQ(o.status, 0) << o.out;
+  const json j = json::parse(read_file_bytes(dir + "/stats.json"));
+  ASSERT_FALSE(j["champions"].empty());
+  for (const json& c : j["champions"]) {
+    EXPECT_NE(c["health"], "sank") << c["label"];
+    EXPECT_EQ(c["life_status"], "finished") << c["label"];
+    EXPECT_TRUE(c["excluded"].is_null()) << c["label"];
+  }
+  EXPECT_EQ(j["audit"]["sinking_rule"], "invalid");
+  const std::string report = read_file_bytes(dir + "/report.html");
+  EXPECT_NE(report.find("Lives that sank through the floor were invalid during evolution"),
+            std::string::npos);
+  EXPECT_NE(report.find("Fitness is the 3-D displacement of the centre of mass (as in the "
+                        "authors&#39; code)"),
+            std::string::npos);
+  EXPECT_EQ(report.find("excluded from the statistics"), std::string::npos);
+}
+
 TEST_F(ExperimentRun, NoViewerWritesNoLives) {
   const std::string cfg = write_config(micro_config());
   const std::string dir = path("study");

@@ -39,6 +39,7 @@ struct ExperimentOptions {
   std::string only_run;
   // The report's 3-D viewer: every champion's life in lives/ (--no-viewer: none).
   bool viewer = true;
+  bool keep_artifacts = false;  // keep champions whose life is unstable or sank in the statistics
 };
 
 struct ExperimentOutcome {

@@ -166,6 +166,11 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
     const auto& c = study.champions[todo[j]];
     render::GalleryEntry& e = entries[todo[j]];
     e.source = render::load_life_source(study.inputs[c.input].file, c.generation);
+    // A champion the audit flagged says so under its tile (short: tiles can be narrow):
+    // "· SANK" when it is left out of the statistics, "· SANK, kept" with --keep-artifacts.
+    if (c.health == "sank" || c.life_status == "unstable")
+      e.source.label += std::string(c.life_status == "unstable" ? " · UNSTABLE" : " · SANK") +
+                        (c.artifact.empty() ? ", kept" : "");
     const auto times =
         framed[todo[j]] ? render::gallery_times(e.source.physics, style) : std::vector<double>{};
     if (lives) {
@@ -254,7 +259,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
 std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
   const analysis::ChampionAnalysis* best = nullptr;
   for (const auto& c : ctx.study->champions) {
-    if (c.treatment == Treatment::kNone || c.evaluation != "ok") continue;
+    if (c.treatment == Treatment::kNone || c.evaluation != "ok" || !c.artifact.empty()) continue;
     if (!best || c.fitness > best->fitness) best = &c;
   }
   if (!best) {

@@ -85,6 +85,7 @@ std::string options_json(const StudyOptions& o) {
   j["alpha"] = o.alpha;
   j["ci_level"] = o.ci_level;
   j["allow_mixed_physics"] = o.allow_mixed_physics;
+  j["keep_artifacts"] = o.keep_artifacts;
   nlohmann::ordered_json ts = nlohmann::ordered_json::array();
   for (Treatment t : o.treatments) ts.push_back(to_string(t));
   j["treatments"] = ts;
@@ -136,6 +137,8 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
   r.version = prov.plastivox_version;
   r.commit = prov.git_commit;
   r.date = prov.date_created;
+
+  study::audit_champions(r, progress);
 
   t0 = Clock::now();
   study::run_robustness(r, progress);

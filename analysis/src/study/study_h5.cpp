@@ -51,10 +51,11 @@ void write_inputs(const Ctx& c, hid_t root, const StudyResult& r) {
 void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
   Handle g = evo::h5::create_group(c, root, "champions");
   const size_t n = r.champions.size(), draws = static_cast<size_t>(r.options.robustness_draws);
-  std::vector<std::string> label, treatment, evaluation, status, detail, health, plan, digest;
+  std::vector<std::string> label, treatment, evaluation, status, detail, health, plan, digest,
+      excluded;
   std::vector<uint64_t> seed, id, rseed;
   std::vector<int32_t> generation, voxels, input, valid;
-  std::vector<double> fitness, f_train, r_mean, m_body, v_body, v_gain, confidence;
+  std::vector<double> fitness, f_train, r_mean, m_body, v_body, v_gain, confidence, depth, vertical;
   std::vector<double> r_draw(n * draws, kUndefined), f_test(n * draws, kUndefined);
   for (size_t i = 0; i < n; ++i) {
     const ChampionAnalysis& ch = r.champions[i];
@@ -64,6 +65,9 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
     status.push_back(ch.status);
     detail.push_back(ch.status_detail);
     health.push_back(ch.health);
+    excluded.push_back(ch.artifact);
+    depth.push_back(ch.floor_depth);
+    vertical.push_back(ch.vertical_share);
     plan.push_back(to_string(ch.body_plan.plan));
     digest.push_back(ch.phenotype_digest);
     seed.push_back(ch.run_seed);
@@ -94,6 +98,7 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
                                                               {"status", &status},
                                                               {"status_detail", &detail},
                                                               {"health", &health},
+                                                              {"excluded", &excluded},
                                                               {"body_plan", &plan},
                                                               {"phenotype_digest", &digest}})
     evo::h5::write_strings(c, g.id(), name, *v);
@@ -111,7 +116,9 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
                                                             {"m_body", &m_body},
                                                             {"v_body", &v_body},
                                                             {"v_gain", &v_gain},
-                                                            {"body_plan_confidence", &confidence}})
+                                                            {"body_plan_confidence", &confidence},
+                                                            {"floor_depth", &depth},
+                                                            {"vertical_share", &vertical}})
     evo::h5::write(c, g.id(), name, *v);
   evo::h5::write(c, g.id(), "r_draws", r_draw, {n, draws});
   evo::h5::write(c, g.id(), "f_test", f_test, {n, draws});

@@ -22,6 +22,13 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
 // Hex hash of a robot's definition (lattice, voxel size, present, E0, alpha, phase).
 std::string phenotype_digest(const RobotDef& robot);
 
+// ---- study_audit.cpp ----
+// Simulates every champion's life again with its run's physics (sunk lives scored): sets
+// life_status, health, floor_depth, vertical_share, and for an unstable or sunk life the
+// status and, unless options.keep_artifacts, `artifact`; sets r.sinking_rule and
+// r.fitness_direction.
+void audit_champions(StudyResult& r, const StudyProgressFn& progress);
+
 // ---- study_robustness.cpp ----
 // Robustness of every champion, in parallel, reusing and writing checkpoints in
 // options.cache_dir. Sets robustness, robustness_seed, robustness_from_cache and r_mean.

@@ -180,6 +180,10 @@ Json champion(const StudyResult& r, const ChampionAnalysis& c) {
           {"undefined", undefined},
           {"evaluation", c.evaluation},
           {"health", c.health},
+          {"life_status", c.life_status},
+          {"floor_depth", num(c.floor_depth)},
+          {"vertical_share", num(c.vertical_share)},
+          {"excluded", c.artifact.empty() ? Json(nullptr) : Json(c.artifact)},
           {"champion_id", c.id},
           {"phenotype_digest", c.phenotype_digest},
           {"body_plan", to_string(c.body_plan.plan)},
@@ -270,6 +274,10 @@ std::string stats_json(const StudyResult& r) {
                   {"hausdorff", hausdorff(r)},
                   {"body_plans", {{"counts", counts}, {"threshold", BodyPlanOptions{}.threshold}}},
                   {"alpha_ranges", ranges},
+                  {"audit",
+                   {{"sinking_rule", r.sinking_rule},
+                    {"fitness_direction", r.fitness_direction},
+                    {"keep_artifacts", r.options.keep_artifacts}}},
                   {"warnings", strings(r.warnings)}};
   return j.dump(1) + "\n";
 }

@@ -108,7 +108,6 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
       c.status_detail += " (" + run.births[rec->id].failure + ")";
     for (const char* m : {"fitness", "m_body", "v_body"}) c.undefined[m] = c.status_detail;
   }
-  if (rec->id < run.births.size() && run.births[rec->id].sank) c.health = "sank-through-floor";
   c.phenotype_digest = phenotype_digest(c.robot);
   return l;
 }

@@ -234,7 +234,7 @@ std::string champions(const StudyResult& r) {
   std::string s =
       "<h2>Champions</h2>\n<table><tr><th>champion</th><th>gen.</th><th>fitness</th><th>R</th>"
       "<th>M_body</th><th>V_body</th><th>V_gain</th><th>plan</th><th>voxels</th>"
-      "<th>status</th></tr>\n";
+      "<th>status</th><th>floor</th><th>depth</th><th>vertical</th></tr>\n";
   for (const ChampionAnalysis& c : r.champions) {
     s += "<tr>" + td(esc(c.label)) + td(std::to_string(c.generation), "num") +
          td(c.evaluation == "ok" ? display(c.fitness, 4) : "–", "num") +
@@ -245,10 +245,38 @@ std::string champions(const StudyResult& r) {
          td((c.status == "ok"
                  ? "ok"
                  : "<span title=\"" + esc(c.status_detail) + "\">" + esc(c.status) + "</span>") +
-            (c.health.empty() ? "" : ", " + esc(c.health))) +
-         "</tr>\n";
+            (c.artifact.empty() ? "" : ", excluded")) +
+         td(esc(c.health)) + td(display(c.floor_depth, 3), "num") +
+         td(display(c.vertical_share, 2), "num") + "</tr>\n";
   }
   return s + "</table>\n";
+}
+
+// The audit, at the top: what was excluded (one sentence with the count, when anything was),
+// the direction fitness is measured in and the rule for sunk lives the runs evolved under.
+std::string audit(const StudyResult& r) {
+  std::string s, names;
+  int excluded = 0;
+  for (const ChampionAnalysis& c : r.champions) {
+    if (c.artifact.empty()) continue;
+    ++excluded;
+    names += (names.empty() ? "" : "; ") + esc(c.label) + ": " + esc(c.artifact);
+  }
+  if (excluded > 0)
+    s += "<p class=\"warn\" id=\"excluded\">" + std::to_string(excluded) + " of " +
+         std::to_string(r.champions.size()) +
+         (r.champions.size() == 1 ? " champion " : " champions ") +
+         (excluded == 1 ? "is excluded from the statistics and figures because its life, "
+                          "simulated again, is"
+                        : "are excluded from the statistics and figures because their lives, "
+                          "simulated again, are") +
+         " unstable or sank through the floor (" + names +
+         "; <code>--keep-artifacts</code> keeps " + (excluded == 1 ? "it" : "them") + ").</p>\n";
+  s += "<p>Fitness is the " + esc(r.fitness_direction) +
+       ", in voxel lengths. Lives that sank through the floor were " + esc(r.sinking_rule) +
+       " during evolution (physics <code>sinking_invalid</code>, docs/engine.md); every "
+       "champion was simulated again and graded for floor contact.</p>\n";
+  return s;
 }
 
 std::string provenance(const StudyResult& r) {
@@ -294,6 +322,7 @@ std::string report_html(const StudyResult& r, const ReportExtras& extras) {
   for (size_t i = 0; i < r.treatments.size(); ++i)
     s += (i ? ", " : "") + std::string(to_string(r.treatments[i]));
   s += ". Generated " + esc(r.date) + ".</p>\n";
+  s += audit(r);
   for (const std::string& w : r.warnings) s += "<p class=\"warn\">Warning: " + esc(w) + "</p>\n";
   s += summary(r) + extras_html(extras) + diversity(r) + statistics(r) + champions(r) +
        provenance(r);

@@ -198,6 +198,13 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress) {
     ChampionAnalysis& c = r.champions[i];
     c.robustness_seed = champion_seed(o.seed, c.phenotype_digest);
     keys[i] = checkpoint_key(c, o);
+    if (!c.artifact.empty()) {  // left out of the statistics: nothing to measure
+      c.undefined["robustness"] = "excluded as an artifact: " + c.artifact;
+      ++done;
+      report("robustness " + std::to_string(done) + "/" + std::to_string(n) + " " + c.label +
+             " excluded (" + c.artifact + ")");
+      continue;
+    }
     std::optional<RobustnessResult> cached;
     if (!o.cache_dir.empty())
       cached = read_checkpoint(checkpoint_path(o.cache_dir, keys[i]), keys[i], o.robustness_draws);

@@ -63,7 +63,8 @@ GroupStats group_values(const StudyResult& r, const PanelDef& def, Treatment t) 
   if (!def.measure) {  // panel B: every within-treatment pair
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j)
-        if (r.champions[i].treatment == t && r.champions[j].treatment == t) {
+        if (r.champions[i].treatment == t && r.champions[j].treatment == t &&
+            r.champions[i].artifact.empty() && r.champions[j].artifact.empty()) {
           g.values.push_back(r.hausdorff.at(i, j));
           g.value_labels.push_back(r.champions[i].label + "|" + r.champions[j].label);
         }
@@ -71,6 +72,10 @@ GroupStats group_values(const StudyResult& r, const PanelDef& def, Treatment t) 
   }
   for (const ChampionAnalysis& c : r.champions) {
     if (c.treatment != t) continue;
+    if (!c.artifact.empty()) {  // an unstable or sunk life: left out of every panel
+      g.excluded.push_back({c.label, "excluded as an artifact: " + c.artifact});
+      continue;
+    }
     const Value v = def.measure(c);
     if (v.x) {
       g.values.push_back(*v.x);
@@ -130,8 +135,9 @@ std::vector<EvolutionBand> compute_evolution(const StudyResult& r) {
     b.treatment = t;
     std::vector<const EvolutionCurve*> curves;
     size_t length = SIZE_MAX;
-    for (const StudyInput& in : r.inputs)
-      if (in.treatment == t) {
+    for (const ChampionAnalysis& c : r.champions)
+      if (c.treatment == t && c.artifact.empty()) {  // runs won by an artifact are left out
+        const StudyInput& in = r.inputs[c.input];
         curves.push_back(&in.evolution);
         length = std::min(length, in.evolution.best.size());
       }

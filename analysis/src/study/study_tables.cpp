@@ -61,7 +61,10 @@ std::string champions_csv(const StudyResult& r) {
                                    "extent_z",
                                    "box_fill",
                                    "phenotype_digest",
-                                   "health"};
+                                   "health",
+                                   "floor_depth",
+                                   "vertical_share",
+                                   "excluded"};
   for (int k = 0; k < draws; ++k) head.push_back("r_draw_" + std::to_string(k));
   std::string out = row(head);
   for (const ChampionAnalysis& c : r.champions) {
@@ -92,7 +95,10 @@ std::string champions_csv(const StudyResult& r) {
                                   std::to_string(f.extent[2]),
                                   number(f.box_fill),
                                   c.phenotype_digest,
-                                  c.health};
+                                  c.health,
+                                  number(c.floor_depth),
+                                  number(c.vertical_share),
+                                  c.artifact};
     for (const RobustnessDraw& d : rb.draws) v.push_back(d.valid ? number(d.r) : "");
     out += row(v);
   }

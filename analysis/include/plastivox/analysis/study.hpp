@@ -49,6 +49,9 @@ struct StudyOptions {
   double ci_level = 0.95;             // coverage of the confidence intervals of the means
   bool allow_mixed_physics = false;   // false: files simulated with different physics -> error
   std::vector<Treatment> treatments;  // expected treatments (each must have files); empty = any
+  // false: a champion whose re-simulated life is unstable or sank through the floor is left
+  // out of the statistics and figures (counted and listed); true keeps it in.
+  bool keep_artifacts = false;
   // Not part of the results (never written to stats.json):
   int threads = 0;        // 0 = all cores
   std::string cache_dir;  // robustness checkpoints (created on demand); empty = no cache
@@ -130,9 +133,15 @@ struct ChampionAnalysis {
   // ("unstable", "robustness-unstable", ...) with the reasons in status_detail.
   std::string status = "ok";
   std::string status_detail;
-  // Health flags of the champion's own life from the results file: "" (none) or
-  // "sank-through-floor" (its body ended below the floor; evo::BirthRecord::sank).
-  std::string health;
+  // The audit: the champion's life simulated again with its run's physics (sunk lives scored,
+  // so that a fall is measured, not cut short), whatever rule it was evolved under.
+  std::string life_status;    // "finished" or "unstable"
+  std::string health;         // "ok", "penetrating" or "sank" (SimResult::floor_health)
+  double floor_depth = 0;     // deepest penetration below the floor, voxel lengths
+  double vertical_share = 0;  // share of its fitness from vertical displacement, [0, 1]
+  // Why it is left out of every statistic and figure (an unstable or sunk life, unless
+  // StudyOptions::keep_artifacts); empty when it is in.
+  std::string artifact;
   // Why a measure has no value: metric ("fitness", "robustness", "m_body", "v_body", "v_gain")
   // -> reason. A metric absent here has a value.
   std::map<std::string, std::string> undefined;
@@ -179,6 +188,10 @@ struct StudyResult {
   std::vector<PanelStats> panels;                // A..F
   std::vector<EvolutionBand> evolution;          // one per treatment, in treatment order
   std::vector<std::string> warnings;             // e.g. mixed physics when allowed
+  // What the report states of the runs' physics: the rule for sunk lives in force while they
+  // evolved ("invalid", "scored (the authors' rule)" or "mixed: ...") and the direction fitness
+  // is measured in ("3-D ..." or "xy-plane ...").
+  std::string sinking_rule, fitness_direction;
   // Provenance.
   std::string version, commit, date;  // of this program; date UTC ISO 8601
   std::string fingerprint;            // study_fingerprint(input digests, options)

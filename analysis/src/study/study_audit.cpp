@@ -1,0 +1,89 @@
+// The champions' audit: each champion's life simulated once more with its run's physics,
+// graded for floor contact (docs/engine.md, "Floor contact and sinking"). A run evolved under
+// the authors' rule may have crowned a body that fell through the floor; whatever the rule,
+// that life is measured here, and a champion whose life is unstable or sank is left out of
+// the statistics and figures unless StudyOptions::keep_artifacts.
+#include <algorithm>
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/base/parallel.hpp"
+#include "plastivox/simulator.hpp"
+#include "study_internal.hpp"
+
+namespace plastivox::analysis::study {
+namespace {
+
+// "invalid" or "scored (the authors' rule)" for one run's resolved physics.
+std::string rule_of(const StudyInput& in) {
+  const nlohmann::json p = nlohmann::json::parse(in.physics_json);
+  return p.contains("sinking_invalid") && p["sinking_invalid"] == true
+             ? "invalid"
+             : "scored (the authors' rule)";
+}
+
+std::string direction_of(const PhysicsDef& d) {
+  return d.fitness == FitnessMode::k3D
+             ? "3-D displacement of the centre of mass (as in the authors' code)"
+             : "displacement of the centre of mass in the xy-plane (as in the paper's text)";
+}
+
+// The first of `values` and, when they differ, every distinct one: "a" or "mixed: a; b".
+std::string one_or_mixed(const std::vector<std::string>& values) {
+  std::vector<std::string> distinct;
+  for (const std::string& v : values)
+    if (std::find(distinct.begin(), distinct.end(), v) == distinct.end()) distinct.push_back(v);
+  if (distinct.size() == 1) return distinct[0];
+  std::string s = "mixed: ";
+  for (size_t i = 0; i < distinct.size(); ++i) s += (i ? "; " : "") + distinct[i];
+  return s;
+}
+
+}  // namespace
+
+void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
+  const int n = static_cast<int>(r.champions.size());
+  const int threads = r.options.threads > 0 ? r.options.threads : hardware_threads();
+  parallel_for(r.champions.size(), std::min(threads, std::max(1, n)), [&](size_t i) {
+    ChampionAnalysis& c = r.champions[i];
+    PhysicsDef physics = c.physics;
+    physics.sinking_invalid = false;  // measure the fall rather than cut it short
+    const SimResult life = simulate(compile(c.robot, physics));
+    c.life_status = life.status == SimStatus::kFinished ? "finished" : "unstable";
+    c.health = to_string(life.floor_health);
+    c.floor_depth = life.floor_depth;
+    c.vertical_share = life.vertical_share;
+    char why[200] = "";
+    if (life.status != SimStatus::kFinished)
+      std::snprintf(why, sizeof why, "its life is unstable (%s)", life.failure.c_str());
+    else if (life.sank)
+      std::snprintf(why, sizeof why,
+                    "it sank through the floor (%.3g voxel lengths deep; %.0f %% of its "
+                    "fitness is vertical)",
+                    life.floor_depth, 100 * life.vertical_share);
+    if (why[0] == 0) return;
+    if (c.status == "ok") c.status = life.sank ? "sank" : "unstable";
+    c.status_detail += (c.status_detail.empty() ? "" : "; ") + std::string("audit: ") + why;
+    if (!r.options.keep_artifacts) c.artifact = why;
+  });
+
+  std::vector<std::string> rules, directions;
+  for (const StudyInput& in : r.inputs) rules.push_back(rule_of(in));
+  for (const ChampionAnalysis& c : r.champions) directions.push_back(direction_of(c.physics));
+  r.sinking_rule = one_or_mixed(rules);
+  r.fitness_direction = one_or_mixed(directions);
+
+  int excluded = 0, flagged = 0;
+  for (const ChampionAnalysis& c : r.champions) {
+    excluded += c.artifact.empty() ? 0 : 1;
+    flagged += c.status == "sank" || c.life_status == "unstable" ? 1 : 0;
+  }
+  if (progress)
+    progress({"audit", n, n,
+              "audit: " + std::to_string(n) + " champions re-simulated, " +
+                  std::to_string(flagged) + " unstable or sunk, " + std::to_string(excluded) +
+                  " excluded"});
+}
+
+}  // namespace plastivox::analysis::study
