@@ -251,7 +251,7 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
   // ...and a larger one admits a lattice past the default.
   const std::string big = write("big.json", R"({"format":"plastivox-robot","version":1,
     "lattice":{"nx":130,"ny":130,"nz":130,"voxel_size":0.01},"voxels":[[0,0,0,1e6,0,0]],
-    "physics":{"duration":0.01,"settle_time":0}})");
+    "physics":{"duration":0.01,"settle_time":0,"sinking_invalid":false}})");
   EXPECT_EQ(run("simulate " + big).status, 1);
   EXPECT_EQ(testing::shell("PLASTIVOX_MAX_LATTICE_SITES=3000000 " + std::string(PLASTIVOX_CLI) +
                            " simulate " + big + " >/dev/null 2>&1")

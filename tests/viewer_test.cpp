@@ -83,6 +83,7 @@ TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
   physics.treatment = Treatment::kStress;
   physics.duration = 0.6;
   physics.settle_time = 0.1;
+  physics.sinking_invalid = false;  // soft and heavy, it sinks: scored, the authors' rule
   write_robot_file(path("block.json"), robot, &physics);
   const auto sim =
       shell(std::string(PLASTIVOX_CLI) + " simulate " + path("block.json") + " --json 2>/dev/null");
@@ -231,6 +232,7 @@ TEST_F(ViewerPage, FirstFrameHasTheRenderersLayout) {
   physics.treatment = Treatment::kNone;
   physics.duration = 0.2;
   physics.settle_time = 0.1;
+  physics.sinking_invalid = false;  // its 1e6 Pa end sinks: scored, the authors' rule
   write_robot_file(path("l.json"), robot, &physics);
   ASSERT_EQ(run("view " + path("l.json") + " --out " + path("page.html")).status, 0);
   ASSERT_EQ(run("render " + path("l.json") + " --time 0 --color congenital --no-overlay " +
