@@ -46,9 +46,9 @@ Model irregular_life(double duration) {
   return compile(demo_irregular(500, 7), with_duration(d, duration));
 }
 
-// `plastivox simulate ../shared/vxa/NAME.vxa`: the file's own physics.
+// `plastivox simulate tests/data/vxa/NAME.vxa`: the file's own physics.
 Model vxa_life(const std::string& name, double duration) {
-  VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/" + name + ".vxa");
+  VxaRobot v = read_vxa_file(testing::data_dir() + "/vxa/" + name + ".vxa");
   return compile(v.robot, with_duration(v.physics, duration));
 }
 

@@ -1,6 +1,6 @@
 """Shared fixtures of the Python suites: the CLI to compare against, the sample robots, and
 a tiny evolved run. ctest sets PYTHONPATH (build/python), PLASTIVOX_CLI and
-PLASTIVOX_SHARED_DIR (python/CMakeLists.txt)."""
+PLASTIVOX_TEST_DATA_DIR (python/CMakeLists.txt)."""
 
 import json
 import os
@@ -11,7 +11,7 @@ import pytest
 import plastivox
 
 CLI = os.environ.get("PLASTIVOX_CLI", "")
-SHARED = os.environ.get("PLASTIVOX_SHARED_DIR", os.path.join(os.path.dirname(__file__), "../../../shared"))
+DATA = os.environ.get("PLASTIVOX_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "../data"))
 SOURCE = os.environ.get("PLASTIVOX_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "../.."))
 
 
@@ -29,7 +29,7 @@ def cli_json(*args):
 
 
 def vxa(name):
-    return os.path.join(SHARED, "vxa", name)
+    return os.path.join(DATA, "vxa", name)
 
 
 def tiny_config(treatment="pressure", generations=2):
