@@ -19,7 +19,7 @@ struct CommandHelp {
 #define PLASTIVOX_FRAME_OPTIONS                                                            \
   "  --size WxH            image size in pixels (default 1280x720)\n"                      \
   "  --color MODE          congenital (default), stiffness, change, alpha, phase or\n"     \
-  "                        stimulus (the treatment's, docs/development.md)\n"              \
+  "                        stimulus (the treatment's, docs/plasticity.md)\n"               \
   "  --color-range R       data (default: the values shown, rounded to readable ticks)\n"  \
   "                        or paper (fixed: E 1e5..1e11 Pa, change over that range)\n"     \
   "  --no-overlay          no overlays at all; or one by one: --no-colorbar, --no-time,\n" \
@@ -45,7 +45,7 @@ const CommandHelp kHelp[] = {
      "demo walker under stress development.\n"
      "options:\n"
      "  --treatment T         none, stress, pressure, strain, strain_energy, contact or\n"
-     "                        kinetic (default: the file's own; docs/development.md)\n"
+     "                        kinetic (default: the file's own; docs/plasticity.md)\n"
      "  --preset NAME         physics preset gecco2018-code or gecco2018-paper\n"
      "  --duration S          life length in seconds\n"
      "  --physics JSON        override physics fields, e.g. '{\"self_collision\": false}'\n"

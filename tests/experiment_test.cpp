@@ -537,7 +537,7 @@ TEST_F(ExperimentRun, StoppedAndKilledDuringConcurrentEvolutionResumesToTheSameD
         << label;
 }
 
-// Treatments beyond the paper's (docs/development.md) go through every stage with no code that
+// Treatments beyond the paper's (docs/plasticity.md) go through every stage with no code that
 // names them: four treatments evolve, are analysed, drawn in every figure and reported; a run
 // of a new stimulus exports to the project's format and is refused, in one line, as VXA.
 TEST_F(ExperimentRun, FourTreatmentsIncludingNewStimuliRunEndToEnd) {

@@ -8,7 +8,7 @@
 
 namespace plastivox {
 
-// The stimulus development follows (docs/development.md has each formula, its units and its
+// The stimulus development follows (docs/plasticity.md has each formula, its units and its
 // size on the paper's bodies). none, stress and pressure are the paper's three treatments;
 // the others are new developmental feedback loops, per voxel, in Pa (= J/m^3):
 // - kStrain: the largest absolute axial strain among the voxel's bonds (dimensionless,

@@ -17,7 +17,7 @@ enum class ColorMode {
   kChange,      // lifetime change E/E0, log10 symmetric about 1, diverging map
   kAlpha,       // development rate alpha (1/s), symmetric about 0, diverging map
   kPhase,       // actuation phase (cycles, modulo 1), cyclic map
-  kStimulus,    // the treatment's stimulus (Pa, docs/development.md), linear from 0, or
+  kStimulus,    // the treatment's stimulus (Pa, docs/plasticity.md), linear from 0, or
                 // symmetric about 0 on a diverging map when some value is negative
 };
 // "congenital", "stiffness", "change", "alpha", "phase", "stimulus"
