@@ -67,7 +67,20 @@ TEST(ViewerPack, ATenCubedChampionAtThirtyFramesPerSecondFitsInThreeMegabytes) {
   EXPECT_EQ(render::base64("pv"), "cHY=");
 }
 
-class ViewerPage : public testing::ScratchDirTest {};
+class ViewerPage : public testing::ScratchDirTest {
+ protected:
+  // Opens `html` with `probe` (a <script>) added at the end of its body in headless Chromium
+  // and returns the value the probe left in the body's attribute `attribute` ("" if none).
+  std::string probe_page(const std::string& chromium, std::string html, const std::string& probe,
+                         const std::string& attribute) {
+    html.insert(html.rfind("</body>"), probe);
+    write_file_atomic(path("check.html"), html);
+    const auto dom = shell(chromium + "--window-size=1000,900 --dump-dom file://" +
+                           path("check.html") + " 2>/dev/null");
+    EXPECT_EQ(dom.status, 0);
+    return testing::dom_attribute(dom.out, attribute);
+  }
+};
 
 TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
   const std::string chromium = testing::headless_chromium(path("profile"));
@@ -176,7 +189,6 @@ TEST_F(ViewerPage, CameraCannotOrbitUnderTheFloor) {
   physics.settle_time = 0.1;
   write_robot_file(path("block.json"), testing::block(3, 3, 2, 1e7), &physics);
   ASSERT_EQ(run("view " + path("block.json") + " --out " + path("page.html")).status, 0);
-  std::string html = read_file_bytes(path("page.html"));
   const std::string probe = R"(<script>
 (function () {
   const v = plastivoxViewer.viewer, c = v.canvas, out = { limit: v.controls.maxPolarAngle };
@@ -201,13 +213,9 @@ TEST_F(ViewerPage, CameraCannotOrbitUnderTheFloor) {
   document.body.setAttribute("data-floor", JSON.stringify(out));
 })();
 </script>)";
-  html.insert(html.rfind("</body>"), probe);
-  write_file_atomic(path("check.html"), html);
-  const auto dom = shell(chromium + "--window-size=1000,900 --dump-dom file://" +
-                         path("check.html") + " 2>/dev/null");
-  ASSERT_EQ(dom.status, 0);
-  const std::string text = testing::dom_attribute(dom.out, "data-floor");
-  ASSERT_FALSE(text.empty()) << dom.out;
+  const std::string text =
+      probe_page(chromium, read_file_bytes(path("page.html")), probe, "data-floor");
+  ASSERT_FALSE(text.empty());
   const nlohmann::json out = nlohmann::json::parse(text);
   EXPECT_LT(out["limit"].get<double>(), std::acos(0.0));
   EXPECT_NEAR(out["start"]["elevation"].get<double>(), 25, 0.5);  // the default view
@@ -301,7 +309,6 @@ TEST_F(ViewerPage, FirstFrameHasTheRenderersLayout) {
                 .status,
             0);
   // The viewer's frame 0, every other pixel, as hex RGB rows bottom-up (WebGL's order).
-  std::string html = read_file_bytes(path("page.html"));
   const std::string probe = R"(<script>
 (function () {
   const v = plastivoxViewer.viewer, px = v.pixels(), W = 960, H = 540, hex = [];
@@ -310,12 +317,8 @@ TEST_F(ViewerPage, FirstFrameHasTheRenderersLayout) {
   document.body.setAttribute("data-frame", hex.join(""));
 })();
 </script>)";
-  html.insert(html.rfind("</body>"), probe);
-  write_file_atomic(path("check.html"), html);
-  const auto dom = shell(chromium + "--window-size=1000,900 --dump-dom file://" +
-                         path("check.html") + " 2>/dev/null");
-  ASSERT_EQ(dom.status, 0);
-  const std::string hex = testing::dom_attribute(dom.out, "data-frame");
+  const std::string hex =
+      probe_page(chromium, read_file_bytes(path("page.html")), probe, "data-frame");
   const int w = 480, h = 270;
   ASSERT_EQ(hex.size(), static_cast<size_t>(6 * w * h));
   std::vector<uint8_t> viewer(3 * w * h);
