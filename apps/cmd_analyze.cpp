@@ -1,5 +1,5 @@
 // plastivox analyze: the run champions of several results files, measured and compared
-// (METHOD.md section 8) -> DIR/stats.json, CSV tables, analysis.h5 and report.html.
+// (docs/method.md §8) -> DIR/stats.json, CSV tables, analysis.h5 and report.html.
 // The library call is analyze_study + write_study_outputs (plastivox/analysis/study.hpp).
 #include <atomic>
 #include <csignal>

@@ -1,5 +1,5 @@
-// plastivox gallery RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]:
-// the champions side by side (the paper's Figs. 2-4).
+// plastivox gallery RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]
+// [--e0-range LO,HI] ...: the champions side by side (the paper's Figs. 2-4).
 #include <cstdio>
 
 #include "plastivox/render/files.hpp"
@@ -19,6 +19,20 @@ int cmd_gallery(const Args& in) {
   style.time = parse_number(take_option(args, "--time", "-1"), "--time");
   style.samples = take_antialiasing(args, "msaa");
   style.color_range = take_color_range(args);
+  const std::string range = take_option(args, "--e0-range", "");
+  if (!range.empty()) {
+    const size_t comma = range.find(',');
+    const auto bad = [&] {
+      return UsageError{"--e0-range expects LO,HI in Pa with 0 < LO < HI (e.g. 1e6,1e10), got '" +
+                        range + "'"};
+    };
+    if (comma == std::string::npos) throw bad();
+    style.e0_lo = parse_number(range.substr(0, comma), "--e0-range");
+    style.e0_hi = parse_number(range.substr(comma + 1), "--e0-range");
+    if (!(style.e0_lo > 0 && style.e0_hi > style.e0_lo)) throw bad();
+    if (style.color_range == render::ColorRange::kPaper)
+      throw UsageError{"--e0-range and --color-range paper exclude each other"};
+  }
   style.labels = !take_flag(args, "--no-labels");
   style.colorbar = !take_flag(args, "--no-colorbar");
   reject_unknown_options(args);
@@ -35,9 +49,9 @@ int cmd_gallery(const Args& in) {
   }
   const render::GalleryLayout layout = render::render_gallery_file(
       args, style, out, [](const std::string& l) { log_line("gallery", l); });
-  std::printf("wrote %s (%s, %d x %d grid, %dx%d)\n", out.c_str(),
+  std::printf("wrote %s (%s, %d x %d grid, %dx%d; E0 colour range %.3g,%.3g Pa)\n", out.c_str(),
               count_of(static_cast<long long>(layout.tiles.size()), "champion").c_str(),
-              layout.columns, layout.rows, style.width, style.height);
+              layout.columns, layout.rows, style.width, style.height, layout.e0_lo, layout.e0_hi);
   return 0;
 }
 

@@ -19,7 +19,7 @@ struct CommandHelp {
 #define PLASTIVOX_FRAME_OPTIONS                                                            \
   "  --size WxH            image size in pixels (default 1280x720)\n"                      \
   "  --color MODE          congenital (default), stiffness, change, alpha, phase or\n"     \
-  "                        stimulus (the treatment's, docs/development.md)\n"              \
+  "                        stimulus (the treatment's, docs/plasticity.md)\n"               \
   "  --color-range R       data (default: the values shown, rounded to readable ticks)\n"  \
   "                        or paper (fixed: E 1e5..1e11 Pa, change over that range)\n"     \
   "  --no-overlay          no overlays at all; or one by one: --no-colorbar, --no-time,\n" \
@@ -45,7 +45,7 @@ const CommandHelp kHelp[] = {
      "demo walker under stress development.\n"
      "options:\n"
      "  --treatment T         none, stress, pressure, strain, strain_energy, contact or\n"
-     "                        kinetic (default: the file's own; docs/development.md)\n"
+     "                        kinetic (default: the file's own; docs/plasticity.md)\n"
      "  --preset NAME         physics preset gecco2018-code or gecco2018-paper\n"
      "  --duration S          life length in seconds\n"
      "  --physics JSON        override physics fields, e.g. '{\"self_collision\": false}'\n"
@@ -184,17 +184,20 @@ const CommandHelp kHelp[] = {
      "  --out FILE            PNG to write\n"
      "  --size WxH            image size in pixels\n"
      "  --columns N           tiles per row (default 0 = automatic)\n"
-     "  --time T              time shown, seconds (default -1 = the end of the life)\n"
-     "  --no-labels           no seed/fitness labels\n"
+     "  --time T              time shown, seconds (default -1 = the end of settling)\n"
+     "  --no-labels           no labels (run, seed and fitness under each tile)\n"
      "  --no-colorbar         no colour bar\n"
      "  --color-range R       data (default: the champions' own E0 range) or paper "
-     "(fixed)\n" PLASTIVOX_ANTIALIAS_OPTIONS("msaa") "example:\n"
-                                                     "  plastivox "
-                                                     "gallery "
-                                                     "runs/"
-                                                     "stress-*.h5 "
-                                                     "--out "
-                                                     "stress.png\n"},
+     "(fixed)\n"
+     "  --e0-range LO,HI      colour E0 over exactly LO..HI Pa instead (e.g. to match\n"
+     "                        another gallery's: its JSON sidecar or log gives the "
+     "range)\n" PLASTIVOX_ANTIALIAS_OPTIONS("msaa") "example:\n"
+                                                    "  plastivox "
+                                                    "gallery "
+                                                    "runs/"
+                                                    "stress-*.h5 "
+                                                    "--out "
+                                                    "stress.png\n"},
     {"figures",
      "usage: plastivox figures STATS.json --out DIR [options]\n"
      "Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json.\n"

@@ -35,9 +35,16 @@ target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
 target_link_libraries(plastivox_render PUBLIC plastivox_engine
                       PRIVATE plastivox_video nlohmann_json::nlohmann_json ${IMGUI_LIBRARY}
                               ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
-# Compile-time default of the assets directory; $PLASTIVOX_ASSETS overrides it at run time.
-target_compile_definitions(plastivox_render PRIVATE
-  PLASTIVOX_ASSETS_DIR="${PROJECT_SOURCE_DIR}/assets")
+target_link_libraries(plastivox_render PRIVATE ${CMAKE_DL_LIBS})  # dladdr1: where am I loaded from
+
+# The data files read at run time (shaders, viewer scripts; the presets are also compiled in)
+# are found relative to the program or module itself, in the nearest share/plastivox/assets
+# above it (plastivox/render/assets.hpp), never at a path fixed when building: installed, in
+# <prefix>/share/plastivox/assets; in the build tree, through a link to the source's assets/,
+# so a build runs as it is, uncopied. $PLASTIVOX_ASSETS overrides both.
+file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/share/plastivox)
+file(CREATE_LINK ${PROJECT_SOURCE_DIR}/assets ${CMAKE_BINARY_DIR}/share/plastivox/assets SYMBOLIC)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/assets/ DESTINATION share/plastivox/assets)
 
 # plastivox_render_files: lives read from robot (.json, .vxa), results and recorded-life (.h5)
 # files, and the rendering commands that take file names (plastivox/render/files.hpp).

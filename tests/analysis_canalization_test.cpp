@@ -1,4 +1,4 @@
-// Canalization metrics on hand-made stiffness and alpha arrays (METHOD.md section 8, D-F).
+// Canalization metrics on hand-made stiffness and alpha arrays (docs/method.md §8, D-F).
 #include <cmath>
 #include <vector>
 

@@ -98,11 +98,11 @@ TEST_F(HausdorffCli, PaperOrientationsFindAQuarterTurnedCopy) {
 }
 
 TEST_F(HausdorffCli, ReadsVxa) {
-  const std::string vxa = testing::shared_dir() + "/vxa/walker-none.vxa";
+  const std::string vxa = testing::data_dir() + "/vxa/walker-none.vxa";
   const Output o = hausdorff(vxa + " " + vxa + " --json");
   ASSERT_EQ(o.status, 0) << stderr_text();
   EXPECT_EQ(nlohmann::json::parse(o.out)["distance"].get<double>(), 0.0);
-  const std::string cube = testing::shared_dir() + "/vxa/settle-cube-1e9.vxa";
+  const std::string cube = testing::data_dir() + "/vxa/settle-cube-1e9.vxa";
   const Output text = hausdorff(vxa + " " + cube);
   ASSERT_EQ(text.status, 0) << stderr_text();
   EXPECT_NE(text.out.find("d_H = "), std::string::npos) << text.out;

@@ -1,4 +1,4 @@
-// Development (METHOD.md section 5): direction, gate, cap, clamps, treatments, models.
+// Development (docs/method.md §5): direction, gate, cap, clamps, treatments, models.
 #include <algorithm>
 
 #include "test_support.hpp"

@@ -1,4 +1,4 @@
-// The developmental stimuli beyond the paper's two (physics_def.hpp, docs/development.md):
+// The developmental stimuli beyond the paper's two (physics_def.hpp, docs/plasticity.md):
 // each against an analytic value, development in the right direction under each, and the
 // same bits at every SIMD level.
 #include "plastivox/demo_robots.hpp"

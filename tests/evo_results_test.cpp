@@ -63,6 +63,13 @@ TEST_F(EvoResults, RoundTripKeepsEverything) {
   EXPECT_EQ(s.champions.back().phenotype.nx, 4);
   EXPECT_EQ(f.provenance.plastivox_version.empty(), false);
   EXPECT_FALSE(f.provenance.date_created.empty());
+  // The flags themselves, the CMake generator expressions they come from evaluated.
+  EXPECT_NE(f.provenance.compiler_flags.find("-ffp-contract=off"), std::string::npos)
+      << f.provenance.compiler_flags;
+  EXPECT_NE(f.provenance.compiler_flags.find("-UNDEBUG"), std::string::npos)
+      << f.provenance.compiler_flags;
+  EXPECT_EQ(f.provenance.compiler_flags.find("$<"), std::string::npos)
+      << f.provenance.compiler_flags;
   EXPECT_FALSE(fs::exists(path("r.h5.tmp")));  // the temporary file was renamed
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 
@@ -253,7 +254,44 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
   }
   const std::string report = read_file_bytes(dir + "/report.html");
   // One gallery per treatment with one tile per run of it, and the callus video of a
-  // developing champion that decodes to the life's length.
+  // developing champion that decodes to the life's length. The three galleries share one
+  // colour range: all six champions' E0, rounded outward. Each tile is labelled with its
+  // champion's fitness, the one the statistics use.
+  const json study_stats = json::parse(read_file_bytes(dir + "/stats.json"));
+  std::map<std::string, double> fitness;
+  for (const auto& c : study_stats["champions"]) fitness[c["label"]] = c["fitness"].get<double>();
+  json shared_range;
+  for (const char* t : {"none", "stress", "pressure"}) {
+    const json side =
+        json::parse(read_file_bytes(dir + "/figures/gallery_" + std::string(t) + ".json"));
+    if (shared_range.is_null()) shared_range = side["e0_range_pa"];
+    EXPECT_EQ(side["e0_range_pa"], shared_range) << t;
+    for (const auto& tile : side["tiles"]) {
+      const std::string label = std::filesystem::path(tile["file"].get<std::string>()).stem();
+      ASSERT_TRUE(fitness.count(label)) << label;
+      EXPECT_NEAR(tile["fitness"].get<double>(), fitness[label], 1e-9 * (1 + fitness[label]))
+          << label;
+    }
+  }
+  ASSERT_EQ(shared_range.size(), 2u);
+  double e0_lo = 1e300, e0_hi = 0;
+  for (const char* t : {"none", "stress", "pressure"})
+    for (const char* seed : {"-s1.h5", "-s2.h5"}) {
+      const auto e = shell(kCli + " export " + dir + "/runs/" + t + seed + " --out " +
+                           path(std::string("c_") + t + seed + ".json") + " 2>&1");
+      ASSERT_EQ(e.status, 0) << e.out;
+      const json robot = json::parse(read_file_bytes(path(std::string("c_") + t + seed + ".json")));
+      for (const auto& v : robot["voxels"]) {
+        e0_lo = std::min(e0_lo, v[3].get<double>());
+        e0_hi = std::max(e0_hi, v[3].get<double>());
+      }
+    }
+  // Rounded outward to 1-2-5 values (or decades): the range holds every champion's E0 and
+  // is less than a decade wider at either end.
+  EXPECT_LE(shared_range[0].get<double>(), e0_lo * (1 + 1e-9));
+  EXPECT_GT(shared_range[0].get<double>(), e0_lo / 10.01);
+  EXPECT_GE(shared_range[1].get<double>(), e0_hi * (1 - 1e-9));
+  EXPECT_LT(shared_range[1].get<double>(), e0_hi * 10.01);
   for (const char* t : {"none", "stress", "pressure"}) {
     const std::string g = dir + "/figures/gallery_" + std::string(t) + ".png";
     EXPECT_TRUE(std::filesystem::exists(g)) << g;
@@ -265,8 +303,10 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
     // The stage shares each champion's simulation with its 3-D viewer life; the gallery is
     // still the one `plastivox gallery` draws on its own from the same runs.
     const std::string alone = path(std::string("alone_") + t + ".png");
-    const auto g_cli = shell(kCli + " gallery " + dir + "/runs/" + t + "-s1.h5 " + dir + "/runs/" +
-                             t + "-s2.h5 --size 480x270 --out " + alone + " 2>&1");
+    const std::string range = shared_range[0].dump() + "," + shared_range[1].dump();
+    const auto g_cli =
+        shell(kCli + " gallery " + dir + "/runs/" + t + "-s1.h5 " + dir + "/runs/" + t +
+              "-s2.h5 --size 480x270 --e0-range " + range + " --out " + alone + " 2>&1");
     ASSERT_EQ(g_cli.status, 0) << g_cli.out;
     EXPECT_EQ(read_file_bytes(alone), read_file_bytes(g)) << t;
   }
@@ -537,7 +577,7 @@ TEST_F(ExperimentRun, StoppedAndKilledDuringConcurrentEvolutionResumesToTheSameD
         << label;
 }
 
-// Treatments beyond the paper's (docs/development.md) go through every stage with no code that
+// Treatments beyond the paper's (docs/plasticity.md) go through every stage with no code that
 // names them: four treatments evolve, are analysed, drawn in every figure and reported; a run
 // of a new stimulus exports to the project's format and is refused, in one line, as VXA.
 TEST_F(ExperimentRun, FourTreatmentsIncludingNewStimuliRunEndToEnd) {

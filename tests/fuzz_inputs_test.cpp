@@ -122,7 +122,7 @@ void fuzz(const std::string& valid, const std::string& source, uint64_t seed, in
 }
 
 TEST(FuzzInputs, VxaReader) {
-  const std::string valid = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  const std::string valid = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
   ASSERT_FALSE(valid.empty());
   fuzz<VxaError>(valid, "fuzz.vxa", 14001, 400, [](const std::string& text) {
     const VxaRobot v = parse_vxa(text, "fuzz.vxa");
@@ -183,7 +183,7 @@ TEST_F(FuzzResults, SimulateCommand) {
   const struct {
     std::string valid, name;
     uint64_t seed;
-  } inputs[] = {{read_file(testing::shared_dir() + "/vxa/walker-stress.vxa"), "f.vxa", 14006},
+  } inputs[] = {{read_file(testing::data_dir() + "/vxa/walker-stress.vxa"), "f.vxa", 14006},
                 {robot_to_json(demo_walker(), &physics), "f.json", 14007}};
   for (const auto& in : inputs) {
     Mutator mutate(in.seed);

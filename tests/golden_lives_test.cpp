@@ -49,9 +49,9 @@ Model irregular_life(double duration) {
   return compile(demo_irregular(500, 7), with_duration(d, duration));
 }
 
-// `plastivox simulate ../shared/vxa/NAME.vxa`: the file's own physics.
+// `plastivox simulate tests/data/vxa/NAME.vxa`: the file's own physics.
 Model vxa_life(const std::string& name, double duration) {
-  VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/" + name + ".vxa");
+  VxaRobot v = read_vxa_file(testing::data_dir() + "/vxa/" + name + ".vxa");
   return compile(v.robot, with_duration(v.physics, duration));
 }
 
@@ -73,7 +73,7 @@ const std::vector<GoldenLife>& golden_lives() {
        11643125597847862271ull, 13050182906260634883ull},
       {"vxa settle-cube-1e9", [](double d) { return vxa_life("settle-cube-1e9", d); },
        4932132624103916072ull, 4932132624103916072ull},
-      // The stimuli added after the paper's (docs/development.md), pinned when they were
+      // The stimuli added after the paper's (docs/plasticity.md), pinned when they were
       // introduced (2026-12-02).
       {"demo walker, strain", [](double d) { return demo_walker_life(T::kStrain, d); },
        1932955413896861748ull, 3081563897699764816ull},

@@ -218,7 +218,7 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
   EXPECT_NE(o.out.find("PLASTIVOX_MAX_LATTICE_SITES"), std::string::npos) << o.out;
 
   // VXA: X/Y/Z_Voxels 1000 with 10 layers of 4 characters.
-  std::string vxa = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  std::string vxa = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
   vxa =
       std::regex_replace(vxa, std::regex("<X_Voxels>[^<]*</X_Voxels>"), "<X_Voxels>100</X_Voxels>");
   vxa =
@@ -316,7 +316,7 @@ TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "physics.act_frequency: 1e+06 Hz is faster than the time step resolves");
   // VXA: the tag is named.
-  std::string vxa = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  std::string vxa = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
   vxa = std::regex_replace(vxa, std::regex("<DtFrac>[^<]*</DtFrac>"), "<DtFrac>1e-9</DtFrac>");
   o = run("simulate " + write("dt.vxa", vxa));
   EXPECT_EQ(o.status, 1);
@@ -467,7 +467,7 @@ TEST_F(Hardening, EvolveStopsAtACheckpointOnSigintOrSigterm) {
 // ---- 7 and 8. VXA messages in the file's own terms; nothing dropped silently ----
 
 TEST_F(Hardening, VxaErrorsNameTheFilesOwnTags) {
-  const std::string base = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  const std::string base = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
   const struct {
     std::string from, to, expect;
   } cases[] = {
@@ -498,7 +498,7 @@ TEST_F(Hardening, VxaErrorsNameTheFilesOwnTags) {
 }
 
 TEST_F(Hardening, DamagedTagNamesGiveOneLine) {
-  const std::string base = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  const std::string base = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
   for (const char* damaged :
        {"<Dens\vity>", "<Dens\fity>", "<Dens\xc2\x85ity>", "<Dens\xe2\x80\xa8ity>", "<Den\x1csity>",
         "<Dens\nity>", "</Dens\r\nity>"}) {
@@ -511,7 +511,7 @@ TEST_F(Hardening, DamagedTagNamesGiveOneLine) {
 }
 
 TEST_F(Hardening, NothingIsDroppedSilently) {
-  std::string vxa = read_file(testing::shared_dir() + "/vxa/walker-stress.vxa");
+  std::string vxa = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
   vxa.insert(vxa.find("<DtFrac>"), "<DtFracc>0.5</DtFracc>");
   const size_t ph = vxa.find("<PhaseOffset>");
   vxa.erase(ph, vxa.find("</PhaseOffset>") + 14 - ph);

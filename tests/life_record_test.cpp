@@ -343,7 +343,7 @@ TEST_F(RecordedLives, TheCommandLineRecordsAndReplays) {
 // What an h5py user sees (Debian python3-h5py): str attributes in a results file and a
 // recorded life, arrays of the documented shapes; and a file h5py changed is refused with
 // the way to copy the data out.
-TEST_F(RecordedLives, H5pyReadsStringsAsStr) {
+TEST_F(RecordedLives, H5pyReadsStringsAsStrAndUnits) {
   if (testing::shell("/usr/bin/python3 -c 'import h5py' 2>&1").status != 0)
     GTEST_SKIP() << "h5py is not installed (apt-get install -y python3-h5py); not checked";
   write_file_atomic(path("c.json"), R"({"format": "plastivox-evolve-config", "version": 1,
@@ -365,6 +365,14 @@ n = life.attrs["voxels"]
 assert life["position"].shape == (4, n, 3), life["position"].shape
 assert life["orientation"].shape == (4, n, 4)
 assert life["contact"].shape == (4, n)
+units = {(run, "generations/fitness"): "voxel lengths", (run, "individuals/fitness"): "voxel lengths",
+         (run, "generations/wall_seconds"): "s", (run, "champion/phenotype/stiffness"): "Pa",
+         (run, "champion/phenotype/dev_rate"): "1/s", (run, "champion/phenotype/phase"): "cycles",
+         (run, "champion/final_stiffness"): "Pa", (life, "time"): "s", (life, "position"): "m",
+         (life, "size"): "m", (life, "stiffness"): "Pa", (life, "stimulus"): "Pa",
+         (life, "com_settled"): "m", (life, "orientation"): "1"}
+for (f, name), want in units.items():
+    assert f[name].attrs["units"] == want, (name, f[name].attrs.get("units"))
 print("h5py ok", n)
 )");
   const testing::Output py = testing::shell("/usr/bin/python3 " + path("check.py") + " " +

@@ -27,13 +27,17 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
+// A group of n values spread evenly over mean +- 1.5 half_ci (so their mean is `mean`).
 Json group(const std::string& t, double mean, double half_ci, int n = 20) {
+  Json values = Json::array();
+  for (int k = 0; k < n; ++k)
+    values.push_back(n == 1 ? mean : mean + 1.5 * half_ci * (2.0 * k / (n - 1) - 1));
   return {{"treatment", t},
           {"n", n},
           {"mean", mean},
           {"ci_low", mean - half_ci},
           {"ci_high", mean + half_ci},
-          {"values", Json::array()}};
+          {"values", values}};
 }
 
 Json comparison(const std::string& a, const std::string& b, double p, const std::string& stars) {
@@ -109,6 +113,15 @@ TEST(PanelStats, ReadsEveryPanelAndField) {
   EXPECT_EQ(f.panels[3].groups.size(), 2u);
 }
 
+TEST(PanelStats, ValuesAreReadAndOptional) {
+  Json s = sample_stats();
+  s["panels"][0]["groups"][0].erase("values");  // an older producer's stats.json
+  const StatsFigure f = parse_stats_figure(s, "stats.json");
+  EXPECT_TRUE(f.panels[0].groups[0].values.empty());
+  ASSERT_EQ(f.panels[0].groups[1].values.size(), 20u);
+  EXPECT_DOUBLE_EQ(f.panels[0].groups[1].values[0], 2.4 - 0.45);
+}
+
 TEST(PanelStats, NullMeanAndIntervalAreAllowed) {
   Json s = sample_stats();
   s["panels"][0]["groups"][0]["mean"] = nullptr;
@@ -150,6 +163,14 @@ TEST(PanelStats, MalformedOrForeignFilesNameTheField) {
   s["panels"][3]["comparisons"][0]["a"] = "none";  // D has no "none" group
   EXPECT_EQ(parse_error(s),
             "stats.json: panels[3].comparisons[0].a: 'none' is not a group of this panel");
+
+  s = sample_stats();
+  s["panels"][0]["groups"][1]["values"].erase(0);
+  EXPECT_EQ(parse_error(s), "stats.json: panels[0].groups[1].values: 19 values for n = 20");
+
+  s = sample_stats();
+  s["panels"][0]["groups"][1]["values"][3] = nullptr;
+  EXPECT_EQ(parse_error(s), "stats.json: panels[0].groups[1].values[3]: expected a number");
 
   s = sample_stats();
   s["panels"][2]["id"] = "../x";  // would escape the output directory
@@ -291,6 +312,80 @@ TEST(PanelLayout, BracketsClearTheBarsAndEachOther) {
   EXPECT_GT(star_y["***"], d.fonts[0].pixels);  // inside the picture
 }
 
+struct SvgPoint {
+  std::string group;
+  double cx, cy, r;
+};
+std::vector<SvgPoint> svg_points(const std::string& svg) {
+  std::vector<SvgPoint> out;
+  for (const std::string& e : elements(svg, "<circle class=\"point\"", "/>"))
+    out.push_back({attr(e, "data-group"), std::stod(attr(e, "cx")), std::stod(attr(e, "cy")),
+                   std::stod(attr(e, "r"))});
+  return out;
+}
+
+// The y of value v on the panel's axis, read back from two bars (baseline at 0, top at mean).
+double y_of_value(const SvgBar& bar, double mean, double v) {
+  const double baseline = bar.y + bar.h;
+  return baseline - v * bar.h / mean;
+}
+
+// n <= 30: every champion is a point over its bar, at its value's height, inside the bar's
+// width, none hidden under another; an outlier beyond the CI stretches the axis to stay in view.
+// n = 31: bars only.
+TEST(PanelLayout, SmallSamplesShowEveryValueAsAPoint) {
+  Json s = sample_stats();
+  s["panels"][0]["groups"][0] = group("none", 1.2, 0.2, 7);
+  s["panels"][0]["groups"][0]["values"][6] = 5.0;  // far above the CI (and the other bars)
+  s["panels"][0]["groups"][0]["mean"] = 1.2;       // the sample's mean is not re-checked
+  s["panels"][0]["groups"][1] = group("stress", 2.4, 0.3, 12);
+  for (int k = 0; k < 12; ++k) s["panels"][0]["groups"][1]["values"][k] = 2.4;  // all tied
+  s["panels"][0]["groups"][2] = group("pressure", 3.0, 0.25, 31);
+  const StatsFigure f = parse_stats_figure(s, "stats.json");
+  const std::string svg = drawing_svg(layout_panel(f.panels[0], 800, 600));
+  const std::vector<SvgBar> bars = svg_bars(svg);
+  ASSERT_EQ(bars.size(), 3u);
+  const std::vector<SvgPoint> points = svg_points(svg);
+  std::map<std::string, std::vector<SvgPoint>> by_group;
+  for (const SvgPoint& p : points) by_group[p.group].push_back(p);
+  ASSERT_EQ(by_group["none"].size(), 7u);
+  ASSERT_EQ(by_group["stress"].size(), 12u);
+  EXPECT_EQ(by_group.count("pressure"), 0u) << "n = 31 is drawn as a bar only";
+  for (size_t b = 0; b < 2; ++b) {
+    const PanelGroup& g = f.panels[0].groups[b];
+    std::vector<double> drawn, expected;
+    for (const SvgPoint& p : by_group[g.treatment]) {
+      drawn.push_back(p.cy);
+      EXPECT_GE(p.cx - p.r, bars[b].x - 0.5) << g.treatment << ": a point leaves its bar";
+      EXPECT_LE(p.cx + p.r, bars[b].x + bars[b].w + 0.5) << g.treatment;
+      EXPECT_GT(p.cy - p.r, 0) << "a point is cut off at the top";
+    }
+    // The y scale from the tallest bar (whole-pixel bar edges: within a pixel and a half).
+    for (double v : g.values) expected.push_back(y_of_value(bars[2], 3.0, v));
+    std::sort(drawn.begin(), drawn.end());
+    std::sort(expected.begin(), expected.end());
+    for (size_t i = 0; i < drawn.size(); ++i)
+      EXPECT_NEAR(drawn[i], expected[i], 1.5) << g.treatment << " point " << i;
+    // No point covers another's centre.
+    const auto& ps = by_group[g.treatment];
+    for (size_t i = 0; i < ps.size(); ++i)
+      for (size_t j = i + 1; j < ps.size(); ++j)
+        EXPECT_GE(std::hypot(ps[i].cx - ps[j].cx, ps[i].cy - ps[j].cy), ps[i].r)
+            << g.treatment << " points " << i << " and " << j;
+  }
+  // The outlier is the highest thing drawn in its bar's column but stays inside the axis.
+  const double outlier_y = y_of_value(bars[2], 3.0, 5.0);
+  EXPECT_LT(outlier_y, bars[2].y) << "the outlier should stand above every bar";
+  // The PNG draws the same points: each centre pixel has the points' fill.
+  const std::vector<uint8_t> rgba = drawing_rgba(layout_panel(f.panels[0], 800, 600));
+  for (const SvgPoint& p : points) {
+    const uint8_t* px = &rgba[4 * (static_cast<size_t>(p.cy) * 800 + static_cast<size_t>(p.cx))];
+    EXPECT_EQ(px[0], 40) << p.group << " at " << p.cx << "," << p.cy;
+    EXPECT_EQ(px[1], 40);
+    EXPECT_EQ(px[2], 40);
+  }
+}
+
 TEST(PanelSvg, SubscriptsAndEscapes) {
   StatsFigure f = parse_stats_figure(sample_stats(), "stats.json");
   const std::string svg = drawing_svg(layout_panel(f.panels[3], 800, 600));  // "M_body"
@@ -334,7 +429,10 @@ int column_extent(const Image& img, int x, const Rgb& colour) {
 }
 
 TEST_F(PanelFiles, PngBarExtentsAreProportionalAndMatchTheSvg) {
-  const StatsFigure f = parse_stats_figure(sample_stats(), "stats.json");
+  Json s = sample_stats();  // bars only: no points over the measured columns
+  for (Json& panel : s["panels"])
+    for (Json& g : panel["groups"]) g.erase("values");
+  const StatsFigure f = parse_stats_figure(s, "stats.json");
   const std::vector<std::string> written =
       write_figures(f, path("fig"), {.width = 640, .height = 480, .combined = false});
   ASSERT_EQ(written.size(), 12u);

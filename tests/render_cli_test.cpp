@@ -85,5 +85,27 @@ TEST_F(RenderCli, GalleryRejectsAResultsFileThatIsNotOne) {
   EXPECT_EQ(files(), 1);
 }
 
+TEST_F(RenderCli, GalleryStiffnessRangeOption) {
+  const std::string g = "gallery " + path("cube.json") + " --size 400x200 --samples 1 --out " +
+                        path("g.png") + " --e0-range ";
+  for (const std::string bad : {"1e6", "1e9,1e6", "0,1e9", "a,b"}) {
+    const auto r = run(g + bad);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.out;
+    EXPECT_NE(r.out.find("--e0-range"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << "one line: " << r.out;
+  }
+  const auto both = run(g + "1e6,1e9 --color-range paper");
+  EXPECT_EQ(both.status, 2) << both.out;
+  EXPECT_EQ(files(), 1);
+  // The range is used and printed (so another gallery can be given the same one).
+  const auto ok = run(g + "1e6,1e9");
+  ASSERT_EQ(ok.status, 0) << ok.out;
+  EXPECT_NE(ok.out.find("E0 colour range 1e+06,1e+09 Pa"), std::string::npos) << ok.out;
+  const auto data =
+      run("gallery " + path("cube.json") + " --size 400x200 --samples 1 --out " + path("d.png"));
+  ASSERT_EQ(data.status, 0) << data.out;
+  EXPECT_NE(data.out.find("E0 colour range 1e+07,2e+07 Pa"), std::string::npos) << data.out;
+}
+
 }  // namespace
 }  // namespace plastivox

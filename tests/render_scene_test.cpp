@@ -5,6 +5,7 @@
 #include <iterator>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
@@ -134,12 +135,35 @@ TEST(RenderColorScale, StimulusSpansTheStimulusShown) {
   ASSERT_GE(ticks.size(), 3u);
   EXPECT_EQ(ticks.front().label, "0");
   EXPECT_EQ(ticks.back().label, "2×10⁸");
+  // Contact is >= 0 by definition: a stray negative value (none in a real life) takes the
+  // bottom colour and does not turn the map two-sided.
   b.stimulus[5] = -4e8;
-  const ColorScale signed_scale = make_color_scale(ColorMode::kStimulus, model, {&a, &b});
+  const ColorScale stray = make_color_scale(ColorMode::kStimulus, model, {&a, &b});
+  EXPECT_DOUBLE_EQ(stray.lo, 0);
+  EXPECT_EQ(&stray.map(), &Colormap::sequential());
+  EXPECT_DOUBLE_EQ(stray.position(stray.value(model, b, 5)), 0);
+  // Pressure is signed (negative in tension): symmetric about 0 on the diverging map, even
+  // when the frames shown hold no negative value, so 0 is always the neutral colour.
+  d.treatment = Treatment::kPressure;
+  const Model pressured = compile(demo_cube(2, 1e8), d);
+  b.stimulus[5] = -4e8;
+  const ColorScale signed_scale = make_color_scale(ColorMode::kStimulus, pressured, {&a, &b});
   EXPECT_DOUBLE_EQ(signed_scale.lo, -5e8);
   EXPECT_DOUBLE_EQ(signed_scale.hi, 5e8);
   EXPECT_EQ(&signed_scale.map(), &Colormap::diverging());
   EXPECT_EQ(signed_scale.ticks().front().label, "−5×10⁸");
+  b.stimulus[5] = 0;
+  const ColorScale positive = make_color_scale(ColorMode::kStimulus, pressured, {&a, &b});
+  EXPECT_DOUBLE_EQ(positive.lo, -2e8);
+  EXPECT_DOUBLE_EQ(positive.position(0), 0.5);
+}
+
+// Which stimuli can be negative (docs/plasticity.md): only pressure's.
+TEST(RenderColorScale, OnlyPressureIsASignedStimulus) {
+  for (const Treatment t : {Treatment::kNone, Treatment::kStress, Treatment::kStrain,
+                            Treatment::kStrainEnergy, Treatment::kContact, Treatment::kKinetic})
+    EXPECT_FALSE(stimulus_is_signed(t)) << to_string(t);
+  EXPECT_TRUE(stimulus_is_signed(Treatment::kPressure));
 }
 
 TEST(RenderColorScale, PaperRangeTicksAreDecadesOverThePhysicsRange) {
@@ -219,11 +243,46 @@ TEST(RenderColorScale, ChangeRangeIsSymmetricAndCoversEveryFrame) {
   const Model model = compile(demo_cube(2, 1e8), preset_gecco2018_code());
   Frame f;
   f.stiffness.assign(model.n, 1e8);
-  f.stiffness[0] = 3e8;  // x3 -> log10 0.477 -> range rounded up to 0.5 decades
+  f.stiffness[0] = 3e8;  // x3: the bar spans x1/3 .. x3
   const ColorScale s = make_color_scale(ColorMode::kChange, model, {&f});
-  EXPECT_DOUBLE_EQ(s.hi, 0.5);
-  EXPECT_DOUBLE_EQ(s.lo, -0.5);
+  EXPECT_NEAR(s.hi, std::log10(3.0), 1e-12);
+  EXPECT_DOUBLE_EQ(s.lo, -s.hi);
   EXPECT_DOUBLE_EQ(s.position(0), 0.5);
+}
+
+// The case: a life whose changes span x0.83 .. x4.4 gets a bar from x1/4.4 to x4.4
+// (symmetric in log about x1, both ends labelled), not x0.1 .. x10; the largest change
+// downwards sets the span when it is the larger one; tiny changes keep at least x1.01.
+TEST(RenderColorScale, ChangeBarSpansWhatTheDataReach) {
+  const Model model = compile(demo_cube(2, 1e8), preset_gecco2018_code());
+  Frame f;
+  f.stiffness.assign(model.n, 1e8);
+  f.stiffness[0] = 0.83e8;
+  f.stiffness[1] = 4.4e8;
+  const ColorScale s = make_color_scale(ColorMode::kChange, model, {&f});
+  EXPECT_NEAR(s.hi, std::log10(4.4), 1e-12);
+  EXPECT_DOUBLE_EQ(s.lo, -s.hi);
+  std::vector<std::string> labels;
+  for (const Tick& t : s.ticks()) labels.push_back(t.label);
+  EXPECT_EQ(labels, (std::vector<std::string>{"×1/4.4", "×0.5", "×1", "×2", "×4.4"}));
+  EXPECT_DOUBLE_EQ(s.ticks().front().t, 0.0);
+  EXPECT_DOUBLE_EQ(s.ticks().back().t, 1.0);
+  // x4.4 itself takes the top colour, x0.83 a colour a little below the middle.
+  EXPECT_NEAR(s.position(std::log10(4.4)), 1.0, 1e-12);
+  EXPECT_NEAR(s.position(std::log10(0.83)), 0.5 - 0.5 * std::log10(1 / 0.83) / std::log10(4.4),
+              1e-12);
+  // Downwards: x0.2 (and x1.5 up) -> x1/5 .. x5; rounding up to two digits: x4.43 -> x4.5.
+  f.stiffness[0] = 0.2e8;
+  f.stiffness[1] = 1.5e8;
+  EXPECT_NEAR(make_color_scale(ColorMode::kChange, model, {&f}).hi, std::log10(5.0), 1e-12);
+  f.stiffness[0] = 1e8;
+  f.stiffness[1] = 4.43e8;
+  EXPECT_NEAR(make_color_scale(ColorMode::kChange, model, {&f}).hi, std::log10(4.5), 1e-12);
+  // Below x2 the digits are those of the change: x1.0123 -> x1.013; nothing -> x1.01.
+  f.stiffness[1] = 1.0123e8;
+  EXPECT_NEAR(make_color_scale(ColorMode::kChange, model, {&f}).hi, std::log10(1.013), 1e-12);
+  f.stiffness[1] = 1e8;
+  EXPECT_NEAR(make_color_scale(ColorMode::kChange, model, {&f}).hi, std::log10(1.01), 1e-12);
 }
 
 std::vector<std::string> change_labels(double hi) {
@@ -245,11 +304,13 @@ std::vector<std::string> change_labels(double hi) {
 
 TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
   using L = std::vector<std::string>;
-  EXPECT_EQ(change_labels(0.5), (L{"×0.5", "×1", "×2"}));  // not x0.316, x3.16
+  // Inner ticks are short ratios (x0.5, not x0.316); the ends carry the bar's exact span
+  // unless a tick stands near (within 0.12 of the bar).
+  EXPECT_EQ(change_labels(0.5), (L{"×1/3.162", "×0.5", "×1", "×2", "×3.162"}));
   EXPECT_EQ(change_labels(1), (L{"×0.1", "×0.2", "×0.5", "×1", "×2", "×5", "×10"}));
   EXPECT_EQ(change_labels(2), (L{"×0.01", "×0.1", "×1", "×10", "×100"}));
   EXPECT_EQ(change_labels(5), (L{"×10⁻⁴", "×0.01", "×1", "×100", "×10⁴"}));
-  EXPECT_EQ(change_labels(0.2), (L{"×0.8", "×1", "×1.2", "×1.4"}));
+  EXPECT_EQ(change_labels(0.2), (L{"×1/1.585", "×0.8", "×1", "×1.2", "×1.4", "×1.585"}));
   EXPECT_EQ(change_labels(0.1), (L{"×0.8", "×0.9", "×1", "×1.1", "×1.2"}));
   EXPECT_EQ(change_labels(0.005), (L{"×0.99", "×0.995", "×1", "×1.005", "×1.01"}));
   // Each tick sits at its ratio's own position on the log scale.
@@ -257,7 +318,7 @@ TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
   s.mode = ColorMode::kChange;
   s.lo = -0.5;
   s.hi = 0.5;
-  EXPECT_NEAR(s.ticks().front().t, (std::log10(0.5) + 0.5) / 1.0, 1e-12);
+  EXPECT_NEAR(s.ticks()[1].t, (std::log10(0.5) + 0.5) / 1.0, 1e-12);  // after the end "×1/3.162"
 }
 
 // ---------------------------------------------------------------------------------------
@@ -676,7 +737,31 @@ TEST_F(RenderFiles, GalleryHasOneLabelledTilePerInputEachShowingItsRobot) {
   ASSERT_EQ(layout.tiles.size(), runs.size());
   EXPECT_EQ(layout.columns * layout.rows >= 3, true);
   EXPECT_EQ(layout.labels[1], "stress · seed 2");
+  // Each tile's fitness (its label's second part) is its champion's, as evolution scored it.
+  ASSERT_EQ(layout.fitness.size(), runs.size());
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const evo::ResultsFile results = evo::read_results(runs[k]);
+    const double scored = evo::champion_at(results.state, -1, runs[k]).fitness;
+    EXPECT_NEAR(layout.fitness[k], scored, 1e-9 * (1 + std::abs(scored))) << runs[k];
+  }
   const Image img = read_png(path("g.png"));
+  // Labels: ink (dark grey text) in the bottom third of every tile, much more than there is
+  // without labels (where the robot, in saturated colours, and its shadow may reach).
+  const auto ink_below = [&](const Image& im, const PixelRect& t) {
+    int ink = 0;
+    for (int y = t.y + t.height * 2 / 3; y < t.y + t.height; ++y)
+      for (int x = t.x + 2; x < t.x + t.width - 2; ++x) {
+        const uint8_t* p = pixel(im.rgba, im.width, x, y);
+        ink += std::max({p[0], p[1], p[2]}) < 120 &&
+               std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) < 24;
+      }
+    return ink;
+  };
+  gs.labels = false;
+  render_gallery_file(runs, gs, path("plain.png"));
+  const Image plain = read_png(path("plain.png"));
+  for (const PixelRect& t : layout.tiles)
+    EXPECT_GT(ink_below(img, t), ink_below(plain, t) + 20) << "no label at " << t.x << "," << t.y;
   // Every tile shows saturated (robot) pixels; the floor and background are grey.
   for (const PixelRect& t : layout.tiles) {
     int coloured = 0;
@@ -687,6 +772,39 @@ TEST_F(RenderFiles, GalleryHasOneLabelledTilePerInputEachShowingItsRobot) {
       }
     EXPECT_GT(coloured, 20) << "tile at " << t.x << "," << t.y;
   }
+}
+
+// An explicit stiffness range (a study's, shared by its galleries of every treatment) is
+// the one drawn: the tiles of a gallery given its own data range are those of the data-range
+// gallery, byte for byte; another range recolours them.
+TEST_F(RenderFiles, GalleryDrawsAnExplicitStiffnessRange) {
+  const std::vector<std::string> runs = {tiny_run("a.h5", 1, "none"),
+                                         tiny_run("b.h5", 2, "stress")};
+  GalleryStyle gs;
+  gs.width = 240;
+  gs.height = 120;
+  gs.samples = 1;
+  gs.colorbar = false;  // the bar's title names the range; the tiles must not differ
+  const GalleryLayout data = render_gallery_file(runs, gs, path("data.png"));
+  EXPECT_GT(data.e0_lo, 0);
+  EXPECT_GT(data.e0_hi, data.e0_lo);
+  gs.e0_lo = data.e0_lo;
+  gs.e0_hi = data.e0_hi;
+  const GalleryLayout same = render_gallery_file(runs, gs, path("same.png"));
+  EXPECT_DOUBLE_EQ(same.e0_lo, data.e0_lo);
+  EXPECT_TRUE(read_png(path("same.png")).rgba == read_png(path("data.png")).rgba);
+  gs.e0_lo = 1e5;
+  gs.e0_hi = 1e11;
+  const GalleryLayout wide = render_gallery_file(runs, gs, path("wide.png"));
+  EXPECT_DOUBLE_EQ(wide.e0_lo, 1e5);
+  EXPECT_NEAR(wide.e0_hi, 1e11, 1e-3);
+  EXPECT_FALSE(read_png(path("wide.png")).rgba == read_png(path("data.png")).rgba);
+  gs.e0_lo = 1e9;
+  gs.e0_hi = 1e8;
+  EXPECT_NE(
+      error_of([&] { render_gallery_file(runs, gs, path("bad.png")); }).find("0 < low < high"),
+      std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(path("bad.png")));
 }
 
 }  // namespace

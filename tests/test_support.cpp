@@ -33,8 +33,8 @@ void run_until(Simulator& sim, double t) {
   while (sim.state().time < t && sim.state().status == SimStatus::kRunning) sim.step();
 }
 
-std::string shared_dir() {
-  return PLASTIVOX_SHARED_DIR;
+std::string data_dir() {
+  return PLASTIVOX_TEST_DATA_DIR;
 }
 
 std::string file_text(const std::string& path) {

@@ -33,7 +33,7 @@ inline ::testing::AssertionResult RelNear(double actual, double expected, double
          << (actual - expected) / expected << ", allowed " << rel << ")";
 }
 
-std::string shared_dir();  // ../shared beside the repository
+std::string data_dir();  // tests/data: sample robots and reference results (README there)
 
 // The whole content of a file, byte for byte; a test failure (and "") if it cannot be read.
 std::string file_text(const std::string& path);

@@ -67,7 +67,20 @@ TEST(ViewerPack, ATenCubedChampionAtThirtyFramesPerSecondFitsInThreeMegabytes) {
   EXPECT_EQ(render::base64("pv"), "cHY=");
 }
 
-class ViewerPage : public testing::ScratchDirTest {};
+class ViewerPage : public testing::ScratchDirTest {
+ protected:
+  // Opens `html` with `probe` (a <script>) added at the end of its body in headless Chromium
+  // and returns the value the probe left in the body's attribute `attribute` ("" if none).
+  std::string probe_page(const std::string& chromium, std::string html, const std::string& probe,
+                         const std::string& attribute) {
+    html.insert(html.rfind("</body>"), probe);
+    write_file_atomic(path("check.html"), html);
+    const auto dom = shell(chromium + "--window-size=1000,900 --dump-dom file://" +
+                           path("check.html") + " 2>/dev/null");
+    EXPECT_EQ(dom.status, 0);
+    return testing::dom_attribute(dom.out, attribute);
+  }
+};
 
 TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
   const std::string chromium = testing::headless_chromium(path("profile"));
@@ -163,6 +176,64 @@ TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
   }
 }
 
+// The camera stays above the floor: a mouse drag that would swing it under the floor stops a
+// degree above the target's horizon, and a target below the floor (the follow camera on a
+// body that sank) is lifted onto it, the camera with it. The stimulus colour bar of a stress
+// life (stress is >= 0) runs from 0 on the sequential map.
+TEST_F(ViewerPage, CameraCannotOrbitUnderTheFloor) {
+  const std::string chromium = testing::headless_chromium(path("profile"));
+  if (chromium.empty())
+    GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium); viewer not checked";
+  PhysicsDef physics = preset_gecco2018_code();
+  physics.treatment = Treatment::kStress;
+  physics.duration = 0.3;
+  physics.settle_time = 0.1;
+  write_robot_file(path("block.json"), testing::block(3, 3, 2, 1e7), &physics);
+  ASSERT_EQ(run("view " + path("block.json") + " --out " + path("page.html")).status, 0);
+  const std::string probe = R"(<script>
+(function () {
+  const v = plastivoxViewer.viewer, c = v.canvas, out = { limit: v.controls.maxPolarAngle };
+  const elevation = () => { const d = v.camera.position.clone().sub(v.controls.target);
+    return Math.asin(d.z / d.length()) * 180 / Math.PI; };
+  const drag = (dy) => {  // the left button held while the mouse moves by dy pixels
+    c.dispatchEvent(new MouseEvent("mousedown", { button: 0, clientX: 400, clientY: 300 }));
+    for (let k = 1; k <= 20; ++k)
+      document.dispatchEvent(new MouseEvent("mousemove", { clientX: 400, clientY: 300 + dy * k / 20 }));
+    document.dispatchEvent(new MouseEvent("mouseup", { button: 0, clientX: 400, clientY: 300 + dy }));
+  };
+  out.start = { z: v.camera.position.z, elevation: elevation() };
+  drag(-5000);  // upwards: swings the camera down, and under the floor were it allowed
+  out.dragged = { z: v.camera.position.z, elevation: elevation(), target: v.controls.target.z };
+  drag(300);  // back up a little: the drag still works
+  out.back = { elevation: elevation() };
+  v.controls.target.z = -0.05;
+  v.controls.update();
+  out.sunk = { z: v.camera.position.z, target: v.controls.target.z, elevation: elevation() };
+  const s = v.life.meta.scales.stimulus;
+  out.stimulus = { lo: s.lo, hi: s.hi, map: s.map, first: s.ticks[0].label };
+  document.body.setAttribute("data-floor", JSON.stringify(out));
+})();
+</script>)";
+  const std::string text =
+      probe_page(chromium, read_file_bytes(path("page.html")), probe, "data-floor");
+  ASSERT_FALSE(text.empty());
+  const nlohmann::json out = nlohmann::json::parse(text);
+  EXPECT_LT(out["limit"].get<double>(), std::acos(0.0));
+  EXPECT_NEAR(out["start"]["elevation"].get<double>(), 25, 0.5);  // the default view
+  // Dragged as far down as it goes: a degree above the horizon of a target above the floor.
+  EXPECT_NEAR(out["dragged"]["elevation"].get<double>(), 1, 0.01) << out.dump();
+  EXPECT_GT(out["dragged"]["target"].get<double>(), 0);
+  EXPECT_GT(out["dragged"]["z"].get<double>(), out["dragged"]["target"].get<double>());
+  EXPECT_GT(out["back"]["elevation"].get<double>(), 5) << out.dump();
+  // A target below the floor is lifted onto it; the camera stays above.
+  EXPECT_DOUBLE_EQ(out["sunk"]["target"].get<double>(), 0);
+  EXPECT_GT(out["sunk"]["z"].get<double>(), 0) << out.dump();
+  EXPECT_EQ(out["stimulus"]["lo"].get<double>(), 0);
+  EXPECT_GT(out["stimulus"]["hi"].get<double>(), 0);
+  EXPECT_EQ(out["stimulus"]["map"], "sequential");
+  EXPECT_EQ(out["stimulus"]["first"], "0");
+}
+
 // Where the body is in an image and which colours it shows where: the bounding box of the
 // saturated (body) pixels, and per hue bin (45 degrees) its share of them and its centroid in
 // box coordinates. Lighting scales a face's colour but keeps its hue, so the renderer's and
@@ -240,7 +311,6 @@ TEST_F(ViewerPage, FirstFrameHasTheRenderersLayout) {
                 .status,
             0);
   // The viewer's frame 0, every other pixel, as hex RGB rows bottom-up (WebGL's order).
-  std::string html = read_file_bytes(path("page.html"));
   const std::string probe = R"(<script>
 (function () {
   const v = plastivoxViewer.viewer, px = v.pixels(), W = 960, H = 540, hex = [];
@@ -249,12 +319,8 @@ TEST_F(ViewerPage, FirstFrameHasTheRenderersLayout) {
   document.body.setAttribute("data-frame", hex.join(""));
 })();
 </script>)";
-  html.insert(html.rfind("</body>"), probe);
-  write_file_atomic(path("check.html"), html);
-  const auto dom = shell(chromium + "--window-size=1000,900 --dump-dom file://" +
-                         path("check.html") + " 2>/dev/null");
-  ASSERT_EQ(dom.status, 0);
-  const std::string hex = testing::dom_attribute(dom.out, "data-frame");
+  const std::string hex =
+      probe_page(chromium, read_file_bytes(path("page.html")), probe, "data-frame");
   const int w = 480, h = 270;
   ASSERT_EQ(hex.size(), static_cast<size_t>(6 * w * h));
   std::vector<uint8_t> viewer(3 * w * h);

@@ -1,4 +1,4 @@
-// plastivox against the authors' own simulator: the sample robots in ../shared/vxa were run
+// plastivox against the authors' own simulator: the sample robots in tests/data/vxa were run
 // by their Voxelyze 0.9 fork; *.expected.json holds what it reported. Full 5.2 s lives.
 #include <cmath>
 #include <fstream>
@@ -13,7 +13,7 @@ namespace plastivox {
 namespace {
 
 double expected_value(const std::string& name, const std::string& key) {
-  std::ifstream in(testing::shared_dir() + "/vxa/" + name + ".expected.json");
+  std::ifstream in(testing::data_dir() + "/vxa/" + name + ".expected.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   if (!j.contains(key)) ADD_FAILURE() << name << ": no key " << key;
   return j.value(key, 0.0);
@@ -21,7 +21,7 @@ double expected_value(const std::string& name, const std::string& key) {
 
 // Compared with the authors' simulator, so under their rule: a sunk life is scored.
 SimResult run(const std::string& name) {
-  VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/" + name + ".vxa");
+  VxaRobot v = read_vxa_file(testing::data_dir() + "/vxa/" + name + ".vxa");
   v.physics.sinking_invalid = false;
   return simulate(compile(v.robot, v.physics));
 }
@@ -83,7 +83,7 @@ TEST(AuthorsSettleCube, FallsTheAuthorsWayUnderTheirBondModel) {
   // bending test (each bond offset truncated to whole metres), Voxelyze 0.9's first-order
   // turn with its reset of turns below ~3e-8 rad, its rotation vectors from 1 - w^2, its
   // chord frame and its time step (pi as 3.1415926, bonds only).
-  VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/settle-cube-1e9.vxa");
+  VxaRobot v = read_vxa_file(testing::data_dir() + "/vxa/settle-cube-1e9.vxa");
   v.physics.bond_model = BondModel::kVoxelyze09;
   v.physics.sinking_invalid = false;  // the authors' rule
   const SimResult r = simulate(compile(v.robot, v.physics));
@@ -106,7 +106,7 @@ TEST(AuthorsSettleCube, FlipsItsFallWhereTheAuthorsDoes) {
     double factor, authors_dist_x;
   } cases[] = {{0.99999, -2.56995}, {0.999997, 3.02893}, {1.00001, 3.0081}};
   for (const auto& c : cases) {
-    VxaRobot v = read_vxa_file(testing::shared_dir() + "/vxa/settle-cube-1e9.vxa");
+    VxaRobot v = read_vxa_file(testing::data_dir() + "/vxa/settle-cube-1e9.vxa");
     v.physics.bond_model = BondModel::kVoxelyze09;
     v.physics.sinking_invalid = false;  // the authors' rule
     for (double& e : v.robot.stiffness) e *= c.factor;

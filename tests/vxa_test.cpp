@@ -23,7 +23,7 @@
 namespace plastivox {
 namespace {
 
-const std::string kVxaDir = std::string(PLASTIVOX_SHARED_DIR) + "/vxa/";
+const std::string kVxaDir = testing::data_dir() + "/vxa/";
 
 // The "voxels" number of a NAME.expected.json (no JSON library needed for one integer).
 int expected_voxels(const std::string& name) {

@@ -4,8 +4,11 @@
 // Each output is redrawn only when what it depends on changed: .stamps/rendering.json maps
 // each output group to a key made of the study fingerprint (the champions' content and the
 // analysis options) and the rendering settings that group uses.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -103,6 +106,28 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
   render::GalleryStyle style;
   style.width = r.gallery_width;
   style.height = r.gallery_height;
+  // One colour scale for every treatment's gallery: the congenital stiffness of all the
+  // study's champions (as compiled: clamped into the physics' range), rounded outward as one
+  // gallery's own range would be.
+  double lo = 1e300, hi = -1e300;
+  for (const auto& c : study.champions)
+    for (size_t s = 0; s < c.robot.present.size(); ++s)
+      if (c.robot.present[s] && c.robot.stiffness[s] > 0) {
+        const double e = std::clamp(c.robot.stiffness[s], c.physics.e_min, c.physics.e_max);
+        lo = std::min(lo, std::log10(e));
+        hi = std::max(hi, std::log10(e));
+      }
+  if (lo <= hi) {
+    const auto scale = render::stiffness_data_scale(render::ColorMode::kCongenital, lo, hi);
+    // 1-2-5 values: 5e9, not the 4999999999.999999 that 10^log10(5e9) comes back as.
+    const auto value = [](double log10_pa) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.12g", std::pow(10.0, log10_pa));
+      return std::strtod(text, nullptr);
+    };
+    style.e0_lo = value(scale.lo);
+    style.e0_hi = value(scale.hi);
+  }
 
   // What is out of date. Study champion k is the champion of run file k (stage_analysis).
   struct Gallery {
@@ -121,9 +146,10 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
       g.sidecar = "figures/" + g.name + ".json";
       for (size_t i = 0; i < study.champions.size(); ++i)
         if (study.champions[i].treatment == t) g.champions.push_back(i);
-      // "data range": galleries drawn before the colour range was the data's are redrawn.
-      g.key = study.fingerprint + " " + g.name + " data range " + std::to_string(r.gallery_width) +
-              "x" + std::to_string(r.gallery_height);
+      // "study range, fitness labels": galleries drawn before one colour range was shared
+      // by all treatments, or before the tiles showed fitness, are redrawn.
+      g.key = study.fingerprint + " " + g.name + " study range, fitness labels " +
+              std::to_string(r.gallery_width) + "x" + std::to_string(r.gallery_height);
       if (g.champions.empty()) continue;  // a treatment with no run here (--run)
       out.galleries.push_back(g.file);
       out.galleries.push_back(g.sidecar);
@@ -235,6 +261,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
     for (size_t k = 0; k < layout.tiles.size(); ++k)
       tiles.push_back(
           {{"label", layout.labels[k]},
+           {"fitness", layout.fitness[k]},
            {"file", fs::relative(study.inputs[study.champions[g.champions[k]].input].file, ctx.dir)
                         .string()},
            {"heading_deg", layout.heading_deg[k]},
@@ -244,6 +271,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
     write_file_atomic(ctx.dir + "/" + g.sidecar, json{{"treatment", to_string(g.treatment)},
                                                       {"columns", layout.columns},
                                                       {"rows", layout.rows},
+                                                      {"e0_range_pa", {layout.e0_lo, layout.e0_hi}},
                                                       {"tiles", tiles}}
                                                          .dump(1) +
                                                      "\n");

@@ -114,7 +114,9 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
   ReportSection evolution, figures, galleries, videos;
   evolution.title = "Evolution: best fitness over generations";
   figures.title = "Figure 5: run champions compared";
-  galleries.title = "Champion galleries (after settling, coloured by congenital stiffness)";
+  galleries.title =
+      "Champion galleries (after settling, coloured by congenital stiffness on one scale for "
+      "all treatments)";
   galleries.wide = true;
   videos.title = "Callus growth";
   videos.wide = true;
@@ -156,7 +158,8 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
   if (!figures.media.empty()) {
     figures.paragraphs.push_back(
         "A fitness, B diversity (Hausdorff distance within a treatment), C robustness, "
-        "D M_body, E V_body, F V_gain: treatment means with 95 % bootstrap confidence intervals; "
+        "D M_body, E V_body, F V_gain: treatment means with 95 % bootstrap confidence intervals "
+        "and, for up to 30 values, each value as a dot (a champion; a pair of champions in B); "
         "stars mark Bonferroni-corrected bootstrap tests (* P<0.05, ** P<0.01, *** P<0.001).");
     extras.sections.push_back(figures);
   }

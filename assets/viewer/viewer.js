@@ -110,6 +110,8 @@
     [[0, 0, -1], [[-1, 1, -1], [1, 1, -1], [1, -1, -1], [-1, -1, -1]]],
   ];
 
+  const FLOOR_POLAR_LIMIT = (89 * Math.PI) / 180;  // radians from straight down onto the target
+
   function Viewer(root) {
     this.root = root;
     const q = (c) => root.querySelector("." + c);
@@ -135,6 +137,12 @@
     this.camera = new THREE.PerspectiveCamera(30, this.canvas.width / this.canvas.height, 1e-3, 1e3);
     this.camera.up.set(0, 0, 1);
     this.controls = new THREE.OrbitControls(this.camera, this.canvas);
+    // The camera never goes under the floor (z = 0): it orbits no lower than a degree above
+    // its target's horizon, and every update first lifts a target below the floor (a sunk
+    // body followed) onto it, so the camera, above the target, is above the floor.
+    this.controls.maxPolarAngle = FLOOR_POLAR_LIMIT;
+    const orbitUpdate = this.controls.update;
+    this.controls.update = () => { this.keepAboveFloor(); return orbitUpdate(); };
     this.controls.addEventListener("change", () => this.draw());
     this.mode = this.colorSelect ? this.colorSelect.value : "congenital";
     this.speed = 1;
@@ -297,6 +305,16 @@
     this.readout.textContent = "t = " + t.toFixed(2) + " s \u00b7 " + life.meta.treatment +
         " \u00b7 displacement " + disp.toFixed(3) + " voxel lengths" +
         (t < life.meta.settle_time ? " (settling)" : "");
+  };
+
+  // Lifts the target and the camera together (the view's direction kept) so the target is
+  // not below the floor; the orbit's update then keeps the camera above the target.
+  Viewer.prototype.keepAboveFloor = function () {
+    const below = -this.controls.target.z;
+    if (below > 0) {
+      this.controls.target.z += below;
+      this.camera.position.z += below;
+    }
   };
 
   Viewer.prototype.draw = function () { this.renderer.render(this.scene, this.camera); };

@@ -1,4 +1,4 @@
-// Actuation (METHOD.md section 4): every voxel's rest size oscillates, damped by stiffness.
+// Actuation (docs/method.md §4): every voxel's rest size oscillates, damped by stiffness.
 // The per-voxel formula is the batched voxel kernel's (voxel_body.hpp, actuate_lanes).
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-// Development (METHOD.md section 5): each voxel's stiffness follows its interoceptive
+// Development (docs/method.md §5): each voxel's stiffness follows its interoceptive
 // stimulus, scaled by its evolved rate alpha. Runs after settling, on the bond strains of
 // this step; the new stiffness takes effect in the next step's bonds, actuation and dt.
 #include "kernels.hpp"

@@ -126,7 +126,7 @@ struct ActuationConstants {
   double L, amplitude, min_factor, e_max, inv_range, cycles;
 };
 
-// ---- Development: the per-voxel rule of develop.cpp (METHOD.md section 5) ----
+// ---- Development: the per-voxel rule of develop.cpp (docs/method.md §5) ----
 
 struct DevelopIo {
   // Workspace: the bond in each slot of every voxel (a slot without one names the zero entry

@@ -201,7 +201,7 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
   bad = bad | and_not(mask_not(v2 <= DBL_MAX) | mask_not(w2 <= DBL_MAX), fixed);
 }
 
-// Voxels [i, i + width): the actuated size (METHOD.md section 4).
+// Voxels [i, i + width): the actuated size (docs/method.md §4).
 template <class T>
 inline void actuate_lanes(const double* stiff, const double* phase, double* size, int i,
                           const ActuationConstants& k) {

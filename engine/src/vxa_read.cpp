@@ -421,7 +421,7 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
   VxaRobot out;
   PhysicsDef& p = out.physics;
   // Bond mechanics stay plastivox's defaults (harmonic-mean axial modulus, exact bond
-  // frame): against the authors' published results for ../shared/vxa they agree at least as
+  // frame): against the authors' published results for tests/data/vxa they agree at least as
   // well as imitating Voxelyze 0.9's bond details (docs/vxa.md has the comparison).
   p.act_min_factor = kMinTempFactor;
   read_simulator(r, vxa, p);

@@ -16,9 +16,9 @@ def random_robot(rng, n):
     random phases; the bottom layer is kept full so every body stands on the floor."""
     geometry = rng.random((n, n, n)) < 0.5
     geometry[:, :, 0] = True
-    # At the paper's density a 1 cm voxel weighs 1000 kg: softer than about 3e8 Pa, a column
-    # of a few voxels sinks through the floor, and a sunk life is invalid (docs/engine.md).
-    stiffness = 10 ** rng.uniform(8.5, 10, (n, n, n))
+    # 1e10..1e11 Pa: under the presets' density (1e9 kg/m^3, 1000 kg per 1 cm voxel) softer
+    # bodies press their feet into the floor (below ~1e7 Pa they fall through it).
+    stiffness = 10 ** rng.uniform(10, 11, (n, n, n))
     phase = rng.uniform(-1, 1, (n, n, n)) * 0.999
     return plastivox.Robot.from_arrays(geometry, stiffness, phase, treatment="none")
 

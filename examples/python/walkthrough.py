@@ -27,10 +27,12 @@ n = 4
 geometry = np.ones((n, n, 2), dtype=bool)
 geometry[1:3, 1:3, 1] = False                   # a hollow on top
 x = np.arange(n)[:, None, None] * np.ones((n, n, 2))
-stiffness = np.where(geometry, 1e7, 0.0)
-phase = np.where(x < n / 2, 0.0, 0.5)            # front and back out of phase
+# 3e9 Pa: under the presets' density (1e9 kg/m^3, a 1 cm voxel weighs 1000 kg) a voxel much
+# softer than ~1e9 Pa cannot carry the body, and below ~1e7 Pa it falls through the floor.
+stiffness = np.where(geometry, 3e9, 0.0)
+phase = x / n                                   # a wave travelling from front to back
 robot = plastivox.Robot.from_arrays(geometry, stiffness, phase, treatment="stress",
-                                    dev_rate=np.where(geometry, 1e3, 0.0))
+                                    dev_rate=np.where(geometry, 100.0, 0.0))
 print(robot)
 
 # %% [markdown]

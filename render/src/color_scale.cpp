@@ -73,6 +73,16 @@ std::vector<double> change_ticks(double top) {
   return out;
 }
 
+// The top ratio of a data-range change scale: the largest change seen, x > 1, rounded up to
+// two significant digits of x - 1 below x2 (x1.013, x1.4) and of x from x2 up (x4.4, x13).
+double change_top(double x) {
+  const auto up2 = [](double v) {
+    const double p = std::pow(10.0, std::floor(std::log10(v)) - 1);
+    return std::ceil(v / p * (1 - 1e-12)) * p;
+  };
+  return x < 2 ? 1 + up2(x - 1) : up2(x);
+}
+
 // "×0.5", "×1", "×1.05", "×20"; decades beyond a thousand as powers ("×10⁴", "×10⁻⁴").
 std::string ratio_label(double r) {
   const double e = std::log10(r);
@@ -132,6 +142,10 @@ const char* to_string(ColorMode m) {
       return "stimulus";
   }
   return "?";
+}
+
+bool stimulus_is_signed(Treatment t) {
+  return t == Treatment::kPressure;
 }
 
 const char* to_string(ColorRange r) {
@@ -222,11 +236,23 @@ std::vector<Tick> ColorScale::ticks() const {
         add(e, "10" + superscript(e));
       break;
     }
-    case ColorMode::kChange:
+    case ColorMode::kChange: {
       // Ratios with short exact labels, each at its own log10 position (not necessarily
-      // symmetric about x1).
-      for (const double r : change_ticks(std::pow(10.0, hi))) add(std::log10(r), ratio_label(r));
+      // symmetric about x1); the bar's ends too ("×4.4", "×1/4.4"), unless a tick is near.
+      const double top = std::pow(10.0, hi);
+      for (const double r : change_ticks(top)) add(std::log10(r), ratio_label(r));
+      const auto near = [&](double t) {
+        for (const Tick& k : out)
+          if (std::abs(k.t - t) < 0.12) return true;
+        return false;
+      };
+      const bool bottom = !near(0), upper = !near(1);
+      char end[32];
+      std::snprintf(end, sizeof end, "%.4g", top);
+      if (bottom) out.insert(out.begin(), Tick{0, std::string("×1/") + end});
+      if (upper) add(hi, std::string("×") + end);
       break;
+    }
     case ColorMode::kAlpha: {
       const double step = nice_step(span, 4);
       for (double v = -std::floor(hi / step) * step; v <= hi + 1e-9; v += step) add(v, number(v));
@@ -303,7 +329,7 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
             const double v = std::abs(std::log10(f->stiffness[i] / model.e0[i]));
             if (std::isfinite(v)) m = std::max(m, v);
           }
-        s.hi = nice_ceil(std::max(m, std::log10(1.01)));
+        s.hi = std::log10(change_top(std::pow(10.0, std::max(m, std::log10(1.01)))));
         s.title = "lifetime change E / E₀, range of the data";
       }
       s.lo = -s.hi;
@@ -324,12 +350,11 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
       break;
     case ColorMode::kStimulus: {
       double m = 0;
-      bool negative = false;
       for (const Frame* f : frames)
         for (double v : f->stimulus)
-          if (std::isfinite(v)) m = std::max(m, std::abs(v)), negative = negative || v < 0;
+          if (std::isfinite(v)) m = std::max(m, std::abs(v));
       s.hi = nice_ceil(std::max(m, 1e-12));
-      s.lo = negative ? -s.hi : 0;
+      s.lo = stimulus_is_signed(model.def.treatment) ? -s.hi : 0;
       s.title =
           std::string("stimulus (Pa), ") + to_string(model.def.treatment) + ", range of the data";
       break;

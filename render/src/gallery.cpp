@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/state.hpp"
@@ -17,7 +18,52 @@ struct Item {
   LifeSource source;
   Life life;
   double heading_deg = 0;
+  double fitness = 0;  // voxel lengths
 };
+
+// "fitness 11.6": three significant digits.
+std::string fitness_text(double fitness) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "fitness %.3g", fitness);
+  return buf;
+}
+
+// UTF-8 characters in s (the label's "·" is two bytes).
+int glyphs(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+  return n;
+}
+
+// The colour scale shared by every tile: congenital stiffness over the range given, or over
+// every champion's voxels (rounded outward), or over the union of the runs' physics ranges.
+ColorScale gallery_scale(const std::vector<Item>& items, const GalleryStyle& style) {
+  if (style.e0_lo > 0 || style.e0_hi > 0) {  // checked by check_gallery_request
+    ColorScale scale;
+    scale.mode = ColorMode::kCongenital;
+    scale.lo = std::log10(style.e0_lo);
+    scale.hi = std::log10(style.e0_hi);
+    scale.title = "congenital stiffness E₀ (Pa), shared range";
+    return scale;
+  }
+  ColorScale scale =
+      make_color_scale(ColorMode::kCongenital, *items[0].life.model, {}, style.color_range);
+  if (style.color_range == ColorRange::kPaper) {
+    for (const Item& it : items) {
+      scale.lo = std::min(scale.lo, std::log10(it.source.physics.e_min));
+      scale.hi = std::max(scale.hi, std::log10(it.source.physics.e_max));
+    }
+    return scale;
+  }
+  double lo = 1e300, hi = -1e300;
+  for (const Item& it : items)
+    for (double e : it.life.model->e0)
+      if (e > 0) {
+        lo = std::min(lo, std::log10(e));
+        hi = std::max(hi, std::log10(e));
+      }
+  return lo <= hi ? stiffness_data_scale(ColorMode::kCongenital, lo, hi) : scale;
+}
 
 // Columns so that tiles of the grid area come out about square.
 int auto_columns(int n, double grid_w, double grid_h) {
@@ -76,6 +122,9 @@ std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle&
 void check_gallery_request(const GalleryStyle& style, size_t tiles, const std::string& out) {
   if (tiles == 0) throw RenderError("gallery: no input files");
   if (style.columns < 0) throw RenderError("gallery: --columns must be >= 0");
+  if ((style.e0_lo != 0 || style.e0_hi != 0) &&
+      !(style.e0_lo > 0 && style.e0_hi > style.e0_lo && std::isfinite(style.e0_hi)))
+    throw RenderError("gallery: the stiffness range needs 0 < low < high (Pa)");
   check_output_path(out);
   check_gallery_size(style, static_cast<int>(tiles));
 }
@@ -84,36 +133,18 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
                              const std::string& out) {
   check_gallery_request(style, entries.size(), out);
 
-  // Heading: from the frame shown to the end of life.
+  // Heading: from the frame shown to the end of life; fitness: the displacement there.
   std::vector<Item> items;
   for (const GalleryEntry& e : entries) {
     if (e.life.frames.size() != 2) throw RenderError("gallery: a champion's frames are missing");
-    Item it{e.source, e.life, 0.0};
+    Item it{e.source, e.life, 0.0, 0.0};
     const Eigen::Vector3d d =
         center_of_mass(it.life.frames[1].pos) - center_of_mass(it.life.frames[0].pos);
     it.heading_deg = d.head<2>().norm() > 1e-9 ? std::atan2(d.y(), d.x()) * kRadToDeg : 0.0;
+    it.fitness = displacement_so_far(it.life, it.life.frames[1]);
     items.push_back(std::move(it));
   }
-
-  // One colour scale for all: congenital stiffness over the range of every champion's
-  // voxels (rounded outward), or over the union of the runs' physics ranges.
-  ColorScale scale =
-      make_color_scale(ColorMode::kCongenital, *items[0].life.model, {}, style.color_range);
-  if (style.color_range == ColorRange::kPaper) {
-    for (const Item& it : items) {
-      scale.lo = std::min(scale.lo, std::log10(it.source.physics.e_min));
-      scale.hi = std::max(scale.hi, std::log10(it.source.physics.e_max));
-    }
-  } else {
-    double lo = 1e300, hi = -1e300;
-    for (const Item& it : items)
-      for (double e : it.life.model->e0)
-        if (e > 0) {
-          lo = std::min(lo, std::log10(e));
-          hi = std::max(hi, std::log10(e));
-        }
-    if (lo <= hi) scale = stiffness_data_scale(ColorMode::kCongenital, lo, hi);
-  }
+  const ColorScale scale = gallery_scale(items, style);
 
   // Layout: tiles on the left, colour bar column on the right.
   const int n = static_cast<int>(items.size());
@@ -123,7 +154,18 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
   GalleryLayout layout;
   layout.columns = grid.columns;
   layout.rows = grid.rows;
-  const int label_h = style.labels ? static_cast<int>(std::round(text_px * 1.8)) : 0;
+  const bool given = style.e0_lo > 0;
+  layout.e0_lo = given ? style.e0_lo : std::pow(10.0, scale.lo);
+  layout.e0_hi = given ? style.e0_hi : std::pow(10.0, scale.hi);
+  // Each label on one line ("stress · seed 3 · fitness 11.6") when every one fits its tile
+  // (at DejaVu Sans's average 0.6 em a character), else on two, the fitness below.
+  bool one_line = true;
+  for (const Item& it : items)
+    one_line =
+        one_line && 0.6 * text_px * glyphs(it.source.label + " · " + fitness_text(it.fitness)) <=
+                        tile_w - text_px;
+  const int label_h =
+      style.labels ? static_cast<int>(std::round(text_px * (one_line ? 1.8 : 3.0))) : 0;
 
   // One scale for every tile: the largest robot fills ~60 % of the tile's scene height.
   double zoom_extent = 0;
@@ -155,6 +197,7 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
     renderer.draw(scene, {tile.x, tile.y, tile.width, tile.height - label_h});
     layout.tiles.push_back(tile);
     layout.labels.push_back(it.source.label);
+    layout.fitness.push_back(it.fitness);
     layout.heading_deg.push_back(it.heading_deg);
   }
 
@@ -168,12 +211,18 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
       const PixelRect& t = layout.tiles[k];
       if (style.labels) {
         ImFont* f = ui.font(0);
-        const std::string& s = layout.labels[k];
-        const float w = f->CalcTextSizeA(f->FontSize, 1e9f, 0, s.c_str()).x;
-        dl->AddText(f, f->FontSize,
-                    ImVec2(std::round(t.x + (t.width - w) / 2),
-                           std::round(t.y + t.height - label_h + (label_h - f->FontSize) / 2)),
-                    ink, s.c_str());
+        const std::string fit = fitness_text(layout.fitness[k]);
+        const std::vector<std::string> lines =
+            one_line ? std::vector<std::string>{layout.labels[k] + " · " + fit}
+                     : std::vector<std::string>{layout.labels[k], fit};
+        const float line_h = std::round(f->FontSize * 1.2f);
+        float y = std::round(t.y + t.height - label_h + (label_h - line_h * lines.size()) / 2);
+        for (const std::string& s : lines) {
+          const float w = f->CalcTextSizeA(f->FontSize, 1e9f, 0, s.c_str()).x;
+          dl->AddText(f, f->FontSize, ImVec2(std::round(t.x + (t.width - w) / 2), y), ink,
+                      s.c_str());
+          y += line_h;
+        }
       }
       dl->AddRect(ImVec2(t.x + 0.5f, t.y + 0.5f),
                   ImVec2(t.x + t.width - 0.5f, t.y + t.height - 0.5f),

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "fp_guard.hpp"
+#include "plastivox/render/assets.hpp"
 
 namespace plastivox::render {
 
@@ -125,9 +126,10 @@ std::string find_font(const std::string& name) {
     return name;
   }
   std::vector<std::string> dirs;
-  if (const char* env = std::getenv("PLASTIVOX_ASSETS"); env && *env)
-    dirs.push_back(std::string(env) + "/fonts");
-  dirs.push_back(std::string(PLASTIVOX_ASSETS_DIR) + "/fonts");
+  try {
+    dirs.push_back(assets_dir() + "/fonts");
+  } catch (const RenderError&) {  // no assets: the system's fonts may still do
+  }
   dirs.push_back("/usr/share/fonts/truetype/dejavu");
   std::string tried;
   for (const std::string& d : dirs) {

@@ -1,7 +1,9 @@
 // Laying out one Fig. 5 panel: a bar per treatment (mean, from zero), a 95 % CI error bar with
-// caps, a y axis with "nice" ticks (1, 2, 5 x 10^k), treatment names and sample sizes under the
-// bars, the metric as title, its unit as y label, the panel letter, and one bracket with stars
-// per significant comparison, stacked so brackets never cross.
+// caps, the sample's values as points over the bar when there are at most 30 (kMaxPanelPoints;
+// spread sideways where they would overlap, so each one shows), a y axis with "nice" ticks (1, 2, 5
+// x 10^k), treatment names and sample sizes under the bars, the metric as title, its unit as y
+// label, the panel letter, and one bracket with stars per significant comparison, stacked so
+// brackets never cross.
 //
 // Sizes are those of an 800 x 600 panel scaled by min(width/800, height/600). Bar edges are
 // whole pixels, so a bar's height is its mean times the axis scale to within one pixel in the
@@ -30,6 +32,8 @@ std::vector<FontFace> panel_fonts(float s) {
 
 constexpr Rgb kInk{0, 0, 0};
 constexpr Rgb kGrey{90, 90, 90};
+constexpr Rgb kWhite{255, 255, 255};
+constexpr Rgb kPointFill{40, 40, 40};
 
 // Okabe-Ito colours (safe for colour-blind readers): the paper's three treatments first.
 Rgb treatment_colour(const std::string& treatment, size_t index) {
@@ -122,20 +126,28 @@ std::vector<Bracket> significant_brackets(const PanelStats& panel) {
   return brackets;
 }
 
-// The value axis: 0 and every mean and CI bound, rounded out to whole ticks k * step.
-struct ValueAxis {
+struct ValueAxis {  // ticks k * step
   double step = 1;
   long k_lo = 0, k_hi = 1;  // ticks k_lo * step .. k_hi * step
   double lo() const { return k_lo * step; }
   double hi() const { return k_hi * step; }
 };
 
+// Whether a group's values are drawn as points.
+bool shows_points(const PanelGroup& g) {
+  return !g.values.empty() && g.values.size() <= static_cast<size_t>(kMaxPanelPoints);
+}
+
+// The value axis: 0, every mean and CI bound and every point drawn, rounded out to whole ticks.
 ValueAxis value_axis(const PanelStats& panel) {
   double lo = 0, hi = 0;
   for (const PanelGroup& g : panel.groups) {
     for (const std::optional<double>& v : {g.mean, g.ci_low, g.ci_high}) {
       if (v) lo = std::min(lo, *v), hi = std::max(hi, *v);
     }
+    if (shows_points(g))
+      for (double v : g.values)
+        if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
   }
   if (hi - lo <= 0) hi = lo + 1;
   ValueAxis a;
@@ -229,12 +241,47 @@ class PanelLayout {
         line(x - cap, hi, x + cap, hi);
         top = std::min(top, hi);
       }
+      if (shows_points(g)) top = std::min(top, add_points(g, x));
       bar_top_.push_back(top);
       const float y_name = bottom_ + tick_len_ + 6 * s_ + 0.8f * px(kLabel);
       d_.shapes.push_back(text(display_treatment(g.treatment), kLabel, x, y_name, Anchor::kMiddle));
       d_.shapes.push_back(text("n = " + std::to_string(g.n), kSmall, x, y_name + px(kSmall) * 1.3f,
                                Anchor::kMiddle, kGrey));
     }
+  }
+
+  // The group's values as dots centred on x, from the lowest value up; a dot that would
+  // overlap one already placed moves sideways (right, left, further right, ...) within the
+  // bar's width. Returns the highest dot's top edge.
+  float add_points(const PanelGroup& g, float x) {
+    const float r = std::max(2.5f, std::round(4.5f * s_ * 2) / 2);
+    const float stroke = std::max(1.0f, std::round(1.0f * s_ * 2) / 2);
+    const float reach = std::max(0.0f, bar_w_ / 2 - r);
+    std::vector<size_t> order(g.values.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return g.values[a] < g.values[b]; });
+    std::vector<std::pair<float, float>> placed;
+    float top = y_zero_;
+    for (const size_t i : order) {
+      if (!std::isfinite(g.values[i])) continue;
+      const float y = y_of(g.values[i]);
+      float dx = 0;
+      for (int k = 1;; ++k) {
+        bool clear = true;
+        for (const auto& [px, py] : placed)
+          clear = clear && std::hypot(x + dx - px, y - py) >= 2 * r;
+        if (clear) break;
+        const float next = r * static_cast<float>((k + 1) / 2) * (k % 2 ? 1.0f : -1.0f);
+        if (std::abs(next) > reach) break;  // no room left: overlap at the last place tried
+        dx = next;
+      }
+      placed.emplace_back(x + dx, y);
+      d_.shapes.push_back(CircleShape{std::round((x + dx) * 2) / 2, std::round(y * 2) / 2, r,
+                                      kPointFill, kWhite, stroke, "point", g.treatment});
+      top = std::min(top, y - r);
+    }
+    return top;
   }
 
   // The y axis with ticks, tick labels and the unit; the zero line under the bars.

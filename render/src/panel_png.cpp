@@ -5,6 +5,7 @@
 // own glyph measurements; vertical text is drawn horizontally and its vertices rotated.
 #include <imgui.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 
@@ -28,6 +29,14 @@ class Painter {
 
   void operator()(const RectShape& r) {
     dl_->AddRectFilled({r.x, r.y}, {r.x + r.w, r.y + r.h}, im_colour(r.fill));
+  }
+
+  // The SVG's stroke is centred on the circle's edge: the filled disc out to r + w/2 in the
+  // stroke colour, then the fill inside r - w/2.
+  void operator()(const CircleShape& c) {
+    const float h = c.stroke_width / 2;
+    dl_->AddCircleFilled({c.x, c.y}, c.r + h, im_colour(c.stroke), 32);
+    dl_->AddCircleFilled({c.x, c.y}, std::max(0.0f, c.r - h), im_colour(c.fill), 32);
   }
 
   void operator()(const LineShape& l) {

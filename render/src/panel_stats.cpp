@@ -35,6 +35,7 @@ class Reader {
     return path_.empty() ? key : path_ + "." + key;
   }
 
+  bool has(const std::string& key) const { return j_.contains(key); }
   const Json& at(const std::string& key) const {
     const auto it = j_.find(key);
     if (it == j_.end()) fail(field(key), "missing");
@@ -79,6 +80,17 @@ PanelGroup read_group(const Reader& r) {
   if (g.ci_low.has_value() != g.ci_high.has_value())
     r.fail(r.field("ci_low"), "ci_low and ci_high must both be numbers or both null");
   if (g.ci_low && *g.ci_low > *g.ci_high) r.fail(r.field("ci_low"), "greater than ci_high");
+  if (r.has("values")) {  // optional: older producers may leave the sample out
+    const Json& values = r.array("values");
+    for (size_t i = 0; i < values.size(); ++i) {
+      if (!values[i].is_number())
+        r.fail(r.field("values") + "[" + std::to_string(i) + "]", "expected a number");
+      g.values.push_back(values[i].get<double>());
+    }
+    if (static_cast<int>(g.values.size()) != g.n)
+      r.fail(r.field("values"),
+             std::to_string(g.values.size()) + " values for n = " + std::to_string(g.n));
+  }
   return g;
 }
 

@@ -1,6 +1,7 @@
 // A Drawing as SVG 1.1 text: one element per shape in paint order, coordinates with at most two
 // decimals, fonts named generically (DejaVu Sans, then Arial, Helvetica, any sans-serif), bars
-// tagged class="bar" data-group="TREATMENT" so they can be found and restyled by hand.
+// tagged class="bar" data-group="TREATMENT" (and the sample's points class="point") so they
+// can be found and restyled by hand.
 // Deterministic: the text depends only on the drawing.
 #include <cmath>
 #include <cstdio>
@@ -49,6 +50,15 @@ void write(std::string& out, const LineShape& l, const Drawing&) {
   out += "<line x1=\"" + num(l.x0) + "\" y1=\"" + num(l.y0) + "\" x2=\"" + num(l.x1) + "\" y2=\"" +
          num(l.y1) + "\" stroke=\"" + colour(l.color) + "\" stroke-width=\"" + num(l.width) +
          "\" stroke-linecap=\"square\"/>\n";
+}
+
+void write(std::string& out, const CircleShape& c, const Drawing&) {
+  out += "<circle";
+  if (!c.css_class.empty()) out += " class=\"" + escape(c.css_class) + "\"";
+  if (!c.data.empty()) out += " data-group=\"" + escape(c.data) + "\"";
+  out += " cx=\"" + num(c.x) + "\" cy=\"" + num(c.y) + "\" r=\"" + num(c.r) + "\" fill=\"" +
+         colour(c.fill) + "\" stroke=\"" + colour(c.stroke) + "\" stroke-width=\"" +
+         num(c.stroke_width) + "\"/>\n";
 }
 
 void write(std::string& out, const TextShape& t, const Drawing& d) {

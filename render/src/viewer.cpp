@@ -24,7 +24,6 @@
 #include "plastivox/robot_file.hpp"        // InputError
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
-#include "text_format.hpp"
 
 namespace plastivox::render {
 namespace {
@@ -75,10 +74,11 @@ uint32_t pack_rotation(const Eigen::Quaterniond& q_in) {
   return out;
 }
 
-nlohmann::json scale_json(const ColorScale& s, const char* map) {
+nlohmann::json scale_json(const ColorScale& s) {
   nlohmann::json ticks = nlohmann::json::array();
   for (const Tick& t : s.ticks()) ticks.push_back({{"t", t.t}, {"label", t.label}});
-  return {{"lo", s.lo}, {"hi", s.hi}, {"map", map}, {"title", s.title}, {"ticks", ticks}};
+  return {
+      {"lo", s.lo}, {"hi", s.hi}, {"map", s.map().name()}, {"title", s.title}, {"ticks", ticks}};
 }
 
 double largest_stimulus(const Recording& rec) {
@@ -336,22 +336,9 @@ std::string life_meta_json(const ViewerLife& life) {
   std::vector<const Frame*> frames;
   for (const Frame& f : life.recording->frames) frames.push_back(&f);
   nlohmann::json scales;
-  scales["congenital"] =
-      scale_json(make_color_scale(ColorMode::kCongenital, m, frames), "sequential");
-  scales["stiffness"] =
-      scale_json(make_color_scale(ColorMode::kStiffness, m, frames), "sequential");
-  scales["change"] = scale_json(make_color_scale(ColorMode::kChange, m, frames), "diverging");
-  scales["phase"] = scale_json(make_color_scale(ColorMode::kPhase, m, frames), "cyclic");
-  // Stimulus has no renderer mode: symmetric about 0 over the life's largest |stimulus|.
-  const double s = std::max(largest_stimulus(*life.recording), 1e-30);
-  scales["stimulus"] = {{"lo", -s},
-                        {"hi", s},
-                        {"map", "diverging"},
-                        {"title", "stimulus (Pa), the treatment's signal"},
-                        {"ticks",
-                         {{{"t", 0.0}, {"label", format("%.3g", -s)}},
-                          {{"t", 0.5}, {"label", "0"}},
-                          {{"t", 1.0}, {"label", format("%.3g", s)}}}}};
+  for (const ColorMode mode : {ColorMode::kCongenital, ColorMode::kStiffness, ColorMode::kChange,
+                               ColorMode::kPhase, ColorMode::kStimulus})
+    scales[to_string(mode)] = scale_json(make_color_scale(mode, m, frames));
   return nlohmann::json{{"label", life.label},
                         {"treatment", life.treatment},
                         {"fitness", life.fitness},

@@ -1,17 +1,18 @@
 """Shared fixtures of the Python suites: the CLI to compare against, the sample robots, and
 a tiny evolved run. ctest sets PYTHONPATH (build/python), PLASTIVOX_CLI and
-PLASTIVOX_SHARED_DIR (python/CMakeLists.txt)."""
+PLASTIVOX_TEST_DATA_DIR (python/CMakeLists.txt)."""
 
 import json
 import os
 import subprocess
 
+import numpy as np
 import pytest
 
 import plastivox
 
 CLI = os.environ.get("PLASTIVOX_CLI", "")
-SHARED = os.environ.get("PLASTIVOX_SHARED_DIR", os.path.join(os.path.dirname(__file__), "../../../shared"))
+DATA = os.environ.get("PLASTIVOX_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "../data"))
 SOURCE = os.environ.get("PLASTIVOX_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "../.."))
 
 
@@ -29,7 +30,7 @@ def cli_json(*args):
 
 
 def vxa(name):
-    return os.path.join(SHARED, "vxa", name)
+    return os.path.join(DATA, "vxa", name)
 
 
 def tiny_config(treatment="pressure", generations=2):
@@ -50,3 +51,31 @@ def tiny_run(tmp_path_factory):
     report = plastivox.evolve(config, out, threads=1)
     assert report["outcome"] == "finished" and report["generations_done"] == 2
     return out, config
+
+
+# Standing and walking, in voxel lengths. A life stands when it finished, did not sink
+# (simulate's "sank through the floor" warning) and no voxel's bottom face went deeper than
+# FLOOR_TOLERANCE below z = 0 in any frame of the life (feet pressed a little into the floor
+# are normal; a body that cannot carry itself goes a voxel or more under). It walks when its
+# centre of mass moved more than MIN_STRIDE in the xy-plane.
+FLOOR_TOLERANCE = 0.25
+MIN_STRIDE = 0.1
+
+
+def deepest_below_floor(positions, sizes, voxel_size):
+    """The deepest any voxel's bottom face went below z = 0 over the frames, voxel lengths
+    (negative when every voxel stayed above it): positions (F, n, 3) m, sizes (F, n) m."""
+    positions, sizes = np.asarray(positions), np.asarray(sizes)
+    return float(-(positions[:, :, 2] - sizes / 2).min() / voxel_size)
+
+
+def assert_stands_and_walks(label, summary, deepest):
+    """summary: `simulate --json`'s object (or Result.to_dict()); deepest: deepest_below_floor
+    of its recorded life. The floor-contact part is the one `health == "ok"` line once
+    simulate grades health itself."""
+    assert summary["status"] == "finished", f"{label}: {summary.get('failure', '')}"
+    sank = [w for w in summary.get("warnings", []) if "sank" in w]
+    assert not sank and deepest <= FLOOR_TOLERANCE, \
+        f"{label}: voxels {deepest:.3f} voxel lengths below the floor; {sank}"
+    stride = float(np.hypot(summary["dist_x"], summary["dist_y"]))
+    assert stride > MIN_STRIDE, f"{label}: moved {stride:.3f} voxel lengths in the xy-plane"

@@ -1,10 +1,11 @@
-"""Every example under examples/python runs, on tiny inputs."""
+"""Every example under examples/python runs, on small inputs, and its robot stands and walks."""
 
 import os
 import subprocess
 import sys
 
-from conftest import SOURCE
+import plastivox
+from conftest import SOURCE, assert_stands_and_walks, deepest_below_floor
 
 EXAMPLES = os.path.join(SOURCE, "examples", "python")
 
@@ -16,11 +17,23 @@ def run_example(name, *args, env=None):
     return p.stdout
 
 
+def assert_saved_robot_stands(label, path, record_fps=100):
+    """Simulates the robot file an example wrote, under the physics saved with it."""
+    robot = plastivox.load_robot(path)
+    r = plastivox.simulate(robot, record_fps=record_fps)
+    t = r.trajectory
+    assert_stands_and_walks(label, r.to_dict(),
+                            deepest_below_floor(t.positions, t.sizes, robot.voxel_size))
+    return r
+
+
 def test_random_search(tmp_path):
     best = tmp_path / "best.json"
-    out = run_example("random_search.py", "--robots", "6", "--size", "3", "--duration", "0.1",
+    out = run_example("random_search.py", "--robots", "8", "--size", "4", "--duration", "1.0",
                       "--threads", "2", "--out", str(best))
     assert "best is #" in out and best.exists()
+    r = assert_saved_robot_stands("random_search.py's best robot", best)
+    assert f"hash {r.final_state_hash}" in out
 
 
 def test_results_report(tiny_run, tmp_path):
@@ -36,6 +49,7 @@ def test_results_report(tiny_run, tmp_path):
 
 
 def test_walkthrough(tmp_path):
-    out = run_example("walkthrough.py", env={"WALKTHROUGH_DURATION": "0.3",
+    out = run_example("walkthrough.py", env={"WALKTHROUGH_DURATION": "1.0",
                                              "WALKTHROUGH_OUT": str(tmp_path)})
     assert (tmp_path / "walker.png").exists() and "frame (240, 320, 3)" in out
+    assert_saved_robot_stands("walkthrough.py's robot", tmp_path / "walker.json")

@@ -122,6 +122,16 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
     evo::h5::write(c, g.id(), name, *v);
   evo::h5::write(c, g.id(), "r_draws", r_draw, {n, draws});
   evo::h5::write(c, g.id(), "f_test", f_test, {n, draws});
+  // Robustness is a ratio of fitnesses; the body measures are relative changes of E.
+  for (const auto& [name, units] : {std::pair{"fitness", "voxel lengths"},
+                                    {"f_train", "voxel lengths"},
+                                    {"f_test", "voxel lengths"},
+                                    {"r_mean", "1"},
+                                    {"r_draws", "1"},
+                                    {"m_body", "1"},
+                                    {"v_body", "1"},
+                                    {"v_gain", "1"}})
+    evo::h5::write_units(c, g.id(), name, units);
 }
 
 void write_hausdorff(const Ctx& c, hid_t root, const StudyResult& r) {
@@ -135,6 +145,7 @@ void write_hausdorff(const Ctx& c, hid_t root, const StudyResult& r) {
   evo::h5::write_strings(c, g.id(), "labels", labels);
   const hsize_t n = static_cast<hsize_t>(m.n);
   evo::h5::write(c, g.id(), "matrix", m.distance, {n, n});
+  evo::h5::write_units(c, g.id(), "matrix", "voxel lengths");
   // Placement of B (the later champion of each pair): b -> rotation * b + translation.
   std::vector<int32_t> pa, pb, rot, trans;
   std::vector<std::string> rot_name;
@@ -175,12 +186,15 @@ void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
       lo.push_back(s.ci ? s.ci->lower : kUndefined);
       hi.push_back(s.ci ? s.ci->upper : kUndefined);
       evo::h5::write(c, values.id(), to_string(s.treatment), s.values);
+      evo::h5::write_units(c, values.id(), to_string(s.treatment), p.unit);
     }
     evo::h5::write_strings(c, g.id(), "treatment", treatment);
     evo::h5::write(c, g.id(), "n", count);
     evo::h5::write(c, g.id(), "mean", mean);
     evo::h5::write(c, g.id(), "ci_low", lo);
     evo::h5::write(c, g.id(), "ci_high", hi);
+    for (const char* name : {"mean", "ci_low", "ci_high"})
+      evo::h5::write_units(c, g.id(), name, p.unit);
     std::vector<std::string> a, b, stars;
     std::vector<double> diff, pv, pc, es;
     for (const BootstrapTestResult& t : p.comparisons) {

@@ -1,4 +1,4 @@
-// The six panels of Fig. 5 (METHOD.md section 8): per treatment a sample, its mean and 95 %
+// The six panels of Fig. 5 (docs/method.md §8): per treatment a sample, its mean and 95 %
 // bootstrap CI; between treatments two-sample bootstrap tests, Bonferroni-corrected for the
 // number of comparisons made in the panel.
 //

@@ -197,10 +197,10 @@ std::string default_config_text() {
   json j = canonical(c, true);
   j["_comment"] = json::array(
       {"plastivox evolve configuration (docs/evolution.md). JSON has no comments: this",
-       "_comment field is ignored. Defaults are the GECCO 2018 study (METHOD.md 6-7).",
+       "_comment field is ignored. Defaults are the GECCO 2018 study (docs/method.md §6-7).",
        "seed: run seed (non-negative integer); the paper used seeds 1..20.",
        "treatment: what development follows: none | stress | pressure (the paper's) | strain |",
-       "  strain_energy | contact | kinetic (docs/development.md), or with its law:",
+       "  strain_energy | contact | kinetic (docs/plasticity.md), or with its law:",
        "  {\"stimulus\": \"contact\", \"law\": \"integral\" | \"rate\"} (the law is "
        "physics.growth).",
        "population: survivors per generation (24). Each generation makes one child per",

@@ -1,4 +1,4 @@
-// The six CPPN mutation operators and the initial-network recipe (METHOD.md section 6).
+// The six CPPN mutation operators and the initial-network recipe (docs/method.md §6).
 // Every operator keeps the invariants of validate(): topological node order, links sorted
 // by (target, source), no duplicate pair, weights in [-1, 1].
 #include <algorithm>

@@ -392,6 +392,12 @@ void write_attr(const Ctx& c, hid_t obj, const std::string& name, const std::str
   write_attr_raw(c, obj, name, t.id(), t.id(), static_cast<const void*>(&text));
 }
 
+void write_units(const Ctx& c, hid_t loc, const std::string& dataset, const std::string& units) {
+  Handle d = check(c, H5Dopen2(loc, dataset.c_str(), H5P_DEFAULT), Handle::Kind::kDataset,
+                   path_of(loc, dataset), "cannot open dataset");
+  write_attr(c, d.id(), "units", units);
+}
+
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, int64_t value) {
   write_attr_raw(c, obj, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &value);
 }

@@ -111,6 +111,15 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
         contact.insert(contact.end(), touching.begin(), touching.end());
       }
       h5::write(c, r, "contact", contact, {nf, nv});
+      // Every stimulus is in Pa (strain is read as Pa: physics_def.hpp).
+      for (const auto& [name, units] : {std::pair{"com_settled", "m"},
+                                        {"time", "s"},
+                                        {"position", "m"},
+                                        {"orientation", "1"},
+                                        {"size", "m"},
+                                        {"stiffness", "Pa"},
+                                        {"stimulus", "Pa"}})
+        h5::write_units(c, r, name, units);
     }
     bytes = file.image();
   }

@@ -78,6 +78,9 @@ void write_phenotype(const Ctx& c, hid_t group, const RobotDef& r) {
   h5::write(c, group, "stiffness", r.stiffness, dims);
   h5::write(c, group, "dev_rate", r.dev_rate, dims);
   h5::write(c, group, "phase", r.phase, dims);
+  for (const auto& [name, units] :
+       {std::pair{"stiffness", "Pa"}, {"dev_rate", "1/s"}, {"phase", "cycles"}})
+    h5::write_units(c, group, name, units);
 }
 
 void write_root_attributes(const Ctx& c, hid_t root, const RunState& s, const Provenance& p) {
@@ -139,6 +142,9 @@ void write_generations(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, g.id(), "simulated", simulated);
   h5::write(c, g.id(), "cache_hits", hits);
   h5::write(c, g.id(), "wall_seconds", wall);
+  h5::write_units(c, g.id(), "fitness", "voxel lengths");
+  h5::write_units(c, g.id(), "best_fitness", "voxel lengths");
+  h5::write_units(c, g.id(), "wall_seconds", "s");
 }
 
 void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
@@ -168,6 +174,7 @@ void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, g.id(), "parent_id", parent);
   h5::write(c, g.id(), "generation", gen);
   h5::write(c, g.id(), "fitness", fitness);
+  h5::write_units(c, g.id(), "fitness", "voxel lengths");
   h5::write(c, g.id(), "status", status);
   h5::write(c, g.id(), "voxels", voxels);
   h5::write(c, g.id(), "tries", tries);
@@ -196,6 +203,7 @@ void write_champions(const Ctx& c, hid_t root, const RunState& s) {
     Handle ph = h5::create_group(c, g.id(), "phenotype");
     write_phenotype(c, ph.id(), ch.phenotype);
     h5::write(c, g.id(), "final_stiffness", ch.final_stiffness, lattice_dims(ch.phenotype));
+    h5::write_units(c, g.id(), "final_stiffness", "Pa");
   }
   if (!s.champions.empty()) {
     const std::string target = "/champions/" + layout::champion_name(s.champions.size() - 1);
@@ -226,6 +234,7 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, pop.id(), "age", age);
   h5::write(c, pop.id(), "born", born);
   h5::write(c, pop.id(), "fitness", fitness);
+  h5::write_units(c, pop.id(), "fitness", "voxel lengths");
   h5::write(c, pop.id(), "status", status);
   // Genomes, stacked per network: individual i owns nodes [node_offset[i], node_offset[i+1])
   // and links [link_offset[i], link_offset[i+1]).
@@ -273,6 +282,7 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, cache.id(), "hash_hi", hi);
   h5::write(c, cache.id(), "hash_lo", lo);
   h5::write(c, cache.id(), "fitness", fit);
+  h5::write_units(c, cache.id(), "fitness", "voxel lengths");
   h5::write(c, cache.id(), "status", st);
   h5::write(c, cache.id(), "sank", sank);
   h5::write(c, cache.id(), "failure_row", failure_row);

@@ -1,5 +1,5 @@
 // Every physical and protocol parameter of one simulation, with the GECCO-2018 defaults.
-// Units are SI throughout. See ../shared/METHOD.md sections 1-5 for where each comes from.
+// Units are SI throughout. docs/method.md §1-§5 says where each comes from; its §11 tables them.
 #pragma once
 
 #include <optional>
@@ -8,7 +8,7 @@
 
 namespace plastivox {
 
-// The stimulus development follows (docs/development.md has each formula, its units and its
+// The stimulus development follows (docs/plasticity.md has each formula, its units and its
 // size on the paper's bodies). none, stress and pressure are the paper's three treatments;
 // the others are new developmental feedback loops, per voxel, in Pa (= J/m^3):
 // - kStrain: the largest absolute axial strain among the voxel's bonds (dimensionless,
@@ -76,7 +76,7 @@ struct PhysicsDef {
   // --- integration ---
   double dt_frac = 0.9;  // dt = dt_frac / (2 pi sqrt(k_max / m))
 
-  // --- actuation (METHOD.md section 4) ---
+  // --- actuation (docs/method.md §4) ---
   double act_frequency = 5.0;     // Hz
   double act_amplitude = 0.1447;  // linear, fraction of voxel size
   double act_min_factor = 0.1;    // floor on the size factor 1 + A xi(E) sin(...)
@@ -85,7 +85,7 @@ struct PhysicsDef {
   double settle_time = 0.2;  // s without actuation or development; fitness starts here
   double duration = 5.2;     // s, total simulated time
 
-  // --- development (METHOD.md section 5) ---
+  // --- development (docs/method.md §5) ---
   Treatment treatment = Treatment::kNone;
   GrowthModel growth = GrowthModel::kIntegral;
   double max_change_per_step = 1e9;  // Pa, cap on |dE| in one step

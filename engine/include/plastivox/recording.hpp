@@ -16,7 +16,7 @@ struct Frame {
   std::vector<Eigen::Quaterniond> orient;  // body-to-world rotation (n)
   std::vector<double> size;                // actuated edge length, m (n)
   std::vector<double> stiffness;           // current E, Pa (n)
-  std::vector<double> stimulus;            // the treatment's stimulus, Pa (n; docs/development.md)
+  std::vector<double> stimulus;            // the treatment's stimulus, Pa (n; docs/plasticity.md)
 };
 
 // Which voxels touch the floor in `frame` (1) and which do not (0), with the engine's own

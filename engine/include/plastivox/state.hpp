@@ -33,7 +33,7 @@ struct State {
   std::vector<double> stiffness;         // current Young's modulus E, Pa
   std::vector<double> size;              // actuated edge length, m, set by the actuation
                                          // stage for the next step's bonds and contacts
-  std::vector<double> stimulus;          // last stimulus of the treatment, Pa (development.md)
+  std::vector<double> stimulus;          // last stimulus of the treatment, Pa (docs/plasticity.md)
   std::vector<double> stim_integral;     // integral of the stimulus since settling, Pa s
   std::vector<double> stim_ref;          // stimulus at the end of settling (rate model), Pa
   bool stim_ref_set = false;             // stim_ref has been taken

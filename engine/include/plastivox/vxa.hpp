@@ -1,5 +1,5 @@
 // Import and export of robots in the VXA (Voxelyze/VoxCAD XML) dialect written by the
-// GECCO-2018 authors' scripts (VXA 1.0 wrapping VXC 0.93; see ../shared/vxa/README.md).
+// GECCO-2018 authors' scripts (VXA 1.0 wrapping VXC 0.93; see tests/data/vxa/README.md).
 //
 // Reading follows the authors' simulator (their Voxelyze 0.9 fork, notes/authors-physics.md):
 // palette materials are numbered by their position, per-voxel blocks list one value for every

@@ -1,4 +1,4 @@
-// Body-plan classification (METHOD.md section 8, "Shapes"): the paper names three recurring
+// Body-plan classification (docs/method.md §8, "Body plans"): the paper names three recurring
 // body plans by eye — Π (wide front and back legs under a bridge), Γ (legs meeting at a right
 // angle) and Υ (a mainly cylindrical leg joined at right angles to the centre of a roughly
 // 10x10 vertical plate) — and counts them per treatment. This is a deterministic geometric

@@ -1,4 +1,4 @@
-// Bootstrap statistics for comparing treatments (METHOD.md section 8, "Statistics"): a
+// Bootstrap statistics for comparing treatments (docs/method.md §8, "Statistics"): a
 // two-sample hypothesis test for a difference in means, and percentile confidence intervals
 // for a mean. Every result carries the test, level, correction and seed that produced it, so
 // a table written from it declares how it was made.

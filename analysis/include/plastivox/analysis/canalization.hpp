@@ -1,4 +1,4 @@
-// Canalization (METHOD.md section 8, Fig. 5 panels D, E, F): how much, and how unevenly, a
+// Canalization (docs/method.md §8, Fig. 5 panels D, E, F): how much, and how unevenly, a
 // champion's stiffness changed during its life, and how varied its development rates are.
 //
 //   M_body = mean_i |E+_i / E0_i - 1|            over body voxels i

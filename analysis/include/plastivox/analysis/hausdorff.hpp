@@ -1,4 +1,4 @@
-// Geometric diversity (METHOD.md section 8, Fig. 5 panel B): the Hausdorff distance between
+// Geometric diversity (docs/method.md §8, Fig. 5 panel B): the Hausdorff distance between
 // the filled-voxel index sets of two robots,
 //
 //   d_H(A, B) = max( max_a min_b |a - b|, max_b min_a |a - b| ),   Euclidean, lattice units,

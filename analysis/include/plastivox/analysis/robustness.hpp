@@ -1,4 +1,4 @@
-// Robustness (METHOD.md section 8, Fig. 5 panel C): how much of a champion's fitness survives
+// Robustness (docs/method.md §8, Fig. 5 panel C): how much of a champion's fitness survives
 // when its evolved stiffness is replaced by noise.
 //
 //   The reduced robot: the champion with development removed (every alpha = 0, treatment none).

@@ -1,4 +1,4 @@
-// A whole study (METHOD.md section 8, Fig. 5): the run champions of several evolution results
+// A whole study (docs/method.md §8, Fig. 5): the run champions of several evolution results
 // files, grouped by treatment, measured (fitness, robustness, canalization, body plan,
 // diversity) and compared with bootstrap statistics. Library plastivox_study; what
 // `plastivox analyze` and `plastivox experiment` call.

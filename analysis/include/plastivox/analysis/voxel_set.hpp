@@ -42,7 +42,7 @@ bool operator==(const Rotation& a, const Rotation& b);           // same matrix
 
 // {identity}: no rotation search.
 const std::vector<Rotation>& identity_rotations();
-// The paper's 8 orientations of B (METHOD.md section 8): R = T^j * Z^k, k = 0..3, j = 0..1,
+// The paper's 8 orientations of B (docs/method.md §8): R = T^j * Z^k, k = 0..3, j = 0..1,
 // index 2k + j; Z is +90 deg about z ((x,y) -> (-y,x), numpy.rot90(B, k, axes=(0,1))) and T
 // one +90 deg turn in the yz plane ((y,z) -> (-z,y), numpy.rot90(B, 1, axes=(1,2))) applied
 // after the z rotation. The paper's text does not say in which order or sense its two

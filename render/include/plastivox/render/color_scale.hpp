@@ -17,9 +17,12 @@ enum class ColorMode {
   kChange,      // lifetime change E/E0, log10 symmetric about 1, diverging map
   kAlpha,       // development rate alpha (1/s), symmetric about 0, diverging map
   kPhase,       // actuation phase (cycles, modulo 1), cyclic map
-  kStimulus,    // the treatment's stimulus (Pa, docs/development.md), linear from 0, or
-                // symmetric about 0 on a diverging map when some value is negative
+  kStimulus,    // the treatment's stimulus (Pa, docs/plasticity.md), linear from 0 on a
+                // sequential map, or symmetric about 0 on a diverging map for a signed one
 };
+// Whether a treatment's stimulus can be negative: only pressure's (negative in tension).
+// Every other stimulus is >= 0 by definition (docs/plasticity.md), and so is shown one-sided.
+bool stimulus_is_signed(Treatment t);
 // "congenital", "stiffness", "change", "alpha", "phase", "stimulus"
 const char* to_string(ColorMode m);
 // Throws RenderError listing the valid names.
@@ -57,11 +60,13 @@ struct ColorScale {
 // The scale for `mode` that stays fixed over `frames` (so a video's colours mean the same
 // in every frame). With ColorRange::kData, stiffness modes span the values shown (E0 for
 // congenital, E over `frames` for stiffness, E0 when there are none) rounded outward to 1-2-5
-// values (to decades beyond three decades); change spans the largest |log10 E/E0| seen,
-// rounded up to a 1-2-5 step (at least a factor 1.01). With kPaper, stiffness modes span the
-// physics' [e_min, e_max] and change +-log10(e_max / e_min). Alpha spans the largest |alpha|,
-// rounded likewise; phase one cycle (both whatever the range); stimulus from 0 (or -max) to
-// the largest |stimulus| over `frames`, rounded up to a 1-2-5 value. The title says which range.
+// values (to decades beyond three decades); change spans 1/x..x for the largest change x
+// (E/E0 or E0/E) seen, x rounded up to two significant digits (of x - 1 below x2; at least
+// x1.01), symmetric in log about x1. With kPaper, stiffness modes span the physics'
+// [e_min, e_max] and change +-log10(e_max / e_min). Alpha spans the largest |alpha|, rounded up
+// to a 1-2-5 value; phase one cycle (both whatever the range); stimulus from 0 (from -max for
+// a signed stimulus, stimulus_is_signed) to the largest |stimulus| over `frames`, rounded up
+// to a 1-2-5 value. The title says which range.
 ColorScale make_color_scale(ColorMode mode, const Model& model,
                             const std::vector<const Frame*>& frames,
                             ColorRange range = ColorRange::kData);

@@ -1,7 +1,7 @@
 // Galleries of champions (the paper's Figs. 2-4): one tile per results file, each robot
 // after settling, coloured by congenital stiffness, turned so it travels towards the lower
 // right of its tile (heading taken from its own simulated displacement), all at one scale,
-// with a run label under each tile and one shared colour bar.
+// with a label under each tile (run, seed and fitness) and one shared colour bar.
 #pragma once
 
 #include <string>
@@ -17,16 +17,23 @@ struct GalleryStyle {
   int columns = 0;                  // 0: chosen so tiles are about as wide as tall
   double time = -1;                 // simulated time shown, s (< 0: the end of settling)
   int samples = 4;                  // Scene::samples: 4x multisampling (0: edge, 1: none)
-  bool labels = true;               // run label (treatment · seed) under each tile
+  bool labels = true;               // "stress · seed 3 · fitness 11.6" under each tile
   bool colorbar = true;             // the shared colour bar on the right
   ColorRange color_range = ColorRange::kData;  // all champions' E0, or the paper's [1e5, 1e11]
+  // An explicit congenital-stiffness range, Pa (0 < e0_lo < e0_hi), for every tile, taking
+  // the place of color_range: the colour bar spans exactly it (titled "shared range") and
+  // voxels outside take its end colours. One study's galleries of several treatments share
+  // one this way (plastivox experiment); `plastivox gallery --e0-range LO,HI`.
+  double e0_lo = 0, e0_hi = 0;
 };
 
 struct GalleryLayout {
   int columns = 0, rows = 0;
-  std::vector<PixelRect> tiles;  // one per input, in input order
-  std::vector<std::string> labels;
+  std::vector<PixelRect> tiles;     // one per input, in input order
+  std::vector<std::string> labels;  // the source's label (run and seed, or the robot's name)
+  std::vector<double> fitness;      // displacement at the end of life, voxel lengths
   std::vector<double> heading_deg;  // direction of travel, degrees from +x
+  double e0_lo = 0, e0_hi = 0;      // the colour bar's congenital-stiffness range, Pa
 };
 
 // The image is too small for the tiles and colour bar asked for (a command-line problem).

@@ -85,7 +85,7 @@ struct FontSpec {
 };
 
 // Path of a font file: `name` itself if it contains a '/', else the first existing of
-// $PLASTIVOX_ASSETS/fonts/name, <source>/assets/fonts/name and
+// assets_dir()/fonts/name (plastivox/render/assets.hpp) and
 // /usr/share/fonts/truetype/dejavu/name (Debian's fonts-dejavu-core). Throws RenderError.
 std::string find_font(const std::string& name);
 

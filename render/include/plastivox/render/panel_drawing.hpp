@@ -31,6 +31,14 @@ struct RectShape {
   std::string data;       // SVG data-group attribute (the treatment of a bar), or empty
 };
 
+struct CircleShape {
+  float x = 0, y = 0, r = 0;  // pixels, centre and radius
+  Rgb fill, stroke;           // outline 1 pixel wide (scaled like the panel's lines)
+  float stroke_width = 1;
+  std::string css_class;  // SVG class, e.g. "point"
+  std::string data;       // SVG data-group attribute (the treatment), or empty
+};
+
 struct LineShape {
   float x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels
   float width = 1;                       // pixels
@@ -54,7 +62,7 @@ struct TextShape {
   Rgb color;
 };
 
-using Shape = std::variant<RectShape, LineShape, TextShape>;
+using Shape = std::variant<RectShape, LineShape, TextShape, CircleShape>;
 
 struct Drawing {
   int width = 0, height = 0;    // pixels

@@ -1,5 +1,6 @@
 // Figure panels (the paper's Fig. 5, panels A-F): one bar chart per metric, treatment means
-// with 95 % confidence-interval error bars and significance brackets with stars, read from the
+// with 95 % confidence-interval error bars, the individual values as points (small samples)
+// and significance brackets with stars, read from the
 // analysis output stats.json (contract: docs/analysis.md, "stats.json").
 //
 // Pipeline: read_stats_figure() parses and validates stats.json into a StatsFigure;
@@ -35,7 +36,11 @@ struct PanelGroup {
   std::optional<double> mean;     // metric unit; absent when undefined (no bar is drawn)
   std::optional<double> ci_low;   // 95 % CI of the mean; absent when n < 2
   std::optional<double> ci_high;  // present exactly when ci_low is
+  // The sample itself (one value per champion, or per pair in panel B), when stats.json has
+  // it; drawn as points over the bar when n <= kMaxPanelPoints.
+  std::vector<double> values;
 };
+constexpr int kMaxPanelPoints = 30;
 
 // One pairwise test between two groups of the panel.
 struct PanelComparison {

@@ -1,4 +1,4 @@
-// Age-Fitness Pareto selection (Schmidt & Lipson 2011; METHOD.md section 7).
+// Age-Fitness Pareto selection (Schmidt & Lipson 2011; docs/method.md §7).
 //
 // Objectives: fitness (maximised) and age (minimised). a dominates b when a is at least as
 // fit and at least as young, and strictly better in one of the two. Pareto rank 0 is the

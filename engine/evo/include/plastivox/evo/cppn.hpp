@@ -20,7 +20,7 @@
 
 namespace plastivox::evo {
 
-// Node activations. The seven hidden ones are METHOD.md section 6's; kIdentity is used by
+// Node activations. The seven hidden ones are docs/method.md §6's; kIdentity is used by
 // the inputs (which pass their value through) and the output (a plain weighted sum; the
 // output mapping applies the logistic, see phenotype.hpp).
 enum class Activation : uint8_t {
@@ -74,7 +74,7 @@ void evaluate(const Cppn& net, const CppnInputs& in, std::vector<double>& out,
               std::vector<double>& scratch);
 std::vector<double> evaluate(const Cppn& net, const CppnInputs& in);
 
-// ---- Mutation (METHOD.md section 6) ----
+// ---- Mutation (docs/method.md §6) ----
 enum class MutationOp : uint8_t {
   kAddNode = 0,           // split a random link a->b into a->h (old weight), h->b (weight 1)
   kRemoveNode = 1,        // delete a random hidden node and its links

@@ -1,4 +1,4 @@
-// The AFPO loop (METHOD.md section 7): one call of step() runs one generation.
+// The AFPO loop (docs/method.md §7): one call of step() runs one generation.
 //
 // Generation 0 creates `population` random individuals. Every later generation:
 //   1. every survivor's age += 1;

@@ -1,4 +1,4 @@
-// A robot's genome: four independent CPPNs (METHOD.md section 6).
+// A robot's genome: four independent CPPNs (docs/method.md §6).
 #pragma once
 
 #include <array>

@@ -103,6 +103,9 @@ void write_attr(const Ctx& c, hid_t obj, const std::string& name, int64_t value)
 void write_attr_u64(const Ctx& c, hid_t obj, const std::string& name, uint64_t value);
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, double value);
 bool has_attr(hid_t obj, const std::string& name);
+// The string attribute "units" on the dataset `dataset` in `loc` ("m", "s", "Pa", "voxel
+// lengths", "1" for a dimensionless quantity). Readers do not need it: files without it read.
+void write_units(const Ctx& c, hid_t loc, const std::string& dataset, const std::string& units);
 std::string read_attr_string(const Ctx& c, hid_t obj, const std::string& where,
                              const std::string& name);
 int64_t read_attr_int(const Ctx& c, hid_t obj, const std::string& where, const std::string& name);

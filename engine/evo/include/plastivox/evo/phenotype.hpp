@@ -1,7 +1,7 @@
 // From genome to robot: evaluate the four CPPNs over the lattice, map their outputs to
 // voxel properties, keep the geometry rule's voxels, and decide validity.
 //
-// Output mappings (METHOD.md section 6), logistic(o) = 1 / (1 + exp(-o)):
+// Output mappings (docs/method.md §6), logistic(o) = 1 / (1 + exp(-o)):
 //   geometry     present iff o > 0
 //   stiffness    E     = e_min + (e_max - e_min) * logistic(o)      (Pa, linear)
 //   development  alpha = -10 + 20 * logistic(o)                     (1/s)

@@ -1,4 +1,4 @@
-// New individuals: mutated children and random newcomers (METHOD.md sections 6-7).
+// New individuals: mutated children and random newcomers (docs/method.md §6-7).
 #pragma once
 
 #include "plastivox/evo/genome.hpp"
