@@ -132,11 +132,15 @@ def test_results_pickle_as_a_reference_to_their_file(tiny_run, tmp_path):
         blank.__setstate__({**state, "path": str(tmp_path / "gone.h5")})
 
 
-def test_physics_settings_pickle():
+def test_physics_settings_and_study_pickle():
     for settings in (plastivox.physics(), plastivox.physics("gecco2018-paper", duration=1.0)):
         back = roundtrip(settings)
         assert back == settings
         assert quick_walker().with_physics(back) == quick_walker().with_physics(settings)
+    study = plastivox.Study("study", {"format": "plastivox-analysis", "runs": 2},
+                            [{"run": 1, "fitness": 0.5}], [{"measure": "x", "p": None}])
+    assert roundtrip(study) == study
+    assert study != plastivox.Study("study", study.stats, [], study.statistics)
 
 
 def test_simulator_says_it_does_not_pickle():
