@@ -383,10 +383,13 @@ class Results:
         if state.get("version") != self._STATE_VERSION:
             raise InputError(f"Results pickle: state version {state.get('version')!r}, this "
                              f"plastivox reads version {self._STATE_VERSION}")
-        self.__init__(_core.read_results(state["path"]))
-        if self.content_digest != state["content_digest"]:
-            raise InputError(f"{state['path']}: content_digest: the file changed since it was "
-                             f"pickled ({state['content_digest']} then, {self.content_digest} now)")
+        path, digest = state.get("path"), state.get("content_digest")
+        if not isinstance(path, str) or not isinstance(digest, str):
+            raise InputError("Results pickle: path and content_digest must be strings")
+        self.__init__(_core.read_results(path))
+        if self.content_digest != digest:
+            raise InputError(f"{path}: content_digest: the file changed since it was pickled "
+                             f"({digest} then, {self.content_digest} now)")
 
     def __eq__(self, other):
         if not isinstance(other, Results):

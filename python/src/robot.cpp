@@ -141,8 +141,9 @@ PyRobot robot_from_state(const pyb::tuple& t) {
     throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of " +
                      std::to_string(kStateFields) + " fields starting with '" + kStateFormat +
                      "')");
-  if (!pyb::isinstance<pyb::int_>(t[1]) || t[1].cast<int>() != kStateVersion)
-    throw InputError("Robot pickle: state version " + pyb::str(t[1]).cast<std::string>() +
+  const pyb::object version = t[1];
+  if (!pyb::isinstance<pyb::int_>(version) || !version.equal(pyb::int_(kStateVersion)))
+    throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
                      ", this plastivox reads version " + std::to_string(kStateVersion));
   PyRobot r;
   try {

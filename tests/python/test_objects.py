@@ -84,6 +84,7 @@ def test_robot_pickle_refuses_garbage_with_one_line():
         ((1, 2, 3), "not a plastivox robot state"),
         (bad_state(state, 0, "something.Else"), "not a plastivox robot state"),
         (bad_state(state, 1, 2), "state version 2, this plastivox reads version 1"),
+        (bad_state(state, 1, 2 ** 70), "state version 1180591620717411303424"),
         (bad_state(state, 6, b"\0" * 12), "stiffness: expected 8000 bytes"),
         (bad_state(state, 3, "10x10x10"), "wrong type"),
         (bad_state(state, 3, (0, 10, 10)), "robot.size"),
@@ -128,6 +129,8 @@ def test_results_pickle_as_a_reference_to_their_file(tiny_run, tmp_path):
         blank.__setstate__({**state, "version": 7})
     with pytest.raises(plastivox.InputError, match="not a plastivox results state"):
         blank.__setstate__("garbage")
+    with pytest.raises(plastivox.InputError, match="path and content_digest must be strings"):
+        blank.__setstate__({"format": "plastivox.Results", "version": 1})
     with pytest.raises(plastivox.InputError, match="gone.h5"):
         blank.__setstate__({**state, "path": str(tmp_path / "gone.h5")})
 
