@@ -3,7 +3,8 @@
 #
 # Run it as a script, or open it as a notebook (Jupyter, VS Code: the `# %%` markers are
 # cells). `PYTHONPATH=build/python` must point at the build tree (or install the module).
-# Environment: WALKTHROUGH_DURATION (s of life, default 2.0), WALKTHROUGH_OUT (folder).
+# Environment: WALKTHROUGH_DURATION (s of life, default 2.0), WALKTHROUGH_OUT (folder, made
+# if missing; default a new temporary folder).
 
 # %%
 import os
@@ -15,6 +16,7 @@ import plastivox
 
 duration = float(os.environ.get("WALKTHROUGH_DURATION", "2.0"))
 out = os.environ.get("WALKTHROUGH_OUT") or tempfile.mkdtemp(prefix="plastivox-")
+os.makedirs(out, exist_ok=True)
 print("plastivox", plastivox.__version__, "-> files in", out)
 
 # %% [markdown]
@@ -76,9 +78,11 @@ for s, r in zip((0.1, 1, 10), plastivox.simulate_many(variants, physics=physics)
 
 # %%
 path = os.path.join(out, "walker.json")
-robot.with_physics(physics, treatment="stress").save(path)  # what was simulated above
+simulated = robot.with_physics(physics, treatment="stress")  # what was simulated above
+simulated.save(path)
 again = plastivox.load_robot(path)
-assert plastivox.simulate(again).final_state_hash == result.final_state_hash
+assert again == simulated                     # robots compare by value, bit for bit
+assert plastivox.simulate(path).final_state_hash == result.final_state_hash  # a path works too
 frame = plastivox.render(again, time=min(0.5, duration), size=(320, 240),
                          out=os.path.join(out, "walker.png"))
 print("frame", frame.shape, frame.dtype, "->", os.path.join(out, "walker.png"))

@@ -5,16 +5,19 @@ out, the GIL released in every long call, bad arguments as ``ValueError``/``Type
 naming the argument, bad files as ``plastivox.InputError`` (a ``ValueError``) with the
 command line's one-line message. docs/python.md describes every function.
 
+Robots, results, trajectories, results files and physics dicts pickle, so they cross
+processes (multiprocessing, concurrent.futures, Dask); a Robot comes back bit for bit.
+
 Lattice arrays are shaped ``(nx, ny, nz)`` and indexed ``[x, y, z]``; the engine stores
 sites x fastest, so they are converted in Fortran order.
 """
 
-import csv
-import json
-import math
-import os
+import csv as _csv
+import json as _json
+import math as _math
+import os as _os
 
-import numpy as np
+import numpy as _np
 
 from . import _core
 from ._core import InputError, RenderError
@@ -36,7 +39,7 @@ def _lattice_array(value, name, shape=None, kinds="biuf"):
     if isinstance(value, (str, bytes)) or value is None:
         raise TypeError(f"{name}: expected a numpy array shaped (nx, ny, nz), got {type(value).__name__}")
     try:
-        a = np.asarray(value)
+        a = _np.asarray(value)
     except Exception as e:  # ragged nested lists and the like
         raise ValueError(f"{name}: not an array: {e}") from None
     if a.dtype.kind not in kinds:
@@ -53,7 +56,7 @@ def _lattice_array(value, name, shape=None, kinds="biuf"):
 
 def _flat(a, dtype):
     """The engine's site order: x fastest (Fortran order), contiguous, of dtype."""
-    return np.ascontiguousarray(np.ravel(a, order="F").astype(dtype, copy=False))
+    return _np.ascontiguousarray(_np.ravel(a, order="F").astype(dtype, copy=False))
 
 
 def _check_treatment(treatment):
@@ -73,17 +76,22 @@ def _physics_json(physics):
     for key, value in physics.items():
         if not isinstance(key, str):
             raise TypeError(f"physics: field names must be strings, got {key!r}")
-        if isinstance(value, float) and not math.isfinite(value):
+        if isinstance(value, float) and not _math.isfinite(value):
             raise ValueError(f"physics.{key}: must be finite, got {value}")
-        if isinstance(value, (np.integer, np.floating, np.bool_)):
+        if isinstance(value, (_np.integer, _np.floating, _np.bool_)):
             physics = {**physics, key: value.item()}
-    return json.dumps(physics)
+    return _json.dumps(physics)
 
 
-def _robot_core(robot, name="robot"):
-    if not isinstance(robot, Robot):
-        raise TypeError(f"{name}: expected a plastivox.Robot, got {type(robot).__name__}")
-    return robot._core
+def _as_robot(source, name="robot"):
+    """source as a Robot: a Robot itself, or a file path read as render reads it (a robot
+    file, a results file's last champion, a recorded life's robot; each with its physics)."""
+    if isinstance(source, Robot):
+        return source
+    if isinstance(source, (str, _os.PathLike)):
+        return Robot(_core.load_source(_os.fspath(source)))
+    raise TypeError(f"{name}: expected a plastivox.Robot or a .json/.vxa/.h5 file path, "
+                    f"got {type(source).__name__}")
 
 
 # --- robots ----------------------------------------------------------------------------
@@ -92,7 +100,10 @@ class Robot:
     """A robot (lattice arrays) and the physics it came with.
 
     Build one with ``Robot.from_arrays`` or ``load_robot``; it is immutable. Properties return
-    fresh numpy arrays shaped ``(nx, ny, nz)``.
+    fresh numpy arrays shaped ``(nx, ny, nz)``. Two robots are equal when name, lattice,
+    arrays, boundary conditions and physics are equal bit for bit (the file they were read
+    from does not count); equal robots hash alike, in every process. A pickle holds all of
+    it, so an unpickled robot simulates to the same bits.
     """
 
     def __init__(self, core):
@@ -109,29 +120,29 @@ class Robot:
         g = _lattice_array(geometry, "geometry", kinds="biu")
         e = _lattice_array(stiffness, "stiffness", g.shape)
         p = _lattice_array(phase, "phase", g.shape)
-        d = np.zeros(g.shape) if dev_rate is None else _lattice_array(dev_rate, "dev_rate", g.shape)
+        d = _np.zeros(g.shape) if dev_rate is None else _lattice_array(dev_rate, "dev_rate", g.shape)
         present = g != 0
         for label, a in (("stiffness", e), ("phase", p), ("dev_rate", d)):
-            bad = ~np.isfinite(a.astype(np.float64)) & present
+            bad = ~_np.isfinite(a.astype(_np.float64)) & present
             if bad.any():
-                x, y, z = np.argwhere(bad)[0]
+                x, y, z = _np.argwhere(bad)[0]
                 raise ValueError(f"{label}: not finite at voxel [{x}, {y}, {z}]")
         if not present.any():
             raise ValueError("geometry: no voxel is present")
         if not (e[present] > 0).all():
-            x, y, z = np.argwhere(present & ~(e > 0))[0]
+            x, y, z = _np.argwhere(present & ~(e > 0))[0]
             raise ValueError(f"stiffness: must be > 0 where a voxel is; not at [{x}, {y}, {z}]")
-        if not isinstance(voxel_size, (int, float)) or not (0 < voxel_size < math.inf):
+        if not isinstance(voxel_size, (int, float)) or not (0 < voxel_size < _math.inf):
             raise ValueError(f"voxel_size: must be a positive number of metres, got {voxel_size!r}")
         _check_treatment(treatment)
         nx, ny, nz = g.shape
-        core = _core.from_flat(nx, ny, nz, _flat(present, np.uint8), _flat(e, np.float64),
-                               _flat(d, np.float64), _flat(p, np.float64), float(voxel_size),
+        core = _core.from_flat(nx, ny, nz, _flat(present, _np.uint8), _flat(e, _np.float64),
+                               _flat(d, _np.float64), _flat(p, _np.float64), float(voxel_size),
                                treatment, str(name))
         return cls(core)
 
     def _lattice(self, flat, dtype=None):
-        a = np.reshape(flat, self.shape, order="F")
+        a = _np.reshape(flat, self.shape, order="F")
         return a if dtype is None else a.astype(dtype)
 
     shape = property(lambda self: self._core.shape, doc="(nx, ny, nz) lattice sites")
@@ -152,7 +163,7 @@ class Robot:
     @property
     def physics(self):
         """The robot's own physics as a dict (what simulate uses when given none)."""
-        return json.loads(self._core.physics_json)
+        return _json.loads(self._core.physics_json)
 
     def with_physics(self, physics=None, treatment=None):
         """A copy simulated under `physics` (dict fields applied on top) and `treatment`."""
@@ -160,16 +171,24 @@ class Robot:
 
     def save(self, path):
         """Writes the robot and its physics as .json (plastivox-robot) or .vxa, atomically."""
-        self._core.save(os.fspath(path))
+        self._core.save(_os.fspath(path))
+
+    def __eq__(self, other):
+        if not isinstance(other, Robot):
+            return NotImplemented
+        return self._core == other._core
+
+    def __hash__(self):
+        return hash(self._core)
 
     def __repr__(self):
         return (f"Robot({self.name!r}, shape={self.shape}, voxels={self.voxel_count}, "
-                f"treatment={self.treatment!r})")
+                f"voxel_size={self.voxel_size}, treatment={self.treatment!r})")
 
 
 def load_robot(path):
     """Reads a robot file: .json (plastivox-robot) or .vxa (the authors' format)."""
-    return Robot(_core.load_robot(os.fspath(path)))
+    return Robot(_core.load_robot(_os.fspath(path)))
 
 
 def demo_walker():
@@ -180,7 +199,7 @@ def demo_walker():
 def physics(preset="gecco2018-code", **overrides):
     """Every physics field of `preset` with `overrides` applied, as a plain dict.
     Unknown fields and bad values raise plastivox.InputError naming the field."""
-    return json.loads(_core.physics_json(preset, _physics_json(overrides) if overrides else None))
+    return _json.loads(_core.physics_json(preset, _physics_json(overrides) if overrides else None))
 
 
 # --- simulation ------------------------------------------------------------------------
@@ -197,11 +216,20 @@ class Trajectory:
         self.sizes = arrays["sizes"]
         self.stiffness = arrays["stiffness"]
 
+    _FIELDS = ("times", "positions", "orientations", "sizes", "stiffness")
+
     def __len__(self):
         return len(self.times)
 
+    def __eq__(self, other):
+        if not isinstance(other, Trajectory):
+            return NotImplemented
+        return all(_np.array_equal(getattr(self, k), getattr(other, k), equal_nan=True)
+                   for k in self._FIELDS)
+
     def __repr__(self):
-        return f"Trajectory({len(self)} frames, {self.positions.shape[1]} voxels)"
+        return (f"Trajectory({len(self)} frames, {self.positions.shape[1]} voxels, "
+                f"t = {self.times[0]:g}..{self.times[-1]:g} s)")
 
 
 class Result:
@@ -210,8 +238,8 @@ class Result:
     `trajectory` is a Trajectory when recorded (record_fps > 0), else None."""
 
     def __init__(self, summary_json, trajectory, robot):
-        self._data = json.loads(summary_json)
-        self._data["final_stiffness"] = np.asarray(self._data["final_stiffness"], dtype=np.float64)
+        self._data = _json.loads(summary_json)
+        self._data["final_stiffness"] = _np.asarray(self._data["final_stiffness"], dtype=_np.float64)
         self.trajectory = None if trajectory is None else Trajectory(trajectory)
         self.robot = robot
 
@@ -232,6 +260,16 @@ class Result:
     def keys(self):
         return self._data.keys()
 
+    def __eq__(self, other):
+        """Equal summaries (wall time included), trajectories and robots."""
+        if not isinstance(other, Result):
+            return NotImplemented
+        a, b = self._data, other._data
+        return (a.keys() == b.keys()
+                and all(_np.array_equal(a[k], b[k], equal_nan=True) if k == "final_stiffness"
+                        else a[k] == b[k] for k in a)
+                and self.trajectory == other.trajectory and self.robot == other.robot)
+
     def __repr__(self):
         return (f"Result(status={self.status!r}, fitness={self.fitness!r}, "
                 f"voxels={self.voxels}, steps={self.steps})")
@@ -246,10 +284,13 @@ def _record_fps(record_fps):
 
 def simulate(robot, physics=None, treatment=None, record_fps=0):
     """Simulates one whole life (GIL released) and returns a Result.
-    physics: a dict of fields applied on top of the robot's own physics; treatment: "none",
-    "stress" or "pressure" (overrides both); record_fps > 0 records a Trajectory."""
-    core = _robot_core(robot)
-    summary, traj, cxx_seconds = _core.simulate(core, _physics_json(physics),
+    robot: a Robot or a file path, as render takes (.json, .vxa, or .h5: a results file's
+    last champion, a recorded life's robot). physics: a dict of fields applied on top of the
+    robot's own physics; treatment (overrides both): "none", "stress", "pressure",
+    "strain", "strain_energy", "contact" or "kinetic"; record_fps > 0 records a
+    Trajectory."""
+    robot = _as_robot(robot)
+    summary, traj, cxx_seconds = _core.simulate(robot._core, _physics_json(physics),
                                                 _check_treatment(treatment), _record_fps(record_fps))
     if physics is not None or treatment is not None:
         robot = robot.with_physics(physics, treatment)  # what render(result) shows
@@ -259,10 +300,13 @@ def simulate(robot, physics=None, treatment=None, record_fps=0):
 
 
 def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0):
-    """Simulates every robot on C++ threads (0: all cores), results in input order, each
-    bit-identical to simulate() of that robot alone."""
-    robots = list(robots)
-    cores = [_robot_core(r, f"robots[{i}]") for i, r in enumerate(robots)]
+    """Simulates every robot (Robots or file paths, as simulate takes) on C++ threads
+    (0: all cores), results in input order, each bit-identical to simulate() of that robot
+    alone."""
+    if isinstance(robots, (str, _os.PathLike, Robot)):
+        raise TypeError(f"robots: expected a list of robots or paths, got one {type(robots).__name__}")
+    robots = [_as_robot(r, f"robots[{i}]") for i, r in enumerate(robots)]
+    cores = [r._core for r in robots]
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
     lives = _core.simulate_many(cores, _physics_json(physics), _check_treatment(treatment),
@@ -273,14 +317,16 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0)
 class Simulator:
     """Step-wise control of one life: step(n) advances up to n steps (GIL released) and stops
     when the life is over; positions (n, 3) m, velocities (n, 3) m/s and stiffness (n,) Pa are
-    numpy copies of the current state, in voxel order (increasing lattice site)."""
+    numpy copies of the current state, in voxel order (increasing lattice site). robot is
+    a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle its robot
+    and physics and step a new one."""
 
     def __init__(self, robot, physics=None, treatment=None):
-        self._core = _core.Simulator(_robot_core(robot), _physics_json(physics),
+        self._core = _core.Simulator(_as_robot(robot)._core, _physics_json(physics),
                                      _check_treatment(treatment))
 
     def step(self, n=1):
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        if isinstance(n, bool) or not isinstance(n, (int, _np.integer)) or n < 0:
             raise ValueError(f"n: expected a number of steps >= 0, got {n!r}")
         return self._core.step(int(n))
 
@@ -303,15 +349,55 @@ class Simulator:
     velocities = property(lambda self: self._core.velocities)
     stiffness = property(lambda self: self._core.stiffness)
 
+    def __reduce__(self):
+        raise TypeError("a plastivox.Simulator does not pickle (its state lives in C++); "
+                        "pickle the Robot and physics and make a new Simulator")
+
+    def __repr__(self):
+        return (f"Simulator(status={self.status!r}, time={self.time:g} of {self.duration:g} s, "
+                f"steps={self.steps})")
+
 
 # --- evolution and results -------------------------------------------------------------
 
 class Results:
-    """An evolution results file (.h5): run settings, provenance, champions and curves."""
+    """An evolution results file (.h5): run settings, provenance, champions and curves.
+    Two are equal when their content digests are. A Results pickles as a reference to its
+    file (absolute path and content digest): unpickling reads the file again, so the path
+    must be readable there (a cluster's shared file system), and fails if the content
+    changed in between."""
+
+    _STATE_FORMAT, _STATE_VERSION = "plastivox.Results", 1
 
     def __init__(self, core):
         self._core = core
         self.best_fitness, self.mean_fitness = core.fitness_curves()
+
+    def __getstate__(self):
+        return {"format": self._STATE_FORMAT, "version": self._STATE_VERSION,
+                "path": _os.path.abspath(self.path), "content_digest": self.content_digest}
+
+    def __setstate__(self, state):
+        if not isinstance(state, dict) or state.get("format") != self._STATE_FORMAT:
+            raise InputError("Results pickle: not a plastivox results state")
+        if state.get("version") != self._STATE_VERSION:
+            raise InputError(f"Results pickle: state version {state.get('version')!r}, this "
+                             f"plastivox reads version {self._STATE_VERSION}")
+        path, digest = state.get("path"), state.get("content_digest")
+        if not isinstance(path, str) or not isinstance(digest, str):
+            raise InputError("Results pickle: path and content_digest must be strings")
+        self.__init__(_core.read_results(path))
+        if self.content_digest != digest:
+            raise InputError(f"{path}: content_digest: the file changed since it was pickled "
+                             f"({digest} then, {self.content_digest} now)")
+
+    def __eq__(self, other):
+        if not isinstance(other, Results):
+            return NotImplemented
+        return self.content_digest == other.content_digest
+
+    def __hash__(self):
+        return hash(self.content_digest)
 
     path = property(lambda self: self._core.path)
     treatment = property(lambda self: self._core.treatment)
@@ -325,12 +411,12 @@ class Results:
     @property
     def config(self):
         """The run's configuration as a dict (canonical JSON, as the file stores it)."""
-        return json.loads(self._core.config_json)
+        return _json.loads(self._core.config_json)
 
     def champion(self, generation=-1):
         """The champion at the end of `generation` (-1: the last done) as a Robot under the
         run's physics; what `plastivox export` writes."""
-        if isinstance(generation, bool) or not isinstance(generation, (int, np.integer)) or generation < -1:
+        if isinstance(generation, bool) or not isinstance(generation, (int, _np.integer)) or generation < -1:
             raise ValueError(f"generation: expected a generation number or -1, got {generation!r}")
         return Robot(self._core.champion(int(generation)))
 
@@ -341,12 +427,12 @@ class Results:
 
 def read_results(path):
     """Reads and checks an evolution results file."""
-    return Results(_core.read_results(os.fspath(path)))
+    return Results(_core.read_results(_os.fspath(path)))
 
 
 def default_config():
     """The default evolve configuration as a dict."""
-    config = json.loads(_core.default_config())
+    config = _json.loads(_core.default_config())
     config.pop("_comment", None)
     return config
 
@@ -358,9 +444,9 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
     Ctrl-C, stops the run at the next checkpoint (resumable: call evolve again). Returns a
     dict with outcome ("finished", "stopped", "already-finished") and generations_done."""
     if isinstance(config, dict):
-        text, path = json.dumps(config), ""
-    elif isinstance(config, (str, os.PathLike)):
-        text, path = "", os.fspath(config)
+        text, path = _json.dumps(config), ""
+    elif isinstance(config, (str, _os.PathLike)):
+        text, path = "", _os.fspath(config)
     else:
         raise TypeError(f"config: expected a dict or a file path, got {type(config).__name__}")
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
@@ -369,7 +455,7 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
         if fn is not None and not callable(fn):
             raise TypeError(f"{name}: expected a callable")
     stop = -1 if stop_after is None else int(stop_after)
-    return _core.evolve(text, path, os.fspath(out), threads, stop, on_generation, on_message)
+    return _core.evolve(text, path, _os.fspath(out), threads, stop, on_generation, on_message)
 
 
 class Study:
@@ -382,6 +468,12 @@ class Study:
         self.stats = stats
         self.champions = champions
         self.statistics = statistics
+
+    def __eq__(self, other):
+        if not isinstance(other, Study):
+            return NotImplemented
+        return (self.folder, self.stats, self.champions, self.statistics) == \
+            (other.folder, other.stats, other.champions, other.statistics)
 
     def __repr__(self):
         return f"Study({self.folder!r}, {len(self.champions)} champions)"
@@ -401,26 +493,26 @@ def _cell(text):
 def _read_table(path):
     try:
         with open(path, newline="") as f:
-            return [{k: _cell(v) for k, v in row.items()} for row in csv.DictReader(f)]
+            return [{k: _cell(v) for k, v in row.items()} for row in _csv.DictReader(f)]
     except OSError as e:
         raise InputError(f"{path}: cannot read: {e.strerror}") from None
 
 
 def read_study(folder):
     """Reads an analysed study: stats.json, champions.csv and statistics.csv in `folder`."""
-    folder = os.fspath(folder)
-    stats_path = os.path.join(folder, "stats.json")
+    folder = _os.fspath(folder)
+    stats_path = _os.path.join(folder, "stats.json")
     try:
         with open(stats_path) as f:
-            stats = json.load(f)
+            stats = _json.load(f)
     except OSError as e:
         raise InputError(f"{stats_path}: cannot read: {e.strerror} (not an analysed study?)") from None
     except ValueError as e:
         raise InputError(f"{stats_path}: not valid JSON: {e}") from None
     if not isinstance(stats, dict) or stats.get("format") != "plastivox-analysis":
         raise InputError(f"{stats_path}: format: expected \"plastivox-analysis\"")
-    return Study(folder, stats, _read_table(os.path.join(folder, "champions.csv")),
-                 _read_table(os.path.join(folder, "statistics.csv")))
+    return Study(folder, stats, _read_table(_os.path.join(folder, "champions.csv")),
+                 _read_table(_os.path.join(folder, "statistics.csv")))
 
 
 # --- rendering -------------------------------------------------------------------------
@@ -430,20 +522,20 @@ def render(source, time=0.2, color="congenital", size=(640, 480), out=None, gene
     """One frame of a life at simulated `time` (s) as an (h, w, 3) uint8 array, drawn
     off-screen; also written as a PNG when `out` is given. `source` is a Robot, a Result
     (its robot), a Results (its champion at `generation`) or a .json/.vxa/.h5 path. color:
-    congenital, stiffness, change, alpha or phase; the other options are those of
+    congenital, stiffness, change, alpha, phase or stimulus; the other options are those of
     `plastivox render` (--no-overlay, --zoom, --azimuth, --elevation, --antialias)."""
     try:
         w, h = (int(v) for v in size)
     except (TypeError, ValueError):
         raise TypeError(f"size: expected (width, height), got {size!r}") from None
     args = (float(time), str(color), w, h, bool(overlay), float(zoom), float(azimuth),
-            float(elevation), str(antialias), "" if out is None else os.fspath(out))
+            float(elevation), str(antialias), "" if out is None else _os.fspath(out))
     if isinstance(source, Result):
         source = source.robot
     if isinstance(source, Robot):
         return _core.render_robot(source._core, *args)
     if isinstance(source, Results):
         return _core.render_file(source.path, int(generation), *args)
-    if isinstance(source, (str, os.PathLike)):
-        return _core.render_file(os.fspath(source), int(generation), *args)
+    if isinstance(source, (str, _os.PathLike)):
+        return _core.render_file(_os.fspath(source), int(generation), *args)
     raise TypeError(f"source: expected a Robot, Result, Results or file path, got {type(source).__name__}")

@@ -1,12 +1,17 @@
 // Robots and physics for Python: load and save robot files, build a robot from flat lattice
-// arrays (the Python layer reshapes them), resolve physics presets and overrides.
+// arrays (the Python layer reshapes them), resolve physics presets and overrides; a robot's
+// pickle state, equality and hash.
+#include <cstring>
+
 #include <pybind11/stl.h>
 
 #include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
+#include "plastivox/base/hash.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/robot_file.hpp"
 #include "plastivox/robot_io.hpp"
 
@@ -73,6 +78,154 @@ PyRobot from_flat(
   return r;
 }
 
+// Any file render reads, as the robot and physics it would simulate: a robot file, a results
+// file's last champion under the run's physics, or a recorded life's robot and physics.
+PyRobot load_source(const std::string& path) {
+  render::LifeSource life = render::load_life_source(path);
+  for (const std::string& w : life.warnings) warn(path + ": " + w);
+  PyRobot r;
+  r.def = std::move(life.robot);
+  r.physics = life.physics;
+  r.source = path;
+  return r;
+}
+
+// --- pickle state, equality, hash ------------------------------------------------------
+// The state is a tuple that names its format and version first, so a pickle from another
+// build or a damaged one fails with a line saying so:
+//   ("plastivox.Robot", 1, name, (nx, ny, nz), voxel_size, present, stiffness, dev_rate,
+//    phase, fixed_sites, loads, physics_json, source)
+// The four arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
+// byte order: little-endian on every machine plastivox builds for), so values come back bit
+// for bit, those at empty sites included. fixed_sites is a tuple of sites, loads a tuple of
+// (site, fx, fy, fz); physics_json holds every PhysicsDef field (physics_to_json).
+
+constexpr const char* kStateFormat = "plastivox.Robot";
+constexpr int kStateVersion = 1;
+constexpr size_t kStateFields = 13;
+
+template <class T>
+pyb::bytes raw_bytes(const std::vector<T>& v) {
+  return pyb::bytes(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+pyb::tuple robot_state(const PyRobot& r) {
+  pyb::tuple fixed(r.def.fixed_sites.size());
+  for (size_t i = 0; i < r.def.fixed_sites.size(); ++i) fixed[i] = r.def.fixed_sites[i];
+  pyb::tuple loads(r.def.loads.size());
+  for (size_t i = 0; i < r.def.loads.size(); ++i) {
+    const RobotDef::Load& l = r.def.loads[i];
+    loads[i] = pyb::make_tuple(l.site, l.fx, l.fy, l.fz);
+  }
+  return pyb::make_tuple(kStateFormat, kStateVersion, r.def.name,
+                         pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size,
+                         raw_bytes(r.def.present), raw_bytes(r.def.stiffness),
+                         raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads,
+                         physics_to_json(r.physics), r.source);
+}
+
+// Copies bytes holding one T per lattice site into out; throws InputError naming the field.
+template <class T>
+void sites_from_bytes(const pyb::handle& h, size_t sites, const char* field, std::vector<T>& out) {
+  const std::string b = pyb::isinstance<pyb::bytes>(h) ? h.cast<std::string>() : std::string();
+  if (b.size() != sites * sizeof(T))
+    throw InputError(std::string("Robot pickle: ") + field + ": expected " +
+                     std::to_string(sites * sizeof(T)) + " bytes, one value per lattice site");
+  out.resize(sites);
+  std::memcpy(out.data(), b.data(), b.size());
+}
+
+PyRobot robot_from_state(const pyb::tuple& t) {
+  if (t.size() != kStateFields || !pyb::isinstance<pyb::str>(t[0]) ||
+      t[0].cast<std::string>() != kStateFormat)
+    throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of " +
+                     std::to_string(kStateFields) + " fields starting with '" + kStateFormat +
+                     "')");
+  const pyb::object version = t[1];
+  if (!pyb::isinstance<pyb::int_>(version) || !version.equal(pyb::int_(kStateVersion)))
+    throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
+                     ", this plastivox reads version " + std::to_string(kStateVersion));
+  PyRobot r;
+  try {
+    const auto [nx, ny, nz] = t[3].cast<std::tuple<int, int, int>>();
+    r.def = make_empty_robot(nx, ny, nz, t[4].cast<double>());
+    r.def.name = t[2].cast<std::string>();
+    const size_t sites = r.def.sites();
+    sites_from_bytes(t[5], sites, "present", r.def.present);
+    sites_from_bytes(t[6], sites, "stiffness", r.def.stiffness);
+    sites_from_bytes(t[7], sites, "dev_rate", r.def.dev_rate);
+    sites_from_bytes(t[8], sites, "phase", r.def.phase);
+    r.def.fixed_sites = t[9].cast<std::vector<int>>();
+    for (const auto& [site, fx, fy, fz] :
+         t[10].cast<std::vector<std::tuple<int, double, double, double>>>())
+      r.def.loads.push_back({site, fx, fy, fz});
+    for (int s : r.def.fixed_sites)
+      if (s < 0 || s >= r.def.sites())
+        throw InputError("Robot pickle: fixed_sites: site out of range");
+    for (const RobotDef::Load& l : r.def.loads)
+      if (l.site < 0 || l.site >= r.def.sites())
+        throw InputError("Robot pickle: loads: site out of range");
+    r.physics = PhysicsDef{};
+    apply_physics_json(t[11].cast<std::string>(), "Robot pickle", r.physics);
+    r.source = t[12].cast<std::string>();
+  } catch (const pyb::cast_error&) {
+    throw InputError("Robot pickle: a field has the wrong type (damaged state?)");
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("Robot pickle: ") + e.what());
+  }
+  try {
+    validate(r.def);
+    validate(r.physics);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("Robot pickle: ") + e.what());
+  }
+  return r;
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+// Equal when everything a simulation or a saved file sees is equal bit for bit: name,
+// lattice, voxel size, the four arrays, fixed voxels, loads and physics. Where the robot was
+// read from (source) does not count.
+bool same_robot(const PyRobot& a, const PyRobot& b) {
+  const RobotDef &x = a.def, &y = b.def;
+  bool same = x.name == y.name && x.nx == y.nx && x.ny == y.ny && x.nz == y.nz &&
+              std::memcmp(&x.voxel_size, &y.voxel_size, sizeof(double)) == 0 &&
+              same_bits(x.present, y.present) && same_bits(x.stiffness, y.stiffness) &&
+              same_bits(x.dev_rate, y.dev_rate) && same_bits(x.phase, y.phase) &&
+              x.fixed_sites == y.fixed_sites && x.loads.size() == y.loads.size();
+  for (size_t i = 0; same && i < x.loads.size(); ++i) {
+    const RobotDef::Load &l = x.loads[i], &m = y.loads[i];
+    same = l.site == m.site && std::memcmp(&l.fx, &m.fx, sizeof(double)) == 0 &&
+           std::memcmp(&l.fy, &m.fy, sizeof(double)) == 0 &&
+           std::memcmp(&l.fz, &m.fz, sizeof(double)) == 0;
+  }
+  // JSON numbers round-trip exactly, so equal texts mean equal bits.
+  return same && physics_to_json(a.physics) == physics_to_json(b.physics);
+}
+
+// A hash of what same_robot compares, the same in every process.
+int64_t robot_hash(const PyRobot& r) {
+  Hasher h;
+  h.str(r.def.name);
+  for (int n : {r.def.nx, r.def.ny, r.def.nz}) h.u64(static_cast<uint64_t>(n));
+  h.f64(r.def.voxel_size);
+  h.vec(r.def.present);
+  h.vec(r.def.stiffness);
+  h.vec(r.def.dev_rate);
+  h.vec(r.def.phase);
+  h.vec(r.def.fixed_sites);
+  for (const RobotDef::Load& l : r.def.loads) {
+    h.u64(static_cast<uint64_t>(l.site));
+    for (double f : {l.fx, l.fy, l.fz}) h.f64(f);
+  }
+  h.str(physics_to_json(r.physics));
+  return static_cast<int64_t>(h.finish().lo);
+}
+
 pyb::array_t<uint8_t> present_array(const PyRobot& r) {
   pyb::array_t<uint8_t> a(static_cast<pyb::ssize_t>(r.def.present.size()));
   std::copy(r.def.present.begin(), r.def.present.end(), a.mutable_data());
@@ -129,8 +282,12 @@ void bind_robot(pyb::module_& m) {
              out.physics = resolve_physics(r.physics, physics_json, treatment);
              return out;
            })
-      .def("save", &save_robot, pyb::arg("path"));
+      .def("save", &save_robot, pyb::arg("path"))
+      .def("__eq__", &same_robot, pyb::is_operator())
+      .def("__hash__", &robot_hash)
+      .def(pyb::pickle(&robot_state, &robot_from_state));
   m.def("load_robot", &load_robot, pyb::arg("path"));
+  m.def("load_source", &load_source, pyb::arg("path"));
   m.def("from_flat", &from_flat);
   m.def("demo_walker", [] {
     // What `plastivox simulate` runs without a robot file.

@@ -196,7 +196,9 @@ def test_fuzzed_array_inputs_never_crash():
 
 def test_wrong_argument_types():
     with pytest.raises(TypeError, match="robot"):
-        plastivox.simulate("walker.json")
+        plastivox.simulate(b"walker.json")
+    with pytest.raises(plastivox.InputError, match="walker.json: cannot open"):
+        plastivox.simulate("walker.json")  # a path is read (tests/python/test_objects.py)
     with pytest.raises(TypeError, match=r"robots\[1\]"):
         plastivox.simulate_many([plastivox.demo_walker(), 3])
     with pytest.raises(ValueError, match="threads"):
