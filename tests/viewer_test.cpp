@@ -188,6 +188,7 @@ TEST_F(ViewerPage, CameraCannotOrbitUnderTheFloor) {
   physics.treatment = Treatment::kStress;
   physics.duration = 0.3;
   physics.settle_time = 0.1;
+  physics.sinking_invalid = false;  // soft and heavy, it sinks: scored, the authors' rule
   write_robot_file(path("block.json"), testing::block(3, 3, 2, 1e7), &physics);
   ASSERT_EQ(run("view " + path("block.json") + " --out " + path("page.html")).status, 0);
   const std::string probe = R"(<script>
