@@ -71,9 +71,9 @@ def deepest_below_floor(positions, sizes, voxel_size):
 
 def assert_stands_and_walks(label, summary, deepest):
     """summary: `simulate --json`'s object (or Result.to_dict()); deepest: deepest_below_floor
-    of its recorded life. The floor-contact part is the one `health == "ok"` line once
-    simulate grades health itself."""
+    of its recorded life, an independent check of the engine's own floor grade (`health`)."""
     assert summary["status"] == "finished", f"{label}: {summary.get('failure', '')}"
+    assert summary["health"] == "ok", f"{label}: health {summary['health']}, {summary['warnings']}"
     sank = [w for w in summary.get("warnings", []) if "sank" in w]
     assert not sank and deepest <= FLOOR_TOLERANCE, \
         f"{label}: voxels {deepest:.3f} voxel lengths below the floor; {sank}"
