@@ -50,6 +50,32 @@ Synthetic synthetic_block() {
   return s;
 }
 
+// A life that sinks through the floor is drawn to its end, so the fall can be watched, and
+// keeps the fitness its rule gives it: 0 where sunk lives are invalid (the default).
+TEST(ViewerLife, ASunkLifeIsShownToItsEndWithTheFitnessOfItsRule) {
+  render::LifeSource source;
+  source.path = "soft-block";
+  source.robot = testing::block(3, 3, 3, 1e5);  // soft and heavy: it falls through
+  source.physics = testing::passive_physics();
+  source.physics.duration = 0.5;
+  ASSERT_TRUE(source.physics.sinking_invalid);
+  const SimResult verdict = simulate(compile(source.robot, source.physics));
+  ASSERT_EQ(verdict.floor_health, FloorHealth::kSank);
+  ASSERT_EQ(verdict.status, SimStatus::kUnstable);
+  for (const bool invalid : {true, false}) {
+    source.physics.sinking_invalid = invalid;
+    const render::ShownLife shown = render::show_life(source, 30);
+    EXPECT_EQ(shown.failure, "") << invalid;
+    ASSERT_FALSE(shown.recording.frames.empty());
+    EXPECT_GT(shown.recording.frames.back().time, source.physics.duration);
+    EXPECT_LT(shown.recording.frames.back().pos[0].z(), -2 * 0.01);  // under the floor
+    if (invalid)
+      EXPECT_EQ(shown.info.fitness, 0.0);
+    else
+      EXPECT_GT(shown.info.fitness, 2.0);
+  }
+}
+
 TEST(ViewerPack, ATenCubedChampionAtThirtyFramesPerSecondFitsInThreeMegabytes) {
   const Synthetic s = synthetic_block();
   render::ViewerLife life;

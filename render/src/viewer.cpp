@@ -185,6 +185,10 @@ ReportLife simulate_report_life(const LifeSource& source, double fps,
   ReportLife out;
   out.shown = compiled_life(source);
   ShownLife& shown = out.shown;
+  // A life that sinks through the floor is drawn to its end: the fall is what a reader needs
+  // to see. Its fitness stays what the rule in force gives it (0 where sunk lives are
+  // invalid); the rule changes no state, only the verdict.
+  shown.model.def.sinking_invalid = false;
   if (!(fps > 0)) throw RenderError("simulate_report_life: fps must be > 0");
   for (size_t k = 0; k < times.size(); ++k)
     if (!(times[k] >= 0 && times[k] <= def.duration) || (k > 0 && times[k] < times[k - 1]))
@@ -225,7 +229,7 @@ ReportLife simulate_report_life(const LifeSource& source, double fps,
   const SimResult r = simulate(shown.model, options);
   shown.info.settled = r.settled;
   shown.info.com_settled = r.com_settled;
-  shown.info.fitness = r.fitness;
+  shown.info.fitness = r.sank && def.sinking_invalid ? 0.0 : r.fitness;
   if (r.status != SimStatus::kFinished) shown.failure = "simulation unstable: " + r.failure;
   out.frames.model = std::make_shared<const Model>(shown.model);
   out.frames.settled = r.settled;
