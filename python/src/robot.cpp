@@ -248,7 +248,12 @@ PhysicsDef resolve_physics(const PhysicsDef& base, const std::optional<std::stri
 }
 
 std::string physics_to_json(const PhysicsDef& def) {
-  return evo::resolved_physics_json(def);
+  // The resolved physics leaves sinking_invalid out under the authors' rule (the spelling of
+  // files made before the rule became the default); Python reads this text back over the
+  // defaults, where the rule is on, so it names the rule either way.
+  nlohmann::ordered_json p = nlohmann::ordered_json::parse(evo::resolved_physics_json(def));
+  p["sinking_invalid"] = def.sinking_invalid;
+  return p.dump();
 }
 
 pyb::array_t<double> to_array(const std::vector<double>& values) {

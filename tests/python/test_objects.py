@@ -135,6 +135,21 @@ def test_results_pickle_as_a_reference_to_their_file(tiny_run, tmp_path):
         blank.__setstate__({**state, "path": str(tmp_path / "gone.h5")})
 
 
+def test_the_authors_sunk_life_rule_survives_pickles_and_physics_dicts():
+    """sinking_invalid False (the authors' rule, scoring sunk lives) must not come back as the
+    default True from a pickle, a physics dict or Robot.physics."""
+    soft = plastivox.Robot.from_arrays(np.ones((3, 3, 3), bool), np.full((3, 3, 3), 1e5),
+                                       np.zeros((3, 3, 3)), treatment="none")
+    authors = soft.with_physics({"duration": 0.5, "settle_time": 0.1, "sinking_invalid": False})
+    settings = plastivox.physics(sinking_invalid=False)
+    assert settings["sinking_invalid"] is False and plastivox.physics()["sinking_invalid"] is True
+    assert authors.physics["sinking_invalid"] is False
+    for robot in (roundtrip(authors), soft.with_physics(authors.physics)):
+        assert robot == authors
+        r = plastivox.simulate(robot)
+        assert r.status == "finished" and r.health == "sank" and r.fitness > 2, r
+
+
 def test_physics_settings_and_study_pickle():
     for settings in (plastivox.physics(), plastivox.physics("gecco2018-paper", duration=1.0)):
         back = roundtrip(settings)
