@@ -64,6 +64,9 @@ void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, Si
   for (int i = 0; i < m.n; ++i) r.voxels_below_floor += s.pos[i].z() + 0.5 * m.size < 0 ? 1 : 0;
   r.floor_depth = w.deepest / m.size;
   r.voxels_deep_max = w.most_deep;
+  // Only a life that ran to its end is graded: one that blew up is unstable, not sunk (its
+  // voxels may fly anywhere, under the floor too), and says so.
+  if (r.status != SimStatus::kFinished) return;
   if (r.floor_depth >= kFloorSankDepth || r.com_final.z() < 0)
     r.floor_health = FloorHealth::kSank;
   else if (r.floor_depth > kFloorPenetratingDepth)
@@ -86,7 +89,7 @@ void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, Si
                   r.floor_depth, kFloorPenetratingDepth, r.voxels_deep_max, m.n,
                   kFloorPenetratingDepth);
   r.warnings.push_back(buf);
-  if (r.sank && m.def.sinking_invalid && r.status == SimStatus::kFinished) {
+  if (r.sank && m.def.sinking_invalid) {
     r.status = SimStatus::kUnstable;
     r.failure = std::string(buf) +
                 " (sunk lives are invalid: physics.sinking_invalid; false restores the "

@@ -113,7 +113,9 @@ struct SimResult {
   // actuated size below its centre, tilt ignored, as the floor contact sees it) is below
   // z = 0; the deepest over every step is floor_depth. Heavy, soft bodies pass through the
   // floor: their time step is long enough to cross the contact in one step. A sunk life
-  // counts as unstable unless def.sinking_invalid is off (the authors' rule).
+  // counts as unstable unless def.sinking_invalid is off (the authors' rule). Only a life
+  // that ran to its end is graded (one that blew up stays kOk and says why in `failure`);
+  // floor_depth and the counts are measured either way.
   FloorHealth floor_health = FloorHealth::kOk;
   double floor_depth = 0;      // deepest penetration over the life, voxel lengths (>= 0)
   int voxels_deep_max = 0;     // most voxels at once deeper than kFloorPenetratingDepth
