@@ -44,7 +44,8 @@ std::vector<EvolutionBand> compute_evolution(const StudyResult& r);
 // distance, in that order; ties in increasing (i, j).
 std::vector<std::pair<int, int>> extreme_pairs(const HausdorffMatrix& m, size_t k,
                                                bool most_similar);
-// Body-plan counts per treatment: counts[t][plan], plan in the order Pi, Gamma, Upsilon, other.
+// Body-plan counts per treatment over the champions kept in the statistics (an excluded
+// artifact is not counted): counts[t][plan], plan in the order Pi, Gamma, Upsilon, other.
 std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r);
 
 // ---- study_format.cpp ----

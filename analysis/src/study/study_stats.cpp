@@ -181,7 +181,7 @@ std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r) {
   std::map<Treatment, std::array<int, 4>> counts;
   for (Treatment t : r.treatments) counts[t] = {0, 0, 0, 0};
   for (const ChampionAnalysis& c : r.champions)
-    ++counts[c.treatment][static_cast<int>(c.body_plan.plan)];
+    if (c.artifact.empty()) ++counts[c.treatment][static_cast<int>(c.body_plan.plan)];
   return counts;
 }
 
