@@ -60,8 +60,7 @@ TEST(ExamplesBodies, WalkerFileSimulatesLikeTheBuiltInWalker) {
     const size_t at = out.find("\"final_state_hash\"");
     return out.substr(at, out.find_first_of(",\n}", at) - at);
   };
-  EXPECT_EQ(hash(file.out), hash(builtin.out));
-  EXPECT_NE(hash(file.out).find("8377212778813926271"), std::string::npos) << file.out;
+  EXPECT_EQ(hash(file.out), hash(builtin.out));  // the value itself: golden_lives_test.cpp
 }
 
 }  // namespace

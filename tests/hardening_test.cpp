@@ -353,10 +353,12 @@ TEST_F(Hardening, SinkingThroughTheFloorIsInvalidByDefault) {
   EXPECT_NE(j["failure"].get<std::string>().find("sinking_invalid"), std::string::npos);
   EXPECT_NE(read_file(path("err.txt")).find("soft.json: life invalid: sank through the floor"),
             std::string::npos);
-  // The demo walker's softest legs carry eight heavy voxels: pressed into the floor, warned,
-  // and valid.
+  // The mixture example's soft (1e8 Pa) blocks carry heavy voxels: pressed into the floor
+  // (about a voxel length), warned, and valid.
+  std::string mixture = robot_to_json(demo_example("mixture"));
+  mixture.insert(mixture.rfind('}'), R"(, "physics": {"duration": 0.3})");
   o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate --json " +
-                     walker_with(R"({"duration": 0.3})") + " 2>/dev/null");
+                     write("mixture.json", mixture) + " 2>/dev/null");
   ASSERT_EQ(o.status, 0) << o.out;
   j = nlohmann::json::parse(o.out);
   EXPECT_EQ(j["status"], "finished");

@@ -20,11 +20,14 @@ RobotDef demo_walker() {
         if (!slab && !leg) continue;
         const int s = r.site(x, y, z);
         r.present[s] = 1;
-        // Smooth fields from the lattice coordinates (like a CPPN would make them).
+        // Smooth fields from the lattice coordinates (like a CPPN would make them). Under the
+        // presets' density (1e9 kg/m^3) a leg must be near 1e10 Pa to carry the slab, and a
+        // rate that softens a loaded voxel folds it within a second, so E0 spans 7e9..1e10 Pa
+        // and development only stiffens under load (rate 0..6 1/s): a callus, not a collapse.
         const double u = x / 9.0, v = y / 9.0, w = z / 9.0;
-        const double log_e = 9.5 + 1.0 * std::sin(3.0 * u + 2.0 * w) * std::cos(2.5 * v);
+        const double log_e = 9.85 + 0.15 * std::sin(3.0 * u + 2.0 * w) * std::cos(2.5 * v);
         r.stiffness[s] = std::pow(10.0, log_e);
-        r.dev_rate[s] = 10.0 * std::sin(4.0 * u - 3.0 * w + v);
+        r.dev_rate[s] = 3.0 + 3.0 * std::sin(4.0 * u - 3.0 * w + v);
         r.phase[s] = 0.9 * (u - 0.5) + 0.2 * w;
       }
   return r;
@@ -70,7 +73,7 @@ RobotDef demo_irregular(int target, unsigned seed) {
 namespace {
 
 // An nx*ny*nz lattice holding the cells where `inside` is true, log10 of stiffness from
-// `log_e`, and demo_walker's smooth development-rate and phase fields.
+// `log_e`, a smooth development rate 10 sin(4u - 3w + v) and demo_walker's phase field.
 RobotDef shaped(const std::string& name, int nx, int ny, int nz,
                 const std::function<bool(int, int, int)>& inside,
                 const std::function<double(int, int, int)>& log_e) {

@@ -49,18 +49,9 @@ def simulations():
     return out
 
 
-# The built-in demo walker's bits are pinned by golden hashes (tests/golden_lives_test.cpp), and
-# at the presets' density it does not stand: it topples within about 1 s and rests with a
-# corner 0.7 (none), 1.3 (stress) and 1.6 (pressure) voxel lengths under the floor. Strict:
-# a walker that stands makes these pass, and the mark must then go.
-BUILT_IN = pytest.mark.xfail(strict=True, reason="the built-in walker topples (golden hashes)")
-
-
 @pytest.mark.parametrize(
     "line,args",
-    [pytest.param(line, args, id=" ".join(args),
-                  marks=BUILT_IN if len(args) == 1 or args[1].startswith("-") else ())
-     for line, args in simulations()])
+    [pytest.param(line, args, id=" ".join(args)) for line, args in simulations()])
 def test_usage_line_robot_stands_and_walks(line, args, tmp_path):
     life = str(tmp_path / "life.h5")
     p = subprocess.run([CLI, *args, "--json", "--record", life, "--fps", "100"], cwd=SOURCE,

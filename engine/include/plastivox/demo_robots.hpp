@@ -9,9 +9,10 @@
 
 namespace plastivox {
 
-// ~500-voxel four-legged walker on the 10x10x10 lattice: a slab on front and back legs,
-// with a smooth log-stiffness field spanning 3e8..3e10 Pa (stiff enough to stand), development
-// rates in [-10, 10] and a phase gradient front to back. Deterministic: no randomness.
+// 512-voxel walker on the 10x10x10 lattice: a slab on front and back legs, with a smooth
+// log-stiffness field spanning 7e9..1e10 Pa (stiff enough to stand under the presets' 1e9
+// kg/m^3), development rates in [0, 6] 1/s (loaded voxels stiffen) and a phase gradient front
+// to back. It stands and walks under every treatment (floor health ok). Deterministic.
 RobotDef demo_walker();
 
 // A full n*n*n cube of uniform stiffness E (n^3 voxels), phases in a gradient along x.
@@ -24,7 +25,7 @@ RobotDef demo_irregular(int target, unsigned seed);
 // The example robots shipped in examples/ (`plastivox export --demo NAME` writes them):
 // "walker" (demo_walker), "pi", "gamma" and "upsilon" (one body of each of the paper's body
 // plans, analysis/include/plastivox/analysis/body_plan.hpp) and "mixture" (soft and stiff
-// blocks). Deterministic; smooth development-rate and phase fields like demo_walker's.
+// blocks). Deterministic; smooth development-rate and phase fields.
 // Throws InputError for another name.
 RobotDef demo_example(const std::string& name);
 // The names demo_example knows, in the order above.
