@@ -6,6 +6,8 @@
 
 #include "plastivox/analysis/body_plan.hpp"
 #include "plastivox/analysis/rng.hpp"
+#include "plastivox/evo/genome.hpp"
+#include "plastivox/evo/phenotype.hpp"
 #include "test_support.hpp"
 
 namespace plastivox::analysis {
@@ -103,6 +105,36 @@ TEST(BodyPlan, FeaturesDescribeTheBody) {
             (std::vector<int>{100}));
   EXPECT_STREQ(symbol(BodyPlan::kUpsilon), "Υ");
   EXPECT_THROW(classify_body_plan(VoxelSet{}), std::invalid_argument);
+}
+
+// The hand-built geometry networks of a body-plan start (evolution config
+// initial_population: body-plans) express bodies that the rule names as their plan with full
+// confidence, on the default study's 6^3 lattice and larger ones.
+TEST(BodyPlan, HandBuiltGenomesExpressTheirPlanOnSmallAndPaperLattices) {
+  const BodyPlan expected[evo::kBodyPlanSeedCount] = {BodyPlan::kPi, BodyPlan::kGamma,
+                                                      BodyPlan::kUpsilon};
+  for (int n : {6, 8, 10}) {
+    evo::ExpressionDef def;
+    def.nx = def.ny = def.nz = n;
+    const evo::Expresser ex(def);
+    for (int plan = 0; plan < evo::kBodyPlanSeedCount; ++plan) {
+      const evo::Cppn net = evo::body_plan_geometry(plan);
+      ASSERT_NO_THROW(evo::validate(net));
+      evo::Genome g;
+      g.nets.fill(net);
+      const evo::Phenotype p = ex.express(g);
+      ASSERT_TRUE(p.valid) << n << " " << plan << ": " << p.invalid_reason;
+      VoxelSet b;
+      for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x)
+            if (p.robot.present[p.robot.site(x, y, z)]) b.voxels.push_back({x, y, z});
+      const BodyPlanResult r = classify_body_plan(b);
+      EXPECT_EQ(r.plan, expected[plan]) << n << "^3, plan " << plan;
+      EXPECT_GE(r.confidence, 0.8) << n << "^3, plan " << plan;
+    }
+  }
+  EXPECT_THROW(evo::body_plan_geometry(3), std::invalid_argument);
 }
 
 }  // namespace

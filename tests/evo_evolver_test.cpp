@@ -2,6 +2,7 @@
 // continuing from a copied state.
 #include <set>
 
+#include "plastivox/base/error.hpp"
 #include "plastivox/evo/evolver.hpp"
 #include "test_support.hpp"
 
@@ -165,6 +166,75 @@ TEST(EvoEvolver, CacheServesIdenticalBodies) {
     valid += b.status != static_cast<uint8_t>(EvalStatus::kInvalid);
   EXPECT_EQ(simulated + cached, valid);
   EXPECT_EQ(static_cast<size_t>(simulated), s.cache.size());
+}
+
+// initial_population: body-plans puts one hand-built body of each plan first in generation 0
+// (random stiffness, development and phase networks from the same draws) and leaves every
+// other individual as the random start makes it; the default stays out of the canonical
+// config, so runs that do not ask for it keep their identities and digests.
+TEST(EvoEvolver, BodyPlanStartSeedsTheFirstThreeAndNothingElse) {
+  EvolveConfig random = tiny(Treatment::kStress);
+  random.nx = random.ny = random.nz = 6;  // the bodies need 6 sites a side
+  EXPECT_EQ(random.canonical_json().find("initial_population"), std::string::npos);
+  EvolveConfig seeded = random;
+  seeded.initial_population = InitialPopulation::kBodyPlans;
+  EXPECT_NE(seeded.identity_json(), random.identity_json());
+  EXPECT_EQ(parse_config(seeded.canonical_json(), "x").canonical_json(), seeded.canonical_json());
+
+  Evolver a(Evolver::new_run(random), 2), b(Evolver::new_run(seeded), 2);
+  a.step();
+  b.step();
+  const RunState &ra = a.state(), &rb = b.state();
+  ASSERT_EQ(ra.population.size(), 6u);
+  ASSERT_EQ(rb.population.size(), 6u);
+  const auto by_id = [](const RunState& s, uint64_t id) -> const Individual& {
+    for (const Individual& i : s.population)
+      if (i.id == id) return i;
+    throw std::runtime_error("no individual " + std::to_string(id));
+  };
+  for (uint64_t id = 0; id < 6; ++id) {
+    const Individual &x = by_id(ra, id), &y = by_id(rb, id);
+    EXPECT_EQ(y.parent_id, -1);
+    EXPECT_TRUE(y.phenotype.valid);
+    if (id < kBodyPlanSeedCount) {
+      // The plan's geometry with the other three networks of the stream's first draw.
+      Rng rng = Rng::stream(seeded.seed, StreamPurpose::kNewcomer, 0, id);
+      Genome first = random_genome(rng);
+      first.nets[static_cast<int>(Network::kGeometry)] = body_plan_geometry(static_cast<int>(id));
+      EXPECT_EQ(y.genome, first) << id;
+    } else {
+      EXPECT_EQ(x.genome, y.genome) << id;
+    }
+  }
+  // Threads do not change a seeded run either.
+  EXPECT_EQ(content_digest(run(seeded, 1)).hex(), content_digest(run(seeded, 2)).hex());
+}
+
+TEST(EvoEvolver, BodyPlanStartRefusesALatticeTooSmallForTheBodies) {
+  const auto error = [](const std::string& lattice) {
+    try {
+      parse_config(R"({"format": "plastivox-evolve-config", "version": 1,
+                       "initial_population": "body-plans", "lattice": )" +
+                       lattice + "}",
+                   "c.json");
+    } catch (const plastivox::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_EQ(error(R"({"nx": 6, "ny": 6, "nz": 6})"), "(accepted)");
+  EXPECT_EQ(error(R"({"nx": 10, "ny": 10, "nz": 5})"),
+            "c.json: initial_population: body-plans needs a lattice of at least 6 sites on each "
+            "axis, not 10x10x5");
+  try {
+    parse_config(R"({"format": "plastivox-evolve-config", "version": 1,
+                     "initial_population": "planned"})",
+                 "c.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const plastivox::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "c.json: initial_population: 'planned' is unknown (use random or body-plans)");
+  }
 }
 
 }  // namespace

@@ -29,10 +29,13 @@ ReportSection experiment_section(const StageContext& ctx) {
     treatments += (treatments.empty() ? "" : ", ") + std::string(to_string(t));
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "%d runs: treatments %s x %zu seeds; population %d, %d generations; lattice "
+                "%d runs: treatments %s x %zu seeds; population %d, %d generations%s; lattice "
                 "%dx%dx%d of %.3g m voxels; %.2f s lives (%.2f s settling); E in [%.3g, %.3g] Pa.",
-                c.runs(), treatments.c_str(), c.seeds.size(), e.population, e.generations, e.nx,
-                e.ny, e.nz, e.voxel_size, e.physics.duration, e.physics.settle_time,
+                c.runs(), treatments.c_str(), c.seeds.size(), e.population, e.generations,
+                e.initial_population == evo::InitialPopulation::kBodyPlans
+                    ? " from hand-built Π, Γ, Υ bodies and random ones"
+                    : " from random bodies",
+                e.nx, e.ny, e.nz, e.voxel_size, e.physics.duration, e.physics.settle_time,
                 e.physics.e_min, e.physics.e_max);
   s.paragraphs.push_back(buf);
   s.paragraphs.push_back("Started " + ctx.manifest_date + " by plastivox " + PLASTIVOX_VERSION +

@@ -263,6 +263,8 @@ std::string stats_json(const StudyResult& r) {
   Json counts = Json::object();
   for (const auto& [t, k] : study::body_plan_counts(r))
     counts[to_string(t)] = {{"Pi", k[0]}, {"Gamma", k[1]}, {"Upsilon", k[2]}, {"other", k[3]}};
+  int seeded_runs = 0;  // initial_population: body-plans (docs/evolution.md)
+  for (const StudyInput& in : r.inputs) seeded_runs += in.body_plan_start ? 1 : 0;
   const Json j = {{"format", "plastivox-analysis"},
                   {"format_version", kStudyFormatVersion},
                   {"provenance", provenance(r)},
@@ -272,7 +274,10 @@ std::string stats_json(const StudyResult& r) {
                   {"evolution", evolution(r)},
                   {"champions", champions},
                   {"hausdorff", hausdorff(r)},
-                  {"body_plans", {{"counts", counts}, {"threshold", BodyPlanOptions{}.threshold}}},
+                  {"body_plans",
+                   {{"counts", counts},
+                    {"threshold", BodyPlanOptions{}.threshold},
+                    {"runs_started_from_body_plans", seeded_runs}}},
                   {"alpha_ranges", ranges},
                   {"audit",
                    {{"sinking_rule", r.sinking_rule},

@@ -82,6 +82,7 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
   l.input.generation = generation;
   l.input.generations_done = run.generations_done;
   l.input.physics_json = evo::resolved_physics_json(run.config.physics);
+  l.input.body_plan_start = run.config.initial_population == evo::InitialPopulation::kBodyPlans;
   l.input.evolution = evolution_curve(run, generation);
   PhysicsDef neutral = run.config.physics;
   neutral.treatment = Treatment::kNone;

@@ -141,6 +141,17 @@ std::string summary(const StudyResult& r) {
        display(BodyPlanOptions{}.threshold, 2) +
        "); the confidence of each label is in the "
        "champions table.</p>\n";
+  int seeded = 0;
+  for (const StudyInput& in : r.inputs) seeded += in.body_plan_start ? 1 : 0;
+  if (seeded > 0)
+    s += "<p class=\"note\" id=\"body-plan-start\">Generation 0 of " +
+         (seeded == static_cast<int>(r.inputs.size())
+              ? std::string("every run")
+              : std::to_string(seeded) + " of " + std::to_string(r.inputs.size()) + " runs") +
+         " held one hand-built body of each plan, Π, Γ and Υ, beside random bodies (evolution "
+         "config <code>initial_population: body-plans</code>, docs/evolution.md). These counts "
+         "show which of those bodies, or their descendants, outlasted the random ones; they are "
+         "not plans that evolved from random bodies, as in the paper.</p>\n";
   return s;
 }
 

@@ -1,6 +1,7 @@
 // Evolution config: parsing, validation, canonical forms and the commented default.
 #include "plastivox/evo/config.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -33,6 +34,9 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
   j["lattice"] = {{"nx", c.nx}, {"ny", c.ny}, {"nz", c.nz}, {"voxel_size", c.voxel_size}};
   j["geometry"] = to_string(c.geometry);
   j["min_fill"] = c.min_fill;
+  // Only when seeded: a field every run had would change every identity and digest.
+  if (c.initial_population != InitialPopulation::kRandom)
+    j["initial_population"] = to_string(c.initial_population);
   j["max_mutation_tries"] = c.max_mutation_tries;
   j["physics"] = json::parse(c.physics_json);
   if (with_run_control) {
@@ -43,6 +47,10 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
 }
 
 }  // namespace
+
+const char* to_string(InitialPopulation p) {
+  return p == InitialPopulation::kBodyPlans ? "body-plans" : "random";
+}
 
 ExpressionDef EvolveConfig::expression() const {
   ExpressionDef d;
@@ -120,6 +128,14 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
     } else if (k == "min_fill") {
       c.min_fill = number(v, src, k);
       if (!(c.min_fill >= 0 && c.min_fill <= 1)) fail(src, k, "must be in [0, 1]");
+    } else if (k == "initial_population") {
+      const std::string p = text(v, src, k);
+      if (p == "random")
+        c.initial_population = InitialPopulation::kRandom;
+      else if (p == "body-plans")
+        c.initial_population = InitialPopulation::kBodyPlans;
+      else
+        fail(src, k, "'" + p + "' is unknown (use random or body-plans)");
     } else if (k == "max_mutation_tries") {
       c.max_mutation_tries = integer(v, src, k, 1, 10000000);
     } else if (k == "checkpoint_every") {
@@ -146,6 +162,24 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   const json given = json::parse(c.physics_json);
   if (given.contains("record_fps") && given["record_fps"] != 0)
     fail(src, "physics.record_fps", "must be 0 during evolution (recording is off)");
+  if (c.initial_population == InitialPopulation::kBodyPlans) {
+    const std::string lattice =
+        std::to_string(c.nx) + "x" + std::to_string(c.ny) + "x" + std::to_string(c.nz);
+    if (std::min({c.nx, c.ny, c.nz}) < 6)  // on 5 sites the Π's gap is one site wide
+      fail(src, "initial_population",
+           "body-plans needs a lattice of at least 6 sites on each axis, not " + lattice);
+    const Expresser ex(c.expression());
+    const char* names[kBodyPlanSeedCount] = {"Pi", "Gamma", "Upsilon"};
+    for (int plan = 0; plan < std::min(c.population, kBodyPlanSeedCount); ++plan) {
+      Genome g;  // the other networks do not change which sites hold a voxel
+      g.nets.fill(body_plan_geometry(plan));
+      const Phenotype body = ex.express(ex.evaluate(g));
+      if (!body.valid)
+        fail(src, "initial_population",
+             std::string("the ") + names[plan] + " body is not valid on a " + lattice +
+                 " lattice (" + body.invalid_reason + "); use random");
+    }
+  }
   try {  // every body this run makes is bounded by e_max, so none can fail later
     check_life_bounds(c.physics, c.voxel_size, c.physics.e_max);
   } catch (const std::invalid_argument& e) {
@@ -209,6 +243,8 @@ std::string default_config_text() {
        "lattice: workspace extent in sites and voxel edge length in m (10x10x10, 0.01).",
        "geometry: largest-component (the paper) | keep-all (the authors' code).",
        "min_fill: a valid body fills at least this fraction of the lattice (0.2).",
+       "initial_population: random (the paper) | body-plans: generation 0 also holds one",
+       "  hand-built body of each of the paper's plans, Pi, Gamma, Upsilon (docs/evolution.md).",
        "max_mutation_tries: attempts to make a changed, valid child (1500).",
        "checkpoint_every: generations between checkpoints of the results file (1).",
        "threads: evaluation threads, 0 = all cores (--threads overrides; results do not",

@@ -108,7 +108,8 @@ GenerationStats Evolver::step() {
   st.generation = gen;
 
   // --- 1-3: who is created: children of the survivors (ascending id), then one newcomer;
-  // at generation 0, `population` random individuals.
+  // at generation 0, `population` random individuals (the first three of the body plans
+  // when the config asks for them).
   struct Task {
     uint64_t id;
     int parent;  // index into the population, -1 for a random individual
@@ -129,7 +130,11 @@ GenerationStats Evolver::step() {
     const Task& t = tasks[i];
     if (t.parent < 0) {
       Rng rng = Rng::stream(cfg.seed, StreamPurpose::kNewcomer, gen, t.id);
-      made[i] = random_individual(expresser_, rng, cfg.max_mutation_tries);
+      const bool seeded = gen == 0 && cfg.initial_population == InitialPopulation::kBodyPlans &&
+                          i < static_cast<size_t>(kBodyPlanSeedCount);
+      made[i] = seeded ? body_plan_individual(expresser_, rng, static_cast<int>(i),
+                                              cfg.max_mutation_tries)
+                       : random_individual(expresser_, rng, cfg.max_mutation_tries);
     } else {
       const Individual& parent = s.population[t.parent];
       Rng rng = Rng::stream(cfg.seed, StreamPurpose::kMutation, gen, t.id);

@@ -41,10 +41,15 @@ Offspring mutate_child(const Expresser& ex, const Genome& parent,
   return child;
 }
 
-Offspring random_individual(const Expresser& ex, Rng& rng, int max_draws) {
+namespace {
+
+// random_genome() drawn until its phenotype is valid (see random_individual); `plan` >= 0
+// replaces the geometry network of every draw with that body plan's.
+Offspring drawn_individual(const Expresser& ex, Rng& rng, int plan, int max_draws) {
   Offspring o;
   for (int draw = 1; draw <= max_draws; ++draw) {
     o.genome = random_genome(rng);
+    if (plan >= 0) o.genome.nets[static_cast<int>(Network::kGeometry)] = body_plan_geometry(plan);
     o.outputs = ex.evaluate(o.genome);
     o.phenotype = ex.express(o.outputs);
     o.tries = draw;
@@ -52,6 +57,16 @@ Offspring random_individual(const Expresser& ex, Rng& rng, int max_draws) {
     if (o.success) break;
   }
   return o;
+}
+
+}  // namespace
+
+Offspring random_individual(const Expresser& ex, Rng& rng, int max_draws) {
+  return drawn_individual(ex, rng, -1, max_draws);
+}
+
+Offspring body_plan_individual(const Expresser& ex, Rng& rng, int plan, int max_draws) {
+  return drawn_individual(ex, rng, plan, max_draws);
 }
 
 }  // namespace plastivox::evo

@@ -102,11 +102,12 @@ struct StudyInput {
   std::string file;            // as given
   std::string content_digest;  // the results file's content digest (hex)
   Treatment treatment = Treatment::kNone;
-  uint64_t seed = 0;         // run seed
-  int generation = 0;        // of the champion analysed
-  int generations_done = 0;  // in the file
-  std::string physics_json;  // resolved physics of the run (treatment included)
-  EvolutionCurve evolution;  // generations 0..generation
+  uint64_t seed = 0;             // run seed
+  int generation = 0;            // of the champion analysed
+  int generations_done = 0;      // in the file
+  std::string physics_json;      // resolved physics of the run (treatment included)
+  bool body_plan_start = false;  // generation 0 held the hand-built Π, Γ, Υ bodies
+  EvolutionCurve evolution;      // generations 0..generation
 };
 
 // A value that is left out of a statistic, and why.

@@ -13,6 +13,12 @@ namespace plastivox::evo {
 
 constexpr int kConfigVersion = 1;
 
+// How generation 0 is made: all random (the paper), or random apart from one individual of
+// each body plan Π, Γ, Υ whose geometry network is hand-built (genome.hpp,
+// body_plan_geometry) and whose other three networks are random.
+enum class InitialPopulation { kRandom, kBodyPlans };
+const char* to_string(InitialPopulation p);  // "random", "body-plans"
+
 struct EvolveConfig {
   uint64_t seed = 1;  // run seed; every random draw derives from it
   Treatment treatment = Treatment::kNone;
@@ -21,7 +27,8 @@ struct EvolveConfig {
   int nx = 10, ny = 10, nz = 10;  // lattice extent, sites
   double voxel_size = 0.01;       // m
   GeometryRule geometry = GeometryRule::kLargestComponent;
-  double min_fill = 0.2;          // fraction of sites a valid body fills
+  double min_fill = 0.2;  // fraction of sites a valid body fills
+  InitialPopulation initial_population = InitialPopulation::kRandom;
   int max_mutation_tries = 1500;  // attempts per child (and draws per newcomer)
   int checkpoint_every = 1;       // generations between checkpoints (and at the end)
   int threads = 0;                // evaluation threads; 0 = all cores

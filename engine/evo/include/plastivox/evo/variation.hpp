@@ -30,4 +30,8 @@ Offspring mutate_child(const Expresser& ex, const Genome& parent,
 // max_draws times; after that the last (invalid) draw is returned (success = false).
 Offspring random_individual(const Expresser& ex, Rng& rng, int max_draws);
 
+// The same with the geometry network replaced by body_plan_geometry(plan) after each draw: a
+// body of that plan with random stiffness, development and phase networks.
+Offspring body_plan_individual(const Expresser& ex, Rng& rng, int plan, int max_draws);
+
 }  // namespace plastivox::evo

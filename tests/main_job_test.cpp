@@ -1,0 +1,58 @@
+// The README's main job, `plastivox experiment --out study` (the embedded default preset), run
+// whole as a new user runs it (about 1.5 min on 2 cores): what a researcher reads in its
+// outputs must hold. Every champion stands and walks (finished, floor health ok, nothing
+// excluded, its fitness horizontal); the champions show the paper's body plans, more than one
+// of them, and developing champions change their stiffness; the report states the sunk-life
+// rule, the direction of fitness and that generation 0 held the hand-built bodies.
+#include <set>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "plastivox/atomic_file.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+using nlohmann::json;
+
+class MainJob : public testing::ScratchDirTest {};
+
+TEST_F(MainJob, DefaultStudyShowsWalkingBodyPlansThatDevelop) {
+  const std::string dir = path("study");
+  const testing::Output o = testing::shell(std::string(PLASTIVOX_CLI) + " experiment --out " + dir +
+                                           " --threads 2 --no-viewer 2>&1");
+  ASSERT_EQ(o.status, 0) << o.out;
+  const json j = json::parse(read_file_bytes(dir + "/stats.json"));
+  ASSERT_EQ(j["champions"].size(), 6u);
+  std::set<std::string> plans;
+  for (const json& c : j["champions"]) {
+    const std::string label = c["label"];
+    EXPECT_EQ(c["life_status"], "finished") << label;
+    EXPECT_EQ(c["health"], "ok") << label;
+    EXPECT_TRUE(c["excluded"].is_null()) << label;
+    EXPECT_LT(c["vertical_share"].get<double>(), 0.05) << label;
+    EXPECT_GT(c["fitness"].get<double>(), 3.0) << label << ": walks several voxel lengths";
+    plans.insert(c["body_plan"].get<std::string>());
+    if (c["treatment"] != "none") {  // mean |E / E0 - 1| over the body at the end of life
+      EXPECT_GT(c["m_body"].get<double>(), 0.05) << label << ": visible development";
+    }
+  }
+  EXPECT_GE(plans.size(), 2u) << "one body plan for every champion";
+  EXPECT_TRUE(plans.count("Pi") + plans.count("Gamma") + plans.count("Upsilon") > 0)
+      << "no champion has one of the paper's body plans";
+  EXPECT_EQ(j["body_plans"]["runs_started_from_body_plans"], 6);
+  EXPECT_EQ(j["audit"]["sinking_rule"], "invalid");
+  const std::string report = read_file_bytes(dir + "/report.html");
+  for (const char* said :
+       {"Lives that sank through the floor were invalid during evolution",
+        "Fitness is the 3-D displacement of the centre of mass",
+        "Generation 0 of every run held one hand-built body of each plan, Π, Γ and Υ",
+        "from hand-built Π, Γ, Υ bodies and random ones"})
+    EXPECT_NE(report.find(said), std::string::npos) << said;
+  EXPECT_EQ(report.find("excluded from the statistics"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace plastivox
