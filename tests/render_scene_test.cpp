@@ -807,5 +807,22 @@ TEST_F(RenderFiles, GalleryDrawsAnExplicitStiffnessRange) {
   EXPECT_FALSE(std::filesystem::exists(path("bad.png")));
 }
 
+// A champion whose life sinks through the floor (a run evolved under the authors' rule) leaves
+// an empty floor in its tile: the tile says SANK, as the study's gallery does; one that
+// stands says nothing of the kind.
+TEST_F(RenderFiles, GalleryTileOfASunkChampionSaysSo) {
+  const std::string sinker =
+      std::string(PLASTIVOX_SOURCE_DIR) + "/tests/data/results/old-rule-sinker.h5";
+  GalleryStyle gs;
+  gs.width = 480;
+  gs.height = 160;
+  gs.samples = 1;
+  const GalleryLayout g =
+      render_gallery_file({sinker, tiny_run("a.h5", 1, "none")}, gs, path("g.png"));
+  ASSERT_EQ(g.labels.size(), 2u);
+  EXPECT_NE(g.labels[0].find(" · SANK"), std::string::npos) << g.labels[0];
+  EXPECT_EQ(g.labels[1].find("SANK"), std::string::npos) << g.labels[1];
+}
+
 }  // namespace
 }  // namespace plastivox::render

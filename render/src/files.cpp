@@ -95,6 +95,7 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
       log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
           inputs[k] + " (" + e.source.label + ")");
     e.life = simulate_life(e.source, gallery_times(e.source.physics, style));
+    if (e.life.sank) e.source.label += " · SANK";  // as the study marks an audited champion
     entries.push_back(std::move(e));
   }
   return render_gallery(entries, style, out);

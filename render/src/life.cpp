@@ -14,9 +14,10 @@ std::shared_ptr<const Model> compile_life_model(const LifeSource& source) {
   return std::make_shared<const Model>(compile(source.robot, source.physics));
 }
 
-void simulate_frames(const LifeSource& source, const Model& model, const std::vector<double>& times,
-                     const std::function<bool(LifeFrame&&)>& sink,
-                     const std::function<void(double)>& progress) {
+SimResult simulate_frames(const LifeSource& source, const Model& model,
+                          const std::vector<double>& times,
+                          const std::function<bool(LifeFrame&&)>& sink,
+                          const std::function<void(double)>& progress) {
   for (size_t k = 0; k < times.size(); ++k) {
     if (!(times[k] >= 0 && times[k] <= source.physics.duration + 1e-12))
       throw RenderError(source.path + ": time " + std::to_string(times[k]) +
@@ -55,6 +56,7 @@ void simulate_frames(const LifeSource& source, const Model& model, const std::ve
   if (!stopped && taken < times.size() && r.status == SimStatus::kUnstable)
     throw RenderError(source.path + ": the simulation went unstable at t = " +
                       std::to_string(r.sim_time) + " s (" + r.failure + ")");
+  return r;
 }
 
 Life simulate_life(const LifeSource& source, const std::vector<double>& times,
@@ -62,7 +64,7 @@ Life simulate_life(const LifeSource& source, const std::vector<double>& times,
   Life life;
   life.model = compile_life_model(source);
   life.frames.reserve(times.size());
-  simulate_frames(
+  const SimResult r = simulate_frames(
       source, *life.model, times,
       [&](LifeFrame&& f) {
         // Every frame leaves with the final settling state but the ones before settling,
@@ -73,6 +75,7 @@ Life simulate_life(const LifeSource& source, const std::vector<double>& times,
         return true;
       },
       progress);
+  life.sank = r.sank;
   return life;
 }
 

@@ -11,6 +11,7 @@
 
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
+#include "plastivox/simulator.hpp"
 
 namespace plastivox::render {
 
@@ -40,6 +41,9 @@ struct Life {
   std::vector<Frame> frames;    // one per requested time, in the order requested
   Eigen::Vector3d com_settled;  // centre of mass at the end of settling, m
   bool settled = false;         // the simulation reached physics.settle_time
+  // The life ran to its end and its floor grade is `sank` (SimResult::sank): its last frames
+  // show little or nothing above the floor, and a figure must say why.
+  bool sank = false;
 };
 
 // Compiles the source and simulates it, capturing a frame at each requested time (s,
@@ -66,10 +70,12 @@ std::shared_ptr<const Model> compile_life_model(const LifeSource& source);
 // simulate_life() for a model from compile_life_model(), handing each frame to `sink` as
 // soon as it is known, in order, instead of keeping them: a caller can draw frame k while
 // the simulation runs on towards frame k + 1. `sink` returns false to stop early. Throws as
-// simulate_life() (after handing over the frames before the failure).
-void simulate_frames(const LifeSource& source, const Model& model, const std::vector<double>& times,
-                     const std::function<bool(LifeFrame&&)>& sink,
-                     const std::function<void(double)>& progress = {});
+// simulate_life() (after handing over the frames before the failure). Returns the
+// simulation's summary (whole-life values only when the last time is the end of life).
+SimResult simulate_frames(const LifeSource& source, const Model& model,
+                          const std::vector<double>& times,
+                          const std::function<bool(LifeFrame&&)>& sink,
+                          const std::function<void(double)>& progress = {});
 
 // For a recorded source: the frames simulate_frames() would hand over for `times` (s,
 // ascending), taken from the recording instead: for each time the first recorded frame at
