@@ -3,7 +3,9 @@
 // name the file's own tags, and exit codes. Each case failed before its fix.
 #include <signal.h>
 #include <sys/mount.h>
+#include <sys/stat.h>
 #include <sys/statvfs.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -280,6 +282,60 @@ TEST_F(Hardening, NonRegularAndOversizedInputsAreRefusedUnread) {
                     std::string(name) + ": is 314572800 bytes, more than the limit of 268435456");
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
   }
+}
+
+// Every command that writes a file refuses an output path that holds a device, a pipe or a
+// folder, with one line naming it, and leaves the node as it was: each write renames a
+// finished temporary over its path, which as root would replace /dev/null with a regular
+// file. The nodes here are made in the scratch folder (a character device like /dev/null's
+// only as root), never the machine's own.
+TEST_F(Hardening, OutputPathsThatAreDevicesPipesOrFoldersAreRefusedAndLeftAlone) {
+  const bool root = geteuid() == 0;
+  // A node of `kind` named for the command's own extension, so each writer's own check runs.
+  const auto make = [&](const std::string& kind, const std::string& ext) {
+    const std::string p = path(kind + "." + ext);
+    int made = 0;
+    if (kind == "fifo") made = ::mkfifo(p.c_str(), 0600);
+    if (kind == "folder") made = fs::create_directories(p) ? 0 : -1;
+    if (kind == "device") made = ::mknod(p.c_str(), S_IFCHR | 0666, makedev(1, 3));
+    EXPECT_EQ(made, 0) << p;
+    return p;
+  };
+  const auto kind_of = [](const std::string& p) {
+    struct stat st {};
+    if (::stat(p.c_str(), &st) != 0) return std::string("missing");
+    return std::string(S_ISFIFO(st.st_mode)  ? "fifo"
+                       : S_ISDIR(st.st_mode) ? "folder"
+                       : S_ISCHR(st.st_mode) ? "device"
+                                             : "other");
+  };
+  const std::string walker = walker_with(R"({"duration": 0.3, "settle_time": 0.1})");
+  ASSERT_EQ(
+      run("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
+      0);
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"simulate " + walker + " --record ", "h5"},
+      {"simulate " + walker + " --record ", "history"},
+      {"export " + path("r.h5") + " --out ", "json"},
+      {"export " + path("r.h5") + " --out ", "vxa"},
+      {"render " + walker + " --out ", "png"},
+      {"video " + walker + " --out ", "mp4"},
+      {"view " + walker + " --out ", "html"},
+      {"gallery " + path("r.h5") + " --out ", "png"},
+      {"evolve --config " + path("c.json") + " --out ", "h5"}};
+  std::vector<std::string> kinds = {"fifo", "folder"};
+  if (root) kinds.push_back("device");  // a character device like /dev/null's (1, 3)
+  for (const std::string& kind : kinds)
+    for (const auto& [command, ext] : commands) {
+      const std::string node = path(kind + "." + ext);
+      if (!fs::exists(node) && kind_of(node) == "missing") make(kind, ext);
+      const Output o = run(command + node);
+      EXPECT_NE(o.status, 0) << command << node << "\n" << o.out;
+      EXPECT_NE(o.out.find(node), std::string::npos) << command << node << "\n" << o.out;
+      EXPECT_EQ(line_breaks(o.out), 1) << command << node << "\n" << o.out;
+      EXPECT_EQ(kind_of(node), kind) << command << node;
+      EXPECT_FALSE(fs::exists(node + ".lock")) << command << node;
+    }
 }
 
 // ---- 4. Runs that never end ----

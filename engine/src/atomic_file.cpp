@@ -15,6 +15,7 @@
 namespace plastivox {
 
 void write_file_atomic(const std::string& path, std::string_view bytes) {
+  check_output_path(path);
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw InputError(path + ": cannot open for writing (" + std::strerror(errno) + ")");

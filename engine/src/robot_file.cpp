@@ -284,23 +284,7 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
 }
 
 void write_robot_file(const std::string& path, const RobotDef& robot, const PhysicsDef* physics) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path + ": cannot open for writing");
-    out << robot_to_json(robot, physics) << "\n";
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw InputError(path + ": write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot rename temporary file: " + ec.message());
-  }
+  write_file_atomic(path, robot_to_json(robot, physics) + "\n");
 }
 
 }  // namespace plastivox

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <optional>
 
+#include "plastivox/atomic_file.hpp"
 #include "plastivox/vxa.hpp"
 #include "vxa_internal.hpp"
 
@@ -288,22 +289,10 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
 void write_vxa_file(const std::string& path, const RobotDef& robot, const PhysicsDef& physics,
                     std::vector<std::string>* warnings) {
   const std::string text = write_vxa(robot, physics, warnings);
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw VxaError(tmp + ": cannot create: " + std::strerror(errno));
-    out << text;
-    out.close();
-    if (!out) {
-      std::filesystem::remove(tmp);
-      throw VxaError(tmp + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw VxaError(path + ": cannot rename " + tmp + " onto it: " + ec.message());
+  try {
+    write_file_atomic(path, text);
+  } catch (const InputError& e) {
+    throw VxaError(e.what());
   }
 }
 

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "plastivox/base/clock.hpp"
+#include "plastivox/base/output_path.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/video_writer.hpp"
 
@@ -131,7 +132,11 @@ void check_output_path(const std::string& path) {
     throw RenderError(path + ": cannot write: folder " + dir.string() + " does not exist");
   if (::access(dir.c_str(), W_OK) != 0)
     throw RenderError(path + ": cannot write: folder " + dir.string() + " is not writable");
-  if (fs::is_directory(p, ec)) throw RenderError(path + ": cannot write: it is a folder");
+  try {  // a device, pipe, socket or folder there
+    plastivox::check_output_path(path);
+  } catch (const InputError& e) {
+    throw RenderError(e.what());
+  }
 }
 
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {

@@ -21,6 +21,8 @@
 
 #include "fp_guard.hpp"
 #include "plastivox/render/video_writer.hpp"
+
+#include "plastivox/base/output_path.hpp"
 #include "video_ffmpeg.hpp"
 
 extern "C" {
@@ -265,6 +267,11 @@ VideoWriter::VideoWriter(const std::string& path, const VideoOptions& options)
     m.fail(
         "cannot choose a container from the extension: use .mp4 (or .m4v) or .mkv "
         "(WebM, AVI and others are not written)");
+  try {
+    check_output_path(path);
+  } catch (const InputError& e) {
+    throw VideoError(e.what());
+  }
   remove_stale_temporaries(path);
   m.tmp = path + ".tmp." + std::to_string(::getpid());
   const int err = avformat_alloc_output_context2(&m.format, nullptr, muxer, m.tmp.c_str());

@@ -39,6 +39,7 @@ std::string display(const std::optional<double>& x, int digits) {
 }
 
 void write_temp(const std::string& path, const std::string& text) {
+  check_output_path(path);                 // the temporary is renamed over it later
   write_file_atomic(path + ".tmp", text);  // complete and flushed under the temporary name
 }
 

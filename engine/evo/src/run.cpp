@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/thread_pool.hpp"
 
 namespace plastivox::evo {
@@ -47,6 +48,11 @@ class RunLock {
  public:
   explicit RunLock(const std::string& out) {
     const std::string path = out + ".lock";
+    try {  // refuse a device or folder as the results file before the lock is created
+      check_output_path(out);
+    } catch (const InputError& e) {
+      throw ResultsError(e.what());
+    }
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0)
       throw ResultsError(out + ": cannot create lock file " + path + ": " + std::strerror(errno));

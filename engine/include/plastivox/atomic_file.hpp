@@ -7,9 +7,13 @@
 #include <string>
 #include <string_view>
 
+#include "plastivox/base/output_path.hpp"
+
 namespace plastivox {
 
 void write_file_atomic(const std::string& path, std::string_view bytes);
+
+// check_output_path (plastivox/base/output_path.hpp) is called first.
 
 // Largest robot, config or other input file read whole: 256 MiB (docs/robot-format.md).
 constexpr uint64_t kMaxInputFileBytes = uint64_t{256} << 20;

@@ -66,7 +66,8 @@ class LifeRenderer {
 };
 
 // Throws RenderError unless a file can be created at path (its folder exists and is
-// writable), so a long job fails before it starts rather than at the end.
+// writable, and nothing but a regular file sits at path: plastivox::check_output_path), so a
+// long job fails before it starts rather than at the end.
 void check_output_path(const std::string& path);
 
 // The frame at simulated time `time` (s) of `source`'s life as RGBA8 rows, top-down
