@@ -19,6 +19,7 @@
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/json_input.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/robot_file.hpp"
 #include "plastivox/vxa.hpp"
@@ -155,6 +156,34 @@ TEST(FuzzInputs, ConfigReaders) {
                    [](const std::string& text) {
                      experiment::parse_experiment_config(text, "fuzz-experiment.json");
                    });
+}
+
+// Nesting and trailing bytes (issue 40): a robot file of 100 000 nested arrays (about 200 kB)
+// took 2 GB, growing with the square of the depth; valid JSON followed by a NUL byte and more
+// was accepted, the parser stopping at the NUL. Both are refused at once, naming the file.
+TEST(FuzzInputs, DeepNestingAndNulBytesAreRefusedCheaply) {
+  const auto error = [](const std::string& text) {
+    try {
+      parse_robot_json(text, "deep.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  EXPECT_EQ(error(deep), "deep.json: (file): nested deeper than 32 levels of objects and arrays");
+  const std::string in_physics = R"({"format": "plastivox-robot", "physics": {"a": )" +
+                                 std::string(40, '[') + std::string(40, ']') + "}}";
+  EXPECT_EQ(error(in_physics),
+            "deep.json: physics.a: nested deeper than 32 levels of objects and arrays");
+  const PhysicsDef physics = preset_gecco2018_code();
+  std::string nul = robot_to_json(demo_walker(), &physics);
+  const size_t at = nul.size();
+  nul += std::string(1, '\0') + std::string(1000, '\0');
+  EXPECT_EQ(error(nul),
+            "deep.json: (file): not valid JSON: a NUL byte at offset " + std::to_string(at));
+  // 32 levels are fine (the formats need 4).
+  EXPECT_NO_THROW(parse_json_input(std::string(32, '[') + std::string(32, ']'), "ok.json"));
 }
 
 class FuzzResults : public testing::ScratchDirTest {};

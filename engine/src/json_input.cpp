@@ -26,10 +26,21 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
     const std::string name = f.last_key.empty() ? "[]" : f.last_key;
     return f.path.empty() ? name : f.path + (name == "[]" ? "" : ".") + name;
   };
+  if (const size_t nul = text.find('\0'); nul != std::string_view::npos)
+    throw InputError(source + ": " + field + ": not valid JSON: a NUL byte at offset " +
+                     std::to_string(nul));
   const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
     switch (event) {
       case json::parse_event_t::object_start:
       case json::parse_event_t::array_start:
+        if (static_cast<int>(open.size()) >= kMaxJsonDepth) {
+          std::string where = open.back().path;  // the last key, without the "[]" runs
+          while (where.size() >= 2 && where.compare(where.size() - 2, 2, "[]") == 0)
+            where.resize(where.size() - 2);
+          throw InputError(source + ": " + (where.empty() ? field : where) +
+                           ": nested deeper than " + std::to_string(kMaxJsonDepth) +
+                           " levels of objects and arrays");
+        }
         open.push_back({child_path(), {}, {}});
         break;
       case json::parse_event_t::object_end:

@@ -6,6 +6,7 @@
 #include "file_seal.hpp"
 #include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "plastivox/json_input.hpp"
 #include "plastivox/robot_file.hpp"
 #include "results_layout.hpp"
 
@@ -261,7 +262,12 @@ ResultsFile read_results(const std::string& path) {
   // the only rule of files written before the other became the default.
   if (h5::has_attr(r, "resolved_physics")) {
     const std::string text = h5::read_attr_string(c, r, "/", "resolved_physics");
-    const nlohmann::json p = nlohmann::json::parse(text, nullptr, false);
+    nlohmann::json p;
+    try {  // bounded like every input (depth, NUL)
+      p = parse_json_input(text, path, "/@resolved_physics");
+    } catch (const InputError& e) {
+      throw ResultsError(e.what());
+    }
     if (!p.is_object()) c.fail("/@resolved_physics", "is not a JSON object");
     s.config.physics.sinking_invalid =
         p.contains("sinking_invalid") && p["sinking_invalid"] == true;

@@ -13,8 +13,15 @@
 
 namespace plastivox {
 
+// Objects and arrays nest at most this deep: plastivox's formats need 4 levels, and each
+// open level costs memory for its path, so a hostile file of nested brackets is refused as
+// it is read rather than after gigabytes.
+constexpr int kMaxJsonDepth = 32;
+
 // Throws InputError: "<source>: <field>: not valid JSON: ..." for a syntax error (field is
-// "(file)" for a whole file), "<source>: <a.b.key>: given twice" for a duplicate key.
+// "(file)" for a whole file), "<source>: <a.b.key>: given twice" for a duplicate key,
+// "<source>: <field>: nested deeper than 32 levels" and "<source>: <field>: a NUL byte at
+// offset N" (nlohmann's parser would stop there and ignore whatever follows).
 nlohmann::json parse_json_input(std::string_view text, const std::string& source,
                                 const std::string& field = "(file)");
 
