@@ -598,6 +598,38 @@ TEST_F(Hardening, NothingIsDroppedSilently) {
   expect_one_line(d, "--physics: gravity: given twice");
 }
 
+// Physics values that mean nothing are bad input (exit 1, one line naming the field), never a
+// simulation; before, contact_diameter 0, -0 or -1, global_damping_rot_factor -1 and
+// collision_exclude_hops -1 were simulated, and -1e308 ended as "unstable" (exit 3). Unknown
+// keys inside `lattice` and `loads` entries are errors like unknown keys anywhere else.
+TEST_F(Hardening, MeaninglessPhysicsValuesAndUnknownNestedKeysAreBadInput) {
+  const std::string walker = walker_with(R"({"duration": 0.3})");
+  for (const auto& [physics, field] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"contact_diameter": 0})", "contact_diameter"},
+           {R"({"contact_diameter": -0.0})", "contact_diameter"},
+           {R"({"contact_diameter": -1})", "contact_diameter"},
+           {R"({"contact_diameter": -1e308})", "contact_diameter"},
+           {R"({"global_damping_rot_factor": -1})", "global_damping_rot_factor"},
+           {R"({"global_damping_rot_factor": -1e308})", "global_damping_rot_factor"},
+           {R"({"collision_exclude_hops": -1})", "collision_exclude_hops"}}) {
+    const Output o = run("simulate " + walker + " --physics '" + physics + "'");
+    EXPECT_EQ(o.status, 1) << physics << "\n" << o.out;
+    expect_one_line(o, "physics." + field + ": must be");
+  }
+  std::string robot = robot_to_json(demo_walker());
+  const std::string lattice = "\"lattice\": {";
+  robot.insert(robot.find(lattice) + lattice.size(), R"("nw": 3, )");
+  Output o = run("simulate " + write("lat.json", robot));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "lat.json: lattice.nw: unknown field");
+  robot = robot_to_json(demo_walker());
+  robot.insert(robot.rfind('}'),
+               R"(, "loads": [{"at": [0, 1, 0], "force": [0, 0, 1], "torque": 1}])");
+  o = run("simulate " + write("loads.json", robot));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "loads.json: loads[0].torque: unknown field");
+}
+
 // ---- 9. Exit codes: a bad command-line value exits 2 ----
 
 TEST_F(Hardening, BadCommandLineValuesExitTwo) {

@@ -39,6 +39,12 @@ void validate(const PhysicsDef& d) {
   need(d.bond_damping >= 0 && fin(d.bond_damping), "bond_damping", "must be >= 0");
   need(d.collision_damping >= 0 && fin(d.collision_damping), "collision_damping", "must be >= 0");
   need(d.global_damping >= 0 && fin(d.global_damping), "global_damping", "must be >= 0");
+  need(d.global_damping_rot_factor >= 0 && fin(d.global_damping_rot_factor),
+       "global_damping_rot_factor", "must be >= 0");
+  need(d.collision_exclude_hops >= 0 && d.collision_exclude_hops <= 1000, "collision_exclude_hops",
+       "must be in [0, 1000] bonds");
+  need(d.contact_diameter > 0 && d.contact_diameter <= 10, "contact_diameter",
+       "must be in (0, 10] voxel sizes");
   need(fin(d.gravity), "gravity", "must be finite");
   need(d.dt_frac >= 1e-3 && d.dt_frac <= 1.5, "dt_frac", "must be in [0.001, 1.5]");
   need(d.act_frequency >= 0 && fin(d.act_frequency), "act_frequency", "must be >= 0 Hz");

@@ -1,5 +1,7 @@
 #include "plastivox/robot_file.hpp"
 
+#include <algorithm>
+
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -145,15 +147,18 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
   if (version != 1)
     fail(source, "version",
          "unsupported version " + std::to_string(version) + " (this build reads 1)");
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    const std::string& k = it.key();
-    if (k != "format" && k != "version" && k != "name" && k != "lattice" && k != "voxels" &&
-        k != "fixed" && k != "loads" && k != "physics")
-      fail(source, k, "unknown field");
-  }
+  // Every key of object `o` must be one of `known`; `prefix` names where o sits.
+  const auto only = [&](const json& o, std::initializer_list<const char*> known,
+                        const std::string& prefix) {
+    for (auto it = o.begin(); it != o.end(); ++it)
+      if (std::none_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; }))
+        fail(source, prefix + it.key(), "unknown field");
+  };
+  only(j, {"format", "version", "name", "lattice", "voxels", "fixed", "loads", "physics"}, "");
   if (!j.contains("lattice")) fail(source, "lattice", "missing");
   const json& lat = j["lattice"];
   if (!lat.is_object()) fail(source, "lattice", "expected an object");
+  only(lat, {"nx", "ny", "nz", "voxel_size"}, "lattice.");
   for (const char* k : {"nx", "ny", "nz", "voxel_size"})
     if (!lat.contains(k)) fail(source, std::string("lattice.") + k, "missing");
   const int nx = integer(lat["nx"], source, "lattice.nx");
@@ -199,6 +204,7 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
       if (!l.is_object() || !l.contains("at") || !l.contains("force") || !l["force"].is_array() ||
           l["force"].size() != 3)
         fail(source, field, "expected {\"at\": [x, y, z], \"force\": [fx, fy, fz]}");
+      only(l, {"at", "force"}, field + ".");
       RobotDef::Load load;
       load.site = site_of(r, l["at"], source, field + ".at");
       load.fx = number(l["force"][0], source, field + ".force[0]");
