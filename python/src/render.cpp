@@ -1,6 +1,7 @@
 // Rendering for Python: one frame of a robot's life (off-screen, OSMesa) as an (h, w, 3)
 // uint8 array, optionally written as a PNG; the same call as `plastivox render`.
 #include <cmath>
+#include <mutex>
 
 #include <pybind11/stl.h>
 
@@ -49,6 +50,11 @@ pyb::array_t<uint8_t> render_source(const render::LifeSource& source, double tim
   std::vector<uint8_t> rgba;
   {
     pyb::gil_scoped_release unlocked;
+    // One frame at a time: the off-screen GL context and its UI layer are per process, and two
+    // threads setting them up at once failed an assertion in the UI backend ("Already
+    // initialized"). The GIL is released first, so a waiting thread holds nothing.
+    static std::mutex renderer;
+    const std::lock_guard<std::mutex> one_at_a_time(renderer);
     rgba = render::render_frame(source, time, style);
     if (!out.empty()) render::write_png(out, rgba, width, height);
   }

@@ -3,6 +3,7 @@
 // GIL released, so results are the bits `plastivox simulate` gives, whatever the threads.
 #include <chrono>
 #include <memory>
+#include <mutex>
 
 #include <pybind11/stl.h>
 
@@ -124,6 +125,7 @@ class PySimulator {
   // simulate()) or unstable. Returns the steps taken.
   int64_t step(int64_t n) {
     if (n < 0) throw std::invalid_argument("n: must be >= 0");
+    const Busy busy(*this);
     pyb::gil_scoped_release unlocked;
     int64_t done = 0;
     const State& s = sim_->state();
@@ -134,10 +136,15 @@ class PySimulator {
     return done;
   }
 
-  const State& state() const { return sim_->state(); }
+  // Every read of the state comes here: refused while another thread steps (the state is
+  // being written without the GIL).
+  const State& state() const {
+    const Busy busy(*this);
+    return sim_->state();
+  }
   const Model& model() const { return *model_; }
   const char* status() const {
-    const State& s = sim_->state();
+    const State& s = state();
     if (s.status == SimStatus::kRunning && s.time > model_->def.duration)
       return to_string(SimStatus::kFinished);
     return to_string(s.status);
@@ -152,8 +159,29 @@ class PySimulator {
   }
 
  private:
+  // One user at a time. step() releases the GIL while it runs, so without this two Python
+  // threads could step one Simulator at once (a crash, or a state no sequential run gives).
+  // A second user gets a clear error instead of waiting: waiting here while holding the GIL
+  // would deadlock with the stepping thread, which takes the GIL back before it is done.
+  class Busy {
+   public:
+    explicit Busy(const PySimulator& s) : m_(s.in_use_) {
+      if (!m_.try_lock())
+        throw std::runtime_error(
+            "Simulator: in use by another thread (step() is running); a Simulator must not be "
+            "used from two threads at once: give each thread its own");
+    }
+    ~Busy() { m_.unlock(); }
+    Busy(const Busy&) = delete;
+    Busy& operator=(const Busy&) = delete;
+
+   private:
+    std::mutex& m_;
+  };
+
   std::shared_ptr<const Model> model_;
   std::unique_ptr<Simulator> sim_;
+  mutable std::mutex in_use_;
 };
 
 }  // namespace

@@ -47,3 +47,25 @@ def test_render_errors(tmp_path):
         plastivox.render(str(tmp_path / "absent.vxa"))
     with pytest.raises(plastivox.RenderError):
         plastivox.render(robot, size=(32, 32), out=str(tmp_path / "no" / "dir" / "x.png"))
+
+def test_render_from_several_threads_gives_the_same_frames():
+    """Two threads setting up the off-screen renderer at once failed an assertion in its UI
+    backend and aborted the interpreter; calls from threads now take turns."""
+    import threading
+    robot = plastivox.demo_walker().with_physics({"duration": 0.3, "settle_time": 0.1})
+    alone = plastivox.render(robot, time=0.15, size=(96, 72))
+    frames, failures = [], []
+
+    def work():
+        try:
+            frames.append(plastivox.render(robot, time=0.15, size=(96, 72)))
+        except Exception as e:  # noqa: BLE001 - any failure is the test's finding
+            failures.append(repr(e))
+
+    workers = [threading.Thread(target=work) for _ in range(4)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    assert not failures
+    assert len(frames) == 4 and all(np.array_equal(f, alone) for f in frames)

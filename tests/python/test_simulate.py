@@ -197,3 +197,38 @@ def test_a_sunk_life_is_invalid_by_default_in_simulate_and_simulate_many():
     authors = plastivox.simulate(soft, physics={"duration": 1.0, "sinking_invalid": False})
     assert authors.status == "finished" and authors.health == "sank" and authors.fitness > 100
     assert authors.final_state_hash == sunk.final_state_hash
+
+
+def test_simulator_used_from_two_threads_at_once_raises_and_keeps_its_state():
+    """step() runs without the GIL; four threads stepping one Simulator crashed or ended in a
+    state no sequential run gives. A second user gets a clear RuntimeError instead, and the
+    life the Simulator runs is the sequential one."""
+    robot = short_walker(1.0)
+    sim = plastivox.Simulator(robot)
+    errors, taken = [], []
+    stepping = threading.Event()
+
+    def work():
+        try:
+            stepping.set()
+            taken.append(sim.step(1 << 30))
+        except RuntimeError as e:
+            errors.append(str(e))
+
+    workers = [threading.Thread(target=work) for _ in range(4)]
+    for w in workers:
+        w.start()
+    stepping.wait()
+    refused_reads = 0
+    while any(w.is_alive() for w in workers):
+        try:
+            sim.time  # noqa: B018 - a read of the state while another thread may step
+        except RuntimeError as e:
+            assert "in use by another thread" in str(e)
+            refused_reads += 1
+    for w in workers:
+        w.join()
+    assert all("in use by another thread" in e for e in errors)
+    assert len(taken) + len(errors) == 4 and sum(taken) == sim.steps
+    assert refused_reads + len(errors) > 0, "no thread ever met another one stepping"
+    assert sim.state_hash == plastivox.simulate(robot).final_state_hash
