@@ -17,6 +17,7 @@
 #include "experiment/experiment_config.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
+#include "plastivox/evo/life_file.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/json_input.hpp"
@@ -203,6 +204,54 @@ TEST_F(FuzzResults, ResultsReader) {
     std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
     evo::read_results(damaged);
   });
+}
+
+// Recorded lives (issue 40): one flipped bit or one changed metadata byte crashed HDF5 1.10
+// inside a string attribute's read, taking `render`, `video`, `view` and Python down. A life
+// is now sealed and checked whole before HDF5 sees it: every damaged copy (the text damage
+// above, and 200 single bit flips anywhere) is refused with one line, and the binary's
+// `render` of a few of them exits 1 with one error line, never a signal.
+TEST_F(FuzzResults, RecordedLifeReader) {
+  std::string robot = robot_to_json(demo_walker());
+  robot.insert(robot.rfind('}'), R"(, "physics": {"duration": 0.3, "settle_time": 0.1})");
+  std::ofstream(path("w.json"), std::ios::binary) << robot;
+  ASSERT_EQ(testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + path("w.json") +
+                           " --record " + path("life.h5") + " --fps 20 2>&1")
+                .status,
+            0);
+  const std::string valid = read_file(path("life.h5"));
+  ASSERT_GT(valid.size(), 1000u);
+  ASSERT_NO_THROW(evo::read_life_file(path("life.h5")));
+  const std::string damaged = path("d.h5");
+  fuzz<evo::ResultsError>(valid, damaged, 14008, 150, [&](const std::string& bytes) {
+    std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
+    evo::read_life_file(damaged);
+  });
+  std::mt19937_64 rng(14009);
+  int refused = 0;
+  for (int k = 0; k < 200; ++k) {
+    std::string bytes = valid;
+    const size_t at = rng() % bytes.size();
+    bytes[at] = static_cast<char>(bytes[at] ^ (1 << (rng() % 8)));
+    std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+      evo::read_life_file(damaged);
+    } catch (const evo::ResultsError& e) {
+      ++refused;
+      expect_clean(e.what(), damaged, "(bit " + std::to_string(at) + ")");
+    }
+  }
+  EXPECT_GT(refused, 150);  // all but flips in the seal's zero padding
+  for (int k = 0; k < 3; ++k) {
+    std::string bytes = valid;
+    bytes[600 + 97 * k] = static_cast<char>(bytes[600 + 97 * k] ^ 0x10);
+    std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
+    const testing::Output o = testing::shell(std::string(PLASTIVOX_CLI) + " render " + damaged +
+                                             " --out " + path("f.png") + " 2>&1");
+    EXPECT_EQ(o.status, 1) << o.out;
+    EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;
+    EXPECT_NE(o.out.find("corrupt"), std::string::npos) << o.out;
+  }
 }
 
 // Through the binary: exit 0, 1 or 3 (a damaged file can still be a valid robot, or go

@@ -21,7 +21,6 @@ const std::string kCopyOut =
     "file";
 namespace {
 
-constexpr const char* kMagic = "plastivox-evolution-results\n";
 constexpr const char* kHdf5Signature = "\x89HDF\r\n\x1a\n";
 
 std::string read_all(const std::string& file, const std::string& name) {
@@ -40,11 +39,11 @@ Hash128 payload_hash(std::string_view bytes) {
 
 }  // namespace
 
-void seal_image(std::string& bytes, const std::string& name) {
+void seal_image(std::string& bytes, const std::string& name, const Kind& kind) {
   if (bytes.size() < kUserBlockBytes) throw ResultsError(name + ": HDF5 wrote no user block");
   char header[kUserBlockBytes] = {};
   const int n = std::snprintf(header, sizeof header,
-                              "%sseal_version 1\npayload_bytes %llu\npayload_hash %s\n", kMagic,
+                              "%sseal_version 1\npayload_bytes %llu\npayload_hash %s\n", kind.magic,
                               static_cast<unsigned long long>(bytes.size() - kUserBlockBytes),
                               payload_hash(bytes).hex().c_str());
   if (n <= 0 || n >= static_cast<int>(sizeof header)) throw ResultsError(name + ": seal too long");
@@ -61,15 +60,26 @@ void write_seal(const std::string& file, const std::string& name) {
   if (!ok || !closed) throw ResultsError(name + ": cannot write the seal (disk full?)");
 }
 
-void check_seal(const std::string& file) {
+bool has_seal(const std::string& file, const Kind& kind) {
+  const size_t magic_len = std::strlen(kind.magic);
+  std::string head(magic_len, '\0');
+  std::FILE* f = std::fopen(file.c_str(), "rb");
+  if (!f) return false;
+  const size_t got = std::fread(head.data(), 1, magic_len, f);
+  std::fclose(f);
+  return got == magic_len && head == kind.magic;
+}
+
+void check_seal(const std::string& file, const Kind& kind) {
   const std::string bytes = read_all(file, file);
-  const size_t magic_len = std::strlen(kMagic);
-  if (bytes.size() < magic_len || std::memcmp(bytes.data(), kMagic, magic_len) != 0) {
+  const size_t magic_len = std::strlen(kind.magic);
+  const std::string what = kind.what;
+  if (bytes.size() < magic_len || std::memcmp(bytes.data(), kind.magic, magic_len) != 0) {
     if (bytes.size() >= 8 && std::memcmp(bytes.data(), kHdf5Signature, 8) == 0)
-      throw ResultsError(file + ": an HDF5 file, but not a plastivox evolution results file");
-    if (bytes.empty()) throw ResultsError(file + ": empty file, not a plastivox results file");
-    throw ResultsError(
-        file + ": not a plastivox evolution results file (not HDF5, or its header is damaged)");
+      throw ResultsError(file + ": an HDF5 file, but not a plastivox " + what);
+    if (bytes.empty()) throw ResultsError(file + ": empty file, not a plastivox " + what);
+    throw ResultsError(file + ": not a plastivox " + what +
+                       " (not HDF5, or its header is damaged)");
   }
   if (bytes.size() < kUserBlockBytes)
     throw ResultsError(file + ": truncated (" + std::to_string(bytes.size()) +

@@ -2,8 +2,9 @@
 // "Recorded lives"). Per-frame fields are datasets of shape (frames, voxels[, 3 or 4]), so
 // h5py reads each as one numpy array; the robot and its physics are kept as a plastivox
 // robot file (JSON) in an attribute, so the life can be simulated again and its model
-// compiled for drawing. Unlike a results file it carries no seal: it is an export, never
-// resumed from, and every read is checked against the shapes the file itself declares.
+// compiled for drawing. Since 2026-12-05 it carries a seal like a results file
+// (file_seal.hpp), checked before HDF5 reads it, and every read is checked against the shapes
+// the file itself declares.
 #include "plastivox/evo/life_file.hpp"
 
 #include <sys/stat.h>
@@ -12,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "file_seal.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/h5_util.hpp"
 #include "plastivox/robot_file.hpp"
@@ -49,7 +51,7 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
   const Provenance p = current_provenance(1);
   std::string bytes;
   {
-    h5::MemoryFile file(c, 0);
+    h5::MemoryFile file(c, seal::kUserBlockBytes);
     {
       Handle root = h5::open_group(c, file.id(), "/");
       const hid_t r = root.id();
@@ -123,6 +125,7 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
     }
     bytes = file.image();
   }
+  seal::seal_image(bytes, path, seal::kLife);
   try {
     write_file_atomic(path, bytes);
   } catch (const InputError& e) {
@@ -134,8 +137,9 @@ bool is_life_file(const std::string& path) {
   h5::quiet_hdf5();
   struct stat sb {};
   if (::stat(path.c_str(), &sb) != 0 || !S_ISREG(sb.st_mode)) return false;
-  // A sealed results file is never handed to HDF5 before its seal is checked (file_seal.hpp):
-  // it starts with the seal's text, a recorded life with HDF5's signature.
+  // Nothing sealed is handed to HDF5 before its seal is checked (file_seal.hpp): a life
+  // written since 2026-12-05 starts with its seal's text, an older one with HDF5's signature.
+  if (seal::has_seal(path, seal::kLife)) return true;
   char head[8] = {};
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return false;
@@ -156,6 +160,10 @@ bool is_life_file(const std::string& path) {
 }
 
 RecordedLife read_life_file(const std::string& path) {
+  // A sealed life is checked whole before HDF5 parses a byte of it: a flipped bit or a changed
+  // metadata byte crashed HDF5 1.10 inside a string attribute's read. A life written before
+  // seals (2026-12-05) has none and is read as before.
+  if (seal::has_seal(path, seal::kLife)) seal::check_seal(path, seal::kLife);
   const Ctx c = h5::read_context(path);
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw ResultsError(path + ": not an HDF5 file (wrong format, or corrupt or truncated)");
