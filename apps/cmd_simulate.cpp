@@ -20,10 +20,11 @@
 namespace plastivox::cli {
 namespace {
 
-double parse_seconds(const std::string& s, const std::string& option) {
+// A non-negative number given to `option`; `what` names its unit in the error.
+double parse_non_negative(const std::string& s, const std::string& option, const char* what) {
   double v = 0;
   if (!read_number(s, v) || !(v >= 0))
-    throw UsageError{option + " expects a number of seconds, got '" + s + "'"};
+    throw UsageError{option + " expects " + what + ", got '" + s + "'"};
   return v;
 }
 
@@ -77,7 +78,7 @@ int cmd_simulate(const Args& in) {
         fps_text};
   double fps = 30;  // frames per simulated second of --record
   if (!fps_text.empty()) {
-    fps = parse_seconds(fps_text, "--fps");
+    fps = parse_non_negative(fps_text, "--fps", "a number of frames per simulated second");
     if (!(fps > 0 && fps <= 10000)) throw UsageError{"--fps must be in (0, 10000]"};
   }
   // Command-line values are checked before any file is read (a bad one exits 2).
@@ -93,7 +94,8 @@ int cmd_simulate(const Args& in) {
   } catch (const std::invalid_argument& e) {
     throw UsageError{std::string("--treatment: ") + e.what()};
   }
-  const double duration_s = duration.empty() ? 0.0 : parse_seconds(duration, "--duration");
+  const double duration_s =
+      duration.empty() ? 0.0 : parse_non_negative(duration, "--duration", "a number of seconds");
 
   RobotDef robot;
   PhysicsDef physics;

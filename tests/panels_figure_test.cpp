@@ -552,6 +552,14 @@ TEST_F(PanelFiles, BadSizeWritesNothing) {
   const StatsFigure f = parse_stats_figure(sample_stats(), "stats.json");
   EXPECT_THROW(write_figures(f, path("x"), {.width = 50, .height = 300}), RenderError);
   EXPECT_FALSE(fs::exists(path("x")));
+  // Panels of 8192 x 8192 are allowed, but their combined figure (3 x 2 panels) is not: refused
+  // before any panel is drawn (it used to draw them all first, 35 s and 1.5 GB), saying how to
+  // get the panels alone.
+  const std::string e = testing::error_of(
+      [&] { write_figures(f, path("big"), {.width = 8192, .height = 8192, .combined = true}); });
+  EXPECT_NE(e.find("makes the combined figure 24576x16384"), std::string::npos) << e;
+  EXPECT_NE(e.find("--no-combined"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(path("big")));
 }
 
 // ---------------------------------------------------------------------------------------

@@ -107,5 +107,29 @@ TEST_F(RenderCli, GalleryStiffnessRangeOption) {
   EXPECT_NE(data.out.find("E0 colour range 1e+07,2e+07 Pa"), std::string::npos) << data.out;
 }
 
+// Sizes the renderer cannot take are refused before anything is simulated or allocated, in one
+// line naming the size (issue 40: render --size 16384x16384 reached 3.2 GB before OpenGL
+// refused it; figures --size 8192x8192 drew every panel for 35 s before refusing the combined
+// figure; gallery --size 16384x16384 failed after simulating, naming no option).
+TEST_F(RenderCli, OversizedImagesAreRefusedBeforeAnyWork) {
+  const auto one_line = [](const testing::Output& r) {
+    return r.out.find('\n') == r.out.size() - 1;
+  };
+  auto r = run("render " + path("cube.json") + " --out " + path("f.png") + " --size 16384x16384");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("image size 16384x16384 with 4 sample(s) a pixel"), std::string::npos)
+      << r.out;
+  EXPECT_TRUE(one_line(r)) << r.out;
+  r = run("gallery " + path("cube.json") + " --out " + path("g.png") + " --size 16384x16384");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_EQ(r.out.rfind("plastivox gallery: --size 16384x16384: ", 0), 0u) << r.out;
+  EXPECT_TRUE(one_line(r)) << r.out;
+  EXPECT_EQ(files(), 1);  // nothing written
+  // The limit itself: 8K UHD with 4x multisampling fits, 16384 x 16384 with one sample does not.
+  EXPECT_NO_THROW(render::check_render_target(7680, 4320, 4));
+  EXPECT_THROW(render::check_render_target(16384, 16384, 0), render::RenderError);
+  EXPECT_THROW(render::check_render_target(16385, 10, 1), render::RenderError);
+}
+
 }  // namespace
 }  // namespace plastivox

@@ -22,7 +22,13 @@ int64_t max_lattice_sites() {
 void check_lattice_size(int nx, int ny, int nz) {
   if (nx < 1 || ny < 1 || nz < 1 || nx > 1000 || ny > 1000 || nz > 1000)
     throw std::invalid_argument("robot.size: lattice extent must be 1..1000 in each axis");
-  const int64_t sites = int64_t{nx} * ny * nz, limit = max_lattice_sites();
+  int64_t limit = 0;
+  try {  // a malformed PLASTIVOX_MAX_LATTICE_SITES: the same prefix as every other problem here
+    limit = max_lattice_sites();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("robot.size: ") + e.what());
+  }
+  const int64_t sites = int64_t{nx} * ny * nz;
   if (sites > limit)
     throw std::invalid_argument(
         "robot.size: a " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +

@@ -65,6 +65,7 @@ LifeSource recorded_life_source(const std::string& path) {
 void render_frame_file(const std::string& source_path, double time, const FrameStyle& style,
                        const std::string& out, const LogFn& log) {
   check_output_path(out);
+  check_render_target(style.width, style.height, style.samples);
   const LifeSource source = load_life_source(source_path);
   if (log) {
     for (const std::string& w : source.warnings) log("warning: " + w);
@@ -78,6 +79,7 @@ void render_frame_file(const std::string& source_path, double time, const FrameS
 VideoSummary render_video_file(const std::string& source, const FrameStyle& style,
                                const VideoJob& job, const std::string& out, const LogFn& log) {
   check_video_request(job, out);  // before reading anything
+  check_render_target(style.width, style.height, style.samples);
   const LifeSource life = load_life_source(source);
   if (log)
     for (const std::string& w : life.warnings) log("warning: " + w);

@@ -105,6 +105,12 @@ Grid plan_grid(const GalleryStyle& style, int n) {
   g.tile_h = grid_h / g.rows;
   if (g.tile_w < 8 || g.tile_h < 8)
     throw GallerySizeError("gallery: tiles would be under 8 pixels");
+  try {  // the whole image and each tile's render target, before anything is simulated
+    check_render_target(style.width, style.height, 1);
+    check_render_target(g.tile_w, g.tile_h, style.samples);
+  } catch (const RenderError& e) {
+    throw GallerySizeError(std::string("gallery: ") + e.what());
+  }
   return g;
 }
 

@@ -9,6 +9,7 @@
 #include <backends/imgui_impl_opengl2.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -36,11 +37,23 @@ struct OffscreenContext::Impl {
   std::vector<uint8_t> buffer;  // OSMesa's colour buffer, rows bottom-up (GL convention)
 };
 
+void check_render_target(int width, int height, int samples) {
+  const std::string size = std::to_string(width) + "x" + std::to_string(height);
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
+    throw RenderError("image size " + size + " is outside 1x1 .. 16384x16384");
+  const int64_t total = int64_t{width} * height * std::max(samples, 1);
+  if (total > kMaxRenderTargetSamples)
+    throw RenderError("image size " + size + " with " + std::to_string(std::max(samples, 1)) +
+                      " sample(s) a pixel needs " + std::to_string(total) +
+                      " samples of render target, more than the limit of " +
+                      std::to_string(kMaxRenderTargetSamples) +
+                      " (about 1 GiB): use a smaller size" +
+                      (samples > 1 ? ", or --antialias edge" : ""));
+}
+
 OffscreenContext::OffscreenContext(int width, int height)
     : impl_(std::make_unique<Impl>()), width_(width), height_(height) {
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw RenderError("image size " + std::to_string(width) + "x" + std::to_string(height) +
-                      " is outside 1x1 .. 16384x16384");
+  check_render_target(width, height, 1);
   FpTrapsMasked masked;  // llvmpipe's worker threads start here and inherit this state
   const int attribs[] = {OSMESA_FORMAT,
                          OSMESA_RGBA,

@@ -3,6 +3,7 @@
 // (three columns). Files are written whole to a temporary
 // and renamed (write_file_atomic, write_png), so a failure never leaves half a figure.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,17 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
   std::vector<Drawing> drawings;
   for (const PanelStats& p : figure.panels) drawings.push_back(layout_panel(p, o.width, o.height));
   if (figure.evolution) layout_evolution(*figure.evolution, o.width, o.height);  // checks it
+  std::optional<Drawing> combined;
+  if (o.combined) {  // its size too, before anything is drawn
+    combined = layout_figure(figure, o.width, o.height);
+    if (o.png && (combined->width > kMaxImageSide || combined->height > kMaxImageSide))
+      throw RenderError("panel size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                        " makes the combined figure " + std::to_string(combined->width) + "x" +
+                        std::to_string(combined->height) + ", more than " +
+                        std::to_string(kMaxImageSide) +
+                        " pixels a side (use a smaller --size, "
+                        "or --no-combined)");
+  }
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw RenderError(out_dir + ": cannot create the output directory: " + ec.message());
@@ -55,10 +67,7 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
   if (figure.evolution)
     write_drawing(layout_evolution(*figure.evolution, o.width, o.height),
                   (dir / "evolution").string(), o, written);
-  if (o.combined) {
-    write_drawing(layout_figure(figure, o.width, o.height), (dir / "figure_5").string(), o,
-                  written);
-  }
+  if (combined) write_drawing(*combined, (dir / "figure_5").string(), o, written);
   return written;
 }
 

@@ -140,6 +140,7 @@ void check_output_path(const std::string& path) {
 }
 
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {
+  check_render_target(style.width, style.height, style.samples);  // before simulating
   const Life life = source.recorded ? recorded_life(source, {time}) : simulate_life(source, {time});
   const ColorScale scale =
       make_color_scale(style.color, *life.model, {&life.frames[0]}, style.color_range);
@@ -159,6 +160,7 @@ void check_video_request(const VideoJob& job, const std::string& out) {
 VideoSummary render_video(const LifeSource& source, const FrameStyle& style, const VideoJob& job,
                           const std::string& out, const LogFn& log) {
   check_video_request(job, out);
+  check_render_target(style.width, style.height, style.samples);  // before simulating
   const std::string& source_path = source.path;
   const double end = job.end < 0 ? source.physics.duration : job.end;
   if (!(job.start >= 0 && end <= source.physics.duration + 1e-9 && job.start < end))

@@ -47,6 +47,16 @@ class RenderError : public Error {
 // one): call before any drawing. The pixels do not depend on the count.
 void limit_raster_threads(int threads);
 
+// The largest image side and the largest render target the renderer accepts: width x height x
+// samples (at least 1) up to 2^27, about 1 GiB of colour and depth (an 8K UHD frame with 4x
+// multisampling fits; 16384x16384 does not). Larger requests are refused before anything is
+// simulated or allocated (they reached 3.2 GB before OpenGL refused them).
+constexpr int kMaxImageSide = 16384;
+constexpr int64_t kMaxRenderTargetSamples = int64_t{1} << 27;
+// Throws RenderError naming the size when a width x height image with `samples` per pixel
+// (0 or 1: one) is outside these limits.
+void check_render_target(int width, int height, int samples);
+
 // An off-screen RGBA8 OpenGL context of width x height pixels with a 24-bit depth and 8-bit
 // stencil buffer, current on the calling thread after construction. Not copyable; use from
 // one thread. Sizes from 1x1 to 16384x16384 (1920x1080 and 3840x2160 are routine).
