@@ -118,6 +118,10 @@ class Robot:
         E0 in Pa (> 0 where a voxel is), phase in cycles, dev_rate alpha in 1/s (default 0).
         Simulated under the default preset with `treatment` unless physics is given later."""
         g = _lattice_array(geometry, "geometry", kinds="biu")
+        try:  # before anything is converted: a 1000^3 broadcast array costs nothing until copied
+            _core.check_lattice_size(*(min(n, 2**31 - 1) for n in g.shape))
+        except ValueError as e:
+            raise ValueError(f"geometry: {str(e).removeprefix('robot.size: ')}") from None
         e = _lattice_array(stiffness, "stiffness", g.shape)
         p = _lattice_array(phase, "phase", g.shape)
         d = _np.zeros(g.shape) if dev_rate is None else _lattice_array(dev_rate, "dev_rate", g.shape)

@@ -294,6 +294,9 @@ void bind_robot(pyb::module_& m) {
   m.def("load_robot", &load_robot, pyb::arg("path"));
   m.def("load_source", &load_source, pyb::arg("path"));
   m.def("from_flat", &from_flat);
+  // The lattice limit, checked on shapes alone before any array is converted or copied
+  // (std::invalid_argument becomes ValueError).
+  m.def("check_lattice_size", [](int nx, int ny, int nz) { check_lattice_size(nx, ny, nz); });
   m.def("demo_walker", [] {
     // What `plastivox simulate` runs without a robot file.
     PyRobot r;

@@ -208,3 +208,12 @@ def test_wrong_argument_types():
     with pytest.raises(ValueError, match="n:"):
         plastivox.Simulator(plastivox.demo_walker()).step(-3)
     assert plastivox.simulate_many([]) == []
+
+
+def test_from_arrays_checks_the_lattice_size_before_copying():
+    """Broadcast arrays of 1000^3 sites cost no memory; from_arrays used to convert them (7.45
+    GiB) before the engine's lattice limit was checked. The limit is checked on the shape."""
+    big = np.broadcast_to(np.ones(1, bool), (1000, 1000, 1000))
+    e = np.broadcast_to(np.full(1, 1e9), big.shape)
+    with pytest.raises(ValueError, match=r"geometry: a 1000x1000x1000 lattice has 1000000000 sites"):
+        plastivox.Robot.from_arrays(big, e, e)
