@@ -8,6 +8,7 @@
 // sanitizer job as well.
 #include <algorithm>
 #include <cstdint>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -185,6 +186,32 @@ TEST(FuzzInputs, DeepNestingAndNulBytesAreRefusedCheaply) {
             "deep.json: (file): not valid JSON: a NUL byte at offset " + std::to_string(at));
   // 32 levels are fine (the formats need 4).
   EXPECT_NO_THROW(parse_json_input(std::string(32, '[') + std::string(32, ']'), "ok.json"));
+}
+
+// Reading grows linearly with the input (issue 40: 400 000 loads took 75 s, quadratic in
+// nlohmann's callback parser). Four times the loads may cost at most eight times the CPU time
+// (quadratic: sixteen); the best of three runs each, so a busy machine does not decide it.
+TEST(FuzzInputs, RobotFileReadingIsLinearInItsLoads) {
+  const auto robot_with = [](int loads) {
+    std::string text = R"({"format": "plastivox-robot", "version": 1,
+      "lattice": {"nx": 2, "ny": 1, "nz": 1, "voxel_size": 0.01},
+      "voxels": [[0, 0, 0, 1e9, 0, 0], [1, 0, 0, 1e9, 0, 0]], "loads": [)";
+    for (int k = 0; k < loads; ++k) text += R"({"at": [0, 0, 0], "force": [0, 0, 1]},)";
+    text.back() = ']';
+    return text + "}";
+  };
+  const auto cpu_seconds = [](const std::string& text) {
+    double best = 1e9;
+    for (int k = 0; k < 3; ++k) {
+      const std::clock_t t0 = std::clock();
+      EXPECT_EQ(parse_robot_json(text, "loads.json").robot.loads.size() > 0, true);
+      best = std::min(best, static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
+    }
+    return best;
+  };
+  const double small = cpu_seconds(robot_with(20000)), large = cpu_seconds(robot_with(80000));
+  EXPECT_LT(large, 8 * small + 0.05)
+      << small << " s for 20 000 loads, " << large << " s for 80 000";
 }
 
 class FuzzResults : public testing::ScratchDirTest {};
