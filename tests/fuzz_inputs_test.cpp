@@ -214,6 +214,43 @@ TEST(FuzzInputs, RobotFileReadingIsLinearInItsLoads) {
       << small << " s for 20 000 loads, " << large << " s for 80 000";
 }
 
+// VXA text (issue 40): 200 000 attributes on one element took 81 s in the XML parser, and
+// 200 000 distinct unknown tags 28 s (a linear search per tag). Attributes past 64 on one
+// element are refused before parsing; unknown tags cost linear time (the same ratio rule as
+// the loads above).
+TEST(FuzzInputs, VxaAttributesAreBoundedAndUnknownTagsLinear) {
+  const std::string valid = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
+  std::string attrs;
+  for (int k = 0; k < 100000; ++k) attrs += " a" + std::to_string(k) + "=\"1\"";
+  std::string many = valid;
+  many.insert(many.find("<VXA") + 4, attrs);
+  try {
+    parse_vxa(many, "attrs.vxa");
+    ADD_FAILURE() << "accepted";
+  } catch (const VxaError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "attrs.vxa: an element has 100001 attributes, more than the 64 a VXA file can need");
+  }
+  const auto with_tags = [&](int n) {
+    std::string tags;
+    for (int k = 0; k < n; ++k) tags += "<T" + std::to_string(k) + "/>";
+    std::string text = valid;
+    text.insert(text.rfind("</VXA>"), tags);
+    return text;
+  };
+  const auto cpu_seconds = [](const std::string& text) {
+    double best = 1e9;
+    for (int k = 0; k < 3; ++k) {
+      const std::clock_t t0 = std::clock();
+      EXPECT_GT(parse_vxa(text, "tags.vxa").warnings.size(), 1000u);
+      best = std::min(best, static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
+    }
+    return best;
+  };
+  const double small = cpu_seconds(with_tags(10000)), large = cpu_seconds(with_tags(40000));
+  EXPECT_LT(large, 8 * small + 0.05) << small << " s for 10 000 tags, " << large << " s for 40 000";
+}
+
 class FuzzResults : public testing::ScratchDirTest {};
 
 TEST_F(FuzzResults, ResultsReader) {

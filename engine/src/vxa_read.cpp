@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "plastivox/atomic_file.hpp"
@@ -317,15 +318,43 @@ bool known_tag(std::string_view name) {
 }
 
 // One warning per unknown tag name, at its first occurrence (document order).
-void warn_unknown_tags(Reader& r, const XMLElement* e, std::vector<std::string>& seen) {
+void warn_unknown_tags(Reader& r, const XMLElement* e, std::set<std::string>& seen) {
   for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
     const std::string name = c->Name();
-    if (!known_tag(name) && std::find(seen.begin(), seen.end(), name) == seen.end()) {
-      seen.push_back(name);
-      r.warn(c, "unknown tag: ignored");
-    }
+    if (!known_tag(name) && seen.insert(name).second) r.warn(c, "unknown tag: ignored");
     warn_unknown_tags(r, c, seen);
   }
+}
+
+// The most attributes any element of the text has, counted without parsing (tinyxml2 checks
+// each new attribute against the element's earlier ones: quadratic in their number). Skips
+// comments, CDATA and quoted values; a count, not a validation.
+int most_attributes(const std::string& xml) {
+  int most = 0;
+  for (size_t i = 0; i < xml.size(); ++i) {
+    if (xml[i] != '<') continue;
+    if (xml.compare(i, 4, "<!--") == 0) {
+      i = std::min(xml.find("-->", i), xml.size());
+      continue;
+    }
+    if (xml.compare(i, 9, "<![CDATA[") == 0) {
+      i = std::min(xml.find("]]>", i), xml.size());
+      continue;
+    }
+    int n = 0;
+    char quote = 0;
+    for (++i; i < xml.size() && (quote || xml[i] != '>'); ++i) {
+      if (quote) {
+        if (xml[i] == quote) quote = 0;
+      } else if (xml[i] == '"' || xml[i] == '\'') {
+        quote = xml[i];
+      } else if (xml[i] == '=') {
+        ++n;
+      }
+    }
+    most = std::max(most, n);
+  }
+  return most;
 }
 
 // The first element named `name` at or below `e`, depth first.
@@ -401,6 +430,10 @@ std::string in_file_terms(const std::string& what, const XMLElement* vxa,
 
 VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) {
   Reader r(source_name);
+  if (const int n = most_attributes(xml_text); n > kMaxVxaAttributes)
+    throw VxaError(source_name + ": an element has " + std::to_string(n) +
+                   " attributes, more than the " + std::to_string(kMaxVxaAttributes) +
+                   " a VXA file can need");
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml_text.data(), xml_text.size()) != tinyxml2::XML_SUCCESS)
     throw VxaError(one_line(source_name + ": " + open_elements(xml_text, doc.ErrorLineNum()) +
@@ -415,7 +448,7 @@ VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) 
       v && parse_double(v, &vxa_version) && vxa_version > 1.1)
     r.warn(vxa, std::string("Version=\"") + v + "\" is newer than the authors' simulator (1.1)");
 
-  std::vector<std::string> unknown;
+  std::set<std::string> unknown;
   warn_unknown_tags(r, vxa, unknown);
 
   VxaRobot out;
