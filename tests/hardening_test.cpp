@@ -338,6 +338,18 @@ TEST_F(Hardening, OutputPathsThatAreDevicesPipesOrFoldersAreRefusedAndLeftAlone)
     }
 }
 
+// A kill during a checkpoint leaves "<out>.tmp.<pid>" behind; the next run on that file
+// removes it (its process is gone), and leaves alone a temporary of a process that lives.
+TEST_F(Hardening, StaleCheckpointTemporariesAreRemovedByTheNextRun) {
+  const std::string out = path("r.h5");
+  std::ofstream(out + ".tmp.9999999") << "half a checkpoint";  // above any pid_max: gone
+  const std::string alive = out + ".tmp." + std::to_string(::getppid());
+  std::ofstream(alive) << "someone else's";
+  ASSERT_EQ(run("evolve --config " + write("c.json", tiny_config(0)) + " --out " + out).status, 0);
+  EXPECT_FALSE(fs::exists(out + ".tmp.9999999"));
+  EXPECT_TRUE(fs::exists(alive));
+}
+
 // ---- 4. Runs that never end ----
 
 TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {

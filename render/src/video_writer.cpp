@@ -110,27 +110,6 @@ const char* muxer_for(const std::string& path) {
   return nullptr;
 }
 
-// Temporaries "<path>.tmp.<pid>" left by writers that were killed (their process is gone):
-// removed, so they cannot pile up beside the video.
-void remove_stale_temporaries(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path p(path);
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  const std::string prefix = p.filename().string() + ".tmp.";
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const std::string pid = name.substr(prefix.size());
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos)
-      continue;  // not a temporary of ours (pids have at most 7 digits)
-    const long id = std::stol(pid);
-    if (id == ::getpid() || ::kill(static_cast<pid_t>(id), 0) == 0 || errno != ESRCH) continue;
-    std::error_code rm;
-    fs::remove(e.path(), rm);
-  }
-}
-
 void VideoWriter::Impl::open_encoder() {
   const AVCodec* enc = find_encoder(codec);
   if (!enc) fail("video codec '" + codec + "' is not available in this FFmpeg build");

@@ -61,6 +61,7 @@ class RunLock {
       throw ResultsError(out + ": another plastivox evolve is running on this file (" + path +
                          " is locked)");
     }
+    remove_stale_temporaries(out);  // a kill during a checkpoint leaves "<out>.tmp.<pid>"
   }
   ~RunLock() {
     if (fd_ >= 0) ::close(fd_);

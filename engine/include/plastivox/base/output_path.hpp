@@ -12,4 +12,9 @@ namespace plastivox {
 // it before it creates anything.
 void check_output_path(const std::string& path);
 
+// Removes the temporaries "<path>.tmp.<pid>" that writers killed mid-write left beside path
+// (their process is gone), so they cannot pile up. Called where a kill is expected: a video
+// being encoded, a results file being checkpointed.
+void remove_stale_temporaries(const std::string& path);
+
 }  // namespace plastivox
