@@ -47,6 +47,8 @@ std::vector<std::pair<int, int>> extreme_pairs(const HausdorffMatrix& m, size_t 
 // Body-plan counts per treatment over the champions kept in the statistics (an excluded
 // artifact is not counted): counts[t][plan], plan in the order Pi, Gamma, Upsilon, other.
 std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r);
+// How many runs started from the hand-built Π, Γ, Υ bodies (initial_population: body-plans).
+int body_plan_start_runs(const StudyResult& r);
 
 // ---- study_format.cpp ----
 // Shortest decimal text that reads back to the same double (std::to_chars); "" when absent

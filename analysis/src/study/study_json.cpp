@@ -263,8 +263,6 @@ std::string stats_json(const StudyResult& r) {
   Json counts = Json::object();
   for (const auto& [t, k] : study::body_plan_counts(r))
     counts[to_string(t)] = {{"Pi", k[0]}, {"Gamma", k[1]}, {"Upsilon", k[2]}, {"other", k[3]}};
-  int seeded_runs = 0;  // initial_population: body-plans (docs/evolution.md)
-  for (const StudyInput& in : r.inputs) seeded_runs += in.body_plan_start ? 1 : 0;
   const Json j = {{"format", "plastivox-analysis"},
                   {"format_version", kStudyFormatVersion},
                   {"provenance", provenance(r)},
@@ -277,7 +275,7 @@ std::string stats_json(const StudyResult& r) {
                   {"body_plans",
                    {{"counts", counts},
                     {"threshold", BodyPlanOptions{}.threshold},
-                    {"runs_started_from_body_plans", seeded_runs}}},
+                    {"runs_started_from_body_plans", study::body_plan_start_runs(r)}}},
                   {"alpha_ranges", ranges},
                   {"audit",
                    {{"sinking_rule", r.sinking_rule},

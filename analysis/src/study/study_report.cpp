@@ -141,8 +141,7 @@ std::string summary(const StudyResult& r) {
        display(BodyPlanOptions{}.threshold, 2) +
        "); the confidence of each label is in the "
        "champions table.</p>\n";
-  int seeded = 0;
-  for (const StudyInput& in : r.inputs) seeded += in.body_plan_start ? 1 : 0;
+  const int seeded = study::body_plan_start_runs(r);
   if (seeded > 0)
     s += "<p class=\"note\" id=\"body-plan-start\">Generation 0 of " +
          (seeded == static_cast<int>(r.inputs.size())

@@ -177,6 +177,12 @@ std::vector<std::pair<int, int>> extreme_pairs(const HausdorffMatrix& m, size_t 
   return pairs;
 }
 
+int body_plan_start_runs(const StudyResult& r) {
+  int n = 0;
+  for (const StudyInput& in : r.inputs) n += in.body_plan_start ? 1 : 0;
+  return n;
+}
+
 std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r) {
   std::map<Treatment, std::array<int, 4>> counts;
   for (Treatment t : r.treatments) counts[t] = {0, 0, 0, 0};
