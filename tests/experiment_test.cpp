@@ -380,6 +380,85 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
   EXPECT_NE(again.out.find("already finished"), std::string::npos);
   EXPECT_NE(again.out.find("[analysis] up to date"), std::string::npos) << again.out;
   EXPECT_EQ(read_file_bytes(dir + "/stats.json"), before);
+
+  // A damaged folder is repaired by the same command: each output truncated, overwritten or
+  // deleted is found by its digest, named in the log and written again, byte for byte what
+  // the study wrote first (everything here is deterministic).
+  std::vector<std::string> outputs;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    const std::string rel = std::filesystem::relative(e.path(), dir).string();
+    if (e.is_regular_file() && !rel.starts_with("runs/") && !rel.starts_with(".stamps/") &&
+        !rel.starts_with("cache/") && !rel.starts_with("experiment."))
+      outputs.push_back(rel);
+  }
+  // HDF5 stamps its objects with their creation times, and analysis.h5's root attributes
+  // hold how long the analysis took, so it is compared by its data (h5dump).
+  const auto contents = [&](const std::string& f) {
+    if (!f.ends_with(".h5")) return read_file_bytes(dir + "/" + f);
+    const auto d = shell(
+        "h5dump -g /champions -g /hausdorff -g /inputs -g /panels -d /stats_json "
+        "-d /warnings " +
+        dir + "/" + f);
+    EXPECT_EQ(d.status, 0) << f;
+    return d.out;
+  };
+  std::map<std::string, std::string> original, expected;
+  for (const auto& f : outputs) {
+    original[f] = read_file_bytes(dir + "/" + f);
+    expected[f] = contents(f);
+  }
+  const std::vector<std::string> damaged{"champions.csv",
+                                         "statistics.csv",
+                                         "hausdorff.csv",
+                                         "analysis.h5",
+                                         "figures/panel_A.png",
+                                         "figures/panel_C.svg",
+                                         "figures/figure_5.png",
+                                         "figures/gallery_stress.png",
+                                         "figures/gallery_none.json",
+                                         "report.html"};
+  std::vector<std::string> all = damaged;
+  for (const auto& f : outputs)
+    if (f.starts_with("videos/") || f.starts_with("lives/")) all.push_back(f);
+  ASSERT_GT(all.size(), damaged.size() + 1) << "a video and the lives are in the study";
+  for (size_t i = 0; i < all.size(); ++i) {
+    ASSERT_TRUE(original.count(all[i])) << all[i];
+    const std::string p = dir + "/" + all[i];
+    if (i % 3 == 0) {
+      std::filesystem::resize_file(p, original[all[i]].size() / 2);  // truncated
+    } else if (i % 3 == 1) {
+      std::string bytes = original[all[i]];
+      bytes[bytes.size() / 3] ^= 0x20;  // one byte changed, same size
+      write_file_atomic(p, bytes);
+    } else {
+      std::filesystem::remove(p);
+    }
+  }
+  const auto repaired = run("--config " + cfg + " --out " + dir);
+  ASSERT_EQ(repaired.status, 0) << repaired.out;
+  // The rewritten analysis carries the date it was written on (stats.json, analysis.h5 and
+  // the report quote it); with that one string put back, every byte is the original's.
+  const auto date_of = [](const std::string& stats) {
+    return json::parse(stats)["provenance"]["date"].get<std::string>();
+  };
+  const std::string first_date = date_of(expected["stats.json"]);
+  const std::string new_date = date_of(read_file_bytes(dir + "/stats.json"));
+  ASSERT_EQ(first_date.size(), new_date.size());
+  for (const auto& f : outputs) {
+    ASSERT_TRUE(std::filesystem::exists(dir + "/" + f)) << f << "\n" << repaired.out;
+    std::string bytes = contents(f);
+    for (size_t at = 0; (at = bytes.find(new_date, at)) != std::string::npos; at += new_date.size())
+      bytes.replace(at, new_date.size(), first_date);
+    EXPECT_TRUE(bytes == expected[f]) << f << " not restored";
+  }
+  for (const auto& f : all) {
+    if (f == "report.html") continue;  // named below
+    EXPECT_NE(repaired.out.find(f), std::string::npos) << f << " not named\n" << repaired.out;
+  }
+  EXPECT_NE(repaired.out.find("rewrote report.html"), std::string::npos) << repaired.out;
+  const auto third = run("--config " + cfg + " --out " + dir);
+  ASSERT_EQ(third.status, 0) << third.out;
+  EXPECT_EQ(third.out.find("rewriting"), std::string::npos) << third.out;
 }
 
 TEST_F(ExperimentRun, RefusesBadInputWithOneLine) {

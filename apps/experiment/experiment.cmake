@@ -25,6 +25,7 @@ add_library(plastivox_experiment STATIC
   experiment/cost_estimate.cpp
   experiment/schedule.cpp
   experiment/progress.cpp
+  experiment/stamps.cpp
   experiment/experiment_run.cpp
   experiment/stage_evolution.cpp
   experiment/stage_analysis.cpp

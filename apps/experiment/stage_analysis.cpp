@@ -7,6 +7,7 @@
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "stamps.hpp"
 
 namespace plastivox::experiment {
 namespace {
@@ -35,17 +36,6 @@ analysis::StudyOptions study_options(const StageContext& ctx) {
   return o;
 }
 
-// The fingerprint recorded in an existing stats.json, or "" if there is none.
-std::string existing_fingerprint(const std::string& path) {
-  if (!fs::exists(path)) return "";
-  try {
-    const auto j = nlohmann::json::parse(read_file_bytes(path));
-    return j.at("provenance").at("fingerprint").get<std::string>();
-  } catch (const std::exception&) {
-    return "";  // unreadable or foreign: redo
-  }
-}
-
 }  // namespace
 
 const std::vector<std::string> kAnalysisOutputs{"stats.json", "champions.csv", "statistics.csv",
@@ -59,10 +49,12 @@ std::vector<std::string> stage_analysis(StageContext& ctx) {
     digests.push_back(evo::read_results(files.back()).content_digest);
   }
   const std::string fingerprint = analysis::study_fingerprint(digests, options);
-  bool outputs_current = !ctx.opt.force.count("analysis") &&
-                         existing_fingerprint(ctx.dir + "/stats.json") == fingerprint;
-  for (const auto& f : kAnalysisOutputs)
-    outputs_current = outputs_current && fs::exists(ctx.dir + "/" + f);
+  // Current when made from these runs with these options and every output still holds the
+  // bytes written (stamps.hpp): a damaged output has the whole analysis written again.
+  Stamps stamps(ctx.dir, "analysis");
+  const bool outputs_current =
+      !ctx.opt.force.count("analysis") &&
+      up_to_date(stamps, ctx.progress, "analysis", "outputs", fingerprint, kAnalysisOutputs);
   if (ctx.opt.force.count("analysis")) fs::remove_all(options.cache_dir);
 
   // Robustness simulations come from the per-champion cache when they were done before, so
@@ -85,6 +77,7 @@ std::vector<std::string> stage_analysis(StageContext& ctx) {
     }
   } else {
     analysis::write_study_outputs(*result, ctx.dir);
+    stamps.record("outputs", fingerprint, kAnalysisOutputs);
     const auto& t = result->timings;
     char buf[256];
     std::snprintf(buf, sizeof buf,

@@ -1,9 +1,10 @@
 // Stage 3: figure panels, champion galleries, the callus-growth video and the champions'
 // lives for the report's 3-D viewer.
 //
-// Each output is redrawn only when what it depends on changed: .stamps/rendering.json maps
-// each output group to a key made of the study fingerprint (the champions' content and the
-// analysis options) and the rendering settings that group uses.
+// Each output is redrawn only when what it depends on changed or its bytes are not what was
+// written: .stamps/rendering.json (stamps.hpp) maps each output group to a key made of the
+// study fingerprint (the champions' content and the analysis options) and the rendering
+// settings that group uses, and to the digests of the group's files.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,39 +26,13 @@
 #include "plastivox/render/panels.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "stamps.hpp"
 
 namespace plastivox::experiment {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-class Stamps {
- public:
-  explicit Stamps(std::string path) : path_(std::move(path)) {
-    try {
-      if (fs::exists(path_)) stamps_ = json::parse(read_file_bytes(path_));
-    } catch (const std::exception&) {
-      stamps_ = json::object();  // unreadable: everything is redrawn
-    }
-    if (!stamps_.is_object()) stamps_ = json::object();
-  }
-  bool current(const std::string& item, const std::string& key,
-               const std::vector<std::string>& files, const std::string& dir) const {
-    if (!stamps_.contains(item) || stamps_[item] != key) return false;
-    for (const auto& f : files)
-      if (!fs::exists(dir + "/" + f)) return false;
-    return true;
-  }
-  void record(const std::string& item, const std::string& key) {
-    stamps_[item] = key;
-    write_file_atomic(path_, stamps_.dump(1) + "\n");
-  }
-
- private:
-  std::string path_;
-  json stamps_ = json::object();
-};
 
 std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   const auto& r = ctx.config.rendering;
@@ -72,7 +47,8 @@ std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   stems.push_back("figure_5");
   for (const auto& stem : stems)
     for (const char* ext : {".png", ".svg"}) files.push_back("figures/" + stem + ext);
-  if (!ctx.opt.force.count("rendering") && stamps.current("figures", key, files, ctx.dir)) {
+  if (!ctx.opt.force.count("rendering") &&
+      up_to_date(stamps, ctx.progress, "rendering", "figures", key, files)) {
     ctx.progress.log("[rendering] figure panels up to date");
     return files;
   }
@@ -80,7 +56,7 @@ std::vector<std::string> render_figures(StageContext& ctx, Stamps& stamps) {
   fo.width = r.figure_width;
   fo.height = r.figure_height;
   const auto written = render::write_figures(figure, ctx.dir + "/figures", fo);
-  stamps.record("figures", key);
+  stamps.record("figures", key, files);
   ctx.progress.log("[rendering] figure panels A-F" +
                    std::string(figure.evolution ? " and evolution curves: " : ": ") +
                    std::to_string(written.size()) + " files");
@@ -153,7 +129,8 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
       if (g.champions.empty()) continue;  // a treatment with no run here (--run)
       out.galleries.push_back(g.file);
       out.galleries.push_back(g.sidecar);
-      if (!force && stamps.current(g.name, g.key, {g.file, g.sidecar}, ctx.dir)) {
+      if (!force &&
+          up_to_date(stamps, ctx.progress, "rendering", g.name, g.key, {g.file, g.sidecar})) {
         ctx.progress.log("[rendering] " + g.file + " up to date");
         continue;
       }
@@ -165,7 +142,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
   for (const auto& c : study.champions) life_files.push_back("lives/" + c.label + ".js");
   bool lives = false;
   if (ctx.opt.viewer) {
-    lives = force || !stamps.current("lives", lives_key, life_files, ctx.dir);
+    lives = force || !up_to_date(stamps, ctx.progress, "rendering", "lives", lives_key, life_files);
     if (!lives) {
       ctx.progress.log("[rendering] lives for the 3-D viewer up to date");
       out.lives = life_files;
@@ -242,7 +219,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
       bytes += fs::file_size(ctx.dir + "/" + links[j]->src);
     }
     render::remove_other_lives(ctx.dir, kept);
-    if (out.lives.size() == life_files.size()) stamps.record("lives", lives_key);
+    if (out.lives.size() == life_files.size()) stamps.record("lives", lives_key, life_files);
     std::snprintf(buf, sizeof buf,
                   "[rendering] lives/: %zu of %zu champions, %.1f MB, written in %.1f s "
                   "(thread-seconds)",
@@ -275,7 +252,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
                                                       {"tiles", tiles}}
                                                          .dump(1) +
                                                      "\n");
-    stamps.record(g.name, g.key);
+    stamps.record(g.name, g.key, {g.file, g.sidecar});
     ctx.progress.log("[rendering] " + g.file + ": " + std::to_string(layout.tiles.size()) +
                      (layout.tiles.size() == 1 ? " champion" : " champions"));
   }
@@ -301,7 +278,8 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
                           " " + std::to_string(r.video_width) + "x" +
                           std::to_string(r.video_height) + " " + std::to_string(r.video_fps) + " " +
                           r.video_color;
-  if (!ctx.opt.force.count("rendering") && stamps.current("video", key, {file}, ctx.dir)) {
+  if (!ctx.opt.force.count("rendering") &&
+      up_to_date(stamps, ctx.progress, "rendering", "video", key, {file})) {
     ctx.progress.log("[rendering] video up to date");
     return {file};
   }
@@ -319,7 +297,7 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
   const auto v = render::render_video_file(
       source, style, job, ctx.dir + "/" + file,
       [&](const std::string& m) { ctx.progress.status("[rendering] " + m); });
-  stamps.record("video", key);
+  stamps.record("video", key, {file});
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "[rendering] %s: %d frames, %.1f s of video (%s); simulated in %.1f s, drawn and "
@@ -333,8 +311,7 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
 }  // namespace
 
 std::vector<std::string> stage_rendering(StageContext& ctx) {
-  fs::create_directories(ctx.dir + "/.stamps");
-  Stamps stamps(ctx.dir + "/.stamps/rendering.json");
+  Stamps stamps(ctx.dir, "rendering");
   std::vector<std::string> out;
   if (ctx.config.rendering.figures)
     for (const auto& f : render_figures(ctx, stamps)) out.push_back(f);

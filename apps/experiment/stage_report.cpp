@@ -203,15 +203,22 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
 
   const std::string path = ctx.dir + "/report.html";
   const std::string html = analysis::report_html(*ctx.study, extras);
+  // The report is made from the current results every time: rewritten when its bytes differ
+  // (new results, or a report damaged or edited by hand), and left alone otherwise.
+  const bool existed = fs::exists(path);
   bool same = false;
-  if (fs::exists(path)) {
+  if (existed) {
     try {
       same = read_file_bytes(path) == html;
     } catch (const std::exception&) {
+      // unreadable: rewritten below
     }
   }
   if (!same) write_file_atomic(path, html);
-  ctx.progress.log(same ? "[report] report.html up to date" : "[report] wrote report.html");
+  ctx.progress.log(same      ? "[report] report.html up to date"
+                   : existed ? "[report] rewrote report.html (it differed from the report of "
+                               "these results)"
+                             : "[report] wrote report.html");
   return {"report.html"};
 }
 
