@@ -35,8 +35,9 @@ std::string number(double v) {
 }
 
 // Writes the life's frames to `path`: a recorded life (.h5) or a voxcraft-viz history.
+// The frames move into the file's record: a long recording is held once, not twice.
 void write_recording(const std::string& path, const std::string& source, const RobotDef& robot,
-                     const PhysicsDef& physics, const Model& model, const SimResult& r) {
+                     const PhysicsDef& physics, const Model& model, SimResult& r) {
   if (path.ends_with(".history")) {
     render::write_history_file(path, model, r.recording);
     return;
@@ -45,7 +46,7 @@ void write_recording(const std::string& path, const std::string& source, const R
   life.source = source;
   life.robot = robot;
   life.physics = physics;
-  life.recording = r.recording;
+  life.recording = std::move(r.recording);
   life.status = to_string(r.status);
   life.fitness = r.fitness;
   life.settled = r.settled;
@@ -144,13 +145,24 @@ int cmd_simulate(const Args& in) {
   StageTimings timings;
   SimOptions options;
   if (timed) options.timings = &timings;
-  if (!record.empty()) options.record_fps = fps;
-  const SimResult r = simulate(model, options);
+  if (!record.empty()) {
+    options.record_fps = fps;
+    // Refused before the life is simulated, not when memory runs out. A recorded life is
+    // held three times while it is written: the frames, the file's image in memory and its
+    // sealed bytes (a history file's text is larger per frame but written as it goes).
+    try {
+      check_recording_size(3 * recording_bytes(model.n, physics.duration, fps), "--fps");
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{e.what()};
+    }
+  }
+  SimResult r = simulate(model, options);
   // Health warnings (a body pressed into or sunk through the floor): on stderr always, and
   // in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 
+  const size_t frames = r.recording.frames.size();
   if (!record.empty()) write_recording(record, source, robot, physics, model, r);
 
   if (as_json) {
@@ -162,7 +174,7 @@ int cmd_simulate(const Args& in) {
           {"file", record},
           {"format", record.ends_with(".history") ? "voxcraft-viz history" : "plastivox-life"},
           {"fps", fps},
-          {"frames", r.recording.frames.size()}};
+          {"frames", frames}};
       summary = j.dump(1);
     }
     std::printf("%s\n", summary.c_str());
@@ -188,8 +200,7 @@ int cmd_simulate(const Args& in) {
     }
     if (!record.empty())
       std::printf("  recorded %s at %g fps to %s\n",
-                  count_of(static_cast<long long>(r.recording.frames.size()), "frame").c_str(), fps,
-                  record.c_str());
+                  count_of(static_cast<long long>(frames), "frame").c_str(), fps, record.c_str());
   }
   if (r.status != SimStatus::kFinished) {
     std::fprintf(stderr, "plastivox simulate: %s: %s: %s\n", source.c_str(),

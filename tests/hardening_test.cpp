@@ -396,6 +396,31 @@ TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
   EXPECT_FALSE(fs::exists(path("r.h5")));
 }
 
+TEST_F(Hardening, RecordingsTooLargeForMemoryAreRefusedBeforeSimulating) {
+  // The issue's case: 10,000 frames per second of the demo walker's 5.2 s life (it reached
+  // 3.5 GB on a stiff cube) is refused at once, naming the option and how to raise the limit.
+  const auto t0 = std::chrono::steady_clock::now();
+  Output o = run("simulate --record " + path("big.h5") + " --fps 10000");
+  EXPECT_EQ(o.status, 2);
+  expect_one_line(o, "--fps: the recording would need about ");
+  EXPECT_NE(o.out.find("more than the limit of 1024 MB"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("PLASTIVOX_MAX_RECORDING_MB"), std::string::npos) << o.out;
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+  EXPECT_FALSE(fs::exists(path("big.h5")));
+  // The limit is read: 1 MB refuses a recording of a short life that the default admits.
+  const std::string walker = walker_with(R"({"duration": 0.05, "settle_time": 0})");
+  o = run("simulate " + walker + " --record " + path("short.h5") + " --fps 1000");
+  EXPECT_EQ(o.status, 0) << o.out;
+  o = testing::shell("PLASTIVOX_MAX_RECORDING_MB=1 " + std::string(PLASTIVOX_CLI) + " simulate " +
+                     walker + " --record " + path("short.h5") + " --fps 1000 2>&1");
+  EXPECT_EQ(o.status, 2);
+  expect_one_line(o, "more than the limit of 1 MB");
+  o = testing::shell("PLASTIVOX_MAX_RECORDING_MB=0 " + std::string(PLASTIVOX_CLI) + " simulate " +
+                     walker + " --record " + path("short.h5") + " --fps 1000 2>&1");
+  EXPECT_EQ(o.status, 2);
+  expect_one_line(o, "PLASTIVOX_MAX_RECORDING_MB: expected a positive whole number of MB");
+}
+
 // ---- 5. Bodies that sink through the floor ----
 
 TEST_F(Hardening, SinkingThroughTheFloorIsInvalidByDefault) {

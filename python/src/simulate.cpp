@@ -75,7 +75,13 @@ pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& 
   SimResult r;
   {
     pyb::gil_scoped_release unlocked;
-    r = simulate(compile(robot.def, physics), options);
+    const Model model = compile(robot.def, physics);
+    // Refused before the life is simulated, not when memory runs out: the frames and the
+    // numpy arrays made from them are held at once.
+    if (record_fps > 0)
+      check_recording_size(2 * recording_bytes(model.n, physics.duration, record_fps),
+                           "record_fps");
+    r = simulate(model, options);
   }
   const std::string summary = sim_summary_json(r, physics, robot.source, PLASTIVOX_VERSION);
   const double seconds =
@@ -92,8 +98,13 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
   const SimOptions options = recording(record_fps);
   std::vector<PhysicsDef> physics;
   physics.reserve(robots.size());
-  for (const PyRobot* r : robots)
+  double recorded = 0;  // every life's frames (and arrays) are held at once, until returned
+  for (const PyRobot* r : robots) {
     physics.push_back(resolve_physics(r->physics, physics_json, treatment));
+    if (record_fps > 0)
+      recorded += 2 * recording_bytes(r->def.voxel_count(), physics.back().duration, record_fps);
+  }
+  check_recording_size(recorded, "record_fps");
   std::vector<SimResult> results(robots.size());
   std::vector<std::string> summaries(robots.size());
   {

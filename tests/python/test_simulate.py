@@ -232,3 +232,20 @@ def test_simulator_used_from_two_threads_at_once_raises_and_keeps_its_state():
     assert len(taken) + len(errors) == 4 and sum(taken) == sim.steps
     assert refused_reads + len(errors) > 0, "no thread ever met another one stepping"
     assert sim.state_hash == plastivox.simulate(robot).final_state_hash
+
+
+def test_recordings_too_large_for_memory_are_refused_before_simulating(monkeypatch):
+    # 10,000 frames per second of the walker's 5.2 s life is over the 1 GiB default, and 8 of
+    # a recording the limit admits alone are refused together (all are held until returned).
+    t0 = time.monotonic()
+    with pytest.raises(ValueError, match=r"record_fps: the recording would need about .* "
+                                         r"PLASTIVOX_MAX_RECORDING_MB"):
+        plastivox.simulate(plastivox.demo_walker(), record_fps=10000)
+    walker = plastivox.demo_walker()
+    plastivox.simulate(walker, record_fps=1000)  # ~0.4 GB: admitted
+    with pytest.raises(ValueError, match="more than the limit of 1024 MB"):
+        plastivox.simulate_many([walker] * 8, record_fps=1000)
+    assert time.monotonic() - t0 < 20
+    monkeypatch.setenv("PLASTIVOX_MAX_RECORDING_MB", "1")
+    with pytest.raises(ValueError, match="more than the limit of 1 MB"):
+        plastivox.simulate(walker, record_fps=1000)

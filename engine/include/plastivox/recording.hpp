@@ -3,10 +3,15 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "plastivox/base/env.hpp"
 
 namespace plastivox {
 
@@ -33,5 +38,36 @@ struct Recording {
   double fps = 0;             // frames per simulated second
   std::vector<Frame> frames;  // in time order
 };
+
+// Memory the frames of `voxels` voxels at `fps` frames per simulated second over a life of
+// `duration` seconds take (a caller that copies them counts each copy): duration * fps + 2 frames
+// (the first, the last and every 1/fps), each 10 doubles per voxel. An upper bound: a step yields
+// at most one frame.
+inline double recording_bytes(int64_t voxels, double duration, double fps) {
+  const double frames = duration * fps + 2;
+  return frames * static_cast<double>(voxels) * (10 * sizeof(double)) + frames * sizeof(Frame);
+}
+
+// The most recordings kept in memory at once may hold (one life's, or all of a batch's):
+// 1 GiB, or the environment variable PLASTIVOX_MAX_RECORDING_MB. Recordings streamed to a
+// renderer (SimOptions::on_frame) hold one frame and are not limited.
+inline double max_recording_bytes() {
+  return static_cast<double>(positive_env_limit("PLASTIVOX_MAX_RECORDING_MB", 1024, "MB")) *
+         (1 << 20);
+}
+
+// Throws std::invalid_argument, one line naming `what` (the option or argument that asked
+// for the frames), when a recording needs more than max_recording_bytes() of memory.
+inline void check_recording_size(double bytes, const std::string& what) {
+  const double limit = max_recording_bytes();
+  if (bytes <= limit) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "%s: the recording would need about %.3g MB of memory, more than the limit of "
+                "%.0f MB: record fewer frames per second or a shorter life, or raise the limit "
+                "with the environment variable PLASTIVOX_MAX_RECORDING_MB",
+                what.c_str(), bytes / (1 << 20), limit / (1 << 20));
+  throw std::invalid_argument(text);
+}
 
 }  // namespace plastivox
