@@ -3,6 +3,7 @@
 #include "schedule.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <queue>
 #include <tuple>
@@ -110,13 +111,64 @@ ScheduleResult pool(const Workload& w, const Layout& layout) {
   return res;
 }
 
+ScheduleResult replay(const Workload& w, const Layout& l, Policy policy) {
+  return policy == Policy::kPool ? pool(w, l) : run_by_run(w, l);
+}
+
+// `a` + (a - b) x k, field by field: a replay extended by k more times the difference
+// between two replays.
+ScheduleResult extend(const ScheduleResult& a, const ScheduleResult& b, double k) {
+  ScheduleResult r;
+  r.wall_seconds = a.wall_seconds + (a.wall_seconds - b.wall_seconds) * k;
+  r.busy_seconds = a.busy_seconds + (a.busy_seconds - b.busy_seconds) * k;
+  r.simulations =
+      a.simulations +
+      static_cast<int64_t>(std::llround(static_cast<double>(a.simulations - b.simulations) * k));
+  return r;
+}
+
 }  // namespace
 
-ScheduleResult simulate_schedule(const Workload& workload, const Layout& layout, Policy policy) {
-  const Layout l{std::max(1, layout.ranks), std::max(1, layout.threads)};
-  ScheduleResult res = policy == Policy::kPool ? pool(workload, l) : run_by_run(workload, l);
-  const double capacity = static_cast<double>(l.cores()) * res.wall_seconds;
-  res.utilization = capacity > 0 ? res.busy_seconds / capacity : 0;
+ScheduleResult simulate_schedule(const Workload& workload, const Layout& layout, Policy policy,
+                                 int64_t max_replayed) {
+  const int64_t kReplayJobs = std::max<int64_t>(max_replayed, 64);
+  Layout l{std::max(1, layout.ranks), std::max(1, layout.threads)};
+  const int64_t per_generation =
+      workload.generations > 1
+          ? static_cast<int64_t>(workload.jobs(0, 1).size())
+          : (workload.generations == 1 ? static_cast<int64_t>(workload.jobs(0, 0).size()) : 0);
+  Workload w = workload;
+  // Fewer runs: runs are alike, so a share of them on the same share of the cores (the pool)
+  // or one after another (run by run) takes the same time per run.
+  double run_scale = 1;
+  const int64_t round = per_generation * w.runs;  // one generation of every run
+  if (round > kReplayJobs / 4 && w.runs > 1) {
+    w.runs = static_cast<int>(
+        std::max<int64_t>(1, kReplayJobs / 4 / std::max<int64_t>(1, per_generation)));
+    run_scale = static_cast<double>(workload.runs) / w.runs;
+    if (policy == Policy::kPool)
+      l = {1, static_cast<int>(std::max<int64_t>(1, std::llround(l.cores() / run_scale)))};
+  }
+  // Fewer generations: after the first few, every generation costs the same in expectation,
+  // so the replay of g generations and of g / 2 give the cost of one more.
+  ScheduleResult res;
+  const int64_t g =
+      std::max<int64_t>(8, kReplayJobs / std::max<int64_t>(1, per_generation * w.runs));
+  if (w.generations > g) {
+    w.generations = static_cast<int>(g);
+    const ScheduleResult full = replay(w, l, policy);
+    w.generations = static_cast<int>(g / 2);
+    const ScheduleResult half = replay(w, l, policy);
+    res = extend(full, half, static_cast<double>(workload.generations - g) / (g - g / 2));
+  } else {
+    res = replay(w, l, policy);
+  }
+  if (policy == Policy::kRunByRun) res.wall_seconds *= run_scale;
+  res.busy_seconds *= run_scale;
+  res.simulations =
+      static_cast<int64_t>(std::llround(static_cast<double>(res.simulations) * run_scale));
+  const double capacity = static_cast<double>(layout.cores()) * res.wall_seconds;
+  res.utilization = capacity > 0 ? std::min(1.0, res.busy_seconds / capacity) : 0;
   return res;
 }
 

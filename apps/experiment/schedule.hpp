@@ -58,7 +58,12 @@ struct ScheduleResult {
   double utilization = 0;   // busy / (cores x wall), 0-1
 };
 
-// Replays `policy` on `workload` over `layout`. Deterministic; O(jobs log jobs).
-ScheduleResult simulate_schedule(const Workload& workload, const Layout& layout, Policy policy);
+// Replays `policy` on `workload` over `layout`. Deterministic. Up to `max_replayed`
+// candidates are replayed whole; past that, the first generations are replayed and extended (every
+// generation after the first few costs the same in expectation) and, when one generation of
+// every run is itself too many, a share of the runs is replayed on the same share of the
+// cores. The time taken is bounded (well under a second) at any size the configs allow.
+ScheduleResult simulate_schedule(const Workload& workload, const Layout& layout, Policy policy,
+                                 int64_t max_replayed = 200000);
 
 }  // namespace plastivox::experiment
