@@ -337,6 +337,7 @@ DiskEstimate estimate_disk(const ExperimentConfig& config, bool viewer) {
     const double life = 4.0 / 3.0 * (60 + 20 * frames + voxels * (8 + 13 * frames)) + kLifeMeta;
     d.viewer = static_cast<uint64_t>(kViewerScripts + runs * life);
   }
+  d.largest_checkpoint = static_cast<uint64_t>(run_file);
   d.largest_file = static_cast<uint64_t>(
       std::max({run_file, video, d.analysis / 2.0 + (viewer ? kViewerScripts : 0)}));
   return d;
@@ -350,7 +351,10 @@ void check_free_space(const ExperimentConfig& config, const std::string& dir, bo
   const uint64_t free_bytes = static_cast<uint64_t>(v.f_bavail) * v.f_frsize;
   const DiskEstimate d = estimate_disk(config, viewer);
   const uint64_t have = folder_bytes(dir);
-  const uint64_t need = (d.total() > have ? d.total() - have : 0) + d.largest_file;
+  // A folder that already holds the estimate's bytes has nothing more to write but rewrites;
+  // those are atomic, so a full disk fails them cleanly with nothing lost.
+  if (have >= d.total()) return;
+  const uint64_t need = d.total() - have + (have > 0 ? d.largest_file : d.largest_checkpoint);
   if (free_bytes < need)
     throw InputError(dir + ": the study needs about " + human_size(need) + " more on disk (" +
                      human_size(d.total()) + " in all) but only " + human_size(free_bytes) +

@@ -77,18 +77,22 @@ double rendering_seconds(const ExperimentConfig& config, double life_seconds, do
 // and video at their configured sizes. Constants calibrated against real studies on disk
 // (cost_estimate.cpp says which); a typical figure, not a bound.
 struct DiskEstimate {
-  uint64_t evolution = 0;     // runs/*.h5
-  uint64_t analysis = 0;      // stats.json, CSV tables, analysis.h5, report.html, cache/
-  uint64_t rendering = 0;     // figures/, videos/
-  uint64_t viewer = 0;        // lives/ and the 3-D viewer's scripts in report.html
-  uint64_t largest_file = 0;  // the biggest single output (atomic rewrites need it twice)
+  uint64_t evolution = 0;           // runs/*.h5
+  uint64_t analysis = 0;            // stats.json, CSV tables, analysis.h5, report.html, cache/
+  uint64_t rendering = 0;           // figures/, videos/
+  uint64_t viewer = 0;              // lives/ and the 3-D viewer's scripts in report.html
+  uint64_t largest_file = 0;        // the biggest single output (atomic rewrites need it twice)
+  uint64_t largest_checkpoint = 0;  // the biggest file a fresh study rewrites: a run's results
   uint64_t total() const { return evolution + analysis + rendering + viewer; }
 };
 DiskEstimate estimate_disk(const ExperimentConfig& config, bool viewer = true);
 
 // Refuses (InputError, one line naming dir and both sizes) when the file system holding dir
-// has less free space than the study still needs: the estimate less what dir already holds
-// (a resumed study), plus room for one temporary copy of the largest file. The environment
+// has less free space than the study still needs: the estimate less what dir already holds,
+// plus room for the temporary copy of the largest file rewritten in place. In a new folder
+// that is a run's results file (each checkpoint replaces it; every other output is written
+// once); a resumed study may rewrite any output, so there it is the largest file. A folder
+// that already holds the whole estimate is not refused (its rewrites are atomic). The environment
 // variable PLASTIVOX_SKIP_DISK_CHECK (non-empty) turns the check off.
 void check_free_space(const ExperimentConfig& config, const std::string& dir, bool viewer = true);
 
