@@ -163,6 +163,65 @@ TEST_F(Hardening, FullDiskDuringEvolveIsOneLineExitOneAndKeepsTheLastCheckpoint)
   EXPECT_EQ(evo::read_results(out).state.generations_done, 3);
 }
 
+TEST_F(Hardening, AFolderThatCannotBeSyncedAfterTheRenameIsAnError) {
+  // The results file is renamed into place, then its folder synced; an I/O error there used
+  // to be ignored (exit 0). The fault is injected into the real binary (LD_PRELOAD); under
+  // the sanitizers their runtime need not come first for this.
+  const std::string cfg = write("c.json", tiny_config(1));
+  const std::string env = std::string("ASAN_OPTIONS=${ASAN_OPTIONS}:verify_asan_link_order=0 ") +
+                          "LD_PRELOAD=" + PLASTIVOX_FAULT_FOLDER_SYNC + " ";
+  const std::string evolve =
+      std::string(PLASTIVOX_CLI) + " evolve --config " + cfg + " --threads 1 --out ";
+  Output o = testing::shell(env + evolve + path("fine.h5") + " 2>&1");
+  EXPECT_EQ(o.status, 0) << o.out;  // the library alone changes nothing
+  o = testing::shell(env + "PLASTIVOX_TEST_FAIL_FOLDER_SYNC=1 " + evolve + path("r.h5") + " 2>&1");
+  EXPECT_EQ(o.status, 1) << o.out;
+  const std::string last = o.out.substr(o.out.rfind('\n', o.out.size() - 2) + 1);
+  EXPECT_NE(last.find("plastivox evolve: error: " + path("r.h5") +
+                      ": written, but its folder could not be synced (Input/output error)"),
+            std::string::npos)
+      << o.out;
+}
+
+TEST_F(Hardening, AFinishedRunOnAReadOnlyMountIsReportedFinished) {
+  // Root ignores permissions, so as root (CI) the folder is a tmpfs remounted read-only;
+  // otherwise a folder without write permission shows the same.
+  const std::string dir = path("ro");
+  std::string why;
+  const bool mounted = mount_small_tmpfs(dir, why, "size=8m");
+  if (!mounted) fs::create_directories(dir);
+  struct Undo {
+    std::string dir;
+    bool mounted;
+    ~Undo() {
+      if (mounted) umount2(dir.c_str(), MNT_DETACH);
+      std::error_code ec;
+      fs::permissions(dir, fs::perms::owner_all, ec);
+    }
+  } undo{dir, mounted};
+  if (!mounted && geteuid() == 0) GTEST_SKIP() << why;
+  const std::string cfg = write("c.json", tiny_config(1));
+  const std::string out = dir + "/r.h5";
+  ASSERT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
+  ASSERT_EQ(run("evolve --config " + cfg + " --out " + dir + "/half.h5 --threads 1 --stop-after 0")
+                .status,
+            0);
+  if (mounted)
+    ASSERT_EQ(mount("tmpfs", dir.c_str(), "tmpfs", MS_REMOUNT | MS_RDONLY, nullptr), 0)
+        << std::strerror(errno);
+  else
+    fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
+  Output o = run("evolve --config " + cfg + " --out " + out + " --threads 1");
+  EXPECT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("already finished"), std::string::npos) << o.out;
+  // An unfinished run there still needs its lock and says why it cannot have it.
+  o = run("evolve --config " + cfg + " --out " + dir + "/half.h5 --threads 1");
+  EXPECT_EQ(o.status, 1) << o.out;
+  expect_one_line(o, "half.h5.lock: ");
+  EXPECT_NE(o.out.find("the run is not finished, so it must be written"), std::string::npos)
+      << o.out;
+}
+
 // Bytes of every file under dir.
 uint64_t bytes_under(const std::string& dir) {
   uint64_t sum = 0;
@@ -206,6 +265,26 @@ TEST_F(Hardening, ExperimentEstimatesItsDiskAndIsRefusedUpFrontWhenItCannotFit) 
   EXPECT_NE(last.find("PLASTIVOX_SKIP_DISK_CHECK=1"), std::string::npos) << last;  // override
   EXPECT_FALSE(fs::exists(out + "/runs")) << o.out;  // no evolution started
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30));
+}
+
+TEST_F(Hardening, AStudyThatFitsItsDiskIsNotRefused) {
+  // The case: the tiny study (2.7 MB written) was refused on a 3 MB disk, because
+  // room for a second copy of its largest file (report.html, written once) was demanded. A
+  // new study needs room only for a run's checkpoint beside it; a finished one reruns.
+  const std::string mnt = path("small");
+  std::string why;
+  if (!mount_small_tmpfs(mnt, why, "size=3m")) GTEST_SKIP() << why;
+  struct Unmount {
+    std::string dir;
+    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
+  } unmount{mnt};
+  const std::string out = mnt + "/s";
+  Output o = run("experiment --preset tiny --out " + out + " --threads 2");
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_GT(bytes_under(out), 2u << 20);
+  o = run("experiment --preset tiny --out " + out + " --threads 2");
+  EXPECT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("[report] report.html up to date"), std::string::npos) << o.out;
 }
 
 // ---- 2 and 3. Huge lattices and unbounded reads: refused before allocating ----

@@ -32,6 +32,18 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
     std::remove(tmp.c_str());
     throw InputError(path + ": cannot move the finished file into place: " + ec.message());
   }
+  // The rename is durable only once the folder is synced. A file system that cannot sync a
+  // folder says so with EINVAL (or ENOTSUP) and is let be; any other failure (an I/O error)
+  // means the new file may not survive a crash, and is reported.
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const int rc = fd < 0 ? -1 : ::fsync(fd);
+  const int sync_err = errno;
+  if (fd >= 0) ::close(fd);
+  if (rc != 0 && sync_err != EINVAL && sync_err != ENOTSUP)
+    throw InputError(path + ": written, but its folder could not be synced (" +
+                     std::strerror(sync_err) + "): the file may not survive a crash");
 }
 
 std::string read_file_bytes(const std::string& path, uint64_t max_bytes) {

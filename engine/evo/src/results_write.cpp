@@ -1,12 +1,10 @@
 // Writing the results file (layout: docs/results-format.md), atomically.
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
-#include <filesystem>
 
 #include "evo_build_info.hpp"
 #include "file_seal.hpp"
@@ -289,16 +287,6 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   h5::write_strings(c, cache.id(), "failure_reason", failure);
 }
 
-void fsync_path(const std::string& path, bool directory, const std::string& for_file) {
-  const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
-  if (fd < 0)
-    throw ResultsError(for_file + ": cannot open " + path + " to sync: " + std::strerror(errno));
-  const int rc = ::fsync(fd);
-  const int err = errno;
-  ::close(fd);
-  if (rc != 0 && !directory) throw ResultsError(for_file + ": fsync failed: " + std::strerror(err));
-}
-
 }  // namespace
 
 Provenance current_provenance(int threads) {
@@ -340,8 +328,6 @@ void write_results(const std::string& path, const RunState& s, const Provenance&
   } catch (const InputError& e) {  // a results-file error for the caller (and MPI's rank 0)
     throw ResultsError(e.what());
   }
-  const std::filesystem::path dir = std::filesystem::absolute(path).parent_path();
-  fsync_path(dir.string(), true, path);
 }
 
 }  // namespace plastivox::evo

@@ -54,8 +54,17 @@ class RunLock {
       throw ResultsError(e.what());
     }
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0)
-      throw ResultsError(out + ": cannot create lock file " + path + ": " + std::strerror(errno));
+    if (fd_ < 0) {
+      const std::string why =
+          out + ": cannot create lock file " + path + ": " + std::strerror(errno);
+      // A results file on a read-only mount (or in a folder this user cannot write) may
+      // still be a finished run, which needs no lock: the caller decides from the file.
+      if ((errno == EROFS || errno == EACCES) && std::filesystem::exists(out)) {
+        unwritable_ = why;
+        return;
+      }
+      throw ResultsError(why);
+    }
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       ::close(fd_);
       throw ResultsError(out + ": another plastivox evolve is running on this file (" + path +
@@ -66,11 +75,14 @@ class RunLock {
   ~RunLock() {
     if (fd_ >= 0) ::close(fd_);
   }
+  // Why no lock is held ("" when one is): the results file can be read but not written.
+  const std::string& unwritable() const { return unwritable_; }
   RunLock(const RunLock&) = delete;
   RunLock& operator=(const RunLock&) = delete;
 
  private:
   int fd_ = -1;
+  std::string unwritable_;
 };
 
 }  // namespace
@@ -114,6 +126,10 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
                              "--out file");
         decision = "resume";
       }
+      if (!lock->unwritable().empty() && !(found && found->state.finished()))
+        throw ResultsError(lock->unwritable() +
+                           " (the run is not finished, so it must be "
+                           "written)");
     } catch (const std::exception& e) {
       if (!cluster) throw;
       decision = std::string("error:") + e.what();
