@@ -108,21 +108,26 @@ class Hardening : public testing::ScratchDirTest {
 
 // ---- 1. A full disk: one line, exit 1, the previous results file intact ----
 
-// Mounts a tmpfs (2 MB unless options say) at dir; false (with the reason) when not root or mount
-// fails.
-bool mount_small_tmpfs(const std::string& dir, std::string& why,
-                       const std::string& options = "size=2m") {
-  if (geteuid() != 0) {
-    why = "needs root to mount a tmpfs (CI runs as root)";
-    return false;
+// A tmpfs (2 MB unless options say) mounted at dir for the object's life; `mounted` is false,
+// with the reason in `why`, when not root or the mount fails.
+struct SmallTmpfs {
+  explicit SmallTmpfs(const std::string& dir, const std::string& options = "size=2m") : dir(dir) {
+    if (geteuid() != 0) {
+      why = "needs root to mount a tmpfs (CI runs as root)";
+      return;
+    }
+    fs::create_directories(dir);
+    mounted = mount("tmpfs", dir.c_str(), "tmpfs", 0, options.c_str()) == 0;
+    if (!mounted) why = std::string("mount -t tmpfs failed: ") + std::strerror(errno);
   }
-  fs::create_directories(dir);
-  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, options.c_str()) != 0) {
-    why = std::string("mount -t tmpfs failed: ") + std::strerror(errno);
-    return false;
+  ~SmallTmpfs() {
+    if (mounted) umount2(dir.c_str(), MNT_DETACH);
   }
-  return true;
-}
+  SmallTmpfs(const SmallTmpfs&) = delete;
+  SmallTmpfs& operator=(const SmallTmpfs&) = delete;
+  std::string dir, why;
+  bool mounted = false;
+};
 
 // Fills the file system at dir with a ballast file until `leave` bytes are free.
 void fill_to(const std::string& dir, uint64_t leave) {
@@ -135,12 +140,8 @@ void fill_to(const std::string& dir, uint64_t leave) {
 
 TEST_F(Hardening, FullDiskDuringEvolveIsOneLineExitOneAndKeepsTheLastCheckpoint) {
   const std::string mnt = path("full");
-  std::string why;
-  if (!mount_small_tmpfs(mnt, why)) GTEST_SKIP() << why;
-  struct Unmount {
-    std::string dir;
-    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
-  } unmount{mnt};
+  const SmallTmpfs tmpfs(mnt);
+  if (!tmpfs.mounted) GTEST_SKIP() << tmpfs.why;
   const std::string cfg = write("c.json", tiny_config(3));
   const std::string out = mnt + "/e.h5";
   ASSERT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1 --stop-after 1").status,
@@ -187,19 +188,17 @@ TEST_F(Hardening, AFinishedRunOnAReadOnlyMountIsReportedFinished) {
   // Root ignores permissions, so as root (CI) the folder is a tmpfs remounted read-only;
   // otherwise a folder without write permission shows the same.
   const std::string dir = path("ro");
-  std::string why;
-  const bool mounted = mount_small_tmpfs(dir, why, "size=8m");
+  const SmallTmpfs tmpfs(dir, "size=8m");
+  if (!tmpfs.mounted && geteuid() == 0) GTEST_SKIP() << tmpfs.why;
+  const bool mounted = tmpfs.mounted;
   if (!mounted) fs::create_directories(dir);
-  struct Undo {
+  struct Writable {  // a folder made read-only is made writable again, so it can be removed
     std::string dir;
-    bool mounted;
-    ~Undo() {
-      if (mounted) umount2(dir.c_str(), MNT_DETACH);
+    ~Writable() {
       std::error_code ec;
       fs::permissions(dir, fs::perms::owner_all, ec);
     }
-  } undo{dir, mounted};
-  if (!mounted && geteuid() == 0) GTEST_SKIP() << why;
+  } writable{dir};
   const std::string cfg = write("c.json", tiny_config(1));
   const std::string out = dir + "/r.h5";
   ASSERT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
@@ -232,12 +231,8 @@ uint64_t bytes_under(const std::string& dir) {
 
 TEST_F(Hardening, ExperimentEstimatesItsDiskAndIsRefusedUpFrontWhenItCannotFit) {
   const std::string mnt = path("full");
-  std::string why;
-  if (!mount_small_tmpfs(mnt, why, "size=8m")) GTEST_SKIP() << why;
-  struct Unmount {
-    std::string dir;
-    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
-  } unmount{mnt};
+  const SmallTmpfs tmpfs(mnt, "size=8m");
+  if (!tmpfs.mounted) GTEST_SKIP() << tmpfs.why;
   // With room, the tiny preset runs, and the disk estimate printed first is within a factor
   // of two of what it wrote.
   const std::string out = mnt + "/X";
@@ -272,12 +267,8 @@ TEST_F(Hardening, AStudyThatFitsItsDiskIsNotRefused) {
   // room for a second copy of its largest file (report.html, written once) was demanded. A
   // new study needs room only for a run's checkpoint beside it; a finished one reruns.
   const std::string mnt = path("small");
-  std::string why;
-  if (!mount_small_tmpfs(mnt, why, "size=3m")) GTEST_SKIP() << why;
-  struct Unmount {
-    std::string dir;
-    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
-  } unmount{mnt};
+  const SmallTmpfs tmpfs(mnt, "size=3m");
+  if (!tmpfs.mounted) GTEST_SKIP() << tmpfs.why;
   const std::string out = mnt + "/s";
   Output o = run("experiment --preset tiny --out " + out + " --threads 2");
   ASSERT_EQ(o.status, 0) << o.out;
