@@ -6,27 +6,25 @@
 #include <gtest/gtest.h>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/simulator.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
 namespace {
 
-// Steps the stages as Simulator::step() does, checking the candidates after the contact stage.
-// Returns the number of (step, touching pair) checks made.
+// Steps the life in its two halves, checking the candidates between them (after the contact
+// stage). Returns the number of (step, touching pair) checks made.
 long check_every_touching_pair_is_listed(const Model& m, int steps) {
-  State s = make_initial_state(m);
-  Workspace w(m);
+  Simulator sim(m);
+  const State& s = sim.state();
   const double half_d = 0.5 * m.def.contact_diameter;
   std::vector<int> surface;
   for (int i = 0; i < m.n; ++i)
     if (m.surface[i]) surface.push_back(i);
   long touching = 0;
   for (int step = 0; step < steps && s.status == SimStatus::kRunning; ++step) {
-    compute_bond_forces(m, s, w);
-    follow_stiffness(m, s);
-    gather_voxel_forces(m, s, w);
-    apply_self_collisions(m, s, w);
-    const auto& partners = w.contact_grid.partners;
+    sim.step1();
+    const auto& partners = sim.workspace().contact_grid.partners;
     for (size_t a = 0; a < surface.size(); ++a) {
       for (size_t b = a + 1; b < surface.size(); ++b) {
         const int i = surface[a], j = surface[b];
@@ -41,11 +39,7 @@ long check_every_touching_pair_is_listed(const Model& m, int steps) {
         }
       }
     }
-    integrate(m, s, w);
-    actuate(m, s);
-    develop(m, s, w);
-    s.time += s.dt;
-    s.steps += 1;
+    sim.step2();
   }
   return touching;
 }

@@ -104,6 +104,11 @@ void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, Si
 // bonds see the sizes and stiffness left by the previous step; actuation for the next step
 // is set from the time at the start of this one; development reads this step's strains.
 void Simulator::step(StageTimings* t) {
+  step1(t);
+  step2(t);
+}
+
+void Simulator::step1(StageTimings* t) {
   const Model& m = *model_;
   State& s = state_;
   Workspace& w = *ws_;
@@ -113,12 +118,22 @@ void Simulator::step(StageTimings* t) {
          s.bond_prev_valid.size() == static_cast<size_t>(m.bond_count()) &&
          "the State was not made for this Model: restore only a State saved from a Simulator "
          "of the same compiled model");
-
   using T = StageTimings;
   run_stage(t, &T::bond_forces, [&] { compute_bond_forces(m, s, w); });
   run_stage(t, &T::time_step, [&] { follow_stiffness(m, s); });
   run_stage(t, &T::voxel_forces, [&] { gather_voxel_forces(m, s, w); });
   run_stage(t, &T::self_collisions, [&] { apply_self_collisions(m, s, w); });
+  between_halves_ = true;
+}
+
+void Simulator::step2(StageTimings* t) {
+  const Model& m = *model_;
+  State& s = state_;
+  Workspace& w = *ws_;
+  if (!between_halves_) step1(t);
+  if (s.status != SimStatus::kRunning) return;
+  between_halves_ = false;
+  using T = StageTimings;
   run_stage(t, &T::integrate, [&] { integrate(m, s, w); });
   run_stage(t, &T::actuate, [&] { actuate(m, s); });
   run_stage(t, &T::develop, [&] { develop(m, s, w); });
@@ -130,6 +145,7 @@ void Simulator::step(StageTimings* t) {
     s.com_settled = center_of_mass(s);
     s.settled = true;
   }
+  if (s.status == SimStatus::kRunning && s.time > m.def.duration) s.status = SimStatus::kFinished;
 }
 
 Frame capture_frame(const State& s) {
@@ -189,8 +205,9 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   FloorWatch floor;
   double next_progress = 0;
 
-  // Like Voxelyze, run until time first passes the duration.
-  while (s.time <= d.duration && s.status == SimStatus::kRunning) {
+  // Like Voxelyze, run until time first passes the duration (the Simulator then says
+  // kFinished).
+  while (s.status == SimStatus::kRunning) {
     // One frame per step at most under record_fps, as the recording always did.
     if (at_fps && s.time >= frame_time(frames)) take_frame();
     while (at_times && frames < last_frame && s.time >= frame_time(frames) && !stopped)
@@ -205,7 +222,7 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   }
   // The life ran to its end: frames due at the last state, and under record_fps the last
   // state itself, are still to take.
-  const bool whole_life = s.status == SimStatus::kRunning && s.time > d.duration && !stopped;
+  const bool whole_life = s.status == SimStatus::kFinished && !stopped;
   if (whole_life) {
     while (at_times && frames < last_frame && s.time >= frame_time(frames) && !stopped)
       take_frame();
@@ -213,7 +230,7 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   }
   if (o.progress && !stopped) o.progress(1.0);
 
-  r.status = whole_life ? SimStatus::kFinished : s.status;
+  r.status = s.status;  // kRunning for a life ended early by on_frame or frame_times
   r.failure = s.failure;
   r.steps = s.steps;
   r.sim_time = s.time;

@@ -140,7 +140,7 @@ class PySimulator {
     pyb::gil_scoped_release unlocked;
     int64_t done = 0;
     const State& s = sim_->state();
-    while (done < n && s.status == SimStatus::kRunning && s.time <= model_->def.duration) {
+    while (done < n && s.status == SimStatus::kRunning) {
       sim_->step();
       ++done;
     }
@@ -154,12 +154,7 @@ class PySimulator {
     return sim_->state();
   }
   const Model& model() const { return *model_; }
-  const char* status() const {
-    const State& s = state();
-    if (s.status == SimStatus::kRunning && s.time > model_->def.duration)
-      return to_string(SimStatus::kFinished);
-    return to_string(s.status);
-  }
+  const char* status() const { return to_string(state().status); }
 
   pyb::array_t<double> vectors(const std::vector<Vec3>& v, double scale) const {
     pyb::array_t<double> a({static_cast<pyb::ssize_t>(v.size()), pyb::ssize_t{3}});

@@ -65,15 +65,32 @@ class Simulator {
   // life then continues bit-identically (State holds everything that carries over).
   State& mutable_state() { return state_; }
 
-  // Advances one time step. Sets status to kUnstable (with a reason) instead of producing
-  // non-finite numbers; further calls then do nothing. Adds each stage's wall time to
-  // `timings` when given.
+  // Advances one time step: step1() then step2(). Sets status to kUnstable (with a reason)
+  // instead of producing non-finite numbers, and to kFinished once time passes the life's
+  // duration (as Voxelyze runs until time first passes it); further calls then do nothing.
+  // Adds each stage's wall time to `timings` when given.
   void step(StageTimings* timings = nullptr);
+
+  // The two halves of a step, as MuJoCo splits mj_step into mj_step1 and mj_step2, so a
+  // controller can read and act between them. The stage order is step()'s either way.
+  //   step1: what the present configuration implies: every bond's strain, stress and forces
+  //          (the development stimuli come from them), the time step, each voxel's forces
+  //          with gravity and floor contact, and self-contacts (workspace()).
+  //   step2: acts on them: integrates, sets each voxel's actuated size for the next step,
+  //          develops stiffness, advances time, and ends the life once time passes the
+  //          duration. It runs step1 first when step1 was not called since the last step2.
+  void step1(StageTimings* timings = nullptr);
+  void step2(StageTimings* timings = nullptr);
+
+  // The scratch of the current step, as step1 leaves it (engine/src/workspace.hpp: bond
+  // strains and stresses, forces, contact candidates); for tests and controllers.
+  const Workspace& workspace() const { return *ws_; }
 
  private:
   const Model* model_;
   State state_;
   std::unique_ptr<Workspace> ws_;
+  bool between_halves_ = false;  // step1 ran, step2 not yet
 };
 
 // How a life met the floor, graded from its deepest penetration (SimResult::floor_depth).
