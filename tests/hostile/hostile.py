@@ -1164,6 +1164,36 @@ def gen_interruption(h):
         for f in os.listdir(d):
             if f.startswith("kill-%03d" % i):
                 os.remove(os.path.join(d, f))
+    # Two processes on one results file at once: the lock lets one through, the other gets
+    # one line; the file ends at the uninterrupted digest.
+    for i in range(h.args.kills // 9):
+        out = "%s/twice-%03d.h5" % (d, i)
+        argv = [h.exe, "evolve", "--config", cfg, "--out", out, "--threads", "1"]
+        start = time.time()
+        first = h.spawn(argv)
+        time.sleep(h.rng.uniform(0.0, 0.3))
+        r2 = h.run(argv)
+        r1 = h.finish(first, start)
+        o1, why1 = h.classify(r1, "either")
+        o2, why2 = h.classify(r2, "either")
+        outcome, reason = (o1, why1) if o1 in DEFECTS else (o2, why2)
+        if outcome not in DEFECTS:
+            if r1["rc"] != 0 and r2["rc"] != 0:
+                outcome, reason = "wrong", "both refused: " + last_line(r2["err"])
+            else:
+                r = h.run(argv)  # whichever was refused: the same command again finishes
+                got = digest_of(h.pv("inspect", out, "--json"))
+                if got != h.long_digest:
+                    outcome, reason = "lost", "two writers left digest %s, not %s" % (
+                        got, h.long_digest)
+                else:
+                    outcome, reason = "accepted", "second writer: " + last_line(r2["err"])
+        repro = "cd %s && (%s evolve --config %s --out %s --threads 1 &) ; the same again" % (
+            d, h.exe, cfg, out)
+        h.record(cat, "two evolves on one file", repro, outcome, reason, r2)
+        for f in os.listdir(d):
+            if f.startswith("twice-%03d" % i):
+                os.remove(os.path.join(d, f))
     # Kills during a whole study, then the same command: the runs must end identical.
     x = b + "/experiment.json"
     ref = {f: digest_of(h.pv("inspect", b + "/study/runs/" + f, "--json"))
