@@ -43,7 +43,12 @@ std::string take_option(Args& args, const std::string& name, const std::string& 
   std::string value = *(it + 1);
   // Empty is never a value: it would read as "not given" (or as 0) without a word.
   if (value.empty()) throw UsageError{"option " + name + " needs a value, got ''"};
+  // Nor is another option: "--out --time 2" would write a file named "--time".
+  if (value.starts_with("--"))
+    throw UsageError{"option " + name + " needs a value, got the option " + value};
   args.erase(it, it + 2);
+  if (std::find(args.begin(), args.end(), name) != args.end())
+    throw UsageError{"option " + name + " is given more than once"};
   return value;
 }
 
@@ -63,6 +68,8 @@ int parse_count(const std::string& s, const std::string& option) {
 bool read_number(const std::string& text, double& v) {
   size_t used = 0;
   v = 0;
+  // Decimal only: std::stod also reads hexadecimal ("0x0"), "inf" and "nan".
+  if (text.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;
   try {
     v = std::stod(text, &used);
   } catch (...) {

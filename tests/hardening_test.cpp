@@ -755,12 +755,29 @@ TEST_F(Hardening, BadCommandLineValuesExitTwo) {
        "option --time needs a value, got ''"},
       {"experiment --preset tiny --out " + path("e") + " --threads ''",
        "option --threads needs a value, got ''"},
+      // Nor is another option: these wrote files and folders named "--time", "--size",
+      // "--format" and "--threads".
+      {"render /nonexistent.json --out --time 1",
+       "option --out needs a value, got the option --time"},
+      {"gallery " + path("none.h5") + " --out --size 640x480",
+       "option --out needs a value, got the option --size"},
+      {"figures " + path("stats.json") + " --out --format png",
+       "option --out needs a value, got the option --format"},
+      {"evolve --config " + path("c.json") + " --out --threads 1",
+       "option --out needs a value, got the option --threads"},
+      // An option given twice was reported as unknown; hexadecimal was read as a number.
+      {"evolve --config " + path("c.json") + " --out " + path("r.h5") + " --threads 1 --threads 2",
+       "option --threads is given more than once"},
+      {"video /nonexistent.json --out " + path("v.mp4") + " --start 0x0",
+       "--start expects a number, got '0x0'"},
   };
   for (const auto& c : cases) {
     const Output o = run(c.args);
     EXPECT_EQ(o.status, 2) << c.args << "\n" << o.out;
     expect_one_line(o, c.expect);
   }
+  for (const char* made : {"--time", "--size", "--format", "--threads", "--threads.lock"})
+    EXPECT_FALSE(fs::exists(made)) << made;
   // A directory passed as a robot says so (it used to be "not valid JSON").
   const Output o = run("simulate " + dir_.string());
   EXPECT_EQ(o.status, 1);
