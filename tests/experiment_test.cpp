@@ -60,6 +60,22 @@ TEST(ExperimentConfig, ErrorsNameTheirField) {
     return j.dump();
   };
   EXPECT_EQ(error_of("{"), error_of("{")) << "deterministic";
+  // Sizes the rendering stage cannot draw are refused with the config, not after evolution.
+  auto rendering = [](const json& fields) {
+    json j = micro_config();
+    j["rendering"].update(fields);
+    return j.dump();
+  };
+  EXPECT_NE(error_of(rendering({{"figure_size", "150x150"}}))
+                .find("study.json: rendering.figure_size: panel size 150x150 is outside 200x200"),
+            std::string::npos);
+  EXPECT_NE(error_of(rendering({{"figure_size", "6000x600"}}))
+                .find("rendering.figure_size: panel size 6000x600 makes the combined figure"),
+            std::string::npos);
+  EXPECT_NE(error_of(rendering({{"gallery_size", "160x120"}}))
+                .find("rendering.gallery_size: gallery: image too narrow"),
+            std::string::npos);
+  EXPECT_EQ(error_of(rendering({{"figure_size", "150x150"}, {"figures", false}})), "(accepted)");
   EXPECT_NE(error_of("{").find("study.json: (file): not valid JSON"), std::string::npos);
   EXPECT_NE(error_of(with("colour", 1)).find("study.json: colour: unknown field"),
             std::string::npos);

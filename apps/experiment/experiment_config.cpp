@@ -11,6 +11,8 @@
 #include "experiment_presets.hpp"  // generated from assets/presets/experiment-*.json
 #include "plastivox/atomic_file.hpp"
 #include "plastivox/json_input.hpp"
+#include "plastivox/render/gallery.hpp"
+#include "plastivox/render/panels.hpp"
 #include "plastivox/robot_file.hpp"
 
 namespace plastivox::experiment {
@@ -44,6 +46,32 @@ void size(const json& j, const std::string& src, const std::string& field, int& 
 
 std::string size_text(int w, int h) {
   return std::to_string(w) + "x" + std::to_string(h);
+}
+
+// What the rendering stage would refuse, refused here, before any evolution: the figure
+// panels' size (and their combined figure) and a gallery's layout of one treatment's runs.
+void check_rendering_sizes(const ExperimentConfig& c, const std::string& src) {
+  const RenderSettings& r = c.rendering;
+  try {
+    if (r.figures) {
+      render::FigureOptions fo;
+      fo.width = r.figure_width;
+      fo.height = r.figure_height;
+      render::check_figure_size(fo, 6);  // panels A-F
+    }
+  } catch (const std::exception& e) {
+    fail(src, "rendering.figure_size", e.what());
+  }
+  try {
+    if (r.galleries) {
+      render::GalleryStyle style;
+      style.width = r.gallery_width;
+      style.height = r.gallery_height;
+      render::check_gallery_size(style, static_cast<int>(c.seeds.size()));
+    }
+  } catch (const std::exception& e) {
+    fail(src, "rendering.gallery_size", e.what());
+  }
 }
 
 void parse_analysis(const json& v, const std::string& src, AnalysisSettings& a) {
@@ -238,6 +266,7 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
     fail(src, "analysis.generation",
          "generation " + std::to_string(c.analysis.generation) + " is after the last (" +
              std::to_string(c.evolution.generations) + ")");
+  check_rendering_sizes(c, src);
   return c;
 }
 

@@ -2,6 +2,8 @@
 // curves as DIR/evolution.svg and .png, and all panels together as DIR/figure_5.svg and .png
 // (three columns). Files are written whole to a temporary
 // and renamed (write_file_atomic, write_png), so a failure never leaves half a figure.
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -32,12 +34,24 @@ void write_drawing(const Drawing& d, const std::string& stem, const FigureOption
 
 }  // namespace
 
+void check_figure_size(const FigureOptions& o, int panels) {
+  const std::string size = std::to_string(o.width) + "x" + std::to_string(o.height);
+  if (o.width < kMinSide || o.height < kMinSide || o.width > kMaxSide || o.height > kMaxSide)
+    throw RenderError("panel size " + size + " is outside " + std::to_string(kMinSide) + "x" +
+                      std::to_string(kMinSide) + " .. " + std::to_string(kMaxSide) + "x" +
+                      std::to_string(kMaxSide));
+  // The combined figure: 3 columns, as layout_figure lays it out.
+  const int columns = std::max(1, std::min(3, panels)), rows = (panels + columns - 1) / columns;
+  const int64_t w = int64_t{o.width} * columns, h = int64_t{o.height} * rows;
+  if (o.combined && o.png && (w > kMaxImageSide || h > kMaxImageSide))
+    throw RenderError("panel size " + size + " makes the combined figure " + std::to_string(w) +
+                      "x" + std::to_string(h) + ", more than " + std::to_string(kMaxImageSide) +
+                      " pixels a side (use smaller panels or, with plastivox figures, --no-combined)");
+}
+
 std::vector<std::string> write_figures(const StatsFigure& figure, const std::string& out_dir,
                                        const FigureOptions& o) {
-  if (o.width < kMinSide || o.height < kMinSide || o.width > kMaxSide || o.height > kMaxSide)
-    throw RenderError("panel size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                      " is outside " + std::to_string(kMinSide) + "x" + std::to_string(kMinSide) +
-                      " .. " + std::to_string(kMaxSide) + "x" + std::to_string(kMaxSide));
+  check_figure_size(o, static_cast<int>(figure.panels.size()));
   if (!o.png && !o.svg) throw RenderError("no output format chosen (png, svg or both)");
   if (figure.panels.empty()) throw StatsError(figure.source + ": no panels to draw");
   // Lay every panel out before writing anything, so bad data stops the run with no files.
@@ -45,16 +59,7 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
   for (const PanelStats& p : figure.panels) drawings.push_back(layout_panel(p, o.width, o.height));
   if (figure.evolution) layout_evolution(*figure.evolution, o.width, o.height);  // checks it
   std::optional<Drawing> combined;
-  if (o.combined) {  // its size too, before anything is drawn
-    combined = layout_figure(figure, o.width, o.height);
-    if (o.png && (combined->width > kMaxImageSide || combined->height > kMaxImageSide))
-      throw RenderError("panel size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                        " makes the combined figure " + std::to_string(combined->width) + "x" +
-                        std::to_string(combined->height) + ", more than " +
-                        std::to_string(kMaxImageSide) +
-                        " pixels a side (use a smaller --size, "
-                        "or --no-combined)");
-  }
+  if (o.combined) combined = layout_figure(figure, o.width, o.height);
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw RenderError(out_dir + ": cannot create the output directory: " + ec.message());

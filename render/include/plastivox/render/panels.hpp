@@ -102,4 +102,10 @@ struct FigureOptions {
 std::vector<std::string> write_figures(const StatsFigure& figure, const std::string& out_dir,
                                        const FigureOptions& options);
 
+// Throws RenderError (one line) when panels of options.width x options.height cannot be
+// drawn: each side in [200, 8192], and the combined PNG of `panels` panels (3 columns) at
+// most kMaxImageSide pixels a side. write_figures checks it; a study checks it from its
+// config, before any evolution.
+void check_figure_size(const FigureOptions& options, int panels);
+
 }  // namespace plastivox::render
