@@ -494,12 +494,30 @@ def _cell(text):
     return text
 
 
-def _read_table(path):
+def _read_table(path, columns, rows=None):
+    """The rows of a CSV table plastivox wrote, checked: its header must hold `columns` and,
+    when `rows` is given, it must have that many rows (a damaged or foreign table is an
+    InputError naming the file, never rows of nonsense)."""
     try:
         with open(path, newline="") as f:
-            return [{k: _cell(v) for k, v in row.items()} for row in _csv.DictReader(f)]
+            reader = _csv.DictReader(f)
+            header = reader.fieldnames or []
+            missing = [c for c in columns if c not in header]
+            if missing:
+                raise InputError(f"{path}: not a plastivox table: no column {missing[0]!r} "
+                                 f"(a damaged file? rerun the analysis)")
+            raw = list(reader)
+            if any(None in row or None in row.values() for row in raw):  # DictReader's marks
+                raise InputError(f"{path}: a row's cells do not match the header (a damaged file?)")
+            table = [{k: _cell(v) for k, v in row.items()} for row in raw]
     except OSError as e:
         raise InputError(f"{path}: cannot read: {e.strerror}") from None
+    except (_csv.Error, UnicodeDecodeError) as e:
+        raise InputError(f"{path}: not a readable CSV table: {e}") from None
+    if rows is not None and len(table) != rows:
+        raise InputError(f"{path}: {len(table)} rows where stats.json lists {rows} "
+                         f"(a damaged file? rerun the analysis)")
+    return table
 
 
 def read_study(folder):
@@ -515,8 +533,13 @@ def read_study(folder):
         raise InputError(f"{stats_path}: not valid JSON: {e}") from None
     if not isinstance(stats, dict) or stats.get("format") != "plastivox-analysis":
         raise InputError(f"{stats_path}: format: expected \"plastivox-analysis\"")
-    return Study(folder, stats, _read_table(_os.path.join(folder, "champions.csv")),
-                 _read_table(_os.path.join(folder, "statistics.csv")))
+    champions = stats.get("champions")
+    return Study(folder, stats,
+                 _read_table(_os.path.join(folder, "champions.csv"),
+                             ("label", "treatment", "seed", "fitness", "excluded"),
+                             len(champions) if isinstance(champions, list) else None),
+                 _read_table(_os.path.join(folder, "statistics.csv"),
+                             ("kind", "panel", "metric", "treatment", "mean")))
 
 
 # --- rendering -------------------------------------------------------------------------

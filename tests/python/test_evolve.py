@@ -117,6 +117,23 @@ def test_read_study(tiny_run, tmp_path):
     assert study.statistics and all("kind" in row for row in study.statistics)
     with pytest.raises(plastivox.InputError, match="stats.json"):
         plastivox.read_study(tmp_path)
+    # Damaged tables are refused, naming the file, not read as rows of nonsense.
+    import shutil
+    for name, text, expect in [
+            ("champions.csv", "damaged\n" * 7, "not a plastivox table: no column 'label'"),
+            ("champions.csv", None, "2 rows where stats.json lists 1"),
+            ("statistics.csv", "a,b\n1,2\n", "not a plastivox table: no column 'kind'"),
+            ("champions.csv", "\x00\xff\n", None)]:
+        damaged = tmp_path / f"damaged-{name}-{len(text or '')}"
+        shutil.copytree(study_dir, damaged)
+        table = damaged / name
+        if text is None:  # one row too many
+            lines = table.read_text().splitlines(keepends=True)
+            table.write_text("".join(lines + lines[1:]))
+        else:
+            table.write_bytes(text.encode("latin-1"))
+        with pytest.raises(plastivox.InputError, match=name + (": " + expect if expect else "")):
+            plastivox.read_study(damaged)
 
 
 def test_ctrl_c_from_outside_during_a_long_run(tmp_path):
