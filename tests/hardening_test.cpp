@@ -778,6 +778,12 @@ TEST_F(Hardening, BadCommandLineValuesExitTwo) {
   }
   for (const char* made : {"--time", "--size", "--format", "--threads", "--threads.lock"})
     EXPECT_FALSE(fs::exists(made)) << made;
+  // An unknown codec is refused before the life is simulated, not after.
+  const auto t0 = std::chrono::steady_clock::now();
+  const Output v = run("video " + walker_with("{}") + " --codec vp9 --out " + path("v.mp4"));
+  EXPECT_EQ(v.status, 1);
+  expect_one_line(v, "--codec: unknown video codec 'vp9'");
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(2));
   // A directory passed as a robot says so (it used to be "not valid JSON").
   const Output o = run("simulate " + dir_.string());
   EXPECT_EQ(o.status, 1);

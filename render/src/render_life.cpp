@@ -154,6 +154,9 @@ std::vector<uint8_t> render_frame(const LifeSource& source, double time, const F
 void check_video_request(const VideoJob& job, const std::string& out) {
   if (!(job.fps > 0 && job.fps <= 1000)) throw RenderError("--fps must be in (0, 1000]");
   if (job.stride < 1) throw RenderError("--stride must be a positive whole number");
+  if (job.codec != "auto" && job.codec != "h264" && job.codec != "mpeg4")
+    throw RenderError("--codec: unknown video codec '" + job.codec +
+                      "' (expected auto, h264 or mpeg4)");
   check_output_path(out);
 }
 
