@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -54,9 +55,29 @@ struct State {
 // The state at t = 0: voxels at rest positions, E = E0, dt from E0.
 State make_initial_state(const Model& model);
 
-// 64-bit FNV-1a hash of the state, bit for bit: every field but `size`, which is the
-// actuation of the previous step's time and stiffness (both hashed). Leaving it out keeps
-// every hash recorded before it moved here from the workspace (tests/golden_*_test.cpp).
+// The fields of State, described once: what each holds, its shape, unit and frame, and
+// where its bytes are. The table drives state_hash (and is the list save/restore, recorded
+// lives and the Python module's arrays follow). Shapes: "1" one value, "n" per voxel,
+// "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w: Eigen's order),
+// "bonds" per bond. `failure` is text that explains `status` and is not a field here.
+struct StateFieldBytes {
+  const void* data = nullptr;
+  size_t count = 0;        // values (doubles, bytes or integers), all components included
+  size_t value_bytes = 0;  // bytes per value
+};
+struct StateField {
+  const char* name;
+  const char* shape;
+  const char* unit;
+  const char* frame;
+  const char* meaning;
+  StateFieldBytes (*bytes)(const State&);
+};
+extern const std::vector<StateField> kStateFields;
+
+// 64-bit FNV-1a hash of the state, bit for bit: for every field of kStateFields in order,
+// its value count and then its bytes. Every field that affects the future is in it; two
+// states with the same hash continue the same way.
 uint64_t state_hash(const State& state);
 
 // Centre of mass of all voxels, m (equal masses): of a state, or of voxel centres as a
