@@ -17,7 +17,11 @@ add_library(plastivox_render
   ${CMAKE_CURRENT_LIST_DIR}/src/life.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/history_file.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/recorded_life.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/src/viewer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/viewer_pack.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/base64.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/viewer_page.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/shown_life.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/report_lives.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/camera_path.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene_gl.cpp

@@ -1,6 +1,7 @@
 // State's field table (kStateFields, state.hpp): it covers every field, drives state_hash,
-// and matches docs/engine.md; and a life driven through the public halves of the step ends
-// where simulate() does.
+// and matches docs/engine.md; a life driven through the public halves of the step ends where
+// simulate() does; and a State copied into another Simulator carries everything the rest of
+// the life depends on.
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -84,6 +85,29 @@ TEST(SimulatorStages, ALifeDrivenThroughStep1AndStep2EndsAtSimulatesHash) {
   // A finished life takes no more steps.
   sim.step();
   EXPECT_EQ(sim.state().steps, whole.steps);
+}
+
+// State is the whole state: a life stopped 1 s in (developing, actuated, stiffness and dt
+// changing every step), its State copied into a new Simulator and continued, ends at the
+// same bits as the uninterrupted life.
+TEST(Determinism, CopiedStateContinuesBitIdentically) {
+  for (Treatment t : {Treatment::kStress, Treatment::kPressure}) {
+    PhysicsDef d = preset_gecco2018_code();
+    d.treatment = t;
+    d.duration = 1.5;
+    const Model m = compile(demo_walker(), d);
+    const SimResult whole = simulate(m);
+    ASSERT_EQ(whole.status, SimStatus::kFinished) << whole.failure;
+
+    Simulator first(m);
+    testing::run_until(first, 1.0);
+    ASSERT_EQ(first.state().status, SimStatus::kRunning);
+    Simulator second(m);
+    second.mutable_state() = first.state();
+    while (second.state().status == SimStatus::kRunning) second.step();
+    EXPECT_EQ(state_hash(second.state()), whole.final_state_hash) << to_string(t);
+    EXPECT_EQ(second.state().stiffness, whole.final_stiffness) << to_string(t);
+  }
 }
 
 }  // namespace

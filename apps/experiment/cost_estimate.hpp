@@ -67,7 +67,7 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
 
 // The rendering stage's wall time on `threads` threads: figure panels, one gallery per
 // treatment and the video at their configured sizes, drawn at this machine's measured `speed`
-// (voxel-steps/s; the drawing constants were measured against it, cost_estimate.cpp), and
+// (voxel-steps/s; the drawing constants were measured against it, cost_calibration.hpp), and
 // every champion simulated once (`life_seconds` each).
 double rendering_seconds(const ExperimentConfig& config, double life_seconds, double speed,
                          int threads);
@@ -75,7 +75,7 @@ double rendering_seconds(const ExperimentConfig& config, double life_seconds, do
 // What a study writes in its folder, bytes, from its plan: runs x individuals x the record
 // of each, champions' genomes and phenotypes, the analysis tables, the figures, galleries
 // and video at their configured sizes. Constants calibrated against real studies on disk
-// (cost_estimate.cpp says which); a typical figure, not a bound.
+// (cost_calibration.hpp says which); a typical figure, not a bound.
 struct DiskEstimate {
   uint64_t evolution = 0;           // runs/*.h5
   uint64_t analysis = 0;            // stats.json, CSV tables, analysis.h5, report.html, cache/

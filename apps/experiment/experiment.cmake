@@ -22,7 +22,9 @@ ${_body}};
 
 add_library(plastivox_experiment STATIC
   experiment/experiment_config.cpp
-  experiment/cost_estimate.cpp
+  experiment/speed_measurement.cpp
+  experiment/schedule_prediction.cpp
+  experiment/disk_estimate.cpp
   experiment/schedule.cpp
   experiment/progress.cpp
   experiment/stamps.cpp

@@ -157,188 +157,177 @@ ValueAxis value_axis(const PanelStats& panel) {
   return a;
 }
 
-// One panel being laid out: its geometry (pixels) and the drawing the stages add to.
-class PanelLayout {
- public:
-  PanelLayout(const PanelStats& panel, int width, int height)
-      : panel_(panel),
-        s_(std::min(width / 800.0f, height / 600.0f)),
-        axis_(value_axis(panel)),
-        brackets_(significant_brackets(panel)) {
-    d_.width = width;
-    d_.height = height;
-    d_.fonts = panel_fonts(s_);
-    frame();
-  }
+// ---- A bar panel --------------------------------------------------------------------------
 
-  Drawing take() && {
-    add_titles();
-    add_bars();
-    add_axes();
-    add_brackets();
-    return std::move(d_);
-  }
+// Where everything of one bar panel goes, in pixels. Margins: letter and title (top), y label
+// and tick labels (left), treatment names and n (bottom), and headroom above the axis for the
+// brackets.
+struct PanelFrame {
+  float s = 1;  // scale of an 800 x 600 panel
+  std::vector<FontFace> fonts;
+  ValueAxis axis;
+  float pad = 0, tick_len = 0, line_w = 1, bracket_step = 0, y_title = 0;
+  float left = 0, right = 0, top = 0, bottom = 0, y_zero = 0;  // plot area
+  float bar_w = 0;
+  std::vector<float> centre;  // per bar: centre x
 
- private:
-  float px(Font f) const { return d_.fonts[f].pixels; }
+  float px(Font f) const { return fonts[f].pixels; }
   float y_of(double v) const {
-    return static_cast<float>(bottom_ -
-                              (v - axis_.lo()) / (axis_.hi() - axis_.lo()) * (bottom_ - top_));
+    return static_cast<float>(bottom - (v - axis.lo()) / (axis.hi() - axis.lo()) * (bottom - top));
   }
-
-  // Margins: letter and title (top), y label and tick labels (left), treatment names and n
-  // (bottom), and headroom above the axis for the brackets.
-  void frame() {
-    pad_ = std::round(14 * s_);
-    tick_len_ = std::round(7 * s_);
-    line_w_ = std::max(1.0f, std::round(1.5f * s_ * 2) / 2);
-    bracket_step_ = std::round(px(kStars) * 1.1f + 8 * s_);
-    size_t widest_tick = 1;
-    for (long k = axis_.k_lo; k <= axis_.k_hi; ++k)
-      widest_tick = std::max(widest_tick, tick_label(k * axis_.step, axis_.step).size());
-    y_title_ = std::round(pad_ + 0.8f * px(kLetter));
-    left_ = std::round(pad_ + px(kLabel) * 1.2f + 10 * s_ + 0.6f * px(kTick) * widest_tick +
-                       tick_len_ + 5 * s_);
-    right_ = std::round(d_.width - 2 * pad_);
-    top_ = std::round(y_title_ + 16 * s_ + brackets_.size() * bracket_step_);
-    bottom_ =
-        std::round(d_.height - pad_ - px(kSmall) * 1.4f - px(kLabel) * 1.2f - tick_len_ - 6 * s_);
-    y_zero_ = std::round(y_of(0));
-    const size_t slots = std::max<size_t>(1, panel_.groups.size());
-    const float slot = (right_ - left_) / slots;
-    bar_w_ = std::round(std::min(0.6f * slot, 160 * s_));
-    for (size_t i = 0; i < panel_.groups.size(); ++i)
-      centre_.push_back(std::round(left_ + (i + 0.5f) * slot));
-  }
-
-  void add_titles() {
-    d_.shapes.push_back(text(panel_.id, kLetter, pad_, y_title_, Anchor::kStart));
-    d_.shapes.push_back(text(markup(panel_.title, kTitle, kTitleSub, 0.25f * px(kTitle)),
-                             std::round((left_ + right_) / 2), y_title_, Anchor::kMiddle));
-  }
-
-  // Bars from zero, error bars with caps, treatment names and sample sizes; records each
-  // bar's highest point for the brackets.
-  void add_bars() {
-    for (size_t i = 0; i < panel_.groups.size(); ++i) {
-      const PanelGroup& g = panel_.groups[i];
-      const float x = centre_[i];
-      float top = y_zero_;
-      if (g.mean) {
-        const float y_mean = std::round(y_of(*g.mean));
-        d_.shapes.push_back(RectShape{std::round(x - bar_w_ / 2), std::min(y_mean, y_zero_), bar_w_,
-                                      std::abs(y_zero_ - y_mean), treatment_colour(g.treatment, i),
-                                      "bar", g.treatment});
-        top = std::min(top, y_mean);
-      } else {
-        d_.shapes.push_back(text("no data", kSmall, x, y_zero_ - 6 * s_, Anchor::kMiddle, kGrey));
-        top = y_zero_ - 6 * s_ - px(kSmall);
-      }
-      if (g.ci_low && g.ci_high) {
-        const float lo = y_of(*g.ci_low), hi = y_of(*g.ci_high), cap = std::round(bar_w_ * 0.15f);
-        line(x, lo, x, hi);
-        line(x - cap, lo, x + cap, lo);
-        line(x - cap, hi, x + cap, hi);
-        top = std::min(top, hi);
-      }
-      if (shows_points(g)) top = std::min(top, add_points(g, x));
-      bar_top_.push_back(top);
-      const float y_name = bottom_ + tick_len_ + 6 * s_ + 0.8f * px(kLabel);
-      d_.shapes.push_back(text(display_treatment(g.treatment), kLabel, x, y_name, Anchor::kMiddle));
-      d_.shapes.push_back(text("n = " + std::to_string(g.n), kSmall, x, y_name + px(kSmall) * 1.3f,
-                               Anchor::kMiddle, kGrey));
-    }
-  }
-
-  // The group's values as dots centred on x, from the lowest value up; a dot that would
-  // overlap one already placed moves sideways (right, left, further right, ...) within the
-  // bar's width. Returns the highest dot's top edge.
-  float add_points(const PanelGroup& g, float x) {
-    const float r = std::max(2.5f, std::round(4.5f * s_ * 2) / 2);
-    const float stroke = std::max(1.0f, std::round(1.0f * s_ * 2) / 2);
-    const float reach = std::max(0.0f, bar_w_ / 2 - r);
-    std::vector<size_t> order(g.values.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return g.values[a] < g.values[b]; });
-    std::vector<std::pair<float, float>> placed;
-    float top = y_zero_;
-    for (const size_t i : order) {
-      if (!std::isfinite(g.values[i])) continue;
-      const float y = y_of(g.values[i]);
-      float dx = 0;
-      for (int k = 1;; ++k) {
-        bool clear = true;
-        for (const auto& [px, py] : placed)
-          clear = clear && std::hypot(x + dx - px, y - py) >= 2 * r;
-        if (clear) break;
-        const float next = r * static_cast<float>((k + 1) / 2) * (k % 2 ? 1.0f : -1.0f);
-        if (std::abs(next) > reach) break;  // no room left: overlap at the last place tried
-        dx = next;
-      }
-      placed.emplace_back(x + dx, y);
-      d_.shapes.push_back(CircleShape{std::round((x + dx) * 2) / 2, std::round(y * 2) / 2, r,
-                                      kPointFill, kWhite, stroke, "point", g.treatment});
-      top = std::min(top, y - r);
-    }
-    return top;
-  }
-
-  // The y axis with ticks, tick labels and the unit; the zero line under the bars.
-  void add_axes() {
-    line(left_, y_of(axis_.lo()), left_, y_of(axis_.hi()));
-    line(left_, y_zero_, right_, y_zero_);
-    for (long k = axis_.k_lo; k <= axis_.k_hi; ++k) {
-      const float y = std::round(y_of(k * axis_.step));
-      line(left_ - tick_len_, y, left_, y);
-      d_.shapes.push_back(text(tick_label(k * axis_.step, axis_.step), kTick,
-                               left_ - tick_len_ - 5 * s_, std::round(y + 0.35f * px(kTick)),
-                               Anchor::kEnd));
-    }
-    TextShape unit = text(markup(panel_.unit, kLabel, kLabelSub, 0.25f * px(kLabel)),
-                          std::round(pad_ + 0.8f * px(kLabel)),
-                          std::round((y_of(axis_.hi()) + bottom_) / 2), Anchor::kMiddle);
-    unit.vertical = true;
-    d_.shapes.push_back(std::move(unit));
-  }
-
-  // Each bracket just above the highest bar or error bar it spans, and a step above every
-  // bracket placed before it that it overlaps; legs stop short of the bars.
-  void add_brackets() {
-    const float gap = std::round(10 * s_), leg = std::round(6 * s_);
-    std::vector<std::pair<Bracket, float>> placed;
-    for (const Bracket& b : brackets_) {
-      float y = *std::min_element(bar_top_.begin() + b.left, bar_top_.begin() + b.right + 1) - gap;
-      for (const auto& [other, other_y] : placed) {
-        if (other.left <= b.right && b.left <= other.right)
-          y = std::min(y, other_y - bracket_step_);
-      }
-      y = std::round(y);
-      placed.emplace_back(b, y);
-      const float xl = centre_[b.left], xr = centre_[b.right];
-      line(xl, y + leg, xl, y);
-      line(xl, y, xr, y);
-      line(xr, y, xr, y + leg);
-      d_.shapes.push_back(text(b.stars, kStars, std::round((xl + xr) / 2),
-                               y - 4 * s_ + 0.3f * px(kStars), Anchor::kMiddle));
-    }
-  }
-
-  void line(float x0, float y0, float x1, float y1) {
-    d_.shapes.push_back(LineShape{x0, y0, x1, y1, line_w_, kInk});
-  }
-
-  const PanelStats& panel_;
-  const float s_;  // scale of an 800 x 600 panel
-  const ValueAxis axis_;
-  const std::vector<Bracket> brackets_;
-  Drawing d_;
-  float pad_ = 0, tick_len_ = 0, line_w_ = 1, bracket_step_ = 0, y_title_ = 0;
-  float left_ = 0, right_ = 0, top_ = 0, bottom_ = 0, y_zero_ = 0;  // plot area, pixels
-  float bar_w_ = 0;
-  std::vector<float> centre_;   // per bar: centre x
-  std::vector<float> bar_top_;  // per bar: highest point of bar, error bar or "no data"
 };
+
+PanelFrame panel_frame(const PanelStats& panel, size_t brackets, int width, int height) {
+  PanelFrame f;
+  f.s = std::min(width / 800.0f, height / 600.0f);
+  f.fonts = panel_fonts(f.s);
+  f.axis = value_axis(panel);
+  f.pad = std::round(14 * f.s);
+  f.tick_len = std::round(7 * f.s);
+  f.line_w = std::max(1.0f, std::round(1.5f * f.s * 2) / 2);
+  f.bracket_step = std::round(f.px(kStars) * 1.1f + 8 * f.s);
+  size_t widest_tick = 1;
+  for (long k = f.axis.k_lo; k <= f.axis.k_hi; ++k)
+    widest_tick = std::max(widest_tick, tick_label(k * f.axis.step, f.axis.step).size());
+  f.y_title = std::round(f.pad + 0.8f * f.px(kLetter));
+  f.left = std::round(f.pad + f.px(kLabel) * 1.2f + 10 * f.s + 0.6f * f.px(kTick) * widest_tick +
+                      f.tick_len + 5 * f.s);
+  f.right = std::round(width - 2 * f.pad);
+  f.top = std::round(f.y_title + 16 * f.s + brackets * f.bracket_step);
+  f.bottom =
+      std::round(height - f.pad - f.px(kSmall) * 1.4f - f.px(kLabel) * 1.2f - f.tick_len - 6 * f.s);
+  f.y_zero = std::round(f.y_of(0));
+  const size_t slots = std::max<size_t>(1, panel.groups.size());
+  const float slot = (f.right - f.left) / slots;
+  f.bar_w = std::round(std::min(0.6f * slot, 160 * f.s));
+  for (size_t i = 0; i < panel.groups.size(); ++i)
+    f.centre.push_back(std::round(f.left + (i + 0.5f) * slot));
+  return f;
+}
+
+// The drawing a panel's parts are added to, in the order they are drawn.
+struct PanelCanvas {
+  const PanelFrame& f;
+  Drawing& d;
+  void add(Shape shape) { d.shapes.push_back(std::move(shape)); }
+  void line(float x0, float y0, float x1, float y1) {
+    add(LineShape{x0, y0, x1, y1, f.line_w, kInk});
+  }
+};
+
+void add_titles(PanelCanvas& c, const PanelStats& panel) {
+  const PanelFrame& f = c.f;
+  c.add(text(panel.id, kLetter, f.pad, f.y_title, Anchor::kStart));
+  c.add(text(markup(panel.title, kTitle, kTitleSub, 0.25f * f.px(kTitle)),
+             std::round((f.left + f.right) / 2), f.y_title, Anchor::kMiddle));
+}
+
+// The group's values as dots centred on x, from the lowest value up; a dot that would
+// overlap one already placed moves sideways (right, left, further right, ...) within the
+// bar's width. Returns the highest dot's top edge.
+float add_points(PanelCanvas& c, const PanelGroup& g, float x) {
+  const PanelFrame& f = c.f;
+  const float r = std::max(2.5f, std::round(4.5f * f.s * 2) / 2);
+  const float stroke = std::max(1.0f, std::round(1.0f * f.s * 2) / 2);
+  const float reach = std::max(0.0f, f.bar_w / 2 - r);
+  std::vector<size_t> order(g.values.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return g.values[a] < g.values[b]; });
+  std::vector<std::pair<float, float>> placed;
+  float top = f.y_zero;
+  for (const size_t i : order) {
+    if (!std::isfinite(g.values[i])) continue;
+    const float y = f.y_of(g.values[i]);
+    float dx = 0;
+    for (int k = 1;; ++k) {
+      bool clear = true;
+      for (const auto& [px, py] : placed) clear = clear && std::hypot(x + dx - px, y - py) >= 2 * r;
+      if (clear) break;
+      const float next = r * static_cast<float>((k + 1) / 2) * (k % 2 ? 1.0f : -1.0f);
+      if (std::abs(next) > reach) break;  // no room left: overlap at the last place tried
+      dx = next;
+    }
+    placed.emplace_back(x + dx, y);
+    c.add(CircleShape{std::round((x + dx) * 2) / 2, std::round(y * 2) / 2, r, kPointFill, kWhite,
+                      stroke, "point", g.treatment});
+    top = std::min(top, y - r);
+  }
+  return top;
+}
+
+// Bar i from zero (or "no data"), its error bar with caps, its points, its treatment's name
+// and sample size. Returns its highest point: where the brackets above it start.
+float add_bar(PanelCanvas& c, const PanelGroup& g, size_t i) {
+  const PanelFrame& f = c.f;
+  const float x = f.centre[i];
+  float top = f.y_zero;
+  if (g.mean) {
+    const float y_mean = std::round(f.y_of(*g.mean));
+    c.add(RectShape{std::round(x - f.bar_w / 2), std::min(y_mean, f.y_zero), f.bar_w,
+                    std::abs(f.y_zero - y_mean), treatment_colour(g.treatment, i), "bar",
+                    g.treatment});
+    top = std::min(top, y_mean);
+  } else {
+    c.add(text("no data", kSmall, x, f.y_zero - 6 * f.s, Anchor::kMiddle, kGrey));
+    top = f.y_zero - 6 * f.s - f.px(kSmall);
+  }
+  if (g.ci_low && g.ci_high) {
+    const float lo = f.y_of(*g.ci_low), hi = f.y_of(*g.ci_high), cap = std::round(f.bar_w * 0.15f);
+    c.line(x, lo, x, hi);
+    c.line(x - cap, lo, x + cap, lo);
+    c.line(x - cap, hi, x + cap, hi);
+    top = std::min(top, hi);
+  }
+  if (shows_points(g)) top = std::min(top, add_points(c, g, x));
+  const float y_name = f.bottom + f.tick_len + 6 * f.s + 0.8f * f.px(kLabel);
+  c.add(text(display_treatment(g.treatment), kLabel, x, y_name, Anchor::kMiddle));
+  c.add(text("n = " + std::to_string(g.n), kSmall, x, y_name + f.px(kSmall) * 1.3f, Anchor::kMiddle,
+             kGrey));
+  return top;
+}
+
+// The y axis with ticks, tick labels and the unit; the zero line under the bars.
+void add_value_axis(PanelCanvas& c, const std::string& unit) {
+  const PanelFrame& f = c.f;
+  const ValueAxis& a = f.axis;
+  c.line(f.left, f.y_of(a.lo()), f.left, f.y_of(a.hi()));
+  c.line(f.left, f.y_zero, f.right, f.y_zero);
+  for (long k = a.k_lo; k <= a.k_hi; ++k) {
+    const float y = std::round(f.y_of(k * a.step));
+    c.line(f.left - f.tick_len, y, f.left, y);
+    c.add(text(tick_label(k * a.step, a.step), kTick, f.left - f.tick_len - 5 * f.s,
+               std::round(y + 0.35f * f.px(kTick)), Anchor::kEnd));
+  }
+  TextShape label = text(markup(unit, kLabel, kLabelSub, 0.25f * f.px(kLabel)),
+                         std::round(f.pad + 0.8f * f.px(kLabel)),
+                         std::round((f.y_of(a.hi()) + f.bottom) / 2), Anchor::kMiddle);
+  label.vertical = true;
+  c.add(std::move(label));
+}
+
+// Each bracket just above the highest bar or error bar it spans (`bar_top`, per bar), and a
+// step above every bracket placed before it that it overlaps; legs stop short of the bars.
+void add_brackets(PanelCanvas& c, const std::vector<Bracket>& brackets,
+                  const std::vector<float>& bar_top) {
+  const PanelFrame& f = c.f;
+  const float gap = std::round(10 * f.s), leg = std::round(6 * f.s);
+  std::vector<std::pair<Bracket, float>> placed;
+  for (const Bracket& b : brackets) {
+    float y = *std::min_element(bar_top.begin() + b.left, bar_top.begin() + b.right + 1) - gap;
+    for (const auto& [other, other_y] : placed) {
+      if (other.left <= b.right && b.left <= other.right) y = std::min(y, other_y - f.bracket_step);
+    }
+    y = std::round(y);
+    placed.emplace_back(b, y);
+    const float xl = f.centre[b.left], xr = f.centre[b.right];
+    c.line(xl, y + leg, xl, y);
+    c.line(xl, y, xr, y);
+    c.line(xr, y, xr, y + leg);
+    c.add(text(b.stars, kStars, std::round((xl + xr) / 2), y - 4 * f.s + 0.3f * f.px(kStars),
+               Anchor::kMiddle));
+  }
+}
 
 // ---- The evolution figure ----------------------------------------------------------------
 
@@ -537,7 +526,20 @@ class EvolutionLayout {
 }  // namespace
 
 Drawing layout_panel(const PanelStats& panel, int width, int height) {
-  return PanelLayout(panel, width, height).take();
+  const std::vector<Bracket> brackets = significant_brackets(panel);
+  const PanelFrame frame = panel_frame(panel, brackets.size(), width, height);
+  Drawing d;
+  d.width = width;
+  d.height = height;
+  d.fonts = frame.fonts;
+  PanelCanvas c{frame, d};
+  add_titles(c, panel);
+  std::vector<float> bar_top;  // per bar: highest point of bar, error bar, points or "no data"
+  for (size_t i = 0; i < panel.groups.size(); ++i)
+    bar_top.push_back(add_bar(c, panel.groups[i], i));
+  add_value_axis(c, panel.unit);
+  add_brackets(c, brackets, bar_top);
+  return d;
 }
 
 Drawing layout_evolution(const EvolutionStats& evolution, int width, int height) {
