@@ -66,6 +66,39 @@ inline double frequency_from_period(double period) {
   return 1.0 / period;
 }
 
+// ---- XML writing (vxa_write.cpp, voxcraft_write.cpp) ----
+
+// Unindented XML text built tag by tag; text is written as given (callers pass numbers and
+// names without markup characters, or CDATA layers).
+class Xml {
+ public:
+  explicit Xml(size_t reserve) { s_.reserve(reserve); }
+  void open(const std::string& tag, const std::string& attrs = "") {
+    s_ += "<" + tag + attrs + ">\n";
+    stack_.push_back(tag);
+  }
+  void close() {
+    s_ += "</" + stack_.back() + ">\n";
+    stack_.pop_back();
+  }
+  void tag(const std::string& name, const std::string& text) {
+    s_ += "<" + name + ">" + text + "</" + name + ">\n";
+  }
+  void tag(const std::string& name, double v) { tag(name, format_double(v)); }
+  // An element holding one number: <name><inner>v</inner></name>.
+  void block(const std::string& name, const std::string& inner, double v) {
+    open(name);
+    tag(inner, v);
+    close();
+  }
+  void layer(const std::string& text) { s_ += "<Layer><![CDATA[" + text + "]]></Layer>\n"; }
+  std::string& text() { return s_; }
+
+ private:
+  std::string s_;
+  std::vector<std::string> stack_;
+};
+
 // ---- XML reading helpers (vxa_read.cpp) ----
 
 using tinyxml2::XMLElement;
@@ -136,6 +169,11 @@ inline std::string open_elements(std::string_view text, int stop_line) {
   for (const std::string& name : stack) path += (path.empty() ? "<" : "/<") + name + ">";
   return path.empty() ? "(document)" : path;
 }
+
+// Parses text into doc. Throws VxaError, one line naming the file, for malformed XML (with the
+// elements open at the error) or an element with more than kMaxVxaAttributes attributes.
+void parse_xml_document(tinyxml2::XMLDocument& doc, const std::string& text,
+                        const std::string& source_name);
 
 class Reader {
  public:
