@@ -57,6 +57,10 @@ void read_simulator(Reader& r, const XMLElement* vxa, PhysicsDef& p) {
     r.expect(f, "EnforceLatticeEnabled", 0, false, unread);
   }
   const XMLElement* stop = r.need(sim, "StopCondition");
+  if (!Reader::child(stop, "StopConditionType") && Reader::child(stop, "StopConditionFormula"))
+    r.fail(stop,
+           "missing <StopConditionType> (a <StopConditionFormula> is voxcraft-sim's dialect: "
+           "plastivox simulate BASE.vxa --vxd ROBOT.vxd reads it)");
   const XMLElement* type = r.need(stop, "StopConditionType");
   if (r.number(type) != 2)
     r.fail(type, format_double(r.number(type)) + " is not supported (only 2, simulated time)");
