@@ -424,6 +424,33 @@ TEST(VoxcraftImport, FeaturesPlastivoxDoesNotModelAreNamedInOneLine) {
       VxaError);
 }
 
+TEST(VoxcraftImport, DamagedFilesGiveOneLineErrorsNeverACrash) {
+  const std::string base = testing::file_text(kDemos + "bigbuy/base.vxa");
+  const std::string vxd = testing::file_text(kDemos + "bigbuy/robot_0000.vxd");
+  int refused = 0;
+  auto check = [&](const std::string& b, const std::string& v) {
+    try {
+      parse_voxcraft(b, "base.vxa", v, "robot.vxd");
+    } catch (const VxaError& e) {
+      ++refused;
+      const std::string what = e.what();
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      EXPECT_TRUE(what.starts_with("base.vxa") || what.starts_with("robot.vxd")) << what;
+    }
+  };
+  int cuts = 0;
+  for (size_t cut = 0; cut < base.size(); cut += 61, ++cuts) check(base.substr(0, cut), vxd);
+  for (size_t cut = 0; cut < vxd.size(); cut += 61, ++cuts) check(base, vxd.substr(0, cut));
+  EXPECT_EQ(refused, cuts);  // a truncated file is never read as a robot
+  // Values that are not numbers, in either file.
+  std::string bad_base = base, bad_vxd = vxd;
+  bad_base.replace(bad_base.find("0.01</CTE>"), 4, "abcd");
+  bad_vxd.replace(bad_vxd.find("0.437"), 5, "0.4.7");
+  check(bad_base, vxd);
+  check(base, bad_vxd);
+  EXPECT_EQ(refused, cuts + 2);
+}
+
 // ---- round trip ------------------------------------------------------------------------
 
 // plastivox's own rules that voxcraft-sim fixes otherwise (Poisson's ratio in torsion, the

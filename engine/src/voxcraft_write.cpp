@@ -203,11 +203,7 @@ VoxcraftFiles write_voxcraft(const RobotDef& robot, const PhysicsDef& p, bool lo
   // this DtFrac gives the same dt on the quantised robot.
   b.tag("DtFrac", p.dt_frac * voxcraft_dt_ratio(robot, quantised));
   b.close();
-  b.open("Damping");
-  b.tag("BondDampingZ", p.bond_damping);
-  b.tag("ColDampingZ", p.collision_damping);
-  b.tag("SlowDampingZ", p.global_damping);
-  b.close();
+  write_damping(b, p);  // always: voxcraft-sim leaves them uninitialised without it
   b.open("AttachDetach");
   b.tag("EnableCollision", p.self_collision ? 1 : 0);
   b.tag("EnableAttach", 0);

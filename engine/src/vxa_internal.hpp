@@ -1,6 +1,7 @@
 // Helpers shared by the VXA reader and writer (they must agree bit for bit on how a number is
 // printed and parsed and on how actuation is derived from the thermal tags, or a round trip
-// would not be exact), then the reader's XML helpers: tag paths and one-line errors.
+// would not be exact), then the XML writer and the reader's XML helpers (tag paths, one-line
+// errors), which the voxcraft-sim dialect (voxcraft_*.cpp) uses too.
 #pragma once
 
 #include <tinyxml2.h>
@@ -98,6 +99,15 @@ class Xml {
   std::string s_;
   std::vector<std::string> stack_;
 };
+
+// <Damping>, as both dialects read it: the three damping ratios.
+inline void write_damping(Xml& x, const PhysicsDef& p) {
+  x.open("Damping");
+  x.tag("BondDampingZ", p.bond_damping);
+  x.tag("ColDampingZ", p.collision_damping);
+  x.tag("SlowDampingZ", p.global_damping);
+  x.close();
+}
 
 // ---- XML reading helpers (vxa_read.cpp) ----
 

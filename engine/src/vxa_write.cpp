@@ -156,11 +156,7 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
   x.tag("Integrator", 0);
   x.tag("DtFrac", p.dt_frac);
   x.close();
-  x.open("Damping");
-  x.tag("BondDampingZ", p.bond_damping);
-  x.tag("ColDampingZ", p.collision_damping);
-  x.tag("SlowDampingZ", p.global_damping);
-  x.close();
+  write_damping(x, p);
   x.open("Collisions");
   x.tag("SelfColEnabled", p.self_collision ? 1 : 0);
   x.tag("ColSystem", 3);
