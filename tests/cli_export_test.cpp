@@ -109,6 +109,16 @@ TEST_F(ExportTest, VoxcraftFilesForARobotFileSimulateWithVxd) {
   EXPECT_EQ(missing.status, 1);
   EXPECT_NE(missing.out.find("none.vxd"), std::string::npos) << missing.out;
   EXPECT_EQ(run("export " + walker + " --lossy --out " + (dir_ / "w.json").string()).status, 2);
+  // A run's champion, as for .vxa.
+  const std::filesystem::path champ = dir_ / "champion_voxcraft";
+  const CliRun run_export = run("export " + (dir_ / "tiny.h5").string() +
+                                " --format voxcraft --lossy --out " + champ.string());
+  ASSERT_EQ(run_export.status, 0) << run_export.out;
+  EXPECT_NE(run_export.out.find("champion"), std::string::npos) << run_export.out;
+  EXPECT_EQ(
+      run("simulate " + (champ / "base.vxa").string() + " --vxd " + (champ / "robot.vxd").string())
+          .status,
+      0);
 }
 
 }  // namespace
