@@ -1,6 +1,7 @@
-// plastivox export: a champion from an evolution results file (or, with --demo NAME, a
-// built-in example robot) as a robot file, in the VXA dialect of the authors' simulator
-// (.vxa) or the project's own format (.json).
+// plastivox export: a champion from an evolution results file, a robot file or (with --demo
+// NAME) a built-in example robot, as a robot file in the VXA dialect of the authors' simulator
+// (.vxa) or the project's own format (.json), or with --format voxcraft as voxcraft-sim's
+// base.vxa + robot.vxd.
 #include <cstdio>
 #include <string>
 
@@ -9,6 +10,7 @@
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/robot_io.hpp"
+#include "plastivox/voxcraft.hpp"
 
 namespace plastivox::cli {
 namespace {
@@ -21,20 +23,17 @@ void write_robot(const std::string& out, const RobotDef& robot, const PhysicsDef
     std::fprintf(stderr, "plastivox export: warning: %s\n", w.c_str());
 }
 
-// export --demo NAME: a built-in example robot (demo_example) with the physics `plastivox
-// simulate` gives the built-in walker (gecco2018-code, stress development).
-int export_demo(const std::string& name, const std::string& out, const Args& rest) {
-  if (!rest.empty()) throw UsageError{"--demo NAME takes no results file"};
-  if (out.empty()) throw UsageError{"--out ROBOT.vxa (or ROBOT.json) is required"};
-  if (!out.ends_with(".vxa") && !out.ends_with(".json"))
-    throw UsageError{"--out must end in .vxa or .json, got '" + out + "'"};
-  const RobotDef robot = demo_example(name);
-  PhysicsDef physics = preset_gecco2018_code();
-  physics.treatment = Treatment::kStress;
-  write_robot(out, robot, physics);
-  std::printf("wrote %s: example robot %s (%d voxels)\n", out.c_str(), name.c_str(),
-              robot.voxel_count());
-  return 0;
+// Writes robot with physics as voxcraft-sim's pair in directory out, printing what was
+// dropped (--lossy), what voxcraft-sim does its own way, and the palette's largest error.
+void write_voxcraft(const std::string& out, const RobotDef& robot, const PhysicsDef& physics,
+                    bool lossy) {
+  const VoxcraftFiles f = write_voxcraft_files(out, robot, physics, lossy);
+  for (const std::string& w : f.dropped)
+    std::fprintf(stderr, "plastivox export: warning: %s\n", w.c_str());
+  for (const std::string& w : f.unchanged)
+    std::fprintf(stderr, "plastivox export: note: %s\n", w.c_str());
+  std::printf("wrote %s/base.vxa and %s/robot.vxd: %d materials, largest stiffness error %.3g %%\n",
+              out.c_str(), out.c_str(), f.materials, 100 * f.max_stiffness_error);
 }
 
 }  // namespace
@@ -44,13 +43,49 @@ int cmd_export(const Args& in) {
   const std::string out = take_option(args, "--out", "");
   const std::string gen_text = take_option(args, "--generation", "");
   const std::string demo = take_option(args, "--demo", "");
+  const std::string format = take_option(args, "--format", "");
+  const bool lossy = take_flag(args, "--lossy");
   reject_unknown_options(args);
-  if (!demo.empty()) return export_demo(demo, out, args);
-  if (args.size() != 1)
-    throw UsageError{"expected one results file: plastivox export RESULTS.h5 --out ROBOT.vxa"};
-  if (out.empty()) throw UsageError{"--out ROBOT.vxa (or ROBOT.json) is required"};
-  if (!out.ends_with(".vxa") && !out.ends_with(".json"))
+  const bool voxcraft = format == "voxcraft";
+  if (!format.empty() && !voxcraft)
+    throw UsageError{"--format expects voxcraft (other formats follow --out's extension), got '" +
+                     format + "'"};
+  if (lossy && !voxcraft) throw UsageError{"--lossy applies to --format voxcraft only"};
+  if (out.empty())
+    throw UsageError{voxcraft ? "--out DIR is required (base.vxa and robot.vxd go there)"
+                              : "--out ROBOT.vxa (or ROBOT.json) is required"};
+  if (!voxcraft && !out.ends_with(".vxa") && !out.ends_with(".json"))
     throw UsageError{"--out must end in .vxa or .json, got '" + out + "'"};
+  // The robot: a demo (with the physics `plastivox simulate` gives the built-in walker:
+  // gecco2018-code, stress development), a robot file, or a run's champion.
+  if (!demo.empty() || (args.size() == 1 && !args[0].ends_with(".h5"))) {
+    if (!demo.empty() && !args.empty()) throw UsageError{"--demo NAME takes no results file"};
+    if (!gen_text.empty()) throw UsageError{"--generation applies to a results file (.h5)"};
+    RobotDef robot;
+    PhysicsDef physics = preset_gecco2018_code();
+    if (!demo.empty()) {
+      robot = demo_example(demo);
+      physics.treatment = Treatment::kStress;
+    } else {
+      LoadedRobot file = load_robot(args[0]);
+      for (const std::string& w : file.warnings)
+        std::fprintf(stderr, "plastivox export: warning: %s\n", w.c_str());
+      robot = std::move(file.robot);
+      physics = file.physics;
+    }
+    if (voxcraft)
+      write_voxcraft(out, robot, physics, lossy);
+    else
+      write_robot(out, robot, physics);
+    if (!demo.empty())
+      std::printf("wrote %s: example robot %s (%d voxels)\n", out.c_str(), demo.c_str(),
+                  robot.voxel_count());
+    return 0;
+  }
+  if (args.size() != 1)
+    throw UsageError{
+        "expected one results file or robot file: plastivox export RESULTS.h5 --out "
+        "ROBOT.vxa"};
 
   const evo::ResultsFile results = evo::read_results(args[0]);
   const evo::RunState& run = results.state;
@@ -69,7 +104,10 @@ int cmd_export(const Args& in) {
   if (generation < 0) generation = run.generations_done;
   const RobotDef robot = evo::champion_robot(champion, generation);
   const PhysicsDef& physics = run.config.physics;
-  write_robot(out, robot, physics);
+  if (voxcraft)
+    write_voxcraft(out, robot, physics, lossy);
+  else
+    write_robot(out, robot, physics);
   std::printf("wrote %s: champion %llu (fitness %.6g, %d voxels) at generation %d\n", out.c_str(),
               static_cast<unsigned long long>(champion.id), champion.fitness, robot.voxel_count(),
               generation);

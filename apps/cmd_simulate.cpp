@@ -67,8 +67,13 @@ int cmd_simulate(const Args& in) {
   const std::string overrides = take_option(args, "--physics", "");
   const std::string record = take_option(args, "--record", "");
   const std::string fps_text = take_option(args, "--fps", "");
+  const std::string vxd = take_option(args, "--vxd", "");
   reject_unknown_options(args);
   if (args.size() > 1) throw UsageError{"expected at most one robot file"};
+  if (!vxd.empty() && (args.size() != 1 || !args[0].ends_with(".vxa")))
+    throw UsageError{
+        "--vxd ROBOT.vxd goes with voxcraft-sim's base: plastivox simulate base.vxa --vxd "
+        "robot.vxd"};
   if (!record.empty() && !record.ends_with(".h5") && !record.ends_with(".history"))
     throw UsageError{"--record " + record +
                      ": expected a recorded life (.h5) or a voxcraft-viz history (.history)"};
@@ -107,7 +112,8 @@ int cmd_simulate(const Args& in) {
     physics.treatment = Treatment::kStress;
   } else {
     source = args[0];
-    LoadedRobot file = load_robot(source);
+    LoadedRobot file = load_robot(source, vxd);
+    if (!vxd.empty()) source += " + " + vxd;
     for (const std::string& w : file.warnings)
       std::fprintf(stderr, "plastivox simulate: warning: %s\n", w.c_str());
     robot = std::move(file.robot);

@@ -40,10 +40,13 @@ struct CommandHelp {
 const CommandHelp kHelp[] = {
     {"simulate",
      "usage: plastivox simulate [ROBOT] [options]\n"
+     "       plastivox simulate BASE.vxa --vxd ROBOT.vxd [options]\n"
      "Simulate one robot's life and print a summary. ROBOT is a plastivox robot (.json,\n"
      "docs/robot-format.md) or a VXA file (.vxa); without ROBOT, the built-in ~500-voxel\n"
-     "demo walker under stress development.\n"
+     "demo walker under stress development. With --vxd, BASE.vxa and ROBOT.vxd are\n"
+     "voxcraft-sim's input (its palette, phases, gravity, floor, stop time; docs/vxa.md).\n"
      "options:\n"
+     "  --vxd ROBOT.vxd       voxcraft-sim's robot file, merged into BASE.vxa\n"
      "  --treatment T         none, stress, pressure, strain, strain_energy, contact or\n"
      "                        kinetic (default: the file's own; docs/plasticity.md)\n"
      "  --preset NAME         physics preset gecco2018-code or gecco2018-paper\n"
@@ -100,17 +103,24 @@ const CommandHelp kHelp[] = {
      "example:\n"
      "  plastivox hausdorff examples/pi.json examples/gamma.json --rotations all --json\n"},
     {"export",
-     "usage: plastivox export RESULTS.h5 --out ROBOT.vxa|ROBOT.json [--generation G]\n"
+     "usage: plastivox export RESULTS.h5|ROBOT --out ROBOT.vxa|ROBOT.json [--generation G]\n"
+     "       plastivox export RESULTS.h5|ROBOT --format voxcraft --out DIR [--lossy]\n"
      "       plastivox export --demo NAME --out ROBOT.vxa|ROBOT.json\n"
-     "Write a run's champion as a VXA file (for the authors' simulator) or a plastivox\n"
-     "robot file; the extension of --out chooses.\n"
+     "Write a run's champion (or a robot file) as a VXA file (for the authors' simulator) or\n"
+     "a plastivox robot file; the extension of --out chooses. --format voxcraft writes\n"
+     "DIR/base.vxa and DIR/robot.vxd for voxcraft-sim (stiffness as a palette of at most 78\n"
+     "materials; the largest stiffness error is printed; docs/vxa.md).\n"
      "options:\n"
-     "  --out FILE            .vxa or .json\n"
+     "  --out FILE|DIR        .vxa or .json; a directory under --format voxcraft\n"
+     "  --format voxcraft     voxcraft-sim's base.vxa + robot.vxd\n"
+     "  --lossy               drop (with a warning each) what voxcraft-sim cannot express,\n"
+     "                        such as development, instead of refusing\n"
      "  --generation G        the champion at generation G (default: the last)\n"
      "  --demo NAME           a built-in example robot instead: walker, pi, gamma, upsilon\n"
      "                        or mixture (examples/ holds them), stress development\n"
      "examples:\n"
      "  plastivox export run.h5 --out champion.vxa\n"
+     "  plastivox export examples/pi.json --format voxcraft --out pi_voxcraft --lossy\n"
      "  plastivox export --demo pi --out pi.json\n"},
     {"analyze",
      "usage: plastivox analyze RESULTS.h5 [RESULTS.h5 ...] --out DIR [options]\n"

@@ -19,6 +19,8 @@ add_library(plastivox_vxa
   ${CMAKE_CURRENT_LIST_DIR}/src/vxa_read.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/vxa_write.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/robot_io.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/voxcraft_read.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/voxcraft_write.cpp
 )
 target_include_directories(plastivox_vxa PRIVATE ${CMAKE_CURRENT_LIST_DIR}/src)
 target_link_libraries(plastivox_vxa PUBLIC plastivox_engine PRIVATE ${PLASTIVOX_TINYXML2})

@@ -81,5 +81,45 @@ TEST_F(ExportTest, BadInputGivesOneLineErrors) {
   EXPECT_FALSE(std::filesystem::exists(dir_ / "x.vxa"));
 }
 
+// --format voxcraft: refused in one line while the robot develops, written under --lossy,
+// and the pair simulates with --vxd.
+TEST_F(ExportTest, VoxcraftFilesForARobotFileSimulateWithVxd) {
+  const std::string walker = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/walker.json";
+  const std::filesystem::path out = dir_ / "walker_voxcraft";
+  const CliRun refused = run("export " + walker + " --format voxcraft --out " + out.string());
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.out.find("plastivox export: error: voxcraft export: development"),
+            std::string::npos)
+      << refused.out;
+  EXPECT_FALSE(std::filesystem::exists(out / "base.vxa"));
+  const CliRun lossy = run("export " + walker + " --format voxcraft --lossy --out " + out.string());
+  ASSERT_EQ(lossy.status, 0) << lossy.out;
+  EXPECT_NE(lossy.out.find("warning: development"), std::string::npos) << lossy.out;
+  EXPECT_NE(lossy.out.find("largest stiffness error"), std::string::npos) << lossy.out;
+  const CliRun sim = run("simulate " + (out / "base.vxa").string() + " --vxd " +
+                         (out / "robot.vxd").string() + " --json");
+  ASSERT_EQ(sim.status, 0) << sim.out;
+  const std::string json = sim.out.substr(sim.out.find('{'));
+  EXPECT_GT(json_number(json, "fitness"), 0.5);
+  EXPECT_EQ(json_number(json, "voxels"), 512);
+  // Bad command lines and files: one line each.
+  EXPECT_EQ(run("simulate " + (out / "robot.vxd").string() + " --vxd x.vxd").status, 2);
+  const CliRun missing =
+      run("simulate " + (out / "base.vxa").string() + " --vxd " + (dir_ / "none.vxd").string());
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_NE(missing.out.find("none.vxd"), std::string::npos) << missing.out;
+  EXPECT_EQ(run("export " + walker + " --lossy --out " + (dir_ / "w.json").string()).status, 2);
+  // A run's champion, as for .vxa.
+  const std::filesystem::path champ = dir_ / "champion_voxcraft";
+  const CliRun run_export = run("export " + (dir_ / "tiny.h5").string() +
+                                " --format voxcraft --lossy --out " + champ.string());
+  ASSERT_EQ(run_export.status, 0) << run_export.out;
+  EXPECT_NE(run_export.out.find("champion"), std::string::npos) << run_export.out;
+  EXPECT_EQ(
+      run("simulate " + (champ / "base.vxa").string() + " --vxd " + (champ / "robot.vxd").string())
+          .status,
+      0);
+}
+
 }  // namespace
 }  // namespace plastivox

@@ -4,6 +4,7 @@
 // recorded life without simulating it, pixel for pixel as the simulated one.
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -247,12 +248,19 @@ TEST_F(RecordedLives, TheHistoryHasTheStructureVoxcraftVizParses) {
   EXPECT_EQ(colours, render::kHistoryClasses);
   EXPECT_EQ(settings, 2 + render::kHistoryClasses);
   ASSERT_EQ(frames.size(), l.result.recording.frames.size());
+  EXPECT_EQ(l.result.recording.frames[0].step, 0);
+  double lowest = 1e9;  // the first frame's lowest voxel centre, m, voxcraft's frame
   for (size_t k = 0; k < frames.size(); ++k) {
     const std::string& line = frames[k];
     const Frame& f = l.result.recording.frames[k];
-    // "<<<Step<k> Time:<t>>>>" ... "<<<>>>", as the player cuts it.
+    // "<<<Step<steps> Time:<t>>>>" ... "<<<>>>", as the player cuts it; the step is the
+    // simulation's step count (as voxcraft-sim writes it), not the frame index.
     const size_t head = line.find(">>>");
-    ASSERT_EQ(line.rfind("<<<Step" + std::to_string(k) + " Time:", 0), 0u) << line.substr(0, 40);
+    ASSERT_EQ(line.rfind("<<<Step" + std::to_string(f.step) + " Time:", 0), 0u)
+        << line.substr(0, 40);
+    if (k > 0) {
+      EXPECT_GT(f.step, l.result.recording.frames[k - 1].step);
+    }
     EXPECT_NEAR(std::stod(line.substr(line.find("Time:") + 5, head)), f.time, 1e-6);
     ASSERT_EQ(line.substr(line.size() - 7), ";<<<>>>");
     const std::string body = line.substr(head + 3, line.size() - head - 10);  // the player's cut
@@ -261,8 +269,10 @@ TEST_F(RecordedLives, TheHistoryHasTheStructureVoxcraftVizParses) {
     for (int i = 0; i < l.model.n; ++i) {
       const std::vector<std::string> v = split(voxels[i], ',');
       ASSERT_EQ(v.size(), 15u) << voxels[i];  // the player needs at least 15
-      // Centre in mm (rescale 0.001) to 0.1 um.
-      for (int a = 0; a < 3; ++a) EXPECT_NEAR(std::stod(v[a]) / 1000, f.pos[i][a], 1e-7);
+      // Centre in mm (rescale 0.001) to 0.1 um, in voxcraft's frame: z lowered by L/2.
+      for (int a = 0; a < 2; ++a) EXPECT_NEAR(std::stod(v[a]) / 1000, f.pos[i][a], 1e-7);
+      EXPECT_NEAR(std::stod(v[2]) / 1000, f.pos[i].z() - 0.5 * l.model.size, 1e-7);
+      if (k == 0) lowest = std::min(lowest, std::stod(v[2]) / 1000);
       // Angle and axis give back the orientation.
       const Eigen::Vector3d axis(std::stod(v[4]), std::stod(v[5]), std::stod(v[6]));
       const Eigen::Quaterniond q(
@@ -279,6 +289,8 @@ TEST_F(RecordedLives, TheHistoryHasTheStructureVoxcraftVizParses) {
       EXPECT_LE(signal, 100);
     }
   }
+  // voxcraft-viz draws its floor at -voxel_size/2: the bottom layer's centres start at z = 0.
+  EXPECT_NEAR(lowest, 0.0, 1e-7);
   render::write_history_file(path("life.history"), l.model, l.result.recording);
   EXPECT_EQ(testing::file_text(path("life.history")), text);
 }

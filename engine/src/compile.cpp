@@ -51,6 +51,9 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
   m.e0.resize(m.n);
   m.alpha.resize(m.n);
   m.phase.resize(m.n);
+  m.act_gain.assign(m.n, 1.0);
+  m.act_per_voxel = !robot.act_amplitude.empty();
+  m.act_amplitude_max = m.act_per_voxel ? 0.0 : def.act_amplitude;
   m.voxel_bonds.assign(m.n, {-1, -1, -1, -1, -1, -1});
   const bool develops = def.treatment != Treatment::kNone;
   for (int i = 0; i < m.n; ++i) {
@@ -61,6 +64,10 @@ Model compile(const RobotDef& robot, const PhysicsDef& def) {
     m.e0[i] = std::clamp(robot.stiffness[s], def.e_min, def.e_max);
     m.alpha[i] = develops ? robot.dev_rate[s] : 0.0;
     m.phase[i] = robot.phase[s];
+    if (m.act_per_voxel) {
+      m.act_gain[i] = robot.act_amplitude[s];
+      m.act_amplitude_max = std::max(m.act_amplitude_max, m.act_gain[i]);
+    }
   }
   // Bounded in time before anything runs: the stiffest voxel, or e_max if E can grow.
   double e_top = 0;

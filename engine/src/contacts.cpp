@@ -138,7 +138,7 @@ void insert_sorted(std::vector<int>& list, int v) {
 // Brings every surface voxel's partner list up to date (see the top of this file).
 void refresh_partners(const Model& m, const State& s, Workspace& w) {
   const double L = m.size;
-  const double radius = m.def.contact_diameter * L * (1.0 + m.def.act_amplitude) + kMargin * L;
+  const double radius = m.def.contact_diameter * L * (1.0 + m.act_amplitude_max) + kMargin * L;
   ContactGrid& g = w.contact_grid;
   const bool first = !w.contacts_valid;
   if (first) {

@@ -64,12 +64,17 @@ void validate(const RobotDef& r) {
   if (r.stiffness.size() != n) fail("stiffness", "expected " + std::to_string(n) + " entries");
   if (r.dev_rate.size() != n) fail("dev_rate", "expected " + std::to_string(n) + " entries");
   if (r.phase.size() != n) fail("phase", "expected " + std::to_string(n) + " entries");
+  const bool own_amplitude = !r.act_amplitude.empty();
+  if (own_amplitude && r.act_amplitude.size() != n)
+    fail("act_amplitude", "expected " + std::to_string(n) + " entries or none");
   for (size_t i = 0; i < n; ++i) {
     if (!r.present[i]) continue;
     if (!(r.stiffness[i] > 0) || !std::isfinite(r.stiffness[i]))
       fail("stiffness[" + std::to_string(i) + "]", "must be a positive finite modulus in Pa");
     if (!std::isfinite(r.dev_rate[i])) fail("dev_rate[" + std::to_string(i) + "]", "not finite");
     if (!std::isfinite(r.phase[i])) fail("phase[" + std::to_string(i) + "]", "not finite");
+    if (own_amplitude && !(r.act_amplitude[i] >= 0 && r.act_amplitude[i] < 0.9))
+      fail("act_amplitude[" + std::to_string(i) + "]", "must be in [0, 0.9)");
   }
   if (r.voxel_count() == 0) fail("present", "the robot has no voxels");
   for (size_t k = 0; k < r.fixed_sites.size(); ++k) {

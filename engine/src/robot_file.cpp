@@ -87,6 +87,8 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
         d.self_collision = boolean(*it, where, field);
       else if (key == "sinking_invalid")
         d.sinking_invalid = boolean(*it, where, field);
+      else if (key == "act_expansion")
+        d.act_expansion = boolean(*it, where, field);
       else if (key == "record_fps") {
         // Files written while recording was a physics field carry it: checked, and otherwise
         // unused (a recording is asked for by the command: simulate --record, --fps).
@@ -179,16 +181,24 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
   if (!j.contains("voxels") || !j["voxels"].is_array())
     fail(source, "voxels", "missing or not an array");
   const json& vox = j["voxels"];
+  // A 7th entry is the voxel's own actuation amplitude (RobotDef::act_amplitude): every voxel
+  // has one or none does.
+  const bool own_amplitude = !vox.empty() && vox[0].is_array() && vox[0].size() == 7;
+  if (own_amplitude) r.act_amplitude.assign(r.sites(), 0.0);
   for (size_t k = 0; k < vox.size(); ++k) {
     const std::string field = "voxels[" + std::to_string(k) + "]";
     const json& v = vox[k];
-    if (!v.is_array() || v.size() != 6) fail(source, field, "expected [x, y, z, E, alpha, phase]");
+    if (!v.is_array() || v.size() != (own_amplitude ? 7u : 6u))
+      fail(source, field,
+           own_amplitude ? "expected [x, y, z, E, alpha, phase, amplitude] (as voxels[0])"
+                         : "expected [x, y, z, E, alpha, phase]");
     const int s = site_of(r, json::array({v[0], v[1], v[2]}), source, field);
     if (r.present[s]) fail(source, field, "a second voxel at the same site");
     r.present[s] = 1;
     r.stiffness[s] = number(v[3], source, field + "[3] (E)");
     r.dev_rate[s] = number(v[4], source, field + "[4] (alpha)");
     r.phase[s] = number(v[5], source, field + "[5] (phase)");
+    if (own_amplitude) r.act_amplitude[s] = number(v[6], source, field + "[6] (amplitude)");
   }
   if (j.contains("fixed")) {
     if (!j["fixed"].is_array()) fail(source, "fixed", "expected an array");
@@ -237,6 +247,7 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
     if (!r.present[s]) continue;
     const int x = s % r.nx, y = (s / r.nx) % r.ny, z = s / (r.nx * r.ny);
     vox.push_back({x, y, z, r.stiffness[s], r.dev_rate[s], r.phase[s]});
+    if (!r.act_amplitude.empty()) vox.back().push_back(r.act_amplitude[s]);
   }
   j["voxels"] = vox;
   auto xyz = [&](int s) { return json::array({s % r.nx, (s / r.nx) % r.ny, s / (r.nx * r.ny)}); };
@@ -285,6 +296,7 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
     // Written only when off (the authors' rule; on is the default), so every file made
     // under the default stays byte-identical.
     if (!d.sinking_invalid) j["physics"]["sinking_invalid"] = false;
+    if (!d.act_expansion) j["physics"]["act_expansion"] = false;  // likewise
   }
   return j.dump(1);
 }

@@ -3,14 +3,15 @@
 #include <stdexcept>
 
 #include "plastivox/robot_file.hpp"
+#include "plastivox/voxcraft.hpp"
 #include "plastivox/vxa.hpp"
 
 namespace plastivox {
 
-LoadedRobot load_robot(const std::string& path) {
+LoadedRobot load_robot(const std::string& path, const std::string& vxd) {
   LoadedRobot out;
-  if (path.ends_with(".vxa")) {
-    VxaRobot v = read_vxa_file(path);
+  if (!vxd.empty() || path.ends_with(".vxa")) {
+    VxaRobot v = vxd.empty() ? read_vxa_file(path) : read_voxcraft(path, vxd);
     out.robot = std::move(v.robot);
     out.physics = v.physics;
     out.warnings = std::move(v.warnings);

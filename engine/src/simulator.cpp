@@ -151,6 +151,7 @@ void Simulator::step2(StageTimings* t) {
 Frame capture_frame(const State& s) {
   Frame f;
   f.time = s.time;
+  f.step = s.steps;
   f.pos = s.pos;
   f.orient = s.orient;
   f.size = s.size;

@@ -203,21 +203,23 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
 
 // Voxels [i, i + width): the actuated size (docs/method.md §4).
 template <class T>
-inline void actuate_lanes(const double* stiff, const double* phase, double* size, int i,
-                          const ActuationConstants& k) {
+inline void actuate_lanes(const double* stiff, const double* phase, const double* gain,
+                          double* size, int i, const ActuationConstants& k) {
   // Stiff voxels barely move; xi follows the *current* E, so development changes actuation.
-  const T xi = (k.e_max - load(stiff, i, T{})) * k.inv_range;
-  const T wave = sin_cycles(k.cycles + load(phase, i, T{}));
+  // (A gain of 1 and xi_base 0 leave every bit as the plain formula gives it.)
+  const T xi = (k.e_max - load(stiff, i, T{})) * k.inv_range + k.xi_base;
+  const T sine = sin_cycles(k.cycles + load(phase, i, T{}));
+  const T wave = pick(sine > k.wave_max, splat(k.wave_max, T{}), sine);
   // The size factor never drops below min_factor (Voxelyze's MIN_TEMP_FACTOR).
-  const T factor = 1.0 + k.amplitude * xi * wave;
+  const T factor = 1.0 + k.amplitude * xi * load(gain, i, T{}) * wave;
   store(size, i, k.L * pick(factor < k.min_factor, splat(k.min_factor, T{}), factor));
 }
 
 template <class T>
-inline void run_actuate(const double* stiff, const double* phase, double* size, int n,
-                        const ActuationConstants& k) {
-  over_lanes<T>(n,
-                [&](auto lane, int i) { actuate_lanes<decltype(lane)>(stiff, phase, size, i, k); });
+inline void run_actuate(const double* stiff, const double* phase, const double* gain, double* size,
+                        int n, const ActuationConstants& k) {
+  over_lanes<T>(
+      n, [&](auto lane, int i) { actuate_lanes<decltype(lane)>(stiff, phase, gain, size, i, k); });
 }
 
 // Slow (global) damping: a small fraction of the critical damping of the voxel's own axial

@@ -1,6 +1,7 @@
 // Helpers shared by the VXA reader and writer (they must agree bit for bit on how a number is
 // printed and parsed and on how actuation is derived from the thermal tags, or a round trip
-// would not be exact), then the reader's XML helpers: tag paths and one-line errors.
+// would not be exact), then the XML writer and the reader's XML helpers (tag paths, one-line
+// errors), which the voxcraft-sim dialect (voxcraft_*.cpp) uses too.
 #pragma once
 
 #include <tinyxml2.h>
@@ -64,6 +65,48 @@ inline double amplitude_from_temp_amp(double temp_amp, double temp_base, double 
 
 inline double frequency_from_period(double period) {
   return 1.0 / period;
+}
+
+// ---- XML writing (vxa_write.cpp, voxcraft_write.cpp) ----
+
+// Unindented XML text built tag by tag; text is written as given (callers pass numbers and
+// names without markup characters, or CDATA layers).
+class Xml {
+ public:
+  explicit Xml(size_t reserve) { s_.reserve(reserve); }
+  void open(const std::string& tag, const std::string& attrs = "") {
+    s_ += "<" + tag + attrs + ">\n";
+    stack_.push_back(tag);
+  }
+  void close() {
+    s_ += "</" + stack_.back() + ">\n";
+    stack_.pop_back();
+  }
+  void tag(const std::string& name, const std::string& text) {
+    s_ += "<" + name + ">" + text + "</" + name + ">\n";
+  }
+  void tag(const std::string& name, double v) { tag(name, format_double(v)); }
+  // An element holding one number: <name><inner>v</inner></name>.
+  void block(const std::string& name, const std::string& inner, double v) {
+    open(name);
+    tag(inner, v);
+    close();
+  }
+  void layer(const std::string& text) { s_ += "<Layer><![CDATA[" + text + "]]></Layer>\n"; }
+  std::string& text() { return s_; }
+
+ private:
+  std::string s_;
+  std::vector<std::string> stack_;
+};
+
+// <Damping>, as both dialects read it: the three damping ratios.
+inline void write_damping(Xml& x, const PhysicsDef& p) {
+  x.open("Damping");
+  x.tag("BondDampingZ", p.bond_damping);
+  x.tag("ColDampingZ", p.collision_damping);
+  x.tag("SlowDampingZ", p.global_damping);
+  x.close();
 }
 
 // ---- XML reading helpers (vxa_read.cpp) ----
@@ -136,6 +179,11 @@ inline std::string open_elements(std::string_view text, int stop_line) {
   for (const std::string& name : stack) path += (path.empty() ? "<" : "/<") + name + ">";
   return path.empty() ? "(document)" : path;
 }
+
+// Parses text into doc. Throws VxaError, one line naming the file, for malformed XML (with the
+// elements open at the error) or an element with more than kMaxVxaAttributes attributes.
+void parse_xml_document(tinyxml2::XMLDocument& doc, const std::string& text,
+                        const std::string& source_name);
 
 class Reader {
  public:

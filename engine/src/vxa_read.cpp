@@ -57,6 +57,10 @@ void read_simulator(Reader& r, const XMLElement* vxa, PhysicsDef& p) {
     r.expect(f, "EnforceLatticeEnabled", 0, false, unread);
   }
   const XMLElement* stop = r.need(sim, "StopCondition");
+  if (!Reader::child(stop, "StopConditionType") && Reader::child(stop, "StopConditionFormula"))
+    r.fail(stop,
+           "missing <StopConditionType> (a <StopConditionFormula> is voxcraft-sim's dialect: "
+           "plastivox simulate BASE.vxa --vxd ROBOT.vxd reads it)");
   const XMLElement* type = r.need(stop, "StopConditionType");
   if (r.number(type) != 2)
     r.fail(type, format_double(r.number(type)) + " is not supported (only 2, simulated time)");
@@ -431,17 +435,26 @@ std::string in_file_terms(const std::string& what, const XMLElement* vxa,
 
 }  // namespace
 
-VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) {
-  Reader r(source_name);
-  if (const int n = most_attributes(xml_text); n > kMaxVxaAttributes)
+namespace vxa_detail {
+
+void parse_xml_document(tinyxml2::XMLDocument& doc, const std::string& text,
+                        const std::string& source_name) {
+  if (const int n = most_attributes(text); n > kMaxVxaAttributes)
     throw VxaError(source_name + ": an element has " + std::to_string(n) +
                    " attributes, more than the " + std::to_string(kMaxVxaAttributes) +
                    " a VXA file can need");
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml_text.data(), xml_text.size()) != tinyxml2::XML_SUCCESS)
-    throw VxaError(one_line(source_name + ": " + open_elements(xml_text, doc.ErrorLineNum()) +
+  if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
+    throw VxaError(one_line(source_name + ": " + open_elements(text, doc.ErrorLineNum()) +
                             ": malformed XML at line " + std::to_string(doc.ErrorLineNum()) + " (" +
                             doc.ErrorName() + "; truncated file?)"));
+}
+
+}  // namespace vxa_detail
+
+VxaRobot parse_vxa(const std::string& xml_text, const std::string& source_name) {
+  Reader r(source_name);
+  tinyxml2::XMLDocument doc;
+  parse_xml_document(doc, xml_text, source_name);
   const XMLElement* vxa = doc.RootElement();
   if (!vxa || std::strcmp(vxa->Name(), "VXA") != 0)
     throw VxaError(source_name + ": <VXA>: missing (the root element is not <VXA>)");

@@ -20,35 +20,6 @@ namespace {
 
 using namespace vxa_detail;
 
-class Xml {
- public:
-  explicit Xml(size_t reserve) { s_.reserve(reserve); }
-  void open(const std::string& tag, const std::string& attrs = "") {
-    s_ += "<" + tag + attrs + ">\n";
-    stack_.push_back(tag);
-  }
-  void close() {
-    s_ += "</" + stack_.back() + ">\n";
-    stack_.pop_back();
-  }
-  void tag(const std::string& name, const std::string& text) {
-    s_ += "<" + name + ">" + text + "</" + name + ">\n";
-  }
-  void tag(const std::string& name, double v) { tag(name, format_double(v)); }
-  // An element holding one number: <name><inner>v</inner></name>.
-  void block(const std::string& name, const std::string& inner, double v) {
-    open(name);
-    tag(inner, v);
-    close();
-  }
-  void layer(const std::string& text) { s_ += "<Layer><![CDATA[" + text + "]]></Layer>\n"; }
-  std::string& text() { return s_; }
-
- private:
-  std::string s_;
-  std::vector<std::string> stack_;
-};
-
 // Searches the doubles next to guess for one that read(x) maps exactly onto target.
 template <class Read>
 std::optional<double> exact_inverse(double guess, double target, Read read) {
@@ -126,6 +97,15 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
     throw VxaError(
         "write_vxa: physics.act_frequency 0 cannot be written (<TempPeriod> would be "
         "infinite)");
+  if (!p.act_expansion)
+    throw VxaError(
+        "write_vxa: physics.act_expansion false (contraction only) cannot be written: the "
+        "authors' simulator swells and shrinks every voxel");
+  if (!robot.act_amplitude.empty())
+    throw VxaError(
+        "write_vxa: robot.act_amplitude (per-voxel actuation amplitudes, as voxcraft-sim's "
+        "materials give them) cannot be written: the authors' dialect actuates every voxel by "
+        "physics.act_amplitude and its stiffness; write voxcraft files or .json");
   if (!robot.fixed_sites.empty() || !robot.loads.empty())
     throw VxaError(
         "write_vxa: robot.fixed_sites and robot.loads cannot be written (VXA "
@@ -176,11 +156,7 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
   x.tag("Integrator", 0);
   x.tag("DtFrac", p.dt_frac);
   x.close();
-  x.open("Damping");
-  x.tag("BondDampingZ", p.bond_damping);
-  x.tag("ColDampingZ", p.collision_damping);
-  x.tag("SlowDampingZ", p.global_damping);
-  x.close();
+  write_damping(x, p);
   x.open("Collisions");
   x.tag("SelfColEnabled", p.self_collision ? 1 : 0);
   x.tag("ColSystem", 3);

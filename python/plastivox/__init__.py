@@ -165,6 +165,14 @@ class Robot:
                         doc="(nx, ny, nz) development rate alpha, 1/s")
 
     @property
+    def act_amplitude(self):
+        """(nx, ny, nz) linear actuation amplitude of each voxel, or None: a voxcraft-sim robot
+        carries its own (TempAmplitude x its material's CTE, whatever its stiffness); every
+        other robot actuates by physics act_amplitude x xi(E) (docs/method.md §4)."""
+        flat = self._core.act_amplitude_flat
+        return self._lattice(flat) if len(flat) else None
+
+    @property
     def physics(self):
         """The robot's own physics as a dict (what simulate uses when given none)."""
         return _json.loads(self._core.physics_json)
@@ -190,9 +198,11 @@ class Robot:
                 f"voxel_size={self.voxel_size}, treatment={self.treatment!r})")
 
 
-def load_robot(path):
-    """Reads a robot file: .json (plastivox-robot) or .vxa (the authors' format)."""
-    return Robot(_core.load_robot(_os.fspath(path)))
+def load_robot(path, vxd=None):
+    """Reads a robot file: .json (plastivox-robot) or .vxa (the authors' format). With vxd,
+    path is voxcraft-sim's base.vxa and vxd its robot .vxd, merged as voxcraft-sim merges them
+    (docs/vxa.md, "voxcraft-sim")."""
+    return Robot(_core.load_robot(_os.fspath(path), "" if vxd is None else _os.fspath(vxd)))
 
 
 def demo_walker():

@@ -18,13 +18,15 @@
 namespace plastivox::py {
 namespace {
 
-PyRobot load_robot(const std::string& path) {
+PyRobot load_robot(const std::string& path, const std::string& vxd) {
   PyRobot r;
-  r.source = path;
+  r.source = vxd.empty() ? path : path + " + " + vxd;
   // The command line reads any other name as JSON; a library call says what it expects.
   if (!path.ends_with(".vxa") && !path.ends_with(".json"))
     throw plastivox::InputError(path + ": expected a robot file ending in .json or .vxa");
-  LoadedRobot file = plastivox::load_robot(path);
+  if (!vxd.empty() && !path.ends_with(".vxa"))
+    throw plastivox::InputError(path + ": a .vxd goes with voxcraft-sim's base .vxa");
+  LoadedRobot file = plastivox::load_robot(path, vxd);
   for (const std::string& w : file.warnings) warn(path + ": " + w);
   r.def = std::move(file.robot);
   r.physics = file.physics;
@@ -95,14 +97,16 @@ PyRobot load_source(const std::string& path) {
 // build or a damaged one fails with a line saying so:
 //   ("plastivox.Robot", 1, name, (nx, ny, nz), voxel_size, present, stiffness, dev_rate,
 //    phase, fixed_sites, loads, physics_json, source)
+// and, for a robot with its own per-voxel actuation amplitudes (a voxcraft-sim robot),
+// version 2: the same followed by act_amplitude (float64 per lattice site).
 // The four arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
 // byte order: little-endian on every machine plastivox builds for), so values come back bit
 // for bit, those at empty sites included. fixed_sites is a tuple of sites, loads a tuple of
 // (site, fx, fy, fz); physics_json holds every PhysicsDef field (physics_to_json).
 
 constexpr const char* kStateFormat = "plastivox.Robot";
-constexpr int kStateVersion = 1;
-constexpr size_t kStateFields = 13;
+constexpr int kStateVersion = 2;
+constexpr size_t kStateFields = 14;  // 13 in version 1
 
 template <class T>
 pyb::bytes raw_bytes(const std::vector<T>& v) {
@@ -117,11 +121,14 @@ pyb::tuple robot_state(const PyRobot& r) {
     const RobotDef::Load& l = r.def.loads[i];
     loads[i] = pyb::make_tuple(l.site, l.fx, l.fy, l.fz);
   }
-  return pyb::make_tuple(kStateFormat, kStateVersion, r.def.name,
-                         pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size,
-                         raw_bytes(r.def.present), raw_bytes(r.def.stiffness),
-                         raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads,
-                         physics_to_json(r.physics), r.source);
+  const bool own = !r.def.act_amplitude.empty();
+  pyb::tuple state = pyb::make_tuple(
+      kStateFormat, own ? kStateVersion : 1, r.def.name,
+      pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size, raw_bytes(r.def.present),
+      raw_bytes(r.def.stiffness), raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads,
+      physics_to_json(r.physics), r.source);
+  if (!own) return state;
+  return pyb::tuple(state + pyb::make_tuple(raw_bytes(r.def.act_amplitude)));
 }
 
 // Copies bytes holding one T per lattice site into out; throws InputError naming the field.
@@ -136,15 +143,19 @@ void sites_from_bytes(const pyb::handle& h, size_t sites, const char* field, std
 }
 
 PyRobot robot_from_state(const pyb::tuple& t) {
-  if (t.size() != kStateFields || !pyb::isinstance<pyb::str>(t[0]) ||
-      t[0].cast<std::string>() != kStateFormat)
+  if ((t.size() != kStateFields && t.size() != kStateFields - 1) ||
+      !pyb::isinstance<pyb::str>(t[0]) || t[0].cast<std::string>() != kStateFormat)
     throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of " +
                      std::to_string(kStateFields) + " fields starting with '" + kStateFormat +
                      "')");
   const pyb::object version = t[1];
-  if (!pyb::isinstance<pyb::int_>(version) || !version.equal(pyb::int_(kStateVersion)))
+  const bool v1 = version.equal(pyb::int_(1));
+  if (!pyb::isinstance<pyb::int_>(version) || !(v1 || version.equal(pyb::int_(kStateVersion))) ||
+      t.size() != (v1 ? kStateFields - 1 : kStateFields))
     throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
-                     ", this plastivox reads version " + std::to_string(kStateVersion));
+                     " with " + std::to_string(t.size()) +
+                     " fields, this plastivox reads versions 1 (13 fields) and " +
+                     std::to_string(kStateVersion) + " (14)");
   PyRobot r;
   try {
     const auto [nx, ny, nz] = t[3].cast<std::tuple<int, int, int>>();
@@ -168,6 +179,7 @@ PyRobot robot_from_state(const pyb::tuple& t) {
     r.physics = PhysicsDef{};
     apply_physics_json(t[11].cast<std::string>(), "Robot pickle", r.physics);
     r.source = t[12].cast<std::string>();
+    if (!v1) sites_from_bytes(t[13], sites, "act_amplitude", r.def.act_amplitude);
   } catch (const pyb::cast_error&) {
     throw InputError("Robot pickle: a field has the wrong type (damaged state?)");
   } catch (const std::invalid_argument& e) {
@@ -196,7 +208,8 @@ bool same_robot(const PyRobot& a, const PyRobot& b) {
               std::memcmp(&x.voxel_size, &y.voxel_size, sizeof(double)) == 0 &&
               same_bits(x.present, y.present) && same_bits(x.stiffness, y.stiffness) &&
               same_bits(x.dev_rate, y.dev_rate) && same_bits(x.phase, y.phase) &&
-              x.fixed_sites == y.fixed_sites && x.loads.size() == y.loads.size();
+              same_bits(x.act_amplitude, y.act_amplitude) && x.fixed_sites == y.fixed_sites &&
+              x.loads.size() == y.loads.size();
   for (size_t i = 0; same && i < x.loads.size(); ++i) {
     const RobotDef::Load &l = x.loads[i], &m = y.loads[i];
     same = l.site == m.site && std::memcmp(&l.fx, &m.fx, sizeof(double)) == 0 &&
@@ -217,6 +230,7 @@ int64_t robot_hash(const PyRobot& r) {
   h.vec(r.def.stiffness);
   h.vec(r.def.dev_rate);
   h.vec(r.def.phase);
+  if (!r.def.act_amplitude.empty()) h.vec(r.def.act_amplitude);  // hashes made before stay
   h.vec(r.def.fixed_sites);
   for (const RobotDef::Load& l : r.def.loads) {
     h.u64(static_cast<uint64_t>(l.site));
@@ -280,6 +294,8 @@ void bind_robot(pyb::module_& m) {
       .def_property_readonly("dev_rate_flat",
                              [](const PyRobot& r) { return to_array(r.def.dev_rate); })
       .def_property_readonly("phase_flat", [](const PyRobot& r) { return to_array(r.def.phase); })
+      .def_property_readonly("act_amplitude_flat",
+                             [](const PyRobot& r) { return to_array(r.def.act_amplitude); })
       .def("with_physics",
            [](const PyRobot& r, const std::optional<std::string>& physics_json,
               const std::optional<std::string>& treatment) {
@@ -291,7 +307,7 @@ void bind_robot(pyb::module_& m) {
       .def("__eq__", &same_robot, pyb::is_operator())
       .def("__hash__", &robot_hash)
       .def(pyb::pickle(&robot_state, &robot_from_state));
-  m.def("load_robot", &load_robot, pyb::arg("path"));
+  m.def("load_robot", &load_robot, pyb::arg("path"), pyb::arg("vxd") = "");
   m.def("load_source", &load_source, pyb::arg("path"));
   m.def("from_flat", &from_flat);
   // The lattice limit, checked on shapes alone before any array is converted or copied

@@ -2,13 +2,17 @@
 // voxcraft-viz's player reads it (src/VX1/VXS_SimGLView.cpp there):
 //   - a line holding "{{{setting}}}" is followed by one XML element: <rescale>, <voxel_size>
 //     or <matcolor><id/><r/><g/><b/><a/></matcolor> (colour channels in [0, 1]);
-//   - a frame line is "<<<Step<k> Time:<t>>>>", then per voxel 15 comma-separated numbers,
+//   - a frame line is "<<<Step<k> Time:<t>>>>" (k the simulation step count, as voxcraft-sim
+//     writes it; the player shows it as text), then per voxel 15 comma-separated numbers,
 //     each voxel ending ",;": centre x, y, z; rotation angle (degrees) and axis x, y, z;
 //     the local corners nnn x, y, z and ppp x, y, z (relative to the centre, before the
 //     rotation); the material id (0..9, picks a <matcolor>); a scalar the viewer's
 //     "electrical" mode colours with a jet map over [0, 100]; the line ends "<<<>>>".
 // Lengths are multiplied by <rescale> on reading: written in millimetres with rescale
 // 0.001, so four decimals keep 0.1 µm. Lines of any other form are skipped by the player.
+// Frame: voxcraft-sim puts voxel centres of the bottom layer at z = 0 and its floor at
+// z = -L/2, and the player draws the floor at -<voxel_size>/2; plastivox's floor is z = 0 with
+// resting centres at L/2. So z is written as z - L/2: the robot stands on the drawn floor.
 #include "plastivox/render/history_file.hpp"
 
 #include <algorithm>
@@ -58,12 +62,12 @@ std::string history_text(const Model& model, const Recording& recording) {
     const double t = congenital.position(std::log10(model.e0[i]));
     klass[i] = std::clamp(1 + static_cast<int>(t * kHistoryClasses), 1, kHistoryClasses);
   }
-  for (size_t k = 0; k < recording.frames.size(); ++k) {
-    const Frame& f = recording.frames[k];
-    std::snprintf(buf, sizeof buf, "<<<Step%zu Time:%.6f>>>", k, f.time);
+  for (const Frame& f : recording.frames) {
+    std::snprintf(buf, sizeof buf, "<<<Step%lld Time:%.6f>>>", static_cast<long long>(f.step),
+                  f.time);
     out += buf;
     for (int i = 0; i < model.n; ++i) {
-      const Eigen::Vector3d p = f.pos[i] * kMillimetres;
+      const Eigen::Vector3d p = (f.pos[i] - Eigen::Vector3d(0, 0, 0.5 * model.size)) * kMillimetres;
       append(out, "%.4f,%.4f,%.4f,", p.x(), p.y(), p.z());
       // Angle and axis of the body-to-world rotation (no rotation: angle 0 about x).
       const Eigen::AngleAxisd aa(f.orient[i].normalized());

@@ -83,7 +83,7 @@ def test_robot_pickle_refuses_garbage_with_one_line():
     cases = [
         ((1, 2, 3), "not a plastivox robot state"),
         (bad_state(state, 0, "something.Else"), "not a plastivox robot state"),
-        (bad_state(state, 1, 2), "state version 2, this plastivox reads version 1"),
+        (bad_state(state, 1, 2), "state version 2 with 13 fields, this plastivox reads versions 1"),
         (bad_state(state, 1, 2 ** 70), "state version 1180591620717411303424"),
         (bad_state(state, 6, b"\0" * 12), "stiffness: expected 8000 bytes"),
         (bad_state(state, 3, "10x10x10"), "wrong type"),

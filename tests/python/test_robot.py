@@ -1,14 +1,17 @@
 """Robots and physics: arrays in and out, lossless files, errors that name the argument."""
 
 import itertools
+import json
 import math
+import os
+import pickle
 import warnings
 
 import numpy as np
 import pytest
 
 import plastivox
-from conftest import run_cli, vxa
+from conftest import DATA, run_cli, vxa
 
 
 def small_arrays(shape=(3, 2, 2)):
@@ -217,3 +220,28 @@ def test_from_arrays_checks_the_lattice_size_before_copying():
     e = np.broadcast_to(np.full(1, 1e9), big.shape)
     with pytest.raises(ValueError, match=r"geometry: a 1000x1000x1000 lattice has 1000000000 sites"):
         plastivox.Robot.from_arrays(big, e, e)
+
+
+def test_voxcraft_demo_loads_with_its_vxd_and_stands_on_the_floor(tmp_path):
+    base = os.path.join(DATA, "voxcraft", "bigbuy", "base.vxa")
+    vxd = os.path.join(DATA, "voxcraft", "bigbuy", "robot_0000.vxd")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = plastivox.load_robot(base, vxd=vxd)
+    assert any("FitnessFunction" in str(w.message) for w in caught)
+    assert robot.voxel_count == 21 and robot.shape == (3, 3, 3)
+    assert robot.source == base + " + " + vxd
+    amp = robot.act_amplitude
+    assert amp[0, 0, 0] == 7.72173 * 0.01 and amp[1, 0, 0] == 0  # muscle, bone
+    assert robot.stiffness[0, 0, 0] == 3e7 and robot.phase[0, 0, 0] == 0.437
+    assert robot.physics["act_expansion"] is False and robot.physics["duration"] == 2
+    # same life as the command line, and a pickle keeps the amplitudes
+    r = plastivox.simulate(robot)
+    _, out, _ = run_cli("simulate", base, "--vxd", vxd, "--json")
+    assert r.final_state_hash == json.loads(out)["final_state_hash"]
+    back = pickle.loads(pickle.dumps(robot))
+    assert back == robot and np.array_equal(back.act_amplitude, amp)
+    assert plastivox.simulate(back).final_state_hash == r.final_state_hash
+    assert plastivox.load_robot(vxa("walker-none.vxa")).act_amplitude is None
+    with pytest.raises(plastivox.InputError, match="none.vxd"):
+        plastivox.load_robot(base, vxd=tmp_path / "none.vxd")

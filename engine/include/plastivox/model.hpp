@@ -47,6 +47,12 @@ struct Model {
   std::vector<double> e0;      // congenital Young's modulus, Pa
   std::vector<double> alpha;   // development rate, 1/s (0 everywhere under kNone)
   std::vector<double> phase;   // actuation phase, cycles
+  // Actuation amplitude per voxel: under the paper's rule (act_per_voxel false) every gain is
+  // 1 and the amplitude is def.act_amplitude * xi(E); with the robot's own amplitudes
+  // (RobotDef::act_amplitude, voxcraft's rule) the gain is the amplitude and xi is not used.
+  std::vector<double> act_gain;
+  bool act_per_voxel = false;
+  double act_amplitude_max = 0;  // the largest linear amplitude any voxel can reach
   // Bond slots of each voxel: [axis*2 + 0] the bond towards -axis, [axis*2 + 1] towards +axis;
   // -1 where there is no neighbour.
   std::vector<std::array<int, 6>> voxel_bonds;

@@ -80,6 +80,9 @@ struct PhysicsDef {
   double act_frequency = 5.0;     // Hz
   double act_amplitude = 0.1447;  // linear, fraction of voxel size
   double act_min_factor = 0.1;    // floor on the size factor 1 + A xi(E) sin(...)
+  // false: contraction only, the wave's positive half clipped to 0 (voxcraft-sim without
+  // EnableExpansion, docs/vxa.md); true, every preset: the voxel swells and shrinks.
+  bool act_expansion = true;
 
   // --- timeline ---
   double settle_time = 0.2;  // s without actuation or development; fitness starts here

@@ -17,6 +17,7 @@ namespace plastivox {
 
 struct Frame {
   double time = 0;                         // s
+  int64_t step = 0;                        // simulation steps taken to reach this state
   std::vector<Eigen::Vector3d> pos;        // voxel centre, m, world frame (n)
   std::vector<Eigen::Quaterniond> orient;  // body-to-world rotation (n)
   std::vector<double> size;                // actuated edge length, m (n)

@@ -17,6 +17,10 @@ struct RobotDef {
   std::vector<double> stiffness;  // congenital Young's modulus E0, Pa (nx*ny*nz)
   std::vector<double> dev_rate;   // development rate alpha, 1/s (nx*ny*nz); 0 = none
   std::vector<double> phase;      // actuation phase offset, cycles in (-1, 1) (nx*ny*nz)
+  // Per-voxel linear actuation amplitude, fraction of L in [0, 0.9) (nx*ny*nz), as
+  // voxcraft-sim gives it (TempAmplitude x the material's CTE, independent of stiffness).
+  // Empty (the default, and every robot of the paper): physics.act_amplitude * xi(E).
+  std::vector<double> act_amplitude;
 
   // Boundary conditions, for experiments and physics tests (evolved robots have none).
   std::vector<int> fixed_sites;  // sites whose voxel is clamped: no translation, no rotation

@@ -16,8 +16,9 @@ struct LoadedRobot {
   std::vector<std::string> warnings;  // what a .vxa left to defaults or ignored, one line each
 };
 
-// Throws InputError (VxaError for .vxa), one line naming the file and the field.
-LoadedRobot load_robot(const std::string& path);
+// Throws InputError (VxaError for .vxa), one line naming the file and the field. With a
+// non-empty vxd, path is voxcraft-sim's base.vxa and vxd its robot (voxcraft.hpp).
+LoadedRobot load_robot(const std::string& path, const std::string& vxd = "");
 
 // Writes .vxa or .json (atomically); a .vxa writer's notes on what the format cannot hold go
 // to *warnings. Throws std::invalid_argument for any other extension, InputError on failure.
