@@ -41,12 +41,15 @@ bool wants_help(const Args& args);
 // "1 thread", "2 threads": a count and its noun, plural by appending "s".
 std::string count_of(long long n, const std::string& noun);
 
-// Removes "--name VALUE" from args and returns VALUE (or fallback when absent).
+// Removes "--name VALUE" from args and returns VALUE (or fallback when absent). The value
+// may be neither empty nor another option, and the option may be given once (UsageError).
 std::string take_option(Args& args, const std::string& name, const std::string& fallback);
+// Every VALUE of an option that may be repeated ("--config A --config B"), in order.
+std::vector<std::string> take_repeated_option(Args& args, const std::string& name);
 // A non-negative whole number (at most 2^20) given to `option`; UsageError otherwise.
 int parse_count(const std::string& s, const std::string& option);
-// Reads `text` as one number (std::stod) into v: false when it is empty, not a number or has
-// more after it.
+// Reads `text` as one decimal number into v: false when it is empty, not a number (or
+// hexadecimal, inf or nan) or has more after it.
 bool read_number(const std::string& text, double& v);
 // Removes "--name" from args and returns whether it was there.
 bool take_flag(Args& args, const std::string& name);

@@ -36,20 +36,37 @@ const std::atomic<bool>* install_stop_signals(const char* command) {
   return &g_stop;
 }
 
-std::string take_option(Args& args, const std::string& name, const std::string& fallback) {
+namespace {
+
+// Removes the first "--name VALUE" from args into value; false when --name is absent.
+bool take_one(Args& args, const std::string& name, std::string& value) {
   auto it = std::find(args.begin(), args.end(), name);
-  if (it == args.end()) return fallback;
+  if (it == args.end()) return false;
   if (it + 1 == args.end()) throw UsageError{"option " + name + " needs a value"};
-  std::string value = *(it + 1);
+  value = *(it + 1);
   // Empty is never a value: it would read as "not given" (or as 0) without a word.
   if (value.empty()) throw UsageError{"option " + name + " needs a value, got ''"};
   // Nor is another option: "--out --time 2" would write a file named "--time".
   if (value.starts_with("--"))
     throw UsageError{"option " + name + " needs a value, got the option " + value};
   args.erase(it, it + 2);
+  return true;
+}
+
+}  // namespace
+
+std::string take_option(Args& args, const std::string& name, const std::string& fallback) {
+  std::string value;
+  if (!take_one(args, name, value)) return fallback;
   if (std::find(args.begin(), args.end(), name) != args.end())
     throw UsageError{"option " + name + " is given more than once"};
   return value;
+}
+
+std::vector<std::string> take_repeated_option(Args& args, const std::string& name) {
+  std::vector<std::string> values;
+  for (std::string v; take_one(args, name, v);) values.push_back(v);
+  return values;
 }
 
 int parse_count(const std::string& s, const std::string& option) {

@@ -102,9 +102,8 @@ int cmd_evolve(const Args& in) {
   Args args = in;
   const bool print_default = take_flag(args, "--print-default-config");
   // --config and --out may repeat, paired in order: several runs at once (run.hpp).
-  std::vector<std::string> config_paths, outs;
-  for (std::string c; !(c = take_option(args, "--config", "")).empty();) config_paths.push_back(c);
-  for (std::string o; !(o = take_option(args, "--out", "")).empty();) outs.push_back(o);
+  const std::vector<std::string> config_paths = take_repeated_option(args, "--config");
+  const std::vector<std::string> outs = take_repeated_option(args, "--out");
   const std::string threads = take_option(args, "--threads", "");
   // Testing hook (undocumented in the usage): stop after this many generations, as if
   // killed right after a checkpoint.
