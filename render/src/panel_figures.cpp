@@ -44,9 +44,10 @@ void check_figure_size(const FigureOptions& o, int panels) {
   const int columns = std::max(1, std::min(3, panels)), rows = (panels + columns - 1) / columns;
   const int64_t w = int64_t{o.width} * columns, h = int64_t{o.height} * rows;
   if (o.combined && o.png && (w > kMaxImageSide || h > kMaxImageSide))
-    throw RenderError("panel size " + size + " makes the combined figure " + std::to_string(w) +
-                      "x" + std::to_string(h) + ", more than " + std::to_string(kMaxImageSide) +
-                      " pixels a side (use smaller panels or, with plastivox figures, --no-combined)");
+    throw RenderError(
+        "panel size " + size + " makes the combined figure " + std::to_string(w) + "x" +
+        std::to_string(h) + ", more than " + std::to_string(kMaxImageSide) +
+        " pixels a side (use smaller panels or, with plastivox figures, --no-combined)");
 }
 
 std::vector<std::string> write_figures(const StatsFigure& figure, const std::string& out_dir,
