@@ -4,7 +4,9 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
+#include <utility>
 
 #include "plastivox/base/clock.hpp"
 #include "workspace.hpp"
@@ -174,63 +176,85 @@ void follow_stiffness(const Model& m, State& s) {
     s.dt = stable_dt(m, s.stiffness);
 }
 
-SimResult simulate(const Model& model, const SimOptions& o) {
-  const auto wall_start = WallClock::now();
-  const PhysicsDef& d = model.def;
-  Simulator sim(model);
-  const State& s = sim.state();
-  SimResult r;
-  r.voxels = model.n;
-  r.dt_initial = s.dt;
+namespace {
 
-  // Frame k is due once time reaches frame_time(k).
-  const bool at_times = !o.frame_times.empty();
-  const bool at_fps = !at_times && o.record_fps > 0;
-  if (at_fps) r.recording.fps = o.record_fps;
-  const size_t last_frame = at_times ? o.frame_times.size() : std::numeric_limits<size_t>::max();
-  auto frame_time = [&](size_t k) {
-    return at_times ? o.frame_times[k] : static_cast<double>(k) / o.record_fps;
-  };
-  size_t frames = 0;
-  bool stopped = false;          // on_frame asked to end the life
-  int64_t last_frame_step = -1;  // the step count of the state last taken as a frame
-  auto take_frame = [&] {
-    frames += 1;
-    last_frame_step = s.steps;
-    if (o.on_frame)
-      stopped = !o.on_frame(s);
-    else
-      r.recording.frames.push_back(capture_frame(s));
-  };
-  const double end = at_times ? o.frame_times.back() : d.duration;
-  FloorWatch floor;
-  double next_progress = 0;
+// The frames a life records (SimOptions): frame k is due once time reaches its frame time,
+// k / record_fps or frame_times[k]. Each goes to on_frame, or into the recording.
+class FrameTaker {
+ public:
+  FrameTaker(const SimOptions& o, const State& s)
+      : o_(o),
+        s_(s),
+        at_times_(!o.frame_times.empty()),
+        at_fps_(!at_times_ && o.record_fps > 0),
+        last_(at_times_ ? o.frame_times.size() : std::numeric_limits<size_t>::max()) {
+    if (at_fps_) recording_.fps = o.record_fps;
+  }
 
-  // Like Voxelyze, run until time first passes the duration (the Simulator then says
-  // kFinished).
-  while (s.status == SimStatus::kRunning) {
+  // Takes the frames due at the present state, before the next step; false when the life
+  // ends here (on_frame said so, or the last of frame_times is taken).
+  bool take_due() {
     // One frame per step at most under record_fps, as the recording always did.
-    if (at_fps && s.time >= frame_time(frames)) take_frame();
-    while (at_times && frames < last_frame && s.time >= frame_time(frames) && !stopped)
-      take_frame();
-    if (stopped || frames == last_frame) break;
-    if (o.progress && s.time >= next_progress) {
-      o.progress(end > 0 ? std::min(1.0, s.time / end) : 1.0);
-      next_progress = s.time + end / 100;
-    }
-    sim.step(o.timings);
-    floor.see(model, s);
+    if (at_fps_ && s_.time >= frame_time(taken_)) take();
+    while (at_times_ && taken_ < last_ && s_.time >= frame_time(taken_) && !stopped_) take();
+    return !stopped_ && taken_ != last_;
   }
   // The life ran to its end: frames due at the last state, and under record_fps the last
-  // state itself, are still to take.
-  const bool whole_life = s.status == SimStatus::kFinished && !stopped;
-  if (whole_life) {
-    while (at_times && frames < last_frame && s.time >= frame_time(frames) && !stopped)
-      take_frame();
-    if (at_fps && last_frame_step != s.steps) take_frame();
+  // state itself.
+  void take_last() {
+    while (at_times_ && taken_ < last_ && s_.time >= frame_time(taken_) && !stopped_) take();
+    if (at_fps_ && last_step_ != s_.steps) take();
   }
-  if (o.progress && !stopped) o.progress(1.0);
+  bool stopped() const { return stopped_; }
+  // Where progress runs to: the life's end, or the last frame time.
+  double end(double duration) const { return at_times_ ? o_.frame_times.back() : duration; }
+  Recording& recording() { return recording_; }
 
+ private:
+  double frame_time(size_t k) const {
+    return at_times_ ? o_.frame_times[k] : static_cast<double>(k) / o_.record_fps;
+  }
+  void take() {
+    taken_ += 1;
+    last_step_ = s_.steps;
+    if (o_.on_frame)
+      stopped_ = !o_.on_frame(s_);
+    else
+      recording_.frames.push_back(capture_frame(s_));
+  }
+
+  const SimOptions& o_;
+  const State& s_;
+  const bool at_times_, at_fps_;
+  const size_t last_;  // frames there are to take (all of frame_times, or no limit)
+  size_t taken_ = 0;
+  bool stopped_ = false;    // on_frame asked to end the life
+  int64_t last_step_ = -1;  // the step count of the state last taken as a frame
+  Recording recording_;
+};
+
+// Reports the fraction of the life simulated to SimOptions::progress, about every 1 %.
+class ProgressReport {
+ public:
+  ProgressReport(const SimOptions& o, double end) : fn_(o.progress), end_(end) {}
+  void at(double time) {
+    if (!fn_ || time < next_) return;
+    fn_(end_ > 0 ? std::min(1.0, time / end_) : 1.0);
+    next_ = time + end_ / 100;
+  }
+  void done() {
+    if (fn_) fn_(1.0);
+  }
+
+ private:
+  const std::function<void(double)>& fn_;
+  double end_, next_ = 0;
+};
+
+// The summary of a life from its last state: status, fitness, displacement and the
+// lifetime stiffness change (SimResult).
+void summarise(const Model& model, const State& s, SimResult& r) {
+  r.voxels = model.n;
   r.status = s.status;  // kRunning for a life ended early by on_frame or frame_times
   r.failure = s.failure;
   r.steps = s.steps;
@@ -255,6 +279,33 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   r.stiffness_change_var =
       std::max(0.0, sum_sq / n - r.stiffness_change_mean * r.stiffness_change_mean);
   r.final_state_hash = state_hash(s);
+}
+
+}  // namespace
+
+// A life, as a list: step until the Simulator says the life is over (like Voxelyze, until
+// time first passes the duration) or the frames end it, taking frames, reporting progress
+// and watching the floor as it goes; then the summary and the floor's grade.
+SimResult simulate(const Model& model, const SimOptions& o) {
+  const auto wall_start = WallClock::now();
+  Simulator sim(model);
+  const State& s = sim.state();
+  const double dt_initial = s.dt;
+  FrameTaker frames(o, s);
+  ProgressReport progress(o, frames.end(model.def.duration));
+  FloorWatch floor;
+  while (s.status == SimStatus::kRunning && frames.take_due()) {
+    progress.at(s.time);
+    sim.step(o.timings);
+    floor.see(model, s);
+  }
+  if (s.status == SimStatus::kFinished) frames.take_last();
+  if (!frames.stopped()) progress.done();
+
+  SimResult r;
+  r.dt_initial = dt_initial;
+  summarise(model, s, r);
+  r.recording = std::move(frames.recording());
   grade_floor_contact(model, s, floor, r);
   r.wall_seconds = seconds_since(wall_start);
   return r;
