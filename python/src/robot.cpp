@@ -196,7 +196,9 @@ PyRobot robot_from_state(const pyb::tuple& t) {
 
 template <class T>
 bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  // memcmp of two empty vectors would pass null pointers (undefined, even for 0 bytes).
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 // Equal when everything a simulation or a saved file sees is equal bit for bit: name,
