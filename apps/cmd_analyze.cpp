@@ -9,9 +9,9 @@
 
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
-#include "plastivox/render/files.hpp"
-#include "plastivox/render/offscreen.hpp"
+#include "plastivox/render/error.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "plastivox/render_files.hpp"
 
 namespace plastivox::cli {
 namespace {

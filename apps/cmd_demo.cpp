@@ -5,6 +5,7 @@
 
 #include "cli.hpp"
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/io/limits.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::cli {
@@ -18,7 +19,7 @@ int cmd_demo(const Args& in) {
   for (Treatment t : treatments) {
     PhysicsDef d = preset_gecco2018_code();
     d.treatment = t;
-    models.push_back(compile(robot, d));
+    models.push_back(compile(robot, d, limits_from_environment()));
   }
   std::printf("plastivox demo: %s, %d voxels, %.1f s lives (gecco2018-code preset)\n",
               robot.name.c_str(), models[0].n, models[0].def.duration);

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/run.hpp"
-#include "plastivox/robot_file.hpp"
 
 namespace plastivox::cli {
 namespace {

@@ -12,9 +12,9 @@
 #include "cli.hpp"
 #include "experiment/cost_estimate.hpp"
 #include "experiment/experiment_run.hpp"
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/run.hpp"
-#include "plastivox/render/offscreen.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/render/error.hpp"
 
 namespace plastivox::cli {
 namespace {

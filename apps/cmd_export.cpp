@@ -9,8 +9,8 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
-#include "plastivox/robot_io.hpp"
-#include "plastivox/voxcraft.hpp"
+#include "plastivox/io/robot_io.hpp"
+#include "plastivox/io/voxcraft.hpp"
 
 namespace plastivox::cli {
 namespace {

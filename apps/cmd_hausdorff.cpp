@@ -7,7 +7,7 @@
 
 #include "cli.hpp"
 #include "plastivox/analysis/hausdorff.hpp"
-#include "plastivox/robot_io.hpp"
+#include "plastivox/io/robot_io.hpp"
 
 namespace plastivox::cli {
 namespace {

@@ -8,12 +8,13 @@
 
 #include "cli.hpp"
 #include "plastivox/demo_robots.hpp"
-#include "plastivox/evo/life_file.hpp"
-#include "plastivox/json_input.hpp"
+#include "plastivox/io/json_input.hpp"
+#include "plastivox/io/life_file.hpp"
+#include "plastivox/io/limits.hpp"
+#include "plastivox/io/robot_file.hpp"
+#include "plastivox/io/robot_io.hpp"
+#include "plastivox/io/sim_summary.hpp"
 #include "plastivox/render/history_file.hpp"
-#include "plastivox/robot_file.hpp"
-#include "plastivox/robot_io.hpp"
-#include "plastivox/sim_summary.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
 
@@ -42,7 +43,7 @@ void write_recording(const std::string& path, const std::string& source, const R
     render::write_history_file(path, model, r.recording);
     return;
   }
-  evo::RecordedLife life;
+  RecordedLife life;
   life.source = source;
   life.robot = robot;
   life.physics = physics;
@@ -52,7 +53,7 @@ void write_recording(const std::string& path, const std::string& source, const R
   life.settled = r.settled;
   life.com_settled = r.com_settled;
   life.final_state_hash = r.final_state_hash;
-  evo::write_life_file(path, life);
+  write_life_file(path, life);
 }
 
 }  // namespace
@@ -142,9 +143,10 @@ int cmd_simulate(const Args& in) {
     }
   }
 
+  const Limits limits = limits_from_environment();
   Model model;
   try {  // validation and the life's bounds (docs/robot-format.md, "Limits"), naming the file
-    model = compile(robot, physics);
+    model = compile(robot, physics, limits);
   } catch (const std::invalid_argument& e) {
     throw InputError(source + ": " + e.what());
   }
@@ -157,7 +159,8 @@ int cmd_simulate(const Args& in) {
     // held three times while it is written: the frames, the file's image in memory and its
     // sealed bytes (a history file's text is larger per frame but written as it goes).
     try {
-      check_recording_size(3 * recording_bytes(model.n, physics.duration, fps), "--fps");
+      check_recording_size(3 * recording_bytes(model.n, physics.duration, fps), "--fps",
+                           limits.recording_mb);
     } catch (const std::invalid_argument& e) {
       throw UsageError{e.what()};
     }

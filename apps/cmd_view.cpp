@@ -5,9 +5,9 @@
 // recording F frames per simulated second.
 #include <cstdio>
 
-#include "plastivox/atomic_file.hpp"
-#include "plastivox/render/files.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "plastivox/render_files.hpp"
 #include "render_cli.hpp"
 
 namespace plastivox::cli {

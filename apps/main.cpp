@@ -5,7 +5,7 @@
 #include <string>
 
 #include "cli.hpp"
-#include "plastivox/one_line.hpp"
+#include "plastivox/base/one_line.hpp"
 #include "plastivox_version.hpp"
 
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "cli.hpp"
-#include "plastivox/render/offscreen.hpp"
+#include "plastivox/render/error.hpp"
 #include "plastivox/render/render_life.hpp"
 
 namespace plastivox::cli {

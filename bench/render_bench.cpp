@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "plastivox/demo_robots.hpp"
-#include "plastivox/render/files.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/render_files.hpp"
 
 namespace {
 

@@ -35,8 +35,8 @@ target_include_directories(plastivox_render PUBLIC ${CMAKE_CURRENT_LIST_DIR}/inc
 target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
                            PRIVATE ${OSMESA_INCLUDE_DIR})
 # Drawing knows lives and frames only: reading them from robot, results and recorded-life
-# files is plastivox_render_files' (below).
-target_link_libraries(plastivox_render PUBLIC plastivox_engine
+# files is plastivox_render_files' (apps/render_files, above render and the evolver).
+target_link_libraries(plastivox_render PUBLIC plastivox_io
                       PRIVATE plastivox_video nlohmann_json::nlohmann_json ${IMGUI_LIBRARY}
                               ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)
 target_link_libraries(plastivox_render PRIVATE ${CMAKE_DL_LIBS})  # dladdr1: where am I loaded from
@@ -49,9 +49,3 @@ target_link_libraries(plastivox_render PRIVATE ${CMAKE_DL_LIBS})  # dladdr1: whe
 file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/share/plastivox)
 file(CREATE_LINK ${PROJECT_SOURCE_DIR}/assets ${CMAKE_BINARY_DIR}/share/plastivox/assets SYMBOLIC)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/assets/ DESTINATION share/plastivox/assets)
-
-# plastivox_render_files: lives read from robot (.json, .vxa), results and recorded-life (.h5)
-# files, and the rendering commands that take file names (plastivox/render/files.hpp).
-add_library(plastivox_render_files ${CMAKE_CURRENT_LIST_DIR}/src/files.cpp)
-target_link_libraries(plastivox_render_files PUBLIC plastivox_render
-                      PRIVATE plastivox_vxa plastivox_evo_h5)

@@ -9,4 +9,4 @@ add_library(plastivox_panels STATIC
 )
 target_include_directories(plastivox_panels PUBLIC ${CMAKE_CURRENT_LIST_DIR}/include)
 target_link_libraries(plastivox_panels PUBLIC plastivox_render nlohmann_json::nlohmann_json
-                      PRIVATE plastivox_engine)
+                      PRIVATE plastivox_io)

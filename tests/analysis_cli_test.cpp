@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/robot_file.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

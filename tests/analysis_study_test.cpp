@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/analysis/study.hpp"
-#include "plastivox/evo/h5_util.hpp"  // to read analysis.h5 back
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/io/h5_util.hpp"  // to read analysis.h5 back
 #include "plastivox/simulator.hpp"
 #include "test_support.hpp"
 
@@ -263,14 +263,14 @@ TEST_F(Study, OutputsExistAndAgreeWithEachOther) {
 
   // analysis.h5 holds the same stats.json and matrix.
   {
-    const evo::h5::Ctx ctx{path("out/analysis.h5"), 0};
-    evo::h5::Handle f(H5Fopen(path("out/analysis.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
-                      evo::h5::Handle::Kind::kFile);
+    const h5::Ctx ctx{path("out/analysis.h5"), 0};
+    h5::Handle f(H5Fopen(path("out/analysis.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+                 h5::Handle::Kind::kFile);
     ASSERT_GE(f.id(), 0);
-    EXPECT_EQ(evo::h5::read_strings(ctx, f.id(), "stats_json", 1)[0], stats_text);
-    EXPECT_EQ(evo::h5::read_attr_string(ctx, f.id(), "/", "format"), "plastivox-analysis");
+    EXPECT_EQ(h5::read_strings(ctx, f.id(), "stats_json", 1)[0], stats_text);
+    EXPECT_EQ(h5::read_attr_string(ctx, f.id(), "/", "format"), "plastivox-analysis");
     std::vector<hsize_t> dims = {6, 6};
-    EXPECT_EQ(evo::h5::read<double>(ctx, f.id(), "hausdorff/matrix", dims), r.hausdorff.distance);
+    EXPECT_EQ(h5::read<double>(ctx, f.id(), "hausdorff/matrix", dims), r.hausdorff.distance);
   }
 
   // The report: self-contained HTML with the heat map, every champion and the statistics.
@@ -599,11 +599,10 @@ TEST_F(Study, ChampionsAreAuditedAndArtifactsExcluded) {
                depth = column("floor_depth"), excluded = column("excluded");
   const Json j = Json::parse(read_text(path("out/stats.json")));
   ASSERT_EQ(j["champions"].size(), 3u);
-  const evo::h5::Ctx ctx{path("out/analysis.h5"), 0};
-  evo::h5::Handle f(H5Fopen(path("out/analysis.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
-                    evo::h5::Handle::Kind::kFile);
-  const std::vector<std::string> h5_health =
-      evo::h5::read_strings(ctx, f.id(), "champions/health", 3);
+  const h5::Ctx ctx{path("out/analysis.h5"), 0};
+  h5::Handle f(H5Fopen(path("out/analysis.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+               h5::Handle::Kind::kFile);
+  const std::vector<std::string> h5_health = h5::read_strings(ctx, f.id(), "champions/health", 3);
   for (size_t i = 0; i < 3; ++i) {
     const ChampionAnalysis& c = r.champions[i];
     EXPECT_EQ(c.label, expect_label[i]);

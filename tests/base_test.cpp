@@ -11,8 +11,8 @@
 #include "plastivox/base/hash.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/base/rng.hpp"
-#include "plastivox/json_input.hpp"
-#include "plastivox/vxa.hpp"
+#include "plastivox/io/json_input.hpp"
+#include "plastivox/io/vxa.hpp"
 
 namespace plastivox {
 namespace {

@@ -1,4 +1,4 @@
-// Self-collision candidates (engine/src/contacts.cpp) are refreshed voxel by voxel; the forces
+// Self-collision candidates (engine/core/src/contacts.cpp) are refreshed voxel by voxel; the forces
 // are exact only if every touching pair is a candidate at every step. Checked against brute
 // force over all surface pairs, step by step, on bodies that fold onto themselves.
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The engine's own atan(t)/t and sin(2 pi u) (engine/src/elementary.hpp) against libm over
+// The engine's own atan(t)/t and sin(2 pi u) (engine/core/src/elementary.hpp) against libm over
 // their whole ranges: the engine uses them instead of libm so results do not depend on the
 // C library, so they must be as accurate as libm's to a few units in the last place.
 #include <cmath>

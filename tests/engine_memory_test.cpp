@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/physics_def.hpp"
-#include "plastivox/robot_file.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace {
@@ -91,14 +91,14 @@ namespace plastivox {
 namespace {
 
 TEST(Memory, OneVoxelInTheLargestLatticeCostsPerVoxelPastTheRobotsArrays) {
-  // 128^3 = 2^21 sites, the default cap (max_lattice_sites()), one voxel in a corner.
+  // 128^3 = 2^21 sites, the default cap (Limits::lattice_sites), one voxel in a corner.
   const int e = 128;
   const std::string text =
       R"({"format":"plastivox-robot","version":1,"lattice":{"nx":128,"ny":128,"nz":128,
           "voxel_size":0.01},"voxels":[[5,7,9,1e6,0,0]],
           "physics":{"duration":0.05,"settle_time":0}})";
   const size_t sites = size_t{e} * e * e;
-  ASSERT_EQ(static_cast<int64_t>(sites), max_lattice_sites());
+  ASSERT_EQ(static_cast<int64_t>(sites), Limits{}.lattice_sites);
   // The robot's dense arrays (present u8, stiffness, dev_rate and phase f64): 25 B a site.
   const size_t robot_arrays = sites * (1 + 3 * sizeof(double));
   const size_t slack = 64 << 10;  // JSON text and tree, names, messages: per voxel

@@ -2,7 +2,7 @@
 // each against an analytic value, development in the right direction under each, and the
 // same bits at every SIMD level.
 #include "plastivox/demo_robots.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/simd.hpp"
 #include "test_support.hpp"
 

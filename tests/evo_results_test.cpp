@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "file_seal.hpp"  // engine/evo/src (internal): to build sealed-but-wrong files
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/io/file_seal.hpp"  // engine/evo/src (internal): to build sealed-but-wrong files
 #include "test_support.hpp"
 
 namespace plastivox::evo {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "plastivox/analysis/body_plan.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

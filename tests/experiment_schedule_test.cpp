@@ -8,8 +8,8 @@
 
 #include "experiment/cost_estimate.hpp"
 #include "experiment/schedule.hpp"
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/rng.hpp"  // mix64
+#include "plastivox/io/atomic_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox::experiment {

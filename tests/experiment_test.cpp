@@ -13,10 +13,10 @@
 
 #include "experiment/cost_estimate.hpp"
 #include "experiment/experiment_config.hpp"
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/video_writer.hpp"
-#include "plastivox/robot_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

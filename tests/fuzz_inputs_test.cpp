@@ -18,13 +18,13 @@
 #include "experiment/experiment_config.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
-#include "plastivox/evo/life_file.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
-#include "plastivox/json_input.hpp"
+#include "plastivox/io/json_input.hpp"
+#include "plastivox/io/life_file.hpp"
+#include "plastivox/io/robot_file.hpp"
+#include "plastivox/io/vxa.hpp"
 #include "plastivox/model.hpp"
-#include "plastivox/robot_file.hpp"
-#include "plastivox/vxa.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -264,7 +264,7 @@ TEST_F(FuzzResults, ResultsReader) {
   const std::string valid = read_file(path("r.h5"));
   ASSERT_GT(valid.size(), 1000u);
   const std::string damaged = path("d.h5");
-  fuzz<evo::ResultsError>(valid, damaged, 14005, 200, [&](const std::string& bytes) {
+  fuzz<ResultsError>(valid, damaged, 14005, 200, [&](const std::string& bytes) {
     std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
     evo::read_results(damaged);
   });
@@ -285,11 +285,11 @@ TEST_F(FuzzResults, RecordedLifeReader) {
             0);
   const std::string valid = read_file(path("life.h5"));
   ASSERT_GT(valid.size(), 1000u);
-  ASSERT_NO_THROW(evo::read_life_file(path("life.h5")));
+  ASSERT_NO_THROW(read_life_file(path("life.h5")));
   const std::string damaged = path("d.h5");
-  fuzz<evo::ResultsError>(valid, damaged, 14008, 150, [&](const std::string& bytes) {
+  fuzz<ResultsError>(valid, damaged, 14008, 150, [&](const std::string& bytes) {
     std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
-    evo::read_life_file(damaged);
+    read_life_file(damaged);
   });
   std::mt19937_64 rng(14009);
   int refused = 0;
@@ -299,8 +299,8 @@ TEST_F(FuzzResults, RecordedLifeReader) {
     bytes[at] = static_cast<char>(bytes[at] ^ (1 << (rng() % 8)));
     std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
     try {
-      evo::read_life_file(damaged);
-    } catch (const evo::ResultsError& e) {
+      read_life_file(damaged);
+    } catch (const ResultsError& e) {
       ++refused;
       expect_clean(e.what(), damaged, "(bit " + std::to_string(at) + ")");
     }

@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/io/vxa.hpp"
 #include "plastivox/simd.hpp"
-#include "plastivox/vxa.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

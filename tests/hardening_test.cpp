@@ -20,9 +20,9 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
-#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/io/h5_util.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -447,7 +447,7 @@ TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
   expect_one_line(o, "more than the limit of 10 ");
   o = testing::shell("PLASTIVOX_MAX_STEPS=ten " + std::string(PLASTIVOX_CLI) + " simulate " +
                      walker + " 2>&1");
-  EXPECT_EQ(o.status, 1);
+  EXPECT_EQ(o.status, 2);  // a malformed limit is a usage error, as a malformed option is
   expect_one_line(o, "PLASTIVOX_MAX_STEPS: expected a positive whole number");
   // An actuation faster than the time step resolves is an error naming the field.
   o = run("simulate " + walker_with(R"({"act_frequency": 1e6})"));
@@ -581,10 +581,9 @@ TEST_F(Hardening, TheRuleForSunkLivesIsRecordedAndOldFilesKeepTheirs) {
   EXPECT_NE(evo::resolved_physics_json(d.physics).find("\"sinking_invalid\":true"),
             std::string::npos);
   // The results file names the rule in an attribute of its own.
-  const evo::h5::Ctx ctx{path("a.h5"), 0};
-  evo::h5::Handle f(H5Fopen(path("a.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
-                    evo::h5::Handle::Kind::kFile);
-  EXPECT_EQ(evo::h5::read_attr_string(ctx, f.id(), "/", "sunk_lives"), "scored");
+  const h5::Ctx ctx{path("a.h5"), 0};
+  h5::Handle f(H5Fopen(path("a.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), h5::Handle::Kind::kFile);
+  EXPECT_EQ(h5::read_attr_string(ctx, f.id(), "/", "sunk_lives"), "scored");
   // A file written before the rule became the default (main at 22a63f5, 3x3x3 bodies that
   // all sink; tests/data/results/README.md) reads as the authors' rule, its digest intact.
   const evo::ResultsFile old = evo::read_results(std::string(PLASTIVOX_SOURCE_DIR) +

@@ -11,14 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/demo_robots.hpp"
-#include "plastivox/evo/h5_util.hpp"
-#include "plastivox/evo/life_file.hpp"
-#include "plastivox/render/files.hpp"
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/h5_util.hpp"
+#include "plastivox/io/life_file.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/render/history_file.hpp"
 #include "plastivox/render/render_life.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/render_files.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -53,8 +53,8 @@ Lived live(double fps) {
   return l;
 }
 
-evo::RecordedLife recorded(const Lived& l) {
-  evo::RecordedLife life;
+RecordedLife recorded(const Lived& l) {
+  RecordedLife life;
   life.source = "inline block";
   life.robot = l.robot;
   life.physics = l.physics;
@@ -89,9 +89,9 @@ TEST_F(RecordedLives, TheFileHoldsEveryFrameBitForBit) {
   const Lived l = live(50);
   ASSERT_EQ(l.result.status, SimStatus::kFinished);
   ASSERT_EQ(l.result.recording.frames.size(), 16u);  // t = 0, 0.02, ..., 0.28 and the end
-  evo::write_life_file(path("life.h5"), recorded(l));
-  ASSERT_TRUE(evo::is_life_file(path("life.h5")));
-  const evo::RecordedLife back = evo::read_life_file(path("life.h5"));
+  write_life_file(path("life.h5"), recorded(l));
+  ASSERT_TRUE(is_life_file(path("life.h5")));
+  const RecordedLife back = read_life_file(path("life.h5"));
   EXPECT_EQ(back.source, "inline block");
   EXPECT_EQ(back.status, "finished");
   EXPECT_EQ(back.fitness, l.result.fitness);
@@ -125,11 +125,11 @@ TEST_F(RecordedLives, TheFileHoldsEveryFrameBitForBit) {
 
 TEST_F(RecordedLives, ContactIsTheFloorTestOfEachFrame) {
   const Lived l = live(20);
-  evo::write_life_file(path("life.h5"), recorded(l));
-  const evo::h5::Ctx c{path("life.h5"), 0};
+  write_life_file(path("life.h5"), recorded(l));
+  const h5::Ctx c{path("life.h5"), 0};
   const hid_t f = H5Fopen(path("life.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  std::vector<hsize_t> dims = {evo::h5::kAnyExtent, 18};
-  const std::vector<uint8_t> contact = evo::h5::read<uint8_t>(c, f, "contact", dims);
+  std::vector<hsize_t> dims = {h5::kAnyExtent, 18};
+  const std::vector<uint8_t> contact = h5::read<uint8_t>(c, f, "contact", dims);
   H5Fclose(f);
   const auto& frames = l.result.recording.frames;
   ASSERT_EQ(dims[0], frames.size());
@@ -153,19 +153,19 @@ TEST_F(RecordedLives, ContactIsTheFloorTestOfEachFrame) {
 
 TEST_F(RecordedLives, StringsAreVariableLengthUtf8AndOldFixedOnesStillRead) {
   const Lived l = live(10);
-  evo::write_life_file(path("life.h5"), recorded(l));
+  write_life_file(path("life.h5"), recorded(l));
   for (const char* name : {"treatment", "format", "robot", "source"}) {
     const StringType t = attr_type(path("life.h5"), name);
     EXPECT_TRUE(t.variable) << name;
     EXPECT_EQ(t.cset, H5T_CSET_UTF8) << name;
   }
   // Datasets of strings, and a non-ASCII value, through the shared writer and reader.
-  const evo::h5::Ctx c{path("s.h5"), 0};
+  const h5::Ctx c{path("s.h5"), 0};
   std::string image;
   {
-    evo::h5::MemoryFile mf(c, 0);
-    evo::h5::write_strings(c, mf.id(), "names", {"stress", "Γ body", ""});
-    evo::h5::write_attr(c, mf.id(), "label", std::string("E₀ · 10⁶ Pa"));
+    h5::MemoryFile mf(c, 0);
+    h5::write_strings(c, mf.id(), "names", {"stress", "Γ body", ""});
+    h5::write_attr(c, mf.id(), "label", std::string("E₀ · 10⁶ Pa"));
     image = mf.image();
   }
   write_file_atomic(path("s.h5"), image);
@@ -176,9 +176,8 @@ TEST_F(RecordedLives, StringsAreVariableLengthUtf8AndOldFixedOnesStillRead) {
   EXPECT_EQ(H5Tget_cset(t), H5T_CSET_UTF8);
   H5Tclose(t);
   H5Dclose(d);
-  EXPECT_EQ(evo::h5::read_strings(c, f, "names", 3),
-            (std::vector<std::string>{"stress", "Γ body", ""}));
-  EXPECT_EQ(evo::h5::read_attr_string(c, f, "/", "label"), "E₀ · 10⁶ Pa");
+  EXPECT_EQ(h5::read_strings(c, f, "names", 3), (std::vector<std::string>{"stress", "Γ body", ""}));
+  EXPECT_EQ(h5::read_attr_string(c, f, "/", "label"), "E₀ · 10⁶ Pa");
   H5Fclose(f);
 
   // A file as this project wrote them before: fixed-length, NUL-terminated ASCII.
@@ -200,22 +199,22 @@ TEST_F(RecordedLives, StringsAreVariableLengthUtf8AndOldFixedOnesStillRead) {
   H5Sclose(scalar);
   H5Tclose(st);
   H5Fclose(old);
-  const evo::h5::Ctx oc{path("old.h5"), 0};
+  const h5::Ctx oc{path("old.h5"), 0};
   const hid_t o = H5Fopen(path("old.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  EXPECT_EQ(evo::h5::read_attr_string(oc, o, "/", "treatment"), "stress");
-  EXPECT_EQ(evo::h5::read_strings(oc, o, "names", 2), (std::vector<std::string>{"none", "press"}));
+  EXPECT_EQ(h5::read_attr_string(oc, o, "/", "treatment"), "stress");
+  EXPECT_EQ(h5::read_strings(oc, o, "names", 2), (std::vector<std::string>{"none", "press"}));
   H5Fclose(o);
 }
 
 TEST_F(RecordedLives, ForeignAndBrokenFilesAreRefusedInOneLine) {
   write_file_atomic(path("x.h5"), "not hdf5");
-  EXPECT_FALSE(evo::is_life_file(path("x.h5")));
-  EXPECT_FALSE(evo::is_life_file(path("missing.h5")));
+  EXPECT_FALSE(is_life_file(path("x.h5")));
+  EXPECT_FALSE(is_life_file(path("missing.h5")));
   // A results file starts with its seal, which is checked before HDF5 reads anything: the
   // test for a recorded life does not hand it to HDF5 either.
   write_file_atomic(path("r.h5"), "plastivox-evolution-results\nseal_version 1\n");
-  EXPECT_FALSE(evo::is_life_file(path("r.h5")));
-  const std::string e = testing::error_of([&] { evo::read_life_file(path("x.h5")); });
+  EXPECT_FALSE(is_life_file(path("r.h5")));
+  const std::string e = testing::error_of([&] { read_life_file(path("x.h5")); });
   EXPECT_NE(e.find("x.h5: not an HDF5 file"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
@@ -297,7 +296,7 @@ TEST_F(RecordedLives, TheHistoryHasTheStructureVoxcraftVizParses) {
 
 TEST_F(RecordedLives, ARecordedFrameDrawsAsTheSimulatedOne) {
   const Lived l = live(20);
-  evo::write_life_file(path("life.h5"), recorded(l));
+  write_life_file(path("life.h5"), recorded(l));
   write_robot_file(path("block.json"), l.robot, &l.physics);
   const render::LifeSource from_file = render::load_life_source(path("life.h5"));
   ASSERT_TRUE(from_file.recorded);
@@ -330,7 +329,7 @@ TEST_F(RecordedLives, TheCommandLineRecordsAndReplays) {
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\"format\": \"plastivox-life\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"frames\": 4"), std::string::npos) << r.out;  // 0, .1, .2, end
-  EXPECT_EQ(evo::read_life_file(path("life.h5")).recording.frames.size(), 4u);
+  EXPECT_EQ(read_life_file(path("life.h5")).recording.frames.size(), 4u);
   // A frame rate in --physics alone would record and drop the frames: refused, saying how.
   r = run("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 10}' --json");
   EXPECT_EQ(r.status, 2) << r.out;

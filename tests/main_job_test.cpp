@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/panel_drawing.hpp"
 #include "plastivox/render/panels.hpp"

@@ -4,9 +4,9 @@
 #include <string>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/video_writer.hpp"
-#include "plastivox/robot_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

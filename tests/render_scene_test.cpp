@@ -9,12 +9,12 @@
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
-#include "plastivox/render/files.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render/video_writer.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/render_files.hpp"
 #include "test_support.hpp"
 
 namespace plastivox::render {
@@ -653,7 +653,7 @@ TEST_F(RenderFiles, BadInputIsAClearErrorAndLeavesNoFile) {
   // results reader, naming the file and the field.
   evo::RunState empty;
   empty.config = evo::parse_config(R"({"format": "plastivox-evolve-config", "version": 1})", "e");
-  evo::write_results(path("empty.h5"), empty, evo::current_provenance(1));
+  evo::write_results(path("empty.h5"), empty, current_provenance(1));
   try {
     render_frame_file(path("empty.h5"), 0.1, st, path("f.png"));
     FAIL() << "expected an error";

@@ -8,11 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/robot_file.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

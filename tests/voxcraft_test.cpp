@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
+#include "plastivox/io/voxcraft.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/simulator.hpp"
-#include "plastivox/voxcraft.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

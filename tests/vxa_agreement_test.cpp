@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/io/vxa.hpp"
 #include "plastivox/simulator.hpp"
-#include "plastivox/vxa.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

@@ -16,8 +16,8 @@
 #include <tuple>
 #include <vector>
 
+#include "plastivox/io/vxa.hpp"
 #include "plastivox/model.hpp"
-#include "plastivox/vxa.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {

@@ -37,8 +37,8 @@ struct Outcome {
   std::string failure;
 };
 
-Outcome run(const RobotDef& robot, const PhysicsDef& physics) {
-  const SimResult r = simulate(compile(robot, physics));
+Outcome run(const RobotDef& robot, const PhysicsDef& physics, const Limits& limits) {
+  const SimResult r = simulate(compile(robot, physics, limits));
   Outcome o;
   o.stable = r.status == SimStatus::kFinished;
   o.fitness = r.fitness;
@@ -99,7 +99,8 @@ RobustnessResult robustness(const RobotDef& champion, const PhysicsDef& physics,
   parallel_for(static_cast<size_t>(options.draws + 1), options.threads, [&](size_t i_) {
     const int i = static_cast<int>(i_);
     outcomes[i] =
-        i == 0 ? run(reduced, phys) : run(random_stiffness(reduced, options, lo, hi, i - 1), phys);
+        i == 0 ? run(reduced, phys, options.limits)
+               : run(random_stiffness(reduced, options, lo, hi, i - 1), phys, options.limits);
   });
 
   RobustnessResult res;

@@ -13,8 +13,8 @@
 
 #include "cost_calibration.hpp"
 #include "cost_estimate.hpp"
+#include "plastivox/base/error.hpp"     // InputError
 #include "plastivox/render/viewer.hpp"  // kViewerFps
-#include "plastivox/robot_file.hpp"     // InputError
 
 namespace plastivox::experiment {
 namespace {

@@ -37,6 +37,6 @@ add_library(plastivox_experiment STATIC
 target_include_directories(plastivox_experiment PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}
   PRIVATE ${CMAKE_CURRENT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/experiment
   ${CMAKE_CURRENT_SOURCE_DIR}/experiment)
-target_link_libraries(plastivox_experiment PUBLIC plastivox_evo_h5 plastivox_analysis plastivox_study
+target_link_libraries(plastivox_experiment PUBLIC plastivox_evo plastivox_analysis plastivox_study
   PRIVATE nlohmann_json::nlohmann_json)
 target_link_libraries(plastivox_experiment PRIVATE plastivox_render_files plastivox_video plastivox_panels)

@@ -8,12 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "experiment_presets.hpp"  // generated from assets/presets/experiment-*.json
-#include "plastivox/atomic_file.hpp"
-#include "plastivox/json_input.hpp"
+#include "experiment_presets.hpp"    // generated from assets/presets/experiment-*.json
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/json_input.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
-#include "plastivox/robot_file.hpp"
 
 namespace plastivox::experiment {
 namespace {

@@ -8,9 +8,9 @@
 
 #include "cost_estimate.hpp"
 #include "plastivox/analysis/study.hpp"
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/run.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::experiment {

@@ -14,6 +14,7 @@
 #include "plastivox/evo/evolver.hpp"
 #include "plastivox/evo/rng.hpp"
 #include "plastivox/evo/variation.hpp"
+#include "plastivox/io/limits.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/robot.hpp"
 #include "plastivox/simulator.hpp"
@@ -53,7 +54,7 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds)
       }
   PhysicsDef physics = e.physics;
   physics.treatment = Treatment::kStress;
-  const Model model = compile(robot, physics);
+  const Model model = compile(robot, physics, limits_from_environment());
   auto sim = std::make_unique<Simulator>(model);
 
   // Only steps actually taken count: a body this mixed can go unstable (a stopped

@@ -5,8 +5,8 @@
 
 #include "experiment_run.hpp"
 #include "plastivox/analysis/study.hpp"
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "stamps.hpp"
 
 namespace plastivox::experiment {

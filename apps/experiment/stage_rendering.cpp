@@ -18,14 +18,14 @@
 
 #include "experiment_run.hpp"
 #include "plastivox/analysis/study.hpp"
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/parallel.hpp"
-#include "plastivox/render/files.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "plastivox/render_files.hpp"
 #include "stamps.hpp"
 
 namespace plastivox::experiment {

@@ -8,7 +8,7 @@
 #include "experiment_run.hpp"
 
 #include "plastivox/analysis/study.hpp"
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/viewer.hpp"
 #include "plastivox_version.hpp"
 

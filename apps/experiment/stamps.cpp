@@ -2,8 +2,8 @@
 
 #include <filesystem>
 
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/base/hash.hpp"
+#include "plastivox/io/atomic_file.hpp"
 
 namespace plastivox::experiment {
 namespace {

@@ -22,7 +22,7 @@ struct PyResults {
   std::string path;
 };
 
-pyb::dict provenance_dict(const evo::Provenance& p) {
+pyb::dict provenance_dict(const Provenance& p) {
   pyb::dict d;
   d["plastivox_version"] = p.plastivox_version;
   d["git_commit"] = p.git_commit;

@@ -3,10 +3,10 @@
 // one-line message; a bad argument -> ValueError naming it; a render failure ->
 // plastivox.RenderError (a RuntimeError).
 #include "bindings.hpp"
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/results_file.hpp"
-#include "plastivox/render/offscreen.hpp"
-#include "plastivox/robot_file.hpp"
-#include "plastivox/vxa.hpp"
+#include "plastivox/io/vxa.hpp"
+#include "plastivox/render/error.hpp"
 #include "plastivox_version.hpp"
 
 PYBIND11_MODULE(_core, m) {
@@ -22,8 +22,10 @@ PYBIND11_MODULE(_core, m) {
       if (p) std::rethrow_exception(p);
     } catch (const plastivox::VxaError& e) {
       PyErr_SetString(input_error.ptr(), e.what());
-    } catch (const plastivox::evo::ResultsError& e) {
+    } catch (const plastivox::ResultsError& e) {
       PyErr_SetString(input_error.ptr(), e.what());
+    } catch (const plastivox::UsageError& e) {  // a malformed PLASTIVOX_MAX_* variable
+      PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
   plastivox::py::bind_robot(m);

@@ -6,9 +6,9 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "plastivox/render/files.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
+#include "plastivox/render_files.hpp"
 
 namespace plastivox::py {
 namespace {

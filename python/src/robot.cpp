@@ -11,9 +11,9 @@
 #include "plastivox/base/hash.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
-#include "plastivox/render/files.hpp"
-#include "plastivox/robot_file.hpp"
-#include "plastivox/robot_io.hpp"
+#include "plastivox/io/robot_file.hpp"
+#include "plastivox/io/robot_io.hpp"
+#include "plastivox/render_files.hpp"
 
 namespace plastivox::py {
 namespace {

@@ -9,7 +9,8 @@
 
 #include "bindings.hpp"
 #include "plastivox/evo/thread_pool.hpp"
-#include "plastivox/sim_summary.hpp"
+#include "plastivox/io/limits.hpp"
+#include "plastivox/io/sim_summary.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
 
@@ -75,12 +76,13 @@ pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& 
   SimResult r;
   {
     pyb::gil_scoped_release unlocked;
-    const Model model = compile(robot.def, physics);
+    const Limits limits = limits_from_environment();
+    const Model model = compile(robot.def, physics, limits);
     // Refused before the life is simulated, not when memory runs out: the frames and the
     // numpy arrays made from them are held at once.
     if (record_fps > 0)
-      check_recording_size(2 * recording_bytes(model.n, physics.duration, record_fps),
-                           "record_fps");
+      check_recording_size(2 * recording_bytes(model.n, physics.duration, record_fps), "record_fps",
+                           limits.recording_mb);
     r = simulate(model, options);
   }
   const std::string summary = sim_summary_json(r, physics, robot.source, PLASTIVOX_VERSION);
@@ -96,6 +98,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
                         int threads) {
   if (threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
   const SimOptions options = recording(record_fps);
+  const Limits limits = limits_from_environment();
   std::vector<PhysicsDef> physics;
   physics.reserve(robots.size());
   double recorded = 0;  // every life's frames (and arrays) are held at once, until returned
@@ -104,7 +107,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
     if (record_fps > 0)
       recorded += 2 * recording_bytes(r->def.voxel_count(), physics.back().duration, record_fps);
   }
-  check_recording_size(recorded, "record_fps");
+  check_recording_size(recorded, "record_fps", limits.recording_mb);
   std::vector<SimResult> results(robots.size());
   std::vector<std::string> summaries(robots.size());
   {
@@ -113,7 +116,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
     pyb::gil_scoped_release unlocked;
     evo::parallel_for(
         robots.size(), threads == 0 ? evo::hardware_threads() : threads, [&](size_t i) {
-          results[i] = simulate(compile(robots[i]->def, physics[i]), options);
+          results[i] = simulate(compile(robots[i]->def, physics[i], limits), options);
           summaries[i] =
               sim_summary_json(results[i], physics[i], robots[i]->source, PLASTIVOX_VERSION);
         });
@@ -129,7 +132,8 @@ class PySimulator {
   PySimulator(const PyRobot& robot, const std::optional<std::string>& physics_json,
               const std::optional<std::string>& treatment)
       : model_(std::make_shared<const Model>(
-            compile(robot.def, resolve_physics(robot.physics, physics_json, treatment)))),
+            compile(robot.def, resolve_physics(robot.physics, physics_json, treatment),
+                    limits_from_environment()))),
         sim_(std::make_unique<Simulator>(*model_)) {}
 
   // Advances up to n steps, stopping when the life is over (time past the duration, as in

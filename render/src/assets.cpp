@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "plastivox/atomic_file.hpp"
-#include "plastivox/render/offscreen.hpp"
-#include "plastivox/robot_file.hpp"  // InputError
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/render/error.hpp"
 
 namespace plastivox::render {
 namespace fs = std::filesystem;

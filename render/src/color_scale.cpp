@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "plastivox/render/offscreen.hpp"  // RenderError
+#include "plastivox/render/error.hpp"
 
 namespace plastivox::render {
 namespace {

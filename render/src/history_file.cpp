@@ -19,7 +19,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/color_scale.hpp"
 
 namespace plastivox::render {

@@ -4,14 +4,16 @@
 #include <cmath>
 #include <deque>
 
-#include "plastivox/render/offscreen.hpp"  // RenderError
-#include "plastivox/robot_file.hpp"
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/io/limits.hpp"
+#include "plastivox/render/error.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::render {
 
 std::shared_ptr<const Model> compile_life_model(const LifeSource& source) {
-  return std::make_shared<const Model>(compile(source.robot, source.physics));
+  return std::make_shared<const Model>(
+      compile(source.robot, source.physics, limits_from_environment()));
 }
 
 SimResult simulate_frames(const LifeSource& source, const Model& model,

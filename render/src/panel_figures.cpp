@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/panel_drawing.hpp"
 #include "plastivox/render/panels.hpp"

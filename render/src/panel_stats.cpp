@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/panels.hpp"
 
 namespace plastivox::render {

@@ -5,9 +5,9 @@
 
 #include <string_view>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/offscreen.hpp"
-#include "plastivox/robot_file.hpp"  // InputError
 
 namespace plastivox::render {
 

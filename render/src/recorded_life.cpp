@@ -2,8 +2,8 @@
 // its frames as the renderer's LifeFrames (declared in plastivox/render/life.hpp).
 #include <cmath>
 
+#include "plastivox/render/error.hpp"
 #include "plastivox/render/life.hpp"
-#include "plastivox/render/offscreen.hpp"  // RenderError
 
 namespace plastivox::render {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/viewer.hpp"
 
 namespace plastivox::render {

@@ -10,9 +10,10 @@
 #include <utility>
 #include <vector>
 
-#include "plastivox/render/offscreen.hpp"  // RenderError
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/io/limits.hpp"
+#include "plastivox/render/error.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/robot_file.hpp"  // InputError
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 
@@ -33,7 +34,7 @@ ShownLife compiled_life(const LifeSource& source) {
   out.info.label = source.label;
   out.info.treatment = to_string(source.physics.treatment);
   try {
-    out.model = compile(source.robot, source.physics);
+    out.model = compile(source.robot, source.physics, limits_from_environment());
   } catch (const std::invalid_argument& e) {
     throw InputError(source.path + ": " + e.what());
   }

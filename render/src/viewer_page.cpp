@@ -11,12 +11,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/atomic_file.hpp"  // read_file_bytes
+#include "plastivox/base/error.hpp"      // InputError
+#include "plastivox/io/atomic_file.hpp"  // read_file_bytes
 #include "plastivox/render/assets.hpp"
 #include "plastivox/render/colormap.hpp"
-#include "plastivox/render/offscreen.hpp"  // RenderError
+#include "plastivox/render/error.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/robot_file.hpp"  // InputError
 
 namespace plastivox::render {
 namespace {

@@ -1378,7 +1378,7 @@ def gen_disk(h):
 
 # ---- generators: extreme physics ------------------------------------------------------
 
-PHYSICS_VALID = {  # the documented ranges (validate in engine/src/physics_def.cpp)
+PHYSICS_VALID = {  # the documented ranges (validate in engine/core/src/physics_def.cpp)
     "density": lambda v: is_num(v) and v > 0,
     "poisson": lambda v: is_num(v) and 0 <= v < 0.5,
     "mu_static": lambda v: is_num(v) and v >= 0,

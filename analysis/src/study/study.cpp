@@ -133,7 +133,7 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
   std::vector<std::string> digests;
   for (const StudyInput& in : r.inputs) digests.push_back(in.content_digest);
   r.fingerprint = study_fingerprint(digests, options);
-  const evo::Provenance prov = evo::current_provenance(options.threads);
+  const Provenance prov = current_provenance(options.threads);
   r.version = prov.plastivox_version;
   r.commit = prov.git_commit;
   r.date = prov.date_created;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/base/parallel.hpp"
+#include "plastivox/io/limits.hpp"
 #include "plastivox/simulator.hpp"
 #include "study_internal.hpp"
 
@@ -49,7 +50,7 @@ void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
     ChampionAnalysis& c = r.champions[i];
     PhysicsDef physics = c.physics;
     physics.sinking_invalid = false;  // measure the fall rather than cut it short
-    const SimResult life = simulate(compile(c.robot, physics));
+    const SimResult life = simulate(compile(c.robot, physics, limits_from_environment()));
     c.life_status = life.status == SimStatus::kFinished ? "finished" : "unstable";
     c.health = to_string(life.floor_health);
     c.floor_depth = life.floor_depth;

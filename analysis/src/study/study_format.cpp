@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "plastivox/atomic_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis::study {

@@ -8,16 +8,16 @@
 #include <utility>
 #include <vector>
 
-#include "plastivox/atomic_file.hpp"
-#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/h5_util.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis::study {
 namespace {
 
-using evo::h5::Ctx;
-using evo::h5::Handle;
+using h5::Ctx;
+using h5::Handle;
 
 constexpr double kUndefined = std::numeric_limits<double>::quiet_NaN();
 
@@ -26,7 +26,7 @@ double value(const std::optional<double>& x) {
 }
 
 void write_inputs(const Ctx& c, hid_t root, const StudyResult& r) {
-  Handle g = evo::h5::create_group(c, root, "inputs");
+  Handle g = h5::create_group(c, root, "inputs");
   std::vector<std::string> file, digest, treatment, physics;
   std::vector<uint64_t> seed;
   std::vector<int32_t> generation, done;
@@ -39,17 +39,17 @@ void write_inputs(const Ctx& c, hid_t root, const StudyResult& r) {
     generation.push_back(in.generation);
     done.push_back(in.generations_done);
   }
-  evo::h5::write_strings(c, g.id(), "file", file);
-  evo::h5::write_strings(c, g.id(), "content_digest", digest);
-  evo::h5::write_strings(c, g.id(), "treatment", treatment);
-  evo::h5::write_strings(c, g.id(), "physics_json", physics);
-  evo::h5::write(c, g.id(), "seed", seed);
-  evo::h5::write(c, g.id(), "generation", generation);
-  evo::h5::write(c, g.id(), "generations_done", done);
+  h5::write_strings(c, g.id(), "file", file);
+  h5::write_strings(c, g.id(), "content_digest", digest);
+  h5::write_strings(c, g.id(), "treatment", treatment);
+  h5::write_strings(c, g.id(), "physics_json", physics);
+  h5::write(c, g.id(), "seed", seed);
+  h5::write(c, g.id(), "generation", generation);
+  h5::write(c, g.id(), "generations_done", done);
 }
 
 void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
-  Handle g = evo::h5::create_group(c, root, "champions");
+  Handle g = h5::create_group(c, root, "champions");
   const size_t n = r.champions.size(), draws = static_cast<size_t>(r.options.robustness_draws);
   std::vector<std::string> label, treatment, evaluation, status, detail, health, plan, digest,
       excluded;
@@ -101,14 +101,14 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
                                                               {"excluded", &excluded},
                                                               {"body_plan", &plan},
                                                               {"phenotype_digest", &digest}})
-    evo::h5::write_strings(c, g.id(), name, *v);
-  evo::h5::write(c, g.id(), "seed", seed);
-  evo::h5::write(c, g.id(), "champion_id", id);
-  evo::h5::write(c, g.id(), "robustness_seed", rseed);
-  evo::h5::write(c, g.id(), "generation", generation);
-  evo::h5::write(c, g.id(), "voxels", voxels);
-  evo::h5::write(c, g.id(), "input", input);
-  evo::h5::write(c, g.id(), "valid_draws", valid);
+    h5::write_strings(c, g.id(), name, *v);
+  h5::write(c, g.id(), "seed", seed);
+  h5::write(c, g.id(), "champion_id", id);
+  h5::write(c, g.id(), "robustness_seed", rseed);
+  h5::write(c, g.id(), "generation", generation);
+  h5::write(c, g.id(), "voxels", voxels);
+  h5::write(c, g.id(), "input", input);
+  h5::write(c, g.id(), "valid_draws", valid);
   using Reals = std::pair<const char*, const std::vector<double>*>;
   for (const auto& [name, v] : std::initializer_list<Reals>{{"fitness", &fitness},
                                                             {"f_train", &f_train},
@@ -119,9 +119,9 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
                                                             {"body_plan_confidence", &confidence},
                                                             {"floor_depth", &depth},
                                                             {"vertical_share", &vertical}})
-    evo::h5::write(c, g.id(), name, *v);
-  evo::h5::write(c, g.id(), "r_draws", r_draw, {n, draws});
-  evo::h5::write(c, g.id(), "f_test", f_test, {n, draws});
+    h5::write(c, g.id(), name, *v);
+  h5::write(c, g.id(), "r_draws", r_draw, {n, draws});
+  h5::write(c, g.id(), "f_test", f_test, {n, draws});
   // Robustness is a ratio of fitnesses; the body measures are relative changes of E.
   for (const auto& [name, units] : {std::pair{"fitness", "voxel lengths"},
                                     {"f_train", "voxel lengths"},
@@ -131,21 +131,21 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
                                     {"m_body", "1"},
                                     {"v_body", "1"},
                                     {"v_gain", "1"}})
-    evo::h5::write_units(c, g.id(), name, units);
+    h5::write_units(c, g.id(), name, units);
 }
 
 void write_hausdorff(const Ctx& c, hid_t root, const StudyResult& r) {
   const HausdorffMatrix& m = r.hausdorff;
-  Handle g = evo::h5::create_group(c, root, "hausdorff");
-  evo::h5::write_attr(c, g.id(), "rotations", std::string(to_string(m.options.rotations)));
-  evo::h5::write_attr(c, g.id(), "translation", std::string(to_string(m.options.translation)));
-  evo::h5::write_attr(c, g.id(), "units", std::string("voxel lengths"));
+  Handle g = h5::create_group(c, root, "hausdorff");
+  h5::write_attr(c, g.id(), "rotations", std::string(to_string(m.options.rotations)));
+  h5::write_attr(c, g.id(), "translation", std::string(to_string(m.options.translation)));
+  h5::write_attr(c, g.id(), "units", std::string("voxel lengths"));
   std::vector<std::string> labels;
   for (const ChampionAnalysis& ch : r.champions) labels.push_back(ch.label);
-  evo::h5::write_strings(c, g.id(), "labels", labels);
+  h5::write_strings(c, g.id(), "labels", labels);
   const hsize_t n = static_cast<hsize_t>(m.n);
-  evo::h5::write(c, g.id(), "matrix", m.distance, {n, n});
-  evo::h5::write_units(c, g.id(), "matrix", "voxel lengths");
+  h5::write(c, g.id(), "matrix", m.distance, {n, n});
+  h5::write_units(c, g.id(), "matrix", "voxel lengths");
   // Placement of B (the later champion of each pair): b -> rotation * b + translation.
   std::vector<int32_t> pa, pb, rot, trans;
   std::vector<std::string> rot_name;
@@ -159,42 +159,41 @@ void write_hausdorff(const Ctx& c, hid_t root, const StudyResult& r) {
       rot_name.push_back(h.rotation.name);
       for (int x : h.translation) trans.push_back(x);
     }
-  evo::h5::write(c, g.id(), "pair_a", pa);
-  evo::h5::write(c, g.id(), "pair_b", pb);
-  evo::h5::write(c, g.id(), "pair_rotation_index", rot);
-  evo::h5::write_strings(c, g.id(), "pair_rotation", rot_name);
-  evo::h5::write(c, g.id(), "pair_translation", trans, {pa.size(), 3});
+  h5::write(c, g.id(), "pair_a", pa);
+  h5::write(c, g.id(), "pair_b", pb);
+  h5::write(c, g.id(), "pair_rotation_index", rot);
+  h5::write_strings(c, g.id(), "pair_rotation", rot_name);
+  h5::write(c, g.id(), "pair_translation", trans, {pa.size(), 3});
 }
 
 void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
-  Handle all = evo::h5::create_group(c, root, "panels");
+  Handle all = h5::create_group(c, root, "panels");
   for (const PanelStats& p : r.panels) {
-    Handle g = evo::h5::create_group(c, all.id(), p.id);
-    evo::h5::write_attr(c, g.id(), "metric", p.metric);
-    evo::h5::write_attr(c, g.id(), "title", p.title);
-    evo::h5::write_attr(c, g.id(), "unit", p.unit);
-    evo::h5::write_attr(c, g.id(), "comparisons_made", static_cast<int64_t>(p.comparisons.size()));
-    evo::h5::write_attr_u64(c, g.id(), "seed", p.seed);
+    Handle g = h5::create_group(c, all.id(), p.id);
+    h5::write_attr(c, g.id(), "metric", p.metric);
+    h5::write_attr(c, g.id(), "title", p.title);
+    h5::write_attr(c, g.id(), "unit", p.unit);
+    h5::write_attr(c, g.id(), "comparisons_made", static_cast<int64_t>(p.comparisons.size()));
+    h5::write_attr_u64(c, g.id(), "seed", p.seed);
     std::vector<std::string> treatment;
     std::vector<int32_t> count;
     std::vector<double> mean, lo, hi;
-    Handle values = evo::h5::create_group(c, g.id(), "values");
+    Handle values = h5::create_group(c, g.id(), "values");
     for (const GroupStats& s : p.groups) {
       treatment.push_back(to_string(s.treatment));
       count.push_back(static_cast<int32_t>(s.values.size()));
       mean.push_back(value(s.mean));
       lo.push_back(s.ci ? s.ci->lower : kUndefined);
       hi.push_back(s.ci ? s.ci->upper : kUndefined);
-      evo::h5::write(c, values.id(), to_string(s.treatment), s.values);
-      evo::h5::write_units(c, values.id(), to_string(s.treatment), p.unit);
+      h5::write(c, values.id(), to_string(s.treatment), s.values);
+      h5::write_units(c, values.id(), to_string(s.treatment), p.unit);
     }
-    evo::h5::write_strings(c, g.id(), "treatment", treatment);
-    evo::h5::write(c, g.id(), "n", count);
-    evo::h5::write(c, g.id(), "mean", mean);
-    evo::h5::write(c, g.id(), "ci_low", lo);
-    evo::h5::write(c, g.id(), "ci_high", hi);
-    for (const char* name : {"mean", "ci_low", "ci_high"})
-      evo::h5::write_units(c, g.id(), name, p.unit);
+    h5::write_strings(c, g.id(), "treatment", treatment);
+    h5::write(c, g.id(), "n", count);
+    h5::write(c, g.id(), "mean", mean);
+    h5::write(c, g.id(), "ci_low", lo);
+    h5::write(c, g.id(), "ci_high", hi);
+    for (const char* name : {"mean", "ci_low", "ci_high"}) h5::write_units(c, g.id(), name, p.unit);
     std::vector<std::string> a, b, stars;
     std::vector<double> diff, pv, pc, es;
     for (const BootstrapTestResult& t : p.comparisons) {
@@ -206,31 +205,31 @@ void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
       pc.push_back(t.p_corrected);
       es.push_back(t.effect.hedges_g);
     }
-    Handle cg = evo::h5::create_group(c, g.id(), "comparisons");
-    evo::h5::write_strings(c, cg.id(), "a", a);
-    evo::h5::write_strings(c, cg.id(), "b", b);
-    evo::h5::write_strings(c, cg.id(), "stars", stars);
-    evo::h5::write(c, cg.id(), "mean_diff", diff);
-    evo::h5::write(c, cg.id(), "p", pv);
-    evo::h5::write(c, cg.id(), "p_corrected", pc);
-    evo::h5::write(c, cg.id(), "effect_size", es);
+    Handle cg = h5::create_group(c, g.id(), "comparisons");
+    h5::write_strings(c, cg.id(), "a", a);
+    h5::write_strings(c, cg.id(), "b", b);
+    h5::write_strings(c, cg.id(), "stars", stars);
+    h5::write(c, cg.id(), "mean_diff", diff);
+    h5::write(c, cg.id(), "p", pv);
+    h5::write(c, cg.id(), "p_corrected", pc);
+    h5::write(c, cg.id(), "effect_size", es);
   }
 }
 
 void write_root(const Ctx& c, hid_t root, const StudyResult& r) {
-  evo::h5::write_attr(c, root, "format", std::string("plastivox-analysis"));
-  evo::h5::write_attr(c, root, "format_version", static_cast<int64_t>(kStudyFormatVersion));
-  evo::h5::write_attr(c, root, "plastivox_version", r.version);
-  evo::h5::write_attr(c, root, "git_commit", r.commit);
-  evo::h5::write_attr(c, root, "date", r.date);
-  evo::h5::write_attr(c, root, "command", r.options.command);
-  evo::h5::write_attr(c, root, "options", options_json(r.options));
-  evo::h5::write_attr(c, root, "fingerprint", r.fingerprint);
-  evo::h5::write_attr(c, root, "threads", static_cast<int64_t>(r.options.threads));
-  const evo::Provenance build = evo::current_provenance(r.options.threads);
-  evo::h5::write_attr(c, root, "compiler", build.compiler);
-  evo::h5::write_attr(c, root, "build_type", build.build_type);
-  evo::h5::write_attr(c, root, "host", build.host);
+  h5::write_attr(c, root, "format", std::string("plastivox-analysis"));
+  h5::write_attr(c, root, "format_version", static_cast<int64_t>(kStudyFormatVersion));
+  h5::write_attr(c, root, "plastivox_version", r.version);
+  h5::write_attr(c, root, "git_commit", r.commit);
+  h5::write_attr(c, root, "date", r.date);
+  h5::write_attr(c, root, "command", r.options.command);
+  h5::write_attr(c, root, "options", options_json(r.options));
+  h5::write_attr(c, root, "fingerprint", r.fingerprint);
+  h5::write_attr(c, root, "threads", static_cast<int64_t>(r.options.threads));
+  const Provenance build = current_provenance(r.options.threads);
+  h5::write_attr(c, root, "compiler", build.compiler);
+  h5::write_attr(c, root, "build_type", build.build_type);
+  h5::write_attr(c, root, "host", build.host);
   const StudyTimings& t = r.timings;
   using Seconds = std::pair<const char*, double>;
   for (const auto& [name, s] :
@@ -241,13 +240,11 @@ void write_root(const Ctx& c, hid_t root, const StudyResult& r) {
                                       {"seconds_hausdorff", t.hausdorff},
                                       {"seconds_statistics", t.statistics},
                                       {"seconds_total", t.total}})
-    evo::h5::write_attr(c, root, name, s);
-  evo::h5::write_attr(c, root, "robustness_simulations",
-                      static_cast<int64_t>(t.robustness_simulations));
-  evo::h5::write_attr(c, root, "robustness_from_checkpoint",
-                      static_cast<int64_t>(t.robustness_cached));
-  evo::h5::write_strings(c, root, "warnings", r.warnings);
-  evo::h5::write_strings(c, root, "stats_json", {stats_json(r)});
+    h5::write_attr(c, root, name, s);
+  h5::write_attr(c, root, "robustness_simulations", static_cast<int64_t>(t.robustness_simulations));
+  h5::write_attr(c, root, "robustness_from_checkpoint", static_cast<int64_t>(t.robustness_cached));
+  h5::write_strings(c, root, "warnings", r.warnings);
+  h5::write_strings(c, root, "stats_json", {stats_json(r)});
 }
 
 }  // namespace
@@ -257,9 +254,9 @@ void write_analysis_h5(const StudyResult& r, const std::string& final_path,
   const Ctx c{final_path, 0};
   std::string bytes;
   {
-    evo::h5::MemoryFile f(c, 0);  // built in memory: a full disk never reaches HDF5
+    h5::MemoryFile f(c, 0);  // built in memory: a full disk never reaches HDF5
     {
-      Handle root = evo::h5::open_group(c, f.id(), "/");
+      Handle root = h5::open_group(c, f.id(), "/");
       write_root(c, root.id(), r);
       write_inputs(c, root.id(), r);
       write_champions(c, root.id(), r);

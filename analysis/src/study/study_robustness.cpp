@@ -23,6 +23,7 @@
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/hash.hpp"
+#include "plastivox/io/limits.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis::study {
@@ -49,6 +50,7 @@ double from_bits(const Json& j) {
 
 RobustnessOptions robustness_options(const StudyOptions& o, uint64_t seed, int threads) {
   RobustnessOptions r;
+  r.limits = limits_from_environment();
   r.draws = o.robustness_draws;
   r.seed = seed;
   r.distribution = o.robustness_sampling;

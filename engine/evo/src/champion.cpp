@@ -1,6 +1,6 @@
 #include "plastivox/evo/champion.hpp"
 
-#include "plastivox/robot_file.hpp"  // InputError
+#include "plastivox/base/error.hpp"  // InputError
 
 namespace plastivox::evo {
 

@@ -8,10 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/atomic_file.hpp"
-#include "plastivox/json_input.hpp"
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/json_input.hpp"
+#include "plastivox/io/limits.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/model.hpp"
-#include "plastivox/robot_file.hpp"
 
 namespace plastivox::evo {
 namespace {
@@ -181,7 +182,7 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
     }
   }
   try {  // every body this run makes is bounded by e_max, so none can fail later
-    check_life_bounds(c.physics, c.voxel_size, c.physics.e_max);
+    check_life_bounds(c.physics, c.voxel_size, c.physics.e_max, limits_from_environment());
   } catch (const std::invalid_argument& e) {
     throw InputError(src + ": " + e.what());
   }

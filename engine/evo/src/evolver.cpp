@@ -11,6 +11,7 @@
 #include "plastivox/evo/afpo.hpp"
 #include "plastivox/evo/thread_pool.hpp"
 #include "plastivox/evo/variation.hpp"
+#include "plastivox/io/limits.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::evo {
@@ -41,7 +42,7 @@ const char* to_string(EvalStatus s) {
 Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   const auto t0 = std::chrono::steady_clock::now();
   Evaluation e;
-  const Model model = compile(p.robot, physics);
+  const Model model = compile(p.robot, physics, limits_from_environment());
   const SimResult r = simulate(model);
   e.sank = r.sank;
   e.final_stiffness.assign(p.robot.sites(), 0.0);

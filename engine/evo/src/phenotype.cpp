@@ -1,5 +1,6 @@
 // Genome -> phenotype: output mappings, geometry rule, validity, identity hash.
 #include "plastivox/evo/phenotype.hpp"
+#include "plastivox/io/limits.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -105,7 +106,7 @@ NetworkOutputs Expresser::evaluate(const Genome& g) const {
 Phenotype Expresser::express(const NetworkOutputs& out) const {
   Phenotype p;
   RobotDef& r = p.robot;
-  r = make_empty_robot(def_.nx, def_.ny, def_.nz, def_.voxel_size);
+  r = make_empty_robot(def_.nx, def_.ny, def_.nz, def_.voxel_size, limits_from_environment());
   const int n = r.sites();
   auto invalid = [&p](const std::string& why) {
     if (p.valid) {

@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "plastivox/evo/h5_util.hpp"
 #include "plastivox/evo/run_state.hpp"
+#include "plastivox/io/h5_util.hpp"
 
 namespace plastivox::evo::layout {
 

@@ -3,11 +3,12 @@
 // passes is exactly what a writer produced.
 #include <nlohmann/json.hpp>
 
-#include "file_seal.hpp"
-#include "plastivox/evo/h5_util.hpp"
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/results_file.hpp"
-#include "plastivox/json_input.hpp"
-#include "plastivox/robot_file.hpp"
+#include "plastivox/io/file_seal.hpp"
+#include "plastivox/io/h5_util.hpp"
+#include "plastivox/io/json_input.hpp"
+#include "plastivox/io/limits.hpp"
 #include "results_layout.hpp"
 
 namespace plastivox::evo {
@@ -43,7 +44,7 @@ Cppn read_network(const Ctx& c, hid_t group, const std::string& obj) {
 }
 
 RobotDef read_phenotype(const Ctx& c, hid_t group, const EvolveConfig& cfg) {
-  RobotDef r = make_empty_robot(cfg.nx, cfg.ny, cfg.nz, cfg.voxel_size);
+  RobotDef r = make_empty_robot(cfg.nx, cfg.ny, cfg.nz, cfg.voxel_size, limits_from_environment());
   std::vector<hsize_t> dims = {hsize_t(cfg.nz), hsize_t(cfg.ny), hsize_t(cfg.nx)};
   r.present = h5::read<uint8_t>(c, group, "present", dims);
   r.stiffness = h5::read<double>(c, group, "stiffness", dims);

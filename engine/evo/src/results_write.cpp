@@ -6,13 +6,12 @@
 #include <cstring>
 #include <ctime>
 
-#include "evo_build_info.hpp"
-#include "file_seal.hpp"
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/base/clock.hpp"
-#include "plastivox/evo/h5_util.hpp"
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/results_file.hpp"
-#include "plastivox/robot_file.hpp"  // InputError
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/file_seal.hpp"
+#include "plastivox/io/h5_util.hpp"
 #include "results_layout.hpp"
 
 namespace plastivox::evo {
@@ -288,21 +287,6 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
 }
 
 }  // namespace
-
-Provenance current_provenance(int threads) {
-  Provenance p;
-  p.plastivox_version = PLASTIVOX_EVO_VERSION;
-  p.git_commit = PLASTIVOX_EVO_GIT_COMMIT;
-  p.compiler = PLASTIVOX_EVO_COMPILER;
-  p.compiler_flags = PLASTIVOX_EVO_FLAGS;
-  p.build_type = PLASTIVOX_EVO_BUILD_TYPE;
-  p.date_created = p.date_updated = utc_timestamp();
-  char host[256] = "";
-  if (gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "unknown");
-  p.host = host;
-  p.threads = threads;
-  return p;
-}
 
 void write_results(const std::string& path, const RunState& s, const Provenance& prov) {
   const Ctx c{path, 0};

@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/atomic_file.hpp"
 #include "plastivox/evo/thread_pool.hpp"
+#include "plastivox/io/atomic_file.hpp"
 
 namespace plastivox::evo {
 namespace {

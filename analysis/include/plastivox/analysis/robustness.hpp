@@ -33,6 +33,7 @@ struct RobustnessOptions {
   // allowed (every voxel gets that value: a control with no randomness at all).
   double e_lo = 0, e_hi = 0;
   int threads = 0;  // 0 = the hardware's count
+  Limits limits;    // the engine's bounds on each life (the program's: limits_from_environment)
 };
 
 struct RobustnessDraw {

@@ -57,7 +57,7 @@ struct GalleryEntry {
 // settling) and the end of life (for the heading).
 std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle& style);
 // Renders the gallery to a PNG at `out` (atomically) from champions already simulated
-// (render_gallery_file, plastivox/render/files.hpp, reads and simulates them; the experiment
+// (render_gallery_file, plastivox/render_files.hpp, reads and simulates them; the experiment
 // shares one simulation per champion with the 3-D viewer's lives).
 GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const GalleryStyle& style,
                              const std::string& out);

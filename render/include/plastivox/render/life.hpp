@@ -1,6 +1,6 @@
 // A life to draw: a robot under its physics, simulated (deterministically, so a champion's is
 // exactly the life evolution scored), or frames recorded earlier. Reading one from a file is
-// plastivox/render/files.hpp's (library plastivox_render_files); nothing here reads files.
+// plastivox/render_files.hpp's (library plastivox_render_files); nothing here reads files.
 // No GL here.
 #pragma once
 

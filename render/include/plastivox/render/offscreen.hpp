@@ -25,20 +25,13 @@
 #include <string>
 #include <vector>
 
-#include "plastivox/base/error.hpp"
+#include "plastivox/render/error.hpp"  // RenderError
 
 struct ImDrawList;
 struct ImFont;
 struct ImGuiContext;
 
 namespace plastivox::render {
-
-// Any rendering failure (no GL context, missing font or asset, unwritable output);
-// what() is one line naming the file or setting at fault.
-class RenderError : public Error {
- public:
-  using Error::Error;
-};
 
 // Caps llvmpipe's rasteriser threads at what a command was given (`--threads`): with 1, it
 // draws on the calling thread only; with n below this machine's cores, on n threads; with 0

@@ -100,7 +100,7 @@ void check_video_request(const VideoJob& job, const std::string& out);
 // default, the cameras of life_cameras over all frames. Drawing and encoding run at the same
 // time on two threads, after the simulation when the camera path or the colour scale needs
 // every frame, else alongside it on a third; the bytes are those of one after the other.
-// (render_video_file, plastivox/render/files.hpp, reads the life from a file first.)
+// (render_video_file, plastivox/render_files.hpp, reads the life from a file first.)
 VideoSummary render_video(const LifeSource& source, const FrameStyle& style, const VideoJob& job,
                           const std::string& out, const LogFn& log = {});
 

@@ -1,0 +1,141 @@
+// Lives from files and the file-taking rendering commands (plastivox/render_files.hpp).
+#include "plastivox/render_files.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <utility>
+
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/base/parallel.hpp"
+#include "plastivox/evo/champion.hpp"
+#include "plastivox/evo/results_file.hpp"
+#include "plastivox/io/life_file.hpp"
+#include "plastivox/io/robot_io.hpp"
+#include "plastivox/render/offscreen.hpp"  // RenderError, write_png
+
+namespace plastivox::render {
+
+LifeSource load_life_source(const std::string& path, int generation) {
+  if (path.ends_with(".h5") && is_life_file(path)) return recorded_life_source(path);
+  LifeSource src;
+  src.path = path;
+  if (path.ends_with(".h5")) {
+    const evo::ResultsFile results = evo::read_results(path);
+    const evo::RunState& run = results.state;
+    const evo::ChampionRecord& champion = evo::champion_at(run, generation, path);
+    src.robot = evo::champion_robot(champion, generation < 0 ? run.generations_done : generation);
+    src.physics = run.config.physics;
+    src.label =
+        std::string(to_string(run.config.treatment)) + " · seed " + std::to_string(run.config.seed);
+  } else if (path.ends_with(".vxa") || path.ends_with(".json")) {
+    LoadedRobot file = load_robot(path);
+    src.robot = std::move(file.robot);
+    src.physics = file.physics;
+    src.warnings = std::move(file.warnings);
+    src.label = src.robot.name.empty() ? path : src.robot.name;
+  } else {
+    throw InputError(path +
+                     ": expected a robot (.json, .vxa), a results file or a recorded life (.h5)");
+  }
+  return src;
+}
+
+LifeSource recorded_life_source(const std::string& path) {
+  RecordedLife life = read_life_file(path);
+  if (life.recording.frames.empty()) throw RenderError(path + ": the recorded life has no frames");
+  LifeSource src;
+  src.path = path;
+  src.robot = life.robot;
+  src.physics = life.physics;
+  // The life is as long as its recording (a life that went unstable ends early).
+  src.physics.duration = std::min(src.physics.duration, life.recording.frames.back().time);
+  src.label = "recorded · " + std::string(to_string(life.physics.treatment));
+  if (life.seed) src.label += " · seed " + std::to_string(*life.seed);
+  auto frames = std::make_shared<RecordedFrames>();
+  frames->recording = std::move(life.recording);  // its frames are not read again here
+  frames->settled = life.settled;
+  frames->com_settled = life.com_settled;
+  frames->fitness = life.fitness;
+  src.recorded = std::move(frames);
+  return src;
+}
+
+void render_frame_file(const std::string& source_path, double time, const FrameStyle& style,
+                       const std::string& out, const LogFn& log) {
+  check_output_path(out);
+  check_render_target(style.width, style.height, style.samples);
+  const LifeSource source = load_life_source(source_path);
+  if (log) {
+    for (const std::string& w : source.warnings) log("warning: " + w);
+    const std::string at = "t = " + std::to_string(time) + " s";
+    log(source.recorded ? "reading the recorded frame at " + at
+                        : "simulating " + source_path + " to " + at);
+  }
+  write_png(out, render_frame(source, time, style), style.width, style.height);
+}
+
+VideoSummary render_video_file(const std::string& source, const FrameStyle& style,
+                               const VideoJob& job, const std::string& out, const LogFn& log) {
+  check_video_request(job, out);  // before reading anything
+  check_render_target(style.width, style.height, style.samples);
+  const LifeSource life = load_life_source(source);
+  if (log)
+    for (const std::string& w : life.warnings) log("warning: " + w);
+  return render_video(life, style, job, out, log);
+}
+
+GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const GalleryStyle& style,
+                                  const std::string& out, const LogFn& log) {
+  check_gallery_request(style, inputs.size(), out);  // before any simulation
+  std::vector<GalleryEntry> entries;
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    GalleryEntry e;
+    e.source = load_life_source(inputs[k]);
+    if (log)
+      log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
+          inputs[k] + " (" + e.source.label + ")");
+    e.life = simulate_life(e.source, gallery_times(e.source.physics, style));
+    if (e.life.sank) e.source.label += " · SANK";  // as the study marks an audited champion
+    entries.push_back(std::move(e));
+  }
+  return render_gallery(entries, style, out);
+}
+
+ShownLife show_life(const std::string& file, int generation, double fps,
+                    const std::function<void(const std::string&)>& log) {
+  const LifeSource source = load_life_source(file, generation);
+  if (log)
+    for (const std::string& w : source.warnings) log("warning: " + w);
+  if (log && !source.recorded) {
+    char what[96];
+    std::snprintf(what, sizeof what, " (%g s at %g frames per second)", source.physics.duration,
+                  fps);
+    log("simulating " + file + what);
+  }
+  return show_life(source, fps);
+}
+
+std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
+                                         const std::string& dir, double fps, int threads,
+                                         const std::function<void(const std::string&)>& log) {
+  std::vector<std::optional<LifeLink>> links(sources.size());
+  std::vector<std::string> failures(sources.size());
+  parallel_for(sources.size(), threads, [&](size_t i) {
+    const ShownLife shown = show_life(sources[i].file, sources[i].generation, fps);
+    if (!shown.failure.empty())
+      failures[i] = sources[i].file + ": no 3-D replay, " + shown.failure;
+    else
+      links[i] = write_report_life(dir, sources[i].id, shown.life());
+  });
+  std::vector<LifeLink> out;
+  for (size_t i = 0; i < links.size(); ++i) {
+    if (links[i]) out.push_back(*links[i]);
+    if (!failures[i].empty() && log) log(failures[i]);
+  }
+  remove_other_lives(dir, out);
+  return out;
+}
+
+}  // namespace plastivox::render

@@ -1,0 +1,99 @@
+// The compiled, immutable description of one simulation: voxels, bonds, materials and the
+// parameters they run under. Built once by compile(); every stage reads it as const Model&.
+#pragma once
+
+#include <cstdint>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "plastivox/physics_def.hpp"
+#include "plastivox/robot.hpp"
+
+namespace plastivox {
+
+using Vec3 = Eigen::Vector3d;
+
+// Constants of the bond and voxel formulas that depend only on the lattice and the
+// parameters, computed once by compile() (each as the factor the formulas multiply by).
+struct ModelConstants {
+  // Beam stiffness per unit modulus (times E, Pa, gives the stiffness): axial area L^2 (m^2),
+  // torsion L^3 / (12 (1 + nu)), shear L, shear-rotation coupling L^2 / 2, bending L^3 / 6.
+  double area = 0, inv_L = 0, ka2 = 0, kb1 = 0, kb2 = 0, kb3 = 0;
+  // Bond damping: 2 sqrt(m) zeta_bond, over dt per step; the coefficients are sqrt(E) times
+  // that times these geometric constants: sqrt(k) per sqrt(E) for k = E L (axial, shear),
+  // E L^3 / 4 (shear-rotation coupling), G J / L and 2 E I / L (torsion, bending).
+  double bond_damp = 0;
+  double damp_a1 = 0, damp_b2 = 0, damp_a2 = 0, damp_b3 = 0;
+  // Voxel damping per sqrt(E): 2 sqrt(m L) (linear), 2 sqrt(I L^3) (rotation).
+  double c_lin_unit = 0, c_rot_unit = 0;
+};
+
+struct Model {
+  PhysicsDef def;  // parameters, validated
+
+  int n = 0;           // number of voxels
+  double size = 0;     // nominal voxel edge length L, m
+  double mass = 0;     // per voxel, kg
+  double inertia = 0;  // per voxel moment of inertia about any centre axis (m L^2 / 6), kg m^2
+  ModelConstants k;    // derived from size, mass, inertia and def
+
+  // Per voxel (n entries), in voxel order = increasing lattice site.
+  std::vector<int> site;       // lattice site index of the voxel
+  std::vector<Vec3> rest_pos;  // initial centre, m, world frame; bottom layer touches z = 0
+  std::vector<double> e0;      // congenital Young's modulus, Pa
+  std::vector<double> alpha;   // development rate, 1/s (0 everywhere under kNone)
+  std::vector<double> phase;   // actuation phase, cycles
+  // Actuation amplitude per voxel: under the paper's rule (act_per_voxel false) every gain is
+  // 1 and the amplitude is def.act_amplitude * xi(E); with the robot's own amplitudes
+  // (RobotDef::act_amplitude, voxcraft's rule) the gain is the amplitude and xi is not used.
+  std::vector<double> act_gain;
+  bool act_per_voxel = false;
+  double act_amplitude_max = 0;  // the largest linear amplitude any voxel can reach
+  // Bond slots of each voxel: [axis*2 + 0] the bond towards -axis, [axis*2 + 1] towards +axis;
+  // -1 where there is no neighbour.
+  std::vector<std::array<int, 6>> voxel_bonds;
+  std::vector<uint8_t> fixed;    // 1 if clamped (boundary condition)
+  std::vector<Vec3> load;        // constant external force, N, world frame
+  std::vector<uint8_t> surface;  // 1 if some face has no neighbour (collision-eligible)
+  // For each voxel, the sorted ids of voxels within def.collision_exclude_hops bonds
+  // (never collide with each other: their bonds already keep them apart).
+  std::vector<std::vector<int>> near_voxels;
+
+  // Per bond (one per face-adjacent pair); a is the voxel on the negative side of b.
+  std::vector<int> bond_a, bond_b;
+  std::vector<uint8_t> bond_axis;  // 0 = x, 1 = y, 2 = z
+
+  int bond_count() const { return static_cast<int>(bond_a.size()); }
+};
+
+// Validates robot and physics (std::invalid_argument naming the field) and builds the model.
+// Under Treatment::kNone every alpha is forced to 0 so development cannot run.
+Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits = {});
+
+// Stable time step for the given per-voxel stiffness: dt_frac / (2 pi sqrt(k_max / m)),
+// k_max the largest axial stiffness E * L over bonds (harmonic-mean E) and over single voxels
+// (their own E: a stiff voxel among soft ones still meets the floor and global damping
+// with its own stiffness; for bodies whose stiffest voxel has an equally stiff neighbour
+// this is exactly Voxelyze's rule).
+double stable_dt(const Model& model, const std::vector<double>& stiffness);
+
+// ---- Bounds on one life (docs/robot-format.md, "Limits"), so no input runs for ever ----
+
+// The time step of a body whose stiffest voxel has modulus e_top (Pa): the same formula as
+// stable_dt, dt_frac / (2 pi sqrt(e_top L / (density L^3))).
+double time_step_at(const PhysicsDef& def, double voxel_size, double e_top);
+// Throws std::invalid_argument naming the field when a life cannot run in bounded time:
+//   - duration / time_step_at(e_top) > limits.life_steps ("physics.duration: ... steps");
+//     e_top bounds the stiffness the life can reach (compile: the stiffest voxel, or e_max
+//     when it develops), so the estimate is an upper bound;
+//   - an actuation period shorter than 2 time steps even at e_max (the smallest dt any
+//     body of this physics reaches): "physics.act_frequency".
+// compile() calls it; an evolution config calls it with e_max, so no body it makes fails.
+void check_life_bounds(const PhysicsDef& def, double voxel_size, double e_top,
+                       const Limits& limits = {});
+
+}  // namespace plastivox

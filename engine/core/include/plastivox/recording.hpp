@@ -1,0 +1,65 @@
+// A sampled life: every voxel's pose, size, stiffness and stimulus at fixed frame times,
+// so the renderer and analysis can replay a simulation without re-running it.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace plastivox {
+
+struct Frame {
+  double time = 0;                         // s
+  int64_t step = 0;                        // simulation steps taken to reach this state
+  std::vector<Eigen::Vector3d> pos;        // voxel centre, m, world frame (n)
+  std::vector<Eigen::Quaterniond> orient;  // body-to-world rotation (n)
+  std::vector<double> size;                // actuated edge length, m (n)
+  std::vector<double> stiffness;           // current E, Pa (n)
+  std::vector<double> stimulus;            // the treatment's stimulus, Pa (n; docs/plasticity.md)
+};
+
+// Which voxels touch the floor in `frame` (1) and which do not (0), with the engine's own
+// test: the voxel's actuated half-size reaches below z = 0, its tilt ignored, as the next
+// step's floor contact sees it (engine/core/src/voxel_body.hpp). All 0 without a floor.
+inline std::vector<uint8_t> floor_contact(const Frame& frame, bool floor) {
+  std::vector<uint8_t> touching(frame.pos.size(), 0);
+  for (size_t i = 0; floor && i < frame.pos.size(); ++i)
+    touching[i] = 0.5 * frame.size[i] - frame.pos[i].z() > 0.0 ? 1 : 0;
+  return touching;
+}
+
+struct Recording {
+  double fps = 0;             // frames per simulated second
+  std::vector<Frame> frames;  // in time order
+};
+
+// Memory the frames of `voxels` voxels at `fps` frames per simulated second over a life of
+// `duration` seconds take (a caller that copies them counts each copy): duration * fps + 2 frames
+// (the first, the last and every 1/fps), each 10 doubles per voxel. An upper bound: a step yields
+// at most one frame.
+inline double recording_bytes(int64_t voxels, double duration, double fps) {
+  const double frames = duration * fps + 2;
+  return frames * static_cast<double>(voxels) * (10 * sizeof(double)) + frames * sizeof(Frame);
+}
+
+// Throws std::invalid_argument, one line naming `what` (the option or argument that asked
+// for the frames), when a recording needs more than `limit_mb` MB of memory
+// (Limits::recording_mb).
+inline void check_recording_size(double bytes, const std::string& what, int64_t limit_mb) {
+  const double limit = static_cast<double>(limit_mb) * (1 << 20);
+  if (bytes <= limit) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "%s: the recording would need about %.3g MB of memory, more than the limit of "
+                "%.0f MB: record fewer frames per second or a shorter life, or raise the limit "
+                "with the environment variable PLASTIVOX_MAX_RECORDING_MB",
+                what.c_str(), bytes / (1 << 20), limit / (1 << 20));
+  throw std::invalid_argument(text);
+}
+
+}  // namespace plastivox

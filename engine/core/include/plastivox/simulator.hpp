@@ -1,0 +1,183 @@
+// Running a simulation: one step at a time (Simulator) or a whole life (simulate()).
+//
+// A Simulator owns the mutable State and a scratch workspace; the Model it reads is shared
+// and immutable, so many Simulators (one per thread) may run the same or different models
+// at once. A single simulation runs on one thread, which keeps every reduction in a fixed
+// order: results are bit-identical whatever the number of threads evaluating robots.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/recording.hpp"
+#include "plastivox/state.hpp"
+
+namespace plastivox {
+
+struct Workspace;  // per-step scratch arrays (engine/core/src/workspace.hpp)
+
+// Wall time spent in each stage of Simulator::step, summed over the steps timed (as
+// MuJoCo's timers do). Costs two clock reads per stage, so only on request.
+struct StageTimings {
+  double bond_forces = 0;      // s: strains and forces of every bond
+  double time_step = 0;        // s: dt follows developed stiffness
+  double voxel_forces = 0;     // s: bond forces gathered per voxel, gravity, floor contact
+  double self_collisions = 0;  // s
+  double integrate = 0;        // s: velocities and poses
+  double actuate = 0;          // s: sizes for the next step
+  double develop = 0;          // s: stimulus and stiffness
+  int64_t steps = 0;
+  double total() const;
+};
+
+// The stages by name, in step order, for reports.
+struct StageName {
+  const char* name;
+  double StageTimings::*seconds;
+};
+inline constexpr StageName kStageNames[] = {{"bond_forces", &StageTimings::bond_forces},
+                                            {"time_step", &StageTimings::time_step},
+                                            {"voxel_forces", &StageTimings::voxel_forces},
+                                            {"self_collisions", &StageTimings::self_collisions},
+                                            {"integrate", &StageTimings::integrate},
+                                            {"actuate", &StageTimings::actuate},
+                                            {"develop", &StageTimings::develop}};
+inline double StageTimings::total() const {
+  double sum = 0;
+  for (const StageName& s : kStageNames) sum += this->*s.seconds;
+  return sum;
+}
+
+class Simulator {
+ public:
+  explicit Simulator(const Model& model);  // model must outlive the simulator
+  ~Simulator();
+  Simulator(Simulator&&) noexcept;
+  Simulator& operator=(Simulator&&) = delete;
+
+  const Model& model() const { return *model_; }
+  const State& state() const { return state_; }
+  // The state may be replaced by one saved from another Simulator of the same model: the
+  // life then continues bit-identically (State holds everything that carries over).
+  State& mutable_state() { return state_; }
+
+  // Advances one time step: step1() then step2(). Sets status to kUnstable (with a reason)
+  // instead of producing non-finite numbers, and to kFinished once time passes the life's
+  // duration (as Voxelyze runs until time first passes it); further calls then do nothing.
+  // Adds each stage's wall time to `timings` when given.
+  void step(StageTimings* timings = nullptr);
+
+  // The two halves of a step, as MuJoCo splits mj_step into mj_step1 and mj_step2, so a
+  // controller can read and act between them. The stage order is step()'s either way.
+  //   step1: what the present configuration implies: every bond's strain, stress and forces
+  //          (the development stimuli come from them), the time step, each voxel's forces
+  //          with gravity and floor contact, and self-contacts (workspace()).
+  //   step2: acts on them: integrates, sets each voxel's actuated size for the next step,
+  //          develops stiffness, advances time, and ends the life once time passes the
+  //          duration. It runs step1 first when step1 was not called since the last step2.
+  void step1(StageTimings* timings = nullptr);
+  void step2(StageTimings* timings = nullptr);
+
+  // The scratch of the current step, as step1 leaves it (engine/core/src/workspace.hpp: bond
+  // strains and stresses, forces, contact candidates); for tests and controllers.
+  const Workspace& workspace() const { return *ws_; }
+
+ private:
+  const Model* model_;
+  State state_;
+  std::unique_ptr<Workspace> ws_;
+  bool between_halves_ = false;  // step1 ran, step2 not yet
+};
+
+// How a life met the floor, graded from its deepest penetration (SimResult::floor_depth).
+enum class FloorHealth {
+  kOk,           // no deeper than kFloorPenetratingDepth: a body that stands and walks
+  kPenetrating,  // deeper, but not kFloorSankDepth: pressed into the floor
+  kSank,         // kFloorSankDepth or deeper, or the centre of mass ended below z = 0
+};
+// Thresholds in voxel lengths, set from measured lives (docs/engine.md, "Floor contact and
+// sinking"): every walker measured goes at most 0.42 deep, bodies pressed into the floor by
+// their own weight 0.6 to 1.8, and bodies that fall through it 7.9 and more.
+inline constexpr double kFloorPenetratingDepth = 0.5;  // a voxel's centre reaches the floor
+inline constexpr double kFloorSankDepth = 2.0;
+
+struct SimResult {
+  SimStatus status = SimStatus::kRunning;
+  std::string failure;               // why the run went unstable; empty when it finished
+  double fitness = 0;                // centre-of-mass displacement settle..end, voxel lengths
+  Vec3 displacement = Vec3::Zero();  // same, per axis, voxel lengths
+  Vec3 com_settled = Vec3::Zero();   // m
+  Vec3 com_final = Vec3::Zero();     // m
+  int voxels = 0;
+  int64_t steps = 0;
+  double dt_initial = 0;  // s
+  double dt_final = 0;    // s
+  double sim_time = 0;    // s reached
+  double wall_seconds = 0;
+  // Lifetime stiffness change, relative: (E_final - E0) / E0 per voxel.
+  std::vector<double> final_stiffness;   // Pa, per voxel
+  double stiffness_change_mean = 0;      // signed mean
+  double stiffness_change_abs_mean = 0;  // mean of absolute values
+  double stiffness_change_var = 0;       // variance of the signed values
+  uint64_t final_state_hash = 0;
+  Recording recording;  // frames, when SimOptions asked for them without an on_frame
+  // Health: how the body met the floor over its whole life (docs/engine.md, "Floor
+  // contact and sinking"). A voxel's penetration is how far its bottom face (half its
+  // actuated size below its centre, tilt ignored, as the floor contact sees it) is below
+  // z = 0; the deepest over every step is floor_depth. Heavy, soft bodies pass through the
+  // floor: their time step is long enough to cross the contact in one step. A sunk life
+  // counts as unstable unless def.sinking_invalid is off (the authors' rule). Only a life
+  // that ran to its end is graded (one that blew up stays kOk and says why in `failure`);
+  // floor_depth and the counts are measured either way.
+  FloorHealth floor_health = FloorHealth::kOk;
+  double floor_depth = 0;      // deepest penetration over the life, voxel lengths (>= 0)
+  int voxels_deep_max = 0;     // most voxels at once deeper than kFloorPenetratingDepth
+  int voxels_below_floor = 0;  // voxels whose top face ends below z = 0
+  bool sank = false;           // floor_health == kSank
+  // Share of the fitness from vertical displacement: dz^2 / |d|^2 of `displacement`, in
+  // [0, 1] (0 without displacement, and always 0 under xy fitness, which ignores dz).
+  double vertical_share = 0;
+  bool settled = false;  // the life passed the settle time (else com_settled is com_final)
+  std::vector<std::string> warnings;  // one line each, e.g. what sank and by how much
+};
+
+// What simulate() records and reports besides the summary. The default records nothing.
+//
+// Frames are taken at frame times, each the first state whose time is >= the frame time
+// (several frame times inside one step get the same state):
+//   - record_fps > 0: at k / record_fps over the whole life, plus the last state;
+//   - frame_times (ascending, s): at those times only, and the life ends after the last one
+//     (a still at t = 2.6 s does not simulate the rest); times past the end of the life are
+//     not taken. frame_times wins over record_fps.
+// Each frame goes to on_frame when it is set, else into SimResult::recording.
+struct SimOptions {
+  double record_fps = 0;            // frames per simulated second, 0 = none
+  std::vector<double> frame_times;  // s, ascending
+  // Called with the state at each frame time; returning false ends the life there.
+  std::function<bool(const State&)> on_frame;
+  // Called with the fraction of the life simulated, in [0, 1], about every 1 %, and with 1
+  // when the life is over.
+  std::function<void(double)> progress;
+  StageTimings* timings = nullptr;  // per-stage wall time of every step, when set
+};
+
+// Simulates a life and summarises it: to def.duration (like Voxelyze, until time first
+// passes it), or to the last of options.frame_times, or until on_frame returns false. A life
+// ended early keeps status kRunning, and its summary describes the life so far.
+SimResult simulate(const Model& model, const SimOptions& options = {});
+
+// The frame simulate() records of a state: pose, size, stiffness and stimulus per voxel.
+Frame capture_frame(const State& state);
+
+// Displacement of the centre of mass from com_settled to com in voxel lengths, z zeroed
+// under the xy fitness mode: the vector whose norm is fitness.
+Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, const Vec3& com);
+
+const char* to_string(SimStatus s);
+const char* to_string(FloorHealth h);  // "ok", "penetrating", "sank"
+
+}  // namespace plastivox

@@ -1,0 +1,48 @@
+// A recorded life: every voxel's pose, size, stiffness, stimulus and floor contact at fixed
+// frame times, in HDF5 (format "plastivox-life", layout in docs/results-format.md, "Recorded
+// lives"), so a life can be read with h5py and drawn again without simulating (library
+// plastivox_evo_h5; not thread-safe, HDF5's serial build: call from one thread).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "plastivox/base/error.hpp"  // ResultsError
+#include "plastivox/io/provenance.hpp"
+#include "plastivox/model.hpp"  // RobotDef, PhysicsDef, Vec3
+#include "plastivox/recording.hpp"
+
+namespace plastivox {
+
+constexpr int kLifeFormatVersion = 1;
+
+struct RecordedLife {
+  std::string source;               // the robot or results file the life came from
+  RobotDef robot;                   // the robot simulated
+  PhysicsDef physics;               // its physics (treatment included)
+  std::optional<uint64_t> seed;     // the evolution run's seed, for a run champion
+  Recording recording;              // frames in time order (fps, frame times in s)
+  std::string status;               // "finished" or "unstable"
+  double fitness = 0;               // voxel lengths, as simulate reports it
+  Vec3 com_settled = Vec3::Zero();  // centre of mass when settling ended, m
+  bool settled = false;             // the life reached physics.settle_time
+  uint64_t final_state_hash = 0;    // state_hash at the end of the life
+  Provenance provenance;            // of the writer (written: current_provenance at writing)
+};
+
+// Writes `life` to `path` atomically (built in memory, then a temporary renamed over it).
+// Floor contact is written per frame from each frame's poses (floor_contact()). Throws
+// ResultsError naming the file.
+void write_life_file(const std::string& path, const RecordedLife& life);
+
+// Reads a file written by write_life_file; throws ResultsError naming the file and the
+// object for anything missing, mis-shaped or foreign.
+RecordedLife read_life_file(const std::string& path);
+
+// True when `path` is an HDF5 file whose root says format "plastivox-life" (false for a
+// results file, which is recognised by its seal before HDF5 reads it, a missing file or
+// anything else). Never throws.
+bool is_life_file(const std::string& path);
+
+}  // namespace plastivox

@@ -1,0 +1,27 @@
+// Provenance: where and how a result file was made (results files, recorded lives, a study's
+// analysis.h5 and summaries carry it).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace plastivox {
+
+// Where and how a file was produced (root attributes; not part of the content digest).
+struct Provenance {
+  std::string plastivox_version;  // PROJECT_VERSION of the writer
+  std::string git_commit;         // commit the writer was configured at
+  std::string compiler;           // id and version
+  std::string compiler_flags;     // C++ flags and compile options of the build
+  std::string build_type;
+  std::string date_created;  // UTC, ISO 8601; kept when a run is resumed
+  std::string date_updated;  // UTC, ISO 8601, of this checkpoint
+  std::string host;          // host name of the writer
+  int64_t threads = 0;       // evaluation threads of the writer
+  double wall_seconds = 0;   // summed wall time of all sessions, s
+};
+
+// Provenance of this build and machine, now (date_created = date_updated = now).
+Provenance current_provenance(int threads);
+
+}  // namespace plastivox

@@ -1,0 +1,236 @@
+// The recorded-life file (plastivox/io/life_file.hpp; layout in docs/results-format.md,
+// "Recorded lives"). Per-frame fields are datasets of shape (frames, voxels[, 3 or 4]), so
+// h5py reads each as one numpy array; the robot and its physics are kept as a plastivox
+// robot file (JSON) in an attribute, so the life can be simulated again and its model
+// compiled for drawing. Since 2026-12-05 it carries a seal like a results file
+// (file_seal.hpp), checked before HDF5 reads it, and every read is checked against the shapes
+// the file itself declares.
+#include "plastivox/io/life_file.hpp"
+
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/file_seal.hpp"
+#include "plastivox/io/h5_util.hpp"
+#include "plastivox/io/robot_file.hpp"
+
+namespace plastivox {
+namespace {
+
+using h5::Ctx;
+using h5::Handle;
+
+constexpr const char* kLifeFormat = "plastivox-life";
+
+// One per-voxel field of every frame, flattened frame-major: (frames, n, width).
+template <class T, class Get>
+std::vector<T> gather(const std::vector<Frame>& frames, size_t n, size_t width, const Get& get) {
+  std::vector<T> out;
+  out.reserve(frames.size() * n * width);
+  for (const Frame& f : frames)
+    for (size_t i = 0; i < n; ++i)
+      for (size_t k = 0; k < width; ++k) out.push_back(get(f, i, k));
+  return out;
+}
+
+}  // namespace
+
+void write_life_file(const std::string& path, const RecordedLife& life) {
+  const Ctx c{path, 0};
+  const std::vector<Frame>& frames = life.recording.frames;
+  const size_t n = frames.empty() ? 0 : frames.front().pos.size();
+  for (const Frame& f : frames)
+    if (f.pos.size() != n || f.orient.size() != n || f.size.size() != n ||
+        f.stiffness.size() != n || f.stimulus.size() != n)
+      throw ResultsError(path + ": internal error: frames of different voxel counts");
+  const hsize_t nf = frames.size(), nv = n;
+  const Provenance p = current_provenance(1);
+  std::string bytes;
+  {
+    h5::MemoryFile file(c, seal::kUserBlockBytes);
+    {
+      Handle root = h5::open_group(c, file.id(), "/");
+      const hid_t r = root.id();
+      h5::write_attr(c, r, "format", std::string(kLifeFormat));
+      h5::write_attr(c, r, "format_version", int64_t{kLifeFormatVersion});
+      h5::write_attr(c, r, "source", life.source);
+      h5::write_attr(c, r, "robot", robot_to_json(life.robot, &life.physics));
+      h5::write_attr(c, r, "treatment", std::string(to_string(life.physics.treatment)));
+      if (life.seed) h5::write_attr_u64(c, r, "seed", *life.seed);
+      h5::write_attr(c, r, "fps", life.recording.fps);
+      h5::write_attr(c, r, "frames", static_cast<int64_t>(nf));
+      h5::write_attr(c, r, "voxels", static_cast<int64_t>(nv));
+      h5::write_attr(c, r, "voxel_size", life.robot.voxel_size);
+      h5::write_attr(c, r, "status", life.status);
+      h5::write_attr(c, r, "fitness", life.fitness);
+      h5::write_attr(c, r, "settled", int64_t{life.settled ? 1 : 0});
+      h5::write(
+          c, r, "com_settled",
+          std::vector<double>{life.com_settled.x(), life.com_settled.y(), life.com_settled.z()},
+          {3});
+      h5::write_attr_u64(c, r, "final_state_hash", life.final_state_hash);
+      h5::write_attr(c, r, "plastivox_version", p.plastivox_version);
+      h5::write_attr(c, r, "git_commit", p.git_commit);
+      h5::write_attr(c, r, "date_created", p.date_created);
+      h5::write_attr(c, r, "host", p.host);
+
+      std::vector<double> time;
+      for (const Frame& f : frames) time.push_back(f.time);
+      h5::write(c, r, "time", time, {nf});
+      h5::write(c, r, "position",
+                gather<double>(frames, n, 3,
+                               [](const Frame& f, size_t i, size_t k) {
+                                 return f.pos[i][static_cast<Eigen::Index>(k)];
+                               }),
+                {nf, nv, 3});
+      h5::write(c, r, "orientation",
+                gather<double>(frames, n, 4,
+                               [](const Frame& f, size_t i, size_t k) {
+                                 const Eigen::Quaterniond& q = f.orient[i];
+                                 return k == 0 ? q.w() : k == 1 ? q.x() : k == 2 ? q.y() : q.z();
+                               }),
+                {nf, nv, 4});
+      h5::write(
+          c, r, "size",
+          gather<double>(frames, n, 1, [](const Frame& f, size_t i, size_t) { return f.size[i]; }),
+          {nf, nv});
+      h5::write(c, r, "stiffness",
+                gather<double>(frames, n, 1,
+                               [](const Frame& f, size_t i, size_t) { return f.stiffness[i]; }),
+                {nf, nv});
+      h5::write(c, r, "stimulus",
+                gather<double>(frames, n, 1,
+                               [](const Frame& f, size_t i, size_t) { return f.stimulus[i]; }),
+                {nf, nv});
+      std::vector<uint8_t> contact;
+      contact.reserve(nf * nv);
+      for (const Frame& f : frames) {
+        const std::vector<uint8_t> touching = floor_contact(f, life.physics.floor);
+        contact.insert(contact.end(), touching.begin(), touching.end());
+      }
+      h5::write(c, r, "contact", contact, {nf, nv});
+      // Every stimulus is in Pa (strain is read as Pa: physics_def.hpp).
+      for (const auto& [name, units] : {std::pair{"com_settled", "m"},
+                                        {"time", "s"},
+                                        {"position", "m"},
+                                        {"orientation", "1"},
+                                        {"size", "m"},
+                                        {"stiffness", "Pa"},
+                                        {"stimulus", "Pa"}})
+        h5::write_units(c, r, name, units);
+    }
+    bytes = file.image();
+  }
+  seal::seal_image(bytes, path, seal::kLife);
+  try {
+    write_file_atomic(path, bytes);
+  } catch (const InputError& e) {
+    throw ResultsError(e.what());
+  }
+}
+
+bool is_life_file(const std::string& path) {
+  h5::quiet_hdf5();
+  struct stat sb {};
+  if (::stat(path.c_str(), &sb) != 0 || !S_ISREG(sb.st_mode)) return false;
+  // Nothing sealed is handed to HDF5 before its seal is checked (file_seal.hpp): a life
+  // written since 2026-12-05 starts with its seal's text, an older one with HDF5's signature.
+  if (seal::has_seal(path, seal::kLife)) return true;
+  char head[8] = {};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  const size_t got = std::fread(head, 1, sizeof head, f);
+  std::fclose(f);
+  if (got != sizeof head || std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) != 0) return false;
+  if (H5Fis_hdf5(path.c_str()) <= 0) return false;
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);
+  if (file.id() < 0) return false;
+  try {
+    const Ctx c{path, static_cast<uint64_t>(sb.st_size)};
+    Handle root = h5::open_group(c, file.id(), "/");
+    return h5::has_attr(root.id(), "format") &&
+           h5::read_attr_string(c, root.id(), "/", "format") == kLifeFormat;
+  } catch (const ResultsError&) {
+    return false;
+  }
+}
+
+RecordedLife read_life_file(const std::string& path) {
+  // A sealed life is checked whole before HDF5 parses a byte of it: a flipped bit or a changed
+  // metadata byte crashed HDF5 1.10 inside a string attribute's read. A life written before
+  // seals (2026-12-05) has none and is read as before.
+  if (seal::has_seal(path, seal::kLife)) seal::check_seal(path, seal::kLife);
+  const Ctx c = h5::read_context(path);
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw ResultsError(path + ": not an HDF5 file (wrong format, or corrupt or truncated)");
+  Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);
+  if (f.id() < 0) throw ResultsError(path + ": cannot open as HDF5 (corrupt or truncated)");
+  Handle root = h5::open_group(c, f.id(), "/");
+  const hid_t r = root.id();
+  if (!h5::has_attr(r, "format") || h5::read_attr_string(c, r, "/", "format") != kLifeFormat)
+    throw ResultsError(path + ": not a plastivox recorded life (no format attribute \"" +
+                       std::string(kLifeFormat) + "\" on /)");
+  const int64_t version = h5::read_attr_int(c, r, "/", "format_version");
+  if (version != kLifeFormatVersion)
+    throw ResultsError(path + ": recorded-life format version " + std::to_string(version) +
+                       " is not supported (this build reads " + std::to_string(kLifeFormatVersion) +
+                       ")");
+  RecordedLife life;
+  life.source = h5::read_attr_string(c, r, "/", "source");
+  try {
+    RobotFile rf = parse_robot_json(h5::read_attr_string(c, r, "/", "robot"), path + ": /@robot");
+    life.robot = std::move(rf.robot);
+    life.physics = rf.physics;
+  } catch (const InputError& e) {
+    throw ResultsError(e.what());
+  }
+  if (h5::has_attr(r, "seed")) life.seed = h5::read_attr_u64(c, r, "/", "seed");
+  life.recording.fps = h5::read_attr_double(c, r, "/", "fps");
+  life.status = h5::read_attr_string(c, r, "/", "status");
+  life.fitness = h5::read_attr_double(c, r, "/", "fitness");
+  life.settled = h5::read_attr_int(c, r, "/", "settled") != 0;
+  const std::vector<double> com = h5::read<double>(c, r, "com_settled", 3);
+  life.com_settled = Vec3(com[0], com[1], com[2]);
+  life.final_state_hash = h5::read_attr_u64(c, r, "/", "final_state_hash");
+  life.provenance.plastivox_version = h5::read_attr_string(c, r, "/", "plastivox_version");
+  life.provenance.git_commit = h5::read_attr_string(c, r, "/", "git_commit");
+  life.provenance.date_created = h5::read_attr_string(c, r, "/", "date_created");
+  life.provenance.host = h5::read_attr_string(c, r, "/", "host");
+
+  // Shapes: the voxel count must be the robot's, every per-frame field (frames, n[, k]).
+  int n = 0;
+  for (uint8_t present : life.robot.present) n += present ? 1 : 0;
+  std::vector<hsize_t> td = {h5::kAnyExtent};
+  const std::vector<double> time = h5::read<double>(c, r, "time", td);
+  const hsize_t nf = td[0], nv = static_cast<hsize_t>(n);
+  std::vector<hsize_t> pd = {nf, nv, 3}, od = {nf, nv, 4}, sd = {nf, nv};
+  const std::vector<double> pos = h5::read<double>(c, r, "position", pd);
+  const std::vector<double> orient = h5::read<double>(c, r, "orientation", od);
+  std::vector<hsize_t> d1 = sd, d2 = sd, d3 = sd;
+  const std::vector<double> size = h5::read<double>(c, r, "size", d1);
+  const std::vector<double> stiffness = h5::read<double>(c, r, "stiffness", d2);
+  const std::vector<double> stimulus = h5::read<double>(c, r, "stimulus", d3);
+  for (size_t k = 0; k < nf; ++k) {
+    if (!(std::isfinite(time[k]) && (k == 0 || time[k] >= time[k - 1])))
+      c.fail("/time", "frame times must be finite and ascending");
+    Frame fr;
+    fr.time = time[k];
+    for (size_t i = 0; i < nv; ++i) {
+      const size_t at = k * nv + i;
+      fr.pos.emplace_back(pos[3 * at], pos[3 * at + 1], pos[3 * at + 2]);
+      fr.orient.emplace_back(orient[4 * at], orient[4 * at + 1], orient[4 * at + 2],
+                             orient[4 * at + 3]);
+      fr.size.push_back(size[at]);
+      fr.stiffness.push_back(stiffness[at]);
+      fr.stimulus.push_back(stimulus[at]);
+    }
+    life.recording.frames.push_back(std::move(fr));
+  }
+  return life;
+}
+
+}  // namespace plastivox

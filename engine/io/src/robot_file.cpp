@@ -1,0 +1,310 @@
+#include "plastivox/io/robot_file.hpp"
+
+#include <algorithm>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/json_input.hpp"
+#include "plastivox/io/limits.hpp"
+
+namespace plastivox {
+namespace {
+
+using nlohmann::json;
+
+using json_field::boolean;
+using json_field::fail;
+using json_field::integer;
+using json_field::number;
+using json_field::text;
+
+int site_of(const RobotDef& r, const json& xyz, const std::string& source,
+            const std::string& field) {
+  if (!xyz.is_array() || xyz.size() != 3) fail(source, field, "expected [x, y, z]");
+  const int x = integer(xyz[0], source, field + "[0]");
+  const int y = integer(xyz[1], source, field + "[1]");
+  const int z = integer(xyz[2], source, field + "[2]");
+  if (x < 0 || y < 0 || z < 0 || x >= r.nx || y >= r.ny || z >= r.nz)
+    fail(source, field, "lattice coordinate outside the lattice");
+  return r.site(x, y, z);
+}
+
+void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
+  if (!p.is_object()) fail(where, "physics", "expected an object");
+  if (p.contains("preset")) {
+    try {
+      d = physics_preset(text(p["preset"], where, "physics.preset"));
+    } catch (const std::invalid_argument& e) {
+      fail(where, "physics.preset", e.what());
+    }
+  }
+  struct Num {
+    const char* name;
+    double* value;
+  };
+  const Num numbers[] = {{"density", &d.density},
+                         {"poisson", &d.poisson},
+                         {"mu_static", &d.mu_static},
+                         {"mu_kinetic", &d.mu_kinetic},
+                         {"e_min", &d.e_min},
+                         {"e_max", &d.e_max},
+                         {"bond_damping", &d.bond_damping},
+                         {"collision_damping", &d.collision_damping},
+                         {"global_damping", &d.global_damping},
+                         {"global_damping_rot_factor", &d.global_damping_rot_factor},
+                         {"gravity", &d.gravity},
+                         {"contact_diameter", &d.contact_diameter},
+                         {"dt_frac", &d.dt_frac},
+                         {"act_frequency", &d.act_frequency},
+                         {"act_amplitude", &d.act_amplitude},
+                         {"act_min_factor", &d.act_min_factor},
+                         {"settle_time", &d.settle_time},
+                         {"duration", &d.duration},
+                         {"max_change_per_step", &d.max_change_per_step},
+                         {"min_devo_factor", &d.min_devo_factor},
+                         {"max_speed", &d.max_speed}};
+  for (auto it = p.begin(); it != p.end(); ++it) {
+    const std::string key = it.key(), field = "physics." + key;
+    if (key == "preset") continue;
+    bool done = false;
+    for (const Num& n : numbers) {
+      if (key == n.name) {
+        *n.value = number(*it, where, field);
+        done = true;
+      }
+    }
+    if (done) continue;
+    try {
+      if (key == "floor")
+        d.floor = boolean(*it, where, field);
+      else if (key == "self_collision")
+        d.self_collision = boolean(*it, where, field);
+      else if (key == "sinking_invalid")
+        d.sinking_invalid = boolean(*it, where, field);
+      else if (key == "act_expansion")
+        d.act_expansion = boolean(*it, where, field);
+      else if (key == "record_fps") {
+        // Files written while recording was a physics field carry it: checked, and otherwise
+        // unused (a recording is asked for by the command: simulate --record, --fps).
+        const double fps = number(*it, where, field);
+        if (!(fps >= 0 && fps <= 10000)) fail(where, field, "must be in [0, 10000]");
+      } else if (key == "collision_exclude_hops")
+        d.collision_exclude_hops = integer(*it, where, field);
+      else if (key == "treatment") {
+        const TreatmentSpec t = json_field::treatment(*it, where, field);
+        d.treatment = t.stimulus;
+        if (t.law) {
+          if (p.contains("growth") &&
+              parse_growth(text(p["growth"], where, "physics.growth")) != *t.law)
+            fail(where, field + ".law", "contradicts physics.growth (give the law once)");
+          d.growth = *t.law;
+        }
+      } else if (key == "growth")
+        d.growth = parse_growth(text(*it, where, field));
+      else if (key == "fitness") {
+        const std::string f = text(*it, where, field);
+        if (f != "3d" && f != "xy") fail(where, field, "expected \"3d\" or \"xy\"");
+        d.fitness = f == "3d" ? FitnessMode::k3D : FitnessMode::kXY;
+      } else if (key == "axial_modulus") {
+        const std::string a = text(*it, where, field);
+        if (a != "harmonic" && a != "negative-voxel")
+          fail(where, field, "expected \"harmonic\" or \"negative-voxel\"");
+        d.axial_modulus =
+            a == "harmonic" ? AxialModulus::kHarmonicMean : AxialModulus::kNegativeVoxel;
+      } else if (key == "bond_model") {
+        const std::string b = text(*it, where, field);
+        if (b != "exact" && b != "voxelyze09")
+          fail(where, field, "expected \"exact\" or \"voxelyze09\"");
+        d.bond_model = b == "exact" ? BondModel::kExact : BondModel::kVoxelyze09;
+      } else {
+        fail(where, field, "unknown field");
+      }
+    } catch (const std::invalid_argument& e) {
+      fail(where, field, e.what());
+    }
+  }
+  try {
+    validate(d);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+void apply_physics_json(const std::string& json_text, const std::string& where, PhysicsDef& def) {
+  apply_physics(parse_json_input(json_text, where, "physics"), where, def);
+}
+
+RobotFile parse_robot_json(const std::string& src, const std::string& source) {
+  json j = parse_json_file(src, source, "plastivox-robot");
+  if (!j.contains("version")) fail(source, "version", "missing");
+  const int version = integer(j["version"], source, "version");
+  if (version != 1)
+    fail(source, "version",
+         "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  // Every key of object `o` must be one of `known`; `prefix` names where o sits.
+  const auto only = [&](const json& o, std::initializer_list<const char*> known,
+                        const std::string& prefix) {
+    for (auto it = o.begin(); it != o.end(); ++it)
+      if (std::none_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; }))
+        fail(source, prefix + it.key(), "unknown field");
+  };
+  only(j, {"format", "version", "name", "lattice", "voxels", "fixed", "loads", "physics"}, "");
+  if (!j.contains("lattice")) fail(source, "lattice", "missing");
+  const json& lat = j["lattice"];
+  if (!lat.is_object()) fail(source, "lattice", "expected an object");
+  only(lat, {"nx", "ny", "nz", "voxel_size"}, "lattice.");
+  for (const char* k : {"nx", "ny", "nz", "voxel_size"})
+    if (!lat.contains(k)) fail(source, std::string("lattice.") + k, "missing");
+  const int nx = integer(lat["nx"], source, "lattice.nx");
+  const int ny = integer(lat["ny"], source, "lattice.ny");
+  const int nz = integer(lat["nz"], source, "lattice.nz");
+  const Limits limits = limits_from_environment();
+  try {  // before anything is allocated
+    check_lattice_size(nx, ny, nz, limits);
+  } catch (const std::invalid_argument& e) {
+    fail(source, "lattice", std::string(e.what()).substr(std::strlen("robot.size: ")));
+  }
+  const double size = number(lat["voxel_size"], source, "lattice.voxel_size");
+  if (!(size >= kMinVoxelSize && size <= kMaxVoxelSize))
+    fail(source, "lattice.voxel_size", "must be in [1e-4, 10] m");
+  RobotFile out;
+  RobotDef& r = out.robot;
+  r = make_empty_robot(nx, ny, nz, size, limits);
+  if (j.contains("name")) r.name = text(j["name"], source, "name");
+  if (!j.contains("voxels") || !j["voxels"].is_array())
+    fail(source, "voxels", "missing or not an array");
+  const json& vox = j["voxels"];
+  // A 7th entry is the voxel's own actuation amplitude (RobotDef::act_amplitude): every voxel
+  // has one or none does.
+  const bool own_amplitude = !vox.empty() && vox[0].is_array() && vox[0].size() == 7;
+  if (own_amplitude) r.act_amplitude.assign(r.sites(), 0.0);
+  for (size_t k = 0; k < vox.size(); ++k) {
+    const std::string field = "voxels[" + std::to_string(k) + "]";
+    const json& v = vox[k];
+    if (!v.is_array() || v.size() != (own_amplitude ? 7u : 6u))
+      fail(source, field,
+           own_amplitude ? "expected [x, y, z, E, alpha, phase, amplitude] (as voxels[0])"
+                         : "expected [x, y, z, E, alpha, phase]");
+    const int s = site_of(r, json::array({v[0], v[1], v[2]}), source, field);
+    if (r.present[s]) fail(source, field, "a second voxel at the same site");
+    r.present[s] = 1;
+    r.stiffness[s] = number(v[3], source, field + "[3] (E)");
+    r.dev_rate[s] = number(v[4], source, field + "[4] (alpha)");
+    r.phase[s] = number(v[5], source, field + "[5] (phase)");
+    if (own_amplitude) r.act_amplitude[s] = number(v[6], source, field + "[6] (amplitude)");
+  }
+  if (j.contains("fixed")) {
+    if (!j["fixed"].is_array()) fail(source, "fixed", "expected an array");
+    for (size_t k = 0; k < j["fixed"].size(); ++k)
+      r.fixed_sites.push_back(
+          site_of(r, j["fixed"][k], source, "fixed[" + std::to_string(k) + "]"));
+  }
+  if (j.contains("loads")) {
+    if (!j["loads"].is_array()) fail(source, "loads", "expected an array");
+    for (size_t k = 0; k < j["loads"].size(); ++k) {
+      const std::string field = "loads[" + std::to_string(k) + "]";
+      const json& l = j["loads"][k];
+      if (!l.is_object() || !l.contains("at") || !l.contains("force") || !l["force"].is_array() ||
+          l["force"].size() != 3)
+        fail(source, field, "expected {\"at\": [x, y, z], \"force\": [fx, fy, fz]}");
+      only(l, {"at", "force"}, field + ".");
+      RobotDef::Load load;
+      load.site = site_of(r, l["at"], source, field + ".at");
+      load.fx = number(l["force"][0], source, field + ".force[0]");
+      load.fy = number(l["force"][1], source, field + ".force[1]");
+      load.fz = number(l["force"][2], source, field + ".force[2]");
+      r.loads.push_back(load);
+    }
+  }
+  if (j.contains("physics")) apply_physics(j["physics"], source, out.physics);
+  try {
+    validate(r, limits);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  return out;
+}
+
+RobotFile read_robot_file(const std::string& path) {
+  return parse_robot_json(read_file_bytes(path), path);
+}
+
+std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
+  json j;
+  j["format"] = "plastivox-robot";
+  j["version"] = 1;
+  j["name"] = r.name;
+  j["lattice"] = {{"nx", r.nx}, {"ny", r.ny}, {"nz", r.nz}, {"voxel_size", r.voxel_size}};
+  json vox = json::array();
+  for (int s = 0; s < r.sites(); ++s) {
+    if (!r.present[s]) continue;
+    const int x = s % r.nx, y = (s / r.nx) % r.ny, z = s / (r.nx * r.ny);
+    vox.push_back({x, y, z, r.stiffness[s], r.dev_rate[s], r.phase[s]});
+    if (!r.act_amplitude.empty()) vox.back().push_back(r.act_amplitude[s]);
+  }
+  j["voxels"] = vox;
+  auto xyz = [&](int s) { return json::array({s % r.nx, (s / r.nx) % r.ny, s / (r.nx * r.ny)}); };
+  if (!r.fixed_sites.empty()) {
+    j["fixed"] = json::array();
+    for (int s : r.fixed_sites) j["fixed"].push_back(xyz(s));
+  }
+  if (!r.loads.empty()) {
+    j["loads"] = json::array();
+    for (const auto& l : r.loads)
+      j["loads"].push_back({{"at", xyz(l.site)}, {"force", {l.fx, l.fy, l.fz}}});
+  }
+  if (physics) {
+    const PhysicsDef& d = *physics;
+    j["physics"] = {
+        {"density", d.density},
+        {"poisson", d.poisson},
+        {"mu_static", d.mu_static},
+        {"mu_kinetic", d.mu_kinetic},
+        {"e_min", d.e_min},
+        {"e_max", d.e_max},
+        {"bond_damping", d.bond_damping},
+        {"collision_damping", d.collision_damping},
+        {"global_damping", d.global_damping},
+        {"global_damping_rot_factor", d.global_damping_rot_factor},
+        {"gravity", d.gravity},
+        {"floor", d.floor},
+        {"self_collision", d.self_collision},
+        {"collision_exclude_hops", d.collision_exclude_hops},
+        {"contact_diameter", d.contact_diameter},
+        {"dt_frac", d.dt_frac},
+        {"act_frequency", d.act_frequency},
+        {"act_amplitude", d.act_amplitude},
+        {"act_min_factor", d.act_min_factor},
+        {"settle_time", d.settle_time},
+        {"duration", d.duration},
+        {"treatment", to_string(d.treatment)},
+        {"growth", to_string(d.growth)},
+        {"max_change_per_step", d.max_change_per_step},
+        {"min_devo_factor", d.min_devo_factor},
+        {"fitness", d.fitness == FitnessMode::k3D ? "3d" : "xy"},
+        {"axial_modulus",
+         d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
+        {"bond_model", d.bond_model == BondModel::kExact ? "exact" : "voxelyze09"},
+        {"max_speed", d.max_speed}};
+    // Written only when off (the authors' rule; on is the default), so every file made
+    // under the default stays byte-identical.
+    if (!d.sinking_invalid) j["physics"]["sinking_invalid"] = false;
+    if (!d.act_expansion) j["physics"]["act_expansion"] = false;  // likewise
+  }
+  return j.dump(1);
+}
+
+void write_robot_file(const std::string& path, const RobotDef& robot, const PhysicsDef* physics) {
+  write_file_atomic(path, robot_to_json(robot, physics) + "\n");
+}
+
+}  // namespace plastivox
