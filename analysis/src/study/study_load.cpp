@@ -204,3 +204,24 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
 }
 
 }  // namespace plastivox::analysis::study
+
+namespace plastivox::analysis {
+
+void load_champion_bodies(StudyResult& r) {
+  for (ChampionAnalysis& c : r.champions) {
+    const StudyInput& in = r.inputs.at(static_cast<size_t>(c.input));
+    StudyOptions o = r.options;
+    o.generation = in.generation;
+    const study::Loaded l = study::load_one(in.file, o);
+    if (l.input.content_digest != in.content_digest)
+      throw std::runtime_error(in.file + ": not the run analysed (content digest " +
+                               l.input.content_digest + ", the analysis read " + in.content_digest +
+                               ")");
+    c.robot = l.champion.robot;
+    c.final_stiffness = l.champion.final_stiffness;
+    c.physics = l.champion.physics;
+    c.fitness = l.champion.fitness;
+  }
+}
+
+}  // namespace plastivox::analysis
