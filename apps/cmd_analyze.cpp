@@ -1,6 +1,8 @@
 // plastivox analyze: the run champions of several results files, measured and compared
 // (docs/method.md §8) -> DIR/stats.json, CSV tables, analysis.h5 and report.html.
-// The library call is analyze_study + write_study_outputs (plastivox/analysis/study.hpp).
+// The library calls are analyze_study + write_study_outputs (the data), then the report from
+// the study read back from analysis.h5, as `plastivox experiment` makes it
+// (plastivox/analysis/study.hpp).
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -140,7 +142,9 @@ int cmd_analyze(const Args& in) {
     section.raw_html = render::viewer_fragment(lives, true);
     if (!lives.empty()) extras.sections.push_back(section);
   }
-  analysis::write_study_outputs(r, out, extras);
+  analysis::write_study_outputs(r, out);
+  analysis::write_study_report(analysis::read_study_result(out + "/analysis.h5"),
+                               out + "/report.html", extras);
 
   const analysis::StudyTimings& t = r.timings;
   std::printf(

@@ -19,40 +19,42 @@ std::vector<double> uniform_sample(Rng& rng, int n, double lo, double hi) {
 // ---- RNG ---------------------------------------------------------------------------------------
 
 TEST(Rng, IsPinned) {
-  // Golden values: a change here changes every published number; do it knowingly. The first
-  // outputs of each draw from seed 42 and of a few streams, as this code gives them (checked
-  // against an independent transcription of xoshiro256**, SplitMix64 and Lemire's method).
+  // Golden values: a change here changes every published number; do it knowingly. The analysis
+  // draws from the base layer's SplitMix64 (the evolver's generator); these are the first
+  // outputs of each draw from state 42 and of the analysis's streams, as this code gives them
+  // (checked against an independent transcription of SplitMix64, its keyed streams and the
+  // reject-then-modulo integer draw).
   Rng r(42);
-  for (const uint64_t v : {0x15780b2e0c2ec716ULL, 0x6104d9866d113a7eULL, 0xae17533239e499a1ULL,
-                           0xecb8ad4703b360a1ULL, 0xfde6dc7fe2ec5e64ULL})
+  for (const uint64_t v : {0xbdd732262feb6e95ULL, 0x28efe333b266f103ULL, 0x47526757130f9f52ULL,
+                           0x581ce1ff0e4ae394ULL, 0x09bc585a244823f2ULL})
     EXPECT_EQ(r.next_u64(), v);
 
   Rng small(42);
-  for (const int v : {0, 3, 6, 9, 9, 7, 7, 8, 7, 5}) EXPECT_EQ(small.below(10), uint64_t(v));
-  // n = 2^63 + 1 rejects almost half of the draws (here 9 draws for 4 numbers): the
+  for (const int v : {3, 1, 8, 4, 0, 2, 5, 8, 5, 4}) EXPECT_EQ(small.below(10), uint64_t(v));
+  // n = 2^63 + 1 rejects almost half of the draws (here 10 draws for 4 numbers): the
   // rejection loop is pinned too.
   Rng large(42);
   for (const uint64_t v :
-       {0x7ef36e3ff1762f32ULL, 0x6286d29880bca91cULL, 0x5c10aa42ad32eed9ULL, 0x6174b739374bb23fULL})
+       {0x3dd732262feb6e94ULL, 0x5e4431fa3c80db05ULL, 0x4cf635ee9e9e2fa3ULL, 0x1e54d738297f77adULL})
     EXPECT_EQ(large.below((uint64_t{1} << 63) + 1), v);
-  Rng after_nine(42);
-  for (int k = 0; k < 9; ++k) after_nine.next_u64();
-  EXPECT_EQ(large.next_u64(), after_nine.next_u64()) << "4 numbers below 2^63 + 1 take 9 draws";
+  Rng after_ten(42);
+  for (int k = 0; k < 10; ++k) after_ten.next_u64();
+  EXPECT_EQ(large.next_u64(), after_ten.next_u64()) << "4 numbers below 2^63 + 1 take 10 draws";
   Rng unit(42);
   for (const double v :
-       {0x1.5780b2e0c2ec0p-4, 0x1.84136619b444ep-2, 0x1.5c2ea66473c93p-1, 0x1.d9715a8e0766cp-1})
+       {0x1.7bae644c5fd6dp-1, 0x1.477f199d93378p-3, 0x1.1d499d5c4c3e6p-2, 0x1.607387fc392b8p-2})
     EXPECT_EQ(unit.uniform(), v);
   Rng ranged(42);
   for (const double v :
-       {-1.5806851447005892, -0.10509874668665686, 1.400217055140697, 2.6234647266269384})
+       {1.7078243938591164, -1.2004480356153995, -0.6069943487243066, -0.27904641738181235})
     EXPECT_EQ(ranged.uniform(-2, 3), v);
 
   // Streams: each key its own generator.
-  EXPECT_EQ(Rng::stream(1, StreamPurpose::kTest, 0).next_u64(), 0x7b1f9f48f4056297ULL);
-  EXPECT_EQ(Rng::stream(1, StreamPurpose::kTest, 1).next_u64(), 0x9636c0c58e7eaa25ULL);
-  EXPECT_EQ(Rng::stream(1, StreamPurpose::kBootstrapTest, 0).next_u64(), 0x7e08650628e3d3b3ULL);
-  EXPECT_EQ(Rng::stream(1, StreamPurpose::kBootstrapCi, 0).next_u64(), 0x8da958d3985d6175ULL);
-  EXPECT_EQ(Rng::stream(1, StreamPurpose::kRobustness, 5).next_u64(), 0xfb744eac4b3ce0e2ULL);
+  EXPECT_EQ(Rng::stream(1, StreamPurpose::kTest, 0, 0).next_u64(), 0x7c7771b14ab93ed6ULL);
+  EXPECT_EQ(Rng::stream(1, StreamPurpose::kTest, 1, 0).next_u64(), 0x26b17a2e57984508ULL);
+  EXPECT_EQ(Rng::stream(1, StreamPurpose::kBootstrapTest, 0, 0).next_u64(), 0x3228d95675209ee3ULL);
+  EXPECT_EQ(Rng::stream(1, StreamPurpose::kBootstrapCi, 0, 0).next_u64(), 0x92ab9b30fc96454bULL);
+  EXPECT_EQ(Rng::stream(1, StreamPurpose::kRobustness, 5, 0).next_u64(), 0x5718e99e123704eeULL);
 }
 
 TEST(Rng, BelowIsUniformAndInRange) {
@@ -171,7 +173,7 @@ TEST(BootstrapTest, RejectionRateUnderTheNullIsNearTheLevel) {
     int rejected = 0;
     const int trials = 400;
     for (int t = 0; t < trials; ++t) {
-      Rng data = Rng::stream(2024, StreamPurpose::kTest, t);
+      Rng data = Rng::stream(2024, StreamPurpose::kTest, t, 0);
       const std::vector<double> a = uniform_sample(data, 20, 0, 1),
                                 b = uniform_sample(data, 20, 0, 1);
       BootstrapTestOptions o;

@@ -127,9 +127,24 @@ TEST_F(Study, OutputsExistAndAgreeWithEachOther) {
   const StudyResult r = analyze_study(files, o);
   write_study_outputs(r, path("out"));
 
-  for (const char* f : {"stats.json", "champions.csv", "statistics.csv", "hausdorff.csv",
-                        "analysis.h5", "report.html"})
+  for (const char* f :
+       {"stats.json", "champions.csv", "statistics.csv", "hausdorff.csv", "analysis.h5"})
     EXPECT_TRUE(fs::exists(path("out/") + f)) << f;
+  EXPECT_FALSE(fs::exists(path("out/report.html"))) << "the analysis writes data only";
+  // The study read back from analysis.h5 makes the very report the computed study makes, so
+  // the report needs nothing recomputed.
+  const StudyResult back = read_study_result(path("out/analysis.h5"));
+  EXPECT_EQ(report_html(back), report_html(r));
+  EXPECT_EQ(back.fingerprint, r.fingerprint);
+  EXPECT_EQ(options_json(back.options), options_json(r.options));
+  ASSERT_EQ(back.champions.size(), r.champions.size());
+  StudyResult bodies = back;
+  load_champion_bodies(bodies);
+  for (size_t i = 0; i < r.champions.size(); ++i) {
+    EXPECT_EQ(bodies.champions[i].robot.stiffness, r.champions[i].robot.stiffness) << i;
+    EXPECT_EQ(bodies.champions[i].final_stiffness, r.champions[i].final_stiffness) << i;
+    EXPECT_EQ(bodies.champions[i].fitness, r.champions[i].fitness) << i;
+  }
   for (const auto& e : fs::directory_iterator(path("out")))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 
@@ -274,7 +289,7 @@ TEST_F(Study, OutputsExistAndAgreeWithEachOther) {
   }
 
   // The report: self-contained HTML with the heat map, every champion and the statistics.
-  const std::string html = read_text(path("out/report.html"));
+  const std::string html = report_html(read_study_result(path("out/analysis.h5")));
   EXPECT_NE(html.find("<svg"), std::string::npos);
   EXPECT_EQ(html.find("<script"), std::string::npos);
   for (const ChampionAnalysis& c : r.champions) EXPECT_NE(html.find(c.label), std::string::npos);
@@ -480,6 +495,18 @@ TEST_F(Study, BadInputsGiveOneClearLine) {
   const std::string c =
       run(Treatment::kNone, 3, R"({"duration": 0.2, "settle_time": 0.1, "mu_static": 0.9})");
   expect_error(error_of([&] { analyze_study({a, c}, o); }), "mixed physics");
+  // ... naming the first field that differs, with both files' values.
+  expect_error(error_of([&] {
+                 analyze_study({a, c}, o);
+               }),
+               "(mu_static: 0.9 in " + c + ", 1.0 in " + a + ")");
+
+  // Reading a study back: anything but an analysis.h5 is refused by name.
+  expect_error(error_of([&] { read_study_result(path("missing.h5")); }),
+               path("missing.h5") + ": no such file");
+  expect_error(error_of([&] { read_study_result(path("other.h5")); }),
+               path("other.h5") + ": not a plastivox analysis");
+  expect_error(error_of([&] { read_study_result(a); }), a + ": not a plastivox analysis");
   StudyOptions mixed = o;
   mixed.allow_mixed_physics = true;
   const StudyResult r = analyze_study({a, c}, mixed);
@@ -629,7 +656,7 @@ TEST_F(Study, ChampionsAreAuditedAndArtifactsExcluded) {
   EXPECT_EQ(r.evolution[0].runs, 1);
   // report.html says so at the top, in one sentence with the count, and states the rule
   // and the direction of fitness.
-  const std::string report = read_text(path("out/report.html"));
+  const std::string report = report_html(read_study_result(path("out/analysis.h5")));
   const size_t sentence = report.find(
       "2 of 3 champions are excluded from the statistics and "
       "figures because their lives, simulated again, are "

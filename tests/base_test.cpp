@@ -111,5 +111,27 @@ TEST(JsonField, NamesTheSourceAndFieldOfEveryMistake) {
             "f.json: i: expected true or false");
 }
 
+TEST(JsonFirstDifference, NamesTheFirstFieldInSortedOrderWithBothValues) {
+  using nlohmann::json;
+  const json a = json::parse(R"({"z": 1, "b": {"y": [1, 2, 3], "x": "p"}, "a": 0})");
+  EXPECT_EQ(first_difference(a, a, "in the file", "now"), "");
+  json b = a;
+  b["z"] = 2;
+  b["b"]["y"][1] = 5;  // "b.y[1]" comes before "z" in key order, whatever the text's order
+  EXPECT_EQ(first_difference(a, b, "in the file", "now"), "b.y[1]: 2 in the file, 5 now");
+  b = a;
+  b["b"]["y"] = {1, 2};  // another length: the whole array
+  EXPECT_EQ(first_difference(a, b, "in the folder", "now"),
+            "b.y: [1,2,3] in the folder, [1,2] now");
+  b = a;
+  b.erase("a");
+  b["c"] = true;  // "a" is missing before "c" is new
+  EXPECT_EQ(first_difference(a, b, "in x", "in y"), "a: 0 in x, absent in y");
+  EXPECT_EQ(first_difference(b, a, "in x", "in y"), "a: absent in x, 0 in y");
+  EXPECT_EQ(first_difference(json(1), json("1"), "here", "there", "physics"),
+            "physics: 1 here, \"1\" there");
+  EXPECT_EQ(first_difference(json(1), json(2), "here", "there"), "(top level): 1 here, 2 there");
+}
+
 }  // namespace
 }  // namespace plastivox

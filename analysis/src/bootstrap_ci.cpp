@@ -38,7 +38,7 @@ ConfidenceInterval bootstrap_mean_ci(std::span<const double> x, double level, in
   ci.n = static_cast<int>(x.size());
   ci.mean = mean(x);
 
-  Rng rng = Rng::stream(seed, StreamPurpose::kBootstrapCi, 0);
+  Rng rng = Rng::stream(seed, StreamPurpose::kBootstrapCi, 0, 0);
   std::vector<double> means(static_cast<size_t>(resamples));
   for (double& m : means) {
     double sum = 0;

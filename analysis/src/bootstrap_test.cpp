@@ -77,7 +77,7 @@ BootstrapTestResult bootstrap_test(std::span<const double> a, std::span<const do
   // reproduces the data with its values summed in another order may differ from |t| in the
   // last bits; a relative slack of 1e-12 counts it as a tie (as extreme), as it should.
   const double observed = std::abs(r.difference) * (1.0 - 1e-12);
-  Rng rng = Rng::stream(options.seed, StreamPurpose::kBootstrapTest, 0);
+  Rng rng = Rng::stream(options.seed, StreamPurpose::kBootstrapTest, 0, 0);
   long long extreme = 0;
   for (int k = 0; k < options.resamples; ++k) {
     const double ma = resampled_mean(from_a, a.size(), rng);

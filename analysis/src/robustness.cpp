@@ -50,7 +50,7 @@ Outcome run(const RobotDef& robot, const PhysicsDef& physics, const Limits& limi
 RobotDef random_stiffness(const RobotDef& reduced, const RobustnessOptions& o, double lo, double hi,
                           int k) {
   RobotDef r = reduced;
-  Rng rng = Rng::stream(o.seed, StreamPurpose::kRobustness, static_cast<uint64_t>(k));
+  Rng rng = Rng::stream(o.seed, StreamPurpose::kRobustness, static_cast<uint64_t>(k), 0);
   const double log_lo = std::log(lo), log_hi = std::log(hi);
   for (int s = 0; s < r.sites(); ++s) {
     if (!r.present[s]) continue;

@@ -10,7 +10,7 @@
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/run.hpp"
-#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/json_input.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::experiment {
@@ -18,25 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// Path of the first difference between two JSON values ("evolution.population: 4 in the
-// folder, 6 now"), empty when equal.
-std::string first_difference(const json& was, const json& now, const std::string& path) {
-  if (was == now) return "";
-  if (was.is_object() && now.is_object()) {
-    for (auto it = now.begin(); it != now.end(); ++it) {
-      const std::string p = path.empty() ? it.key() : path + "." + it.key();
-      if (!was.contains(it.key())) return p + ": absent in the folder";
-      const std::string d = first_difference(was[it.key()], *it, p);
-      if (!d.empty()) return d;
-    }
-    for (auto it = was.begin(); it != was.end(); ++it)
-      if (!now.contains(it.key()))
-        return (path.empty() ? "" : path + ".") + it.key() + ": absent now";
-  }
-  return (path.empty() ? "(config)" : path) + ": " + was.dump() + " in the folder, " + now.dump() +
-         " now";
-}
 
 // experiment.json: which experiment the folder holds and when it began. A folder holding a
 // different experiment is refused rather than mixed.
@@ -53,7 +34,7 @@ std::string claim_folder(const ExperimentConfig& config, const std::string& dir)
     if (!m.is_object() || m.value("format", "") != "plastivox-experiment" ||
         !m.contains("identity") || !m.contains("created"))
       throw InputError(manifest + ": not a plastivox experiment manifest");
-    const std::string d = first_difference(m["identity"], identity, "");
+    const std::string d = first_difference(m["identity"], identity, "in the folder", "now");
     if (!d.empty())
       throw InputError(dir + ": holds another experiment (" + d +
                        "); use a new --out folder or the original config");

@@ -1,7 +1,6 @@
-// Stage 2: the study analysis over every run's champion (docs/analysis.md), into the folder.
+// Stage 2: the study analysis over every run's champion (docs/analysis.md), into the folder:
+// data only (stats.json, the CSV tables, analysis.h5); the report stage writes report.html.
 #include <filesystem>
-
-#include <nlohmann/json.hpp>
 
 #include "experiment_run.hpp"
 #include "plastivox/analysis/study.hpp"
@@ -50,35 +49,25 @@ std::vector<std::string> stage_analysis(StageContext& ctx) {
   }
   const std::string fingerprint = analysis::study_fingerprint(digests, options);
   // Current when made from these runs with these options and every output still holds the
-  // bytes written (stamps.hpp): a damaged output has the whole analysis written again.
+  // bytes written (stamps.hpp): then nothing is recomputed. A damaged output has the whole
+  // analysis written again.
   Stamps stamps(ctx.dir, "analysis");
-  const bool outputs_current =
-      !ctx.opt.force.count("analysis") &&
-      up_to_date(stamps, ctx.progress, "analysis", "outputs", fingerprint, kAnalysisOutputs);
-  if (ctx.opt.force.count("analysis")) fs::remove_all(options.cache_dir);
-
-  // Robustness simulations come from the per-champion cache when they were done before, so
-  // recomputing the study for the report is cheap once the analysis ran.
-  ctx.progress.log(outputs_current
-                       ? "[analysis] up to date (fingerprint " + fingerprint.substr(0, 12) +
-                             "); re-reading the champions for the report"
-                       : "[analysis] " + std::to_string(files.size()) +
-                             (files.size() == 1 ? " champion" : " champions"));
-  auto result = std::make_shared<analysis::StudyResult>(
-      analysis::analyze_study(files, options, [&](const analysis::StudyProgress& p) {
-        if (!p.message.empty()) ctx.progress.status("[analysis] " + p.message);
-      }));
-  if (outputs_current) {
-    // The outputs stand as written; the report quotes their date, not this re-reading's.
-    try {
-      const auto j = nlohmann::json::parse(read_file_bytes(ctx.dir + "/stats.json"));
-      result->date = j.at("provenance").at("date").get<std::string>();
-    } catch (const std::exception&) {
-    }
+  const bool force = ctx.opt.force.count("analysis") > 0;
+  if (force) fs::remove_all(options.cache_dir);
+  if (!force &&
+      up_to_date(stamps, ctx.progress, "analysis", "outputs", fingerprint, kAnalysisOutputs)) {
+    ctx.progress.log("[analysis] up to date (fingerprint " + fingerprint.substr(0, 12) +
+                     "); nothing recomputed");
   } else {
-    analysis::write_study_outputs(*result, ctx.dir);
+    ctx.progress.log("[analysis] " + std::to_string(files.size()) +
+                     (files.size() == 1 ? " champion" : " champions"));
+    const analysis::StudyResult result =
+        analysis::analyze_study(files, options, [&](const analysis::StudyProgress& p) {
+          if (!p.message.empty()) ctx.progress.status("[analysis] " + p.message);
+        });
+    analysis::write_study_outputs(result, ctx.dir);
     stamps.record("outputs", fingerprint, kAnalysisOutputs);
-    const auto& t = result->timings;
+    const auto& t = result.timings;
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "[analysis] done in %.1f s (robustness %.1f s: %d simulations, %d champions "
@@ -87,6 +76,15 @@ std::vector<std::string> stage_analysis(StageContext& ctx) {
                   t.statistics);
     ctx.progress.log(buf);
   }
+  // The later stages take the study as analysis.h5 holds it, whether written now or before,
+  // with the champions' bodies from their runs (named as this session names them: the folder
+  // may have moved since the analysis).
+  auto result = std::make_shared<analysis::StudyResult>(
+      analysis::read_study_result(ctx.dir + "/analysis.h5"));
+  for (analysis::StudyInput& in : result->inputs)
+    for (size_t i = 0; i < files.size(); ++i)
+      if (digests[i] == in.content_digest) in.file = files[i];
+  analysis::load_champion_bodies(*result);
   ctx.study = result;
   return kAnalysisOutputs;
 }

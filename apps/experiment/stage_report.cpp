@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <nlohmann/json.hpp>
 #include "experiment_run.hpp"
@@ -204,16 +206,12 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
   const std::string path = ctx.dir + "/report.html";
   const std::string html = analysis::report_html(*ctx.study, extras);
   // The report is made from the current results every time: rewritten when its bytes differ
-  // (new results, or a report damaged or edited by hand), and left alone otherwise.
+  // (new results, or a report damaged or edited by hand), and left alone otherwise. A report
+  // that cannot be read counts as differing.
   const bool existed = fs::exists(path);
   bool same = false;
-  if (existed) {
-    try {
-      same = read_file_bytes(path) == html;
-    } catch (const std::exception&) {
-      // unreadable: rewritten below
-    }
-  }
+  if (std::ifstream old{path, std::ios::binary})
+    same = std::string(std::istreambuf_iterator<char>(old), {}) == html;
   if (!same) write_file_atomic(path, html);
   ctx.progress.log(same      ? "[report] report.html up to date"
                    : existed ? "[report] rewrote report.html (it differed from the report of "

@@ -97,7 +97,7 @@ std::string study_fingerprint(const std::vector<std::string>& content_digests,
   std::vector<std::string> sorted = content_digests;
   std::sort(sorted.begin(), sorted.end());
   evo::Hasher h;
-  h.str("plastivox-analysis-fingerprint-v1");
+  h.str("plastivox-analysis-fingerprint-v2");
   h.u64(static_cast<uint64_t>(kStudyFormatVersion));
   h.u64(sorted.size());
   for (const std::string& d : sorted) h.str(d);

@@ -12,6 +12,7 @@
 #include "plastivox/evo/hash.hpp"
 #include "plastivox/evo/phenotype.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "plastivox/io/json_input.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis::study {
@@ -113,16 +114,6 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
   return l;
 }
 
-// The first top-level field where two physics JSON texts differ, "name: a vs b".
-std::string first_difference(const std::string& a, const std::string& b) {
-  const nlohmann::json ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
-  for (auto it = ja.begin(); it != ja.end(); ++it)
-    if (!jb.contains(it.key()) || jb.at(it.key()) != it.value())
-      return it.key() + ": " + it.value().dump() + " vs " +
-             (jb.contains(it.key()) ? jb.at(it.key()).dump() : std::string("absent"));
-  return "fields differ";
-}
-
 std::string join_treatments(const std::vector<Treatment>& ts) {
   std::string s;
   for (Treatment t : ts) s += (s.empty() ? "" : ", ") + std::string(to_string(t));
@@ -187,7 +178,10 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
     const std::string what =
         "mixed physics: " + all[0].input.file + " and " + all[i].input.file +
         " were simulated with different physics (" +
-        first_difference(all[0].physics_without_treatment, all[i].physics_without_treatment) + ")";
+        first_difference(nlohmann::json::parse(all[0].physics_without_treatment),
+                         nlohmann::json::parse(all[i].physics_without_treatment),
+                         "in " + all[0].input.file, "in " + all[i].input.file) +
+        ")";
     if (!options.allow_mixed_physics)
       throw std::runtime_error(what + "; pass --allow-mixed-physics to analyse them anyway");
     out.warnings.push_back(what + "; each champion is re-simulated with its own run's physics");
@@ -210,3 +204,24 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
 }
 
 }  // namespace plastivox::analysis::study
+
+namespace plastivox::analysis {
+
+void load_champion_bodies(StudyResult& r) {
+  for (ChampionAnalysis& c : r.champions) {
+    const StudyInput& in = r.inputs.at(static_cast<size_t>(c.input));
+    StudyOptions o = r.options;
+    o.generation = in.generation;
+    const study::Loaded l = study::load_one(in.file, o);
+    if (l.input.content_digest != in.content_digest)
+      throw std::runtime_error(in.file + ": not the run analysed (content digest " +
+                               l.input.content_digest + ", the analysis read " + in.content_digest +
+                               ")");
+    c.robot = l.champion.robot;
+    c.final_stiffness = l.champion.final_stiffness;
+    c.physics = l.champion.physics;
+    c.fitness = l.champion.fitness;
+  }
+}
+
+}  // namespace plastivox::analysis

@@ -11,7 +11,7 @@
 
 namespace plastivox::analysis {
 
-void write_study_outputs(const StudyResult& r, const std::string& dir, const ReportExtras& extras) {
+void write_study_outputs(const StudyResult& r, const std::string& dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -20,8 +20,9 @@ void write_study_outputs(const StudyResult& r, const std::string& dir, const Rep
   auto in_dir = [&](const char* name) { return (fs::path(dir) / name).string(); };
 
   const std::vector<std::pair<std::string, std::string>> texts = {
-      {in_dir("champions.csv"), champions_csv(r)}, {in_dir("statistics.csv"), statistics_csv(r)},
-      {in_dir("hausdorff.csv"), hausdorff_csv(r)}, {in_dir("report.html"), report_html(r, extras)},
+      {in_dir("champions.csv"), champions_csv(r)},
+      {in_dir("statistics.csv"), statistics_csv(r)},
+      {in_dir("hausdorff.csv"), hausdorff_csv(r)},
       {in_dir("stats.json"), stats_json(r)},
   };
   const std::string h5 = in_dir("analysis.h5");
@@ -29,7 +30,7 @@ void write_study_outputs(const StudyResult& r, const std::string& dir, const Rep
     for (const auto& [path, text] : texts) study::write_temp(path, text);
     study::write_analysis_h5(r, h5, h5 + ".tmp");
     study::sync_file(h5 + ".tmp", h5);
-  } catch (...) {
+  } catch (...) {  // any failure: no temporary is left behind, and the error goes on as it was
     for (const auto& [path, text] : texts) std::remove((path + ".tmp").c_str());
     std::remove((h5 + ".tmp").c_str());
     throw;

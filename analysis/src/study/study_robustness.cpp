@@ -68,7 +68,7 @@ uint64_t champion_seed(uint64_t seed, const std::string& phenotype_digest) {
 
 std::string checkpoint_key(const ChampionAnalysis& c, const StudyOptions& o) {
   evo::Hasher h;
-  h.str("plastivox-robustness-checkpoint-v1");
+  h.str("plastivox-robustness-checkpoint-v2");
   h.str(c.phenotype_digest);
   h.str(evo::resolved_physics_json(robustness_physics(c.physics)));
   h.u64(static_cast<uint64_t>(o.robustness_draws));

@@ -15,31 +15,12 @@
 
 #include "plastivox/evo/thread_pool.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/json_input.hpp"
 
 namespace plastivox::evo {
 namespace {
 
 using nlohmann::json;
-
-// Path of the first difference between two JSON values ("" when equal).
-std::string first_difference(const json& a, const json& b, const std::string& where) {
-  if (a.is_object() && b.is_object()) {
-    for (auto it = a.begin(); it != a.end(); ++it) {
-      const std::string key = where.empty() ? it.key() : where + "." + it.key();
-      if (!b.contains(it.key())) return key + ": " + it.value().dump() + " in the file, absent now";
-      const std::string d = first_difference(it.value(), b[it.key()], key);
-      if (!d.empty()) return d;
-    }
-    for (auto it = b.begin(); it != b.end(); ++it)
-      if (!a.contains(it.key()))
-        return (where.empty() ? it.key() : where + "." + it.key()) + ": absent in the file, " +
-               it.value().dump() + " now";
-    return "";
-  }
-  if (a == b) return "";
-  return (where.empty() ? "(config)" : where) + ": " + a.dump() + " in the file, " + b.dump() +
-         " now";
-}
 
 // An exclusive lock on "<out>.lock" for the life of a run, so two processes never write
 // one results file. flock() locks die with their process, so a kill -9 never leaves a
@@ -88,12 +69,12 @@ class RunLock {
 }  // namespace
 
 std::string config_difference(const EvolveConfig& file, const EvolveConfig& now) {
-  std::string d =
-      first_difference(json::parse(file.identity_json()), json::parse(now.identity_json()), "");
+  const std::string d = first_difference(json::parse(file.identity_json()),
+                                         json::parse(now.identity_json()), "in the file", "now");
   if (!d.empty()) return d;
-  d = first_difference(json::parse(resolved_physics_json(file.physics)),
-                       json::parse(resolved_physics_json(now.physics)), "resolved physics");
-  return d;
+  return first_difference(json::parse(resolved_physics_json(file.physics)),
+                          json::parse(resolved_physics_json(now.physics)), "in the file", "now",
+                          "resolved physics");
 }
 
 RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,

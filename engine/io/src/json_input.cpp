@@ -180,4 +180,37 @@ TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
 }
 
 }  // namespace json_field
+std::string first_difference(const nlohmann::json& a, const nlohmann::json& b,
+                             const std::string& a_where, const std::string& b_where,
+                             const std::string& path) {
+  if (a == b) return "";
+  const auto side = [](const nlohmann::json* v, const std::string& where) {
+    return (v ? v->dump() : std::string("absent")) + " " + where;
+  };
+  const auto differ = [&](const nlohmann::json* x, const nlohmann::json* y, const std::string& p) {
+    return (p.empty() ? std::string("(top level)") : p) + ": " + side(x, a_where) + ", " +
+           side(y, b_where);
+  };
+  if (a.is_object() && b.is_object()) {
+    std::set<std::string> keys;
+    for (auto it = a.begin(); it != a.end(); ++it) keys.insert(it.key());
+    for (auto it = b.begin(); it != b.end(); ++it) keys.insert(it.key());
+    for (const std::string& k : keys) {
+      const std::string p = path.empty() ? k : path + "." + k;
+      const auto x = a.find(k), y = b.find(k);
+      if (x == a.end() || y == b.end())
+        return differ(x == a.end() ? nullptr : &*x, y == b.end() ? nullptr : &*y, p);
+      const std::string d = first_difference(*x, *y, a_where, b_where, p);
+      if (!d.empty()) return d;
+    }
+  }
+  if (a.is_array() && b.is_array() && a.size() == b.size())
+    for (size_t i = 0; i < a.size(); ++i) {
+      const std::string d =
+          first_difference(a[i], b[i], a_where, b_where, path + "[" + std::to_string(i) + "]");
+      if (!d.empty()) return d;
+    }
+  return differ(&a, &b, path);
+}
+
 }  // namespace plastivox

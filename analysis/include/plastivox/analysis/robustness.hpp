@@ -7,10 +7,11 @@
 //              (uniform on a linear scale, as the authors did; log-uniform as an option).
 //   R_k      = F_test_k / F_train, for draws k = 0 .. draws-1 (10 by default).
 //
-// Draw k takes its numbers from Rng::stream(seed, kRobustness, k), one value per present voxel
-// in increasing site order, so the stiffness fields depend only on (seed, k) and the robot. The
-// 1 + draws simulations run in parallel (one per thread at a time); each is single-threaded and
-// deterministic, so results are bit-identical for any thread count. Recording is switched off.
+// Draw k takes its numbers from Rng::stream(seed, kRobustness, k, 0), one value per present
+// voxel in increasing site order, so the stiffness fields depend only on (seed, k) and the robot.
+// The 1 + draws simulations run in parallel (one per thread at a time); each is single-threaded
+// and deterministic, so results are bit-identical for any thread count. Recording is switched
+// off.
 #pragma once
 
 #include <cstdint>

@@ -243,15 +243,27 @@ struct ReportExtras {
 // plans per treatment, most and least similar pairs, the statistics table, provenance.
 std::string report_html(const StudyResult& r, const ReportExtras& extras = {});
 
-// Writes DIR/stats.json, champions.csv, statistics.csv, hausdorff.csv, analysis.h5 and
-// report.html (DIR is created). Every file is first written under a temporary name; the final
+// Writes the study's data: DIR/stats.json, champions.csv, statistics.csv, hausdorff.csv and
+// analysis.h5 (DIR is created). Every file is first written under a temporary name; the final
 // names appear only once all are complete. Throws std::runtime_error naming the file.
-void write_study_outputs(const StudyResult& r, const std::string& dir,
-                         const ReportExtras& extras = {});
+// report.html is not among them: the report is made from the data (write_study_report).
+void write_study_outputs(const StudyResult& r, const std::string& dir);
 
-// Only report.html (for a report rebuilt with extras), atomically.
+// report.html, atomically.
 void write_study_report(const StudyResult& r, const std::string& path,
                         const ReportExtras& extras = {});
+
+// A finished study read back from its analysis.h5 (as write_study_outputs wrote it), for the
+// report and the figures, so nothing is recomputed: inputs, champions and their measures, the
+// Hausdorff matrix, the panels' statistics, warnings and provenance. Not read back: the
+// champions' bodies (load_champion_bodies), per-pair placements, value labels, evolution bands
+// and timings. Throws std::runtime_error (or a subclass) naming the file and object.
+StudyResult read_study_result(const std::string& path);
+
+// Fills each champion's evolved body (robot, final_stiffness), its run's physics and its
+// recorded fitness from the results file inputs[c.input].file. Throws std::runtime_error
+// naming the file when it is not the run analysed (another content digest).
+void load_champion_bodies(StudyResult& r);
 
 // The text of one output, as written (for callers and tests).
 std::string champions_csv(const StudyResult& r);

@@ -8,9 +8,9 @@
 //
 // Streams: a random decision draws from a stream keyed by what it is for, never from a
 // shared generator, so results do not depend on threads or order, and a resumed run needs
-// no saved generator state. The evolver keys by (seed, purpose, generation, id); the demo
-// bodies seed one directly. (The analysis's bootstrap keeps its own long-period generator,
-// analysis/rng.hpp, built on mix64: published p-values and robustness draws depend on it.)
+// no saved generator state. The evolver keys by (seed, purpose, generation, id), the analysis
+// by (seed, purpose, index, 0); the demo bodies seed one directly. It is the project's only
+// generator: evolution digests and analysis results depend on its exact numbers.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Running an evolution to completion with checkpoints and resume (library plastivox_evo_h5).
+// Running an evolution to completion with checkpoints and resume (library plastivox_evo).
 //
 // run_evolution(config, out) is what `plastivox evolve --config F --out R.h5` does:
 //   - R.h5 absent: start a new run;

@@ -31,6 +31,16 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
 nlohmann::json parse_json_file(std::string_view text, const std::string& source,
                                const std::string& format);
 
+// The first field where two JSON values differ, named by its path with both values:
+// "<path>: <a> <a_where>, <b> <b_where>", e.g. ("in the file", "now") gives
+// "evolution.seed: 5 in the file, 6 now"; a field missing on one side reads "absent". "" when
+// equal. Object keys are visited in sorted order (both sides' keys together), array elements
+// by index ("seeds[2]") when the arrays have one length, so the answer never depends on the
+// order fields were written in. `path` prefixes every path; the whole value is "(top level)".
+std::string first_difference(const nlohmann::json& a, const nlohmann::json& b,
+                             const std::string& a_where, const std::string& b_where,
+                             const std::string& path = "");
+
 // Reading one field of a parsed input: each throws InputError "<source>: <field>: <what>"
 // when the value has the wrong type or range, so every input names its mistakes alike.
 namespace json_field {
