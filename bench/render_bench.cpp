@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
   std::vector<double> times;
   for (int k = 0; k < frames && k / 30.0 < source.physics.duration; ++k) times.push_back(k / 30.0);
   double w0 = wall_seconds(), c0 = cpu_seconds();
-  const Life life = simulate_life(source, times);
+  const Life life = take_life(source, times);
   std::printf("simulated %d voxels to t = %.2f s for %zu frames: %.2f s wall, %.2f s CPU\n",
               life.model->n, times.back(), times.size(), wall_seconds() - w0, cpu_seconds() - c0);
   std::vector<const Frame*> all;

@@ -16,7 +16,6 @@ add_library(plastivox_render
   ${CMAKE_CURRENT_LIST_DIR}/src/color_scale.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/life.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/history_file.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/src/recorded_life.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/viewer_pack.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/base64.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/viewer_page.cpp

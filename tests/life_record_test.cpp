@@ -312,7 +312,7 @@ TEST_F(RecordedLives, ARecordedFrameDrawsAsTheSimulatedOne) {
         << "t = " << t;
   }
   EXPECT_NE(testing::error_of([&] {
-              render::recorded_frames(from_file, {1.0});
+              render::take_life(from_file, {1.0});
             }).find("past the recording's last frame"),
             std::string::npos);
 }

@@ -35,12 +35,9 @@ int files_in(const std::filesystem::path& dir) {
 
 // A life of one robot under physics without actuation, captured at t = 0.
 LifeSource source_of(const RobotDef& robot, Treatment treatment = Treatment::kNone) {
-  LifeSource s;
-  s.path = "inline";
-  s.robot = robot;
-  s.physics = preset_gecco2018_code();
-  s.physics.treatment = treatment;
-  return s;
+  PhysicsDef physics = preset_gecco2018_code();
+  physics.treatment = treatment;
+  return simulated_life_source("inline", robot, physics, "");
 }
 
 FrameStyle small_style(int w, int h) {
@@ -330,7 +327,7 @@ TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
 // in the drawn colour bar at the height of 1e8.
 TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
   const int w = 240, h = 160;
-  const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
+  const Life life = take_life(source_of(demo_cube(1, 1e8)), {0.0});
   // The paper's fixed range, so 1e8 Pa sits in the middle of the bar.
   const ColorScale scale =
       make_color_scale(ColorMode::kCongenital, *life.model, {}, ColorRange::kPaper);
@@ -377,7 +374,7 @@ TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
 // tolerance of the map colour in chromaticity (ratios of channels).
 TEST(RenderPixels, LitVoxelKeepsItsColourWithinShadingTolerance) {
   const int w = 120, h = 90;
-  const Life life = simulate_life(source_of(demo_cube(1, 1e6)), {0.0});
+  const Life life = take_life(source_of(demo_cube(1, 1e6)), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
   FrameStyle st = small_style(w, h);
   st.orthographic = true;
@@ -424,7 +421,7 @@ TEST(RenderPixels, EmptySceneIsFloorOnly) {
 }
 
 TEST(RenderPixels, SameSceneRenderedTwiceIsByteIdentical) {
-  const Life life = simulate_life(source_of(demo_walker(), Treatment::kStress), {0.3});
+  const Life life = take_life(source_of(demo_walker(), Treatment::kStress), {0.3});
   std::vector<const Frame*> frames{&life.frames[0]};
   const ColorScale scale = make_color_scale(ColorMode::kChange, *life.model, frames);
   FrameStyle st = small_style(200, 120);
@@ -445,7 +442,7 @@ TEST(RenderPixels, SameSceneRenderedTwiceIsByteIdentical) {
 // from the two (each on the line between them); without anti-aliasing there are none.
 TEST(RenderPixels, EdgeAntialiasingBlendsOutlinesAndNothingElse) {
   const int w = 160, h = 120;
-  const Life life = simulate_life(source_of(demo_cube(1, 1e8)), {0.0});
+  const Life life = take_life(source_of(demo_cube(1, 1e8)), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
   FrameStyle st = flat_top_view(w, h);
   st.azimuth_deg = -60;
@@ -487,7 +484,7 @@ TEST(RenderPixels, EdgeAntialiasingBlendsOutlinesAndNothingElse) {
 // lookup); they meet without cracks: no pixel of the near floor shows the background.
 TEST(RenderPixels, FloorPiecesLeaveNoCracks) {
   const int w = 320, h = 240;
-  const Life life = simulate_life(source_of(demo_walker(), Treatment::kNone), {0.0});
+  const Life life = take_life(source_of(demo_walker(), Treatment::kNone), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
   const Rgb8 background = Scene{}.background;
   for (const int samples : {1, kEdgeAntialiasing, 4}) {
@@ -508,16 +505,16 @@ TEST(RenderPixels, FloorPiecesLeaveNoCracks) {
   }
 }
 
-// simulate_frames hands over exactly the frames simulate_life keeps, each with the
+// take_frames hands over exactly the frames take_life keeps, each with the
 // settling state the finished life reports (frames before the settle time: not settled).
 TEST(RenderLife, StreamedFramesEqualTheCollectedLife) {
   const LifeSource src = source_of(demo_walker(), Treatment::kStress);
   const std::vector<double> times = {0.0, 0.05, 0.1, 0.2, 0.25, 0.3};
-  const Life life = simulate_life(src, times);
+  const Life life = take_life(src, times);
   ASSERT_TRUE(life.settled);
-  const std::shared_ptr<const Model> model = compile_life_model(src);
+  const std::shared_ptr<const Model> model = src.model;
   std::vector<LifeFrame> streamed;
-  simulate_frames(src, *model, times, [&](LifeFrame&& f) {
+  take_frames(src, times, [&](LifeFrame&& f) {
     streamed.push_back(std::move(f));
     return true;
   });
@@ -542,7 +539,7 @@ TEST(RenderLife, StreamedFramesEqualTheCollectedLife) {
   }
   // Stopping early: the sink's false ends the simulation after that frame.
   int seen = 0;
-  simulate_frames(src, *model, times, [&](LifeFrame&&) { return ++seen < 2; });
+  take_frames(src, times, [&](LifeFrame&&) { return ++seen < 2; });
   EXPECT_EQ(seen, 2);
 }
 
@@ -554,7 +551,7 @@ TEST(RenderCamera, WalkingRobotStaysInsideTheImageInEveryFrame) {
   const LifeSource src = source_of(demo_walker(), Treatment::kStress);
   std::vector<double> times;
   for (int k = 0; k * 0.1 < src.physics.duration; ++k) times.push_back(k * 0.1);
-  const Life life = simulate_life(src, times);
+  const Life life = take_life(src, times);
   ASSERT_EQ(life.frames.size(), times.size());
   std::vector<const Frame*> frames;
   for (const Frame& f : life.frames) frames.push_back(&f);
@@ -597,7 +594,7 @@ TEST(RenderCamera, WalkingRobotStaysInsideTheImageInEveryFrame) {
 // life_cameras backs off until it fits.
 TEST(RenderCamera, LifeCamerasBackOffUntilATallBodyFits) {
   const LifeSource src = source_of(demo_cube(1, 1e8));
-  const Life life = simulate_life(src, {0.0});
+  const Life life = take_life(src, {0.0});
   Frame tall = life.frames[0];
   tall.pos[0].z() = 0.2;  // a voxel 20 voxel lengths up
   const std::vector<Camera> cams =

@@ -13,6 +13,7 @@
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "plastivox/render_files.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -53,17 +54,17 @@ Synthetic synthetic_block() {
 // A life that sinks through the floor is drawn to its end, so the fall can be watched, and
 // keeps the fitness its rule gives it: 0 where sunk lives are invalid (the default).
 TEST(ViewerLife, ASunkLifeIsShownToItsEndWithTheFitnessOfItsRule) {
-  render::LifeSource source;
-  source.path = "soft-block";
-  source.robot = testing::block(3, 3, 3, 1e5);  // soft and heavy: it falls through
-  source.physics = testing::passive_physics();
-  source.physics.duration = 0.5;
-  ASSERT_TRUE(source.physics.sinking_invalid);
-  const SimResult verdict = simulate(compile(source.robot, source.physics));
+  const RobotDef robot = testing::block(3, 3, 3, 1e5);  // soft and heavy: it falls through
+  PhysicsDef physics = testing::passive_physics();
+  physics.duration = 0.5;
+  ASSERT_TRUE(physics.sinking_invalid);
+  const SimResult verdict = simulate(compile(robot, physics));
   ASSERT_EQ(verdict.floor_health, FloorHealth::kSank);
   ASSERT_EQ(verdict.status, SimStatus::kUnstable);
   for (const bool invalid : {true, false}) {
-    source.physics.sinking_invalid = invalid;
+    physics.sinking_invalid = invalid;
+    const render::LifeSource source =
+        render::simulated_life_source("soft-block", robot, physics, "");
     const render::ShownLife shown = render::show_life(source, 30);
     EXPECT_EQ(shown.failure, "") << invalid;
     ASSERT_FALSE(shown.recording.frames.empty());

@@ -177,7 +177,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
     const auto times =
         framed[todo[j]] ? render::gallery_times(e.source.physics, style) : std::vector<double>{};
     if (lives) {
-      render::ReportLife life = render::simulate_report_life(e.source, render::kViewerFps, times);
+      render::ReportLife life = render::report_life(e.source, render::kViewerFps, times);
       e.life = std::move(life.frames);
       frame_failures[todo[j]] = life.frames_failure;
       if (!life.shown.failure.empty()) {
@@ -190,7 +190,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
       }
     } else {
       try {
-        e.life = render::simulate_life(e.source, times);
+        e.life = render::take_life(e.source, times);
       } catch (const render::RenderError& err) {
         frame_failures[todo[j]] = err.what();
       }

@@ -12,34 +12,51 @@
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/life_file.hpp"
+#include "plastivox/io/limits.hpp"
 #include "plastivox/io/robot_io.hpp"
+#include "plastivox/life.hpp"
 #include "plastivox/render/offscreen.hpp"  // RenderError, write_png
 
 namespace plastivox::render {
 
-LifeSource load_life_source(const std::string& path, int generation) {
-  if (path.ends_with(".h5") && is_life_file(path)) return recorded_life_source(path);
+LifeSource simulated_life_source(const std::string& path, RobotDef robot, PhysicsDef physics,
+                                 const std::string& label) {
   LifeSource src;
   src.path = path;
+  src.robot = std::move(robot);
+  src.physics = physics;
+  src.label = label;
+  try {
+    src.model =
+        std::make_shared<const Model>(compile(src.robot, src.physics, limits_from_environment()));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  src.frames = simulated_frames(src.model);
+  return src;
+}
+
+LifeSource load_life_source(const std::string& path, int generation) {
+  if (path.ends_with(".h5") && is_life_file(path)) return recorded_life_source(path);
   if (path.ends_with(".h5")) {
     const evo::ResultsFile results = evo::read_results(path);
     const evo::RunState& run = results.state;
     const evo::ChampionRecord& champion = evo::champion_at(run, generation, path);
-    src.robot = evo::champion_robot(champion, generation < 0 ? run.generations_done : generation);
-    src.physics = run.config.physics;
-    src.label =
-        std::string(to_string(run.config.treatment)) + " · seed " + std::to_string(run.config.seed);
-  } else if (path.ends_with(".vxa") || path.ends_with(".json")) {
-    LoadedRobot file = load_robot(path);
-    src.robot = std::move(file.robot);
-    src.physics = file.physics;
-    src.warnings = std::move(file.warnings);
-    src.label = src.robot.name.empty() ? path : src.robot.name;
-  } else {
-    throw InputError(path +
-                     ": expected a robot (.json, .vxa), a results file or a recorded life (.h5)");
+    return simulated_life_source(
+        path, evo::champion_robot(champion, generation < 0 ? run.generations_done : generation),
+        run.config.physics,
+        std::string(to_string(run.config.treatment)) + " · seed " +
+            std::to_string(run.config.seed));
   }
-  return src;
+  if (path.ends_with(".vxa") || path.ends_with(".json")) {
+    LoadedRobot file = load_robot(path);
+    const std::string label = file.robot.name.empty() ? path : file.robot.name;
+    LifeSource src = simulated_life_source(path, std::move(file.robot), file.physics, label);
+    src.warnings = std::move(file.warnings);
+    return src;
+  }
+  throw InputError(path +
+                   ": expected a robot (.json, .vxa), a results file or a recorded life (.h5)");
 }
 
 LifeSource recorded_life_source(const std::string& path) {
@@ -53,11 +70,21 @@ LifeSource recorded_life_source(const std::string& path) {
   src.physics.duration = std::min(src.physics.duration, life.recording.frames.back().time);
   src.label = "recorded · " + std::string(to_string(life.physics.treatment));
   if (life.seed) src.label += " · seed " + std::to_string(*life.seed);
+  try {
+    src.model =
+        std::make_shared<const Model>(compile(src.robot, src.physics, limits_from_environment()));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path + ": " + e.what());
+  }
   auto frames = std::make_shared<RecordedFrames>();
   frames->recording = std::move(life.recording);  // its frames are not read again here
   frames->settled = life.settled;
   frames->com_settled = life.com_settled;
   frames->fitness = life.fitness;
+  // The frames are drawn from the recording kept in `recorded` (shared, not copied).
+  src.frames =
+      recorded_frames(std::shared_ptr<const Recording>(frames, &frames->recording), frames->settled,
+                      frames->com_settled, frames->fitness, src.physics.settle_time);
   src.recorded = std::move(frames);
   return src;
 }
@@ -96,7 +123,7 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
     if (log)
       log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
           inputs[k] + " (" + e.source.label + ")");
-    e.life = simulate_life(e.source, gallery_times(e.source.physics, style));
+    e.life = take_life(e.source, gallery_times(e.source.physics, style));
     if (e.life.sank) e.source.label += " · SANK";  // as the study marks an audited champion
     entries.push_back(std::move(e));
   }

@@ -71,11 +71,8 @@ void bind_render(pyb::module_& m) {
   m.def("render_robot", [](const PyRobot& robot, double time, const std::string& color, int width,
                            int height, bool overlay, double zoom, double azimuth, double elevation,
                            const std::string& antialias, const std::string& out) {
-    render::LifeSource source;
-    source.path = robot.source;
-    source.robot = robot.def;
-    source.physics = robot.physics;
-    source.label = robot.def.name;
+    const render::LifeSource source =
+        render::simulated_life_source(robot.source, robot.def, robot.physics, robot.def.name);
     return render_source(source, time, color, width, height, overlay, zoom, azimuth, elevation,
                          antialias, out);
   });

@@ -1,73 +1,48 @@
 #include "plastivox/render/life.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <deque>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
-#include "plastivox/base/error.hpp"  // InputError
-#include "plastivox/io/limits.hpp"
 #include "plastivox/render/error.hpp"
-#include "plastivox/simulator.hpp"
+#include "plastivox/state.hpp"
 
 namespace plastivox::render {
 
-std::shared_ptr<const Model> compile_life_model(const LifeSource& source) {
-  return std::make_shared<const Model>(
-      compile(source.robot, source.physics, limits_from_environment()));
-}
-
-SimResult simulate_frames(const LifeSource& source, const Model& model,
-                          const std::vector<double>& times,
-                          const std::function<bool(LifeFrame&&)>& sink,
-                          const std::function<void(double)>& progress) {
-  for (size_t k = 0; k < times.size(); ++k) {
-    if (!(times[k] >= 0 && times[k] <= source.physics.duration + 1e-12))
-      throw RenderError(source.path + ": time " + std::to_string(times[k]) +
-                        " s is outside the life [0, " + std::to_string(source.physics.duration) +
-                        "] s");
-    if (k > 0 && times[k] < times[k - 1])
-      throw RenderError("simulate_frames: times must be ascending");
-  }
-  // A frame at or after the settle time waits here until the simulation has settled (it
-  // settles on the first step past the settle time), so each goes out with the centre of
-  // mass the finished life reports.
-  std::deque<LifeFrame> waiting;
+SimResult take_frames(const LifeSource& source, const std::vector<double>& times,
+                      const FrameSink& sink, const ProgressFn& progress) {
+  if (!source.frames || !source.model)
+    throw RenderError(source.path + ": no life to draw (a LifeSource without frames)");
   size_t taken = 0;
   bool stopped = false;
-  auto hand_over = [&](bool settled, const Eigen::Vector3d& com_settled, bool finished) {
-    while (!stopped && !waiting.empty() &&
-           (finished || settled || waiting.front().frame.time < model.def.settle_time)) {
-      LifeFrame f = std::move(waiting.front());
-      waiting.pop_front();
-      f.settled = settled;
-      f.com_settled = settled ? com_settled : Eigen::Vector3d::Zero();
-      stopped = !sink(std::move(f));
-    }
-  };
-  SimOptions options;
-  options.frame_times = times;
-  options.progress = progress;
-  options.on_frame = [&](const State& s) {
-    waiting.push_back(LifeFrame{capture_frame(s), false, Eigen::Vector3d::Zero()});
-    taken += 1;
-    hand_over(s.settled, s.com_settled, false);
-    return !stopped;
-  };
-  const SimResult r = simulate(model, options);
-  hand_over(r.settled, r.com_settled, true);
-  if (!stopped && taken < times.size() && r.status == SimStatus::kUnstable)
+  SimResult r;
+  try {
+    r = source.frames(
+        times,
+        [&](LifeFrame&& f) {
+          taken += 1;
+          stopped = !sink(std::move(f));
+          return !stopped;
+        },
+        progress);
+  } catch (const std::invalid_argument& e) {
+    throw RenderError(source.path + ": " + e.what());
+  }
+  if (!stopped && taken < times.size()) {
+    if (source.recorded) throw RenderError(source.path + ": " + r.failure);
     throw RenderError(source.path + ": the simulation went unstable at t = " +
                       std::to_string(r.sim_time) + " s (" + r.failure + ")");
+  }
   return r;
 }
 
-Life simulate_life(const LifeSource& source, const std::vector<double>& times,
-                   const std::function<void(double)>& progress) {
+Life take_life(const LifeSource& source, const std::vector<double>& times,
+               const ProgressFn& progress) {
   Life life;
-  life.model = compile_life_model(source);
+  life.model = source.model;
   life.frames.reserve(times.size());
-  const SimResult r = simulate_frames(
-      source, *life.model, times,
+  const SimResult r = take_frames(
+      source, times,
       [&](LifeFrame&& f) {
         // Every frame leaves with the final settling state but the ones before settling,
         // which leave with "not settled" and do not use it.

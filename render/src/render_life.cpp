@@ -141,7 +141,7 @@ void check_output_path(const std::string& path) {
 
 std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {
   check_render_target(style.width, style.height, style.samples);  // before simulating
-  const Life life = source.recorded ? recorded_life(source, {time}) : simulate_life(source, {time});
+  const Life life = take_life(source, {time});
   const ColorScale scale =
       make_color_scale(style.color, *life.model, {&life.frames[0]}, style.color_range);
   const Camera camera =
@@ -184,23 +184,23 @@ VideoSummary render_video(const LifeSource& source, const FrameStyle& style, con
   // simulation finishes before drawing starts.
   VideoSummary summary;
   const auto start = std::chrono::steady_clock::now();
-  const std::shared_ptr<const Model> model = compile_life_model(source);
+  const std::shared_ptr<const Model> model = source.model;
   const bool scale_needs_frames =
       source.recorded || style.camera == FrameStyle::CameraPath::kLife ||
       style.color == ColorMode::kChange ||
       (style.color == ColorMode::kStiffness && style.color_range == ColorRange::kData);
   std::vector<LifeFrame> simulated;  // all frames, when the scale needs them
-  if (source.recorded) {             // drawn as recorded: nothing to simulate
-    say(log, "reading " + std::to_string(count) + " frames of the recorded life " + source_path);
-    simulated = recorded_frames(source, times);
-  } else if (scale_needs_frames) {
-    say(log, "simulating " + source_path + " (" + std::to_string(count) + " frames to capture)");
+  if (scale_needs_frames) {
+    say(log,
+        source.recorded
+            ? "reading " + std::to_string(count) + " frames of the recorded life " + source_path
+            : "simulating " + source_path + " (" + std::to_string(count) + " frames to capture)");
     simulated.reserve(count);
-    simulate_frames(source, *model, times, [&](LifeFrame&& f) {
+    take_frames(source, times, [&](LifeFrame&& f) {
       simulated.push_back(std::move(f));
       return true;
     });
-    summary.simulate_seconds = seconds_since(start);
+    if (!source.recorded) summary.simulate_seconds = seconds_since(start);
   } else {
     say(log, "simulating " + source_path + " (" + std::to_string(count) +
                  " frames to capture) while drawing and encoding");
@@ -246,8 +246,8 @@ VideoSummary render_video(const LifeSource& source, const FrameStyle& style, con
   if (!scale_needs_frames) {
     simulation = std::thread([&] {
       try {
-        simulate_frames(source, *model, times,
-                        [&](LifeFrame&& f) { return from_simulation.push(std::move(f)); });
+        take_frames(source, times,
+                    [&](LifeFrame&& f) { return from_simulation.push(std::move(f)); });
       } catch (...) {
         simulation_error = std::current_exception();
       }

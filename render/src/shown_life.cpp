@@ -1,5 +1,6 @@
 // The lives the viewer shows (plastivox/render/viewer.hpp): a recorded life as it was, or a
-// life simulated once, with frames for the viewer and, from the same run, for a gallery.
+// life taken once from its source, with frames for the viewer and, from the same run, for a
+// gallery.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -10,12 +11,9 @@
 #include <utility>
 #include <vector>
 
-#include "plastivox/base/error.hpp"  // InputError
-#include "plastivox/io/limits.hpp"
+#include "plastivox/life.hpp"
 #include "plastivox/render/error.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/simulator.hpp"
-#include "plastivox/state.hpp"
 
 namespace plastivox::render {
 
@@ -28,38 +26,31 @@ ViewerLife ShownLife::life() const {
 
 namespace {
 
-// A life to show with its model compiled and its caption set; no frames yet.
-ShownLife compiled_life(const LifeSource& source) {
+// A life to show with its model and caption set; no frames yet.
+ShownLife described(const LifeSource& source) {
+  if (!source.model)
+    throw RenderError(source.path + ": no life to draw (a LifeSource without a model)");
   ShownLife out;
+  out.model = *source.model;
   out.info.label = source.label;
   out.info.treatment = to_string(source.physics.treatment);
-  try {
-    out.model = compile(source.robot, source.physics, limits_from_environment());
-  } catch (const std::invalid_argument& e) {
-    throw InputError(source.path + ": " + e.what());
-  }
   return out;
 }
 
 }  // namespace
 
-ReportLife simulate_report_life(const LifeSource& source, double fps,
-                                const std::vector<double>& times) {
+ReportLife report_life(const LifeSource& source, double fps, const std::vector<double>& times) {
   const PhysicsDef& def = source.physics;
   ReportLife out;
-  out.shown = compiled_life(source);
+  out.shown = described(source);
   ShownLife& shown = out.shown;
-  // A life that sinks through the floor is drawn to its end: the fall is what a reader needs
-  // to see. Its fitness stays what the rule in force gives it (0 where sunk lives are
-  // invalid); the rule changes no state, only the verdict.
-  shown.model.def.sinking_invalid = false;
-  if (!(fps > 0)) throw RenderError("simulate_report_life: fps must be > 0");
+  if (!(fps > 0)) throw RenderError("report_life: fps must be > 0");
   for (size_t k = 0; k < times.size(); ++k)
     if (!(times[k] >= 0 && times[k] <= def.duration) || (k > 0 && times[k] < times[k - 1]))
       throw RenderError(source.path + ": frame times must ascend within the life [0, " +
                         std::to_string(def.duration) + "] s");
 
-  // One list of frame times for the engine: the viewer's (k / fps, then the first state past
+  // One list of frame times for the source: the viewer's (k / fps, then the first state past
   // the end, as the engine's own recording ends) and the caller's. Each wanted frame keeps
   // where it goes: >= 0 an index into `times`, -1 the viewer.
   std::vector<std::pair<double, int>> wanted;
@@ -73,29 +64,40 @@ ReportLife simulate_report_life(const LifeSource& source, double fps,
   std::stable_sort(wanted.begin(), wanted.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
 
-  SimOptions options;
-  for (const auto& w : wanted) options.frame_times.push_back(w.first);
+  std::vector<double> all_times;
+  for (const auto& w : wanted) all_times.push_back(w.first);
   shown.recording.fps = fps;
   out.frames.frames.resize(times.size());
   size_t taken = 0, extra = 0;
   int64_t last_viewer_step = -1;
-  options.on_frame = [&](const State& s) {
-    const int to = wanted[taken++].second;
-    if (to >= 0) {
-      out.frames.frames[to] = capture_frame(s);
-      extra += 1;
-    } else if (s.steps != last_viewer_step) {  // one frame per state, as the recording does
-      shown.recording.frames.push_back(capture_frame(s));
-      last_viewer_step = s.steps;
-    }
-    return true;
-  };
-  const SimResult r = simulate(shown.model, options);
+  SimResult r;
+  try {
+    r = source.frames(
+        all_times,
+        [&](LifeFrame&& f) {
+          const int to = wanted[taken++].second;
+          if (to >= 0) {
+            out.frames.frames[to] = f.frame;
+            extra += 1;
+          } else if (f.frame.step != last_viewer_step) {  // one frame per state, as recorded
+            last_viewer_step = f.frame.step;
+            shown.recording.frames.push_back(std::move(f.frame));
+          }
+          return true;
+        },
+        {});
+  } catch (const std::invalid_argument& e) {
+    throw RenderError(source.path + ": " + e.what());
+  }
+  // A life that sinks through the floor is drawn to its end: the fall is what a reader needs
+  // to see. Its fitness stays what the rule in force gives it (0 where sunk lives are
+  // invalid); only a life that blew up is a failure here.
   shown.info.settled = r.settled;
   shown.info.com_settled = r.com_settled;
-  shown.info.fitness = r.sank && def.sinking_invalid ? 0.0 : r.fitness;
-  if (r.status != SimStatus::kFinished) shown.failure = "simulation unstable: " + r.failure;
-  out.frames.model = std::make_shared<const Model>(shown.model);
+  shown.info.fitness = r.fitness;
+  if (r.status != SimStatus::kFinished && !r.sank)
+    shown.failure = "simulation unstable: " + r.failure;
+  out.frames.model = source.model;
   out.frames.settled = r.settled;
   out.frames.com_settled = r.com_settled;
   if (extra < times.size()) {
@@ -109,14 +111,14 @@ ReportLife simulate_report_life(const LifeSource& source, double fps,
 
 ShownLife show_life(const LifeSource& source, double fps) {
   if (source.recorded) {
-    ShownLife out = compiled_life(source);
+    ShownLife out = described(source);
     out.recording = source.recorded->recording;
     out.info.settled = source.recorded->settled;
     out.info.com_settled = source.recorded->com_settled;
     out.info.fitness = source.recorded->fitness;
     return out;
   }
-  return simulate_report_life(source, fps, {}).shown;
+  return report_life(source, fps, {}).shown;
 }
 
 }  // namespace plastivox::render

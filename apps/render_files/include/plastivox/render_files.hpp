@@ -17,6 +17,12 @@
 
 namespace plastivox::render {
 
+// A life simulated from `robot` under `physics`: compiled here (with the program's limits,
+// limits_from_environment()), its frames simulated when asked for. Throws InputError naming
+// `path` for a robot or physics the engine refuses.
+LifeSource simulated_life_source(const std::string& path, RobotDef robot, PhysicsDef physics,
+                                 const std::string& label);
+
 // Reads by extension: .json, .vxa, .h5 (a results file, generation -1: the last one done;
 // or a recorded life). Throws InputError / VxaError / ResultsError (all
 // std::runtime_error, one line naming the file).

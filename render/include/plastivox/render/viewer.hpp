@@ -65,9 +65,9 @@ struct ShownLife {
   // `info` pointing at this object's model and frames (valid while this object lives).
   ViewerLife life() const;
 };
-// One simulation of `source` for a report: the viewer's life at `fps` frames per simulated
-// second (the state at the first step at or after each k / fps, and the last state) and, from
-// the same run, a frame at each of `times` (ascending, within the life; a gallery's, see
+// One pass over the frames of `source` for a report: the viewer's life at `fps` frames per
+// simulated second (the state at the first step at or after each k / fps, and the last state) and,
+// from the same run, a frame at each of `times` (ascending, within the life; a gallery's, see
 // gallery_times()), so a report showing both simulates each champion once. `frames_failure`
 // says why `frames` is empty (the life went unstable before the last of `times`).
 struct ReportLife {
@@ -75,9 +75,8 @@ struct ReportLife {
   Life frames;
   std::string frames_failure;
 };
-ReportLife simulate_report_life(const LifeSource& source, double fps,
-                                const std::vector<double>& times);
-// The viewer's life of `source`: its recording as recorded, or simulated at `fps` frames per
+ReportLife report_life(const LifeSource& source, double fps, const std::vector<double>& times);
+// The viewer's life of `source`: its recording as recorded, or its frames at `fps` frames per
 // simulated second.
 ShownLife show_life(const LifeSource& source, double fps);
 
