@@ -76,16 +76,12 @@ LifeSource recorded_life_source(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw InputError(path + ": " + e.what());
   }
-  auto frames = std::make_shared<RecordedFrames>();
-  frames->recording = std::move(life.recording);  // its frames are not read again here
-  frames->settled = life.settled;
-  frames->com_settled = life.com_settled;
-  frames->fitness = life.fitness;
+  auto recorded = std::make_shared<const RecordedLife>(std::move(life));
   // The frames are drawn from the recording kept in `recorded` (shared, not copied).
-  src.frames =
-      recorded_frames(std::shared_ptr<const Recording>(frames, &frames->recording), frames->settled,
-                      frames->com_settled, frames->fitness, src.physics.settle_time);
-  src.recorded = std::move(frames);
+  src.frames = recorded_frames(std::shared_ptr<const Recording>(recorded, &recorded->recording),
+                               recorded->settled, recorded->com_settled, recorded->fitness,
+                               src.physics.settle_time);
+  src.recorded = std::move(recorded);
   return src;
 }
 

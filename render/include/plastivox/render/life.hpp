@@ -10,21 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/io/life_file.hpp"  // RecordedLife
 #include "plastivox/life.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::render {
-
-// A life as recorded (plastivox simulate --record life.h5): its frames and what was known of
-// its settling and fitness.
-struct RecordedFrames {
-  Recording recording;  // frames in time order
-  bool settled = false;
-  Eigen::Vector3d com_settled = Eigen::Vector3d::Zero();  // m
-  double fitness = 0;                                     // voxel lengths
-};
 
 struct LifeSource {
   std::string path;                    // the file read (names the life in messages)
@@ -36,7 +28,7 @@ struct LifeSource {
   FrameSource frames;                  // its frames: simulated, or read from `recorded`
   // A recorded life (`plastivox simulate --record life.h5`): its frames are drawn as
   // recorded, never simulated again. Null for every other source.
-  std::shared_ptr<const RecordedFrames> recorded;
+  std::shared_ptr<const RecordedLife> recorded;
 };
 
 // The frames of a life at the requested times.
