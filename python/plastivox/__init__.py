@@ -248,40 +248,36 @@ class Trajectory:
 
 class Result:
     """One simulated life: every key of `plastivox simulate --json` as an attribute (and
-    in to_dict()); `status` is "finished" or "unstable" (then `failure` says why);
-    `trajectory` is a Trajectory when recorded (record_fps > 0), else None."""
+    in to_dict()), the fields of the engine's summary (sim_summary_fields); `status` is
+    "finished" or "unstable" (then `failure` says why, else it is ""); `trajectory` is a
+    Trajectory when recorded (record_fps > 0), else None."""
 
-    def __init__(self, summary_json, trajectory, robot):
-        self._data = _json.loads(summary_json)
-        self._data["final_stiffness"] = _np.asarray(self._data["final_stiffness"], dtype=_np.float64)
+    def __init__(self, summary, trajectory, robot):
+        # summary: the fields as the C++ module hands them over (final_stiffness an array).
+        self._keys = tuple(summary)
+        self.failure = ""
+        for key, value in summary.items():
+            setattr(self, key, value)
         self.trajectory = None if trajectory is None else Trajectory(trajectory)
         self.robot = robot
 
-    def __getattr__(self, key):
-        data = self.__dict__.get("_data", {})
-        if key in data:
-            return data[key]
-        if key == "failure":
-            return ""
-        raise AttributeError(f"Result has no field {key!r}")
-
     def to_dict(self):
         """The summary as `simulate --json` prints it (final_stiffness as a list)."""
-        d = dict(self._data)
+        d = {key: getattr(self, key) for key in self._keys}
         d["final_stiffness"] = d["final_stiffness"].tolist()
         return d
 
     def keys(self):
-        return self._data.keys()
+        return self._keys
 
     def __eq__(self, other):
         """Equal summaries (wall time included), trajectories and robots."""
         if not isinstance(other, Result):
             return NotImplemented
-        a, b = self._data, other._data
-        return (a.keys() == b.keys()
-                and all(_np.array_equal(a[k], b[k], equal_nan=True) if k == "final_stiffness"
-                        else a[k] == b[k] for k in a)
+        return (self._keys == other._keys
+                and all(_np.array_equal(getattr(self, k), getattr(other, k), equal_nan=True)
+                        if k == "final_stiffness" else getattr(self, k) == getattr(other, k)
+                        for k in self._keys)
                 and self.trajectory == other.trajectory and self.robot == other.robot)
 
     def __repr__(self):

@@ -81,7 +81,7 @@ void bind_render(pyb::module_& m) {
            int width, int height, bool overlay, double zoom, double azimuth, double elevation,
            const std::string& antialias, const std::string& out) {
           const render::LifeSource source = render::load_life_source(path, generation);
-          for (const std::string& w : source.warnings) warn(path + ": " + w);
+          for (const std::string& w : source.warnings) warn(w);  // named the file already
           return render_source(source, time, color, width, height, overlay, zoom, azimuth,
                                elevation, antialias, out);
         });

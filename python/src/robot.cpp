@@ -27,7 +27,7 @@ PyRobot load_robot(const std::string& path, const std::string& vxd) {
   if (!vxd.empty() && !path.ends_with(".vxa"))
     throw plastivox::InputError(path + ": a .vxd goes with voxcraft-sim's base .vxa");
   LoadedRobot file = plastivox::load_robot(path, vxd);
-  for (const std::string& w : file.warnings) warn(path + ": " + w);
+  for (const std::string& w : file.warnings) warn(w);  // a reader's warnings name the file already
   r.def = std::move(file.robot);
   r.physics = file.physics;
   return r;
@@ -84,7 +84,7 @@ PyRobot from_flat(
 // file's last champion under the run's physics, or a recorded life's robot and physics.
 PyRobot load_source(const std::string& path) {
   render::LifeSource life = render::load_life_source(path);
-  for (const std::string& w : life.warnings) warn(path + ": " + w);
+  for (const std::string& w : life.warnings) warn(w);
   PyRobot r;
   r.def = std::move(life.robot);
   r.physics = life.physics;

@@ -26,9 +26,20 @@ SimOptions recording(double record_fps) {
   return o;
 }
 
-// One simulated life as the Python layer receives it: the summary JSON of
-// `simulate --json` (built by the caller) and, when recorded, the trajectory arrays.
-pyb::tuple life_to_python(const SimResult& r, const std::string& summary) {
+// One simulated life as the Python layer receives it: the summary's fields (the keys of
+// `simulate --json`, from sim_summary_fields; final_stiffness as an array) as a dict, and,
+// when recorded, the trajectory arrays.
+pyb::tuple life_to_python(const SimResult& r, const std::vector<SummaryField>& fields) {
+  pyb::dict summary;
+  for (const SummaryField& f : fields)
+    std::visit(
+        [&](const auto& v) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::vector<double>>)
+            summary[f.name] = to_array(v);
+          else
+            summary[f.name] = pyb::cast(v);
+        },
+        f.value);
   if (r.recording.frames.empty()) return pyb::make_tuple(summary, pyb::none());
   const auto& frames = r.recording.frames;
   const pyb::ssize_t t_count = static_cast<pyb::ssize_t>(frames.size());
@@ -85,7 +96,8 @@ pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& 
                            limits.recording_mb);
     r = simulate(model, options);
   }
-  const std::string summary = sim_summary_json(r, physics, robot.source, PLASTIVOX_VERSION);
+  const std::vector<SummaryField> summary =
+      sim_summary_fields(r, physics, robot.source, PLASTIVOX_VERSION);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   pyb::tuple life = life_to_python(r, summary);
@@ -109,7 +121,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
   }
   check_recording_size(recorded, "record_fps", limits.recording_mb);
   std::vector<SimResult> results(robots.size());
-  std::vector<std::string> summaries(robots.size());
+  std::vector<std::vector<SummaryField>> summaries(robots.size());
   {
     // The summaries are built on the workers too: only making the Python objects needs the
     // GIL, and what stays serial bounds the speed-up (docs/benchmarks.md, "Python module").
@@ -118,7 +130,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
         robots.size(), threads == 0 ? evo::hardware_threads() : threads, [&](size_t i) {
           results[i] = simulate(compile(robots[i]->def, physics[i], limits), options);
           summaries[i] =
-              sim_summary_json(results[i], physics[i], robots[i]->source, PLASTIVOX_VERSION);
+              sim_summary_fields(results[i], physics[i], robots[i]->source, PLASTIVOX_VERSION);
         });
   }
   pyb::list out;
