@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace plastivox {
 
@@ -114,5 +116,97 @@ GrowthModel parse_growth(const std::string& s) {
   if (s == "rate") return GrowthModel::kRate;
   throw std::invalid_argument("growth model '" + s + "' is unknown (use integral or rate)");
 }
+
+namespace {
+
+using K = PhysicsField::Kind;
+
+PhysicsField number(const char* name, double PhysicsDef::*m) {
+  PhysicsField f{name, K::kNumber};
+  f.number = m;
+  return f;
+}
+PhysicsField flag(const char* name, bool PhysicsDef::*m, bool written_when_off_only = false) {
+  PhysicsField f{name, K::kFlag};
+  f.flag = m;
+  f.written_when_off_only = written_when_off_only;
+  return f;
+}
+PhysicsField whole(const char* name, int PhysicsDef::*m) {
+  PhysicsField f{name, K::kWhole};
+  f.whole = m;
+  return f;
+}
+PhysicsField choice(const char* name, const char* (*get)(const PhysicsDef&),
+                    void (*set)(PhysicsDef&, const std::string&)) {
+  PhysicsField f{name, K::kChoice};
+  f.get = get;
+  f.set = set;
+  return f;
+}
+
+}  // namespace
+
+const std::vector<PhysicsField> kPhysicsFields = {
+    number("density", &PhysicsDef::density),
+    number("poisson", &PhysicsDef::poisson),
+    number("mu_static", &PhysicsDef::mu_static),
+    number("mu_kinetic", &PhysicsDef::mu_kinetic),
+    number("e_min", &PhysicsDef::e_min),
+    number("e_max", &PhysicsDef::e_max),
+    number("bond_damping", &PhysicsDef::bond_damping),
+    number("collision_damping", &PhysicsDef::collision_damping),
+    number("global_damping", &PhysicsDef::global_damping),
+    number("global_damping_rot_factor", &PhysicsDef::global_damping_rot_factor),
+    number("gravity", &PhysicsDef::gravity),
+    flag("floor", &PhysicsDef::floor),
+    flag("self_collision", &PhysicsDef::self_collision),
+    whole("collision_exclude_hops", &PhysicsDef::collision_exclude_hops),
+    number("contact_diameter", &PhysicsDef::contact_diameter),
+    number("dt_frac", &PhysicsDef::dt_frac),
+    number("act_frequency", &PhysicsDef::act_frequency),
+    number("act_amplitude", &PhysicsDef::act_amplitude),
+    number("act_min_factor", &PhysicsDef::act_min_factor),
+    flag("act_expansion", &PhysicsDef::act_expansion, true),
+    number("settle_time", &PhysicsDef::settle_time),
+    number("duration", &PhysicsDef::duration),
+    choice(
+        "treatment", [](const PhysicsDef& d) { return to_string(d.treatment); },
+        [](PhysicsDef& d, const std::string& v) { d.treatment = parse_treatment(v); }),
+    choice(
+        "growth", [](const PhysicsDef& d) { return to_string(d.growth); },
+        [](PhysicsDef& d, const std::string& v) { d.growth = parse_growth(v); }),
+    number("max_change_per_step", &PhysicsDef::max_change_per_step),
+    number("min_devo_factor", &PhysicsDef::min_devo_factor),
+    choice(
+        "fitness", [](const PhysicsDef& d) { return d.fitness == FitnessMode::k3D ? "3d" : "xy"; },
+        [](PhysicsDef& d, const std::string& v) {
+          if (v != "3d" && v != "xy") throw std::invalid_argument("expected \"3d\" or \"xy\"");
+          d.fitness = v == "3d" ? FitnessMode::k3D : FitnessMode::kXY;
+        }),
+    choice(
+        "axial_modulus",
+        [](const PhysicsDef& d) {
+          return d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel";
+        },
+        [](PhysicsDef& d, const std::string& v) {
+          if (v != "harmonic" && v != "negative-voxel")
+            throw std::invalid_argument("expected \"harmonic\" or \"negative-voxel\"");
+          d.axial_modulus =
+              v == "harmonic" ? AxialModulus::kHarmonicMean : AxialModulus::kNegativeVoxel;
+        }),
+    choice(
+        "bond_model",
+        [](const PhysicsDef& d) {
+          return d.bond_model == BondModel::kExact ? "exact" : "voxelyze09";
+        },
+        [](PhysicsDef& d, const std::string& v) {
+          if (v != "exact" && v != "voxelyze09")
+            throw std::invalid_argument("expected \"exact\" or \"voxelyze09\"");
+          d.bond_model = v == "exact" ? BondModel::kExact : BondModel::kVoxelyze09;
+        }),
+    number("max_speed", &PhysicsDef::max_speed),
+    flag("sinking_invalid", &PhysicsDef::sinking_invalid, true),
+};
 
 }  // namespace plastivox

@@ -45,59 +45,18 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
       fail(where, "physics.preset", e.what());
     }
   }
-  struct Num {
-    const char* name;
-    double* value;
-  };
-  const Num numbers[] = {{"density", &d.density},
-                         {"poisson", &d.poisson},
-                         {"mu_static", &d.mu_static},
-                         {"mu_kinetic", &d.mu_kinetic},
-                         {"e_min", &d.e_min},
-                         {"e_max", &d.e_max},
-                         {"bond_damping", &d.bond_damping},
-                         {"collision_damping", &d.collision_damping},
-                         {"global_damping", &d.global_damping},
-                         {"global_damping_rot_factor", &d.global_damping_rot_factor},
-                         {"gravity", &d.gravity},
-                         {"contact_diameter", &d.contact_diameter},
-                         {"dt_frac", &d.dt_frac},
-                         {"act_frequency", &d.act_frequency},
-                         {"act_amplitude", &d.act_amplitude},
-                         {"act_min_factor", &d.act_min_factor},
-                         {"settle_time", &d.settle_time},
-                         {"duration", &d.duration},
-                         {"max_change_per_step", &d.max_change_per_step},
-                         {"min_devo_factor", &d.min_devo_factor},
-                         {"max_speed", &d.max_speed}};
   for (auto it = p.begin(); it != p.end(); ++it) {
     const std::string key = it.key(), field = "physics." + key;
     if (key == "preset") continue;
-    bool done = false;
-    for (const Num& n : numbers) {
-      if (key == n.name) {
-        *n.value = number(*it, where, field);
-        done = true;
-      }
-    }
-    if (done) continue;
     try {
-      if (key == "floor")
-        d.floor = boolean(*it, where, field);
-      else if (key == "self_collision")
-        d.self_collision = boolean(*it, where, field);
-      else if (key == "sinking_invalid")
-        d.sinking_invalid = boolean(*it, where, field);
-      else if (key == "act_expansion")
-        d.act_expansion = boolean(*it, where, field);
-      else if (key == "record_fps") {
+      if (key == "record_fps") {
         // Files written while recording was a physics field carry it: checked, and otherwise
         // unused (a recording is asked for by the command: simulate --record, --fps).
         const double fps = number(*it, where, field);
         if (!(fps >= 0 && fps <= 10000)) fail(where, field, "must be in [0, 10000]");
-      } else if (key == "collision_exclude_hops")
-        d.collision_exclude_hops = integer(*it, where, field);
-      else if (key == "treatment") {
+        continue;
+      }
+      if (key == "treatment") {  // a name, or {stimulus, law}
         const TreatmentSpec t = json_field::treatment(*it, where, field);
         d.treatment = t.stimulus;
         if (t.law) {
@@ -106,25 +65,24 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
             fail(where, field + ".law", "contradicts physics.growth (give the law once)");
           d.growth = *t.law;
         }
-      } else if (key == "growth")
-        d.growth = parse_growth(text(*it, where, field));
-      else if (key == "fitness") {
-        const std::string f = text(*it, where, field);
-        if (f != "3d" && f != "xy") fail(where, field, "expected \"3d\" or \"xy\"");
-        d.fitness = f == "3d" ? FitnessMode::k3D : FitnessMode::kXY;
-      } else if (key == "axial_modulus") {
-        const std::string a = text(*it, where, field);
-        if (a != "harmonic" && a != "negative-voxel")
-          fail(where, field, "expected \"harmonic\" or \"negative-voxel\"");
-        d.axial_modulus =
-            a == "harmonic" ? AxialModulus::kHarmonicMean : AxialModulus::kNegativeVoxel;
-      } else if (key == "bond_model") {
-        const std::string b = text(*it, where, field);
-        if (b != "exact" && b != "voxelyze09")
-          fail(where, field, "expected \"exact\" or \"voxelyze09\"");
-        d.bond_model = b == "exact" ? BondModel::kExact : BondModel::kVoxelyze09;
-      } else {
-        fail(where, field, "unknown field");
+        continue;
+      }
+      const auto f = std::find_if(kPhysicsFields.begin(), kPhysicsFields.end(),
+                                  [&](const PhysicsField& f) { return key == f.name; });
+      if (f == kPhysicsFields.end()) fail(where, field, "unknown field");
+      switch (f->kind) {
+        case PhysicsField::Kind::kNumber:
+          d.*f->number = number(*it, where, field);
+          break;
+        case PhysicsField::Kind::kFlag:
+          d.*f->flag = boolean(*it, where, field);
+          break;
+        case PhysicsField::Kind::kWhole:
+          d.*f->whole = integer(*it, where, field);
+          break;
+        case PhysicsField::Kind::kChoice:
+          f->set(d, text(*it, where, field));
+          break;
       }
     } catch (const std::invalid_argument& e) {
       fail(where, field, e.what());
@@ -264,41 +222,23 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
   }
   if (physics) {
     const PhysicsDef& d = *physics;
-    j["physics"] = {
-        {"density", d.density},
-        {"poisson", d.poisson},
-        {"mu_static", d.mu_static},
-        {"mu_kinetic", d.mu_kinetic},
-        {"e_min", d.e_min},
-        {"e_max", d.e_max},
-        {"bond_damping", d.bond_damping},
-        {"collision_damping", d.collision_damping},
-        {"global_damping", d.global_damping},
-        {"global_damping_rot_factor", d.global_damping_rot_factor},
-        {"gravity", d.gravity},
-        {"floor", d.floor},
-        {"self_collision", d.self_collision},
-        {"collision_exclude_hops", d.collision_exclude_hops},
-        {"contact_diameter", d.contact_diameter},
-        {"dt_frac", d.dt_frac},
-        {"act_frequency", d.act_frequency},
-        {"act_amplitude", d.act_amplitude},
-        {"act_min_factor", d.act_min_factor},
-        {"settle_time", d.settle_time},
-        {"duration", d.duration},
-        {"treatment", to_string(d.treatment)},
-        {"growth", to_string(d.growth)},
-        {"max_change_per_step", d.max_change_per_step},
-        {"min_devo_factor", d.min_devo_factor},
-        {"fitness", d.fitness == FitnessMode::k3D ? "3d" : "xy"},
-        {"axial_modulus",
-         d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel"},
-        {"bond_model", d.bond_model == BondModel::kExact ? "exact" : "voxelyze09"},
-        {"max_speed", d.max_speed}};
-    // Written only when off (the authors' rule; on is the default), so every file made
-    // under the default stays byte-identical.
-    if (!d.sinking_invalid) j["physics"]["sinking_invalid"] = false;
-    if (!d.act_expansion) j["physics"]["act_expansion"] = false;  // likewise
+    json& out = j["physics"] = json::object();
+    for (const PhysicsField& f : kPhysicsFields) {
+      switch (f.kind) {
+        case PhysicsField::Kind::kNumber:
+          out[f.name] = d.*f.number;
+          break;
+        case PhysicsField::Kind::kFlag:
+          if (!f.written_when_off_only || !(d.*f.flag)) out[f.name] = d.*f.flag;
+          break;
+        case PhysicsField::Kind::kWhole:
+          out[f.name] = d.*f.whole;
+          break;
+        case PhysicsField::Kind::kChoice:
+          out[f.name] = f.get(d);
+          break;
+      }
+    }
   }
   return j.dump(1);
 }

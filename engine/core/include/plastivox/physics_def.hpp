@@ -122,4 +122,24 @@ const std::vector<Treatment>& all_treatments();   // in the enum's order
 std::string treatment_names();                    // "none, stress, pressure, ..."
 GrowthModel parse_growth(const std::string& s);   // throws std::invalid_argument
 
+// Every field of PhysicsDef, described once: its name (in robot files, evolution configs and
+// the Python module's physics dicts), its kind and where it is. The robot-file reader and
+// writer (plastivox/io/robot_file.hpp) go through this table, so a field added here is read
+// and written everywhere. A choice field is text: get() names the value, set() parses it
+// (std::invalid_argument "expected ..." otherwise).
+struct PhysicsField {
+  enum class Kind { kNumber, kFlag, kWhole, kChoice };
+  const char* name;
+  Kind kind;
+  double PhysicsDef::*number = nullptr;                          // kNumber
+  bool PhysicsDef::*flag = nullptr;                              // kFlag
+  int PhysicsDef::*whole = nullptr;                              // kWhole
+  const char* (*get)(const PhysicsDef&) = nullptr;               // kChoice
+  void (*set)(PhysicsDef&, const std::string& value) = nullptr;  // kChoice
+  // Written only when false (sinking_invalid, act_expansion: added after files were made with
+  // the default, which stay byte-identical).
+  bool written_when_off_only = false;
+};
+extern const std::vector<PhysicsField> kPhysicsFields;
+
 }  // namespace plastivox
