@@ -284,17 +284,8 @@ ResultsFile read_results(const std::string& path) {
   read_champions(c, r, s);
   read_checkpoint(c, r, s);
 
-  Provenance& p = out.provenance;
-  p.plastivox_version = h5::read_attr_string(c, r, "/", "plastivox_version");
-  p.git_commit = h5::read_attr_string(c, r, "/", "git_commit");
-  p.compiler = h5::read_attr_string(c, r, "/", "compiler");
-  p.compiler_flags = h5::read_attr_string(c, r, "/", "compiler_flags");
-  p.build_type = h5::read_attr_string(c, r, "/", "build_type");
-  p.date_created = h5::read_attr_string(c, r, "/", "date_created");
-  p.date_updated = h5::read_attr_string(c, r, "/", "date_updated");
-  p.host = h5::read_attr_string(c, r, "/", "host");
-  p.threads = h5::read_attr_int(c, r, "/", "threads");
-  p.wall_seconds = h5::read_attr_double(c, r, "/", "wall_seconds");
+  for_each_field(out.provenance,
+                 [&](const char* name, auto& v) { h5::read_attr(c, r, "/", name, v); });
 
   out.content_digest = h5::read_attr_string(c, r, "/", "content_digest");
   if (content_digest(s).hex() != out.content_digest)

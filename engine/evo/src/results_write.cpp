@@ -95,16 +95,7 @@ void write_root_attributes(const Ctx& c, hid_t root, const RunState& s, const Pr
   h5::write_attr(c, root, "finished", int64_t{s.finished() ? 1 : 0});
   h5::write_attr(c, root, "content_digest", content_digest(s).hex());
   h5::write_attr(c, root, "checkpoint_digest", layout::checkpoint_digest(s).hex());
-  h5::write_attr(c, root, "plastivox_version", p.plastivox_version);
-  h5::write_attr(c, root, "git_commit", p.git_commit);
-  h5::write_attr(c, root, "compiler", p.compiler);
-  h5::write_attr(c, root, "compiler_flags", p.compiler_flags);
-  h5::write_attr(c, root, "build_type", p.build_type);
-  h5::write_attr(c, root, "date_created", p.date_created);
-  h5::write_attr(c, root, "date_updated", p.date_updated);
-  h5::write_attr(c, root, "host", p.host);
-  h5::write_attr(c, root, "threads", p.threads);
-  h5::write_attr(c, root, "wall_seconds", p.wall_seconds);
+  for_each_field(p, [&](const char* name, const auto& v) { h5::write_attr(c, root, name, v); });
 }
 
 void write_generations(const Ctx& c, hid_t root, const RunState& s) {

@@ -111,5 +111,19 @@ std::string read_attr_string(const Ctx& c, hid_t obj, const std::string& where,
 int64_t read_attr_int(const Ctx& c, hid_t obj, const std::string& where, const std::string& name);
 uint64_t read_attr_u64(const Ctx& c, hid_t obj, const std::string& where, const std::string& name);
 double read_attr_double(const Ctx& c, hid_t obj, const std::string& where, const std::string& name);
+// The same, chosen by the type of `out`: for code that visits a struct's fields
+// (for_each_field in provenance.hpp) and writes them with the write_attr overloads.
+inline void read_attr(const Ctx& c, hid_t obj, const std::string& where, const std::string& name,
+                      std::string& out) {
+  out = read_attr_string(c, obj, where, name);
+}
+inline void read_attr(const Ctx& c, hid_t obj, const std::string& where, const std::string& name,
+                      int64_t& out) {
+  out = read_attr_int(c, obj, where, name);
+}
+inline void read_attr(const Ctx& c, hid_t obj, const std::string& where, const std::string& name,
+                      double& out) {
+  out = read_attr_double(c, obj, where, name);
+}
 
 }  // namespace plastivox::h5
