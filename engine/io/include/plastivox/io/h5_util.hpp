@@ -9,7 +9,10 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "plastivox/base/error.hpp"  // ResultsError
@@ -97,6 +100,40 @@ std::vector<T> read(const Ctx& c, hid_t loc, const std::string& name, hsize_t n)
 void write_strings(const Ctx& c, hid_t loc, const std::string& name,
                    const std::vector<std::string>& s);
 std::vector<std::string> read_strings(const Ctx& c, hid_t loc, const std::string& name, hsize_t n);
+
+// A table of records stored as columns (the results file's /individuals, analysis.h5's
+// /inputs, ...): the dataset `name` holds get(row) (a function or a data member), as a T, for
+// every row in order.
+template <class T, class Row, class Get>
+void write_column(const Ctx& c, hid_t loc, const std::string& name, const std::vector<Row>& rows,
+                  const Get& get) {
+  std::vector<T> column;
+  column.reserve(rows.size());
+  for (const Row& r : rows) column.push_back(static_cast<T>(std::invoke(get, r)));
+  if constexpr (std::is_same_v<T, std::string>)
+    write_strings(c, loc, name, column);
+  else
+    write(c, loc, name, column);
+}
+// The same for a data member, stored as its own type: write_column(c, g, "id", rows, &Row::id).
+template <class Row, class T>
+void write_column(const Ctx& c, hid_t loc, const std::string& name, const std::vector<Row>& rows,
+                  T Row::*member) {
+  write_column<T>(c, loc, name, rows, member);
+}
+
+// The reverse: the dataset `name`, which must hold rows.size() entries, into each row's
+// `member`, in order.
+template <class Row, class T>
+void read_column(const Ctx& c, hid_t loc, const std::string& name, std::vector<Row>& rows,
+                 T Row::*member) {
+  std::vector<T> column;
+  if constexpr (std::is_same_v<T, std::string>)
+    column = read_strings(c, loc, name, rows.size());
+  else
+    column = read<T>(c, loc, name, rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) rows[i].*member = std::move(column[i]);
+}
 
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, const std::string& value);
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, int64_t value);
