@@ -39,13 +39,7 @@ int cmd_inspect(const Args& in) {
   j["individuals"] = s.births.size();
   j["simulations"] = simulations;
   j["content_digest"] = f.content_digest;
-  j["plastivox_version"] = f.provenance.plastivox_version;
-  j["git_commit"] = f.provenance.git_commit;
-  j["date_created"] = f.provenance.date_created;
-  j["date_updated"] = f.provenance.date_updated;
-  j["host"] = f.provenance.host;
-  j["threads"] = f.provenance.threads;
-  j["wall_seconds"] = f.provenance.wall_seconds;
+  for_each_field(f.provenance, [&](const char* name, const auto& v) { j[name] = v; });
   if (as_json) {
     std::printf("%s\n", j.dump(1).c_str());
     return 0;

@@ -126,6 +126,10 @@ TEST_F(EvoCli, SameSeedSameDigestWithOneAndTwoThreads) {
   EXPECT_TRUE(j.contains("best_fitness"));
   EXPECT_TRUE(j.contains("champion_id"));
   EXPECT_EQ(j["threads"], 2);
+  // Every provenance field, under its attribute name in the file.
+  for (const char* k : {"plastivox_version", "git_commit", "compiler", "compiler_flags",
+                        "build_type", "date_created", "date_updated", "host", "wall_seconds"})
+    EXPECT_TRUE(j.contains(k)) << k;
   // Counts read as English: "on 1 thread", "on 2 threads".
   EXPECT_NE(a.out.find("finished 3 generations on 1 thread;"), std::string::npos) << a.out;
   EXPECT_NE(b.out.find("finished 3 generations on 2 threads;"), std::string::npos) << b.out;

@@ -15,7 +15,9 @@
 // fix, a documented agreement change), and update the values in this one table.
 #include <atomic>
 #include <functional>
+#include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "plastivox/demo_robots.hpp"
@@ -128,24 +130,23 @@ TEST(GoldenLives, WholeLivesAtTheWidestLevel) {
 }
 
 // One case per level and thread count, so ctest runs them side by side.
-TEST(GoldenLives, FirstSecondAvx512OneThread) {
-  expect_golden_hashes(SimdLevel::kAvx512, 1, kFirstSecond);
+class GoldenFirstSecond : public ::testing::TestWithParam<std::tuple<SimdLevel, int>> {};
+
+TEST_P(GoldenFirstSecond, Hashes) {
+  const auto [level, threads] = GetParam();
+  expect_golden_hashes(level, threads, kFirstSecond);
 }
-TEST(GoldenLives, FirstSecondAvx512TwoThreads) {
-  expect_golden_hashes(SimdLevel::kAvx512, 2, kFirstSecond);
+
+std::string case_name(const ::testing::TestParamInfo<std::tuple<SimdLevel, int>>& info) {
+  return std::string(to_string(std::get<0>(info.param))) + "_" +
+         std::to_string(std::get<1>(info.param)) + "_threads";
 }
-TEST(GoldenLives, FirstSecondAvx2OneThread) {
-  expect_golden_hashes(SimdLevel::kAvx2, 1, kFirstSecond);
-}
-TEST(GoldenLives, FirstSecondAvx2TwoThreads) {
-  expect_golden_hashes(SimdLevel::kAvx2, 2, kFirstSecond);
-}
-TEST(GoldenLives, FirstSecondScalarOneThread) {
-  expect_golden_hashes(SimdLevel::kScalar, 1, kFirstSecond);
-}
-TEST(GoldenLives, FirstSecondScalarTwoThreads) {
-  expect_golden_hashes(SimdLevel::kScalar, 2, kFirstSecond);
-}
+
+INSTANTIATE_TEST_SUITE_P(GoldenLives, GoldenFirstSecond,
+                         ::testing::Combine(::testing::Values(SimdLevel::kAvx512, SimdLevel::kAvx2,
+                                                              SimdLevel::kScalar),
+                                            ::testing::Values(1, 2)),
+                         case_name);
 
 }  // namespace
 }  // namespace plastivox

@@ -13,6 +13,7 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/file_seal.hpp"
 #include "plastivox/io/h5_util.hpp"
 #include "plastivox/io/life_file.hpp"
 #include "plastivox/io/robot_file.hpp"
@@ -102,6 +103,9 @@ TEST_F(RecordedLives, TheFileHoldsEveryFrameBitForBit) {
   EXPECT_EQ(back.recording.fps, 50);
   EXPECT_FALSE(back.provenance.plastivox_version.empty());
   EXPECT_FALSE(back.provenance.date_created.empty());
+  EXPECT_FALSE(back.provenance.compiler.empty());
+  EXPECT_FALSE(back.provenance.build_type.empty());
+  EXPECT_EQ(back.provenance.threads, 1);
   ASSERT_EQ(back.recording.frames.size(), l.result.recording.frames.size());
   for (size_t k = 0; k < back.recording.frames.size(); ++k) {
     const Frame& a = l.result.recording.frames[k];
@@ -204,6 +208,29 @@ TEST_F(RecordedLives, StringsAreVariableLengthUtf8AndOldFixedOnesStillRead) {
   EXPECT_EQ(h5::read_attr_string(oc, o, "/", "treatment"), "stress");
   EXPECT_EQ(h5::read_strings(oc, o, "names", 2), (std::vector<std::string>{"none", "press"}));
   H5Fclose(o);
+}
+
+TEST_F(RecordedLives, OldFilesWithFourProvenanceFieldsStillRead) {
+  write_life_file(path("life.h5"), recorded(live(10)));
+  // Lives written before 2026-12-05 held plastivox_version, git_commit, date_created and host.
+  const hid_t f = H5Fopen(path("life.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  for (const char* name :
+       {"compiler", "compiler_flags", "build_type", "date_updated", "threads", "wall_seconds"})
+    EXPECT_GE(H5Adelete(f, name), 0) << name;
+  H5Fclose(f);
+  std::string bytes = read_file_bytes(path("life.h5"));
+  seal::seal_image(bytes, path("life.h5"), seal::kLife);
+  write_file_atomic(path("life.h5"), bytes);
+  const RecordedLife back = read_life_file(path("life.h5"));
+  EXPECT_FALSE(back.provenance.plastivox_version.empty());
+  EXPECT_FALSE(back.provenance.git_commit.empty());
+  EXPECT_FALSE(back.provenance.date_created.empty());
+  EXPECT_FALSE(back.provenance.host.empty());
+  EXPECT_EQ(back.provenance.compiler, "");
+  EXPECT_EQ(back.provenance.date_updated, "");
+  EXPECT_EQ(back.provenance.threads, 0);
+  EXPECT_EQ(back.provenance.wall_seconds, 0);
 }
 
 TEST_F(RecordedLives, ForeignAndBrokenFilesAreRefusedInOneLine) {

@@ -86,12 +86,7 @@ Json sample_stats() {
 }
 
 std::string parse_error(const Json& stats) {
-  try {
-    parse_stats_figure(stats, "stats.json");
-  } catch (const StatsError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return testing::error_of([&] { parse_stats_figure(stats, "stats.json"); });
 }
 
 // ---------------------------------------------------------------------------------------

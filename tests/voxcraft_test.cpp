@@ -23,10 +23,19 @@ namespace plastivox {
 namespace {
 
 using tinyxml2::XMLElement;
+using tinyxml2::XMLNode;
 
 const std::string kDemos = testing::data_dir() + "/voxcraft/";
 
 // ---- voxcraft-sim's reader rules, as its sources state them ----------------------------
+
+// The element at path[0]/path[1]/... below e, made (with every parent) where missing, as
+// ptree's put does.
+XMLElement* put(XMLElement* e, const std::vector<std::string>& path, size_t from = 0) {
+  if (from == path.size()) return e;
+  XMLElement* child = e->FirstChildElement(path[from].c_str());
+  return put(child ? child : e->InsertNewChildElement(path[from].c_str()), path, from + 1);
+}
 
 // The merge (VX3_SimulationManager::readVXD with ctool::ptree_merge): every child of <VXD>
 // carrying replace="VXA.A.B" becomes the element at that path of the base VXA.
@@ -39,16 +48,15 @@ void voxcraft_merge(tinyxml2::XMLDocument& base, const tinyxml2::XMLDocument& vx
     std::vector<std::string> path;
     std::stringstream ss(replace);
     for (std::string part; std::getline(ss, part, '.');) path.push_back(part);
+    ASSERT_GE(path.size(), 2u);
     ASSERT_EQ(path[0], "VXA");
-    XMLElement* at = base.RootElement();
-    for (size_t i = 1; i + 1 < path.size(); ++i) {
-      XMLElement* next = at->FirstChildElement(path[i].c_str());
-      at = next ? next : at->InsertNewChildElement(path[i].c_str());
-    }
+    path.erase(path.begin());
+    XMLElement* slot = put(base.RootElement(), path);  // the element the child takes the place of
     XMLElement* copy = c->DeepClone(&base)->ToElement();
     copy->SetName(path.back().c_str());
-    if (XMLElement* old = at->FirstChildElement(path.back().c_str())) at->DeleteChild(old);
-    at->InsertEndChild(copy);
+    XMLNode* parent = slot->Parent();
+    parent->InsertAfterChild(slot, copy);
+    parent->DeleteChild(slot);
   }
 }
 

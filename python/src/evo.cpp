@@ -24,16 +24,7 @@ struct PyResults {
 
 pyb::dict provenance_dict(const Provenance& p) {
   pyb::dict d;
-  d["plastivox_version"] = p.plastivox_version;
-  d["git_commit"] = p.git_commit;
-  d["compiler"] = p.compiler;
-  d["compiler_flags"] = p.compiler_flags;
-  d["build_type"] = p.build_type;
-  d["date_created"] = p.date_created;
-  d["date_updated"] = p.date_updated;
-  d["host"] = p.host;
-  d["threads"] = p.threads;
-  d["wall_seconds"] = p.wall_seconds;
+  for_each_field(p, [&](const char* name, const auto& v) { d[name] = v; });
   return d;
 }
 

@@ -124,6 +124,17 @@ class Harness:
         start = time.time()
         return self.finish(self.spawn(argv, cwd, env), start, timeout)
 
+    def interrupt(self, argv, delay, sig):
+        """Runs argv and sends it sig after delay seconds (SIGKILL to its whole group)."""
+        start = time.time()
+        p = self.spawn(argv)
+        time.sleep(delay)
+        try:
+            os.killpg(p.pid, sig) if sig == signal.SIGKILL else p.send_signal(sig)
+        except ProcessLookupError:
+            pass
+        return self.finish(p, start)
+
     def pv(self, *args, **kw):
         return self.run([self.exe] + [str(a) for a in args], **kw)
 
@@ -1120,14 +1131,7 @@ def gen_interruption(h):
         delays = [h.rng.uniform(0.02, h.long_wall * 1.1) for _ in range(2 if twice else 1)]
         verdict = None
         for delay in delays:
-            start = time.time()
-            p = h.spawn(argv)
-            time.sleep(delay)
-            try:
-                os.killpg(p.pid, sig) if sig == signal.SIGKILL else p.send_signal(sig)
-            except ProcessLookupError:
-                pass
-            r = h.finish(p, start)
+            r = h.interrupt(argv, delay, sig)
             if r["timed_out"]:
                 verdict = ("hang", "no exit within %g s after %s" % (h.timeout, sig.name))
                 break
@@ -1205,14 +1209,7 @@ def gen_interruption(h):
         out = "%s/kstudy-%03d" % (d, i)
         argv = [h.exe, "experiment", "--config", x, "--out", out, "--threads", "1"]
         delay = h.rng.uniform(0.05, 1.5)
-        start = time.time()
-        p = h.spawn(argv)
-        time.sleep(delay)
-        try:
-            os.killpg(p.pid, sig) if sig == signal.SIGKILL else p.send_signal(sig)
-        except ProcessLookupError:
-            pass
-        r1 = h.finish(p, start)
+        r1 = h.interrupt(argv, delay, sig)
         r = h.run(argv)
         outcome, reason = h.classify(r, "valid")
         if r1["rc"] < 0 and -r1["rc"] != sig:

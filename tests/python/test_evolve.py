@@ -18,6 +18,11 @@ def test_read_results_champion_is_what_export_writes(tiny_run, tmp_path):
     assert res.generations_done == 2 and res.generations == 2 and res.finished
     assert res.config["population"] == 4
     assert res.provenance["plastivox_version"] == plastivox.__version__
+    assert set(res.provenance) == {  # the file's provenance attributes, by the same names
+        "plastivox_version", "git_commit", "compiler", "compiler_flags", "build_type",
+        "date_created", "date_updated", "host", "threads", "wall_seconds"}
+    assert isinstance(res.provenance["threads"], int)
+    assert isinstance(res.provenance["wall_seconds"], float)
     assert res.best_fitness.shape == (3,) and res.mean_fitness.shape == (3,)
     assert np.all(np.diff(res.best_fitness) >= 0)  # AFPO keeps its best
     assert np.all(res.mean_fitness <= res.best_fitness)

@@ -29,103 +29,96 @@ double value(const std::optional<double>& x) {
   return x ? *x : kUndefined;
 }
 
+// The fields stored as the records hold them, as f(name, member): the writer and the reader
+// both walk these lists (the fields that need converting are written and read beside them).
+template <class F>
+void for_each_input_column(F&& f) {
+  f("file", &StudyInput::file);
+  f("content_digest", &StudyInput::content_digest);
+  f("physics_json", &StudyInput::physics_json);
+  f("seed", &StudyInput::seed);
+  f("generation", &StudyInput::generation);
+  f("generations_done", &StudyInput::generations_done);
+}
+
+template <class F>
+void for_each_champion_column(F&& f) {
+  using Ch = ChampionAnalysis;
+  f("label", &Ch::label);
+  f("evaluation", &Ch::evaluation);
+  f("status", &Ch::status);
+  f("status_detail", &Ch::status_detail);
+  f("health", &Ch::health);
+  f("excluded", &Ch::artifact);
+  f("phenotype_digest", &Ch::phenotype_digest);
+  f("seed", &Ch::run_seed);
+  f("champion_id", &Ch::id);
+  f("robustness_seed", &Ch::robustness_seed);
+  f("generation", &Ch::generation);
+  f("voxels", &Ch::voxels);
+  f("input", &Ch::input);
+  f("floor_depth", &Ch::floor_depth);
+  f("vertical_share", &Ch::vertical_share);
+}
+
+template <class F>
+void for_each_comparison_column(F&& f) {
+  using Test = BootstrapTestResult;
+  f("a", &Test::name_a);
+  f("b", &Test::name_b);
+  f("stars", &Test::stars);
+  f("mean_diff", &Test::difference);
+  f("p", &Test::p_value);
+  f("p_corrected", &Test::p_corrected);
+}
+
 void write_inputs(const Ctx& c, hid_t root, const StudyResult& r) {
   Handle g = h5::create_group(c, root, "inputs");
-  std::vector<std::string> file, digest, treatment, physics;
-  std::vector<uint64_t> seed;
-  std::vector<int32_t> generation, done, body_plan_start;
-  for (const StudyInput& in : r.inputs) {
-    file.push_back(in.file);
-    digest.push_back(in.content_digest);
-    treatment.push_back(to_string(in.treatment));
-    physics.push_back(in.physics_json);
-    seed.push_back(in.seed);
-    generation.push_back(in.generation);
-    done.push_back(in.generations_done);
-    body_plan_start.push_back(in.body_plan_start ? 1 : 0);
-  }
-  h5::write_strings(c, g.id(), "file", file);
-  h5::write_strings(c, g.id(), "content_digest", digest);
-  h5::write_strings(c, g.id(), "treatment", treatment);
-  h5::write_strings(c, g.id(), "physics_json", physics);
-  h5::write(c, g.id(), "seed", seed);
-  h5::write(c, g.id(), "generation", generation);
-  h5::write(c, g.id(), "generations_done", done);
-  h5::write(c, g.id(), "body_plan_start", body_plan_start);
+  const std::vector<StudyInput>& in = r.inputs;
+  for_each_input_column(
+      [&](const char* name, auto member) { h5::write_column(c, g.id(), name, in, member); });
+  h5::write_column<std::string>(c, g.id(), "treatment", in,
+                                [](const StudyInput& i) { return to_string(i.treatment); });
+  h5::write_column<int32_t>(c, g.id(), "body_plan_start", in, &StudyInput::body_plan_start);
 }
 
 void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
   Handle g = h5::create_group(c, root, "champions");
-  const size_t n = r.champions.size(), draws = static_cast<size_t>(r.options.robustness_draws);
-  std::vector<std::string> label, treatment, evaluation, status, detail, health, plan, digest,
-      excluded;
-  std::vector<uint64_t> seed, id, rseed;
-  std::vector<int32_t> generation, voxels, input, valid;
-  std::vector<double> fitness, f_train, r_mean, m_body, v_body, v_gain, confidence, depth, vertical;
+  using Ch = ChampionAnalysis;
+  const std::vector<Ch>& all = r.champions;
+  const hid_t id = g.id();
+  for_each_champion_column(
+      [&](const char* name, auto member) { h5::write_column(c, id, name, all, member); });
+  h5::write_column<std::string>(c, id, "treatment", all,
+                                [](const Ch& ch) { return to_string(ch.treatment); });
+  h5::write_column<std::string>(c, id, "body_plan", all,
+                                [](const Ch& ch) { return to_string(ch.body_plan.plan); });
+  h5::write_column<int32_t>(c, id, "valid_draws", all,
+                            [](const Ch& ch) { return ch.robustness.valid_draws; });
+  // Undefined values are NaN.
+  h5::write_column<double>(c, id, "fitness", all, [](const Ch& ch) {
+    return ch.evaluation == "ok" ? ch.fitness : kUndefined;
+  });
+  h5::write_column<double>(c, id, "f_train", all, [](const Ch& ch) {
+    return ch.robustness.train_valid ? ch.robustness.f_train : kUndefined;
+  });
+  for (const auto& [name, member] : {std::pair{"r_mean", &Ch::r_mean},
+                                     {"m_body", &Ch::m_body},
+                                     {"v_body", &Ch::v_body},
+                                     {"v_gain", &Ch::v_gain}})
+    h5::write_column<double>(c, id, name, all, [m = member](const Ch& ch) { return value(ch.*m); });
+  h5::write_column<double>(c, id, "body_plan_confidence", all,
+                           [](const Ch& ch) { return ch.body_plan.confidence; });
+  // Per champion and robustness draw: (champions, draws).
+  const size_t n = all.size(), draws = static_cast<size_t>(r.options.robustness_draws);
   std::vector<double> r_draw(n * draws, kUndefined), f_test(n * draws, kUndefined);
-  for (size_t i = 0; i < n; ++i) {
-    const ChampionAnalysis& ch = r.champions[i];
-    label.push_back(ch.label);
-    treatment.push_back(to_string(ch.treatment));
-    evaluation.push_back(ch.evaluation);
-    status.push_back(ch.status);
-    detail.push_back(ch.status_detail);
-    health.push_back(ch.health);
-    excluded.push_back(ch.artifact);
-    depth.push_back(ch.floor_depth);
-    vertical.push_back(ch.vertical_share);
-    plan.push_back(to_string(ch.body_plan.plan));
-    digest.push_back(ch.phenotype_digest);
-    seed.push_back(ch.run_seed);
-    id.push_back(ch.id);
-    rseed.push_back(ch.robustness_seed);
-    generation.push_back(ch.generation);
-    voxels.push_back(ch.voxels);
-    input.push_back(ch.input);
-    valid.push_back(ch.robustness.valid_draws);
-    fitness.push_back(ch.evaluation == "ok" ? ch.fitness : kUndefined);
-    f_train.push_back(ch.robustness.train_valid ? ch.robustness.f_train : kUndefined);
-    r_mean.push_back(value(ch.r_mean));
-    m_body.push_back(value(ch.m_body));
-    v_body.push_back(value(ch.v_body));
-    v_gain.push_back(value(ch.v_gain));
-    confidence.push_back(ch.body_plan.confidence);
-    for (size_t k = 0; k < ch.robustness.draws.size() && k < draws; ++k) {
-      const RobustnessDraw& d = ch.robustness.draws[k];
+  for (size_t i = 0; i < n; ++i)
+    for (size_t k = 0; k < all[i].robustness.draws.size() && k < draws; ++k) {
+      const RobustnessDraw& d = all[i].robustness.draws[k];
       if (!d.valid) continue;
       r_draw[i * draws + k] = d.r;
       f_test[i * draws + k] = d.f_test;
     }
-  }
-  using Strings = std::pair<const char*, const std::vector<std::string>*>;
-  for (const auto& [name, v] : std::initializer_list<Strings>{{"label", &label},
-                                                              {"treatment", &treatment},
-                                                              {"evaluation", &evaluation},
-                                                              {"status", &status},
-                                                              {"status_detail", &detail},
-                                                              {"health", &health},
-                                                              {"excluded", &excluded},
-                                                              {"body_plan", &plan},
-                                                              {"phenotype_digest", &digest}})
-    h5::write_strings(c, g.id(), name, *v);
-  h5::write(c, g.id(), "seed", seed);
-  h5::write(c, g.id(), "champion_id", id);
-  h5::write(c, g.id(), "robustness_seed", rseed);
-  h5::write(c, g.id(), "generation", generation);
-  h5::write(c, g.id(), "voxels", voxels);
-  h5::write(c, g.id(), "input", input);
-  h5::write(c, g.id(), "valid_draws", valid);
-  using Reals = std::pair<const char*, const std::vector<double>*>;
-  for (const auto& [name, v] : std::initializer_list<Reals>{{"fitness", &fitness},
-                                                            {"f_train", &f_train},
-                                                            {"r_mean", &r_mean},
-                                                            {"m_body", &m_body},
-                                                            {"v_body", &v_body},
-                                                            {"v_gain", &v_gain},
-                                                            {"body_plan_confidence", &confidence},
-                                                            {"floor_depth", &depth},
-                                                            {"vertical_share", &vertical}})
-    h5::write(c, g.id(), name, *v);
   h5::write(c, g.id(), "r_draws", r_draw, {n, draws});
   h5::write(c, g.id(), "f_test", f_test, {n, draws});
   // Robustness is a ratio of fitnesses; the body measures are relative changes of E.
@@ -146,9 +139,7 @@ void write_hausdorff(const Ctx& c, hid_t root, const StudyResult& r) {
   h5::write_attr(c, g.id(), "rotations", std::string(to_string(m.options.rotations)));
   h5::write_attr(c, g.id(), "translation", std::string(to_string(m.options.translation)));
   h5::write_attr(c, g.id(), "units", std::string("voxel lengths"));
-  std::vector<std::string> labels;
-  for (const ChampionAnalysis& ch : r.champions) labels.push_back(ch.label);
-  h5::write_strings(c, g.id(), "labels", labels);
+  h5::write_column(c, g.id(), "labels", r.champions, &ChampionAnalysis::label);
   const hsize_t n = static_cast<hsize_t>(m.n);
   h5::write(c, g.id(), "matrix", m.distance, {n, n});
   h5::write_units(c, g.id(), "matrix", "voxel lengths");
@@ -200,25 +191,13 @@ void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
     h5::write(c, g.id(), "ci_low", lo);
     h5::write(c, g.id(), "ci_high", hi);
     for (const char* name : {"mean", "ci_low", "ci_high"}) h5::write_units(c, g.id(), name, p.unit);
-    std::vector<std::string> a, b, stars;
-    std::vector<double> diff, pv, pc, es;
-    for (const BootstrapTestResult& t : p.comparisons) {
-      a.push_back(t.name_a);
-      b.push_back(t.name_b);
-      stars.push_back(t.stars);
-      diff.push_back(t.difference);
-      pv.push_back(t.p_value);
-      pc.push_back(t.p_corrected);
-      es.push_back(t.effect.hedges_g);
-    }
+    using Test = BootstrapTestResult;
+    const std::vector<Test>& tests = p.comparisons;
     Handle cg = h5::create_group(c, g.id(), "comparisons");
-    h5::write_strings(c, cg.id(), "a", a);
-    h5::write_strings(c, cg.id(), "b", b);
-    h5::write_strings(c, cg.id(), "stars", stars);
-    h5::write(c, cg.id(), "mean_diff", diff);
-    h5::write(c, cg.id(), "p", pv);
-    h5::write(c, cg.id(), "p_corrected", pc);
-    h5::write(c, cg.id(), "effect_size", es);
+    for_each_comparison_column(
+        [&](const char* name, auto member) { h5::write_column(c, cg.id(), name, tests, member); });
+    h5::write_column<double>(c, cg.id(), "effect_size", tests,
+                             [](const Test& t) { return t.effect.hedges_g; });
   }
 }
 
@@ -331,70 +310,44 @@ StudyOptions read_options(const Ctx& c, hid_t root) {
 
 void read_inputs(const Ctx& c, hid_t root, StudyResult& r) {
   Handle g = h5::open_group(c, root, "inputs");
-  const size_t n = extent(c, g.id(), "seed");
-  const Columns col{c, g.id(), n};
-  const auto file = col.strings("file"), digest = col.strings("content_digest"),
-             treatment = col.strings("treatment"), physics = col.strings("physics_json");
-  const auto seed = col.words("seed");
-  const auto generation = col.ints("generation"), done = col.ints("generations_done"),
-             body_plans = col.ints("body_plan_start");
-  for (size_t i = 0; i < n; ++i) {
-    StudyInput in;
-    in.file = file[i];
-    in.content_digest = digest[i];
-    in.treatment = parse_treatment(treatment[i]);
-    in.physics_json = physics[i];
-    in.seed = seed[i];
-    in.generation = generation[i];
-    in.generations_done = done[i];
-    in.body_plan_start = body_plans[i] != 0;
-    r.inputs.push_back(std::move(in));
+  std::vector<StudyInput>& in = r.inputs;
+  in.resize(extent(c, g.id(), "seed"));
+  for_each_input_column(
+      [&](const char* name, auto member) { h5::read_column(c, g.id(), name, in, member); });
+  const Columns col{c, g.id(), in.size()};
+  const auto treatment = col.strings("treatment");
+  const auto body_plans = col.ints("body_plan_start");
+  for (size_t i = 0; i < in.size(); ++i) {
+    in[i].treatment = parse_treatment(treatment[i]);
+    in[i].body_plan_start = body_plans[i] != 0;
   }
 }
 
 void read_champions(const Ctx& c, hid_t root, StudyResult& r) {
   Handle g = h5::open_group(c, root, "champions");
   const hid_t id = g.id();
-  const size_t n = extent(c, id, "input");
-  const size_t draws = static_cast<size_t>(r.options.robustness_draws);
+  using Ch = ChampionAnalysis;
+  std::vector<Ch> all(extent(c, id, "input"));
+  const size_t n = all.size(), draws = static_cast<size_t>(r.options.robustness_draws);
+  for_each_champion_column(
+      [&](const char* name, auto member) { h5::read_column(c, id, name, all, member); });
   const Columns col{c, id, n};
-  const auto label = col.strings("label"), treatment = col.strings("treatment"),
-             evaluation = col.strings("evaluation"), status = col.strings("status"),
-             detail = col.strings("status_detail"), health = col.strings("health"),
-             excluded = col.strings("excluded"), plan = col.strings("body_plan"),
-             digest = col.strings("phenotype_digest");
-  const auto seed = col.words("seed"), champion_id = col.words("champion_id"),
-             robustness_seed = col.words("robustness_seed");
-  const auto generation = col.ints("generation"), voxels = col.ints("voxels"),
-             input = col.ints("input"), valid = col.ints("valid_draws");
+  const auto treatment = col.strings("treatment"), plan = col.strings("body_plan");
+  const auto valid = col.ints("valid_draws");
   const auto fitness = col.reals("fitness"), f_train = col.reals("f_train"),
              r_mean = col.reals("r_mean"), m_body = col.reals("m_body"),
              v_body = col.reals("v_body"), v_gain = col.reals("v_gain"),
-             confidence = col.reals("body_plan_confidence"), depth = col.reals("floor_depth"),
-             vertical = col.reals("vertical_share");
+             confidence = col.reals("body_plan_confidence");
   std::vector<hsize_t> shape{n, draws};
   const auto r_draws = h5::read<double>(c, id, "r_draws", shape);
   const auto f_test = h5::read<double>(c, id, "f_test", shape);
   for (size_t i = 0; i < n; ++i) {
-    ChampionAnalysis ch;
-    ch.label = label[i];
+    Ch& ch = all[i];
     ch.treatment = parse_treatment(treatment[i]);
-    ch.evaluation = evaluation[i];
-    ch.status = status[i];
-    ch.status_detail = detail[i];
-    ch.health = health[i];
-    ch.artifact = excluded[i];
     ch.body_plan.plan =
         parse_name(c, "/champions/body_plan", plan[i],
                    {BodyPlan::kPi, BodyPlan::kGamma, BodyPlan::kUpsilon, BodyPlan::kOther});
     ch.body_plan.confidence = confidence[i];
-    ch.phenotype_digest = digest[i];
-    ch.run_seed = seed[i];
-    ch.id = champion_id[i];
-    ch.robustness_seed = robustness_seed[i];
-    ch.generation = generation[i];
-    ch.voxels = voxels[i];
-    ch.input = input[i];
     if (ch.input < 0 || static_cast<size_t>(ch.input) >= r.inputs.size())
       c.fail("/champions/input", "entry " + std::to_string(i) + " names no input");
     ch.fitness = std::isnan(fitness[i]) ? 0 : fitness[i];
@@ -414,13 +367,11 @@ void read_champions(const Ctx& c, hid_t root, StudyResult& r) {
     ch.m_body = defined(m_body[i]);
     ch.v_body = defined(v_body[i]);
     ch.v_gain = defined(v_gain[i]);
-    ch.floor_depth = depth[i];
-    ch.vertical_share = vertical[i];
     // Champions are sorted by treatment: the treatments present, in their order.
     if (r.treatments.empty() || r.treatments.back() != ch.treatment)
       r.treatments.push_back(ch.treatment);
-    r.champions.push_back(std::move(ch));
   }
+  r.champions = std::move(all);
 }
 
 void read_hausdorff(const Ctx& c, hid_t root, StudyResult& r) {
@@ -474,22 +425,16 @@ void read_panels(const Ctx& c, hid_t root, StudyResult& r) {
       p.groups.push_back(std::move(s));
     }
     Handle cg = h5::open_group(c, g.id(), "comparisons");
-    const Columns tests{c, cg.id(), extent(c, cg.id(), "p")};
-    const auto a = tests.strings("a"), b = tests.strings("b"), stars = tests.strings("stars");
-    const auto diff = tests.reals("mean_diff"), pv = tests.reals("p"),
-               pc = tests.reals("p_corrected"), es = tests.reals("effect_size");
-    for (size_t k = 0; k < tests.n; ++k) {
-      BootstrapTestResult t;
-      t.name_a = a[k];
-      t.name_b = b[k];
-      t.stars = stars[k];
-      t.difference = diff[k];
-      t.p_value = pv[k];
-      t.p_corrected = pc[k];
-      t.effect.hedges_g = es[k];
-      t.comparisons = comparisons;
-      p.comparisons.push_back(std::move(t));
+    using Test = BootstrapTestResult;
+    std::vector<Test> tests(extent(c, cg.id(), "p"));
+    for_each_comparison_column(
+        [&](const char* name, auto member) { h5::read_column(c, cg.id(), name, tests, member); });
+    const auto es = h5::read<double>(c, cg.id(), "effect_size", tests.size());
+    for (size_t k = 0; k < tests.size(); ++k) {
+      tests[k].effect.hedges_g = es[k];
+      tests[k].comparisons = comparisons;
     }
+    p.comparisons = std::move(tests);
     r.panels.push_back(std::move(p));
   }
 }

@@ -97,37 +97,28 @@ void read_generations(const Ctx& c, hid_t root, RunState& s) {
 void read_individuals(const Ctx& c, hid_t root, RunState& s) {
   Handle g = h5::open_group(c, root, "individuals");
   const hsize_t N = s.next_id;
+  // The ids first: reading them checks the row count before N rows are made.
   const auto id = h5::read<uint64_t>(c, g.id(), "id", N);
-  const auto parent = h5::read<int64_t>(c, g.id(), "parent_id", N);
-  const auto gen = h5::read<int32_t>(c, g.id(), "generation", N);
-  const auto fitness = h5::read<double>(c, g.id(), "fitness", N);
-  const auto status = h5::read<uint8_t>(c, g.id(), "status", N);
-  const auto voxels = h5::read<int32_t>(c, g.id(), "voxels", N);
-  const auto tries = h5::read<int32_t>(c, g.id(), "tries", N);
-  const auto simulated = h5::read<uint8_t>(c, g.id(), "simulated", N);
+  std::vector<BirthRecord>& b = s.births;
+  b.resize(N);
+  for (hsize_t i = 0; i < N; ++i) {
+    if (id[i] != i) c.fail("/individuals/id", "ids must be 0, 1, 2, ... in order");
+    b[i].id = i;
+  }
+  layout::for_each_birth_column(
+      [&](const char* name, auto member) { h5::read_column(c, g.id(), name, b, member); });
   // Health flag added after format version 1 was fixed: absent in older files (all 0).
-  const auto sank = h5::has_link(g.id(), "sank") ? h5::read<uint8_t>(c, g.id(), "sank", N)
-                                                 : std::vector<uint8_t>(N, 0);
+  if (h5::has_link(g.id(), "sank")) h5::read_column(c, g.id(), "sank", b, &BirthRecord::sank);
+  for (BirthRecord& r : b) {
+    status_code(c, "/individuals/status", r.status);
+    r.sank = r.sank ? 1 : 0;
+  }
   std::vector<hsize_t> fd = {h5::kAnyExtent};
   const auto failure_id = h5::read<uint64_t>(c, g.id(), "failure_id", fd);
   const auto failure = h5::read_strings(c, g.id(), "failure_reason", fd[0]);
-  s.births.resize(N);
-  for (hsize_t i = 0; i < N; ++i) {
-    if (id[i] != i) c.fail("/individuals/id", "ids must be 0, 1, 2, ... in order");
-    BirthRecord& b = s.births[i];
-    b.id = id[i];
-    b.parent_id = parent[i];
-    b.generation = gen[i];
-    b.fitness = fitness[i];
-    b.status = static_cast<uint8_t>(status_code(c, "/individuals/status", status[i]));
-    b.voxels = voxels[i];
-    b.tries = tries[i];
-    b.simulated = simulated[i];
-    b.sank = sank[i] ? 1 : 0;
-  }
   for (size_t k = 0; k < failure_id.size(); ++k) {
     if (failure_id[k] >= N) c.fail("/individuals/failure_id", "refers to an unknown individual");
-    s.births[failure_id[k]].failure = failure[k];
+    b[failure_id[k]].failure = failure[k];
   }
 }
 
@@ -167,20 +158,13 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
   Handle ck = h5::open_group(c, root, "checkpoint");
   Handle pop = h5::open_group(c, ck.id(), "population");
   const hsize_t P = s.history.empty() ? 0 : s.history.back().id.size();
-  const auto id = h5::read<uint64_t>(c, pop.id(), "id", P);
-  const auto parent = h5::read<int64_t>(c, pop.id(), "parent_id", P);
-  const auto age = h5::read<int32_t>(c, pop.id(), "age", P);
-  const auto born = h5::read<int32_t>(c, pop.id(), "born", P);
-  const auto fitness = h5::read<double>(c, pop.id(), "fitness", P);
+  std::vector<Individual>& members = s.population;
+  members.resize(P);
+  layout::for_each_member_column(
+      [&](const char* name, auto member) { h5::read_column(c, pop.id(), name, members, member); });
   const auto status = h5::read<uint8_t>(c, pop.id(), "status", P);
-  s.population.resize(P);
   for (hsize_t i = 0; i < P; ++i) {
-    Individual& ind = s.population[i];
-    ind.id = id[i];
-    ind.parent_id = parent[i];
-    ind.age = age[i];
-    ind.born = born[i];
-    ind.fitness = fitness[i];
+    Individual& ind = members[i];
     ind.status = status_code(c, "/checkpoint/population/status", status[i]);
     if (ind.id != s.history.back().id[i] || ind.age != s.history.back().age[i])
       c.fail("/checkpoint/population", "does not match the last generation's population");
@@ -284,17 +268,8 @@ ResultsFile read_results(const std::string& path) {
   read_champions(c, r, s);
   read_checkpoint(c, r, s);
 
-  Provenance& p = out.provenance;
-  p.plastivox_version = h5::read_attr_string(c, r, "/", "plastivox_version");
-  p.git_commit = h5::read_attr_string(c, r, "/", "git_commit");
-  p.compiler = h5::read_attr_string(c, r, "/", "compiler");
-  p.compiler_flags = h5::read_attr_string(c, r, "/", "compiler_flags");
-  p.build_type = h5::read_attr_string(c, r, "/", "build_type");
-  p.date_created = h5::read_attr_string(c, r, "/", "date_created");
-  p.date_updated = h5::read_attr_string(c, r, "/", "date_updated");
-  p.host = h5::read_attr_string(c, r, "/", "host");
-  p.threads = h5::read_attr_int(c, r, "/", "threads");
-  p.wall_seconds = h5::read_attr_double(c, r, "/", "wall_seconds");
+  for_each_field(out.provenance,
+                 [&](const char* name, auto& v) { h5::read_attr(c, r, "/", name, v); });
 
   out.content_digest = h5::read_attr_string(c, r, "/", "content_digest");
   if (content_digest(s).hex() != out.content_digest)

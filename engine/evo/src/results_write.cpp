@@ -95,50 +95,34 @@ void write_root_attributes(const Ctx& c, hid_t root, const RunState& s, const Pr
   h5::write_attr(c, root, "finished", int64_t{s.finished() ? 1 : 0});
   h5::write_attr(c, root, "content_digest", content_digest(s).hex());
   h5::write_attr(c, root, "checkpoint_digest", layout::checkpoint_digest(s).hex());
-  h5::write_attr(c, root, "plastivox_version", p.plastivox_version);
-  h5::write_attr(c, root, "git_commit", p.git_commit);
-  h5::write_attr(c, root, "compiler", p.compiler);
-  h5::write_attr(c, root, "compiler_flags", p.compiler_flags);
-  h5::write_attr(c, root, "build_type", p.build_type);
-  h5::write_attr(c, root, "date_created", p.date_created);
-  h5::write_attr(c, root, "date_updated", p.date_updated);
-  h5::write_attr(c, root, "host", p.host);
-  h5::write_attr(c, root, "threads", p.threads);
-  h5::write_attr(c, root, "wall_seconds", p.wall_seconds);
+  for_each_field(p, [&](const char* name, const auto& v) { h5::write_attr(c, root, name, v); });
 }
 
 void write_generations(const Ctx& c, hid_t root, const RunState& s) {
   Handle g = h5::create_group(c, root, "generations");
   const hsize_t G = s.history.size();
   const hsize_t P = G ? s.history[0].id.size() : 0;
-  std::vector<uint64_t> id, champion;
-  std::vector<int64_t> parent;
-  std::vector<int32_t> age, simulated, hits;
-  std::vector<double> fitness, best, wall;
-  std::vector<uint8_t> status;
-  for (const GenerationRecord& r : s.history) {
-    if (r.id.size() != P) c.fail("/generations", "internal error: population size changed");
-    id.insert(id.end(), r.id.begin(), r.id.end());
-    parent.insert(parent.end(), r.parent_id.begin(), r.parent_id.end());
-    age.insert(age.end(), r.age.begin(), r.age.end());
-    fitness.insert(fitness.end(), r.fitness.begin(), r.fitness.end());
-    status.insert(status.end(), r.status.begin(), r.status.end());
-    champion.push_back(r.champion_id);
-    best.push_back(r.best_fitness);
-    simulated.push_back(r.simulated);
-    hits.push_back(r.cache_hits);
-    wall.push_back(r.wall_seconds);
-  }
-  h5::write(c, g.id(), "id", id, {G, P});
-  h5::write(c, g.id(), "parent_id", parent, {G, P});
-  h5::write(c, g.id(), "age", age, {G, P});
-  h5::write(c, g.id(), "fitness", fitness, {G, P});
-  h5::write(c, g.id(), "status", status, {G, P});
-  h5::write(c, g.id(), "champion_id", champion);
-  h5::write(c, g.id(), "best_fitness", best);
-  h5::write(c, g.id(), "simulated", simulated);
-  h5::write(c, g.id(), "cache_hits", hits);
-  h5::write(c, g.id(), "wall_seconds", wall);
+  // The population's fields: (G, P), a row a generation.
+  const auto matrix = [&](const char* name, auto member) {
+    std::decay_t<decltype(s.history[0].*member)> all;
+    for (const GenerationRecord& r : s.history) {
+      if ((r.*member).size() != P)
+        c.fail("/generations", "internal error: population size changed");
+      all.insert(all.end(), (r.*member).begin(), (r.*member).end());
+    }
+    h5::write(c, g.id(), name, all, {G, P});
+  };
+  matrix("id", &GenerationRecord::id);
+  matrix("parent_id", &GenerationRecord::parent_id);
+  matrix("age", &GenerationRecord::age);
+  matrix("fitness", &GenerationRecord::fitness);
+  matrix("status", &GenerationRecord::status);
+  const std::vector<GenerationRecord>& h = s.history;
+  h5::write_column(c, g.id(), "champion_id", h, &GenerationRecord::champion_id);
+  h5::write_column(c, g.id(), "best_fitness", h, &GenerationRecord::best_fitness);
+  h5::write_column(c, g.id(), "simulated", h, &GenerationRecord::simulated);
+  h5::write_column(c, g.id(), "cache_hits", h, &GenerationRecord::cache_hits);
+  h5::write_column(c, g.id(), "wall_seconds", h, &GenerationRecord::wall_seconds);
   h5::write_units(c, g.id(), "fitness", "voxel lengths");
   h5::write_units(c, g.id(), "best_fitness", "voxel lengths");
   h5::write_units(c, g.id(), "wall_seconds", "s");
@@ -146,37 +130,20 @@ void write_generations(const Ctx& c, hid_t root, const RunState& s) {
 
 void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
   Handle g = h5::create_group(c, root, "individuals");
-  std::vector<uint64_t> id, failure_id;
-  std::vector<int64_t> parent;
-  std::vector<int32_t> gen, voxels, tries;
-  std::vector<double> fitness;
-  std::vector<uint8_t> status, simulated, sank;
-  std::vector<std::string> failure;
-  for (const BirthRecord& b : s.births) {
-    sank.push_back(b.sank);
-    id.push_back(b.id);
-    parent.push_back(b.parent_id);
-    gen.push_back(b.generation);
-    fitness.push_back(b.fitness);
-    status.push_back(b.status);
-    voxels.push_back(b.voxels);
-    tries.push_back(b.tries);
-    simulated.push_back(b.simulated);
-    if (!b.failure.empty()) {
-      failure_id.push_back(b.id);
-      failure.push_back(b.failure);
-    }
-  }
-  h5::write(c, g.id(), "id", id);
-  h5::write(c, g.id(), "parent_id", parent);
-  h5::write(c, g.id(), "generation", gen);
-  h5::write(c, g.id(), "fitness", fitness);
+  const std::vector<BirthRecord>& b = s.births;
+  h5::write_column(c, g.id(), "id", b, &BirthRecord::id);
+  layout::for_each_birth_column(
+      [&](const char* name, auto member) { h5::write_column(c, g.id(), name, b, member); });
   h5::write_units(c, g.id(), "fitness", "voxel lengths");
-  h5::write(c, g.id(), "status", status);
-  h5::write(c, g.id(), "voxels", voxels);
-  h5::write(c, g.id(), "tries", tries);
-  h5::write(c, g.id(), "simulated", simulated);
-  h5::write(c, g.id(), "sank", sank);
+  h5::write_column(c, g.id(), "sank", b, &BirthRecord::sank);
+  // Failures are rare: stored sparsely, by id.
+  std::vector<uint64_t> failure_id;
+  std::vector<std::string> failure;
+  for (const BirthRecord& r : b)
+    if (!r.failure.empty()) {
+      failure_id.push_back(r.id);
+      failure.push_back(r.failure);
+    }
   h5::write(c, g.id(), "failure_id", failure_id);
   h5::write_strings(c, g.id(), "failure_reason", failure);
 }
@@ -213,26 +180,11 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   Handle ck = h5::create_group(c, root, "checkpoint");
   h5::write_attr_u64(c, ck.id(), "next_id", s.next_id);
   Handle pop = h5::create_group(c, ck.id(), "population");
-  std::vector<uint64_t> id;
-  std::vector<int64_t> parent;
-  std::vector<int32_t> age, born;
-  std::vector<double> fitness;
-  std::vector<uint8_t> status;
-  for (const Individual& ind : s.population) {
-    id.push_back(ind.id);
-    parent.push_back(ind.parent_id);
-    age.push_back(ind.age);
-    born.push_back(ind.born);
-    fitness.push_back(ind.fitness);
-    status.push_back(static_cast<uint8_t>(ind.status));
-  }
-  h5::write(c, pop.id(), "id", id);
-  h5::write(c, pop.id(), "parent_id", parent);
-  h5::write(c, pop.id(), "age", age);
-  h5::write(c, pop.id(), "born", born);
-  h5::write(c, pop.id(), "fitness", fitness);
+  const std::vector<Individual>& p = s.population;
+  layout::for_each_member_column(
+      [&](const char* name, auto member) { h5::write_column(c, pop.id(), name, p, member); });
   h5::write_units(c, pop.id(), "fitness", "voxel lengths");
-  h5::write(c, pop.id(), "status", status);
+  h5::write_column<uint8_t>(c, pop.id(), "status", p, [](const Individual& i) { return i.status; });
   // Genomes, stacked per network: individual i owns nodes [node_offset[i], node_offset[i+1])
   // and links [link_offset[i], link_offset[i+1]).
   Handle genomes = h5::create_group(c, pop.id(), "genome");

@@ -73,10 +73,7 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
           std::vector<double>{life.com_settled.x(), life.com_settled.y(), life.com_settled.z()},
           {3});
       h5::write_attr_u64(c, r, "final_state_hash", life.final_state_hash);
-      h5::write_attr(c, r, "plastivox_version", p.plastivox_version);
-      h5::write_attr(c, r, "git_commit", p.git_commit);
-      h5::write_attr(c, r, "date_created", p.date_created);
-      h5::write_attr(c, r, "host", p.host);
+      for_each_field(p, [&](const char* name, const auto& v) { h5::write_attr(c, r, name, v); });
 
       std::vector<double> time;
       for (const Frame& f : frames) time.push_back(f.time);
@@ -196,10 +193,11 @@ RecordedLife read_life_file(const std::string& path) {
   const std::vector<double> com = h5::read<double>(c, r, "com_settled", 3);
   life.com_settled = Vec3(com[0], com[1], com[2]);
   life.final_state_hash = h5::read_attr_u64(c, r, "/", "final_state_hash");
-  life.provenance.plastivox_version = h5::read_attr_string(c, r, "/", "plastivox_version");
-  life.provenance.git_commit = h5::read_attr_string(c, r, "/", "git_commit");
-  life.provenance.date_created = h5::read_attr_string(c, r, "/", "date_created");
-  life.provenance.host = h5::read_attr_string(c, r, "/", "host");
+  // Files written before 2026-12-05 carry only plastivox_version, git_commit, date_created
+  // and host; the fields a file lacks stay empty (zero).
+  for_each_field(life.provenance, [&](const char* name, auto& v) {
+    if (h5::has_attr(r, name)) h5::read_attr(c, r, "/", name, v);
+  });
 
   // Shapes: the voxel count must be the robot's, every per-frame field (frames, n[, k]).
   int n = 0;

@@ -9,7 +9,10 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "plastivox/base/error.hpp"  // ResultsError
@@ -98,6 +101,40 @@ void write_strings(const Ctx& c, hid_t loc, const std::string& name,
                    const std::vector<std::string>& s);
 std::vector<std::string> read_strings(const Ctx& c, hid_t loc, const std::string& name, hsize_t n);
 
+// A table of records stored as columns (the results file's /individuals, analysis.h5's
+// /inputs, ...): the dataset `name` holds get(row) (a function or a data member), as a T, for
+// every row in order.
+template <class T, class Row, class Get>
+void write_column(const Ctx& c, hid_t loc, const std::string& name, const std::vector<Row>& rows,
+                  const Get& get) {
+  std::vector<T> column;
+  column.reserve(rows.size());
+  for (const Row& r : rows) column.push_back(static_cast<T>(std::invoke(get, r)));
+  if constexpr (std::is_same_v<T, std::string>)
+    write_strings(c, loc, name, column);
+  else
+    write(c, loc, name, column);
+}
+// The same for a data member, stored as its own type: write_column(c, g, "id", rows, &Row::id).
+template <class Row, class T>
+void write_column(const Ctx& c, hid_t loc, const std::string& name, const std::vector<Row>& rows,
+                  T Row::*member) {
+  write_column<T>(c, loc, name, rows, member);
+}
+
+// The reverse: the dataset `name`, which must hold rows.size() entries, into each row's
+// `member`, in order.
+template <class Row, class T>
+void read_column(const Ctx& c, hid_t loc, const std::string& name, std::vector<Row>& rows,
+                 T Row::*member) {
+  std::vector<T> column;
+  if constexpr (std::is_same_v<T, std::string>)
+    column = read_strings(c, loc, name, rows.size());
+  else
+    column = read<T>(c, loc, name, rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) rows[i].*member = std::move(column[i]);
+}
+
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, const std::string& value);
 void write_attr(const Ctx& c, hid_t obj, const std::string& name, int64_t value);
 void write_attr_u64(const Ctx& c, hid_t obj, const std::string& name, uint64_t value);
@@ -111,5 +148,19 @@ std::string read_attr_string(const Ctx& c, hid_t obj, const std::string& where,
 int64_t read_attr_int(const Ctx& c, hid_t obj, const std::string& where, const std::string& name);
 uint64_t read_attr_u64(const Ctx& c, hid_t obj, const std::string& where, const std::string& name);
 double read_attr_double(const Ctx& c, hid_t obj, const std::string& where, const std::string& name);
+// The same, chosen by the type of `out`: for code that visits a struct's fields
+// (for_each_field in provenance.hpp) and writes them with the write_attr overloads.
+inline void read_attr(const Ctx& c, hid_t obj, const std::string& where, const std::string& name,
+                      std::string& out) {
+  out = read_attr_string(c, obj, where, name);
+}
+inline void read_attr(const Ctx& c, hid_t obj, const std::string& where, const std::string& name,
+                      int64_t& out) {
+  out = read_attr_int(c, obj, where, name);
+}
+inline void read_attr(const Ctx& c, hid_t obj, const std::string& where, const std::string& name,
+                      double& out) {
+  out = read_attr_double(c, obj, where, name);
+}
 
 }  // namespace plastivox::h5

@@ -21,6 +21,24 @@ struct Provenance {
   double wall_seconds = 0;   // summed wall time of all sessions, s
 };
 
+// Calls f(name, member) for every field of p, in the order above; the names are the HDF5
+// root attributes (docs/results-format.md), the JSON keys of `inspect --json` and the Python
+// dict's keys. P is Provenance or const Provenance. Every reader, writer and printer of
+// provenance goes through this, so a new field is added in one line.
+template <class P, class F>
+void for_each_field(P& p, F&& f) {
+  f("plastivox_version", p.plastivox_version);
+  f("git_commit", p.git_commit);
+  f("compiler", p.compiler);
+  f("compiler_flags", p.compiler_flags);
+  f("build_type", p.build_type);
+  f("date_created", p.date_created);
+  f("date_updated", p.date_updated);
+  f("host", p.host);
+  f("threads", p.threads);
+  f("wall_seconds", p.wall_seconds);
+}
+
 // Provenance of this build and machine, now (date_created = date_updated = now).
 Provenance current_provenance(int threads);
 
