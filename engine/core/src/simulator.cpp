@@ -25,6 +25,17 @@ State& Simulator::mutable_state() {
   return state_;
 }
 
+std::vector<uint8_t> Simulator::save_state() const {
+  return plastivox::save_state(state_);
+}
+
+void Simulator::restore_state(const std::vector<uint8_t>& snapshot) {
+  plastivox::restore_state(state_, snapshot);
+  between_halves_ = false;
+  bind_views(*model_, state_, *ws_);
+  views_stale_ = false;
+}
+
 void bind_views(const Model& m, State& s, Workspace& w) {
   bind_bond_views(m, s, w);
   bind_voxel_views(m, s, w);

@@ -67,6 +67,14 @@ class Simulator {
   // the changes through this reference before stepping (do not keep it across steps).
   State& mutable_state();
 
+  // The state as bytes (save_state() in state.hpp: every field of kStateFields in order) and
+  // back: restore_state() takes a snapshot saved from a Simulator of the same model (at any
+  // step, by this one or another) and the life continues from it bit-identically. A
+  // snapshot of another model's state, or a damaged one, is refused with
+  // std::invalid_argument naming the field, and the state is left as it was.
+  std::vector<uint8_t> save_state() const;
+  void restore_state(const std::vector<uint8_t>& snapshot);
+
   // Advances one time step: step1() then step2(). Sets status to kUnstable (with a reason)
   // instead of producing non-finite numbers, and to kFinished once time passes the life's
   // duration (as Voxelyze runs until time first passes it); further calls then do nothing.
