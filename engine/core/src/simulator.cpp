@@ -32,6 +32,10 @@ std::vector<uint8_t> Simulator::save_state() const {
 void Simulator::restore_state(const std::vector<uint8_t>& snapshot) {
   plastivox::restore_state(state_, snapshot);
   between_halves_ = false;
+  // The self-collision candidates are a cache of the positions at their last refresh: start
+  // it afresh, as a new Simulator restored from the snapshot would.
+  ws_->contacts_valid = false;
+  ws_->contact_grid.pairs_stale = true;
   bind_views(*model_, state_, *ws_);
   views_stale_ = false;
 }

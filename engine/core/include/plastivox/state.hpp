@@ -56,10 +56,11 @@ struct State {
 State make_initial_state(const Model& model);
 
 // The fields of State, described once: what each holds, its shape, unit and frame, and
-// where its bytes are. The table drives state_hash (and is the list save/restore, recorded
-// lives and the Python module's arrays follow). Shapes: "1" one value, "n" per voxel,
-// "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w: Eigen's order),
-// "bonds" per bond. `failure` is text that explains `status` and is not a field here.
+// where its bytes are. The table drives state_hash, save_state/restore_state and the Python
+// module's state views (a recorded life's frames keep a subset: capture_frame). Shapes: "1" one
+// value, "n" per voxel, "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w:
+// Eigen's order), "bonds" per bond. `failure` is text that explains `status` and is not a field
+// here.
 struct StateFieldBytes {
   const void* data = nullptr;
   size_t count = 0;        // values (doubles, bytes or integers), all components included
