@@ -5,6 +5,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -108,6 +109,82 @@ TEST(Determinism, CopiedStateContinuesBitIdentically) {
     EXPECT_EQ(state_hash(second.state()), whole.final_state_hash) << to_string(t);
     EXPECT_EQ(second.state().stiffness, whole.final_stiffness) << to_string(t);
   }
+}
+
+// save_state/restore_state (state.hpp, driven by kStateFields): k steps, save, m more;
+// back to the snapshot, m more again; and m more from the snapshot in a fresh Simulator of
+// the same model: all three end at the same bits. Under both bond models (Voxelyze 0.9's
+// switches frames per bond: bond_small_angle must carry over).
+TEST(Determinism, RestoredStateContinuesBitIdentically) {
+  for (BondModel bonds : {BondModel::kExact, BondModel::kVoxelyze09}) {
+    PhysicsDef d = preset_gecco2018_code();
+    d.treatment = Treatment::kStress;
+    d.bond_model = bonds;
+    d.duration = 1.0;
+    const Model m = compile(demo_walker(), d);
+    const auto run = [](Simulator& sim, int steps) {
+      for (int i = 0; i < steps && sim.state().status == SimStatus::kRunning; ++i) sim.step();
+    };
+    Simulator sim(m);
+    testing::run_until(sim, 0.6);  // settled, actuated, developing
+    ASSERT_EQ(sim.state().status, SimStatus::kRunning);
+    const std::vector<uint8_t> snapshot = sim.save_state();
+    const uint64_t at_save = state_hash(sim.state());
+    run(sim, 500);
+    const uint64_t after = state_hash(sim.state());
+    ASSERT_NE(after, at_save);
+
+    sim.restore_state(snapshot);
+    EXPECT_EQ(state_hash(sim.state()), at_save);
+    run(sim, 500);
+    EXPECT_EQ(state_hash(sim.state()), after);
+
+    Simulator fresh(m);
+    fresh.restore_state(snapshot);
+    EXPECT_EQ(state_hash(fresh.state()), at_save);
+    run(fresh, 500);
+    EXPECT_EQ(state_hash(fresh.state()), after);
+    EXPECT_EQ(fresh.save_state(), sim.save_state());
+  }
+}
+
+// A snapshot of another model's state, or a damaged one, is refused with a line naming the
+// field, and the state is left as it was.
+TEST(StateSnapshot, MismatchedOrDamagedSnapshotsAreRefused) {
+  const Model walker = developing_walker(0.5);
+  const Model cube = compile(demo_cube(2, 1e7), preset_gecco2018_code());
+  Simulator sim(walker);
+  testing::run_until(sim, 0.1);
+  const uint64_t before = state_hash(sim.state());
+  const auto refused = [&](const std::vector<uint8_t>& snapshot, const std::string& says) {
+    try {
+      sim.restore_state(snapshot);
+      ADD_FAILURE() << "accepted a snapshot that should say: " << says;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(state_hash(sim.state()), before);
+  };
+  refused(Simulator(cube).save_state(), "field 'pos' holds");
+
+  const std::vector<uint8_t> good = sim.save_state();
+  refused(std::vector<uint8_t>(good.begin(), good.end() - 3), "ends inside the failure text");
+  refused(std::vector<uint8_t>(good.begin(), good.begin() + 40), "ends inside field");
+  std::vector<uint8_t> longer = good;
+  longer.push_back(0);
+  refused(longer, "1 bytes past the end");
+  std::vector<uint8_t> header = good;
+  header[0] ^= 1;
+  refused(header, "not a plastivox state");
+  refused({}, "ends inside the header");
+  // A bool field holding 2.
+  std::vector<uint8_t> bad_bool = good;
+  const size_t settled_byte = good.size() - 8 - sim.state().failure.size() - 1;
+  bad_bool[settled_byte] = 2;
+  refused(bad_bool, "field 'settled' is not 0 or 1");
+
+  sim.restore_state(good);  // and the good one is taken
+  EXPECT_EQ(state_hash(sim.state()), before);
 }
 
 }  // namespace

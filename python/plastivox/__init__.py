@@ -16,6 +16,7 @@ import csv as _csv
 import json as _json
 import math as _math
 import os as _os
+import types as _types
 
 import numpy as _np
 
@@ -327,13 +328,41 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0)
 class Simulator:
     """Step-wise control of one life: step(n) advances up to n steps (GIL released) and stops
     when the life is over; positions (n, 3) m, velocities (n, 3) m/s and stiffness (n,) Pa are
-    numpy copies of the current state, in voxel order (increasing lattice site). robot is
-    a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle its robot
-    and physics and step a new one."""
+    numpy copies of the current state, in voxel order (increasing lattice site). state is
+    every field of the engine's state (state_fields describes them) as read-only numpy views
+    of the simulator's own memory, which follow it as it steps. save_state() gives the state
+    as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically).
+    robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
+    its robot and physics and step a new one."""
+
+    # Each field of the state: name, shape ("1", "3", "n", "n x 3", "n x 4", "bonds"), unit,
+    # frame and meaning, in the engine's order (docs/engine.md, "State").
+    state_fields = tuple(_core.Simulator.state_fields())
 
     def __init__(self, robot, physics=None, treatment=None):
         self._core = _core.Simulator(_as_robot(robot)._core, _physics_json(physics),
                                      _check_treatment(treatment))
+        self._views = None
+
+    @property
+    def state(self):
+        """{field name: read-only numpy view} of the live state (no copy; the views keep the
+        simulator's memory alive and show its state whenever read). Copy to keep a value."""
+        if self._views is None:
+            self._views = _types.MappingProxyType(self._core.state_views())
+        return self._views
+
+    def save_state(self):
+        """The state as bytes (every field, in state_fields order)."""
+        return self._core.save_state()
+
+    def restore_state(self, snapshot):
+        """Returns to a state save_state() gave, of this Simulator or another of the same robot
+        and physics; a snapshot of another model's state raises ValueError naming the field."""
+        if not isinstance(snapshot, (bytes, bytearray, memoryview)):
+            raise TypeError(f"snapshot: expected the bytes save_state() returns, got "
+                            f"{type(snapshot).__name__}")
+        self._core.restore_state(bytes(snapshot))
 
     def step(self, n=1):
         if isinstance(n, bool) or not isinstance(n, (int, _np.integer)) or n < 0:
@@ -355,9 +384,10 @@ class Simulator:
     failure = property(lambda self: self._core.failure, doc="why it went unstable")
     state_hash = property(lambda self: self._core.state_hash,
                           doc="the state's hash (final_state_hash at the end of a life)")
-    positions = property(lambda self: self._core.positions)
-    velocities = property(lambda self: self._core.velocities)
-    stiffness = property(lambda self: self._core.stiffness)
+    positions = property(lambda self: self._core.state_copy("pos"))
+    velocities = property(lambda self: self._core.state_copy("lin_mom") *
+                          (1.0 / self._core.voxel_mass))
+    stiffness = property(lambda self: self._core.state_copy("stiffness"))
 
     def __reduce__(self):
         raise TypeError("a plastivox.Simulator does not pickle (its state lives in C++); "

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
+#include <string_view>
 
 #include <pybind11/stl.h>
 
@@ -138,6 +139,29 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
   return out;
 }
 
+// A field's numpy dtype: its kind and value size (StateFieldBytes).
+pyb::dtype field_dtype(const StateFieldBytes& b) {
+  if (b.kind == 'b') return pyb::dtype::of<bool>();
+  return pyb::dtype(std::string(1, b.kind) + std::to_string(b.value_bytes));
+}
+
+// A field's numpy shape: () for one value, (count,) for a fixed vector or one value per
+// voxel or bond, (entries, width) for a vector or quaternion per voxel.
+std::vector<pyb::ssize_t> field_shape(const StateField& f, const StateFieldBytes& b) {
+  const auto count = static_cast<pyb::ssize_t>(b.count);
+  const auto width = static_cast<pyb::ssize_t>(b.width);
+  if (std::string(f.shape) == "1") return {};
+  if (std::string(f.shape).find(" x ") != std::string::npos) return {count / width, width};
+  return {count};
+}
+
+// A field of s as a numpy array: a view of s's memory that keeps `base` alive, or, with a
+// null base, a copy.
+pyb::array field_array(const StateField& f, const State& s, const pyb::handle& base) {
+  const StateFieldBytes b = f.bytes(s);
+  return pyb::array(field_dtype(b), field_shape(f, b), {}, b.data, base);
+}
+
 // Step-wise control: the model is compiled once and owned here, the Simulator reads it.
 class PySimulator {
  public:
@@ -172,12 +196,40 @@ class PySimulator {
   const Model& model() const { return *model_; }
   const char* status() const { return to_string(state().status); }
 
-  pyb::array_t<double> vectors(const std::vector<Vec3>& v, double scale) const {
-    pyb::array_t<double> a({static_cast<pyb::ssize_t>(v.size()), pyb::ssize_t{3}});
-    auto av = a.mutable_unchecked<2>();
-    for (size_t i = 0; i < v.size(); ++i)
-      for (int k = 0; k < 3; ++k) av(static_cast<pyb::ssize_t>(i), k) = v[i][k] * scale;
-    return a;
+  // Every field of kStateFields (plastivox::, as robot.cpp has its own in a unity build) as a
+  // read-only numpy array that reads the Simulator's own memory (no copy), `self` (this object) its
+  // base: the arrays keep it alive, and they stay valid for its whole life, since the State's
+  // arrays never move (restore_state copies into them). They show the state as it is when read:
+  // stepping changes what they hold.
+  pyb::dict state_views(const pyb::object& self) const {
+    const State& s = state();
+    pyb::dict views;
+    for (const StateField& f : plastivox::kStateFields) {
+      pyb::array a = field_array(f, s, self);
+      a.attr("setflags")(pyb::arg("write") = false);
+      views[f.name] = a;
+    }
+    return views;
+  }
+
+  // A copy of one field, made while no other thread steps.
+  pyb::array state_copy(const std::string& name) const {
+    const State& s = state();
+    for (const StateField& f : plastivox::kStateFields)
+      if (name == f.name) return field_array(f, s, pyb::handle());
+    throw std::invalid_argument("state field: no field named '" + name + "'");
+  }
+
+  pyb::bytes save_state() const {
+    const State& s = state();
+    const std::vector<uint8_t> bytes = plastivox::save_state(s);
+    return pyb::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  }
+
+  void restore_state(const pyb::bytes& snapshot) {
+    const Busy busy(*this);
+    const std::string_view view(snapshot);
+    sim_->restore_state(std::vector<uint8_t>(view.begin(), view.end()));
   }
 
  private:
@@ -206,6 +258,15 @@ class PySimulator {
   mutable std::mutex in_use_;
 };
 
+pyb::list state_field_table() {
+  pyb::list fields;
+  for (const StateField& f : plastivox::kStateFields)
+    fields.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
+                            pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
+                            pyb::arg("meaning") = f.meaning));
+  return fields;
+}
+
 }  // namespace
 
 void bind_simulate(pyb::module_& m) {
@@ -226,13 +287,14 @@ void bind_simulate(pyb::module_& m) {
       .def_property_readonly("failure", [](const PySimulator& s) { return s.state().failure; })
       .def_property_readonly("state_hash",
                              [](const PySimulator& s) { return state_hash(s.state()); })
-      .def_property_readonly("positions",
-                             [](const PySimulator& s) { return s.vectors(s.state().pos, 1.0); })
-      .def_property_readonly(
-          "velocities",
-          [](const PySimulator& s) { return s.vectors(s.state().lin_mom, 1.0 / s.model().mass); })
-      .def_property_readonly("stiffness",
-                             [](const PySimulator& s) { return to_array(s.state().stiffness); });
+      .def_property_readonly("voxel_mass", [](const PySimulator& s) { return s.model().mass; })
+      .def(
+          "state_views",
+          [](const pyb::object& self) { return self.cast<const PySimulator&>().state_views(self); })
+      .def("state_copy", &PySimulator::state_copy, pyb::arg("name"))
+      .def("save_state", &PySimulator::save_state)
+      .def("restore_state", &PySimulator::restore_state, pyb::arg("snapshot"))
+      .def_static("state_fields", &state_field_table);
 }
 
 }  // namespace plastivox::py

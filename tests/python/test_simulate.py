@@ -143,6 +143,60 @@ def test_simulator_steps_to_the_same_hash():
     assert not np.array_equal(sim.positions, p0)
 
 
+def test_simulator_state_views_are_live_read_only_and_zero_copy():
+    sim = plastivox.Simulator(short_walker())
+    names = [f["name"] for f in sim.state_fields]
+    assert names[:5] == ["time", "steps", "dt", "status", "pos"] and len(set(names)) == len(names)
+    state = sim.state
+    assert list(state) == names
+    n = len(sim.positions)
+    pos = state["pos"]
+    assert pos.shape == (n, 3) and pos.dtype == np.float64 and state["orient"].shape == (n, 4)
+    assert state["stiffness"].shape == (n,) and state["time"].shape == ()
+    assert state["static_friction"].dtype == np.uint8 and state["settled"].dtype == np.bool_
+    assert state["com_settled"].shape == (3,)
+    # Views of the simulator's memory, not copies: they follow the steps, and cannot be written.
+    assert not pos.flags.owndata and not pos.flags.writeable
+    with pytest.raises(ValueError):
+        pos[0, 0] = 1.0
+    before = pos.copy()
+    sim.step(20)
+    assert int(state["steps"]) == 20 and float(state["time"]) == sim.time
+    assert not np.array_equal(pos, before)
+    assert np.array_equal(pos, sim.positions) and np.array_equal(state["stiffness"], sim.stiffness)
+    assert np.array_equal(sim.velocities, state["lin_mom"] * (1.0 / sim._core.voxel_mass))
+    # The views keep the memory alive after the Simulator is gone.
+    del sim, state
+    assert pos.shape == (n, 3) and np.all(np.isfinite(pos))
+
+
+def test_simulator_save_restore_continues_bit_identically():
+    robot = short_walker()
+    sim = plastivox.Simulator(robot)
+    sim.step(300)
+    snapshot = sim.save_state()
+    assert isinstance(snapshot, bytes)
+    saved_hash = sim.state_hash
+    view = sim.state["pos"]
+    sim.step(200)
+    after = sim.state_hash
+    sim.restore_state(snapshot)
+    assert sim.state_hash == saved_hash and sim.steps == 300
+    assert np.array_equal(view, sim.positions)  # the views stay valid across a restore
+    sim.step(200)
+    assert sim.state_hash == after
+    fresh = plastivox.Simulator(robot)
+    fresh.restore_state(snapshot)
+    fresh.step(200)
+    assert fresh.state_hash == after
+    other = plastivox.Simulator(plastivox.Robot.from_arrays(
+        np.ones((2, 2, 2), dtype=bool), np.full((2, 2, 2), 1e7), np.zeros((2, 2, 2))))
+    with pytest.raises(ValueError, match="field 'pos' holds"):
+        other.restore_state(snapshot)
+    with pytest.raises(TypeError, match="snapshot"):
+        other.restore_state("not bytes")
+
+
 def test_unstable_simulation_reports_status_not_exception():
     # A speed limit every falling voxel exceeds: the engine's instability guard fires.
     r = plastivox.simulate(short_walker(), physics={"max_speed": 1e-6})

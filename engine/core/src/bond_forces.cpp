@@ -352,9 +352,28 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     for (int k = 0; k < 3; ++k) w.bond_out[v][4 * static_cast<size_t>(b) + k] = results[v][k];
 }
 
-BondConstants bond_constants(const Model& m, const State& s) {
+}  // namespace
+
+void bind_bond_views(const Model& m, State& s, Workspace& w) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
+  BondKernelIo& io = w.views.bond;
+  io.bond_a = m.bond_a.data();
+  io.bond_b = m.bond_b.data();
+  io.axis_wide = w.bond_axis_wide.data();
+  io.centre_size = w.centre_size.data();
+  io.quat = flat(s.orient);  // x, y, z, w
+  io.stiff = s.stiffness.data();
+  io.prev_valid = s.bond_prev_valid.data();
+  io.all_valid = false;                                            // set by each step
+  for (int k = 0; k < 9; ++k) io.prev[k] = s.bond_prev[k].data();  // updated in place
+  for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
+  io.strain = w.bond_strain.data();
+  io.stress = w.bond_stress.data();
+  io.energy = w.bond_energy.empty() ? nullptr : w.bond_energy.data();
+  io.redo = w.redo.data();
+
   const ModelConstants& mk = m.k;
-  BondConstants k;
+  BondConstants& k = w.views.bond_k;
   k.L = m.size;
   k.area = mk.area;
   k.inv_L = mk.inv_L;
@@ -362,25 +381,22 @@ BondConstants bond_constants(const Model& m, const State& s) {
   k.kb1 = mk.kb1;
   k.kb2 = mk.kb2;
   k.kb3 = mk.kb3;
-  k.damp = mk.bond_damp / s.dt;
+  k.damp = mk.bond_damp / s.dt;  // follows dt: set by each step
   k.dk_a1 = mk.damp_a1;
   k.dk_b2 = mk.damp_b2;
   k.dk_a2 = mk.damp_a2;
   k.dk_b3 = mk.damp_b3;
   k.axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   k.min_shear_chord = kMinShearChord * m.size;
-  return k;
 }
-
-}  // namespace
 
 // Exact model: the batched kernel reads the voxels and writes every bond's results; the
 // few bonds it cannot handle (degenerate chords, rotations near half a turn) are redone in
 // scalar code. Voxelyze 0.9 model: the scalar path for every bond (its frame switching).
 void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   // Centres and sizes as records of 4 doubles: the bond kernel's and the self-collision
-  // test's inputs (positions and sizes do not change until the update stage).
-  w.centre_size.resize(4 * static_cast<size_t>(m.n));
+  // test's inputs (positions and sizes do not change until the update stage; why a second
+  // layout: Workspace::centre_size).
   for (int i = 0; i < m.n; ++i) {
     double* r = &w.centre_size[4 * static_cast<size_t>(i)];
     r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = s.size[i];
@@ -394,24 +410,10 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
     return;
   }
   if (nb == 0) return;
-  static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
-  BondKernelIo io;
-  io.bond_a = m.bond_a.data();
-  io.bond_b = m.bond_b.data();
-  io.quat = s.orient.front().coeffs().data();  // x, y, z, w
-  io.stiff = s.stiffness.data();
-  io.centre_size = w.centre_size.data();
-  io.axis_wide = w.bond_axis_wide.data();
-  io.prev_valid = s.bond_prev_valid.data();
+  BondKernelIo& io = w.views.bond;
   io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
-  for (int k = 0; k < 9; ++k) io.prev[k] = s.bond_prev[k].data();  // updated in place
-  for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
-  io.strain = w.bond_strain.data();
-  io.stress = w.bond_stress.data();
-  io.energy = w.bond_energy.empty() ? nullptr : w.bond_energy.data();
-  w.redo.resize(nb);
-  io.redo = w.redo.data();
-  const int redo = kernels().bond(io, nb, bond_constants(m, s));
+  w.views.bond_k.damp = m.k.bond_damp / s.dt;
+  const int redo = kernels().bond(io, nb, w.views.bond_k);
   // From the unchanged previous deformation.
   for (int r = 0; r < redo; ++r) scalar_bond(m, s, w, w.redo[r]);
   std::fill(s.bond_prev_valid.begin(), s.bond_prev_valid.end(), 1);

@@ -26,10 +26,9 @@ namespace plastivox {
 //   E = E0 + alpha * (stimulus - stimulus at the end of settling); the change in one step is
 //   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor
 //   e_min) and alpha != 0 develop: soft voxels never do, and one softened to the gate stops.
-void develop(const Model& m, State& s, const Workspace& w) {
+void bind_develop_views(const Model& m, State& s, Workspace& w) {
   const PhysicsDef& d = m.def;
-  if (d.treatment == Treatment::kNone || s.time < d.settle_time) return;
-  DevelopIo io;
+  DevelopIo& io = w.views.develop;
   for (int slot = 0; slot < 6; ++slot) io.slot_bond[slot] = w.slot_bond[slot].data();
   io.no_bond = m.bond_count();
   io.bond_stress = w.bond_stress.data();
@@ -37,15 +36,16 @@ void develop(const Model& m, State& s, const Workspace& w) {
   io.bond_energy = w.bond_energy.data();
   io.floor_normal = w.floor_normal.data();
   io.size = s.size.data();
-  io.lin_mom = s.lin_mom.empty() ? nullptr : s.lin_mom.front().data();
-  io.ang_mom = s.ang_mom.empty() ? nullptr : s.ang_mom.front().data();
+  io.lin_mom = flat(s.lin_mom);
+  io.ang_mom = flat(s.ang_mom);
   io.e0 = m.e0.data();
   io.alpha = m.alpha.data();
   io.stiffness = s.stiffness.data();
   io.stimulus = s.stimulus.data();
   io.stim_integral = s.stim_integral.data();
   io.stim_ref = s.stim_ref.data();
-  DevelopConstants k;
+  // first and dt are set by each step.
+  DevelopConstants& k = w.views.develop_k;
   k.stimulus = d.treatment;
   k.split = d.axial_modulus == AxialModulus::kHarmonicMean;
   k.integral = d.growth == GrowthModel::kIntegral;
@@ -59,7 +59,14 @@ void develop(const Model& m, State& s, const Workspace& w) {
   k.inv_mass = 1.0 / m.mass;
   k.inv_inertia = 1.0 / m.inertia;
   k.inv_volume = 1.0 / (m.size * m.size * m.size);
-  kernels().develop(io, m.n, k);
+}
+
+void develop(const Model& m, State& s, Workspace& w) {
+  if (m.def.treatment == Treatment::kNone || s.time < m.def.settle_time) return;
+  DevelopConstants& k = w.views.develop_k;
+  k.first = !s.stim_ref_set;
+  k.dt = s.dt;
+  kernels().develop(w.views.develop, m.n, k);
   s.stim_ref_set = true;
 }
 

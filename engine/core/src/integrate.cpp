@@ -10,46 +10,38 @@
 #include "workspace.hpp"
 
 namespace plastivox {
-namespace {
-
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
 
-VoxelKernelIo voxel_io(const Model& m, const State& st, Workspace& w) {
-  VoxelKernelIo io;
+void bind_voxel_views(const Model& m, State& s, Workspace& w) {
+  VoxelKernelIo& io = w.views.voxel;
   for (int k = 0; k < 6; ++k) io.slot_bond[k] = w.slot_bond[k].data();
   io.fixed = m.fixed.data();
-  io.load = m.load.front().data();
+  io.load = flat(m.load);
   for (int v = 0; v < 3; ++v) io.bond_out[v] = w.bond_out[v].data();
-  io.pos = st.pos.front().data();
-  io.quat = st.orient.front().coeffs().data();
-  io.lin_mom = st.lin_mom.front().data();
-  io.ang_mom = st.ang_mom.front().data();
-  io.stiff = st.stiffness.data();
-  io.static_friction = st.static_friction.data();
-  io.size = st.size.data();
+  io.pos = flat(s.pos);
+  io.quat = flat(s.orient);
+  io.lin_mom = flat(s.lin_mom);
+  io.ang_mom = flat(s.ang_mom);
+  io.stiff = s.stiffness.data();
+  io.static_friction = s.static_friction.data();
+  io.size = s.size.data();
   for (int c = 0; c < 3; ++c) {
     io.force[c] = w.force[c].data();
     io.moment[c] = w.moment[c].data();
   }
   io.sqrt_e = w.sqrt_e.data();
   io.floor_normal = w.floor_normal.empty() ? nullptr : w.floor_normal.data();
-  return io;
-}
 
-VoxelStateOut voxel_out(State& s) {
-  VoxelStateOut out;
-  out.pos = s.pos.front().data();
-  out.quat = s.orient.front().coeffs().data();
-  out.lin_mom = s.lin_mom.front().data();
-  out.ang_mom = s.ang_mom.front().data();
+  VoxelStateOut& out = w.views.voxel_out;
+  out.pos = flat(s.pos);
+  out.quat = flat(s.orient);
+  out.lin_mom = flat(s.lin_mom);
+  out.ang_mom = flat(s.ang_mom);
   out.static_friction = s.static_friction.data();
-  return out;
-}
 
-// From the model's precomputed constants and this step's dt (cheap: no square roots).
-VoxelConstants voxel_constants(const Model& m, const State& s) {
+  // From the model's precomputed constants; dt is set by each step.
   const PhysicsDef& d = m.def;
-  VoxelConstants k;
+  VoxelConstants& k = w.views.voxel_k;
   k.weight[0] = 0, k.weight[1] = 0, k.weight[2] = m.mass * d.gravity;
   k.slow_zeta = d.global_damping;
   k.c_lin_unit = m.k.c_lin_unit;
@@ -65,20 +57,19 @@ VoxelConstants voxel_constants(const Model& m, const State& s) {
   k.mu_kinetic = d.mu_kinetic;
   k.floor = d.floor;
   k.voxelyze_turns = d.bond_model == BondModel::kVoxelyze09;
-  return k;
 }
-
-}  // namespace
 
 void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
   if (m.n == 0) return;
-  kernels().gather(voxel_io(m, s, w), m.n, voxel_constants(m, s));
+  w.views.voxel_k.dt = s.dt;
+  kernels().gather(w.views.voxel, m.n, w.views.voxel_k);
 }
 
 void integrate(const Model& m, State& s, Workspace& w) {
   if (m.n == 0) return;
+  w.views.voxel_k.dt = s.dt;
   const VoxelUpdateSummary r =
-      kernels().update(voxel_io(m, s, w), voxel_out(s), m.n, voxel_constants(m, s));
+      kernels().update(w.views.voxel, w.views.voxel_out, m.n, w.views.voxel_k);
   const double limit = m.def.max_speed;
   if (!r.non_finite && !(r.max_speed2 > limit * limit)) return;
 

@@ -14,9 +14,55 @@
 namespace plastivox {
 
 Simulator::Simulator(const Model& model)
-    : model_(&model), state_(make_initial_state(model)), ws_(std::make_unique<Workspace>(model)) {}
+    : model_(&model), state_(make_initial_state(model)), ws_(std::make_unique<Workspace>(model)) {
+  bind_views(model, state_, *ws_);
+}
 Simulator::~Simulator() = default;
 Simulator::Simulator(Simulator&&) noexcept = default;
+
+State& Simulator::mutable_state() {
+  views_stale_ = true;  // the caller may replace the State's arrays
+  return state_;
+}
+
+std::vector<uint8_t> Simulator::save_state() const {
+  return plastivox::save_state(state_);
+}
+
+void Simulator::restore_state(const std::vector<uint8_t>& snapshot) {
+  plastivox::restore_state(state_, snapshot);
+  between_halves_ = false;
+  // The self-collision candidates are a cache of the positions at their last refresh: start
+  // it afresh, as a new Simulator restored from the snapshot would.
+  ws_->contacts_valid = false;
+  ws_->contact_grid.pairs_stale = true;
+  bind_views(*model_, state_, *ws_);
+  views_stale_ = false;
+}
+
+void bind_views(const Model& m, State& s, Workspace& w) {
+  bind_bond_views(m, s, w);
+  bind_voxel_views(m, s, w);
+  bind_develop_views(m, s, w);
+}
+
+bool views_bound_to(const State& s, const Workspace& w) {
+  const KernelViews& v = w.views;
+  bool same =
+      v.voxel.pos == flat(s.pos) && v.voxel_out.pos == v.voxel.pos &&
+      v.voxel.quat == (s.orient.empty() ? nullptr : s.orient.front().coeffs().data()) &&
+      v.voxel_out.quat == v.voxel.quat && v.bond.quat == v.voxel.quat &&
+      v.voxel.lin_mom == flat(s.lin_mom) && v.develop.lin_mom == v.voxel.lin_mom &&
+      v.voxel.ang_mom == flat(s.ang_mom) && v.develop.ang_mom == v.voxel.ang_mom &&
+      v.voxel.stiff == s.stiffness.data() && v.bond.stiff == v.voxel.stiff &&
+      v.develop.stiffness == s.stiffness.data() &&
+      v.voxel.static_friction == s.static_friction.data() && v.voxel.size == s.size.data() &&
+      v.develop.size == s.size.data() && v.develop.stimulus == s.stimulus.data() &&
+      v.develop.stim_integral == s.stim_integral.data() &&
+      v.develop.stim_ref == s.stim_ref.data() && v.bond.prev_valid == s.bond_prev_valid.data();
+  for (int k = 0; k < 9; ++k) same = same && v.bond.prev[k] == s.bond_prev[k].data();
+  return same;
+}
 
 namespace {
 
@@ -120,6 +166,13 @@ void Simulator::step1(StageTimings* t) {
          s.bond_prev_valid.size() == static_cast<size_t>(m.bond_count()) &&
          "the State was not made for this Model: restore only a State saved from a Simulator "
          "of the same compiled model");
+  if (views_stale_) {
+    bind_views(m, s, w);
+    views_stale_ = false;
+  }
+  assert(views_bound_to(s, w) &&
+         "the State's arrays moved since mutable_state() was last called: replace the State "
+         "through mutable_state() or restore_state() before the step");
   using T = StageTimings;
   run_stage(t, &T::bond_forces, [&] { compute_bond_forces(m, s, w); });
   run_stage(t, &T::time_step, [&] { follow_stiffness(m, s); });

@@ -39,13 +39,40 @@ struct ContactGrid {
   int dim[3] = {0, 0, 0};  // cells per axis
 };
 
+// An array of Eigen vectors or quaternions as the flat array of doubles it is (x, y, z per
+// vector; x, y, z, w per quaternion), or nullptr when empty.
+inline const double* flat(const std::vector<Vec3>& v) {
+  return v.empty() ? nullptr : v.front().data();
+}
+inline double* flat(std::vector<Vec3>& v) {
+  return v.empty() ? nullptr : v.front().data();
+}
+inline double* flat(std::vector<Quat>& v) {
+  return v.empty() ? nullptr : v.front().coeffs().data();
+}
+
+// What the stages hand the kernels (kernels.hpp), built once by bind_views.
+struct KernelViews {
+  BondKernelIo bond;
+  BondConstants bond_k{};  // damp follows dt
+  VoxelKernelIo voxel;
+  VoxelStateOut voxel_out;
+  VoxelConstants voxel_k{};  // dt follows the state
+  DevelopIo develop;
+  DevelopConstants develop_k{};  // first and dt follow the state
+};
+
 struct Workspace {
   // Per voxel.
   // Total force (N) and moment (N m), world frame, one array per component.
   std::array<std::vector<double>, 3> force, moment;
   std::vector<double> sqrt_e;  // sqrt of the current stiffness, sqrt(Pa)
-  // Per voxel, 4 doubles: centre (m) and actuated size (m), copied from the state for the
-  // bond kernel at the start of its stage.
+  // Per voxel, 4 doubles: centre (m) and actuated size (m), copied from the state at the
+  // start of the bond stage. Not a second layout kept for its own sake: the bond kernel and
+  // the contact test gather two voxels per bond (pair) by index, and a 4-double record is one
+  // aligned 256-bit load per voxel and lane (lanes.hpp, load_records); State::pos has 3
+  // doubles per voxel and the size is a separate array, which would take two loads each
+  // (and a 4-wide load of a 3-double record reads past the last voxel).
   std::vector<double> centre_size;
   // Model::voxel_bonds by slot (one array per slot), for the gather; a slot without a bond
   // names the extra zero entry of bond_out (index bond_count()).
@@ -68,13 +95,19 @@ struct Workspace {
   bool contacts_valid = false;
   std::vector<int> redo;                // bonds the batched kernel left to the scalar path
   std::vector<int64_t> bond_axis_wide;  // Model::bond_axis as 64-bit integers (bond kernel)
+  // The kernels' views of the Model's, State's and this Workspace's arrays, and the
+  // constants that do not change during a life (bind_views); the stages set only what
+  // changes with each step (dt, whether every bond has a previous deformation).
+  KernelViews views;
 
   explicit Workspace(const Model& m)
       : sqrt_e(m.n),
+        centre_size(4 * static_cast<size_t>(m.n), 0.0),
         bond_strain(m.bond_count() + 1, 0.0),
         bond_stress(m.bond_count() + 1, 0.0),
         bond_energy(m.def.treatment == Treatment::kStrainEnergy ? m.bond_count() + 1 : 0, 0.0),
         floor_normal(m.def.treatment == Treatment::kContact ? m.n : 0, 0.0),
+        redo(m.bond_count()),
         bond_axis_wide(m.bond_axis.begin(), m.bond_axis.end()) {
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
     for (auto& vectors : bond_out)
@@ -88,7 +121,22 @@ struct Workspace {
       }
     }
   }
+  // views points into this object's own arrays.
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
 };
+
+// Points w.views at the arrays of m, s and w, and fills the constants of a life. Called
+// once when a Simulator is made and again when its State is replaced (restore_state,
+// mutable_state): the views stay valid as long as no array is reallocated, and none is
+// during a life (every array has its final size from the start; restore copies into them).
+void bind_views(const Model& m, State& s, Workspace& w);
+// Each stage's part of it (in the stage's file).
+void bind_bond_views(const Model& m, State& s, Workspace& w);
+void bind_voxel_views(const Model& m, State& s, Workspace& w);
+void bind_develop_views(const Model& m, State& s, Workspace& w);
+// Whether w.views still point at s's arrays (for assertions).
+bool views_bound_to(const State& s, const Workspace& w);
 
 // The stages of one step, in the order Simulator::step() calls them (one file each:
 // bond_forces.cpp, simulator.cpp, integrate.cpp, contacts.cpp, actuate.cpp, develop.cpp).
@@ -98,6 +146,6 @@ void gather_voxel_forces(const Model& m, const State& s, Workspace& w);
 void apply_self_collisions(const Model& m, const State& s, Workspace& w);
 void integrate(const Model& m, State& s, Workspace& w);  // floor, friction, Euler update
 void actuate(const Model& m, State& s);
-void develop(const Model& m, State& s, const Workspace& w);
+void develop(const Model& m, State& s, Workspace& w);
 
 }  // namespace plastivox

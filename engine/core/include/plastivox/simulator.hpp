@@ -61,9 +61,19 @@ class Simulator {
 
   const Model& model() const { return *model_; }
   const State& state() const { return state_; }
-  // The state may be replaced by one saved from another Simulator of the same model: the
-  // life then continues bit-identically (State holds everything that carries over).
-  State& mutable_state() { return state_; }
+  // The state may be changed, or replaced by one copied from another Simulator of the same
+  // model: the life then continues bit-identically (State holds everything that carries
+  // over). The kernels' views of the state's arrays are rebuilt at the next step, so make
+  // the changes through this reference before stepping (do not keep it across steps).
+  State& mutable_state();
+
+  // The state as bytes (save_state() in state.hpp: every field of kStateFields in order) and
+  // back: restore_state() takes a snapshot saved from a Simulator of the same model (at any
+  // step, by this one or another) and the life continues from it bit-identically. A
+  // snapshot of another model's state, or a damaged one, is refused with
+  // std::invalid_argument naming the field, and the state is left as it was.
+  std::vector<uint8_t> save_state() const;
+  void restore_state(const std::vector<uint8_t>& snapshot);
 
   // Advances one time step: step1() then step2(). Sets status to kUnstable (with a reason)
   // instead of producing non-finite numbers, and to kFinished once time passes the life's
@@ -91,6 +101,7 @@ class Simulator {
   State state_;
   std::unique_ptr<Workspace> ws_;
   bool between_halves_ = false;  // step1 ran, step2 not yet
+  bool views_stale_ = false;     // mutable_state() was called since the views were built
 };
 
 // How a life met the floor, graded from its deepest penetration (SimResult::floor_depth).

@@ -56,14 +56,18 @@ struct State {
 State make_initial_state(const Model& model);
 
 // The fields of State, described once: what each holds, its shape, unit and frame, and
-// where its bytes are. The table drives state_hash (and is the list save/restore, recorded
-// lives and the Python module's arrays follow). Shapes: "1" one value, "n" per voxel,
-// "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w: Eigen's order),
-// "bonds" per bond. `failure` is text that explains `status` and is not a field here.
+// where its bytes are. The table drives state_hash, save_state/restore_state and the Python
+// module's state views (a recorded life's frames keep a subset: capture_frame). Shapes: "1" one
+// value, "n" per voxel, "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w:
+// Eigen's order), "bonds" per bond. `failure` is text that explains `status` and is not a field
+// here.
 struct StateFieldBytes {
   const void* data = nullptr;
   size_t count = 0;        // values (doubles, bytes or integers), all components included
   size_t value_bytes = 0;  // bytes per value
+  char kind = 'f';         // what a value is: 'f' floating point, 'i' signed integer (or the
+                           // SimStatus enum), 'u' unsigned integer, 'b' bool
+  size_t width = 1;        // values per entry: 3 for a vector, 4 for a quaternion, else 1
 };
 struct StateField {
   const char* name;
@@ -74,6 +78,15 @@ struct StateField {
   StateFieldBytes (*bytes)(const State&);
 };
 extern const std::vector<StateField> kStateFields;
+
+// The state as bytes, driven by kStateFields: a header, then every field in the table's
+// order as its value count, its value size and its bytes, then the failure text. Restoring
+// a snapshot into a State made for the same model continues the life bit-identically (the
+// bytes are copied into the State's own arrays, which keep their storage). restore_state
+// refuses, with std::invalid_argument naming the field and leaving the state unchanged, a
+// snapshot whose counts differ from the state's (another model's) or that is damaged.
+std::vector<uint8_t> save_state(const State& state);
+void restore_state(State& state, const std::vector<uint8_t>& snapshot);
 
 // 64-bit FNV-1a hash of the state, bit for bit: for every field of kStateFields in order,
 // its value count and then its bytes. Every field that affects the future is in it; two
