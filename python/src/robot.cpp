@@ -106,7 +106,7 @@ PyRobot load_source(const std::string& path) {
 
 constexpr const char* kStateFormat = "plastivox.Robot";
 constexpr int kStateVersion = 2;
-constexpr size_t kStateFields = 14;  // 13 in version 1
+constexpr size_t kPickleFields = 14;  // 13 in version 1
 
 template <class T>
 pyb::bytes raw_bytes(const std::vector<T>& v) {
@@ -143,15 +143,15 @@ void sites_from_bytes(const pyb::handle& h, size_t sites, const char* field, std
 }
 
 PyRobot robot_from_state(const pyb::tuple& t) {
-  if ((t.size() != kStateFields && t.size() != kStateFields - 1) ||
+  if ((t.size() != kPickleFields && t.size() != kPickleFields - 1) ||
       !pyb::isinstance<pyb::str>(t[0]) || t[0].cast<std::string>() != kStateFormat)
     throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of " +
-                     std::to_string(kStateFields) + " fields starting with '" + kStateFormat +
+                     std::to_string(kPickleFields) + " fields starting with '" + kStateFormat +
                      "')");
   const pyb::object version = t[1];
   const bool v1 = version.equal(pyb::int_(1));
   if (!pyb::isinstance<pyb::int_>(version) || !(v1 || version.equal(pyb::int_(kStateVersion))) ||
-      t.size() != (v1 ? kStateFields - 1 : kStateFields))
+      t.size() != (v1 ? kPickleFields - 1 : kPickleFields))
     throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
                      " with " + std::to_string(t.size()) +
                      " fields, this plastivox reads versions 1 (13 fields) and " +

@@ -196,15 +196,14 @@ class PySimulator {
   const Model& model() const { return *model_; }
   const char* status() const { return to_string(state().status); }
 
-  // Every field of kStateFields (plastivox::, as robot.cpp has its own in a unity build) as a
-  // read-only numpy array that reads the Simulator's own memory (no copy), `self` (this object) its
-  // base: the arrays keep it alive, and they stay valid for its whole life, since the State's
-  // arrays never move (restore_state copies into them). They show the state as it is when read:
-  // stepping changes what they hold.
+  // Every field of kStateFields as a read-only numpy array that reads the Simulator's own
+  // memory (no copy), `self` (this object) its base: the arrays keep it alive, and they stay
+  // valid for its whole life, since the State's arrays never move (restore_state copies into
+  // them). They show the state as it is when read: stepping changes what they hold.
   pyb::dict state_views(const pyb::object& self) const {
     const State& s = state();
     pyb::dict views;
-    for (const StateField& f : plastivox::kStateFields) {
+    for (const StateField& f : kStateFields) {
       pyb::array a = field_array(f, s, self);
       a.attr("setflags")(pyb::arg("write") = false);
       views[f.name] = a;
@@ -215,7 +214,7 @@ class PySimulator {
   // A copy of one field, made while no other thread steps.
   pyb::array state_copy(const std::string& name) const {
     const State& s = state();
-    for (const StateField& f : plastivox::kStateFields)
+    for (const StateField& f : kStateFields)
       if (name == f.name) return field_array(f, s, pyb::handle());
     throw std::invalid_argument("state field: no field named '" + name + "'");
   }
@@ -260,7 +259,7 @@ class PySimulator {
 
 pyb::list state_field_table() {
   pyb::list fields;
-  for (const StateField& f : plastivox::kStateFields)
+  for (const StateField& f : kStateFields)
     fields.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
                             pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
                             pyb::arg("meaning") = f.meaning));
