@@ -14,7 +14,7 @@
 #include "experiment/experiment_run.hpp"
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/run.hpp"
-#include "plastivox/render/error.hpp"
+#include "plastivox/render/offscreen.hpp"  // limit_raster_threads, RenderError
 
 namespace plastivox::cli {
 namespace {

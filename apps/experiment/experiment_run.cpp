@@ -10,6 +10,7 @@
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/run.hpp"
+#include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox_version.hpp"
 
