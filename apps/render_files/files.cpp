@@ -62,25 +62,18 @@ LifeSource load_life_source(const std::string& path, int generation) {
 LifeSource recorded_life_source(const std::string& path) {
   RecordedLife life = read_life_file(path);
   if (life.recording.frames.empty()) throw RenderError(path + ": the recorded life has no frames");
-  LifeSource src;
-  src.path = path;
-  src.robot = life.robot;
-  src.physics = life.physics;
+  PhysicsDef physics = life.physics;
   // The life is as long as its recording (a life that went unstable ends early).
-  src.physics.duration = std::min(src.physics.duration, life.recording.frames.back().time);
-  src.label = "recorded · " + std::string(to_string(life.physics.treatment));
-  if (life.seed) src.label += " · seed " + std::to_string(*life.seed);
-  try {
-    src.model =
-        std::make_shared<const Model>(compile(src.robot, src.physics, limits_from_environment()));
-  } catch (const std::invalid_argument& e) {
-    throw InputError(path + ": " + e.what());
-  }
+  physics.duration = std::min(physics.duration, life.recording.frames.back().time);
+  std::string label = "recorded · " + std::string(to_string(life.physics.treatment));
+  if (life.seed) label += " · seed " + std::to_string(*life.seed);
+  LifeSource src = simulated_life_source(path, life.robot, physics, label);
   auto recorded = std::make_shared<const RecordedLife>(std::move(life));
-  // The frames are drawn from the recording kept in `recorded` (shared, not copied).
+  // Drawn as recorded, never simulated: the frames come from the recording kept in
+  // `recorded` (shared, not copied).
   src.frames = recorded_frames(std::shared_ptr<const Recording>(recorded, &recorded->recording),
                                recorded->settled, recorded->com_settled, recorded->fitness,
-                               src.physics.settle_time);
+                               physics.settle_time);
   src.recorded = std::move(recorded);
   return src;
 }
