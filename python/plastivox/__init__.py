@@ -21,11 +21,11 @@ import types as _types
 import numpy as _np
 
 from . import _core
-from ._core import InputError, RenderError
+from ._core import InputError, PhysicsDef, RenderError
 
 __version__ = _core.__version__
 __all__ = [
-    "InputError", "RenderError", "Robot", "Result", "Trajectory", "Simulator", "Results",
+    "InputError", "RenderError", "PhysicsDef", "Robot", "Result", "Trajectory", "Simulator", "Results",
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
     "read_results", "read_study", "evolve", "default_config", "render",
 ]
@@ -68,20 +68,13 @@ def _check_treatment(treatment):
     return treatment
 
 
-def _physics_json(physics):
-    """A physics dict (as physics() returns, or a partial one) as JSON text, or None."""
-    if physics is None:
-        return None
-    if not isinstance(physics, dict):
-        raise TypeError(f"physics: expected a dict (see plastivox.physics()), got {type(physics).__name__}")
-    for key, value in physics.items():
-        if not isinstance(key, str):
-            raise TypeError(f"physics: field names must be strings, got {key!r}")
-        if isinstance(value, float) and not _math.isfinite(value):
-            raise ValueError(f"physics.{key}: must be finite, got {value}")
-        if isinstance(value, (_np.integer, _np.floating, _np.bool_)):
-            physics = {**physics, key: value.item()}
-    return _json.dumps(physics)
+def _physics(physics):
+    """A physics argument as the C++ layer takes it: None, a PhysicsDef, or a dict of fields
+    (applied on top of a robot's own physics there, through the same field table)."""
+    if physics is None or isinstance(physics, (PhysicsDef, dict)):
+        return physics
+    raise TypeError(f"physics: expected a PhysicsDef or a dict of its fields (see "
+                    f"plastivox.physics()), got {type(physics).__name__}")
 
 
 def _as_robot(source, name="robot"):
@@ -175,12 +168,13 @@ class Robot:
 
     @property
     def physics(self):
-        """The robot's own physics as a dict (what simulate uses when given none)."""
-        return _json.loads(self._core.physics_json)
+        """The robot's own physics, a PhysicsDef (a copy: what simulate uses when given none)."""
+        return self._core.physics
 
     def with_physics(self, physics=None, treatment=None):
-        """A copy simulated under `physics` (dict fields applied on top) and `treatment`."""
-        return Robot(self._core.with_physics(_physics_json(physics), _check_treatment(treatment)))
+        """A copy simulated under `physics` (a PhysicsDef, or a dict of fields applied on top)
+        and `treatment`."""
+        return Robot(self._core.with_physics(_physics(physics), _check_treatment(treatment)))
 
     def save(self, path):
         """Writes the robot and its physics as .json (plastivox-robot) or .vxa, atomically."""
@@ -212,9 +206,10 @@ def demo_walker():
 
 
 def physics(preset="gecco2018-code", **overrides):
-    """Every physics field of `preset` with `overrides` applied, as a plain dict.
-    Unknown fields and bad values raise plastivox.InputError naming the field."""
-    return _json.loads(_core.physics_json(preset, _physics_json(overrides) if overrides else None))
+    """Every physics field of `preset` with `overrides` applied: a PhysicsDef (also read as a
+    mapping: physics()["duration"], dict(physics()), to_dict()). Unknown fields and bad
+    values raise plastivox.InputError / ValueError naming the field."""
+    return PhysicsDef(preset, **overrides)
 
 
 # --- simulation ------------------------------------------------------------------------
@@ -301,7 +296,7 @@ def simulate(robot, physics=None, treatment=None, record_fps=0):
     "strain", "strain_energy", "contact" or "kinetic"; record_fps > 0 records a
     Trajectory."""
     robot = _as_robot(robot)
-    summary, traj, cxx_seconds = _core.simulate(robot._core, _physics_json(physics),
+    summary, traj, cxx_seconds = _core.simulate(robot._core, _physics(physics),
                                                 _check_treatment(treatment), _record_fps(record_fps))
     if physics is not None or treatment is not None:
         robot = robot.with_physics(physics, treatment)  # what render(result) shows
@@ -320,7 +315,7 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0)
     cores = [r._core for r in robots]
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
-    lives = _core.simulate_many(cores, _physics_json(physics), _check_treatment(treatment),
+    lives = _core.simulate_many(cores, _physics(physics), _check_treatment(treatment),
                                 _record_fps(record_fps), threads)
     return [Result(s, t, r) for (s, t), r in zip(lives, robots)]
 
@@ -340,7 +335,7 @@ class Simulator:
     state_fields = tuple(_core.Simulator.state_fields())
 
     def __init__(self, robot, physics=None, treatment=None):
-        self._core = _core.Simulator(_as_robot(robot)._core, _physics_json(physics),
+        self._core = _core.Simulator(_as_robot(robot)._core, _physics(physics),
                                      _check_treatment(treatment))
         self._views = None
 
@@ -484,7 +479,10 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
     Ctrl-C, stops the run at the next checkpoint (resumable: call evolve again). Returns a
     dict with outcome ("finished", "stopped", "already-finished") and generations_done."""
     if isinstance(config, dict):
-        text, path = _json.dumps(config), ""
+        # A PhysicsDef in the config (config["physics"] = plastivox.physics(...)) goes as its fields.
+        text = _json.dumps(config, default=lambda o: o.to_dict() if isinstance(o, PhysicsDef) else
+                           _json.JSONEncoder().default(o))
+        path = ""
     elif isinstance(config, (str, _os.PathLike)):
         text, path = "", _os.fspath(config)
     else:

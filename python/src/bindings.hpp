@@ -10,6 +10,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include "plastivox/base/hash.hpp"
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
 
@@ -25,14 +26,21 @@ struct PyRobot {
   std::string source;  // file path, or the robot's name for robots built in Python
 };
 
-// The physics of one call: the robot's own, then `physics_json` (a JSON object of
-// PhysicsDef fields, "preset" first) applied on top, then `treatment`. Throws InputError /
-// std::invalid_argument.
-PhysicsDef resolve_physics(const PhysicsDef& base, const std::optional<std::string>& physics_json,
+// The physics of one call (physics.cpp): the robot's own (`base`), or `physics` when it is a
+// PhysicsDef, or base with the fields of `physics` applied when it is a dict ("preset"
+// first); then `treatment`; validated. Throws InputError / std::invalid_argument /
+// pyb::type_error naming the field or argument.
+PhysicsDef resolve_physics(const PhysicsDef& base, const pyb::object& physics,
                            const std::optional<std::string>& treatment);
 
-// All fields of def as a JSON object text (the keys physics() returns).
-std::string physics_to_json(const PhysicsDef& def);
+// Every field of d as a dict, from kPhysicsFields; and back (a dict with every field, as
+// physics_dict writes it; `what` names the source in errors).
+pyb::dict physics_dict(const PhysicsDef& d);
+PhysicsDef physics_from(const pyb::handle& fields, const std::string& what);
+
+// Equal bit for bit in every field of kPhysicsFields; and a hash of the same.
+bool same_physics(const PhysicsDef& a, const PhysicsDef& b);
+void hash_physics(const PhysicsDef& d, Hasher& h);
 
 // Hands a library warning to Python's warnings machinery (which may turn it into an error).
 void warn(const std::string& message);
@@ -40,6 +48,7 @@ void warn(const std::string& message);
 // A 1-D float64 copy of values.
 pyb::array_t<double> to_array(const std::vector<double>& values);
 
+void bind_physics(pyb::module_& m);   // physics.cpp
 void bind_robot(pyb::module_& m);     // robot.cpp
 void bind_simulate(pyb::module_& m);  // simulate.cpp
 void bind_evo(pyb::module_& m);       // evo.cpp

@@ -28,6 +28,7 @@ PYBIND11_MODULE(_core, m) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
+  plastivox::py::bind_physics(m);
   plastivox::py::bind_robot(m);
   plastivox::py::bind_simulate(m);
   plastivox::py::bind_evo(m);

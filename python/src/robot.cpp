@@ -5,12 +5,9 @@
 
 #include <pybind11/stl.h>
 
-#include <nlohmann/json.hpp>
-
 #include "bindings.hpp"
 #include "plastivox/base/hash.hpp"
 #include "plastivox/demo_robots.hpp"
-#include "plastivox/evo/config.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/io/robot_io.hpp"
 #include "plastivox/render_files.hpp"
@@ -95,17 +92,17 @@ PyRobot load_source(const std::string& path) {
 // --- pickle state, equality, hash ------------------------------------------------------
 // The state is a tuple that names its format and version first, so a pickle from another
 // build or a damaged one fails with a line saying so:
-//   ("plastivox.Robot", 1, name, (nx, ny, nz), voxel_size, present, stiffness, dev_rate,
-//    phase, fixed_sites, loads, physics_json, source)
-// and, for a robot with its own per-voxel actuation amplitudes (a voxcraft-sim robot),
-// version 2: the same followed by act_amplitude (float64 per lattice site).
-// The four arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
+//   ("plastivox.Robot", 3, name, (nx, ny, nz), voxel_size, present, stiffness, dev_rate,
+//    phase, fixed_sites, loads, physics, source, act_amplitude)
+// The five arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
 // byte order: little-endian on every machine plastivox builds for), so values come back bit
-// for bit, those at empty sites included. fixed_sites is a tuple of sites, loads a tuple of
-// (site, fx, fy, fz); physics_json holds every PhysicsDef field (physics_to_json).
+// for bit, those at empty sites included; act_amplitude is empty for a robot without its own
+// per-voxel amplitudes (all but voxcraft-sim robots). fixed_sites is a tuple of sites, loads
+// a tuple of (site, fx, fy, fz); physics a dict of every PhysicsDef field (physics_dict).
+// Versions 1 (13 fields, no act_amplitude) and 2 held the physics as JSON text: still read.
 
 constexpr const char* kStateFormat = "plastivox.Robot";
-constexpr int kStateVersion = 2;
+constexpr int kStateVersion = 3;
 constexpr size_t kPickleFields = 14;  // 13 in version 1
 
 template <class T>
@@ -121,14 +118,11 @@ pyb::tuple robot_state(const PyRobot& r) {
     const RobotDef::Load& l = r.def.loads[i];
     loads[i] = pyb::make_tuple(l.site, l.fx, l.fy, l.fz);
   }
-  const bool own = !r.def.act_amplitude.empty();
-  pyb::tuple state = pyb::make_tuple(
-      kStateFormat, own ? kStateVersion : 1, r.def.name,
-      pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size, raw_bytes(r.def.present),
-      raw_bytes(r.def.stiffness), raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads,
-      physics_to_json(r.physics), r.source);
-  if (!own) return state;
-  return pyb::tuple(state + pyb::make_tuple(raw_bytes(r.def.act_amplitude)));
+  return pyb::make_tuple(kStateFormat, kStateVersion, r.def.name,
+                         pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size,
+                         raw_bytes(r.def.present), raw_bytes(r.def.stiffness),
+                         raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads,
+                         physics_dict(r.physics), r.source, raw_bytes(r.def.act_amplitude));
 }
 
 // Copies bytes holding one T per lattice site into out; throws InputError naming the field.
@@ -149,12 +143,13 @@ PyRobot robot_from_state(const pyb::tuple& t) {
                      std::to_string(kPickleFields) + " fields starting with '" + kStateFormat +
                      "')");
   const pyb::object version = t[1];
-  const bool v1 = version.equal(pyb::int_(1));
-  if (!pyb::isinstance<pyb::int_>(version) || !(v1 || version.equal(pyb::int_(kStateVersion))) ||
-      t.size() != (v1 ? kPickleFields - 1 : kPickleFields))
+  int v = 0;  // the version, when it is one this build reads
+  for (int known = 1; known <= kStateVersion; ++known)
+    if (pyb::isinstance<pyb::int_>(version) && version.equal(pyb::int_(known))) v = known;
+  if (v < 1 || v > kStateVersion || t.size() != (v == 1 ? kPickleFields - 1 : kPickleFields))
     throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
                      " with " + std::to_string(t.size()) +
-                     " fields, this plastivox reads versions 1 (13 fields) and " +
+                     " fields, this plastivox reads versions 1 (13 fields) to " +
                      std::to_string(kStateVersion) + " (14)");
   PyRobot r;
   try {
@@ -176,10 +171,16 @@ PyRobot robot_from_state(const pyb::tuple& t) {
     for (const RobotDef::Load& l : r.def.loads)
       if (l.site < 0 || l.site >= r.def.sites())
         throw InputError("Robot pickle: loads: site out of range");
-    r.physics = PhysicsDef{};
-    apply_physics_json(t[11].cast<std::string>(), "Robot pickle", r.physics);
+    if (v < 3) {
+      r.physics = PhysicsDef{};
+      apply_physics_json(t[11].cast<std::string>(), "Robot pickle", r.physics);
+    } else {
+      r.physics = physics_from(t[11], "Robot pickle");
+    }
     r.source = t[12].cast<std::string>();
-    if (!v1) sites_from_bytes(t[13], sites, "act_amplitude", r.def.act_amplitude);
+    // Version 3 writes no bytes for a robot without its own amplitudes.
+    if (v > 1 && !(v == 3 && pyb::len(t[13]) == 0))
+      sites_from_bytes(t[13], sites, "act_amplitude", r.def.act_amplitude);
   } catch (const pyb::cast_error&) {
     throw InputError("Robot pickle: a field has the wrong type (damaged state?)");
   } catch (const std::invalid_argument& e) {
@@ -218,8 +219,7 @@ bool same_robot(const PyRobot& a, const PyRobot& b) {
            std::memcmp(&l.fy, &m.fy, sizeof(double)) == 0 &&
            std::memcmp(&l.fz, &m.fz, sizeof(double)) == 0;
   }
-  // JSON numbers round-trip exactly, so equal texts mean equal bits.
-  return same && physics_to_json(a.physics) == physics_to_json(b.physics);
+  return same && same_physics(a.physics, b.physics);
 }
 
 // A hash of what same_robot compares, the same in every process.
@@ -238,7 +238,7 @@ int64_t robot_hash(const PyRobot& r) {
     h.u64(static_cast<uint64_t>(l.site));
     for (double f : {l.fx, l.fy, l.fz}) h.f64(f);
   }
-  h.str(physics_to_json(r.physics));
+  hash_physics(r.physics, h);
   return static_cast<int64_t>(h.finish().lo);
 }
 
@@ -252,24 +252,6 @@ pyb::array_t<uint8_t> present_array(const PyRobot& r) {
 
 void warn(const std::string& message) {
   if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 2) < 0) throw pyb::error_already_set();
-}
-
-PhysicsDef resolve_physics(const PhysicsDef& base, const std::optional<std::string>& physics_json,
-                           const std::optional<std::string>& treatment) {
-  PhysicsDef d = base;
-  if (physics_json) apply_physics_json(*physics_json, "physics", d);
-  if (treatment) d.treatment = parse_treatment(*treatment);
-  validate(d);
-  return d;
-}
-
-std::string physics_to_json(const PhysicsDef& def) {
-  // The resolved physics leaves sinking_invalid out under the authors' rule (the spelling of
-  // files made before the rule became the default); Python reads this text back over the
-  // defaults, where the rule is on, so it names the rule either way.
-  nlohmann::ordered_json p = nlohmann::ordered_json::parse(evo::resolved_physics_json(def));
-  p["sinking_invalid"] = def.sinking_invalid;
-  return p.dump();
 }
 
 pyb::array_t<double> to_array(const std::vector<double>& values) {
@@ -288,8 +270,7 @@ void bind_robot(pyb::module_& m) {
       .def_property_readonly("voxel_count", [](const PyRobot& r) { return r.def.voxel_count(); })
       .def_property_readonly("treatment",
                              [](const PyRobot& r) { return to_string(r.physics.treatment); })
-      .def_property_readonly("physics_json",
-                             [](const PyRobot& r) { return physics_to_json(r.physics); })
+      .def_property_readonly("physics", [](const PyRobot& r) { return r.physics; })
       .def_property_readonly("present_flat", &present_array)
       .def_property_readonly("stiffness_flat",
                              [](const PyRobot& r) { return to_array(r.def.stiffness); })
@@ -299,10 +280,10 @@ void bind_robot(pyb::module_& m) {
       .def_property_readonly("act_amplitude_flat",
                              [](const PyRobot& r) { return to_array(r.def.act_amplitude); })
       .def("with_physics",
-           [](const PyRobot& r, const std::optional<std::string>& physics_json,
+           [](const PyRobot& r, const pyb::object& physics,
               const std::optional<std::string>& treatment) {
              PyRobot out = r;
-             out.physics = resolve_physics(r.physics, physics_json, treatment);
+             out.physics = resolve_physics(r.physics, physics, treatment);
              return out;
            })
       .def("save", &save_robot, pyb::arg("path"))
@@ -324,19 +305,6 @@ void bind_robot(pyb::module_& m) {
     r.source = "built-in demo walker";
     return r;
   });
-  m.def(
-      "physics_json",
-      [](const std::string& preset, const std::optional<std::string>& overrides) {
-        PhysicsDef d;
-        try {
-          d = physics_preset(preset);
-        } catch (const std::invalid_argument& e) {
-          throw std::invalid_argument(std::string("preset: ") + e.what());
-        }
-        if (overrides) apply_physics_json(*overrides, "physics", d);
-        return physics_to_json(d);
-      },
-      pyb::arg("preset"), pyb::arg("overrides") = pyb::none());
 }
 
 }  // namespace plastivox::py

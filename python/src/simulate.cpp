@@ -80,10 +80,10 @@ pyb::tuple life_to_python(const SimResult& r, const std::vector<SummaryField>& f
 // (summary, trajectory, seconds): seconds is the wall time of the work `plastivox simulate
 // --json` does in C++ for this life (resolve the physics, compile, simulate, build the
 // summary), so bench/python_bench.py can set the whole Python call against it.
-pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& physics_json,
+pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
                         const std::optional<std::string>& treatment, double record_fps) {
   const auto t0 = std::chrono::steady_clock::now();
-  const PhysicsDef physics = resolve_physics(robot.physics, physics_json, treatment);
+  const PhysicsDef physics = resolve_physics(robot.physics, physics_arg, treatment);
   const SimOptions options = recording(record_fps);
   SimResult r;
   {
@@ -105,8 +105,7 @@ pyb::tuple simulate_one(const PyRobot& robot, const std::optional<std::string>& 
   return pyb::make_tuple(life[0], life[1], seconds);
 }
 
-pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
-                        const std::optional<std::string>& physics_json,
+pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::object& physics_arg,
                         const std::optional<std::string>& treatment, double record_fps,
                         int threads) {
   if (threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
@@ -116,7 +115,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots,
   physics.reserve(robots.size());
   double recorded = 0;  // every life's frames (and arrays) are held at once, until returned
   for (const PyRobot* r : robots) {
-    physics.push_back(resolve_physics(r->physics, physics_json, treatment));
+    physics.push_back(resolve_physics(r->physics, physics_arg, treatment));
     if (record_fps > 0)
       recorded += 2 * recording_bytes(r->def.voxel_count(), physics.back().duration, record_fps);
   }
@@ -165,10 +164,10 @@ pyb::array field_array(const StateField& f, const State& s, const pyb::handle& b
 // Step-wise control: the model is compiled once and owned here, the Simulator reads it.
 class PySimulator {
  public:
-  PySimulator(const PyRobot& robot, const std::optional<std::string>& physics_json,
+  PySimulator(const PyRobot& robot, const pyb::object& physics_arg,
               const std::optional<std::string>& treatment)
       : model_(std::make_shared<const Model>(
-            compile(robot.def, resolve_physics(robot.physics, physics_json, treatment),
+            compile(robot.def, resolve_physics(robot.physics, physics_arg, treatment),
                     limits_from_environment()))),
         sim_(std::make_unique<Simulator>(*model_)) {}
 
@@ -269,13 +268,12 @@ pyb::list state_field_table() {
 }  // namespace
 
 void bind_simulate(pyb::module_& m) {
-  m.def("simulate", &simulate_one, pyb::arg("robot"), pyb::arg("physics_json"),
-        pyb::arg("treatment"), pyb::arg("record_fps"));
-  m.def("simulate_many", &simulate_many, pyb::arg("robots"), pyb::arg("physics_json"),
+  m.def("simulate", &simulate_one, pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"),
+        pyb::arg("record_fps"));
+  m.def("simulate_many", &simulate_many, pyb::arg("robots"), pyb::arg("physics"),
         pyb::arg("treatment"), pyb::arg("record_fps"), pyb::arg("threads"));
   pyb::class_<PySimulator>(m, "Simulator")
-      .def(pyb::init<const PyRobot&, const std::optional<std::string>&,
-                     const std::optional<std::string>&>())
+      .def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&>())
       .def("step", &PySimulator::step, pyb::arg("n") = 1)
       .def_property_readonly("time", [](const PySimulator& s) { return s.state().time; })
       .def_property_readonly("steps", [](const PySimulator& s) { return s.state().steps; })

@@ -79,23 +79,45 @@ def bad_state(state, index, value):
 
 def test_robot_pickle_refuses_garbage_with_one_line():
     state = quick_walker()._core.__getstate__()
-    assert state[:2] == ("plastivox.Robot", 1)
+    assert state[:2] == ("plastivox.Robot", 3) and len(state) == 14
+    physics = state[11]
+    assert isinstance(physics, dict) and physics["duration"] == QUICK["duration"]
     cases = [
         ((1, 2, 3), "not a plastivox robot state"),
         (bad_state(state, 0, "something.Else"), "not a plastivox robot state"),
-        (bad_state(state, 1, 2), "state version 2 with 13 fields, this plastivox reads versions 1"),
+        (bad_state(state, 1, 1), "state version 1 with 14 fields, this plastivox reads versions 1"),
         (bad_state(state, 1, 2 ** 70), "state version 1180591620717411303424"),
         (bad_state(state, 6, b"\0" * 12), "stiffness: expected 8000 bytes"),
         (bad_state(state, 3, "10x10x10"), "wrong type"),
         (bad_state(state, 3, (0, 10, 10)), "robot.size"),
         (bad_state(state, 9, (10 ** 6,)), "fixed_sites: site out of range"),
-        (bad_state(state, 11, '{"duration": -1}'), "duration"),
-        (bad_state(state, 11, "{not json"), "Robot pickle"),
+        (bad_state(state, 11, {**physics, "duration": -1}), "Robot pickle: physics.duration"),
+        (bad_state(state, 11, {**physics, "floor": "yes"}), "physics.floor: expected True or False"),
+        (bad_state(state, 11, {**physics, "bogus": 1}), "physics.bogus: unknown field"),
+        (bad_state(state, 11, '{"duration": 1}'), "Robot pickle: physics: expected a dict"),
+        (bad_state(state, 13, b"\0" * 8), "act_amplitude: expected 8000 bytes"),
     ]
     for garbage, message in cases:
         blank = _core.Robot.__new__(_core.Robot)
         with pytest.raises(plastivox.InputError, match=message):
             blank.__setstate__(garbage)
+
+
+def test_robot_pickles_of_earlier_versions_still_read():
+    """Versions 1 and 2 held the physics as JSON text (version 1 without act_amplitude)."""
+    robot = quick_walker()
+    state = robot._core.__getstate__()
+    text = json.dumps(robot.physics.to_dict())
+    for old in (state[:1] + (1,) + state[2:11] + (text, state[12]),
+                state[:1] + (2,) + state[2:11] + (text, state[12], b"\0" * len(state[6]))):
+        blank = _core.Robot.__new__(_core.Robot)
+        blank.__setstate__(old)
+        back = plastivox.Robot(blank)
+        assert back.physics == robot.physics
+        assert (back == robot) == (old[1] == 1)  # version 2 carried zero amplitudes of its own
+    blank = _core.Robot.__new__(_core.Robot)
+    with pytest.raises(plastivox.InputError, match="Robot pickle"):
+        blank.__setstate__(state[:1] + (1,) + state[2:11] + ("{not json", state[12]))
 
 
 def test_result_and_trajectory_pickle_to_equal_objects():
@@ -257,6 +279,7 @@ def test_every_public_class_has_a_useful_repr(tiny_run):
         plastivox.Results: (plastivox.read_results(tiny_run[0]), ["tiny.h5", "pressure",
                                                                    "generations_done=2/2"]),
         plastivox.Study: (study, ["study", "1 champions"]),
+        plastivox.PhysicsDef: (plastivox.physics(duration=1.5), ["duration=1.5", "treatment='none'"]),
     }
     classes = {getattr(plastivox, n) for n in plastivox.__all__
                if isinstance(getattr(plastivox, n), type)

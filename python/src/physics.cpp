@@ -1,0 +1,273 @@
+// PhysicsDef for Python, under its C++ name. One attribute per row of kPhysicsFields (the
+// table the robot file's reader and writer use), readable as a mapping too, so a PhysicsDef
+// and a dict of its fields serve alike wherever physics is taken. Dicts are applied through
+// that table: no JSON text passes between Python and C++.
+#include <cmath>
+#include <cstring>
+
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/base/hash.hpp"
+
+namespace plastivox::py {
+namespace {
+
+const PhysicsField* find_field(const std::string& name) {
+  for (const PhysicsField& f : kPhysicsFields)
+    if (name == f.name) return &f;
+  return nullptr;
+}
+
+pyb::object field_value(const PhysicsDef& d, const PhysicsField& f) {
+  switch (f.kind) {
+    case PhysicsField::Kind::kNumber:
+      return pyb::float_(d.*f.number);
+    case PhysicsField::Kind::kFlag:
+      return pyb::bool_(d.*f.flag);
+    case PhysicsField::Kind::kWhole:
+      return pyb::int_(d.*f.whole);
+    case PhysicsField::Kind::kChoice:
+      return pyb::str(f.get(d));
+  }
+  return pyb::none();
+}
+
+// Sets one field from a Python value of its kind (numpy scalars included). Throws
+// std::invalid_argument (ValueError) naming "physics.<field>"; does not validate the whole.
+void set_field(PhysicsDef& d, const PhysicsField& f, const pyb::handle& v) {
+  const std::string field = std::string("physics.") + f.name;
+  const bool is_bool = PyBool_Check(v.ptr()) != 0;
+  switch (f.kind) {
+    case PhysicsField::Kind::kNumber: {
+      if (is_bool || !PyNumber_Check(v.ptr()) || pyb::isinstance<pyb::str>(v))
+        throw std::invalid_argument(field + ": expected a number");
+      const double x = pyb::float_(pyb::reinterpret_borrow<pyb::object>(v));
+      if (!std::isfinite(x)) throw std::invalid_argument(field + ": must be finite");
+      d.*f.number = x;
+      return;
+    }
+    case PhysicsField::Kind::kFlag:
+      if (!is_bool && !pyb::isinstance(v, pyb::module_::import("numpy").attr("bool_")))
+        throw std::invalid_argument(field + ": expected True or False");
+      d.*f.flag = v.cast<bool>();
+      return;
+    case PhysicsField::Kind::kWhole: {
+      if (is_bool || !PyIndex_Check(v.ptr()))
+        throw std::invalid_argument(field + ": expected a whole number");
+      const long long n = pyb::int_(pyb::reinterpret_borrow<pyb::object>(v));
+      if (n < INT32_MIN || n > INT32_MAX) throw std::invalid_argument(field + ": out of range");
+      d.*f.whole = static_cast<int>(n);
+      return;
+    }
+    case PhysicsField::Kind::kChoice:
+      if (!pyb::isinstance<pyb::str>(v)) throw std::invalid_argument(field + ": expected text");
+      try {
+        f.set(d, v.cast<std::string>());
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(field + ": " + e.what());
+      }
+      return;
+  }
+}
+
+PhysicsDef preset(const std::string& name) {
+  try {
+    return physics_preset(name);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("physics.preset: ") + e.what());
+  }
+}
+
+// A treatment given with its law, as in configs: {"stimulus": name, "law": "integral" |
+// "rate"}; the law is physics.growth, so a growth field beside it must agree.
+void set_treatment_and_law(PhysicsDef& d, const pyb::dict& t, const pyb::dict& fields) {
+  for (const auto& [key, value] : t) {
+    const std::string name = pyb::str(key).cast<std::string>();
+    if (name != "stimulus" && name != "law")
+      throw std::invalid_argument("physics.treatment." + name + ": unknown field");
+    if (!pyb::isinstance<pyb::str>(value))
+      throw std::invalid_argument("physics.treatment." + name + ": expected text");
+    try {
+      if (name == "stimulus") d.treatment = parse_treatment(value.cast<std::string>());
+      if (name == "law") {
+        const GrowthModel law = parse_growth(value.cast<std::string>());
+        if (fields.contains("growth") && pyb::isinstance<pyb::str>(fields["growth"]) &&
+            parse_growth(fields["growth"].cast<std::string>()) != law)
+          throw std::invalid_argument("contradicts physics.growth (give the law once)");
+        d.growth = law;
+      }
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("physics.treatment." + name + ": " + e.what());
+    }
+  }
+}
+
+// d with the fields of `fields` applied ("preset" first, when given), validated.
+PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
+  for (const auto& [key, value] : fields) {
+    if (!pyb::isinstance<pyb::str>(key))
+      throw pyb::type_error("physics: field names must be text, got " +
+                            pyb::repr(key).cast<std::string>());
+    if (key.cast<std::string>() != "preset") continue;
+    if (!pyb::isinstance<pyb::str>(value))
+      throw std::invalid_argument("physics.preset: expected a preset's name");
+    d = preset(value.cast<std::string>());
+  }
+  for (const auto& [key, value] : fields) {
+    const std::string name = key.cast<std::string>();
+    if (name == "preset") continue;
+    if (name == "treatment" && pyb::isinstance<pyb::dict>(value)) {
+      set_treatment_and_law(d, value.cast<pyb::dict>(), fields);
+      continue;
+    }
+    const PhysicsField* f = find_field(name);
+    if (!f) throw InputError("physics." + name + ": unknown field");
+    set_field(d, *f, value);
+  }
+  validate(d);
+  return d;
+}
+
+pyb::dict to_dict(const PhysicsDef& d) {
+  pyb::dict out;
+  for (const PhysicsField& f : kPhysicsFields) out[f.name] = field_value(d, f);
+  return out;
+}
+
+}  // namespace
+
+bool same_physics(const PhysicsDef& a, const PhysicsDef& b) {
+  for (const PhysicsField& f : kPhysicsFields) {
+    switch (f.kind) {
+      case PhysicsField::Kind::kNumber:
+        if (std::memcmp(&(a.*f.number), &(b.*f.number), sizeof(double)) != 0) return false;
+        break;
+      case PhysicsField::Kind::kFlag:
+        if (a.*f.flag != b.*f.flag) return false;
+        break;
+      case PhysicsField::Kind::kWhole:
+        if (a.*f.whole != b.*f.whole) return false;
+        break;
+      case PhysicsField::Kind::kChoice:
+        if (std::strcmp(f.get(a), f.get(b)) != 0) return false;
+        break;
+    }
+  }
+  return true;
+}
+
+void hash_physics(const PhysicsDef& d, Hasher& h) {
+  for (const PhysicsField& f : kPhysicsFields) {
+    h.str(f.name);
+    switch (f.kind) {
+      case PhysicsField::Kind::kNumber:
+        h.f64(d.*f.number);
+        break;
+      case PhysicsField::Kind::kFlag:
+        h.u64(d.*f.flag ? 1 : 0);
+        break;
+      case PhysicsField::Kind::kWhole:
+        h.u64(static_cast<uint64_t>(d.*f.whole));
+        break;
+      case PhysicsField::Kind::kChoice:
+        h.str(f.get(d));
+        break;
+    }
+  }
+}
+
+PhysicsDef physics_from(const pyb::handle& fields, const std::string& what) {
+  if (!pyb::isinstance<pyb::dict>(fields))
+    throw InputError(what + ": physics: expected a dict of fields");
+  try {
+    return with_fields(PhysicsDef{}, fields.cast<pyb::dict>());
+  } catch (const std::exception& e) {
+    throw InputError(what + ": " + e.what());
+  }
+}
+
+pyb::dict physics_dict(const PhysicsDef& d) {
+  return to_dict(d);
+}
+
+PhysicsDef resolve_physics(const PhysicsDef& base, const pyb::object& physics,
+                           const std::optional<std::string>& treatment) {
+  PhysicsDef d = base;
+  if (pyb::isinstance<PhysicsDef>(physics))
+    d = physics.cast<PhysicsDef>();
+  else if (pyb::isinstance<pyb::dict>(physics))
+    d = with_fields(d, physics.cast<pyb::dict>());
+  else if (!physics.is_none())
+    throw pyb::type_error("physics: expected a PhysicsDef or a dict of its fields, got " +
+                          pyb::str(physics.get_type().attr("__name__")).cast<std::string>());
+  if (treatment) d.treatment = parse_treatment(*treatment);
+  validate(d);
+  return d;
+}
+
+void bind_physics(pyb::module_& m) {
+  pyb::class_<PhysicsDef> c(m, "PhysicsDef",
+                            "Every physics field of a simulation (see plastivox.PhysicsDef).");
+  c.def(pyb::init([](const std::string& name, const pyb::kwargs& fields) {
+          return with_fields(preset(name), fields);
+        }),
+        pyb::arg("preset") = "gecco2018-code");
+  for (const PhysicsField& field : kPhysicsFields) {
+    const PhysicsField* f = &field;  // the table outlives the module
+    c.def_property(
+        f->name, [f](const PhysicsDef& d) { return field_value(d, *f); },
+        [f](PhysicsDef& d, const pyb::object& v) {
+          PhysicsDef changed = d;
+          set_field(changed, *f, v);
+          validate(changed);
+          d = changed;
+        });
+  }
+  c.def("__getitem__",
+        [](const PhysicsDef& d, const std::string& name) {
+          const PhysicsField* f = find_field(name);
+          if (!f) throw pyb::key_error(name);
+          return field_value(d, *f);
+        })
+      .def("__contains__",
+           [](const PhysicsDef&, const pyb::object& name) {
+             return pyb::isinstance<pyb::str>(name) && find_field(name.cast<std::string>());
+           })
+      .def("__len__", [](const PhysicsDef&) { return kPhysicsFields.size(); })
+      .def("keys",
+           [](const PhysicsDef&) {
+             pyb::list names;
+             for (const PhysicsField& f : kPhysicsFields) names.append(f.name);
+             return names;
+           })
+      .def("__iter__", [](const PhysicsDef& d) { return pyb::iter(to_dict(d)); })
+      .def("items", [](const PhysicsDef& d) { return to_dict(d).attr("items")(); })
+      .def("to_dict", &to_dict)
+      .def("replace",
+           [](const PhysicsDef& d, const pyb::kwargs& fields) { return with_fields(d, fields); })
+      .def("__eq__",
+           [](const PhysicsDef& d, const pyb::object& other) -> pyb::object {
+             if (pyb::isinstance<PhysicsDef>(other))
+               return pyb::bool_(same_physics(d, other.cast<PhysicsDef>()));
+             if (pyb::isinstance<pyb::dict>(other)) return to_dict(d).attr("__eq__")(other);
+             return pyb::reinterpret_borrow<pyb::object>(Py_NotImplemented);
+           })
+      .def("__copy__", [](const PhysicsDef& d) { return d; })
+      .def("__deepcopy__", [](const PhysicsDef& d, const pyb::object&) { return d; })
+      .def("__repr__",
+           [](const PhysicsDef& d) {
+             std::string s = "PhysicsDef(";
+             for (const PhysicsField& f : kPhysicsFields)
+               s += std::string(&f == &kPhysicsFields[0] ? "" : ", ") + f.name + "=" +
+                    pyb::repr(field_value(d, f)).cast<std::string>();
+             return s + ")";
+           })
+      .def(pyb::pickle(&to_dict, [](const pyb::dict& fields) {
+        return physics_from(fields, "PhysicsDef pickle");
+      }));
+  c.attr("__hash__") = pyb::none();  // mutable
+}
+
+}  // namespace plastivox::py
