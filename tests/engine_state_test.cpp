@@ -2,6 +2,8 @@
 // and matches docs/engine.md; a life driven through the public halves of the step ends where
 // simulate() does; and a State copied into another Simulator carries everything the rest of
 // the life depends on.
+#include <algorithm>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -68,6 +70,49 @@ TEST(StateFields, DocsListEveryFieldWithItsUnit) {
 
 // The two public halves, called with nothing between them, are step(): the life ends where
 // simulate() ends it, at the same hash, and the Simulator says it finished.
+// Each recorded channel copies a State field of its width, bit for bit, and an array made of
+// the frames (file and Python order) comes back to the same frames.
+TEST(FrameFields, EachChannelCopiesItsStateFieldAndRoundTrips) {
+  const Model m = developing_walker(0.5);
+  Simulator sim(m);
+  testing::run_until(sim, 0.3);
+  const Frame frame = capture_frame(sim.state());
+  std::set<std::string> names;
+  for (const FrameField& f : kFrameFields) {
+    EXPECT_TRUE(names.insert(f.name).second) << f.name;
+    const StateFieldBytes b = state_field(f.state_field).bytes(sim.state());
+    ASSERT_EQ(b.kind, 'f') << f.name;
+    ASSERT_EQ(b.width, static_cast<size_t>(f.width)) << f.name;
+    ASSERT_EQ(b.count, static_cast<size_t>(m.n) * b.width) << f.name;
+    EXPECT_EQ(std::memcmp(f.values(frame), b.data, b.count * sizeof(double)), 0) << f.name;
+    std::set<int> order(f.order, f.order + f.width);  // a permutation of the components
+    EXPECT_EQ(order.size(), static_cast<size_t>(f.width)) << f.name;
+    EXPECT_EQ(*order.begin(), 0) << f.name;
+    EXPECT_EQ(*order.rbegin(), f.width - 1) << f.name;
+  }
+  EXPECT_THROW(state_field("no_such_field"), std::invalid_argument);
+  const std::vector<Frame> frames = {frame, capture_frame(sim.state())};
+  std::vector<Frame> back(frames.size());
+  for (const FrameField& f : kFrameFields) {
+    const std::vector<double> values = frame_channel(frames, f);
+    ASSERT_EQ(values.size(), frames.size() * static_cast<size_t>(m.n * f.width));
+    set_frame_channel(back, f, static_cast<size_t>(m.n), values.data());
+  }
+  for (size_t k = 0; k < frames.size(); ++k)
+    for (const FrameField& f : kFrameFields)
+      EXPECT_EQ(std::memcmp(f.values(back[k]), f.values(frames[k]),
+                            static_cast<size_t>(m.n * f.width) * sizeof(double)),
+                0)
+          << f.name;
+  // The quaternion is w first outside the engine, as the file formats hold it.
+  const auto orientation = std::find_if(kFrameFields.begin(), kFrameFields.end(),
+                                        [](const FrameField& f) { return f.width == 4; });
+  ASSERT_NE(orientation, kFrameFields.end());
+  const std::vector<double> q = frame_channel({frame}, *orientation);
+  EXPECT_EQ(q[0], frame.orient[0].w());
+  EXPECT_EQ(q[1], frame.orient[0].x());
+}
+
 TEST(SimulatorStages, ALifeDrivenThroughStep1AndStep2EndsAtSimulatesHash) {
   const Model m = developing_walker(1.0);
   const SimResult whole = simulate(m);

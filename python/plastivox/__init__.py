@@ -217,16 +217,14 @@ def physics(preset="gecco2018-code", **overrides):
 class Trajectory:
     """A recorded life: times[T] (s), positions[T, n, 3] (m, world frame),
     orientations[T, n, 4] (unit quaternions w, x, y, z), sizes[T, n] (m),
-    stiffness[T, n] (Pa)."""
+    stiffness[T, n] (Pa), stimulus[T, n] (the treatment's stimulus, Pa): the engine's frame
+    channels (kFrameFields), as a recorded life file holds them."""
+
+    _FIELDS = ("times", "positions", "orientations", "sizes", "stiffness", "stimulus")
 
     def __init__(self, arrays):
-        self.times = arrays["times"]
-        self.positions = arrays["positions"]
-        self.orientations = arrays["orientations"]
-        self.sizes = arrays["sizes"]
-        self.stiffness = arrays["stiffness"]
-
-    _FIELDS = ("times", "positions", "orientations", "sizes", "stiffness")
+        for name in self._FIELDS:
+            setattr(self, name, arrays[name])
 
     def __len__(self):
         return len(self.times)

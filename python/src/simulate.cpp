@@ -46,34 +46,17 @@ pyb::tuple life_to_python(const SimResult& r, const std::vector<SummaryField>& f
   const pyb::ssize_t t_count = static_cast<pyb::ssize_t>(frames.size());
   const pyb::ssize_t n = static_cast<pyb::ssize_t>(frames[0].pos.size());
   pyb::array_t<double> times(t_count);
-  pyb::array_t<double> pos({t_count, n, pyb::ssize_t{3}});
-  pyb::array_t<double> orient({t_count, n, pyb::ssize_t{4}});
-  pyb::array_t<double> size({t_count, n});
-  pyb::array_t<double> stiff({t_count, n});
-  auto tv = times.mutable_unchecked<1>();
-  auto pv = pos.mutable_unchecked<3>();
-  auto ov = orient.mutable_unchecked<3>();
-  auto sv = size.mutable_unchecked<2>();
-  auto ev = stiff.mutable_unchecked<2>();
-  for (pyb::ssize_t t = 0; t < t_count; ++t) {
-    const Frame& f = frames[t];
-    tv(t) = f.time;
-    for (pyb::ssize_t i = 0; i < n; ++i) {
-      for (int k = 0; k < 3; ++k) pv(t, i, k) = f.pos[i][k];
-      ov(t, i, 0) = f.orient[i].w();  // (w, x, y, z)
-      ov(t, i, 1) = f.orient[i].x();
-      ov(t, i, 2) = f.orient[i].y();
-      ov(t, i, 3) = f.orient[i].z();
-      sv(t, i) = f.size[i];
-      ev(t, i) = f.stiffness[i];
-    }
-  }
+  for (pyb::ssize_t t = 0; t < t_count; ++t) times.mutable_at(t) = frames[t].time;
   pyb::dict traj;
   traj["times"] = times;
-  traj["positions"] = pos;
-  traj["orientations"] = orient;
-  traj["sizes"] = size;
-  traj["stiffness"] = stiff;
+  for (const FrameField& f : kFrameFields) {  // (T, n[, width]), as a life file holds them
+    std::vector<pyb::ssize_t> shape = {t_count, n};
+    if (f.width > 1) shape.push_back(f.width);
+    pyb::array_t<double> a(shape);
+    const std::vector<double> values = frame_channel(frames, f);
+    std::copy(values.begin(), values.end(), a.mutable_data());
+    traj[f.python] = a;
+  }
   return pyb::make_tuple(summary, traj);
 }
 

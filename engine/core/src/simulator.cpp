@@ -203,18 +203,6 @@ void Simulator::step2(StageTimings* t) {
   if (s.status == SimStatus::kRunning && s.time > m.def.duration) s.status = SimStatus::kFinished;
 }
 
-Frame capture_frame(const State& s) {
-  Frame f;
-  f.time = s.time;
-  f.step = s.steps;
-  f.pos = s.pos;
-  f.orient = s.orient;
-  f.size = s.size;
-  f.stiffness = s.stiffness;
-  f.stimulus = s.stimulus;
-  return f;
-}
-
 Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, const Vec3& com) {
   Vec3 d = (com - com_settled) / model.size;
   if (model.def.fitness == FitnessMode::kXY) d.z() = 0;

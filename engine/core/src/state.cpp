@@ -232,4 +232,10 @@ Vec3 center_of_mass(const std::vector<Vec3>& pos) {
   return pos.empty() ? c : Vec3(c / static_cast<double>(pos.size()));
 }
 
+const StateField& state_field(std::string_view name) {
+  for (const StateField& f : kStateFields)
+    if (name == f.name) return f;
+  throw std::invalid_argument("no State field is called " + std::string(name));
+}
+
 }  // namespace plastivox

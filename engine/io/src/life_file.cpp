@@ -17,6 +17,7 @@
 #include "plastivox/io/file_seal.hpp"
 #include "plastivox/io/h5_util.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/state.hpp"
 
 namespace plastivox {
 namespace {
@@ -26,17 +27,6 @@ using h5::Handle;
 
 constexpr const char* kLifeFormat = "plastivox-life";
 
-// One per-voxel field of every frame, flattened frame-major: (frames, n, width).
-template <class T, class Get>
-std::vector<T> gather(const std::vector<Frame>& frames, size_t n, size_t width, const Get& get) {
-  std::vector<T> out;
-  out.reserve(frames.size() * n * width);
-  for (const Frame& f : frames)
-    for (size_t i = 0; i < n; ++i)
-      for (size_t k = 0; k < width; ++k) out.push_back(get(f, i, k));
-  return out;
-}
-
 }  // namespace
 
 void write_life_file(const std::string& path, const RecordedLife& life) {
@@ -44,8 +34,7 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
   const std::vector<Frame>& frames = life.recording.frames;
   const size_t n = frames.empty() ? 0 : frames.front().pos.size();
   for (const Frame& f : frames)
-    if (f.pos.size() != n || f.orient.size() != n || f.size.size() != n ||
-        f.stiffness.size() != n || f.stimulus.size() != n)
+    if (f.pos.size() != n)
       throw ResultsError(path + ": internal error: frames of different voxel counts");
   const hsize_t nf = frames.size(), nv = n;
   const Provenance p = current_provenance(1);
@@ -78,31 +67,14 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
       std::vector<double> time;
       for (const Frame& f : frames) time.push_back(f.time);
       h5::write(c, r, "time", time, {nf});
-      h5::write(c, r, "position",
-                gather<double>(frames, n, 3,
-                               [](const Frame& f, size_t i, size_t k) {
-                                 return f.pos[i][static_cast<Eigen::Index>(k)];
-                               }),
-                {nf, nv, 3});
-      h5::write(c, r, "orientation",
-                gather<double>(frames, n, 4,
-                               [](const Frame& f, size_t i, size_t k) {
-                                 const Eigen::Quaterniond& q = f.orient[i];
-                                 return k == 0 ? q.w() : k == 1 ? q.x() : k == 2 ? q.y() : q.z();
-                               }),
-                {nf, nv, 4});
-      h5::write(
-          c, r, "size",
-          gather<double>(frames, n, 1, [](const Frame& f, size_t i, size_t) { return f.size[i]; }),
-          {nf, nv});
-      h5::write(c, r, "stiffness",
-                gather<double>(frames, n, 1,
-                               [](const Frame& f, size_t i, size_t) { return f.stiffness[i]; }),
-                {nf, nv});
-      h5::write(c, r, "stimulus",
-                gather<double>(frames, n, 1,
-                               [](const Frame& f, size_t i, size_t) { return f.stimulus[i]; }),
-                {nf, nv});
+      h5::write_units(c, r, "time", "s");
+      for (const FrameField& f : kFrameFields) {
+        std::vector<hsize_t> dims = {nf, nv};
+        if (f.width > 1) dims.push_back(static_cast<hsize_t>(f.width));
+        h5::write(c, r, f.name, frame_channel(frames, f), dims);
+        // Every stimulus is in Pa (strain is read as Pa: physics_def.hpp).
+        h5::write_units(c, r, f.name, state_field(f.state_field).unit);
+      }
       std::vector<uint8_t> contact;
       contact.reserve(nf * nv);
       for (const Frame& f : frames) {
@@ -110,15 +82,7 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
         contact.insert(contact.end(), touching.begin(), touching.end());
       }
       h5::write(c, r, "contact", contact, {nf, nv});
-      // Every stimulus is in Pa (strain is read as Pa: physics_def.hpp).
-      for (const auto& [name, units] : {std::pair{"com_settled", "m"},
-                                        {"time", "s"},
-                                        {"position", "m"},
-                                        {"orientation", "1"},
-                                        {"size", "m"},
-                                        {"stiffness", "Pa"},
-                                        {"stimulus", "Pa"}})
-        h5::write_units(c, r, name, units);
+      h5::write_units(c, r, "com_settled", "m");
     }
     bytes = file.image();
   }
@@ -205,28 +169,16 @@ RecordedLife read_life_file(const std::string& path) {
   std::vector<hsize_t> td = {h5::kAnyExtent};
   const std::vector<double> time = h5::read<double>(c, r, "time", td);
   const hsize_t nf = td[0], nv = static_cast<hsize_t>(n);
-  std::vector<hsize_t> pd = {nf, nv, 3}, od = {nf, nv, 4}, sd = {nf, nv};
-  const std::vector<double> pos = h5::read<double>(c, r, "position", pd);
-  const std::vector<double> orient = h5::read<double>(c, r, "orientation", od);
-  std::vector<hsize_t> d1 = sd, d2 = sd, d3 = sd;
-  const std::vector<double> size = h5::read<double>(c, r, "size", d1);
-  const std::vector<double> stiffness = h5::read<double>(c, r, "stiffness", d2);
-  const std::vector<double> stimulus = h5::read<double>(c, r, "stimulus", d3);
   for (size_t k = 0; k < nf; ++k) {
     if (!(std::isfinite(time[k]) && (k == 0 || time[k] >= time[k - 1])))
       c.fail("/time", "frame times must be finite and ascending");
-    Frame fr;
-    fr.time = time[k];
-    for (size_t i = 0; i < nv; ++i) {
-      const size_t at = k * nv + i;
-      fr.pos.emplace_back(pos[3 * at], pos[3 * at + 1], pos[3 * at + 2]);
-      fr.orient.emplace_back(orient[4 * at], orient[4 * at + 1], orient[4 * at + 2],
-                             orient[4 * at + 3]);
-      fr.size.push_back(size[at]);
-      fr.stiffness.push_back(stiffness[at]);
-      fr.stimulus.push_back(stimulus[at]);
-    }
-    life.recording.frames.push_back(std::move(fr));
+    life.recording.frames.emplace_back().time = time[k];
+  }
+  for (const FrameField& f : kFrameFields) {
+    std::vector<hsize_t> dims = {nf, nv};
+    if (f.width > 1) dims.push_back(static_cast<hsize_t>(f.width));
+    const std::vector<double> values = h5::read<double>(c, r, f.name, dims);
+    set_frame_channel(life.recording.frames, f, nv, values.data());
   }
   return life;
 }

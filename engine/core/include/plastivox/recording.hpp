@@ -23,6 +23,30 @@ struct Frame {
   std::vector<double> stimulus;            // the treatment's stimulus, Pa (n; docs/plasticity.md)
 };
 
+// The per-voxel channels of a Frame, described once. Each copies one row of kStateFields
+// (state.hpp, which gives its shape, unit and frame) as `width` doubles per voxel. Outside
+// the engine a channel is an array (frames, voxels[, width]) with its components in `order`
+// (the quaternion w first, as in the file formats). capture_frame, the recorded life file's
+// writer and reader and the Python trajectory all go through this table, so a channel added
+// here is recorded, written, read and handed to Python alike.
+struct FrameField {
+  const char* name;         // dataset in a recorded life file
+  const char* python;       // attribute of a Python Trajectory
+  const char* state_field;  // the kStateFields row it copies
+  int width;                // doubles per voxel
+  int order[4];             // the array's component k is the frame's component order[k]
+  const double* (*values)(const Frame&);  // the frame's voxels x width doubles
+  void (*resize)(Frame&, size_t voxels);
+};
+extern const std::vector<FrameField> kFrameFields;
+
+// One channel of `frames` as a flat array, frame-major: (frames, voxels, width), components
+// in the field's order. Every frame holds `voxels` voxels.
+std::vector<double> frame_channel(const std::vector<Frame>& frames, const FrameField& f);
+// The inverse: fills the channel of each frame from such an array (frames are resized).
+void set_frame_channel(std::vector<Frame>& frames, const FrameField& f, size_t voxels,
+                       const double* values);
+
 // Which voxels touch the floor in `frame` (1) and which do not (0), with the engine's own
 // test: the voxel's actuated half-size reaches below z = 0, its tilt ignored, as the next
 // step's floor contact sees it (engine/core/src/voxel_body.hpp). All 0 without a floor.

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -78,6 +79,8 @@ struct StateField {
   StateFieldBytes (*bytes)(const State&);
 };
 extern const std::vector<StateField> kStateFields;
+// The row of kStateFields called `name`; std::invalid_argument for a name not in it.
+const StateField& state_field(std::string_view name);
 
 // The state as bytes, driven by kStateFields: a header, then every field in the table's
 // order as its value count, its value size and its bytes, then the failure text. Restoring

@@ -1,0 +1,70 @@
+// The frame channels table and the functions that go through it.
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "plastivox/recording.hpp"
+#include "plastivox/simulator.hpp"
+#include "plastivox/state.hpp"
+
+namespace plastivox {
+namespace {
+
+// A Frame member as doubles: Eigen's fixed-size vectors and quaternions are plain arrays of
+// doubles (x, y, z[, w]), so a vector of them is one flat array.
+template <class T, std::vector<T> Frame::*kMember>
+FrameField channel(const char* name, const char* python, const char* state_field,
+                   std::initializer_list<int> order) {
+  static_assert(sizeof(T) % sizeof(double) == 0);
+  FrameField f{name, python, state_field, static_cast<int>(sizeof(T) / sizeof(double)), {}, {}, {}};
+  int k = 0;
+  for (int o : order) f.order[k++] = o;
+  f.values = [](const Frame& fr) { return reinterpret_cast<const double*>((fr.*kMember).data()); };
+  f.resize = [](Frame& fr, size_t voxels) { (fr.*kMember).resize(voxels); };
+  return f;
+}
+
+}  // namespace
+
+const std::vector<FrameField> kFrameFields = {
+    channel<Vec3, &Frame::pos>("position", "positions", "pos", {0, 1, 2}),
+    channel<Quat, &Frame::orient>("orientation", "orientations", "orient", {3, 0, 1, 2}),
+    channel<double, &Frame::size>("size", "sizes", "size", {0}),
+    channel<double, &Frame::stiffness>("stiffness", "stiffness", "stiffness", {0}),
+    channel<double, &Frame::stimulus>("stimulus", "stimulus", "stimulus", {0}),
+};
+
+Frame capture_frame(const State& s) {
+  Frame frame;
+  frame.time = s.time;
+  frame.step = s.steps;
+  for (const FrameField& f : kFrameFields) {
+    const StateFieldBytes b = state_field(f.state_field).bytes(s);
+    f.resize(frame, b.count / b.width);
+    std::memcpy(const_cast<double*>(f.values(frame)), b.data, b.count * b.value_bytes);
+  }
+  return frame;
+}
+
+std::vector<double> frame_channel(const std::vector<Frame>& frames, const FrameField& f) {
+  std::vector<double> out;
+  for (const Frame& frame : frames) {
+    const double* v = f.values(frame);
+    const size_t voxels = frame.pos.size();
+    for (size_t i = 0; i < voxels; ++i)
+      for (int k = 0; k < f.width; ++k) out.push_back(v[i * f.width + f.order[k]]);
+  }
+  return out;
+}
+
+void set_frame_channel(std::vector<Frame>& frames, const FrameField& f, size_t voxels,
+                       const double* values) {
+  for (Frame& frame : frames) {
+    f.resize(frame, voxels);
+    double* v = const_cast<double*>(f.values(frame));  // frame is ours to change
+    for (size_t i = 0; i < voxels; ++i)
+      for (int k = 0; k < f.width; ++k) v[i * f.width + f.order[k]] = *values++;
+  }
+}
+
+}  // namespace plastivox
