@@ -47,12 +47,9 @@ void write_recording(const std::string& path, const std::string& source, const R
   life.source = source;
   life.robot = robot;
   life.physics = physics;
-  life.recording = std::move(r.recording);
-  life.status = to_string(r.status);
-  life.fitness = r.fitness;
-  life.settled = r.settled;
-  life.com_settled = r.com_settled;
-  life.final_state_hash = r.final_state_hash;
+  Recording frames = std::move(r.recording);
+  life.result = r;  // without the frames, which move
+  life.result.recording = std::move(frames);
   write_life_file(path, life);
 }
 

@@ -59,12 +59,7 @@ RecordedLife recorded(const Lived& l) {
   life.source = "inline block";
   life.robot = l.robot;
   life.physics = l.physics;
-  life.recording = l.result.recording;
-  life.status = to_string(l.result.status);
-  life.fitness = l.result.fitness;
-  life.settled = true;
-  life.com_settled = l.result.com_settled;
-  life.final_state_hash = l.result.final_state_hash;
+  life.result = l.result;
   return life;
 }
 
@@ -94,22 +89,22 @@ TEST_F(RecordedLives, TheFileHoldsEveryFrameBitForBit) {
   ASSERT_TRUE(is_life_file(path("life.h5")));
   const RecordedLife back = read_life_file(path("life.h5"));
   EXPECT_EQ(back.source, "inline block");
-  EXPECT_EQ(back.status, "finished");
-  EXPECT_EQ(back.fitness, l.result.fitness);
-  EXPECT_EQ(back.final_state_hash, l.result.final_state_hash);
+  EXPECT_EQ(back.result.status, SimStatus::kFinished);
+  EXPECT_EQ(back.result.fitness, l.result.fitness);
+  EXPECT_EQ(back.result.final_state_hash, l.result.final_state_hash);
   EXPECT_EQ(back.physics.treatment, Treatment::kStress);
   EXPECT_EQ(back.robot.present, l.robot.present);
   EXPECT_EQ(back.robot.phase, l.robot.phase);
-  EXPECT_EQ(back.recording.fps, 50);
+  EXPECT_EQ(back.result.recording.fps, 50);
   EXPECT_FALSE(back.provenance.plastivox_version.empty());
   EXPECT_FALSE(back.provenance.date_created.empty());
   EXPECT_FALSE(back.provenance.compiler.empty());
   EXPECT_FALSE(back.provenance.build_type.empty());
   EXPECT_EQ(back.provenance.threads, 1);
-  ASSERT_EQ(back.recording.frames.size(), l.result.recording.frames.size());
-  for (size_t k = 0; k < back.recording.frames.size(); ++k) {
+  ASSERT_EQ(back.result.recording.frames.size(), l.result.recording.frames.size());
+  for (size_t k = 0; k < back.result.recording.frames.size(); ++k) {
     const Frame& a = l.result.recording.frames[k];
-    const Frame& b = back.recording.frames[k];
+    const Frame& b = back.result.recording.frames[k];
     EXPECT_EQ(a.time, b.time);
     ASSERT_EQ(b.pos.size(), 18u);
     for (size_t i = 0; i < a.pos.size(); ++i) {
@@ -121,7 +116,8 @@ TEST_F(RecordedLives, TheFileHoldsEveryFrameBitForBit) {
     }
   }
   // The stress treatment changed stiffness after settling: the file holds it.
-  EXPECT_NE(back.recording.frames.back().stiffness, back.recording.frames.front().stiffness);
+  EXPECT_NE(back.result.recording.frames.back().stiffness,
+            back.result.recording.frames.front().stiffness);
   // The robot in the file simulates to the same end state.
   Model again = compile(back.robot, back.physics);
   EXPECT_EQ(simulate(again).final_state_hash, l.result.final_state_hash);
@@ -244,6 +240,14 @@ TEST_F(RecordedLives, ForeignAndBrokenFilesAreRefusedInOneLine) {
   const std::string e = testing::error_of([&] { read_life_file(path("x.h5")); });
   EXPECT_NE(e.find("x.h5: not an HDF5 file"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  // A life that neither finished nor went unstable is not a recorded life's summary.
+  RecordedLife running = recorded(live(10));
+  running.result.status = SimStatus::kRunning;
+  write_life_file(path("running.h5"), running);
+  const std::string s = testing::error_of([&] { read_life_file(path("running.h5")); });
+  EXPECT_NE(s.find("running.h5: /@status: expected \"finished\" or \"unstable\""),
+            std::string::npos)
+      << s;
 }
 
 // Splits s at every `sep`.
@@ -356,7 +360,7 @@ TEST_F(RecordedLives, TheCommandLineRecordsAndReplays) {
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\"format\": \"plastivox-life\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"frames\": 4"), std::string::npos) << r.out;  // 0, .1, .2, end
-  EXPECT_EQ(read_life_file(path("life.h5")).recording.frames.size(), 4u);
+  EXPECT_EQ(read_life_file(path("life.h5")).result.recording.frames.size(), 4u);
   // A frame rate in --physics alone would record and drop the frames: refused, saying how.
   r = run("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 10}' --json");
   EXPECT_EQ(r.status, 2) << r.out;

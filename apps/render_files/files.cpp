@@ -61,19 +61,20 @@ LifeSource load_life_source(const std::string& path, int generation) {
 
 LifeSource recorded_life_source(const std::string& path) {
   RecordedLife life = read_life_file(path);
-  if (life.recording.frames.empty()) throw RenderError(path + ": the recorded life has no frames");
+  if (life.result.recording.frames.empty())
+    throw RenderError(path + ": the recorded life has no frames");
   PhysicsDef physics = life.physics;
   // The life is as long as its recording (a life that went unstable ends early).
-  physics.duration = std::min(physics.duration, life.recording.frames.back().time);
+  physics.duration = std::min(physics.duration, life.result.recording.frames.back().time);
   std::string label = "recorded · " + std::string(to_string(life.physics.treatment));
   if (life.seed) label += " · seed " + std::to_string(*life.seed);
   LifeSource src = simulated_life_source(path, life.robot, physics, label);
   auto recorded = std::make_shared<const RecordedLife>(std::move(life));
   // Drawn as recorded, never simulated: the frames come from the recording kept in
   // `recorded` (shared, not copied).
-  src.frames = recorded_frames(std::shared_ptr<const Recording>(recorded, &recorded->recording),
-                               recorded->settled, recorded->com_settled, recorded->fitness,
-                               physics.settle_time);
+  const SimResult& r = recorded->result;
+  src.frames = recorded_frames(std::shared_ptr<const Recording>(recorded, &r.recording), r.settled,
+                               r.com_settled, r.fitness, physics.settle_time);
   src.recorded = std::move(recorded);
   return src;
 }

@@ -112,10 +112,11 @@ ReportLife report_life(const LifeSource& source, double fps, const std::vector<d
 ShownLife show_life(const LifeSource& source, double fps) {
   if (source.recorded) {
     ShownLife out = described(source);
-    out.recording = source.recorded->recording;
-    out.info.settled = source.recorded->settled;
-    out.info.com_settled = source.recorded->com_settled;
-    out.info.fitness = source.recorded->fitness;
+    const SimResult& r = source.recorded->result;
+    out.recording = r.recording;
+    out.info.settled = r.settled;
+    out.info.com_settled = r.com_settled;
+    out.info.fitness = r.fitness;
     return out;
   }
   return report_life(source, fps, {}).shown;

@@ -31,7 +31,7 @@ constexpr const char* kLifeFormat = "plastivox-life";
 
 void write_life_file(const std::string& path, const RecordedLife& life) {
   const Ctx c{path, 0};
-  const std::vector<Frame>& frames = life.recording.frames;
+  const std::vector<Frame>& frames = life.result.recording.frames;
   const size_t n = frames.empty() ? 0 : frames.front().pos.size();
   for (const Frame& f : frames)
     if (f.pos.size() != n)
@@ -50,18 +50,18 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
       h5::write_attr(c, r, "robot", robot_to_json(life.robot, &life.physics));
       h5::write_attr(c, r, "treatment", std::string(to_string(life.physics.treatment)));
       if (life.seed) h5::write_attr_u64(c, r, "seed", *life.seed);
-      h5::write_attr(c, r, "fps", life.recording.fps);
+      h5::write_attr(c, r, "fps", life.result.recording.fps);
       h5::write_attr(c, r, "frames", static_cast<int64_t>(nf));
       h5::write_attr(c, r, "voxels", static_cast<int64_t>(nv));
       h5::write_attr(c, r, "voxel_size", life.robot.voxel_size);
-      h5::write_attr(c, r, "status", life.status);
-      h5::write_attr(c, r, "fitness", life.fitness);
-      h5::write_attr(c, r, "settled", int64_t{life.settled ? 1 : 0});
-      h5::write(
-          c, r, "com_settled",
-          std::vector<double>{life.com_settled.x(), life.com_settled.y(), life.com_settled.z()},
-          {3});
-      h5::write_attr_u64(c, r, "final_state_hash", life.final_state_hash);
+      h5::write_attr(c, r, "status", std::string(to_string(life.result.status)));
+      h5::write_attr(c, r, "fitness", life.result.fitness);
+      h5::write_attr(c, r, "settled", int64_t{life.result.settled ? 1 : 0});
+      h5::write(c, r, "com_settled",
+                std::vector<double>{life.result.com_settled.x(), life.result.com_settled.y(),
+                                    life.result.com_settled.z()},
+                {3});
+      h5::write_attr_u64(c, r, "final_state_hash", life.result.final_state_hash);
       for_each_field(p, [&](const char* name, const auto& v) { h5::write_attr(c, r, name, v); });
 
       std::vector<double> time;
@@ -150,13 +150,16 @@ RecordedLife read_life_file(const std::string& path) {
     throw ResultsError(e.what());
   }
   if (h5::has_attr(r, "seed")) life.seed = h5::read_attr_u64(c, r, "/", "seed");
-  life.recording.fps = h5::read_attr_double(c, r, "/", "fps");
-  life.status = h5::read_attr_string(c, r, "/", "status");
-  life.fitness = h5::read_attr_double(c, r, "/", "fitness");
-  life.settled = h5::read_attr_int(c, r, "/", "settled") != 0;
+  life.result.recording.fps = h5::read_attr_double(c, r, "/", "fps");
+  const std::string status = h5::read_attr_string(c, r, "/", "status");
+  if (status != "finished" && status != "unstable")
+    c.fail("/@status", "expected \"finished\" or \"unstable\", not \"" + status + "\"");
+  life.result.status = status == "finished" ? SimStatus::kFinished : SimStatus::kUnstable;
+  life.result.fitness = h5::read_attr_double(c, r, "/", "fitness");
+  life.result.settled = h5::read_attr_int(c, r, "/", "settled") != 0;
   const std::vector<double> com = h5::read<double>(c, r, "com_settled", 3);
-  life.com_settled = Vec3(com[0], com[1], com[2]);
-  life.final_state_hash = h5::read_attr_u64(c, r, "/", "final_state_hash");
+  life.result.com_settled = Vec3(com[0], com[1], com[2]);
+  life.result.final_state_hash = h5::read_attr_u64(c, r, "/", "final_state_hash");
   // Files written before 2026-12-05 carry only plastivox_version, git_commit, date_created
   // and host; the fields a file lacks stay empty (zero).
   for_each_field(life.provenance, [&](const char* name, auto& v) {
@@ -172,13 +175,13 @@ RecordedLife read_life_file(const std::string& path) {
   for (size_t k = 0; k < nf; ++k) {
     if (!(std::isfinite(time[k]) && (k == 0 || time[k] >= time[k - 1])))
       c.fail("/time", "frame times must be finite and ascending");
-    life.recording.frames.emplace_back().time = time[k];
+    life.result.recording.frames.emplace_back().time = time[k];
   }
   for (const FrameField& f : kFrameFields) {
     std::vector<hsize_t> dims = {nf, nv};
     if (f.width > 1) dims.push_back(static_cast<hsize_t>(f.width));
     const std::vector<double> values = h5::read<double>(c, r, f.name, dims);
-    set_frame_channel(life.recording.frames, f, nv, values.data());
+    set_frame_channel(life.result.recording.frames, f, nv, values.data());
   }
   return life;
 }

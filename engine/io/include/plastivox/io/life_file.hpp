@@ -12,23 +12,24 @@
 #include "plastivox/io/provenance.hpp"
 #include "plastivox/model.hpp"  // RobotDef, PhysicsDef, Vec3
 #include "plastivox/recording.hpp"
+#include "plastivox/simulator.hpp"  // SimResult
 
 namespace plastivox {
 
 constexpr int kLifeFormatVersion = 1;
 
+// A life as simulate() left it, with where it came from: the robot, its physics and the
+// engine's own summary, whose `recording` holds the frames (fps, frame times in s).
 struct RecordedLife {
-  std::string source;               // the robot or results file the life came from
-  RobotDef robot;                   // the robot simulated
-  PhysicsDef physics;               // its physics (treatment included)
-  std::optional<uint64_t> seed;     // the evolution run's seed, for a run champion
-  Recording recording;              // frames in time order (fps, frame times in s)
-  std::string status;               // "finished" or "unstable"
-  double fitness = 0;               // voxel lengths, as simulate reports it
-  Vec3 com_settled = Vec3::Zero();  // centre of mass when settling ended, m
-  bool settled = false;             // the life reached physics.settle_time
-  uint64_t final_state_hash = 0;    // state_hash at the end of the life
-  Provenance provenance;            // of the writer (written: current_provenance at writing)
+  std::string source;            // the robot or results file the life came from
+  RobotDef robot;                // the robot simulated
+  PhysicsDef physics;            // its physics (treatment included)
+  std::optional<uint64_t> seed;  // the evolution run's seed, for a run champion
+  // simulate()'s summary and frames. The file keeps of it the frames, status (finished or
+  // unstable), fitness, settled, com_settled and final_state_hash; read back, the other
+  // fields stay at their defaults.
+  SimResult result;
+  Provenance provenance;  // of the writer (written: current_provenance at writing)
 };
 
 // Writes `life` to `path` atomically (built in memory, then a temporary renamed over it).
