@@ -16,6 +16,8 @@ import csv as _csv
 import json as _json
 import math as _math
 import os as _os
+import queue as _queue
+import threading as _threading
 import types as _types
 
 import numpy as _np
@@ -27,7 +29,7 @@ __version__ = _core.__version__
 __all__ = [
     "InputError", "RenderError", "PhysicsDef", "Robot", "Result", "Trajectory", "Simulator", "Results",
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
-    "read_results", "read_study", "evolve", "default_config", "render",
+    "read_results", "read_study", "evolve", "Evolver", "default_config", "render",
 ]
 
 _TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
@@ -470,28 +472,195 @@ def default_config():
     return config
 
 
-def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_after=None):
-    """Runs (or resumes) an evolution into the results file `out`: the same run as
-    `plastivox evolve --config ... --out ...`. `config` is a dict or a config file path.
-    on_generation(progress_dict) is called after every generation; raising from it, or
-    Ctrl-C, stops the run at the next checkpoint (resumable: call evolve again). Returns a
-    dict with outcome ("finished", "stopped", "already-finished") and generations_done."""
+def _config_args(config):
+    """(text, path) for the C++ layer: a config dict as JSON text, or a config file path."""
     if isinstance(config, dict):
         # A PhysicsDef in the config (config["physics"] = plastivox.physics(...)) goes as its fields.
         text = _json.dumps(config, default=lambda o: o.to_dict() if isinstance(o, PhysicsDef) else
                            _json.JSONEncoder().default(o))
-        path = ""
-    elif isinstance(config, (str, _os.PathLike)):
-        text, path = "", _os.fspath(config)
-    else:
-        raise TypeError(f"config: expected a dict or a file path, got {type(config).__name__}")
+        return text, ""
+    if isinstance(config, (str, _os.PathLike)):
+        return "", _os.fspath(config)
+    raise TypeError(f"config: expected a dict or a file path, got {type(config).__name__}")
+
+
+def _check_threads(threads):
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
-    for name, fn in (("on_generation", on_generation), ("on_message", on_message)):
+
+
+def _score(value, index, what):
+    """One life's score as the C++ layer takes it: (ok, fitness, failure, sank,
+    final_stiffness or None). A Result is scored as the engine scores it (a life that did not
+    finish, or sank while sinking_invalid is on, fails); a number is the fitness (not finite:
+    the life failed)."""
+    if isinstance(value, Result):
+        ok = value.status == "finished"
+        return (ok, float(value.fitness), "" if ok else (value.failure or value.status),
+                value.health == "sank", _np.asarray(value.final_stiffness, dtype=float))
+    if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, float, _np.integer,
+                                                                      _np.floating)):
+        raise TypeError(f"{what}[{index}]: expected a number or a plastivox.Result, "
+                        f"got {type(value).__name__}")
+    fitness = float(value)
+    finite = _math.isfinite(fitness)
+    return (finite, fitness if finite else 0.0,
+            "" if finite else f"the fitness function gave {fitness}", False, None)
+
+
+def _function_name(fn):
+    return f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', type(fn).__name__)}"
+
+
+def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_after=None,
+           fitness=None, record_fps=0):
+    """Runs (or resumes) an evolution into the results file `out`: the same run as
+    `plastivox evolve --config ... --out ...`. `config` is a dict or a config file path.
+    on_generation(progress_dict) is called after every generation; raising from it, or
+    Ctrl-C, stops the run at the next checkpoint (resumable: call evolve again). Returns a
+    dict with outcome ("finished", "stopped", "already-finished") and generations_done.
+
+    fitness: a callable scoring each new body's life instead of the engine's fitness. It
+    receives the Result of the life under the run's physics (with its trajectory when
+    record_fps > 0) and returns a number (higher is better; NaN or infinite: the life fails).
+    Lives that went unstable or sank (sinking_invalid, the default) fail without being
+    scored. The results file names the function (provenance fitness_function) and resumes
+    only under the same name; raising from it stops the run at its last checkpoint."""
+    text, path = _config_args(config)
+    _check_threads(threads)
+    for name, fn in (("on_generation", on_generation), ("on_message", on_message),
+                     ("fitness", fitness)):
         if fn is not None and not callable(fn):
             raise TypeError(f"{name}: expected a callable")
     stop = -1 if stop_after is None else int(stop_after)
-    return _core.evolve(text, path, _os.fspath(out), threads, stop, on_generation, on_message)
+    evaluate, name = None, ""
+    if fitness is not None:
+        fps = _record_fps(record_fps)
+
+        def evaluate(robots):
+            lives = simulate_many([Robot(r) for r in robots], threads=threads, record_fps=fps)
+            return [_score(life if life.status != "finished" else fitness(life), i, "fitness")
+                    for i, life in enumerate(lives)]
+        name = _function_name(fitness)
+    return _core.evolve(text, path, _os.fspath(out), threads, stop, on_generation, on_message,
+                        evaluate, name)
+
+
+class Evolver:
+    """An evolution driven from outside, ask/tell style: the same AFPO, checkpoints, resume
+    and results file as evolve(), with the lives scored by the caller.
+
+        ev = plastivox.Evolver(config, "run.h5")
+        while not ev.finished:
+            robots = ev.ask()                  # the generation's new bodies (Robots)
+            ev.tell([score(r) for r in robots])
+
+    ask() gives the bodies the engine would simulate (new, valid, not seen before; the
+    others are scored from the run's cache), under the run's physics. tell() takes one score
+    per robot: a number (higher is better; NaN or infinite: the life failed) or a
+    plastivox.Result of simulating it (scored as evolve() scores it, so
+    tell(plastivox.simulate_many(robots)) gives the digest `plastivox evolve` gives). The
+    results file names the loop (provenance fitness_function "python: <name>"), and a run
+    resumes only under the same name. The run goes on in a thread of its own between tell()
+    and the next ask(); close() (or leaving a `with` block) stops it at its last
+    checkpoint."""
+
+    _CLOSE = object()
+
+    def __init__(self, config, out, threads=0, name="ask-tell"):
+        text, path = _config_args(config)
+        _check_threads(threads)
+        if not isinstance(name, str) or not name:
+            raise ValueError("name: expected a non-empty string")
+        self._asks = _queue.Queue(maxsize=1)
+        self._tells = _queue.Queue(maxsize=1)
+        self._next = None        # the next generation's robots, once known; [] at the end
+        self._pending = None     # robots asked and not yet told
+        self._error = None
+        self.report = None       # evolve()'s dict once the run has ended
+        self.generations_done = -1
+
+        def evaluate(robots):
+            self._asks.put([Robot(r) for r in robots])
+            scores = self._tells.get()
+            if scores is Evolver._CLOSE:
+                raise InterruptedError("the ask/tell loop was closed")
+            return scores
+
+        def progress(p):
+            self.generations_done = p["generation"]
+
+        def run():
+            try:
+                self.report = _core.evolve(text, path, _os.fspath(out), threads, -1, progress,
+                                           None, evaluate, name)
+            except BaseException as e:  # surfaced by ask()/finished in the caller's thread
+                self._error = e
+            finally:
+                self._asks.put(None)
+
+        self._thread = _threading.Thread(target=run, name="plastivox-evolver", daemon=True)
+        self._thread.start()
+
+    def _wait(self):
+        if self._next is None:
+            batch = self._asks.get()
+            self._next = [] if batch is None else batch
+            if batch is None:
+                self._thread.join()
+                if self._error is not None and not isinstance(self._error, InterruptedError):
+                    raise self._error
+        return self._next
+
+    @property
+    def finished(self):
+        """True once the run has ended (waits for the run to reach its next generation)."""
+        return self._pending is None and not self._wait()
+
+    def ask(self):
+        """The next generation's new bodies to score, as Robots; [] once the run has ended."""
+        if self._pending is not None:
+            raise RuntimeError("ask: tell() the scores of the robots asked before")
+        robots = self._wait()
+        if robots:
+            self._pending, self._next = robots, None
+        return list(robots)
+
+    def tell(self, scores):
+        """One score per robot the last ask() gave, in its order."""
+        if self._pending is None:
+            raise RuntimeError("tell: ask() for robots first")
+        scores = list(scores)
+        if len(scores) != len(self._pending):
+            raise ValueError(f"scores: expected {len(self._pending)}, one per robot ask() "
+                             f"gave, got {len(scores)}")
+        converted = [_score(v, i, "scores") for i, v in enumerate(scores)]
+        self._pending = None
+        self._tells.put(converted)
+
+    def close(self):
+        """Stops the run at its last checkpoint (resumable with the same config, out and
+        name). Nothing happens once it has ended."""
+        while self._next != []:
+            if self._pending is None and self._next is None:
+                batch = self._asks.get()  # the run's next message: robots, or None at its end
+                if batch is None:
+                    self._next = []
+                    break
+            # A generation waits for its scores (asked or not): it is dropped, unscored.
+            self._pending = self._next = None
+            self._tells.put(Evolver._CLOSE)
+        self._thread.join()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self):
+        state = "finished" if not self._thread.is_alive() else "running"
+        return f"Evolver({state}, generations_done={self.generations_done})"
 
 
 class Study:

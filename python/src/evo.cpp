@@ -88,11 +88,89 @@ const char* outcome_name(evo::RunOutcome o) {
   return "?";
 }
 
-// config_text: a JSON config (from a dict) or empty with config_path set.
+// Raised out of a generation whose lives Python did not score (its evaluate callable
+// raised): the generation is dropped, never checkpointed; the run stands at its last
+// checkpoint.
+struct EvaluationAbandoned : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Lives scored by Python: evaluate(robots) receives a generation's new bodies as Robots
+// under the run's physics and returns one (ok, fitness, failure, sank, final_stiffness)
+// per robot: ok False for a life that failed (fitness ignored: the worst), final_stiffness
+// one value per voxel (Pa, increasing site order) or None (then a champion's is simulated).
+// The Python layer (plastivox.evolve, plastivox.Evolver) makes these from users' numbers
+// and Results.
+class PythonEvaluations : public evo::Simulations {
+ public:
+  PythonEvaluations(pyb::function evaluate, std::optional<pyb::error_already_set>& pending)
+      : evaluate_(std::move(evaluate)), pending_(pending) {}
+
+  std::vector<evo::Evaluation> run(const std::vector<const evo::Phenotype*>& batch,
+                                   const PhysicsDef& physics, int) override {
+    if (batch.empty()) return {};  // every new body was invalid or seen before
+    pyb::gil_scoped_acquire locked;
+    try {
+      pyb::list robots;
+      for (const evo::Phenotype* p : batch) {
+        PyRobot r;
+        r.def = p->robot;
+        r.physics = physics;
+        r.source = "evolution";
+        robots.append(pyb::cast(std::move(r)));
+      }
+      const pyb::list scored = evaluate_(robots);
+      if (scored.size() != batch.size())
+        throw std::invalid_argument("evaluate: expected " + std::to_string(batch.size()) +
+                                    " scores, got " + std::to_string(scored.size()));
+      std::vector<evo::Evaluation> out(batch.size());
+      for (size_t i = 0; i < batch.size(); ++i) out[i] = evaluation(*batch[i], scored[i]);
+      return out;
+    } catch (pyb::error_already_set& e) {
+      pending_.emplace(std::move(e));
+    } catch (const std::exception& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+      pending_.emplace();  // takes the error just set
+    }
+    throw EvaluationAbandoned("the generation's lives were not scored");
+  }
+
+ private:
+  static evo::Evaluation evaluation(const evo::Phenotype& p, const pyb::handle& item) {
+    const auto [ok, fitness, failure, sank, stiffness] =
+        item.cast<std::tuple<bool, double, std::string, bool, std::optional<std::vector<double>>>>();
+    evo::Evaluation e;
+    e.sank = sank;
+    if (ok && std::isfinite(fitness)) {
+      e.status = evo::EvalStatus::kOk;
+      e.fitness = fitness;
+    } else {
+      e.status = evo::EvalStatus::kUnstable;
+      e.failure = failure.empty() ? "the fitness function gave no finite fitness" : failure;
+    }
+    if (stiffness) {
+      if (static_cast<int>(stiffness->size()) != p.robot.voxel_count())
+        throw std::invalid_argument("final_stiffness: expected one value per voxel");
+      e.final_stiffness.assign(p.robot.sites(), 0.0);
+      size_t v = 0;
+      for (int site = 0; site < p.robot.sites(); ++site)
+        if (p.robot.present[site]) e.final_stiffness[site] = (*stiffness)[v++];
+    }
+    return e;
+  }
+
+  pyb::function evaluate_;
+  std::optional<pyb::error_already_set>& pending_;
+};
+
+// config_text: a JSON config (from a dict) or empty with config_path set. evaluate, when
+// given, scores the lives (PythonEvaluations) and fitness_function names it in the file.
 pyb::dict evolve(const std::string& config_text, const std::string& config_path,
                  const std::string& out, int threads, int stop_after,
                  const std::optional<pyb::function>& on_generation,
-                 const std::optional<pyb::function>& on_message) {
+                 const std::optional<pyb::function>& on_message,
+                 const std::optional<pyb::function>& evaluate,
+                 const std::string& fitness_function) {
   const evo::EvolveConfig config = config_path.empty() ? evo::parse_config(config_text, "config")
                                                        : evo::read_config_file(config_path);
   if (threads < -1) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
@@ -126,10 +204,18 @@ pyb::dict evolve(const std::string& config_text, const std::string& config_path,
       stop = true;
     }
   };
+  std::optional<PythonEvaluations> scored;
+  if (evaluate) {
+    scored.emplace(*evaluate, pending);
+    opt.simulations = &*scored;
+    opt.fitness_function = "python: " + fitness_function;
+  }
   evo::RunReport report;
-  {
+  try {
     pyb::gil_scoped_release unlocked;
     report = evo::run_evolution(config, out, opt);
+  } catch (const EvaluationAbandoned&) {
+    // pending holds why
   }
   if (pending) {
     pending->restore();
@@ -176,7 +262,8 @@ void bind_evo(pyb::module_& m) {
       pyb::arg("path"));
   m.def("evolve", &evolve, pyb::arg("config_text"), pyb::arg("config_path"), pyb::arg("out"),
         pyb::arg("threads"), pyb::arg("stop_after"), pyb::arg("on_generation"),
-        pyb::arg("on_message"));
+        pyb::arg("on_message"), pyb::arg("evaluate") = pyb::none(),
+        pyb::arg("fitness_function") = "");
   m.def("default_config", [] { return evo::default_config_text(); });
 }
 

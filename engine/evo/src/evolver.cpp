@@ -257,10 +257,12 @@ GenerationStats Evolver::step() {
     c.final_stiffness.assign(c.phenotype.sites(), 0.0);
     if (champ.status != EvalStatus::kInvalid) {
       // Its life's final stiffness: from this generation's simulation, or (rarely, for
-      // a cached body) simulated again; the simulation is deterministic.
+      // a cached body, or when an outside fitness gave a number alone) simulated again;
+      // the simulation is deterministic.
       auto simulated_now = std::find_if(to_sim.begin(), to_sim.end(),
                                         [&](size_t i) { return tasks[i].id == champ.id; });
-      c.final_stiffness = simulated_now != to_sim.end()
+      c.final_stiffness = simulated_now != to_sim.end() &&
+                                  !evals[*simulated_now].final_stiffness.empty()
                               ? evals[*simulated_now].final_stiffness
                               : evaluate_phenotype(champ.phenotype, cfg.physics).final_stiffness;
     }

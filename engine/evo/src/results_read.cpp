@@ -268,8 +268,11 @@ ResultsFile read_results(const std::string& path) {
   read_champions(c, r, s);
   read_checkpoint(c, r, s);
 
-  for_each_field(out.provenance,
-                 [&](const char* name, auto& v) { h5::read_attr(c, r, "/", name, v); });
+  for_each_field(out.provenance, [&](const char* name, auto& v) {
+    // Files written before 2026-12-05 do not say what scored them: the engine did.
+    if (std::string_view(name) == "fitness_function" && !h5::has_attr(r, name)) return;
+    h5::read_attr(c, r, "/", name, v);
+  });
 
   out.content_digest = h5::read_attr_string(c, r, "/", "content_digest");
   if (content_digest(s).hex() != out.content_digest)

@@ -105,6 +105,12 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
           throw ResultsError(out_path + ": written by a different configuration (" + diff +
                              "); refusing to resume. Use the original config or another "
                              "--out file");
+        const auto scorer = [](const std::string& f) { return f.empty() ? "built-in" : f; };
+        if (scorer(found->provenance.fitness_function) != scorer(opt.fitness_function))
+          throw ResultsError(out_path + ": scored by fitness " +
+                             scorer(found->provenance.fitness_function) + ", now by " +
+                             scorer(opt.fitness_function) +
+                             "; refusing to resume. Use the same fitness or another --out file");
         decision = "resume";
       }
       if (!lock->unwritable().empty() && !(found && found->state.finished()))
@@ -122,6 +128,7 @@ RunReport run_evolution(const EvolveConfig& config, const std::string& out_path,
   RunState state = Evolver::new_run(config);
   Provenance prov = current_provenance(report.threads);
   if (cluster) prov.threads = static_cast<int64_t>(report.threads) * cluster->size();
+  prov.fitness_function = opt.fitness_function.empty() ? "built-in" : opt.fitness_function;
   if (decision == "resume") {
     ResultsFile f = found ? std::move(*found) : read_results(out_path);
     report.resumed_from = f.state.generations_done;

@@ -40,7 +40,9 @@ struct Evaluation {
   EvalStatus status = EvalStatus::kInvalid;
   std::string failure;
   bool sank = false;                    // SimResult::sank: the body ended below the floor
-  std::vector<double> final_stiffness;  // Pa, lattice-sized, 0 where absent
+  // Pa, lattice-sized, 0 where absent; empty when an outside fitness gave none (the
+  // evolver then simulates a champion again for it).
+  std::vector<double> final_stiffness;
   double wall_seconds = 0;
 };
 // Simulates a valid phenotype under physics (thread-safe).

@@ -73,6 +73,10 @@ struct RunOptions {
   // (outcome kStopped, resumable). Set from a SIGINT handler for a clean Ctrl-C. Under a
   // cluster rank 0's flag decides for every rank, so all stop after the same generation.
   const std::atomic<bool>* stop_requested = nullptr;
+  // What scores the lives, recorded in the results file's provenance (fitness_function):
+  // empty for the engine's own; a name for an outside one, given through `simulations`
+  // (Python's fitness functions and ask/tell). A run is resumed only with the same.
+  std::string fitness_function;
   std::function<void(const RunProgress&)> on_generation;  // called after every generation
   std::function<void(const std::string&)> on_message;     // "resuming from generation 12"...
 };

@@ -19,6 +19,10 @@ struct Provenance {
   std::string host;          // host name of the writer
   int64_t threads = 0;       // evaluation threads of the writer
   double wall_seconds = 0;   // summed wall time of all sessions, s
+  // What scored the lives of an evolution: "built-in" (the engine's, the default) or
+  // "python: <name>" (a fitness function or an ask/tell loop from Python). Empty in files
+  // written before 2026-12-05 and in files that are not evolutions: built-in.
+  std::string fitness_function;
 };
 
 // Calls f(name, member) for every field of p, in the order above; the names are the HDF5
@@ -37,6 +41,7 @@ void for_each_field(P& p, F&& f) {
   f("host", p.host);
   f("threads", p.threads);
   f("wall_seconds", p.wall_seconds);
+  f("fitness_function", p.fitness_function);
 }
 
 // Provenance of this build and machine, now (date_created = date_updated = now).
