@@ -137,8 +137,8 @@ class PythonEvaluations : public evo::Simulations {
 
  private:
   static evo::Evaluation evaluation(const evo::Phenotype& p, const pyb::handle& item) {
-    const auto [ok, fitness, failure, sank, stiffness] =
-        item.cast<std::tuple<bool, double, std::string, bool, std::optional<std::vector<double>>>>();
+    const auto [ok, fitness, failure, sank, stiffness] = item.cast<
+        std::tuple<bool, double, std::string, bool, std::optional<std::vector<double>>>>();
     evo::Evaluation e;
     e.sank = sank;
     if (ok && std::isfinite(fitness)) {

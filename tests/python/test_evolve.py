@@ -20,7 +20,8 @@ def test_read_results_champion_is_what_export_writes(tiny_run, tmp_path):
     assert res.provenance["plastivox_version"] == plastivox.__version__
     assert set(res.provenance) == {  # the file's provenance attributes, by the same names
         "plastivox_version", "git_commit", "compiler", "compiler_flags", "build_type",
-        "date_created", "date_updated", "host", "threads", "wall_seconds"}
+        "date_created", "date_updated", "host", "threads", "wall_seconds", "fitness_function"}
+    assert res.provenance["fitness_function"] == "built-in"
     assert isinstance(res.provenance["threads"], int)
     assert isinstance(res.provenance["wall_seconds"], float)
     assert res.best_fitness.shape == (3,) and res.mean_fitness.shape == (3,)
@@ -184,3 +185,90 @@ def test_evolve_treats_a_sunk_life_as_unstable(tmp_path):
     seen = []
     plastivox.evolve(config, str(tmp_path / "a.h5"), threads=1, on_generation=seen.append)
     assert all(g["sank"] == g["simulated"] and g["unstable"] == 0 for g in seen)
+
+
+def test_ask_tell_with_the_engines_scores_gives_evolves_digest(tmp_path, tiny_run):
+    """Scoring each asked robot with plastivox.simulate is the engine's own evolution."""
+    path, config = tiny_run
+    out = str(tmp_path / "asked.h5")
+    asked = []
+    with plastivox.Evolver(config, out, threads=1, name="simulate") as ev:
+        while not ev.finished:
+            robots = ev.ask()
+            assert all(isinstance(r, plastivox.Robot) and r.voxel_count > 0 for r in robots)
+            asked.append(len(robots))
+            ev.tell(plastivox.simulate_many(robots, threads=1))
+        assert ev.ask() == [] and ev.report["outcome"] == "finished"
+    assert len(asked) == 3 and asked[0] >= 1  # generations 0, 1 and 2
+    mine, theirs = plastivox.read_results(out), plastivox.read_results(path)
+    assert mine.content_digest == theirs.content_digest
+    assert mine.provenance["fitness_function"] == "python: simulate"
+    assert theirs.provenance["fitness_function"] == "built-in"
+    # another scorer may not continue a file: the science would change mid-run
+    with pytest.raises(plastivox.InputError, match="scored by fitness python: simulate, now by "
+                                                   "built-in"):
+        plastivox.evolve(config, out, threads=1)
+
+
+def test_ask_tell_numbers_close_resume_and_bad_scores(tmp_path):
+    config = tiny_config(generations=3)
+    out = str(tmp_path / "numbers.h5")
+
+    def score(robot):  # a made-up task: fewer voxels is better
+        return -float(robot.voxel_count)
+
+    ev = plastivox.Evolver(config, out, threads=1, name="fewest voxels")
+    robots = ev.ask()
+    with pytest.raises(RuntimeError, match="tell"):
+        ev.ask()
+    with pytest.raises(ValueError, match=f"scores: expected {len(robots)}"):
+        ev.tell([1.0] * (len(robots) + 1))
+    with pytest.raises(TypeError, match=r"scores\[0\]: expected a number"):
+        ev.tell(["fast"] * len(robots))
+    scores = [score(r) for r in robots]
+    scores[0] = float("nan")  # a failed life: worst fitness, never a finding
+    ev.tell(scores)
+    robots = ev.ask()
+    ev.tell([score(r) for r in robots])
+    ev.close()  # generation 2 asked or not: dropped; the file stands at generation 1
+    assert not ev._thread.is_alive()
+    res = plastivox.read_results(out)
+    assert res.generations_done == 1 and not res.finished
+    assert np.all(res.best_fitness < 0)
+    with plastivox.Evolver(config, out, threads=1, name="fewest voxels") as again:
+        while not again.finished:
+            again.tell([score(r) for r in again.ask()])
+    done = plastivox.read_results(out)
+    assert done.finished and done.provenance["fitness_function"] == "python: fewest voxels"
+    # the champion is the smallest valid body scored, and it carries its life's stiffness
+    assert done.best_fitness[-1] == -done.champion().voxel_count
+    with pytest.raises(plastivox.InputError, match="scored by fitness python: fewest voxels, "
+                                                   "now by python: other"):
+        with plastivox.Evolver(config, out, threads=1, name="other") as e:
+            e.ask()
+
+
+def test_evolve_with_a_fitness_function_sees_trajectories(tmp_path):
+    config = tiny_config(generations=1)
+    seen = []
+
+    def height(result):  # the highest any voxel reached: needs the trajectory
+        seen.append(result.trajectory.positions.shape)
+        return float(result.trajectory.positions[..., 2].max())
+
+    out = str(tmp_path / "height.h5")
+    report = plastivox.evolve(config, out, threads=1, fitness=height, record_fps=20)
+    assert report["outcome"] == "finished" and seen
+    assert all(len(shape) == 3 and shape[2] == 3 for shape in seen)
+    res = plastivox.read_results(out)
+    assert res.provenance["fitness_function"].startswith("python: ")
+    assert res.provenance["fitness_function"].endswith("height")
+    champion = plastivox.simulate(res.champion(), record_fps=20)
+    assert res.best_fitness[-1] == float(champion.trajectory.positions[..., 2].max())
+
+    def broken(result):
+        raise KeyError("no such sensor")
+
+    with pytest.raises(KeyError, match="no such sensor"):
+        plastivox.evolve(config, str(tmp_path / "broken.h5"), threads=1, fitness=broken)
+    assert not os.path.exists(tmp_path / "broken.h5")  # generation 0 was never scored

@@ -267,11 +267,15 @@ def test_namespace_holds_only_the_api():
     assert all(hasattr(plastivox, name) for name in plastivox.__all__)
 
 
-def test_every_public_class_has_a_useful_repr(tiny_run):
+def test_every_public_class_has_a_useful_repr(tiny_run, tmp_path):
     walker = quick_walker()
     result = plastivox.simulate(walker, record_fps=50)
     study = plastivox.Study("study", {"format": "plastivox-analysis"}, [{"run": 1}], [])
+    evolver = plastivox.Evolver({**tiny_run[1], "generations": 0}, tmp_path / "e.h5", threads=1)
+    evolver.tell(plastivox.simulate_many(evolver.ask(), threads=1))
+    assert evolver.finished
     reprs = {
+        plastivox.Evolver: (evolver, ["finished"]),
         plastivox.Robot: (walker, ["demo-walker", "(10, 10, 10)", "voxels=512", "stress"]),
         plastivox.Result: (result, ["finished", "fitness=", "voxels=512"]),
         plastivox.Trajectory: (result.trajectory, ["frames", "512 voxels", " s)"]),

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -18,10 +19,18 @@ namespace plastivox::evo {
 namespace {
 
 // Index of the champion: highest fitness, ties to the lowest id (population is by id).
+// The fitness selection sees: a failed life (invalid, unstable, sunk) ranks below every
+// scored one, whatever the scores' range. The engine's fitness is >= 0 and a failure's
+// kWorstFitness is -1, so for it this changes no order; an outside fitness (Python's) may
+// score below -1.
+double ranked_fitness(const Individual& ind) {
+  return ind.status == EvalStatus::kOk ? ind.fitness : -std::numeric_limits<double>::infinity();
+}
+
 size_t champion_index(const std::vector<Individual>& pop) {
   size_t best = 0;
   for (size_t i = 1; i < pop.size(); ++i)
-    if (pop[i].fitness > pop[best].fitness) best = i;
+    if (ranked_fitness(pop[i]) > ranked_fitness(pop[best])) best = i;
   return best;
 }
 
@@ -234,7 +243,8 @@ GenerationStats Evolver::step() {
   std::vector<Individual> candidates = std::move(s.population);
   for (Individual& ind : fresh) candidates.push_back(std::move(ind));
   std::vector<Objectives> objectives;
-  for (const Individual& ind : candidates) objectives.push_back({ind.id, ind.fitness, ind.age});
+  for (const Individual& ind : candidates)
+    objectives.push_back({ind.id, ranked_fitness(ind), ind.age});
   std::vector<size_t> keep = afpo_select(objectives, static_cast<size_t>(cfg.population));
   std::sort(keep.begin(), keep.end(),
             [&](size_t a, size_t b) { return candidates[a].id < candidates[b].id; });
@@ -261,10 +271,10 @@ GenerationStats Evolver::step() {
       // the simulation is deterministic.
       auto simulated_now = std::find_if(to_sim.begin(), to_sim.end(),
                                         [&](size_t i) { return tasks[i].id == champ.id; });
-      c.final_stiffness = simulated_now != to_sim.end() &&
-                                  !evals[*simulated_now].final_stiffness.empty()
-                              ? evals[*simulated_now].final_stiffness
-                              : evaluate_phenotype(champ.phenotype, cfg.physics).final_stiffness;
+      c.final_stiffness =
+          simulated_now != to_sim.end() && !evals[*simulated_now].final_stiffness.empty()
+              ? evals[*simulated_now].final_stiffness
+              : evaluate_phenotype(champ.phenotype, cfg.physics).final_stiffness;
     }
     s.champions.push_back(std::move(c));
   }

@@ -39,7 +39,7 @@ struct Evaluation {
   double fitness = kWorstFitness;
   EvalStatus status = EvalStatus::kInvalid;
   std::string failure;
-  bool sank = false;                    // SimResult::sank: the body ended below the floor
+  bool sank = false;  // SimResult::sank: the body ended below the floor
   // Pa, lattice-sized, 0 where absent; empty when an outside fitness gave none (the
   // evolver then simulates a champion again for it).
   std::vector<double> final_stiffness;
