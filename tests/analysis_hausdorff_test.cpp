@@ -44,6 +44,19 @@ std::vector<Voxel> moved(const std::vector<Voxel>& b, const Rotation& r, const V
   return out;
 }
 
+// The least squared distance over every rotation given and every shift within `reach` of zero
+// on each axis, by trying them all.
+int64_t exhaustive2(const VoxelSet& a, const VoxelSet& b, const std::vector<Rotation>& rotations,
+                    int reach) {
+  int64_t best = std::numeric_limits<int64_t>::max();
+  for (const Rotation& r : rotations)
+    for (int tx = -reach; tx <= reach; ++tx)
+      for (int ty = -reach; ty <= reach; ++ty)
+        for (int tz = -reach; tz <= reach; ++tz)
+          best = std::min(best, brute2(a.voxels, moved(b.voxels, r, {tx, ty, tz})));
+  return best;
+}
+
 // A random set of `count` distinct voxels in an n^3 lattice.
 VoxelSet random_set(Rng& rng, int n, int count) {
   std::set<Voxel> s;
@@ -189,25 +202,15 @@ TEST(HausdorffSearch, TranslationSearchEqualsExhaustiveSearch) {
   for (int trial = 0; trial < 6; ++trial) {
     const VoxelSet a = random_set(rng, 4, 3 + int(rng.below(14)));
     const VoxelSet b = random_set(rng, 4, 3 + int(rng.below(14)));
-    int64_t best = std::numeric_limits<int64_t>::max();
-    for (const Rotation& r : cube_rotations())
-      for (int tx = -10; tx <= 10; ++tx)
-        for (int ty = -10; ty <= 10; ++ty)
-          for (int tz = -10; tz <= 10; ++tz)
-            best = std::min(best, brute2(a.voxels, moved(b.voxels, r, {tx, ty, tz})));
+    const int64_t best = exhaustive2(a, b, cube_rotations(), 10);
     const HausdorffResult res = hausdorff(a, b, aligned_hausdorff());
     EXPECT_EQ(res.distance2, best) << "trial " << trial;
     EXPECT_EQ(brute2(a.voxels, moved(b.voxels, res.rotation, res.translation)), best);
     // Translation alone (no rotation) is exact too.
     HausdorffOptions shift_only;
     shift_only.translation = TranslationSearch::kInteger;
-    int64_t best_shift = std::numeric_limits<int64_t>::max();
-    for (int tx = -10; tx <= 10; ++tx)
-      for (int ty = -10; ty <= 10; ++ty)
-        for (int tz = -10; tz <= 10; ++tz)
-          best_shift = std::min(
-              best_shift, brute2(a.voxels, moved(b.voxels, cube_rotations()[0], {tx, ty, tz})));
-    EXPECT_EQ(hausdorff(a, b, shift_only).distance2, best_shift) << "trial " << trial;
+    EXPECT_EQ(hausdorff(a, b, shift_only).distance2, exhaustive2(a, b, {cube_rotations()[0]}, 10))
+        << "trial " << trial;
   }
 }
 

@@ -9,6 +9,7 @@
 
 #include "plastivox/base/error.hpp"
 #include "plastivox/base/hash.hpp"
+#include "plastivox/base/names.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/base/rng.hpp"
 #include "plastivox/io/json_input.hpp"
@@ -70,6 +71,21 @@ TEST(Rng, SplitMix64ReferenceAndKeyedStreams) {
             Rng::stream(5, Purpose::kOne, 3, 4).next_u64());
   EXPECT_NE(Rng::stream(5, Purpose::kOne, 3, 4).next_u64(),
             Rng::stream(5, Purpose::kTwo, 3, 4).next_u64());
+}
+
+TEST(Names, OneTablePrintsParsesAndListsTheChoices) {
+  enum class Fruit { kApple, kPear, kPlum, kFig };
+  constexpr Named<Fruit> kFruit[] = {
+      {Fruit::kApple, "apple"}, {Fruit::kPear, "pear"}, {Fruit::kPlum, "plum"}};
+  static_assert(std::string_view(name_in(kFruit, Fruit::kPear)) == "pear");
+  EXPECT_STREQ(name_in(kFruit, Fruit::kFig), "?");  // a value the table lacks
+  EXPECT_EQ(value_in(kFruit, "plum"), Fruit::kPlum);
+  EXPECT_EQ(value_in(kFruit, "Plum"), std::nullopt);
+  EXPECT_EQ(value_in(kFruit, ""), std::nullopt);
+  EXPECT_EQ(choices_in(kFruit), "apple, pear or plum");
+  EXPECT_EQ(choices_in(kFruit, true), "\"apple\", \"pear\" or \"plum\"");
+  constexpr Named<Fruit> kOne[] = {{Fruit::kFig, "fig"}};
+  EXPECT_EQ(choices_in(kOne), "fig");
 }
 
 TEST(Errors, OneHierarchy) {

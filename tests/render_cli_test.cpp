@@ -22,6 +22,11 @@ class RenderCli : public testing::ScratchDirTest {
     testing::ScratchDirTest::SetUp();
     write_robot_file(path("cube.json"), demo_cube(2, 1e7));
   }
+  // plastivox COMMAND cube.json --out OUT OPTIONS, OUT in the scratch folder.
+  testing::Output draw(const std::string& command, const std::string& out,
+                       const std::string& options = "") const {
+    return run(command + " " + path("cube.json") + " --out " + path(out) + " " + options);
+  }
   int files() const {
     int n = 0;
     for (const auto& e : std::filesystem::directory_iterator(dir_)) n += e.is_regular_file();
@@ -29,45 +34,41 @@ class RenderCli : public testing::ScratchDirTest {
   }
 };
 
-TEST_F(RenderCli, RenderWritesAPngOfTheRequestedSize) {
-  const auto r = run("render " + path("cube.json") + " --out " + path("f.png") +
-                     " --time 0.1 --size 80x60 --color phase --samples 1");
-  ASSERT_EQ(r.status, 0) << r.out;
-  const render::Image img = render::read_png(path("f.png"));
-  EXPECT_EQ(img.width, 80);
-  EXPECT_EQ(img.height, 60);
-}
-
-TEST_F(RenderCli, UnknownColourModeIsAUsageErrorAndWritesNothing) {
-  const auto r = run("render " + path("cube.json") + " --out " + path("f.png") + " --color jet");
-  EXPECT_EQ(r.status, 2) << r.out;
-  EXPECT_NE(r.out.find("unknown colour mode 'jet'"), std::string::npos) << r.out;
-  EXPECT_EQ(files(), 1);
-}
-
-TEST_F(RenderCli, AntialiasingOptions) {
+TEST_F(RenderCli, RenderWritesAPngOfTheRequestedSizeWithEachAntialiasing) {
   for (const std::string mode : {"edge", "msaa", "none"}) {
-    const auto r = run("render " + path("cube.json") + " --out " + path("f.png") +
-                       " --time 0 --size 64x48 --antialias " + mode);
-    EXPECT_EQ(r.status, 0) << mode << ": " << r.out;
+    const auto r =
+        draw("render", "f.png", "--time 0.1 --size 80x60 --color phase --antialias " + mode);
+    ASSERT_EQ(r.status, 0) << mode << ": " << r.out;
+    const render::Image img = render::read_png(path("f.png"));
+    EXPECT_EQ(img.width, 80) << mode;
+    EXPECT_EQ(img.height, 60) << mode;
   }
-  const auto r = run("video " + path("cube.json") + " --out " + path("v.mp4") +
-                     " --size 64x48 --end 0.1 --antialias smooth");
-  EXPECT_EQ(r.status, 2) << r.out;
-  EXPECT_NE(r.out.find("--antialias expects edge, msaa or none"), std::string::npos) << r.out;
-  EXPECT_EQ(files(), 2);  // the robot and f.png
 }
 
-TEST_F(RenderCli, UnwritableOutputIsAnErrorNamingThePath) {
-  const auto r = run("render " + path("cube.json") + " --out " + path("no/dir/f.png"));
-  EXPECT_EQ(r.status, 1) << r.out;
-  EXPECT_NE(r.out.find("no/dir/f.png"), std::string::npos) << r.out;
-  EXPECT_EQ(files(), 1);
+// Refusals: the exit status (2 for a usage error), a message naming the problem, and nothing
+// written beside the robot.
+TEST_F(RenderCli, RefusalsNameTheProblemAndWriteNothing) {
+  const struct {
+    std::string command, out, options;
+    int status;
+    std::string message;
+  } cases[] = {
+      {"render", "f.png", "--color jet", 2, "unknown colour mode 'jet'"},
+      {"video", "v.mp4", "--size 64x48 --end 0.1 --antialias smooth", 2,
+       "--antialias expects edge, msaa or none"},
+      {"render", "no/dir/f.png", "", 1, "no/dir/f.png"},
+      {"gallery", "g.png", path("missing.h5") + " --size 400x200", 1, "missing.h5"},
+  };
+  for (const auto& c : cases) {
+    const auto r = draw(c.command, c.out, c.options);
+    EXPECT_EQ(r.status, c.status) << c.command << " " << c.options << ": " << r.out;
+    EXPECT_NE(r.out.find(c.message), std::string::npos) << r.out;
+    EXPECT_EQ(files(), 1) << c.command << " " << c.options;
+  }
 }
 
 TEST_F(RenderCli, VideoWritesADecodableMp4) {
-  const auto r = run("video " + path("cube.json") + " --out " + path("v.mp4") +
-                     " --size 64x48 --fps 20 --end 0.3 --samples 1 --no-overlay");
+  const auto r = draw("video", "v.mp4", "--size 64x48 --fps 20 --end 0.3 --samples 1 --no-overlay");
   ASSERT_EQ(r.status, 0) << r.out;
   const render::VideoInfo info = render::probe_video(path("v.mp4"));
   EXPECT_EQ(info.frames, 6);
@@ -75,14 +76,6 @@ TEST_F(RenderCli, VideoWritesADecodableMp4) {
   EXPECT_EQ(info.height, 48);
   EXPECT_NEAR(info.duration_s, 0.3, 0.051);
   EXPECT_EQ(files(), 2);
-}
-
-TEST_F(RenderCli, GalleryRejectsAResultsFileThatIsNotOne) {
-  const auto r = run("gallery " + path("cube.json") + " " + path("missing.h5") + " --out " +
-                     path("g.png") + " --size 400x200");
-  EXPECT_EQ(r.status, 1) << r.out;
-  EXPECT_NE(r.out.find("missing.h5"), std::string::npos) << r.out;
-  EXPECT_EQ(files(), 1);
 }
 
 TEST_F(RenderCli, GalleryStiffnessRangeOption) {
@@ -101,8 +94,7 @@ TEST_F(RenderCli, GalleryStiffnessRangeOption) {
   const auto ok = run(g + "1e6,1e9");
   ASSERT_EQ(ok.status, 0) << ok.out;
   EXPECT_NE(ok.out.find("E0 colour range 1e+06,1e+09 Pa"), std::string::npos) << ok.out;
-  const auto data =
-      run("gallery " + path("cube.json") + " --size 400x200 --samples 1 --out " + path("d.png"));
+  const auto data = draw("gallery", "d.png", "--size 400x200 --samples 1");
   ASSERT_EQ(data.status, 0) << data.out;
   EXPECT_NE(data.out.find("E0 colour range 1e+07,2e+07 Pa"), std::string::npos) << data.out;
 }
@@ -115,12 +107,12 @@ TEST_F(RenderCli, OversizedImagesAreRefusedBeforeAnyWork) {
   const auto one_line = [](const testing::Output& r) {
     return r.out.find('\n') == r.out.size() - 1;
   };
-  auto r = run("render " + path("cube.json") + " --out " + path("f.png") + " --size 16384x16384");
+  auto r = draw("render", "f.png", "--size 16384x16384");
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("image size 16384x16384 with 4 sample(s) a pixel"), std::string::npos)
       << r.out;
   EXPECT_TRUE(one_line(r)) << r.out;
-  r = run("gallery " + path("cube.json") + " --out " + path("g.png") + " --size 16384x16384");
+  r = draw("gallery", "g.png", "--size 16384x16384");
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_EQ(r.out.rfind("plastivox gallery: --size 16384x16384: ", 0), 0u) << r.out;
   EXPECT_TRUE(one_line(r)) << r.out;

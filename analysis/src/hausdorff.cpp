@@ -6,19 +6,18 @@
 #include "hausdorff_search.hpp"
 #include "nearest_voxel.hpp"
 #include "plastivox/analysis/hausdorff.hpp"
+#include "plastivox/base/names.hpp"
 
 namespace plastivox::analysis {
 
+namespace {
+constexpr Named<RotationSearch> kRotationSearchNames[] = {{RotationSearch::kNone, "none"},
+                                                          {RotationSearch::kPaper, "paper"},
+                                                          {RotationSearch::kAll, "all"}};
+}  // namespace
+
 const char* to_string(RotationSearch r) {
-  switch (r) {
-    case RotationSearch::kNone:
-      return "none";
-    case RotationSearch::kPaper:
-      return "paper";
-    case RotationSearch::kAll:
-      return "all";
-  }
-  return "?";
+  return name_in(kRotationSearchNames, r);
 }
 
 const char* to_string(TranslationSearch t) {
@@ -26,9 +25,9 @@ const char* to_string(TranslationSearch t) {
 }
 
 RotationSearch parse_rotation_search(const std::string& s) {
-  for (RotationSearch r : {RotationSearch::kNone, RotationSearch::kPaper, RotationSearch::kAll})
-    if (s == to_string(r)) return r;
-  throw std::invalid_argument("unknown rotation search '" + s + "' (expected none, paper or all)");
+  if (const auto r = value_in(kRotationSearchNames, s)) return *r;
+  throw std::invalid_argument("unknown rotation search '" + s + "' (expected " +
+                              choices_in(kRotationSearchNames) + ")");
 }
 
 HausdorffOptions paper_hausdorff() {

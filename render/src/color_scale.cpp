@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "plastivox/base/names.hpp"
 #include "plastivox/render/error.hpp"
 
 namespace plastivox::render {
@@ -124,24 +125,17 @@ std::string number(double v) {
   return s;
 }
 
+constexpr Named<ColorMode> kColorModeNames[] = {
+    {ColorMode::kCongenital, "congenital"}, {ColorMode::kStiffness, "stiffness"},
+    {ColorMode::kChange, "change"},         {ColorMode::kAlpha, "alpha"},
+    {ColorMode::kPhase, "phase"},           {ColorMode::kStimulus, "stimulus"}};
+constexpr Named<ColorRange> kColorRangeNames[] = {{ColorRange::kData, "data"},
+                                                  {ColorRange::kPaper, "paper"}};
+
 }  // namespace
 
 const char* to_string(ColorMode m) {
-  switch (m) {
-    case ColorMode::kCongenital:
-      return "congenital";
-    case ColorMode::kStiffness:
-      return "stiffness";
-    case ColorMode::kChange:
-      return "change";
-    case ColorMode::kAlpha:
-      return "alpha";
-    case ColorMode::kPhase:
-      return "phase";
-    case ColorMode::kStimulus:
-      return "stimulus";
-  }
-  return "?";
+  return name_in(kColorModeNames, m);
 }
 
 bool stimulus_is_signed(Treatment t) {
@@ -149,21 +143,19 @@ bool stimulus_is_signed(Treatment t) {
 }
 
 const char* to_string(ColorRange r) {
-  return r == ColorRange::kPaper ? "paper" : "data";
+  return name_in(kColorRangeNames, r);
 }
 
 ColorRange parse_color_range(const std::string& name) {
-  if (name == "data") return ColorRange::kData;
-  if (name == "paper") return ColorRange::kPaper;
-  throw RenderError("unknown colour range '" + name + "' (expected data or paper)");
+  if (const auto r = value_in(kColorRangeNames, name)) return *r;
+  throw RenderError("unknown colour range '" + name + "' (expected " +
+                    choices_in(kColorRangeNames) + ")");
 }
 
 ColorMode parse_color_mode(const std::string& name) {
-  for (ColorMode m : {ColorMode::kCongenital, ColorMode::kStiffness, ColorMode::kChange,
-                      ColorMode::kAlpha, ColorMode::kPhase, ColorMode::kStimulus})
-    if (name == to_string(m)) return m;
-  throw RenderError("unknown colour mode '" + name +
-                    "' (expected congenital, stiffness, change, alpha, phase or stimulus)");
+  if (const auto m = value_in(kColorModeNames, name)) return *m;
+  throw RenderError("unknown colour mode '" + name + "' (expected " + choices_in(kColorModeNames) +
+                    ")");
 }
 
 const Colormap& ColorScale::map() const {

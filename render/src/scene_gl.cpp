@@ -28,19 +28,28 @@ namespace {
 
 constexpr int kShadowSize = 2048;
 
+// Throws `what` with GL's log, the object deleted, unless its `status` (GL_COMPILE_STATUS of a
+// shader, GL_LINK_STATUS of a program) is set; get_iv, get_log and remove are the calls for
+// that kind of object (glGetShaderiv, glGetShaderInfoLog, glDeleteShader or the Program ones).
+void check_built(GLuint object, GLenum status, void (*get_iv)(GLuint, GLenum, GLint*),
+                 void (*get_log)(GLuint, GLsizei, GLsizei*, GLchar*), void (*remove)(GLuint),
+                 const std::string& what) {
+  GLint ok = 0;
+  get_iv(object, status, &ok);
+  if (ok) return;
+  std::array<char, 2048> log{};
+  get_log(object, static_cast<GLsizei>(log.size()), nullptr, log.data());
+  remove(object);
+  throw RenderError(what + ": " + std::string(log.data()));
+}
+
 GLuint compile_shader(GLenum type, const std::string& source, const std::string& name) {
   const GLuint sh = glCreateShader(type);
   const char* text = source.c_str();
   glShaderSource(sh, 1, &text, nullptr);
   glCompileShader(sh);
-  GLint ok = 0;
-  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    std::array<char, 2048> log{};
-    glGetShaderInfoLog(sh, static_cast<GLsizei>(log.size()), nullptr, log.data());
-    glDeleteShader(sh);
-    throw RenderError("shader " + name + " does not compile: " + std::string(log.data()));
-  }
+  check_built(sh, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader,
+              "shader " + name + " does not compile");
   return sh;
 }
 
@@ -62,14 +71,8 @@ GLuint load_program(const std::string& name, const std::string& defines = "") {
   glLinkProgram(prog);
   glDeleteShader(vs);
   glDeleteShader(fs);
-  GLint ok = 0;
-  glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    std::array<char, 2048> log{};
-    glGetProgramInfoLog(prog, static_cast<GLsizei>(log.size()), nullptr, log.data());
-    glDeleteProgram(prog);
-    throw RenderError("shader program " + name + " does not link: " + std::string(log.data()));
-  }
+  check_built(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+              "shader program " + name + " does not link");
   return prog;
 }
 

@@ -581,6 +581,32 @@ def robot_value_valid(path, v):
     return False
 
 
+def damage_text(h, raw, modes, tail):
+    """One random damage to a text file's bytes, at a place at least `tail` bytes from its end:
+    (mode, damaged bytes, what a reader must do). Truncation, a NUL byte and trailing bytes
+    must be refused; a flipped bit, inserted bytes or a BOM may be read or refused."""
+    mode = h.rng.choice(modes)
+    b = bytearray(raw)
+    pos = h.rng.randrange(len(raw) - tail)
+    expect = "either"
+    if mode == "truncate":
+        b = b[:pos]
+        expect = "refuse"
+    elif mode == "flip":
+        b[pos] ^= 1 << h.rng.randrange(8)
+    elif mode == "insert":
+        b[pos:pos] = bytes(h.rng.randrange(256) for _ in range(h.rng.randrange(1, 6)))
+    elif mode == "nul":
+        b[pos:pos] = b"\0"
+        expect = "refuse"
+    elif mode == "trail":
+        b += h.rng.choice([b"\0" * 1000, b"{}", b"x", b"]"])
+        expect = "refuse"
+    elif mode == "bom":
+        b = b"\xef\xbb\xbf" + b
+    return mode, bytes(b), expect
+
+
 def gen_robot_json(h):
     cat = "robot-json"
     base = base_robot()
@@ -654,25 +680,8 @@ def gen_robot_json(h):
     # Byte damage: truncation (always refused), flips and insertions (either; sane if read).
     raw = h.robot_text.encode()
     for i in range(120):
-        mode = h.rng.choice(["truncate", "flip", "flip", "insert", "nul", "trail", "bom"])
-        b = bytearray(raw)
-        pos = h.rng.randrange(len(raw) - 3)
-        expect = "either"
-        if mode == "truncate":
-            b = b[:pos]
-            expect = "refuse"
-        elif mode == "flip":
-            b[pos] ^= 1 << h.rng.randrange(8)
-        elif mode == "insert":
-            b[pos:pos] = bytes(h.rng.randrange(256) for _ in range(h.rng.randrange(1, 6)))
-        elif mode == "nul":
-            b[pos:pos] = b"\0"
-            expect = "refuse"
-        elif mode == "trail":
-            b += h.rng.choice([b"\0" * 1000, b"{}", b"x", b"]"])
-            expect = "refuse"
-        elif mode == "bom":
-            b = b"\xef\xbb\xbf" + b
+        mode, b, expect = damage_text(
+            h, raw, ["truncate", "flip", "flip", "insert", "nul", "trail", "bom"], tail=3)
         f = "%s/rb%05d.json" % (d, i)
         open(f, "wb").write(b)
         cmd = h.rng.choice([["simulate", f, "--json"]] * 6 + [["hausdorff", f, f, "--json"]] +
@@ -778,18 +787,8 @@ def gen_vxa(h):
     # Byte damage.
     raw = text.encode("latin-1")
     for i in range(60):
-        b = bytearray(raw)
-        mode = h.rng.choice(["truncate", "flip", "flip", "insert"])
-        pos = h.rng.randrange(len(raw) - 20)
-        expect = "either"
-        if mode == "truncate":
-            b = b[:pos]
-            expect = "refuse"
-        elif mode == "flip":
-            b[pos] ^= 1 << h.rng.randrange(8)
-        else:
-            b[pos:pos] = bytes(h.rng.randrange(256) for _ in range(3))
-        one("bytes: " + mode, bytes(b), expect)
+        mode, b, expect = damage_text(h, raw, ["truncate", "flip", "flip", "insert"], tail=20)
+        one("bytes: " + mode, b, expect)
     # XML attacks.
     head, rest = text.split("\n", 1)
     lol = "".join('<!ENTITY l%d "%s">' % (i, ("&l%d;" % (i - 1)) * 10 if i else "lol" * 10)

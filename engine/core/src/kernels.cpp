@@ -5,6 +5,7 @@
 #include "kernels.hpp"
 
 #include "kernels_body.hpp"
+#include "plastivox/base/names.hpp"
 #include "plastivox/simd.hpp"
 
 namespace plastivox {
@@ -46,15 +47,9 @@ void set_simd_level(SimdLevel level) {
 }
 
 const char* to_string(SimdLevel level) {
-  switch (level) {
-    case SimdLevel::kScalar:
-      return "scalar";
-    case SimdLevel::kAvx2:
-      return "avx2";
-    case SimdLevel::kAvx512:
-      return "avx512";
-  }
-  return "?";
+  static constexpr Named<SimdLevel> kNames[] = {
+      {SimdLevel::kScalar, "scalar"}, {SimdLevel::kAvx2, "avx2"}, {SimdLevel::kAvx512, "avx512"}};
+  return name_in(kNames, level);
 }
 
 const KernelSet& kernels() {

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/names.hpp"
+
 namespace plastivox {
 
 PhysicsDef preset_gecco2018_code() {
@@ -60,61 +62,55 @@ void validate(const PhysicsDef& d) {
   need(d.max_speed > 0, "max_speed", "must be > 0 m/s");
 }
 
+namespace {
+
+constexpr Named<Treatment> kTreatmentNames[] = {{Treatment::kNone, "none"},
+                                                {Treatment::kStress, "stress"},
+                                                {Treatment::kPressure, "pressure"},
+                                                {Treatment::kStrain, "strain"},
+                                                {Treatment::kStrainEnergy, "strain_energy"},
+                                                {Treatment::kContact, "contact"},
+                                                {Treatment::kKinetic, "kinetic"}};
+constexpr Named<GrowthModel> kGrowthNames[] = {{GrowthModel::kIntegral, "integral"},
+                                               {GrowthModel::kRate, "rate"}};
+constexpr Named<FitnessMode> kFitnessNames[] = {{FitnessMode::k3D, "3d"}, {FitnessMode::kXY, "xy"}};
+constexpr Named<AxialModulus> kAxialModulusNames[] = {
+    {AxialModulus::kHarmonicMean, "harmonic"}, {AxialModulus::kNegativeVoxel, "negative-voxel"}};
+constexpr Named<BondModel> kBondModelNames[] = {{BondModel::kExact, "exact"},
+                                                {BondModel::kVoxelyze09, "voxelyze09"}};
+
+}  // namespace
+
 const char* to_string(Treatment t) {
-  switch (t) {
-    case Treatment::kNone:
-      return "none";
-    case Treatment::kStress:
-      return "stress";
-    case Treatment::kPressure:
-      return "pressure";
-    case Treatment::kStrain:
-      return "strain";
-    case Treatment::kStrainEnergy:
-      return "strain_energy";
-    case Treatment::kContact:
-      return "contact";
-    case Treatment::kKinetic:
-      return "kinetic";
-  }
-  return "?";
+  return name_in(kTreatmentNames, t);
 }
 
 const std::vector<Treatment>& all_treatments() {
-  static const std::vector<Treatment> all = {
-      Treatment::kNone,         Treatment::kStress,  Treatment::kPressure, Treatment::kStrain,
-      Treatment::kStrainEnergy, Treatment::kContact, Treatment::kKinetic};
+  static const std::vector<Treatment> all = [] {
+    std::vector<Treatment> v;
+    for (const Named<Treatment>& row : kTreatmentNames) v.push_back(row.value);
+    return v;
+  }();
   return all;
 }
 
 std::string treatment_names() {
-  std::string out;
-  for (Treatment t : all_treatments()) {
-    if (!out.empty()) out += ", ";
-    out += to_string(t);
-  }
-  return out;
+  return choices_in(kTreatmentNames);
 }
 
 const char* to_string(GrowthModel g) {
-  return g == GrowthModel::kIntegral ? "integral" : "rate";
+  return name_in(kGrowthNames, g);
 }
 
 Treatment parse_treatment(const std::string& s) {
-  for (Treatment t : all_treatments())
-    if (s == to_string(t)) return t;
-  std::string msg = "treatment '";
-  msg += s;
-  msg += "' is unknown (use ";
-  msg += treatment_names();
-  msg += ")";
-  throw std::invalid_argument(msg);
+  if (const auto t = value_in(kTreatmentNames, s)) return *t;
+  throw std::invalid_argument("treatment '" + s + "' is unknown (use " + treatment_names() + ")");
 }
 
 GrowthModel parse_growth(const std::string& s) {
-  if (s == "integral") return GrowthModel::kIntegral;
-  if (s == "rate") return GrowthModel::kRate;
-  throw std::invalid_argument("growth model '" + s + "' is unknown (use integral or rate)");
+  if (const auto g = value_in(kGrowthNames, s)) return *g;
+  throw std::invalid_argument("growth model '" + s + "' is unknown (use " +
+                              choices_in(kGrowthNames) + ")");
 }
 
 namespace {
@@ -143,6 +139,18 @@ PhysicsField choice(const char* name, const char* (*get)(const PhysicsDef&),
   f.get = get;
   f.set = set;
   return f;
+}
+
+// A choice whose names are a table's: member printed by name, parsed from one.
+template <auto member, const auto& names>
+PhysicsField named(const char* name) {
+  return choice(
+      name, [](const PhysicsDef& d) { return name_in(names, d.*member); },
+      [](PhysicsDef& d, const std::string& v) {
+        const auto value = value_in(names, v);
+        if (!value) throw std::invalid_argument("expected " + choices_in(names, true));
+        d.*member = *value;
+      });
 }
 
 }  // namespace
@@ -178,33 +186,9 @@ const std::vector<PhysicsField> kPhysicsFields = {
         [](PhysicsDef& d, const std::string& v) { d.growth = parse_growth(v); }),
     number("max_change_per_step", &PhysicsDef::max_change_per_step),
     number("min_devo_factor", &PhysicsDef::min_devo_factor),
-    choice(
-        "fitness", [](const PhysicsDef& d) { return d.fitness == FitnessMode::k3D ? "3d" : "xy"; },
-        [](PhysicsDef& d, const std::string& v) {
-          if (v != "3d" && v != "xy") throw std::invalid_argument("expected \"3d\" or \"xy\"");
-          d.fitness = v == "3d" ? FitnessMode::k3D : FitnessMode::kXY;
-        }),
-    choice(
-        "axial_modulus",
-        [](const PhysicsDef& d) {
-          return d.axial_modulus == AxialModulus::kHarmonicMean ? "harmonic" : "negative-voxel";
-        },
-        [](PhysicsDef& d, const std::string& v) {
-          if (v != "harmonic" && v != "negative-voxel")
-            throw std::invalid_argument("expected \"harmonic\" or \"negative-voxel\"");
-          d.axial_modulus =
-              v == "harmonic" ? AxialModulus::kHarmonicMean : AxialModulus::kNegativeVoxel;
-        }),
-    choice(
-        "bond_model",
-        [](const PhysicsDef& d) {
-          return d.bond_model == BondModel::kExact ? "exact" : "voxelyze09";
-        },
-        [](PhysicsDef& d, const std::string& v) {
-          if (v != "exact" && v != "voxelyze09")
-            throw std::invalid_argument("expected \"exact\" or \"voxelyze09\"");
-          d.bond_model = v == "exact" ? BondModel::kExact : BondModel::kVoxelyze09;
-        }),
+    named<&PhysicsDef::fitness, kFitnessNames>("fitness"),
+    named<&PhysicsDef::axial_modulus, kAxialModulusNames>("axial_modulus"),
+    named<&PhysicsDef::bond_model, kBondModelNames>("bond_model"),
     number("max_speed", &PhysicsDef::max_speed),
     flag("sinking_invalid", &PhysicsDef::sinking_invalid, true),
 };

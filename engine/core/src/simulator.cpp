@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "plastivox/base/clock.hpp"
+#include "plastivox/base/names.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -353,27 +354,17 @@ SimResult simulate(const Model& model, const SimOptions& o) {
 }
 
 const char* to_string(FloorHealth h) {
-  switch (h) {
-    case FloorHealth::kOk:
-      return "ok";
-    case FloorHealth::kPenetrating:
-      return "penetrating";
-    case FloorHealth::kSank:
-      return "sank";
-  }
-  return "?";
+  static constexpr Named<FloorHealth> kNames[] = {{FloorHealth::kOk, "ok"},
+                                                  {FloorHealth::kPenetrating, "penetrating"},
+                                                  {FloorHealth::kSank, "sank"}};
+  return name_in(kNames, h);
 }
 
 const char* to_string(SimStatus s) {
-  switch (s) {
-    case SimStatus::kRunning:
-      return "running";
-    case SimStatus::kFinished:
-      return "finished";
-    case SimStatus::kUnstable:
-      return "unstable";
-  }
-  return "?";
+  static constexpr Named<SimStatus> kNames[] = {{SimStatus::kRunning, "running"},
+                                                {SimStatus::kFinished, "finished"},
+                                                {SimStatus::kUnstable, "unstable"}};
+  return name_in(kNames, s);
 }
 
 }  // namespace plastivox

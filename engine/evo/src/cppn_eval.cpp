@@ -6,30 +6,21 @@
 #include <stdexcept>
 #include <string>
 
+#include "plastivox/base/names.hpp"
 #include "plastivox/evo/cppn.hpp"
 
 namespace plastivox::evo {
 
 const char* to_string(Activation a) {
-  switch (a) {
-    case Activation::kSin:
-      return "sin";
-    case Activation::kAbs:
-      return "abs";
-    case Activation::kNegAbs:
-      return "neg_abs";
-    case Activation::kSquare:
-      return "square";
-    case Activation::kNegSquare:
-      return "neg_square";
-    case Activation::kSqrtAbs:
-      return "sqrt_abs";
-    case Activation::kNegSqrtAbs:
-      return "neg_sqrt_abs";
-    case Activation::kIdentity:
-      return "identity";
-  }
-  return "?";
+  static constexpr Named<Activation> kNames[] = {{Activation::kSin, "sin"},
+                                                 {Activation::kAbs, "abs"},
+                                                 {Activation::kNegAbs, "neg_abs"},
+                                                 {Activation::kSquare, "square"},
+                                                 {Activation::kNegSquare, "neg_square"},
+                                                 {Activation::kSqrtAbs, "sqrt_abs"},
+                                                 {Activation::kNegSqrtAbs, "neg_sqrt_abs"},
+                                                 {Activation::kIdentity, "identity"}};
+  return name_in(kNames, a);
 }
 
 double activate(Activation a, double x) {

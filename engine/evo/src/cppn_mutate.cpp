@@ -2,6 +2,7 @@
 // Every operator keeps the invariants of validate(): topological node order, links sorted
 // by (target, source), no duplicate pair, weights in [-1, 1].
 #include <algorithm>
+#include <iterator>
 
 #include "plastivox/evo/cppn.hpp"
 
@@ -94,42 +95,38 @@ bool change_weight(Cppn& net, Rng& rng) {
   return true;
 }
 
+// Each operator's name and function, in one place: one row per op.
+struct Operator {
+  MutationOp op;
+  const char* name;
+  bool (*apply)(Cppn&, Rng&);
+};
+constexpr Operator kOperators[] = {
+    {MutationOp::kAddNode, "add_node", add_node},
+    {MutationOp::kRemoveNode, "remove_node", remove_node},
+    {MutationOp::kAddLink, "add_link", add_link},
+    {MutationOp::kRemoveLink, "remove_link", remove_link},
+    {MutationOp::kChangeActivation, "change_activation", change_activation},
+    {MutationOp::kChangeWeight, "change_weight", change_weight},
+};
+static_assert(std::size(kOperators) == kMutationOpCount, "a MutationOp has no row here");
+
+const Operator* operator_of(MutationOp op) {
+  for (const Operator& o : kOperators)
+    if (o.op == op) return &o;
+  return nullptr;
+}
+
 }  // namespace
 
 const char* to_string(MutationOp op) {
-  switch (op) {
-    case MutationOp::kAddNode:
-      return "add_node";
-    case MutationOp::kRemoveNode:
-      return "remove_node";
-    case MutationOp::kAddLink:
-      return "add_link";
-    case MutationOp::kRemoveLink:
-      return "remove_link";
-    case MutationOp::kChangeActivation:
-      return "change_activation";
-    case MutationOp::kChangeWeight:
-      return "change_weight";
-  }
-  return "?";
+  const Operator* o = operator_of(op);
+  return o ? o->name : "?";
 }
 
 bool mutate(Cppn& net, MutationOp op, Rng& rng) {
-  switch (op) {
-    case MutationOp::kAddNode:
-      return add_node(net, rng);
-    case MutationOp::kRemoveNode:
-      return remove_node(net, rng);
-    case MutationOp::kAddLink:
-      return add_link(net, rng);
-    case MutationOp::kRemoveLink:
-      return remove_link(net, rng);
-    case MutationOp::kChangeActivation:
-      return change_activation(net, rng);
-    case MutationOp::kChangeWeight:
-      return change_weight(net, rng);
-  }
-  return false;
+  const Operator* o = operator_of(op);
+  return o && o->apply(net, rng);
 }
 
 Cppn minimal_cppn() {

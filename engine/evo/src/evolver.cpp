@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "plastivox/base/clock.hpp"
+#include "plastivox/base/names.hpp"
 #include "plastivox/evo/afpo.hpp"
 #include "plastivox/evo/thread_pool.hpp"
 #include "plastivox/evo/variation.hpp"
@@ -37,15 +38,10 @@ size_t champion_index(const std::vector<Individual>& pop) {
 }  // namespace
 
 const char* to_string(EvalStatus s) {
-  switch (s) {
-    case EvalStatus::kOk:
-      return "ok";
-    case EvalStatus::kInvalid:
-      return "invalid";
-    case EvalStatus::kUnstable:
-      return "unstable";
-  }
-  return "?";
+  static constexpr Named<EvalStatus> kNames[] = {{EvalStatus::kOk, "ok"},
+                                                 {EvalStatus::kInvalid, "invalid"},
+                                                 {EvalStatus::kUnstable, "unstable"}};
+  return name_in(kNames, s);
 }
 
 Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {

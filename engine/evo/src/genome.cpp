@@ -4,20 +4,16 @@
 #include <stdexcept>
 #include <string>
 
+#include "plastivox/base/names.hpp"
+
 namespace plastivox::evo {
 
 const char* to_string(Network n) {
-  switch (n) {
-    case Network::kGeometry:
-      return "geometry";
-    case Network::kStiffness:
-      return "stiffness";
-    case Network::kDevelopment:
-      return "development";
-    case Network::kPhase:
-      return "phase";
-  }
-  return "?";
+  static constexpr Named<Network> kNames[] = {{Network::kGeometry, "geometry"},
+                                              {Network::kStiffness, "stiffness"},
+                                              {Network::kDevelopment, "development"},
+                                              {Network::kPhase, "phase"}};
+  return name_in(kNames, n);
 }
 
 Genome random_genome(Rng& rng) {

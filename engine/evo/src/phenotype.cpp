@@ -6,17 +6,23 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "plastivox/base/names.hpp"
+
 namespace plastivox::evo {
 
+namespace {
+constexpr Named<GeometryRule> kGeometryRuleNames[] = {
+    {GeometryRule::kLargestComponent, "largest-component"}, {GeometryRule::kKeepAll, "keep-all"}};
+}  // namespace
+
 const char* to_string(GeometryRule r) {
-  return r == GeometryRule::kLargestComponent ? "largest-component" : "keep-all";
+  return name_in(kGeometryRuleNames, r);
 }
 
 GeometryRule parse_geometry_rule(const std::string& s) {
-  if (s == "largest-component") return GeometryRule::kLargestComponent;
-  if (s == "keep-all") return GeometryRule::kKeepAll;
-  throw std::invalid_argument("geometry rule '" + s +
-                              "' is unknown (use largest-component or keep-all)");
+  if (const auto r = value_in(kGeometryRuleNames, s)) return *r;
+  throw std::invalid_argument("geometry rule '" + s + "' is unknown (use " +
+                              choices_in(kGeometryRuleNames) + ")");
 }
 
 void hash_robot(Hasher& h, const RobotDef& r) {

@@ -3,43 +3,34 @@
 #include <sys/stat.h>
 
 #include <cstring>
+#include <iterator>
 #include <limits>
+#include <type_traits>
 
 namespace plastivox::h5 {
 namespace {
 
+// Each element type's HDF5 types: in the file (little-endian, whatever the machine) and in
+// memory, and its class.
+struct ElementType {
+  hid_t file, mem;
+  H5T_class_t cls;
+};
 template <class T>
-struct Type;
-template <>
-struct Type<uint8_t> {
-  static hid_t file() { return H5T_STD_U8LE; }
-  static hid_t mem() { return H5T_NATIVE_UINT8; }
-  static constexpr H5T_class_t cls = H5T_INTEGER;
-};
-template <>
-struct Type<int32_t> {
-  static hid_t file() { return H5T_STD_I32LE; }
-  static hid_t mem() { return H5T_NATIVE_INT32; }
-  static constexpr H5T_class_t cls = H5T_INTEGER;
-};
-template <>
-struct Type<int64_t> {
-  static hid_t file() { return H5T_STD_I64LE; }
-  static hid_t mem() { return H5T_NATIVE_INT64; }
-  static constexpr H5T_class_t cls = H5T_INTEGER;
-};
-template <>
-struct Type<uint64_t> {
-  static hid_t file() { return H5T_STD_U64LE; }
-  static hid_t mem() { return H5T_NATIVE_UINT64; }
-  static constexpr H5T_class_t cls = H5T_INTEGER;
-};
-template <>
-struct Type<double> {
-  static hid_t file() { return H5T_IEEE_F64LE; }
-  static hid_t mem() { return H5T_NATIVE_DOUBLE; }
-  static constexpr H5T_class_t cls = H5T_FLOAT;
-};
+ElementType type_of() {
+  if constexpr (std::is_same_v<T, uint8_t>)
+    return {H5T_STD_U8LE, H5T_NATIVE_UINT8, H5T_INTEGER};
+  else if constexpr (std::is_same_v<T, int32_t>)
+    return {H5T_STD_I32LE, H5T_NATIVE_INT32, H5T_INTEGER};
+  else if constexpr (std::is_same_v<T, int64_t>)
+    return {H5T_STD_I64LE, H5T_NATIVE_INT64, H5T_INTEGER};
+  else if constexpr (std::is_same_v<T, uint64_t>)
+    return {H5T_STD_U64LE, H5T_NATIVE_UINT64, H5T_INTEGER};
+  else {
+    static_assert(std::is_same_v<T, double>, "an element type with no HDF5 type here");
+    return {H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, H5T_FLOAT};
+  }
+}
 
 // Path of an object for messages ("/generations/fitness").
 std::string path_of(hid_t loc, const std::string& name) {
@@ -122,31 +113,12 @@ Handle& Handle::operator=(Handle&& o) noexcept {
 }
 
 herr_t Handle::close() {
-  herr_t rc = 0;
-  if (id_ < 0) return rc;
-  switch (kind_) {
-    case Kind::kFile:
-      rc = H5Fclose(id_);
-      break;
-    case Kind::kGroup:
-      rc = H5Gclose(id_);
-      break;
-    case Kind::kDataset:
-      rc = H5Dclose(id_);
-      break;
-    case Kind::kDataspace:
-      rc = H5Sclose(id_);
-      break;
-    case Kind::kDatatype:
-      rc = H5Tclose(id_);
-      break;
-    case Kind::kAttribute:
-      rc = H5Aclose(id_);
-      break;
-    case Kind::kPlist:
-      rc = H5Pclose(id_);
-      break;
-  }
+  // Each kind's close call, in Kind's order.
+  static herr_t (*const kClose[])(hid_t) = {H5Fclose, H5Gclose, H5Dclose, H5Sclose,
+                                            H5Tclose, H5Aclose, H5Pclose};
+  static_assert(std::size(kClose) == static_cast<size_t>(Kind::kPlist) + 1);
+  if (id_ < 0) return 0;
+  const herr_t rc = kClose[static_cast<int>(kind_)](id_);
   id_ = -1;
   return rc;
 }
@@ -227,24 +199,24 @@ void write(const Ctx& c, hid_t loc, const std::string& name, const std::vector<T
   if (count != data.size()) c.fail(obj, "internal error: shape does not match the data");
   Handle s = check(c, H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                    Handle::Kind::kDataspace, obj, "cannot create dataspace");
-  Handle d = check(
-      c,
-      H5Dcreate2(loc, name.c_str(), Type<T>::file(), s.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      Handle::Kind::kDataset, obj, "cannot create dataset");
+  Handle d = check(c,
+                   H5Dcreate2(loc, name.c_str(), type_of<T>().file, s.id(), H5P_DEFAULT,
+                              H5P_DEFAULT, H5P_DEFAULT),
+                   Handle::Kind::kDataset, obj, "cannot create dataset");
   if (count > 0)
-    check(c, H5Dwrite(d.id(), Type<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), obj,
+    check(c, H5Dwrite(d.id(), type_of<T>().mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), obj,
           "write failed (disk full?)");
   check(c, d.close(), obj, "close failed");
 }
 
 template <class T>
 std::vector<T> read(const Ctx& c, hid_t loc, const std::string& name, std::vector<hsize_t>& dims) {
-  Handle d = open_checked(c, loc, name, Type<T>::cls, sizeof(T), dims);
+  Handle d = open_checked(c, loc, name, type_of<T>().cls, sizeof(T), dims);
   hsize_t count = 1;
   for (hsize_t x : dims) count *= x;
   std::vector<T> out(count);
   if (count > 0)
-    check(c, H5Dread(d.id(), Type<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
+    check(c, H5Dread(d.id(), type_of<T>().mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
           path_of(loc, name), "read failed (corrupt or truncated file)");
   return out;
 }
