@@ -205,15 +205,18 @@ PanelFrame panel_frame(const PanelStats& panel, size_t brackets, int width, int 
   return f;
 }
 
-// The drawing a panel's parts are added to, in the order they are drawn.
-struct PanelCanvas {
-  const PanelFrame& f;
+// The drawing a figure's parts are added to, in the order they are drawn, with its frame
+// (PanelFrame or EvolutionFrame: where things go, and the line width).
+template <class Frame>
+struct Canvas {
+  const Frame& f;
   Drawing& d;
   void add(Shape shape) { d.shapes.push_back(std::move(shape)); }
   void line(float x0, float y0, float x1, float y1) {
     add(LineShape{x0, y0, x1, y1, f.line_w, kInk});
   }
 };
+using PanelCanvas = Canvas<PanelFrame>;
 
 void add_titles(PanelCanvas& c, const PanelStats& panel) {
   const PanelFrame& f = c.f;
@@ -339,189 +342,174 @@ Rgb tint(Rgb c, float amount) {
   return {mix(c.r), mix(c.g), mix(c.b)};
 }
 
-class EvolutionLayout {
- public:
-  EvolutionLayout(const EvolutionStats& e, int width, int height)
-      : e_(e), s_(std::min(width / 800.0f, height / 600.0f)) {
-    d_.width = width;
-    d_.height = height;
-    d_.fonts = panel_fonts(s_);
-    // Axes: generations 0..last; fitness over every value drawn, from 0 when all are >= 0.
-    double lo = 0, hi = 0;
-    bool any = false;
-    const auto see = [&](const std::vector<std::optional<double>>& v) {
-      last_ = std::max(last_, static_cast<int>(v.size()) - 1);
-      for (const auto& x : v)
-        if (x) {
-          lo = any ? std::min(lo, *x) : std::min(0.0, *x);
-          hi = any ? std::max(hi, *x) : std::max(0.0, *x);
-          any = true;
-        }
-    };
-    for (const EvolutionRunCurve& r : e_.runs) see(r.best);
-    for (const EvolutionTreatmentBand& b : e_.treatments) {
-      see(b.mean);
-      see(b.ci_low);
-      see(b.ci_high);
-    }
-    if (last_ < 0) throw StatsError("evolution: no generations to draw");
-    if (hi - lo <= 0) hi = lo + 1;
-    y_.step = nice_step(hi - lo, 5);
-    y_.k_lo = static_cast<long>(std::floor(lo / y_.step + 1e-9));
-    y_.k_hi = static_cast<long>(std::ceil(hi / y_.step - 1e-9));
-    x_step_ = last_ > 0 ? nice_step(last_, 6) : 1;
-    if (x_step_ < 1) x_step_ = 1;
-    for (size_t i = 0; i < e_.treatments.size(); ++i) colour_[e_.treatments[i].treatment] = i;
-    for (const EvolutionRunCurve& r : e_.runs)
-      colour_.emplace(r.treatment, colour_.size());  // a run whose treatment has no band
-  }
+// Where everything of the evolution figure goes, in pixels, and the axes: generations
+// 0..last; fitness over every value drawn, from 0 when all are >= 0.
+struct EvolutionFrame {
+  float s = 1;  // scale of an 800 x 600 figure
+  std::vector<FontFace> fonts;
+  ValueAxis axis;
+  int last = -1;  // last generation
+  double x_step = 1;
+  std::map<std::string, size_t> colour_index;  // treatment -> colour index
+  float pad = 0, tick_len = 0, line_w = 1, y_title = 0;
+  float left = 0, right = 0, top = 0, bottom = 0;  // plot area
 
-  Drawing take() && {
-    frame();
-    add_bands();
-    add_lines();
-    add_axes();
-    add_legend();
-    return std::move(d_);
-  }
-
- private:
-  float px(Font f) const { return d_.fonts[f].pixels; }
+  float px(Font f) const { return fonts[f].pixels; }
   float x_of(double g) const {
-    return static_cast<float>(left_ + (last_ > 0 ? g / last_ : 0.5) * (right_ - left_));
+    return static_cast<float>(left + (last > 0 ? g / last : 0.5) * (right - left));
   }
   float y_of(double v) const {
-    return static_cast<float>(bottom_ - (v - y_.lo()) / (y_.hi() - y_.lo()) * (bottom_ - top_));
+    return static_cast<float>(bottom - (v - axis.lo()) / (axis.hi() - axis.lo()) * (bottom - top));
   }
   Rgb colour(const std::string& treatment) const {
-    return treatment_colour(treatment, colour_.at(treatment));
+    return treatment_colour(treatment, colour_index.at(treatment));
   }
   // Generations drawn: every one up to ~400, else every k-th and the last.
   std::vector<int> thinned() const {
-    const int every = std::max(1, (last_ + 399) / 400);
+    const int every = std::max(1, (last + 399) / 400);
     std::vector<int> g;
-    for (int k = 0; k <= last_; k += every) g.push_back(k);
-    if (g.back() != last_) g.push_back(last_);
+    for (int k = 0; k <= last; k += every) g.push_back(k);
+    if (g.back() != last) g.push_back(last);
     return g;
   }
-
-  void frame() {
-    pad_ = std::round(14 * s_);
-    tick_len_ = std::round(7 * s_);
-    line_w_ = std::max(1.0f, std::round(1.5f * s_ * 2) / 2);
-    size_t widest = 1;
-    for (long k = y_.k_lo; k <= y_.k_hi; ++k)
-      widest = std::max(widest, tick_label(k * y_.step, y_.step).size());
-    y_title_ = std::round(pad_ + 0.8f * px(kLetter));
-    left_ = std::round(pad_ + px(kLabel) * 1.2f + 10 * s_ + 0.6f * px(kTick) * widest + tick_len_ +
-                       5 * s_);
-    right_ = std::round(d_.width - 2 * pad_);
-    top_ = std::round(y_title_ + 20 * s_);
-    bottom_ =
-        std::round(d_.height - pad_ - px(kLabel) * 1.3f - px(kTick) * 1.2f - tick_len_ - 6 * s_);
-    d_.shapes.push_back(text("Best fitness over generations", kTitle,
-                             std::round((left_ + right_) / 2), y_title_, Anchor::kMiddle));
-  }
-
-  // 95 % CI per generation as a step: one rectangle per generation drawn, in a light tint.
-  void add_bands() {
-    const std::vector<int> g = thinned();
-    for (const EvolutionTreatmentBand& b : e_.treatments) {
-      const Rgb fill = tint(colour(b.treatment), 0.8f);
-      for (size_t i = 0; i < g.size(); ++i) {
-        const int k = g[i];
-        if (k >= static_cast<int>(b.mean.size()) || !b.ci_low[k] || !b.ci_high[k]) continue;
-        const double half = (i + 1 < g.size() ? g[i + 1] - k : (i > 0 ? k - g[i - 1] : 1)) / 2.0;
-        const float x0 = std::max(left_, x_of(k - half)), x1 = std::min(right_, x_of(k + half));
-        const float y0 = y_of(*b.ci_high[k]), y1 = y_of(*b.ci_low[k]);
-        d_.shapes.push_back(RectShape{x0, y0, std::max(0.0f, x1 - x0), std::max(1.0f, y1 - y0),
-                                      fill, "band", b.treatment});
-      }
-    }
-  }
-
-  void polyline(const std::vector<std::optional<double>>& v, float width, Rgb c) {
-    const std::vector<int> g = thinned();
-    for (size_t i = 1; i < g.size(); ++i) {
-      const int a = g[i - 1], b = g[i];
-      if (b >= static_cast<int>(v.size()) || !v[a] || !v[b]) continue;
-      d_.shapes.push_back(LineShape{x_of(a), y_of(*v[a]), x_of(b), y_of(*v[b]), width, c});
-    }
-  }
-
-  void add_lines() {
-    // Each band's edges over every fill, so a band under another one still shows.
-    for (const EvolutionTreatmentBand& b : e_.treatments)
-      for (const auto* edge : {&b.ci_low, &b.ci_high})
-        polyline(*edge, std::max(1.0f, std::round(1.0f * s_ * 2) / 2),
-                 tint(colour(b.treatment), 0.5f));
-    for (const EvolutionRunCurve& r : e_.runs)
-      polyline(r.best, std::max(1.0f, std::round(1.0f * s_ * 2) / 2),
-               tint(colour(r.treatment), 0.35f));
-    for (const EvolutionTreatmentBand& b : e_.treatments)
-      polyline(b.mean, std::max(1.5f, std::round(3.0f * s_ * 2) / 2), colour(b.treatment));
-  }
-
-  void add_axes() {
-    line(left_, top_, left_, bottom_);
-    line(left_, bottom_, right_, bottom_);
-    for (long k = y_.k_lo; k <= y_.k_hi; ++k) {
-      const float y = std::round(y_of(k * y_.step));
-      line(left_ - tick_len_, y, left_, y);
-      d_.shapes.push_back(text(tick_label(k * y_.step, y_.step), kTick, left_ - tick_len_ - 5 * s_,
-                               std::round(y + 0.35f * px(kTick)), Anchor::kEnd));
-    }
-    for (double g = 0; g <= last_ + 1e-9; g += x_step_) {
-      const float x = std::round(x_of(g));
-      line(x, bottom_, x, bottom_ + tick_len_);
-      d_.shapes.push_back(text(tick_label(g, x_step_), kTick, x,
-                               std::round(bottom_ + tick_len_ + 4 * s_ + px(kTick)),
-                               Anchor::kMiddle));
-    }
-    d_.shapes.push_back(text("generation", kLabel, std::round((left_ + right_) / 2),
-                             std::round(d_.height - pad_), Anchor::kMiddle));
-    TextShape unit =
-        text("best fitness (" + e_.unit + ")", kLabel, std::round(pad_ + 0.8f * px(kLabel)),
-             std::round((top_ + bottom_) / 2), Anchor::kMiddle);
-    unit.vertical = true;
-    d_.shapes.push_back(std::move(unit));
-  }
-
-  // Top left of the plot: a swatch and "Stress (2 runs)" per treatment, then the key.
-  void add_legend() {
-    float y = top_ + px(kSmall) * 1.4f;
-    const float x = left_ + 14 * s_, sw = std::round(22 * s_);
-    for (const EvolutionTreatmentBand& b : e_.treatments) {
-      const Rgb c = colour(b.treatment);
-      d_.shapes.push_back(RectShape{x, std::round(y - 0.7f * px(kSmall)), sw,
-                                    std::round(0.7f * px(kSmall)), tint(c, 0.72f), "legend",
-                                    b.treatment});
-      d_.shapes.push_back(LineShape{x, std::round(y - 0.35f * px(kSmall)), x + sw,
-                                    std::round(y - 0.35f * px(kSmall)), std::max(1.5f, 3.0f * s_),
-                                    c});
-      d_.shapes.push_back(text(display_treatment(b.treatment) + " (" + std::to_string(b.runs) +
-                                   (b.runs == 1 ? " run)" : " runs)"),
-                               kSmall, x + sw + 8 * s_, y, Anchor::kStart));
-      y += px(kSmall) * 1.5f;
-    }
-    d_.shapes.push_back(text("thick: mean over runs; band: 95 % bootstrap CI; thin: each run",
-                             kSmall, x, y, Anchor::kStart, kGrey));
-  }
-
-  void line(float x0, float y0, float x1, float y1) {
-    d_.shapes.push_back(LineShape{x0, y0, x1, y1, line_w_, kInk});
-  }
-
-  const EvolutionStats& e_;
-  const float s_;
-  Drawing d_;
-  ValueAxis y_;
-  int last_ = -1;  // last generation
-  double x_step_ = 1;
-  std::map<std::string, size_t> colour_;  // treatment -> colour index
-  float pad_ = 0, tick_len_ = 0, line_w_ = 1, y_title_ = 0;
-  float left_ = 0, right_ = 0, top_ = 0, bottom_ = 0;
 };
+
+EvolutionFrame evolution_frame(const EvolutionStats& e, int width, int height) {
+  EvolutionFrame f;
+  f.s = std::min(width / 800.0f, height / 600.0f);
+  f.fonts = panel_fonts(f.s);
+  double lo = 0, hi = 0;
+  bool any = false;
+  const auto see = [&](const std::vector<std::optional<double>>& v) {
+    f.last = std::max(f.last, static_cast<int>(v.size()) - 1);
+    for (const auto& x : v)
+      if (x) {
+        lo = any ? std::min(lo, *x) : std::min(0.0, *x);
+        hi = any ? std::max(hi, *x) : std::max(0.0, *x);
+        any = true;
+      }
+  };
+  for (const EvolutionRunCurve& r : e.runs) see(r.best);
+  for (const EvolutionTreatmentBand& b : e.treatments) {
+    see(b.mean);
+    see(b.ci_low);
+    see(b.ci_high);
+  }
+  if (f.last < 0) throw StatsError("evolution: no generations to draw");
+  if (hi - lo <= 0) hi = lo + 1;
+  f.axis.step = nice_step(hi - lo, 5);
+  f.axis.k_lo = static_cast<long>(std::floor(lo / f.axis.step + 1e-9));
+  f.axis.k_hi = static_cast<long>(std::ceil(hi / f.axis.step - 1e-9));
+  f.x_step = f.last > 0 ? nice_step(f.last, 6) : 1;
+  if (f.x_step < 1) f.x_step = 1;
+  for (size_t i = 0; i < e.treatments.size(); ++i) f.colour_index[e.treatments[i].treatment] = i;
+  for (const EvolutionRunCurve& r : e.runs)
+    f.colour_index.emplace(r.treatment, f.colour_index.size());  // a run without a band
+
+  f.pad = std::round(14 * f.s);
+  f.tick_len = std::round(7 * f.s);
+  f.line_w = std::max(1.0f, std::round(1.5f * f.s * 2) / 2);
+  size_t widest = 1;
+  for (long k = f.axis.k_lo; k <= f.axis.k_hi; ++k)
+    widest = std::max(widest, tick_label(k * f.axis.step, f.axis.step).size());
+  f.y_title = std::round(f.pad + 0.8f * f.px(kLetter));
+  f.left = std::round(f.pad + f.px(kLabel) * 1.2f + 10 * f.s + 0.6f * f.px(kTick) * widest +
+                      f.tick_len + 5 * f.s);
+  f.right = std::round(width - 2 * f.pad);
+  f.top = std::round(f.y_title + 20 * f.s);
+  f.bottom =
+      std::round(height - f.pad - f.px(kLabel) * 1.3f - f.px(kTick) * 1.2f - f.tick_len - 6 * f.s);
+  return f;
+}
+
+using EvolutionCanvas = Canvas<EvolutionFrame>;
+
+// 95 % CI per generation as a step: one rectangle per generation drawn, in a light tint.
+void add_bands(EvolutionCanvas& c, const EvolutionStats& e) {
+  const EvolutionFrame& f = c.f;
+  const std::vector<int> g = f.thinned();
+  for (const EvolutionTreatmentBand& b : e.treatments) {
+    const Rgb fill = tint(f.colour(b.treatment), 0.8f);
+    for (size_t i = 0; i < g.size(); ++i) {
+      const int k = g[i];
+      if (k >= static_cast<int>(b.mean.size()) || !b.ci_low[k] || !b.ci_high[k]) continue;
+      const double half = (i + 1 < g.size() ? g[i + 1] - k : (i > 0 ? k - g[i - 1] : 1)) / 2.0;
+      const float x0 = std::max(f.left, f.x_of(k - half)), x1 = std::min(f.right, f.x_of(k + half));
+      const float y0 = f.y_of(*b.ci_high[k]), y1 = f.y_of(*b.ci_low[k]);
+      c.add(RectShape{x0, y0, std::max(0.0f, x1 - x0), std::max(1.0f, y1 - y0), fill, "band",
+                      b.treatment});
+    }
+  }
+}
+
+void add_polyline(EvolutionCanvas& c, const std::vector<std::optional<double>>& v, float width,
+                  Rgb colour) {
+  const EvolutionFrame& f = c.f;
+  const std::vector<int> g = f.thinned();
+  for (size_t i = 1; i < g.size(); ++i) {
+    const int a = g[i - 1], b = g[i];
+    if (b >= static_cast<int>(v.size()) || !v[a] || !v[b]) continue;
+    c.add(LineShape{f.x_of(a), f.y_of(*v[a]), f.x_of(b), f.y_of(*v[b]), width, colour});
+  }
+}
+
+void add_lines(EvolutionCanvas& c, const EvolutionStats& e) {
+  const EvolutionFrame& f = c.f;
+  const float thin = std::max(1.0f, std::round(1.0f * f.s * 2) / 2);
+  // Each band's edges over every fill, so a band under another one still shows.
+  for (const EvolutionTreatmentBand& b : e.treatments)
+    for (const auto* edge : {&b.ci_low, &b.ci_high})
+      add_polyline(c, *edge, thin, tint(f.colour(b.treatment), 0.5f));
+  for (const EvolutionRunCurve& r : e.runs)
+    add_polyline(c, r.best, thin, tint(f.colour(r.treatment), 0.35f));
+  for (const EvolutionTreatmentBand& b : e.treatments)
+    add_polyline(c, b.mean, std::max(1.5f, std::round(3.0f * f.s * 2) / 2), f.colour(b.treatment));
+}
+
+void add_axes(EvolutionCanvas& c, const EvolutionStats& e) {
+  const EvolutionFrame& f = c.f;
+  c.line(f.left, f.top, f.left, f.bottom);
+  c.line(f.left, f.bottom, f.right, f.bottom);
+  for (long k = f.axis.k_lo; k <= f.axis.k_hi; ++k) {
+    const float y = std::round(f.y_of(k * f.axis.step));
+    c.line(f.left - f.tick_len, y, f.left, y);
+    c.add(text(tick_label(k * f.axis.step, f.axis.step), kTick, f.left - f.tick_len - 5 * f.s,
+               std::round(y + 0.35f * f.px(kTick)), Anchor::kEnd));
+  }
+  for (double g = 0; g <= f.last + 1e-9; g += f.x_step) {
+    const float x = std::round(f.x_of(g));
+    c.line(x, f.bottom, x, f.bottom + f.tick_len);
+    c.add(text(tick_label(g, f.x_step), kTick, x,
+               std::round(f.bottom + f.tick_len + 4 * f.s + f.px(kTick)), Anchor::kMiddle));
+  }
+  c.add(text("generation", kLabel, std::round((f.left + f.right) / 2),
+             std::round(c.d.height - f.pad), Anchor::kMiddle));
+  TextShape unit =
+      text("best fitness (" + e.unit + ")", kLabel, std::round(f.pad + 0.8f * f.px(kLabel)),
+           std::round((f.top + f.bottom) / 2), Anchor::kMiddle);
+  unit.vertical = true;
+  c.add(std::move(unit));
+}
+
+// Top left of the plot: a swatch and "Stress (2 runs)" per treatment, then the key.
+void add_legend(EvolutionCanvas& c, const EvolutionStats& e) {
+  const EvolutionFrame& f = c.f;
+  float y = f.top + f.px(kSmall) * 1.4f;
+  const float x = f.left + 14 * f.s, sw = std::round(22 * f.s);
+  for (const EvolutionTreatmentBand& b : e.treatments) {
+    const Rgb colour = f.colour(b.treatment);
+    c.add(RectShape{x, std::round(y - 0.7f * f.px(kSmall)), sw, std::round(0.7f * f.px(kSmall)),
+                    tint(colour, 0.72f), "legend", b.treatment});
+    c.add(LineShape{x, std::round(y - 0.35f * f.px(kSmall)), x + sw,
+                    std::round(y - 0.35f * f.px(kSmall)), std::max(1.5f, 3.0f * f.s), colour});
+    c.add(text(display_treatment(b.treatment) + " (" + std::to_string(b.runs) +
+                   (b.runs == 1 ? " run)" : " runs)"),
+               kSmall, x + sw + 8 * f.s, y, Anchor::kStart));
+    y += f.px(kSmall) * 1.5f;
+  }
+  c.add(text("thick: mean over runs; band: 95 % bootstrap CI; thin: each run", kSmall, x, y,
+             Anchor::kStart, kGrey));
+}
 
 }  // namespace
 
@@ -543,7 +531,19 @@ Drawing layout_panel(const PanelStats& panel, int width, int height) {
 }
 
 Drawing layout_evolution(const EvolutionStats& evolution, int width, int height) {
-  return EvolutionLayout(evolution, width, height).take();
+  const EvolutionFrame frame = evolution_frame(evolution, width, height);
+  Drawing d;
+  d.width = width;
+  d.height = height;
+  d.fonts = frame.fonts;
+  EvolutionCanvas c{frame, d};
+  c.add(text("Best fitness over generations", kTitle, std::round((frame.left + frame.right) / 2),
+             frame.y_title, Anchor::kMiddle));
+  add_bands(c, evolution);
+  add_lines(c, evolution);
+  add_axes(c, evolution);
+  add_legend(c, evolution);
+  return d;
 }
 
 Drawing layout_figure(const StatsFigure& figure, int width, int height, int columns) {
