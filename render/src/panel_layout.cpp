@@ -157,19 +157,17 @@ ValueAxis value_axis(const PanelStats& panel) {
   return a;
 }
 
-// ---- A bar panel --------------------------------------------------------------------------
+// ---- The frame both figures share ------------------------------------------------------
 
-// Where everything of one bar panel goes, in pixels. Margins: letter and title (top), y label
-// and tick labels (left), treatment names and n (bottom), and headroom above the axis for the
-// brackets.
-struct PanelFrame {
-  float s = 1;  // scale of an 800 x 600 panel
+// Scale, fonts, the value axis and the margins that follow from them: padding, tick length,
+// line width, the title's baseline and the plot's left edge (right of the y tick labels) and
+// right edge. Each figure sets its own top and bottom.
+struct FigureFrame {
+  float s = 1;  // scale of an 800 x 600 figure
   std::vector<FontFace> fonts;
   ValueAxis axis;
-  float pad = 0, tick_len = 0, line_w = 1, bracket_step = 0, y_title = 0;
-  float left = 0, right = 0, top = 0, bottom = 0, y_zero = 0;  // plot area
-  float bar_w = 0;
-  std::vector<float> centre;  // per bar: centre x
+  float pad = 0, tick_len = 0, line_w = 1, y_title = 0;
+  float left = 0, right = 0, top = 0, bottom = 0;  // plot area
 
   float px(Font f) const { return fonts[f].pixels; }
   float y_of(double v) const {
@@ -177,22 +175,39 @@ struct PanelFrame {
   }
 };
 
-PanelFrame panel_frame(const PanelStats& panel, size_t brackets, int width, int height) {
-  PanelFrame f;
+FigureFrame figure_frame(const ValueAxis& axis, int width, int height) {
+  FigureFrame f;
   f.s = std::min(width / 800.0f, height / 600.0f);
   f.fonts = panel_fonts(f.s);
-  f.axis = value_axis(panel);
+  f.axis = axis;
   f.pad = std::round(14 * f.s);
   f.tick_len = std::round(7 * f.s);
   f.line_w = std::max(1.0f, std::round(1.5f * f.s * 2) / 2);
-  f.bracket_step = std::round(f.px(kStars) * 1.1f + 8 * f.s);
   size_t widest_tick = 1;
-  for (long k = f.axis.k_lo; k <= f.axis.k_hi; ++k)
-    widest_tick = std::max(widest_tick, tick_label(k * f.axis.step, f.axis.step).size());
+  for (long k = axis.k_lo; k <= axis.k_hi; ++k)
+    widest_tick = std::max(widest_tick, tick_label(k * axis.step, axis.step).size());
   f.y_title = std::round(f.pad + 0.8f * f.px(kLetter));
   f.left = std::round(f.pad + f.px(kLabel) * 1.2f + 10 * f.s + 0.6f * f.px(kTick) * widest_tick +
                       f.tick_len + 5 * f.s);
   f.right = std::round(width - 2 * f.pad);
+  return f;
+}
+
+// ---- A bar panel --------------------------------------------------------------------------
+
+// Where everything of one bar panel goes, in pixels. Margins: letter and title (top), y label
+// and tick labels (left), treatment names and n (bottom), and headroom above the axis for the
+// brackets.
+struct PanelFrame : FigureFrame {
+  float bracket_step = 0, y_zero = 0;
+  float bar_w = 0;
+  std::vector<float> centre;  // per bar: centre x
+};
+
+PanelFrame panel_frame(const PanelStats& panel, size_t brackets, int width, int height) {
+  PanelFrame f;
+  static_cast<FigureFrame&>(f) = figure_frame(value_axis(panel), width, height);
+  f.bracket_step = std::round(f.px(kStars) * 1.1f + 8 * f.s);
   f.top = std::round(f.y_title + 16 * f.s + brackets * f.bracket_step);
   f.bottom =
       std::round(height - f.pad - f.px(kSmall) * 1.4f - f.px(kLabel) * 1.2f - f.tick_len - 6 * f.s);
@@ -344,22 +359,13 @@ Rgb tint(Rgb c, float amount) {
 
 // Where everything of the evolution figure goes, in pixels, and the axes: generations
 // 0..last; fitness over every value drawn, from 0 when all are >= 0.
-struct EvolutionFrame {
-  float s = 1;  // scale of an 800 x 600 figure
-  std::vector<FontFace> fonts;
-  ValueAxis axis;
+struct EvolutionFrame : FigureFrame {
   int last = -1;  // last generation
   double x_step = 1;
   std::map<std::string, size_t> colour_index;  // treatment -> colour index
-  float pad = 0, tick_len = 0, line_w = 1, y_title = 0;
-  float left = 0, right = 0, top = 0, bottom = 0;  // plot area
 
-  float px(Font f) const { return fonts[f].pixels; }
   float x_of(double g) const {
     return static_cast<float>(left + (last > 0 ? g / last : 0.5) * (right - left));
-  }
-  float y_of(double v) const {
-    return static_cast<float>(bottom - (v - axis.lo()) / (axis.hi() - axis.lo()) * (bottom - top));
   }
   Rgb colour(const std::string& treatment) const {
     return treatment_colour(treatment, colour_index.at(treatment));
@@ -375,13 +381,11 @@ struct EvolutionFrame {
 };
 
 EvolutionFrame evolution_frame(const EvolutionStats& e, int width, int height) {
-  EvolutionFrame f;
-  f.s = std::min(width / 800.0f, height / 600.0f);
-  f.fonts = panel_fonts(f.s);
+  int last = -1;
   double lo = 0, hi = 0;
   bool any = false;
   const auto see = [&](const std::vector<std::optional<double>>& v) {
-    f.last = std::max(f.last, static_cast<int>(v.size()) - 1);
+    last = std::max(last, static_cast<int>(v.size()) - 1);
     for (const auto& x : v)
       if (x) {
         lo = any ? std::min(lo, *x) : std::min(0.0, *x);
@@ -395,27 +399,21 @@ EvolutionFrame evolution_frame(const EvolutionStats& e, int width, int height) {
     see(b.ci_low);
     see(b.ci_high);
   }
-  if (f.last < 0) throw StatsError("evolution: no generations to draw");
+  if (last < 0) throw StatsError("evolution: no generations to draw");
   if (hi - lo <= 0) hi = lo + 1;
-  f.axis.step = nice_step(hi - lo, 5);
-  f.axis.k_lo = static_cast<long>(std::floor(lo / f.axis.step + 1e-9));
-  f.axis.k_hi = static_cast<long>(std::ceil(hi / f.axis.step - 1e-9));
-  f.x_step = f.last > 0 ? nice_step(f.last, 6) : 1;
+  ValueAxis axis;
+  axis.step = nice_step(hi - lo, 5);
+  axis.k_lo = static_cast<long>(std::floor(lo / axis.step + 1e-9));
+  axis.k_hi = static_cast<long>(std::ceil(hi / axis.step - 1e-9));
+
+  EvolutionFrame f;
+  static_cast<FigureFrame&>(f) = figure_frame(axis, width, height);
+  f.last = last;
+  f.x_step = last > 0 ? nice_step(last, 6) : 1;
   if (f.x_step < 1) f.x_step = 1;
   for (size_t i = 0; i < e.treatments.size(); ++i) f.colour_index[e.treatments[i].treatment] = i;
   for (const EvolutionRunCurve& r : e.runs)
     f.colour_index.emplace(r.treatment, f.colour_index.size());  // a run without a band
-
-  f.pad = std::round(14 * f.s);
-  f.tick_len = std::round(7 * f.s);
-  f.line_w = std::max(1.0f, std::round(1.5f * f.s * 2) / 2);
-  size_t widest = 1;
-  for (long k = f.axis.k_lo; k <= f.axis.k_hi; ++k)
-    widest = std::max(widest, tick_label(k * f.axis.step, f.axis.step).size());
-  f.y_title = std::round(f.pad + 0.8f * f.px(kLetter));
-  f.left = std::round(f.pad + f.px(kLabel) * 1.2f + 10 * f.s + 0.6f * f.px(kTick) * widest +
-                      f.tick_len + 5 * f.s);
-  f.right = std::round(width - 2 * f.pad);
   f.top = std::round(f.y_title + 20 * f.s);
   f.bottom =
       std::round(height - f.pad - f.px(kLabel) * 1.3f - f.px(kTick) * 1.2f - f.tick_len - 6 * f.s);
