@@ -4,6 +4,7 @@
 // the C++ library, releasing the GIL around every long call.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -12,6 +13,7 @@
 
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
+#include "plastivox/simulator.hpp"
 
 namespace plastivox::py {
 
@@ -44,5 +46,12 @@ void bind_robot(pyb::module_& m);     // robot.cpp
 void bind_simulate(pyb::module_& m);  // simulate.cpp
 void bind_evo(pyb::module_& m);       // evo.cpp
 void bind_render(pyb::module_& m);    // render.cpp
+
+// Runs f on the engine Simulator behind a Python Simulator object (self), refused with
+// RuntimeError while another thread steps it (simulate.cpp).
+using UseSimulator = void (*)(const pyb::handle& self, const std::function<void(Simulator&)>& f);
+// control.cpp: adds per-step control to the Simulator class (sensors, set_actuation,
+// set_controller, reset) and plastivox._core.sin_cycles.
+void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimulator use);
 
 }  // namespace plastivox::py

@@ -98,15 +98,17 @@ PyRobot load_source(const std::string& path) {
 //   ("plastivox.Robot", 1, name, (nx, ny, nz), voxel_size, present, stiffness, dev_rate,
 //    phase, fixed_sites, loads, physics_json, source)
 // and, for a robot with its own per-voxel actuation amplitudes (a voxcraft-sim robot),
-// version 2: the same followed by act_amplitude (float64 per lattice site).
+// version 2: the same followed by act_amplitude (float64 per lattice site); and, for a robot
+// with per-voxel actuation scales (RobotDef::act_scale), version 3: the same followed by
+// act_amplitude (empty bytes when it has none) and act_scale (float64 per lattice site).
 // The four arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
 // byte order: little-endian on every machine plastivox builds for), so values come back bit
 // for bit, those at empty sites included. fixed_sites is a tuple of sites, loads a tuple of
 // (site, fx, fy, fz); physics_json holds every PhysicsDef field (physics_to_json).
 
 constexpr const char* kStateFormat = "plastivox.Robot";
-constexpr int kStateVersion = 2;
-constexpr size_t kPickleFields = 14;  // 13 in version 1
+constexpr int kStateVersion = 3;
+constexpr size_t kPickleFields = 15;  // 13 in version 1, 14 in version 2
 
 template <class T>
 pyb::bytes raw_bytes(const std::vector<T>& v) {
@@ -121,12 +123,18 @@ pyb::tuple robot_state(const PyRobot& r) {
     const RobotDef::Load& l = r.def.loads[i];
     loads[i] = pyb::make_tuple(l.site, l.fx, l.fy, l.fz);
   }
-  const bool own = !r.def.act_amplitude.empty();
+  const bool own = !r.def.act_amplitude.empty(), scaled = !r.def.act_scale.empty();
   pyb::tuple state = pyb::make_tuple(
-      kStateFormat, own ? kStateVersion : 1, r.def.name,
-      pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size, raw_bytes(r.def.present),
-      raw_bytes(r.def.stiffness), raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads,
-      physics_to_json(r.physics), r.source);
+      kStateFormat,
+      scaled ? 3
+      : own  ? 2
+             : 1,
+      r.def.name, pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size,
+      raw_bytes(r.def.present), raw_bytes(r.def.stiffness), raw_bytes(r.def.dev_rate),
+      raw_bytes(r.def.phase), fixed, loads, physics_to_json(r.physics), r.source);
+  if (scaled)
+    return pyb::tuple(state +
+                      pyb::make_tuple(raw_bytes(r.def.act_amplitude), raw_bytes(r.def.act_scale)));
   if (!own) return state;
   return pyb::tuple(state + pyb::make_tuple(raw_bytes(r.def.act_amplitude)));
 }
@@ -143,19 +151,19 @@ void sites_from_bytes(const pyb::handle& h, size_t sites, const char* field, std
 }
 
 PyRobot robot_from_state(const pyb::tuple& t) {
-  if ((t.size() != kPickleFields && t.size() != kPickleFields - 1) ||
+  if (t.size() < kPickleFields - 2 || t.size() > kPickleFields ||
       !pyb::isinstance<pyb::str>(t[0]) || t[0].cast<std::string>() != kStateFormat)
-    throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of " +
+    throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of 13 to " +
                      std::to_string(kPickleFields) + " fields starting with '" + kStateFormat +
                      "')");
   const pyb::object version = t[1];
-  const bool v1 = version.equal(pyb::int_(1));
-  if (!pyb::isinstance<pyb::int_>(version) || !(v1 || version.equal(pyb::int_(kStateVersion))) ||
-      t.size() != (v1 ? kPickleFields - 1 : kPickleFields))
+  int v = 0;
+  for (int k = 1; k <= kStateVersion; ++k)
+    if (pyb::isinstance<pyb::int_>(version) && version.equal(pyb::int_(k))) v = k;
+  if (v == 0 || t.size() != static_cast<size_t>(12 + v))
     throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
                      " with " + std::to_string(t.size()) +
-                     " fields, this plastivox reads versions 1 (13 fields) and " +
-                     std::to_string(kStateVersion) + " (14)");
+                     " fields, this plastivox reads versions 1 (13 fields), 2 (14) and 3 (15)");
   PyRobot r;
   try {
     const auto [nx, ny, nz] = t[3].cast<std::tuple<int, int, int>>();
@@ -179,7 +187,10 @@ PyRobot robot_from_state(const pyb::tuple& t) {
     r.physics = PhysicsDef{};
     apply_physics_json(t[11].cast<std::string>(), "Robot pickle", r.physics);
     r.source = t[12].cast<std::string>();
-    if (!v1) sites_from_bytes(t[13], sites, "act_amplitude", r.def.act_amplitude);
+    // Version 3 writes empty bytes for a robot without its own amplitudes.
+    if (v == 2 || (v == 3 && !t[13].cast<std::string>().empty()))
+      sites_from_bytes(t[13], sites, "act_amplitude", r.def.act_amplitude);
+    if (v == 3) sites_from_bytes(t[14], sites, "act_scale", r.def.act_scale);
   } catch (const pyb::cast_error&) {
     throw InputError("Robot pickle: a field has the wrong type (damaged state?)");
   } catch (const std::invalid_argument& e) {
@@ -210,8 +221,8 @@ bool same_robot(const PyRobot& a, const PyRobot& b) {
               std::memcmp(&x.voxel_size, &y.voxel_size, sizeof(double)) == 0 &&
               same_bits(x.present, y.present) && same_bits(x.stiffness, y.stiffness) &&
               same_bits(x.dev_rate, y.dev_rate) && same_bits(x.phase, y.phase) &&
-              same_bits(x.act_amplitude, y.act_amplitude) && x.fixed_sites == y.fixed_sites &&
-              x.loads.size() == y.loads.size();
+              same_bits(x.act_amplitude, y.act_amplitude) && same_bits(x.act_scale, y.act_scale) &&
+              x.fixed_sites == y.fixed_sites && x.loads.size() == y.loads.size();
   for (size_t i = 0; same && i < x.loads.size(); ++i) {
     const RobotDef::Load &l = x.loads[i], &m = y.loads[i];
     same = l.site == m.site && std::memcmp(&l.fx, &m.fx, sizeof(double)) == 0 &&

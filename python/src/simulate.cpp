@@ -219,9 +219,15 @@ class PySimulator {
     throw std::invalid_argument("state field: no field named '" + name + "'");
   }
 
+  // Runs f on the engine Simulator, one user at a time (control.cpp).
+  void use(const std::function<void(Simulator&)>& f) {
+    const Busy busy(*this);
+    f(*sim_);
+  }
+
   pyb::bytes save_state() const {
-    const State& s = state();
-    const std::vector<uint8_t> bytes = plastivox::save_state(s);
+    const Busy busy(*this);
+    const std::vector<uint8_t> bytes = sim_->save_state();  // the State, then the signal
     return pyb::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
 
@@ -273,7 +279,8 @@ void bind_simulate(pyb::module_& m) {
         pyb::arg("treatment"), pyb::arg("record_fps"));
   m.def("simulate_many", &simulate_many, pyb::arg("robots"), pyb::arg("physics_json"),
         pyb::arg("treatment"), pyb::arg("record_fps"), pyb::arg("threads"));
-  pyb::class_<PySimulator>(m, "Simulator")
+  auto simulator = pyb::class_<PySimulator>(m, "Simulator");
+  simulator
       .def(pyb::init<const PyRobot&, const std::optional<std::string>&,
                      const std::optional<std::string>&>())
       .def("step", &PySimulator::step, pyb::arg("n") = 1)
@@ -294,6 +301,9 @@ void bind_simulate(pyb::module_& m) {
       .def("save_state", &PySimulator::save_state)
       .def("restore_state", &PySimulator::restore_state, pyb::arg("snapshot"))
       .def_static("state_fields", &state_field_table);
+  bind_control(m, simulator, [](const pyb::handle& self, const std::function<void(Simulator&)>& f) {
+    self.cast<PySimulator&>().use(f);
+  });
 }
 
 }  // namespace plastivox::py
