@@ -4,14 +4,17 @@ not a test.
     PYTHONPATH=build/python python3 bench/control_bench.py [--steps 4000] [--repeats 7]
 
 The same steps of the demo walker (stress development) taken four ways, in rotation, each
-from a reset() Simulator:
+from a reset() Simulator past settling:
   builtin   sim.step(steps): one call, the built-in sine, the loop in C++;
   step      sim.step() once per step from Python (the crossing alone);
-  actuate   set_actuation(u) then step() per step, u a fixed array (the signal's way in);
-  closed    sensors("touch", "time"), the sine replayed with sin_cycles and reversed on
-            touch, set_actuation, step(): a whole closed loop in Python.
+  replay    sensors("time"), the sine computed in Python with sin_cycles, set_actuation,
+            step(): the same life as builtin, bit for bit, so the difference is the Python
+            loop's cost alone;
+  closed    as replay, reading touch too and reversing the sine where a voxel touches: a
+            closed loop (another life, so its physics may cost a little more or less).
 Prints the median steps per second of each and the Python cost per step against builtin, in
-microseconds. The machine should be otherwise idle.
+microseconds; then the cost of single calls (set_actuation, sensors). The machine should be
+otherwise idle.
 """
 
 import argparse
@@ -44,9 +47,10 @@ def main():
         for _ in range(args.steps):
             sim.step()
 
-    def actuate():
+    def replay():
         for _ in range(args.steps):
-            sim.set_actuation(fixed)
+            t = float(sim.sensors("time")["time"])
+            sim.set_actuation(plastivox.sin_cycles(f * t + phase))
             sim.step()
 
     def closed():
@@ -56,7 +60,7 @@ def main():
             sim.set_actuation(np.where(s["touch"] == 1.0, -u, u))
             sim.step()
 
-    ways = {"builtin": builtin, "step": step, "actuate": actuate, "closed": closed}
+    ways = {"builtin": builtin, "step": step, "replay": replay, "closed": closed}
     rates = {k: [] for k in ways}
     for _ in range(args.repeats):
         for name, way in ways.items():
@@ -71,6 +75,20 @@ def main():
         r = statistics.median(rates[name])
         extra = (1 / r - 1 / base) * 1e6
         print(f"  {name:8s} {r:9.0f} steps/s   {extra:+7.1f} us/step vs builtin")
+
+    # Single calls, between the halves of one step (sensors are then cached).
+    calls = 20000
+    for name, call in (("set_actuation((n,) float64)", lambda: sim.set_actuation(fixed)),
+                       ('sensors("touch")', lambda: sim.sensors("touch")),
+                       ("sensors() (all 10)", lambda: sim.sensors()),
+                       ("sin_cycles((n,))", lambda: plastivox.sin_cycles(phase))):
+        times = []
+        for _ in range(5):
+            t0 = time.perf_counter()
+            for _ in range(calls):
+                call()
+            times.append((time.perf_counter() - t0) / calls * 1e6)
+        print(f"  {name:28s} {statistics.median(times):6.2f} us/call")
 
 
 if __name__ == "__main__":

@@ -74,6 +74,16 @@ TEST(Control, SineIsTheDefaultAndAnExternalReplayOfItGivesTheSameBits) {
   EXPECT_EQ(state_hash(replay.state()), built_in);
 }
 
+// The batch sine (vectorised, what Python's sin_cycles calls) gives the scalar one's bits.
+TEST(Control, BatchSineIsTheScalarSine) {
+  std::vector<double> u;
+  for (int k = -4000; k <= 4000; ++k) u.push_back(k * 0.00123456789 + 1e-3 / (k + 0.5));
+  for (int k = -8; k <= 8; ++k) u.push_back(k / 4.0 + (k == 0 ? 0.5 : 0.0));
+  std::vector<double> out(u.size());
+  sin_cycles_of(u, out);
+  for (size_t i = 0; i < u.size(); ++i) EXPECT_EQ(out[i], sin_cycles_of(u[i])) << u[i];
+}
+
 TEST(Control, ReversingActuationOnTouchChangesTheGaitDeterministically) {
   const Model m = walker(Treatment::kNone, 2.0);
   const SimResult sine = simulate(m);

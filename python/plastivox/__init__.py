@@ -327,7 +327,8 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0)
 
 def sin_cycles(u):
     """sin(2 pi u) element by element, as the engine computes it (its own series: the same
-    bits on every machine), so a Python controller can replay the built-in sine exactly."""
+    bits on every machine; -0 gives +0), so a Python controller can replay the built-in sine
+    exactly."""
     return _core.sin_cycles(_np.asarray(u, dtype=_np.float64))
 
 

@@ -174,9 +174,8 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
       "sin_cycles",
       [](const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& u) {
         pyb::array_t<double> out(u.request().shape);
-        const double* in = u.data();
-        double* o = out.mutable_data();
-        for (pyb::ssize_t i = 0; i < u.size(); ++i) o[i] = sin_cycles_of(in[i]);
+        sin_cycles_of(std::span<const double>(u.data(), static_cast<size_t>(u.size())),
+                      std::span<double>(out.mutable_data(), static_cast<size_t>(out.size())));
         return out;
       },
       pyb::arg("u"));

@@ -123,4 +123,8 @@ double sin_cycles_of(double u) {
   return sin_cycles(u);
 }
 
+void sin_cycles_of(std::span<const double> u, std::span<double> out) {
+  kernels().sine(u.data(), out.data(), static_cast<int>(u.size()), 0.0);  // sin(0 + u)
+}
+
 }  // namespace plastivox

@@ -105,5 +105,8 @@ class SineController final : public Controller {
 // machine and instruction set): what the sine controller computes, for a controller written
 // elsewhere (Python) that must reproduce it bit for bit.
 double sin_cycles_of(double u);
+// The same for every u[i] into out[i] (out.size() >= u.size()), vectorised as the controller
+// is; the one difference: u = -0 gives +0.
+void sin_cycles_of(std::span<const double> u, std::span<double> out);
 
 }  // namespace plastivox
