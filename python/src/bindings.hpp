@@ -39,6 +39,18 @@ std::string physics_to_json(const PhysicsDef& def);
 // Hands a library warning to Python's warnings machinery (which may turn it into an error).
 void warn(const std::string& message);
 
+// A table of fields (kStateFields, kSensorFields) as a list of dicts: name, shape, unit,
+// frame, meaning.
+template <class Fields>
+pyb::list describe_fields(const Fields& fields) {
+  pyb::list out;
+  for (const auto& f : fields)
+    out.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
+                         pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
+                         pyb::arg("meaning") = f.meaning));
+  return out;
+}
+
 // A 1-D float64 copy of values.
 pyb::array_t<double> to_array(const std::vector<double>& values);
 

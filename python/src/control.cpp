@@ -157,16 +157,8 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
     return out;
   });
 
-  cls.attr("sensor_fields") = pyb::cpp_function(
-      [] {
-        pyb::list fields;
-        for (const SensorField& f : kSensorFields)
-          fields.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
-                                  pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
-                                  pyb::arg("meaning") = f.meaning));
-        return fields;
-      },
-      pyb::name("sensor_fields"));
+  cls.attr("sensor_fields") =
+      pyb::cpp_function([] { return describe_fields(kSensorFields); }, pyb::name("sensor_fields"));
   cls.attr("sensor_fields") = pyb::staticmethod(cls.attr("sensor_fields"));
 
   // The engine's sin(2 pi u), element by element: what the sine controller computes.

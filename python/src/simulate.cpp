@@ -264,12 +264,7 @@ class PySimulator {
 };
 
 pyb::list state_field_table() {
-  pyb::list fields;
-  for (const StateField& f : kStateFields)
-    fields.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
-                            pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
-                            pyb::arg("meaning") = f.meaning));
-  return fields;
+  return describe_fields(kStateFields);
 }
 
 }  // namespace
