@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include "plastivox/base/error.hpp"
@@ -153,6 +155,18 @@ TEST(Sensors, TableFollowsTheEnumAndShapes) {
     const size_t expected = f.per_voxel ? static_cast<size_t>(m.n * f.width) : f.width;
     EXPECT_EQ(s.read(f.id).size(), expected) << f.name;
     EXPECT_EQ(s.read(f.id).data(), s.read(f.id).data()) << f.name << ": computed once a step";
+  }
+}
+
+TEST(Sensors, DocsListEverySensorWithItsUnit) {
+  std::ifstream in(std::string(PLASTIVOX_SOURCE_DIR) + "/docs/control.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  for (const SensorField& f : kSensorFields) {
+    const std::string row = std::string("| `") + f.name + "` | " + f.shape + " | " + f.unit +
+                            " | " + f.frame + " | " + f.meaning + " |";
+    EXPECT_NE(doc.find(row), std::string::npos) << "docs/control.md lacks the row " << row;
   }
 }
 

@@ -16,8 +16,9 @@ const std::array<SensorField, kSensorCount> kSensorFields = {{
      "1 while the voxel touches the floor (its actuated half-size reaches below z = 0), else 0",
      true, 1},
     {Sensor::kFloorForce, "floor_force", "n", "N", "world z",
-     "the floor's elastic normal force on the voxel this step (2 E L penetration; 0 off it)", true,
-     1},
+     "the floor's elastic normal force on the voxel this step (2 E L times its penetration; 0 off "
+     "it)",
+     true, 1},
     {Sensor::kStrain, "strain", "n", "1", "bond",
      "largest absolute axial strain of the voxel's bonds this step (the strain stimulus)", true, 1},
     {Sensor::kStress, "stress", "n", "Pa", "bond",
