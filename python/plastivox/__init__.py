@@ -29,7 +29,7 @@ __version__ = _core.__version__
 __all__ = [
     "InputError", "RenderError", "PhysicsDef", "Robot", "Result", "Trajectory", "Simulator", "Results",
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
-    "read_results", "read_study", "evolve", "Evolver", "default_config", "render",
+    "read_results", "read_study", "evolve", "Evolver", "default_config", "render", "sin_cycles",
 ]
 
 _TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
@@ -320,6 +320,13 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0)
     return [Result(s, t, r) for (s, t), r in zip(lives, robots)]
 
 
+def sin_cycles(u):
+    """sin(2 pi u) element by element, as the engine computes it (its own series: the same
+    bits on every machine; -0 gives +0), so a Python controller can replay the built-in sine
+    exactly."""
+    return _core.sin_cycles(_np.asarray(u, dtype=_np.float64))
+
+
 class Simulator:
     """Step-wise control of one life: step(n) advances up to n steps (GIL released) and stops
     when the life is over; positions (n, 3) m, velocities (n, 3) m/s and stiffness (n,) Pa are
@@ -328,7 +335,16 @@ class Simulator:
     of the simulator's own memory, which follow it as it steps. save_state() gives the state
     as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically).
     robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
-    its robot and physics and step a new one."""
+    its robot and physics and step a new one.
+
+    Per-step control (docs/control.md): sensors() gives the sensors of the present step,
+    set_actuation(u) sets each voxel's signal in [-1, 1] (held until set again), step()
+    advances; reset() returns to t = 0. The built-in sine drives the robot until
+    set_actuation is first called (or set_controller(None))."""
+
+    # Each sensor: name, shape ("n", "n x 3", "3", "1"), unit, frame and meaning, in the
+    # engine's order (docs/control.md, "Sensors").
+    sensor_fields = tuple(_core.Simulator.sensor_fields())
 
     # Each field of the state: name, shape ("1", "3", "n", "n x 3", "n x 4", "bonds"), unit,
     # frame and meaning, in the engine's order (docs/engine.md, "State").
@@ -358,6 +374,43 @@ class Simulator:
             raise TypeError(f"snapshot: expected the bytes save_state() returns, got "
                             f"{type(snapshot).__name__}")
         self._core.restore_state(bytes(snapshot))
+
+    def sensors(self, names=None):
+        """{name: numpy array} of the sensors of the present step (all, or those named: a name
+        or a list of names), as copies: shape (n,) or (n, 3) per voxel, (3,) or () for the
+        whole body. Reading runs the first half of the step (the sensors come from its bond
+        strains and contacts); step() finishes it. save_state() is refused in between."""
+        if isinstance(names, str):
+            names = [names]
+        return self._core.sensors(None if names is None else list(names))
+
+    def set_actuation(self, actuation):
+        """Sets each voxel's actuation signal: a float array of shape (n,), voxel order, every
+        value in [-1, 1] (times the voxel's amplitude: how far it swells, > 0, or shrinks).
+        Held until set again; the built-in controller stops driving the robot. A wrong array
+        raises TypeError or ValueError naming `actuation`."""
+        self._core.set_actuation(actuation)
+
+    def set_controller(self, controller, every=1):
+        """The built-in controller: "sine" (the default), or None (the signal set_actuation
+        sets, held), acting every `every` steps (an integer >= 1)."""
+        if isinstance(every, bool) or not isinstance(every, (int, _np.integer)) or every < 1:
+            raise ValueError(f"every: expected a number of steps >= 1, got {every!r}")
+        self._core.set_controller(controller, int(every))
+
+    def reset(self):
+        """Back to the state at t = 0 (as a new Simulator starts), the controller kept and the
+        signal 0."""
+        self._core.reset()
+
+    actuation = property(lambda self: self._core.actuation(),
+                         doc="each voxel's present actuation signal, in [-1, 1] (a copy)")
+    controller = property(lambda self: self._core.controller(),
+                          doc='the built-in controller: "sine", or None (set_actuation)')
+    act_frequency = property(lambda self: self._core.act_frequency(),
+                             doc="the sine's frequency, Hz (physics.act_frequency)")
+    voxel_phase = property(lambda self: self._core.voxel_phase(),
+                           doc="each voxel's sine phase, cycles (voxel order)")
 
     def step(self, n=1):
         if isinstance(n, bool) or not isinstance(n, (int, _np.integer)) or n < 0:

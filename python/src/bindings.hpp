@@ -4,6 +4,7 @@
 // the C++ library, releasing the GIL around every long call.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include "plastivox/base/hash.hpp"
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
+#include "plastivox/simulator.hpp"
 
 namespace plastivox::py {
 
@@ -45,6 +47,18 @@ void hash_physics(const PhysicsDef& d, Hasher& h);
 // Hands a library warning to Python's warnings machinery (which may turn it into an error).
 void warn(const std::string& message);
 
+// A table of fields (kStateFields, kSensorFields) as a list of dicts: name, shape, unit,
+// frame, meaning.
+template <class Fields>
+pyb::list describe_fields(const Fields& fields) {
+  pyb::list out;
+  for (const auto& f : fields)
+    out.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
+                         pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
+                         pyb::arg("meaning") = f.meaning));
+  return out;
+}
+
 // A 1-D float64 copy of values.
 pyb::array_t<double> to_array(const std::vector<double>& values);
 
@@ -53,5 +67,12 @@ void bind_robot(pyb::module_& m);     // robot.cpp
 void bind_simulate(pyb::module_& m);  // simulate.cpp
 void bind_evo(pyb::module_& m);       // evo.cpp
 void bind_render(pyb::module_& m);    // render.cpp
+
+// Runs f on the engine Simulator behind a Python Simulator object (self), refused with
+// RuntimeError while another thread steps it (simulate.cpp).
+using UseSimulator = void (*)(const pyb::handle& self, const std::function<void(Simulator&)>& f);
+// control.cpp: adds per-step control to the Simulator class (sensors, set_actuation,
+// set_controller, reset) and plastivox._core.sin_cycles.
+void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimulator use);
 
 }  // namespace plastivox::py

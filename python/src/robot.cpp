@@ -93,17 +93,18 @@ PyRobot load_source(const std::string& path) {
 // The state is a tuple that names its format and version first, so a pickle from another
 // build or a damaged one fails with a line saying so:
 //   ("plastivox.Robot", 3, name, (nx, ny, nz), voxel_size, present, stiffness, dev_rate,
-//    phase, fixed_sites, loads, physics, source, act_amplitude)
-// The five arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
+//    phase, fixed_sites, loads, physics, source, act_amplitude, act_scale)
+// The six arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
 // byte order: little-endian on every machine plastivox builds for), so values come back bit
 // for bit, those at empty sites included; act_amplitude is empty for a robot without its own
-// per-voxel amplitudes (all but voxcraft-sim robots). fixed_sites is a tuple of sites, loads
+// per-voxel amplitudes (all but voxcraft-sim robots), act_scale for one without per-voxel
+// actuation scales (RobotDef::act_scale). fixed_sites is a tuple of sites, loads
 // a tuple of (site, fx, fy, fz); physics a dict of every PhysicsDef field (physics_dict).
 // Versions 1 (13 fields, no act_amplitude) and 2 held the physics as JSON text: still read.
 
 constexpr const char* kStateFormat = "plastivox.Robot";
 constexpr int kStateVersion = 3;
-constexpr size_t kPickleFields = 14;  // 13 in version 1
+constexpr size_t kPickleFields = 15;  // 13 in version 1, 14 in version 2
 
 template <class T>
 pyb::bytes raw_bytes(const std::vector<T>& v) {
@@ -118,11 +119,11 @@ pyb::tuple robot_state(const PyRobot& r) {
     const RobotDef::Load& l = r.def.loads[i];
     loads[i] = pyb::make_tuple(l.site, l.fx, l.fy, l.fz);
   }
-  return pyb::make_tuple(kStateFormat, kStateVersion, r.def.name,
-                         pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz), r.def.voxel_size,
-                         raw_bytes(r.def.present), raw_bytes(r.def.stiffness),
-                         raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads,
-                         physics_dict(r.physics), r.source, raw_bytes(r.def.act_amplitude));
+  return pyb::make_tuple(
+      kStateFormat, kStateVersion, r.def.name, pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz),
+      r.def.voxel_size, raw_bytes(r.def.present), raw_bytes(r.def.stiffness),
+      raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads, physics_dict(r.physics),
+      r.source, raw_bytes(r.def.act_amplitude), raw_bytes(r.def.act_scale));
 }
 
 // Copies bytes holding one T per lattice site into out; throws InputError naming the field.
@@ -137,20 +138,19 @@ void sites_from_bytes(const pyb::handle& h, size_t sites, const char* field, std
 }
 
 PyRobot robot_from_state(const pyb::tuple& t) {
-  if ((t.size() != kPickleFields && t.size() != kPickleFields - 1) ||
+  if (t.size() < kPickleFields - 2 || t.size() > kPickleFields ||
       !pyb::isinstance<pyb::str>(t[0]) || t[0].cast<std::string>() != kStateFormat)
-    throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of " +
+    throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of 13 to " +
                      std::to_string(kPickleFields) + " fields starting with '" + kStateFormat +
                      "')");
   const pyb::object version = t[1];
   int v = 0;  // the version, when it is one this build reads
   for (int known = 1; known <= kStateVersion; ++known)
     if (pyb::isinstance<pyb::int_>(version) && version.equal(pyb::int_(known))) v = known;
-  if (v < 1 || v > kStateVersion || t.size() != (v == 1 ? kPickleFields - 1 : kPickleFields))
+  if (v == 0 || t.size() != static_cast<size_t>(12 + v))
     throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
                      " with " + std::to_string(t.size()) +
-                     " fields, this plastivox reads versions 1 (13 fields) to " +
-                     std::to_string(kStateVersion) + " (14)");
+                     " fields, this plastivox reads versions 1 (13 fields), 2 (14) and 3 (15)");
   PyRobot r;
   try {
     const auto [nx, ny, nz] = t[3].cast<std::tuple<int, int, int>>();
@@ -178,9 +178,11 @@ PyRobot robot_from_state(const pyb::tuple& t) {
       r.physics = physics_from(t[11], "Robot pickle");
     }
     r.source = t[12].cast<std::string>();
-    // Version 3 writes no bytes for a robot without its own amplitudes.
-    if (v > 1 && !(v == 3 && pyb::len(t[13]) == 0))
+    // Version 3 writes empty bytes for a robot without its own amplitudes or scales.
+    if (v == 2 || (v == 3 && pyb::len(t[13]) != 0))
       sites_from_bytes(t[13], sites, "act_amplitude", r.def.act_amplitude);
+    if (v == 3 && pyb::len(t[14]) != 0)
+      sites_from_bytes(t[14], sites, "act_scale", r.def.act_scale);
   } catch (const pyb::cast_error&) {
     throw InputError("Robot pickle: a field has the wrong type (damaged state?)");
   } catch (const std::invalid_argument& e) {
@@ -211,8 +213,8 @@ bool same_robot(const PyRobot& a, const PyRobot& b) {
               std::memcmp(&x.voxel_size, &y.voxel_size, sizeof(double)) == 0 &&
               same_bits(x.present, y.present) && same_bits(x.stiffness, y.stiffness) &&
               same_bits(x.dev_rate, y.dev_rate) && same_bits(x.phase, y.phase) &&
-              same_bits(x.act_amplitude, y.act_amplitude) && x.fixed_sites == y.fixed_sites &&
-              x.loads.size() == y.loads.size();
+              same_bits(x.act_amplitude, y.act_amplitude) && same_bits(x.act_scale, y.act_scale) &&
+              x.fixed_sites == y.fixed_sites && x.loads.size() == y.loads.size();
   for (size_t i = 0; same && i < x.loads.size(); ++i) {
     const RobotDef::Load &l = x.loads[i], &m = y.loads[i];
     same = l.site == m.site && std::memcmp(&l.fx, &m.fx, sizeof(double)) == 0 &&
@@ -233,6 +235,7 @@ int64_t robot_hash(const PyRobot& r) {
   h.vec(r.def.dev_rate);
   h.vec(r.def.phase);
   if (!r.def.act_amplitude.empty()) h.vec(r.def.act_amplitude);  // hashes made before stay
+  if (!r.def.act_scale.empty()) h.vec(r.def.act_scale);
   h.vec(r.def.fixed_sites);
   for (const RobotDef::Load& l : r.def.loads) {
     h.u64(static_cast<uint64_t>(l.site));

@@ -201,9 +201,15 @@ class PySimulator {
     throw std::invalid_argument("state field: no field named '" + name + "'");
   }
 
+  // Runs f on the engine Simulator, one user at a time (control.cpp).
+  void use(const std::function<void(Simulator&)>& f) {
+    const Busy busy(*this);
+    f(*sim_);
+  }
+
   pyb::bytes save_state() const {
-    const State& s = state();
-    const std::vector<uint8_t> bytes = plastivox::save_state(s);
+    const Busy busy(*this);
+    const std::vector<uint8_t> bytes = sim_->save_state();  // the State, then the signal
     return pyb::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
 
@@ -240,12 +246,7 @@ class PySimulator {
 };
 
 pyb::list state_field_table() {
-  pyb::list fields;
-  for (const StateField& f : kStateFields)
-    fields.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
-                            pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
-                            pyb::arg("meaning") = f.meaning));
-  return fields;
+  return describe_fields(kStateFields);
 }
 
 }  // namespace
@@ -255,8 +256,8 @@ void bind_simulate(pyb::module_& m) {
         pyb::arg("record_fps"));
   m.def("simulate_many", &simulate_many, pyb::arg("robots"), pyb::arg("physics"),
         pyb::arg("treatment"), pyb::arg("record_fps"), pyb::arg("threads"));
-  pyb::class_<PySimulator>(m, "Simulator")
-      .def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&>())
+  auto simulator = pyb::class_<PySimulator>(m, "Simulator");
+  simulator.def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&>())
       .def("step", &PySimulator::step, pyb::arg("n") = 1)
       .def_property_readonly("time", [](const PySimulator& s) { return s.state().time; })
       .def_property_readonly("steps", [](const PySimulator& s) { return s.state().steps; })
@@ -275,6 +276,9 @@ void bind_simulate(pyb::module_& m) {
       .def("save_state", &PySimulator::save_state)
       .def("restore_state", &PySimulator::restore_state, pyb::arg("snapshot"))
       .def_static("state_fields", &state_field_table);
+  bind_control(m, simulator, [](const pyb::handle& self, const std::function<void(Simulator&)>& f) {
+    self.cast<PySimulator&>().use(f);
+  });
 }
 
 }  // namespace plastivox::py

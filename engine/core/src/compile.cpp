@@ -67,6 +67,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
       m.act_gain[i] = robot.act_amplitude[s];
       m.act_amplitude_max = std::max(m.act_amplitude_max, m.act_gain[i]);
     }
+    if (!robot.act_scale.empty()) m.act_gain[i] *= robot.act_scale[s];  // 0: passive
   }
   // Bounded in time before anything runs: the stiffest voxel, or e_max if E can grow.
   double e_top = 0;

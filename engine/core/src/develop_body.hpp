@@ -14,9 +14,11 @@ inline T clamp_lanes(T v, double lo, double hi) {
   return pick(v < lo, splat(lo, T{}), pick(hi < v, splat(hi, T{}), v));
 }
 
-// Voxels [i, i + width).
+// Voxels [i, i + width): the stimulus k.stimulus names, from this step's bonds (and, for
+// contact and kinetic, the floor force and momenta io points at). Also the sensors' strain,
+// stress and pressure (sensors.cpp).
 template <class T>
-inline void develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k) {
+inline T stimulus_lanes(const DevelopIo& io, int i, const DevelopConstants& k) {
   const T zero = splat(0.0, T{});
   T stim;
   if (k.stimulus == Treatment::kStress) {
@@ -67,6 +69,13 @@ inline void develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k)
     const T stress_sum = k.split ? sum : load(io.stiffness, i, T{}) * sum;
     stim = -stress_sum / k.pressure_denominator;
   }
+  return stim;
+}
+
+// Voxels [i, i + width).
+template <class T>
+inline void develop_lanes(const DevelopIo& io, int i, const DevelopConstants& k) {
+  const T stim = stimulus_lanes<T>(io, i, k);
   store(io.stimulus, i, stim);
   if (k.first) store(io.stim_ref, i, stim);
 

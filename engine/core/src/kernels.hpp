@@ -120,13 +120,14 @@ struct VoxelUpdateSummary {
   bool non_finite = false;
 };
 
-// Actuation: size[i] = L max(1 + A xi(E_i) sin(2 pi (f t + phase_i)), min_factor), with
-// xi(E) = (e_max - E) / (e_max - e_min); `cycles` = f t.
+// Actuation: size[i] = L max(1 + A xi(E_i) u_i, min_factor) from each voxel's signal u_i in
+// [-1, 1] (the sine controller's is sin(2 pi (f t + phase_i))), with
+// xi(E) = (e_max - E) / (e_max - e_min).
 // xi = (e_max - E) * inv_range + xi_base: the paper's stiffness factor with xi_base 0, and
 // exactly 1 for every E with e_max = inv_range = 0, xi_base = 1 (the robot's own amplitudes).
-// The wave is clipped to at most wave_max: +infinity (no clip) or 0 (contraction only).
+// The signal is clipped to at most wave_max: +infinity (no clip) or 0 (contraction only).
 struct ActuationConstants {
-  double L, amplitude, min_factor, e_max, inv_range, xi_base, wave_max, cycles;
+  double L, amplitude, min_factor, e_max, inv_range, xi_base, wave_max;
 };
 
 // ---- Development: the per-voxel rule of develop.cpp (docs/method.md §5) ----
@@ -179,9 +180,11 @@ struct KernelSet {
   // orientation.
   VoxelUpdateSummary (*update)(const VoxelKernelIo& io, const VoxelStateOut& st, int n,
                                const VoxelConstants& k);
-  // Voxels [0, n): the actuated sizes.
-  void (*actuate)(const double* stiff, const double* phase, const double* gain, double* size, int n,
-                  const ActuationConstants& k);
+  // Voxels [0, n): signal[i] = sin(2 pi (cycles + phase[i])), the sine controller's.
+  void (*sine)(const double* phase, double* signal, int n, double cycles);
+  // Voxels [0, n): the actuated sizes from the signals.
+  void (*actuate)(const double* stiff, const double* signal, const double* gain, double* size,
+                  int n, const ActuationConstants& k);
   // Voxels [0, n): stimulus and stiffness update.
   void (*develop)(const DevelopIo& io, int n, const DevelopConstants& k);
   // Writes to out, increasing, every e in [begin, end) with

@@ -13,8 +13,8 @@ namespace {
 
 template <class T>
 KernelSet make_kernel_set() {
-  return KernelSet{&run_bonds<T>,   &run_gather<T>,      &run_update<T>,          &run_actuate<T>,
-                   &run_develop<T>, &run_scan_within<T>, &run_touch_candidates<T>};
+  return KernelSet{&run_bonds<T>,   &run_gather<T>,  &run_update<T>,      &run_sine<T>,
+                   &run_actuate<T>, &run_develop<T>, &run_scan_within<T>, &run_touch_candidates<T>};
 }
 
 }  // namespace

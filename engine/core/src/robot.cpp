@@ -56,8 +56,13 @@ void validate(const RobotDef& r, const Limits& limits) {
   const bool own_amplitude = !r.act_amplitude.empty();
   if (own_amplitude && r.act_amplitude.size() != n)
     fail("act_amplitude", "expected " + std::to_string(n) + " entries or none");
+  const bool scaled = !r.act_scale.empty();
+  if (scaled && r.act_scale.size() != n)
+    fail("act_scale", "expected " + std::to_string(n) + " entries or none");
   for (size_t i = 0; i < n; ++i) {
     if (!r.present[i]) continue;
+    if (scaled && !(r.act_scale[i] >= 0 && r.act_scale[i] <= 1))
+      fail("act_scale[" + std::to_string(i) + "]", "must be in [0, 1]");
     if (!(r.stiffness[i] > 0) || !std::isfinite(r.stiffness[i]))
       fail("stiffness[" + std::to_string(i) + "]", "must be a positive finite modulus in Pa");
     if (!std::isfinite(r.dev_rate[i])) fail("dev_rate[" + std::to_string(i) + "]", "not finite");

@@ -4,8 +4,10 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 #include <utility>
 
 #include "plastivox/base/clock.hpp"
@@ -15,7 +17,11 @@
 namespace plastivox {
 
 Simulator::Simulator(const Model& model)
-    : model_(&model), state_(make_initial_state(model)), ws_(std::make_unique<Workspace>(model)) {
+    : model_(&model),
+      state_(make_initial_state(model)),
+      ws_(std::make_unique<Workspace>(model)),
+      controller_(std::make_unique<SineController>()),
+      actuation_(model.n, 0.0) {
   bind_views(model, state_, *ws_);
 }
 Simulator::~Simulator() = default;
@@ -23,22 +29,78 @@ Simulator::Simulator(Simulator&&) noexcept = default;
 
 State& Simulator::mutable_state() {
   views_stale_ = true;  // the caller may replace the State's arrays
+  sensor_cache_.invalidate();
   return state_;
 }
 
+namespace {
+
+// The actuation signal follows the State in a Simulator's snapshot: this tag, the value
+// count, the values.
+constexpr char kActuationTag[8] = {'P', 'V', 'X', 'A', 'C', 'T', 'U', '1'};
+constexpr size_t kActuationHeader = sizeof kActuationTag + sizeof(uint64_t);
+
+}  // namespace
+
 std::vector<uint8_t> Simulator::save_state() const {
-  return plastivox::save_state(state_);
+  if (between_halves_)
+    throw std::logic_error(
+        "save_state: the simulator is between the halves of a step (step1 or sensors() ran, "
+        "step2 not yet): save before reading the sensors, or after the step");
+  std::vector<uint8_t> out = plastivox::save_state(state_);
+  const uint64_t count = actuation_.size();
+  const auto* tag = reinterpret_cast<const uint8_t*>(kActuationTag);
+  const auto* count_bytes = reinterpret_cast<const uint8_t*>(&count);
+  const auto* values = reinterpret_cast<const uint8_t*>(actuation_.data());
+  out.insert(out.end(), tag, tag + sizeof kActuationTag);
+  out.insert(out.end(), count_bytes, count_bytes + sizeof count);
+  out.insert(out.end(), values, values + count * sizeof(double));
+  return out;
 }
 
 void Simulator::restore_state(const std::vector<uint8_t>& snapshot) {
-  plastivox::restore_state(state_, snapshot);
+  // A Simulator's snapshot ends with this model's signal; anything else is taken as a
+  // snapshot of the State alone (and checked as one).
+  const size_t tail = kActuationHeader + actuation_.size() * sizeof(double);
+  const uint8_t* signal =
+      snapshot.size() >= tail ? snapshot.data() + snapshot.size() - tail : nullptr;
+  uint64_t count = 0;
+  if (signal) std::memcpy(&count, signal + sizeof kActuationTag, sizeof count);
+  if (signal && std::memcmp(signal, kActuationTag, sizeof kActuationTag) == 0 &&
+      count == actuation_.size()) {
+    plastivox::restore_state(state_, std::vector<uint8_t>(snapshot.begin(), snapshot.end() - tail));
+    std::memcpy(actuation_.data(), signal + kActuationHeader, count * sizeof(double));
+  } else {
+    plastivox::restore_state(state_, snapshot);
+  }
   between_halves_ = false;
+  sensor_cache_.invalidate();
   // The self-collision candidates are a cache of the positions at their last refresh: start
   // it afresh, as a new Simulator restored from the snapshot would.
   ws_->contacts_valid = false;
   ws_->contact_grid.pairs_stale = true;
   bind_views(*model_, state_, *ws_);
   views_stale_ = false;
+}
+
+void Simulator::reset() {
+  std::vector<uint8_t> initial = plastivox::save_state(make_initial_state(*model_));
+  restore_state(initial);
+  std::fill(actuation_.begin(), actuation_.end(), 0.0);
+  if (controller_) controller_->reset();
+}
+
+void Simulator::set_controller(std::unique_ptr<Controller> controller, int every) {
+  if (every < 1)
+    throw std::invalid_argument("every: the control rate must be >= 1 step, got " +
+                                std::to_string(every));
+  controller_ = std::move(controller);
+  every_ = every;
+}
+
+Sensors Simulator::sensors() {
+  if (!between_halves_) step1();
+  return Sensors(*model_, state_, *ws_, sensor_cache_);
 }
 
 void bind_views(const Model& m, State& s, Workspace& w) {
@@ -153,8 +215,7 @@ void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, Si
 // bonds see the sizes and stiffness left by the previous step; actuation for the next step
 // is set from the time at the start of this one; development reads this step's strains.
 void Simulator::step(StageTimings* t) {
-  step1(t);
-  step2(t);
+  step2(t);  // which runs step1 first, unless it already ran
 }
 
 void Simulator::step1(StageTimings* t) {
@@ -174,6 +235,7 @@ void Simulator::step1(StageTimings* t) {
   assert(views_bound_to(s, w) &&
          "the State's arrays moved since mutable_state() was last called: replace the State "
          "through mutable_state() or restore_state() before the step");
+  sensor_cache_.invalidate();
   using T = StageTimings;
   run_stage(t, &T::bond_forces, [&] { compute_bond_forces(m, s, w); });
   run_stage(t, &T::time_step, [&] { follow_stiffness(m, s); });
@@ -188,10 +250,13 @@ void Simulator::step2(StageTimings* t) {
   Workspace& w = *ws_;
   if (!between_halves_) step1(t);
   if (s.status != SimStatus::kRunning) return;
-  between_halves_ = false;
   using T = StageTimings;
+  if (controller_ && s.steps % every_ == 0)
+    run_stage(t, &T::actuate,
+              [&] { controller_->act(Sensors(m, s, w, sensor_cache_), actuation_); });
+  between_halves_ = false;
   run_stage(t, &T::integrate, [&] { integrate(m, s, w); });
-  run_stage(t, &T::actuate, [&] { actuate(m, s); });
+  run_stage(t, &T::actuate, [&] { actuate(m, s, actuation_.data()); });
   run_stage(t, &T::develop, [&] { develop(m, s, w); });
   if (t) t->steps += 1;
 

@@ -201,25 +201,36 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
   bad = bad | and_not(mask_not(v2 <= DBL_MAX) | mask_not(w2 <= DBL_MAX), fixed);
 }
 
-// Voxels [i, i + width): the actuated size (docs/method.md §4).
+// Voxels [i, i + width): the sine controller's signal, sin(2 pi (cycles + phase_i)).
 template <class T>
-inline void actuate_lanes(const double* stiff, const double* phase, const double* gain,
+inline void sine_lanes(const double* phase, double* signal, int i, double cycles) {
+  store(signal, i, sin_cycles(cycles + load(phase, i, T{})));
+}
+
+template <class T>
+inline void run_sine(const double* phase, double* signal, int n, double cycles) {
+  over_lanes<T>(n, [&](auto lane, int i) { sine_lanes<decltype(lane)>(phase, signal, i, cycles); });
+}
+
+// Voxels [i, i + width): the actuated size from each voxel's signal (docs/method.md §4).
+template <class T>
+inline void actuate_lanes(const double* stiff, const double* signal, const double* gain,
                           double* size, int i, const ActuationConstants& k) {
   // Stiff voxels barely move; xi follows the *current* E, so development changes actuation.
   // (A gain of 1 and xi_base 0 leave every bit as the plain formula gives it.)
   const T xi = (k.e_max - load(stiff, i, T{})) * k.inv_range + k.xi_base;
-  const T sine = sin_cycles(k.cycles + load(phase, i, T{}));
-  const T wave = pick(sine > k.wave_max, splat(k.wave_max, T{}), sine);
+  const T u = load(signal, i, T{});
+  const T wave = pick(u > k.wave_max, splat(k.wave_max, T{}), u);
   // The size factor never drops below min_factor (Voxelyze's MIN_TEMP_FACTOR).
   const T factor = 1.0 + k.amplitude * xi * load(gain, i, T{}) * wave;
   store(size, i, k.L * pick(factor < k.min_factor, splat(k.min_factor, T{}), factor));
 }
 
 template <class T>
-inline void run_actuate(const double* stiff, const double* phase, const double* gain, double* size,
+inline void run_actuate(const double* stiff, const double* signal, const double* gain, double* size,
                         int n, const ActuationConstants& k) {
   over_lanes<T>(
-      n, [&](auto lane, int i) { actuate_lanes<decltype(lane)>(stiff, phase, gain, size, i, k); });
+      n, [&](auto lane, int i) { actuate_lanes<decltype(lane)>(stiff, signal, gain, size, i, k); });
 }
 
 // Slow (global) damping: a small fraction of the critical damping of the voxel's own axial

@@ -145,7 +145,8 @@ void follow_stiffness(const Model& m, State& s);  // dt from the stiffness devel
 void gather_voxel_forces(const Model& m, const State& s, Workspace& w);
 void apply_self_collisions(const Model& m, const State& s, Workspace& w);
 void integrate(const Model& m, State& s, Workspace& w);  // floor, friction, Euler update
-void actuate(const Model& m, State& s);
+// Sizes for the next step from each voxel's signal (n values in [-1, 1]).
+void actuate(const Model& m, State& s, const double* signal);
 void develop(const Model& m, State& s, Workspace& w);
 
 }  // namespace plastivox

@@ -115,7 +115,9 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
       if (std::none_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; }))
         fail(source, prefix + it.key(), "unknown field");
   };
-  only(j, {"format", "version", "name", "lattice", "voxels", "fixed", "loads", "physics"}, "");
+  only(j,
+       {"format", "version", "name", "lattice", "voxels", "act_scale", "fixed", "loads", "physics"},
+       "");
   if (!j.contains("lattice")) fail(source, "lattice", "missing");
   const json& lat = j["lattice"];
   if (!lat.is_object()) fail(source, "lattice", "expected an object");
@@ -159,6 +161,21 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
     r.dev_rate[s] = number(v[4], source, field + "[4] (alpha)");
     r.phase[s] = number(v[5], source, field + "[5] (phase)");
     if (own_amplitude) r.act_amplitude[s] = number(v[6], source, field + "[6] (amplitude)");
+  }
+  // Optional: each voxel's actuation scale in [0, 1], one per entry of voxels, in its order.
+  if (j.contains("act_scale")) {
+    const json& scale = j["act_scale"];
+    if (!scale.is_array() || scale.size() != vox.size())
+      fail(source, "act_scale",
+           "expected an array of " + std::to_string(vox.size()) + " numbers (one per voxel)");
+    r.act_scale.assign(r.sites(), 1.0);
+    for (size_t k = 0; k < vox.size(); ++k) {
+      const std::string field = "act_scale[" + std::to_string(k) + "]";
+      const double a = number(scale[k], source, field);
+      if (!(a >= 0 && a <= 1)) fail(source, field, "must be in [0, 1] (0: passive tissue)");
+      r.act_scale[site_of(r, json::array({vox[k][0], vox[k][1], vox[k][2]}), source,
+                          "voxels[" + std::to_string(k) + "]")] = a;
+    }
   }
   if (j.contains("fixed")) {
     if (!j["fixed"].is_array()) fail(source, "fixed", "expected an array");
@@ -210,6 +227,11 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
     if (!r.act_amplitude.empty()) vox.back().push_back(r.act_amplitude[s]);
   }
   j["voxels"] = vox;
+  if (!r.act_scale.empty()) {
+    json& scale = j["act_scale"] = json::array();
+    for (int s = 0; s < r.sites(); ++s)
+      if (r.present[s]) scale.push_back(r.act_scale[s]);
+  }
   auto xyz = [&](int s) { return json::array({s % r.nx, (s / r.nx) % r.ny, s / (r.nx * r.ny)}); };
   if (!r.fixed_sites.empty()) {
     j["fixed"] = json::array();

@@ -152,6 +152,7 @@ VoxcraftFiles write_voxcraft(const RobotDef& robot, const PhysicsDef& p, bool lo
            std::to_string(developing) + " voxels with nonzero development rates, its stimulus)");
   if (!robot.fixed_sites.empty()) cannot("fixed voxels (robot.fixed_sites)");
   if (!robot.loads.empty()) cannot("external loads (robot.loads)");
+  if (!robot.act_scale.empty()) cannot("per-voxel actuation scales (robot.act_scale)");
 
   // Per voxel: congenital stiffness as compile() holds it, and the linear amplitude.
   const bool own = !robot.act_amplitude.empty();

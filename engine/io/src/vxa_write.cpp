@@ -106,6 +106,10 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
         "write_vxa: robot.act_amplitude (per-voxel actuation amplitudes, as voxcraft-sim's "
         "materials give them) cannot be written: the authors' dialect actuates every voxel by "
         "physics.act_amplitude and its stiffness; write voxcraft files or .json");
+  if (!robot.act_scale.empty())
+    throw VxaError(
+        "write_vxa: robot.act_scale (per-voxel actuation scales, passive tissue) cannot be "
+        "written: the authors' dialect actuates every voxel alike; write .json");
   if (!robot.fixed_sites.empty() || !robot.loads.empty())
     throw VxaError(
         "write_vxa: robot.fixed_sites and robot.loads cannot be written (VXA "

@@ -50,6 +50,7 @@ struct Model {
   // Actuation amplitude per voxel: under the paper's rule (act_per_voxel false) every gain is
   // 1 and the amplitude is def.act_amplitude * xi(E); with the robot's own amplitudes
   // (RobotDef::act_amplitude, voxcraft's rule) the gain is the amplitude and xi is not used.
+  // Either way it is then multiplied by the robot's act_scale (0 for passive tissue).
   std::vector<double> act_gain;
   bool act_per_voxel = false;
   double act_amplitude_max = 0;  // the largest linear amplitude any voxel can reach

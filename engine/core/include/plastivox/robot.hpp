@@ -21,6 +21,10 @@ struct RobotDef {
   // voxcraft-sim gives it (TempAmplitude x the material's CTE, independent of stiffness).
   // Empty (the default, and every robot of the paper): physics.act_amplitude * xi(E).
   std::vector<double> act_amplitude;
+  // Per-voxel actuation scale in [0, 1] (nx*ny*nz): the voxel's amplitude (either rule above)
+  // times this; 0 makes passive tissue, which the controller's signal does not move. Empty
+  // (the default): 1 everywhere.
+  std::vector<double> act_scale;
 
   // Boundary conditions, for experiments and physics tests (evolved robots have none).
   std::vector<int> fixed_sites;  // sites whose voxel is clamped: no translation, no rotation

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/control.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
 #include "plastivox/state.hpp"
@@ -28,7 +29,7 @@ struct StageTimings {
   double voxel_forces = 0;     // s: bond forces gathered per voxel, gravity, floor contact
   double self_collisions = 0;  // s
   double integrate = 0;        // s: velocities and poses
-  double actuate = 0;          // s: sizes for the next step
+  double actuate = 0;          // s: the controller, and sizes for the next step
   double develop = 0;          // s: stimulus and stiffness
   int64_t steps = 0;
   double total() const;
@@ -67,15 +68,41 @@ class Simulator {
   // the changes through this reference before stepping (do not keep it across steps).
   State& mutable_state();
 
-  // The state as bytes (save_state() in state.hpp: every field of kStateFields in order) and
-  // back: restore_state() takes a snapshot saved from a Simulator of the same model (at any
-  // step, by this one or another) and the life continues from it bit-identically. A
-  // snapshot of another model's state, or a damaged one, is refused with
-  // std::invalid_argument naming the field, and the state is left as it was.
+  // The state as bytes, and back: save_state() in state.hpp (every field of kStateFields
+  // in order), followed by the actuation signal (actuation(): the controller's last output,
+  // which holds until its next call). restore_state() takes a snapshot saved from a Simulator
+  // of the same model (at any step, by this one or another) and the life continues from it
+  // bit-identically under the same controller; a snapshot of the State alone
+  // (plastivox::save_state) is taken too, and leaves the signal as it is. A snapshot of
+  // another model's state, or a damaged one, is refused with std::invalid_argument naming the
+  // field, and the state is left as it was. Save between steps: between step1 and step2 the
+  // State is half-way through a step and save_state() throws std::logic_error.
   std::vector<uint8_t> save_state() const;
   void restore_state(const std::vector<uint8_t>& snapshot);
+  // Back to the state at t = 0, as a new Simulator of the model starts; the controller and
+  // its rate stay (its reset() is called), the signal is 0.
+  void reset();
 
-  // Advances one time step: step1() then step2(). Sets status to kUnstable (with a reason)
+  // ---- Control (plastivox/control.hpp, docs/control.md) ----
+  // The controller, called between step1 and step2 when steps % every == 0 (every >= 1, else
+  // std::invalid_argument naming `every`). The default is the sine (SineController, every
+  // step). nullptr: no controller; the signal is what the caller writes to actuation(),
+  // and holds until written again.
+  void set_controller(std::unique_ptr<Controller> controller, int every = 1);
+  Controller* controller() const { return controller_.get(); }
+  int control_every() const { return every_; }
+  // Each voxel's actuation signal, in [-1, 1], voxel order (n values): what the controller
+  // last wrote, read by the actuation stage in step2. Write it between steps (or between the
+  // halves of one) when no controller is set.
+  std::span<double> actuation() { return actuation_; }
+  std::span<const double> actuation() const { return actuation_; }
+  // The sensors of the present step, computed on first read: runs step1 first when it has
+  // not run since the last step2 (step() or step2() then finishes that step). The handle is
+  // valid until the next step.
+  Sensors sensors();
+
+  // Advances one time step: step1() (unless it already ran: sensors(), or a call of step1())
+  // then step2(). Sets status to kUnstable (with a reason)
   // instead of producing non-finite numbers, and to kFinished once time passes the life's
   // duration (as Voxelyze runs until time first passes it); further calls then do nothing.
   // Adds each stage's wall time to `timings` when given.
@@ -86,9 +113,10 @@ class Simulator {
   //   step1: what the present configuration implies: every bond's strain, stress and forces
   //          (the development stimuli come from them), the time step, each voxel's forces
   //          with gravity and floor contact, and self-contacts (workspace()).
-  //   step2: acts on them: integrates, sets each voxel's actuated size for the next step,
-  //          develops stiffness, advances time, and ends the life once time passes the
-  //          duration. It runs step1 first when step1 was not called since the last step2.
+  //   step2: acts on them: calls the controller (every k steps), integrates, sets each
+  //          voxel's actuated size for the next step from its signal, develops stiffness,
+  //          advances time, and ends the life once time passes the duration. It runs step1
+  //          first when step1 was not called since the last step2.
   void step1(StageTimings* timings = nullptr);
   void step2(StageTimings* timings = nullptr);
 
@@ -102,6 +130,10 @@ class Simulator {
   std::unique_ptr<Workspace> ws_;
   bool between_halves_ = false;  // step1 ran, step2 not yet
   bool views_stale_ = false;     // mutable_state() was called since the views were built
+  std::unique_ptr<Controller> controller_;
+  int every_ = 1;
+  std::vector<double> actuation_;  // the signal, per voxel
+  SensorCache sensor_cache_;       // sensors read this step
 };
 
 // How a life met the floor, graded from its deepest penetration (SimResult::floor_depth).

@@ -1,0 +1,131 @@
+// Sensors (computed on request from what step1 left and the state) and the sine controller.
+#include "plastivox/control.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "develop_body.hpp"  // stimulus_lanes: the development stimuli, as sensors
+#include "elementary.hpp"
+#include "kernels.hpp"
+#include "workspace.hpp"
+
+namespace plastivox {
+
+const std::array<SensorField, kSensorCount> kSensorFields = {{
+    {Sensor::kTouch, "touch", "n", "-", "-",
+     "1 while the voxel touches the floor (its actuated half-size reaches below z = 0), else 0",
+     true, 1},
+    {Sensor::kFloorForce, "floor_force", "n", "N", "world z",
+     "the floor's elastic normal force on the voxel this step (2 E L times its penetration; 0 off "
+     "it)",
+     true, 1},
+    {Sensor::kStrain, "strain", "n", "1", "bond",
+     "largest absolute axial strain of the voxel's bonds this step (the strain stimulus)", true, 1},
+    {Sensor::kStress, "stress", "n", "Pa", "bond",
+     "largest tensile axial stress of the voxel's bonds this step (the stress stimulus)", true, 1},
+    {Sensor::kPressure, "pressure", "n", "Pa", "-",
+     "the voxel's pressure from its bonds' strains, > 0 in compression (the pressure stimulus)",
+     true, 1},
+    {Sensor::kVelocity, "velocity", "n x 3", "m/s", "world", "the voxel centre's velocity", true,
+     3},
+    {Sensor::kUp, "up", "n x 3", "1", "world",
+     "the voxel's own +z axis (unit vector; (0, 0, 1) upright)", true, 3},
+    {Sensor::kComVelocity, "com_velocity", "3", "m/s", "world",
+     "velocity of the centre of mass (mean voxel velocity)", false, 3},
+    {Sensor::kTime, "time", "1", "s", "-", "simulated time at the start of the step", false, 1},
+    {Sensor::kPhase, "phase", "1", "cycles", "-",
+     "the sine's phase, f t modulo 1, in [0, 1) (0 when act_frequency is 0)", false, 1},
+}};
+
+namespace {
+
+// Fills out (sized for the sensor) with sensor `id` of the present step.
+void compute(Sensor id, const Model& m, const State& s, const Workspace& w,
+             std::vector<double>& out) {
+  const int n = m.n;
+  switch (id) {
+    case Sensor::kTouch:
+    case Sensor::kFloorForce:
+      // The floor contact the integrate stage applies this step (voxel_body.hpp, update_lanes):
+      // penetration of the actuated half-size below z = 0, tilt ignored.
+      for (int i = 0; i < n; ++i) {
+        const double pen = 0.5 * s.size[i] - s.pos[i].z();
+        const bool touch = m.def.floor && pen > 0;
+        out[i] = id == Sensor::kTouch ? (touch ? 1.0 : 0.0)
+                                      : (touch ? 2.0 * s.stiffness[i] * m.size * pen : 0.0);
+      }
+      return;
+    case Sensor::kStrain:
+    case Sensor::kStress:
+    case Sensor::kPressure: {
+      // The development stimulus of that name, of this step's bonds (the bond stage's strains
+      // and stresses), by the development kernel's own formula.
+      DevelopConstants k = w.views.develop_k;
+      k.stimulus = id == Sensor::kStrain   ? Treatment::kStrain
+                   : id == Sensor::kStress ? Treatment::kStress
+                                           : Treatment::kPressure;
+      for (int i = 0; i < n; ++i) out[i] = stimulus_lanes<double>(w.views.develop, i, k);
+      return;
+    }
+    case Sensor::kVelocity:
+      for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = s.lin_mom[i][c] / m.mass;
+      return;
+    case Sensor::kUp:
+      for (int i = 0; i < n; ++i) {
+        const Vec3 up = s.orient[i] * Vec3::UnitZ();
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = up[c];
+      }
+      return;
+    case Sensor::kComVelocity: {
+      Vec3 p = Vec3::Zero();
+      for (int i = 0; i < n; ++i) p += s.lin_mom[i];
+      const Vec3 v = n > 0 ? Vec3(p / (n * m.mass)) : p;
+      for (int c = 0; c < 3; ++c) out[c] = v[c];
+      return;
+    }
+    case Sensor::kTime:
+      out[0] = s.time;
+      return;
+    case Sensor::kPhase: {
+      const double cycles = m.def.act_frequency * s.time;
+      out[0] = cycles - std::floor(cycles);
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+std::span<const double> Sensors::read(Sensor id) const {
+  const auto k = static_cast<size_t>(id);
+  const SensorField& f = kSensorFields[k];
+  std::vector<double>& v = cache_.values[k];
+  if (!cache_.fresh[k]) {
+    v.resize(static_cast<size_t>(f.per_voxel ? model_.n * f.width : f.width));
+    compute(id, model_, state_, ws_, v);
+    cache_.fresh[k] = true;
+  }
+  return v;
+}
+
+void SineController::act(const Sensors& sensors, std::span<double> actuation) {
+  const Model& m = sensors.model();
+  const State& s = sensors.state();
+  if (s.time < m.def.settle_time) return;  // not actuated yet: the signal is not read
+  if (m.def.act_frequency == 0) {
+    std::fill(actuation.begin(), actuation.end(), 0.0);
+    return;
+  }
+  kernels().sine(m.phase.data(), actuation.data(), m.n, m.def.act_frequency * s.time);
+}
+
+double sin_cycles_of(double u) {
+  return sin_cycles(u);
+}
+
+void sin_cycles_of(std::span<const double> u, std::span<double> out) {
+  kernels().sine(u.data(), out.data(), static_cast<int>(u.size()), 0.0);  // sin(0 + u)
+}
+
+}  // namespace plastivox

@@ -1,0 +1,179 @@
+"""Per-step control from Python (docs/control.md): sensors, set_actuation, reset, snapshots."""
+
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+import plastivox
+
+
+def short_walker(duration=0.4):
+    return plastivox.demo_walker().with_physics({"duration": duration, "settle_time": 0.1},
+                                                treatment="stress")
+
+
+def run_builtin(robot):
+    sim = plastivox.Simulator(robot)
+    sim.run()
+    assert sim.status == "finished"
+    return sim.state_hash
+
+
+def sine_of(sim):
+    """The built-in sine's signal for the present step, computed in Python."""
+    t = float(sim.sensors("time")["time"])
+    return plastivox.sin_cycles(sim.act_frequency * t + sim.voxel_phase)
+
+
+def test_python_sine_replay_gives_the_builtin_bits():
+    robot = short_walker()
+    sim = plastivox.Simulator(robot)
+    assert sim.controller == "sine"
+    while sim.status == "running":
+        sim.set_actuation(sine_of(sim))
+        sim.step()
+    assert sim.controller is None
+    assert sim.status == "finished"
+    assert sim.state_hash == run_builtin(robot)
+    assert sim.state_hash == plastivox.simulate(robot).final_state_hash
+
+
+def test_sin_cycles_stays_in_range():
+    quarters = np.arange(-12, 13) / 4.0  # the peaks and zeros, and their neighbours
+    u = np.concatenate([np.linspace(-3, 3, 200001), quarters, np.nextafter(quarters, 9),
+                        np.nextafter(quarters, -9), [1e6 + 0.25, -1e6 - 0.25]])
+    s = plastivox.sin_cycles(u)
+    assert s.dtype == np.float64 and s.shape == u.shape
+    # Within 1e-15 of [-1, 1] (-1 - 2.2e-16 at 0.75 cycles), which set_actuation takes.
+    assert np.all(np.abs(s) <= 1.0 + 1e-15)
+    assert np.max(np.abs(s - np.sin(2 * np.pi * u))) < 1e-14
+    sim = plastivox.Simulator(short_walker())
+    sim.set_actuation(plastivox.sin_cycles(np.full(len(sim.voxel_phase), 0.75)))
+
+
+def test_wrong_action_arrays_raise_a_clear_error():
+    sim = plastivox.Simulator(short_walker())
+    n = len(sim.voxel_phase)
+    with pytest.raises(ValueError, match=r"actuation: expected shape \(%d,\).*got \(%d,\)" % (n, n + 1)):
+        sim.set_actuation(np.zeros(n + 1))
+    with pytest.raises(ValueError, match=r"actuation: expected shape .* got \(1, %d\)" % n):
+        sim.set_actuation(np.zeros((1, n)))
+    with pytest.raises(TypeError, match="actuation: expected a float array .*int64"):
+        sim.set_actuation(np.zeros(n, dtype=np.int64))
+    with pytest.raises(ValueError, match=r"actuation: every value must be in \[-1, 1\]; actuation\[3\] is 1.5"):
+        u = np.zeros(n)
+        u[3] = 1.5
+        sim.set_actuation(u)
+    with pytest.raises(ValueError, match=r"actuation\[0\] is nan"):
+        sim.set_actuation(np.full(n, np.nan))
+    with pytest.raises(TypeError, match="actuation"):
+        sim.set_actuation(None)
+    # Nothing was taken: the sine still drives, and float32 arrays are fine.
+    assert sim.controller == "sine"
+    sim.set_actuation(np.full(n, 0.5, dtype=np.float32))
+    assert np.array_equal(sim.actuation, np.full(n, 0.5))
+    with pytest.raises(ValueError, match="every"):
+        sim.set_controller("sine", every=0)
+    with pytest.raises(ValueError, match="controller"):
+        sim.set_controller("neural")
+
+
+def test_sensors_match_their_table():
+    sim = plastivox.Simulator(short_walker())
+    sim.step(200)
+    n = len(sim.voxel_phase)
+    sensors = sim.sensors()
+    assert list(sensors) == [f["name"] for f in plastivox.Simulator.sensor_fields]
+    shapes = {"n": (n,), "n x 3": (n, 3), "3": (3,), "1": ()}
+    for f in plastivox.Simulator.sensor_fields:
+        assert sensors[f["name"]].shape == shapes[f["shape"]], f
+        assert sensors[f["name"]].dtype == np.float64 and f["unit"]
+    assert np.allclose(sensors["velocity"], sim.velocities, rtol=1e-14, atol=0)
+    assert float(sensors["time"]) == sim.time
+    assert set(np.unique(sensors["touch"])) <= {0.0, 1.0} and sensors["touch"].sum() > 0
+    assert np.allclose(np.linalg.norm(sensors["up"], axis=1), 1.0)
+    with pytest.raises(ValueError, match="no sensor named 'smell'.*touch"):
+        sim.sensors(["smell"])
+    # Reading is half of a step: a snapshot waits for the step to end.
+    with pytest.raises(RuntimeError, match="between the halves"):
+        sim.save_state()
+    sim.step()
+    assert isinstance(sim.save_state(), bytes)
+
+
+def reverse_on_touch(sim):
+    """A closed loop: the sine, reversed where the voxel touches the floor."""
+    u = sine_of(sim)
+    return np.where(sim.sensors("touch")["touch"] == 1.0, -u, u)
+
+
+def test_save_restore_reproduces_the_same_future_bit_for_bit():
+    robot = short_walker(0.6)
+    sim = plastivox.Simulator(robot)
+    for _ in range(400):
+        sim.set_actuation(reverse_on_touch(sim))
+        sim.step()
+    snapshot = sim.save_state()
+
+    def future(s):
+        hashes = []
+        for _ in range(300):
+            s.set_actuation(reverse_on_touch(s))
+            s.step()
+            hashes.append(s.state_hash)
+        return hashes
+
+    first = future(sim)
+    sim.restore_state(snapshot)
+    assert future(sim) == first
+    fresh = plastivox.Simulator(robot)
+    fresh.restore_state(snapshot)
+    assert future(fresh) == first
+    # The closed loop is another gait than the sine's.
+    builtin = plastivox.Simulator(robot)
+    builtin.step(700)
+    assert builtin.state_hash != first[-1]
+
+
+def test_reset_starts_the_life_again():
+    robot = short_walker()
+    sim = plastivox.Simulator(robot)
+    sim.step(300)
+    sim.reset()
+    assert sim.steps == 0 and sim.time == 0
+    sim.run()
+    assert sim.state_hash == run_builtin(robot)
+    # The held signal of a Python controller is in the snapshot, and reset zeroes it.
+    n = len(sim.voxel_phase)
+    sim.reset()
+    sim.set_actuation(np.full(n, -0.25))
+    assert np.array_equal(sim.actuation, np.full(n, -0.25))
+    sim.reset()
+    assert sim.controller is None and np.array_equal(sim.actuation, np.zeros(n))
+    sim.set_controller("sine")
+    sim.run()
+    assert sim.state_hash == run_builtin(robot)
+
+
+def test_act_scale_in_a_robot_file_makes_passive_tissue_and_pickles(tmp_path):
+    walker = plastivox.demo_walker().with_physics({"duration": 0.4, "settle_time": 0.1})
+    walker.save(tmp_path / "walker.json")
+    doc = json.loads((tmp_path / "walker.json").read_text())
+    n = len(doc["voxels"])
+    doc["act_scale"] = [0.0] * (n // 2) + [1.0] * (n - n // 2)  # the first half passive
+    (tmp_path / "half.json").write_text(json.dumps(doc))
+    half = plastivox.load_robot(tmp_path / "half.json")
+    sim = plastivox.Simulator(half)
+    sim.step(600)
+    sizes = sim.state["size"]
+    size0 = 0.01  # the walker's voxel size, m
+    assert np.all(sizes[: n // 2] == size0) and np.any(sizes[n // 2:] != size0)
+    back = pickle.loads(pickle.dumps(half))
+    assert back == half and back != walker
+    assert plastivox.simulate(back).final_state_hash == plastivox.simulate(half).final_state_hash
+    doc["act_scale"][0] = 2.0
+    (tmp_path / "bad.json").write_text(json.dumps(doc))
+    with pytest.raises(plastivox.InputError, match=r"bad.json.*act_scale\[0\].*\[0, 1\]"):
+        plastivox.load_robot(tmp_path / "bad.json")
