@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "environment_json.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/limits.hpp"
@@ -54,6 +55,10 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
         // unused (a recording is asked for by the command: simulate --record, --fps).
         const double fps = number(*it, where, field);
         if (!(fps >= 0 && fps <= 10000)) fail(where, field, "must be in [0, 10000]");
+        continue;
+      }
+      if (key == "environment") {  // ground and obstacles (docs/environments.md)
+        d.environment = parse_environment(*it, where, field);
         continue;
       }
       if (key == "treatment") {  // a name, or {stimulus, law}
@@ -239,6 +244,9 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
           break;
       }
     }
+    // Only when defined, so files (and evolution identities) of the plain floor keep their
+    // bytes.
+    if (d.environment.active()) out["environment"] = environment_to_json(d.environment);
   }
   return j.dump(1);
 }
