@@ -127,6 +127,8 @@ Normal nearest_face(const double lo[3], const double hi[3], const double x[3], d
 // at the face it entered by when it reaches the box's middle plane (see the top of the file).
 // Returns the axis along which x1 and the momentum were changed, or -1.
 int stop_crossing(const double lo[3], const double hi[3], const double x0[3], double x1[3]) {
+  for (int a = 0; a < 3; ++a)  // the path's bounds miss the box
+    if (std::max(x0[a], x1[a]) <= lo[a] || std::min(x0[a], x1[a]) >= hi[a]) return -1;
   double t_in = -std::numeric_limits<double>::infinity();
   double t_out = std::numeric_limits<double>::infinity();
   int axis_in = -1;
@@ -160,11 +162,43 @@ int stop_crossing(const double lo[3], const double hi[3], const double x0[3], do
   return a;
 }
 
+// The boxes (indices, increasing) that a voxel of half size up to r_max whose centre lies
+// in [lo, hi] may touch: a cheap pass over the boxes once a step, so each voxel tests only
+// the boxes near the body.
+void boxes_near(const std::vector<ObstacleBox>& boxes, const Vec3& lo, const Vec3& hi, double r_max,
+                std::vector<int>& out) {
+  out.clear();
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    bool near = true;
+    for (int a = 0; a < 3; ++a)
+      near = near && boxes[b].min[a] - r_max < hi[a] && boxes[b].max[a] + r_max > lo[a];
+    if (near) out.push_back(static_cast<int>(b));
+  }
+}
+
+// The bounds of the voxels' centres (and, when given, of a second set of centres), and the
+// largest half size.
+void body_bounds(const State& s, const std::vector<Vec3>* also, Vec3& lo, Vec3& hi, double& r_max) {
+  lo = hi = s.pos[0];
+  r_max = 0;
+  for (size_t i = 0; i < s.pos.size(); ++i) {
+    lo = lo.cwiseMin(s.pos[i]), hi = hi.cwiseMax(s.pos[i]);
+    if (also) lo = lo.cwiseMin((*also)[i]), hi = hi.cwiseMax((*also)[i]);
+    r_max = std::max(r_max, 0.5 * s.size[i]);
+  }
+}
+
 }  // namespace
 
 void terrain_contacts(const Model& m, State& s, Workspace& w) {
   const VoxelConstants& k = w.views.voxel_k;
   const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
+  if (!boxes.empty()) {
+    Vec3 lo, hi;
+    double r_max;
+    body_bounds(s, nullptr, lo, hi, r_max);
+    boxes_near(boxes, lo, hi, r_max, w.terrain_boxes);
+  }
   for (int i = 0; i < m.n; ++i) {
     const Vec3& x = s.pos[i];
     const double r = 0.5 * s.size[i];
@@ -182,9 +216,9 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
         normal += apply_contact(c, pen, E, se, was_held, k, f, p, held);
       }
     }
-    for (const ObstacleBox& b : boxes) {
+    for (int box : w.terrain_boxes) {
       double lo[3], hi[3];
-      grown(b, r, lo, hi);
+      grown(boxes[box], r, lo, hi);
       if (!(x.x() > lo[0] && x.x() < hi[0] && x.y() > lo[1] && x.y() < hi[1] && x.z() > lo[2] &&
             x.z() < hi[2]))
         continue;
@@ -201,13 +235,19 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
 
 void terrain_after_update(const Model& m, State& s, Workspace& w) {
   const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
+  if (!boxes.empty()) {  // the boxes near the paths of this step
+    Vec3 lo, hi;
+    double r_max;
+    body_bounds(s, &w.terrain_prev, lo, hi, r_max);
+    boxes_near(boxes, lo, hi, r_max, w.terrain_boxes);
+  }
   for (int i = 0; i < m.n; ++i) {
     if (m.fixed[i]) continue;  // the update kept its flag
     s.static_friction[i] = w.terrain_held[i];
     const double r = 0.5 * s.size[i];
-    for (const ObstacleBox& b : boxes) {
+    for (int box : w.terrain_boxes) {
       double lo[3], hi[3];
-      grown(b, r, lo, hi);
+      grown(boxes[box], r, lo, hi);
       const int a = stop_crossing(lo, hi, w.terrain_prev[i].data(), s.pos[i].data());
       if (a >= 0) s.lin_mom[i][a] = 0;
     }

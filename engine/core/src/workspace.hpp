@@ -96,6 +96,7 @@ struct Workspace {
   std::vector<uint8_t> terrain_held;
   std::vector<double> terrain_normal;
   std::vector<Vec3> terrain_prev;
+  std::vector<int> terrain_boxes;  // the boxes near the body this step (indices)
   // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
   ContactGrid contact_grid;
   bool contacts_valid = false;
@@ -122,6 +123,7 @@ struct Workspace {
     for (auto& vectors : bond_out)
       vectors.assign(4 * (static_cast<size_t>(m.bond_count()) + 1), 0.0);
     for (int c = 0; c < 3; ++c) force[c].assign(m.n, 0.0), moment[c].assign(m.n, 0.0);
+    if (m.terrain) terrain_boxes.reserve(m.def.environment.obstacles.size());
     for (int k = 0; k < 6; ++k) {
       slot_bond[k].resize(m.n);
       for (int i = 0; i < m.n; ++i) {
