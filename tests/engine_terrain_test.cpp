@@ -33,9 +33,10 @@ PhysicsDef with_environment(PhysicsDef def, const std::string& environment) {
 
 // ---- The plain floor's bits ----
 
-// A flat ground at height 0 takes the terrain path (scalar, voxel by voxel) and gives the
-// floor kernel's bits: a walking, developing body, with the contact stimulus (which reads
-// the normal forces), and with a box far away (a second contact loop that never touches).
+// A flat ground at height 0 (level, or a grid of zeros) takes the terrain path (scalar, voxel
+// by voxel) and gives the floor kernel's bits: a walking, developing body, with the contact
+// stimulus (which reads the normal forces), and with a box far away (a second contact loop that
+// never touches).
 TEST(Terrain, FlatGroundAtZeroGivesTheFloorsBits) {
   for (Treatment t : {Treatment::kStress, Treatment::kContact}) {
     PhysicsDef floor = preset_gecco2018_code();
@@ -44,6 +45,8 @@ TEST(Terrain, FlatGroundAtZeroGivesTheFloorsBits) {
     const SimResult plain = simulate(compile(demo_walker(), floor));
     for (const char* env :
          {R"({"ground": {"type": "flat"}})",
+          R"({"ground": {"type": "heightfield", "cell": 0.5, "origin": [-0.5, -0.5],
+                         "heights": [[0, 0, 0], [0, 0, 0], [0, 0, 0]]}})",
           R"({"ground": {"type": "flat"}, "obstacles": [{"min": [5, 5, 0], "max": [6, 6, 1]}]})"}) {
       const Model m = compile(demo_walker(), with_environment(floor, env));
       ASSERT_TRUE(m.terrain);

@@ -64,9 +64,10 @@ void drop_tangent(const Normal& c, double v[3]) {
   for (int k = 0; k < 3; ++k) v[k] = v[k] - t[k];
 }
 
-// One contact of penetration pen > 0 (m) on voxel i: the normal force, damping and Coulomb
-// friction on f (N), a stop on p (kg m/s); returns the normal force (N) and sets held when
-// static friction holds the voxel or a stop brought it to rest.
+// One contact of penetration pen > 0 (m) on a voxel of modulus E (sqrt(E) = se): the normal
+// force, damping and Coulomb friction on its force f (N), a stop on its momentum p (kg m/s);
+// returns the normal force (N) and sets held when static friction holds the voxel or a stop
+// brought it to rest.
 double apply_contact(const Normal& c, double pen, double E, double se, bool was_held,
                      const VoxelConstants& k, double f[3], double p[3], bool& held) {
   const double normal = 2.0 * E * k.L * pen;
