@@ -283,6 +283,18 @@ TEST(EnvironmentJson, RobotFileRoundTripsEveryGround) {
     EXPECT_EQ(ma.ground.nx, mb.ground.nx);
     EXPECT_EQ(b.physics.environment.obstacles.size(), a.physics.environment.obstacles.size());
   }
+  // physics_to_json (how MPI ranks send physics) reads back exactly, environment and all.
+  PhysicsDef d = with_environment(preset_gecco2018_paper(),
+                                  R"({"ground": {"type": "rough", "amplitude": 0.003, "cell": 0.02,
+                                      "nodes": [3, 2]}, "obstacles": [{"min": [0, 0, 0],
+                                      "max": [0.1, 0.1, 0.1]}]})");
+  d.sinking_invalid = false, d.treatment = Treatment::kKinetic, d.mu_static = 0.1 + 1e-17;
+  PhysicsDef back;
+  apply_physics_json(physics_to_json(d), "message", back);
+  EXPECT_EQ(physics_to_json(back), physics_to_json(d));
+  EXPECT_EQ(back.mu_static, d.mu_static);
+  EXPECT_EQ(make_height_field(back.environment.ground).h,
+            make_height_field(d.environment.ground).h);
   // The plain floor writes no environment (files and evolution identities keep their bytes).
   const RobotFile plain = parse_robot_json(robot_with_environment("{}"), "c.json");
   EXPECT_EQ(robot_to_json(plain.robot, &plain.physics).find("environment"), std::string::npos);

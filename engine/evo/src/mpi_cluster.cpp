@@ -87,16 +87,15 @@ std::vector<T> get_array(const std::vector<char>& b, size_t& at) {
   return v;
 }
 
-// A simulation for another rank: id u64, physics (the robot format's JSON of a one-site
-// robot, u64 length + bytes: exact for every field, and the environment holds arrays, so
-// PhysicsDef is not sent as bytes), lattice extent and voxel size, voxel count, then the four
-// lattice arrays.
+// A simulation for another rank: id u64, physics (physics_to_json, u64 length + bytes: exact
+// for every field; the environment holds arrays, so PhysicsDef is not sent as bytes), lattice
+// extent and voxel size, voxel count, then the four lattice arrays.
 void pack_body(std::vector<char>& b, uint64_t id, const Phenotype& p, const PhysicsDef& physics) {
   const RobotDef& r = p.robot;
   if (!r.fixed_sites.empty() || !r.loads.empty())
     throw std::logic_error("MPI: an evolved body has no boundary conditions");
   put(b, id);
-  const std::string physics_text = robot_to_json(make_empty_robot(1, 1, 1), &physics);
+  const std::string physics_text = physics_to_json(physics);
   put(b, static_cast<uint64_t>(physics_text.size()));
   b.insert(b.end(), physics_text.begin(), physics_text.end());
   put(b, r.nx);
@@ -122,7 +121,7 @@ RemoteBody unpack_body(const std::vector<char>& b) {
   t.id = get<uint64_t>(b, at);
   const auto len = get<uint64_t>(b, at);
   if (at + len > b.size()) throw std::runtime_error("MPI: truncated body message");
-  t.physics = parse_robot_json(std::string(b.data() + at, len), "MPI body message").physics;
+  apply_physics_json(std::string(b.data() + at, len), "MPI body message", t.physics);
   at += len;
   RobotDef& r = t.body.robot;
   r.nx = get<int>(b, at);
