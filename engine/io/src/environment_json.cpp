@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <stdexcept>
 
+#include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/io/json_input.hpp"
 
 namespace plastivox {
