@@ -122,8 +122,8 @@ BENCHMARK(BM_ThreadScaling)
 // The development stage alone, per voxel-step, under each developing treatment (1..6 as in
 // BM_DemoWalker): the stage timings of Simulator::step around it, so the stimulus's own cost
 // shows apart from the rest of the step.
-void BM_DevelopStage(benchmark::State& bs) {
-  const Model m = compile(demo_walker(), physics(static_cast<Treatment>(bs.range(0))));
+// Steps a settled simulation of m, timing each stage (StageTimings).
+StageTimings run_timed_steps(benchmark::State& bs, const Model& m) {
   Simulator sim(m);
   while (sim.state().time < 0.25) sim.step();
   StageTimings t;
@@ -131,11 +131,49 @@ void BM_DevelopStage(benchmark::State& bs) {
     for (int k = 0; k < kStepsPerIteration; ++k) sim.step(&t);
     if (sim.state().status != SimStatus::kRunning) bs.SkipWithError(sim.state().failure.c_str());
   }
+  return t;
+}
+
+void BM_DevelopStage(benchmark::State& bs) {
+  const Model m = compile(demo_walker(), physics(static_cast<Treatment>(bs.range(0))));
+  const StageTimings t = run_timed_steps(bs, m);
   bs.counters["develop_ns/voxel_step"] =
       1e9 * t.develop / (static_cast<double>(t.steps) * static_cast<double>(m.n));
   bs.counters["develop_share"] = t.develop / t.total();
 }
 BENCHMARK(BM_DevelopStage)->DenseRange(1, 6)->ArgName("treatment")->Unit(benchmark::kMillisecond);
+
+// Contact with an environment (docs/environments.md), per voxel-step: the integrate stage
+// (contacts, friction and the update) and the whole step of the demo walker (stress) on
+// 0 the flat floor (the batched floor kernel), 1 a flat ground at 0 (the scalar terrain path,
+// same bits), 2 a rough ground (5 mm, 1 cm cells, 64 x 64 nodes), 3 the flat ground with 16
+// boxes of 1 cm (a 4 x 4 grid every 4 cm under and around the body; some touch it),
+// 4 the rough ground with those boxes, 5 the rough ground with 256 boxes (16 x 16 every 2 cm).
+void BM_TerrainContact(benchmark::State& bs) {
+  PhysicsDef d = physics(Treatment::kStress);
+  Environment& env = d.environment;
+  const int which = static_cast<int>(bs.range(0));
+  if (which >= 1) env.ground.kind = GroundKind::kFlat;
+  if (which == 2 || which >= 4) {
+    env.ground.kind = GroundKind::kRough;
+    env.ground.amplitude = 0.005, env.ground.cell = 0.01, env.ground.nx = 64, env.ground.ny = 64;
+    env.ground.origin = {-0.2, -0.2};
+    env.ground.seed = 1;
+  }
+  const int grid = which == 5 ? 16 : which >= 3 ? 4 : 0;
+  const double pitch = which == 5 ? 0.02 : 0.04;
+  for (int i = 0; i < grid; ++i)
+    for (int j = 0; j < grid; ++j) {
+      const double x = -0.04 + i * pitch, y = -0.04 + j * pitch;
+      env.obstacles.push_back({{x, y, -0.01}, {x + 0.01, y + 0.01, 0.002}});
+    }
+  const Model m = compile(demo_walker(), d);
+  const StageTimings t = run_timed_steps(bs, m);
+  const double voxel_steps = static_cast<double>(t.steps) * static_cast<double>(m.n);
+  bs.counters["integrate_ns/voxel_step"] = 1e9 * t.integrate / voxel_steps;
+  bs.counters["step_ns/voxel_step"] = 1e9 * t.total() / voxel_steps;
+}
+BENCHMARK(BM_TerrainContact)->DenseRange(0, 5)->ArgName("env")->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace plastivox

@@ -16,6 +16,8 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   validate(def);
   Model m;
   m.def = def;
+  m.terrain = def.environment.active();
+  if (m.terrain) m.ground = make_height_field(def.environment.ground);
   const double L = robot.voxel_size;
   m.size = L;
   m.mass = def.density * L * L * L;

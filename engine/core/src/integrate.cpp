@@ -55,7 +55,7 @@ void bind_voxel_views(const Model& m, State& s, Workspace& w) {
   k.dt = s.dt;
   k.mu_static = d.mu_static;
   k.mu_kinetic = d.mu_kinetic;
-  k.floor = d.floor;
+  k.floor = d.floor && !m.terrain;  // an environment's ground: terrain.cpp
   k.voxelyze_turns = d.bond_model == BondModel::kVoxelyze09;
 }
 
@@ -68,8 +68,10 @@ void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
 void integrate(const Model& m, State& s, Workspace& w) {
   if (m.n == 0) return;
   w.views.voxel_k.dt = s.dt;
+  if (m.terrain) terrain_contacts(m, s, w);
   const VoxelUpdateSummary r =
       kernels().update(w.views.voxel, w.views.voxel_out, m.n, w.views.voxel_k);
+  if (m.terrain) terrain_after_update(m, s, w);
   const double limit = m.def.max_speed;
   if (!r.non_finite && !(r.max_speed2 > limit * limit)) return;
 

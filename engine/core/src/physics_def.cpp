@@ -60,6 +60,9 @@ void validate(const PhysicsDef& d) {
   need(d.max_change_per_step > 0, "max_change_per_step", "must be > 0 Pa");
   need(d.min_devo_factor >= 0 && fin(d.min_devo_factor), "min_devo_factor", "must be >= 0");
   need(d.max_speed > 0, "max_speed", "must be > 0 m/s");
+  validate(d.environment);
+  need(d.floor || d.environment.ground.kind == GroundKind::kNone, "environment.ground",
+       "a ground needs physics.floor true (floor false: no ground at all)");
 }
 
 namespace {

@@ -144,7 +144,9 @@ inline void run_stage(StageTimings* timings, double StageTimings::*seconds, Stag
 // Watches the floor over a life: after every step, the deepest penetration of any voxel's
 // bottom face below z = 0 (as the next step's floor contact sees it: half the actuated size
 // below the centre, tilt ignored) and the most voxels at once deeper than
-// kFloorPenetratingDepth. Reads the state only, so the life is unchanged.
+// kFloorPenetratingDepth. With an environment, the ground's height field replaces z = 0
+// (HeightField::penetration, as its contact sees it). Reads the state only, so the life is
+// unchanged.
 struct FloorWatch {
   double deepest = 0;  // m
   int most_deep = 0;
@@ -154,10 +156,18 @@ struct FloorWatch {
     const double limit = kFloorPenetratingDepth * m.size;
     double step_deepest = 0;
     int deep = 0;
-    for (int i = 0; i < m.n; ++i) {
-      const double pen = 0.5 * s.size[i] - s.pos[i].z();
+    const auto see_voxel = [&](double pen) {
       step_deepest = std::max(step_deepest, pen);
       deep += pen > limit ? 1 : 0;
+    };
+    // Two loops, so the floor's stays as simple as it was (the compiler vectorises it).
+    if (m.terrain) {
+      for (int i = 0; i < m.n; ++i) {
+        const Vec3& x = s.pos[i];
+        see_voxel(m.ground.penetration(x.x(), x.y(), x.z(), 0.5 * s.size[i]));
+      }
+    } else {
+      for (int i = 0; i < m.n; ++i) see_voxel(0.5 * s.size[i] - s.pos[i].z());
     }
     deepest = std::max(deepest, step_deepest);
     most_deep = std::max(most_deep, deep);
@@ -172,13 +182,18 @@ void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, Si
   const double d2 = d.squaredNorm();
   r.vertical_share = d2 > 0 ? d.z() * d.z() / d2 : 0.0;
   if (!m.def.floor) return;
-  for (int i = 0; i < m.n; ++i) r.voxels_below_floor += s.pos[i].z() + 0.5 * m.size < 0 ? 1 : 0;
+  // The ground under a point: z = 0, or the environment's height field.
+  const auto ground = [&m](const Vec3& x) {
+    return m.terrain ? m.ground.height(x.x(), x.y()) : 0.0;
+  };
+  for (int i = 0; i < m.n; ++i)
+    r.voxels_below_floor += s.pos[i].z() + 0.5 * m.size < ground(s.pos[i]) ? 1 : 0;
   r.floor_depth = w.deepest / m.size;
   r.voxels_deep_max = w.most_deep;
   // Only a life that ran to its end is graded: one that blew up is unstable, not sunk (its
   // voxels may fly anywhere, under the floor too), and says so.
   if (r.status != SimStatus::kFinished) return;
-  if (r.floor_depth >= kFloorSankDepth || r.com_final.z() < 0)
+  if (r.floor_depth >= kFloorSankDepth || r.com_final.z() < ground(r.com_final))
     r.floor_health = FloorHealth::kSank;
   else if (r.floor_depth > kFloorPenetratingDepth)
     r.floor_health = FloorHealth::kPenetrating;

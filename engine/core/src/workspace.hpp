@@ -90,6 +90,13 @@ struct Workspace {
   std::vector<double> bond_energy;
   // Per voxel: the floor's normal force this step, N; filled only for the contact stimulus.
   std::vector<double> floor_normal;
+  // Per voxel, only with an environment (Model::terrain; terrain.cpp): whether a contact
+  // held the voxel this step, the normal force of its contacts (N), and its centre before
+  // the update (m, world frame).
+  std::vector<uint8_t> terrain_held;
+  std::vector<double> terrain_normal;
+  std::vector<Vec3> terrain_prev;
+  std::vector<int> terrain_boxes;  // the boxes near the body this step (indices)
   // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
   ContactGrid contact_grid;
   bool contacts_valid = false;
@@ -107,12 +114,16 @@ struct Workspace {
         bond_stress(m.bond_count() + 1, 0.0),
         bond_energy(m.def.treatment == Treatment::kStrainEnergy ? m.bond_count() + 1 : 0, 0.0),
         floor_normal(m.def.treatment == Treatment::kContact ? m.n : 0, 0.0),
+        terrain_held(m.terrain ? m.n : 0, 0),
+        terrain_normal(m.terrain ? m.n : 0, 0.0),
+        terrain_prev(m.terrain ? m.n : 0, Vec3::Zero()),
         redo(m.bond_count()),
         bond_axis_wide(m.bond_axis.begin(), m.bond_axis.end()) {
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
     for (auto& vectors : bond_out)
       vectors.assign(4 * (static_cast<size_t>(m.bond_count()) + 1), 0.0);
     for (int c = 0; c < 3; ++c) force[c].assign(m.n, 0.0), moment[c].assign(m.n, 0.0);
+    if (m.terrain) terrain_boxes.reserve(m.def.environment.obstacles.size());
     for (int k = 0; k < 6; ++k) {
       slot_bond[k].resize(m.n);
       for (int i = 0; i < m.n; ++i) {
@@ -145,6 +156,11 @@ void follow_stiffness(const Model& m, State& s);  // dt from the stiffness devel
 void gather_voxel_forces(const Model& m, const State& s, Workspace& w);
 void apply_self_collisions(const Model& m, const State& s, Workspace& w);
 void integrate(const Model& m, State& s, Workspace& w);  // floor, friction, Euler update
+// Within integrate, with an environment (terrain.cpp): contact with the ground and boxes
+// before the update kernel, and after it the static-friction flags, the contact stimulus's
+// normal forces and the stop of paths that would cross a box.
+void terrain_contacts(const Model& m, State& s, Workspace& w);
+void terrain_after_update(const Model& m, State& s, Workspace& w);
 // Sizes for the next step from each voxel's signal (n values in [-1, 1]).
 void actuate(const Model& m, State& s, const double* signal);
 void develop(const Model& m, State& s, Workspace& w);

@@ -17,6 +17,7 @@
 #include <type_traits>
 
 #include "plastivox/evo/eval_pool.hpp"
+#include "plastivox/io/robot_file.hpp"
 
 namespace plastivox::evo {
 namespace {
@@ -86,15 +87,17 @@ std::vector<T> get_array(const std::vector<char>& b, size_t& at) {
   return v;
 }
 
-// A simulation for another rank: id u64, physics (plain data, same binary on every rank),
-// lattice extent and voxel size, voxel count, then the four lattice arrays.
-static_assert(std::is_trivially_copyable_v<PhysicsDef>, "PhysicsDef is sent as bytes");
+// A simulation for another rank: id u64, physics (physics_to_json, u64 length + bytes: exact
+// for every field; the environment holds arrays, so PhysicsDef is not sent as bytes), lattice
+// extent and voxel size, voxel count, then the four lattice arrays.
 void pack_body(std::vector<char>& b, uint64_t id, const Phenotype& p, const PhysicsDef& physics) {
   const RobotDef& r = p.robot;
   if (!r.fixed_sites.empty() || !r.loads.empty())
     throw std::logic_error("MPI: an evolved body has no boundary conditions");
   put(b, id);
-  put(b, physics);
+  const std::string physics_text = physics_to_json(physics);
+  put(b, static_cast<uint64_t>(physics_text.size()));
+  b.insert(b.end(), physics_text.begin(), physics_text.end());
   put(b, r.nx);
   put(b, r.ny);
   put(b, r.nz);
@@ -116,7 +119,10 @@ RemoteBody unpack_body(const std::vector<char>& b) {
   RemoteBody t;
   size_t at = 0;
   t.id = get<uint64_t>(b, at);
-  t.physics = get<PhysicsDef>(b, at);
+  const auto len = get<uint64_t>(b, at);
+  if (at + len > b.size()) throw std::runtime_error("MPI: truncated body message");
+  apply_physics_json(std::string(b.data() + at, len), "MPI body message", t.physics);
+  at += len;
   RobotDef& r = t.body.robot;
   r.nx = get<int>(b, at);
   r.ny = get<int>(b, at);

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "environment_json.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/limits.hpp"
@@ -56,6 +57,10 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
         if (!(fps >= 0 && fps <= 10000)) fail(where, field, "must be in [0, 10000]");
         continue;
       }
+      if (key == "environment") {  // ground and obstacles (docs/environments.md)
+        d.environment = parse_environment(*it, where, field);
+        continue;
+      }
       if (key == "treatment") {  // a name, or {stimulus, law}
         const TreatmentSpec t = json_field::treatment(*it, where, field);
         d.treatment = t.stimulus;
@@ -95,7 +100,36 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
   }
 }
 
+// The physics section: every field of kPhysicsFields, and the environment when defined.
+json physics_json(const PhysicsDef& d) {
+  json out = json::object();
+  for (const PhysicsField& f : kPhysicsFields) {
+    switch (f.kind) {
+      case PhysicsField::Kind::kNumber:
+        out[f.name] = d.*f.number;
+        break;
+      case PhysicsField::Kind::kFlag:
+        if (!f.written_when_off_only || !(d.*f.flag)) out[f.name] = d.*f.flag;
+        break;
+      case PhysicsField::Kind::kWhole:
+        out[f.name] = d.*f.whole;
+        break;
+      case PhysicsField::Kind::kChoice:
+        out[f.name] = f.get(d);
+        break;
+    }
+  }
+  // Only when defined, so files (and evolution identities) of the plain floor keep their
+  // bytes.
+  if (d.environment.active()) out["environment"] = environment_to_json(d.environment);
+  return out;
+}
+
 }  // namespace
+
+std::string physics_to_json(const PhysicsDef& def) {
+  return physics_json(def).dump();
+}
 
 void apply_physics_json(const std::string& json_text, const std::string& where, PhysicsDef& def) {
   apply_physics(parse_json_input(json_text, where, "physics"), where, def);
@@ -242,26 +276,7 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
     for (const auto& l : r.loads)
       j["loads"].push_back({{"at", xyz(l.site)}, {"force", {l.fx, l.fy, l.fz}}});
   }
-  if (physics) {
-    const PhysicsDef& d = *physics;
-    json& out = j["physics"] = json::object();
-    for (const PhysicsField& f : kPhysicsFields) {
-      switch (f.kind) {
-        case PhysicsField::Kind::kNumber:
-          out[f.name] = d.*f.number;
-          break;
-        case PhysicsField::Kind::kFlag:
-          if (!f.written_when_off_only || !(d.*f.flag)) out[f.name] = d.*f.flag;
-          break;
-        case PhysicsField::Kind::kWhole:
-          out[f.name] = d.*f.whole;
-          break;
-        case PhysicsField::Kind::kChoice:
-          out[f.name] = f.get(d);
-          break;
-      }
-    }
-  }
+  if (physics) j["physics"] = physics_json(*physics);
   return j.dump(1);
 }
 

@@ -68,6 +68,12 @@ struct Model {
   std::vector<int> bond_a, bond_b;
   std::vector<uint8_t> bond_axis;  // 0 = x, 1 = y, 2 = z
 
+  // The environment (def.environment) when active: contact then takes the terrain path
+  // (terrain.cpp) with this ground (z = 0 when none is given; unused when def.floor is off)
+  // instead of the floor kernel.
+  bool terrain = false;
+  HeightField ground;
+
   int bond_count() const { return static_cast<int>(bond_a.size()); }
 };
 

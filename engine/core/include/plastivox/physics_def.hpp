@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/environment.hpp"
+
 namespace plastivox {
 
 // The stimulus development follows (docs/plasticity.md has each formula, its units and its
@@ -65,6 +67,10 @@ struct PhysicsDef {
   double gravity = -9.81;      // m/s^2 along z
   bool floor = true;           // flat floor at z = 0
   bool self_collision = true;  // contact between voxels that are not bonded
+  // Ground and obstacles beyond the flat floor (environment.hpp, docs/environments.md); the
+  // default is the floor alone. A ground needs `floor` on. Not in kPhysicsFields: the robot
+  // file reads and writes it as the object "environment", only when active().
+  Environment environment;
 
   AxialModulus axial_modulus = AxialModulus::kHarmonicMean;
   BondModel bond_model = BondModel::kExact;

@@ -29,6 +29,11 @@ std::string robot_to_json(const RobotDef& robot, const PhysicsDef* physics = nul
 void write_robot_file(const std::string& path, const RobotDef& robot,
                       const PhysicsDef* physics = nullptr);
 
+// The physics as the object a robot file holds at "physics" (compact JSON): every field, and
+// the environment when one is defined. apply_physics_json reads it back into a default
+// PhysicsDef exactly (MPI ranks send physics this way).
+std::string physics_to_json(const PhysicsDef& def);
+
 // Applies a JSON object of physics fields (names as in PhysicsDef, plus "preset") to def.
 // Unknown fields and wrong types are errors naming "<where>.<field>". Declared here so
 // experiment configs reuse it; json_text must hold one JSON object.

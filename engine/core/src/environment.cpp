@@ -1,0 +1,246 @@
+#include "plastivox/environment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "plastivox/base/rng.hpp"
+
+namespace plastivox {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// The stream a rough ground draws its heights from (Rng::stream's purpose).
+constexpr uint64_t kRoughGroundStream = 0x67726f756e64;  // "ground"
+
+// Horizontal extent of a profile from `at`, m.
+double profile_span(const GroundDef& g) {
+  switch (g.kind) {
+    case GroundKind::kRamp:
+      return g.length;
+    case GroundKind::kStep:
+      return g.edge;
+    case GroundKind::kStairs:
+      return (g.count - 1) * g.run + g.edge;
+    case GroundKind::kGap:
+      return g.width;
+    default:
+      return 0;
+  }
+}
+
+// A profile's height at distance u >= 0 from `at`, m.
+double profile_height(const GroundDef& g, double u) {
+  const auto ramp = [&](double from) { return std::clamp((u - from) / g.edge, 0.0, 1.0); };
+  switch (g.kind) {
+    case GroundKind::kRamp:
+      return std::tan(g.angle_deg * kPi / 180) * std::min(u, g.length);
+    case GroundKind::kStep:
+      return g.height * ramp(0);
+    case GroundKind::kStairs: {
+      double h = 0;
+      for (int k = 0; k < g.count; ++k) h += g.rise * ramp(k * g.run);
+      return h;
+    }
+    case GroundKind::kGap:
+      return -g.depth * std::clamp(std::min(u, g.width - u) / g.edge, 0.0, 1.0);
+    default:
+      return 0;
+  }
+}
+
+// Along one axis of n nodes: the cell index i (node i and i + 1, the latter clamped), the
+// fraction f in it, and whether u lies inside the grid (where the slope is not 0).
+void locate(double u, int n, int& i, double& f, bool& inside) {
+  inside = false;
+  if (n == 1 || !(u > 0)) {
+    i = 0, f = 0;
+  } else if (u >= n - 1) {
+    i = n - 2, f = 1;
+  } else {
+    i = std::min(static_cast<int>(u), n - 2);
+    f = u - i;
+    inside = true;
+  }
+}
+
+}  // namespace
+
+double HeightField::height(double x, double y, double* gx, double* gy) const {
+  int i, j;
+  double fu, fv;
+  bool in_x, in_y;
+  locate((x - x0) / cell, nx, i, fu, in_x);
+  locate((y - y0) / cell, ny, j, fv, in_y);
+  const int i1 = std::min(i + 1, nx - 1), j1 = std::min(j + 1, ny - 1);
+  const double h00 = h[i + size_t(nx) * j], h10 = h[i1 + size_t(nx) * j];
+  const double h01 = h[i + size_t(nx) * j1], h11 = h[i1 + size_t(nx) * j1];
+  if (gx) *gx = in_x ? ((1 - fv) * (h10 - h00) + fv * (h11 - h01)) / cell : 0.0;
+  if (gy) *gy = in_y ? ((1 - fu) * (h01 - h00) + fu * (h11 - h10)) / cell : 0.0;
+  return (1 - fv) * ((1 - fu) * h00 + fu * h10) + fv * ((1 - fu) * h01 + fu * h11);
+}
+
+double HeightField::penetration(double x, double y, double z, double r, double* normal) const {
+  double gx, gy;
+  const double h = height(x, y, &gx, &gy);
+  if (gx == 0 && gy == 0) {
+    if (normal) normal[0] = 0, normal[1] = 0, normal[2] = 1;
+    return r - (z - h);
+  }
+  const double inv = 1 / std::sqrt(1 + gx * gx + gy * gy);
+  if (normal) normal[0] = -gx * inv, normal[1] = -gy * inv, normal[2] = inv;
+  return r - (z - h) * inv;
+}
+
+int64_t ground_nodes(const GroundDef& g) {
+  if (g.kind == GroundKind::kNone || g.kind == GroundKind::kFlat) return 1;
+  if (g.kind == GroundKind::kHeights || g.kind == GroundKind::kRough)
+    return g.nx >= 1 && g.ny >= 1 ? int64_t{g.nx} * g.ny : -1;
+  const double nodes = std::floor(profile_span(g) / g.edge) + 2;
+  if (!(g.edge > 0) || !(nodes >= 2)) return -1;
+  return nodes > 1e15 ? std::numeric_limits<int64_t>::max() : static_cast<int64_t>(nodes);
+}
+
+HeightField make_height_field(const GroundDef& g) {
+  HeightField f;
+  switch (g.kind) {
+    case GroundKind::kNone:
+      break;
+    case GroundKind::kFlat:
+      f.h = {g.height};
+      break;
+    case GroundKind::kHeights:
+    case GroundKind::kRough:
+      f.x0 = g.origin[0], f.y0 = g.origin[1], f.cell = g.cell;
+      f.nx = g.nx, f.ny = g.ny;
+      if (g.kind == GroundKind::kHeights) {
+        f.h = g.heights;
+      } else {
+        Rng rng = Rng::stream(g.seed, kRoughGroundStream, 0, 0);
+        f.h.resize(static_cast<size_t>(g.nx) * g.ny);
+        for (double& h : f.h) h = -g.amplitude * rng.uniform();
+      }
+      break;
+    default: {  // a profile along +x, constant in y
+      f.x0 = g.at, f.cell = g.edge;
+      f.nx = static_cast<int>(ground_nodes(g));
+      f.h.resize(f.nx);
+      for (int i = 0; i < f.nx; ++i) f.h[i] = profile_height(g, i * g.edge);
+    }
+  }
+  return f;
+}
+
+void validate(const Environment& env) {
+  const auto need = [](bool ok, const std::string& field, const std::string& what) {
+    if (!ok) throw std::invalid_argument("physics.environment." + field + ": " + what);
+  };
+  const auto fin = [](double v) { return std::isfinite(v); };
+  const GroundDef& g = env.ground;
+  const std::string gf = "ground.";
+  const double big = 1e6;  // m: any coordinate or length of the world
+  switch (g.kind) {
+    case GroundKind::kNone:
+      break;
+    case GroundKind::kFlat:
+      need(fin(g.height) && std::abs(g.height) <= big, gf + "height",
+           "must be finite, |h| <= 1e6 m");
+      break;
+    case GroundKind::kHeights:
+    case GroundKind::kRough:
+      need(fin(g.cell) && g.cell > 0 && g.cell <= big, gf + "cell", "must be in (0, 1e6] m");
+      need(fin(g.origin[0]) && fin(g.origin[1]) && std::abs(g.origin[0]) <= big &&
+               std::abs(g.origin[1]) <= big,
+           gf + "origin", "must be finite, within 1e6 m");
+      need(g.nx >= 1 && g.ny >= 1, gf + (g.kind == GroundKind::kRough ? "nodes" : "heights"),
+           "needs at least one node along x and y");
+      need(int64_t{g.nx} * g.ny <= kMaxGroundNodes,
+           gf + (g.kind == GroundKind::kRough ? "nodes" : "heights"),
+           "more than " + std::to_string(kMaxGroundNodes) + " nodes");
+      if (g.kind == GroundKind::kHeights) {
+        need(g.heights.size() == static_cast<size_t>(g.nx) * g.ny, gf + "heights",
+             "expected nx * ny heights");
+        for (double h : g.heights)
+          need(fin(h) && std::abs(h) <= big, gf + "heights",
+               "every height must be finite, |h| <= 1e6 m");
+      } else {
+        need(fin(g.amplitude) && g.amplitude >= 0 && g.amplitude <= big, gf + "amplitude",
+             "must be in [0, 1e6] m");
+      }
+      break;
+    default:
+      need(fin(g.at) && std::abs(g.at) <= big, gf + "at", "must be finite, within 1e6 m");
+      need(fin(g.edge) && g.edge > 0 && g.edge <= big, gf + "edge", "must be in (0, 1e6] m");
+      if (g.kind == GroundKind::kRamp) {
+        need(fin(g.angle_deg) && std::abs(g.angle_deg) < 80, gf + "angle_deg",
+             "must be in (-80, 80) degrees");
+        need(fin(g.length) && g.length > 0 && g.length <= big, gf + "length",
+             "must be in (0, 1e6] m");
+      } else if (g.kind == GroundKind::kStep) {
+        need(fin(g.height) && std::abs(g.height) <= big, gf + "height",
+             "must be finite, |h| <= 1e6 m");
+      } else if (g.kind == GroundKind::kStairs) {
+        need(g.count >= 1 && g.count <= 100000, gf + "count", "must be in [1, 100000]");
+        need(fin(g.rise) && std::abs(g.rise) <= big, gf + "rise",
+             "must be finite, |rise| <= 1e6 m");
+        need(fin(g.run) && g.run >= g.edge && g.run <= big, gf + "run",
+             "must be >= edge and <= 1e6 m");
+      } else if (g.kind == GroundKind::kGap) {
+        need(fin(g.width) && g.width >= 2 * g.edge && g.width <= big, gf + "width",
+             "must be >= 2 edge and <= 1e6 m");
+        need(fin(g.depth) && g.depth >= 0 && g.depth <= big, gf + "depth", "must be in [0, 1e6] m");
+      }
+      need(ground_nodes(g) <= kMaxGroundNodes, gf + "edge",
+           "samples the ground at more than " + std::to_string(kMaxGroundNodes) +
+               " nodes (a longer edge, or a shorter ground)");
+  }
+  need(env.obstacles.size() <= static_cast<size_t>(kMaxObstacles), "obstacles",
+       "more than " + std::to_string(kMaxObstacles) + " boxes");
+  for (size_t b = 0; b < env.obstacles.size(); ++b) {
+    const ObstacleBox& o = env.obstacles[b];
+    const std::string field = "obstacles[" + std::to_string(b) + "]";
+    for (int a = 0; a < 3; ++a) {
+      need(fin(o.min[a]) && fin(o.max[a]) && std::abs(o.min[a]) <= big && std::abs(o.max[a]) <= big,
+           field, "corners must be finite, within 1e6 m");
+      need(o.min[a] < o.max[a], field, "min must be below max on every axis");
+    }
+  }
+}
+
+const char* to_string(GroundKind kind) {
+  switch (kind) {
+    case GroundKind::kNone:
+      return "none";
+    case GroundKind::kFlat:
+      return "flat";
+    case GroundKind::kHeights:
+      return "heightfield";
+    case GroundKind::kRamp:
+      return "ramp";
+    case GroundKind::kStep:
+      return "step";
+    case GroundKind::kStairs:
+      return "stairs";
+    case GroundKind::kGap:
+      return "gap";
+    case GroundKind::kRough:
+      return "rough";
+  }
+  return "?";
+}
+
+std::string ground_kind_names() {
+  return "flat, heightfield, ramp, step, stairs, gap, rough";
+}
+
+GroundKind parse_ground_kind(const std::string& name) {
+  for (GroundKind k :
+       {GroundKind::kFlat, GroundKind::kHeights, GroundKind::kRamp, GroundKind::kStep,
+        GroundKind::kStairs, GroundKind::kGap, GroundKind::kRough})
+    if (name == to_string(k)) return k;
+  throw std::invalid_argument("ground type '" + name + "' is unknown (use " + ground_kind_names() +
+                              ")");
+}
+
+}  // namespace plastivox

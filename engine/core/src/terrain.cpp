@@ -1,0 +1,260 @@
+// Contact with an environment (environment.hpp): the ground as a height field and static
+// boxes, with the floor's own contact model, voxel by voxel (scalar; only when an
+// environment is defined: the flat floor keeps its batched kernel, voxel_body.hpp).
+//
+// The model is the floor's, with the floor's plane replaced by the plane under the voxel:
+// - a voxel is a ball of half its actuated size (tilt ignored) at its centre. Against the
+//   ground, its penetration is that half size less the centre's distance to the ground's
+//   tangent plane under the centre; against a box, the box grown by the half size holds the
+//   centre, and the contact is through the nearest face (least penetration), normal along
+//   that face's axis;
+// - the normal force is 2 E L per unit of penetration, damped by the collision damping on
+//   the normal velocity; static friction holds the voxel while the tangential load is below
+//   mu_s N; a sliding voxel feels mu_k N against its tangential velocity and is stopped when
+//   that would reverse it within the step.
+// Where the contact normal is an axis (a level ground, every box face) each operation is the
+// floor kernel's, in the same order, so a flat ground at height 0 gives the floor's bits. On
+// a slope the tangential parts are the vectors less their normal parts; a voxel held there
+// keeps being held while its tangential load stays under the static limit (its tangential
+// velocity is zero only up to rounding, so "at rest" also reads last step's static flag).
+// Contacts are applied in order: the ground, then the boxes in their order.
+//
+// Thin boxes: a penalty contact cannot stop a voxel that crosses a box within one step (at
+// 100 m/s, the speed limit, a step of 1.4 ms is 14 cm). After the update each step's path
+// of the centre is tested against each grown box: a path that reaches the box's middle plane
+// along the axis it entered by (or, from inside, crosses the middle plane of its nearest
+// face) is stopped at the face it entered by (or where it was), its momentum along that axis
+// zeroed: an inelastic impact. Slower contacts never reach the middle and feel the penalty
+// alone.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "workspace.hpp"
+
+namespace plastivox {
+namespace {
+
+// A contact's normal: +-axis `axis` exactly (sign +1 or -1), or any unit vector n (axis -1).
+struct Normal {
+  int axis = -1;
+  double sign = 1;
+  double n[3] = {0, 0, 1};
+};
+
+// The tangential part of v: v less its normal part (on an axis: v with that component 0).
+void tangent(const Normal& c, const double v[3], double t[3]) {
+  if (c.axis >= 0) {
+    for (int k = 0; k < 3; ++k) t[k] = k == c.axis ? 0.0 : v[k];
+    return;
+  }
+  const double vn = v[0] * c.n[0] + v[1] * c.n[1] + v[2] * c.n[2];
+  for (int k = 0; k < 3; ++k) t[k] = v[k] - vn * c.n[k];
+}
+
+// v less its tangential part (on an axis: the other components set to 0).
+void drop_tangent(const Normal& c, double v[3]) {
+  if (c.axis >= 0) {
+    for (int k = 0; k < 3; ++k)
+      if (k != c.axis) v[k] = 0;
+    return;
+  }
+  double t[3];
+  tangent(c, v, t);
+  for (int k = 0; k < 3; ++k) v[k] = v[k] - t[k];
+}
+
+// One contact of penetration pen > 0 (m) on a voxel of modulus E (sqrt(E) = se): the normal
+// force, damping and Coulomb friction on its force f (N), a stop on its momentum p (kg m/s);
+// returns the normal force (N) and sets held when static friction holds the voxel or a stop
+// brought it to rest.
+double apply_contact(const Normal& c, double pen, double E, double se, bool was_held,
+                     const VoxelConstants& k, double f[3], double p[3], bool& held) {
+  const double normal = 2.0 * E * k.L * pen;
+  double v[3], vt[3], ft[3];
+  for (int a = 0; a < 3; ++a) v[a] = p[a] * k.inv_mass;
+  const double vn =
+      c.axis >= 0 ? c.sign * v[c.axis] : v[0] * c.n[0] + v[1] * c.n[1] + v[2] * c.n[2];
+  const double c_col = k.c_col_unit * se;
+  tangent(c, v, vt);
+  tangent(c, f, ft);
+  // At rest: stick unless the tangential load exceeds the static limit.
+  const bool still = vt[0] == 0.0 && vt[1] == 0.0 && vt[2] == 0.0;
+  const bool at_rest = still || (c.axis < 0 && was_held);
+  const bool sticks =
+      std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) < k.mu_static * normal;
+  // Sliding: kinetic friction against the tangential velocity, or a stop if it would reverse
+  // the motion within this step.
+  const double speed = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+  const double fric = k.mu_kinetic * normal;
+  const bool moving = !at_rest;
+  const bool slides = moving && fric * k.dt < k.mass * speed;
+  const bool stops = moving && !slides;
+  if (slides)
+    for (int a = 0; a < 3; ++a) f[a] = f[a] - fric * vt[a] / speed;
+  if (stops) drop_tangent(c, p);
+  const double push = normal - c_col * vn;
+  if (c.axis >= 0)
+    f[c.axis] = f[c.axis] + c.sign * push;
+  else
+    for (int a = 0; a < 3; ++a) f[a] = f[a] + push * c.n[a];
+  const bool holds = (at_rest && sticks) || stops;
+  if (holds) drop_tangent(c, f);
+  // On a slope a held voxel's tangential momentum is zero only up to rounding: drop it, so it
+  // does not creep. (On an axis it is exactly zero already, as on the floor.)
+  if (holds && c.axis < 0) drop_tangent(c, p);
+  held = held || holds;
+  return normal;
+}
+
+// The box b grown by r on every side.
+void grown(const ObstacleBox& b, double r, double lo[3], double hi[3]) {
+  for (int a = 0; a < 3; ++a) lo[a] = b.min[a] - r, hi[a] = b.max[a] + r;
+}
+
+// The face of the grown box nearest to x inside it: its axis, its outward sign and depth.
+Normal nearest_face(const double lo[3], const double hi[3], const double x[3], double& depth) {
+  Normal c;
+  depth = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    const double below = x[a] - lo[a], above = hi[a] - x[a];
+    if (below < depth) depth = below, c.axis = a, c.sign = -1;
+    if (above < depth) depth = above, c.axis = a, c.sign = 1;
+  }
+  return c;
+}
+
+// The path x0 -> x1 of a voxel's centre in one step against the grown box [lo, hi]: stops it
+// at the face it entered by when it reaches the box's middle plane (see the top of the file).
+// Returns the axis along which x1 and the momentum were changed, or -1.
+int stop_crossing(const double lo[3], const double hi[3], const double x0[3], double x1[3]) {
+  for (int a = 0; a < 3; ++a)  // the path's bounds miss the box
+    if (std::max(x0[a], x1[a]) <= lo[a] || std::min(x0[a], x1[a]) >= hi[a]) return -1;
+  double t_in = -std::numeric_limits<double>::infinity();
+  double t_out = std::numeric_limits<double>::infinity();
+  int axis_in = -1;
+  for (int a = 0; a < 3; ++a) {
+    const double d = x1[a] - x0[a];
+    if (d == 0) {
+      if (!(x0[a] > lo[a] && x0[a] < hi[a])) return -1;
+      continue;
+    }
+    double t0 = (lo[a] - x0[a]) / d, t1 = (hi[a] - x0[a]) / d;
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > t_in) t_in = t0, axis_in = a;
+    t_out = std::min(t_out, t1);
+  }
+  if (!(t_in < t_out) || t_out <= 0 || t_in >= 1) return -1;  // the path misses the box
+  int a;
+  double stop;
+  if (t_in > 0) {  // from outside, through the face on axis_in facing x0
+    a = axis_in;
+    stop = x1[a] > x0[a] ? lo[a] : hi[a];
+  } else {  // from inside: along the axis of the nearest face, back where it was
+    double depth;
+    a = nearest_face(lo, hi, x0, depth).axis;
+    stop = x0[a];
+  }
+  const double mid = 0.5 * (lo[a] + hi[a]);
+  if (x1[a] == x0[a] || (x0[a] - mid) * (x1[a] - mid) > 0) return -1;  // stays on its half
+  const double t_mid = (mid - x0[a]) / (x1[a] - x0[a]);
+  if (t_mid > t_out) return -1;  // left the box by a side before the middle
+  x1[a] = stop;
+  return a;
+}
+
+// The boxes (indices, increasing) that a voxel of half size up to r_max whose centre lies
+// in [lo, hi] may touch: a cheap pass over the boxes once a step, so each voxel tests only
+// the boxes near the body.
+void boxes_near(const std::vector<ObstacleBox>& boxes, const Vec3& lo, const Vec3& hi, double r_max,
+                std::vector<int>& out) {
+  out.clear();
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    bool near = true;
+    for (int a = 0; a < 3; ++a)
+      near = near && boxes[b].min[a] - r_max < hi[a] && boxes[b].max[a] + r_max > lo[a];
+    if (near) out.push_back(static_cast<int>(b));
+  }
+}
+
+// The bounds of the voxels' centres (and, when given, of a second set of centres), and the
+// largest half size.
+void body_bounds(const State& s, const std::vector<Vec3>* also, Vec3& lo, Vec3& hi, double& r_max) {
+  lo = hi = s.pos[0];
+  r_max = 0;
+  for (size_t i = 0; i < s.pos.size(); ++i) {
+    lo = lo.cwiseMin(s.pos[i]), hi = hi.cwiseMax(s.pos[i]);
+    if (also) lo = lo.cwiseMin((*also)[i]), hi = hi.cwiseMax((*also)[i]);
+    r_max = std::max(r_max, 0.5 * s.size[i]);
+  }
+}
+
+}  // namespace
+
+void terrain_contacts(const Model& m, State& s, Workspace& w) {
+  const VoxelConstants& k = w.views.voxel_k;
+  const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
+  if (!boxes.empty()) {
+    Vec3 lo, hi;
+    double r_max;
+    body_bounds(s, nullptr, lo, hi, r_max);
+    boxes_near(boxes, lo, hi, r_max, w.terrain_boxes);
+  }
+  for (int i = 0; i < m.n; ++i) {
+    const Vec3& x = s.pos[i];
+    const double r = 0.5 * s.size[i];
+    const double E = s.stiffness[i], se = w.sqrt_e[i];
+    const bool was_held = s.static_friction[i];
+    double f[3] = {w.force[0][i], w.force[1][i], w.force[2][i]};
+    double* p = s.lin_mom[i].data();
+    bool held = false;
+    double normal = 0;
+    if (m.def.floor) {
+      Normal c;
+      const double pen = m.ground.penetration(x.x(), x.y(), x.z(), r, c.n);
+      if (pen > 0) {
+        if (c.n[0] == 0 && c.n[1] == 0) c.axis = 2;
+        normal += apply_contact(c, pen, E, se, was_held, k, f, p, held);
+      }
+    }
+    for (int box : w.terrain_boxes) {
+      double lo[3], hi[3];
+      grown(boxes[box], r, lo, hi);
+      if (!(x.x() > lo[0] && x.x() < hi[0] && x.y() > lo[1] && x.y() < hi[1] && x.z() > lo[2] &&
+            x.z() < hi[2]))
+        continue;
+      double pen;
+      const Normal c = nearest_face(lo, hi, x.data(), pen);
+      normal += apply_contact(c, pen, E, se, was_held, k, f, p, held);
+    }
+    for (int a = 0; a < 3; ++a) w.force[a][i] = f[a];
+    w.terrain_held[i] = held;
+    w.terrain_normal[i] = normal;
+    w.terrain_prev[i] = x;
+  }
+}
+
+void terrain_after_update(const Model& m, State& s, Workspace& w) {
+  const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
+  if (!boxes.empty()) {  // the boxes near the paths of this step
+    Vec3 lo, hi;
+    double r_max;
+    body_bounds(s, &w.terrain_prev, lo, hi, r_max);
+    boxes_near(boxes, lo, hi, r_max, w.terrain_boxes);
+  }
+  for (int i = 0; i < m.n; ++i) {
+    if (m.fixed[i]) continue;  // the update kept its flag
+    s.static_friction[i] = w.terrain_held[i];
+    const double r = 0.5 * s.size[i];
+    for (int box : w.terrain_boxes) {
+      double lo[3], hi[3];
+      grown(boxes[box], r, lo, hi);
+      const int a = stop_crossing(lo, hi, w.terrain_prev[i].data(), s.pos[i].data());
+      if (a >= 0) s.lin_mom[i][a] = 0;
+    }
+  }
+  if (!w.floor_normal.empty())
+    std::copy(w.terrain_normal.begin(), w.terrain_normal.end(), w.floor_normal.begin());
+}
+
+}  // namespace plastivox
