@@ -172,6 +172,21 @@ TEST(Sensors, DocsListEverySensorWithItsUnit) {
 
 // A stiff block resting on the floor: the bottom layer touches and carries the weight, the
 // top does not; every voxel upright and (nearly) at rest.
+// A resting block: its bottom layer touches, and the contact forces sum to its weight.
+void expect_bottom_touches_and_carries_the_weight(const Model& m, const Sensors& s,
+                                                  const char* where) {
+  const auto touch = s.read(Sensor::kTouch), force = s.read(Sensor::kFloorForce);
+  double total = 0;
+  for (int i = 0; i < m.n; ++i) {
+    const bool bottom = m.rest_pos[i].z() < m.size;
+    EXPECT_EQ(touch[i], bottom ? 1.0 : 0.0) << i << " " << where;
+    EXPECT_EQ(force[i] > 0, bottom) << i << " " << where;
+    total += force[i];
+  }
+  EXPECT_TRUE(testing::RelNear(total, -m.n * m.mass * m.def.gravity, 0.02))  // gravity < 0
+      << total << " " << where;
+}
+
 TEST(Sensors, ARestingBlockTouchesWithItsBottomAndCarriesItsWeight) {
   PhysicsDef d = testing::passive_physics();
   d.duration = 1.0;
@@ -180,15 +195,7 @@ TEST(Sensors, ARestingBlockTouchesWithItsBottomAndCarriesItsWeight) {
   Simulator sim(m);
   testing::run_until(sim, 0.8);
   const Sensors s = sim.sensors();
-  const auto touch = s.read(Sensor::kTouch), force = s.read(Sensor::kFloorForce);
-  double total = 0;
-  for (int i = 0; i < m.n; ++i) {
-    const bool bottom = m.rest_pos[i].z() < m.size;
-    EXPECT_EQ(touch[i], bottom ? 1.0 : 0.0) << i;
-    EXPECT_EQ(force[i] > 0, bottom) << i;
-    total += force[i];
-  }
-  EXPECT_TRUE(testing::RelNear(total, -m.n * m.mass * d.gravity, 0.02));  // gravity < 0
+  expect_bottom_touches_and_carries_the_weight(m, s, "on the floor");
   const auto up = s.read(Sensor::kUp), v = s.read(Sensor::kVelocity);
   for (int i = 0; i < m.n; ++i) {
     EXPECT_NEAR(up[3 * i + 2], 1.0, 1e-6);
@@ -197,6 +204,28 @@ TEST(Sensors, ARestingBlockTouchesWithItsBottomAndCarriesItsWeight) {
   const auto com = s.read(Sensor::kComVelocity);
   EXPECT_LT(std::hypot(com[0], com[1], com[2]), 1e-3);
   EXPECT_EQ(s.read(Sensor::kTime)[0], sim.state().time);
+}
+
+// In an environment the same: a block that fell onto a ground 1 cm below the floor's level,
+// and one resting on a box, touch with their bottom layer and carry their weight.
+TEST(Sensors, OnAGroundOrABoxTheBottomTouchesAndCarriesTheWeight) {
+  for (const bool on_box : {false, true}) {
+    PhysicsDef d = testing::passive_physics();
+    d.duration = 1.0;
+    d.density = 1e6;
+    if (on_box) {
+      d.floor = false;  // only the box holds it
+      d.environment.obstacles.push_back({{-0.05, -0.05, -0.02}, {0.08, 0.08, -0.005}});
+    } else {
+      d.environment.ground.kind = GroundKind::kFlat;
+      d.environment.ground.height = -0.01;
+    }
+    const Model m = compile(testing::block(3, 3, 2, 1e8), d);
+    Simulator sim(m);
+    testing::run_until(sim, 0.8);
+    expect_bottom_touches_and_carries_the_weight(m, sim.sensors(),
+                                                 on_box ? "on a box" : "on a ground");
+  }
 }
 
 // strain, stress and pressure are the development stimuli of this step: under a treatment the

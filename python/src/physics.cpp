@@ -10,6 +10,7 @@
 #include "bindings.hpp"
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/base/hash.hpp"
+#include "plastivox/io/robot_file.hpp"  // the environment's JSON form
 
 namespace plastivox::py {
 namespace {
@@ -32,6 +33,31 @@ pyb::object field_value(const PhysicsDef& d, const PhysicsField& f) {
       return pyb::str(f.get(d));
   }
   return pyb::none();
+}
+
+// The environment (ground and boxes, docs/environments.md) is nested arrays rather than a
+// row of kPhysicsFields: Python sees it as the robot file's "environment" object, a dict (None
+// for the flat floor), converted by the robot file's own reader and writer.
+pyb::object environment_value(const PhysicsDef& d) {
+  if (!d.environment.active()) return pyb::none();
+  return pyb::module_::import("json").attr("loads")(physics_to_json(d))["environment"];
+}
+
+void set_environment(PhysicsDef& d, const pyb::handle& v) {
+  if (v.is_none()) {
+    d.environment = Environment{};
+    return;
+  }
+  if (!pyb::isinstance<pyb::dict>(v))
+    throw std::invalid_argument(
+        "physics.environment: expected a dict (docs/environments.md) or None");
+  const std::string text = pyb::module_::import("json")
+                               .attr("dumps")(pyb::dict{pyb::arg("environment") = v})
+                               .cast<std::string>();
+  PhysicsDef with = d;
+  with.environment = Environment{};
+  apply_physics_json(text, "physics", with);  // InputError naming physics.environment.<field>
+  d.environment = with.environment;
 }
 
 // Sets one field from a Python value of its kind (numpy scalars included). Throws
@@ -118,6 +144,10 @@ PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
   for (const auto& [key, value] : fields) {
     const std::string name = key.cast<std::string>();
     if (name == "preset") continue;
+    if (name == "environment") {
+      set_environment(d, value);
+      continue;
+    }
     if (name == "treatment" && pyb::isinstance<pyb::dict>(value)) {
       set_treatment_and_law(d, value.cast<pyb::dict>(), fields);
       continue;
@@ -133,12 +163,14 @@ PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
 pyb::dict to_dict(const PhysicsDef& d) {
   pyb::dict out;
   for (const PhysicsField& f : kPhysicsFields) out[f.name] = field_value(d, f);
+  if (d.environment.active()) out["environment"] = environment_value(d);  // as files write it
   return out;
 }
 
 }  // namespace
 
 bool same_physics(const PhysicsDef& a, const PhysicsDef& b) {
+  if (!(a.environment == b.environment)) return false;
   for (const PhysicsField& f : kPhysicsFields) {
     switch (f.kind) {
       case PhysicsField::Kind::kNumber:
@@ -159,6 +191,7 @@ bool same_physics(const PhysicsDef& a, const PhysicsDef& b) {
 }
 
 void hash_physics(const PhysicsDef& d, Hasher& h) {
+  if (d.environment.active()) h.str(physics_to_json(d));  // the flat floor hashes as before
   for (const PhysicsField& f : kPhysicsFields) {
     h.str(f.name);
     switch (f.kind) {
@@ -225,23 +258,26 @@ void bind_physics(pyb::module_& m) {
           d = changed;
         });
   }
+  c.def_property("environment", &environment_value, [](PhysicsDef& d, const pyb::object& v) {
+    PhysicsDef changed = d;
+    set_environment(changed, v);
+    validate(changed);
+    d = changed;
+  });
   c.def("__getitem__",
         [](const PhysicsDef& d, const std::string& name) {
+          if (name == "environment") return environment_value(d);
           const PhysicsField* f = find_field(name);
           if (!f) throw pyb::key_error(name);
           return field_value(d, *f);
         })
       .def("__contains__",
            [](const PhysicsDef&, const pyb::object& name) {
-             return pyb::isinstance<pyb::str>(name) && find_field(name.cast<std::string>());
+             return pyb::isinstance<pyb::str>(name) && (name.cast<std::string>() == "environment" ||
+                                                        find_field(name.cast<std::string>()));
            })
-      .def("__len__", [](const PhysicsDef&) { return kPhysicsFields.size(); })
-      .def("keys",
-           [](const PhysicsDef&) {
-             pyb::list names;
-             for (const PhysicsField& f : kPhysicsFields) names.append(f.name);
-             return names;
-           })
+      .def("__len__", [](const PhysicsDef& d) { return pyb::len(to_dict(d)); })
+      .def("keys", [](const PhysicsDef& d) { return to_dict(d).attr("keys")(); })
       .def("__iter__", [](const PhysicsDef& d) { return pyb::iter(to_dict(d)); })
       .def("items", [](const PhysicsDef& d) { return to_dict(d).attr("items")(); })
       .def("to_dict", &to_dict)
@@ -262,6 +298,8 @@ void bind_physics(pyb::module_& m) {
              for (const PhysicsField& f : kPhysicsFields)
                s += std::string(&f == &kPhysicsFields[0] ? "" : ", ") + f.name + "=" +
                     pyb::repr(field_value(d, f)).cast<std::string>();
+             if (d.environment.active())
+               s += ", environment=" + pyb::repr(environment_value(d)).cast<std::string>();
              return s + ")";
            })
       .def(pyb::pickle(&to_dict, [](const pyb::dict& fields) {

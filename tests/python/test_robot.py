@@ -245,3 +245,24 @@ def test_voxcraft_demo_loads_with_its_vxd_and_stands_on_the_floor(tmp_path):
     assert plastivox.load_robot(vxa("walker-none.vxa")).act_amplitude is None
     with pytest.raises(plastivox.InputError, match="none.vxd"):
         plastivox.load_robot(base, vxd=tmp_path / "none.vxd")
+
+
+def test_an_environment_rides_with_the_physics_through_pickles_and_equality():
+    low = {"ground": {"type": "flat", "height": -0.01}}  # the body drops 1 cm onto it
+    d = plastivox.physics(environment=low, duration=0.3)
+    assert d.environment["ground"]["type"] == "flat" and d["environment"] == d.environment
+    assert "environment" in d.keys() and d.to_dict()["environment"] == d.environment
+    flat_floor = plastivox.physics()
+    assert flat_floor.environment is None and "environment" not in flat_floor.keys()
+    walker = plastivox.demo_walker().with_physics(d)
+    back = pickle.loads(pickle.dumps(walker))
+    assert back == walker and hash(back) == hash(walker) and back.physics == d
+    assert walker != plastivox.demo_walker().with_physics({"duration": 0.3})
+    flat = walker.with_physics({"environment": None})
+    assert flat.physics.environment is None
+    assert plastivox.simulate(walker).final_state_hash != plastivox.simulate(flat).final_state_hash
+    with pytest.raises(plastivox.InputError, match="physics.environment.ground.type"):
+        plastivox.physics(environment={"ground": {"type": "moon"}})
+    with pytest.raises(ValueError, match="physics.environment: expected a dict"):
+        d.environment = 5
+    assert d.environment["ground"]["type"] == "flat"  # unchanged by the refused value

@@ -13,11 +13,12 @@ namespace plastivox {
 
 const std::array<SensorField, kSensorCount> kSensorFields = {{
     {Sensor::kTouch, "touch", "n", "-", "-",
-     "1 while the voxel touches the floor (its actuated half-size reaches below z = 0), else 0",
+     "1 while the voxel touches the floor, ground or a box (its actuated half-size reaches into "
+     "it), else 0",
      true, 1},
-    {Sensor::kFloorForce, "floor_force", "n", "N", "world z",
-     "the floor's elastic normal force on the voxel this step (2 E L times its penetration; 0 off "
-     "it)",
+    {Sensor::kFloorForce, "floor_force", "n", "N", "contact normal",
+     "the elastic normal force of the floor (or the ground and boxes) on the voxel this step "
+     "(2 E L times its penetration, summed over its contacts; 0 off them)",
      true, 1},
     {Sensor::kStrain, "strain", "n", "1", "bond",
      "largest absolute axial strain of the voxel's bonds this step (the strain stimulus)", true, 1},
@@ -46,11 +47,14 @@ void compute(Sensor id, const Model& m, const State& s, const Workspace& w,
   switch (id) {
     case Sensor::kTouch:
     case Sensor::kFloorForce:
-      // The floor contact the integrate stage applies this step (voxel_body.hpp, update_lanes):
-      // penetration of the actuated half-size below z = 0, tilt ignored.
+      // The contact the integrate stage applies this step: on the floor (voxel_body.hpp,
+      // update_lanes) the penetration of the actuated half-size below z = 0, tilt ignored; in
+      // an environment the summed penetrations into the ground and boxes (terrain.cpp).
       for (int i = 0; i < n; ++i) {
-        const double pen = 0.5 * s.size[i] - s.pos[i].z();
-        const bool touch = m.def.floor && pen > 0;
+        const double pen = m.def.environment.active()
+                               ? terrain_penetration(m, s.pos[i], 0.5 * s.size[i])
+                               : 0.5 * s.size[i] - s.pos[i].z();
+        const bool touch = (m.def.floor || m.def.environment.active()) && pen > 0;
         out[i] = id == Sensor::kTouch ? (touch ? 1.0 : 0.0)
                                       : (touch ? 2.0 * s.stiffness[i] * m.size * pen : 0.0);
       }

@@ -234,6 +234,22 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
   }
 }
 
+double terrain_penetration(const Model& m, const Vec3& x, double r) {
+  double total = 0;
+  if (m.def.floor) total += std::max(0.0, m.ground.penetration(x.x(), x.y(), x.z(), r));
+  for (const ObstacleBox& b : m.def.environment.obstacles) {
+    double lo[3], hi[3];
+    grown(b, r, lo, hi);
+    if (!(x.x() > lo[0] && x.x() < hi[0] && x.y() > lo[1] && x.y() < hi[1] && x.z() > lo[2] &&
+          x.z() < hi[2]))
+      continue;
+    double pen;
+    nearest_face(lo, hi, x.data(), pen);
+    total += pen;
+  }
+  return total;
+}
+
 void terrain_after_update(const Model& m, State& s, Workspace& w) {
   const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
   if (!boxes.empty()) {  // the boxes near the paths of this step

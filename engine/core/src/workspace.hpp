@@ -161,6 +161,9 @@ void integrate(const Model& m, State& s, Workspace& w);  // floor, friction, Eul
 // normal forces and the stop of paths that would cross a box.
 void terrain_contacts(const Model& m, State& s, Workspace& w);
 void terrain_after_update(const Model& m, State& s, Workspace& w);
+// How far a voxel of half size r centred at x presses into the ground and the boxes, m, summed
+// over its contacts as terrain_contacts measures them (for the touch and contact-force sensors).
+double terrain_penetration(const Model& m, const Vec3& x, double r);
 // Sizes for the next step from each voxel's signal (n values in [-1, 1]).
 void actuate(const Model& m, State& s, const double* signal);
 void develop(const Model& m, State& s, Workspace& w);

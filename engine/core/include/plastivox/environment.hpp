@@ -46,12 +46,16 @@ struct GroundDef {
   // the ground), drawn from `seed`; nx x ny nodes from `origin` every `cell`.
   double amplitude = 0;  // m
   uint64_t seed = 0;
+
+  bool operator==(const GroundDef&) const = default;
 };
 
 // A static box of the world, m, world frame (min < max on every axis).
 struct ObstacleBox {
   std::array<double, 3> min{0, 0, 0};
   std::array<double, 3> max{0, 0, 0};
+
+  bool operator==(const ObstacleBox&) const = default;
 };
 
 struct Environment {
@@ -59,6 +63,7 @@ struct Environment {
   std::vector<ObstacleBox> obstacles;
   // False for the default (the plain floor): the simulation then runs the floor kernel.
   bool active() const { return ground.kind != GroundKind::kNone || !obstacles.empty(); }
+  bool operator==(const Environment&) const = default;
 };
 
 // Bounds on one environment, so no file allocates without bound.
