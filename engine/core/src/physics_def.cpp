@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/task.hpp"
+
 namespace plastivox {
 
 PhysicsDef preset_gecco2018_code() {
@@ -126,10 +128,10 @@ PhysicsField number(const char* name, double PhysicsDef::*m) {
   f.number = m;
   return f;
 }
-PhysicsField flag(const char* name, bool PhysicsDef::*m, bool written_when_off_only = false) {
+PhysicsField flag(const char* name, bool PhysicsDef::*m, bool written_when_not_default = false) {
   PhysicsField f{name, K::kFlag};
   f.flag = m;
-  f.written_when_off_only = written_when_off_only;
+  f.written_when_not_default = written_when_not_default;
   return f;
 }
 PhysicsField whole(const char* name, int PhysicsDef::*m) {
@@ -138,10 +140,12 @@ PhysicsField whole(const char* name, int PhysicsDef::*m) {
   return f;
 }
 PhysicsField choice(const char* name, const char* (*get)(const PhysicsDef&),
-                    void (*set)(PhysicsDef&, const std::string&)) {
+                    void (*set)(PhysicsDef&, const std::string&),
+                    bool written_when_not_default = false) {
   PhysicsField f{name, K::kChoice};
   f.get = get;
   f.set = set;
+  f.written_when_not_default = written_when_not_default;
   return f;
 }
 
@@ -184,6 +188,9 @@ const std::vector<PhysicsField> kPhysicsFields = {
           if (v != "3d" && v != "xy") throw std::invalid_argument("expected \"3d\" or \"xy\"");
           d.fitness = v == "3d" ? FitnessMode::k3D : FitnessMode::kXY;
         }),
+    choice(
+        "task", [](const PhysicsDef& d) { return to_string(d.task); },
+        [](PhysicsDef& d, const std::string& v) { d.task = parse_task(v); }, true),
     choice(
         "axial_modulus",
         [](const PhysicsDef& d) {

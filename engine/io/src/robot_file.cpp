@@ -222,6 +222,7 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
   }
   if (physics) {
     const PhysicsDef& d = *physics;
+    const PhysicsDef defaults;
     json& out = j["physics"] = json::object();
     for (const PhysicsField& f : kPhysicsFields) {
       switch (f.kind) {
@@ -229,13 +230,14 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
           out[f.name] = d.*f.number;
           break;
         case PhysicsField::Kind::kFlag:
-          if (!f.written_when_off_only || !(d.*f.flag)) out[f.name] = d.*f.flag;
+          if (!f.written_when_not_default || d.*f.flag != defaults.*f.flag) out[f.name] = d.*f.flag;
           break;
         case PhysicsField::Kind::kWhole:
           out[f.name] = d.*f.whole;
           break;
         case PhysicsField::Kind::kChoice:
-          out[f.name] = f.get(d);
+          if (!f.written_when_not_default || std::strcmp(f.get(d), f.get(defaults)) != 0)
+            out[f.name] = f.get(d);
           break;
       }
     }
