@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "experiment/experiment_config.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/results_file.hpp"
@@ -247,6 +248,32 @@ TEST(Tasks, EvolveConfigsNameTheTaskAtTheTopLevel) {
         << b.body;
 }
 
+TEST(Tasks, ExperimentConfigsNameTheTaskForEveryRun) {
+  const std::string head = R"({"format": "plastivox-experiment-config", "version": 1)";
+  using experiment::parse_experiment_config;
+  const experiment::ExperimentConfig walk = parse_experiment_config(head + "}", "study.json");
+  EXPECT_EQ(walk.run_config(Treatment::kStress, 1).task, Task::kWalk);
+  EXPECT_EQ(walk.identity_json().find("task"), std::string::npos);
+  for (const char* where :
+       {R"(, "task": {"name": "turn"})", R"(, "evolution": {"task": "turn"})"}) {
+    const experiment::ExperimentConfig c =
+        parse_experiment_config(head + where + "}", "study.json");
+    const evo::EvolveConfig run = c.run_config(Treatment::kPressure, 2);
+    EXPECT_EQ(run.task, Task::kTurn) << where;
+    EXPECT_EQ(run.physics.task, Task::kTurn) << where;
+    EXPECT_EQ(parse_experiment_config(c.canonical_json(), "again").evolution.task, Task::kTurn);
+  }
+  EXPECT_EQ(testing::error_of([&] {
+              parse_experiment_config(head + R"(, "task": {"name": "fly"}})", "study.json");
+            }),
+            "study.json: task.name: unknown task 'fly' (use walk, jump, turn)");
+  EXPECT_EQ(testing::error_of([&] {
+              parse_experiment_config(head + R"(, "task": "jump", "evolution": {"task": "jump"}})",
+                                      "study.json");
+            }),
+            "study.json: evolution.task: the task is also given at the top level (give it once)");
+}
+
 class TasksCli : public testing::ScratchDirTest {
  protected:
   static Output run(const std::string& args) {
@@ -322,6 +349,17 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   o = run("evolve --config " + cfg + " --out " + out + " --task jump");
   EXPECT_EQ(o.status, 0) << o.out;
   EXPECT_NE(o.out.find("already finished"), std::string::npos) << o.out;
+  // The analysis names the task and its unit: in the report, stats.json and analysis.h5.
+  o = run("analyze " + out + " --out " + path("analysis"));
+  ASSERT_EQ(o.status, 0) << o.out;
+  const std::string report = testing::file_text(path("analysis/report.html"));
+  EXPECT_NE(report.find("The task is <b>jump</b> (docs/tasks.md). Fitness is the highest rise of "
+                        "the centre of mass above its settled height, in voxel lengths."),
+            std::string::npos);
+  const nlohmann::json stats =
+      nlohmann::json::parse(testing::file_text(path("analysis/stats.json")));
+  EXPECT_EQ(stats.at("audit").at("task"), "jump");
+  EXPECT_EQ(stats.at("audit").at("fitness_unit"), "voxel lengths");
 }
 
 }  // namespace
