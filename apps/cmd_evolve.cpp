@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/run.hpp"
+#include "plastivox/task.hpp"
 
 namespace plastivox::cli {
 namespace {
@@ -105,6 +108,7 @@ int cmd_evolve(const Args& in) {
   const std::vector<std::string> config_paths = take_repeated_option(args, "--config");
   const std::vector<std::string> outs = take_repeated_option(args, "--out");
   const std::string threads = take_option(args, "--threads", "");
+  const std::string task = take_option(args, "--task", "");
   // Testing hook (undocumented in the usage): stop after this many generations, as if
   // killed right after a checkpoint.
   const std::string stop_after = take_option(args, "--stop-after", "");
@@ -127,6 +131,13 @@ int cmd_evolve(const Args& in) {
   if (!stop_after.empty() && outs.size() > 1)
     throw UsageError{"--stop-after takes a single --config"};
 
+  std::optional<Task> task_given;
+  try {
+    if (!task.empty()) task_given = parse_task(task);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{std::string("--task: ") + e.what()};
+  }
+
   evo::RunOptions opt;
   if (!threads.empty()) opt.threads = parse_count(threads, "--threads");
   if (!stop_after.empty()) opt.stop_after = parse_count(stop_after, "--stop-after");
@@ -143,8 +154,10 @@ int cmd_evolve(const Args& in) {
   std::vector<evo::RunReport> reports;
   try {
     std::vector<evo::RunSpec> specs;
-    for (size_t r = 0; r < outs.size(); ++r)
+    for (size_t r = 0; r < outs.size(); ++r) {
       specs.push_back({evo::read_config_file(config_paths[r]), outs[r]});
+      if (task_given) evo::set_task(specs.back().config, *task_given);
+    }
     if (!several) {
       // One run, under mpirun spread over every rank in lockstep.
       opt.on_message = [&](const std::string& m) { progress.message(m); };

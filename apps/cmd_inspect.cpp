@@ -6,6 +6,7 @@
 
 #include "cli.hpp"
 #include "plastivox/evo/results_file.hpp"
+#include "plastivox/task.hpp"
 
 namespace plastivox::cli {
 
@@ -26,6 +27,8 @@ int cmd_inspect(const Args& in) {
   j["file"] = path;
   j["format_version"] = evo::kResultsFormatVersion;
   j["treatment"] = to_string(s.config.treatment);
+  j["task"] = to_string(s.config.task);
+  j["fitness_unit"] = task_info(s.config.task).unit;
   j["seed"] = s.config.seed;
   j["population"] = s.config.population;
   j["generations_planned"] = s.config.generations;
@@ -44,13 +47,14 @@ int cmd_inspect(const Args& in) {
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
-  std::printf("%s: treatment %s, seed %llu, %d/%d generations%s\n", path.c_str(),
-              to_string(s.config.treatment), static_cast<unsigned long long>(s.config.seed),
-              s.generations_done, s.config.generations, s.finished() ? " (finished)" : "");
-  std::printf(
-      "  best fitness %.6f voxel lengths: champion id %llu (%d voxels, since generation %d)\n",
-      last.best_fitness, static_cast<unsigned long long>(last.champion_id),
-      champ.phenotype.voxel_count(), champ.generation);
+  std::printf("%s: treatment %s, task %s, seed %llu, %d/%d generations%s\n", path.c_str(),
+              to_string(s.config.treatment), to_string(s.config.task),
+              static_cast<unsigned long long>(s.config.seed), s.generations_done,
+              s.config.generations, s.finished() ? " (finished)" : "");
+  std::printf("  best fitness %.6f %s: champion id %llu (%d voxels, since generation %d)\n",
+              last.best_fitness, task_info(s.config.task).unit,
+              static_cast<unsigned long long>(last.champion_id), champ.phenotype.voxel_count(),
+              champ.generation);
   std::printf("  %zu individuals, %lld simulated; content digest %s\n", s.births.size(),
               static_cast<long long>(simulations), f.content_digest.c_str());
   std::printf("  written by plastivox %s (commit %s) on %s, %s\n",

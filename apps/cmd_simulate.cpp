@@ -16,6 +16,7 @@
 #include "plastivox/io/sim_summary.hpp"
 #include "plastivox/render/history_file.hpp"
 #include "plastivox/simulator.hpp"
+#include "plastivox/task.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::cli {
@@ -60,6 +61,7 @@ int cmd_simulate(const Args& in) {
   const bool as_json = take_flag(args, "--json");
   const bool timed = take_flag(args, "--timings");
   const std::string treatment = take_option(args, "--treatment", "");
+  const std::string task = take_option(args, "--task", "");
   const std::string preset = take_option(args, "--preset", "");
   const std::string duration = take_option(args, "--duration", "");
   const std::string overrides = take_option(args, "--physics", "");
@@ -88,6 +90,7 @@ int cmd_simulate(const Args& in) {
   // Command-line values are checked before any file is read (a bad one exits 2).
   std::optional<PhysicsDef> preset_physics;
   std::optional<Treatment> treatment_given;
+  std::optional<Task> task_given;
   try {
     if (!preset.empty()) preset_physics = physics_preset(preset);
   } catch (const std::invalid_argument& e) {
@@ -97,6 +100,11 @@ int cmd_simulate(const Args& in) {
     if (!treatment.empty()) treatment_given = parse_treatment(treatment);
   } catch (const std::invalid_argument& e) {
     throw UsageError{std::string("--treatment: ") + e.what()};
+  }
+  try {
+    if (!task.empty()) task_given = parse_task(task);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{std::string("--task: ") + e.what()};
   }
   const double duration_s =
       duration.empty() ? 0.0 : parse_non_negative(duration, "--duration", "a number of seconds");
@@ -117,12 +125,14 @@ int cmd_simulate(const Args& in) {
     robot = std::move(file.robot);
     physics = file.physics;
   }
-  if (!preset.empty()) {
-    const Treatment keep = physics.treatment;
+  if (!preset.empty()) {  // the preset's physics, for the robot's treatment and task
+    const PhysicsDef robot_physics = physics;
     physics = *preset_physics;
-    physics.treatment = keep;
+    physics.treatment = robot_physics.treatment;
+    physics.task = robot_physics.task;
   }
   if (treatment_given) physics.treatment = *treatment_given;
+  if (task_given) physics.task = *task_given;
   if (!duration.empty()) physics.duration = duration_s;
   if (!overrides.empty()) {
     apply_physics_json(overrides, "--physics", physics);
@@ -185,10 +195,11 @@ int cmd_simulate(const Args& in) {
     }
     std::printf("%s\n", summary.c_str());
   } else {
-    std::printf("%s: %d voxels, treatment %s, %s\n", source.c_str(), r.voxels,
-                to_string(physics.treatment), to_string(r.status));
-    std::printf("  fitness %.4f voxel lengths (dx %.4f, dy %.4f, dz %.4f)\n", r.fitness,
-                r.displacement.x(), r.displacement.y(), r.displacement.z());
+    std::printf("%s: %d voxels, treatment %s, task %s, %s\n", source.c_str(), r.voxels,
+                to_string(physics.treatment), to_string(physics.task), to_string(r.status));
+    std::printf("  fitness %.4f %s (dx %.4f, dy %.4f, dz %.4f voxel lengths)\n", r.fitness,
+                task_info(physics.task).unit, r.displacement.x(), r.displacement.y(),
+                r.displacement.z());
     std::printf(
         "  floor: %s, %.3g voxel lengths deep at the deepest; vertical share of "
         "fitness %.3f\n",

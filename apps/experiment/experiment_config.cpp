@@ -196,6 +196,7 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
   json evolution = json::object();
   std::optional<GrowthModel> law;  // the law the treatments name, and the first to name it
   std::string law_field;
+  json task;  // the top level's "task", when given
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& k = it.key();
     const json& v = *it;
@@ -237,6 +238,9 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
           if (seen == s) fail(src, f, "seed " + std::to_string(s) + " listed twice");
         c.seeds.push_back(s);
       }
+    } else if (k == "task") {  // every run's; checked by the evolve-config parser below
+      json_field::task(v, src, k);
+      task = v;
     } else if (k == "evolution") {
       if (!v.is_object()) fail(src, k, "expected an object of evolve-config fields");
       for (const char* bad : {"seed", "treatment", "threads", "format", "version"})
@@ -259,6 +263,11 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
   if (law && (!evolution.contains("physics") || evolution["physics"].is_object()))
     evolution["physics"] = json::parse(
         evo::fold_law(evolution.value("physics", json::object()).dump(), *law, src, law_field));
+  if (!task.is_null()) {
+    if (evolution.contains("task"))
+      fail(src, "evolution.task", "the task is also given at the top level (give it once)");
+    evolution["task"] = task;
+  }
   evolution["format"] = "plastivox-evolve-config";
   evolution["version"] = evo::kConfigVersion;
   c.evolution = evo::parse_config(evolution.dump(), src + ": evolution");

@@ -79,6 +79,20 @@ def _physics(physics):
                     f"plastivox.physics()), got {type(physics).__name__}")
 
 
+def _with_task(physics, task):
+    """physics with its "task" field set to `task` ("walk", "jump", "turn"; docs/tasks.md),
+    when given."""
+    if task is None:
+        return physics
+    if not isinstance(task, str):
+        raise TypeError(f"task: expected a task name (walk, jump, turn), got {type(task).__name__}")
+    if isinstance(physics, PhysicsDef):
+        return physics.replace(task=task)
+    if physics is not None and not isinstance(physics, dict):
+        return physics  # _physics names the mistake
+    return {**(physics or {}), "task": task}
+
+
 def _as_robot(source, name="robot"):
     """source as a Robot: a Robot itself, or a file path read as render reads it (a robot
     file, a results file's last champion, a recorded life's robot; each with its physics)."""
@@ -288,14 +302,16 @@ def _record_fps(record_fps):
     return float(record_fps)
 
 
-def simulate(robot, physics=None, treatment=None, record_fps=0):
+def simulate(robot, physics=None, treatment=None, record_fps=0, task=None):
     """Simulates one whole life (GIL released) and returns a Result.
     robot: a Robot or a file path, as render takes (.json, .vxa, or .h5: a results file's
     last champion, a recorded life's robot). physics: a dict of fields applied on top of the
     robot's own physics; treatment (overrides both): "none", "stress", "pressure",
     "strain", "strain_energy", "contact" or "kinetic"; record_fps > 0 records a
-    Trajectory."""
+    Trajectory; task (overrides physics["task"]): what fitness measures, "walk" (the
+    default), "jump" or "turn" (docs/tasks.md)."""
     robot = _as_robot(robot)
+    physics = _with_task(physics, task)
     summary, traj, cxx_seconds = _core.simulate(robot._core, _physics(physics),
                                                 _check_treatment(treatment), _record_fps(record_fps))
     if physics is not None or treatment is not None:
@@ -305,10 +321,11 @@ def simulate(robot, physics=None, treatment=None, record_fps=0):
     return result
 
 
-def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0):
+def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0, task=None):
     """Simulates every robot (Robots or file paths, as simulate takes) on C++ threads
     (0: all cores), results in input order, each bit-identical to simulate() of that robot
-    alone."""
+    alone; physics, treatment, record_fps and task as simulate takes them."""
+    physics = _with_task(physics, task)
     if isinstance(robots, (str, _os.PathLike, Robot)):
         raise TypeError(f"robots: expected a list of robots or paths, got one {type(robots).__name__}")
     robots = [_as_robot(r, f"robots[{i}]") for i, r in enumerate(robots)]

@@ -303,3 +303,22 @@ def test_recordings_too_large_for_memory_are_refused_before_simulating(monkeypat
     monkeypatch.setenv("PLASTIVOX_MAX_RECORDING_MB", "1")
     with pytest.raises(ValueError, match="more than the limit of 1 MB"):
         plastivox.simulate(walker, record_fps=1000)
+
+
+def test_task_is_the_clis_and_leaves_the_life_alone():
+    # docs/tasks.md: the task changes what fitness measures, never the life.
+    walker = plastivox.demo_walker()
+    quick = {"duration": 0.6}
+    walk = plastivox.simulate(walker, physics=quick)
+    assert walk.to_dict()["task"] == "walk"
+    for task, unit in (("jump", "voxel lengths"), ("turn", "rad")):
+        cli = cli_json("simulate", "--task", task, "--duration", "0.6", "--json")
+        r = plastivox.simulate(walker, physics=quick, task=task)
+        same_science(r, cli)
+        assert r.to_dict()["fitness_unit"] == unit
+        assert r.final_state_hash == walk.final_state_hash and r.fitness != walk.fitness
+        assert plastivox.simulate(walker, physics={**quick, "task": task}).fitness == r.fitness
+        many = plastivox.simulate_many([walker], physics=quick, task=task, threads=1)
+        assert many[0].fitness == r.fitness
+    with pytest.raises(Exception, match="physics.task: unknown task 'fly'"):
+        plastivox.simulate(walker, task="fly")

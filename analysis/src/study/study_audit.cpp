@@ -11,6 +11,7 @@
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/io/limits.hpp"
 #include "plastivox/simulator.hpp"
+#include "plastivox/task.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis::study {
@@ -25,6 +26,9 @@ std::string rule_of(const StudyInput& in) {
 }
 
 std::string direction_of(const PhysicsDef& d) {
+  if (d.task == Task::kJump) return "highest rise of the centre of mass above its settled height";
+  if (d.task == Task::kTurn)
+    return "body's net rotation about the vertical axis since settling, either way round";
   return d.fitness == FitnessMode::k3D
              ? "3-D displacement of the centre of mass (as in the authors' code)"
              : "displacement of the centre of mass in the xy-plane (as in the paper's text)";
@@ -69,11 +73,19 @@ void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
     if (!r.options.keep_artifacts) c.artifact = why;
   });
 
-  std::vector<std::string> rules, directions;
+  std::vector<std::string> rules, directions, tasks, units;
   for (const StudyInput& in : r.inputs) rules.push_back(rule_of(in));
-  for (const ChampionAnalysis& c : r.champions) directions.push_back(direction_of(c.physics));
+  for (const ChampionAnalysis& c : r.champions) {
+    directions.push_back(direction_of(c.physics));
+    tasks.push_back(to_string(c.physics.task));
+    units.push_back(task_info(c.physics.task).unit);
+  }
   r.sinking_rule = one_or_mixed(rules);
   r.fitness_direction = one_or_mixed(directions);
+  if (!tasks.empty()) {
+    r.task = one_or_mixed(tasks);
+    r.fitness_unit = one_or_mixed(units);
+  }
 
   int excluded = 0, flagged = 0;
   for (const ChampionAnalysis& c : r.champions) {

@@ -212,6 +212,8 @@ void write_root(const Ctx& c, hid_t root, const StudyResult& r) {
   h5::write_attr(c, root, "fingerprint", r.fingerprint);
   h5::write_attr(c, root, "sinking_rule", r.sinking_rule);
   h5::write_attr(c, root, "fitness_direction", r.fitness_direction);
+  h5::write_attr(c, root, "task", r.task);
+  h5::write_attr(c, root, "fitness_unit", r.fitness_unit);
   h5::write_attr(c, root, "threads", static_cast<int64_t>(r.options.threads));
   const Provenance build = current_provenance(r.options.threads);
   h5::write_attr(c, root, "compiler", build.compiler);
@@ -492,6 +494,10 @@ StudyResult read_study_result(const std::string& path) {
   s.fingerprint = h5::read_attr_string(c, r, "/", "fingerprint");
   s.sinking_rule = h5::read_attr_string(c, r, "/", "sinking_rule");
   s.fitness_direction = h5::read_attr_string(c, r, "/", "fitness_direction");
+  if (h5::has_attr(r, "task")) {  // absent in files written before tasks: walk
+    s.task = h5::read_attr_string(c, r, "/", "task");
+    s.fitness_unit = h5::read_attr_string(c, r, "/", "fitness_unit");
+  }
   s.warnings = h5::read_strings(c, r, "warnings", study::extent(c, r, "warnings"));
   study::read_inputs(c, r, s);
   study::read_champions(c, r, s);

@@ -280,6 +280,8 @@ std::string stats_json(const StudyResult& r) {
                   {"audit",
                    {{"sinking_rule", r.sinking_rule},
                     {"fitness_direction", r.fitness_direction},
+                    {"task", r.task},
+                    {"fitness_unit", r.fitness_unit},
                     {"keep_artifacts", r.options.keep_artifacts}}},
                   {"warnings", strings(r.warnings)}};
   return j.dump(1) + "\n";

@@ -98,7 +98,8 @@ std::vector<PanelStats> compute_panels(const StudyResult& r) {
     p.id = def.id;
     p.metric = def.metric;
     p.title = def.title;
-    p.unit = def.unit;
+    // Fitness is in the runs' task's unit (voxel lengths under walk; docs/tasks.md).
+    p.unit = def.metric == std::string("fitness") ? r.fitness_unit : def.unit;
     p.seed = mix64(o.seed ^ mix64(++number));
     std::vector<NamedSample> samples;
     for (Treatment t : r.treatments) {

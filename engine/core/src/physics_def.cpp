@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "plastivox/base/names.hpp"
+#include "plastivox/task.hpp"
 
 namespace plastivox {
 
@@ -125,10 +126,10 @@ PhysicsField number(const char* name, double PhysicsDef::*m) {
   f.number = m;
   return f;
 }
-PhysicsField flag(const char* name, bool PhysicsDef::*m, bool written_when_off_only = false) {
+PhysicsField flag(const char* name, bool PhysicsDef::*m, bool written_when_not_default = false) {
   PhysicsField f{name, K::kFlag};
   f.flag = m;
-  f.written_when_off_only = written_when_off_only;
+  f.written_when_not_default = written_when_not_default;
   return f;
 }
 PhysicsField whole(const char* name, int PhysicsDef::*m) {
@@ -137,10 +138,12 @@ PhysicsField whole(const char* name, int PhysicsDef::*m) {
   return f;
 }
 PhysicsField choice(const char* name, const char* (*get)(const PhysicsDef&),
-                    void (*set)(PhysicsDef&, const std::string&)) {
+                    void (*set)(PhysicsDef&, const std::string&),
+                    bool written_when_not_default = false) {
   PhysicsField f{name, K::kChoice};
   f.get = get;
   f.set = set;
+  f.written_when_not_default = written_when_not_default;
   return f;
 }
 
@@ -190,6 +193,9 @@ const std::vector<PhysicsField> kPhysicsFields = {
     number("max_change_per_step", &PhysicsDef::max_change_per_step),
     number("min_devo_factor", &PhysicsDef::min_devo_factor),
     named<&PhysicsDef::fitness, kFitnessNames>("fitness"),
+    choice(
+        "task", [](const PhysicsDef& d) { return to_string(d.task); },
+        [](PhysicsDef& d, const std::string& v) { d.task = parse_task(v); }, true),
     named<&PhysicsDef::axial_modulus, kAxialModulusNames>("axial_modulus"),
     named<&PhysicsDef::bond_model, kBondModelNames>("bond_model"),
     number("max_speed", &PhysicsDef::max_speed),

@@ -12,6 +12,7 @@
 
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/names.hpp"
+#include "plastivox/task.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
@@ -373,9 +374,9 @@ class ProgressReport {
   double end_, next_ = 0;
 };
 
-// The summary of a life from its last state: status, fitness, displacement and the
-// lifetime stiffness change (SimResult).
-void summarise(const Model& model, const State& s, SimResult& r) {
+// The summary of a life from its last state: status, fitness (the task's score of a
+// finished life, else 0), displacement and the lifetime stiffness change (SimResult).
+void summarise(const Model& model, const State& s, const TaskWatch& task, SimResult& r) {
   r.voxels = model.n;
   r.status = s.status;  // kRunning for a life ended early by on_frame or frame_times
   r.failure = s.failure;
@@ -386,7 +387,7 @@ void summarise(const Model& model, const State& s, SimResult& r) {
   r.settled = s.settled;
   r.com_settled = s.settled ? s.com_settled : r.com_final;
   r.displacement = displacement_since_settling(model, r.com_settled, r.com_final);
-  r.fitness = r.status == SimStatus::kFinished ? r.displacement.norm() : 0.0;
+  r.fitness = r.status == SimStatus::kFinished ? task.score(model, s, r) : 0.0;
   r.final_stiffness = s.stiffness;
   double sum = 0, sum_abs = 0, sum_sq = 0;
   for (int i = 0; i < model.n; ++i) {
@@ -407,7 +408,7 @@ void summarise(const Model& model, const State& s, SimResult& r) {
 
 // A life, as a list: step until the Simulator says the life is over (like Voxelyze, until
 // time first passes the duration) or the frames end it, taking frames, reporting progress
-// and watching the floor as it goes; then the summary and the floor's grade.
+// and watching the floor and the task as it goes; then the summary and the floor's grade.
 SimResult simulate(const Model& model, const SimOptions& o) {
   const auto wall_start = WallClock::now();
   Simulator sim(model);
@@ -416,17 +417,19 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   FrameTaker frames(o, s);
   ProgressReport progress(o, frames.end(model.def.duration));
   FloorWatch floor;
+  const std::unique_ptr<TaskWatch> task = make_task_watch(model);
   while (s.status == SimStatus::kRunning && frames.take_due()) {
     progress.at(s.time);
     sim.step(o.timings);
     floor.see(model, s);
+    task->see(model, s);
   }
   if (s.status == SimStatus::kFinished) frames.take_last();
   if (!frames.stopped()) progress.done();
 
   SimResult r;
   r.dt_initial = dt_initial;
-  summarise(model, s, r);
+  summarise(model, s, *task, r);
   r.recording = std::move(frames.recording());
   grade_floor_contact(model, s, floor, r);
   r.wall_seconds = seconds_since(wall_start);

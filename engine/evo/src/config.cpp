@@ -13,6 +13,7 @@
 #include "plastivox/io/limits.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/model.hpp"
+#include "plastivox/task.hpp"
 
 namespace plastivox::evo {
 namespace {
@@ -38,6 +39,7 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
   // Only when seeded: a field every run had would change every identity and digest.
   if (c.initial_population != InitialPopulation::kRandom)
     j["initial_population"] = to_string(c.initial_population);
+  if (c.task != Task::kWalk) j["task"] = {{"name", to_string(c.task)}};  // likewise
   j["max_mutation_tries"] = c.max_mutation_tries;
   j["physics"] = json::parse(c.physics_json);
   if (with_run_control) {
@@ -98,6 +100,8 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
     } else if (k == "treatment") {
       treatment = json_field::treatment(v, src, k);
       c.treatment = treatment.stimulus;
+    } else if (k == "task") {
+      c.task = json_field::task(v, src, k);
     } else if (k == "population") {
       c.population = integer(v, src, k, 1, 100000);
     } else if (k == "generations") {
@@ -147,6 +151,8 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       if (!v.is_object()) fail(src, k, "expected an object of physics fields");
       if (v.contains("treatment"))
         fail(src, "physics.treatment", "set the treatment at the top level (\"treatment\")");
+      if (v.contains("task"))
+        fail(src, "physics.task", "set the task at the top level (\"task\": {\"name\": ...})");
       c.physics_json = v.dump();
     } else {
       fail(src, k, "unknown field");
@@ -159,6 +165,7 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   c.physics = preset_gecco2018_code();
   apply_physics_json(c.physics_json, src, c.physics);
   c.physics.treatment = c.treatment;
+  set_task(c, c.task);
   // Evaluations never record frames (a champion can be re-simulated with recording).
   const json given = json::parse(c.physics_json);
   if (given.contains("record_fps") && given["record_fps"] != 0)
@@ -208,6 +215,11 @@ std::string fold_law(const std::string& physics_json, GrowthModel law, const std
   return p.dump();
 }
 
+void set_task(EvolveConfig& config, Task task) {
+  config.task = task;
+  config.physics.task = task;
+}
+
 std::string resolved_physics_json(const PhysicsDef& d) {
   // Reuses the robot format's physics writer so field names match docs/robot-format.md.
   const json robot = json::parse(robot_to_json(make_empty_robot(1, 1, 1), &d));
@@ -234,6 +246,8 @@ std::string default_config_text() {
       {"plastivox evolve configuration (docs/evolution.md). JSON has no comments: this",
        "_comment field is ignored. Defaults are the GECCO 2018 study (docs/method.md §6-7).",
        "seed: run seed (non-negative integer); the paper used seeds 1..20.",
+       "task: what a life is scored on (docs/tasks.md), e.g. {\"name\": \"jump\"}: walk (the",
+       "  paper's locomotion; the default, so absent above) | jump | turn.",
        "treatment: what development follows: none | stress | pressure (the paper's) | strain |",
        "  strain_energy | contact | kinetic (docs/plasticity.md), or with its law:",
        "  {\"stimulus\": \"contact\", \"law\": \"integral\" | \"rate\"} (the law is "

@@ -12,6 +12,7 @@
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/file_seal.hpp"
 #include "plastivox/io/h5_util.hpp"
+#include "plastivox/task.hpp"
 #include "results_layout.hpp"
 
 namespace plastivox::evo {
@@ -48,6 +49,11 @@ namespace {
 
 using h5::Ctx;
 using h5::Handle;
+
+// The unit of every fitness in the file: the run's task's (voxel lengths for walk and jump).
+const char* fitness_unit(const RunState& s) {
+  return task_info(s.config.task).unit;
+}
 
 std::vector<hsize_t> lattice_dims(const RobotDef& r) {
   return {static_cast<hsize_t>(r.nz), static_cast<hsize_t>(r.ny), static_cast<hsize_t>(r.nx)};
@@ -89,6 +95,8 @@ void write_root_attributes(const Ctx& c, hid_t root, const RunState& s, const Pr
                  std::string(s.config.physics.sinking_invalid ? "invalid" : "scored"));
   h5::write_attr_u64(c, root, "seed", s.config.seed);
   h5::write_attr(c, root, "treatment", std::string(to_string(s.config.treatment)));
+  h5::write_attr(c, root, "task", std::string(to_string(s.config.task)));
+  h5::write_attr(c, root, "fitness_unit", std::string(fitness_unit(s)));
   h5::write_attr(c, root, "population", int64_t{s.config.population});
   h5::write_attr(c, root, "generations_planned", int64_t{s.config.generations});
   h5::write_attr(c, root, "generations_done", int64_t{s.generations_done});
@@ -123,8 +131,8 @@ void write_generations(const Ctx& c, hid_t root, const RunState& s) {
   h5::write_column(c, g.id(), "simulated", h, &GenerationRecord::simulated);
   h5::write_column(c, g.id(), "cache_hits", h, &GenerationRecord::cache_hits);
   h5::write_column(c, g.id(), "wall_seconds", h, &GenerationRecord::wall_seconds);
-  h5::write_units(c, g.id(), "fitness", "voxel lengths");
-  h5::write_units(c, g.id(), "best_fitness", "voxel lengths");
+  h5::write_units(c, g.id(), "fitness", fitness_unit(s));
+  h5::write_units(c, g.id(), "best_fitness", fitness_unit(s));
   h5::write_units(c, g.id(), "wall_seconds", "s");
 }
 
@@ -134,7 +142,7 @@ void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
   h5::write_column(c, g.id(), "id", b, &BirthRecord::id);
   layout::for_each_birth_column(
       [&](const char* name, auto member) { h5::write_column(c, g.id(), name, b, member); });
-  h5::write_units(c, g.id(), "fitness", "voxel lengths");
+  h5::write_units(c, g.id(), "fitness", fitness_unit(s));
   h5::write_column(c, g.id(), "sank", b, &BirthRecord::sank);
   // Failures are rare: stored sparsely, by id.
   std::vector<uint64_t> failure_id;
@@ -183,7 +191,7 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   const std::vector<Individual>& p = s.population;
   layout::for_each_member_column(
       [&](const char* name, auto member) { h5::write_column(c, pop.id(), name, p, member); });
-  h5::write_units(c, pop.id(), "fitness", "voxel lengths");
+  h5::write_units(c, pop.id(), "fitness", fitness_unit(s));
   h5::write_column<uint8_t>(c, pop.id(), "status", p, [](const Individual& i) { return i.status; });
   // Genomes, stacked per network: individual i owns nodes [node_offset[i], node_offset[i+1])
   // and links [link_offset[i], link_offset[i+1]).
@@ -231,7 +239,7 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, cache.id(), "hash_hi", hi);
   h5::write(c, cache.id(), "hash_lo", lo);
   h5::write(c, cache.id(), "fitness", fit);
-  h5::write_units(c, cache.id(), "fitness", "voxel lengths");
+  h5::write_units(c, cache.id(), "fitness", fitness_unit(s));
   h5::write(c, cache.id(), "status", st);
   h5::write(c, cache.id(), "sank", sank);
   h5::write(c, cache.id(), "failure_row", failure_row);

@@ -16,6 +16,7 @@
 #include "plastivox/evo/thread_pool.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
+#include "plastivox/task.hpp"
 
 namespace plastivox::evo {
 namespace {
@@ -69,6 +70,9 @@ class RunLock {
 }  // namespace
 
 std::string config_difference(const EvolveConfig& file, const EvolveConfig& now) {
+  if (file.task != now.task)  // said plainly: its fitness means another thing
+    return std::string("task: ") + to_string(file.task) + " in the file, " + to_string(now.task) +
+           " now";
   const std::string d = first_difference(json::parse(file.identity_json()),
                                          json::parse(now.identity_json()), "in the file", "now");
   if (!d.empty()) return d;

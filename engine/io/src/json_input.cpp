@@ -7,6 +7,7 @@
 
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/base/one_line.hpp"
+#include "plastivox/task.hpp"
 
 namespace plastivox {
 
@@ -177,6 +178,26 @@ TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
     fail(source, stimulus_field, e.what());
   }
   return t;
+}
+
+Task task(const nlohmann::json& j, const std::string& source, const std::string& field) {
+  if (!j.is_string() && !j.is_object())
+    fail(source, field, "expected {\"name\": ...} or a task name (" + task_names() + ")");
+  const nlohmann::json* name = &j;
+  std::string name_field = field;
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (it.key() != "name")
+        fail(source, field + "." + it.key(), "unknown field (a task has name)");
+    if (!j.contains("name")) fail(source, field + ".name", "missing");
+    name = &j["name"];
+    name_field += ".name";
+  }
+  try {
+    return parse_task(text(*name, source, name_field));
+  } catch (const std::invalid_argument& e) {
+    fail(source, name_field, e.what());
+  }
 }
 
 }  // namespace json_field

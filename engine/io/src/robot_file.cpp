@@ -102,6 +102,7 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
 
 // The physics section: every field of kPhysicsFields, and the environment when defined.
 json physics_json(const PhysicsDef& d) {
+  const PhysicsDef defaults;
   json out = json::object();
   for (const PhysicsField& f : kPhysicsFields) {
     switch (f.kind) {
@@ -109,13 +110,14 @@ json physics_json(const PhysicsDef& d) {
         out[f.name] = d.*f.number;
         break;
       case PhysicsField::Kind::kFlag:
-        if (!f.written_when_off_only || !(d.*f.flag)) out[f.name] = d.*f.flag;
+        if (!f.written_when_not_default || d.*f.flag != defaults.*f.flag) out[f.name] = d.*f.flag;
         break;
       case PhysicsField::Kind::kWhole:
         out[f.name] = d.*f.whole;
         break;
       case PhysicsField::Kind::kChoice:
-        out[f.name] = f.get(d);
+        if (!f.written_when_not_default || std::strcmp(f.get(d), f.get(defaults)) != 0)
+          out[f.name] = f.get(d);
         break;
     }
   }

@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/task.hpp"
+
 namespace plastivox {
 
 std::vector<SummaryField> sim_summary_fields(const SimResult& r, const PhysicsDef& physics,
@@ -13,7 +15,9 @@ std::vector<SummaryField> sim_summary_fields(const SimResult& r, const PhysicsDe
       {"warnings", r.warnings},
       {"treatment", std::string(to_string(physics.treatment))},
       {"growth_model", std::string(to_string(physics.growth))},
+      {"task", std::string(to_string(physics.task))},
       {"fitness", r.fitness},
+      {"fitness_unit", std::string(task_info(physics.task).unit)},
       {"dist_x", r.displacement.x()},
       {"dist_y", r.displacement.y()},
       {"dist_z", r.displacement.z()},

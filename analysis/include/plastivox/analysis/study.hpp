@@ -193,6 +193,9 @@ struct StudyResult {
   // evolved ("invalid", "scored (the authors' rule)" or "mixed: ...") and the direction fitness
   // is measured in ("3-D ..." or "xy-plane ...").
   std::string sinking_rule, fitness_direction;
+  // The task the runs' lives were scored on and its unit ("walk", "voxel lengths"; "mixed:
+  // ..." when they differ, docs/tasks.md).
+  std::string task = "walk", fitness_unit = "voxel lengths";
   // Provenance.
   std::string version, commit, date;  // of this program; date UTC ISO 8601
   std::string fingerprint;            // study_fingerprint(input digests, options)

@@ -27,6 +27,9 @@ enum class Treatment { kNone, kStress, kPressure, kStrain, kStrainEnergy, kConta
 // kRate:     E = E0 + alpha * (stimulus(t) - stimulus(settle))  (the paper's equations)
 enum class GrowthModel { kIntegral, kRate };
 enum class FitnessMode { k3D, kXY };
+// What a life is scored on: the task (plastivox/task.hpp, docs/tasks.md, one file per task
+// in engine/core/src/task_*.cpp). kWalk, the paper's locomotion, is the default.
+enum class Task { kWalk, kJump, kTurn };
 // Which modulus a bond's *axial* stiffness uses. Bending, torsion, damping and dt always use
 // the harmonic mean. Voxelyze 0.9 (the authors' simulator) used the negative-side voxel's
 // own E for the axial stress of bonds between voxels of one palette material.
@@ -100,7 +103,8 @@ struct PhysicsDef {
   double max_change_per_step = 1e9;  // Pa, cap on |dE| in one step
   double min_devo_factor = 1000.0;   // develop only while E > min_devo_factor * e_min
 
-  FitnessMode fitness = FitnessMode::k3D;
+  FitnessMode fitness = FitnessMode::k3D;  // walk's distance: 3-D or horizontal only
+  Task task = Task::kWalk;                 // what fitness measures (docs/tasks.md)
 
   // --- safety --- (recording is an output option: SimOptions in simulator.hpp)
   double max_speed = 100.0;  // m/s; a voxel faster than this means the run went unstable
@@ -142,9 +146,9 @@ struct PhysicsField {
   int PhysicsDef::*whole = nullptr;                              // kWhole
   const char* (*get)(const PhysicsDef&) = nullptr;               // kChoice
   void (*set)(PhysicsDef&, const std::string& value) = nullptr;  // kChoice
-  // Written only when false (sinking_invalid, act_expansion: added after files were made with
-  // the default, which stay byte-identical).
-  bool written_when_off_only = false;
+  // Written only when not the default (sinking_invalid, act_expansion: false; task: not
+  // walk): added after files were made with the default, which stay byte-identical.
+  bool written_when_not_default = false;
 };
 extern const std::vector<PhysicsField> kPhysicsFields;
 

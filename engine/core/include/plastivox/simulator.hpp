@@ -150,9 +150,11 @@ inline constexpr double kFloorSankDepth = 2.0;
 
 struct SimResult {
   SimStatus status = SimStatus::kRunning;
-  std::string failure;               // why the run went unstable; empty when it finished
-  double fitness = 0;                // centre-of-mass displacement settle..end, voxel lengths
-  Vec3 displacement = Vec3::Zero();  // same, per axis, voxel lengths
+  std::string failure;  // why the run went unstable; empty when it finished
+  // The task's score of a finished life (def.task, plastivox/task.hpp; 0 otherwise): under
+  // walk, the default, the centre-of-mass displacement settle..end, voxel lengths.
+  double fitness = 0;
+  Vec3 displacement = Vec3::Zero();  // centre of mass, settle..end, per axis, voxel lengths
   Vec3 com_settled = Vec3::Zero();   // m
   Vec3 com_final = Vec3::Zero();     // m
   int voxels = 0;

@@ -22,6 +22,7 @@ const char* to_string(InitialPopulation p);  // "random", "body-plans"
 struct EvolveConfig {
   uint64_t seed = 1;  // run seed; every random draw derives from it
   Treatment treatment = Treatment::kNone;
+  Task task = Task::kWalk;        // what lives are scored on (plastivox/task.hpp); physics.task
   int population = 24;            // survivors per generation
   int generations = 5000;         // AFPO generations after the initial population
   int nx = 10, ny = 10, nz = 10;  // lattice extent, sites
@@ -33,7 +34,7 @@ struct EvolveConfig {
   int checkpoint_every = 1;       // generations between checkpoints (and at the end)
   int threads = 0;                // evaluation threads; 0 = all cores
   std::string physics_json = R"({"preset":"gecco2018-code"})";  // as given, canonical
-  PhysicsDef physics;  // resolved from physics_json, treatment applied
+  PhysicsDef physics;  // resolved from physics_json, treatment and task applied
 
   ExpressionDef expression() const;  // lattice, geometry rule, mapping range, C3 use
   // Canonical JSON of every field (sorted keys, no comment).
@@ -58,6 +59,9 @@ std::string default_config_text();
 // sets a different growth itself.
 std::string fold_law(const std::string& physics_json, GrowthModel law, const std::string& source,
                      const std::string& field);
+
+// Sets the task of a parsed config (its identity and its physics alike), as evolve --task.
+void set_task(EvolveConfig& config, Task task);
 
 // All physics fields of def as a canonical JSON object (provenance: what was simulated).
 std::string resolved_physics_json(const PhysicsDef& def);

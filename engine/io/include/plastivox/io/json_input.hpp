@@ -55,6 +55,8 @@ bool boolean(const nlohmann::json& j, const std::string& source, const std::stri
 // A treatment: "stress" or {"stimulus": "stress", "law": "rate"} ("law" optional).
 TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
                         const std::string& field);
+// A task (plastivox/task.hpp): {"name": "jump"}, or its name alone, "jump".
+Task task(const nlohmann::json& j, const std::string& source, const std::string& field);
 }  // namespace json_field
 
 }  // namespace plastivox
