@@ -525,6 +525,16 @@ class Results:
             raise ValueError(f"generation: expected a generation number or -1, got {generation!r}")
         return Robot(self._core.champion(int(generation)))
 
+    def population(self):
+        """The population at the file's last checkpoint: one dict per individual (ascending
+        id) with id, parent_id, age, born, fitness, status ("ok", "invalid", "unstable") and
+        robot, its genome decoded into a Robot under the run's physics (None for an invalid
+        body). With champion(), these are every individual whose genome the file stores."""
+        people = self._core.population()
+        for p in people:
+            p["robot"] = None if p["robot"] is None else Robot(p["robot"])
+        return people
+
     def __repr__(self):
         return (f"Results({self.path!r}, treatment={self.treatment!r}, seed={self.seed}, "
                 f"generations_done={self.generations_done}/{self.generations})")

@@ -38,6 +38,37 @@ PyRobot champion(const PyResults& r, int generation) {
   return out;
 }
 
+// The population of the file's last checkpoint, each individual's genome decoded into its
+// body under the run's physics (None for an invalid body), with its bookkeeping. With the
+// champions (champion()), these are the individuals whose genomes a results file stores.
+pyb::list population(const PyResults& r) {
+  const evo::RunState& run = r.file.state;
+  const evo::Expresser expresser(run.config.expression());
+  pyb::list out;
+  for (const evo::Individual& ind : run.population) {
+    pyb::dict d;
+    d["id"] = ind.id;
+    d["parent_id"] = ind.parent_id;
+    d["age"] = ind.age;
+    d["born"] = ind.born;
+    d["fitness"] = ind.fitness;
+    d["status"] = evo::to_string(ind.status);
+    const evo::Phenotype body = expresser.express(ind.genome);
+    if (body.valid) {
+      PyRobot robot;
+      robot.def = body.robot;
+      robot.def.name = "individual-" + std::to_string(ind.id);
+      robot.physics = run.config.physics;
+      robot.source = r.path;
+      d["robot"] = robot;
+    } else {
+      d["robot"] = pyb::none();
+    }
+    out.append(d);
+  }
+  return out;
+}
+
 // Per generation: the best fitness, and the mean over the population members that were
 // simulated to the end (NaN when none was).
 pyb::tuple fitness_curves(const PyResults& r) {
@@ -250,6 +281,7 @@ void bind_evo(pyb::module_& m) {
       .def_property_readonly("provenance",
                              [](const PyResults& r) { return provenance_dict(r.file.provenance); })
       .def("champion", &champion, pyb::arg("generation") = -1)
+      .def("population", &population)
       .def("fitness_curves", &fitness_curves);
   m.def(
       "read_results",

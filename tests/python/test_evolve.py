@@ -272,3 +272,23 @@ def test_evolve_with_a_fitness_function_sees_trajectories(tmp_path):
     with pytest.raises(KeyError, match="no such sensor"):
         plastivox.evolve(config, str(tmp_path / "broken.h5"), threads=1, fitness=broken)
     assert not os.path.exists(tmp_path / "broken.h5")  # generation 0 was never scored
+
+
+def test_the_checkpoint_population_decodes_into_robots_that_score_as_recorded(tiny_run):
+    path, config = tiny_run
+    res = plastivox.read_results(path)
+    people = res.population()
+    assert len(people) == config["population"]
+    assert [p["id"] for p in people] == sorted(p["id"] for p in people)
+    for p in people:
+        assert set(p) == {"id", "parent_id", "age", "born", "fitness", "status", "robot"}
+        if p["status"] == "invalid":
+            assert p["robot"] is None
+            continue
+        robot = p["robot"]
+        assert robot.name == f"individual-{p['id']}" and robot.physics == res.champion().physics
+        assert plastivox.simulate(robot).fitness == p["fitness"]  # its life, as evolution scored it
+    best = max((p for p in people if p["status"] == "ok"), key=lambda p: p["fitness"])
+    champion = res.champion()
+    assert best["fitness"] == res.best_fitness[-1]
+    assert np.array_equal(best["robot"].geometry, champion.geometry)
