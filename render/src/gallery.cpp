@@ -21,10 +21,12 @@ struct Item {
   double fitness = 0;  // voxel lengths
 };
 
-// "fitness 11.6": three significant digits.
-std::string fitness_text(double fitness) {
+// "fitness 11.6", three significant digits: the displacement, which is the fitness under the
+// walk task; under another task (jump, turn) it is not, and the label says "moved 11.6".
+std::string fitness_text(const Item& it) {
   char buf[48];
-  std::snprintf(buf, sizeof buf, "fitness %.3g", fitness);
+  std::snprintf(buf, sizeof buf, "%s %.3g",
+                it.life.model->def.task == Task::kWalk ? "fitness" : "moved", it.fitness);
   return buf;
 }
 
@@ -167,9 +169,8 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
   // (at DejaVu Sans's average 0.6 em a character), else on two, the fitness below.
   bool one_line = true;
   for (const Item& it : items)
-    one_line =
-        one_line && 0.6 * text_px * glyphs(it.source.label + " · " + fitness_text(it.fitness)) <=
-                        tile_w - text_px;
+    one_line = one_line && 0.6 * text_px * glyphs(it.source.label + " · " + fitness_text(it)) <=
+                               tile_w - text_px;
   const int label_h =
       style.labels ? static_cast<int>(std::round(text_px * (one_line ? 1.8 : 3.0))) : 0;
 
@@ -217,7 +218,7 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
       const PixelRect& t = layout.tiles[k];
       if (style.labels) {
         ImFont* f = ui.font(0);
-        const std::string fit = fitness_text(layout.fitness[k]);
+        const std::string fit = fitness_text(items[k]);
         const std::vector<std::string> lines =
             one_line ? std::vector<std::string>{layout.labels[k] + " · " + fit}
                      : std::vector<std::string>{layout.labels[k], fit};
