@@ -12,6 +12,7 @@ Lattice arrays are shaped ``(nx, ny, nz)`` and indexed ``[x, y, z]``; the engine
 sites x fastest, so they are converted in Fortran order.
 """
 
+import atexit as _atexit
 import csv as _csv
 import json as _json
 import math as _math
@@ -19,6 +20,7 @@ import os as _os
 import queue as _queue
 import threading as _threading
 import types as _types
+import weakref as _weakref
 
 import numpy as _np
 
@@ -626,6 +628,17 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
                         evaluate, name)
 
 
+_EVOLVERS = _weakref.WeakSet()  # running ask/tell loops, closed at exit
+
+
+@_atexit.register
+def _close_evolvers():
+    """An Evolver left running when Python exits stops at its last checkpoint, as close()
+    stops it: its thread must not be inside the library while the interpreter goes away."""
+    for ev in list(_EVOLVERS):
+        ev.close()
+
+
 class Evolver:
     """An evolution driven from outside, ask/tell style: the same AFPO, checkpoints, resume
     and results file as evolve(), with the lives scored by the caller.
@@ -642,8 +655,8 @@ class Evolver:
     tell(plastivox.simulate_many(robots)) gives the digest `plastivox evolve` gives). The
     results file names the loop (provenance fitness_function "python: <name>"), and a run
     resumes only under the same name. The run goes on in a thread of its own between tell()
-    and the next ask(); close() (or leaving a `with` block) stops it at its last
-    checkpoint."""
+    and the next ask(); close() (or leaving a `with` block, or Python exiting) stops it at
+    its last checkpoint."""
 
     _CLOSE = object()
 
@@ -681,6 +694,7 @@ class Evolver:
 
         self._thread = _threading.Thread(target=run, name="plastivox-evolver", daemon=True)
         self._thread.start()
+        _EVOLVERS.add(self)
 
     def _wait(self):
         if self._next is None:
@@ -731,6 +745,7 @@ class Evolver:
             self._pending = self._next = None
             self._tells.put(Evolver._CLOSE)
         self._thread.join()
+        _EVOLVERS.discard(self)
 
     def __enter__(self):
         return self

@@ -292,3 +292,25 @@ def test_the_checkpoint_population_decodes_into_robots_that_score_as_recorded(ti
     champion = res.champion()
     assert best["fitness"] == res.best_fitness[-1]
     assert np.array_equal(best["robot"].geometry, champion.geometry)
+
+
+def test_an_evolver_left_running_at_exit_stops_at_its_checkpoint(tmp_path):
+    """Python exiting while the run works (between tell() and the next ask()) closes it: a
+    clean exit, and a results file that resumes."""
+    import subprocess
+    import sys
+    out = tmp_path / "left.h5"
+    script = (
+        "import plastivox, sys\n"
+        "from conftest import tiny_config\n"
+        "ev = plastivox.Evolver(tiny_config(generations=20), sys.argv[1], threads=1)\n"
+        "ev.tell(plastivox.simulate_many(ev.ask(), threads=1))\n")
+    here = os.path.dirname(__file__)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([here, os.environ.get("PYTHONPATH", "")])}
+    for _ in range(3):  # the thread is at a different point each time
+        run = subprocess.run([sys.executable, "-c", script, str(out)], env=env,
+                             capture_output=True, text=True, timeout=300)
+        assert run.returncode == 0, run.stderr
+        assert "terminate" not in run.stderr, run.stderr
+    res = plastivox.read_results(out)
+    assert res.provenance["fitness_function"] == "python: ask-tell" and not res.finished
