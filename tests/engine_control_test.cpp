@@ -159,15 +159,7 @@ TEST(Sensors, TableFollowsTheEnumAndShapes) {
 }
 
 TEST(Sensors, DocsListEverySensorWithItsUnit) {
-  std::ifstream in(std::string(PLASTIVOX_SOURCE_DIR) + "/docs/control.md");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string doc = text.str();
-  for (const SensorField& f : kSensorFields) {
-    const std::string row = std::string("| `") + f.name + "` | " + f.shape + " | " + f.unit +
-                            " | " + f.frame + " | " + f.meaning + " |";
-    EXPECT_NE(doc.find(row), std::string::npos) << "docs/control.md lacks the row " << row;
-  }
+  testing::expect_doc_lists_every_field("docs/control.md", kSensorFields);
 }
 
 // A stiff block resting on the floor: the bottom layer touches and carries the weight, the

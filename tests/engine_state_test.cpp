@@ -57,15 +57,7 @@ TEST(StateFields, EveryByteOfEveryFieldIsInTheHash) {
 }
 
 TEST(StateFields, DocsListEveryFieldWithItsUnit) {
-  std::ifstream in(std::string(PLASTIVOX_SOURCE_DIR) + "/docs/engine.md");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string doc = text.str();
-  for (const StateField& f : kStateFields) {
-    const std::string row = std::string("| `") + f.name + "` | " + f.shape + " | " + f.unit +
-                            " | " + f.frame + " | " + f.meaning + " |";
-    EXPECT_NE(doc.find(row), std::string::npos) << "docs/engine.md lacks the row " << row;
-  }
+  testing::expect_doc_lists_every_field("docs/engine.md", kStateFields);
 }
 
 // The two public halves, called with nothing between them, are step(): the life ends where

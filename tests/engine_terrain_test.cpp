@@ -322,7 +322,7 @@ TEST(EnvironmentJson, BadDefinitionsNameTheFileAndField) {
        g + "angle_deg: must be in (-80, 80) degrees"},
       {R"({"ground": {"type": "ramp", "angle_deg": 10}})", g + "length: missing"},
       {R"({"ground": {"type": "hill"}})", g + "type: ground type 'hill' is unknown (use flat, "
-                                              "heightfield, ramp, step, stairs, gap, rough)"},
+                                              "heightfield, ramp, step, stairs, gap or rough)"},
       {R"({"ground": {"type": "flat", "slope": 1}})", g + "slope: unknown field"},
       {R"({"obstacles": [{"min": [0, 0, 0], "max": [1, -1, 1]}]})",
        "f.json: physics.environment.obstacles[0]: min must be below max on every axis"},

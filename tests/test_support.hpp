@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -67,5 +69,21 @@ class ScratchDirTest : public ::testing::Test {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::filesystem::path dir_;
 };
+
+// Every row of a field table (kStateFields, kSensorFields: name, shape, unit, frame,
+// meaning) stands in the document `doc` (a path below the source tree) as the Markdown row
+// "| `name` | shape | unit | frame | meaning |".
+template <class Table>
+void expect_doc_lists_every_field(const std::string& doc, const Table& table) {
+  std::ifstream in(std::string(PLASTIVOX_SOURCE_DIR) + "/" + doc);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string content = text.str();
+  for (const auto& f : table) {
+    const std::string row = std::string("| `") + f.name + "` | " + f.shape + " | " + f.unit +
+                            " | " + f.frame + " | " + f.meaning + " |";
+    EXPECT_NE(content.find(row), std::string::npos) << doc << " lacks the row " << row;
+  }
+}
 
 }  // namespace plastivox::testing

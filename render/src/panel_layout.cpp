@@ -133,6 +133,16 @@ struct ValueAxis {  // ticks k * step
   double hi() const { return k_hi * step; }
 };
 
+// About five ticks from lo to hi (values), rounded out to whole ticks.
+ValueAxis axis_over(double lo, double hi) {
+  if (hi - lo <= 0) hi = lo + 1;
+  ValueAxis a;
+  a.step = nice_step(hi - lo, 5);
+  a.k_lo = static_cast<long>(std::floor(lo / a.step + 1e-9));
+  a.k_hi = static_cast<long>(std::ceil(hi / a.step - 1e-9));
+  return a;
+}
+
 // Whether a group's values are drawn as points.
 bool shows_points(const PanelGroup& g) {
   return !g.values.empty() && g.values.size() <= static_cast<size_t>(kMaxPanelPoints);
@@ -149,12 +159,7 @@ ValueAxis value_axis(const PanelStats& panel) {
       for (double v : g.values)
         if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
   }
-  if (hi - lo <= 0) hi = lo + 1;
-  ValueAxis a;
-  a.step = nice_step(hi - lo, 5);
-  a.k_lo = static_cast<long>(std::floor(lo / a.step + 1e-9));
-  a.k_hi = static_cast<long>(std::ceil(hi / a.step - 1e-9));
-  return a;
+  return axis_over(lo, hi);
 }
 
 // ---- The frame both figures share ------------------------------------------------------
@@ -400,14 +405,9 @@ EvolutionFrame evolution_frame(const EvolutionStats& e, int width, int height) {
     see(b.ci_high);
   }
   if (last < 0) throw StatsError("evolution: no generations to draw");
-  if (hi - lo <= 0) hi = lo + 1;
-  ValueAxis axis;
-  axis.step = nice_step(hi - lo, 5);
-  axis.k_lo = static_cast<long>(std::floor(lo / axis.step + 1e-9));
-  axis.k_hi = static_cast<long>(std::ceil(hi / axis.step - 1e-9));
 
   EvolutionFrame f;
-  static_cast<FigureFrame&>(f) = figure_frame(axis, width, height);
+  static_cast<FigureFrame&>(f) = figure_frame(axis_over(lo, hi), width, height);
   f.last = last;
   f.x_step = last > 0 ? nice_step(last, 6) : 1;
   if (f.x_step < 1) f.x_step = 1;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "plastivox/base/names.hpp"
 #include "plastivox/base/rng.hpp"
 
 namespace plastivox {
@@ -208,37 +209,29 @@ void validate(const Environment& env) {
   }
 }
 
+namespace {
+
+// The ground types a file names, in docs/environments.md's order (kNone, the flat floor of
+// PhysicsDef::floor, is named by no file).
+constexpr Named<GroundKind> kGroundKindNames[] = {
+    {GroundKind::kFlat, "flat"},     {GroundKind::kHeights, "heightfield"},
+    {GroundKind::kRamp, "ramp"},     {GroundKind::kStep, "step"},
+    {GroundKind::kStairs, "stairs"}, {GroundKind::kGap, "gap"},
+    {GroundKind::kRough, "rough"},
+};
+
+}  // namespace
+
 const char* to_string(GroundKind kind) {
-  switch (kind) {
-    case GroundKind::kNone:
-      return "none";
-    case GroundKind::kFlat:
-      return "flat";
-    case GroundKind::kHeights:
-      return "heightfield";
-    case GroundKind::kRamp:
-      return "ramp";
-    case GroundKind::kStep:
-      return "step";
-    case GroundKind::kStairs:
-      return "stairs";
-    case GroundKind::kGap:
-      return "gap";
-    case GroundKind::kRough:
-      return "rough";
-  }
-  return "?";
+  return kind == GroundKind::kNone ? "none" : name_in(kGroundKindNames, kind);
 }
 
 std::string ground_kind_names() {
-  return "flat, heightfield, ramp, step, stairs, gap, rough";
+  return choices_in(kGroundKindNames);
 }
 
 GroundKind parse_ground_kind(const std::string& name) {
-  for (GroundKind k :
-       {GroundKind::kFlat, GroundKind::kHeights, GroundKind::kRamp, GroundKind::kStep,
-        GroundKind::kStairs, GroundKind::kGap, GroundKind::kRough})
-    if (name == to_string(k)) return k;
+  if (const auto kind = value_in(kGroundKindNames, name)) return *kind;
   throw std::invalid_argument("ground type '" + name + "' is unknown (use " + ground_kind_names() +
                               ")");
 }

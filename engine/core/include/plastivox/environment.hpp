@@ -100,6 +100,6 @@ void validate(const Environment& env);
 
 const char* to_string(GroundKind kind);  // "none", "flat", "heightfield", "ramp", ...
 GroundKind parse_ground_kind(const std::string& name);  // throws std::invalid_argument
-std::string ground_kind_names();  // "flat, heightfield, ramp, step, stairs, gap, rough"
+std::string ground_kind_names();  // "flat, heightfield, ramp, step, stairs, gap or rough"
 
 }  // namespace plastivox
