@@ -48,6 +48,7 @@ Frame capture_frame(const State& s) {
 
 std::vector<double> frame_channel(const std::vector<Frame>& frames, const FrameField& f) {
   std::vector<double> out;
+  if (!frames.empty()) out.reserve(frames.size() * frames.front().pos.size() * f.width);
   for (const Frame& frame : frames) {
     const double* v = f.values(frame);
     const size_t voxels = frame.pos.size();
