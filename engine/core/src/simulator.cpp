@@ -152,24 +152,35 @@ struct FloorWatch {
   double deepest = 0;  // m
   int most_deep = 0;
 
+  // The same over a height field. Out of line: its calls in the floor's loop's function made
+  // the compiler keep that loop's sums in memory, a store and a load per voxel (4 % of a life).
+  [[gnu::noinline]] static void see_ground(const Model& m, const State& s, double limit,
+                                           double& step_deepest, int& deep) {
+    double most = 0;
+    int count = 0;
+    for (int i = 0; i < m.n; ++i) {
+      const Vec3& x = s.pos[i];
+      const double pen = m.ground.penetration(x.x(), x.y(), x.z(), 0.5 * s.size[i]);
+      most = std::max(most, pen);
+      count += pen > limit ? 1 : 0;
+    }
+    step_deepest = most;
+    deep = count;
+  }
+
   void see(const Model& m, const State& s) {
     if (!m.def.floor) return;
     const double limit = kFloorPenetratingDepth * m.size;
     double step_deepest = 0;
     int deep = 0;
-    const auto see_voxel = [&](double pen) {
-      step_deepest = std::max(step_deepest, pen);
-      deep += pen > limit ? 1 : 0;
-    };
-    // Two loops, so the floor's stays as simple as it was (the compiler vectorises it).
-    if (m.terrain) {
+    if (m.terrain)
+      see_ground(m, s, limit, step_deepest, deep);
+    else  // the floor z = 0: a plain loop with its sums in registers, which vectorises
       for (int i = 0; i < m.n; ++i) {
-        const Vec3& x = s.pos[i];
-        see_voxel(m.ground.penetration(x.x(), x.y(), x.z(), 0.5 * s.size[i]));
+        const double pen = 0.5 * s.size[i] - s.pos[i].z();
+        step_deepest = std::max(step_deepest, pen);
+        deep += pen > limit ? 1 : 0;
       }
-    } else {
-      for (int i = 0; i < m.n; ++i) see_voxel(0.5 * s.size[i] - s.pos[i].z());
-    }
     deepest = std::max(deepest, step_deepest);
     most_deep = std::max(most_deep, deep);
   }
