@@ -314,6 +314,15 @@ TEST(VoxcraftExport, WhatVoxcraftCannotExpressIsRefusedInOneLineOrDroppedWithALi
   ASSERT_EQ(lossy.dropped.size(), 2u);
   EXPECT_NE(lossy.dropped[0].find("development"), std::string::npos);
   EXPECT_NE(lossy.dropped[1].find("fixed voxels"), std::string::npos);
+  // The world and the task: refused, or dropped with a line.
+  PhysicsDef world = preset_gecco2018_code();
+  world.environment.obstacles.push_back({{0.1, 0.1, 0}, {0.2, 0.2, 0.01}});
+  world.task = Task::kTurn;
+  EXPECT_THROW(write_voxcraft(sample_robot(), world, false), VxaError);
+  const VoxcraftFiles dropped = write_voxcraft(sample_robot(), world, true);
+  ASSERT_EQ(dropped.dropped.size(), 2u);
+  EXPECT_NE(dropped.dropped[0].find("physics.environment"), std::string::npos);
+  EXPECT_NE(dropped.dropped[1].find("physics.task 'turn'"), std::string::npos);
   PhysicsDef floor = preset_gecco2018_code();
   floor.act_min_factor = 0.9;  // the 14 % wave reaches it
   EXPECT_THROW(write_voxcraft(sample_robot(), floor, false), VxaError);

@@ -267,6 +267,19 @@ TEST(Vxa, WriterRejectsWhatTheFormatCannotExpress) {
   clamped.fixed_sites = {static_cast<int>(
       std::find(v.robot.present.begin(), v.robot.present.end(), 1) - v.robot.present.begin())};
   EXPECT_THROW(write_vxa(clamped, v.physics), VxaError);
+  // A world beyond the flat floor, or a task other than walking, would be lost.
+  p = v.physics;
+  p.environment.ground.kind = GroundKind::kFlat;
+  p.environment.ground.height = 0.01;
+  EXPECT_THROW(write_vxa(v.robot, p), VxaError);
+  p = v.physics;
+  p.task = Task::kJump;
+  try {
+    write_vxa(v.robot, p);
+    ADD_FAILURE() << "task jump was written";
+  } catch (const VxaError& err) {
+    EXPECT_NE(std::string(err.what()).find("physics.task 'jump'"), std::string::npos);
+  }
   std::vector<std::string> warnings;
   p = v.physics;
   p.axial_modulus = AxialModulus::kNegativeVoxel;

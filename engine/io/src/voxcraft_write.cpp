@@ -11,6 +11,7 @@
 
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/voxcraft.hpp"
+#include "plastivox/task.hpp"
 #include "voxcraft_internal.hpp"
 #include "vxa_internal.hpp"
 
@@ -153,6 +154,11 @@ VoxcraftFiles write_voxcraft(const RobotDef& robot, const PhysicsDef& p, bool lo
   if (!robot.fixed_sites.empty()) cannot("fixed voxels (robot.fixed_sites)");
   if (!robot.loads.empty()) cannot("external loads (robot.loads)");
   if (!robot.act_scale.empty()) cannot("per-voxel actuation scales (robot.act_scale)");
+  if (p.environment.active())
+    cannot("the environment (physics.environment: a ground or obstacles beyond the flat floor)");
+  if (p.task != Task::kWalk)
+    cannot(std::string("the task (physics.task '") + to_string(p.task) +
+           "'; voxcraft-sim's fitness here is the walk's displacement)");
 
   // Per voxel: congenital stiffness as compile() holds it, and the linear amplitude.
   const bool own = !robot.act_amplitude.empty();

@@ -13,6 +13,7 @@
 
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/vxa.hpp"
+#include "plastivox/task.hpp"
 #include "vxa_internal.hpp"
 
 namespace plastivox {
@@ -110,6 +111,14 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
     throw VxaError(
         "write_vxa: robot.act_scale (per-voxel actuation scales, passive tissue) cannot be "
         "written: the authors' dialect actuates every voxel alike; write .json");
+  if (p.environment.active())
+    throw VxaError(
+        "write_vxa: physics.environment (a ground or obstacles beyond the flat floor) cannot be "
+        "written: the authors' dialect has the floor z = 0 only; write .json");
+  if (p.task != Task::kWalk)
+    throw VxaError(std::string("write_vxa: physics.task '") + to_string(p.task) +
+                   "' cannot be written: the authors' simulator scores displacement only "
+                   "(walk); write .json");
   if (!robot.fixed_sites.empty() || !robot.loads.empty())
     throw VxaError(
         "write_vxa: robot.fixed_sites and robot.loads cannot be written (VXA "
