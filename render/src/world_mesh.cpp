@@ -83,9 +83,11 @@ std::vector<double> ground_bends(const HeightField& f, int axis, double from, do
   for (int i = node(from), last = std::min(node(to) + 1, n - 1); i <= last; ++i) {
     const double u = origin + i * f.cell;
     if (!(u > from && u < to)) continue;
-    bool bends = i == 0 || i == n - 1;
+    bool bends = false;
     for (int j = 0; j < across && !bends; ++j) {
-      const double a = height(i - 1, j), b = height(i, j), c = height(i + 1, j);
+      // Past the grid the heights continue level: an end line bends where the grid slopes.
+      const double b = height(i, j);
+      const double a = i > 0 ? height(i - 1, j) : b, c = i + 1 < n ? height(i + 1, j) : b;
       // Straight across up to rounding (profiles are sampled in floating point).
       bends = std::abs(a - 2 * b + c) > 1e-7 * (f.cell + std::abs(a) + std::abs(b) + std::abs(c));
     }
