@@ -22,6 +22,7 @@ add_library(plastivox_render
   ${CMAKE_CURRENT_LIST_DIR}/src/shown_life.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/report_lives.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/world_mesh.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/camera_path.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/scene_gl.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/overlay.cpp

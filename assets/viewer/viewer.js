@@ -2,7 +2,9 @@
 // three.js (Debian's libjs-three, inlined by the page). One viewer per page; load(i) swaps
 // the life it shows. Voxels are one merged mesh of boxes (24 vertices each) rewritten per
 // frame from the quantised poses; colours use the renderer's colour maps and scales, which
-// the page carries (window.PLASTIVOX_COLORMAPS, each life's meta.scales).
+// the page carries (window.PLASTIVOX_COLORMAPS, each life's meta.scales). A life in an
+// environment also carries its world (meta.world): the ground, drawn instead of the floor,
+// and obstacle boxes.
 (function () {
   "use strict";
 
@@ -111,6 +113,40 @@
   ];
 
   const FLOOR_POLAR_LIMIT = (89 * Math.PI) / 180;  // radians from straight down onto the target
+  const FLOOR_COLOR = 0xdcdde0, OBSTACLE_COLOR = 0x968470;  // the renderer's floor and obstacles
+
+  // Flat-shaded triangles (x, y, z per corner) as a mesh of one colour.
+  function triangleMesh(corners, color) {
+    const g = new THREE.BufferGeometry();
+    g[g.setAttribute ? "setAttribute" : "addAttribute"](
+        "position", new THREE.BufferAttribute(new Float32Array(corners), 3));
+    g.computeVertexNormals();  // unindexed: each triangle's own normal
+    return new THREE.Mesh(g, new THREE.MeshLambertMaterial({ color: color }));
+  }
+
+  // The ground of meta.world: heights h (x fastest) at the crossings of the lines x and y,
+  // two triangles a cell, counter-clockwise seen from above.
+  function groundMesh(ground) {
+    const xs = ground.x, ys = ground.y, h = ground.h, nx = xs.length, out = [];
+    const p = (i, j) => [xs[i], ys[j], h[i + nx * j]];
+    for (let j = 0; j + 1 < ys.length; ++j)
+      for (let i = 0; i + 1 < nx; ++i) {
+        const a = p(i, j), b = p(i + 1, j), c = p(i + 1, j + 1), d = p(i, j + 1);
+        out.push(...a, ...b, ...c, ...a, ...c, ...d);
+      }
+    return triangleMesh(out, FLOOR_COLOR);
+  }
+
+  // The obstacle boxes of meta.world, [min x, min y, min z, max x, max y, max z] each.
+  function obstacleMesh(boxes) {
+    const out = [];
+    for (const b of boxes)
+      for (const [, corners] of FACES) {
+        const at = corners.map((c) => c.map((s, a) => (s < 0 ? b[a] : b[a + 3])));
+        out.push(...at[0], ...at[1], ...at[2], ...at[0], ...at[2], ...at[3]);
+      }
+    return triangleMesh(out, OBSTACLE_COLOR);
+  }
 
   function Viewer(root) {
     this.root = root;
@@ -162,7 +198,11 @@
     const life = parseLife(entry);
     this.life = life;
     if (this.mesh) { this.scene.remove(this.mesh); this.mesh.geometry.dispose(); }
-    if (this.floor) { this.scene.remove(this.floor); this.scene.remove(this.grid); }
+    for (const part of this.worldParts || []) {
+      this.scene.remove(part);
+      if (part.geometry) part.geometry.dispose();
+    }
+    this.worldParts = [];
     const n = life.n, L = life.L;
     const g = new THREE.BufferGeometry();
     this.positions = new Float32Array(n * 24 * 3);
@@ -199,18 +239,26 @@
     this.mesh = new THREE.Mesh(g, new THREE.MeshLambertMaterial({ vertexColors: THREE.VertexColors }));
     this.mesh.frustumCulled = false;
     this.scene.add(this.mesh);
-    // The floor: a plane under the whole life with a grid of one voxel length.
-    const cx = 0.5 * (life.lo[0] + life.hi[0]), cy = 0.5 * (life.lo[1] + life.hi[1]);
-    const extent = Math.max(life.hi[0] - life.lo[0], life.hi[1] - life.lo[1]) + 40 * L;
-    const cells = Math.ceil(extent / L);
-    this.floor = new THREE.Mesh(new THREE.PlaneBufferGeometry(cells * L, cells * L),
-                                new THREE.MeshLambertMaterial({ color: 0xdcdde0 }));
-    this.floor.position.set(cx, cy, -1e-4 * L);
-    this.scene.add(this.floor);
-    this.grid = new THREE.GridHelper(cells * L, cells, 0xb8b9be, 0xc8c9ce);
-    this.grid.rotation.x = Math.PI / 2;
-    this.grid.position.set(cx, cy, 0);
-    this.scene.add(this.grid);
+    // The floor: a plane under the whole life with a grid of one voxel length; or the
+    // environment's ground in its place. Obstacle boxes on either.
+    const world = life.meta.world;
+    if (world && world.ground) {
+      this.worldParts.push(groundMesh(world.ground));
+    } else {
+      const cx = 0.5 * (life.lo[0] + life.hi[0]), cy = 0.5 * (life.lo[1] + life.hi[1]);
+      const extent = Math.max(life.hi[0] - life.lo[0], life.hi[1] - life.lo[1]) + 40 * L;
+      const cells = Math.ceil(extent / L);
+      const floor = new THREE.Mesh(new THREE.PlaneBufferGeometry(cells * L, cells * L),
+                                   new THREE.MeshLambertMaterial({ color: FLOOR_COLOR }));
+      floor.position.set(cx, cy, -1e-4 * L);
+      const grid = new THREE.GridHelper(cells * L, cells, 0xb8b9be, 0xc8c9ce);
+      grid.rotation.x = Math.PI / 2;
+      grid.position.set(cx, cy, 0);
+      this.worldParts.push(floor, grid);
+    }
+    if (world && world.obstacles.length) this.worldParts.push(obstacleMesh(world.obstacles));
+    for (const part of this.worldParts) this.scene.add(part);
+    this.floorZ = world ? world.zmin : 0;  // the camera's target stays above this level
     // Camera: azimuth -60 deg, elevation 25 deg, the body at t = 0 filling about half the
     // view (as the renderer's default framing).
     const lo0 = [Infinity, Infinity, Infinity], hi0 = [-Infinity, -Infinity, -Infinity];
@@ -308,9 +356,10 @@
   };
 
   // Lifts the target and the camera together (the view's direction kept) so the target is
-  // not below the floor; the orbit's update then keeps the camera above the target.
+  // not below the floor (or the lowest point of the world's ground and boxes); the orbit's
+  // update then keeps the camera above the target.
   Viewer.prototype.keepAboveFloor = function () {
-    const below = -this.controls.target.z;
+    const below = (this.floorZ || 0) - this.controls.target.z;
     if (below > 0) {
       this.controls.target.z += below;
       this.camera.position.z += below;

@@ -2,7 +2,7 @@
 // rest extent around its centre of mass, so a robot that rears up, tips over or stretches
 // leaves the image (the bottom row and its floor contact were cut off in videos). Here the
 // whole life is known before drawing: each frame's bounding box (every voxel's circumscribed
-// sphere, extended down to the floor) gives a target, the targets are smoothed so the camera
+// sphere, extended down to the ground) gives a target, the targets are smoothed so the camera
 // glides, and one distance for the life is the smallest that keeps every frame's box inside
 // the image around its smoothed target (so the scale bar holds for the whole video).
 #include <algorithm>
@@ -19,16 +19,22 @@ struct Box3 {
 };
 
 // The frame's voxels as spheres of radius edge * sqrt(3) / 2 (whatever their orientation),
-// and the floor (z = 0) under them.
+// and the ground under them (the floor z = 0, or the environment's ground under each voxel).
 Box3 frame_box(const Model& model, const Frame& frame) {
   Box3 b{Eigen::Vector3d::Constant(1e30), Eigen::Vector3d::Constant(-1e30)};
+  double ground = model.terrain ? 1e30 : 0.0;
   for (int i = 0; i < model.n; ++i) {
     const double r = 0.5 * std::sqrt(3.0) * frame.size[i];
     b.lo = b.lo.cwiseMin(frame.pos[i] - Eigen::Vector3d::Constant(r));
     b.hi = b.hi.cwiseMax(frame.pos[i] + Eigen::Vector3d::Constant(r));
+    if (model.terrain)
+      ground = std::min(ground, model.ground.height(frame.pos[i].x(), frame.pos[i].y()));
   }
-  if (model.n == 0) b.lo = b.hi = Eigen::Vector3d::Zero();
-  b.lo.z() = std::min(b.lo.z(), 0.0);
+  if (model.n == 0) {
+    b.lo = b.hi = Eigen::Vector3d::Zero();
+    ground = 0;
+  }
+  b.lo.z() = std::min(b.lo.z(), ground);
   return b;
 }
 

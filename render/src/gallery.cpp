@@ -192,6 +192,7 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
                          tile_h};
     Scene scene;
     scene.boxes = frame_boxes(model, frame, scale);
+    show_world(scene, model);
     scene.camera = follow_camera(model, frame);
     // follow_camera frames the robot's extent vertically; seen obliquely a body is up to
     // its horizontal diagonal wide (x1.3 covers it), and a tile narrower than tall sees less

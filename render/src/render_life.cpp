@@ -102,6 +102,7 @@ std::vector<uint8_t> LifeRenderer::render(const Life& life, const Frame& frame,
   const Model& model = *life.model;
   Scene scene;
   scene.boxes = frame_boxes(model, frame, scale);
+  show_world(scene, model);
   scene.camera = camera;
   scene.grid_spacing = model.size;
   scene.lit = style_.lit;

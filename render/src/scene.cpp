@@ -71,7 +71,7 @@ Camera follow_camera(const Model& model, const Frame& frame, double zoom) {
   const Eigen::Vector3d dims = (hi - lo).array() + model.size;
   const double extent = dims.maxCoeff();
   c.target = model.n ? center_of_mass(frame.pos) : Eigen::Vector3d::Zero();
-  c.target.z() = 0.5 * dims.z();
+  c.target.z() = ground_height(model, c.target.x(), c.target.y()) + 0.5 * dims.z();
   const double visible = extent / 0.6 / std::max(zoom, 1e-3);
   c.distance = visible / (2 * std::tan(c.fov_y_deg * kDegToRad / 2));
   c.ortho_height = visible;
@@ -88,6 +88,16 @@ std::vector<Box> frame_boxes(const Model& model, const Frame& frame, const Color
     b.color = scale.color(model, frame, i);
   }
   return boxes;
+}
+
+void show_world(Scene& scene, const Model& model) {
+  const Environment& env = model.def.environment;
+  if (model.terrain && env.ground.kind != GroundKind::kNone) scene.ground = &model.ground;
+  scene.obstacles = env.obstacles;
+}
+
+double ground_height(const Model& model, double x, double y) {
+  return model.terrain ? model.ground.height(x, y) : 0.0;
 }
 
 }  // namespace plastivox::render

@@ -1,12 +1,15 @@
-// The GL corner of the renderer: shaders, instanced voxel boxes, floor, shadow map and the
-// multisampled target (see scene.hpp). Everything else builds plain Scene data.
+// The GL corner of the renderer: shaders, instanced voxel boxes, floor, the world's ground and
+// obstacles, shadow map and the multisampled target (see scene.hpp). Everything else builds
+// plain Scene data.
 //
 // Passes per draw():
 //   1. shadow map: depth of the boxes seen from the key light (orthographic, fitted to the
 //      boxes' bounding sphere), 2048^2, sampled with hardware comparison and 16 taps;
 //   2. colour: background clear, boxes (instanced, front to back), floor (grid, shadow,
-//      fade), into a framebuffer of the viewport's size: one sample per pixel (edge
-//      anti-aliasing, the default; or no anti-aliasing) or multisampled;
+//      fade) or the environment's ground, and obstacle boxes (world_triangles, the floor's
+//      grid, shadow and fade, lit by their faces' normals), into a framebuffer of the viewport's
+//      size: one sample per pixel (edge anti-aliasing, the default; or no anti-aliasing) or
+//      multisampled;
 //   3. into the viewport of the default framebuffer (OSMesa's image): the edge
 //      anti-aliasing pass (edge_aa.frag) reading the one-sample image, or a blit (resolving
 //      the samples).
@@ -54,11 +57,12 @@ GLuint compile_shader(GLenum type, const std::string& source, const std::string&
 }
 
 // Program from assets/shaders/<name>.vert and .frag, with `defines` (#define lines) and
-// common.glsl (and, for fragment shaders, shadow_lookup.glsl) prepended.
+// common.glsl (and, for fragment shaders, shadow_lookup.glsl and grid.glsl) prepended.
 GLuint load_program(const std::string& name, const std::string& defines = "") {
   const std::string header = "#version 330 core\n" + defines;
   const std::string common = read_asset("shaders/common.glsl");
-  const std::string lookup = read_asset("shaders/shadow_lookup.glsl");
+  const std::string lookup =
+      read_asset("shaders/shadow_lookup.glsl") + read_asset("shaders/grid.glsl");
   const GLuint vs = compile_shader(
       GL_VERTEX_SHADER, header + common + read_asset("shaders/" + name + ".vert"), name + ".vert");
   const GLuint fs = compile_shader(
@@ -136,20 +140,23 @@ void cube_mesh(std::vector<float>& vertices, std::vector<GLushort>& indices) {
     }
 }
 
-// The rectangle (lo, hi) of the floor plane z = 0 where the boxes inside the box
-// (box_lo, box_hi) can cast a shadow from a light in direction `light` (unit, towards the
-// light, light.z > 0): the bounding rectangle of the box's corners moved along the light onto
-// the floor, and of the box's own footprint, with a margin for the filter's blur. Returns
-// false if the light grazes the floor (then no rectangle bounds the shadow).
+// The rectangle (lo, hi) of the surfaces between the levels z_lo and z_hi (the floor plane
+// z = 0: both 0) where the boxes inside the box (box_lo, box_hi) can cast a shadow from a
+// light in direction `light` (unit, towards the light, light.z > 0): the bounding rectangle of
+// the box's corners moved along the light onto either level (a surface between them catches
+// the shadow between the two), and of the box's own footprint, with a margin for the filter's
+// blur. Returns false if the light grazes the floor (then no rectangle bounds the shadow).
 bool shadow_footprint(const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
-                      const Eigen::Vector3d& light, Eigen::Vector2d& lo, Eigen::Vector2d& hi) {
+                      const Eigen::Vector3d& light, double z_lo, double z_hi, Eigen::Vector2d& lo,
+                      Eigen::Vector2d& hi) {
   if (light.z() < 0.05) return false;
   Eigen::Vector2d l = Eigen::Vector2d::Constant(1e30), h = -l;
   for (int k = 0; k < 8; ++k) {
     const Eigen::Vector3d c((k & 1) ? box_hi.x() : box_lo.x(), (k & 2) ? box_hi.y() : box_lo.y(),
                             (k & 4) ? box_hi.z() : box_lo.z());
-    for (const double z : {c.z(), 0.0}) {  // the corner's shadow and the corner above the floor
-      const Eigen::Vector2d p = c.head<2>() - std::max(z, 0.0) / light.z() * light.head<2>();
+    // The corner's shadow on each level, and the corner itself (its drop: 0).
+    for (const double drop : {c.z() - z_lo, c.z() - z_hi, 0.0}) {
+      const Eigen::Vector2d p = c.head<2>() - std::max(drop, 0.0) / light.z() * light.head<2>();
       l = l.cwiseMin(p);
       h = h.cwiseMax(p);
     }
@@ -189,9 +196,9 @@ std::vector<float> floor_pieces(const Eigen::Vector2d& centre, double half, Eige
 struct SceneRenderer::Impl {
   OffscreenContext* ctx = nullptr;
   GLuint box_prog = 0, floor_prog = 0, floor_plain_prog = 0, shadow_prog = 0;
-  GLuint edge_prog = 0, edge_detect_prog = 0;
-  GLuint box_vao = 0, floor_vao = 0, edge_vao = 0;
-  GLuint cube_vbo = 0, cube_ibo = 0, instance_vbo = 0, floor_vbo = 0, edge_vbo = 0;
+  GLuint world_prog = 0, world_plain_prog = 0, edge_prog = 0, edge_detect_prog = 0;
+  GLuint box_vao = 0, floor_vao = 0, world_vao = 0, edge_vao = 0;
+  GLuint cube_vbo = 0, cube_ibo = 0, instance_vbo = 0, floor_vbo = 0, world_vbo = 0, edge_vbo = 0;
   GLuint shadow_fbo = 0, shadow_tex = 0;
   // The colour target: a renderbuffer (multisampled or not), or for edge anti-aliasing a
   // texture the edge pass reads.
@@ -253,6 +260,8 @@ SceneRenderer::SceneRenderer(OffscreenContext& ctx) : impl_(std::make_unique<Imp
   g.box_prog = load_program("box");
   g.floor_prog = load_program("floor");
   g.floor_plain_prog = load_program("floor", "#define FLOOR_UNSHADOWED 1\n");
+  g.world_prog = load_program("world");
+  g.world_plain_prog = load_program("world", "#define WORLD_UNSHADOWED 1\n");
   g.shadow_prog = load_program("shadow");
   g.edge_prog = load_program("edge_aa");
   g.edge_detect_prog = load_program("edge_aa", "#define EDGE_DETECT 1\n");
@@ -297,6 +306,17 @@ SceneRenderer::SceneRenderer(OffscreenContext& ctx) : impl_(std::make_unique<Imp
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
 
+  // The world's triangles (world_triangles: position and normal per corner), per scene.
+  glGenVertexArrays(1, &g.world_vao);
+  glBindVertexArray(g.world_vao);
+  glGenBuffers(1, &g.world_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.world_vbo);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                        reinterpret_cast<void*>(3 * sizeof(float)));
+
   // One triangle covering the viewport, for the edge anti-aliasing pass.
   const float cover[] = {-1, -1, 0, 3, -1, 0, -1, 3, 0};
   glGenVertexArrays(1, &g.edge_vao);
@@ -336,12 +356,15 @@ SceneRenderer::~SceneRenderer() {
   glDeleteProgram(g.floor_prog);
   glDeleteProgram(g.floor_plain_prog);
   glDeleteProgram(g.shadow_prog);
+  glDeleteProgram(g.world_prog);
+  glDeleteProgram(g.world_plain_prog);
   glDeleteProgram(g.edge_prog);
   glDeleteProgram(g.edge_detect_prog);
-  const GLuint buffers[] = {g.cube_vbo, g.cube_ibo, g.instance_vbo, g.floor_vbo, g.edge_vbo};
-  glDeleteBuffers(5, buffers);
-  const GLuint vaos[] = {g.box_vao, g.floor_vao, g.edge_vao};
-  glDeleteVertexArrays(3, vaos);
+  const GLuint buffers[] = {g.cube_vbo,  g.cube_ibo,  g.instance_vbo,
+                            g.floor_vbo, g.world_vbo, g.edge_vbo};
+  glDeleteBuffers(6, buffers);
+  const GLuint vaos[] = {g.box_vao, g.floor_vao, g.world_vao, g.edge_vao};
+  glDeleteVertexArrays(4, vaos);
   glDeleteFramebuffers(1, &g.shadow_fbo);
   glDeleteTextures(1, &g.shadow_tex);
   g.release_target();
@@ -461,16 +484,21 @@ void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
   // The floor after the boxes: the depth test then skips the floor behind the robot. Only
   // the part the shadow map covers is drawn with the shadow lookup; llvmpipe runs both sides
   // of a branch, so a lookup skipped by a test in the shader would still cost its 16 taps.
-  if (scene.floor) {
-    glDisable(GL_CULL_FACE);
-    const double fade = reach * 2.5;
-    const Eigen::Vector2d centre = cam.target.head<2>();
-    // The shadowed rectangle: empty without shadows, the whole floor if the light grazes it.
-    Eigen::Vector2d lo = centre, hi = centre;
-    if (shadows && !shadow_footprint(lo3, hi3, light, lo, hi)) {
+  const double fade = reach * 2.5;
+  const Eigen::Vector2d centre = cam.target.head<2>();
+  // The shadowed rectangle on the surfaces between the levels z_lo and z_hi: empty without
+  // shadows, everything drawn if the light grazes the floor.
+  const auto shadowed = [&](double z_lo, double z_hi, Eigen::Vector2d& lo, Eigen::Vector2d& hi) {
+    lo = hi = centre;
+    if (shadows && !shadow_footprint(lo3, hi3, light, z_lo, z_hi, lo, hi)) {
       lo = centre.array() - fade;
       hi = centre.array() + fade;
     }
+  };
+  if (scene.floor && !scene.ground) {
+    glDisable(GL_CULL_FACE);
+    Eigen::Vector2d lo, hi;
+    shadowed(0.0, 0.0, lo, hi);
     const std::vector<float> pieces = floor_pieces(centre, fade, lo, hi);
     glBindBuffer(GL_ARRAY_BUFFER, g.floor_vbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(pieces.size() * sizeof(float)),
@@ -488,6 +516,45 @@ void SceneRenderer::draw(const Scene& scene, PixelRect vp) {
         glDrawArrays(GL_TRIANGLES, 0, 6);  // the middle piece
       else
         glDrawArrays(GL_TRIANGLES, 6, 48);
+    }
+  }
+  // The world beyond the floor: the ground (instead of the floor) and obstacle boxes, as
+  // runs of triangles under the robot's shadow (drawn with the lookup) and not.
+  const HeightField* ground = scene.floor ? scene.ground : nullptr;  // obstacles stand alone
+  if (ground || !scene.obstacles.empty()) {
+    double z_lo = 0, z_hi = 0;  // levels the surfaces span
+    if (ground) {
+      const auto [min_h, max_h] = std::minmax_element(ground->h.begin(), ground->h.end());
+      z_lo = *min_h;
+      z_hi = *max_h;
+    }
+    for (const ObstacleBox& box : scene.obstacles) {
+      z_lo = std::min(z_lo, box.min[2]);
+      z_hi = std::max(z_hi, box.max[2]);
+    }
+    Eigen::Vector2d lo, hi;
+    shadowed(z_lo, z_hi, lo, hi);
+    const WorldTriangles tri = world_triangles(ground, scene.obstacles, centre, fade, lo, hi);
+    glDisable(GL_CULL_FACE);
+    glBindBuffer(GL_ARRAY_BUFFER, g.world_vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(tri.corners.size() * sizeof(float)),
+                 tri.corners.empty() ? nullptr : tri.corners.data(), GL_STREAM_DRAW);
+    glBindVertexArray(g.world_vao);
+    int first = 0;
+    for (int run = 0; run < 4; ++run) {
+      const GLuint prog = run % 2 == 0 ? g.world_prog : g.world_plain_prog;
+      const Rgb8& color = run < 2 ? scene.floor_color : scene.obstacle_color;
+      if (tri.counts[run] > 0) {
+        common_uniforms(prog);
+        set_vec3(prog, "u_target", cam.target);
+        set_float(prog, "u_fade", fade);
+        set_float(prog, "u_grid", scene.grid_spacing);
+        set_rgb(prog, "u_color", color);
+        set_linear(prog, "u_color_linear", color);
+        set_linear(prog, "u_background_linear", scene.background);
+        glDrawArrays(GL_TRIANGLES, first, tri.counts[run]);
+      }
+      first += tri.counts[run];
     }
   }
   // 3. Into the viewport of OSMesa's image (GL rows count from the bottom).

@@ -14,6 +14,7 @@
 
 #include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/life.hpp"
+#include "plastivox/render/scene.hpp"  // ground_bends
 #include "plastivox/render/viewer.hpp"
 #include "plastivox/state.hpp"  // center_of_mass
 
@@ -77,6 +78,64 @@ nlohmann::json scale_json(const ColorScale& s) {
   for (const Tick& t : s.ticks()) ticks.push_back({{"t", t.t}, {"label", t.label}});
   return {
       {"lo", s.lo}, {"hi", s.hi}, {"map", s.map().name()}, {"title", s.title}, {"ticks", ticks}};
+}
+
+// Metres to the micrometre, so the page's JSON stays short.
+double micrometres(double v) {
+  return std::round(v * 1e6) / 1e6;
+}
+
+// The environment as the viewer draws it (docs/rendering.md, "The 3-D viewer"), over the
+// square the page's floor covers: the life's bounding box of centres, grown by 20 voxel
+// lengths. The ground as heights h (x fastest) at the crossings of the lines x and y (its
+// bends, as the renderer cuts it, and the square's edges); the obstacles in that square as
+// [min x, min y, min z, max x, max y, max z]; zmin, the lowest of them (the page's camera
+// stays above it).
+nlohmann::json world_json(const Model& m, const std::vector<Frame>& frames) {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Frame& f : frames)
+    for (const Eigen::Vector3d& p : f.pos) {
+      lo = lo.cwiseMin(p.head<2>());
+      hi = hi.cwiseMax(p.head<2>());
+    }
+  if (frames.empty() || m.n == 0) lo = hi = Eigen::Vector2d::Zero();
+  const Eigen::Vector2d centre = 0.5 * (lo + hi);
+  const double half = 0.5 * (hi - lo).maxCoeff() + 20 * m.size;
+  nlohmann::json world = nlohmann::json::object();
+  double zmin = 0;
+  const Environment& env = m.def.environment;
+  if (env.ground.kind != GroundKind::kNone) {
+    std::vector<double> lines[2];
+    for (int a = 0; a < 2; ++a) {
+      lines[a] = ground_bends(m.ground, a, centre[a] - half, centre[a] + half, kMaxGroundLines);
+      lines[a].insert(lines[a].begin(), centre[a] - half);
+      lines[a].push_back(centre[a] + half);
+    }
+    nlohmann::json h = nlohmann::json::array();
+    zmin = std::numeric_limits<double>::infinity();
+    for (double y : lines[1])
+      for (double x : lines[0]) {
+        const double z = m.ground.height(x, y);
+        zmin = std::min(zmin, z);
+        h.push_back(micrometres(z));
+      }
+    nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
+    for (double x : lines[0]) xs.push_back(micrometres(x));
+    for (double y : lines[1]) ys.push_back(micrometres(y));
+    world["ground"] = {{"x", xs}, {"y", ys}, {"h", h}};
+  }
+  nlohmann::json boxes = nlohmann::json::array();
+  for (const ObstacleBox& b : env.obstacles) {
+    if (b.max[0] < centre.x() - half || b.min[0] > centre.x() + half ||
+        b.max[1] < centre.y() - half || b.min[1] > centre.y() + half)
+      continue;
+    boxes.push_back({micrometres(b.min[0]), micrometres(b.min[1]), micrometres(b.min[2]),
+                     micrometres(b.max[0]), micrometres(b.max[1]), micrometres(b.max[2])});
+    zmin = std::min(zmin, b.min[2]);
+  }
+  world["obstacles"] = boxes;
+  world["zmin"] = micrometres(zmin);
+  return world;
 }
 
 }  // namespace
@@ -152,12 +211,14 @@ std::string life_meta_json(const ViewerLife& life) {
   for (const ColorMode mode : {ColorMode::kCongenital, ColorMode::kStiffness, ColorMode::kChange,
                                ColorMode::kPhase, ColorMode::kStimulus})
     scales[to_string(mode)] = scale_json(make_color_scale(mode, m, frames));
-  return nlohmann::json{{"label", life.label},
-                        {"treatment", life.treatment},
-                        {"fitness", life.fitness},
-                        {"settle_time", m.def.settle_time},
-                        {"scales", scales}}
-      .dump();
+  nlohmann::json meta{{"label", life.label},
+                      {"treatment", life.treatment},
+                      {"fitness", life.fitness},
+                      {"settle_time", m.def.settle_time},
+                      {"scales", scales}};
+  // Only a life beyond the flat floor carries its world: the floor's pages stay as they were.
+  if (m.terrain) meta["world"] = world_json(m, life.recording->frames);
+  return meta.dump();
 }
 
 }  // namespace plastivox::render

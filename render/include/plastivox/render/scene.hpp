@@ -1,12 +1,16 @@
-// A plain description of what to draw (no GL): coloured, posed boxes on a floor, a camera
-// and a light. build_scene() turns one recorded frame into a Scene; draw_scene() (the only
-// GL code besides offscreen.cpp) rasterizes it.
+// A plain description of what to draw (no GL): coloured, posed boxes on a floor or an
+// environment's ground, obstacle boxes of the world, a camera and a light. frame_boxes() and
+// show_world() turn one recorded frame of a model into a Scene; SceneRenderer (the only GL
+// code besides offscreen.cpp) rasterizes it.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
+#include <span>
 #include <vector>
+
+#include "plastivox/environment.hpp"
 
 #include "plastivox/model.hpp"
 #include "plastivox/recording.hpp"
@@ -56,24 +60,32 @@ struct Scene {
   Eigen::Vector3d light_dir = Eigen::Vector3d(-0.35, -0.5, 1.0).normalized();  // to light
   Rgb8 background{236, 239, 243};
   Rgb8 floor_color{214, 216, 220};
+  // The world beyond the flat floor (show_world; docs/rendering.md, "The world"). Not owned:
+  // they must outlive draw(). `ground`, when set, is drawn instead of the floor plane z = 0,
+  // in the floor's colour and with its grid, lit by its slope; `obstacles` are drawn in
+  // obstacle_color. Neither casts a shadow; both receive the robot's.
+  const HeightField* ground = nullptr;
+  std::span<const ObstacleBox> obstacles;
+  Rgb8 obstacle_color{150, 132, 112};  // a warm stone grey, apart from every colour map
   // Anti-aliasing: kEdgeAntialiasing (0, default), 1 = none, 2..8 = multisampling with
   // that many samples per pixel.
   int samples = kEdgeAntialiasing;
 };
 
 // The camera framing a robot: target at the robot's centre of mass (z at half its rest
-// height), distance so the robot's largest rest dimension fills about 60 % of the image
-// height (times zoom).
+// height above the ground under it: the floor, z = 0, or its environment's ground), distance
+// so the robot's largest rest dimension fills about 60 % of the image height (times zoom).
 Camera follow_camera(const Model& model, const Frame& frame, double zoom = 1.0);
 
-// The cameras of a whole life, one per frame, that keep every voxel and the floor under the
-// body in the image in every frame (render/src/camera_path.cpp). `base` gives the view
-// direction, field of view and projection; its target and distance are replaced: the target
-// follows the centre of each frame's bounding box (voxels as their circumscribed spheres,
-// down to the floor), smoothed over about `smoothing_s` seconds of frames; the distance (or
-// orthographic height) is one for the whole life, at least follow_camera's for `zoom`, and
-// far enough that every frame's box projects inside `fill` of the image (fraction of the
-// half-width and half-height around the centre). `aspect` = image width / height.
+// The cameras of a whole life, one per frame, that keep every voxel and the ground under the
+// body (the floor, or the environment's ground under each voxel) in the image in every frame
+// (render/src/camera_path.cpp). `base` gives the view direction, field of view and projection; its
+// target and distance are replaced: the target follows the centre of each frame's bounding box
+// (voxels as their circumscribed spheres, down to the ground), smoothed over about `smoothing_s`
+// seconds of frames; the distance (or orthographic height) is one for the whole life, at least
+// follow_camera's for `zoom`, and far enough that every frame's box projects inside `fill` of the
+// image (fraction of the half-width and half-height around the centre). `aspect` = image width /
+// height.
 std::vector<Camera> life_cameras(const Model& model, const std::vector<const Frame*>& frames,
                                  const Camera& base, double aspect, double zoom = 1.0,
                                  double smoothing_s = 0.5, double fill = 0.92);
@@ -81,6 +93,39 @@ std::vector<Camera> life_cameras(const Model& model, const std::vector<const Fra
 // Boxes of one frame: each voxel at its recorded centre, orientation and actuated edge
 // length, coloured by `scale`.
 std::vector<Box> frame_boxes(const Model& model, const Frame& frame, const ColorScale& scale);
+
+// Sets the scene's world from the model's environment (model.def.environment): its ground
+// when one is defined (pointing into `model`, which must outlive the scene) and its obstacle
+// boxes. The default environment leaves the scene's flat floor as it is.
+void show_world(Scene& scene, const Model& model);
+
+// Height of the ground under (x, y), m: the environment's ground, or the floor's 0.
+double ground_height(const Model& model, double x, double y);
+
+// The world's surfaces as the renderer draws them (no GL; render/src/world_mesh.cpp): the
+// ground (none when null) and the boxes, over the square `centre` +- `half` (x, y, m) where
+// the floor would be drawn. Per triangle corner:
+// position (m, world frame) and its face's unit normal (outward; upward on the ground), 6
+// floats. The ground is cut along the node lines of its height field where the surface bends
+// (at most kMaxGroundLines per axis inside the square: beyond that every k-th), and along the
+// rectangle (lo, hi), where the robot's shadow may fall; boxes outside the square are left
+// out. Four runs, in this order, of the counts given: ground inside (lo, hi), the rest of
+// the ground, boxes overlapping (lo, hi), the other boxes.
+struct WorldTriangles {
+  std::vector<float> corners;
+  int counts[4] = {0, 0, 0, 0};  // corners per run
+};
+constexpr int kMaxGroundLines = 256;
+WorldTriangles world_triangles(const HeightField* ground, std::span<const ObstacleBox> obstacles,
+                               const Eigen::Vector2d& centre, double half,
+                               const Eigen::Vector2d& lo, const Eigen::Vector2d& hi);
+
+// The node lines of `field` along `axis` (0: x, 1: y) strictly inside (from, to) where the
+// ground bends: lines the surface is not straight across along that axis (past the grid the
+// heights continue level, so an end line bends where the grid slopes there), m, ascending. More than `max_lines`
+// are thinned to every k-th. A ramp gives its two ends, stairs two lines per riser.
+std::vector<double> ground_bends(const HeightField& field, int axis, double from, double to,
+                                 int max_lines);
 
 // Viewport in pixels: x from the left, y from the top of the image.
 struct PixelRect {

@@ -39,9 +39,10 @@ constexpr int kPackedBytesPerVoxelFrame = 13;
 // Standard base64 of `bytes` (for embedding a packed life in a page or a script).
 std::string base64(const std::string& bytes);
 
-// The JSON the viewer reads beside a packed life: label, treatment, fitness and, per colour
-// mode (congenital, stiffness, change, stimulus, phase), the renderer's scale: range, map and
-// colour-bar ticks.
+// The JSON the viewer reads beside a packed life: label, treatment, fitness, per colour mode
+// (congenital, stiffness, change, stimulus, phase) the renderer's scale (range, map and
+// colour-bar ticks) and, for a life in an environment, its "world": the ground as heights on
+// the lines where it bends and the obstacle boxes, around the life (docs/rendering.md).
 std::string life_meta_json(const ViewerLife& life);
 
 // Where three.js comes from: Debian's libjs-three. Throws RenderError saying which package
