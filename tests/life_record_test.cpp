@@ -151,6 +151,39 @@ TEST_F(RecordedLives, ContactIsTheFloorTestOfEachFrame) {
   EXPECT_EQ(top, 0);
 }
 
+// On a ground below z = 0 the recorded contact is the ground's test, not the floor's: a block
+// that fell onto a level ground 2 voxel lengths down touches it with its bottom layer only
+// (the floor's test would flag both layers, all below z = 0).
+TEST_F(RecordedLives, ContactOnAGroundIsTheGroundsTest) {
+  Lived l;
+  l.robot = testing::block(3, 3, 2, 1e9);
+  l.physics = preset_gecco2018_code();
+  l.physics.duration = 0.3;
+  l.physics.environment.ground.kind = GroundKind::kFlat;
+  l.physics.environment.ground.height = -0.02;
+  l.model = compile(l.robot, l.physics);
+  SimOptions options;
+  options.record_fps = 20;
+  l.result = simulate(l.model, options);
+  ASSERT_EQ(l.result.status, SimStatus::kFinished) << l.result.failure;
+  write_life_file(path("ground.h5"), recorded(l));
+  const h5::Ctx c{path("ground.h5"), 0};
+  const hid_t f = H5Fopen(path("ground.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  std::vector<hsize_t> dims = {h5::kAnyExtent, 18};
+  const std::vector<uint8_t> contact = h5::read<uint8_t>(c, f, "contact", dims);
+  H5Fclose(f);
+  const Frame& last = l.result.recording.frames.back();
+  const size_t at = 18 * (l.result.recording.frames.size() - 1);
+  int bottom = 0, top = 0, below_zero = 0;
+  for (int i = 0; i < 18; ++i) {
+    (last.pos[i].z() < -0.01 ? bottom : top) += contact[at + i];
+    below_zero += floor_contact(last, true)[i];
+  }
+  EXPECT_EQ(below_zero, 18);  // the plain floor test would call every voxel touching
+  EXPECT_GT(bottom, 0);
+  EXPECT_EQ(top, 0);
+}
+
 TEST_F(RecordedLives, StringsAreVariableLengthUtf8AndOldFixedOnesStillRead) {
   const Lived l = live(10);
   write_life_file(path("life.h5"), recorded(l));

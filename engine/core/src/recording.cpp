@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "plastivox/environment.hpp"
 #include "plastivox/recording.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
@@ -66,6 +67,17 @@ void set_frame_channel(std::vector<Frame>& frames, const FrameField& f, size_t v
     for (size_t i = 0; i < voxels; ++i)
       for (int k = 0; k < f.width; ++k) v[i * f.width + f.order[k]] = *values++;
   }
+}
+
+std::vector<uint8_t> floor_contact(const Frame& frame, bool floor, const HeightField* ground) {
+  std::vector<uint8_t> touching(frame.pos.size(), 0);
+  for (size_t i = 0; floor && i < frame.pos.size(); ++i) {
+    const Vec3& x = frame.pos[i];
+    const double r = 0.5 * frame.size[i];
+    const double pen = ground ? ground->penetration(x.x(), x.y(), x.z(), r) : r - x.z();
+    touching[i] = pen > 0.0 ? 1 : 0;
+  }
+  return touching;
 }
 
 }  // namespace plastivox

@@ -77,8 +77,12 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
       }
       std::vector<uint8_t> contact;
       contact.reserve(nf * nv);
+      const GroundDef& ground_def = life.physics.environment.ground;
+      const bool on_ground = ground_def.kind != GroundKind::kNone;
+      const HeightField ground = on_ground ? make_height_field(ground_def) : HeightField{};
       for (const Frame& f : frames) {
-        const std::vector<uint8_t> touching = floor_contact(f, life.physics.floor);
+        const std::vector<uint8_t> touching =
+            floor_contact(f, life.physics.floor, on_ground ? &ground : nullptr);
         contact.insert(contact.end(), touching.begin(), touching.end());
       }
       h5::write(c, r, "contact", contact, {nf, nv});

@@ -47,15 +47,15 @@ std::vector<double> frame_channel(const std::vector<Frame>& frames, const FrameF
 void set_frame_channel(std::vector<Frame>& frames, const FrameField& f, size_t voxels,
                        const double* values);
 
-// Which voxels touch the floor in `frame` (1) and which do not (0), with the engine's own
-// test: the voxel's actuated half-size reaches below z = 0, its tilt ignored, as the next
-// step's floor contact sees it (engine/core/src/voxel_body.hpp). All 0 without a floor.
-inline std::vector<uint8_t> floor_contact(const Frame& frame, bool floor) {
-  std::vector<uint8_t> touching(frame.pos.size(), 0);
-  for (size_t i = 0; floor && i < frame.pos.size(); ++i)
-    touching[i] = 0.5 * frame.size[i] - frame.pos[i].z() > 0.0 ? 1 : 0;
-  return touching;
-}
+struct HeightField;  // environment.hpp
+
+// Which voxels touch the ground in `frame` (1) and which do not (0), with the engine's own
+// test: the voxel's actuated half-size reaches below z = 0 (or, given a height field, into
+// it: HeightField::penetration), its tilt ignored, as the next step's contact sees it
+// (engine/core/src/voxel_body.hpp, terrain.cpp). Obstacle boxes do not count. All 0 without
+// a floor.
+std::vector<uint8_t> floor_contact(const Frame& frame, bool floor,
+                                   const HeightField* ground = nullptr);
 
 struct Recording {
   double fps = 0;             // frames per simulated second
