@@ -32,16 +32,16 @@ pyb::array sensor_array(const SensorField& f, std::span<const double> v) {
   return a;
 }
 
-const SensorField& sensor_named(const std::string& name) {
+}  // namespace
+
+const SensorField& sensor_named(const std::string& name, const std::string& what) {
   for (const SensorField& f : kSensorFields)
     if (name == f.name) return f;
   std::string known;
   for (const SensorField& f : kSensorFields)
     known += std::string(known.empty() ? "" : ", ") + f.name;
-  throw std::invalid_argument("sensor: no sensor named '" + name + "' (sensors: " + known + ")");
+  throw std::invalid_argument(what + ": no sensor named '" + name + "' (sensors: " + known + ")");
 }
-
-}  // namespace
 
 // Within kSignalSlack of [-1, 1]: the engine's own sine, which a Python controller replays,
 // reaches -1 - 2.2e-16 at 0.75 cycles.
@@ -91,7 +91,7 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
             return;
           }
           for (const std::string& name : *names) {
-            const SensorField& f = sensor_named(name);
+            const SensorField& f = sensor_named(name, "sensor");
             out[f.name] = sensor_array(f, s.read(f.id));
           }
         });

@@ -21,15 +21,6 @@
 namespace plastivox::py {
 namespace {
 
-const SensorField& sensor_field(const std::string& name) {
-  for (const SensorField& f : kSensorFields)
-    if (name == f.name) return f;
-  std::string known;
-  for (const SensorField& f : kSensorFields)
-    known += std::string(known.empty() ? "" : ", ") + f.name;
-  throw std::invalid_argument("sensors: no sensor named '" + name + "' (sensors: " + known + ")");
-}
-
 class PyEpisode {
  public:
   PyEpisode(const PyRobot& robot, const pyb::object& physics,
@@ -44,7 +35,7 @@ class PyEpisode {
     if (every < 1) throw std::invalid_argument("every: must be a number of steps >= 1");
     if (sensors.empty()) throw std::invalid_argument("sensors: name at least one sensor");
     for (const std::string& name : sensors) {
-      const SensorField& f = sensor_field(name);
+      const SensorField& f = sensor_named(name, "sensors");
       observed_.push_back(&f);
       obs_size_ += f.per_voxel ? model_->n * f.width : f.width;
     }
