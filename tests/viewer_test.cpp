@@ -113,6 +113,8 @@ TEST(ViewerPack, TheActuationSignalFollowsWhenRecorded) {
       const double u = static_cast<uint8_t>(packed[body + k * n + i]) / 255.0 * 2 - 1;
       EXPECT_NEAR(u, s.rec.frames[k].actuation[i], 1.0 / 255) << k << " " << i;
     }
+  const size_t embedded = render::base64(packed).size() + render::life_meta_json(life).size();
+  EXPECT_LT(embedded, 3'000'000u) << embedded;  // still within the 3 MB
   const auto meta = nlohmann::json::parse(render::life_meta_json(life));
   EXPECT_EQ(meta["scales"]["actuation"]["lo"], -1);
   EXPECT_EQ(meta["scales"]["actuation"]["map"], "diverging");

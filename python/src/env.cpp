@@ -66,15 +66,14 @@ class PyEpisode {
       watch_.see(s);
       if (sinking_ends && watch_.sunk()) break;  // simulate() would score this life 0
     }
-    if (s.status == SimStatus::kRunning && !(sinking_ends && watch_.sunk())) {
-      fitness_ = watch_.fitness(s);
-    } else {
-      const SimResult r = watch_.summary(s);
-      fitness_ = s.status == SimStatus::kRunning ? 0.0 : r.fitness;
-      end_ = s.status == SimStatus::kUnstable                              ? "unstable"
-             : (r.sank || s.status == SimStatus::kRunning) && sinking_ends ? "sank"
-                                                                           : "finished";
-    }
+    fitness_ = watch_.fitness(s);  // 0 once the life is unstable, or sunk under sinking_ends
+    if (s.status == SimStatus::kUnstable)
+      end_ = "unstable";
+    else if (sinking_ends &&
+             (watch_.sunk() || (s.status == SimStatus::kFinished && watch_.summary(s).sank)))
+      end_ = "sank";
+    else if (s.status == SimStatus::kFinished)
+      end_ = "finished";
     return pyb::make_tuple(observe(), fitness_, end_.empty() ? "running" : end_);
   }
 
