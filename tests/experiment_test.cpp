@@ -298,7 +298,7 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
   EXPECT_NE(report.find(best + " (fitness", activity), std::string::npos) << best;
   const size_t data = report.find("src=\"data:image/png;base64,", image);
   ASSERT_NE(data, std::string::npos);
-  EXPECT_LT(report.find('"', data + 5) - data, 6000u);  // small: a few kB
+  EXPECT_LT(report.find('"', data + 5) - data, 16000u);  // small: at most 128 x 32 pixels
   ASSERT_EQ(shared_range.size(), 2u);
   double e0_lo = 1e300, e0_hi = 0;
   for (const char* t : {"none", "stress", "pressure"})

@@ -113,8 +113,8 @@ std::string body_plan_table(const StageContext& ctx, const std::vector<std::stri
 }
 
 // The best champion's controller activity over its life: its actuation signal, voxels (rows)
-// by time (columns), as a small inline image (about 1 kB) on the actuation colour map. Its life
-// is simulated again at 10 frames per simulated second with the control channels.
+// by time (columns), as a small inline image (a few kB) on the actuation colour map. Its life
+// is simulated again with the control channels, at about 120 frames over the whole life.
 ReportSection activity_section(const StageContext& ctx) {
   ReportSection s;
   const analysis::ChampionAnalysis* best = nullptr;
@@ -122,10 +122,10 @@ ReportSection activity_section(const StageContext& ctx) {
     if (c.artifact.empty() && (!best || c.fitness > best->fitness)) best = &c;
   if (!best) return s;
   SimOptions options;
-  options.record_fps = 10;
+  options.record_fps = 120 / best->physics.duration;  // + the first and the last: <= 128
   options.record_control = true;
   const SimResult life = simulate(compile(best->robot, best->physics), options);
-  const render::ActivityRaster raster = render::actuation_raster(life.recording.frames, 32, 120);
+  const render::ActivityRaster raster = render::actuation_raster(life.recording.frames, 32, 128);
   if (raster.width == 0) return s;
   const std::string png = render::encode_png(raster.rgba, raster.width, raster.height,
                                              "controller activity of " + best->label);

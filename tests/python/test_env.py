@@ -239,6 +239,12 @@ def test_a_recorded_life_carries_the_control_channels_on_request(tmp_path):
         assert f["actuation"].attrs["units"] in ("1", b"1")
     with h5py.File(tmp_path / "plain.h5", "r") as f:
         assert "control" not in f.attrs and "actuation" not in f
+    # Drawn by its signal from the file; a life recorded without it is refused in one line.
+    run_cli("render", str(tmp_path / "control.h5"), "--color", "actuation", "--time", "0.3",
+            "--size", "64x48", "--out", str(tmp_path / "a.png"))
+    status, _, err = run_cli("render", str(tmp_path / "plain.h5"), "--color", "actuation",
+                             "--out", str(tmp_path / "b.png"), check=False)
+    assert status == 1 and "plain.h5: --color actuation needs the actuation signal" in err
     status, _, err = run_cli("simulate", path, "--record-control", check=False)
     assert status == 2 and "--record-control adds the actuation signal" in err
     with pytest.raises(ValueError, match="record_control: .* give record_fps > 0"):
