@@ -886,4 +886,4 @@ def render(source, time=0.2, color="congenital", size=(640, 480), out=None, gene
 
 # --- reinforcement learning ----------------------------------------------------------------
 
-from .env import VoxelEnv  # noqa: E402 (it uses the helpers above)
+from ._env import VoxelEnv  # noqa: E402 (it uses the helpers above)

@@ -1,4 +1,4 @@
-// The engine side of plastivox.VoxelEnv (python/plastivox/env.py, docs/python.md): one life
+// The engine side of plastivox.VoxelEnv (python/plastivox/_env.py, docs/python.md): one life
 // stepped by actions and watched as simulate() watches it (LifeWatch), so the task's fitness
 // so far is known after every step and the last one is simulate()'s, bit for bit. One call
 // per environment step: the action checked and held, `every` engine steps taken, the

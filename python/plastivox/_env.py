@@ -197,7 +197,7 @@ def _register():
     if _gym is None:
         return
     if ENV_ID not in getattr(_gym, "registry", {}):
-        _gym.register(id=ENV_ID, entry_point="plastivox.env:VoxelEnv")
+        _gym.register(id=ENV_ID, entry_point="plastivox:VoxelEnv")
 
 
 _register()
