@@ -70,24 +70,27 @@ ReportLife report_life(const LifeSource& source, double fps, const std::vector<d
   out.frames.frames.resize(times.size());
   size_t taken = 0, extra = 0;
   int64_t last_viewer_step = -1;
-  // A simulated life records its actuation signal too, so the viewer can colour by it.
-  const FrameSource frames = source.recorded ? source.frames : simulated_frames(source.model, true);
+  // The frames with the actuation signal where there is one: a simulated life records it,
+  // so the viewer can colour by it; a recorded life has it when it was recorded with it.
+  const FrameSource signal_frames =
+      source.recorded ? source.frames : simulated_frames(source.model, true);
   shown.recording.control = !source.recorded || source.recorded->result.recording.control;
   SimResult r;
   try {
-    r = frames(all_times,
-               [&](LifeFrame&& f) {
-                 const int to = wanted[taken++].second;
-                 if (to >= 0) {
-                   out.frames.frames[to] = f.frame;
-                   extra += 1;
-                 } else if (f.frame.step != last_viewer_step) {  // one frame per state, as recorded
-                   last_viewer_step = f.frame.step;
-                   shown.recording.frames.push_back(std::move(f.frame));
-                 }
-                 return true;
-               },
-               {});
+    r = signal_frames(
+        all_times,
+        [&](LifeFrame&& f) {
+          const int to = wanted[taken++].second;
+          if (to >= 0) {
+            out.frames.frames[to] = f.frame;
+            extra += 1;
+          } else if (f.frame.step != last_viewer_step) {  // one frame per state, as recorded
+            last_viewer_step = f.frame.step;
+            shown.recording.frames.push_back(std::move(f.frame));
+          }
+          return true;
+        },
+        {});
   } catch (const std::invalid_argument& e) {
     throw RenderError(source.path + ": " + e.what());
   }
