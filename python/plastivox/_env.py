@@ -24,10 +24,9 @@ except ImportError:
 
 ENV_ID = "plastivox/Voxel-v0"
 
-# The range of each sensor's values where it has one (docs/control.md, "Sensors"); the others
-# are unbounded.
-_SENSOR_RANGE = {"touch": (0.0, 1.0), "up": (-1.0, 1.0), "phase": (0.0, 1.0),
-                 "time": (0.0, _np.inf)}
+# The range of each sensor's values where it has one exactly (docs/control.md, "Sensors"); the
+# others are unbounded (`up` too: a unit vector's components may round past 1).
+_SENSOR_RANGE = {"touch": (0.0, 1.0), "phase": (0.0, 1.0), "time": (0.0, _np.inf)}
 
 
 class Box:
