@@ -97,6 +97,7 @@ def test_rewards_sum_to_the_fitness_and_the_episode_ends_where_the_life_ends(tas
     rewards, steps = [], 0
     while True:
         obs, reward, terminated, truncated, info = env.step(sine_action(env, obs))
+        assert env.observation_space.contains(obs)
         rewards.append(reward)
         steps += 1
         if terminated or truncated:
