@@ -71,21 +71,18 @@ class Channel {
   bool closed_ = false, cancelled_ = false;
 };
 
-// The source to draw in `color`, when it is not `source` itself: colouring by actuation needs
-// the actuation signal, which a simulated life then records (the control channels of
-// simulated_frames) and a recorded life must carry (simulate --record-control).
+// The source to draw in `color`, when it is not `source` itself: colouring by actuation draws
+// the frames with the actuation signal, which a recorded life has only when recorded with it
+// (simulate --record-control).
 std::optional<LifeSource> with_color_channels(const LifeSource& source, ColorMode color) {
   if (color != ColorMode::kActuation) return std::nullopt;
-  if (source.recorded) {
-    if (!source.recorded->result.recording.control)
-      throw RenderError(source.path +
-                        ": --color actuation needs the actuation signal, and this life was "
-                        "recorded without it: record it with plastivox simulate ROBOT --record "
-                        "LIFE.h5 --record-control");
-    return std::nullopt;
-  }
+  if (!source.frames_with_signal || (source.recorded && !source.recorded->result.recording.control))
+    throw RenderError(source.path +
+                      ": --color actuation needs the actuation signal, and this life was "
+                      "recorded without it: record it with plastivox simulate ROBOT --record "
+                      "LIFE.h5 --record-control");
   LifeSource out = source;
-  out.frames = simulated_frames(source.model, true);
+  out.frames = source.frames_with_signal;
   return out;
 }
 
