@@ -67,6 +67,7 @@ int cmd_simulate(const Args& in) {
   const std::string overrides = take_option(args, "--physics", "");
   const std::string record = take_option(args, "--record", "");
   const std::string fps_text = take_option(args, "--fps", "");
+  const bool record_control = take_flag(args, "--record-control");
   const std::string vxd = take_option(args, "--vxd", "");
   reject_unknown_options(args);
   if (args.size() > 1) throw UsageError{"expected at most one robot file"};
@@ -77,6 +78,10 @@ int cmd_simulate(const Args& in) {
   if (!record.empty() && !record.ends_with(".h5") && !record.ends_with(".history"))
     throw UsageError{"--record " + record +
                      ": expected a recorded life (.h5) or a voxcraft-viz history (.history)"};
+  if (record_control && !record.ends_with(".h5"))
+    throw UsageError{
+        "--record-control adds the actuation signal and the sensors to a recorded life: "
+        "plastivox simulate ROBOT --record life.h5 --record-control"};
   if (!fps_text.empty() && record.empty())
     throw UsageError{
         "--fps sets the frame rate of --record: plastivox simulate ROBOT --record "
@@ -162,12 +167,13 @@ int cmd_simulate(const Args& in) {
   if (timed) options.timings = &timings;
   if (!record.empty()) {
     options.record_fps = fps;
+    options.record_control = record_control;
     // Refused before the life is simulated, not when memory runs out. A recorded life is
     // held three times while it is written: the frames, the file's image in memory and its
     // sealed bytes (a history file's text is larger per frame but written as it goes).
     try {
-      check_recording_size(3 * recording_bytes(model.n, physics.duration, fps), "--fps",
-                           limits.recording_mb);
+      check_recording_size(3 * recording_bytes(model.n, physics.duration, fps, record_control),
+                           "--fps", limits.recording_mb);
     } catch (const std::invalid_argument& e) {
       throw UsageError{e.what()};
     }

@@ -18,8 +18,9 @@ struct CommandHelp {
 // The frame-style options render and video share (apps/render_cli.hpp take_frame_style).
 #define PLASTIVOX_FRAME_OPTIONS                                                            \
   "  --size WxH            image size in pixels (default 1280x720)\n"                      \
-  "  --color MODE          congenital (default), stiffness, change, alpha, phase or\n"     \
-  "                        stimulus (the treatment's, docs/plasticity.md)\n"               \
+  "  --color MODE          congenital (default), stiffness, change, alpha, phase,\n"       \
+  "                        stimulus (the treatment's, docs/plasticity.md) or actuation\n"  \
+  "                        (the signal; docs/control.md)\n"                                \
   "  --color-range R       data (default: the values shown, rounded to readable ticks)\n"  \
   "                        or paper (fixed: E 1e5..1e11 Pa, change over that range)\n"     \
   "  --no-overlay          no overlays at all; or one by one: --no-colorbar, --no-time,\n" \
@@ -61,6 +62,8 @@ const CommandHelp kHelp[] = {
      "                        stiffness, stimulus, floor contact; docs/results-format.md) or\n"
      "                        LIFE.history (voxcraft-viz's history format)\n"
      "  --fps F               frames per simulated second of --record (default 30)\n"
+     "  --record-control      also record the actuation signal and the sensors in LIFE.h5\n"
+     "                        (docs/control.md; for --color actuation)\n"
      "exit status: 0 done, 1 bad input, 2 bad command line, 3 unstable simulation or a\n"
      "life that sank through the floor (invalid unless --physics '{\"sinking_invalid\":\n"
      "false}', the authors' rule; docs/engine.md)\n"
@@ -181,9 +184,9 @@ const CommandHelp kHelp[] = {
      "Robots' lives as one self-contained HTML page with an interactive 3-D viewer (three.js\n"
      "from Debian's libjs-three, inlined: it opens from file:// with the network off). Orbit\n"
      "or follow camera, time slider, play/pause at 0.25x-4x, colour by congenital stiffness,\n"
-     "stiffness, change E/E0, stimulus or phase. A recorded life (simulate --record) is shown\n"
-     "as recorded; a robot or a results file's champion is simulated once. With several\n"
-     "inputs, one viewer and a button per life to load it.\n"
+     "stiffness, change E/E0, stimulus, phase or actuation. A recorded life (simulate --record)\n"
+     "is shown as recorded; a robot or a results file's champion is simulated once. With\n"
+     "several inputs, one viewer and a button per life to load it.\n"
      "options:\n"
      "  --out FILE            page to write (.html)\n"
      "  --fps F               frames per simulated second to record (default 30; not for a\n"

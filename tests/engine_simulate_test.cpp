@@ -79,7 +79,8 @@ TEST(Recording, OnFrameReceivesFramesAndCanStop) {
   SimOptions o;
   o.record_fps = 20;
   std::vector<double> seen;
-  o.on_frame = [&](const State& s) {
+  o.on_frame = [&](const State& s, Frame&& frame) {
+    EXPECT_EQ(frame.time, s.time);
     seen.push_back(s.time);
     return seen.size() < 3;
   };

@@ -284,6 +284,21 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
           << label;
     }
   }
+  // The best kept champion's controller activity: a small inline raster, named with its
+  // label and fitness.
+  std::string best;
+  for (const auto& c : study_stats["champions"])
+    if (c["excluded"].is_null() && (best.empty() || c["fitness"].get<double>() > fitness[best]))
+      best = c["label"];
+  const size_t activity = report.find("Controller activity of the best champion");
+  ASSERT_NE(activity, std::string::npos);
+  const size_t image =
+      report.find("<img class=\"activity\" alt=\"controller activity of ", activity);
+  ASSERT_NE(image, std::string::npos);
+  EXPECT_NE(report.find(best + " (fitness", activity), std::string::npos) << best;
+  const size_t data = report.find("src=\"data:image/png;base64,", image);
+  ASSERT_NE(data, std::string::npos);
+  EXPECT_LT(report.find('"', data + 5) - data, 16000u);  // small: at most 128 x 32 pixels
   ASSERT_EQ(shared_range.size(), 2u);
   double e0_lo = 1e300, e0_hi = 0;
   for (const char* t : {"none", "stress", "pressure"})

@@ -5,6 +5,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include "plastivox/io/h5_util.hpp"
 #include "plastivox/io/life_file.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/history_file.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render_files.hpp"
@@ -36,7 +38,7 @@ struct Lived {
   Model model;
   SimResult result;
 };
-Lived live(double fps) {
+Lived live(double fps, bool control = false) {
   Lived l;
   l.robot = testing::block(3, 3, 2, 1e9);  // above the development gate
   for (size_t s = 0; s < l.robot.phase.size(); ++s) {
@@ -50,6 +52,7 @@ Lived live(double fps) {
   l.model = compile(l.robot, l.physics);
   SimOptions options;
   options.record_fps = fps;
+  options.record_control = control;
   l.result = simulate(l.model, options);
   return l;
 }
@@ -121,6 +124,47 @@ TEST_F(RecordedLives, TheFileHoldsEveryFrameBitForBit) {
   // The robot in the file simulates to the same end state.
   Model again = compile(back.robot, back.physics);
   EXPECT_EQ(simulate(again).final_state_hash, l.result.final_state_hash);
+}
+
+// The control channels are recorded only on request, change no bit of the life, and
+// round-trip through the file; a default file has none of their datasets.
+TEST_F(RecordedLives, ControlChannelsAreOptInAndRoundTrip) {
+  const Lived plain = live(50), l = live(50, true);
+  EXPECT_EQ(l.result.final_state_hash, plain.result.final_state_hash);
+  ASSERT_TRUE(l.result.recording.control);
+  const auto& frames = l.result.recording.frames;
+  ASSERT_EQ(frames.size(), plain.result.recording.frames.size());
+  EXPECT_TRUE(plain.result.recording.frames.back().actuation.empty());
+  // The sine moves the signal after settling (0.1 s) and the bottom layer touches.
+  EXPECT_EQ(frames.front().actuation, std::vector<double>(18, 0.0));
+  EXPECT_NE(frames.back().actuation, frames[frames.size() - 2].actuation);
+  double touching = 0;
+  for (double t : frames.back().touch) touching += t;
+  EXPECT_GT(touching, 0);
+  for (size_t k = 0; k < frames.size(); ++k) {
+    for (double u : frames[k].actuation) EXPECT_LE(std::abs(u), 1.0 + 1e-15);
+    EXPECT_EQ(frames[k].pos, plain.result.recording.frames[k].pos);
+  }
+
+  write_life_file(path("plain.h5"), recorded(plain));
+  write_life_file(path("control.h5"), recorded(l));
+  const RecordedLife back = read_life_file(path("control.h5"));
+  EXPECT_TRUE(back.result.recording.control);
+  ASSERT_EQ(back.result.recording.frames.size(), frames.size());
+  for (size_t k = 0; k < frames.size(); ++k)
+    for (const FrameField& f : kControlFrameFields) {
+      const double* a = f.values(frames[k]);
+      const double* b = f.values(back.result.recording.frames[k]);
+      EXPECT_TRUE(std::equal(a, a + 18 * f.width, b)) << f.name << " frame " << k;
+    }
+  const RecordedLife back_plain = read_life_file(path("plain.h5"));
+  EXPECT_FALSE(back_plain.result.recording.control);
+  EXPECT_TRUE(back_plain.result.recording.frames.back().touch.empty());
+  const hid_t f = H5Fopen(path("plain.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  for (const FrameField& c : kControlFrameFields) EXPECT_LE(H5Lexists(f, c.name, H5P_DEFAULT), 0);
+  H5Fclose(f);
+  EXPECT_LT(std::filesystem::file_size(path("plain.h5")),
+            std::filesystem::file_size(path("control.h5")));
 }
 
 TEST_F(RecordedLives, ContactIsTheFloorTestOfEachFrame) {
@@ -379,6 +423,50 @@ TEST_F(RecordedLives, ARecordedFrameDrawsAsTheSimulatedOne) {
               render::take_life(from_file, {1.0});
             }).find("past the recording's last frame"),
             std::string::npos);
+}
+
+// Colouring by actuation reads the recorded signal: a recorded life with it draws as the
+// simulated one, in other pixels than colouring by stiffness; one recorded without it is
+// refused in one line saying how to record it. The activity raster shows the same signal.
+TEST_F(RecordedLives, ColouringByActuationDrawsTheRecordedSignal) {
+  const Lived plain = live(20), l = live(20, true);
+  write_life_file(path("plain.h5"), recorded(plain));
+  write_life_file(path("control.h5"), recorded(l));
+  write_robot_file(path("block.json"), l.robot, &l.physics);
+  const render::LifeSource from_file = render::load_life_source(path("control.h5"));
+  const render::LifeSource simulated = render::load_life_source(path("block.json"));
+  render::FrameStyle st;
+  st.width = 96;
+  st.height = 64;
+  st.samples = 1;
+  st.color = render::ColorMode::kActuation;
+  const double t = 5 / 20.0;  // after settling: the sine drives the block
+  const std::vector<uint8_t> by_actuation = render::render_frame(from_file, t, st);
+  EXPECT_EQ(by_actuation, render::render_frame(simulated, t, st));
+  st.color = render::ColorMode::kStiffness;
+  const std::vector<uint8_t> by_stiffness = render::render_frame(from_file, t, st);
+  size_t differing = 0;
+  for (size_t k = 0; k < by_actuation.size(); ++k) differing += by_actuation[k] != by_stiffness[k];
+  EXPECT_GT(differing, by_actuation.size() / 50) << differing;
+  st.color = render::ColorMode::kActuation;
+  const std::string refused = testing::error_of(
+      [&] { render::render_frame(render::load_life_source(path("plain.h5")), t, st); });
+  EXPECT_NE(refused.find("plain.h5: --color actuation needs the actuation signal"),
+            std::string::npos)
+      << refused;
+  EXPECT_NE(refused.find("--record-control"), std::string::npos) << refused;
+
+  const render::ActivityRaster raster = render::actuation_raster(l.result.recording.frames, 4, 5);
+  EXPECT_EQ(raster.height, 4);  // 18 voxels in groups of 5
+  EXPECT_EQ(raster.width, 4);   // 7 frames in groups of 2
+  // Still while settling (white, the map's middle), driven after it (coloured).
+  const auto pixel = [&](int row, int col) {
+    const uint8_t* p = &raster.rgba[4 * (row * raster.width + col)];
+    return std::vector<int>{p[0], p[1], p[2], p[3]};
+  };
+  const render::Rgb8 mid = render::Colormap::diverging().at(0.5);
+  EXPECT_EQ(pixel(0, 0), (std::vector<int>{mid[0], mid[1], mid[2], 255}));
+  EXPECT_NE(pixel(0, 3), pixel(0, 0));
 }
 
 TEST_F(RecordedLives, TheCommandLineRecordsAndReplays) {

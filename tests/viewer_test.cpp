@@ -94,6 +94,32 @@ TEST(ViewerPack, ATenCubedChampionAtThirtyFramesPerSecondFitsInThreeMegabytes) {
   EXPECT_EQ(render::base64("pv"), "cHY=");
 }
 
+// A recording with the actuation signal packs one more byte per voxel and frame after the
+// rest, each the signal over [-1, 1]; the page's scales include actuation either way.
+TEST(ViewerPack, TheActuationSignalFollowsWhenRecorded) {
+  Synthetic s = synthetic_block();
+  s.rec.control = true;
+  for (Frame& f : s.rec.frames)
+    for (int i = 0; i < s.model.n; ++i) f.actuation.push_back(std::sin(f.time + i));
+  render::ViewerLife life;
+  life.model = &s.model;
+  life.recording = &s.rec;
+  const std::string packed = render::pack_life(life);
+  const size_t n = 1000, frames = 157;
+  const size_t body = 60 + 8 * n + 20 * frames + render::kPackedBytesPerVoxelFrame * n * frames;
+  ASSERT_EQ(packed.size(), body + n * frames);
+  for (const size_t k : {0ul, 100ul})
+    for (const size_t i : {0ul, 999ul}) {
+      const double u = static_cast<uint8_t>(packed[body + k * n + i]) / 255.0 * 2 - 1;
+      EXPECT_NEAR(u, s.rec.frames[k].actuation[i], 1.0 / 255) << k << " " << i;
+    }
+  const size_t embedded = render::base64(packed).size() + render::life_meta_json(life).size();
+  EXPECT_LT(embedded, 3'000'000u) << embedded;  // still within the 3 MB
+  const auto meta = nlohmann::json::parse(render::life_meta_json(life));
+  EXPECT_EQ(meta["scales"]["actuation"]["lo"], -1);
+  EXPECT_EQ(meta["scales"]["actuation"]["map"], "diverging");
+}
+
 class ViewerPage : public testing::ScratchDirTest {
  protected:
   // Opens `html` with `probe` (a <script>) added at the end of its body in headless Chromium

@@ -61,7 +61,10 @@ DiskEstimate estimate_disk(const ExperimentConfig& config, bool viewer) {
   if (viewer) {
     const double frames = std::floor(e.physics.duration * render::kViewerFps) + 1;
     const double voxels = kBodyFill * sites;
-    const double life = 4.0 / 3.0 * (60 + 20 * frames + voxels * (8 + 13 * frames)) + kLifeMeta;
+    // A champion's life is simulated for the viewer with its actuation signal: one byte more.
+    const double per_voxel_frame = render::kPackedBytesPerVoxelFrame + 1;
+    const double life =
+        4.0 / 3.0 * (60 + 20 * frames + voxels * (8 + per_voxel_frame * frames)) + kLifeMeta;
     d.viewer = static_cast<uint64_t>(kViewerScripts + runs * life);
   }
   d.largest_checkpoint = static_cast<uint64_t>(run_file);

@@ -11,7 +11,10 @@
 
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/render/color_scale.hpp"
+#include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::experiment {
@@ -109,6 +112,40 @@ std::string body_plan_table(const StageContext& ctx, const std::vector<std::stri
          "</table>\n<style>.thumb{border:1px solid #ddd}.thumb[onclick]{cursor:pointer}</style>\n";
 }
 
+// The best champion's controller activity over its life: its actuation signal, voxels (rows)
+// by time (columns), as a small inline image (a few kB) on the actuation colour map. Its life
+// is simulated again with the control channels, at about 120 frames over the whole life.
+ReportSection activity_section(const StageContext& ctx) {
+  ReportSection s;
+  const analysis::ChampionAnalysis* best = nullptr;
+  for (const auto& c : ctx.study->champions)
+    if (c.artifact.empty() && (!best || c.fitness > best->fitness)) best = &c;
+  if (!best) return s;
+  SimOptions options;
+  options.record_fps = 120 / best->physics.duration;  // + the first and the last: <= 128
+  options.record_control = true;
+  const SimResult life = simulate(compile(best->robot, best->physics), options);
+  const render::ActivityRaster raster = render::actuation_raster(life.recording.frames, 32, 128);
+  if (raster.width == 0) return s;
+  const std::string png = render::encode_png(raster.rgba, raster.width, raster.height,
+                                             "controller activity of " + best->label);
+  s.title = "Controller activity of the best champion";
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "%s (fitness %.3g): each voxel's actuation signal (rows, %d voxels in lattice "
+                "order%s) over its %.3g s life (columns, left to right), blue shrinking (-1), red "
+                "swelling (+1), white at rest (still while it settles, %.3g s).",
+                best->label.c_str(), best->fitness, best->voxels,
+                raster.height < best->voxels ? ", averaged in groups" : "", life.sim_time,
+                best->physics.settle_time);
+  s.paragraphs.push_back(buf);
+  s.raw_html = "<img class=\"activity\" alt=\"controller activity of " + best->label +
+               "\" width=\"480\" height=\"" + std::to_string(std::max(32, 4 * raster.height)) +
+               "\" style=\"image-rendering:pixelated\" src=\"data:image/png;base64," +
+               render::base64(png) + "\">\n";
+  return s;
+}
+
 }  // namespace
 
 std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::string>& outputs) {
@@ -196,6 +233,8 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
     viewer.raw_html = render::viewer_fragment(lives, true);
     extras.sections.push_back(viewer);
   }
+  if (ReportSection activity = activity_section(ctx); !activity.raw_html.empty())
+    extras.sections.push_back(activity);
   if (!videos.media.empty()) {
     videos.paragraphs.push_back(
         "The best developing champion's whole life, coloured by its stiffness relative to its "

@@ -33,6 +33,7 @@ LifeSource simulated_life_source(const std::string& path, RobotDef robot, Physic
     throw InputError(path + ": " + e.what());
   }
   src.frames = simulated_frames(src.model);
+  src.frames_with_signal = simulated_frames(src.model, true);
   return src;
 }
 
@@ -75,6 +76,7 @@ LifeSource recorded_life_source(const std::string& path) {
   const SimResult& r = recorded->result;
   src.frames = recorded_frames(std::shared_ptr<const Recording>(recorded, &r.recording), r.settled,
                                r.com_settled, r.fitness, physics.settle_time);
+  src.frames_with_signal = src.frames;  // the signal is in its frames when it was recorded
   src.recorded = std::move(recorded);
   return src;
 }

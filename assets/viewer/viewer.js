@@ -48,12 +48,16 @@
     }
     life.view = v;
     life.body = at;  // 13 bytes per frame and voxel from here
-    if (buf.byteLength !== at + 13 * n * F) throw new Error("packed life has the wrong length");
+    // Then, when recorded, the actuation signal: 1 byte per frame and voxel.
+    life.act = buf.byteLength === at + 14 * n * F ? at + 13 * n * F : -1;
+    if (life.act < 0 && buf.byteLength !== at + 13 * n * F)
+      throw new Error("packed life has the wrong length");
     return life;
   }
 
   const SQRT1_2 = Math.SQRT1_2;
-  // Voxel i of frame k: centre (m), quaternion (w, x, y, z), size (m), log10 E, stimulus.
+  // Voxel i of frame k: centre (m), quaternion (w, x, y, z), size (m), log10 E, stimulus,
+  // actuation signal (0 when not recorded).
   function voxel(life, k, i, out) {
     const v = life.view;
     let at = life.body + 13 * (k * life.n + i);
@@ -76,6 +80,7 @@
     out.size = life.sizeLo + v.getUint8(at) / 255 * (life.sizeHi - life.sizeLo);
     out.logE = life.eLo + v.getUint8(at + 1) / 255 * (life.eHi - life.eLo);
     out.stimulus = (v.getUint8(at + 2) / 255 * 2 - 1) * life.stim;
+    out.actuation = life.act < 0 ? 0 : v.getUint8(life.act + k * life.n + i) / 255 * 2 - 1;
   }
 
   // ---- colours: the renderer's maps (256 sRGB entries, linear between entries) -----------
@@ -97,6 +102,7 @@
       case "stiffness": return vox.logE;
       case "change": return vox.logE - life.logE0[i];
       case "stimulus": return vox.stimulus;
+      case "actuation": return vox.actuation;
       case "phase": return life.phase[i];
     }
     return 0;
@@ -184,7 +190,7 @@
     this.speed = 1;
     this.playing = false;
     this.frame = 0;
-    this.vox = { p: [0, 0, 0], q: [1, 0, 0, 0], size: 0, logE: 0, stimulus: 0 };
+    this.vox = { p: [0, 0, 0], q: [1, 0, 0, 0], size: 0, logE: 0, stimulus: 0, actuation: 0 };
     const self = this;
     if (this.slider) this.slider.addEventListener("input", () => { self.pause(); self.setFrame(+self.slider.value); });
     if (this.playButton) this.playButton.addEventListener("click", () => (self.playing ? self.pause() : self.play()));
@@ -431,7 +437,7 @@
     viewer: null,
     // Voxel i of frame k of the life shown, decoded (tests compare it with the recording).
     decode: function (k, i) {
-      const out = { p: [0, 0, 0], q: [1, 0, 0, 0], size: 0, logE: 0, stimulus: 0 };
+      const out = { p: [0, 0, 0], q: [1, 0, 0, 0], size: 0, logE: 0, stimulus: 0, actuation: 0 };
       voxel(this.viewer.life, k, i, out);
       return out;
     },

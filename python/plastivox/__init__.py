@@ -32,6 +32,7 @@ __all__ = [
     "InputError", "RenderError", "PhysicsDef", "Robot", "Result", "Trajectory", "Simulator", "Results",
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
     "read_results", "read_study", "evolve", "Evolver", "default_config", "render", "sin_cycles",
+    "VoxelEnv",
 ]
 
 _TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
@@ -236,13 +237,23 @@ class Trajectory:
     """A recorded life: times[T] (s), positions[T, n, 3] (m, world frame),
     orientations[T, n, 4] (unit quaternions w, x, y, z), sizes[T, n] (m),
     stiffness[T, n] (Pa), stimulus[T, n] (the treatment's stimulus, Pa): the engine's frame
-    channels (kFrameFields), as a recorded life file holds them."""
+    channels (kFrameFields), as a recorded life file holds them.
+
+    Recorded with record_control=True it also carries the control channels
+    (kControlFrameFields; else they are None): actuation[T, n] (the signal behind each
+    frame's sizes, in [-1, 1]) and the sensors a controller reads at each frame
+    (docs/control.md): touch, floor_force, strain, stress, pressure [T, n], velocity and
+    up [T, n, 3]."""
 
     _FIELDS = ("times", "positions", "orientations", "sizes", "stiffness", "stimulus")
+    CONTROL_FIELDS = ("actuation", "touch", "floor_force", "strain", "stress", "pressure",
+                      "velocity", "up")
 
     def __init__(self, arrays):
         for name in self._FIELDS:
             setattr(self, name, arrays[name])
+        for name in self.CONTROL_FIELDS:
+            setattr(self, name, arrays.get(name))
 
     def __len__(self):
         return len(self.times)
@@ -251,7 +262,11 @@ class Trajectory:
         if not isinstance(other, Trajectory):
             return NotImplemented
         return all(_np.array_equal(getattr(self, k), getattr(other, k), equal_nan=True)
-                   for k in self._FIELDS)
+                   for k in self._FIELDS) and \
+            all((getattr(self, k) is None) == (getattr(other, k) is None) and
+                (getattr(self, k) is None or
+                 _np.array_equal(getattr(self, k), getattr(other, k), equal_nan=True))
+                for k in self.CONTROL_FIELDS)
 
     def __repr__(self):
         return (f"Trajectory({len(self)} frames, {self.positions.shape[1]} voxels, "
@@ -304,18 +319,21 @@ def _record_fps(record_fps):
     return float(record_fps)
 
 
-def simulate(robot, physics=None, treatment=None, record_fps=0, task=None):
+def simulate(robot, physics=None, treatment=None, record_fps=0, task=None, record_control=False):
     """Simulates one whole life (GIL released) and returns a Result.
     robot: a Robot or a file path, as render takes (.json, .vxa, or .h5: a results file's
     last champion, a recorded life's robot). physics: a dict of fields applied on top of the
     robot's own physics; treatment (overrides both): "none", "stress", "pressure",
     "strain", "strain_energy", "contact" or "kinetic"; record_fps > 0 records a
     Trajectory; task (overrides physics["task"]): what fitness measures, "walk" (the
-    default), "jump" or "turn" (docs/tasks.md)."""
+    default), "jump" or "turn" (docs/tasks.md); record_control: the Trajectory also carries
+    the actuation signal and the sensors (needs record_fps > 0; the life's bits are
+    unchanged)."""
     robot = _as_robot(robot)
     physics = _with_task(physics, task)
     summary, traj, cxx_seconds = _core.simulate(robot._core, _physics(physics),
-                                                _check_treatment(treatment), _record_fps(record_fps))
+                                                _check_treatment(treatment), _record_fps(record_fps),
+                                                bool(record_control))
     if physics is not None or treatment is not None:
         robot = robot.with_physics(physics, treatment)  # what render(result) shows
     result = Result(summary, traj, robot)
@@ -323,10 +341,11 @@ def simulate(robot, physics=None, treatment=None, record_fps=0, task=None):
     return result
 
 
-def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0, task=None):
+def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0, task=None,
+                  record_control=False):
     """Simulates every robot (Robots or file paths, as simulate takes) on C++ threads
     (0: all cores), results in input order, each bit-identical to simulate() of that robot
-    alone; physics, treatment, record_fps and task as simulate takes them."""
+    alone; physics, treatment, record_fps, task and record_control as simulate takes them."""
     physics = _with_task(physics, task)
     if isinstance(robots, (str, _os.PathLike, Robot)):
         raise TypeError(f"robots: expected a list of robots or paths, got one {type(robots).__name__}")
@@ -335,7 +354,7 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0,
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
     lives = _core.simulate_many(cores, _physics(physics), _check_treatment(treatment),
-                                _record_fps(record_fps), threads)
+                                _record_fps(record_fps), bool(record_control), threads)
     return [Result(s, t, r) for (s, t), r in zip(lives, robots)]
 
 
@@ -845,7 +864,8 @@ def render(source, time=0.2, color="congenital", size=(640, 480), out=None, gene
     """One frame of a life at simulated `time` (s) as an (h, w, 3) uint8 array, drawn
     off-screen; also written as a PNG when `out` is given. `source` is a Robot, a Result
     (its robot), a Results (its champion at `generation`) or a .json/.vxa/.h5 path. color:
-    congenital, stiffness, change, alpha, phase or stimulus; the other options are those of
+    congenital, stiffness, change, alpha, phase, stimulus or actuation (the signal, recorded
+    while the life is simulated for the picture); the other options are those of
     `plastivox render` (--no-overlay, --zoom, --azimuth, --elevation, --antialias)."""
     try:
         w, h = (int(v) for v in size)
@@ -862,3 +882,8 @@ def render(source, time=0.2, color="congenital", size=(640, 480), out=None, gene
     if isinstance(source, (str, _os.PathLike)):
         return _core.render_file(_os.fspath(source), int(generation), *args)
     raise TypeError(f"source: expected a Robot, Result, Results or file path, got {type(source).__name__}")
+
+
+# --- reinforcement learning ----------------------------------------------------------------
+
+from ._env import VoxelEnv  # noqa: E402 (it uses the helpers above)

@@ -7,11 +7,13 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include "plastivox/base/hash.hpp"
+#include "plastivox/control.hpp"
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
 #include "plastivox/simulator.hpp"
@@ -67,10 +69,17 @@ void bind_robot(pyb::module_& m);     // robot.cpp
 void bind_simulate(pyb::module_& m);  // simulate.cpp
 void bind_evo(pyb::module_& m);       // evo.cpp
 void bind_render(pyb::module_& m);    // render.cpp
+void bind_env(pyb::module_& m);       // env.cpp
 
 // Runs f on the engine Simulator behind a Python Simulator object (self), refused with
 // RuntimeError while another thread steps it (simulate.cpp).
 using UseSimulator = void (*)(const pyb::handle& self, const std::function<void(Simulator&)>& f);
+// An actuation signal a caller hands over (control.cpp), checked: a float array of shape (n,)
+// with every value in [-1, 1]; errors (TypeError, ValueError) begin with `name`, the argument.
+std::vector<double> checked_actuation(const pyb::handle& given, int n, const std::string& name);
+// The row of kSensorFields named `name`; else std::invalid_argument "<what>: no sensor named
+// 'x' (sensors: touch, ...)" (control.cpp).
+const SensorField& sensor_named(const std::string& name, const std::string& what);
 // control.cpp: adds per-step control to the Simulator class (sensors, set_actuation,
 // set_controller, reset) and plastivox._core.sin_cycles.
 void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimulator use);

@@ -32,45 +32,44 @@ pyb::array sensor_array(const SensorField& f, std::span<const double> v) {
   return a;
 }
 
-const SensorField& sensor_named(const std::string& name) {
+}  // namespace
+
+const SensorField& sensor_named(const std::string& name, const std::string& what) {
   for (const SensorField& f : kSensorFields)
     if (name == f.name) return f;
   std::string known;
   for (const SensorField& f : kSensorFields)
     known += std::string(known.empty() ? "" : ", ") + f.name;
-  throw std::invalid_argument("sensor: no sensor named '" + name + "' (sensors: " + known + ")");
+  throw std::invalid_argument(what + ": no sensor named '" + name + "' (sensors: " + known + ")");
 }
 
-// The signal a caller hands set_actuation, checked: a float array of shape (n,) with every
-// value in [-1, 1], to within kSignalSlack (the engine's own sine, which a Python controller
-// replays, reaches -1 - 2.2e-16 at 0.75 cycles). Errors name the argument.
-std::vector<double> checked_actuation(const pyb::handle& given, int n) {
+// Within kSignalSlack of [-1, 1]: the engine's own sine, which a Python controller replays,
+// reaches -1 - 2.2e-16 at 0.75 cycles.
+std::vector<double> checked_actuation(const pyb::handle& given, int n, const std::string& name) {
   const pyb::array a = pyb::array::ensure(given);
   if (!a)
-    throw pyb::type_error("actuation: expected a numpy array of floats, got " +
+    throw pyb::type_error(name + ": expected a numpy array of floats, got " +
                           std::string(pyb::str(given.get_type().attr("__name__"))));
   const char kind = a.dtype().kind();
   if (kind != 'f')
-    throw pyb::type_error("actuation: expected a float array (float64 or float32), got dtype " +
+    throw pyb::type_error(name + ": expected a float array (float64 or float32), got dtype " +
                           std::string(pyb::str(a.dtype())));
   if (a.ndim() != 1 || a.shape(0) != n) {
     std::string shape = "(";
     for (pyb::ssize_t d = 0; d < a.ndim(); ++d)
       shape += (d ? ", " : "") + std::to_string(a.shape(d));
     shape += a.ndim() == 1 ? ",)" : ")";
-    throw std::invalid_argument("actuation: expected shape (" + std::to_string(n) +
+    throw std::invalid_argument(name + ": expected shape (" + std::to_string(n) +
                                 ",), one value per voxel, got " + shape);
   }
   const auto values = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>(a);
   const double* p = values.data();
   for (int i = 0; i < n; ++i)
     if (!(std::abs(p[i]) <= 1.0 + kSignalSlack))
-      throw std::invalid_argument("actuation: every value must be in [-1, 1]; actuation[" +
+      throw std::invalid_argument(name + ": every value must be in [-1, 1]; " + name + "[" +
                                   std::to_string(i) + "] is " + std::to_string(p[i]));
   return std::vector<double>(p, p + n);
 }
-
-}  // namespace
 
 void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimulator use) {
   const pyb::handle cls = simulator_class;
@@ -92,7 +91,7 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
             return;
           }
           for (const std::string& name : *names) {
-            const SensorField& f = sensor_named(name);
+            const SensorField& f = sensor_named(name, "sensor");
             out[f.name] = sensor_array(f, s.read(f.id));
           }
         });
@@ -104,7 +103,7 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
       "set_actuation",
       [use](const pyb::handle& self, const pyb::handle& actuation) {
         use(self, [&](Simulator& sim) {
-          const std::vector<double> u = checked_actuation(actuation, sim.model().n);
+          const std::vector<double> u = checked_actuation(actuation, sim.model().n, "actuation");
           sim.set_controller(nullptr);  // the caller's signal from now on
           std::copy(u.begin(), u.end(), sim.actuation().begin());
         });

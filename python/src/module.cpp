@@ -33,4 +33,5 @@ PYBIND11_MODULE(_core, m) {
   plastivox::py::bind_simulate(m);
   plastivox::py::bind_evo(m);
   plastivox::py::bind_render(m);
+  plastivox::py::bind_env(m);
 }

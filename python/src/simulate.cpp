@@ -18,12 +18,16 @@
 namespace plastivox::py {
 namespace {
 
-// What a call records: frames at record_fps (0: none), checked here and nowhere else.
-SimOptions recording(double record_fps) {
+// What a call records: frames at record_fps (0: none), with the control channels when
+// asked; checked here and nowhere else.
+SimOptions recording(double record_fps, bool record_control) {
   if (!(record_fps >= 0 && record_fps <= 1e6))
     throw std::invalid_argument("record_fps: must be in [0, 1e6] frames per second");
+  if (record_control && !(record_fps > 0))
+    throw std::invalid_argument("record_control: records frames' channels: give record_fps > 0");
   SimOptions o;
   o.record_fps = record_fps;
+  o.record_control = record_control;
   return o;
 }
 
@@ -49,13 +53,16 @@ pyb::tuple life_to_python(const SimResult& r, const std::vector<SummaryField>& f
   for (pyb::ssize_t t = 0; t < t_count; ++t) times.mutable_at(t) = frames[t].time;
   pyb::dict traj;
   traj["times"] = times;
-  for (const FrameField& f : kFrameFields) {  // (T, n[, width]), as a life file holds them
-    std::vector<pyb::ssize_t> shape = {t_count, n};
-    if (f.width > 1) shape.push_back(f.width);
-    pyb::array_t<double> a(shape);
-    const std::vector<double> values = frame_channel(frames, f);
-    std::copy(values.begin(), values.end(), a.mutable_data());
-    traj[f.python] = a;
+  for (const auto* table : {&kFrameFields, &kControlFrameFields}) {
+    if (table == &kControlFrameFields && !r.recording.control) break;
+    for (const FrameField& f : *table) {  // (T, n[, width]), as a life file holds them
+      std::vector<pyb::ssize_t> shape = {t_count, n};
+      if (f.width > 1) shape.push_back(f.width);
+      pyb::array_t<double> a(shape);
+      const std::vector<double> values = frame_channel(frames, f);
+      std::copy(values.begin(), values.end(), a.mutable_data());
+      traj[f.python] = a;
+    }
   }
   return pyb::make_tuple(summary, traj);
 }
@@ -64,10 +71,11 @@ pyb::tuple life_to_python(const SimResult& r, const std::vector<SummaryField>& f
 // --json` does in C++ for this life (resolve the physics, compile, simulate, build the
 // summary), so bench/python_bench.py can set the whole Python call against it.
 pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
-                        const std::optional<std::string>& treatment, double record_fps) {
+                        const std::optional<std::string>& treatment, double record_fps,
+                        bool record_control) {
   const auto t0 = std::chrono::steady_clock::now();
   const PhysicsDef physics = resolve_physics(robot.physics, physics_arg, treatment);
-  const SimOptions options = recording(record_fps);
+  const SimOptions options = recording(record_fps, record_control);
   SimResult r;
   {
     pyb::gil_scoped_release unlocked;
@@ -76,8 +84,9 @@ pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
     // Refused before the life is simulated, not when memory runs out: the frames and the
     // numpy arrays made from them are held at once.
     if (record_fps > 0)
-      check_recording_size(2 * recording_bytes(model.n, physics.duration, record_fps), "record_fps",
-                           limits.recording_mb);
+      check_recording_size(
+          2 * recording_bytes(model.n, physics.duration, record_fps, record_control), "record_fps",
+          limits.recording_mb);
     r = simulate(model, options);
   }
   const std::vector<SummaryField> summary =
@@ -90,9 +99,9 @@ pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
 
 pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::object& physics_arg,
                         const std::optional<std::string>& treatment, double record_fps,
-                        int threads) {
+                        bool record_control, int threads) {
   if (threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
-  const SimOptions options = recording(record_fps);
+  const SimOptions options = recording(record_fps, record_control);
   const Limits limits = limits_from_environment();
   std::vector<PhysicsDef> physics;
   physics.reserve(robots.size());
@@ -100,7 +109,8 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::ob
   for (const PyRobot* r : robots) {
     physics.push_back(resolve_physics(r->physics, physics_arg, treatment));
     if (record_fps > 0)
-      recorded += 2 * recording_bytes(r->def.voxel_count(), physics.back().duration, record_fps);
+      recorded += 2 * recording_bytes(r->def.voxel_count(), physics.back().duration, record_fps,
+                                      record_control);
   }
   check_recording_size(recorded, "record_fps", limits.recording_mb);
   std::vector<SimResult> results(robots.size());
@@ -253,9 +263,10 @@ pyb::list state_field_table() {
 
 void bind_simulate(pyb::module_& m) {
   m.def("simulate", &simulate_one, pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"),
-        pyb::arg("record_fps"));
+        pyb::arg("record_fps"), pyb::arg("record_control") = false);
   m.def("simulate_many", &simulate_many, pyb::arg("robots"), pyb::arg("physics"),
-        pyb::arg("treatment"), pyb::arg("record_fps"), pyb::arg("threads"));
+        pyb::arg("treatment"), pyb::arg("record_fps"), pyb::arg("record_control"),
+        pyb::arg("threads"));
   auto simulator = pyb::class_<PySimulator>(m, "Simulator");
   simulator.def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&>())
       .def("step", &PySimulator::step, pyb::arg("n") = 1)

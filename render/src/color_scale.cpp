@@ -128,7 +128,8 @@ std::string number(double v) {
 constexpr Named<ColorMode> kColorModeNames[] = {
     {ColorMode::kCongenital, "congenital"}, {ColorMode::kStiffness, "stiffness"},
     {ColorMode::kChange, "change"},         {ColorMode::kAlpha, "alpha"},
-    {ColorMode::kPhase, "phase"},           {ColorMode::kStimulus, "stimulus"}};
+    {ColorMode::kPhase, "phase"},           {ColorMode::kStimulus, "stimulus"},
+    {ColorMode::kActuation, "actuation"}};
 constexpr Named<ColorRange> kColorRangeNames[] = {{ColorRange::kData, "data"},
                                                   {ColorRange::kPaper, "paper"}};
 
@@ -162,6 +163,7 @@ const Colormap& ColorScale::map() const {
   switch (mode) {
     case ColorMode::kChange:
     case ColorMode::kAlpha:
+    case ColorMode::kActuation:
       return Colormap::diverging();
     case ColorMode::kPhase:
       return Colormap::cyclic_map();
@@ -186,6 +188,8 @@ double ColorScale::value(const Model& model, const Frame& frame, int i) const {
       return model.phase[i];
     case ColorMode::kStimulus:
       return frame.stimulus.empty() ? 0.0 : frame.stimulus[i];
+    case ColorMode::kActuation:
+      return frame.actuation.empty() ? 0.0 : frame.actuation[i];
   }
   return 0;
 }
@@ -252,6 +256,9 @@ std::vector<Tick> ColorScale::ticks() const {
     }
     case ColorMode::kPhase:
       for (double v : {0.0, 0.25, 0.5, 0.75, 1.0}) add(v, number(v));
+      break;
+    case ColorMode::kActuation:
+      for (double v : {-1.0, -0.5, 0.0, 0.5, 1.0}) add(v, number(v));
       break;
     case ColorMode::kStimulus: {
       const double step = nice_step(hi, lo < 0 ? 2 : 4);
@@ -340,6 +347,11 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
       s.hi = 1;
       s.title = "actuation phase (cycles)";
       break;
+    case ColorMode::kActuation:
+      s.lo = -1;
+      s.hi = 1;
+      s.title = "actuation signal (shrink −1 … +1 swell)";
+      break;
     case ColorMode::kStimulus: {
       double m = 0;
       for (const Frame* f : frames)
@@ -353,6 +365,34 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
     }
   }
   return s;
+}
+
+ActivityRaster actuation_raster(const std::vector<Frame>& frames, int max_rows, int max_columns) {
+  ActivityRaster out;
+  const int n = frames.empty() ? 0 : static_cast<int>(frames.front().pos.size());
+  const int t = static_cast<int>(frames.size());
+  if (n == 0 || max_rows < 1 || max_columns < 1) return out;
+  const int per_row = (n + max_rows - 1) / max_rows,
+            per_column = (t + max_columns - 1) / max_columns;
+  out.height = (n + per_row - 1) / per_row;
+  out.width = (t + per_column - 1) / per_column;
+  out.rgba.assign(4 * static_cast<size_t>(out.width) * out.height, 255);
+  ColorScale scale;
+  scale.mode = ColorMode::kActuation;
+  scale.lo = -1;
+  scale.hi = 1;
+  for (int row = 0; row < out.height; ++row)
+    for (int col = 0; col < out.width; ++col) {
+      double sum = 0;
+      int count = 0;
+      for (int k = col * per_column; k < std::min(t, (col + 1) * per_column); ++k)
+        for (int i = row * per_row; i < std::min(n, (row + 1) * per_row); ++i, ++count)
+          sum += frames[k].actuation.empty() ? 0.0 : frames[k].actuation[i];
+      const Rgb8 c = scale.map().at(scale.position(sum / count));
+      uint8_t* px = &out.rgba[4 * (static_cast<size_t>(row) * out.width + col)];
+      std::copy(c.begin(), c.end(), px);
+    }
+  return out;
 }
 
 }  // namespace plastivox::render

@@ -11,9 +11,10 @@
 
 namespace plastivox::render {
 
-void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int width, int height) {
+std::string encode_png(const std::vector<uint8_t>& rgba, int width, int height,
+                       const std::string& what) {
   if (width < 1 || height < 1 || rgba.size() != static_cast<size_t>(width) * height * 4)
-    throw RenderError(path + ": image buffer holds " + std::to_string(rgba.size()) +
+    throw RenderError(what + ": image buffer holds " + std::to_string(rgba.size()) +
                       " bytes, not 4 x " + std::to_string(width) + " x " + std::to_string(height));
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
@@ -23,12 +24,18 @@ void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int wi
   png_alloc_size_t size = 0;
   // First call sizes the buffer, second fills it.
   if (!png_image_write_to_memory(&image, nullptr, &size, 0, rgba.data(), 0, nullptr))
-    throw RenderError(path + ": PNG encoding failed: " + image.message);
-  std::vector<uint8_t> bytes(size);
+    throw RenderError(what + ": PNG encoding failed: " + image.message);
+  std::string bytes(size, '\0');
   if (!png_image_write_to_memory(&image, bytes.data(), &size, 0, rgba.data(), 0, nullptr))
-    throw RenderError(path + ": PNG encoding failed: " + image.message);
+    throw RenderError(what + ": PNG encoding failed: " + image.message);
+  bytes.resize(size);
+  return bytes;
+}
+
+void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int width, int height) {
+  const std::string bytes = encode_png(rgba, width, height, path);
   try {
-    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), size));
+    write_file_atomic(path, bytes);
   } catch (const InputError& e) {
     throw RenderError(e.what());
   }

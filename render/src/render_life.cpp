@@ -10,6 +10,7 @@
 #include <exception>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "plastivox/base/clock.hpp"
@@ -69,6 +70,21 @@ class Channel {
   std::deque<T> items_;
   bool closed_ = false, cancelled_ = false;
 };
+
+// The source to draw in `color`, when it is not `source` itself: colouring by actuation draws
+// the frames with the actuation signal, which a recorded life has only when recorded with it
+// (simulate --record-control).
+std::optional<LifeSource> with_color_channels(const LifeSource& source, ColorMode color) {
+  if (color != ColorMode::kActuation) return std::nullopt;
+  if (!source.frames_with_signal || (source.recorded && !source.recorded->result.recording.control))
+    throw RenderError(source.path +
+                      ": --color actuation needs the actuation signal, and this life was "
+                      "recorded without it: record it with plastivox simulate ROBOT --record "
+                      "LIFE.h5 --record-control");
+  LifeSource out = source;
+  out.frames = source.frames_with_signal;
+  return out;
+}
 
 }  // namespace
 
@@ -140,8 +156,10 @@ void check_output_path(const std::string& path) {
   }
 }
 
-std::vector<uint8_t> render_frame(const LifeSource& source, double time, const FrameStyle& style) {
+std::vector<uint8_t> render_frame(const LifeSource& given, double time, const FrameStyle& style) {
   check_render_target(style.width, style.height, style.samples);  // before simulating
+  const std::optional<LifeSource> colored = with_color_channels(given, style.color);
+  const LifeSource& source = colored ? *colored : given;
   const Life life = take_life(source, {time});
   const ColorScale scale =
       make_color_scale(style.color, *life.model, {&life.frames[0]}, style.color_range);
@@ -161,10 +179,12 @@ void check_video_request(const VideoJob& job, const std::string& out) {
   check_output_path(out);
 }
 
-VideoSummary render_video(const LifeSource& source, const FrameStyle& style, const VideoJob& job,
+VideoSummary render_video(const LifeSource& given, const FrameStyle& style, const VideoJob& job,
                           const std::string& out, const LogFn& log) {
   check_video_request(job, out);
   check_render_target(style.width, style.height, style.samples);  // before simulating
+  const std::optional<LifeSource> colored = with_color_channels(given, style.color);
+  const LifeSource& source = colored ? *colored : given;
   const std::string& source_path = source.path;
   const double end = job.end < 0 ? source.physics.duration : job.end;
   if (!(job.start >= 0 && end <= source.physics.duration + 1e-9 && job.start < end))

@@ -70,9 +70,15 @@ ReportLife report_life(const LifeSource& source, double fps, const std::vector<d
   out.frames.frames.resize(times.size());
   size_t taken = 0, extra = 0;
   int64_t last_viewer_step = -1;
+  // The frames with the actuation signal where the source has them, so the viewer can colour
+  // by it (a recorded life has it only when it was recorded with it).
+  const FrameSource signal_frames =
+      source.frames_with_signal ? source.frames_with_signal : source.frames;
+  shown.recording.control = source.recorded ? source.recorded->result.recording.control
+                                            : static_cast<bool>(source.frames_with_signal);
   SimResult r;
   try {
-    r = source.frames(
+    r = signal_frames(
         all_times,
         [&](LifeFrame&& f) {
           const int to = wanted[taken++].second;

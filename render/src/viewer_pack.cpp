@@ -200,6 +200,11 @@ std::string pack_life(const ViewerLife& life) {
              static_cast<uint8_t>(quantise(std::log10(f.stiffness[i]), f32(e_lo), f32(e_hi), 255)));
       put_u8(out, static_cast<uint8_t>(quantise(f.stimulus[i], -f32(stim), f32(stim), 255)));
     }
+  // The actuation signal, when recorded: per frame and voxel one u8 over [-1, 1].
+  if (life.recording->control)
+    for (const Frame& f : frames)
+      for (int i = 0; i < n; ++i)
+        put_u8(out, static_cast<uint8_t>(quantise(f.actuation[i], -1, 1, 255)));
   return out;
 }
 
@@ -209,8 +214,9 @@ std::string life_meta_json(const ViewerLife& life) {
   for (const Frame& f : life.recording->frames) frames.push_back(&f);
   nlohmann::json scales;
   for (const ColorMode mode : {ColorMode::kCongenital, ColorMode::kStiffness, ColorMode::kChange,
-                               ColorMode::kPhase, ColorMode::kStimulus})
+                               ColorMode::kPhase, ColorMode::kStimulus, ColorMode::kActuation})
     scales[to_string(mode)] = scale_json(make_color_scale(mode, m, frames));
+  if (!life.recording->control) scales["actuation"]["title"] = "actuation signal (not recorded)";
   nlohmann::json meta{{"label", life.label},
                       {"treatment", life.treatment},
                       {"fitness", life.fitness},

@@ -284,6 +284,8 @@ def test_every_public_class_has_a_useful_repr(tiny_run, tmp_path):
                                                                    "generations_done=2/2"]),
         plastivox.Study: (study, ["study", "1 champions"]),
         plastivox.PhysicsDef: (plastivox.physics(duration=1.5), ["duration=1.5", "treatment='none'"]),
+        plastivox.VoxelEnv: (plastivox.VoxelEnv(walker, task="jump"),
+                             ["demo-walker", "task='jump'", "voxels=512", "every=1"]),
     }
     classes = {getattr(plastivox, n) for n in plastivox.__all__
                if isinstance(getattr(plastivox, n), type)

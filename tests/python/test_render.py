@@ -69,3 +69,16 @@ def test_render_from_several_threads_gives_the_same_frames():
         w.join()
     assert not failures
     assert len(frames) == 4 and all(np.array_equal(f, alone) for f in frames)
+
+
+def test_colouring_by_actuation_shows_the_signal():
+    robot = plastivox.demo_walker().with_physics({"duration": 0.6})
+    by_actuation = plastivox.render(robot, time=0.5, color="actuation", size=(160, 120))
+    by_stiffness = plastivox.render(robot, time=0.5, color="stiffness", size=(160, 120))
+    assert by_actuation.shape == by_stiffness.shape == (120, 160, 3)
+    assert np.mean(np.any(by_actuation != by_stiffness, axis=2)) > 0.02
+    # Deterministic, and another time (another phase of the sine) gives other colours.
+    assert np.array_equal(by_actuation,
+                          plastivox.render(robot, time=0.5, color="actuation", size=(160, 120)))
+    assert not np.array_equal(by_actuation,
+                              plastivox.render(robot, time=0.55, color="actuation", size=(160, 120)))

@@ -22,9 +22,9 @@ void check_times(const std::vector<double>& times, double duration) {
 
 }  // namespace
 
-FrameSource simulated_frames(std::shared_ptr<const Model> model) {
-  return [model = std::move(model)](const std::vector<double>& times, const FrameSink& sink,
-                                    const ProgressFn& progress) {
+FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control) {
+  return [model = std::move(model), control](const std::vector<double>& times,
+                                             const FrameSink& sink, const ProgressFn& progress) {
     const Model& m = *model;
     check_times(times, m.def.duration);
     // A frame at or after the settle time waits here until the life has settled (it settles
@@ -45,8 +45,9 @@ FrameSource simulated_frames(std::shared_ptr<const Model> model) {
     SimOptions options;
     options.frame_times = times;
     options.progress = progress;
-    options.on_frame = [&](const State& s) {
-      waiting.push_back(LifeFrame{capture_frame(s), false, Vec3::Zero()});
+    options.record_control = control;
+    options.on_frame = [&](const State& s, Frame&& frame) {
+      waiting.push_back(LifeFrame{std::move(frame), false, Vec3::Zero()});
       hand_over(s.settled, s.com_settled, false);
       return !stopped;
     };

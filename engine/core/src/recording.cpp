@@ -1,7 +1,8 @@
-// The frame channels table and the functions that go through it.
+// The frame channels tables and the functions that go through them.
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "plastivox/environment.hpp"
 #include "plastivox/recording.hpp"
@@ -34,6 +35,49 @@ const std::vector<FrameField> kFrameFields = {
     channel<double, &Frame::stiffness>("stiffness", "stiffness", "stiffness", {0}),
     channel<double, &Frame::stimulus>("stimulus", "stimulus", "stimulus", {0}),
 };
+
+const std::vector<FrameField> kControlFrameFields = {
+    channel<double, &Frame::actuation>("actuation", "actuation", "actuation", {0}),
+    channel<double, &Frame::touch>("touch", "touch", "touch", {0}),
+    channel<double, &Frame::floor_force>("floor_force", "floor_force", "floor_force", {0}),
+    channel<double, &Frame::strain>("strain", "strain", "strain", {0}),
+    channel<double, &Frame::stress>("stress", "stress", "stress", {0}),
+    channel<double, &Frame::pressure>("pressure", "pressure", "pressure", {0}),
+    channel<Vec3, &Frame::velocity>("velocity", "velocity", "velocity", {0, 1, 2}),
+    channel<Vec3, &Frame::up>("up", "up", "up", {0, 1, 2}),
+};
+
+namespace {
+
+// The kSensorFields row a control channel copies; null for the signal.
+const SensorField* sensor_of(const FrameField& f) {
+  for (const SensorField& s : kSensorFields)
+    if (std::strcmp(s.name, f.state_field) == 0) return &s;
+  return nullptr;
+}
+
+}  // namespace
+
+const char* frame_field_unit(const FrameField& f) {
+  for (const FrameField& c : kControlFrameFields)
+    if (std::strcmp(c.name, f.name) == 0) {
+      const SensorField* s = sensor_of(c);
+      return s ? s->unit : "1";
+    }
+  return state_field(f.state_field).unit;
+}
+
+void capture_control(Simulator& sim, Frame& frame) {
+  const std::span<const double> signal = std::as_const(sim).actuation();
+  const size_t n = signal.size();
+  const Sensors sensors = sim.sensors();
+  for (const FrameField& f : kControlFrameFields) {
+    const SensorField* s = sensor_of(f);
+    const std::span<const double> v = s ? sensors.read(s->id) : signal;
+    f.resize(frame, n);
+    std::memcpy(const_cast<double*>(f.values(frame)), v.data(), v.size() * sizeof(double));
+  }
+}
 
 Frame capture_frame(const State& s) {
   Frame frame;

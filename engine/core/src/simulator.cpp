@@ -147,49 +147,45 @@ inline void run_stage(StageTimings* timings, double StageTimings::*seconds, Stag
 // below the centre, tilt ignored) and the most voxels at once deeper than
 // kFloorPenetratingDepth. With an environment, the ground's height field replaces z = 0
 // (HeightField::penetration, as its contact sees it). Reads the state only, so the life is
-// unchanged.
-struct FloorWatch {
-  double deepest = 0;  // m
-  int most_deep = 0;
+// unchanged. see_ground is the same over a height field. Out of line: its calls inside the floor
+// loop's function made the compiler keep that loop's sums in memory, a store and a load per voxel
+// (4 % of a life).
+[[gnu::noinline]] void see_ground(const Model& m, const State& s, double limit,
+                                  double& step_deepest, int& deep) {
+  double most = 0;
+  int count = 0;
+  for (int i = 0; i < m.n; ++i) {
+    const Vec3& x = s.pos[i];
+    const double pen = m.ground.penetration(x.x(), x.y(), x.z(), 0.5 * s.size[i]);
+    most = std::max(most, pen);
+    count += pen > limit ? 1 : 0;
+  }
+  step_deepest = most;
+  deep = count;
+}
 
-  // The same over a height field. Out of line: its calls in the floor's loop's function made
-  // the compiler keep that loop's sums in memory, a store and a load per voxel (4 % of a life).
-  [[gnu::noinline]] static void see_ground(const Model& m, const State& s, double limit,
-                                           double& step_deepest, int& deep) {
-    double most = 0;
-    int count = 0;
+void see_floor(const Model& m, const State& s, double& deepest, int& most_deep) {
+  if (!m.def.floor) return;
+  const double limit = kFloorPenetratingDepth * m.size;
+  double step_deepest = 0;
+  int deep = 0;
+  if (m.terrain)
+    see_ground(m, s, limit, step_deepest, deep);
+  else  // the floor z = 0: a plain loop with its sums in registers, which vectorises
     for (int i = 0; i < m.n; ++i) {
-      const Vec3& x = s.pos[i];
-      const double pen = m.ground.penetration(x.x(), x.y(), x.z(), 0.5 * s.size[i]);
-      most = std::max(most, pen);
-      count += pen > limit ? 1 : 0;
+      const double pen = 0.5 * s.size[i] - s.pos[i].z();
+      step_deepest = std::max(step_deepest, pen);
+      deep += pen > limit ? 1 : 0;
     }
-    step_deepest = most;
-    deep = count;
-  }
+  deepest = std::max(deepest, step_deepest);
+  most_deep = std::max(most_deep, deep);
+}
 
-  void see(const Model& m, const State& s) {
-    if (!m.def.floor) return;
-    const double limit = kFloorPenetratingDepth * m.size;
-    double step_deepest = 0;
-    int deep = 0;
-    if (m.terrain)
-      see_ground(m, s, limit, step_deepest, deep);
-    else  // the floor z = 0: a plain loop with its sums in registers, which vectorises
-      for (int i = 0; i < m.n; ++i) {
-        const double pen = 0.5 * s.size[i] - s.pos[i].z();
-        step_deepest = std::max(step_deepest, pen);
-        deep += pen > limit ? 1 : 0;
-      }
-    deepest = std::max(deepest, step_deepest);
-    most_deep = std::max(most_deep, deep);
-  }
-};
-
-// Fills the floor health of r (SimResult, "Health") from what the watch saw, with a warning
-// past kFloorPenetratingDepth; a sunk finished life becomes unstable under
-// def.sinking_invalid.
-void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, SimResult& r) {
+// Fills the floor health of r (SimResult, "Health") from the deepest penetration seen and the
+// most voxels at once deep, with a warning past kFloorPenetratingDepth; a sunk finished life
+// becomes unstable under def.sinking_invalid.
+void grade_floor_contact(const Model& m, const State& s, double deepest, int most_deep,
+                         SimResult& r) {
   const Vec3& d = r.displacement;
   const double d2 = d.squaredNorm();
   r.vertical_share = d2 > 0 ? d.z() * d.z() / d2 : 0.0;
@@ -200,8 +196,8 @@ void grade_floor_contact(const Model& m, const State& s, const FloorWatch& w, Si
   };
   for (int i = 0; i < m.n; ++i)
     r.voxels_below_floor += s.pos[i].z() + 0.5 * m.size < ground(s.pos[i]) ? 1 : 0;
-  r.floor_depth = w.deepest / m.size;
-  r.voxels_deep_max = w.most_deep;
+  r.floor_depth = deepest / m.size;
+  r.voxels_deep_max = most_deep;
   // Only a life that ran to its end is graded: one that blew up is unstable, not sunk (its
   // voxels may fly anywhere, under the floor too), and says so.
   if (r.status != SimStatus::kFinished) return;
@@ -316,13 +312,15 @@ namespace {
 // k / record_fps or frame_times[k]. Each goes to on_frame, or into the recording.
 class FrameTaker {
  public:
-  FrameTaker(const SimOptions& o, const State& s)
+  FrameTaker(const SimOptions& o, Simulator& sim)
       : o_(o),
-        s_(s),
+        sim_(sim),
+        s_(sim.state()),
         at_times_(!o.frame_times.empty()),
         at_fps_(!at_times_ && o.record_fps > 0),
         last_(at_times_ ? o.frame_times.size() : std::numeric_limits<size_t>::max()) {
     if (at_fps_) recording_.fps = o.record_fps;
+    recording_.control = o.record_control;
   }
 
   // Takes the frames due at the present state, before the next step; false when the life
@@ -351,13 +349,16 @@ class FrameTaker {
   void take() {
     taken_ += 1;
     last_step_ = s_.steps;
+    Frame frame = capture_frame(s_);
+    if (o_.record_control) capture_control(sim_, frame);
     if (o_.on_frame)
-      stopped_ = !o_.on_frame(s_);
+      stopped_ = !o_.on_frame(s_, std::move(frame));
     else
-      recording_.frames.push_back(capture_frame(s_));
+      recording_.frames.push_back(std::move(frame));
   }
 
   const SimOptions& o_;
+  Simulator& sim_;
   const State& s_;
   const bool at_times_, at_fps_;
   const size_t last_;  // frames there are to take (all of frame_times, or no limit)
@@ -385,6 +386,14 @@ class ProgressReport {
   double end_, next_ = 0;
 };
 
+// The centres of mass (final: of s) and the displacement since settling (zero before).
+void fill_displacement(const Model& model, const State& s, SimResult& r) {
+  r.com_final = center_of_mass(s);
+  r.settled = s.settled;
+  r.com_settled = s.settled ? s.com_settled : r.com_final;
+  r.displacement = displacement_since_settling(model, r.com_settled, r.com_final);
+}
+
 // The summary of a life from its last state: status, fitness (the task's score of a
 // finished life, else 0), displacement and the lifetime stiffness change (SimResult).
 void summarise(const Model& model, const State& s, const TaskWatch& task, SimResult& r) {
@@ -394,10 +403,7 @@ void summarise(const Model& model, const State& s, const TaskWatch& task, SimRes
   r.steps = s.steps;
   r.sim_time = s.time;
   r.dt_final = s.dt;
-  r.com_final = center_of_mass(s);
-  r.settled = s.settled;
-  r.com_settled = s.settled ? s.com_settled : r.com_final;
-  r.displacement = displacement_since_settling(model, r.com_settled, r.com_final);
+  fill_displacement(model, s, r);
   r.fitness = r.status == SimStatus::kFinished ? task.score(model, s, r) : 0.0;
   r.final_stiffness = s.stiffness;
   double sum = 0, sum_abs = 0, sum_sq = 0;
@@ -417,6 +423,35 @@ void summarise(const Model& model, const State& s, const TaskWatch& task, SimRes
 
 }  // namespace
 
+LifeWatch::LifeWatch(const Model& model) : model_(&model), task_(make_task_watch(model)) {}
+LifeWatch::~LifeWatch() = default;
+LifeWatch::LifeWatch(LifeWatch&&) noexcept = default;
+LifeWatch& LifeWatch::operator=(LifeWatch&&) noexcept = default;
+
+void LifeWatch::see(const State& s) {
+  see_floor(*model_, s, deepest_, most_deep_);
+  task_->see(*model_, s);
+}
+
+bool LifeWatch::sunk() const {
+  return deepest_ >= kFloorSankDepth * model_->size;
+}
+
+double LifeWatch::fitness(const State& s) const {
+  if (s.status != SimStatus::kRunning) return summary(s).fitness;
+  if (model_->def.sinking_invalid && sunk()) return 0.0;
+  SimResult r;
+  fill_displacement(*model_, s, r);
+  return task_->score(*model_, s, r);
+}
+
+SimResult LifeWatch::summary(const State& s) const {
+  SimResult r;
+  summarise(*model_, s, *task_, r);
+  grade_floor_contact(*model_, s, deepest_, most_deep_, r);
+  return r;
+}
+
 // A life, as a list: step until the Simulator says the life is over (like Voxelyze, until
 // time first passes the duration) or the frames end it, taking frames, reporting progress
 // and watching the floor and the task as it goes; then the summary and the floor's grade.
@@ -425,24 +460,20 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   Simulator sim(model);
   const State& s = sim.state();
   const double dt_initial = s.dt;
-  FrameTaker frames(o, s);
+  FrameTaker frames(o, sim);
   ProgressReport progress(o, frames.end(model.def.duration));
-  FloorWatch floor;
-  const std::unique_ptr<TaskWatch> task = make_task_watch(model);
+  LifeWatch watch(model);
   while (s.status == SimStatus::kRunning && frames.take_due()) {
     progress.at(s.time);
     sim.step(o.timings);
-    floor.see(model, s);
-    task->see(model, s);
+    watch.see(s);
   }
   if (s.status == SimStatus::kFinished) frames.take_last();
   if (!frames.stopped()) progress.done();
 
-  SimResult r;
+  SimResult r = watch.summary(s);
   r.dt_initial = dt_initial;
-  summarise(model, s, *task, r);
   r.recording = std::move(frames.recording());
-  grade_floor_contact(model, s, floor, r);
   r.wall_seconds = seconds_since(wall_start);
   return r;
 }

@@ -2,9 +2,10 @@
 // "Recorded lives"). Per-frame fields are datasets of shape (frames, voxels[, 3 or 4]), so
 // h5py reads each as one numpy array; the robot and its physics are kept as a plastivox
 // robot file (JSON) in an attribute, so the life can be simulated again and its model
-// compiled for drawing. Since 2026-12-05 it carries a seal like a results file
-// (file_seal.hpp), checked before HDF5 reads it, and every read is checked against the shapes
-// the file itself declares.
+// compiled for drawing. The control channels (kControlFrameFields) are written only when
+// recorded, flagged by the root attribute "control". Since 2026-12-05 it carries a seal like a
+// results file (file_seal.hpp), checked before HDF5 reads it, and every read is checked against the
+// shapes the file itself declares.
 #include "plastivox/io/life_file.hpp"
 
 #include <sys/stat.h>
@@ -68,12 +69,18 @@ void write_life_file(const std::string& path, const RecordedLife& life) {
       for (const Frame& f : frames) time.push_back(f.time);
       h5::write(c, r, "time", time, {nf});
       h5::write_units(c, r, "time", "s");
-      for (const FrameField& f : kFrameFields) {
-        std::vector<hsize_t> dims = {nf, nv};
-        if (f.width > 1) dims.push_back(static_cast<hsize_t>(f.width));
-        h5::write(c, r, f.name, frame_channel(frames, f), dims);
-        // Every stimulus is in Pa (strain is read as Pa: physics_def.hpp).
-        h5::write_units(c, r, f.name, state_field(f.state_field).unit);
+      // The control channels only when recorded: a default life keeps its size.
+      const bool control = life.result.recording.control;
+      if (control) h5::write_attr(c, r, "control", int64_t{1});
+      for (const auto* table : {&kFrameFields, &kControlFrameFields}) {
+        if (table == &kControlFrameFields && !control) break;
+        for (const FrameField& f : *table) {
+          std::vector<hsize_t> dims = {nf, nv};
+          if (f.width > 1) dims.push_back(static_cast<hsize_t>(f.width));
+          h5::write(c, r, f.name, frame_channel(frames, f), dims);
+          // Every stimulus is in Pa (strain is read as Pa: physics_def.hpp).
+          h5::write_units(c, r, f.name, frame_field_unit(f));
+        }
       }
       std::vector<uint8_t> contact;
       contact.reserve(nf * nv);
@@ -181,11 +188,17 @@ RecordedLife read_life_file(const std::string& path) {
       c.fail("/time", "frame times must be finite and ascending");
     life.result.recording.frames.emplace_back().time = time[k];
   }
-  for (const FrameField& f : kFrameFields) {
-    std::vector<hsize_t> dims = {nf, nv};
-    if (f.width > 1) dims.push_back(static_cast<hsize_t>(f.width));
-    const std::vector<double> values = h5::read<double>(c, r, f.name, dims);
-    set_frame_channel(life.result.recording.frames, f, nv, values.data());
+  // Lives written before 2026-12-05 have no "control" attribute, and no control channels.
+  const bool control = h5::has_attr(r, "control") && h5::read_attr_int(c, r, "/", "control") != 0;
+  life.result.recording.control = control;
+  for (const auto* table : {&kFrameFields, &kControlFrameFields}) {
+    if (table == &kControlFrameFields && !control) break;
+    for (const FrameField& f : *table) {
+      std::vector<hsize_t> dims = {nf, nv};
+      if (f.width > 1) dims.push_back(static_cast<hsize_t>(f.width));
+      const std::vector<double> values = h5::read<double>(c, r, f.name, dims);
+      set_frame_channel(life.result.recording.frames, f, nv, values.data());
+    }
   }
   return life;
 }

@@ -36,8 +36,9 @@ using ProgressFn = std::function<void(double)>;  // the fraction of the life don
 using FrameSource = std::function<SimResult(const std::vector<double>& times, const FrameSink& sink,
                                             const ProgressFn& progress)>;
 
-// Frames simulated from `model` (simulate() with SimOptions::frame_times and on_frame).
-FrameSource simulated_frames(std::shared_ptr<const Model> model);
+// Frames simulated from `model` (simulate() with SimOptions::frame_times and on_frame), with
+// the control channels (the actuation signal and sensors) when `control` is set.
+FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control = false);
 
 // Frames from a recording: for each time the first recorded frame at or after it (a time
 // within 1e-9 s of a frame counts as that frame's), settled from `settle_time` on as the

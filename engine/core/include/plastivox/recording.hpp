@@ -1,5 +1,6 @@
 // A sampled life: every voxel's pose, size, stiffness and stimulus at fixed frame times,
-// so the renderer and analysis can replay a simulation without re-running it.
+// so the renderer and analysis can replay a simulation without re-running it; on request
+// also its control channels: the actuation signal and the per-voxel sensors.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +22,16 @@ struct Frame {
   std::vector<double> size;                // actuated edge length, m (n)
   std::vector<double> stiffness;           // current E, Pa (n)
   std::vector<double> stimulus;            // the treatment's stimulus, Pa (n; docs/plasticity.md)
+  // The control channels (kControlFrameFields), only when recorded (SimOptions::record_control;
+  // empty otherwise). The sensors are those a controller reads at this state (docs/control.md).
+  std::vector<double> actuation;          // the signal behind this frame's sizes, in [-1, 1] (n)
+  std::vector<double> touch;              // sensor: 1 touching the floor or ground, else 0 (n)
+  std::vector<double> floor_force;        // sensor: N (n)
+  std::vector<double> strain;             // sensor: 1 (n)
+  std::vector<double> stress;             // sensor: Pa (n)
+  std::vector<double> pressure;           // sensor: Pa (n)
+  std::vector<Eigen::Vector3d> velocity;  // sensor: m/s, world frame (n)
+  std::vector<Eigen::Vector3d> up;        // sensor: the voxel's +z axis, world frame (n)
 };
 
 // The per-voxel channels of a Frame, described once. Each copies one row of kStateFields
@@ -39,6 +50,12 @@ struct FrameField {
   void (*resize)(Frame&, size_t voxels);
 };
 extern const std::vector<FrameField> kFrameFields;
+// The control channels, a parallel table recorded only on request (so a default recording
+// keeps its size): the actuation signal ("actuation") and every per-voxel sensor; here
+// `state_field` names the kSensorFields row a channel copies ("actuation": the signal).
+extern const std::vector<FrameField> kControlFrameFields;
+// The unit of a channel of either table ("1" for the signal).
+const char* frame_field_unit(const FrameField& f);
 
 // One channel of `frames` as a flat array, frame-major: (frames, voxels, width), components
 // in the field's order. Every frame holds `voxels` voxels.
@@ -60,15 +77,17 @@ std::vector<uint8_t> floor_contact(const Frame& frame, bool floor,
 struct Recording {
   double fps = 0;             // frames per simulated second
   std::vector<Frame> frames;  // in time order
+  bool control = false;       // the frames carry the control channels (kControlFrameFields)
 };
 
 // Memory the frames of `voxels` voxels at `fps` frames per simulated second over a life of
 // `duration` seconds take (a caller that copies them counts each copy): duration * fps + 2 frames
-// (the first, the last and every 1/fps), each 10 doubles per voxel. An upper bound: a step yields
-// at most one frame.
-inline double recording_bytes(int64_t voxels, double duration, double fps) {
+// (the first, the last and every 1/fps), each 10 doubles per voxel, 22 with the control channels.
+// An upper bound: a step yields at most one frame.
+inline double recording_bytes(int64_t voxels, double duration, double fps, bool control = false) {
   const double frames = duration * fps + 2;
-  return frames * static_cast<double>(voxels) * (10 * sizeof(double)) + frames * sizeof(Frame);
+  return frames * static_cast<double>(voxels) * ((control ? 22 : 10) * sizeof(double)) +
+         frames * sizeof(Frame);
 }
 
 // Throws std::invalid_argument, one line naming `what` (the option or argument that asked

@@ -19,6 +19,7 @@
 
 namespace plastivox {
 
+class TaskWatch;   // plastivox/task.hpp
 struct Workspace;  // per-step scratch arrays (engine/core/src/workspace.hpp)
 
 // Wall time spent in each stage of Simulator::step, summed over the steps timed (as
@@ -198,12 +199,17 @@ struct SimResult {
 //   - frame_times (ascending, s): at those times only, and the life ends after the last one
 //     (a still at t = 2.6 s does not simulate the rest); times past the end of the life are
 //     not taken. frame_times wins over record_fps.
-// Each frame goes to on_frame when it is set, else into SimResult::recording.
+// Each frame goes to on_frame when it is set, else into SimResult::recording. With
+// record_control each frame also carries the control channels (kControlFrameFields: the
+// actuation signal and the per-voxel sensors, read as a controller reads them; the bits of
+// the life are unchanged).
 struct SimOptions {
   double record_fps = 0;            // frames per simulated second, 0 = none
   std::vector<double> frame_times;  // s, ascending
-  // Called with the state at each frame time; returning false ends the life there.
-  std::function<bool(const State&)> on_frame;
+  bool record_control = false;      // frames carry the control channels
+  // Called with the state at each frame time and its frame (capture_frame, and the control
+  // channels when asked); returning false ends the life there.
+  std::function<bool(const State&, Frame&&)> on_frame;
   // Called with the fraction of the life simulated, in [0, 1], about every 1 %, and with 1
   // when the life is over.
   std::function<void(double)> progress;
@@ -217,6 +223,40 @@ SimResult simulate(const Model& model, const SimOptions& options = {});
 
 // The frame simulate() records of a state: pose, size, stiffness and stimulus per voxel.
 Frame capture_frame(const State& state);
+// Adds the control channels of sim's present state to `frame` (kControlFrameFields): the
+// actuation signal and the sensors as sim.sensors() gives them, so it runs the first half of
+// the next step, which step() then finishes (the life's bits are unchanged). At the end of a
+// life no step is left to begin: the strain, stress, pressure, touch and floor force are then
+// those of the last step.
+void capture_control(Simulator& sim, Frame& frame);
+
+// What simulate() watches over a life besides the state: the task (TaskWatch) and how deep
+// the body went into the floor. For a life stepped outside simulate() (Python's VoxelEnv):
+// see() after every step, fitness() at any state, summary() at the end give what simulate()
+// gives for the same life, bit for bit.
+class LifeWatch {
+ public:
+  explicit LifeWatch(const Model& model);  // model must outlive the watch
+  ~LifeWatch();
+  LifeWatch(LifeWatch&&) noexcept;
+  LifeWatch& operator=(LifeWatch&&) noexcept;
+
+  void see(const State& s);  // after every step, as the step left the state
+  // The task's score of the life as though it ended at s (0 before settling): while it runs,
+  // from what see() saw; once over, simulate()'s fitness (0 for a life that went unstable or,
+  // under physics.sinking_invalid, sank). 0 as soon as sunk() under sinking_invalid.
+  double fitness(const State& s) const;
+  // The body has gone kFloorSankDepth or deeper into the floor: a finished life is graded sunk.
+  bool sunk() const;
+  // simulate()'s summary of a life that ended at s (without recording, wall time, dt_initial).
+  SimResult summary(const State& s) const;
+
+ private:
+  const Model* model_;
+  std::unique_ptr<TaskWatch> task_;
+  double deepest_ = 0;  // m, the deepest floor penetration seen
+  int most_deep_ = 0;   // most voxels at once deeper than kFloorPenetratingDepth
+};
 
 // Displacement of the centre of mass from com_settled to com in voxel lengths, z zeroed
 // under the xy fitness mode: the vector whose norm is fitness.

@@ -19,11 +19,13 @@ enum class ColorMode {
   kPhase,       // actuation phase (cycles, modulo 1), cyclic map
   kStimulus,    // the treatment's stimulus (Pa, docs/plasticity.md), linear from 0 on a
                 // sequential map, or symmetric about 0 on a diverging map for a signed one
+  kActuation,   // the actuation signal in [-1, 1] (recorded control channel; docs/control.md),
+                // diverging map: shrinking blue, swelling red
 };
 // Whether a treatment's stimulus can be negative: only pressure's (negative in tension).
 // Every other stimulus is >= 0 by definition (docs/plasticity.md), and so is shown one-sided.
 bool stimulus_is_signed(Treatment t);
-// "congenital", "stiffness", "change", "alpha", "phase", "stimulus"
+// "congenital", "stiffness", "change", "alpha", "phase", "stimulus", "actuation"
 const char* to_string(ColorMode m);
 // Throws RenderError listing the valid names.
 ColorMode parse_color_mode(const std::string& name);
@@ -66,7 +68,7 @@ struct ColorScale {
 // [e_min, e_max] and change +-log10(e_max / e_min). Alpha spans the largest |alpha|, rounded up
 // to a 1-2-5 value; phase one cycle (both whatever the range); stimulus from 0 (from -max for
 // a signed stimulus, stimulus_is_signed) to the largest |stimulus| over `frames`, rounded up
-// to a 1-2-5 value. The title says which range.
+// to a 1-2-5 value; actuation [-1, 1]. The title says which range.
 ColorScale make_color_scale(ColorMode mode, const Model& model,
                             const std::vector<const Frame*>& frames,
                             ColorRange range = ColorRange::kData);
@@ -74,5 +76,15 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
 // A congenital or stiffness scale over the data range [lo_value, hi_value] (log10 Pa),
 // rounded outward as make_color_scale does (for a gallery spanning several robots).
 ColorScale stiffness_data_scale(ColorMode mode, double lo_value, double hi_value);
+
+// A life's controller activity as a small image (RGBA8, rows top-down): rows are voxels in
+// voxel order, columns frames in time order, each cell the actuation signal on the actuation
+// scale's map; consecutive voxels and frames are averaged in equal groups so that the image
+// is at most max_rows x max_columns. A frame without the actuation channel counts as 0.
+struct ActivityRaster {
+  int width = 0, height = 0;  // columns (frame groups), rows (voxel groups)
+  std::vector<uint8_t> rgba;  // 4 * width * height
+};
+ActivityRaster actuation_raster(const std::vector<Frame>& frames, int max_rows, int max_columns);
 
 }  // namespace plastivox::render

@@ -26,6 +26,10 @@ struct LifeSource {
   std::vector<std::string> warnings;   // from reading a .vxa, one line each
   std::shared_ptr<const Model> model;  // the robot compiled under its physics
   FrameSource frames;                  // its frames: simulated, or read from `recorded`
+  // The same frames with the actuation signal and sensors (the control channels, for colouring
+  // by actuation): simulated with them, or as recorded (with them only when recorded with
+  // them). Empty: the life has none to give.
+  FrameSource frames_with_signal;
   // A recorded life (`plastivox simulate --record life.h5`): its frames are drawn as
   // recorded, never simulated again. Null for every other source.
   std::shared_ptr<const RecordedLife> recorded;

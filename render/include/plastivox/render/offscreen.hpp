@@ -124,6 +124,9 @@ class ImGuiLayer {
 // Deterministic bytes (no time stamp or text chunks); written to a temporary and renamed
 // so no half-written file is ever left under path. Throws RenderError naming path.
 void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int width, int height);
+// The same PNG's bytes, in memory (`what` names the image in errors).
+std::string encode_png(const std::vector<uint8_t>& rgba, int width, int height,
+                       const std::string& what);
 
 // Reads a PNG as RGBA8 rows top-down (for tests and tools). Throws RenderError naming path.
 struct Image {

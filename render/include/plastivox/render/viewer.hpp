@@ -30,7 +30,9 @@ struct ViewerLife {
 // The packed life ("PVL1", little-endian; docs/rendering.md): a header, per-voxel E0 and
 // phase, per-frame time and displacement, then per frame and voxel 13 bytes: centre as 3 x
 // u16 over the life's bounding box, orientation as 32 bits (smallest three components, 10
-// bits each, and the index of the largest), size, log10 E and stimulus as u8 each.
+// bits each, and the index of the largest), size, log10 E and stimulus as u8 each; then, when
+// the recording carries the control channels, per frame and voxel the actuation signal as u8
+// over [-1, 1].
 std::string pack_life(const ViewerLife& life);
 
 // Bytes of pack_life per frame and voxel (13) and fixed per life.
@@ -40,9 +42,9 @@ constexpr int kPackedBytesPerVoxelFrame = 13;
 std::string base64(const std::string& bytes);
 
 // The JSON the viewer reads beside a packed life: label, treatment, fitness, per colour mode
-// (congenital, stiffness, change, stimulus, phase) the renderer's scale (range, map and
-// colour-bar ticks) and, for a life in an environment, its "world": the ground as heights on
-// the lines where it bends and the obstacle boxes, around the life (docs/rendering.md).
+// (congenital, stiffness, change, stimulus, phase, actuation) the renderer's scale (range, map
+// and colour-bar ticks) and, for a life in an environment, its "world": the ground as heights
+// on the lines where it bends and the obstacle boxes, around the life (docs/rendering.md).
 std::string life_meta_json(const ViewerLife& life);
 
 // Where three.js comes from: Debian's libjs-three. Throws RenderError saying which package

@@ -1,7 +1,8 @@
 // A recorded life: every voxel's pose, size, stiffness, stimulus and floor contact at fixed
-// frame times, in HDF5 (format "plastivox-life", layout in docs/results-format.md, "Recorded
-// lives"), so a life can be read with h5py and drawn again without simulating (library
-// plastivox_io; not thread-safe, HDF5's serial build: call from one thread).
+// frame times (and, when recorded, the actuation signal and the sensors), in HDF5 (format
+// "plastivox-life", layout in docs/results-format.md, "Recorded lives"), so a life can be read with
+// h5py and drawn again without simulating (library plastivox_io; not thread-safe, HDF5's serial
+// build: call from one thread).
 #pragma once
 
 #include <cstdint>

@@ -1,0 +1,253 @@
+"""plastivox.VoxelEnv, the Gymnasium-style environment (docs/python.md, "Reinforcement
+learning"), checked without gymnasium: seeded resets, spaces, where episodes end, rewards
+summing to simulate()'s fitness, wrong actions; and the registration hook with a stand-in
+gymnasium module. Also the control channels of a recorded life (record_control)."""
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import plastivox
+
+from conftest import run_cli
+
+
+def short_walker(duration=0.4):
+    return plastivox.demo_walker().with_physics({"duration": duration, "settle_time": 0.1},
+                                                treatment="stress")
+
+
+def sine_action(env, obs):
+    """The built-in sine's signal for the step about to be taken; `time` is obs's last entry
+    when the env observes ["time"] last."""
+    return plastivox.sin_cycles(env.act_frequency * obs[-1] + env.voxel_phase)
+
+
+def random_episode(env, seed, steps):
+    obs, _ = env.reset(seed=seed)
+    seen, rewards = [obs], []
+    for _ in range(steps):
+        action = env.np_random.uniform(-1, 1, env.action_space.shape)
+        obs, reward, terminated, truncated, _ = env.step(action)
+        seen.append(obs)
+        rewards.append(reward)
+        if terminated or truncated:
+            break
+    return np.array(seen), np.array(rewards)
+
+
+def test_reset_with_a_seed_is_deterministic():
+    env = plastivox.VoxelEnv(short_walker())
+    obs_a, rewards_a = random_episode(env, 3, 400)
+    obs_b, rewards_b = random_episode(env, 3, 400)
+    other = plastivox.VoxelEnv(short_walker())
+    obs_c, rewards_c = random_episode(other, 3, 400)
+    assert np.array_equal(obs_a, obs_b) and np.array_equal(rewards_a, rewards_b)
+    assert np.array_equal(obs_a, obs_c) and np.array_equal(rewards_a, rewards_c)
+    # Another seed draws other actions, and the body moves otherwise.
+    obs_d, _ = random_episode(env, 4, 400)
+    assert np.array_equal(obs_d[0], obs_a[0])  # every life starts alike
+    assert not np.array_equal(obs_d, obs_a)
+    assert np.any(rewards_a != 0)
+
+
+def test_observation_and_action_match_their_spaces():
+    env = plastivox.VoxelEnv(short_walker())
+    n = plastivox.demo_walker().voxel_count
+    widths = {"n": n, "n x 3": 3 * n, "3": 3, "1": 1}
+    size = sum(widths[f["shape"]] for f in plastivox.Simulator.sensor_fields)
+    assert env.observation_space.shape == (size,)
+    assert env.action_space.shape == (n,)
+    assert env.observation_space.dtype == np.float64 and env.action_space.dtype == np.float64
+    assert np.all(env.action_space.low == -1) and np.all(env.action_space.high == 1)
+    obs, info = env.reset(seed=0)
+    assert obs.shape == env.observation_space.shape and obs.dtype == env.observation_space.dtype
+    assert env.observation_space.contains(obs)
+    assert info["time"] == 0 and info["fitness"] == 0 and info["status"] == "running"
+    env.action_space.seed(1)
+    for _ in range(20):
+        action = env.action_space.sample()
+        assert action.shape == (n,) and action.dtype == np.float64
+        assert env.action_space.contains(action)
+        obs, reward, terminated, truncated, info = env.step(action)
+        assert obs.shape == env.observation_space.shape and obs.dtype == np.float64
+        assert env.observation_space.contains(obs)
+        assert isinstance(reward, float) and not terminated and not truncated
+    assert not env.action_space.contains(np.full(n, 1.5))
+    assert not env.action_space.contains(np.zeros(n + 1))
+    # Fewer sensors, fewer numbers: touch per voxel, then the time.
+    small = plastivox.VoxelEnv(short_walker(), sensors=["touch", "time"])
+    obs, _ = small.reset()
+    assert small.observation_space.shape == (n + 1,) and obs.shape == (n + 1,)
+    assert np.all(small.observation_space.low[:n] == 0) and np.all(small.observation_space.high[:n] == 1)
+    assert obs[-1] == 0.0
+
+
+@pytest.mark.parametrize("task", ["walk", "jump", "turn"])
+def test_rewards_sum_to_the_fitness_and_the_episode_ends_where_the_life_ends(task):
+    robot = short_walker()
+    life = plastivox.simulate(robot, task=task)
+    assert life.status == "finished" and life.fitness > 0
+    env = plastivox.VoxelEnv(robot, task=task, sensors=["touch", "time"])
+    obs, info = env.reset(seed=0)
+    rewards, steps = [], 0
+    while True:
+        obs, reward, terminated, truncated, info = env.step(sine_action(env, obs))
+        assert env.observation_space.contains(obs)
+        rewards.append(reward)
+        steps += 1
+        if terminated or truncated:
+            break
+    # The built-in sine replayed: the same life, bit for bit, ending at the same step.
+    assert truncated and not terminated and info["status"] == "finished"
+    assert steps == info["steps"] == life.steps
+    assert info["state_hash"] == life.final_state_hash
+    assert info["fitness"] == life.fitness
+    assert sum(rewards) == pytest.approx(life.fitness, rel=1e-12, abs=1e-12)
+    with pytest.raises(RuntimeError, match=r"step: the episode is over \(finished\); call reset\(\)"):
+        env.step(sine_action(env, obs))
+    # Holding each action for 4 steps is the life of sending it every step, in fewer calls.
+    ends = {}
+    for every in (1, 4):
+        held = plastivox.VoxelEnv(robot, task=task, every=every, sensors="time")
+        held.reset()
+        calls, total = 0, 0.0
+        while True:
+            _, reward, terminated, truncated, info = held.step(np.full(held.action_space.shape, 0.5))
+            calls += 1
+            total += reward
+            if terminated or truncated:
+                break
+        assert truncated and calls == -(-info["steps"] // every)
+        assert total == pytest.approx(info["fitness"], rel=1e-12, abs=1e-12)
+        ends[every] = (info["steps"], info["state_hash"], info["fitness"])
+    assert ends[1] == ends[4]
+
+
+def test_a_sinking_life_terminates_with_the_fitness_simulate_gives():
+    # A soft, heavy 3x3x3 block falls through the floor: sunk lives are invalid (fitness 0).
+    block = plastivox.Robot.from_arrays(np.ones((3, 3, 3), bool), np.full((3, 3, 3), 1e5),
+                                        np.zeros((3, 3, 3)))
+    robot = block.with_physics({"duration": 0.5, "act_amplitude": 0.0, "gravity": -9.81})
+    life = plastivox.simulate(robot)
+    assert life.health == "sank" and life.fitness == 0
+    env = plastivox.VoxelEnv(robot)
+    env.reset()
+    total, steps = 0.0, 0
+    while True:
+        _, reward, terminated, truncated, info = env.step(np.zeros(env.action_space.shape))
+        total += reward
+        steps += 1
+        if terminated or truncated:
+            break
+    assert terminated and not truncated and info["status"] == "sank"
+    assert steps < life.steps  # ended when certain to be graded sunk
+    assert info["fitness"] == 0 and total == pytest.approx(0, abs=1e-12)
+
+
+def test_wrong_actions_raise_a_clear_error_naming_the_argument():
+    env = plastivox.VoxelEnv(short_walker())
+    n = env.action_space.shape[0]
+    with pytest.raises(RuntimeError, match="call reset"):
+        env.step(np.zeros(n))
+    env.reset()
+    with pytest.raises(ValueError, match=r"action: expected shape \(%d,\), one value per voxel, got \(%d,\)" % (n, n - 1)):
+        env.step(np.zeros(n - 1))
+    with pytest.raises(TypeError, match=r"action: expected a float array .* got dtype int64"):
+        env.step(np.zeros(n, dtype=np.int64))
+    with pytest.raises(ValueError, match=r"action: every value must be in \[-1, 1\]; action\[2\] is 1.5"):
+        a = np.zeros(n)
+        a[2] = 1.5
+        env.step(a)
+    with pytest.raises(TypeError, match=r"action: expected a float array .* got dtype object"):
+        env.step(None)
+    env.step(np.zeros(n, dtype=np.float32))  # float32 is taken
+    with pytest.raises(ValueError, match=r"sensors: no sensor named 'smell'"):
+        plastivox.VoxelEnv(short_walker(), sensors=["smell"])
+    with pytest.raises(ValueError, match=r"every: expected a number of steps >= 1, got 0"):
+        plastivox.VoxelEnv(short_walker(), every=0)
+    with pytest.raises(TypeError, match=r"task: expected a task name"):
+        plastivox.VoxelEnv(short_walker(), task=3)
+
+
+def test_it_registers_with_gymnasium_when_importable(tmp_path):
+    # A stand-in gymnasium records what plastivox asks of it.
+    fake = tmp_path / "gymnasium"
+    (fake / "spaces").mkdir(parents=True)
+    (fake / "__init__.py").write_text(textwrap.dedent("""
+        from . import spaces
+        registry = {}
+        class Env:
+            pass
+        def register(id, entry_point):
+            registry[id] = entry_point
+    """))
+    (fake / "spaces" / "__init__.py").write_text(textwrap.dedent("""
+        class Box:
+            def __init__(self, low, high, shape, dtype):
+                self.low, self.high, self.shape, self.dtype = low, high, shape, dtype
+    """))
+    probe = textwrap.dedent("""
+        import gymnasium, plastivox
+        env = plastivox.VoxelEnv(plastivox.demo_walker(), sensors=["time"])
+        print(gymnasium.registry, isinstance(env, gymnasium.Env),
+              type(env.action_space).__module__, env.action_space.shape)
+    """)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(tmp_path), env.get("PYTHONPATH", "")])
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    n = plastivox.demo_walker().voxel_count
+    assert out.stdout.strip() == ("{'plastivox/Voxel-v0': 'plastivox:VoxelEnv'} True "
+                                  f"gymnasium.spaces ({n},)")
+    # Without gymnasium, the built-in Box.
+    space = plastivox.VoxelEnv(short_walker()).action_space
+    assert type(space).__name__ == "Box" and type(space).__module__ == "plastivox._env"
+
+
+def test_a_recorded_life_carries_the_control_channels_on_request(tmp_path):
+    robot = short_walker()
+    plain = plastivox.simulate(robot, record_fps=50)
+    life = plastivox.simulate(robot, record_fps=50, record_control=True)
+    assert life.final_state_hash == plain.final_state_hash
+    assert plain.trajectory.actuation is None and plain.trajectory.touch is None
+    t = life.trajectory
+    frames, n = t.positions.shape[:2]
+    for name in plastivox.Trajectory.CONTROL_FIELDS:
+        shape = (frames, n, 3) if name in ("velocity", "up") else (frames, n)
+        assert getattr(t, name).shape == shape, name
+    assert np.all(np.abs(t.actuation) <= 1 + 1e-15)
+    assert np.all(t.actuation[t.times < 0.1] == 0)  # still while settling
+    assert np.any(t.actuation[-1] != 0)
+    assert np.allclose(np.linalg.norm(t.up, axis=2), 1)
+    assert set(np.unique(t.touch)) <= {0.0, 1.0} and t.touch[-1].sum() > 0
+    assert t != plain.trajectory
+
+    # The command line writes the same channels into the life file, and only when asked.
+    h5py = pytest.importorskip("h5py")
+    path = str(tmp_path / "walker.json")
+    robot.save(path)
+    run_cli("simulate", path, "--record", str(tmp_path / "control.h5"), "--fps", "50",
+            "--record-control")
+    run_cli("simulate", path, "--record", str(tmp_path / "plain.h5"), "--fps", "50")
+    with h5py.File(tmp_path / "control.h5", "r") as f:
+        assert f.attrs["control"] == 1
+        for name in plastivox.Trajectory.CONTROL_FIELDS:
+            assert np.array_equal(f[name][()], getattr(t, name)), name
+        assert f["actuation"].attrs["units"] in ("1", b"1")
+    with h5py.File(tmp_path / "plain.h5", "r") as f:
+        assert "control" not in f.attrs and "actuation" not in f
+    # Drawn by its signal from the file; a life recorded without it is refused in one line.
+    run_cli("render", str(tmp_path / "control.h5"), "--color", "actuation", "--time", "0.3",
+            "--size", "64x48", "--out", str(tmp_path / "a.png"))
+    status, _, err = run_cli("render", str(tmp_path / "plain.h5"), "--color", "actuation",
+                             "--out", str(tmp_path / "b.png"), check=False)
+    assert status == 1 and "plain.h5: --color actuation needs the actuation signal" in err
+    status, _, err = run_cli("simulate", path, "--record-control", check=False)
+    assert status == 2 and "--record-control adds the actuation signal" in err
+    with pytest.raises(ValueError, match="record_control: .* give record_fps > 0"):
+        plastivox.simulate(robot, record_control=True)
