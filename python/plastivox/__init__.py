@@ -82,12 +82,12 @@ def _physics(physics):
 
 
 def _with_task(physics, task):
-    """physics with its "task" field set to `task` ("walk", "jump", "turn"; docs/tasks.md),
+    """physics with its "task" field set to `task` ("walk", "jump", "turn", "carry", "push"; docs/tasks.md),
     when given."""
     if task is None:
         return physics
     if not isinstance(task, str):
-        raise TypeError(f"task: expected a task name (walk, jump, turn), got {type(task).__name__}")
+        raise TypeError(f"task: expected a task name (walk, jump, turn, carry, push), got {type(task).__name__}")
     if isinstance(physics, PhysicsDef):
         return physics.replace(task=task)
     if physics is not None and not isinstance(physics, dict):

@@ -51,10 +51,10 @@ void compute(Sensor id, const Model& m, const State& s, const Workspace& w,
       // update_lanes) the penetration of the actuated half-size below z = 0, tilt ignored; in
       // an environment the summed penetrations into the ground and boxes (terrain.cpp).
       for (int i = 0; i < n; ++i) {
-        const double pen = m.def.environment.active()
+        const double pen = m.def.environment.terrain()
                                ? terrain_penetration(m, s.pos[i], 0.5 * s.size[i])
                                : 0.5 * s.size[i] - s.pos[i].z();
-        const bool touch = (m.def.floor || m.def.environment.active()) && pen > 0;
+        const bool touch = (m.def.floor || m.def.environment.terrain()) && pen > 0;
         out[i] = id == Sensor::kTouch ? (touch ? 1.0 : 0.0)
                                       : (touch ? 2.0 * s.stiffness[i] * m.size * pen : 0.0);
       }

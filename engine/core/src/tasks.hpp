@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "plastivox/task.hpp"
 
@@ -11,5 +12,20 @@ namespace plastivox {
 std::unique_ptr<TaskWatch> make_walk_watch(const Model& model);
 std::unique_ptr<TaskWatch> make_jump_watch(const Model& model);
 std::unique_ptr<TaskWatch> make_turn_watch(const Model& model);
+std::unique_ptr<TaskWatch> make_carry_watch(const Model& model);
+std::unique_ptr<TaskWatch> make_push_watch(const Model& model);
+
+// The free objects a task places when the environment gives none (compile() adds them):
+// carry's payload and push's box, sized in voxels and placed from the robot's lattice; none
+// for the other tasks.
+std::vector<ObjectDef> carry_objects(const RobotDef& robot);
+std::vector<ObjectDef> push_objects(const RobotDef& robot);
+std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot);
+
+// Centre of free object k's voxels, m (model.object_begin; equal masses).
+Vec3 object_center(const Model& model, const State& state, int k);
+
+// The bounds of the robot's voxels on its lattice, in sites: lo[a] <= site coordinate <= hi[a].
+void lattice_bounds(const RobotDef& robot, int lo[3], int hi[3]);
 
 }  // namespace plastivox
