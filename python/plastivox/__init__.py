@@ -354,7 +354,9 @@ class Simulator:
     of the simulator's own memory, which follow it as it steps. save_state() gives the state
     as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically).
     robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
-    its robot and physics and step a new one.
+    its robot and physics and step a new one. With free objects in the environment
+    (docs/environments.md) every per-voxel array holds the robot's robot_voxels rows first,
+    then the objects' voxels.
 
     Per-step control (docs/control.md): sensors() gives the sensors of the present step,
     set_actuation(u) sets each voxel's signal in [-1, 1] (held until set again), step()
@@ -455,6 +457,9 @@ class Simulator:
     velocities = property(lambda self: self._core.state_copy("lin_mom") *
                           (1.0 / self._core.voxel_mass))
     stiffness = property(lambda self: self._core.state_copy("stiffness"))
+    robot_voxels = property(lambda self: self._core.robot_voxels,
+                            doc="the robot's voxels: the first rows of every per-voxel array; "
+                                "the rest are the free objects' (docs/environments.md)")
 
     def __reduce__(self):
         raise TypeError("a plastivox.Simulator does not pickle (its state lives in C++); "

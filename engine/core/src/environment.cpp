@@ -133,6 +133,12 @@ HeightField make_height_field(const GroundDef& g) {
   return f;
 }
 
+int64_t object_voxels(const Environment& env) {
+  int64_t voxels = 0;
+  for (const ObjectDef& o : env.objects) voxels += int64_t{o.voxels[0]} * o.voxels[1] * o.voxels[2];
+  return voxels;
+}
+
 void validate(const Environment& env) {
   const auto need = [](bool ok, const std::string& field, const std::string& what) {
     if (!ok) throw std::invalid_argument("physics.environment." + field + ": " + what);

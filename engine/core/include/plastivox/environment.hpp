@@ -115,6 +115,9 @@ HeightField make_height_field(const GroundDef& ground);
 // anything is allocated); -1 when its numbers are not valid.
 int64_t ground_nodes(const GroundDef& ground);
 
+// Voxels of the environment's free objects, all together (0 without objects).
+int64_t object_voxels(const Environment& env);
+
 // Throws std::invalid_argument naming the field ("physics.environment.ground.cell: must be
 // > 0 m", "physics.environment.objects[0].voxels: ...") for a wrong or out-of-bounds
 // definition.
