@@ -5,7 +5,6 @@
 // cases, and bad definitions named by file and field.
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -332,18 +331,16 @@ TEST(ObjectsJson, BadDefinitionsNameTheFileAndField) {
         << env;
 }
 
-TEST(ObjectsJson, ProgramRefusesABadObjectInOneLine) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "pv_objects_test";
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / "bad.json").string();
-  std::ofstream(path) << robot_with_environment(
+class ObjectsCli : public testing::ScratchDirTest {};
+
+TEST_F(ObjectsCli, ProgramRefusesABadObjectInOneLine) {
+  std::ofstream(path("bad.json")) << robot_with_environment(
       R"({"objects": [{"voxels": [1, 1, 1], "at": [0, 0, 0], "stiffness": "hard"}]})");
   const testing::Output out =
-      testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + path + " 2>&1");
+      testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + path("bad.json") + " 2>&1");
   EXPECT_NE(out.status, 0);
-  EXPECT_EQ(out.out, "plastivox simulate: error: " + path +
+  EXPECT_EQ(out.out, "plastivox simulate: error: " + path("bad.json") +
                          ": physics.environment.objects[0].stiffness: expected a number\n");
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

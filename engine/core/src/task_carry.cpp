@@ -11,8 +11,6 @@
 // the environment, compile() places carry_objects(): a slab of 2 x 2 x 1 voxels centred on
 // the body's lattice bounds in x and y, its bottom on their top (it rests on whatever
 // voxels of the body lie under it).
-#include <cmath>
-
 #include "plastivox/simulator.hpp"
 #include "tasks.hpp"
 
@@ -49,18 +47,15 @@ class CarryWatch final : public TaskWatch {
       dropped_ = true;
       return;
     }
-    if (!seen_) settled_ = object_center(m, s, 0), seen_ = true;
-    last_ = object_center(m, s, 0);
+    payload_.add(m, s, 0);
   }
   double score(const Model& m, const State&, const SimResult&) const override {
-    if (!seen_) return 0;
-    return std::hypot(last_.x() - settled_.x(), last_.y() - settled_.y()) / m.size;
+    return payload_.voxel_lengths(m);
   }
 
  private:
-  bool seen_ = false;     // the payload was on the body when settling ended
-  bool dropped_ = false;  // it has touched the ground since
-  Vec3 settled_ = Vec3::Zero(), last_ = Vec3::Zero();  // the payload's centre, m
+  ObjectTravel payload_;  // from the end of settling while on the body (none: never on)
+  bool dropped_ = false;  // it has come near the ground since settling
 };
 
 }  // namespace

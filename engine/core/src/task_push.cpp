@@ -7,8 +7,6 @@
 // centred on the body's lattice bounds along y, its -x face one voxel length beyond the
 // body's +x face. Only the box counts: a body that walks past it, or stands still, scores 0;
 // a box pulled or pushed sideways counts as well.
-#include <cmath>
-
 #include "plastivox/simulator.hpp"
 #include "tasks.hpp"
 
@@ -29,18 +27,14 @@ namespace {
 class PushWatch final : public TaskWatch {
  public:
   void see(const Model& m, const State& s) override {
-    if (!s.settled || m.object_count() == 0) return;
-    if (!seen_) settled_ = object_center(m, s, 0), seen_ = true;
-    last_ = object_center(m, s, 0);
+    if (s.settled && m.object_count() > 0) box_.add(m, s, 0);
   }
   double score(const Model& m, const State&, const SimResult&) const override {
-    if (!seen_) return 0;
-    return std::hypot(last_.x() - settled_.x(), last_.y() - settled_.y()) / m.size;
+    return box_.voxel_lengths(m);
   }
 
  private:
-  bool seen_ = false;
-  Vec3 settled_ = Vec3::Zero(), last_ = Vec3::Zero();  // the box's centre, m
+  ObjectTravel box_;  // from the end of settling
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 // names them (plastivox/task.hpp).
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,21 @@ std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot);
 
 // Centre of free object k's voxels, m (model.object_begin; equal masses).
 Vec3 object_center(const Model& model, const State& state, int k);
+
+// How far free object k's centre moved horizontally, for carry and push: add() each state
+// to count, the first one the start.
+struct ObjectTravel {
+  bool started = false;
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();  // the object's centre, first and last, m
+  void add(const Model& model, const State& state, int k) {
+    to = object_center(model, state, k);
+    if (!started) from = to, started = true;
+  }
+  // |to_xy - from_xy| / L, voxel lengths; 0 before any state.
+  double voxel_lengths(const Model& model) const {
+    return std::hypot(to.x() - from.x(), to.y() - from.y()) / model.size;
+  }
+};
 
 // The bounds of the robot's voxels on its lattice, in sites: lo[a] <= site coordinate <= hi[a].
 void lattice_bounds(const RobotDef& robot, int lo[3], int hi[3]);
