@@ -87,6 +87,30 @@ TEST(Objects, AFarObjectLeavesTheRobotsLifeBitForBit) {
   EXPECT_NE(r.final_state_hash, plain.final_state_hash);  // the state holds the box too
 }
 
+// With self_collision off, the contact search that runs for an object leaves the robot's own
+// pairs out: two unbonded voxels of one robot thrown at each other in space pass through each
+// other as they do without the object (and bounce apart with self_collision on).
+TEST(Objects, WithSelfCollisionOffTheRobotStillPassesThroughItself) {
+  RobotDef r = make_empty_robot(4, 1, 1);
+  for (int x : {0, 3}) r.present[r.site(x, 0, 0)] = 1, r.stiffness[r.site(x, 0, 0)] = 1e9;
+  const auto final_x = [&](bool self_collision, const char* environment) {
+    PhysicsDef d = with_environment(passive_physics(), environment);
+    d.gravity = 0, d.floor = false, d.duration = 0.3;
+    d.self_collision = self_collision;
+    const Model m = compile(r, d);
+    Simulator sim(m);
+    sim.mutable_state().lin_mom[0] = Vec3(m.mass * 0.5, 0, 0);  // at 0.5 m/s along +x
+    run_until(sim, d.duration);
+    return std::vector<double>{sim.state().pos[0].x(), sim.state().pos[1].x()};
+  };
+  const char* far_box = R"({"objects": [{"voxels": [1, 1, 1], "at": [5, 5, 5]}]})";
+  const std::vector<double> alone = final_x(false, "{}");
+  EXPECT_GT(alone[0], alone[1]);  // passed through
+  EXPECT_EQ(final_x(false, far_box), alone);
+  const std::vector<double> colliding = final_x(true, far_box);
+  EXPECT_LT(colliding[0], colliding[1]);  // bounced
+}
+
 // ---- Physics against analytic answers ----
 
 // A 2 x 2 x 2 body thrown at 0.5 m/s along +x at a free box of the same size one voxel away,
