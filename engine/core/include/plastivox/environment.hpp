@@ -67,7 +67,7 @@ struct ObjectDef {
   std::array<int, 3> voxels{1, 1, 1};  // extent along x, y, z, in voxels (each >= 1)
   std::array<double, 3> at{0, 0, 0};   // the box's lowest corner (min x, y, z), m, world frame
   // Young's modulus of its voxels, Pa; 0 (the default): the robot's stiffest congenital
-  // modulus, so the object does not shorten the time step.
+  // modulus, so the object does not shorten the time step at birth.
   double stiffness = 0;
 
   bool operator==(const ObjectDef&) const = default;
