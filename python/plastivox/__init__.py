@@ -83,12 +83,12 @@ def _physics(physics):
 
 
 def _with_task(physics, task):
-    """physics with its "task" field set to `task` ("walk", "jump", "turn"; docs/tasks.md),
+    """physics with its "task" field set to `task` ("walk", "jump", "turn", "carry", "push"; docs/tasks.md),
     when given."""
     if task is None:
         return physics
     if not isinstance(task, str):
-        raise TypeError(f"task: expected a task name (walk, jump, turn), got {type(task).__name__}")
+        raise TypeError(f"task: expected a task name (walk, jump, turn, carry, push), got {type(task).__name__}")
     if isinstance(physics, PhysicsDef):
         return physics.replace(task=task)
     if physics is not None and not isinstance(physics, dict):
@@ -373,7 +373,9 @@ class Simulator:
     of the simulator's own memory, which follow it as it steps. save_state() gives the state
     as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically).
     robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
-    its robot and physics and step a new one.
+    its robot and physics and step a new one. With free objects in the environment
+    (docs/environments.md) every per-voxel array holds the robot's robot_voxels rows first,
+    then the objects' voxels.
 
     Per-step control (docs/control.md): sensors() gives the sensors of the present step,
     set_actuation(u) sets each voxel's signal in [-1, 1] (held until set again), step()
@@ -474,6 +476,9 @@ class Simulator:
     velocities = property(lambda self: self._core.state_copy("lin_mom") *
                           (1.0 / self._core.voxel_mass))
     stiffness = property(lambda self: self._core.state_copy("stiffness"))
+    robot_voxels = property(lambda self: self._core.robot_voxels,
+                            doc="the robot's voxels: the first rows of every per-voxel array; "
+                                "the rest are the free objects' (docs/environments.md)")
 
     def __reduce__(self):
         raise TypeError("a plastivox.Simulator does not pickle (its state lives in C++); "

@@ -109,8 +109,9 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::ob
   for (const PyRobot* r : robots) {
     physics.push_back(resolve_physics(r->physics, physics_arg, treatment));
     if (record_fps > 0)
-      recorded += 2 * recording_bytes(r->def.voxel_count(), physics.back().duration, record_fps,
-                                      record_control);
+      recorded +=
+          2 * recording_bytes(r->def.voxel_count() + object_voxels(physics.back().environment),
+                              physics.back().duration, record_fps, record_control);
   }
   check_recording_size(recorded, "record_fps", limits.recording_mb);
   std::vector<SimResult> results(robots.size());
@@ -280,6 +281,7 @@ void bind_simulate(pyb::module_& m) {
       .def_property_readonly("state_hash",
                              [](const PySimulator& s) { return state_hash(s.state()); })
       .def_property_readonly("voxel_mass", [](const PySimulator& s) { return s.model().mass; })
+      .def_property_readonly("robot_voxels", [](const PySimulator& s) { return s.model().robot_n; })
       .def(
           "state_views",
           [](const pyb::object& self) { return self.cast<const PySimulator&>().state_views(self); })

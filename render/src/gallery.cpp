@@ -146,8 +146,9 @@ GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const Gal
   for (const GalleryEntry& e : entries) {
     if (e.life.frames.size() != 2) throw RenderError("gallery: a champion's frames are missing");
     Item it{e.source, e.life, 0.0, 0.0};
-    const Eigen::Vector3d d =
-        center_of_mass(it.life.frames[1].pos) - center_of_mass(it.life.frames[0].pos);
+    const int robot_n = it.life.model->robot_n;  // the robot's voxels, not the objects'
+    const Eigen::Vector3d d = center_of_mass(it.life.frames[1].pos, robot_n) -
+                              center_of_mass(it.life.frames[0].pos, robot_n);
     it.heading_deg = d.head<2>().norm() > 1e-9 ? std::atan2(d.y(), d.x()) * kRadToDeg : 0.0;
     it.fitness = displacement_so_far(it.life, it.life.frames[1]);
     items.push_back(std::move(it));

@@ -59,7 +59,9 @@ Life take_life(const LifeSource& source, const std::vector<double>& times,
 double displacement_so_far(const Life& life, const Frame& frame) {
   const Model& m = *life.model;
   if (!life.settled || frame.time < m.def.settle_time) return 0;
-  return displacement_since_settling(m, life.com_settled, center_of_mass(frame.pos)).norm();
+  // The robot's centre of mass: the free objects' voxels that follow it are not the robot's.
+  return displacement_since_settling(m, life.com_settled, center_of_mass(frame.pos, m.robot_n))
+      .norm();
 }
 
 }  // namespace plastivox::render

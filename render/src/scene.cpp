@@ -70,7 +70,8 @@ Camera follow_camera(const Model& model, const Frame& frame, double zoom) {
   if (model.n == 0) lo = hi = Eigen::Vector3d::Zero();
   const Eigen::Vector3d dims = (hi - lo).array() + model.size;
   const double extent = dims.maxCoeff();
-  c.target = model.n ? center_of_mass(frame.pos) : Eigen::Vector3d::Zero();
+  // Following the robot (free objects are framed by the extent, not followed).
+  c.target = model.n ? center_of_mass(frame.pos, model.robot_n) : Eigen::Vector3d::Zero();
   c.target.z() = ground_height(model, c.target.x(), c.target.y()) + 0.5 * dims.z();
   const double visible = extent / 0.6 / std::max(zoom, 1e-3);
   c.distance = visible / (2 * std::tan(c.fov_y_deg * kDegToRad / 2));

@@ -186,7 +186,7 @@ std::string pack_life(const ViewerLife& life) {
   for (const Frame& f : frames) {
     put_f32(out, f.time);
     put_f32(out, displacement_so_far(overlay, f));
-    const Eigen::Vector3d com = center_of_mass(f.pos);
+    const Eigen::Vector3d com = center_of_mass(f.pos, m.robot_n);  // the robot's
     for (int a = 0; a < 3; ++a) put_f32(out, com[a]);
   }
   auto f32 = [](double v) { return static_cast<double>(static_cast<float>(v)); };

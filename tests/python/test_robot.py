@@ -266,3 +266,22 @@ def test_an_environment_rides_with_the_physics_through_pickles_and_equality():
     with pytest.raises(ValueError, match="physics.environment: expected a dict"):
         d.environment = 5
     assert d.environment["ground"]["type"] == "flat"  # unchanged by the refused value
+
+
+def test_free_objects_ride_with_the_physics_and_are_not_the_robot():
+    # A 2 x 2 x 2 box one voxel length in front of a 2 x 2 x 1 block: the Simulator's arrays
+    # hold the robot's voxels first, then the box's; the result counts the robot alone.
+    box = {"objects": [{"voxels": [2, 2, 2], "at": [0.03, 0, 0]}]}
+    robot = plastivox.Robot.from_arrays(np.ones((2, 2, 1), bool), np.full((2, 2, 1), 1e7),
+                                        np.zeros((2, 2, 1)))
+    d = plastivox.physics(environment=box, duration=0.3, task="push")
+    assert d.environment == box
+    sim = plastivox.Simulator(robot, physics=d)
+    assert sim.robot_voxels == 4 and sim.positions.shape == (12, 3)
+    assert sim.state["pos"].shape == (12, 3)
+    assert abs(sim.positions[4][0] - 0.035) < 1e-12  # the box's first voxel, after the robot's
+    r = plastivox.simulate(robot, physics=d, record_fps=30)
+    assert r.voxels == 4 and len(r.final_stiffness) == 4 and r.task == "push"
+    assert r.trajectory.positions.shape[1] == 12
+    with pytest.raises(plastivox.InputError, match=r"physics.environment.objects\[0\].voxels"):
+        plastivox.physics(environment={"objects": [{"voxels": [0, 1, 1], "at": [0, 0, 0]}]})

@@ -8,15 +8,66 @@
 #include <string>
 
 #include "plastivox/model.hpp"
+#include "tasks.hpp"  // task_objects
 
 namespace plastivox {
+namespace {
+
+// Appends the free objects' voxels and bonds after the robot's (Model::robot_n): each a box
+// of voxels of the robot's size, x fastest, then y, then z, bonded to its face neighbours,
+// passive and undeveloping; its stiffness is its own or the robot's stiffest congenital one.
+void add_objects(Model& m, const std::vector<ObjectDef>& objects) {
+  m.object_begin.assign(1, m.n);
+  if (objects.empty()) return;
+  double e_robot = 0;
+  for (int i = 0; i < m.robot_n; ++i) e_robot = std::max(e_robot, m.e0[i]);
+  const double L = m.size;
+  for (const ObjectDef& o : objects) {
+    const int first = m.n;
+    const int nx = o.voxels[0], ny = o.voxels[1], nz = o.voxels[2];
+    for (int z = 0; z < nz; ++z)
+      for (int y = 0; y < ny; ++y)
+        for (int x = 0; x < nx; ++x) {
+          m.site.push_back(-1);
+          m.rest_pos.emplace_back(o.at[0] + (x + 0.5) * L, o.at[1] + (y + 0.5) * L,
+                                  o.at[2] + (z + 0.5) * L);
+          m.e0.push_back(o.stiffness > 0 ? o.stiffness : e_robot);
+          m.alpha.push_back(0.0);
+          m.phase.push_back(0.0);
+          m.act_gain.push_back(0.0);
+          m.voxel_bonds.push_back({-1, -1, -1, -1, -1, -1});
+          m.fixed.push_back(0);
+          m.load.push_back(Vec3::Zero());
+          m.n += 1;
+        }
+    const int step[3] = {1, nx, nx * ny};
+    for (int z = 0; z < nz; ++z)
+      for (int y = 0; y < ny; ++y)
+        for (int x = 0; x < nx; ++x) {
+          const int c[3] = {x, y, z};
+          const int i = first + x + nx * (y + ny * z);
+          for (int axis = 0; axis < 3; ++axis) {
+            if (c[axis] + 1 >= o.voxels[axis]) continue;
+            const int j = i + step[axis], b = m.bond_count();
+            m.bond_a.push_back(i);
+            m.bond_b.push_back(j);
+            m.bond_axis.push_back(static_cast<uint8_t>(axis));
+            m.voxel_bonds[i][axis * 2 + 1] = b;
+            m.voxel_bonds[j][axis * 2 + 0] = b;
+          }
+        }
+    m.object_begin.push_back(m.n);
+  }
+}
+
+}  // namespace
 
 Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits) {
   validate(robot, limits);
   validate(def);
   Model m;
   m.def = def;
-  m.terrain = def.environment.active();
+  m.terrain = def.environment.terrain();
   if (m.terrain) m.ground = make_height_field(def.environment.ground);
   const double L = robot.voxel_size;
   m.size = L;
@@ -74,6 +125,11 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   // Bounded in time before anything runs: the stiffest voxel, or e_max if E can grow.
   double e_top = 0;
   for (double e : m.e0) e_top = std::max(e_top, e);
+  m.robot_n = m.n;
+  const std::vector<ObjectDef> objects =
+      def.environment.objects.empty() ? task_objects(def.task, robot) : def.environment.objects;
+  for (const ObjectDef& o : objects)
+    if (o.stiffness > 0) e_top = std::max(e_top, o.stiffness);
   check_life_bounds(def, L, develops ? def.e_max : e_top, limits);
   m.fixed.assign(m.n, 0);
   m.load.assign(m.n, Vec3::Zero());
@@ -97,6 +153,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
       m.voxel_bonds[j][axis * 2 + 0] = b;
     }
   }
+  add_objects(m, objects);
   // Surface voxels and the bond-hop neighbourhoods that self-collision skips.
   m.surface.assign(m.n, 0);
   m.near_voxels.assign(m.n, {});
@@ -104,7 +161,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   std::vector<int> frontier, next, seen;
   for (int i = 0; i < m.n; ++i) {
     for (int b : m.voxel_bonds[i]) m.surface[i] |= (b < 0) ? 1 : 0;
-    if (!m.surface[i] || !def.self_collision) continue;
+    if (!m.surface[i] || !(def.self_collision || m.robot_n < m.n)) continue;
     frontier.assign(1, i);
     seen.assign(1, i);
     depth[i] = 0;

@@ -32,7 +32,7 @@ const std::array<SensorField, kSensorCount> kSensorFields = {{
     {Sensor::kUp, "up", "n x 3", "1", "world",
      "the voxel's own +z axis (unit vector; (0, 0, 1) upright)", true, 3},
     {Sensor::kComVelocity, "com_velocity", "3", "m/s", "world",
-     "velocity of the centre of mass (mean voxel velocity)", false, 3},
+     "velocity of the robot's centre of mass (mean velocity of its voxels)", false, 3},
     {Sensor::kTime, "time", "1", "s", "-", "simulated time at the start of the step", false, 1},
     {Sensor::kPhase, "phase", "1", "cycles", "-",
      "the sine's phase, f t modulo 1, in [0, 1) (0 when act_frequency is 0)", false, 1},
@@ -51,10 +51,10 @@ void compute(Sensor id, const Model& m, const State& s, const Workspace& w,
       // update_lanes) the penetration of the actuated half-size below z = 0, tilt ignored; in
       // an environment the summed penetrations into the ground and boxes (terrain.cpp).
       for (int i = 0; i < n; ++i) {
-        const double pen = m.def.environment.active()
+        const double pen = m.def.environment.terrain()
                                ? terrain_penetration(m, s.pos[i], 0.5 * s.size[i])
                                : 0.5 * s.size[i] - s.pos[i].z();
-        const bool touch = (m.def.floor || m.def.environment.active()) && pen > 0;
+        const bool touch = (m.def.floor || m.def.environment.terrain()) && pen > 0;
         out[i] = id == Sensor::kTouch ? (touch ? 1.0 : 0.0)
                                       : (touch ? 2.0 * s.stiffness[i] * m.size * pen : 0.0);
       }
@@ -82,9 +82,10 @@ void compute(Sensor id, const Model& m, const State& s, const Workspace& w,
       }
       return;
     case Sensor::kComVelocity: {
+      const int body = m.robot_n;  // the free objects that follow are not the robot
       Vec3 p = Vec3::Zero();
-      for (int i = 0; i < n; ++i) p += s.lin_mom[i];
-      const Vec3 v = n > 0 ? Vec3(p / (n * m.mass)) : p;
+      for (int i = 0; i < body; ++i) p += s.lin_mom[i];
+      const Vec3 v = body > 0 ? Vec3(p / (body * m.mass)) : p;
       for (int c = 0; c < 3; ++c) out[c] = v[c];
       return;
     }

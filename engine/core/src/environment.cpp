@@ -133,6 +133,12 @@ HeightField make_height_field(const GroundDef& g) {
   return f;
 }
 
+int64_t object_voxels(const Environment& env) {
+  int64_t voxels = 0;
+  for (const ObjectDef& o : env.objects) voxels += int64_t{o.voxels[0]} * o.voxels[1] * o.voxels[2];
+  return voxels;
+}
+
 void validate(const Environment& env) {
   const auto need = [](bool ok, const std::string& field, const std::string& what) {
     if (!ok) throw std::invalid_argument("physics.environment." + field + ": " + what);
@@ -206,6 +212,23 @@ void validate(const Environment& env) {
            field, "corners must be finite, within 1e6 m");
       need(o.min[a] < o.max[a], field, "min must be below max on every axis");
     }
+  }
+  need(env.objects.size() <= static_cast<size_t>(kMaxObjects), "objects",
+       "more than " + std::to_string(kMaxObjects) + " objects");
+  int64_t voxels = 0;
+  for (size_t b = 0; b < env.objects.size(); ++b) {
+    const ObjectDef& o = env.objects[b];
+    const std::string field = "objects[" + std::to_string(b) + "].";
+    for (int a = 0; a < 3; ++a)
+      need(o.voxels[a] >= 1 && o.voxels[a] <= 1000, field + "voxels",
+           "every extent must be in [1, 1000] voxels");
+    voxels += int64_t{o.voxels[0]} * o.voxels[1] * o.voxels[2];
+    need(voxels <= kMaxObjectVoxels, field + "voxels",
+         "the objects hold more than " + std::to_string(kMaxObjectVoxels) + " voxels");
+    for (int a = 0; a < 3; ++a)
+      need(fin(o.at[a]) && std::abs(o.at[a]) <= big, field + "at", "must be finite, within 1e6 m");
+    need(fin(o.stiffness) && o.stiffness >= 0 && o.stiffness <= 1e12, field + "stiffness",
+         "must be in [0, 1e12] Pa (0: the robot's stiffest voxel's)");
   }
 }
 

@@ -286,7 +286,7 @@ void Simulator::step2(StageTimings* t) {
   s.time += s.dt;
   s.steps += 1;
   if (!s.settled && s.time > m.def.settle_time) {
-    s.com_settled = center_of_mass(s);
+    s.com_settled = body_center_of_mass(m, s);
     s.settled = true;
   }
   if (s.status == SimStatus::kRunning && s.time > m.def.duration) s.status = SimStatus::kFinished;
@@ -386,9 +386,10 @@ class ProgressReport {
   double end_, next_ = 0;
 };
 
-// The centres of mass (final: of s) and the displacement since settling (zero before).
+// The robot's centres of mass (final: of s; free objects left out) and the displacement
+// since settling (zero before).
 void fill_displacement(const Model& model, const State& s, SimResult& r) {
-  r.com_final = center_of_mass(s);
+  r.com_final = body_center_of_mass(model, s);
   r.settled = s.settled;
   r.com_settled = s.settled ? s.com_settled : r.com_final;
   r.displacement = displacement_since_settling(model, r.com_settled, r.com_final);
@@ -397,23 +398,23 @@ void fill_displacement(const Model& model, const State& s, SimResult& r) {
 // The summary of a life from its last state: status, fitness (the task's score of a
 // finished life, else 0), displacement and the lifetime stiffness change (SimResult).
 void summarise(const Model& model, const State& s, const TaskWatch& task, SimResult& r) {
-  r.voxels = model.n;
-  r.status = s.status;  // kRunning for a life ended early by on_frame or frame_times
+  r.voxels = model.robot_n;  // the free objects' voxels are not the robot's
+  r.status = s.status;       // kRunning for a life ended early by on_frame or frame_times
   r.failure = s.failure;
   r.steps = s.steps;
   r.sim_time = s.time;
   r.dt_final = s.dt;
   fill_displacement(model, s, r);
   r.fitness = r.status == SimStatus::kFinished ? task.score(model, s, r) : 0.0;
-  r.final_stiffness = s.stiffness;
+  r.final_stiffness.assign(s.stiffness.begin(), s.stiffness.begin() + model.robot_n);
   double sum = 0, sum_abs = 0, sum_sq = 0;
-  for (int i = 0; i < model.n; ++i) {
+  for (int i = 0; i < model.robot_n; ++i) {
     const double rel = (s.stiffness[i] - model.e0[i]) / model.e0[i];
     sum += rel;
     sum_abs += std::abs(rel);
     sum_sq += rel * rel;
   }
-  const double n = std::max(1, model.n);
+  const double n = std::max(1, model.robot_n);
   r.stiffness_change_mean = sum / n;
   r.stiffness_change_abs_mean = sum_abs / n;
   r.stiffness_change_var =

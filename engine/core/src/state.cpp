@@ -231,9 +231,13 @@ void restore_state(State& s, const std::vector<uint8_t>& snapshot) {
 }
 
 Vec3 center_of_mass(const std::vector<Vec3>& pos) {
+  return center_of_mass(pos, static_cast<int>(pos.size()));
+}
+
+Vec3 center_of_mass(const std::vector<Vec3>& pos, int count) {
   Vec3 c = Vec3::Zero();
-  for (const Vec3& p : pos) c += p;
-  return pos.empty() ? c : Vec3(c / static_cast<double>(pos.size()));
+  for (int i = 0; i < count; ++i) c += pos[i];
+  return count == 0 ? c : Vec3(c / static_cast<double>(count));
 }
 
 const StateField& state_field(std::string_view name) {

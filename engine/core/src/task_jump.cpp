@@ -13,8 +13,8 @@ namespace {
 
 class JumpWatch final : public TaskWatch {
  public:
-  void see(const Model&, const State& s) override {
-    if (s.settled) highest_ = std::max(highest_, center_of_mass(s).z() - s.com_settled.z());
+  void see(const Model& m, const State& s) override {
+    if (s.settled) highest_ = std::max(highest_, body_center_of_mass(m, s).z() - s.com_settled.z());
   }
   double score(const Model& m, const State&, const SimResult&) const override {
     return highest_ / m.size;

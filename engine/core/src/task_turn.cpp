@@ -27,16 +27,16 @@ class TurnWatch final : public TaskWatch {
   void see(const Model& m, const State& s) override {
     if (!s.settled) return;
     if (x0_.empty()) {  // the first state after settling: the layout turns are measured from
-      x0_.resize(m.n);
-      y0_.resize(m.n);
-      for (int i = 0; i < m.n; ++i) {
+      x0_.resize(m.robot_n);
+      y0_.resize(m.robot_n);
+      for (int i = 0; i < m.robot_n; ++i) {
         x0_[i] = s.pos[i].x() - s.com_settled.x();
         y0_[i] = s.pos[i].y() - s.com_settled.y();
       }
     }
-    const Vec3 c = center_of_mass(s);
+    const Vec3 c = body_center_of_mass(m, s);
     double dot = 0, cross = 0;
-    for (int i = 0; i < m.n; ++i) {
+    for (int i = 0; i < m.robot_n; ++i) {
       const double x = s.pos[i].x() - c.x(), y = s.pos[i].y() - c.y();
       dot += x0_[i] * x + y0_[i] * y;
       cross += x0_[i] * y - y0_[i] * x;

@@ -131,12 +131,41 @@ GroundDef parse_ground(const json& g, const std::string& source, const std::stri
   return d;
 }
 
+// "objects": [{"voxels": [nx, ny, nz], "at": [x, y, z], "stiffness": E}, ...]; the
+// ranges are checked by validate(Environment).
+std::vector<ObjectDef> parse_objects(const json& list, const std::string& source,
+                                     const std::string& of) {
+  const char* shape = "expected an array of {\"voxels\": [nx, ny, nz], \"at\": [x, y, z]}";
+  if (!list.is_array()) fail(source, of, shape);
+  if (list.size() > static_cast<size_t>(kMaxObjects))
+    fail(source, of, "more than " + std::to_string(kMaxObjects) + " objects");
+  std::vector<ObjectDef> objects;
+  for (size_t b = 0; b < list.size(); ++b) {
+    const std::string bf = of + "[" + std::to_string(b) + "]";
+    const json& o = list[b];
+    if (!o.is_object()) fail(source, bf, shape);
+    only(o, {"voxels", "at", "stiffness"}, source, bf);
+    if (!o.contains("voxels")) fail(source, bf + ".voxels", "missing (the extent [nx, ny, nz])");
+    if (!o.contains("at")) fail(source, bf + ".at", "missing (the lowest corner [x, y, z], m)");
+    ObjectDef d;
+    const json& v = o["voxels"];
+    if (!v.is_array() || v.size() != 3)
+      fail(source, bf + ".voxels", "expected [nx, ny, nz], whole voxels along x, y and z");
+    for (int a = 0; a < 3; ++a)
+      d.voxels[a] = integer(v[a], source, bf + ".voxels[" + std::to_string(a) + "]", 1, 1000);
+    d.at = numbers<3>(o["at"], source, bf + ".at");
+    if (o.contains("stiffness")) d.stiffness = number(o["stiffness"], source, bf + ".stiffness");
+    objects.push_back(d);
+  }
+  return objects;
+}
+
 }  // namespace
 
 Environment parse_environment(const json& j, const std::string& source, const std::string& field) {
   if (!j.is_object())
-    fail(source, field, "expected an object with \"ground\" and/or \"obstacles\"");
-  only(j, {"ground", "obstacles"}, source, field);
+    fail(source, field, "expected an object with \"ground\", \"obstacles\" and/or \"objects\"");
+  only(j, {"ground", "obstacles", "objects"}, source, field);
   Environment env;
   if (j.contains("ground")) env.ground = parse_ground(j["ground"], source, field + ".ground");
   if (j.contains("obstacles")) {
@@ -158,6 +187,7 @@ Environment parse_environment(const json& j, const std::string& source, const st
       env.obstacles.push_back(box);
     }
   }
+  if (j.contains("objects")) env.objects = parse_objects(j["objects"], source, field + ".objects");
   try {
     validate(env);
   } catch (const std::invalid_argument& e) {
@@ -225,6 +255,15 @@ json environment_to_json(const Environment& env) {
     json list = json::array();
     for (const ObstacleBox& b : env.obstacles) list.push_back({{"min", b.min}, {"max", b.max}});
     out["obstacles"] = list;
+  }
+  if (!env.objects.empty()) {
+    json list = json::array();
+    for (const ObjectDef& o : env.objects) {
+      json e = {{"voxels", o.voxels}, {"at", o.at}};
+      if (o.stiffness != 0) e["stiffness"] = o.stiffness;
+      list.push_back(e);
+    }
+    out["objects"] = list;
   }
   return out;
 }

@@ -1,6 +1,7 @@
 // The world a robot lives in beyond the flat floor (docs/environments.md): a ground given as a
 // height field (an array of heights, or generated: flat, ramp, step, stairs, gap, rough) and
-// static obstacles (axis-aligned boxes). Plain data, in metres, read by the physics
+// static obstacles (axis-aligned boxes), and free objects (passive voxel boxes the robot can
+// push and carry, simulated with it: compile.cpp). Plain data, in metres, read by the physics
 // (contacts: terrain.cpp), the floor health and anyone who draws the world. The default,
 // an empty Environment, is the flat floor z = 0 of PhysicsDef::floor, simulated by the
 // batched floor kernel with the paper's bits; any other environment takes the terrain path.
@@ -58,17 +59,37 @@ struct ObstacleBox {
   bool operator==(const ObstacleBox&) const = default;
 };
 
+// A free object: a passive box of voxels of the robot's own size and density, bonded among
+// themselves, that lies in the world (docs/environments.md, "Free objects"). compile()
+// appends its voxels to the model after the robot's; they are not actuated, do not develop
+// and are no part of the robot's centre of mass or fitness.
+struct ObjectDef {
+  std::array<int, 3> voxels{1, 1, 1};  // extent along x, y, z, in voxels (each >= 1)
+  std::array<double, 3> at{0, 0, 0};   // the box's lowest corner (min x, y, z), m, world frame
+  // Young's modulus of its voxels, Pa; 0 (the default): the robot's stiffest congenital
+  // modulus, so the object does not shorten the time step at birth.
+  double stiffness = 0;
+
+  bool operator==(const ObjectDef&) const = default;
+};
+
 struct Environment {
   GroundDef ground;
   std::vector<ObstacleBox> obstacles;
-  // False for the default (the plain floor): the simulation then runs the floor kernel.
-  bool active() const { return ground.kind != GroundKind::kNone || !obstacles.empty(); }
+  std::vector<ObjectDef> objects;
+  // False for the default (the plain floor): nothing is written to files.
+  bool active() const { return terrain() || !objects.empty(); }
+  // A ground or obstacles: contact then takes the terrain path (terrain.cpp) instead of the
+  // floor kernel. Free objects alone keep the floor kernel.
+  bool terrain() const { return ground.kind != GroundKind::kNone || !obstacles.empty(); }
   bool operator==(const Environment&) const = default;
 };
 
 // Bounds on one environment, so no file allocates without bound.
 constexpr int64_t kMaxGroundNodes = int64_t{1} << 22;  // 4 Mi heights, 32 MB
 constexpr int kMaxObstacles = 4096;
+constexpr int kMaxObjects = 256;
+constexpr int64_t kMaxObjectVoxels = int64_t{1} << 18;  // all objects together
 
 // The ground as the contact reads it: node heights on a grid, bilinear between nodes, the
 // edge heights continued past the grid (one node along an axis: constant along it).
@@ -94,8 +115,12 @@ HeightField make_height_field(const GroundDef& ground);
 // anything is allocated); -1 when its numbers are not valid.
 int64_t ground_nodes(const GroundDef& ground);
 
+// Voxels of the environment's free objects, all together (0 without objects).
+int64_t object_voxels(const Environment& env);
+
 // Throws std::invalid_argument naming the field ("physics.environment.ground.cell: must be
-// > 0 m") for a wrong or out-of-bounds definition.
+// > 0 m", "physics.environment.objects[0].voxels: ...") for a wrong or out-of-bounds
+// definition.
 void validate(const Environment& env);
 
 const char* to_string(GroundKind kind);  // "none", "flat", "heightfield", "ramp", ...

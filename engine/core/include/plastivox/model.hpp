@@ -35,9 +35,17 @@ struct ModelConstants {
 struct Model {
   PhysicsDef def;  // parameters, validated
 
-  int n = 0;           // number of voxels
-  double size = 0;     // nominal voxel edge length L, m
-  double mass = 0;     // per voxel, kg
+  int n = 0;  // number of voxels: the robot's, then the free objects'
+  // Voxels [0, robot_n) are the robot's; [robot_n, n) belong to the free objects
+  // (def.environment.objects, or the task's default ones: task.hpp), object k holding
+  // [object_begin[k], object_begin[k + 1]). Object voxels have site -1, alpha 0, phase 0,
+  // act_gain 0 and bonds of their own only. Without objects robot_n == n. Everything that
+  // speaks of "the robot" (centre of mass, fitness, SimResult::voxels, stiffness change)
+  // reads the first robot_n voxels; the physics and the floor health read all n.
+  int robot_n = 0;
+  std::vector<int> object_begin;  // object count + 1 entries ({robot_n} without objects)
+  double size = 0;                // nominal voxel edge length L, m
+  double mass = 0;                // per voxel, kg
   double inertia = 0;  // per voxel moment of inertia about any centre axis (m L^2 / 6), kg m^2
   ModelConstants k;    // derived from size, mass, inertia and def
 
@@ -75,6 +83,7 @@ struct Model {
   HeightField ground;
 
   int bond_count() const { return static_cast<int>(bond_a.size()); }
+  int object_count() const { return static_cast<int>(object_begin.size()) - 1; }
 };
 
 // Validates robot and physics (std::invalid_argument naming the field) and builds the model.

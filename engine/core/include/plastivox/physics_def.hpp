@@ -29,7 +29,7 @@ enum class GrowthModel { kIntegral, kRate };
 enum class FitnessMode { k3D, kXY };
 // What a life is scored on: the task (plastivox/task.hpp, docs/tasks.md, one file per task
 // in engine/core/src/task_*.cpp). kWalk, the paper's locomotion, is the default.
-enum class Task { kWalk, kJump, kTurn };
+enum class Task { kWalk, kJump, kTurn, kCarry, kPush };
 // Which modulus a bond's *axial* stiffness uses. Bending, torsion, damping and dt always use
 // the harmonic mean. Voxelyze 0.9 (the authors' simulator) used the negative-side voxel's
 // own E for the axial stress of bonds between voxels of one palette material.

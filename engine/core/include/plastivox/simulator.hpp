@@ -158,14 +158,14 @@ struct SimResult {
   Vec3 displacement = Vec3::Zero();  // centre of mass, settle..end, per axis, voxel lengths
   Vec3 com_settled = Vec3::Zero();   // m
   Vec3 com_final = Vec3::Zero();     // m
-  int voxels = 0;
+  int voxels = 0;                    // the robot's (Model::robot_n: free objects not counted)
   int64_t steps = 0;
   double dt_initial = 0;  // s
   double dt_final = 0;    // s
   double sim_time = 0;    // s reached
   double wall_seconds = 0;
   // Lifetime stiffness change, relative: (E_final - E0) / E0 per voxel.
-  std::vector<double> final_stiffness;   // Pa, per voxel
+  std::vector<double> final_stiffness;   // Pa, per robot voxel (the first robot_n)
   double stiffness_change_mean = 0;      // signed mean
   double stiffness_change_abs_mean = 0;  // mean of absolute values
   double stiffness_change_var = 0;       // variance of the signed values

@@ -102,5 +102,11 @@ Vec3 center_of_mass(const std::vector<Vec3>& pos);
 inline Vec3 center_of_mass(const State& state) {
   return center_of_mass(state.pos);
 }
+// Centre of mass of the first `count` centres, m: of the robot, without the free objects that
+// follow it (Model::robot_n), the same bits as center_of_mass(pos) when count is pos.size().
+Vec3 center_of_mass(const std::vector<Vec3>& pos, int count);
+inline Vec3 body_center_of_mass(const Model& model, const State& state) {
+  return center_of_mass(state.pos, model.robot_n);
+}
 
 }  // namespace plastivox

@@ -47,10 +47,10 @@ struct TaskInfo {
 // Every task, in the enum's order.
 const std::vector<TaskInfo>& all_tasks();
 const TaskInfo& task_info(Task task);
-const char* to_string(Task task);  // "walk", "jump", "turn"
-// Throws std::invalid_argument "unknown task 'x' (walk, jump, turn)".
+const char* to_string(Task task);  // "walk", "jump", "turn", "carry", "push"
+// Throws std::invalid_argument "unknown task 'x' (use walk, jump, turn, carry, push)".
 Task parse_task(const std::string& name);
-std::string task_names();  // "walk, jump, turn"
+std::string task_names();  // "walk, jump, turn, carry, push"
 
 // The watch of the model's task (model.def.task) for one life.
 std::unique_ptr<TaskWatch> make_task_watch(const Model& model);

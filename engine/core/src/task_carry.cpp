@@ -1,0 +1,67 @@
+// carry: how far the body carried a payload placed on it, in voxel lengths: the horizontal
+// displacement of the payload's centre (the mean of its voxel centres) from the end of
+// settling to the last step it was still on the body,
+//   |p_xy(t_last) - p_xy(settle)| / L.
+// "On the body" is "off the ground": every payload voxel's centre more than one voxel length
+// above the ground under it (a voxel lying on the ground has its centre half a voxel up). The
+// first step it is not, the payload has fallen: the score keeps what was carried before, and
+// nothing after counts, even if the body picks the payload up again. A payload that is not on
+// the body when settling ends scores 0.
+// The payload is the first free object (docs/environments.md, "Free objects"); without one in
+// the environment, compile() places carry_objects(): a slab of 2 x 2 x 1 voxels centred on
+// the body's lattice bounds in x and y, its bottom on their top (it rests on whatever
+// voxels of the body lie under it).
+#include "plastivox/simulator.hpp"
+#include "tasks.hpp"
+
+namespace plastivox {
+
+std::vector<ObjectDef> carry_objects(const RobotDef& robot) {
+  int lo[3], hi[3];
+  lattice_bounds(robot, lo, hi);
+  const double L = robot.voxel_size;
+  ObjectDef payload;
+  payload.voxels = {2, 2, 1};
+  payload.at = {0.5 * (lo[0] + hi[0] + 1) * L - L, 0.5 * (lo[1] + hi[1] + 1) * L - L,
+                (hi[2] + 1) * L};
+  return {payload};
+}
+
+namespace {
+
+// Whether object k is off the ground: every voxel's centre more than L above the ground.
+bool off_ground(const Model& m, const State& s, int k) {
+  for (int i = m.object_begin[k]; i < m.object_begin[k + 1]; ++i) {
+    const Vec3& x = s.pos[i];
+    const double ground = m.terrain ? m.ground.height(x.x(), x.y()) : 0.0;
+    if (!(x.z() - ground > m.size)) return false;
+  }
+  return true;
+}
+
+class CarryWatch final : public TaskWatch {
+ public:
+  void see(const Model& m, const State& s) override {
+    if (!s.settled || dropped_ || m.object_count() == 0) return;
+    if (!off_ground(m, s, 0)) {
+      dropped_ = true;
+      return;
+    }
+    payload_.add(m, s, 0);
+  }
+  double score(const Model& m, const State&, const SimResult&) const override {
+    return payload_.voxel_lengths(m);
+  }
+
+ private:
+  ObjectTravel payload_;  // from the end of settling while on the body (none: never on)
+  bool dropped_ = false;  // it has come near the ground since settling
+};
+
+}  // namespace
+
+std::unique_ptr<TaskWatch> make_carry_watch(const Model&) {
+  return std::make_unique<CarryWatch>();
+}
+
+}  // namespace plastivox
