@@ -77,7 +77,7 @@ double score_after(const Settled& b, const std::vector<State>& states) {
 }
 
 TEST(Tasks, TableNamesEveryTaskOnceWithAUnitAndFormula) {
-  EXPECT_EQ(task_names(), "walk, jump, turn");
+  EXPECT_EQ(task_names(), "walk, jump, turn, rough, climb, slope, obstacles");
   for (const TaskInfo& t : all_tasks()) {
     EXPECT_EQ(parse_task(t.name), t.task);
     EXPECT_STREQ(to_string(t.task), t.name);
@@ -88,7 +88,7 @@ TEST(Tasks, TableNamesEveryTaskOnceWithAUnitAndFormula) {
   EXPECT_STREQ(task_info(Task::kJump).unit, "voxel lengths");
   EXPECT_EQ(PhysicsDef{}.task, Task::kWalk);  // the paper's task is the default
   EXPECT_EQ(testing::error_of([] { parse_task("fly"); }),
-            "unknown task 'fly' (use walk, jump, turn)");
+            "unknown task 'fly' (use walk, jump, turn, rough, climb, slope, obstacles)");
 }
 
 TEST(Tasks, ABodyThatDoesNotMoveScoresZeroOnEveryTask) {
@@ -210,7 +210,8 @@ TEST(Tasks, RobotFilesWriteTheTaskOnlyWhenNotWalk) {
   EXPECT_EQ(parse_robot_json(text, "t.json").physics.task, Task::kTurn);
   const std::string bad = std::string(text).replace(text.find("\"turn\""), 6, "\"spin\"");
   EXPECT_EQ(testing::error_of([&] { parse_robot_json(bad, "t.json"); }),
-            "t.json: physics.task: unknown task 'spin' (use walk, jump, turn)");
+            "t.json: physics.task: unknown task 'spin' (use walk, jump, turn, rough, climb, slope, "
+            "obstacles)");
 }
 
 TEST(Tasks, EvolveConfigsNameTheTaskAtTheTopLevel) {
@@ -233,12 +234,14 @@ TEST(Tasks, EvolveConfigsNameTheTaskAtTheTopLevel) {
     std::string body, error;
   } bad[] = {
       {R"("task": {"name": "fly"})",
-       "run.json: task.name: unknown task 'fly' (use walk, jump, turn)"},
+       "run.json: task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, slope, "
+       "obstacles)"},
       {R"("task": {"name": "jump", "height": 2})",
-       "run.json: task.height: unknown field (a task has name)"},
+       "run.json: task.height: unknown parameter of jump (it has none)"},
       {R"("task": {})", "run.json: task.name: missing"},
       {R"("task": 3)",
-       "run.json: task: expected {\"name\": ...} or a task name (walk, jump, turn)"},
+       "run.json: task: expected {\"name\": ...} or a task name (walk, jump, turn, rough, climb, "
+       "slope, obstacles)"},
       {R"("physics": {"task": "jump"})",
        "run.json: physics.task: set the task at the top level (\"task\": {\"name\": ...})"},
   };
@@ -266,7 +269,8 @@ TEST(Tasks, ExperimentConfigsNameTheTaskForEveryRun) {
   EXPECT_EQ(testing::error_of([&] {
               parse_experiment_config(head + R"(, "task": {"name": "fly"}})", "study.json");
             }),
-            "study.json: task.name: unknown task 'fly' (use walk, jump, turn)");
+            "study.json: task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, slope, "
+            "obstacles)");
   EXPECT_EQ(testing::error_of([&] {
               parse_experiment_config(head + R"(, "task": "jump", "evolution": {"task": "jump"}})",
                                       "study.json");
@@ -289,19 +293,22 @@ TEST_F(TasksCli, UnknownTaskIsOneLineAndANonZeroExit) {
   Output o = run("simulate --task fly --duration 0.1");
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.out,
-            "plastivox simulate: --task: unknown task 'fly' (use walk, jump, turn) (plastivox "
+            "plastivox simulate: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
+            "slope, obstacles) (plastivox "
             "simulate --help lists the options)\n");
   o = run("evolve --config x.json --out x.h5 --task fly");
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.out,
-            "plastivox evolve: --task: unknown task 'fly' (use walk, jump, turn) (plastivox "
+            "plastivox evolve: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
+            "slope, obstacles) (plastivox "
             "evolve --help lists the options)\n");
   const std::string cfg = write("run.json", R"({"format": "plastivox-evolve-config",
       "version": 1, "task": {"name": "fly"}})");
   o = run("evolve --config " + cfg + " --out " + path("run.h5"));
   EXPECT_EQ(o.status, 1);
   EXPECT_EQ(o.out, "plastivox evolve: error: " + cfg +
-                       ": task.name: unknown task 'fly' (use walk, jump, turn)\n");
+                       ": task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, "
+                       "slope, obstacles)\n");
 }
 
 TEST_F(TasksCli, SimulateScoresTheTaskItIsGiven) {

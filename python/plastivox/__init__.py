@@ -82,12 +82,13 @@ def _physics(physics):
 
 
 def _with_task(physics, task):
-    """physics with its "task" field set to `task` ("walk", "jump", "turn"; docs/tasks.md),
+    """physics with its "task" field set to `task` ("walk", "jump", "turn", ...; docs/tasks.md),
     when given."""
     if task is None:
         return physics
     if not isinstance(task, str):
-        raise TypeError(f"task: expected a task name (walk, jump, turn), got {type(task).__name__}")
+        raise TypeError("task: expected a task name (walk, jump, turn, rough, climb, slope, "
+                        f"obstacles), got {type(task).__name__}")
     if isinstance(physics, PhysicsDef):
         return physics.replace(task=task)
     if physics is not None and not isinstance(physics, dict):
@@ -311,7 +312,8 @@ def simulate(robot, physics=None, treatment=None, record_fps=0, task=None):
     robot's own physics; treatment (overrides both): "none", "stress", "pressure",
     "strain", "strain_energy", "contact" or "kinetic"; record_fps > 0 records a
     Trajectory; task (overrides physics["task"]): what fitness measures, "walk" (the
-    default), "jump" or "turn" (docs/tasks.md)."""
+    default), "jump", "turn", "rough", "climb", "slope" or "obstacles" (docs/tasks.md; a
+    task's parameters go in physics["task"] = {"name": ..., ...})."""
     robot = _as_robot(robot)
     physics = _with_task(physics, task)
     summary, traj, cxx_seconds = _core.simulate(robot._core, _physics(physics),
