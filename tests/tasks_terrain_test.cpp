@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "experiment/experiment_config.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/robot_file.hpp"
@@ -195,6 +196,20 @@ TEST(TerrainTasks, ObstacleFieldLeavesTheStartOpenAndIsSeeded) {
   EXPECT_LT(big.def.environment.obstacles.size(), boxes.size());
 }
 
+// The parameters' bounds keep every default environment within the environment's own (height
+// nodes, boxes) around the widest body a lattice holds (100 sites).
+TEST(TerrainTasks, TheLargestDefaultEnvironmentsStayWithinBounds) {
+  const RobotDef wide = block(100, 1, 1, 1e6);
+  const std::pair<Task, TaskParams> extremes[] = {
+      {Task::kRough, {{"cell", 0.25}}},
+      {Task::kClimb, {{"count", 20}, {"run", 10}}},
+      {Task::kSlope, {{"length", 100}}},
+      {Task::kObstacles, {{"spacing", 1}, {"size", 0.25}}},
+  };
+  for (const auto& [task, params] : extremes)
+    EXPECT_NO_THROW(compile(wide, physics_of(task, params))) << to_string(task);
+}
+
 TEST(TerrainTasks, AGivenEnvironmentIsUsedAsGiven) {
   for (Task t : {Task::kRough, Task::kClimb, Task::kSlope, Task::kObstacles}) {
     PhysicsDef d = physics_of(t);
@@ -327,6 +342,19 @@ TEST(TerrainTasks, BadTaskDefinitionsAreOneLineNamingTheFileAndField) {
             "r.json: physics.task.spacing: must be in [1, 20] voxel lengths");
 }
 
+// One experiment preset per task (assets/presets/experiment-<task>.json), on its default
+// environment.
+TEST(TerrainTasks, EveryTaskHasAnExperimentPreset) {
+  for (const TaskInfo& t : all_tasks()) {
+    if (t.task == Task::kWalk) continue;  // the default preset's
+    const experiment::ExperimentConfig c = experiment::preset_config(t.name);
+    const evo::EvolveConfig run = c.run_config(Treatment::kStress, 1);
+    EXPECT_EQ(run.physics.task, t.task) << t.name;
+    EXPECT_FALSE(run.physics.environment.active()) << t.name;  // the task's own
+    EXPECT_EQ(c.treatments.size(), 3u);
+  }
+}
+
 class TerrainTasksCli : public testing::ScratchDirTest {
  protected:
   static Output run(const std::string& args) {
@@ -378,6 +406,19 @@ TEST_F(TerrainTasksCli, EvolutionRecordsTheTaskWithItsParameters) {
   EXPECT_EQ(f.state.config.physics.task, Task::kClimb);
   const TaskParams want = {{"rise", 0.25}};
   EXPECT_EQ(f.state.config.physics.task_params, want);
+  // The analysis names the task and its environment, in the report and stats.json.
+  const Output a = run("analyze " + out + " --out " + path("analysis"));
+  ASSERT_EQ(a.status, 0) << a.out;
+  const std::string env =
+      "climb's default, terraces: count steps of height rise, one every run, rising away from "
+      "the start every way (rise 0.25, run 3, count 8; lengths in voxel lengths)";
+  const nlohmann::json stats =
+      nlohmann::json::parse(testing::file_text(path("analysis/stats.json")));
+  EXPECT_EQ(stats.at("audit").at("task"), "climb");
+  EXPECT_EQ(stats.at("audit").at("environment"), env);
+  const std::string report = testing::file_text(path("analysis/report.html"));
+  EXPECT_NE(report.find("The task is <b>climb</b>, on climb&#39;s default, terraces"),
+            std::string::npos);
 }
 
 }  // namespace

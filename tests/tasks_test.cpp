@@ -360,13 +360,15 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   o = run("analyze " + out + " --out " + path("analysis"));
   ASSERT_EQ(o.status, 0) << o.out;
   const std::string report = testing::file_text(path("analysis/report.html"));
-  EXPECT_NE(report.find("The task is <b>jump</b> (docs/tasks.md). Fitness is the highest rise of "
-                        "the centre of mass above its settled height, in voxel lengths."),
+  EXPECT_NE(report.find("The task is <b>jump</b>, on flat floor with friction (docs/tasks.md). "
+                        "Fitness is the highest rise of the centre of mass above its settled "
+                        "height, in voxel lengths."),
             std::string::npos);
   const nlohmann::json stats =
       nlohmann::json::parse(testing::file_text(path("analysis/stats.json")));
   EXPECT_EQ(stats.at("audit").at("task"), "jump");
   EXPECT_EQ(stats.at("audit").at("fitness_unit"), "voxel lengths");
+  EXPECT_EQ(stats.at("audit").at("environment"), "flat floor with friction");
 }
 
 }  // namespace

@@ -34,16 +34,17 @@ const std::vector<TaskInfo>& all_tasks() {
        "max(0, |c_xy(T) - c_xy(settle)| + w (h(c(T)) - h(c(settle)))) / L: horizontal "
        "displacement plus w times the rise of the ground under the centre of mass",
        make_climb_watch, climb_params(), climb_environment,
-       "terraces: steps of `rise` every `run` rising away from the start in every direction"},
+       "terraces: count steps of height rise, one every run, rising away from the start every way"},
       {Task::kSlope, "slope", "voxel lengths",
        "max(0, h(c(T)) - h(c(settle))) / L: the rise of the ground under the centre of mass",
        make_slope_watch, slope_params(), slope_environment,
-       "a pit: ramps at `angle_deg` rising away from the start in every direction"},
+       "a pit: ramps at angle_deg rising away from the start every way for length"},
       {Task::kObstacles, "obstacles", "voxel lengths",
        "|c_xy(T) - c_xy(settle)| / L: the centre of mass's horizontal displacement through a "
        "field of static blocks",
        make_obstacles_watch, obstacles_params(), obstacles_environment,
-       "a field of static blocks, one at a seeded place in every `spacing` square"},
+       "a field of static blocks, height by size by size, one at a seeded place in every square "
+       "of side spacing"},
   };
   return tasks;
 }

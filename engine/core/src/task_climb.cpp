@@ -10,7 +10,8 @@
 // from the start in every direction (square rings: the height is a function of the distance
 // along the larger of x and y), each riser one node spacing (a quarter voxel) wide. Any way
 // a body walks it meets a step. With a given environment (`step` or `stairs`,
-// docs/environments.md) the same fitness reads its ground.
+// docs/environments.md) the same fitness reads its ground. The bounds on count and run
+// keep the grid within kMaxGroundNodes around the largest lattice's footprint.
 #include <algorithm>
 #include <cmath>
 
@@ -36,7 +37,7 @@ std::unique_ptr<TaskWatch> make_climb_watch(const Model&) {
 
 std::vector<TaskParam> climb_params() {
   return {{"rise", 0.5, 0.05, 5, "voxel lengths"},
-          {"run", 3, 0.5, 20, "voxel lengths"},
+          {"run", 3, 0.5, 10, "voxel lengths"},
           {"count", 8, 1, 20, "", true},
           {"height_weight", 4, 0, 100, "", false, false}};
 }
