@@ -277,6 +277,7 @@ void bind_physics(pyb::module_& m) {
         [f](PhysicsDef& d, const pyb::object& v) {
           PhysicsDef changed = d;
           set_field(changed, *f, v);
+          if (changed.task != d.task) changed.task_params.clear();  // the other task's
           validate(changed);
           d = changed;
         });

@@ -339,3 +339,14 @@ def test_terrain_task_with_parameters_is_the_clis():
         plastivox.simulate(walker, physics={"duration": 0.6, "task": {"name": "rough"}}).fitness
     with pytest.raises(Exception, match=r"physics.task.rise: must be in \[0.05, 5\] voxel lengths"):
         plastivox.simulate(walker, physics={"task": {"name": "climb", "rise": 9}})
+    # A PhysicsDef carries the parameters (as files write them) through a pickle; another
+    # task drops them.
+    import pickle
+    p = plastivox.PhysicsDef(task=climb)
+    assert p.to_dict()["task"] == {"name": "climb", "rise": 1.0, "count": 3.0}
+    assert pickle.loads(pickle.dumps(p)) == p
+    assert p != plastivox.PhysicsDef(task="climb")
+    assert p.replace(task="rough").to_dict()["task"] == "rough"
+    q = plastivox.PhysicsDef(task=climb)
+    q.task = "slope"
+    assert q.to_dict()["task"] == "slope"
