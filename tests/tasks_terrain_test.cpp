@@ -410,14 +410,14 @@ TEST_F(TerrainTasksCli, EvolutionRecordsTheTaskWithItsParameters) {
   const Output a = run("analyze " + out + " --out " + path("analysis"));
   ASSERT_EQ(a.status, 0) << a.out;
   const std::string env =
-      "climb's default, terraces: count steps of height rise, one every run, rising away from "
+      "the default of climb: terraces: count steps of height rise, one every run, rising away from "
       "the start every way (rise 0.25, run 3, count 8; lengths in voxel lengths)";
   const nlohmann::json stats =
       nlohmann::json::parse(testing::file_text(path("analysis/stats.json")));
   EXPECT_EQ(stats.at("audit").at("task"), "climb");
   EXPECT_EQ(stats.at("audit").at("environment"), env);
   const std::string report = testing::file_text(path("analysis/report.html"));
-  EXPECT_NE(report.find("The task is <b>climb</b>, on climb&#39;s default, terraces"),
+  EXPECT_NE(report.find("The task is <b>climb</b>, on the default of climb: terraces"),
             std::string::npos);
 }
 

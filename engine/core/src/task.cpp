@@ -150,7 +150,7 @@ std::string environment_text(const PhysicsDef& def) {
     return s;
   }
   if (!t.environment) return t.environment_text;
-  std::string s = std::string(t.name) + "'s default, " + t.environment_text + " (";
+  std::string s = "the default of " + std::string(t.name) + ": " + t.environment_text + " (";
   for (size_t i = 0; i < t.params.size(); ++i)
     if (t.params[i].ground)
       s += std::string(i ? ", " : "") + t.params[i].name + " " +
