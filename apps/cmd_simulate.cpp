@@ -135,9 +135,13 @@ int cmd_simulate(const Args& in) {
     physics = *preset_physics;
     physics.treatment = robot_physics.treatment;
     physics.task = robot_physics.task;
+    physics.task_params = robot_physics.task_params;
   }
   if (treatment_given) physics.treatment = *treatment_given;
-  if (task_given) physics.task = *task_given;
+  if (task_given && *task_given != physics.task) {  // the file's parameters were its task's
+    physics.task = *task_given;
+    physics.task_params.clear();
+  }
   if (!duration.empty()) physics.duration = duration_s;
   if (!overrides.empty()) {
     apply_physics_json(overrides, "--physics", physics);

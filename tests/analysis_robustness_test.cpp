@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "plastivox/analysis/robustness.hpp"
+#include "plastivox/task.hpp"
 #include "test_support.hpp"
 
 namespace plastivox::analysis {
@@ -56,6 +57,28 @@ TEST(Robustness, FTrainIsTheFitnessWithoutDevelopment) {
   EXPECT_EQ(r.f_train, simulate(compile(robot, none)).fitness);
   EXPECT_EQ(without_development(robot).dev_rate, std::vector<double>(robot.sites(), 0.0));
   EXPECT_EQ(robustness_physics(short_life()).treatment, Treatment::kNone);
+}
+
+// Every task: the champion is re-simulated under its own task, parameters and so environment
+// (the terrain tasks' default grounds are made from them, plastivox/task.hpp), each draw too.
+TEST(Robustness, UsesTheChampionsTaskAndEnvironment) {
+  const RobotDef robot = walker(1e8);
+  for (const TaskInfo& t : all_tasks()) {
+    PhysicsDef p = short_life();
+    p.task = t.task;
+    if (t.task == Task::kClimb) p.task_params = {{"rise", 0.25}};
+    RobustnessOptions o;
+    o.draws = 2;
+    const RobustnessResult r = robustness(robot, p, o);
+    const PhysicsDef none = robustness_physics(p);
+    EXPECT_EQ(none.task, t.task);
+    EXPECT_EQ(none.task_params, p.task_params);
+    const Model trained = compile(without_development(robot), none);
+    EXPECT_EQ(trained.terrain, t.environment != nullptr) << t.name;
+    EXPECT_EQ(r.f_train, simulate(trained).fitness) << t.name;
+    const RobotDef drawn = robustness_draw(robot, p, o, 1);
+    EXPECT_EQ(r.draws[1].f_test, simulate(compile(drawn, none)).fitness) << t.name;
+  }
 }
 
 TEST(Robustness, DrawsAreReproducibleBySeedAndIndependentOfThreads) {

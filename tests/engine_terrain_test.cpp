@@ -68,7 +68,9 @@ void expect_rests_at(const std::string& env, double surface) {
   const double E = 1e8, L = 0.01;
   const Model m = compile(block(2, 2, 1, E), with_environment(d, env));
   Simulator sim(m);
-  for (Vec3& p : sim.mutable_state().pos) p.z() += surface + 0.002;
+  // Placed resting on the ground (compile), not on a box: dropped 2 mm onto the surface.
+  const double placed = m.rest_pos[0].z() - 0.5 * L;
+  for (Vec3& p : sim.mutable_state().pos) p.z() += surface - placed + 0.002;
   run_until(sim, d.duration);
   const State& s = sim.state();
   ASSERT_EQ(s.status, SimStatus::kFinished) << s.failure;
@@ -117,7 +119,8 @@ std::vector<double> slide_on_ramp(double theta_deg, const std::vector<double>& t
   const Vec3 normal = turn * Vec3::UnitZ();
   const Vec3 foot(0, 0, 0.5 * std::tan(theta));  // the ramp's surface at x = 0
   for (int i = 0; i < m.n; ++i) {
-    s.pos[i] = foot + turn * m.rest_pos[i] - pen * normal;
+    const Vec3 lattice = m.rest_pos[i] - Vec3(0, 0, m.rest_pos[0].z() - 0.5 * L);  // on z = 0
+    s.pos[i] = foot + turn * lattice - pen * normal;
     s.orient[i] = Quat(turn);
   }
   const Vec3 down = turn * -Vec3::UnitX();

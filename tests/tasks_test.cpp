@@ -77,7 +77,7 @@ double score_after(const Settled& b, const std::vector<State>& states) {
 }
 
 TEST(Tasks, TableNamesEveryTaskOnceWithAUnitAndFormula) {
-  EXPECT_EQ(task_names(), "walk, jump, turn, carry, push");
+  EXPECT_EQ(task_names(), "walk, jump, turn, rough, climb, slope, obstacles, carry, push");
   for (const TaskInfo& t : all_tasks()) {
     EXPECT_EQ(parse_task(t.name), t.task);
     EXPECT_STREQ(to_string(t.task), t.name);
@@ -87,8 +87,9 @@ TEST(Tasks, TableNamesEveryTaskOnceWithAUnitAndFormula) {
   EXPECT_STREQ(task_info(Task::kTurn).unit, "rad");
   EXPECT_STREQ(task_info(Task::kJump).unit, "voxel lengths");
   EXPECT_EQ(PhysicsDef{}.task, Task::kWalk);  // the paper's task is the default
-  EXPECT_EQ(testing::error_of([] { parse_task("fly"); }),
-            "unknown task 'fly' (use walk, jump, turn, carry, push)");
+  EXPECT_EQ(
+      testing::error_of([] { parse_task("fly"); }),
+      "unknown task 'fly' (use walk, jump, turn, rough, climb, slope, obstacles, carry, push)");
 }
 
 TEST(Tasks, ABodyThatDoesNotMoveScoresZeroOnEveryTask) {
@@ -210,7 +211,8 @@ TEST(Tasks, RobotFilesWriteTheTaskOnlyWhenNotWalk) {
   EXPECT_EQ(parse_robot_json(text, "t.json").physics.task, Task::kTurn);
   const std::string bad = std::string(text).replace(text.find("\"turn\""), 6, "\"spin\"");
   EXPECT_EQ(testing::error_of([&] { parse_robot_json(bad, "t.json"); }),
-            "t.json: physics.task: unknown task 'spin' (use walk, jump, turn, carry, push)");
+            "t.json: physics.task: unknown task 'spin' (use walk, jump, turn, rough, climb, slope, "
+            "obstacles, carry, push)");
 }
 
 TEST(Tasks, EvolveConfigsNameTheTaskAtTheTopLevel) {
@@ -233,12 +235,14 @@ TEST(Tasks, EvolveConfigsNameTheTaskAtTheTopLevel) {
     std::string body, error;
   } bad[] = {
       {R"("task": {"name": "fly"})",
-       "run.json: task.name: unknown task 'fly' (use walk, jump, turn, carry, push)"},
+       "run.json: task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, slope, "
+       "obstacles, carry, push)"},
       {R"("task": {"name": "jump", "height": 2})",
-       "run.json: task.height: unknown field (a task has name)"},
+       "run.json: task.height: unknown parameter of jump (it has none)"},
       {R"("task": {})", "run.json: task.name: missing"},
       {R"("task": 3)",
-       "run.json: task: expected {\"name\": ...} or a task name (walk, jump, turn, carry, push)"},
+       "run.json: task: expected {\"name\": ...} or a task name (walk, jump, turn, rough, climb, "
+       "slope, obstacles, carry, push)"},
       {R"("physics": {"task": "jump"})",
        "run.json: physics.task: set the task at the top level (\"task\": {\"name\": ...})"},
   };
@@ -266,7 +270,8 @@ TEST(Tasks, ExperimentConfigsNameTheTaskForEveryRun) {
   EXPECT_EQ(testing::error_of([&] {
               parse_experiment_config(head + R"(, "task": {"name": "fly"}})", "study.json");
             }),
-            "study.json: task.name: unknown task 'fly' (use walk, jump, turn, carry, push)");
+            "study.json: task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, slope, "
+            "obstacles, carry, push)");
   EXPECT_EQ(testing::error_of([&] {
               parse_experiment_config(head + R"(, "task": "jump", "evolution": {"task": "jump"}})",
                                       "study.json");
@@ -289,19 +294,22 @@ TEST_F(TasksCli, UnknownTaskIsOneLineAndANonZeroExit) {
   Output o = run("simulate --task fly --duration 0.1");
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.out,
-            "plastivox simulate: --task: unknown task 'fly' (use walk, jump, turn, carry, push) (plastivox "
+            "plastivox simulate: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
+            "slope, obstacles, carry, push) (plastivox "
             "simulate --help lists the options)\n");
   o = run("evolve --config x.json --out x.h5 --task fly");
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.out,
-            "plastivox evolve: --task: unknown task 'fly' (use walk, jump, turn, carry, push) (plastivox "
+            "plastivox evolve: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
+            "slope, obstacles, carry, push) (plastivox "
             "evolve --help lists the options)\n");
   const std::string cfg = write("run.json", R"({"format": "plastivox-evolve-config",
       "version": 1, "task": {"name": "fly"}})");
   o = run("evolve --config " + cfg + " --out " + path("run.h5"));
   EXPECT_EQ(o.status, 1);
   EXPECT_EQ(o.out, "plastivox evolve: error: " + cfg +
-                       ": task.name: unknown task 'fly' (use walk, jump, turn, carry, push)\n");
+                       ": task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, "
+                       "slope, obstacles, carry, push)\n");
 }
 
 TEST_F(TasksCli, SimulateScoresTheTaskItIsGiven) {
@@ -353,13 +361,15 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   o = run("analyze " + out + " --out " + path("analysis"));
   ASSERT_EQ(o.status, 0) << o.out;
   const std::string report = testing::file_text(path("analysis/report.html"));
-  EXPECT_NE(report.find("The task is <b>jump</b> (docs/tasks.md). Fitness is the highest rise of "
-                        "the centre of mass above its settled height, in voxel lengths."),
+  EXPECT_NE(report.find("The task is <b>jump</b>, on flat floor with friction (docs/tasks.md). "
+                        "Fitness is the highest rise of the centre of mass above its settled "
+                        "height, in voxel lengths."),
             std::string::npos);
   const nlohmann::json stats =
       nlohmann::json::parse(testing::file_text(path("analysis/stats.json")));
   EXPECT_EQ(stats.at("audit").at("task"), "jump");
   EXPECT_EQ(stats.at("audit").at("fitness_unit"), "voxel lengths");
+  EXPECT_EQ(stats.at("audit").at("environment"), "flat floor with friction");
 }
 
 }  // namespace

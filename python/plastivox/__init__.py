@@ -83,12 +83,13 @@ def _physics(physics):
 
 
 def _with_task(physics, task):
-    """physics with its "task" field set to `task` ("walk", "jump", "turn", "carry", "push"; docs/tasks.md),
+    """physics with its "task" field set to `task` ("walk", "jump", "turn", ...; docs/tasks.md),
     when given."""
     if task is None:
         return physics
     if not isinstance(task, str):
-        raise TypeError(f"task: expected a task name (walk, jump, turn, carry, push), got {type(task).__name__}")
+        raise TypeError("task: expected a task name (walk, jump, turn, rough, climb, slope, "
+                        f"obstacles, carry, push), got {type(task).__name__}")
     if isinstance(physics, PhysicsDef):
         return physics.replace(task=task)
     if physics is not None and not isinstance(physics, dict):
@@ -326,9 +327,10 @@ def simulate(robot, physics=None, treatment=None, record_fps=0, task=None, recor
     robot's own physics; treatment (overrides both): "none", "stress", "pressure",
     "strain", "strain_energy", "contact" or "kinetic"; record_fps > 0 records a
     Trajectory; task (overrides physics["task"]): what fitness measures, "walk" (the
-    default), "jump" or "turn" (docs/tasks.md); record_control: the Trajectory also carries
-    the actuation signal and the sensors (needs record_fps > 0; the life's bits are
-    unchanged)."""
+    default), "jump", "turn", "rough", "climb", "slope", "obstacles", "carry" or "push"
+    (docs/tasks.md; a task's parameters go in physics["task"] = {"name": ..., ...});
+    record_control: the Trajectory also carries the actuation signal and the sensors (needs
+    record_fps > 0; the life's bits are unchanged)."""
     robot = _as_robot(robot)
     physics = _with_task(physics, task)
     summary, traj, cxx_seconds = _core.simulate(robot._core, _physics(physics),

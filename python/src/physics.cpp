@@ -60,6 +60,20 @@ void set_environment(PhysicsDef& d, const pyb::handle& v) {
   d.environment = with.environment;
 }
 
+// A task with parameters ({"name": "climb", "rise": 1}, docs/tasks.md), read by the robot
+// file's reader; a name alone goes through kPhysicsFields like any choice (and drops the
+// parameters of another task).
+void set_task_with_params(PhysicsDef& d, const pyb::handle& v) {
+  const std::string text = pyb::module_::import("json")
+                               .attr("dumps")(pyb::dict{pyb::arg("task") = v})
+                               .cast<std::string>();
+  PhysicsDef with = d;
+  with.environment = Environment{};           // checked with the whole, later
+  apply_physics_json(text, "physics", with);  // InputError naming physics.task.<field>
+  d.task = with.task;
+  d.task_params = with.task_params;
+}
+
 // Sets one field from a Python value of its kind (numpy scalars included). Throws
 // std::invalid_argument (ValueError) naming "physics.<field>"; does not validate the whole.
 void set_field(PhysicsDef& d, const PhysicsField& f, const pyb::handle& v) {
@@ -148,13 +162,19 @@ PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
       set_environment(d, value);
       continue;
     }
+    if (name == "task" && pyb::isinstance<pyb::dict>(value)) {
+      set_task_with_params(d, value);
+      continue;
+    }
     if (name == "treatment" && pyb::isinstance<pyb::dict>(value)) {
       set_treatment_and_law(d, value.cast<pyb::dict>(), fields);
       continue;
     }
     const PhysicsField* f = find_field(name);
     if (!f) throw InputError("physics." + name + ": unknown field");
+    const Task before = d.task;
     set_field(d, *f, value);
+    if (d.task != before) d.task_params.clear();  // they were the other task's
   }
   validate(d);
   return d;
@@ -164,13 +184,15 @@ pyb::dict to_dict(const PhysicsDef& d) {
   pyb::dict out;
   for (const PhysicsField& f : kPhysicsFields) out[f.name] = field_value(d, f);
   if (d.environment.active()) out["environment"] = environment_value(d);  // as files write it
+  if (!d.task_params.empty())  // {"name": ..., parameters}, as files write it
+    out["task"] = pyb::module_::import("json").attr("loads")(physics_to_json(d))["task"];
   return out;
 }
 
 }  // namespace
 
 bool same_physics(const PhysicsDef& a, const PhysicsDef& b) {
-  if (!(a.environment == b.environment)) return false;
+  if (!(a.environment == b.environment) || a.task_params != b.task_params) return false;
   for (const PhysicsField& f : kPhysicsFields) {
     switch (f.kind) {
       case PhysicsField::Kind::kNumber:
@@ -191,7 +213,8 @@ bool same_physics(const PhysicsDef& a, const PhysicsDef& b) {
 }
 
 void hash_physics(const PhysicsDef& d, Hasher& h) {
-  if (d.environment.active()) h.str(physics_to_json(d));  // the flat floor hashes as before
+  // The flat floor and a task without parameters hash as before.
+  if (d.environment.active() || !d.task_params.empty()) h.str(physics_to_json(d));
   for (const PhysicsField& f : kPhysicsFields) {
     h.str(f.name);
     switch (f.kind) {
@@ -254,6 +277,7 @@ void bind_physics(pyb::module_& m) {
         [f](PhysicsDef& d, const pyb::object& v) {
           PhysicsDef changed = d;
           set_field(changed, *f, v);
+          if (changed.task != d.task) changed.task_params.clear();  // the other task's
           validate(changed);
           d = changed;
         });

@@ -322,3 +322,31 @@ def test_task_is_the_clis_and_leaves_the_life_alone():
         assert many[0].fitness == r.fitness
     with pytest.raises(Exception, match="physics.task: unknown task 'fly'"):
         plastivox.simulate(walker, task="fly")
+
+
+def test_terrain_task_with_parameters_is_the_clis():
+    # docs/tasks.md: a task's parameters go in physics["task"]; its default ground is made
+    # from them, as on the command line.
+    walker = plastivox.demo_walker()
+    climb = {"name": "climb", "rise": 1, "count": 3}
+    physics = {"duration": 0.6, "task": climb}
+    r = plastivox.simulate(walker, physics=physics)
+    cli = cli_json("simulate", "--duration", "0.6", "--json", "--physics",
+                   json.dumps({"task": climb}))
+    same_science(r, cli)
+    assert r.to_dict()["task"] == "climb"
+    assert plastivox.simulate(walker, physics={"duration": 0.6, "task": "rough"}).fitness == \
+        plastivox.simulate(walker, physics={"duration": 0.6, "task": {"name": "rough"}}).fitness
+    with pytest.raises(Exception, match=r"physics.task.rise: must be in \[0.05, 5\] voxel lengths"):
+        plastivox.simulate(walker, physics={"task": {"name": "climb", "rise": 9}})
+    # A PhysicsDef carries the parameters (as files write them) through a pickle; another
+    # task drops them.
+    import pickle
+    p = plastivox.PhysicsDef(task=climb)
+    assert p.to_dict()["task"] == {"name": "climb", "rise": 1.0, "count": 3.0}
+    assert pickle.loads(pickle.dumps(p)) == p
+    assert p != plastivox.PhysicsDef(task="climb")
+    assert p.replace(task="rough").to_dict()["task"] == "rough"
+    q = plastivox.PhysicsDef(task=climb)
+    q.task = "slope"
+    assert q.to_dict()["task"] == "slope"

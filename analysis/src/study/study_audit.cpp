@@ -26,9 +26,25 @@ std::string rule_of(const StudyInput& in) {
 }
 
 std::string direction_of(const PhysicsDef& d) {
-  if (d.task == Task::kJump) return "highest rise of the centre of mass above its settled height";
-  if (d.task == Task::kTurn)
-    return "body's net rotation about the vertical axis since settling, either way round";
+  switch (d.task) {
+    case Task::kJump:
+      return "highest rise of the centre of mass above its settled height";
+    case Task::kTurn:
+      return "body's net rotation about the vertical axis since settling, either way round";
+    case Task::kRough:
+    case Task::kObstacles:
+      return "horizontal displacement of the centre of mass";
+    case Task::kClimb: {
+      char w[32];
+      std::snprintf(w, sizeof w, "%g", task_param(d, "height_weight"));
+      return "horizontal displacement of the centre of mass plus " + std::string(w) +
+             " times the rise of the ground under it";
+    }
+    case Task::kSlope:
+      return "rise of the ground under the centre of mass";
+    default:
+      break;
+  }
   return d.fitness == FitnessMode::k3D
              ? "3-D displacement of the centre of mass (as in the authors' code)"
              : "displacement of the centre of mass in the xy-plane (as in the paper's text)";
@@ -73,18 +89,20 @@ void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
     if (!r.options.keep_artifacts) c.artifact = why;
   });
 
-  std::vector<std::string> rules, directions, tasks, units;
+  std::vector<std::string> rules, directions, tasks, units, environments;
   for (const StudyInput& in : r.inputs) rules.push_back(rule_of(in));
   for (const ChampionAnalysis& c : r.champions) {
     directions.push_back(direction_of(c.physics));
     tasks.push_back(to_string(c.physics.task));
     units.push_back(task_info(c.physics.task).unit);
+    environments.push_back(environment_text(c.physics));
   }
   r.sinking_rule = one_or_mixed(rules);
   r.fitness_direction = one_or_mixed(directions);
   if (!tasks.empty()) {
     r.task = one_or_mixed(tasks);
     r.fitness_unit = one_or_mixed(units);
+    r.environment = one_or_mixed(environments);
   }
 
   int excluded = 0, flagged = 0;

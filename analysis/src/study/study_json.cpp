@@ -282,6 +282,7 @@ std::string stats_json(const StudyResult& r) {
                     {"fitness_direction", r.fitness_direction},
                     {"task", r.task},
                     {"fitness_unit", r.fitness_unit},
+                    {"environment", r.environment},
                     {"keep_artifacts", r.options.keep_artifacts}}},
                   {"warnings", strings(r.warnings)}};
   return j.dump(1) + "\n";

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -62,13 +63,53 @@ void add_objects(Model& m, const std::vector<ObjectDef>& objects) {
 
 }  // namespace
 
+namespace {
+
+// The environment of the life (the given one, or the task's default laid out around the
+// body's footprint: task.hpp) and the body placed on its ground: the lattice is moved up or
+// down, as a whole, until its lowest voxel (as the contact sees it: a ball of half the voxel
+// size under its centre) just touches the ground under it and no voxel presses into it
+// (docs/environments.md, "Where the robot starts"). Boxes are not considered. Without an
+// environment nothing changes: the bottom layer stays on z = 0.
+void place_in_environment(Model& m) {
+  const double L = m.size;
+  TaskSite site;
+  site.L = L;
+  if (m.n > 0) {
+    Vec3 lo = m.rest_pos[0], hi = m.rest_pos[0];
+    for (const Vec3& p : m.rest_pos) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    site.cx = 0.5 * (lo.x() + hi.x()), site.cy = 0.5 * (lo.y() + hi.y());
+    site.hx = 0.5 * (hi.x() - lo.x() + L), site.hy = 0.5 * (hi.y() - lo.y() + L);
+  }
+  if (!m.def.environment.terrain() && task_info(m.def.task).environment) {
+    // The task's ground and blocks; free objects the user gave stay.
+    std::vector<ObjectDef> objects = std::move(m.def.environment.objects);
+    m.def.environment = task_environment(m.def, site);
+    m.def.environment.objects = std::move(objects);
+    validate(m.def.environment);
+  }
+  m.terrain = m.def.environment.terrain();
+  if (!m.terrain) return;
+  m.ground = make_height_field(m.def.environment.ground);
+  if (!m.def.floor || m.n == 0) return;
+  // The lift that makes voxel i's penetration r - (z - h) n_z zero is pen / n_z.
+  double lift = -std::numeric_limits<double>::infinity();
+  for (const Vec3& p : m.rest_pos) {
+    double normal[3];
+    const double pen = m.ground.penetration(p.x(), p.y(), p.z(), 0.5 * L, normal);
+    lift = std::max(lift, pen / normal[2]);
+  }
+  if (lift != 0)
+    for (Vec3& p : m.rest_pos) p.z() += lift;
+}
+
+}  // namespace
+
 Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits) {
   validate(robot, limits);
   validate(def);
   Model m;
   m.def = def;
-  m.terrain = def.environment.terrain();
-  if (m.terrain) m.ground = make_height_field(def.environment.ground);
   const double L = robot.voxel_size;
   m.size = L;
   m.mass = def.density * L * L * L;
@@ -122,6 +163,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
     }
     if (!robot.act_scale.empty()) m.act_gain[i] *= robot.act_scale[s];  // 0: passive
   }
+  place_in_environment(m);
   // Bounded in time before anything runs: the stiffest voxel, or e_max if E can grow.
   double e_top = 0;
   for (double e : m.e0) e_top = std::max(e_top, e);

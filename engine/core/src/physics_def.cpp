@@ -64,6 +64,7 @@ void validate(const PhysicsDef& d) {
   validate(d.environment);
   need(d.floor || d.environment.ground.kind == GroundKind::kNone, "environment.ground",
        "a ground needs physics.floor true (floor false: no ground at all)");
+  validate_task(d);
 }
 
 namespace {

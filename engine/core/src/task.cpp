@@ -2,8 +2,11 @@
 #include "plastivox/task.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
+#include "plastivox/simulator.hpp"
 #include "tasks.hpp"
 
 namespace plastivox {
@@ -22,15 +25,46 @@ const std::vector<TaskInfo>& all_tasks() {
        "|theta(T)|: the body's net rotation about the vertical axis since settling, the "
        "least-squares turn of its voxel centres' horizontal layout, counted through whole turns",
        make_turn_watch},
-      {Task::kCarry, "carry", "voxel lengths",
+      {Task::kRough, "rough", "voxel lengths",
+       "|c_xy(T) - c_xy(settle)| / L: the centre of mass's horizontal displacement over a "
+       "seeded random height field",
+       make_rough_watch, rough_params(), rough_environment,
+       "rough ground: node heights uniform in [-amplitude, 0], one node every cell, seeded"},
+      {Task::kClimb, "climb", "voxel lengths",
+       "max(0, |c_xy(T) - c_xy(settle)| + w (h(c(T)) - h(c(settle)))) / L: horizontal "
+       "displacement plus w times the rise of the ground under the centre of mass",
+       make_climb_watch, climb_params(), climb_environment,
+       "terraces: count steps of height rise, one every run, rising away from the start every way"},
+      {Task::kSlope, "slope", "voxel lengths",
+       "max(0, h(c(T)) - h(c(settle))) / L: the rise of the ground under the centre of mass",
+       make_slope_watch, slope_params(), slope_environment,
+       "a pit: ramps at angle_deg rising away from the start every way for length"},
+      {Task::kObstacles, "obstacles", "voxel lengths",
+       "|c_xy(T) - c_xy(settle)| / L: the centre of mass's horizontal displacement through a "
+       "field of static blocks",
+       make_obstacles_watch, obstacles_params(), obstacles_environment,
+       "a field of static blocks, height by size by size, one at a seeded place in every square "
+       "of side spacing"},
+      {Task::kCarry,
+       "carry",
+       "voxel lengths",
        "|p_xy(t_last) - p_xy(settle)| / L: the payload's horizontal displacement from the end of "
        "settling to the last step it was on the body (no payload voxel within a voxel length of "
        "the ground)",
-       make_carry_watch},
-      {Task::kPush, "push", "voxel lengths",
+       make_carry_watch,
+       {},
+       nullptr,
+       "flat floor with friction; a free payload of 2 x 2 x 1 voxels centred on top of the body"},
+      {Task::kPush,
+       "push",
+       "voxel lengths",
        "|b_xy(T) - b_xy(settle)| / L: the horizontal displacement of the box's centre from the "
        "end of settling to the end of the life",
-       make_push_watch},
+       make_push_watch,
+       {},
+       nullptr,
+       "flat floor with friction; a free box of 2 x 2 x 2 voxels one voxel in front (+x) of the "
+       "body"},
   };
   return tasks;
 }
@@ -81,6 +115,145 @@ std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot) {
 
 std::unique_ptr<TaskWatch> make_task_watch(const Model& model) {
   return task_info(model.def.task).watch(model);
+}
+
+namespace {
+
+const TaskParam* find_param(const TaskInfo& t, const std::string& name) {
+  for (const TaskParam& p : t.params)
+    if (name == p.name) return &p;
+  return nullptr;
+}
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+}  // namespace
+
+double task_param(const PhysicsDef& def, const std::string& name) {
+  const TaskParam* p = find_param(task_info(def.task), name);
+  if (!p)
+    throw std::invalid_argument("task " + std::string(to_string(def.task)) + " has no parameter " +
+                                name);
+  const auto given = def.task_params.find(name);
+  return given == def.task_params.end() ? p->fallback : given->second;
+}
+
+void check_task_param(Task task, const std::string& name, double value) {
+  const TaskInfo& t = task_info(task);
+  const TaskParam* p = find_param(t, name);
+  if (!p) {
+    std::string names;
+    for (const TaskParam& q : t.params) names += (names.empty() ? "" : ", ") + std::string(q.name);
+    throw std::invalid_argument("unknown parameter of " + std::string(t.name) +
+                                (names.empty() ? " (it has none)" : " (use " + names + ")"));
+  }
+  const std::string unit = p->unit[0] ? std::string(" ") + p->unit : "";
+  if (!(value >= p->lo && value <= p->hi))
+    throw std::invalid_argument("must be in [" + number_text(p->lo) + ", " + number_text(p->hi) +
+                                "]" + unit);
+  if (p->whole && value != std::floor(value)) throw std::invalid_argument("must be a whole number");
+}
+
+void validate_task(const PhysicsDef& def) {
+  const TaskInfo& t = task_info(def.task);
+  for (const auto& [name, value] : def.task_params) {
+    const std::string field = "physics.task." + name;
+    try {
+      check_task_param(def.task, name, value);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(field + ": " + e.what());
+    }
+    if (find_param(t, name)->ground && def.environment.terrain())
+      throw std::invalid_argument(field +
+                                  ": shapes the task's default environment, which "
+                                  "physics.environment replaces (give one or the other)");
+  }
+  if (t.environment && !def.floor && !def.environment.terrain())
+    throw std::invalid_argument(std::string("physics.floor: task ") + t.name +
+                                " needs the floor (its ground lies on it)");
+}
+
+Environment task_environment(const PhysicsDef& def, const TaskSite& site) {
+  const TaskInfo& t = task_info(def.task);
+  if (def.environment.terrain() || !t.environment) return def.environment;
+  Environment env = t.environment(def, site);
+  env.objects = def.environment.objects;
+  return env;
+}
+
+std::string environment_text(const PhysicsDef& def) {
+  const TaskInfo& t = task_info(def.task);
+  const size_t objects = def.environment.objects.size();
+  const std::string free_objects =
+      objects ? ", " + std::to_string(objects) + " free object" + (objects > 1 ? "s" : "") : "";
+  if (def.environment.terrain()) {
+    std::string s = std::string("given: ground ") + to_string(def.environment.ground.kind);
+    if (!def.environment.obstacles.empty())
+      s += ", " + std::to_string(def.environment.obstacles.size()) + " boxes";
+    return s + free_objects;
+  }
+  if (objects) return std::string("given: ") + t.environment_text + free_objects;
+  if (!t.environment) return t.environment_text;
+  std::string s = "the default of " + std::string(t.name) + ": " + t.environment_text + " (";
+  for (size_t i = 0; i < t.params.size(); ++i)
+    if (t.params[i].ground)
+      s += std::string(i ? ", " : "") + t.params[i].name + " " +
+           number_text(task_param(def, t.params[i].name));
+  return s + "; lengths in voxel lengths)";
+}
+
+}  // namespace plastivox
+
+namespace plastivox {
+
+namespace {
+
+class SummaryWatch final : public TaskWatch {
+ public:
+  explicit SummaryWatch(double (*score)(const Model&, const SimResult&)) : score_(score) {}
+  void see(const Model&, const State&) override {}
+  double score(const Model& m, const State&, const SimResult& summary) const override {
+    return score_(m, summary);
+  }
+
+ private:
+  double (*score_)(const Model&, const SimResult&);
+};
+
+}  // namespace
+
+std::unique_ptr<TaskWatch> watch_of_summary(double (*score)(const Model&, const SimResult&)) {
+  return std::make_unique<SummaryWatch>(score);
+}
+
+double horizontal_displacement(const SimResult& r) {
+  return (r.com_final - r.com_settled).head<2>().norm();
+}
+
+double ground_rise(const Model& m, const SimResult& r) {
+  if (!m.terrain) return 0;
+  return m.ground.height(r.com_final.x(), r.com_final.y()) -
+         m.ground.height(r.com_settled.x(), r.com_settled.y());
+}
+
+GroundDef ground_around(const TaskSite& site, double reach, double cell,
+                        const std::function<double(double d)>& h) {
+  const int half = static_cast<int>(std::ceil(reach / cell));
+  GroundDef g;
+  g.kind = GroundKind::kHeights;
+  g.cell = cell;
+  g.nx = g.ny = 2 * half + 1;
+  g.origin = {site.cx - half * cell, site.cy - half * cell};
+  g.heights.resize(static_cast<size_t>(g.nx) * g.ny);
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i)
+      g.heights[i + static_cast<size_t>(g.nx) * j] =
+          h(cell * std::max(std::abs(i - half), std::abs(j - half)));
+  return g;
 }
 
 }  // namespace plastivox

@@ -39,7 +39,10 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
   // Only when seeded: a field every run had would change every identity and digest.
   if (c.initial_population != InitialPopulation::kRandom)
     j["initial_population"] = to_string(c.initial_population);
-  if (c.task != Task::kWalk) j["task"] = {{"name", to_string(c.task)}};  // likewise
+  if (c.task != Task::kWalk) {  // likewise
+    j["task"] = {{"name", to_string(c.task)}};
+    for (const auto& [name, value] : c.task_params) j["task"][name] = value;
+  }
   j["max_mutation_tries"] = c.max_mutation_tries;
   j["physics"] = json::parse(c.physics_json);
   if (with_run_control) {
@@ -101,7 +104,9 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       treatment = json_field::treatment(v, src, k);
       c.treatment = treatment.stimulus;
     } else if (k == "task") {
-      c.task = json_field::task(v, src, k);
+      const json_field::TaskSpec t = json_field::task(v, src, k);
+      c.task = t.task;
+      c.task_params = t.params;
     } else if (k == "population") {
       c.population = integer(v, src, k, 1, 100000);
     } else if (k == "generations") {
@@ -166,6 +171,13 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   apply_physics_json(c.physics_json, src, c.physics);
   c.physics.treatment = c.treatment;
   set_task(c, c.task);
+  try {  // the task's parameters against a given environment (docs/tasks.md)
+    validate_task(c.physics);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();  // "physics.task.<name>: ...": the top level's here
+    const bool top = what.starts_with("physics.task.");
+    throw InputError(src + ": " + (top ? what.substr(std::string("physics.").size()) : what));
+  }
   // Evaluations never record frames (a champion can be re-simulated with recording).
   const json given = json::parse(c.physics_json);
   if (given.contains("record_fps") && given["record_fps"] != 0)
@@ -216,8 +228,10 @@ std::string fold_law(const std::string& physics_json, GrowthModel law, const std
 }
 
 void set_task(EvolveConfig& config, Task task) {
+  if (task != config.task) config.task_params.clear();
   config.task = task;
   config.physics.task = task;
+  config.physics.task_params = config.task_params;
 }
 
 std::string resolved_physics_json(const PhysicsDef& d) {
@@ -246,8 +260,9 @@ std::string default_config_text() {
       {"plastivox evolve configuration (docs/evolution.md). JSON has no comments: this",
        "_comment field is ignored. Defaults are the GECCO 2018 study (docs/method.md §6-7).",
        "seed: run seed (non-negative integer); the paper used seeds 1..20.",
-       "task: what a life is scored on (docs/tasks.md), e.g. {\"name\": \"jump\"}: walk (the",
-       "  paper's locomotion; the default, so absent above) | jump | turn.",
+       "task: what a life is scored on (docs/tasks.md), e.g. {\"name\": \"climb\", \"rise\": 1}",
+       "  (its parameters are optional): walk (the paper's locomotion; the default, so absent",
+       "  above) | jump | turn | rough | climb | slope | obstacles.",
        "treatment: what development follows: none | stress | pressure (the paper's) | strain |",
        "  strain_energy | contact | kinetic (docs/plasticity.md), or with its law:",
        "  {\"stimulus\": \"contact\", \"law\": \"integral\" | \"rate\"} (the law is "

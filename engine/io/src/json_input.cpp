@@ -180,24 +180,42 @@ TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
   return t;
 }
 
-Task task(const nlohmann::json& j, const std::string& source, const std::string& field) {
+TaskSpec task(const nlohmann::json& j, const std::string& source, const std::string& field) {
   if (!j.is_string() && !j.is_object())
     fail(source, field, "expected {\"name\": ...} or a task name (" + task_names() + ")");
   const nlohmann::json* name = &j;
   std::string name_field = field;
   if (j.is_object()) {
-    for (auto it = j.begin(); it != j.end(); ++it)
-      if (it.key() != "name")
-        fail(source, field + "." + it.key(), "unknown field (a task has name)");
     if (!j.contains("name")) fail(source, field + ".name", "missing");
     name = &j["name"];
     name_field += ".name";
   }
+  TaskSpec t;
   try {
-    return parse_task(text(*name, source, name_field));
+    t.task = parse_task(text(*name, source, name_field));
   } catch (const std::invalid_argument& e) {
     fail(source, name_field, e.what());
   }
+  if (j.is_object())
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (it.key() == "name") continue;
+      const std::string f = field + "." + it.key();
+      const double v = number(*it, source, f);
+      try {
+        check_task_param(t.task, it.key(), v);
+      } catch (const std::invalid_argument& e) {
+        fail(source, f, e.what());
+      }
+      t.params[it.key()] = v;
+    }
+  return t;
+}
+
+nlohmann::json task_json(Task task, const TaskParams& params) {
+  if (params.empty()) return to_string(task);
+  nlohmann::json j = {{"name", to_string(task)}};
+  for (const auto& [name, value] : params) j[name] = value;
+  return j;
 }
 
 }  // namespace json_field

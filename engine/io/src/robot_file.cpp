@@ -61,6 +61,12 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
         d.environment = parse_environment(*it, where, field);
         continue;
       }
+      if (key == "task") {  // a name, or {name, parameters} (docs/tasks.md)
+        const json_field::TaskSpec t = json_field::task(*it, where, field);
+        d.task = t.task;
+        d.task_params = t.params;
+        continue;
+      }
       if (key == "treatment") {  // a name, or {stimulus, law}
         const TreatmentSpec t = json_field::treatment(*it, where, field);
         d.treatment = t.stimulus;
@@ -121,6 +127,7 @@ json physics_json(const PhysicsDef& d) {
         break;
     }
   }
+  if (!d.task_params.empty()) out["task"] = json_field::task_json(d.task, d.task_params);
   // Only when defined, so files (and evolution identities) of the plain floor keep their
   // bytes.
   if (d.environment.active()) out["environment"] = environment_to_json(d.environment);

@@ -196,6 +196,9 @@ struct StudyResult {
   // The task the runs' lives were scored on and its unit ("walk", "voxel lengths"; "mixed:
   // ..." when they differ, docs/tasks.md).
   std::string task = "walk", fitness_unit = "voxel lengths";
+  // Where they lived (plastivox/task.hpp, environment_text): the task's default environment
+  // with its parameters, or "given: ground ...".
+  std::string environment = "flat floor with friction";
   // Provenance.
   std::string version, commit, date;  // of this program; date UTC ISO 8601
   std::string fingerprint;            // study_fingerprint(input digests, options)

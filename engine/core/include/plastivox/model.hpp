@@ -51,7 +51,7 @@ struct Model {
 
   // Per voxel (n entries), in voxel order = increasing lattice site.
   std::vector<int> site;       // lattice site index of the voxel
-  std::vector<Vec3> rest_pos;  // initial centre, m, world frame; bottom layer touches z = 0
+  std::vector<Vec3> rest_pos;  // initial centre, m, world frame; resting on the ground (z = 0)
   std::vector<double> e0;      // congenital Young's modulus, Pa
   std::vector<double> alpha;   // development rate, 1/s (0 everywhere under kNone)
   std::vector<double> phase;   // actuation phase, cycles
@@ -76,7 +76,8 @@ struct Model {
   std::vector<int> bond_a, bond_b;
   std::vector<uint8_t> bond_axis;  // 0 = x, 1 = y, 2 = z
 
-  // The environment (def.environment) when active: contact then takes the terrain path
+  // The environment (def.environment: the given one, or the task's default that compile()
+  // laid out around the body, task.hpp) when active: contact then takes the terrain path
   // (terrain.cpp) with this ground (z = 0 when none is given; unused when def.floor is off)
   // instead of the floor kernel.
   bool terrain = false;

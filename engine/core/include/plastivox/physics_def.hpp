@@ -2,6 +2,7 @@
 // Units are SI throughout. docs/method.md §1-§5 says where each comes from; its §11 tables them.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,7 +30,10 @@ enum class GrowthModel { kIntegral, kRate };
 enum class FitnessMode { k3D, kXY };
 // What a life is scored on: the task (plastivox/task.hpp, docs/tasks.md, one file per task
 // in engine/core/src/task_*.cpp). kWalk, the paper's locomotion, is the default.
-enum class Task { kWalk, kJump, kTurn, kCarry, kPush };
+enum class Task { kWalk, kJump, kTurn, kRough, kClimb, kSlope, kObstacles, kCarry, kPush };
+// A task's parameters as given, by name (each task's table in task_<name>.cpp says its
+// names, units, defaults and ranges; docs/tasks.md). A parameter not given takes its default.
+using TaskParams = std::map<std::string, double>;
 // Which modulus a bond's *axial* stiffness uses. Bending, torsion, damping and dt always use
 // the harmonic mean. Voxelyze 0.9 (the authors' simulator) used the negative-side voxel's
 // own E for the axial stress of bonds between voxels of one palette material.
@@ -105,6 +109,9 @@ struct PhysicsDef {
 
   FitnessMode fitness = FitnessMode::k3D;  // walk's distance: 3-D or horizontal only
   Task task = Task::kWalk;                 // what fitness measures (docs/tasks.md)
+  // The task's parameters (in robot files: "task": {"name": ..., parameters}); empty: every
+  // default. Not in kPhysicsFields' text: read and written with "task".
+  TaskParams task_params;
 
   // --- safety --- (recording is an output option: SimOptions in simulator.hpp)
   double max_speed = 100.0;  // m/s; a voxel faster than this means the run went unstable

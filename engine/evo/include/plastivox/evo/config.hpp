@@ -23,6 +23,7 @@ struct EvolveConfig {
   uint64_t seed = 1;  // run seed; every random draw derives from it
   Treatment treatment = Treatment::kNone;
   Task task = Task::kWalk;        // what lives are scored on (plastivox/task.hpp); physics.task
+  TaskParams task_params;         // its parameters as given (physics.task_params)
   int population = 24;            // survivors per generation
   int generations = 5000;         // AFPO generations after the initial population
   int nx = 10, ny = 10, nz = 10;  // lattice extent, sites
@@ -60,7 +61,8 @@ std::string default_config_text();
 std::string fold_law(const std::string& physics_json, GrowthModel law, const std::string& source,
                      const std::string& field);
 
-// Sets the task of a parsed config (its identity and its physics alike), as evolve --task.
+// Sets the task of a parsed config (its identity and its physics alike), as evolve --task;
+// another task than the config's drops the config's task parameters.
 void set_task(EvolveConfig& config, Task task);
 
 // All physics fields of def as a canonical JSON object (provenance: what was simulated).

@@ -55,8 +55,16 @@ bool boolean(const nlohmann::json& j, const std::string& source, const std::stri
 // A treatment: "stress" or {"stimulus": "stress", "law": "rate"} ("law" optional).
 TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
                         const std::string& field);
-// A task (plastivox/task.hpp): {"name": "jump"}, or its name alone, "jump".
-Task task(const nlohmann::json& j, const std::string& source, const std::string& field);
+// A task (plastivox/task.hpp): {"name": "climb", "rise": 1, ...} (its parameters, each
+// checked against the task's table), or its name alone, "climb" (every parameter at its
+// default).
+struct TaskSpec {
+  Task task = Task::kWalk;
+  TaskParams params;
+};
+TaskSpec task(const nlohmann::json& j, const std::string& source, const std::string& field);
+// The JSON of a task: its name alone when no parameter is given, else {"name", parameters}.
+nlohmann::json task_json(Task task, const TaskParams& params);
 }  // namespace json_field
 
 }  // namespace plastivox
