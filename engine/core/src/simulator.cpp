@@ -21,7 +21,8 @@ Simulator::Simulator(const Model& model)
     : model_(&model),
       state_(make_initial_state(model)),
       ws_(std::make_unique<Workspace>(model)),
-      controller_(std::make_unique<SineController>()),
+      controller_(make_controller(model)),
+      every_(model.controller.every),
       actuation_(model.n, 0.0) {
   bind_views(model, state_, *ws_);
 }

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -100,6 +101,10 @@ class SineController final : public Controller {
  public:
   void act(const Sensors& sensors, std::span<double> actuation) override;
 };
+
+// The controller model.controller asks for (docs/control.md): the sine, or a distributed or
+// central network with its weights. Simulator's constructor sets it, at its rate.
+std::unique_ptr<Controller> make_controller(const Model& model);
 
 // The engine's sin(2 pi u) (its own series, within 4 ulp of libm and the same bits on every
 // machine and instruction set): what the sine controller computes, for a controller written

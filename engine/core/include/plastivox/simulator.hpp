@@ -85,8 +85,8 @@ class Simulator {
 
   // ---- Control (plastivox/control.hpp, docs/control.md) ----
   // The controller, called between step1 and step2 when steps % every == 0 (every >= 1, else
-  // std::invalid_argument naming `every`). The default is the sine (SineController, every
-  // step). nullptr: no controller; the signal is what the caller writes to actuation(),
+  // std::invalid_argument naming `every`). The default is the model's (make_controller: the
+  // sine every step, unless the robot names another). nullptr: no controller; the signal is what the caller writes to actuation(),
   // and holds until written again.
   void set_controller(std::unique_ptr<Controller> controller, int every = 1);
   Controller* controller() const { return controller_.get(); }
