@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/controller_def.hpp"
 #include "plastivox/physics_def.hpp"
 
 namespace plastivox {
@@ -57,6 +58,13 @@ TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
                         const std::string& field);
 // A task (plastivox/task.hpp): {"name": "jump"}, or its name alone, "jump".
 Task task(const nlohmann::json& j, const std::string& source, const std::string& field);
+// A controller (docs/control.md): {"kind": ..., "hidden": ..., "every": ..., "weights": [...]};
+// "weights" only when with_weights (a robot file), and then exactly as many as the kind and
+// hidden size take. Absent fields keep ControllerDef's defaults.
+ControllerDef controller(const nlohmann::json& j, const std::string& source,
+                         const std::string& field, bool with_weights);
+// The same as JSON (hidden and weights only for the neural kinds), exact: parsing it gives d.
+nlohmann::json controller_json(const ControllerDef& d);
 }  // namespace json_field
 
 }  // namespace plastivox
