@@ -31,42 +31,48 @@ inline double squash(double z) {
   return z / (1.0 + std::abs(z));
 }
 
-// One dense layer: out[k] = squash(b_k + sum_j w_kj in[j]) for k < outs; the weights are read
-// from w row by row (bias first), and the pointer is returned past them.
-const double* layer(const double* w, const double* in, int ins, double* out, int outs) {
+// One dense layer over every voxel at once: out[k][i] = squash(b_k + sum_j w_kj in[j][i]),
+// k < outs, j < ins, i < n (each array one row of n a unit or input). The weights are read
+// from w unit by unit, bias first; returns the pointer past them. Each voxel's sum is taken in
+// the order written, whatever the vector width the compiler picks (lanes are voxels).
+const double* layer(const double* w, const double* in, int ins, double* out, int outs, int n) {
   for (int k = 0; k < outs; ++k) {
-    double z = *w++;
-    for (int j = 0; j < ins; ++j) z += *w++ * in[j];
-    out[k] = squash(z);
+    double* z = out + static_cast<size_t>(k) * n;
+    std::fill(z, z + n, *w++);
+    for (int j = 0; j < ins; ++j) {
+      const double wj = *w++;
+      const double* x = in + static_cast<size_t>(j) * n;
+      for (int i = 0; i < n; ++i) z[i] += wj * x[i];
+    }
+    for (int i = 0; i < n; ++i) z[i] = squash(z[i]);
   }
   return w;
 }
 
-// Each voxel's local inputs, kLocalInputs a voxel (docs/control.md): its sine signal
+// Each voxel's local inputs (docs/control.md), rows of n in this order: its sine signal
 // sin(2 pi (f t + phase_i)) (0 when f = 0), touch, strain, pressure / E (E its present
-// stiffness), velocity / L (1/s, xyz) and the z component of its up vector.
-void local_inputs(const Sensors& sensors, std::vector<double>& sine, std::vector<double>& out) {
+// stiffness), velocity / L (1/s; x, y, z) and the z component of its up vector. Fills the first
+// kLocalInputs rows of `rows`.
+void local_inputs(const Sensors& sensors, double* rows) {
   const Model& m = sensors.model();
   const State& s = sensors.state();
   const int n = m.n;
-  sine.assign(n, 0.0);
+  const auto row = [&](int r) { return rows + static_cast<size_t>(r) * n; };
+  std::fill(row(0), row(1), 0.0);
   if (m.def.act_frequency != 0)
-    kernels().sine(m.phase.data(), sine.data(), n, m.def.act_frequency * s.time);
+    kernels().sine(m.phase.data(), row(0), n, m.def.act_frequency * s.time);
   const std::span<const double> touch = sensors.read(Sensor::kTouch);
   const std::span<const double> strain = sensors.read(Sensor::kStrain);
   const std::span<const double> pressure = sensors.read(Sensor::kPressure);
   const std::span<const double> vel = sensors.read(Sensor::kVelocity);
   const std::span<const double> up = sensors.read(Sensor::kUp);
   const double inv_L = 1.0 / m.size;
-  out.resize(static_cast<size_t>(n) * kLocalInputs);
+  std::copy(touch.begin(), touch.end(), row(1));
+  std::copy(strain.begin(), strain.end(), row(2));
   for (int i = 0; i < n; ++i) {
-    double* x = &out[static_cast<size_t>(i) * kLocalInputs];
-    x[0] = sine[i];
-    x[1] = touch[i];
-    x[2] = strain[i];
-    x[3] = pressure[i] / s.stiffness[i];
-    for (int c = 0; c < 3; ++c) x[4 + c] = vel[3 * i + c] * inv_L;
-    x[7] = up[3 * i + 2];
+    row(3)[i] = pressure[i] / s.stiffness[i];
+    for (int c = 0; c < 3; ++c) row(4 + c)[i] = vel[3 * i + c] * inv_L;
+    row(7)[i] = up[3 * i + 2];
   }
 }
 
@@ -75,80 +81,85 @@ void local_inputs(const Sensors& sensors, std::vector<double>& sine, std::vector
 // the first call). Outputs: the voxel's actuation and one signal towards each face.
 class DistributedController final : public Controller {
  public:
-  explicit DistributedController(const Model& m) : def_(m.controller) {
+  explicit DistributedController(const Model& m) : def_(m.controller), n_(m.n) {
     // The neighbour across each face, from the bond slots (-1 where none).
-    neighbour_.assign(static_cast<size_t>(m.n) * kFaces, -1);
-    for (int i = 0; i < m.n; ++i)
+    neighbour_.assign(static_cast<size_t>(n_) * kFaces, -1);
+    for (int i = 0; i < n_; ++i)
       for (int f = 0; f < kFaces; ++f) {
         const int b = m.voxel_bonds[i][f];
-        if (b >= 0) neighbour_[i * kFaces + f] = m.bond_a[b] == i ? m.bond_b[b] : m.bond_a[b];
+        if (b >= 0) neighbour_[f * n_ + i] = m.bond_a[b] == i ? m.bond_b[b] : m.bond_a[b];
       }
+    in_.resize(static_cast<size_t>(n_) * kDistributedInputs);
+    hidden_.resize(static_cast<size_t>(n_) * def_.hidden);
+    out_.resize(static_cast<size_t>(n_) * kDistributedOutputs);
     reset();
   }
 
-  void reset() override { sent_.assign(neighbour_.size(), 0.0); }
+  void reset() override { std::fill(out_.begin(), out_.end(), 0.0); }
 
   void act(const Sensors& sensors, std::span<double> actuation) override {
-    local_inputs(sensors, sine_, local_);
-    const int n = sensors.model().n, h = def_.hidden;
-    std::vector<double> next(sent_.size());
-    double x[kDistributedInputs], hid[kMaxHidden], out[kDistributedOutputs];
-    for (int i = 0; i < n; ++i) {
-      std::copy_n(&local_[static_cast<size_t>(i) * kLocalInputs], kLocalInputs, x);
-      // From the neighbour across face f: what it sent across its opposite face (f ^ 1).
-      for (int f = 0; f < kFaces; ++f) {
-        const int j = neighbour_[i * kFaces + f];
-        x[kLocalInputs + f] = j >= 0 ? sent_[j * kFaces + (f ^ 1)] : 0.0;
-      }
-      const double* w = def_.weights.data();
-      if (h > 0) {
-        w = layer(w, x, kDistributedInputs, hid, h);
-        layer(w, hid, h, out, kDistributedOutputs);
-      } else {
-        layer(w, x, kDistributedInputs, out, kDistributedOutputs);
-      }
-      actuation[i] = out[0];
-      std::copy_n(out + 1, kFaces, &next[static_cast<size_t>(i) * kFaces]);
+    const int n = n_;
+    local_inputs(sensors, in_.data());
+    // From the neighbour j across face f: what j sent across its opposite face (f ^ 1) at
+    // the last call, still in out_ (row 1 + face).
+    for (int f = 0; f < kFaces; ++f) {
+      double* x = &in_[static_cast<size_t>(kLocalInputs + f) * n];
+      const double* sent = &out_[static_cast<size_t>(1 + (f ^ 1)) * n];
+      const int* j = &neighbour_[static_cast<size_t>(f) * n];
+      for (int i = 0; i < n; ++i) x[i] = j[i] >= 0 ? sent[j[i]] : 0.0;
     }
-    sent_.swap(next);
+    const double* w = def_.weights.data();
+    if (def_.hidden > 0) {
+      w = layer(w, in_.data(), kDistributedInputs, hidden_.data(), def_.hidden, n);
+      layer(w, hidden_.data(), def_.hidden, out_.data(), kDistributedOutputs, n);
+    } else {
+      layer(w, in_.data(), kDistributedInputs, out_.data(), kDistributedOutputs, n);
+    }
+    std::copy_n(out_.begin(), n, actuation.begin());
   }
 
  private:
   ControllerDef def_;
-  std::vector<int> neighbour_;  // n x 6 voxel indices
-  std::vector<double> sent_;    // n x 6 signals sent at the last call, one per face
-  std::vector<double> sine_, local_;
+  int n_;
+  std::vector<int> neighbour_;  // 6 rows of n voxel indices
+  // Rows of n: the inputs, the hidden units, and the outputs (actuation, then the signals
+  // sent across each face, which the next call reads).
+  std::vector<double> in_, hidden_, out_;
 };
 
 // One network: a whole-body layer of `hidden` units over the body inputs (centre-of-mass
 // velocity / L, sin and cos of 2 pi phase, the fraction of voxels touching), then a head,
-// the same in every voxel, from that layer and the voxel's local inputs to its actuation.
+// the same in every voxel, from that layer and the voxel's local inputs to its actuation:
+// u_i = squash((b + sum_k v_k z_k) + sum_j u_j local_j,i), the body part summed once.
 class CentralController final : public Controller {
  public:
-  explicit CentralController(const Model& m) : def_(m.controller) {}
+  explicit CentralController(const Model& m)
+      : def_(m.controller), local_(static_cast<size_t>(m.n) * kLocalInputs) {}
 
   void act(const Sensors& sensors, std::span<double> actuation) override {
     const Model& m = sensors.model();
     const int n = m.n, h = def_.hidden;
-    local_inputs(sensors, sine_, local_);
+    local_inputs(sensors, local_.data());
     const std::span<const double> com = sensors.read(Sensor::kComVelocity);
     const double phase = sensors.read(Sensor::kPhase)[0];
-    const std::span<const double> touch = sensors.read(Sensor::kTouch);
+    const double* touch = local_.data() + n;  // row 1
     double touching = 0;
     for (int i = 0; i < n; ++i) touching += touch[i];
     const double body[kBodyInputs] = {com[0] / m.size,   com[1] / m.size,          com[2] / m.size,
                                       sin_cycles(phase), sin_cycles(phase + 0.25), touching / n};
-    double in[kMaxHidden + kLocalInputs];
-    const double* head = layer(def_.weights.data(), body, kBodyInputs, in, h);
-    for (int i = 0; i < n; ++i) {
-      std::copy_n(&local_[static_cast<size_t>(i) * kLocalInputs], kLocalInputs, in + h);
-      layer(head, in, h + kLocalInputs, &actuation[i], 1);
-    }
+    double z[kMaxHidden];
+    const double* w = layer(def_.weights.data(), body, kBodyInputs, z, h, 1);
+    double bias = *w++;
+    for (int k = 0; k < h; ++k) bias += *w++ * z[k];
+    // The head, as one unit over the local rows with the body part as its bias.
+    double head[1 + kLocalInputs] = {bias};
+    std::copy_n(w, kLocalInputs, head + 1);
+    layer(head, local_.data(), kLocalInputs, actuation.data(), 1, n);
   }
 
  private:
   ControllerDef def_;
-  std::vector<double> sine_, local_;
+  std::vector<double> local_;  // kLocalInputs rows of n
 };
 
 }  // namespace

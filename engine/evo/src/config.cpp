@@ -158,17 +158,17 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       // The evolution's own fields first; the rest is a robot file's controller, less weights.
       json def = v;
       if (def.is_object()) {
-        const auto take = [&](const char* name, double lo, double hi, double& out) {
+        const auto take = [&](const char* name, double hi, double& out) {
           if (!def.contains(name)) return;
           const std::string f = std::string("controller.") + name;
           out = number(def[name], src, f);
-          if (!(out >= lo && out <= hi))
-            fail(src, f, "must be in [" + json(lo).dump() + ", " + json(hi).dump() + "]");
+          if (!(out >= 0 && out <= hi))
+            fail(src, f, "must be in [0, " + std::to_string(static_cast<int>(hi)) + "]");
           def.erase(name);
         };
-        take("init_sigma", 0, 100, c.controller_genes.init_sigma);
-        take("mutation_rate", 0, 1, c.controller_genes.rate);
-        take("mutation_sigma", 0, 100, c.controller_genes.sigma);
+        take("init_sigma", 100, c.controller_genes.init_sigma);
+        take("mutation_rate", 1, c.controller_genes.rate);
+        take("mutation_sigma", 100, c.controller_genes.sigma);
       }
       c.controller = json_field::controller(def, src, k, false);
       c.controller_genes.count = weight_count(c.controller.kind, c.controller.hidden);

@@ -153,6 +153,9 @@ VoxcraftFiles write_voxcraft(const RobotDef& robot, const PhysicsDef& p, bool lo
   if (!robot.fixed_sites.empty()) cannot("fixed voxels (robot.fixed_sites)");
   if (!robot.loads.empty()) cannot("external loads (robot.loads)");
   if (!robot.act_scale.empty()) cannot("per-voxel actuation scales (robot.act_scale)");
+  if (!robot.controller.is_default())
+    cannot(std::string("a ") + to_string(robot.controller.kind) +
+           " controller (robot.controller; voxcraft-sim runs the sine)");
 
   // Per voxel: congenital stiffness as compile() holds it, and the linear amplitude.
   const bool own = !robot.act_amplitude.empty();
