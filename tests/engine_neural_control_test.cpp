@@ -11,6 +11,7 @@
 #include "plastivox/base/rng.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/simd.hpp"
 #include "plastivox/simulator.hpp"
 #include "test_support.hpp"
 
@@ -74,6 +75,24 @@ TEST(NeuralControl, DistributedGivesTheSameBitsOnOneAndTwoThreads) {
   second.join();
   EXPECT_EQ(on[0], alone);
   EXPECT_EQ(on[1], alone);
+}
+
+// The sensors and the sine input come through the SIMD kernels: every level gives the bits.
+TEST(NeuralControl, EveryInstructionSetGivesTheSameBits) {
+  const PhysicsDef physics = short_life(0.4);
+  const SimdLevel best = best_simd_level();
+  for (const ControllerDef& c :
+       {drawn(ControllerKind::kDistributed, 3), drawn(ControllerKind::kCentral, 2)}) {
+    const Model model = compile(walker_with(c), physics);
+    set_simd_level(SimdLevel::kScalar);
+    const uint64_t scalar = simulate(model).final_state_hash;
+    for (int level = 1; level <= static_cast<int>(best); ++level) {
+      set_simd_level(static_cast<SimdLevel>(level));
+      EXPECT_EQ(simulate(model).final_state_hash, scalar)
+          << to_string(c.kind) << " on " << to_string(static_cast<SimdLevel>(level));
+    }
+    set_simd_level(best);
+  }
 }
 
 // A bar of two voxels along x, no hidden layer. Every signal is squash(1) = 1/2 (bias 1); the
