@@ -140,6 +140,33 @@ TEST(NeuralControl, ResetStartsTheSameLifeAgain) {
   EXPECT_EQ(state_hash(again.state()), state_hash(fresh.state()));
 }
 
+// The signals in flight are in the snapshot: a restored life continues bit for bit.
+TEST(NeuralControl, SnapshotsCarryTheSignalsInFlight) {
+  const Model model = compile(walker_with(drawn(ControllerKind::kDistributed, 3)), short_life());
+  Simulator first(model);
+  for (int k = 0; k < 250; ++k) first.step();
+  const std::vector<uint8_t> snapshot = first.save_state();
+  for (int k = 0; k < 250; ++k) first.step();
+  Simulator second(model);
+  for (int k = 0; k < 40; ++k) second.step();  // other signals in flight, to be replaced
+  second.restore_state(snapshot);
+  for (int k = 0; k < 250; ++k) second.step();
+  EXPECT_EQ(state_hash(second.state()), state_hash(first.state()));
+  // The sine remembers nothing: its snapshots hold no memory, and it takes the State and
+  // signal of a network's snapshot.
+  Simulator sine(model);
+  sine.set_controller(std::make_unique<SineController>());
+  EXPECT_EQ(sine.save_state().size() + 8 * 6 * model.n + 8 * model.n + 16, snapshot.size());
+  sine.restore_state(snapshot);
+  EXPECT_EQ(sine.state().steps, 250);
+  // A snapshot whose memory is damaged is refused, naming it.
+  std::vector<uint8_t> damaged = snapshot;
+  const size_t count_at = damaged.size() - (16 + 8 * model.n) - 16;
+  damaged[count_at + 7] = 0x7f;
+  EXPECT_NE(testing::error_of([&] { second.restore_state(damaged); }).find("controller memory"),
+            std::string::npos);
+}
+
 TEST(NeuralControl, ARobotFileCarriesTheControllerAndReplaysBitForBit) {
   const PhysicsDef physics = short_life();
   EXPECT_EQ(robot_to_json(demo_walker()).find("controller"), std::string::npos);  // the default

@@ -96,6 +96,12 @@ class DistributedController final : public Controller {
   }
 
   void reset() override { std::fill(out_.begin(), out_.end(), 0.0); }
+  // The outputs of the last call: the signals in flight (and the actuation, which the next
+  // call overwrites).
+  std::span<const double> memory() const override { return out_; }
+  void set_memory(std::span<const double> values) override {
+    std::copy(values.begin(), values.end(), out_.begin());
+  }
 
   void act(const Sensors& sensors, std::span<double> actuation) override {
     const int n = n_;

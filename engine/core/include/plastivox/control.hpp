@@ -92,6 +92,11 @@ class Controller {
   virtual void act(const Sensors& sensors, std::span<double> actuation) = 0;
   // Forget any memory: the life starts again (Simulator::reset).
   virtual void reset() {}
+  // What it remembers from one call to the next (empty when nothing), and setting it back:
+  // a Simulator's snapshot carries it, so a restored life continues bit for bit. set_memory
+  // takes exactly memory().size() values.
+  virtual std::span<const double> memory() const { return {}; }
+  virtual void set_memory(std::span<const double> /*values*/) {}
 };
 
 // Today's open loop, the default: u_i = sin(2 pi (f t + phase_i)), f = physics.act_frequency,
