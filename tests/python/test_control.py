@@ -207,3 +207,12 @@ def test_a_robot_file_with_a_neural_controller_runs_it_and_pickles_keep_it(tmp_p
     assert sim.state_hash == own
     with pytest.raises(ValueError, match='"sine", "distributed" \\(the robot\'s own\\) or None'):
         sim.set_controller("central")
+    # A snapshot holds the signals in flight: the restored life ends in the same bits.
+    first = plastivox.Simulator(robot)
+    first.step(300)
+    snapshot = first.save_state()
+    first.run()
+    second = plastivox.Simulator(robot)
+    second.restore_state(snapshot)
+    second.run()
+    assert second.state_hash == first.state_hash == own
