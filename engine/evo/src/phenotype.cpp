@@ -89,7 +89,9 @@ std::vector<uint8_t> largest_component(const std::vector<uint8_t>& present, int 
 
 bool Phenotype::same_as(const Phenotype& o) const {
   auto same = [](const auto& a, const auto& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+    // (memcmp of two empty vectors would pass null pointers: undefined, even for 0 bytes)
+    return a.size() == b.size() &&
+           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
   };
   return robot.nx == o.robot.nx && robot.ny == o.robot.ny && robot.nz == o.robot.nz &&
          same(robot.present, o.robot.present) && same(robot.stiffness, o.robot.stiffness) &&
