@@ -65,6 +65,7 @@ int cmd_simulate(const Args& in) {
   const std::string preset = take_option(args, "--preset", "");
   const std::string duration = take_option(args, "--duration", "");
   const std::string overrides = take_option(args, "--physics", "");
+  const std::string controller = take_option(args, "--controller", "");
   const std::string record = take_option(args, "--record", "");
   const std::string fps_text = take_option(args, "--fps", "");
   const bool record_control = take_flag(args, "--record-control");
@@ -158,6 +159,10 @@ int cmd_simulate(const Args& in) {
       if (!(fps > 0)) throw UsageError{"--physics: record_fps must be > 0 with --record"};
     }
   }
+
+  if (!controller.empty())  // replaces the robot's own (docs/control.md)
+    robot.controller = json_field::controller(parse_json_input(controller, "--controller"),
+                                              "--controller", "controller", true);
 
   const Limits limits = limits_from_environment();
   Model model;

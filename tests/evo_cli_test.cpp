@@ -39,14 +39,18 @@ class EvoCli : public plastivox::testing::ScratchDirTest {
     std::ofstream(path(name), std::ios::binary) << text;
     return path(name);
   }
-  // A tiny run: 4x4x4 lattice, population 6, 0.2 s lives.
-  std::string tiny_config(const std::string& name, int seed, int generations) const {
+  // A tiny run: 4x4x4 lattice, population 6, 0.2 s lives; `controller` the config's
+  // controller field ("" for none: the sine).
+  std::string tiny_config(const std::string& name, int seed, int generations,
+                          const std::string& controller = "") const {
     return write(name, R"({"format": "plastivox-evolve-config", "version": 1, "seed": )" +
                            std::to_string(seed) + R"(, "treatment": "stress", "population": 6,
         "generations": )" + std::to_string(generations) +
                            R"(, "lattice": {"nx": 4, "ny": 4, "nz": 4},
-        "physics": {"duration": 0.2, "settle_time": 0.1}})");
+        "physics": {"duration": 0.2, "settle_time": 0.1})" +
+                           (controller.empty() ? "" : ", \"controller\": " + controller) + "}");
   }
+  void kill_nine_and_resume(const std::string& cfg) const;
   std::string digest(const std::string& results) const {
     const Output o = run("inspect " + results + " --json");
     EXPECT_EQ(o.status, 0) << o.out;
@@ -94,6 +98,11 @@ TEST_F(EvoCli, InvalidConfigsNameTheField) {
       {head + R"("physics": {"bogus": 1}})", "physics.bogus: unknown field"},
       {head + R"("physics": {"treatment": "none"}})", "physics.treatment: set the treatment"},
       {head + R"("physics": {"preset": "gecco1999"}})", "physics.preset"},
+      {head + R"("controller": {"kind": "neural"}})", "controller.kind: 'neural' is not a"},
+      {head + R"("controller": {"kind": "distributed", "hidden": -1}})",
+       "controller.hidden: must be in [0, 64]"},
+      {head + R"("controller": {"kind": "distributed", "mutation_sigma": "big"}})",
+       "controller.mutation_sigma: expected a number"},
   };
   for (const auto& c : cases) {
     const std::string cfg = write("bad.json", c.body);
@@ -138,8 +147,9 @@ TEST_F(EvoCli, SameSeedSameDigestWithOneAndTwoThreads) {
   EXPECT_EQ(a.out.find('\r'), std::string::npos);
 }
 
-TEST_F(EvoCli, KillNineAndResumeEqualsUninterrupted) {
-  const std::string cfg = tiny_config("c.json", 33, 8);
+// Runs the config to its end, then again killed with SIGKILL soon after its first checkpoint
+// and resumed: the same digest.
+void EvoCli::kill_nine_and_resume(const std::string& cfg) const {
   ASSERT_EQ(run("evolve --config " + cfg + " --out " + path("full.h5")).status, 0);
   const std::string full = digest(path("full.h5"));
 
@@ -184,6 +194,16 @@ TEST_F(EvoCli, KillNineAndResumeEqualsUninterrupted) {
   EXPECT_EQ(again.status, 0);
   EXPECT_NE(again.out.find("already finished"), std::string::npos) << again.out;
   EXPECT_EQ(read_file(out), bytes);
+}
+
+TEST_F(EvoCli, KillNineAndResumeEqualsUninterrupted) {
+  kill_nine_and_resume(tiny_config("c.json", 33, 8));
+}
+
+// The controller's weights are part of the checkpoint: a killed run resumes to the same bits.
+TEST_F(EvoCli, KillNineAndResumeWithADistributedControllerEqualsUninterrupted) {
+  kill_nine_and_resume(
+      tiny_config("c.json", 34, 8, R"({"kind": "distributed", "hidden": 4, "every": 1})"));
 }
 
 TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {

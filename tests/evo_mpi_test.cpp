@@ -33,13 +33,17 @@ std::string mpirun(int ranks) {
 
 class EvoMpi : public plastivox::testing::ScratchDirTest {
  protected:
-  std::string config(const std::string& name, int seed) const {
+  // `controller`: the config's controller field, "" for none (the sine).
+  std::string config(const std::string& name, int seed, const std::string& controller = "") const {
     std::ofstream(path(name)) << R"({"format": "plastivox-evolve-config", "version": 1, "seed": )"
                               << seed << R"(, "treatment": "pressure", "population": 6,
         "generations": 3, "lattice": {"nx": 4, "ny": 4, "nz": 4},
-        "physics": {"duration": 0.2, "settle_time": 0.1}})";
+        "physics": {"duration": 0.2, "settle_time": 0.1})"
+                              << (controller.empty() ? "" : ", \"controller\": " + controller)
+                              << "}";
     return path(name);
   }
+  void two_ranks_give_the_same_digest(const std::string& cfg) const;
   std::string digest(const std::string& results) const {
     const Output o = shell(std::string(PLASTIVOX_CLI) + " inspect " + results + " --json");
     EXPECT_EQ(o.status, 0) << o.out;
@@ -49,7 +53,17 @@ class EvoMpi : public plastivox::testing::ScratchDirTest {
 };
 
 TEST_F(EvoMpi, TwoRanksGiveTheSameDigestAsOneProcess) {
-  const std::string cfg = config("c.json", 41);
+  for (const std::string controller : {"", R"({"kind": "distributed", "hidden": 2})"}) {
+    SCOPED_TRACE(controller);
+    two_ranks_give_the_same_digest(config("c.json", 41, controller));
+  }
+}
+
+// A run's digest is the same on two ranks as in one process (the controller's weights travel
+// with each body to the other rank).
+void EvoMpi::two_ranks_give_the_same_digest(const std::string& cfg) const {
+  fs::remove(path("one.h5"));  // a previous config's
+  fs::remove(path("two.h5"));
   const Output one =
       shell(std::string(PLASTIVOX_CLI) + " evolve --config " + cfg + " --out " + path("one.h5"));
   ASSERT_EQ(one.status, 0) << one.out;

@@ -52,6 +52,11 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds)
         robot.dev_rate[i] = 2 * uniform() - 1;
         robot.phase[i] = 2 * uniform() - 1;
       }
+  // The run's controller (a neural one costs as much as a good part of the physics,
+  // docs/benchmarks.md), with weights of the same fixed pattern.
+  robot.controller = e.controller;
+  for (int k = 0; k < e.controller_genes.count; ++k)
+    robot.controller.weights.push_back(2 * uniform() - 1);
   PhysicsDef physics = e.physics;
   physics.treatment = Treatment::kStress;
   const Model model = compile(robot, physics, limits_from_environment());

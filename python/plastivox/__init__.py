@@ -381,8 +381,8 @@ class Simulator:
 
     Per-step control (docs/control.md): sensors() gives the sensors of the present step,
     set_actuation(u) sets each voxel's signal in [-1, 1] (held until set again), step()
-    advances; reset() returns to t = 0. The built-in sine drives the robot until
-    set_actuation is first called (or set_controller(None))."""
+    advances; reset() returns to t = 0. The robot's controller (the sine unless its file names
+    a neural one) drives it until set_actuation is first called (or set_controller(None))."""
 
     # Each sensor: name, shape ("n", "n x 3", "3", "1"), unit, frame and meaning, in the
     # engine's order (docs/control.md, "Sensors").
@@ -434,8 +434,10 @@ class Simulator:
         self._core.set_actuation(actuation)
 
     def set_controller(self, controller, every=1):
-        """The built-in controller: "sine" (the default), or None (the signal set_actuation
-        sets, held), acting every `every` steps (an integer >= 1)."""
+        """The built-in controller: "sine", the robot's own neural controller by its kind's
+        name ("distributed" or "central", with the robot's weights; a robot file names it,
+        docs/control.md), or None (the signal set_actuation sets, held), acting every `every`
+        steps (an integer >= 1). A new Simulator runs the robot's own, at its own rate."""
         if isinstance(every, bool) or not isinstance(every, (int, _np.integer)) or every < 1:
             raise ValueError(f"every: expected a number of steps >= 1, got {every!r}")
         self._core.set_controller(controller, int(every))

@@ -120,23 +120,37 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
     return out;
   });
 
-  // "sine" (the default, the built-in open loop) or None (set_actuation's signal, held).
+  // "sine" (the built-in open loop), the robot's own neural controller by its kind's name
+  // ("distributed" or "central", with the robot's weights), or None (set_actuation's signal,
+  // held).
   method(
       "set_controller",
       [use](const pyb::handle& self, const std::optional<std::string>& name, int every) {
-        if (name && *name != "sine")
-          throw std::invalid_argument("controller: expected \"sine\" or None, got \"" + *name +
-                                      "\"");
         use(self, [&](Simulator& sim) {
-          sim.set_controller(name ? std::make_unique<SineController>() : nullptr, every);
+          const ControllerDef& own = sim.model().controller;
+          const bool neural = own.kind != ControllerKind::kSine;
+          if (name && *name != "sine" && !(neural && *name == to_string(own.kind)))
+            throw std::invalid_argument(
+                "controller: expected \"sine\"" +
+                (neural ? std::string(", \"") + to_string(own.kind) + "\" (the robot's own)"
+                        : std::string()) +
+                " or None, got \"" + *name + "\"");
+          std::unique_ptr<Controller> c;
+          if (name)
+            c = *name == "sine" ? std::make_unique<SineController>() : make_controller(sim.model());
+          sim.set_controller(std::move(c), every);
         });
       },
       pyb::arg("controller"), pyb::arg("every") = 1);
 
+  // The controller's name: "sine", the robot's neural kind, or None.
   method("controller", [use](const pyb::handle& self) {
     pyb::object out = pyb::none();
     use(self, [&](Simulator& sim) {
-      if (sim.controller()) out = pyb::str("sine");
+      if (dynamic_cast<SineController*>(sim.controller()))
+        out = pyb::str("sine");
+      else if (sim.controller())
+        out = pyb::str(to_string(sim.model().controller.kind));
     });
     return out;
   });

@@ -93,18 +93,20 @@ PyRobot load_source(const std::string& path) {
 // The state is a tuple that names its format and version first, so a pickle from another
 // build or a damaged one fails with a line saying so:
 //   ("plastivox.Robot", 3, name, (nx, ny, nz), voxel_size, present, stiffness, dev_rate,
-//    phase, fixed_sites, loads, physics, source, act_amplitude, act_scale)
+//    phase, fixed_sites, loads, physics, source, act_amplitude, act_scale, controller)
 // The six arrays are the raw bytes of every lattice site (uint8 and float64 in the host's
 // byte order: little-endian on every machine plastivox builds for), so values come back bit
 // for bit, those at empty sites included; act_amplitude is empty for a robot without its own
 // per-voxel amplitudes (all but voxcraft-sim robots), act_scale for one without per-voxel
 // actuation scales (RobotDef::act_scale). fixed_sites is a tuple of sites, loads
 // a tuple of (site, fx, fy, fz); physics a dict of every PhysicsDef field (physics_dict).
-// Versions 1 (13 fields, no act_amplitude) and 2 held the physics as JSON text: still read.
+// controller is (kind, hidden, every, weights as raw float64 bytes), new in version 4.
+// Versions 1 (13 fields, no act_amplitude) and 2 held the physics as JSON text: still read;
+// before version 4 every robot ran the sine.
 
 constexpr const char* kStateFormat = "plastivox.Robot";
-constexpr int kStateVersion = 3;
-constexpr size_t kPickleFields = 15;  // 13 in version 1, 14 in version 2
+constexpr int kStateVersion = 4;
+constexpr size_t kPickleFields = 16;  // 13 in version 1, 14 in version 2, 15 in version 3
 
 template <class T>
 pyb::bytes raw_bytes(const std::vector<T>& v) {
@@ -123,7 +125,9 @@ pyb::tuple robot_state(const PyRobot& r) {
       kStateFormat, kStateVersion, r.def.name, pyb::make_tuple(r.def.nx, r.def.ny, r.def.nz),
       r.def.voxel_size, raw_bytes(r.def.present), raw_bytes(r.def.stiffness),
       raw_bytes(r.def.dev_rate), raw_bytes(r.def.phase), fixed, loads, physics_dict(r.physics),
-      r.source, raw_bytes(r.def.act_amplitude), raw_bytes(r.def.act_scale));
+      r.source, raw_bytes(r.def.act_amplitude), raw_bytes(r.def.act_scale),
+      pyb::make_tuple(to_string(r.def.controller.kind), r.def.controller.hidden,
+                      r.def.controller.every, raw_bytes(r.def.controller.weights)));
 }
 
 // Copies bytes holding one T per lattice site into out; throws InputError naming the field.
@@ -138,7 +142,7 @@ void sites_from_bytes(const pyb::handle& h, size_t sites, const char* field, std
 }
 
 PyRobot robot_from_state(const pyb::tuple& t) {
-  if (t.size() < kPickleFields - 2 || t.size() > kPickleFields ||
+  if (t.size() < kPickleFields - 3 || t.size() > kPickleFields ||
       !pyb::isinstance<pyb::str>(t[0]) || t[0].cast<std::string>() != kStateFormat)
     throw InputError("Robot pickle: not a plastivox robot state (expected a tuple of 13 to " +
                      std::to_string(kPickleFields) + " fields starting with '" + kStateFormat +
@@ -150,7 +154,8 @@ PyRobot robot_from_state(const pyb::tuple& t) {
   if (v == 0 || t.size() != static_cast<size_t>(12 + v))
     throw InputError("Robot pickle: state version " + pyb::str(version).cast<std::string>() +
                      " with " + std::to_string(t.size()) +
-                     " fields, this plastivox reads versions 1 (13 fields), 2 (14) and 3 (15)");
+                     " fields, this plastivox reads versions 1 (13 fields), 2 (14), 3 (15) and "
+                     "4 (16)");
   PyRobot r;
   try {
     const auto [nx, ny, nz] = t[3].cast<std::tuple<int, int, int>>();
@@ -179,10 +184,23 @@ PyRobot robot_from_state(const pyb::tuple& t) {
     }
     r.source = t[12].cast<std::string>();
     // Version 3 writes empty bytes for a robot without its own amplitudes or scales.
-    if (v == 2 || (v == 3 && pyb::len(t[13]) != 0))
+    if (v == 2 || (v >= 3 && pyb::len(t[13]) != 0))
       sites_from_bytes(t[13], sites, "act_amplitude", r.def.act_amplitude);
-    if (v == 3 && pyb::len(t[14]) != 0)
+    if (v >= 3 && pyb::len(t[14]) != 0)
       sites_from_bytes(t[14], sites, "act_scale", r.def.act_scale);
+    if (v >= 4) {
+      const auto [kind, hidden, every, weights] =
+          t[15].cast<std::tuple<std::string, int, int, pyb::bytes>>();
+      ControllerDef& c = r.def.controller;
+      c.kind = parse_controller_kind(kind);
+      c.hidden = hidden;
+      c.every = every;
+      const std::string b = weights;
+      if (b.size() % sizeof(double) != 0)
+        throw InputError("Robot pickle: controller: weights are not whole float64 values");
+      c.weights.resize(b.size() / sizeof(double));
+      if (!b.empty()) std::memcpy(c.weights.data(), b.data(), b.size());
+    }
   } catch (const pyb::cast_error&) {
     throw InputError("Robot pickle: a field has the wrong type (damaged state?)");
   } catch (const std::invalid_argument& e) {
@@ -214,7 +232,11 @@ bool same_robot(const PyRobot& a, const PyRobot& b) {
               same_bits(x.present, y.present) && same_bits(x.stiffness, y.stiffness) &&
               same_bits(x.dev_rate, y.dev_rate) && same_bits(x.phase, y.phase) &&
               same_bits(x.act_amplitude, y.act_amplitude) && same_bits(x.act_scale, y.act_scale) &&
-              x.fixed_sites == y.fixed_sites && x.loads.size() == y.loads.size();
+              x.fixed_sites == y.fixed_sites && x.loads.size() == y.loads.size() &&
+              x.controller.kind == y.controller.kind &&
+              x.controller.hidden == y.controller.hidden &&
+              x.controller.every == y.controller.every &&
+              same_bits(x.controller.weights, y.controller.weights);
   for (size_t i = 0; same && i < x.loads.size(); ++i) {
     const RobotDef::Load &l = x.loads[i], &m = y.loads[i];
     same = l.site == m.site && std::memcmp(&l.fx, &m.fx, sizeof(double)) == 0 &&
@@ -236,6 +258,12 @@ int64_t robot_hash(const PyRobot& r) {
   h.vec(r.def.phase);
   if (!r.def.act_amplitude.empty()) h.vec(r.def.act_amplitude);  // hashes made before stay
   if (!r.def.act_scale.empty()) h.vec(r.def.act_scale);
+  if (!r.def.controller.is_default()) {  // likewise
+    h.str(to_string(r.def.controller.kind));
+    h.u64(static_cast<uint64_t>(r.def.controller.hidden));
+    h.u64(static_cast<uint64_t>(r.def.controller.every));
+    h.vec(r.def.controller.weights);
+  }
   h.vec(r.def.fixed_sites);
   for (const RobotDef::Load& l : r.def.loads) {
     h.u64(static_cast<uint64_t>(l.site));

@@ -146,6 +146,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   m.phase.resize(m.n);
   m.act_gain.assign(m.n, 1.0);
   m.act_per_voxel = !robot.act_amplitude.empty();
+  m.controller = robot.controller;  // validated with the robot
   m.act_amplitude_max = m.act_per_voxel ? 0.0 : def.act_amplitude;
   m.voxel_bonds.assign(m.n, {-1, -1, -1, -1, -1, -1});
   const bool develops = def.treatment != Treatment::kNone;

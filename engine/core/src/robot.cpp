@@ -71,6 +71,11 @@ void validate(const RobotDef& r, const Limits& limits) {
       fail("act_amplitude[" + std::to_string(i) + "]", "must be in [0, 0.9)");
   }
   if (r.voxel_count() == 0) fail("present", "the robot has no voxels");
+  try {
+    validate(r.controller);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("robot.") + e.what());
+  }
   for (size_t k = 0; k < r.fixed_sites.size(); ++k) {
     const int s = r.fixed_sites[k];
     if (s < 0 || static_cast<size_t>(s) >= n || !r.present[s])

@@ -21,7 +21,8 @@ Simulator::Simulator(const Model& model)
     : model_(&model),
       state_(make_initial_state(model)),
       ws_(std::make_unique<Workspace>(model)),
-      controller_(std::make_unique<SineController>()),
+      controller_(make_controller(model)),
+      every_(model.controller.every),
       actuation_(model.n, 0.0) {
   bind_views(model, state_, *ws_);
 }
@@ -39,7 +40,15 @@ namespace {
 // The actuation signal follows the State in a Simulator's snapshot: this tag, the value
 // count, the values.
 constexpr char kActuationTag[8] = {'P', 'V', 'X', 'A', 'C', 'T', 'U', '1'};
+// A controller's memory (Controller::memory), when it has any, stands between the State and
+// the signal: its values, their count, then this tag (read backwards from the signal).
+constexpr char kMemoryTag[8] = {'P', 'V', 'X', 'M', 'E', 'M', 'O', '1'};
 constexpr size_t kActuationHeader = sizeof kActuationTag + sizeof(uint64_t);
+
+void put_bytes(std::vector<uint8_t>& out, const void* data, size_t bytes) {
+  const auto* p = static_cast<const uint8_t*>(data);
+  out.insert(out.end(), p, p + bytes);
+}
 
 }  // namespace
 
@@ -49,13 +58,18 @@ std::vector<uint8_t> Simulator::save_state() const {
         "save_state: the simulator is between the halves of a step (step1 or sensors() ran, "
         "step2 not yet): save before reading the sensors, or after the step");
   std::vector<uint8_t> out = plastivox::save_state(state_);
+  const std::span<const double> memory =
+      controller_ ? controller_->memory() : std::span<const double>();
+  if (!memory.empty()) {
+    const uint64_t m = memory.size();
+    put_bytes(out, memory.data(), m * sizeof(double));
+    put_bytes(out, &m, sizeof m);
+    put_bytes(out, kMemoryTag, sizeof kMemoryTag);
+  }
   const uint64_t count = actuation_.size();
-  const auto* tag = reinterpret_cast<const uint8_t*>(kActuationTag);
-  const auto* count_bytes = reinterpret_cast<const uint8_t*>(&count);
-  const auto* values = reinterpret_cast<const uint8_t*>(actuation_.data());
-  out.insert(out.end(), tag, tag + sizeof kActuationTag);
-  out.insert(out.end(), count_bytes, count_bytes + sizeof count);
-  out.insert(out.end(), values, values + count * sizeof(double));
+  put_bytes(out, kActuationTag, sizeof kActuationTag);
+  put_bytes(out, &count, sizeof count);
+  put_bytes(out, actuation_.data(), count * sizeof(double));
   return out;
 }
 
@@ -69,8 +83,34 @@ void Simulator::restore_state(const std::vector<uint8_t>& snapshot) {
   if (signal) std::memcpy(&count, signal + sizeof kActuationTag, sizeof count);
   if (signal && std::memcmp(signal, kActuationTag, sizeof kActuationTag) == 0 &&
       count == actuation_.size()) {
-    plastivox::restore_state(state_, std::vector<uint8_t>(snapshot.begin(), snapshot.end() - tail));
+    // The controller's memory, when the snapshot holds one, just before the signal.
+    size_t state_end = snapshot.size() - tail;
+    const uint8_t* memory = nullptr;
+    uint64_t m = 0;
+    const size_t footer = sizeof m + sizeof kMemoryTag;
+    if (state_end >= footer &&
+        std::memcmp(signal - sizeof kMemoryTag, kMemoryTag, sizeof kMemoryTag) == 0) {
+      std::memcpy(&m, signal - footer, sizeof m);
+      if (m > (state_end - footer) / sizeof(double))
+        throw std::invalid_argument("snapshot: controller memory: damaged (count " +
+                                    std::to_string(m) + ")");
+      state_end -= footer + m * sizeof(double);
+      memory = snapshot.data() + state_end;
+      const size_t own = controller_ ? controller_->memory().size() : 0;
+      if (own != 0 && own != m)
+        throw std::invalid_argument("snapshot: controller memory: " + std::to_string(m) +
+                                    " values, this simulator's controller holds " +
+                                    std::to_string(own) + " (another model or controller)");
+      if (own == 0) memory = nullptr;  // another controller's: this one remembers nothing
+    }
+    plastivox::restore_state(state_,
+                             std::vector<uint8_t>(snapshot.begin(), snapshot.begin() + state_end));
     std::memcpy(actuation_.data(), signal + kActuationHeader, count * sizeof(double));
+    if (memory) {
+      std::vector<double> values(m);  // the snapshot's bytes may not be aligned for double
+      std::memcpy(values.data(), memory, m * sizeof(double));
+      controller_->set_memory(values);
+    }
   } else {
     plastivox::restore_state(state_, snapshot);
   }

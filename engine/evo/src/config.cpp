@@ -44,6 +44,15 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
     for (const auto& [name, value] : c.task_params) j["task"][name] = value;
   }
   j["max_mutation_tries"] = c.max_mutation_tries;
+  if (!c.controller.is_default()) {  // likewise
+    json& k = j["controller"] = json_field::controller_json(c.controller);
+    k.erase("weights");  // each genome's own
+    if (c.controller.kind != ControllerKind::kSine) {
+      k["init_sigma"] = c.controller_genes.init_sigma;
+      k["mutation_rate"] = c.controller_genes.rate;
+      k["mutation_sigma"] = c.controller_genes.sigma;
+    }
+  }
   j["physics"] = json::parse(c.physics_json);
   if (with_run_control) {
     j["checkpoint_every"] = c.checkpoint_every;
@@ -69,6 +78,8 @@ ExpressionDef EvolveConfig::expression() const {
   d.e_min = physics.e_min;
   d.e_max = physics.e_max;
   d.uses_development = treatment != Treatment::kNone;
+  d.controller = controller;
+  d.controller_genes = controller_genes;
   return d;
 }
 
@@ -148,6 +159,24 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
         fail(src, k, "'" + p + "' is unknown (use random or body-plans)");
     } else if (k == "max_mutation_tries") {
       c.max_mutation_tries = integer(v, src, k, 1, 10000000);
+    } else if (k == "controller") {
+      // The evolution's own fields first; the rest is a robot file's controller, less weights.
+      json def = v;
+      if (def.is_object()) {
+        const auto take = [&](const char* name, double hi, double& out) {
+          if (!def.contains(name)) return;
+          const std::string f = std::string("controller.") + name;
+          out = number(def[name], src, f);
+          if (!(out >= 0 && out <= hi))
+            fail(src, f, "must be in [0, " + std::to_string(static_cast<int>(hi)) + "]");
+          def.erase(name);
+        };
+        take("init_sigma", 100, c.controller_genes.init_sigma);
+        take("mutation_rate", 1, c.controller_genes.rate);
+        take("mutation_sigma", 100, c.controller_genes.sigma);
+      }
+      c.controller = json_field::controller(def, src, k, false);
+      c.controller_genes.count = weight_count(c.controller.kind, c.controller.hidden);
     } else if (k == "checkpoint_every") {
       c.checkpoint_every = integer(v, src, k, 1, kMaxInt);
     } else if (k == "threads") {
@@ -193,6 +222,7 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
     for (int plan = 0; plan < std::min(c.population, kBodyPlanSeedCount); ++plan) {
       Genome g;  // the other networks do not change which sites hold a voxel
       g.nets.fill(body_plan_geometry(plan));
+      g.controller.assign(c.controller_genes.count, 0.0);
       const Phenotype body = ex.express(ex.evaluate(g));
       if (!body.valid)
         fail(src, "initial_population",
@@ -276,6 +306,10 @@ std::string default_config_text() {
        "initial_population: random (the paper) | body-plans: generation 0 also holds one",
        "  hand-built body of each of the paper's plans, Pi, Gamma, Upsilon (docs/evolution.md).",
        "max_mutation_tries: attempts to make a changed, valid child (1500).",
+       "controller: the robots' controller, evolved with the body (docs/evolution.md), e.g.",
+       "  {\"kind\": \"distributed\", \"hidden\": 4, \"every\": 1, \"init_sigma\": 1,",
+       "  \"mutation_rate\": 0.1, \"mutation_sigma\": 0.3}; kind sine | distributed |",
+       "  central (docs/control.md). Absent: the sine, every step.",
        "checkpoint_every: generations between checkpoints of the results file (1).",
        "threads: evaluation threads, 0 = all cores (--threads overrides; results do not",
        "  depend on it).",

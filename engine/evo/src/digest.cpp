@@ -15,6 +15,7 @@ void hash_genome(Hasher& h, const Genome& g) {
       h.f64(l.weight);
     }
   }
+  if (!g.controller.empty()) h.vec(g.controller);  // absent under the sine: its digests hold
 }
 
 }  // namespace

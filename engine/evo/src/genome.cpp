@@ -16,10 +16,23 @@ const char* to_string(Network n) {
   return name_in(kNames, n);
 }
 
-Genome random_genome(Rng& rng) {
+Genome random_genome(Rng& rng, const ControllerGenes& genes) {
   Genome g;
   for (Cppn& net : g.nets) net = random_cppn(rng);
+  g.controller.resize(genes.count);
+  for (double& w : g.controller) w = genes.init_sigma * rng.normal();
   return g;
+}
+
+void mutate_controller(std::vector<double>& weights, const ControllerGenes& genes, Rng& rng) {
+  bool changed = false;
+  for (double& w : weights)
+    if (rng.coin(genes.rate)) {
+      w += genes.sigma * rng.normal();
+      changed = true;
+    }
+  if (!changed && !weights.empty())
+    weights[rng.index(static_cast<int>(weights.size()))] += genes.sigma * rng.normal();
 }
 
 namespace {

@@ -89,7 +89,8 @@ std::vector<T> get_array(const std::vector<char>& b, size_t& at) {
 
 // A simulation for another rank: id u64, physics (physics_to_json, u64 length + bytes: exact
 // for every field; the environment holds arrays, so PhysicsDef is not sent as bytes), lattice
-// extent and voxel size, voxel count, then the four lattice arrays.
+// extent and voxel size, voxel count, the four lattice arrays, then the controller (kind,
+// hidden, every, weights).
 void pack_body(std::vector<char>& b, uint64_t id, const Phenotype& p, const PhysicsDef& physics) {
   const RobotDef& r = p.robot;
   if (!r.fixed_sites.empty() || !r.loads.empty())
@@ -107,6 +108,10 @@ void pack_body(std::vector<char>& b, uint64_t id, const Phenotype& p, const Phys
   put_array(b, r.stiffness);
   put_array(b, r.dev_rate);
   put_array(b, r.phase);
+  put(b, static_cast<int>(r.controller.kind));
+  put(b, r.controller.hidden);
+  put(b, r.controller.every);
+  put_array(b, r.controller.weights);
 }
 
 struct RemoteBody {
@@ -133,6 +138,10 @@ RemoteBody unpack_body(const std::vector<char>& b) {
   r.stiffness = get_array<double>(b, at);
   r.dev_rate = get_array<double>(b, at);
   r.phase = get_array<double>(b, at);
+  r.controller.kind = static_cast<ControllerKind>(get<int>(b, at));
+  r.controller.hidden = get<int>(b, at);
+  r.controller.every = get<int>(b, at);
+  r.controller.weights = get_array<double>(b, at);
   t.body.valid = true;
   return t;
 }

@@ -34,6 +34,12 @@ void hash_robot(Hasher& h, const RobotDef& r) {
   h.vec(r.stiffness);
   h.vec(r.dev_rate);
   h.vec(r.phase);
+  if (!r.controller.is_default()) {  // only then, so the sine's hashes and digests hold
+    h.str(to_string(r.controller.kind));
+    h.u64(static_cast<uint64_t>(r.controller.hidden));
+    h.u64(static_cast<uint64_t>(r.controller.every));
+    h.vec(r.controller.weights);
+  }
 }
 
 double logistic(double o) {
@@ -83,11 +89,17 @@ std::vector<uint8_t> largest_component(const std::vector<uint8_t>& present, int 
 
 bool Phenotype::same_as(const Phenotype& o) const {
   auto same = [](const auto& a, const auto& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+    // (memcmp of two empty vectors would pass null pointers: undefined, even for 0 bytes)
+    return a.size() == b.size() &&
+           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
   };
   return robot.nx == o.robot.nx && robot.ny == o.robot.ny && robot.nz == o.robot.nz &&
          same(robot.present, o.robot.present) && same(robot.stiffness, o.robot.stiffness) &&
-         same(robot.dev_rate, o.robot.dev_rate) && same(robot.phase, o.robot.phase);
+         same(robot.dev_rate, o.robot.dev_rate) && same(robot.phase, o.robot.phase) &&
+         robot.controller.kind == o.robot.controller.kind &&
+         robot.controller.hidden == o.robot.controller.hidden &&
+         robot.controller.every == o.robot.controller.every &&
+         same(robot.controller.weights, o.robot.controller.weights);
 }
 
 Expresser::Expresser(const ExpressionDef& def)
@@ -106,6 +118,7 @@ NetworkOutputs Expresser::evaluate(const Genome& g) const {
   NetworkOutputs out;
   std::vector<double> scratch;
   for (int i = 0; i < kNetworkCount; ++i) evo::evaluate(g.nets[i], inputs_, out.raw[i], scratch);
+  out.controller = g.controller;
   return out;
 }
 
@@ -159,6 +172,13 @@ Phenotype Expresser::express(const NetworkOutputs& out) const {
     else
       r.phase[s] = 2.0 * logistic(phase[s]) - 1.0;
   }
+
+  r.controller = def_.controller;
+  r.controller.weights = out.controller;
+  if (out.controller.size() != static_cast<size_t>(def_.controller_genes.count))
+    invalid("the genome has " + std::to_string(out.controller.size()) +
+            " controller weights, the controller takes " +
+            std::to_string(def_.controller_genes.count));
 
   Hasher h;
   hash_robot(h, r);

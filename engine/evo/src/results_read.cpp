@@ -146,8 +146,13 @@ void read_champions(const Ctx& c, hid_t root, RunState& s) {
       Handle net = h5::open_group(c, genome.id(), layout::kNetworkNames[n]);
       ch.genome.nets[n] = read_network(c, net.id(), obj + "/genome/" + layout::kNetworkNames[n]);
     }
+    const hsize_t weights = static_cast<hsize_t>(s.config.controller_genes.count);
+    if (weights > 0) ch.genome.controller = h5::read<double>(c, genome.id(), "controller", weights);
     Handle ph = h5::open_group(c, g.id(), "phenotype");
     ch.phenotype = read_phenotype(c, ph.id(), s.config);
+    // Its controller: the run's, with the genome's weights (as the expresser made it).
+    ch.phenotype.controller = s.config.controller;
+    ch.phenotype.controller.weights = ch.genome.controller;
     std::vector<hsize_t> dims = {hsize_t(s.config.nz), hsize_t(s.config.ny), hsize_t(s.config.nx)};
     ch.final_stiffness = h5::read<double>(c, g.id(), "final_stiffness", dims);
     s.champions.push_back(std::move(ch));
@@ -190,6 +195,12 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
           c, obj, {act.begin() + n0, act.begin() + n1}, {src.begin() + l0, src.begin() + l1},
           {dst.begin() + l0, dst.begin() + l1}, {w.begin() + l0, w.begin() + l1});
     }
+  }
+  if (const hsize_t count = s.config.controller_genes.count; count > 0) {
+    std::vector<hsize_t> dims = {P, count};
+    const auto w = h5::read<double>(c, genomes.id(), "controller", dims);
+    for (hsize_t i = 0; i < P; ++i)
+      s.population[i].genome.controller.assign(w.begin() + i * count, w.begin() + (i + 1) * count);
   }
   Handle cache = h5::open_group(c, ck.id(), "cache");
   std::vector<hsize_t> cd = {h5::kAnyExtent};

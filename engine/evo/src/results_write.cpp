@@ -172,6 +172,8 @@ void write_champions(const Ctx& c, hid_t root, const RunState& s) {
       Handle net = h5::create_group(c, genome.id(), layout::kNetworkNames[n]);
       write_network(c, net.id(), ch.genome.nets[n]);
     }
+    if (!ch.genome.controller.empty())
+      h5::write(c, genome.id(), "controller", ch.genome.controller);
     Handle ph = h5::create_group(c, g.id(), "phenotype");
     write_phenotype(c, ph.id(), ch.phenotype);
     h5::write(c, g.id(), "final_stiffness", ch.final_stiffness, lattice_dims(ch.phenotype));
@@ -219,6 +221,15 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
     h5::write(c, g.id(), "source", src);
     h5::write(c, g.id(), "target", dst);
     h5::write(c, g.id(), "weight", w);
+  }
+  // The controllers' weights, (P, count), when the run evolves a controller.
+  if (const hsize_t count = s.config.controller_genes.count; count > 0) {
+    std::vector<double> w;
+    for (const Individual& ind : s.population)
+      w.insert(w.end(), ind.genome.controller.begin(), ind.genome.controller.end());
+    if (w.size() != s.population.size() * count)
+      c.fail("/checkpoint/population/genome/controller", "internal error: weight count");
+    h5::write(c, genomes.id(), "controller", w, {static_cast<hsize_t>(s.population.size()), count});
   }
   Handle cache = h5::create_group(c, ck.id(), "cache");
   std::vector<uint64_t> hi, lo, failure_row;

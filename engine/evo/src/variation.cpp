@@ -6,12 +6,15 @@ Offspring mutate_child(const Expresser& ex, const Genome& parent,
                        const NetworkOutputs& parent_outputs, const Phenotype& parent_phenotype,
                        Rng& rng, int max_tries) {
   Offspring child;
+  const ControllerGenes& genes = ex.def().controller_genes;
+  const int parts = kNetworkCount + (genes.count > 0 ? 1 : 0);
   for (int attempt = 1; attempt <= max_tries; ++attempt) {
-    // Which networks: each with probability 1/4, drawn again until one is picked.
-    bool picked[kNetworkCount] = {false, false, false, false};
+    // Which parts: each network (and the controller, when the run evolves one) with
+    // probability 1/4, drawn again until one is picked.
+    bool picked[kNetworkCount + 1] = {false, false, false, false, false};
     bool any = false;
     while (!any)
-      for (int i = 0; i < kNetworkCount; ++i) any |= (picked[i] = rng.coin(0.25));
+      for (int i = 0; i < parts; ++i) any |= (picked[i] = rng.coin(0.25));
 
     Genome g = parent;
     NetworkOutputs out = parent_outputs;
@@ -22,6 +25,11 @@ Offspring mutate_child(const Expresser& ex, const Genome& parent,
       if (!mutate(g.nets[i], op, rng)) continue;
       applied = true;
       ex.evaluate(g, static_cast<Network>(i), out);  // only mutated networks are re-run
+    }
+    if (picked[kNetworkCount]) {
+      mutate_controller(g.controller, genes, rng);
+      out.controller = g.controller;
+      applied = true;
     }
     if (!applied) continue;
     Phenotype p = ex.express(out);
@@ -48,7 +56,7 @@ namespace {
 Offspring drawn_individual(const Expresser& ex, Rng& rng, int plan, int max_draws) {
   Offspring o;
   for (int draw = 1; draw <= max_draws; ++draw) {
-    o.genome = random_genome(rng);
+    o.genome = random_genome(rng, ex.def().controller_genes);
     if (plan >= 0) o.genome.nets[static_cast<int>(Network::kGeometry)] = body_plan_geometry(plan);
     o.outputs = ex.evaluate(o.genome);
     o.phenotype = ex.express(o.outputs);

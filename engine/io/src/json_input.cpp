@@ -180,6 +180,53 @@ TreatmentSpec treatment(const nlohmann::json& j, const std::string& source,
   return t;
 }
 
+ControllerDef controller(const nlohmann::json& c, const std::string& source,
+                         const std::string& field, bool with_weights) {
+  if (!c.is_object()) fail(source, field, "expected an object {\"kind\": ..., ...}");
+  if (!c.contains("kind")) fail(source, field + ".kind", "missing (sine, distributed or central)");
+  ControllerDef d;
+  for (auto it = c.begin(); it != c.end(); ++it) {
+    const std::string& k = it.key();
+    const std::string f = field + "." + k;
+    if (k == "kind") {
+      try {
+        d.kind = parse_controller_kind(text(*it, source, f));
+      } catch (const std::invalid_argument& e) {
+        fail(source, f, e.what());
+      }
+    } else if (k == "hidden") {
+      d.hidden = integer(*it, source, f, 0, kMaxHidden);
+    } else if (k == "every") {
+      d.every = integer(*it, source, f, 1, 1 << 30);
+    } else if (k == "weights" && with_weights) {
+      if (!it->is_array()) fail(source, f, "expected an array of numbers");
+      for (size_t w = 0; w < it->size(); ++w)
+        d.weights.push_back(number((*it)[w], source, f + "[" + std::to_string(w) + "]"));
+    } else {
+      fail(source, f, "unknown field");
+    }
+  }
+  const int count = weight_count(d.kind, d.hidden);
+  if (count < 0)
+    fail(source, field + ".hidden",
+         "must be in [1, " + std::to_string(kMaxHidden) + "] for " + to_string(d.kind));
+  if (with_weights && static_cast<int>(d.weights.size()) != count)
+    fail(source, field + ".weights",
+         "expected " + std::to_string(count) + " numbers for " + to_string(d.kind) +
+             " with hidden " + std::to_string(d.hidden) + ", got " +
+             std::to_string(d.weights.size()));
+  return d;
+}
+
+nlohmann::json controller_json(const ControllerDef& d) {
+  nlohmann::json c;
+  c["kind"] = to_string(d.kind);
+  if (d.kind != ControllerKind::kSine) c["hidden"] = d.hidden;
+  c["every"] = d.every;
+  if (d.kind != ControllerKind::kSine) c["weights"] = d.weights;
+  return c;
+}
+
 TaskSpec task(const nlohmann::json& j, const std::string& source, const std::string& field) {
   if (!j.is_string() && !j.is_object())
     fail(source, field, "expected {\"name\": ...} or a task name (" + task_names() + ")");

@@ -159,7 +159,8 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
         fail(source, prefix + it.key(), "unknown field");
   };
   only(j,
-       {"format", "version", "name", "lattice", "voxels", "act_scale", "fixed", "loads", "physics"},
+       {"format", "version", "name", "lattice", "voxels", "act_scale", "controller", "fixed",
+        "loads", "physics"},
        "");
   if (!j.contains("lattice")) fail(source, "lattice", "missing");
   const json& lat = j["lattice"];
@@ -220,6 +221,8 @@ RobotFile parse_robot_json(const std::string& src, const std::string& source) {
                           "voxels[" + std::to_string(k) + "]")] = a;
     }
   }
+  if (j.contains("controller"))
+    r.controller = json_field::controller(j["controller"], source, "controller", true);
   if (j.contains("fixed")) {
     if (!j["fixed"].is_array()) fail(source, "fixed", "expected an array");
     for (size_t k = 0; k < j["fixed"].size(); ++k)
@@ -275,6 +278,8 @@ std::string robot_to_json(const RobotDef& r, const PhysicsDef* physics) {
     for (int s = 0; s < r.sites(); ++s)
       if (r.present[s]) scale.push_back(r.act_scale[s]);
   }
+  // Only when not the default sine, so every other robot file keeps its bytes.
+  if (!r.controller.is_default()) j["controller"] = json_field::controller_json(r.controller);
   auto xyz = [&](int s) { return json::array({s % r.nx, (s / r.nx) % r.ny, s / (r.nx * r.ny)}); };
   if (!r.fixed_sites.empty()) {
     j["fixed"] = json::array();

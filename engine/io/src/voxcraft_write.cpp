@@ -159,6 +159,9 @@ VoxcraftFiles write_voxcraft(const RobotDef& robot, const PhysicsDef& p, bool lo
   if (p.task != Task::kWalk)
     cannot(std::string("the task (physics.task '") + to_string(p.task) +
            "'; voxcraft-sim's fitness here is the walk's displacement)");
+  if (!robot.controller.is_default())
+    cannot(std::string("a ") + to_string(robot.controller.kind) +
+           " controller (robot.controller; voxcraft-sim runs the sine)");
 
   // Per voxel: congenital stiffness as compile() holds it, and the linear amplitude.
   const bool own = !robot.act_amplitude.empty();

@@ -119,6 +119,10 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
     throw VxaError(std::string("write_vxa: physics.task '") + to_string(p.task) +
                    "' cannot be written: the authors' simulator scores displacement only "
                    "(walk); write .json");
+  if (!robot.controller.is_default())
+    throw VxaError(std::string("write_vxa: robot.controller (") + to_string(robot.controller.kind) +
+                   ") cannot be written: the authors' dialect actuates by the sine alone; write "
+                   ".json");
   if (!robot.fixed_sites.empty() || !robot.loads.empty())
     throw VxaError(
         "write_vxa: robot.fixed_sites and robot.loads cannot be written (VXA "

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -91,6 +92,11 @@ class Controller {
   virtual void act(const Sensors& sensors, std::span<double> actuation) = 0;
   // Forget any memory: the life starts again (Simulator::reset).
   virtual void reset() {}
+  // What it remembers from one call to the next (empty when nothing), and setting it back:
+  // a Simulator's snapshot carries it, so a restored life continues bit for bit. set_memory
+  // takes exactly memory().size() values.
+  virtual std::span<const double> memory() const { return {}; }
+  virtual void set_memory(std::span<const double> /*values*/) {}
 };
 
 // Today's open loop, the default: u_i = sin(2 pi (f t + phase_i)), f = physics.act_frequency,
@@ -100,6 +106,10 @@ class SineController final : public Controller {
  public:
   void act(const Sensors& sensors, std::span<double> actuation) override;
 };
+
+// The controller model.controller asks for (docs/control.md): the sine, or a distributed or
+// central network with its weights. Simulator's constructor sets it, at its rate.
+std::unique_ptr<Controller> make_controller(const Model& model);
 
 // The engine's sin(2 pi u) (its own series, within 4 ulp of libm and the same bits on every
 // machine and instruction set): what the sine controller computes, for a controller written

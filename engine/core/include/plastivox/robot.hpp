@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/controller_def.hpp"
+
 namespace plastivox {
 
 // Lattice sites are indexed x fastest, then y, then z: site = x + nx*(y + ny*z).
@@ -25,6 +27,9 @@ struct RobotDef {
   // times this; 0 makes passive tissue, which the controller's signal does not move. Empty
   // (the default): 1 everywhere.
   std::vector<double> act_scale;
+  // The controller that writes each voxel's actuation signal (docs/control.md); the default
+  // is the sine, every step.
+  ControllerDef controller;
 
   // Boundary conditions, for experiments and physics tests (evolved robots have none).
   std::vector<int> fixed_sites;  // sites whose voxel is clamped: no translation, no rotation

@@ -70,10 +70,13 @@ class Simulator {
   State& mutable_state();
 
   // The state as bytes, and back: save_state() in state.hpp (every field of kStateFields
-  // in order), followed by the actuation signal (actuation(): the controller's last output,
-  // which holds until its next call). restore_state() takes a snapshot saved from a Simulator
-  // of the same model (at any step, by this one or another) and the life continues from it
-  // bit-identically under the same controller; a snapshot of the State alone
+  // in order), then the controller's memory when it has any (Controller::memory: the signals
+  // a distributed network has in flight), then the actuation signal (actuation(): the
+  // controller's last output, which holds until its next call). restore_state() takes a
+  // snapshot saved from a Simulator of the same model (at any step, by this one or another)
+  // and the life continues from it bit-identically under the same controller (a memory of
+  // another size is refused; one that this controller lacks is ignored); a snapshot of the
+  // State alone
   // (plastivox::save_state) is taken too, and leaves the signal as it is. A snapshot of
   // another model's state, or a damaged one, is refused with std::invalid_argument naming the
   // field, and the state is left as it was. Save between steps: between step1 and step2 the
@@ -86,8 +89,8 @@ class Simulator {
 
   // ---- Control (plastivox/control.hpp, docs/control.md) ----
   // The controller, called between step1 and step2 when steps % every == 0 (every >= 1, else
-  // std::invalid_argument naming `every`). The default is the sine (SineController, every
-  // step). nullptr: no controller; the signal is what the caller writes to actuation(),
+  // std::invalid_argument naming `every`). The default is the model's (make_controller: the
+  // sine every step, unless the robot names another). nullptr: no controller; the signal is what the caller writes to actuation(),
   // and holds until written again.
   void set_controller(std::unique_ptr<Controller> controller, int every = 1);
   Controller* controller() const { return controller_.get(); }

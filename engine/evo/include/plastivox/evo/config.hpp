@@ -32,8 +32,12 @@ struct EvolveConfig {
   double min_fill = 0.2;  // fraction of sites a valid body fills
   InitialPopulation initial_population = InitialPopulation::kRandom;
   int max_mutation_tries = 1500;  // attempts per child (and draws per newcomer)
-  int checkpoint_every = 1;       // generations between checkpoints (and at the end)
-  int threads = 0;                // evaluation threads; 0 = all cores
+  // The robots' controller (its weights come from each genome; docs/evolution.md, "Evolving a
+  // controller") and the draws and mutation of those weights (count set from the controller).
+  ControllerDef controller;
+  ControllerGenes controller_genes;
+  int checkpoint_every = 1;  // generations between checkpoints (and at the end)
+  int threads = 0;           // evaluation threads; 0 = all cores
   std::string physics_json = R"({"preset":"gecco2018-code"})";  // as given, canonical
   PhysicsDef physics;  // resolved from physics_json, treatment and task applied
 

@@ -1,7 +1,9 @@
-// A robot's genome: four independent CPPNs (docs/method.md §6).
+// A robot's genome: four independent CPPNs (docs/method.md §6), and the weights of its
+// controller when the run evolves one (docs/evolution.md, "Evolving a controller").
 #pragma once
 
 #include <array>
+#include <vector>
 
 #include "plastivox/evo/cppn.hpp"
 #include "plastivox/evo/rng.hpp"
@@ -18,14 +20,31 @@ enum class Network : int {
 constexpr int kNetworkCount = 4;
 const char* to_string(Network n);  // "geometry", "stiffness", "development", "phase"
 
+// The controller part of a genome: `count` weights (weight_count of the run's controller; 0
+// under the sine, whose genomes have none). A newcomer draws each from N(0, init_sigma^2); a
+// mutation adds N(0, sigma^2) to each weight with probability `rate` (to one weight, chosen
+// uniformly, when the draw picked none).
+struct ControllerGenes {
+  int count = 0;
+  double init_sigma = 1.0;
+  double rate = 0.1;
+  double sigma = 0.3;
+  bool operator==(const ControllerGenes&) const = default;
+};
+
 struct Genome {
   std::array<Cppn, kNetworkCount> nets;
+  std::vector<double> controller;  // the controller's weights (ControllerGenes::count)
   const Cppn& net(Network n) const { return nets[static_cast<int>(n)]; }
   bool operator==(const Genome&) const = default;
 };
 
-// Four networks from random_cppn(), drawn in network order from one stream.
-Genome random_genome(Rng& rng);
+// Four networks from random_cppn(), drawn in network order from one stream, then the
+// controller's weights (none when genes.count is 0, which draws nothing more).
+Genome random_genome(Rng& rng, const ControllerGenes& genes = {});
+
+// The controller part's mutation (ControllerGenes): always changes at least one weight.
+void mutate_controller(std::vector<double>& weights, const ControllerGenes& genes, Rng& rng);
 
 void validate(const Genome& g);  // std::invalid_argument naming the network
 

@@ -6,6 +6,7 @@
 //   stiffness    E     = e_min + (e_max - e_min) * logistic(o)      (Pa, linear)
 //   development  alpha = -10 + 20 * logistic(o)                     (1/s)
 //   phase        phi   = 2 * logistic(o) - 1                        (cycles)
+// The robot runs the expression's controller with the genome's controller weights.
 // A phenotype is valid when at least min_fill of the lattice sites hold a voxel and no
 // output used by it is NaN. Absent sites hold 0 in every array, and dev_rate is 0
 // everywhere when the treatment ignores development, so two phenotypes that would simulate
@@ -36,11 +37,16 @@ struct ExpressionDef {
   double min_fill = 0.2;             // fraction of sites that must hold a voxel
   double e_min = 1e5, e_max = 1e11;  // Pa, stiffness mapping range (from the physics)
   bool uses_development = true;      // false under treatment none: C3 is ignored
+  // The robots' controller (its weights empty: each genome's own go in) and how the genome's
+  // controller part is drawn and mutated.
+  ControllerDef controller;
+  ControllerGenes controller_genes;
 };
 
 // Raw CPPN outputs per network and site (NaN where a network produced a non-finite value).
 struct NetworkOutputs {
   std::array<std::vector<double>, kNetworkCount> raw;
+  std::vector<double> controller;  // the genome's controller weights, passed through as they are
 };
 
 struct Phenotype {
@@ -48,13 +54,14 @@ struct Phenotype {
   bool valid = false;
   std::string invalid_reason;  // empty when valid
   int voxels = 0;              // voxels kept
-  Hash128 hash;                // bit-exact identity of (lattice, present, E0, alpha, phase)
+  Hash128 hash;  // bit-exact identity of (lattice, present, E0, alpha, phase, controller)
   bool same_as(const Phenotype& o) const;  // bit-exact equality of the arrays
 };
 
 double logistic(double o);  // numerically stable; o must not be NaN
 
-// Feeds a robot's identity (lattice, voxel size, present, E0, alpha, phase; bit for bit) to
+// Feeds a robot's identity (lattice, voxel size, present, E0, alpha, phase, and its controller
+// when it is not the default sine; bit for bit) to
 // `h`: Phenotype::hash, the results file's content digest and the analysis all use it.
 void hash_robot(Hasher& h, const RobotDef& r);
 

@@ -17,8 +17,9 @@ struct Offspring {
 
 // A child of parent. One attempt: each network is picked with probability 1/4 (drawn
 // again until at least one is picked); each picked network gets one operator chosen
-// uniformly from the six. The attempt succeeds when the phenotype differs from the
-// parent's and is valid; otherwise the next attempt starts again from the parent. After
+// uniformly from the six. A run that evolves a controller picks its weights as a fifth part,
+// alike, and mutates them with mutate_controller(). The attempt succeeds when the phenotype differs
+// from the parent's and is valid; otherwise the next attempt starts again from the parent. After
 // max_tries failures the child is an unchanged copy of the parent (success = false).
 // Networks the phenotype ignores (C3 under treatment none) never make a change by
 // themselves, because the phenotype does not contain their output.

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/controller_def.hpp"
 #include "plastivox/physics_def.hpp"
 
 namespace plastivox {
@@ -65,6 +66,13 @@ struct TaskSpec {
 TaskSpec task(const nlohmann::json& j, const std::string& source, const std::string& field);
 // The JSON of a task: its name alone when no parameter is given, else {"name", parameters}.
 nlohmann::json task_json(Task task, const TaskParams& params);
+// A controller (docs/control.md): {"kind": ..., "hidden": ..., "every": ..., "weights": [...]};
+// "weights" only when with_weights (a robot file), and then exactly as many as the kind and
+// hidden size take. Absent fields keep ControllerDef's defaults.
+ControllerDef controller(const nlohmann::json& j, const std::string& source,
+                         const std::string& field, bool with_weights);
+// The same as JSON (hidden and weights only for the neural kinds), exact: parsing it gives d.
+nlohmann::json controller_json(const ControllerDef& d);
 }  // namespace json_field
 
 }  // namespace plastivox
