@@ -99,6 +99,37 @@ TEST(NeuralControl, EveryInstructionSetGivesTheSameBits) {
 // actuation is squash(+1 x the signal from the -x face - 1 x the signal from the +x face).
 // The first call hears nothing; from the second on, voxel 1 hears voxel 0 across its -x face
 // (+1/3) and voxel 0 hears voxel 1 across its +x face (-1/3).
+// physics.act_max_rate bounds how fast a network's signal moves: each call at most
+// act_max_rate * every * dt from the signal held, a bound this network reaches; 0 lifts it,
+// and the same network then moves its signal faster.
+TEST(NeuralControl, TheSignalMovesNoFasterThanActMaxRate) {
+  const RobotDef robot = walker_with(drawn(ControllerKind::kCentral, 4));
+  PhysicsDef physics = short_life();
+  const double rate = physics.act_max_rate;
+  ASSERT_GT(rate, 0);
+  // The largest change of any voxel's signal in one step, over `rate` * dt.
+  const auto fastest = [&](const PhysicsDef& p) {
+    const Model model = compile(robot, p);
+    Simulator sim(model);
+    std::vector<double> before(model.n, 0.0);
+    double most = 0;
+    for (int k = 0; k < 400; ++k) {
+      sim.step();
+      const double bound = rate * sim.state().dt;  // the dt this step used
+      for (int i = 0; i < model.n; ++i) {
+        most = std::max(most, std::abs(sim.actuation()[i] - before[i]) / bound);
+        before[i] = sim.actuation()[i];
+      }
+    }
+    return most;
+  };
+  const double limited = fastest(physics);
+  EXPECT_LE(limited, 1.0 + 1e-12);
+  EXPECT_GT(limited, 0.99);
+  physics.act_max_rate = 0;
+  EXPECT_GT(fastest(physics), 2.0);
+}
+
 TEST(NeuralControl, SignalsCrossFacesWithOneCallsDelay) {
   RobotDef bar = make_empty_robot(2, 1, 1);
   for (int s = 0; s < 2; ++s) {

@@ -79,13 +79,13 @@ def bad_state(state, index, value):
 
 def test_robot_pickle_refuses_garbage_with_one_line():
     state = quick_walker()._core.__getstate__()
-    assert state[:2] == ("plastivox.Robot", 3) and len(state) == 15
+    assert state[:2] == ("plastivox.Robot", 4) and len(state) == 16
     physics = state[11]
     assert isinstance(physics, dict) and physics["duration"] == QUICK["duration"]
     cases = [
         ((1, 2, 3), "not a plastivox robot state"),
         (bad_state(state, 0, "something.Else"), "not a plastivox robot state"),
-        (bad_state(state, 1, 1), "state version 1 with 15 fields, this plastivox reads versions 1"),
+        (bad_state(state, 1, 1), "state version 1 with 16 fields, this plastivox reads versions 1"),
         (bad_state(state, 1, 2 ** 70), "state version 1180591620717411303424"),
         (bad_state(state, 6, b"\0" * 12), "stiffness: expected 8000 bytes"),
         (bad_state(state, 3, "10x10x10"), "wrong type"),

@@ -81,7 +81,8 @@ void local_inputs(const Sensors& sensors, double* rows) {
 // the first call). Outputs: the voxel's actuation and one signal towards each face.
 class DistributedController final : public Controller {
  public:
-  explicit DistributedController(const Model& m) : def_(m.controller), n_(m.n) {
+  explicit DistributedController(const Model& m)
+      : def_(m.controller), n_(m.n), max_rate_(m.def.act_max_rate) {
     // The neighbour across each face, from the bond slots (-1 where none).
     neighbour_.assign(static_cast<size_t>(n_) * kFaces, -1);
     for (int i = 0; i < n_; ++i)
@@ -96,6 +97,7 @@ class DistributedController final : public Controller {
   }
 
   void reset() override { std::fill(out_.begin(), out_.end(), 0.0); }
+  double max_rate() const override { return max_rate_; }
   // The outputs of the last call: the signals in flight (and the actuation, which the next
   // call overwrites).
   std::span<const double> memory() const override { return out_; }
@@ -131,6 +133,7 @@ class DistributedController final : public Controller {
   // Rows of n: the inputs, the hidden units, and the outputs (actuation, then the signals
   // sent across each face, which the next call reads).
   std::vector<double> in_, hidden_, out_;
+  double max_rate_;  // physics.act_max_rate
 };
 
 // One network: a whole-body layer of `hidden` units over the body inputs (centre-of-mass
@@ -140,7 +143,10 @@ class DistributedController final : public Controller {
 class CentralController final : public Controller {
  public:
   explicit CentralController(const Model& m)
-      : def_(m.controller), local_(static_cast<size_t>(m.n) * kLocalInputs) {}
+      : def_(m.controller),
+        local_(static_cast<size_t>(m.n) * kLocalInputs),
+        max_rate_(m.def.act_max_rate) {}
+  double max_rate() const override { return max_rate_; }
 
   void act(const Sensors& sensors, std::span<double> actuation) override {
     const Model& m = sensors.model();
@@ -166,6 +172,7 @@ class CentralController final : public Controller {
  private:
   ControllerDef def_;
   std::vector<double> local_;  // kLocalInputs rows of n
+  double max_rate_;
 };
 
 }  // namespace

@@ -55,6 +55,8 @@ void validate(const PhysicsDef& d) {
   need(d.act_frequency >= 0 && fin(d.act_frequency), "act_frequency", "must be >= 0 Hz");
   need(d.act_amplitude >= 0 && d.act_amplitude < 0.9, "act_amplitude", "must be in [0, 0.9)");
   need(d.act_min_factor >= 0 && d.act_min_factor <= 1, "act_min_factor", "must be in [0, 1]");
+  need(d.act_max_rate >= 0 && fin(d.act_max_rate), "act_max_rate",
+       "must be >= 0 per second (0: no limit)");
   need(d.settle_time >= 0 && fin(d.settle_time), "settle_time", "must be >= 0 s");
   need(d.duration >= d.settle_time && d.duration <= 1e4, "duration",
        "must be >= settle_time and <= 1e4 s");
@@ -122,9 +124,11 @@ namespace {
 
 using K = PhysicsField::Kind;
 
-PhysicsField number(const char* name, double PhysicsDef::*m) {
+PhysicsField number(const char* name, double PhysicsDef::*m,
+                    bool written_when_not_default = false) {
   PhysicsField f{name, K::kNumber};
   f.number = m;
+  f.written_when_not_default = written_when_not_default;
   return f;
 }
 PhysicsField flag(const char* name, bool PhysicsDef::*m, bool written_when_not_default = false) {
@@ -183,6 +187,7 @@ const std::vector<PhysicsField> kPhysicsFields = {
     number("act_amplitude", &PhysicsDef::act_amplitude),
     number("act_min_factor", &PhysicsDef::act_min_factor),
     flag("act_expansion", &PhysicsDef::act_expansion, true),
+    number("act_max_rate", &PhysicsDef::act_max_rate, true),
     number("settle_time", &PhysicsDef::settle_time),
     number("duration", &PhysicsDef::duration),
     choice(

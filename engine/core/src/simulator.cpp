@@ -315,8 +315,16 @@ void Simulator::step2(StageTimings* t) {
   if (s.status != SimStatus::kRunning) return;
   using T = StageTimings;
   if (controller_ && s.steps % every_ == 0)
-    run_stage(t, &T::actuate,
-              [&] { controller_->act(Sensors(m, s, w, sensor_cache_), actuation_); });
+    run_stage(t, &T::actuate, [&] {
+      const double rate = controller_->max_rate();
+      if (rate > 0) held_.assign(actuation_.begin(), actuation_.end());
+      controller_->act(Sensors(m, s, w, sensor_cache_), actuation_);
+      if (rate > 0) {  // no faster than the controller allows, from the signal held
+        const double most = rate * every_ * s.dt;
+        for (size_t i = 0; i < actuation_.size(); ++i)
+          actuation_[i] = std::clamp(actuation_[i], held_[i] - most, held_[i] + most);
+      }
+    });
   between_halves_ = false;
   run_stage(t, &T::integrate, [&] { integrate(m, s, w); });
   run_stage(t, &T::actuate, [&] { actuate(m, s, actuation_.data()); });

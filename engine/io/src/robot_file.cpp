@@ -113,7 +113,8 @@ json physics_json(const PhysicsDef& d) {
   for (const PhysicsField& f : kPhysicsFields) {
     switch (f.kind) {
       case PhysicsField::Kind::kNumber:
-        out[f.name] = d.*f.number;
+        if (!f.written_when_not_default || d.*f.number != defaults.*f.number)
+          out[f.name] = d.*f.number;
         break;
       case PhysicsField::Kind::kFlag:
         if (!f.written_when_not_default || d.*f.flag != defaults.*f.flag) out[f.name] = d.*f.flag;

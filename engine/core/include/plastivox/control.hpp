@@ -96,6 +96,9 @@ class Controller {
   // a Simulator's snapshot carries it, so a restored life continues bit for bit. set_memory
   // takes exactly memory().size() values.
   virtual std::span<const double> memory() const { return {}; }
+  // The fastest its signal may change, per second (0: no limit): the Simulator moves each
+  // voxel's signal at most max_rate * every * dt from the one it held, after act().
+  virtual double max_rate() const { return 0; }
   virtual void set_memory(std::span<const double> /*values*/) {}
 };
 

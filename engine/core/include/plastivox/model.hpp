@@ -61,7 +61,7 @@ struct Model {
   // Either way it is then multiplied by the robot's act_scale (0 for passive tissue).
   std::vector<double> act_gain;
   bool act_per_voxel = false;
-  ControllerDef controller;  // the robot's, validated (Simulator runs it: make_controller)
+  ControllerDef controller;      // the robot's, validated (Simulator runs it: make_controller)
   double act_amplitude_max = 0;  // the largest linear amplitude any voxel can reach
   // Bond slots of each voxel: [axis*2 + 0] the bond towards -axis, [axis*2 + 1] towards +axis;
   // -1 where there is no neighbour.

@@ -96,6 +96,14 @@ struct PhysicsDef {
   // false: contraction only, the wave's positive half clipped to 0 (voxcraft-sim without
   // EnableExpansion, docs/vxa.md); true, every preset: the voxel swells and shrinks.
   bool act_expansion = true;
+  // The fastest a neural controller's signal may change, per second of simulated time (0: no
+  // limit). Each control call moves a voxel's signal at most act_max_rate * every * dt from
+  // the one it held. The default, 2 pi 5 /s, is the steepest slope of the paper's 5 Hz sine:
+  // a network may do what the sine does, no faster, so it cannot vibrate the body at the
+  // step rate, which carries bodies far in simulation and in no real actuator
+  // (docs/control.md, "How fast a network may act"). The sine and Python's own signals are
+  // not limited.
+  double act_max_rate = 31.415926535897931;
 
   // --- timeline ---
   double settle_time = 0.2;  // s without actuation or development; fitness starts here
@@ -154,7 +162,8 @@ struct PhysicsField {
   const char* (*get)(const PhysicsDef&) = nullptr;               // kChoice
   void (*set)(PhysicsDef&, const std::string& value) = nullptr;  // kChoice
   // Written only when not the default (sinking_invalid, act_expansion: false; task: not
-  // walk): added after files were made with the default, which stay byte-identical.
+  // walk; act_max_rate): added after files were made with the default, which stay
+  // byte-identical.
   bool written_when_not_default = false;
 };
 extern const std::vector<PhysicsField> kPhysicsFields;

@@ -90,8 +90,8 @@ class Simulator {
   // ---- Control (plastivox/control.hpp, docs/control.md) ----
   // The controller, called between step1 and step2 when steps % every == 0 (every >= 1, else
   // std::invalid_argument naming `every`). The default is the model's (make_controller: the
-  // sine every step, unless the robot names another). nullptr: no controller; the signal is what the caller writes to actuation(),
-  // and holds until written again.
+  // sine every step, unless the robot names another). nullptr: no controller; the signal is what
+  // the caller writes to actuation(), and holds until written again.
   void set_controller(std::unique_ptr<Controller> controller, int every = 1);
   Controller* controller() const { return controller_.get(); }
   int control_every() const { return every_; }
@@ -137,6 +137,7 @@ class Simulator {
   std::unique_ptr<Controller> controller_;
   int every_ = 1;
   std::vector<double> actuation_;  // the signal, per voxel
+  std::vector<double> held_;       // the signal before a rate-limited controller's call
   SensorCache sensor_cache_;       // sensors read this step
 };
 
