@@ -57,6 +57,16 @@ Lived live(double fps, bool control = false) {
   return l;
 }
 
+// The "contact" dataset of the 18-voxel block's life file at `file`; dims gets its shape.
+std::vector<uint8_t> read_contact(const std::string& file, std::vector<hsize_t>& dims) {
+  const h5::Ctx c{file, 0};
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  dims = {h5::kAnyExtent, 18};
+  std::vector<uint8_t> contact = h5::read<uint8_t>(c, f, "contact", dims);
+  H5Fclose(f);
+  return contact;
+}
+
 RecordedLife recorded(const Lived& l) {
   RecordedLife life;
   life.source = "inline block";
@@ -170,11 +180,8 @@ TEST_F(RecordedLives, ControlChannelsAreOptInAndRoundTrip) {
 TEST_F(RecordedLives, ContactIsTheFloorTestOfEachFrame) {
   const Lived l = live(20);
   write_life_file(path("life.h5"), recorded(l));
-  const h5::Ctx c{path("life.h5"), 0};
-  const hid_t f = H5Fopen(path("life.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  std::vector<hsize_t> dims = {h5::kAnyExtent, 18};
-  const std::vector<uint8_t> contact = h5::read<uint8_t>(c, f, "contact", dims);
-  H5Fclose(f);
+  std::vector<hsize_t> dims;
+  const std::vector<uint8_t> contact = read_contact(path("life.h5"), dims);
   const auto& frames = l.result.recording.frames;
   ASSERT_EQ(dims[0], frames.size());
   for (size_t k = 0; k < frames.size(); ++k) {
@@ -211,11 +218,8 @@ TEST_F(RecordedLives, ContactOnAGroundIsTheGroundsTest) {
   l.result = simulate(l.model, options);
   ASSERT_EQ(l.result.status, SimStatus::kFinished) << l.result.failure;
   write_life_file(path("ground.h5"), recorded(l));
-  const h5::Ctx c{path("ground.h5"), 0};
-  const hid_t f = H5Fopen(path("ground.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  std::vector<hsize_t> dims = {h5::kAnyExtent, 18};
-  const std::vector<uint8_t> contact = h5::read<uint8_t>(c, f, "contact", dims);
-  H5Fclose(f);
+  std::vector<hsize_t> dims;
+  const std::vector<uint8_t> contact = read_contact(path("ground.h5"), dims);
   const Frame& last = l.result.recording.frames.back();
   const size_t at = 18 * (l.result.recording.frames.size() - 1);
   int bottom = 0, top = 0, below_zero = 0;
