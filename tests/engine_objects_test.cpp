@@ -280,6 +280,10 @@ TEST(Objects, CarryScoresThePayloadsTravelUntilItFalls) {
   const State dropped = moved(b, Vec3(3 * L, 0, 0), Vec3(4 * L, 0, -1.6 * L));
   const State later = moved(b, Vec3(8 * L, 0, 0), Vec3(8 * L, 0, 0));
   EXPECT_NEAR(score_after(b, {three, dropped, later}), 3.0, 1e-12);
+  // Both must travel: a payload sliding 4 voxel lengths along a body that moved 1 scores 1;
+  // a body walking 5 from under a payload that moved 2 (still up) scores 2.
+  EXPECT_NEAR(score_after(b, {moved(b, Vec3(L, 0, 0), Vec3(4 * L, 0, 0))}), 1.0, 1e-12);
+  EXPECT_NEAR(score_after(b, {moved(b, Vec3(5 * L, 0, 0), Vec3(2 * L, 0, 0))}), 2.0, 1e-12);
   // A payload already on the ground when settling ends scores 0.
   Settled off = b;
   off.state = moved(b, Vec3::Zero(), Vec3(0, 0, -2 * L));

@@ -48,9 +48,9 @@ const std::vector<TaskInfo>& all_tasks() {
       {Task::kCarry,
        "carry",
        "voxel lengths",
-       "|p_xy(t_last) - p_xy(settle)| / L: the payload's horizontal displacement from the end of "
-       "settling to the last step it was on the body (no payload voxel within a voxel length of "
-       "the ground)",
+       "min(|p_xy(t_last) - p_xy(settle)|, |c_xy(t_last) - c_xy(settle)|) / L: the lesser of the "
+       "payload's and the body's horizontal displacements from the end of settling to the last "
+       "step the payload was on the body (no payload voxel within a voxel length of the ground)",
        make_carry_watch,
        {},
        nullptr,

@@ -1,7 +1,10 @@
-// carry: how far the body carried a payload placed on it, in voxel lengths: the horizontal
-// displacement of the payload's centre (the mean of its voxel centres) from the end of
-// settling to the last step it was still on the body,
-//   |p_xy(t_last) - p_xy(settle)| / L.
+// carry: how far the body carried a payload placed on it, in voxel lengths: from the end of
+// settling to the last step the payload was still on the body, the lesser of the payload's
+// horizontal displacement (of its centre, the mean of its voxel centres) and the body's (of
+// its centre of mass),
+//   min(|p_xy(t_last) - p_xy(settle)|, |c_xy(t_last) - c_xy(settle)|) / L.
+// Both must travel: a payload that slides or bounces along the back of a body that stays
+// scores what the body moved, and a body that walks out from under it what the payload did.
 // "On the body" is "off the ground": every payload voxel's centre more than one voxel length
 // above the ground under it (a voxel lying on the ground has its centre half a voxel up). The
 // first step it is not, the payload has fallen: the score keeps what was carried before, and
@@ -11,6 +14,9 @@
 // the environment, compile() places carry_objects(): a slab of 2 x 2 x 1 voxels centred on
 // the body's lattice bounds in x and y, its bottom on their top (it rests on whatever
 // voxels of the body lie under it).
+#include <algorithm>
+#include <cmath>
+
 #include "plastivox/simulator.hpp"
 #include "tasks.hpp"
 
@@ -48,13 +54,18 @@ class CarryWatch final : public TaskWatch {
       return;
     }
     payload_.add(m, s, 0);
+    body_to_ = body_center_of_mass(m, s);
+    if (!body_started_) body_from_ = body_to_, body_started_ = true;
   }
   double score(const Model& m, const State&, const SimResult&) const override {
-    return payload_.voxel_lengths(m);
+    const Vec3 d = body_to_ - body_from_;
+    return std::min(payload_.voxel_lengths(m), std::hypot(d.x(), d.y()) / m.size);
   }
 
  private:
   ObjectTravel payload_;  // from the end of settling while on the body (none: never on)
+  bool body_started_ = false;
+  Vec3 body_from_ = Vec3::Zero(), body_to_ = Vec3::Zero();  // the body's centre of mass, m
   bool dropped_ = false;  // it has come near the ground since settling
 };
 
