@@ -122,8 +122,9 @@ WorldTriangles world_triangles(const HeightField* ground, std::span<const Obstac
 
 // The node lines of `field` along `axis` (0: x, 1: y) strictly inside (from, to) where the
 // ground bends: lines the surface is not straight across along that axis (past the grid the
-// heights continue level, so an end line bends where the grid slopes there), m, ascending. More than `max_lines`
-// are thinned to every k-th. A ramp gives its two ends, stairs two lines per riser.
+// heights continue level, so an end line bends where the grid slopes there), m, ascending. More
+// than `max_lines` are thinned to every k-th. A ramp gives its two ends, stairs two lines per
+// riser.
 std::vector<double> ground_bends(const HeightField& field, int axis, double from, double to,
                                  int max_lines);
 
