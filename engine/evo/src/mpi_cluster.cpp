@@ -82,7 +82,7 @@ std::vector<T> get_array(const std::vector<char>& b, size_t& at) {
   const auto n = get<uint64_t>(b, at);
   if (n > (b.size() - at) / sizeof(T)) throw std::runtime_error("MPI: truncated body message");
   std::vector<T> v(n);
-  std::memcpy(v.data(), b.data() + at, n * sizeof(T));
+  if (n > 0) std::memcpy(v.data(), b.data() + at, n * sizeof(T));  // no null pointer when empty
   at += n * sizeof(T);
   return v;
 }
