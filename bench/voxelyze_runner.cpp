@@ -7,15 +7,11 @@
 
 #include "Voxelyze.h"
 
-namespace {
-
 double cpu_seconds() {
   timespec t;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
-
-}  // namespace
 
 int voxelyze_steps(const VoxelyzeBody& body, int steps, double* seconds) {
   CVoxelyze vx(body.voxel_size);

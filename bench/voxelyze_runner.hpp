@@ -19,6 +19,9 @@ struct VoxelyzeBody {
   double act_frequency = 5;       // Hz
 };
 
+// CPU seconds of this process so far (both sides of the bench time with it).
+double cpu_seconds();
+
 // Builds the body in Voxelyze (a material per distinct stiffness, Poisson's ratio 0, the
 // floor, gravity) and takes up to `steps` steps at its recommended time step, actuating every
 // voxel through its temperature. Stores the CPU seconds of the stepping alone in *seconds and

@@ -14,8 +14,6 @@
 // case says, and a 5 Hz actuation of 14.47 % (Voxelyze: every voxel's temperature through a
 // CTE of 0.01; plastivox: its sine). Voxelyze steps at its recommended time step, taken once;
 // plastivox at its own. Neither side develops stiffness.
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -31,12 +29,6 @@
 namespace {
 
 using plastivox::RobotDef;
-
-double cpu_seconds() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 struct Case {
   std::string name;

@@ -82,10 +82,7 @@ void place_in_environment(Model& m) {
     site.hx = 0.5 * (hi.x() - lo.x() + L), site.hy = 0.5 * (hi.y() - lo.y() + L);
   }
   if (!m.def.environment.terrain() && task_info(m.def.task).environment) {
-    // The task's ground and blocks; free objects the user gave stay.
-    std::vector<ObjectDef> objects = std::move(m.def.environment.objects);
-    m.def.environment = task_environment(m.def, site);
-    m.def.environment.objects = std::move(objects);
+    m.def.environment = task_environment(m.def, site);  // keeps the free objects given
     validate(m.def.environment);
   }
   m.terrain = m.def.environment.terrain();

@@ -15,7 +15,6 @@
 // the body's lattice bounds in x and y, its bottom on their top (it rests on whatever
 // voxels of the body lie under it).
 #include <algorithm>
-#include <cmath>
 
 #include "plastivox/simulator.hpp"
 #include "tasks.hpp"
@@ -53,19 +52,17 @@ class CarryWatch final : public TaskWatch {
       dropped_ = true;
       return;
     }
-    payload_.add(m, s, 0);
-    body_to_ = body_center_of_mass(m, s);
-    if (!body_started_) body_from_ = body_to_, body_started_ = true;
+    payload_.add(object_center(m, s, 0));
+    body_.add(body_center_of_mass(m, s));
   }
   double score(const Model& m, const State&, const SimResult&) const override {
-    const Vec3 d = body_to_ - body_from_;
-    return std::min(payload_.voxel_lengths(m), std::hypot(d.x(), d.y()) / m.size);
+    return std::min(payload_.voxel_lengths(m), body_.voxel_lengths(m));
   }
 
  private:
-  ObjectTravel payload_;  // from the end of settling while on the body (none: never on)
-  bool body_started_ = false;
-  Vec3 body_from_ = Vec3::Zero(), body_to_ = Vec3::Zero();  // the body's centre of mass, m
+  // From the end of settling while the payload is on the body (none: never on).
+  Travel payload_;        // its centre
+  Travel body_;           // the body's centre of mass
   bool dropped_ = false;  // it has come near the ground since settling
 };
 

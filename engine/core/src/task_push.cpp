@@ -27,14 +27,14 @@ namespace {
 class PushWatch final : public TaskWatch {
  public:
   void see(const Model& m, const State& s) override {
-    if (s.settled && m.object_count() > 0) box_.add(m, s, 0);
+    if (s.settled && m.object_count() > 0) box_.add(object_center(m, s, 0));
   }
   double score(const Model& m, const State&, const SimResult&) const override {
     return box_.voxel_lengths(m);
   }
 
  private:
-  ObjectTravel box_;  // from the end of settling
+  Travel box_;  // from the end of settling
 };
 
 }  // namespace

@@ -27,13 +27,13 @@ std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot);
 // Centre of free object k's voxels, m (model.object_begin; equal masses).
 Vec3 object_center(const Model& model, const State& state, int k);
 
-// How far free object k's centre moved horizontally, for carry and push: add() each state
-// to count, the first one the start.
-struct ObjectTravel {
+// How far a point moved horizontally (a free object's centre, the body's centre of mass),
+// for carry and push: add() its place at each state to count, the first one the start.
+struct Travel {
   bool started = false;
-  Vec3 from = Vec3::Zero(), to = Vec3::Zero();  // the object's centre, first and last, m
-  void add(const Model& model, const State& state, int k) {
-    to = object_center(model, state, k);
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();  // the point, first and last, m
+  void add(const Vec3& at) {
+    to = at;
     if (!started) from = to, started = true;
   }
   // |to_xy - from_xy| / L, voxel lengths; 0 before any state.
