@@ -344,14 +344,31 @@ TEST(TerrainTasks, BadTaskDefinitionsAreOneLineNamingTheFileAndField) {
 
 // One experiment preset per task (assets/presets/experiment-<task>.json), on its default
 // environment.
+// The baselines of docs/tasks.md are these presets: one budget for every task.
 TEST(TerrainTasks, EveryTaskHasAnExperimentPreset) {
   for (const TaskInfo& t : all_tasks()) {
-    if (t.task == Task::kWalk) continue;  // the default preset's
     const experiment::ExperimentConfig c = experiment::preset_config(t.name);
     const evo::EvolveConfig run = c.run_config(Treatment::kStress, 1);
     EXPECT_EQ(run.physics.task, t.task) << t.name;
     EXPECT_FALSE(run.physics.environment.active()) << t.name;  // the task's own
     EXPECT_EQ(c.treatments.size(), 3u);
+    EXPECT_EQ(c.seeds, (std::vector<std::uint64_t>{1, 2, 3})) << t.name;
+    EXPECT_EQ(run.population, 12) << t.name;
+    EXPECT_EQ(run.generations, 24) << t.name;
+    EXPECT_EQ(run.controller.kind, ControllerKind::kSine) << t.name;
+  }
+  // The controller study (docs/control.md): the same runs with the distributed controller.
+  for (const char* name : {"walk", "rough"}) {
+    const experiment::ExperimentConfig sine = experiment::preset_config(name);
+    const experiment::ExperimentConfig net =
+        experiment::preset_config(std::string(name) + "-distributed");
+    const evo::EvolveConfig a = sine.run_config(Treatment::kPressure, 2);
+    const evo::EvolveConfig b = net.run_config(Treatment::kPressure, 2);
+    EXPECT_EQ(b.controller.kind, ControllerKind::kDistributed) << name;
+    EXPECT_EQ(sine.seeds, net.seeds) << name;
+    EXPECT_EQ(a.population, b.population) << name;
+    EXPECT_EQ(a.generations, b.generations) << name;
+    EXPECT_EQ(a.physics.task, b.physics.task) << name;
   }
 }
 

@@ -1,7 +1,8 @@
 # plastivox experiment: config, presets, cost estimate, stages (library plastivox_experiment,
 # linked into the CLI and the tests). The presets in assets/presets/experiment-*.json are
 # embedded at configure time, so the binary runs its default without any files beside it.
-set(_presets default tiny gecco2018 jump turn rough climb slope obstacles carry push)
+set(_presets default tiny gecco2018 walk jump turn rough climb slope obstacles carry push
+             walk-distributed rough-distributed)
 set(_preset_hpp ${CMAKE_CURRENT_BINARY_DIR}/experiment/experiment_presets.hpp)
 set(_body "")
 foreach(p ${_presets})
