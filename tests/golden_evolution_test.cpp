@@ -103,6 +103,47 @@ TEST(GoldenEvolution, RunsSharingOneEvaluationPoolKeepTheirDigests) {
   }
 }
 
+// Every task, and the distributed controller, guarded the same way: the tiny run under
+// stress with the task on its default environment (docs/tasks.md), fixed here as main at
+// eb5e0fa produced them on 2026-12-05. The baselines of docs/tasks.md are these runs at a
+// larger budget, so a change here is a change there.
+struct GoldenTask {
+  const char* task;
+  const char* controller;  // "" for the sine
+  const char* digest;
+};
+
+const GoldenTask kTasks[] = {
+    {"walk", "", "f9e0bdcd268fb7c6a8bf5fdb6e672367"},
+    {"jump", "", "7ab890705a41fc0e771388f7de8ff6bc"},
+    {"turn", "", "5c2f6bdfcfbea69a1fae2b82c69df700"},
+    {"rough", "", "2cfe4976f3efd74028c156fb1b847878"},
+    {"climb", "", "5ab669658e39328cf3700637707abf50"},
+    {"slope", "", "7fd2faf1c8ac01bc4af6e78c619d0d99"},
+    {"obstacles", "", "4c0c7a29bc825edff593a608b14e1ab0"},
+    {"carry", "", "6fcedc7eb1d27c0fbb73e28f4198f714"},
+    {"push", "", "348a2001681caf6e080b923e89dd02a8"},
+    {"walk", R"("kind": "distributed", "hidden": 4, "every": 1)",
+     "40ffc7bedb36d3fe4ecbb583707f5374"},
+    {"rough", R"("kind": "distributed", "hidden": 4, "every": 1)",
+     "c5511575ed27239a3d9f0d10729e64d6"},
+};
+
+TEST(GoldenEvolution, TinyRunDigestPerTaskAndController) {
+  for (const GoldenTask& g : kTasks) {
+    std::string text = std::string(R"({"format": "plastivox-evolve-config", "version": 1,
+        "seed": 3, "population": 6, "generations": 3, "treatment": "stress",
+        "lattice": {"nx": 5, "ny": 5, "nz": 5},
+        "physics": {"duration": 0.5, "settle_time": 0.2}, "task": ")") +
+                       g.task + "\"";
+    if (*g.controller) text += std::string(R"(, "controller": {)") + g.controller + "}";
+    Evolver ev(Evolver::new_run(parse_config(text + "}", "golden")), 2);
+    while (!ev.finished()) ev.step();
+    EXPECT_EQ(content_digest(ev.state()).hex(), g.digest)
+        << g.task << (*g.controller ? " with the distributed controller" : "");
+  }
+}
+
 // The identity a results file is matched and digested by, byte for byte.
 TEST(GoldenEvolution, IdentitySerialisationIsByteStable) {
   const EvolveConfig c = tiny(Treatment::kStress);
