@@ -84,15 +84,17 @@ std::vector<std::vector<std::string>> read_csv(const std::string& text) {
 
 class Study : public testing::ScratchDirTest {
  protected:
-  // A finished tiny run; `physics` is the JSON object of physics fields.
+  // A finished tiny run; `physics` is the JSON object of physics fields, `controller` the
+  // config's controller field ("" for none: the sine).
   std::string run(Treatment t, uint64_t seed,
-                  const std::string& physics = R"({"duration": 0.2, "settle_time": 0.1})") {
+                  const std::string& physics = R"({"duration": 0.2, "settle_time": 0.1})",
+                  const std::string& controller = "") {
     evo::EvolveConfig c = evo::parse_config(
         R"({"format": "plastivox-evolve-config", "version": 1, "treatment": ")" +
             std::string(to_string(t)) + R"(", "seed": )" + std::to_string(seed) +
             R"(, "population": 4, "generations": 1, "lattice": {"nx": 4, "ny": 4, "nz": 4},
                "physics": )" +
-            physics + "}",
+            physics + (controller.empty() ? "" : ", \"controller\": " + controller) + "}",
         "tiny");
     const std::string p = path(std::string(to_string(t)) + "-" + std::to_string(seed) + ".h5");
     evo::RunOptions o;
@@ -678,6 +680,49 @@ TEST_F(Study, ChampionsAreAuditedAndArtifactsExcluded) {
   EXPECT_TRUE(kept.champions[1].artifact.empty());
   EXPECT_EQ(kept.panels[0].groups[0].values.size(), 2u);  // s9's fitness stays undefined
   EXPECT_EQ(report_html(kept).find("excluded from the statistics"), std::string::npos);
+}
+
+// Issue 37: the report and stats.json name the controller beside the task and environment,
+// and analysis.h5 keeps it; one written before the field gets it from the champions' bodies.
+TEST_F(Study, TheReportAndStatsNameTheController) {
+  const std::string physics = R"({"duration": 0.2, "settle_time": 0.1})";
+  const std::string sine = run(Treatment::kNone, 1, physics);
+  const std::string neural =
+      run(Treatment::kNone, 2, physics, R"({"kind": "distributed", "hidden": 2, "every": 3})");
+  StudyOptions o = quick();
+  o.robustness_draws = 1;
+  const StudyResult plain = analyze_study({sine}, o);
+  EXPECT_EQ(plain.controller, "sine (open loop)");
+  EXPECT_NE(report_html(plain).find("in voxel lengths. The controller is <b>sine (open "
+                                    "loop)</b> (docs/control.md). Lives that sank"),
+            std::string::npos);
+
+  const StudyResult r = analyze_study({neural}, o);
+  const std::string expect = "distributed, 2 hidden units, every 3 steps";
+  EXPECT_EQ(r.controller, expect);
+  write_study_outputs(r, path("out"));
+  const Json j = Json::parse(read_text(path("out/stats.json")));
+  EXPECT_EQ(j["audit"]["controller"], expect);
+  EXPECT_EQ(j["audit"]["task"], "walk");
+  StudyResult back = read_study_result(path("out/analysis.h5"));
+  EXPECT_EQ(back.controller, expect);
+  EXPECT_NE(report_html(back).find("The controller is <b>" + expect + "</b> (docs/control.md)."),
+            std::string::npos);
+  EXPECT_EQ(report_html(back), report_html(r));
+
+  // An analysis.h5 from before the field: the report takes it from the runs' champions.
+  {
+    h5::Handle f(H5Fopen(path("out/analysis.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT),
+                 h5::Handle::Kind::kFile);
+    ASSERT_GE(f.id(), 0);
+    ASSERT_GE(H5Adelete_by_name(f.id(), "/", "controller", H5P_DEFAULT), 0);
+  }
+  back = read_study_result(path("out/analysis.h5"));
+  EXPECT_EQ(back.controller, "");
+  EXPECT_EQ(report_html(back).find("The controller is"), std::string::npos);
+  for (StudyInput& in : back.inputs) in.file = neural;
+  load_champion_bodies(back);
+  EXPECT_EQ(back.controller, expect);
 }
 
 TEST_F(Study, AChampionOfAnOldResultsFileIsSimulatedAgainAndExcluded) {

@@ -251,5 +251,17 @@ TEST(NeuralControl, BadDefinitionsNameTheField) {
   EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;
 }
 
+// How reports name a controller (the study's audit sentence and stats.json audit.controller).
+TEST(NeuralControl, ControllerTextNamesKindHiddenUnitsAndRate) {
+  EXPECT_EQ(controller_text(ControllerDef{}), "sine (open loop)");
+  EXPECT_EQ(controller_text({ControllerKind::kSine, 0, 3, {}}), "sine (open loop), every 3 steps");
+  EXPECT_EQ(controller_text({ControllerKind::kDistributed, 4, 1, {}}),
+            "distributed, 4 hidden units, every step");
+  EXPECT_EQ(controller_text({ControllerKind::kDistributed, 0, 2, {}}),
+            "distributed, no hidden layer, every 2 steps");
+  EXPECT_EQ(controller_text({ControllerKind::kCentral, 1, 1, {}}),
+            "central, 1 hidden unit, every step");
+}
+
 }  // namespace
 }  // namespace plastivox

@@ -831,11 +831,14 @@ TEST_F(ExperimentRun, TinyPresetCrownsNoSunkChampionAndTheReportStatesTheRule) {
     EXPECT_TRUE(c["excluded"].is_null()) << c["label"];
   }
   EXPECT_EQ(j["audit"]["sinking_rule"], "invalid");
+  EXPECT_EQ(j["audit"]["controller"], "sine (open loop)");
   const std::string report = read_file_bytes(dir + "/report.html");
   EXPECT_NE(report.find("Lives that sank through the floor were invalid during evolution"),
             std::string::npos);
   EXPECT_NE(report.find("Fitness is the 3-D displacement of the centre of mass (as in the "
                         "authors&#39; code)"),
+            std::string::npos);
+  EXPECT_NE(report.find("The controller is <b>sine (open loop)</b> (docs/control.md)."),
             std::string::npos);
   EXPECT_EQ(report.find("excluded from the statistics"), std::string::npos);
 }

@@ -370,6 +370,7 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   EXPECT_EQ(stats.at("audit").at("task"), "jump");
   EXPECT_EQ(stats.at("audit").at("fitness_unit"), "voxel lengths");
   EXPECT_EQ(stats.at("audit").at("environment"), "flat floor with friction");
+  EXPECT_EQ(stats.at("audit").at("controller"), "sine (open loop)");
 }
 
 }  // namespace

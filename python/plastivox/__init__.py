@@ -32,7 +32,7 @@ __all__ = [
     "InputError", "RenderError", "PhysicsDef", "Robot", "Result", "Trajectory", "Simulator", "Results",
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
     "read_results", "read_study", "evolve", "Evolver", "default_config", "render", "sin_cycles",
-    "VoxelEnv",
+    "VoxelEnv", "controller_weight_count",
 ]
 
 _TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
@@ -114,10 +114,11 @@ class Robot:
     """A robot (lattice arrays) and the physics it came with.
 
     Build one with ``Robot.from_arrays`` or ``load_robot``; it is immutable. Properties return
-    fresh numpy arrays shaped ``(nx, ny, nz)``. Two robots are equal when name, lattice,
-    arrays, boundary conditions and physics are equal bit for bit (the file they were read
-    from does not count); equal robots hash alike, in every process. A pickle holds all of
-    it, so an unpickled robot simulates to the same bits.
+    fresh numpy arrays shaped ``(nx, ny, nz)``; ``controller`` is the controller it runs and
+    ``with_controller`` a copy running another (weights from Python). Two robots are equal
+    when name, lattice, arrays, controller, boundary conditions and physics are equal bit for
+    bit (the file they were read from does not count); equal robots hash alike, in every
+    process. A pickle holds all of it, so an unpickled robot simulates to the same bits.
     """
 
     def __init__(self, core):
@@ -127,10 +128,22 @@ class Robot:
 
     @classmethod
     def from_arrays(cls, geometry, stiffness, phase, dev_rate=None, treatment="none",
-                    voxel_size=0.01, name="robot"):
+                    voxel_size=0.01, name="robot", controller=None):
         """A robot from (nx, ny, nz) arrays: geometry bool/int (non-zero = voxel), stiffness
         E0 in Pa (> 0 where a voxel is), phase in cycles, dev_rate alpha in 1/s (default 0).
-        Simulated under the default preset with `treatment` unless physics is given later."""
+        Simulated under the default preset with `treatment` unless physics is given later.
+        controller: None (the sine) or a dict of with_controller's arguments (kind, hidden,
+        every, weights), as the controller property gives it."""
+        if controller is not None:
+            if not isinstance(controller, dict):
+                raise TypeError("controller: expected a dict with kind, hidden, every and "
+                                f"weights (see Robot.controller), got {type(controller).__name__}")
+            unknown = sorted(set(controller) - {"kind", "hidden", "every", "weights"})
+            if unknown:
+                raise ValueError(f"controller: unknown field {unknown[0]!r} (fields: kind, "
+                                 "hidden, every, weights)")
+            if "kind" not in controller:
+                raise ValueError("controller: kind is missing (sine, distributed or central)")
         g = _lattice_array(geometry, "geometry", kinds="biu")
         try:  # before anything is converted: a 1000^3 broadcast array costs nothing until copied
             _core.check_lattice_size(*(min(n, 2**31 - 1) for n in g.shape))
@@ -157,7 +170,8 @@ class Robot:
         core = _core.from_flat(nx, ny, nz, _flat(present, _np.uint8), _flat(e, _np.float64),
                                _flat(d, _np.float64), _flat(p, _np.float64), float(voxel_size),
                                treatment, str(name))
-        return cls(core)
+        robot = cls(core)
+        return robot if controller is None else robot.with_controller(**controller)
 
     def _lattice(self, flat, dtype=None):
         a = _np.reshape(flat, self.shape, order="F")
@@ -191,6 +205,39 @@ class Robot:
         """The robot's own physics, a PhysicsDef (a copy: what simulate uses when given none)."""
         return self._core.physics
 
+    @property
+    def controller(self):
+        """The controller the robot runs (docs/control.md): a dict of kind ("sine",
+        "distributed" or "central"), hidden (units), every (steps between calls) and weights
+        (a float64 array, a copy; empty for the sine). with_controller(**robot.controller)
+        gives the robot back."""
+        return self._core.controller
+
+    def with_controller(self, kind, hidden=0, every=1, weights=None):
+        """A copy running another controller: kind "sine", "distributed" or "central" with
+        `hidden` units (distributed 0-64, central 1-64; 0 for the sine), acting every `every`
+        steps (>= 1), with `weights` (a list or array of
+        controller_weight_count(kind, hidden) finite numbers, in docs/control.md's order; none
+        for the sine). Wrong arguments raise TypeError or ValueError naming the argument."""
+        if not isinstance(kind, str):
+            raise TypeError(f"kind: expected sine, distributed or central, got {type(kind).__name__}")
+        hidden = _count_argument(hidden, "hidden", 0, "hidden units >= 0")
+        every = _count_argument(every, "every", 1, "steps >= 1")
+        if weights is None:
+            weights = []
+        if isinstance(weights, (str, bytes, dict)):
+            raise TypeError(f"weights: expected a list or array of numbers, got {type(weights).__name__}")
+        try:
+            w = _np.asarray(weights)
+        except Exception as e:  # ragged nested lists and the like
+            raise ValueError(f"weights: not an array of numbers: {e}") from None
+        if w.size and w.dtype.kind not in "iuf":
+            raise TypeError(f"weights: expected numbers, got dtype {w.dtype}")
+        if w.ndim != 1:
+            raise ValueError(f"weights: expected a flat list of numbers, got shape {w.shape}")
+        return Robot(self._core.with_controller(kind, hidden, every,
+                                                _np.ascontiguousarray(w, dtype=_np.float64)))
+
     def with_physics(self, physics=None, treatment=None):
         """A copy simulated under `physics` (a PhysicsDef, or a dict of fields applied on top)
         and `treatment`."""
@@ -211,6 +258,25 @@ class Robot:
     def __repr__(self):
         return (f"Robot({self.name!r}, shape={self.shape}, voxels={self.voxel_count}, "
                 f"voxel_size={self.voxel_size}, treatment={self.treatment!r})")
+
+
+def _count_argument(value, name, least, what):
+    """value as an int in [least, 2^30]; TypeError/ValueError naming `name` otherwise."""
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise TypeError(f"{name}: expected a whole number of {what}, got {type(value).__name__}")
+    if not least <= value <= 2**30:
+        raise ValueError(f"{name}: expected a number of {what}, got {value}")
+    return int(value)
+
+
+def controller_weight_count(kind, hidden=0):
+    """How many weights a controller of `kind` ("sine", "distributed", "central") with
+    `hidden` units takes (docs/control.md): 0 for the sine, 95 for distributed with 4, 41 for
+    central with 4. What Robot.with_controller expects."""
+    if not isinstance(kind, str):
+        raise TypeError(f"kind: expected sine, distributed or central, got {type(kind).__name__}")
+    return _core.controller_weight_count(kind, _count_argument(hidden, "hidden", 0,
+                                                               "hidden units >= 0"))
 
 
 def load_robot(path, vxd=None):
@@ -435,8 +501,8 @@ class Simulator:
 
     def set_controller(self, controller, every=1):
         """The built-in controller: "sine", the robot's own neural controller by its kind's
-        name ("distributed" or "central", with the robot's weights; a robot file names it,
-        docs/control.md), or None (the signal set_actuation sets, held), acting every `every`
+        name ("distributed" or "central", with the robot's weights: a robot file names it, or
+        Robot.with_controller; docs/control.md), or None (the signal set_actuation sets, held), acting every `every`
         steps (an integer >= 1). A new Simulator runs the robot's own, at its own rate."""
         if isinstance(every, bool) or not isinstance(every, (int, _np.integer)) or every < 1:
             raise ValueError(f"every: expected a number of steps >= 1, got {every!r}")

@@ -81,7 +81,9 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
     robot: a Robot or a file path (as simulate takes; default the demo walker); task: "walk",
     "jump", "turn" (overrides physics["task"]); physics, treatment: as simulate takes them;
     sensors: the names of the sensors observed (default all, in Simulator.sensor_fields
-    order); every: engine steps each action is held for (>= 1).
+    order); every: engine steps each action is held for (>= 1); render_mode: None or
+    "rgb_array" (render() returns the present state as an (h, w, 3) uint8 array of
+    render_size = (width, height) pixels).
 
     Observation: the observed sensors of the step about to be taken, one after another, each
     flat in voxel order (float64). Action: each voxel's actuation signal, shape (n,),
@@ -93,13 +95,23 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
     brings the sum to 0, the fitness simulate() gives such a life. The physics has no
     randomness: every reset starts the same life; reset(seed=...) seeds np_random."""
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"]}
 
     def __init__(self, robot=None, task=None, physics=None, treatment=None, sensors=None,
-                 every=1):
+                 every=1, render_mode=None, render_size=(640, 480)):
         from . import (_as_robot, _check_treatment, _physics, _with_task, demo_walker)
         if isinstance(every, bool) or not isinstance(every, (int, _np.integer)) or every < 1:
             raise ValueError(f"every: expected a number of steps >= 1, got {every!r}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode: expected None or \"rgb_array\" (an (h, w, 3) uint8 "
+                             f"array of the present state), got {render_mode!r}")
+        try:
+            width, height = (int(v) for v in render_size)
+        except (TypeError, ValueError):
+            raise TypeError(f"render_size: expected (width, height) in pixels, got "
+                            f"{render_size!r}") from None
+        if not (1 <= width <= 16384 and 1 <= height <= 16384):
+            raise ValueError(f"render_size: each side must be 1..16384 pixels, got {render_size!r}")
         fields = {f["name"]: f for f in _core.Simulator.sensor_fields()}
         if sensors is None:
             sensors = list(fields)
@@ -123,7 +135,8 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
             high += [hi] * size
         self.observation_space = _box(_np.array(low), _np.array(high), (self._episode.obs_size,))
         self.action_space = _box(-1.0, 1.0, (n,))
-        self.render_mode = None
+        self.render_mode = render_mode
+        self.render_size = (width, height)
         self._fitness = 0.0
         self._started = False
 
@@ -174,7 +187,14 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
         return info
 
     def render(self):
-        return None
+        """render_mode "rgb_array": the present state (after the last reset or step) as an
+        (h, w, 3) uint8 array of render_size, drawn off-screen as plastivox.render draws a
+        frame, the camera following the body; render_mode None: None."""
+        if self.render_mode is None:
+            return None
+        if not self._started:
+            raise RuntimeError("render: call reset() first")
+        return self._episode.render(*self.render_size)
 
     def close(self):
         pass

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,10 @@
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
 #include "plastivox/simulator.hpp"
+
+namespace plastivox::render {
+class LifeRenderer;
+}
 
 namespace plastivox::py {
 
@@ -63,6 +68,24 @@ pyb::list describe_fields(const Fields& fields) {
 
 // A 1-D float64 copy of values.
 pyb::array_t<double> to_array(const std::vector<double>& values);
+
+// Pictures of a life's present state (VoxelEnv.render; render.cpp), each drawn off-screen
+// as `plastivox render` draws the frame of the life at that state (congenital colours, msaa,
+// the same camera and overlay), as an (h, w, 3) uint8 array. The off-screen context is made
+// on the first call and kept for the next ones of the same size. Releases the GIL while
+// drawing.
+class StatePainter {
+ public:
+  StatePainter();
+  ~StatePainter();
+  StatePainter(const StatePainter&) = delete;
+  StatePainter& operator=(const StatePainter&) = delete;
+  pyb::array_t<uint8_t> draw(const std::shared_ptr<const Model>& model, const State& state,
+                             int width, int height);
+
+ private:
+  std::unique_ptr<render::LifeRenderer> drawer_;
+};
 
 void bind_physics(pyb::module_& m);   // physics.cpp
 void bind_robot(pyb::module_& m);     // robot.cpp

@@ -77,6 +77,11 @@ class PyEpisode {
     return pyb::make_tuple(observe(), fitness_, end_.empty() ? "running" : end_);
   }
 
+  // The present state as an (h, w, 3) uint8 picture (VoxelEnv.render).
+  pyb::array_t<uint8_t> render(int width, int height) {
+    return painter_.draw(model_, sim_.state(), width, height);
+  }
+
   int voxels() const { return model_->n; }
   int obs_size() const { return obs_size_; }
   double fitness() const { return fitness_; }
@@ -104,6 +109,7 @@ class PyEpisode {
   int obs_size_ = 0;
   double fitness_ = 0;
   std::string end_;  // why the episode ended; empty while it runs
+  StatePainter painter_;
 };
 
 }  // namespace
@@ -116,6 +122,7 @@ void bind_env(pyb::module_& m) {
            pyb::arg("every"))
       .def("reset", &PyEpisode::reset)
       .def("step", &PyEpisode::step, pyb::arg("action"))
+      .def("render", &PyEpisode::render, pyb::arg("width"), pyb::arg("height"))
       .def_property_readonly("voxels", &PyEpisode::voxels)
       .def_property_readonly("obs_size", &PyEpisode::obs_size)
       .def_property_readonly("fitness", &PyEpisode::fitness)

@@ -1,6 +1,8 @@
 // Rendering for Python: one frame of a robot's life (off-screen, OSMesa) as an (h, w, 3)
-// uint8 array, optionally written as a PNG; the same call as `plastivox render`.
+// uint8 array, optionally written as a PNG; the same call as `plastivox render`. Also a
+// simulator's present state (VoxelEnv.render).
 #include <cmath>
+#include <memory>
 #include <mutex>
 
 #include <pybind11/stl.h>
@@ -12,6 +14,20 @@
 
 namespace plastivox::py {
 namespace {
+
+// One frame at a time: the off-screen GL context and its UI layer are per process, and two
+// threads setting them up at once failed an assertion in the UI backend ("Already
+// initialized"). Callers release the GIL first, so a waiting thread holds nothing.
+std::mutex renderer;
+
+// RGBA8 rows as an (h, w, 3) uint8 array.
+pyb::array_t<uint8_t> rgb_array(const std::vector<uint8_t>& rgba, int width, int height) {
+  pyb::array_t<uint8_t> rgb({pyb::ssize_t{height}, pyb::ssize_t{width}, pyb::ssize_t{3}});
+  uint8_t* dst = rgb.mutable_data();
+  for (size_t p = 0; p < static_cast<size_t>(width) * height; ++p)
+    for (int c = 0; c < 3; ++c) dst[3 * p + c] = rgba[4 * p + c];
+  return rgb;
+}
 
 pyb::array_t<uint8_t> render_source(const render::LifeSource& source, double time,
                                     const std::string& color, int width, int height, bool overlay,
@@ -50,22 +66,54 @@ pyb::array_t<uint8_t> render_source(const render::LifeSource& source, double tim
   std::vector<uint8_t> rgba;
   {
     pyb::gil_scoped_release unlocked;
-    // One frame at a time: the off-screen GL context and its UI layer are per process, and two
-    // threads setting them up at once failed an assertion in the UI backend ("Already
-    // initialized"). The GIL is released first, so a waiting thread holds nothing.
-    static std::mutex renderer;
     const std::lock_guard<std::mutex> one_at_a_time(renderer);
     rgba = render::render_frame(source, time, style);
     if (!out.empty()) render::write_png(out, rgba, width, height);
   }
-  pyb::array_t<uint8_t> rgb({pyb::ssize_t{height}, pyb::ssize_t{width}, pyb::ssize_t{3}});
-  uint8_t* dst = rgb.mutable_data();
-  for (size_t p = 0; p < static_cast<size_t>(width) * height; ++p)
-    for (int c = 0; c < 3; ++c) dst[3 * p + c] = rgba[4 * p + c];
-  return rgb;
+  return rgb_array(rgba, width, height);
 }
 
 }  // namespace
+
+StatePainter::StatePainter() = default;
+
+StatePainter::~StatePainter() {
+  // Its GL and UI contexts go under the lock: setting the UI's current context is global. The
+  // holder of the lock never waits for the GIL, so waiting here with it cannot deadlock.
+  const std::lock_guard<std::mutex> one_at_a_time(renderer);
+  drawer_.reset();
+}
+
+pyb::array_t<uint8_t> StatePainter::draw(const std::shared_ptr<const Model>& model,
+                                         const State& state, int width, int height) {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw std::invalid_argument("render_size: each side must be 1..16384 pixels");
+  render::FrameStyle style;
+  style.width = width;
+  style.height = height;
+  style.samples = 4;  // as render()'s default, msaa
+  render::Life life;
+  life.model = model;
+  life.frames.push_back(capture_frame(state));
+  life.settled = state.settled;
+  life.com_settled = state.com_settled;
+  std::vector<uint8_t> rgba;
+  {
+    pyb::gil_scoped_release unlocked;
+    const std::lock_guard<std::mutex> one_at_a_time(renderer);
+    // As render::render_frame draws the frame of a life at a time: the same scale and camera.
+    const Frame& frame = life.frames[0];
+    const render::ColorScale scale =
+        render::make_color_scale(style.color, *model, {&frame}, style.color_range);
+    const render::Camera camera =
+        render::life_cameras(*model, {&frame}, render::styled_camera(style, render::Camera{}),
+                             static_cast<double>(width) / height, style.zoom)[0];
+    if (!drawer_ || drawer_->style().width != width || drawer_->style().height != height)
+      drawer_ = std::make_unique<render::LifeRenderer>(style);
+    rgba = drawer_->render(life, frame, scale, to_string(model->def.treatment), camera);
+  }
+  return rgb_array(rgba, width, height);
+}
 
 void bind_render(pyb::module_& m) {
   m.def("render_robot", [](const PyRobot& robot, double time, const std::string& color, int width,

@@ -1,6 +1,7 @@
 // Robots and physics for Python: load and save robot files, build a robot from flat lattice
 // arrays (the Python layer reshapes them), resolve physics presets and overrides; a robot's
 // pickle state, equality and hash.
+#include <algorithm>
 #include <cstring>
 
 #include <pybind11/stl.h>
@@ -273,6 +274,52 @@ int64_t robot_hash(const PyRobot& r) {
   return static_cast<int64_t>(h.finish().lo);
 }
 
+// A controller handed over from Python (Robot.with_controller, which checks the arguments'
+// types), validated: errors name the argument (kind, hidden, every, weights[k]) as ValueError,
+// without validate()'s "controller." prefix. weights null: as many zeros as the kind takes
+// (only to count them).
+ControllerDef controller_argument(const std::string& kind, int hidden, int every,
+                                  const std::vector<double>* weights) {
+  ControllerDef c;
+  try {
+    c.kind = parse_controller_kind(kind);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("kind: ") + e.what());
+  }
+  if (c.kind == ControllerKind::kSine && hidden != 0)
+    throw std::invalid_argument("hidden: the sine has no network, expected 0, got " +
+                                std::to_string(hidden));
+  c.hidden = hidden;
+  c.every = every;
+  if (weights)
+    c.weights = *weights;
+  else
+    c.weights.resize(std::max(0, weight_count(c.kind, hidden)));
+  try {
+    validate(c);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what(), prefix = "controller.";
+    throw std::invalid_argument(what.starts_with(prefix) ? what.substr(prefix.size()) : what);
+  }
+  return c;
+}
+
+PyRobot with_controller(
+    const PyRobot& r, const std::string& kind, int hidden, int every,
+    const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& w) {
+  if (w.ndim() != 1) throw std::invalid_argument("weights: expected a flat list of numbers");
+  const std::vector<double> weights(w.data(), w.data() + w.size());
+  PyRobot out = r;
+  out.def.controller = controller_argument(kind, hidden, every, &weights);
+  return out;
+}
+
+pyb::dict controller_dict(const PyRobot& r) {
+  const ControllerDef& c = r.def.controller;
+  return pyb::dict(pyb::arg("kind") = to_string(c.kind), pyb::arg("hidden") = c.hidden,
+                   pyb::arg("every") = c.every, pyb::arg("weights") = to_array(c.weights));
+}
+
 pyb::array_t<uint8_t> present_array(const PyRobot& r) {
   pyb::array_t<uint8_t> a(static_cast<pyb::ssize_t>(r.def.present.size()));
   std::copy(r.def.present.begin(), r.def.present.end(), a.mutable_data());
@@ -317,12 +364,22 @@ void bind_robot(pyb::module_& m) {
              out.physics = resolve_physics(r.physics, physics, treatment);
              return out;
            })
+      .def_property_readonly("controller", &controller_dict)
+      .def("with_controller", &with_controller, pyb::arg("kind"), pyb::arg("hidden"),
+           pyb::arg("every"), pyb::arg("weights"))
       .def("save", &save_robot, pyb::arg("path"))
       .def("__eq__", &same_robot, pyb::is_operator())
       .def("__hash__", &robot_hash)
       .def(pyb::pickle(&robot_state, &robot_from_state));
   m.def("load_robot", &load_robot, pyb::arg("path"), pyb::arg("vxd") = "");
   m.def("load_source", &load_source, pyb::arg("path"));
+  // How many weights a controller of this kind and hidden size takes (docs/control.md).
+  m.def(
+      "controller_weight_count",
+      [](const std::string& kind, int hidden) {
+        return controller_argument(kind, hidden, 1, nullptr).weights.size();
+      },
+      pyb::arg("kind"), pyb::arg("hidden"));
   m.def("from_flat", &from_flat);
   // The lattice limit, checked on shapes alone before any array is converted or copied
   // (std::invalid_argument becomes ValueError).

@@ -8,6 +8,8 @@ import pytest
 
 import plastivox
 
+from conftest import run_cli
+
 
 def short_walker(duration=0.4):
     return plastivox.demo_walker().with_physics({"duration": duration, "settle_time": 0.1},
@@ -216,3 +218,124 @@ def test_a_robot_file_with_a_neural_controller_runs_it_and_pickles_keep_it(tmp_p
     second.restore_state(snapshot)
     second.run()
     assert second.state_hash == first.state_hash == own
+
+
+def test_weights_trained_in_python_make_a_robot_that_runs_them(tmp_path):
+    # A central network of 1 hidden unit, every 2 steps, from a numpy array: the same robot
+    # (and life, bit for bit) as a robot file naming it, and it pickles with every weight.
+    walker = short_walker()
+    n = plastivox.controller_weight_count("central", 1)
+    assert n == 17
+    assert plastivox.controller_weight_count("distributed", 4) == 95
+    assert plastivox.controller_weight_count("central", 4) == 41
+    assert plastivox.controller_weight_count("sine") == 0
+    weights = np.sin(1.7 * np.arange(n))
+    robot = walker.with_controller("central", hidden=1, every=2, weights=weights)
+    c = robot.controller
+    assert (c["kind"], c["hidden"], c["every"]) == ("central", 1, 2)
+    assert c["weights"].dtype == np.float64 and np.array_equal(c["weights"], weights)
+    assert walker.controller["kind"] == "sine" and len(walker.controller["weights"]) == 0
+    assert robot != walker and walker.with_controller(**robot.controller) == robot
+
+    walker.save(tmp_path / "walker.json")
+    doc = json.loads((tmp_path / "walker.json").read_text())
+    doc["controller"] = {"kind": "central", "hidden": 1, "every": 2, "weights": weights.tolist()}
+    (tmp_path / "central.json").write_text(json.dumps(doc))
+    from_file = plastivox.load_robot(tmp_path / "central.json")
+    assert from_file == robot
+    life = plastivox.simulate(robot)
+    assert life.status == "finished"
+    assert life.final_state_hash == plastivox.simulate(from_file).final_state_hash
+    assert life.final_state_hash != plastivox.simulate(walker).final_state_hash
+    sim = plastivox.Simulator(robot)
+    assert sim.controller == "central"
+    sim.run()
+    assert sim.state_hash == life.final_state_hash
+    back = pickle.loads(pickle.dumps(robot))
+    assert back == robot and np.array_equal(back.controller["weights"], weights)
+    assert plastivox.simulate(back).final_state_hash == life.final_state_hash
+    # A list works as well as an array; saving writes the file form back.
+    as_list = walker.with_controller("central", 1, 2, weights.tolist())
+    assert as_list == robot
+    as_list.save(tmp_path / "again.json")
+    assert plastivox.load_robot(tmp_path / "again.json") == robot
+    # from_arrays takes the same dict; back to the sine.
+    built = plastivox.Robot.from_arrays(robot.geometry, robot.stiffness, robot.phase,
+                                        controller={"kind": "distributed", "hidden": 0,
+                                                    "weights": np.zeros(105)})
+    assert built.controller["kind"] == "distributed" and built.controller["every"] == 1
+    assert robot.with_controller("sine").controller["kind"] == "sine"
+    assert robot.with_controller("sine") == walker
+
+
+def test_wrong_controller_arguments_raise_a_clear_error_naming_them():
+    walker = short_walker()
+    ok = np.zeros(17)
+    cases = [
+        (TypeError, "kind: expected sine, distributed or central", dict(kind=3)),
+        (ValueError, "kind: 'lstm' is not a controller", dict(kind="lstm")),
+        (ValueError, r"hidden: must be in \[1, 64\] for central, got 0",
+         dict(kind="central", hidden=0, weights=ok)),
+        (ValueError, r"hidden: must be in \[0, 64\] for distributed, got 65",
+         dict(kind="distributed", hidden=65)),
+        (TypeError, "hidden: expected a whole number", dict(kind="central", hidden=1.5)),
+        (ValueError, "hidden: the sine has no network, expected 0, got 2",
+         dict(kind="sine", hidden=2)),
+        (ValueError, "every: expected a number of steps >= 1, got 0",
+         dict(kind="central", hidden=1, every=0, weights=ok)),
+        (TypeError, "every: expected a whole number", dict(kind="sine", every=True)),
+        (ValueError, "weights: expected 17 numbers for central with hidden 1, got 16",
+         dict(kind="central", hidden=1, weights=np.zeros(16))),
+        (ValueError, "weights: expected 17 numbers for central with hidden 1, got 0",
+         dict(kind="central", hidden=1)),
+        (ValueError, "weights: expected 0 numbers for sine with hidden 0, got 2",
+         dict(kind="sine", weights=[1.0, 2.0])),
+        (ValueError, r"weights\[3\]: not finite",
+         dict(kind="central", hidden=1, weights=np.where(np.arange(17) == 3, np.nan, 0.0))),
+        (ValueError, r"weights\[0\]: not finite",
+         dict(kind="central", hidden=1, weights=[np.inf] + [0.0] * 16)),
+        (ValueError, r"weights: expected a flat list of numbers, got shape \(17, 1\)",
+         dict(kind="central", hidden=1, weights=np.zeros((17, 1)))),
+        (TypeError, "weights: expected numbers, got dtype <U1",
+         dict(kind="central", hidden=1, weights=["a"] * 17)),
+        (TypeError, "weights: expected a list or array of numbers, got str",
+         dict(kind="central", hidden=1, weights="0.5")),
+    ]
+    for error, message, kwargs in cases:
+        with pytest.raises(error, match=message):
+            walker.with_controller(**kwargs)
+    with pytest.raises(TypeError, match="controller: expected a dict"):
+        plastivox.Robot.from_arrays(walker.geometry, walker.stiffness, walker.phase,
+                                    controller="central")
+    with pytest.raises(ValueError, match="controller: unknown field 'weight'"):
+        plastivox.Robot.from_arrays(walker.geometry, walker.stiffness, walker.phase,
+                                    controller={"kind": "central", "weight": ok})
+    with pytest.raises(ValueError, match="hidden: must be in"):
+        plastivox.controller_weight_count("central", 0)
+    with pytest.raises(ValueError, match="kind: 'rnn' is not a controller"):
+        plastivox.controller_weight_count("rnn", 1)
+
+
+def test_the_cli_controller_option_is_the_network_python_hands_over(tmp_path):
+    # docs/control.md's worked central example: every weight 0 but the head's weight on local
+    # input 0 (index 9 for 1 hidden unit), every 2 steps. `simulate --controller JSON` and
+    # Robot.with_controller run the same network: the same life, bit for bit.
+    walker = short_walker()
+    path = tmp_path / "walker.json"
+    walker.save(path)
+    weights = [0.0] * 17
+    weights[9] = 1.0
+    spec = {"kind": "central", "hidden": 1, "every": 2, "weights": weights}
+    _, out, _ = run_cli("simulate", str(path), "--json", "--controller", json.dumps(spec))
+    cli = json.loads(out)
+    life = plastivox.simulate(walker.with_controller(**spec))
+    assert cli["final_state_hash"] == life.final_state_hash and cli["fitness"] == life.fitness
+    assert life.final_state_hash != plastivox.simulate(walker).final_state_hash
+    # A wrong definition: one line naming the option and the field, exit status 1.
+    spec["weights"] = weights[:16]
+    status, out, err = run_cli("simulate", str(path), "--json", "--controller", json.dumps(spec),
+                               check=False)
+    assert status == 1 and out == ""
+    assert err.count("\n") == 1
+    assert ("--controller: controller.weights: expected 17 numbers for central with hidden 1, "
+            "got 16") in err

@@ -87,6 +87,47 @@ def test_observation_and_action_match_their_spaces():
     assert obs[-1] == 0.0
 
 
+def test_render_rgb_array_draws_the_present_state():
+    robot = short_walker()
+    env = plastivox.VoxelEnv(robot, sensors="time", render_mode="rgb_array",
+                             render_size=(160, 120))
+    assert env.metadata["render_modes"] == ["rgb_array"] and env.render_mode == "rgb_array"
+    obs, _ = env.reset(seed=0)
+    first = env.render()
+    assert first.shape == (120, 160, 3) and first.dtype == np.uint8
+    assert first.std() > 5  # a robot, a floor and an overlay, not a blank frame
+    frames = [first]
+    for until in (0.15, 0.3):  # past settling (0.1 s): the body moves
+        while obs[-1] < until:
+            obs, _, terminated, truncated, info = env.step(sine_action(env, obs))
+            assert not (terminated or truncated)
+        frames.append(env.render())
+    later = frames[-1]
+    assert later.shape == first.shape and later.dtype == np.uint8
+    assert not np.array_equal(frames[1], first) and not np.array_equal(later, frames[1])
+    # The picture plastivox.render draws of the same life at that time, pixel for pixel.
+    assert np.array_equal(later, plastivox.render(robot, time=info["time"], size=(160, 120)))
+    # A new episode starts from the first picture again.
+    env.reset()
+    assert np.array_equal(env.render(), first)
+    # No render_mode (the default): render() gives None.
+    plain = plastivox.VoxelEnv(robot, sensors="time")
+    plain.reset()
+    assert plain.render_mode is None and plain.render() is None
+
+
+def test_bad_render_arguments_raise_a_clear_error():
+    with pytest.raises(ValueError, match=r"render_mode: expected None or \"rgb_array\".*'human'"):
+        plastivox.VoxelEnv(short_walker(), render_mode="human")
+    with pytest.raises(ValueError, match="render_size: each side must be 1..16384 pixels"):
+        plastivox.VoxelEnv(short_walker(), render_mode="rgb_array", render_size=(0, 10))
+    with pytest.raises(TypeError, match="render_size: expected \\(width, height\\)"):
+        plastivox.VoxelEnv(short_walker(), render_mode="rgb_array", render_size=100)
+    env = plastivox.VoxelEnv(short_walker(), render_mode="rgb_array")
+    with pytest.raises(RuntimeError, match=r"render: call reset\(\) first"):
+        env.render()
+
+
 @pytest.mark.parametrize("task", ["walk", "jump", "turn"])
 def test_rewards_sum_to_the_fitness_and_the_episode_ends_where_the_life_ends(task):
     robot = short_walker()

@@ -63,6 +63,13 @@ std::string one_or_mixed(const std::vector<std::string>& values) {
 
 }  // namespace
 
+std::string controller_of(const std::vector<ChampionAnalysis>& champions) {
+  std::vector<std::string> controllers;
+  for (const ChampionAnalysis& c : champions)
+    controllers.push_back(controller_text(c.robot.controller));
+  return controllers.empty() ? std::string() : one_or_mixed(controllers);
+}
+
 void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
   const int n = static_cast<int>(r.champions.size());
   const int threads = r.options.threads > 0 ? r.options.threads : hardware_threads();
@@ -104,6 +111,7 @@ void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
     r.fitness_unit = one_or_mixed(units);
     r.environment = one_or_mixed(environments);
   }
+  r.controller = controller_of(r.champions);
 
   int excluded = 0, flagged = 0;
   for (const ChampionAnalysis& c : r.champions) {

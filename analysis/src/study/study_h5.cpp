@@ -215,6 +215,7 @@ void write_root(const Ctx& c, hid_t root, const StudyResult& r) {
   h5::write_attr(c, root, "task", r.task);
   h5::write_attr(c, root, "fitness_unit", r.fitness_unit);
   h5::write_attr(c, root, "environment", r.environment);
+  h5::write_attr(c, root, "controller", r.controller);
   h5::write_attr(c, root, "threads", static_cast<int64_t>(r.options.threads));
   const Provenance build = current_provenance(r.options.threads);
   h5::write_attr(c, root, "compiler", build.compiler);
@@ -501,6 +502,8 @@ StudyResult read_study_result(const std::string& path) {
   }
   if (h5::has_attr(r, "environment"))  // absent in files written before environments
     s.environment = h5::read_attr_string(c, r, "/", "environment");
+  if (h5::has_attr(r, "controller"))  // absent in files written before: load_champion_bodies
+    s.controller = h5::read_attr_string(c, r, "/", "controller");
   s.warnings = h5::read_strings(c, r, "warnings", study::extent(c, r, "warnings"));
   study::read_inputs(c, r, s);
   study::read_champions(c, r, s);

@@ -26,8 +26,12 @@ std::string phenotype_digest(const RobotDef& robot);
 // Simulates every champion's life again with its run's physics (sunk lives scored): sets
 // life_status, health, floor_depth, vertical_share, and for an unstable or sunk life the
 // status and, unless options.keep_artifacts, `artifact`; sets r.sinking_rule and
-// r.fitness_direction.
+// r.fitness_direction, task, fitness_unit, environment and controller.
 void audit_champions(StudyResult& r, const StudyProgressFn& progress);
+
+// controller_text of the champions' controllers: one, or "mixed: a; b" when they differ ("" for
+// no champions).
+std::string controller_of(const std::vector<ChampionAnalysis>& champions);
 
 // ---- study_robustness.cpp ----
 // Robustness of every champion, in parallel, reusing and writing checkpoints in

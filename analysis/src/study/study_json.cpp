@@ -283,6 +283,7 @@ std::string stats_json(const StudyResult& r) {
                     {"task", r.task},
                     {"fitness_unit", r.fitness_unit},
                     {"environment", r.environment},
+                    {"controller", r.controller},
                     {"keep_artifacts", r.options.keep_artifacts}}},
                   {"warnings", strings(r.warnings)}};
   return j.dump(1) + "\n";

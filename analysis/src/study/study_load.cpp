@@ -222,6 +222,7 @@ void load_champion_bodies(StudyResult& r) {
     c.physics = l.champion.physics;
     c.fitness = l.champion.fitness;
   }
+  if (r.controller.empty()) r.controller = study::controller_of(r.champions);  // an older file
 }
 
 }  // namespace plastivox::analysis

@@ -284,7 +284,11 @@ std::string audit(const StudyResult& r) {
          "; <code>--keep-artifacts</code> keeps " + (excluded == 1 ? "it" : "them") + ").</p>\n";
   s += "<p>The task is <b>" + esc(r.task) + "</b>, on " + esc(r.environment) +
        " (docs/tasks.md). Fitness is the " + esc(r.fitness_direction) + ", in " +
-       esc(r.fitness_unit) + ". Lives that sank through the floor were " + esc(r.sinking_rule) +
+       esc(r.fitness_unit) + "." +
+       (r.controller.empty()
+            ? std::string()
+            : " The controller is <b>" + esc(r.controller) + "</b> (docs/control.md).") +
+       " Lives that sank through the floor were " + esc(r.sinking_rule) +
        " during evolution (physics <code>sinking_invalid</code>, docs/engine.md); every "
        "champion was simulated again and graded for floor contact.</p>\n";
   return s;

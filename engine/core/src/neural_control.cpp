@@ -187,6 +187,21 @@ ControllerKind parse_controller_kind(const std::string& s) {
                               ")");
 }
 
+std::string controller_text(const ControllerDef& c) {
+  std::string s = to_string(c.kind);
+  if (c.kind == ControllerKind::kSine)
+    s += " (open loop)";
+  else if (c.hidden == 0)
+    s += ", no hidden layer";
+  else
+    s += ", " + std::to_string(c.hidden) + (c.hidden == 1 ? " hidden unit" : " hidden units");
+  if (c.every > 1)
+    s += ", every " + std::to_string(c.every) + " steps";
+  else if (c.kind != ControllerKind::kSine)
+    s += ", every step";
+  return s;
+}
+
 int weight_count(ControllerKind kind, int hidden) {
   switch (kind) {
     case ControllerKind::kSine:

@@ -199,6 +199,11 @@ struct StudyResult {
   // Where they lived (plastivox/task.hpp, environment_text): the task's default environment
   // with its parameters, or "given: ground ...".
   std::string environment = "flat floor with friction";
+  // What controlled their bodies (controller_text of the champions' controllers, "mixed: ..."
+  // when they differ): "sine (open loop)", "distributed, 4 hidden units, every step". Empty
+  // when unknown (no champions, or an analysis.h5 written before the field, until
+  // load_champion_bodies fills it from the bodies).
+  std::string controller;
   // Provenance.
   std::string version, commit, date;  // of this program; date UTC ISO 8601
   std::string fingerprint;            // study_fingerprint(input digests, options)

@@ -39,6 +39,11 @@ struct ControllerDef {
 // `hidden` is out of range for the kind.
 int weight_count(ControllerKind kind, int hidden);
 
+// The controller in words, as reports state it: "sine (open loop)", "distributed, 4 hidden
+// units, every step", "central, 1 hidden unit, every 2 steps", "distributed, no hidden
+// layer, every step"; a sine run every k > 1 steps adds ", every k steps".
+std::string controller_text(const ControllerDef& c);
+
 // Throws std::invalid_argument naming the field ("controller.hidden: ...") when the kind's
 // hidden size or the rate is out of range, or the weights are not weight_count() finite
 // numbers.
