@@ -156,6 +156,8 @@ void BM_CubeStages(benchmark::State& bs) {
   bs.counters["gather_ns/voxel"] = 1e9 * t.voxel_forces / (steps * m.n);
   bs.counters["update_ns/voxel"] = 1e9 * t.integrate / (steps * m.n);
   bs.counters["step_ns/voxel"] = 1e9 * t.total() / (steps * m.n);
+  bs.counters["voxel_steps/s"] = benchmark::Counter(static_cast<double>(m.n) * kStepsPerIteration,
+                                                    benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_CubeStages)
     ->Arg(5)
