@@ -143,9 +143,10 @@ void BM_DevelopStage(benchmark::State& bs) {
 }
 BENCHMARK(BM_DevelopStage)->DenseRange(1, 6)->ArgName("treatment")->Unit(benchmark::kMillisecond);
 
-// Cubes of 5^3 = 125 up to 20^3 = 8000 voxels (the bond arrays outgrow a 1 MiB L2 near
-// 1500 voxels), per stage: the bond stage per bond and the gather per voxel, so the cost of
-// each unit of work shows apart from the bonds per voxel (2.4 to 2.85) and self-collision.
+// Cubes of 5^3 = 125 up to 20^3 = 8000 voxels (the bond arrays, about 200 bytes a bond,
+// outgrow a 1 MiB L2 near a 12^3 cube), per stage: the bond stage per bond, the gather and
+// update per voxel, so the cost of each unit of work shows apart from the bonds per voxel
+// (2.4 to 2.85) and self-collision. The stage timers are wall clock; voxel_steps/s is CPU time.
 void BM_CubeStages(benchmark::State& bs) {
   const Model m =
       compile(demo_cube(static_cast<int>(bs.range(0)), 1e11), physics(Treatment::kNone));
