@@ -143,6 +143,33 @@ void BM_DevelopStage(benchmark::State& bs) {
 }
 BENCHMARK(BM_DevelopStage)->DenseRange(1, 6)->ArgName("treatment")->Unit(benchmark::kMillisecond);
 
+// Cubes of 5^3 = 125 up to 20^3 = 8000 voxels (the bond arrays, about 200 bytes a bond,
+// outgrow a 1 MiB L2 near a 12^3 cube), per stage: the bond stage per bond, the gather and
+// update per voxel, so the cost of each unit of work shows apart from the bonds per voxel
+// (2.4 to 2.85) and self-collision. The stage timers are wall clock; voxel_steps/s is CPU time.
+void BM_CubeStages(benchmark::State& bs) {
+  const Model m =
+      compile(demo_cube(static_cast<int>(bs.range(0)), 1e11), physics(Treatment::kNone));
+  const StageTimings t = run_timed_steps(bs, m);
+  const double steps = static_cast<double>(t.steps);
+  bs.counters["bonds"] = m.bond_count();
+  bs.counters["bond_ns/bond"] = 1e9 * t.bond_forces / (steps * m.bond_count());
+  bs.counters["gather_ns/voxel"] = 1e9 * t.voxel_forces / (steps * m.n);
+  bs.counters["update_ns/voxel"] = 1e9 * t.integrate / (steps * m.n);
+  bs.counters["step_ns/voxel"] = 1e9 * t.total() / (steps * m.n);
+  bs.counters["voxel_steps/s"] = benchmark::Counter(static_cast<double>(m.n) * kStepsPerIteration,
+                                                    benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_CubeStages)
+    ->Arg(5)
+    ->Arg(8)
+    ->Arg(10)
+    ->Arg(13)
+    ->Arg(16)
+    ->Arg(20)
+    ->ArgName("edge")
+    ->Unit(benchmark::kMillisecond);
+
 // Contact with an environment (docs/environments.md), per voxel-step: the integrate stage
 // (contacts, friction and the update) and the whole step of the demo walker (stress) on
 // 0 the flat floor (the batched floor kernel), 1 a flat ground at 0 (the scalar terrain path,
