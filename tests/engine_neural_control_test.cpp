@@ -234,6 +234,8 @@ TEST(NeuralControl, BadDefinitionsNameTheField) {
        "controller.weights[16]"},
       {R"({"kind": "sine", "every": 0})", "controller.every: must be in [1, "},
       {R"({"kind": "sine", "gain": 2})", "controller.gain: unknown field"},
+      // Written back without it, so it would not read back equal.
+      {R"({"kind": "sine", "hidden": 3})", "controller.hidden: the sine has no network"},
   };
   for (const auto& c : cases) {
     const std::string msg =

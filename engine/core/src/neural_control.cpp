@@ -223,6 +223,8 @@ void validate(const ControllerDef& c) {
   };
   if (c.every < 1)
     fail("every", "the control rate must be >= 1 step, got " + std::to_string(c.every));
+  if (c.kind == ControllerKind::kSine && c.hidden != 0)
+    fail("hidden", "the sine has no network, expected 0, got " + std::to_string(c.hidden));
   const int count = weight_count(c.kind, c.hidden);
   if (count < 0)
     fail("hidden", std::string("must be in [") + (c.kind == ControllerKind::kCentral ? "1" : "0") +

@@ -206,6 +206,8 @@ ControllerDef controller(const nlohmann::json& c, const std::string& source,
       fail(source, f, "unknown field");
     }
   }
+  if (d.kind == ControllerKind::kSine && d.hidden != 0)
+    fail(source, field + ".hidden", "the sine has no network: give 0 hidden units or none");
   const int count = weight_count(d.kind, d.hidden);
   if (count < 0)
     fail(source, field + ".hidden",
