@@ -256,8 +256,11 @@ class Robot:
         return hash(self._core)
 
     def __repr__(self):
+        c = self.controller
+        network = ("" if c["kind"] == "sine" else
+                   f", controller={c['kind']!r}, hidden={c['hidden']}, every={c['every']}")
         return (f"Robot({self.name!r}, shape={self.shape}, voxels={self.voxel_count}, "
-                f"voxel_size={self.voxel_size}, treatment={self.treatment!r})")
+                f"voxel_size={self.voxel_size}, treatment={self.treatment!r}{network})")
 
 
 def _count_argument(value, name, least, what):

@@ -296,6 +296,11 @@ def test_every_public_class_has_a_useful_repr(tiny_run, tmp_path):
         assert text.startswith(cls.__name__ + "("), text
         for word in words:
             assert word in text, (text, word)
+    # A robot's repr names its network, when it runs one instead of the sine.
+    assert "controller" not in repr(walker)
+    count = plastivox.controller_weight_count("distributed", 2)
+    net = walker.with_controller("distributed", hidden=2, every=3, weights=[0.1] * count)
+    assert "controller='distributed', hidden=2, every=3" in repr(net), repr(net)
 
 
 def test_docstrings_name_every_treatment_and_colour():
