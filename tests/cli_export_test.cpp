@@ -14,18 +14,16 @@
 namespace plastivox {
 namespace {
 
-using CliRun = testing::Output;
+using testing::cli;
 
-CliRun run(const std::string& args) {
-  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
+using CliRun = testing::Output;
 
 class ExportTest : public testing::ScratchDirTest {
  protected:
   void SetUp() override {
     testing::ScratchDirTest::SetUp();
     // A tiny run: 5x5x5 lattice, population 4, 2 generations, 0.3 s lives.
-    const CliRun cfg = run("evolve --print-default-config");
+    const CliRun cfg = cli("evolve --print-default-config");
     ASSERT_EQ(cfg.status, 0) << cfg.out;
     nlohmann::json c = nlohmann::json::parse(cfg.out);
     c["generations"] = 2;
@@ -34,7 +32,7 @@ class ExportTest : public testing::ScratchDirTest {
     c["lattice"] = {{"nx", 5}, {"ny", 5}, {"nz", 5}, {"voxel_size", 0.01}};
     c["physics"] = {{"preset", "gecco2018-code"}, {"duration", 0.3}, {"settle_time", 0.1}};
     std::ofstream(dir_ / "tiny.json") << c.dump();
-    const CliRun evo = run("evolve --config " + (dir_ / "tiny.json").string() + " --out " +
+    const CliRun evo = cli("evolve --config " + (dir_ / "tiny.json").string() + " --out " +
                            (dir_ / "tiny.h5").string() + " --threads 1");
     ASSERT_EQ(evo.status, 0) << evo.out;
   }
@@ -45,13 +43,13 @@ double json_number(const std::string& text, const char* key) {
 }
 
 TEST_F(ExportTest, ChampionAsVxaResimulatesToTheRecordedFitness) {
-  const CliRun info = run("inspect " + (dir_ / "tiny.h5").string() + " --json");
+  const CliRun info = cli("inspect " + (dir_ / "tiny.h5").string() + " --json");
   ASSERT_EQ(info.status, 0) << info.out;
   const double best = json_number(info.out, "best_fitness");
   const CliRun ex =
-      run("export " + (dir_ / "tiny.h5").string() + " --out " + (dir_ / "c.vxa").string());
+      cli("export " + (dir_ / "tiny.h5").string() + " --out " + (dir_ / "c.vxa").string());
   ASSERT_EQ(ex.status, 0) << ex.out;
-  const CliRun sim = run("simulate " + (dir_ / "c.vxa").string() + " --json");
+  const CliRun sim = cli("simulate " + (dir_ / "c.vxa").string() + " --json");
   ASSERT_EQ(sim.status, 0) << sim.out;
   // The simulate output may be preceded by warning lines on stderr (merged here).
   const std::string json = sim.out.substr(sim.out.find('{'));
@@ -59,7 +57,7 @@ TEST_F(ExportTest, ChampionAsVxaResimulatesToTheRecordedFitness) {
 }
 
 TEST_F(ExportTest, ChampionAsPlastivoxRobotFile) {
-  const CliRun ex = run("export " + (dir_ / "tiny.h5").string() + " --out " +
+  const CliRun ex = cli("export " + (dir_ / "tiny.h5").string() + " --out " +
                         (dir_ / "c.json").string() + " --generation 1");
   ASSERT_EQ(ex.status, 0) << ex.out;
   EXPECT_TRUE(std::filesystem::exists(dir_ / "c.json"));
@@ -68,13 +66,13 @@ TEST_F(ExportTest, ChampionAsPlastivoxRobotFile) {
 
 TEST_F(ExportTest, BadInputGivesOneLineErrors) {
   const CliRun not_h5 =
-      run("export " + (dir_ / "tiny.json").string() + " --out " + (dir_ / "x.vxa").string());
+      cli("export " + (dir_ / "tiny.json").string() + " --out " + (dir_ / "x.vxa").string());
   EXPECT_NE(not_h5.status, 0);
   EXPECT_NE(not_h5.out.find("tiny.json"), std::string::npos) << not_h5.out;
   const CliRun bad_ext =
-      run("export " + (dir_ / "tiny.h5").string() + " --out " + (dir_ / "x.txt").string());
+      cli("export " + (dir_ / "tiny.h5").string() + " --out " + (dir_ / "x.txt").string());
   EXPECT_NE(bad_ext.status, 0);
-  const CliRun bad_gen = run("export " + (dir_ / "tiny.h5").string() + " --out " +
+  const CliRun bad_gen = cli("export " + (dir_ / "tiny.h5").string() + " --out " +
                              (dir_ / "x.vxa").string() + " --generation 99");
   EXPECT_NE(bad_gen.status, 0);
   EXPECT_NE(bad_gen.out.find("beyond"), std::string::npos) << bad_gen.out;
@@ -86,37 +84,37 @@ TEST_F(ExportTest, BadInputGivesOneLineErrors) {
 TEST_F(ExportTest, VoxcraftFilesForARobotFileSimulateWithVxd) {
   const std::string walker = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/walker.json";
   const std::filesystem::path out = dir_ / "walker_voxcraft";
-  const CliRun refused = run("export " + walker + " --format voxcraft --out " + out.string());
+  const CliRun refused = cli("export " + walker + " --format voxcraft --out " + out.string());
   EXPECT_EQ(refused.status, 1);
   EXPECT_NE(refused.out.find("plastivox export: error: voxcraft export: development"),
             std::string::npos)
       << refused.out;
   EXPECT_FALSE(std::filesystem::exists(out / "base.vxa"));
-  const CliRun lossy = run("export " + walker + " --format voxcraft --lossy --out " + out.string());
+  const CliRun lossy = cli("export " + walker + " --format voxcraft --lossy --out " + out.string());
   ASSERT_EQ(lossy.status, 0) << lossy.out;
   EXPECT_NE(lossy.out.find("warning: development"), std::string::npos) << lossy.out;
   EXPECT_NE(lossy.out.find("largest stiffness error"), std::string::npos) << lossy.out;
-  const CliRun sim = run("simulate " + (out / "base.vxa").string() + " --vxd " +
+  const CliRun sim = cli("simulate " + (out / "base.vxa").string() + " --vxd " +
                          (out / "robot.vxd").string() + " --json");
   ASSERT_EQ(sim.status, 0) << sim.out;
   const std::string json = sim.out.substr(sim.out.find('{'));
   EXPECT_GT(json_number(json, "fitness"), 0.5);
   EXPECT_EQ(json_number(json, "voxels"), 512);
   // Bad command lines and files: one line each.
-  EXPECT_EQ(run("simulate " + (out / "robot.vxd").string() + " --vxd x.vxd").status, 2);
+  EXPECT_EQ(cli("simulate " + (out / "robot.vxd").string() + " --vxd x.vxd").status, 2);
   const CliRun missing =
-      run("simulate " + (out / "base.vxa").string() + " --vxd " + (dir_ / "none.vxd").string());
+      cli("simulate " + (out / "base.vxa").string() + " --vxd " + (dir_ / "none.vxd").string());
   EXPECT_EQ(missing.status, 1);
   EXPECT_NE(missing.out.find("none.vxd"), std::string::npos) << missing.out;
-  EXPECT_EQ(run("export " + walker + " --lossy --out " + (dir_ / "w.json").string()).status, 2);
+  EXPECT_EQ(cli("export " + walker + " --lossy --out " + (dir_ / "w.json").string()).status, 2);
   // A run's champion, as for .vxa.
   const std::filesystem::path champ = dir_ / "champion_voxcraft";
-  const CliRun run_export = run("export " + (dir_ / "tiny.h5").string() +
+  const CliRun run_export = cli("export " + (dir_ / "tiny.h5").string() +
                                 " --format voxcraft --lossy --out " + champ.string());
   ASSERT_EQ(run_export.status, 0) << run_export.out;
   EXPECT_NE(run_export.out.find("champion"), std::string::npos) << run_export.out;
   EXPECT_EQ(
-      run("simulate " + (champ / "base.vxa").string() + " --vxd " + (champ / "robot.vxd").string())
+      cli("simulate " + (champ / "base.vxa").string() + " --vxd " + (champ / "robot.vxd").string())
           .status,
       0);
 }

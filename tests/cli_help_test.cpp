@@ -12,9 +12,7 @@
 namespace plastivox {
 namespace {
 
-testing::Output run(const std::string& args) {
-  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
+using testing::cli;
 
 std::string source(const std::string& relative) {
   std::ifstream in(std::string(PLASTIVOX_SOURCE_DIR) + "/" + relative);
@@ -87,7 +85,7 @@ TEST(CliHelp, MainDispatchesTheFourteenCommands) {
 TEST(CliHelp, EveryCommandHasItsOwnHelpWithEveryOptionAndAnExample) {
   for (const std::string& c : dispatched_commands()) {
     SCOPED_TRACE(c);
-    const testing::Output long_form = run(c + " --help");
+    const testing::Output long_form = cli(c + " --help");
     ASSERT_EQ(long_form.status, 0) << long_form.out;
     EXPECT_EQ(long_form.out.rfind("usage: plastivox " + c, 0), 0u) << long_form.out;
     EXPECT_NE(long_form.out.find("example"), std::string::npos) << long_form.out;
@@ -99,32 +97,32 @@ TEST(CliHelp, EveryCommandHasItsOwnHelpWithEveryOptionAndAnExample) {
           << c << " --help does not mention " << opt << ":\n"
           << long_form.out;
 
-    const testing::Output short_form = run(c + " -h");
+    const testing::Output short_form = cli(c + " -h");
     EXPECT_EQ(short_form.status, 0);
     EXPECT_EQ(short_form.out, long_form.out);
-    const testing::Output help_cmd = run("help " + c);
+    const testing::Output help_cmd = cli("help " + c);
     EXPECT_EQ(help_cmd.status, 0);
     EXPECT_EQ(help_cmd.out, long_form.out);
     // Help wins over other arguments, even malformed ones.
-    const testing::Output with_args = run(c + " --bogus 7 --help");
+    const testing::Output with_args = cli(c + " --bogus 7 --help");
     EXPECT_EQ(with_args.status, 0);
     EXPECT_EQ(with_args.out, long_form.out);
   }
 }
 
 TEST(CliHelp, CommandHelpsDiffer) {
-  EXPECT_NE(run("simulate --help").out, run("video --help").out);
-  EXPECT_NE(run("simulate --help").out, run("--help").out);
+  EXPECT_NE(cli("simulate --help").out, cli("video --help").out);
+  EXPECT_NE(cli("simulate --help").out, cli("--help").out);
 }
 
 TEST(CliHelp, UnknownCommandForHelpIsAUsageError) {
-  const testing::Output r = run("help frobnicate");
+  const testing::Output r = cli("help frobnicate");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("unknown command 'frobnicate'"), std::string::npos) << r.out;
 }
 
 TEST(CliHelp, UsageErrorsPointToTheCommandsHelp) {
-  const testing::Output r = run("inspect --bogus");
+  const testing::Output r = cli("inspect --bogus");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("unknown option --bogus"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("plastivox inspect --help"), std::string::npos) << r.out;

@@ -22,11 +22,7 @@ using testing::block;
 using testing::error_of;
 using testing::passive_physics;
 using testing::run_until;
-
-PhysicsDef with_environment(PhysicsDef def, const std::string& environment) {
-  apply_physics_json("{\"environment\": " + environment + "}", "test", def);
-  return def;
-}
+using testing::with_environment;
 
 Vec3 total_momentum(const State& s) {
   Vec3 p = Vec3::Zero();

@@ -22,14 +22,9 @@ using testing::block;
 using testing::error_of;
 using testing::passive_physics;
 using testing::run_until;
+using testing::with_environment;
 
 constexpr double kPi = 3.14159265358979323846;
-
-// def with the environment given as JSON (the text of physics.environment).
-PhysicsDef with_environment(PhysicsDef def, const std::string& environment) {
-  apply_physics_json("{\"environment\": " + environment + "}", "test", def);
-  return def;
-}
 
 // ---- The plain floor's bits ----
 

@@ -20,13 +20,11 @@
 namespace plastivox::evo {
 namespace {
 
+using plastivox::testing::cli;
+
 namespace fs = std::filesystem;
 
 using plastivox::testing::Output;
-
-Output run(const std::string& args) {
-  return plastivox::testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
 
 std::string read_file(const std::string& p) {
   std::ifstream in(p, std::ios::binary);
@@ -35,10 +33,6 @@ std::string read_file(const std::string& p) {
 
 class EvoCli : public plastivox::testing::ScratchDirTest {
  protected:
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name), std::ios::binary) << text;
-    return path(name);
-  }
   // A tiny run: 4x4x4 lattice, population 6, 0.2 s lives; `controller` the config's
   // controller field ("" for none: the sine).
   std::string tiny_config(const std::string& name, int seed, int generations,
@@ -52,7 +46,7 @@ class EvoCli : public plastivox::testing::ScratchDirTest {
   }
   void kill_nine_and_resume(const std::string& cfg) const;
   std::string digest(const std::string& results) const {
-    const Output o = run("inspect " + results + " --json");
+    const Output o = cli("inspect " + results + " --json");
     EXPECT_EQ(o.status, 0) << o.out;
     return nlohmann::json::parse(o.out).at("content_digest").get<std::string>();
   }
@@ -60,7 +54,7 @@ class EvoCli : public plastivox::testing::ScratchDirTest {
 };
 
 TEST_F(EvoCli, DefaultConfigIsCompleteAndParsesBack) {
-  const Output o = run("evolve --print-default-config");
+  const Output o = cli("evolve --print-default-config");
   ASSERT_EQ(o.status, 0) << o.out;
   const EvolveConfig c = parse_config(o.out, "default");
   EXPECT_EQ(c.population, 24);
@@ -106,28 +100,28 @@ TEST_F(EvoCli, InvalidConfigsNameTheField) {
   };
   for (const auto& c : cases) {
     const std::string cfg = write("bad.json", c.body);
-    const Output o = run("evolve --config " + cfg + " --out " + path("r.h5"));
+    const Output o = cli("evolve --config " + cfg + " --out " + path("r.h5"));
     EXPECT_EQ(o.status, 1) << c.body << "\n" << o.out;
     EXPECT_NE(o.out.find(c.expect), std::string::npos) << c.body << "\n" << o.out;
     EXPECT_NE(o.out.find("bad.json"), std::string::npos) << o.out;        // names the file
     EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;  // one line
     EXPECT_FALSE(fs::exists(path("r.h5")));
   }
-  EXPECT_EQ(run("evolve --config " + path("absent.json") + " --out " + path("r.h5")).status, 1);
-  EXPECT_EQ(run("evolve --out " + path("r.h5")).status, 2);  // usage
-  EXPECT_EQ(run("evolve --config x.json").status, 2);
-  EXPECT_EQ(run("evolve --config x.json --out y.h5 --threads two").status, 2);
-  EXPECT_EQ(run("inspect").status, 2);
+  EXPECT_EQ(cli("evolve --config " + path("absent.json") + " --out " + path("r.h5")).status, 1);
+  EXPECT_EQ(cli("evolve --out " + path("r.h5")).status, 2);  // usage
+  EXPECT_EQ(cli("evolve --config x.json").status, 2);
+  EXPECT_EQ(cli("evolve --config x.json --out y.h5 --threads two").status, 2);
+  EXPECT_EQ(cli("inspect").status, 2);
 }
 
 TEST_F(EvoCli, SameSeedSameDigestWithOneAndTwoThreads) {
   const std::string cfg = tiny_config("c.json", 21, 3);
-  const Output a = run("evolve --config " + cfg + " --out " + path("a.h5") + " --threads 1");
-  const Output b = run("evolve --config " + cfg + " --out " + path("b.h5") + " --threads 2");
+  const Output a = cli("evolve --config " + cfg + " --out " + path("a.h5") + " --threads 1");
+  const Output b = cli("evolve --config " + cfg + " --out " + path("b.h5") + " --threads 2");
   ASSERT_EQ(a.status, 0) << a.out;
   ASSERT_EQ(b.status, 0) << b.out;
   EXPECT_EQ(digest(path("a.h5")), digest(path("b.h5")));
-  const auto j = nlohmann::json::parse(run("inspect " + path("b.h5") + " --json").out);
+  const auto j = nlohmann::json::parse(cli("inspect " + path("b.h5") + " --json").out);
   EXPECT_EQ(j["treatment"], "stress");
   EXPECT_EQ(j["seed"], 21);
   EXPECT_EQ(j["generations_done"], 3);
@@ -150,7 +144,7 @@ TEST_F(EvoCli, SameSeedSameDigestWithOneAndTwoThreads) {
 // Runs the config to its end, then again killed with SIGKILL soon after its first checkpoint
 // and resumed: the same digest.
 void EvoCli::kill_nine_and_resume(const std::string& cfg) const {
-  ASSERT_EQ(run("evolve --config " + cfg + " --out " + path("full.h5")).status, 0);
+  ASSERT_EQ(cli("evolve --config " + cfg + " --out " + path("full.h5")).status, 0);
   const std::string full = digest(path("full.h5"));
 
   // Start the same run and kill -9 it soon after its first checkpoint appears.
@@ -175,13 +169,13 @@ void EvoCli::kill_nine_and_resume(const std::string& cfg) const {
   const bool killed = WIFSIGNALED(st);
   if (!killed) std::fprintf(stderr, "note: the run finished before it could be killed\n");
   // Whatever moment it died at, the file is a complete checkpoint.
-  const Output mid = run("inspect " + out + " --json");
+  const Output mid = cli("inspect " + out + " --json");
   ASSERT_EQ(mid.status, 0) << mid.out;
   if (killed) {
     EXPECT_EQ(nlohmann::json::parse(mid.out)["finished"], false);
   }
 
-  const Output resumed = run("evolve --config " + cfg + " --out " + out);
+  const Output resumed = cli("evolve --config " + cfg + " --out " + out);
   ASSERT_EQ(resumed.status, 0) << resumed.out;
   if (killed) {
     EXPECT_NE(resumed.out.find("resuming after generation"), std::string::npos) << resumed.out;
@@ -190,7 +184,7 @@ void EvoCli::kill_nine_and_resume(const std::string& cfg) const {
 
   // A finished run says so and changes nothing.
   const std::string bytes = read_file(out);
-  const Output again = run("evolve --config " + cfg + " --out " + out);
+  const Output again = cli("evolve --config " + cfg + " --out " + out);
   EXPECT_EQ(again.status, 0);
   EXPECT_NE(again.out.find("already finished"), std::string::npos) << again.out;
   EXPECT_EQ(read_file(out), bytes);
@@ -208,7 +202,7 @@ TEST_F(EvoCli, KillNineAndResumeWithADistributedControllerEqualsUninterrupted) {
 
 TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {
   const std::string cfg = tiny_config("c.json", 5, 1);
-  ASSERT_EQ(run("evolve --config " + cfg + " --out " + path("r.h5")).status, 0);
+  ASSERT_EQ(cli("evolve --config " + cfg + " --out " + path("r.h5")).status, 0);
   const std::string bytes = read_file(path("r.h5"));
   std::string flipped = bytes;
   flipped[bytes.size() / 2] = static_cast<char>(flipped[bytes.size() / 2] ^ 1);
@@ -222,22 +216,22 @@ TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {
   };
   for (const auto& c : cases) {
     const std::string p = write(c.name, c.data);
-    const Output o = run("inspect " + p + " --json");
+    const Output o = cli("inspect " + p + " --json");
     EXPECT_EQ(o.status, 1) << c.name << ": " << o.out;
     EXPECT_NE(o.out.find(c.expect), std::string::npos) << o.out;
     EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;
     // evolve refuses to resume into it and leaves it alone.
-    const Output e = run("evolve --config " + cfg + " --out " + p);
+    const Output e = cli("evolve --config " + cfg + " --out " + p);
     EXPECT_EQ(e.status, 1) << e.out;
     EXPECT_EQ(read_file(p), c.data);
   }
   const Output other =
-      run("evolve --config " + tiny_config("d.json", 6, 1) + " --out " + path("r.h5"));
+      cli("evolve --config " + tiny_config("d.json", 6, 1) + " --out " + path("r.h5"));
   EXPECT_EQ(other.status, 1);
   EXPECT_NE(other.out.find("different configuration (seed: 5 in the file, 6 now)"),
             std::string::npos)
       << other.out;
-  EXPECT_EQ(run("inspect " + path("nothing.h5")).status, 1);
+  EXPECT_EQ(cli("inspect " + path("nothing.h5")).status, 1);
 }
 
 }  // namespace

@@ -13,11 +13,9 @@
 namespace plastivox {
 namespace {
 
-const std::string kExamples = std::string(PLASTIVOX_SOURCE_DIR) + "/examples";
+using testing::cli;
 
-testing::Output run(const std::string& args) {
-  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
+const std::string kExamples = std::string(PLASTIVOX_SOURCE_DIR) + "/examples";
 
 class Examples : public testing::ScratchDirTest {};
 
@@ -26,7 +24,7 @@ TEST_F(Examples, RobotFilesAreWhatExportDemoWrites) {
     for (const char* ext : {".json", ".vxa"}) {
       SCOPED_TRACE(std::string(name) + ext);
       const std::string out = path(std::string(name) + ext);
-      const testing::Output r = run("export --demo " + std::string(name) + " --out " + out);
+      const testing::Output r = cli("export --demo " + std::string(name) + " --out " + out);
       ASSERT_EQ(r.status, 0) << r.out;
       const std::string shipped = testing::file_text(kExamples + "/" + name + ext);
       ASSERT_FALSE(shipped.empty()) << "examples/" << name << ext << " is missing";
@@ -34,8 +32,8 @@ TEST_F(Examples, RobotFilesAreWhatExportDemoWrites) {
           << "examples/" << name << ext << " differs from `plastivox export --demo " << name
           << "`; regenerate it";
     }
-  EXPECT_EQ(run("export --demo dodecahedron --out " + path("x.json")).status, 1);
-  EXPECT_EQ(run("export --demo pi --out " + path("x.txt")).status, 2);
+  EXPECT_EQ(cli("export --demo dodecahedron --out " + path("x.json")).status, 1);
+  EXPECT_EQ(cli("export --demo pi --out " + path("x.txt")).status, 2);
 }
 
 TEST(ExamplesBodies, BodyPlanExamplesAreClassifiedAsNamed) {
@@ -52,8 +50,8 @@ TEST(ExamplesBodies, BodyPlanExamplesAreClassifiedAsNamed) {
 }
 
 TEST(ExamplesBodies, WalkerFileSimulatesLikeTheBuiltInWalker) {
-  const testing::Output builtin = run("simulate --json");
-  const testing::Output file = run("simulate " + kExamples + "/walker.json --json");
+  const testing::Output builtin = cli("simulate --json");
+  const testing::Output file = cli("simulate " + kExamples + "/walker.json --json");
   ASSERT_EQ(builtin.status, 0) << builtin.out;
   ASSERT_EQ(file.status, 0) << file.out;
   const auto hash = [](const std::string& out) {

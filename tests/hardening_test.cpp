@@ -28,12 +28,10 @@
 namespace plastivox {
 namespace {
 
+using testing::cli;
+
 namespace fs = std::filesystem;
 using testing::Output;
-
-Output run(const std::string& args) {
-  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
 
 std::string read_file(const std::string& p) {
   std::ifstream in(p, std::ios::binary);
@@ -86,10 +84,6 @@ std::string sinking_robot(const std::string& extra_physics = "") {
 
 class Hardening : public testing::ScratchDirTest {
  protected:
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name), std::ios::binary) << text;
-    return path(name);
-  }
   std::string walker_with(const std::string& physics_json) const {
     RobotFile f;
     f.robot = demo_walker();
@@ -102,7 +96,7 @@ class Hardening : public testing::ScratchDirTest {
   Output evolve_edited(int generations, const std::string& from, const std::string& to) const {
     std::string cfg = tiny_config(generations);
     cfg.replace(cfg.find(from), from.size(), to);
-    return run("evolve --config " + write("c.json", cfg) + " --out " + path("r.h5"));
+    return cli("evolve --config " + write("c.json", cfg) + " --out " + path("r.h5"));
   }
 };
 
@@ -144,11 +138,11 @@ TEST_F(Hardening, FullDiskDuringEvolveIsOneLineExitOneAndKeepsTheLastCheckpoint)
   if (!tmpfs.mounted) GTEST_SKIP() << tmpfs.why;
   const std::string cfg = write("c.json", tiny_config(3));
   const std::string out = mnt + "/e.h5";
-  ASSERT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1 --stop-after 1").status,
+  ASSERT_EQ(cli("evolve --config " + cfg + " --out " + out + " --threads 1 --stop-after 1").status,
             0);
   const std::string before = read_file(out);
   fill_to(mnt, before.size() / 2);  // too little room for the next checkpoint
-  const Output o = run("evolve --config " + cfg + " --out " + out + " --threads 1");
+  const Output o = cli("evolve --config " + cfg + " --out " + out + " --threads 1");
   EXPECT_EQ(o.status, 1) << o.out;  // was 139: a SIGSEGV in HDF5's exit-time close
   // The progress lines of the generation before the failed checkpoint, then one error line.
   const std::string last = o.out.substr(o.out.rfind('\n', o.out.size() - 2) + 1);
@@ -160,7 +154,7 @@ TEST_F(Hardening, FullDiskDuringEvolveIsOneLineExitOneAndKeepsTheLastCheckpoint)
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
   // With room again, the same command resumes and finishes.
   fs::remove(mnt + "/ballast");
-  EXPECT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
+  EXPECT_EQ(cli("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
   EXPECT_EQ(evo::read_results(out).state.generations_done, 3);
 }
 
@@ -201,8 +195,8 @@ TEST_F(Hardening, AFinishedRunOnAReadOnlyMountIsReportedFinished) {
   } writable{dir};
   const std::string cfg = write("c.json", tiny_config(1));
   const std::string out = dir + "/r.h5";
-  ASSERT_EQ(run("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
-  ASSERT_EQ(run("evolve --config " + cfg + " --out " + dir + "/half.h5 --threads 1 --stop-after 0")
+  ASSERT_EQ(cli("evolve --config " + cfg + " --out " + out + " --threads 1").status, 0);
+  ASSERT_EQ(cli("evolve --config " + cfg + " --out " + dir + "/half.h5 --threads 1 --stop-after 0")
                 .status,
             0);
   if (mounted)
@@ -210,11 +204,11 @@ TEST_F(Hardening, AFinishedRunOnAReadOnlyMountIsReportedFinished) {
         << std::strerror(errno);
   else
     fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
-  Output o = run("evolve --config " + cfg + " --out " + out + " --threads 1");
+  Output o = cli("evolve --config " + cfg + " --out " + out + " --threads 1");
   EXPECT_EQ(o.status, 0) << o.out;
   EXPECT_NE(o.out.find("already finished"), std::string::npos) << o.out;
   // An unfinished run there still needs its lock and says why it cannot have it.
-  o = run("evolve --config " + cfg + " --out " + dir + "/half.h5 --threads 1");
+  o = cli("evolve --config " + cfg + " --out " + dir + "/half.h5 --threads 1");
   EXPECT_EQ(o.status, 1) << o.out;
   expect_one_line(o, "half.h5.lock: ");
   EXPECT_NE(o.out.find("the run is not finished, so it must be written"), std::string::npos)
@@ -238,7 +232,7 @@ TEST_F(Hardening, ExperimentFitsASmallDiskAndIsRefusedUpFrontWhenItCannotFit) {
   const SmallTmpfs tmpfs(mnt, "size=3m");
   if (!tmpfs.mounted) GTEST_SKIP() << tmpfs.why;
   const std::string out = mnt + "/s";
-  Output o = run("experiment --preset tiny --out " + out + " --threads 2");
+  Output o = cli("experiment --preset tiny --out " + out + " --threads 2");
   ASSERT_EQ(o.status, 0) << o.out;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(o.out, m, std::regex("estimate: about ([0-9.]+) (kB|MB) on disk")))
@@ -248,7 +242,7 @@ TEST_F(Hardening, ExperimentFitsASmallDiskAndIsRefusedUpFrontWhenItCannotFit) {
   EXPECT_GT(written, 2 << 20);
   EXPECT_GT(estimate, written / 2) << "estimate " << estimate << " B, written " << written;
   EXPECT_LT(estimate, written * 2) << "estimate " << estimate << " B, written " << written;
-  o = run("experiment --preset tiny --out " + out + " --threads 2");
+  o = cli("experiment --preset tiny --out " + out + " --threads 2");
   EXPECT_EQ(o.status, 0) << o.out;
   EXPECT_NE(o.out.find("[report] report.html up to date"), std::string::npos) << o.out;
 
@@ -257,7 +251,7 @@ TEST_F(Hardening, ExperimentFitsASmallDiskAndIsRefusedUpFrontWhenItCannotFit) {
   fs::remove_all(out);
   fill_to(mnt, 148 << 10);
   const auto t0 = std::chrono::steady_clock::now();
-  o = run("experiment --preset tiny --out " + out + " --threads 2");
+  o = cli("experiment --preset tiny --out " + out + " --threads 2");
   EXPECT_EQ(o.status, 1) << o.out;
   const std::string last = o.out.substr(o.out.rfind('\n', o.out.size() - 2) + 1);
   expect_one_line(Output{o.status, last},
@@ -274,7 +268,7 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::string json = write("huge.json", R"({"format":"plastivox-robot","version":1,
     "lattice":{"nx":1000,"ny":1000,"nz":1000,"voxel_size":0.01},"voxels":[[0,0,0,1e6,0,0]]})");
-  Output o = run("simulate " + json);
+  Output o = cli("simulate " + json);
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "huge.json: lattice: a 1000x1000x1000 lattice has 1000000000 sites");
   EXPECT_NE(o.out.find("PLASTIVOX_MAX_LATTICE_SITES"), std::string::npos) << o.out;
@@ -285,7 +279,7 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
       std::regex_replace(vxa, std::regex("<X_Voxels>[^<]*</X_Voxels>"), "<X_Voxels>100</X_Voxels>");
   vxa =
       std::regex_replace(vxa, std::regex("<Y_Voxels>[^<]*</Y_Voxels>"), "<Y_Voxels>100</Y_Voxels>");
-  o = run("simulate " + write("wide.vxa", vxa));
+  o = cli("simulate " + write("wide.vxa", vxa));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "characters, expected 10000 (X_Voxels*Y_Voxels)");
   vxa = std::regex_replace(vxa, std::regex("<Z_Voxels>[^<]*</Z_Voxels>"),
@@ -294,7 +288,7 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
                            "<X_Voxels>1000</X_Voxels>");
   vxa = std::regex_replace(vxa, std::regex("<Y_Voxels>[^<]*</Y_Voxels>"),
                            "<Y_Voxels>1000</Y_Voxels>");
-  o = run("simulate " + write("huge.vxa", vxa));
+  o = cli("simulate " + write("huge.vxa", vxa));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o,
                   "huge.vxa: <VXC>/<Structure>: <X_Voxels>*<Y_Voxels>*<Z_Voxels>: a "
@@ -304,7 +298,7 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
 
   // The cap is an override: a small limit refuses the demo walker's 10x10x10 lattice...
   const std::string walker = walker_with(R"({"duration": 0.01, "settle_time": 0})");
-  o = run("simulate " + walker);
+  o = cli("simulate " + walker);
   EXPECT_EQ(o.status, 0) << o.out;
   o = testing::shell("PLASTIVOX_MAX_LATTICE_SITES=999 " + std::string(PLASTIVOX_CLI) +
                      " simulate " + walker + " 2>&1");
@@ -314,7 +308,7 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
   const std::string big = write("big.json", R"({"format":"plastivox-robot","version":1,
     "lattice":{"nx":130,"ny":130,"nz":130,"voxel_size":0.01},"voxels":[[0,0,0,1e6,0,0]],
     "physics":{"duration":0.01,"settle_time":0,"sinking_invalid":false}})");
-  EXPECT_EQ(run("simulate " + big).status, 1);
+  EXPECT_EQ(cli("simulate " + big).status, 1);
   EXPECT_EQ(testing::shell("PLASTIVOX_MAX_LATTICE_SITES=3000000 " + std::string(PLASTIVOX_CLI) +
                            " simulate " + big + " >/dev/null 2>&1")
                 .status,
@@ -322,13 +316,13 @@ TEST_F(Hardening, HugeDeclaredLatticeIsRefusedBeforeAllocating) {
 }
 
 TEST_F(Hardening, NonRegularAndOversizedInputsAreRefusedUnread) {
-  Output o = run("simulate /dev/zero");
+  Output o = cli("simulate /dev/zero");
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "/dev/zero: is not a regular file");
-  o = run("simulate " + dir_.string());
+  o = cli("simulate " + dir_.string());
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, ": is a directory, not a file");
-  o = run("evolve --config /dev/zero --out " + path("r.h5"));
+  o = cli("evolve --config /dev/zero --out " + path("r.h5"));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "/dev/zero: is not a regular file");
   // A sparse 300 MB file is refused by its size, not read.
@@ -336,7 +330,7 @@ TEST_F(Hardening, NonRegularAndOversizedInputsAreRefusedUnread) {
     const std::string p = write(name, "{");
     fs::resize_file(p, uint64_t{300} << 20);
     const auto t0 = std::chrono::steady_clock::now();
-    o = run("simulate " + p);
+    o = cli("simulate " + p);
     EXPECT_EQ(o.status, 1);
     expect_one_line(o,
                     std::string(name) + ": is 314572800 bytes, more than the limit of 268435456");
@@ -371,7 +365,7 @@ TEST_F(Hardening, OutputPathsThatAreDevicesPipesOrFoldersAreRefusedAndLeftAlone)
   };
   const std::string walker = walker_with(R"({"duration": 0.3, "settle_time": 0.1})");
   ASSERT_EQ(
-      run("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
+      cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
       0);
   const std::vector<std::pair<std::string, std::string>> commands = {
       {"simulate " + walker + " --record ", "h5"},
@@ -389,7 +383,7 @@ TEST_F(Hardening, OutputPathsThatAreDevicesPipesOrFoldersAreRefusedAndLeftAlone)
     for (const auto& [command, ext] : commands) {
       const std::string node = path(kind + "." + ext);
       if (!fs::exists(node) && kind_of(node) == "missing") make(kind, ext);
-      const Output o = run(command + node);
+      const Output o = cli(command + node);
       EXPECT_NE(o.status, 0) << command << node << "\n" << o.out;
       EXPECT_NE(o.out.find(node), std::string::npos) << command << node << "\n" << o.out;
       EXPECT_EQ(line_breaks(o.out), 1) << command << node << "\n" << o.out;
@@ -405,7 +399,7 @@ TEST_F(Hardening, StaleCheckpointTemporariesAreRemovedByTheNextRun) {
   std::ofstream(out + ".tmp.9999999") << "half a checkpoint";  // above any pid_max: gone
   const std::string alive = out + ".tmp." + std::to_string(::getppid());
   std::ofstream(alive) << "someone else's";
-  ASSERT_EQ(run("evolve --config " + write("c.json", tiny_config(0)) + " --out " + out).status, 0);
+  ASSERT_EQ(cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + out).status, 0);
   EXPECT_FALSE(fs::exists(out + ".tmp.9999999"));
   EXPECT_TRUE(fs::exists(alive));
 }
@@ -413,24 +407,24 @@ TEST_F(Hardening, StaleCheckpointTemporariesAreRemovedByTheNextRun) {
 // ---- 4. Runs that never end ----
 
 TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
-  Output o = run("simulate " + walker_with(R"({"dt_frac": 1e-9})"));
+  Output o = cli("simulate " + walker_with(R"({"dt_frac": 1e-9})"));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "physics.dt_frac: must be in [0.001, 1.5]");
   std::string robot = robot_to_json(demo_walker());
   robot =
       std::regex_replace(robot, std::regex("\"voxel_size\": [0-9.e-]+"), "\"voxel_size\": 1e-9");
-  o = run("simulate " + write("tiny_voxels.json", robot));
+  o = cli("simulate " + write("tiny_voxels.json", robot));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "lattice.voxel_size: must be in [1e-4, 10] m");
   // Allowed values that multiply into a life of too many steps: refused, naming the limit.
-  o = run("simulate " + walker_with(R"({"dt_frac": 0.001, "duration": 1000})"));
+  o = cli("simulate " + walker_with(R"({"dt_frac": 0.001, "duration": 1000})"));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "physics.duration: a life of 1e+03 s at time step");
   EXPECT_NE(o.out.find("more than the limit of 100000000"), std::string::npos) << o.out;
   EXPECT_NE(o.out.find("PLASTIVOX_MAX_STEPS"), std::string::npos) << o.out;
   // The override is read: a limit below the walker's 0.01 s life refuses it.
   const std::string walker = walker_with(R"({"duration": 0.01, "settle_time": 0})");
-  EXPECT_EQ(run("simulate " + walker).status, 0);
+  EXPECT_EQ(cli("simulate " + walker).status, 0);
   o = testing::shell("PLASTIVOX_MAX_STEPS=10 " + std::string(PLASTIVOX_CLI) + " simulate " +
                      walker + " 2>&1");
   EXPECT_EQ(o.status, 1);
@@ -440,13 +434,13 @@ TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {
   EXPECT_EQ(o.status, 2);  // a malformed limit is a usage error, as a malformed option is
   expect_one_line(o, "PLASTIVOX_MAX_STEPS: expected a positive whole number");
   // An actuation faster than the time step resolves is an error naming the field.
-  o = run("simulate " + walker_with(R"({"act_frequency": 1e6})"));
+  o = cli("simulate " + walker_with(R"({"act_frequency": 1e6})"));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "physics.act_frequency: 1e+06 Hz is faster than the time step resolves");
   // VXA: the tag is named.
   std::string vxa = read_file(testing::data_dir() + "/vxa/walker-stress.vxa");
   vxa = std::regex_replace(vxa, std::regex("<DtFrac>[^<]*</DtFrac>"), "<DtFrac>1e-9</DtFrac>");
-  o = run("simulate " + write("dt.vxa", vxa));
+  o = cli("simulate " + write("dt.vxa", vxa));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "dt.vxa: <Simulator>/<Integration>/<DtFrac>: must be in [0.001, 1.5]");
   // An evolution config is refused up front, before any generation.
@@ -460,7 +454,7 @@ TEST_F(Hardening, RecordingsTooLargeForMemoryAreRefusedBeforeSimulating) {
   // The issue's case: 10,000 frames per second of the demo walker's 5.2 s life (it reached
   // 3.5 GB on a stiff cube) is refused at once, naming the option and how to raise the limit.
   const auto t0 = std::chrono::steady_clock::now();
-  Output o = run("simulate --record " + path("big.h5") + " --fps 10000");
+  Output o = cli("simulate --record " + path("big.h5") + " --fps 10000");
   EXPECT_EQ(o.status, 2);
   expect_one_line(o, "--fps: the recording would need about ");
   EXPECT_NE(o.out.find("more than the limit of 1024 MB"), std::string::npos) << o.out;
@@ -469,7 +463,7 @@ TEST_F(Hardening, RecordingsTooLargeForMemoryAreRefusedBeforeSimulating) {
   EXPECT_FALSE(fs::exists(path("big.h5")));
   // The limit is read: 1 MB refuses a recording of a short life that the default admits.
   const std::string walker = walker_with(R"({"duration": 0.05, "settle_time": 0})");
-  o = run("simulate " + walker + " --record " + path("short.h5") + " --fps 1000");
+  o = cli("simulate " + walker + " --record " + path("short.h5") + " --fps 1000");
   EXPECT_EQ(o.status, 0) << o.out;
   o = testing::shell("PLASTIVOX_MAX_RECORDING_MB=1 " + std::string(PLASTIVOX_CLI) + " simulate " +
                      walker + " --record " + path("short.h5") + " --fps 1000 2>&1");
@@ -536,7 +530,7 @@ TEST_F(Hardening, SinkingIsCountedInTheEvolutionLogAndStoredPerIndividual) {
     "version": 1, "seed": 3, "treatment": "none", "population": 4, "generations": 1,
     "lattice": {"nx": 4, "ny": 4, "nz": 4},
     "physics": {"duration": 1.0, "settle_time": 0.1, "e_max": 2e5, "act_frequency": 1}})");
-  Output o = run("evolve --config " + cfg + " --out " + path("s.h5") + " --threads 1");
+  Output o = cli("evolve --config " + cfg + " --out " + path("s.h5") + " --threads 1");
   ASSERT_EQ(o.status, 0) << o.out;
   EXPECT_NE(o.out.find("5 unstable, 5 sank through the floor"), std::string::npos) << o.out;
   const evo::ResultsFile f = evo::read_results(path("s.h5"));
@@ -547,7 +541,7 @@ TEST_F(Hardening, SinkingIsCountedInTheEvolutionLogAndStoredPerIndividual) {
   // Under the authors' rule the same lives are scored.
   std::string text = read_file(cfg);
   text.replace(text.find("\"e_max\": 2e5"), 12, "\"e_max\": 2e5, \"sinking_invalid\": false");
-  o = run("evolve --config " + write("sink2.json", text) + " --out " + path("s2.h5") +
+  o = cli("evolve --config " + write("sink2.json", text) + " --out " + path("s2.h5") +
           " --threads 1");
   ASSERT_EQ(o.status, 0) << o.out;
   EXPECT_NE(o.out.find("0 unstable, 5 sank through the floor"), std::string::npos) << o.out;
@@ -563,7 +557,7 @@ TEST_F(Hardening, TheRuleForSunkLivesIsRecordedAndOldFilesKeepTheirs) {
   const std::string authors = write(
       "a.json",
       text.replace(text.find("\"duration\""), 10, "\"sinking_invalid\": false, \"duration\""));
-  ASSERT_EQ(run("evolve --config " + authors + " --out " + path("a.h5") + " --threads 1").status,
+  ASSERT_EQ(cli("evolve --config " + authors + " --out " + path("a.h5") + " --threads 1").status,
             0);
   const evo::EvolveConfig a = evo::read_config_file(authors);
   EXPECT_EQ(evo::resolved_physics_json(a.physics).find("sinking_invalid"), std::string::npos);
@@ -633,7 +627,7 @@ TEST_F(Hardening, VxaErrorsNameTheFilesOwnTags) {
   };
   for (const auto& c : cases) {
     const Output o =
-        run("simulate " + write("bad.vxa", std::regex_replace(base, std::regex(c.from), c.to)));
+        cli("simulate " + write("bad.vxa", std::regex_replace(base, std::regex(c.from), c.to)));
     EXPECT_EQ(o.status, 1) << c.to;
     expect_one_line(o, c.expect);
     EXPECT_EQ(o.out.find("physics."), std::string::npos) << o.out;
@@ -645,7 +639,7 @@ TEST_F(Hardening, VxaErrorsNameTheFilesOwnTags) {
   size_t value = vxa.find("<Layer><![CDATA[", block) + 16;
   for (int k = 0; k < 13; ++k) value = vxa.find(',', value) + 1;
   vxa.replace(value, vxa.find(',', value) - value, "0");
-  const Output o = run("simulate " + write("stiff.vxa", vxa));
+  const Output o = cli("simulate " + write("stiff.vxa", vxa));
   EXPECT_EQ(o.status, 1) << o.out;
   expect_one_line(o, "<Structure>/<Stiffness>: layer 1, x=3 y=1: must be a positive");
   EXPECT_EQ(o.out.find("robot.stiffness["), std::string::npos) << o.out;
@@ -658,7 +652,7 @@ TEST_F(Hardening, DamagedTagNamesGiveOneLine) {
         "<Dens\nity>", "</Dens\r\nity>"}) {
     std::string vxa = base;
     vxa.replace(vxa.find("<Density>"), 9, damaged);
-    const Output o = run("simulate " + write("torn.vxa", vxa));
+    const Output o = cli("simulate " + write("torn.vxa", vxa));
     EXPECT_EQ(o.status, 1) << o.out;
     expect_one_line(o, "torn.vxa: ");
   }
@@ -670,7 +664,7 @@ TEST_F(Hardening, NothingIsDroppedSilently) {
   const size_t ph = vxa.find("<PhaseOffset>");
   vxa.erase(ph, vxa.find("</PhaseOffset>") + 14 - ph);
   const Output o =
-      run("simulate --physics '{\"settle_time\": 0}' --duration 0.01 " + write("odd.vxa", vxa));
+      cli("simulate --physics '{\"settle_time\": 0}' --duration 0.01 " + write("odd.vxa", vxa));
   EXPECT_EQ(o.status, 0) << o.out;
   EXPECT_NE(o.out.find("odd.vxa: <Simulator>/<Integration>/<DtFracc>: unknown tag: ignored"),
             std::string::npos)
@@ -680,16 +674,16 @@ TEST_F(Hardening, NothingIsDroppedSilently) {
   // --physics alike.
   std::string robot = robot_to_json(demo_walker());
   robot.insert(robot.find("\"name\""), "\"name\": \"first\", ");
-  Output d = run("simulate " + write("dup.json", robot));
+  Output d = cli("simulate " + write("dup.json", robot));
   EXPECT_EQ(d.status, 1);
   expect_one_line(d, "dup.json: name: given twice");
-  d = run("simulate " + walker_with(R"({"duration": 0.01, "duration": 0.02})"));
+  d = cli("simulate " + walker_with(R"({"duration": 0.01, "duration": 0.02})"));
   EXPECT_EQ(d.status, 1);
   expect_one_line(d, "walker.json: physics.duration: given twice");
   d = evolve_edited(1, "\"nz\": 4", "\"nz\": 4, \"nx\": 5");
   EXPECT_EQ(d.status, 1);
   expect_one_line(d, "c.json: lattice.nx: given twice");
-  d = run("simulate --duration 0.01 --physics '{\"gravity\": 0, \"gravity\": -1}'");
+  d = cli("simulate --duration 0.01 --physics '{\"gravity\": 0, \"gravity\": -1}'");
   EXPECT_EQ(d.status, 1);
   expect_one_line(d, "--physics: gravity: given twice");
 }
@@ -708,20 +702,20 @@ TEST_F(Hardening, MeaninglessPhysicsValuesAndUnknownNestedKeysAreBadInput) {
            {R"({"global_damping_rot_factor": -1})", "global_damping_rot_factor"},
            {R"({"global_damping_rot_factor": -1e308})", "global_damping_rot_factor"},
            {R"({"collision_exclude_hops": -1})", "collision_exclude_hops"}}) {
-    const Output o = run("simulate " + walker + " --physics '" + physics + "'");
+    const Output o = cli("simulate " + walker + " --physics '" + physics + "'");
     EXPECT_EQ(o.status, 1) << physics << "\n" << o.out;
     expect_one_line(o, "physics." + field + ": must be");
   }
   std::string robot = robot_to_json(demo_walker());
   const std::string lattice = "\"lattice\": {";
   robot.insert(robot.find(lattice) + lattice.size(), R"("nw": 3, )");
-  Output o = run("simulate " + write("lat.json", robot));
+  Output o = cli("simulate " + write("lat.json", robot));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "lat.json: lattice.nw: unknown field");
   robot = robot_to_json(demo_walker());
   robot.insert(robot.rfind('}'),
                R"(, "loads": [{"at": [0, 1, 0], "force": [0, 0, 1], "torque": 1}])");
-  o = run("simulate " + write("loads.json", robot));
+  o = cli("simulate " + write("loads.json", robot));
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "loads.json: loads[0].torque: unknown field");
 }
@@ -761,7 +755,7 @@ TEST_F(Hardening, BadCommandLineValuesExitTwo) {
        "--start expects a number, got '0x0'"},
   };
   for (const auto& c : cases) {
-    const Output o = run(c.args);
+    const Output o = cli(c.args);
     EXPECT_EQ(o.status, 2) << c.args << "\n" << o.out;
     expect_one_line(o, c.expect);
   }
@@ -769,12 +763,12 @@ TEST_F(Hardening, BadCommandLineValuesExitTwo) {
     EXPECT_FALSE(fs::exists(made)) << made;
   // An unknown codec is refused before the life is simulated, not after.
   const auto t0 = std::chrono::steady_clock::now();
-  const Output v = run("video " + walker_with("{}") + " --codec vp9 --out " + path("v.mp4"));
+  const Output v = cli("video " + walker_with("{}") + " --codec vp9 --out " + path("v.mp4"));
   EXPECT_EQ(v.status, 1);
   expect_one_line(v, "--codec: unknown video codec 'vp9'");
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(2));
   // A directory passed as a robot says so (it used to be "not valid JSON").
-  const Output o = run("simulate " + dir_.string());
+  const Output o = cli("simulate " + dir_.string());
   EXPECT_EQ(o.status, 1);
   expect_one_line(o, "is a directory, not a file");
   EXPECT_EQ(o.out.find("JSON"), std::string::npos) << o.out;

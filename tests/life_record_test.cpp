@@ -27,9 +27,7 @@
 namespace plastivox {
 namespace {
 
-testing::Output run(const std::string& args) {
-  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
+using testing::cli;
 
 // A 3x3x2 block under the code preset with actuation and stress development, 0.3 s.
 struct Lived {
@@ -481,27 +479,27 @@ TEST_F(RecordedLives, TheCommandLineRecordsAndReplays) {
   write_robot_file(path("cube.json"), demo_cube(2, 1e7), &scored);
   const std::string cube = path("cube.json");
   auto r =
-      run("simulate " + cube + " --duration 0.3 --record " + path("life.h5") + " --fps 10 --json");
+      cli("simulate " + cube + " --duration 0.3 --record " + path("life.h5") + " --fps 10 --json");
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\"format\": \"plastivox-life\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"frames\": 4"), std::string::npos) << r.out;  // 0, .1, .2, end
   EXPECT_EQ(read_life_file(path("life.h5")).result.recording.frames.size(), 4u);
   // A frame rate in --physics alone would record and drop the frames: refused, saying how.
-  r = run("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 10}' --json");
+  r = cli("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 10}' --json");
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_NE(r.out.find("--record life.h5 --fps 10"), std::string::npos) << r.out;
   // ... and with --record it is the frame rate.
-  r = run("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 20}' --record " +
+  r = cli("simulate " + cube + " --duration 0.3 --physics '{\"record_fps\": 20}' --record " +
           path("l.history"));
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("recorded 7 frames at 20 fps"), std::string::npos) << r.out;
-  EXPECT_EQ(run("simulate " + cube + " --record " + path("x.txt")).status, 2);
-  EXPECT_EQ(run("simulate " + cube + " --fps 10").status, 2);
+  EXPECT_EQ(cli("simulate " + cube + " --record " + path("x.txt")).status, 2);
+  EXPECT_EQ(cli("simulate " + cube + " --fps 10").status, 2);
   // render and video draw the recorded life without simulating.
-  r = run("render " + path("life.h5") + " --out " + path("f.png") + " --time 0.1 --size 64x48");
+  r = cli("render " + path("life.h5") + " --out " + path("f.png") + " --time 0.1 --size 64x48");
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("reading the recorded frame"), std::string::npos) << r.out;
-  r = run("video " + path("life.h5") + " --out " + path("v.mp4") + " --size 64x48 --fps 10");
+  r = cli("video " + path("life.h5") + " --out " + path("v.mp4") + " --size 64x48 --fps 10");
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("frames of the recorded life"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("wrote"), std::string::npos) << r.out;
@@ -516,9 +514,9 @@ TEST_F(RecordedLives, H5pyReadsStringsAsStrAndUnits) {
   write_file_atomic(path("c.json"), R"({"format": "plastivox-evolve-config", "version": 1,
     "seed": 4, "treatment": "stress", "population": 6, "generations": 1,
     "lattice": {"nx": 4, "ny": 4, "nz": 4}, "physics": {"duration": 0.2, "settle_time": 0.1}})");
-  auto r = run("evolve --config " + path("c.json") + " --out " + path("run.h5"));
+  auto r = cli("evolve --config " + path("c.json") + " --out " + path("run.h5"));
   ASSERT_EQ(r.status, 0) << r.out;
-  r = run("simulate --treatment stress --duration 0.3 --record " + path("life.h5") + " --fps 10");
+  r = cli("simulate --treatment stress --duration 0.3 --record " + path("life.h5") + " --fps 10");
   ASSERT_EQ(r.status, 0) << r.out;
   write_file_atomic(path("check.py"), R"(import sys, h5py
 run = h5py.File(sys.argv[1], "r")
@@ -548,12 +546,12 @@ print("h5py ok", n)
   EXPECT_NE(py.out.find("h5py ok"), std::string::npos) << py.out;
   // Reading left it intact; writing one attribute breaks the seal, and the refusal says how
   // to copy the data out instead.
-  EXPECT_EQ(run("inspect " + path("run.h5")).status, 0);
+  EXPECT_EQ(cli("inspect " + path("run.h5")).status, 0);
   const testing::Output edit =
       testing::shell("/usr/bin/python3 -c \"import h5py; f = h5py.File('" + path("run.h5") +
                      "', 'a'); f.attrs['note'] = 'mine'; f.close()\" 2>&1");
   ASSERT_EQ(edit.status, 0) << edit.out;
-  r = run("inspect " + path("run.h5"));
+  r = cli("inspect " + path("run.h5"));
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("read it with h5py.File(path, 'r') and copy what you need"),
             std::string::npos)

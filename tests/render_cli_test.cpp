@@ -12,9 +12,7 @@
 namespace plastivox {
 namespace {
 
-testing::Output run(const std::string& args) {
-  return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
+using testing::cli;
 
 class RenderCli : public testing::ScratchDirTest {
  protected:
@@ -25,7 +23,7 @@ class RenderCli : public testing::ScratchDirTest {
   // plastivox COMMAND cube.json --out OUT OPTIONS, OUT in the scratch folder.
   testing::Output draw(const std::string& command, const std::string& out,
                        const std::string& options = "") const {
-    return run(command + " " + path("cube.json") + " --out " + path(out) + " " + options);
+    return cli(command + " " + path("cube.json") + " --out " + path(out) + " " + options);
   }
   int files() const {
     int n = 0;
@@ -82,16 +80,16 @@ TEST_F(RenderCli, GalleryStiffnessRangeOption) {
   const std::string g = "gallery " + path("cube.json") + " --size 400x200 --samples 1 --out " +
                         path("g.png") + " --e0-range ";
   for (const std::string bad : {"1e6", "1e9,1e6", "0,1e9", "a,b"}) {
-    const auto r = run(g + bad);
+    const auto r = cli(g + bad);
     EXPECT_EQ(r.status, 2) << bad << ": " << r.out;
     EXPECT_NE(r.out.find("--e0-range"), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << "one line: " << r.out;
   }
-  const auto both = run(g + "1e6,1e9 --color-range paper");
+  const auto both = cli(g + "1e6,1e9 --color-range paper");
   EXPECT_EQ(both.status, 2) << both.out;
   EXPECT_EQ(files(), 1);
   // The range is used and printed (so another gallery can be given the same one).
-  const auto ok = run(g + "1e6,1e9");
+  const auto ok = cli(g + "1e6,1e9");
   ASSERT_EQ(ok.status, 0) << ok.out;
   EXPECT_NE(ok.out.find("E0 colour range 1e+06,1e+09 Pa"), std::string::npos) << ok.out;
   const auto data = draw("gallery", "d.png", "--size 400x200 --samples 1");

@@ -18,6 +18,8 @@
 namespace plastivox {
 namespace {
 
+using testing::cli;
+
 using testing::block;
 using testing::error_of;
 using testing::Output;
@@ -374,23 +376,16 @@ TEST(TerrainTasks, EveryTaskHasAnExperimentPreset) {
 
 class TerrainTasksCli : public testing::ScratchDirTest {
  protected:
-  static Output run(const std::string& args) {
-    return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name), std::ios::binary) << text;
-    return path(name);
-  }
 };
 
 TEST_F(TerrainTasksCli, BadTaskIsOneLineAndANonZeroExit) {
   const std::string cfg = write("run.json", R"({"format": "plastivox-evolve-config",
       "version": 1, "task": {"name": "climb", "rise": 99}})");
-  Output o = run("evolve --config " + cfg + " --out " + path("run.h5"));
+  Output o = cli("evolve --config " + cfg + " --out " + path("run.h5"));
   EXPECT_EQ(o.status, 1);
   EXPECT_EQ(o.out, "plastivox evolve: error: " + cfg +
                        ": task.rise: must be in [0.05, 5] voxel lengths\n");
-  o = run(R"(simulate --duration 0.1 --physics '{"task": {"name": "rough", "cell": 0}}')");
+  o = cli(R"(simulate --duration 0.1 --physics '{"task": {"name": "rough", "cell": 0}}')");
   EXPECT_EQ(o.status, 1);
   EXPECT_EQ(o.out,
             "plastivox simulate: error: --physics: physics.task.cell: must be in [0.25, 10] voxel "
@@ -398,12 +393,12 @@ TEST_F(TerrainTasksCli, BadTaskIsOneLineAndANonZeroExit) {
 }
 
 TEST_F(TerrainTasksCli, SimulateNamesTheTaskAndScoresOnItsGround) {
-  const Output o = run("simulate --task rough --duration 0.6 --json");
+  const Output o = cli("simulate --task rough --duration 0.6 --json");
   ASSERT_EQ(o.status, 0) << o.out;
   const nlohmann::json j = nlohmann::json::parse(o.out);
   EXPECT_EQ(j.at("task"), "rough");
   EXPECT_EQ(j.at("fitness_unit"), "voxel lengths");
-  const Output walk = run("simulate --duration 0.6 --json");
+  const Output walk = cli("simulate --duration 0.6 --json");
   ASSERT_EQ(walk.status, 0) << walk.out;
   // The ground is not the floor's: the life differs. (On slope's or climb's default, a body
   // that stays on the level ground around its start lives the floor's life, bit for bit.)
@@ -416,7 +411,7 @@ TEST_F(TerrainTasksCli, EvolutionRecordsTheTaskWithItsParameters) {
       "task": {"name": "climb", "rise": 0.25},
       "lattice": {"nx": 3, "ny": 3, "nz": 3}, "physics": {"duration": 0.3, "settle_time": 0.1}})");
   const std::string out = path("climb.h5");
-  const Output o = run("evolve --config " + cfg + " --out " + out + " --threads 1");
+  const Output o = cli("evolve --config " + cfg + " --out " + out + " --threads 1");
   ASSERT_EQ(o.status, 0) << o.out;
   // What the analysis re-simulates champions with (study_load.cpp: the run's config physics).
   const evo::ResultsFile f = evo::read_results(out);
@@ -424,7 +419,7 @@ TEST_F(TerrainTasksCli, EvolutionRecordsTheTaskWithItsParameters) {
   const TaskParams want = {{"rise", 0.25}};
   EXPECT_EQ(f.state.config.physics.task_params, want);
   // The analysis names the task and its environment, in the report and stats.json.
-  const Output a = run("analyze " + out + " --out " + path("analysis"));
+  const Output a = cli("analyze " + out + " --out " + path("analysis"));
   ASSERT_EQ(a.status, 0) << a.out;
   const std::string env =
       "the default of climb: terraces: count steps of height rise, one every run, rising away from "

@@ -19,6 +19,8 @@
 namespace plastivox {
 namespace {
 
+using testing::cli;
+
 using testing::block;
 using testing::Output;
 using testing::passive_physics;
@@ -281,23 +283,16 @@ TEST(Tasks, ExperimentConfigsNameTheTaskForEveryRun) {
 
 class TasksCli : public testing::ScratchDirTest {
  protected:
-  static Output run(const std::string& args) {
-    return testing::shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name), std::ios::binary) << text;
-    return path(name);
-  }
 };
 
 TEST_F(TasksCli, UnknownTaskIsOneLineAndANonZeroExit) {
-  Output o = run("simulate --task fly --duration 0.1");
+  Output o = cli("simulate --task fly --duration 0.1");
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.out,
             "plastivox simulate: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
             "slope, obstacles, carry, push) (plastivox "
             "simulate --help lists the options)\n");
-  o = run("evolve --config x.json --out x.h5 --task fly");
+  o = cli("evolve --config x.json --out x.h5 --task fly");
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.out,
             "plastivox evolve: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
@@ -305,7 +300,7 @@ TEST_F(TasksCli, UnknownTaskIsOneLineAndANonZeroExit) {
             "evolve --help lists the options)\n");
   const std::string cfg = write("run.json", R"({"format": "plastivox-evolve-config",
       "version": 1, "task": {"name": "fly"}})");
-  o = run("evolve --config " + cfg + " --out " + path("run.h5"));
+  o = cli("evolve --config " + cfg + " --out " + path("run.h5"));
   EXPECT_EQ(o.status, 1);
   EXPECT_EQ(o.out, "plastivox evolve: error: " + cfg +
                        ": task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, "
@@ -313,12 +308,12 @@ TEST_F(TasksCli, UnknownTaskIsOneLineAndANonZeroExit) {
 }
 
 TEST_F(TasksCli, SimulateScoresTheTaskItIsGiven) {
-  const Output o = run("simulate --task turn --duration 0.6 --json");
+  const Output o = cli("simulate --task turn --duration 0.6 --json");
   ASSERT_EQ(o.status, 0) << o.out;
   const nlohmann::json j = nlohmann::json::parse(o.out);
   EXPECT_EQ(j.at("task"), "turn");
   EXPECT_EQ(j.at("fitness_unit"), "rad");
-  const Output walk = run("simulate --duration 0.6 --json");
+  const Output walk = cli("simulate --duration 0.6 --json");
   ASSERT_EQ(walk.status, 0) << walk.out;
   const nlohmann::json w = nlohmann::json::parse(walk.out);
   EXPECT_EQ(w.at("task"), "walk");
@@ -331,9 +326,9 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
       "version": 1, "seed": 3, "treatment": "stress", "population": 4, "generations": 1,
       "lattice": {"nx": 4, "ny": 4, "nz": 4}, "physics": {"duration": 0.3, "settle_time": 0.1}})");
   const std::string out = path("jump.h5");
-  Output o = run("evolve --config " + cfg + " --out " + out + " --task jump --threads 1");
+  Output o = cli("evolve --config " + cfg + " --out " + out + " --task jump --threads 1");
   ASSERT_EQ(o.status, 0) << o.out;
-  o = run("inspect " + out + " --json");
+  o = cli("inspect " + out + " --json");
   ASSERT_EQ(o.status, 0) << o.out;
   const nlohmann::json j = nlohmann::json::parse(o.out);
   EXPECT_EQ(j.at("task"), "jump");
@@ -345,20 +340,20 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   EXPECT_EQ(f.state.config.task, Task::kJump);
   EXPECT_EQ(f.state.config.physics.task, Task::kJump);
   // ... and refuses another task, whether the config or --task says it.
-  o = run("evolve --config " + cfg + " --out " + out);
+  o = cli("evolve --config " + cfg + " --out " + out);
   EXPECT_EQ(o.status, 1);
   EXPECT_NE(o.out.find("written by a different configuration (task: jump in the file, walk "
                        "now); refusing to resume"),
             std::string::npos)
       << o.out;
-  o = run("evolve --config " + cfg + " --out " + out + " --task turn");
+  o = cli("evolve --config " + cfg + " --out " + out + " --task turn");
   EXPECT_EQ(o.status, 1);
   EXPECT_NE(o.out.find("(task: jump in the file, turn now)"), std::string::npos) << o.out;
-  o = run("evolve --config " + cfg + " --out " + out + " --task jump");
+  o = cli("evolve --config " + cfg + " --out " + out + " --task jump");
   EXPECT_EQ(o.status, 0) << o.out;
   EXPECT_NE(o.out.find("already finished"), std::string::npos) << o.out;
   // The analysis names the task and its unit: in the report, stats.json and analysis.h5.
-  o = run("analyze " + out + " --out " + path("analysis"));
+  o = cli("analyze " + out + " --out " + path("analysis"));
   ASSERT_EQ(o.status, 0) << o.out;
   const std::string report = testing::file_text(path("analysis/report.html"));
   EXPECT_NE(report.find("The task is <b>jump</b>, on flat floor with friction (docs/tasks.md). "

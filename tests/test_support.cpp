@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "plastivox/io/robot_file.hpp"
+
 namespace plastivox::testing {
 
 RobotDef block(int nx, int ny, int nz, double E, double voxel_size) {
@@ -27,6 +29,11 @@ PhysicsDef passive_physics() {
   d.e_min = 1e4;
   d.e_max = 1e12;
   return d;
+}
+
+PhysicsDef with_environment(PhysicsDef def, const std::string& environment) {
+  apply_physics_json("{\"environment\": " + environment + "}", "test", def);
+  return def;
 }
 
 void run_until(Simulator& sim, double t) {
@@ -97,6 +104,10 @@ std::string error_of(const std::function<void()>& f) {
     return e.what();
   }
   return "(no error)";
+}
+
+Output cli(const std::string& args) {
+  return shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
 }
 
 void ScratchDirTest::SetUp() {

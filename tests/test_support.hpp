@@ -24,6 +24,9 @@ RobotDef block(int nx, int ny, int nz, double E, double voxel_size = 0.01);
 // a clean setting for mechanics checks. Duration is left to the test.
 PhysicsDef passive_physics();
 
+// def with the environment given as JSON (the text of physics.environment).
+PhysicsDef with_environment(PhysicsDef def, const std::string& environment);
+
 // Steps the simulator until its time reaches t (or it goes unstable).
 void run_until(Simulator& sim, double t);
 
@@ -51,6 +54,10 @@ struct Output {
 };
 Output shell(const std::string& command_line);
 
+// The plastivox program (this build's) run with `args` (words for the shell), its standard
+// error merged into the output.
+Output cli(const std::string& args);
+
 // Headless Chromium (Debian package chromium) with software WebGL (SwiftShader) and every
 // host name unresolvable, as with the network off: the program and its flags, with a fresh
 // profile in `profile_dir`, ready for more flags and a URL. "" when chromium is not installed.
@@ -67,6 +74,11 @@ class ScratchDirTest : public ::testing::Test {
   void SetUp() override;
   void TearDown() override;
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // Writes `text` to the scratch file `name`, byte for byte; its path.
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name), std::ios::binary) << text;
+    return path(name);
+  }
   std::filesystem::path dir_;
 };
 

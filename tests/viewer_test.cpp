@@ -19,11 +19,9 @@
 namespace plastivox {
 namespace {
 
-using testing::shell;
+using testing::cli;
 
-testing::Output run(const std::string& args) {
-  return shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
-}
+using testing::shell;
 
 // A synthetic life of a 10x10x10 block: 5.2 s at 30 frames per second (157 frames), every
 // voxel moving and turning, so no field packs to a constant.
@@ -156,7 +154,7 @@ TEST_F(ViewerPage, ReplaysALifeInHeadlessChromiumWithNoNetwork) {
   ASSERT_EQ(sim.status, 0) << sim.out;
   const double fitness = nlohmann::json::parse(sim.out).at("fitness").get<double>();
   ASSERT_GT(fitness, 0.001);
-  const auto view = run("view " + path("block.json") + " --out " + path("page.html"));
+  const auto view = cli("view " + path("block.json") + " --out " + path("page.html"));
   ASSERT_EQ(view.status, 0) << view.out;
   std::string html = read_file_bytes(path("page.html"));
   // Nothing is fetched: no element loads anything from anywhere.
@@ -243,7 +241,7 @@ TEST_F(ViewerPage, CameraCannotOrbitUnderTheFloor) {
   physics.settle_time = 0.1;
   physics.sinking_invalid = false;  // soft and heavy, it sinks: scored, the authors' rule
   write_robot_file(path("block.json"), testing::block(3, 3, 2, 1e7), &physics);
-  ASSERT_EQ(run("view " + path("block.json") + " --out " + path("page.html")).status, 0);
+  ASSERT_EQ(cli("view " + path("block.json") + " --out " + path("page.html")).status, 0);
   const std::string probe = R"(<script>
 (function () {
   const v = plastivoxViewer.viewer, c = v.canvas, out = { limit: v.controls.maxPolarAngle };
@@ -359,8 +357,8 @@ TEST_F(ViewerPage, FirstFrameHasTheRenderersLayout) {
   physics.settle_time = 0.1;
   physics.sinking_invalid = false;  // its 1e6 Pa end sinks: scored, the authors' rule
   write_robot_file(path("l.json"), robot, &physics);
-  ASSERT_EQ(run("view " + path("l.json") + " --out " + path("page.html")).status, 0);
-  ASSERT_EQ(run("render " + path("l.json") + " --time 0 --color congenital --no-overlay " +
+  ASSERT_EQ(cli("view " + path("l.json") + " --out " + path("page.html")).status, 0);
+  ASSERT_EQ(cli("render " + path("l.json") + " --time 0 --color congenital --no-overlay " +
                 "--camera follow --size 960x540 --out " + path("frame.png"))
                 .status,
             0);
