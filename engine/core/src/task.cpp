@@ -234,6 +234,10 @@ double horizontal_displacement(const SimResult& r) {
   return (r.com_final - r.com_settled).head<2>().norm();
 }
 
+double horizontal_travel(const Model& m, const SimResult& r) {
+  return horizontal_displacement(r) / m.size;
+}
+
 double ground_rise(const Model& m, const SimResult& r) {
   if (!m.terrain) return 0;
   return m.ground.height(r.com_final.x(), r.com_final.y()) -

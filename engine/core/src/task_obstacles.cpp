@@ -27,14 +27,10 @@ constexpr int kFieldMaxSide = 63;   // squares a side at most (63^2 < kMaxObstac
 // The stream the blocks' places are drawn from (Rng::stream's purpose).
 constexpr uint64_t kBlockStream = 0x626c6f636b73;  // "blocks"
 
-double obstacles_score(const Model& m, const SimResult& summary) {
-  return horizontal_displacement(summary) / m.size;
-}
-
 }  // namespace
 
 std::unique_ptr<TaskWatch> make_obstacles_watch(const Model&) {
-  return watch_of_summary(obstacles_score);
+  return watch_of_summary(horizontal_travel);
 }
 
 std::vector<TaskParam> obstacles_params() {

@@ -19,14 +19,10 @@ namespace {
 
 constexpr double kRoughReach = 40;  // voxel lengths of ground past the footprint
 
-double rough_score(const Model& m, const SimResult& summary) {
-  return horizontal_displacement(summary) / m.size;
-}
-
 }  // namespace
 
 std::unique_ptr<TaskWatch> make_rough_watch(const Model&) {
-  return watch_of_summary(rough_score);
+  return watch_of_summary(horizontal_travel);
 }
 
 std::vector<TaskParam> rough_params() {

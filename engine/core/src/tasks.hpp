@@ -69,6 +69,8 @@ std::unique_ptr<TaskWatch> watch_of_summary(double (*score)(const Model& model,
 double horizontal_displacement(const SimResult& summary);
 // and the rise of the ground under it (model.ground; 0 on the flat floor).
 double ground_rise(const Model& model, const SimResult& summary);
+// The fitness of rough and obstacles: the horizontal displacement in voxel lengths.
+double horizontal_travel(const Model& model, const SimResult& summary);
 
 // A square height field of node spacing `cell` centred on (cx, cy), nodes out to at least
 // `reach` from it along each axis, node heights h(d) of the Chebyshev distance d from the
