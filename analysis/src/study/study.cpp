@@ -97,7 +97,9 @@ std::string study_fingerprint(const std::vector<std::string>& content_digests,
   std::vector<std::string> sorted = content_digests;
   std::sort(sorted.begin(), sorted.end());
   evo::Hasher h;
-  h.str("plastivox-analysis-fingerprint-v2");
+  // The tag changes whenever the outputs gain or change a field, so a study analysed by an
+  // older build is analysed again rather than reused without it (v3: audit.controller).
+  h.str("plastivox-analysis-fingerprint-v3");
   h.u64(static_cast<uint64_t>(kStudyFormatVersion));
   h.u64(sorted.size());
   for (const std::string& d : sorted) h.str(d);
