@@ -13,7 +13,8 @@ namespace {
 const char* kUsage =
     "usage: plastivox <command> [options]\n"
     "commands:\n"
-    "  simulate [ROBOT] [--treatment STIMULUS] [--preset NAME] [--duration S] [--json]\n"
+    "  simulate [ROBOT] [--treatment STIMULUS] [--task NAME] [--preset NAME] [--duration S]\n"
+    "           [--json]\n"
     "           simulate a robot file (.json plastivox robot or .vxa); no ROBOT: the built-in\n"
     "           ~500-voxel demo walker. --physics '{\"field\": value, ...}' overrides\n"
     "           physics fields (names as in docs/robot-format.md)\n"
@@ -39,7 +40,8 @@ const char* kUsage =
     "           bootstrap statistics -> DIR/stats.json, CSV tables, analysis.h5,\n"
     "           report.html; rerun after a kill to resume (docs/analysis.md)\n"
     "  render   ROBOT_OR_RESULTS --out frame.png [--time T] [--color MODE] [--size WxH]\n"
-    "           one frame as PNG; MODE: congenital, stiffness, change, alpha, phase;\n"
+    "           one frame as PNG; MODE: congenital, stiffness, change, alpha, phase,\n"
+    "           stimulus, actuation;\n"
     "           --no-overlay (or --no-colorbar/-time/-treatment/-displacement/-scalebar)\n"
     "           --antialias msaa|edge|none (render, gallery: msaa; video: edge)\n"
     "  video    ROBOT_OR_RESULTS --out life.mp4 [--color MODE] [--fps F] [--size WxH]\n"
@@ -49,9 +51,10 @@ const char* kUsage =
     "  gallery  RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]\n"
     "  figures  STATS.json --out DIR [--size WxH] [--format png,svg] [--no-combined]\n"
     "           Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json\n"
-    "  experiment [--config FILE | --preset default|tiny|gecco2018] --out DIR [--threads N]\n"
+    "  experiment [--config FILE | --preset NAME] --out DIR [--threads N]\n"
     "           [--force STAGE,...] [--run LABEL] [--estimate-only] [--print-preset NAME]\n"
-    "           the whole study: evolve, analyse, render, report (resumable)\n"
+    "           the whole study: evolve, analyse, render, report (resumable); NAME: default,\n"
+    "           tiny, gecco2018, a task's baseline or walk-/rough-distributed (see --help)\n"
     "  version  print version and commit\n"
     "plastivox CMD --help (or plastivox help CMD) prints a command's options and an example.\n";
 

@@ -292,7 +292,7 @@ std::string default_config_text() {
        "seed: run seed (non-negative integer); the paper used seeds 1..20.",
        "task: what a life is scored on (docs/tasks.md), e.g. {\"name\": \"climb\", \"rise\": 1}",
        "  (its parameters are optional): walk (the paper's locomotion; the default, so absent",
-       "  above) | jump | turn | rough | climb | slope | obstacles.",
+       "  above) | jump | turn | rough | climb | slope | obstacles | carry | push.",
        "treatment: what development follows: none | stress | pressure (the paper's) | strain |",
        "  strain_energy | contact | kinetic (docs/plasticity.md), or with its law:",
        "  {\"stimulus\": \"contact\", \"law\": \"integral\" | \"rate\"} (the law is "
