@@ -165,7 +165,8 @@ const CommandHelp kHelp[] = {
      "(simulate --record LIFE.h5) is drawn as recorded, without simulating again.\n"
      "options:\n"
      "  --out FILE            PNG to write\n"
-     "  --time T              time of the frame in seconds (default 0.2)\n" PLASTIVOX_FRAME_OPTIONS
+     "  --time T              time of the frame, s (default 0.2), up to the life's end\n"
+     "                        (its first step past the duration)\n" PLASTIVOX_FRAME_OPTIONS
          PLASTIVOX_ANTIALIAS_OPTIONS("msaa") "example:\n"
                                              "  plastivox render examples/walker.json --out "
                                              "frame.png --time 1.5 --color stiffness\n"},
