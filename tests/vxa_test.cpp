@@ -393,6 +393,8 @@ std::vector<Malformed> malformed_inputs() {
               "<PressureAdaptationRate></PressureAdaptationRate></Structure>"),
        "PressureAdaptationRate"},
       {"x_voxels", edited("walker-none", "<X_Voxels>10.0<", "<X_Voxels>ten<"), "X_Voxels"},
+      // Upwards gravity (the physics refuses it: physics.gravity must be <= 0).
+      {"upwards_gravity", edited("walker-none", "<GravAcc>-9.81<", "<GravAcc>9.81<"), "GravAcc"},
   };
 }
 
