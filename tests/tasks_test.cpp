@@ -362,6 +362,32 @@ TEST_F(TasksCli, SimulateFlagsWinOverPhysics) {
   EXPECT_EQ(j.at("treatment"), "stress");
 }
 
+// Without the floor a body under gravity falls, and walk's 3-D distance counts the fall: the
+// life is valid (free falls are physics), but simulate says that the fitness is the fall, on
+// stderr and in --json's warnings. Under xy fitness, or with the floor, no such warning.
+TEST_F(TasksCli, AWalkWithoutTheFloorSaysItsFitnessIsTheFall) {
+  const std::string walker = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/walker.json";
+  const std::string warning = "fitness is dominated by vertical motion (vertical share ";
+  Output o = cli("simulate " + walker + R"( --duration 0.4 --physics '{"floor": false}')");
+  EXPECT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("plastivox simulate: warning: " + walker + ": " + warning),
+            std::string::npos)
+      << o.out;
+  auto json_of = [&](const std::string& options) {  // stdout alone
+    return nlohmann::json::parse(testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + walker +
+                                                " --json " + options + " 2>/dev/null")
+                                     .out);
+  };
+  nlohmann::json j = json_of(R"(--duration 0.4 --physics '{"floor": false}')");
+  EXPECT_GT(j.at("vertical_share").get<double>(), 0.99);
+  ASSERT_EQ(j.at("warnings").size(), 1u) << j;
+  EXPECT_TRUE(j.at("warnings")[0].get<std::string>().starts_with(warning)) << j;
+  j = json_of(R"(--duration 0.4 --physics '{"floor": false, "fitness": "xy"}')");
+  EXPECT_TRUE(j.at("warnings").empty()) << j;
+  j = json_of("--duration 0.4");
+  EXPECT_TRUE(j.at("warnings").empty()) << j;
+}
+
 TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   const std::string cfg = write("run.json", R"({"format": "plastivox-evolve-config",
       "version": 1, "seed": 3, "treatment": "stress", "population": 4, "generations": 1,
