@@ -138,16 +138,30 @@ int cmd_simulate(const Args& in) {
     physics.task = robot_physics.task;
     physics.task_params = robot_physics.task_params;
   }
-  if (treatment_given) physics.treatment = *treatment_given;
-  if (task_given && *task_given != physics.task) {  // the file's parameters were its task's
-    physics.task = *task_given;
-    physics.task_params.clear();
-  }
-  if (!duration.empty()) physics.duration = duration_s;
+  // The single-field flags win over --physics, as Python's keywords win over its physics
+  // dict (plastivox simulate --help). They are applied before it too, so that --physics is
+  // checked against them (--duration 20 --physics '{"settle_time": 10}' is a valid life).
+  auto apply_flags = [&] {
+    if (treatment_given) physics.treatment = *treatment_given;
+    if (task_given && *task_given != physics.task) {  // the parameters were another task's
+      physics.task = *task_given;
+      physics.task_params.clear();
+    }
+    if (!duration.empty()) physics.duration = duration_s;
+  };
+  apply_flags();
   if (!overrides.empty()) {
+    const PhysicsDef before = physics;
     apply_physics_json(overrides, "--physics", physics);
-    // Recording is not physics: frames are kept only in a file, at --fps.
     const nlohmann::json given = parse_json_input(overrides, "--physics", "--physics");
+    if (given.contains("preset")) {  // as --preset: for the robot's treatment and task
+      if (!given.contains("treatment")) physics.treatment = before.treatment;
+      if (!given.contains("task")) {
+        physics.task = before.task;
+        physics.task_params = before.task_params;
+      }
+    }
+    // Recording is not physics: frames are kept only in a file, at --fps.
     if (given.contains("record_fps")) {
       const double asked = given["record_fps"].is_number() ? given["record_fps"].get<double>() : 0;
       if (record.empty())
@@ -159,6 +173,7 @@ int cmd_simulate(const Args& in) {
       if (!(fps > 0)) throw UsageError{"--physics: record_fps must be > 0 with --record"};
     }
   }
+  apply_flags();
 
   if (!controller.empty())  // replaces the robot's own (docs/control.md)
     robot.controller = json_field::controller(parse_json_input(controller, "--controller"),
@@ -188,6 +203,19 @@ int cmd_simulate(const Args& in) {
     }
   }
   SimResult r = simulate(model, options);
+  // Without the floor nothing holds a body up (unless boxes do), and walk's 3-D distance
+  // counts a fall like a stride: said, as the floor's health is, since the number alone
+  // reads as a walk.
+  if (r.status == SimStatus::kFinished && !physics.floor && physics.task == Task::kWalk &&
+      r.vertical_share > 0.5) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "fitness is dominated by vertical motion (vertical share %.3f, dz %.4g voxel "
+                  "lengths): physics.floor is false, so nothing holds the body up and walk "
+                  "scores its fall as distance (fitness \"xy\" scores horizontal travel only)",
+                  r.vertical_share, r.displacement.z());
+    r.warnings.push_back(buf);
+  }
   // Health warnings (a body pressed into or sunk through the floor): on stderr always, and
   // in the JSON.
   for (const std::string& w : r.warnings)

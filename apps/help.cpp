@@ -55,7 +55,10 @@ const CommandHelp kHelp[] = {
      "                        walk; docs/tasks.md; parameters: --physics '{\"task\": {...}}')\n"
      "  --preset NAME         physics preset gecco2018-code or gecco2018-paper\n"
      "  --duration S          life length in seconds\n"
-     "  --physics JSON        override physics fields, e.g. '{\"self_collision\": false}'\n"
+     "  --physics JSON        override physics fields, e.g. '{\"self_collision\": false}'.\n"
+     "                        Order: the file's physics, --preset, --physics (a \"preset\"\n"
+     "                        in it: that preset, for the file's treatment and task),\n"
+     "                        then --treatment, --task and --duration, which win over it\n"
      "  --controller JSON     the robot's controller instead of its own: {\"kind\": ...,\n"
      "                        \"hidden\": ..., \"every\": ..., \"weights\": [...]}\n"
      "                        (docs/control.md)\n"
@@ -162,7 +165,8 @@ const CommandHelp kHelp[] = {
      "(simulate --record LIFE.h5) is drawn as recorded, without simulating again.\n"
      "options:\n"
      "  --out FILE            PNG to write\n"
-     "  --time T              time of the frame in seconds (default 0.2)\n" PLASTIVOX_FRAME_OPTIONS
+     "  --time T              time of the frame, s (default 0.2), up to the life's end\n"
+     "                        (its first step past the duration)\n" PLASTIVOX_FRAME_OPTIONS
          PLASTIVOX_ANTIALIAS_OPTIONS("msaa") "example:\n"
                                              "  plastivox render examples/walker.json --out "
                                              "frame.png --time 1.5 --color stiffness\n"},

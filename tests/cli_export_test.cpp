@@ -119,5 +119,32 @@ TEST_F(ExportTest, VoxcraftFilesForARobotFileSimulateWithVxd) {
       0);
 }
 
+// A robot file whose physics differs from what VXA import reads back in a field the authors'
+// dialect has no tag for (here the sinking rule) exports with a warning naming the field: a
+// life that sank is judged differently once exported. The file as it is exports without one.
+class ExportRules : public testing::ScratchDirTest {};
+
+TEST_F(ExportRules, VxaExportWarnsForARuleItDrops) {
+  const std::string walker = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/walker.json";
+  const CliRun plain = cli("export " + walker + " --out " + path("plain.vxa"));
+  ASSERT_EQ(plain.status, 0) << plain.out;
+  EXPECT_EQ(plain.out.find("warning"), std::string::npos) << plain.out;
+  nlohmann::json robot = nlohmann::json::parse(testing::file_text(walker));
+  robot["physics"]["sinking_invalid"] = false;
+  robot["physics"]["max_speed"] = 50;
+  const std::string changed = write("lenient.json", robot.dump());
+  const CliRun warned = cli("export " + changed + " --out " + path("lenient.vxa"));
+  ASSERT_EQ(warned.status, 0) << warned.out;
+  EXPECT_NE(warned.out.find("plastivox export: warning: write_vxa: physics.sinking_invalid false "
+                            "is not carried; VXA import uses true"),
+            std::string::npos)
+      << warned.out;
+  EXPECT_NE(warned.out.find("plastivox export: warning: write_vxa: physics.max_speed 50 is not "
+                            "carried; VXA import uses 100 m/s"),
+            std::string::npos)
+      << warned.out;
+  EXPECT_TRUE(std::filesystem::exists(path("lenient.vxa")));
+}
+
 }  // namespace
 }  // namespace plastivox

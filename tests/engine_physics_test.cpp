@@ -41,6 +41,23 @@ double push(double F_over_weight, double seconds, double* mass_out) {
   return sim.state().pos[0].x() - m.rest_pos[0].x();
 }
 
+// Gravity is the acceleration along z: 0 (none) or downwards. Upwards lifted bodies off the
+// floor and scored their climb as a walk; it is refused, naming the field and its sign.
+TEST(Gravity, UpwardsIsRefused) {
+  PhysicsDef d;
+  for (const double g : {-9.81, -0.0, 0.0}) {
+    d.gravity = g;
+    EXPECT_NO_THROW(validate(d)) << g;
+  }
+  for (const double g : {9.81, 5e-324}) {
+    d.gravity = g;
+    EXPECT_EQ(testing::error_of([&] { validate(d); }),
+              "physics.gravity: must be finite and <= 0 m/s^2 (the acceleration along z; -9.81 "
+              "is Earth's)")
+        << g;
+  }
+}
+
 TEST(Friction, StaticFrictionHoldsBelowTheLimit) {
   double mass;
   // mu_static = 1: a push of 0.9 weight must not move the block.

@@ -1,9 +1,14 @@
 // simulate()'s options: frames recorded at a rate or at given times, a frame callback that can
 // end the life, progress reports and per-stage timings, none of which changes the bits.
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/life.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -72,6 +77,59 @@ TEST(Recording, AtGivenTimesEndsTheLifeAfterTheLast) {
 }
 
 // on_frame sees every frame and can end the life; frames then stay out of the result.
+// A life ends at its first step past the duration: its end, SimResult::sim_time, is a time of
+// the life that a frame can be asked for at (render --time, Python's render(time=...)), and so
+// is any time between the duration and it. A time past the last step is refused in one line,
+// before simulating when it is past anything the life could reach. With and without
+// development (whose time step follows the stiffness).
+TEST(FramesAtTimes, TheLifesLastStepIsWithinIt) {
+  for (const Treatment t : {Treatment::kNone, Treatment::kStress}) {
+    SCOPED_TRACE(to_string(t));
+    PhysicsDef d;
+    d.treatment = t;
+    d.settle_time = 0.05;
+    d.duration = 0.3;
+    RobotDef robot = testing::block(2, 2, 2, 1e9);
+    for (double& a : robot.dev_rate) a = -10;  // softens: the step grows
+    const auto model = std::make_shared<const Model>(compile(robot, d));
+    const SimResult whole = simulate(*model);
+    ASSERT_EQ(whole.status, SimStatus::kFinished);
+    ASSERT_GT(whole.sim_time, d.duration);
+    EXPECT_LE(whole.sim_time, d.duration + longest_step(*model));
+    const FrameSource frames = simulated_frames(model);
+    for (const double at :
+         {std::nextafter(d.duration, 1.0), (d.duration + whole.sim_time) / 2, whole.sim_time}) {
+      std::vector<Frame> got;
+      const SimResult r = frames({at},
+                                 [&](LifeFrame&& f) {
+                                   got.push_back(std::move(f.frame));
+                                   return true;
+                                 },
+                                 {});
+      ASSERT_EQ(got.size(), 1u) << at;
+      EXPECT_EQ(got[0].time, whole.sim_time) << at;  // the last state
+      EXPECT_EQ(r.final_state_hash, whole.final_state_hash) << at;
+    }
+    auto refusal = [&](double at) {
+      return testing::error_of([&] { frames({at}, [](LifeFrame&&) { return true; }, {}); });
+    };
+    // Past the last step but before the bound: refused once the life is known.
+    const double past = std::nextafter(whole.sim_time, 1.0);
+    char end[32];
+    *std::to_chars(end, end + sizeof end - 1, whole.sim_time).ptr = '\0';
+    const std::string late = refusal(past);
+    EXPECT_TRUE(late.starts_with("time ")) << late;
+    EXPECT_TRUE(
+        late.ends_with(" s is outside the life [0, " + std::string(end) + "] s (its last step)"))
+        << late;
+    // Clearly past the end: refused before anything runs.
+    EXPECT_EQ(refusal(d.duration + 1),
+              "time 1.3 s is outside the life [0, 0.3] s (it ends at its first step past 0.3 s)");
+    EXPECT_EQ(refusal(-0.1),
+              "time -0.1 s is outside the life [0, 0.3] s (it ends at its first step past 0.3 s)");
+  }
+}
+
 TEST(Recording, OnFrameReceivesFramesAndCanStop) {
   PhysicsDef d;
   d.duration = 0.5;

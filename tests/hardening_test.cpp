@@ -691,7 +691,8 @@ TEST_F(Hardening, NothingIsDroppedSilently) {
 // Physics values that mean nothing are bad input (exit 1, one line naming the field), never a
 // simulation; before, contact_diameter 0, -0 or -1, global_damping_rot_factor -1 and
 // collision_exclude_hops -1 were simulated, and -1e308 ended as "unstable" (exit 3). Unknown
-// keys inside `lattice` and `loads` entries are errors like unknown keys anywhere else.
+// keys inside `lattice` and `loads` entries are errors like unknown keys anywhere else. So is
+// gravity > 0 (it scored the walker's rise 262 voxel lengths of "walk", exit 0).
 TEST_F(Hardening, MeaninglessPhysicsValuesAndUnknownNestedKeysAreBadInput) {
   const std::string walker = walker_with(R"({"duration": 0.3})");
   for (const auto& [physics, field] : std::vector<std::pair<std::string, std::string>>{
@@ -701,7 +702,10 @@ TEST_F(Hardening, MeaninglessPhysicsValuesAndUnknownNestedKeysAreBadInput) {
            {R"({"contact_diameter": -1e308})", "contact_diameter"},
            {R"({"global_damping_rot_factor": -1})", "global_damping_rot_factor"},
            {R"({"global_damping_rot_factor": -1e308})", "global_damping_rot_factor"},
-           {R"({"collision_exclude_hops": -1})", "collision_exclude_hops"}}) {
+           {R"({"collision_exclude_hops": -1})", "collision_exclude_hops"},
+           // Upwards gravity lifted bodies off the floor, the climb scored as a walk.
+           {R"({"gravity": 9.81})", "gravity"},
+           {R"({"gravity": 5e-324})", "gravity"}}) {
     const Output o = cli("simulate " + walker + " --physics '" + physics + "'");
     EXPECT_EQ(o.status, 1) << physics << "\n" << o.out;
     expect_one_line(o, "physics." + field + ": must be");

@@ -1,7 +1,10 @@
 // plastivox render / video / gallery through the binary: outputs, exit codes, one-line
 // errors and no file left behind on failure.
+#include <cstdio>
 #include <filesystem>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/robot_file.hpp"
@@ -63,6 +66,32 @@ TEST_F(RenderCli, RefusalsNameTheProblemAndWriteNothing) {
     EXPECT_NE(r.out.find(c.message), std::string::npos) << r.out;
     EXPECT_EQ(files(), 1) << c.command << " " << c.options;
   }
+}
+
+// A life ends at its first step past the duration (5.2 s here): that step's time, the
+// simulation's sim_time, is the life's last frame and renders; a time clearly past the end is
+// refused in one line, before anything is simulated.
+TEST_F(RenderCli, TheLifesOwnEndTimeRenders) {
+  const auto sim = testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + path("cube.json") +
+                                  " --json 2>/dev/null");
+  const nlohmann::json j = nlohmann::json::parse(sim.out);
+  const double end = j.at("sim_time").get<double>();
+  ASSERT_GT(end, 5.2);
+  char at[40];
+  std::snprintf(at, sizeof at, "%.17g", end);
+  auto r = draw("render", "end.png", std::string("--size 64x48 --antialias none --time ") + at);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(path("end.png")));
+  r = draw("render", "mid.png", "--size 64x48 --antialias none --time 5.2000001");
+  EXPECT_EQ(r.status, 0) << r.out;
+  r = draw("render", "late.png", "--size 64x48 --time 6.2");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("render: error: " + path("cube.json") +
+                       ": time 6.2 s is outside the life [0, 5.2] s (it ends at its first step "
+                       "past 5.2 s)\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists(path("late.png")));
 }
 
 TEST_F(RenderCli, VideoWritesADecodableMp4) {

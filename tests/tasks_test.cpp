@@ -321,6 +321,73 @@ TEST_F(TasksCli, SimulateScoresTheTaskItIsGiven) {
   EXPECT_NE(w.at("fitness"), j.at("fitness"));
 }
 
+// The order of simulate's physics: the file's, --preset, --physics, then the single-field
+// flags, which win over --physics as Python's keywords win over its physics dict. A "preset"
+// in --physics is that preset for the file's treatment and task, as --preset is.
+TEST_F(TasksCli, SimulateFlagsWinOverPhysics) {
+  const std::string walker = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/walker.json";
+  auto run = [&](const std::string& options) {
+    const Output o = testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + walker +
+                                    " --json " + options + " 2>/dev/null");
+    EXPECT_TRUE(o.status == 0 || o.status == 3) << options << ": " << o.out;
+    return nlohmann::json::parse(o.out);
+  };
+  nlohmann::json j =
+      run(R"(--task jump --physics '{"preset": "gecco2018-code", "duration": 0.3}')");
+  EXPECT_EQ(j.at("task"), "jump");
+  EXPECT_EQ(j.at("treatment"), "stress");  // the file's
+  EXPECT_LT(j.at("sim_time").get<double>(), 0.31);
+  j = run(R"(--duration 0.3 --physics '{"preset": "gecco2018-paper"}')");
+  EXPECT_LT(j.at("sim_time").get<double>(), 0.31);
+  EXPECT_EQ(j.at("treatment"), "stress");
+  EXPECT_EQ(j.at("growth_model"), "rate");  // the paper's preset
+  j = run(R"(--treatment pressure --physics '{"duration": 0.3, "treatment": "stress"}')");
+  EXPECT_EQ(j.at("treatment"), "pressure");
+  j = run(R"(--duration 0.3 --physics '{"duration": 0.2, "settle_time": 0.1}')");
+  EXPECT_GT(j.at("sim_time").get<double>(), 0.3);
+  // --task keeps --physics' parameters for the same task (here a rougher ground than the
+  // default's, another world) and drops another task's.
+  j = run(R"(--duration 0.3 --task rough --physics '{"task": {"name": "rough", "amplitude": 1}}')");
+  EXPECT_EQ(j.at("task"), "rough");
+  EXPECT_NE(j.at("final_state_hash"), run("--duration 0.3 --task rough").at("final_state_hash"));
+  EXPECT_EQ(j.at("final_state_hash"),
+            run(R"(--duration 0.3 --physics '{"task": {"name": "rough", "amplitude": 1}}')")
+                .at("final_state_hash"));
+  j = run(R"(--duration 0.3 --task jump --physics '{"task": {"name": "rough", "amplitude": 1}}')");
+  EXPECT_EQ(j.at("task"), "jump");
+  EXPECT_EQ(j.at("final_state_hash"), run("--duration 0.3 --task jump").at("final_state_hash"));
+  // --preset and --physics both: the flags still win, the file's treatment stays.
+  j = run(R"(--preset gecco2018-paper --physics '{"duration": 1.0}' --duration 0.3)");
+  EXPECT_LT(j.at("sim_time").get<double>(), 0.31);
+  EXPECT_EQ(j.at("treatment"), "stress");
+}
+
+// Without the floor a body under gravity falls, and walk's 3-D distance counts the fall: the
+// life is valid (free falls are physics), but simulate says that the fitness is the fall, on
+// stderr and in --json's warnings. Under xy fitness, or with the floor, no such warning.
+TEST_F(TasksCli, AWalkWithoutTheFloorSaysItsFitnessIsTheFall) {
+  const std::string walker = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/walker.json";
+  const std::string warning = "fitness is dominated by vertical motion (vertical share ";
+  Output o = cli("simulate " + walker + R"( --duration 0.4 --physics '{"floor": false}')");
+  EXPECT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("plastivox simulate: warning: " + walker + ": " + warning),
+            std::string::npos)
+      << o.out;
+  auto json_of = [&](const std::string& options) {  // stdout alone
+    return nlohmann::json::parse(testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + walker +
+                                                " --json " + options + " 2>/dev/null")
+                                     .out);
+  };
+  nlohmann::json j = json_of(R"(--duration 0.4 --physics '{"floor": false}')");
+  EXPECT_GT(j.at("vertical_share").get<double>(), 0.99);
+  ASSERT_EQ(j.at("warnings").size(), 1u) << j;
+  EXPECT_TRUE(j.at("warnings")[0].get<std::string>().starts_with(warning)) << j;
+  j = json_of(R"(--duration 0.4 --physics '{"floor": false, "fitness": "xy"}')");
+  EXPECT_TRUE(j.at("warnings").empty()) << j;
+  j = json_of("--duration 0.4");
+  EXPECT_TRUE(j.at("warnings").empty()) << j;
+}
+
 TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   const std::string cfg = write("run.json", R"({"format": "plastivox-evolve-config",
       "version": 1, "seed": 3, "treatment": "stress", "population": 4, "generations": 1,

@@ -288,6 +288,42 @@ TEST(Vxa, WriterRejectsWhatTheFormatCannotExpress) {
   EXPECT_NE(warnings[0].find("axial_modulus"), std::string::npos);
 }
 
+// plastivox's own rules have no tag either: a value other than the one import sets (the
+// default) is written with a warning naming it, as the bond mechanics are, since the file
+// read back is simulated or judged differently. At the default, no warning.
+TEST(Vxa, WriterWarnsForTheRulesItCannotCarry) {
+  const VxaRobot v = read_vxa_file(kVxaDir + "walker-stress.vxa");
+  std::vector<std::string> warnings;
+  write_vxa(v.robot, v.physics, &warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  const struct {
+    void (*change)(PhysicsDef&);
+    std::string warning;
+  } cases[] = {
+      {[](PhysicsDef& p) { p.sinking_invalid = false; },
+       "write_vxa: physics.sinking_invalid false is not carried; VXA import uses true (a life "
+       "that sinks through the floor is invalid)"},
+      {[](PhysicsDef& p) { p.max_speed = 5; },
+       "write_vxa: physics.max_speed 5 is not carried; VXA import uses 100 m/s"},
+      {[](PhysicsDef& p) { p.act_max_rate = 0; },
+       "write_vxa: physics.act_max_rate 0 is not carried; VXA import uses 31.41592653589793 per "
+       "second"},
+  };
+  for (const auto& c : cases) {
+    PhysicsDef p = v.physics;
+    c.change(p);
+    warnings.clear();
+    const std::string text = write_vxa(v.robot, p, &warnings);
+    ASSERT_EQ(warnings.size(), 1u) << c.warning;
+    EXPECT_EQ(warnings[0], c.warning);
+    // What the file reads back: the default, the warning's "VXA import uses".
+    const VxaRobot back = parse_vxa(text, "back.vxa");
+    EXPECT_EQ(back.physics.sinking_invalid, PhysicsDef{}.sinking_invalid);
+    EXPECT_EQ(back.physics.max_speed, PhysicsDef{}.max_speed);
+    EXPECT_EQ(back.physics.act_max_rate, PhysicsDef{}.act_max_rate);
+  }
+}
+
 TEST(Vxa, FileWriteAndReadBack) {
   const VxaRobot a = read_vxa_file(kVxaDir + "walker-pressure.vxa");
   const std::filesystem::path dir =
@@ -357,6 +393,8 @@ std::vector<Malformed> malformed_inputs() {
               "<PressureAdaptationRate></PressureAdaptationRate></Structure>"),
        "PressureAdaptationRate"},
       {"x_voxels", edited("walker-none", "<X_Voxels>10.0<", "<X_Voxels>ten<"), "X_Voxels"},
+      // Upwards gravity (the physics refuses it: physics.gravity must be <= 0).
+      {"upwards_gravity", edited("walker-none", "<GravAcc>-9.81<", "<GravAcc>9.81<"), "GravAcc"},
   };
 }
 

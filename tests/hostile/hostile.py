@@ -1387,7 +1387,7 @@ PHYSICS_VALID = {  # the documented ranges (validate in engine/core/src/physics_
     "global_damping_rot_factor": lambda v: is_num(v) and v >= 0,
     "collision_exclude_hops": lambda v: is_int(v) and 0 <= v <= 1000,
     "contact_diameter": lambda v: is_num(v) and 0 < v <= 10,
-    "gravity": is_num,
+    "gravity": lambda v: is_num(v) and v <= 0,  # upwards gravity is refused
     "dt_frac": lambda v: is_num(v) and 1e-3 <= v <= 1.5,
     "act_frequency": lambda v: is_num(v) and v >= 0,
     "act_amplitude": lambda v: is_num(v) and 0 <= v < 0.9,

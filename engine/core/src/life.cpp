@@ -1,5 +1,7 @@
 #include "plastivox/life.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <deque>
 #include <stdexcept>
 #include <string>
@@ -10,11 +12,23 @@
 namespace plastivox {
 namespace {
 
-void check_times(const std::vector<double>& times, double duration) {
+// The shortest text that reads back as t: a time and the life's end are told apart in the
+// message however close they are.
+std::string seconds(double t) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, t).ptr);
+}
+
+// A life ends at its first step past the duration, so its last state lies up to one step
+// after it: a time there is the life's (its last frame), one further is refused before
+// anything is simulated.
+void check_times(const std::vector<double>& times, const Model& m) {
+  const double duration = m.def.duration, end = duration + longest_step(m);
   for (size_t k = 0; k < times.size(); ++k) {
-    if (!(times[k] >= 0 && times[k] <= duration + 1e-12))
-      throw std::invalid_argument("time " + std::to_string(times[k]) +
-                                  " s is outside the life [0, " + std::to_string(duration) + "] s");
+    if (!(times[k] >= 0 && times[k] <= end))
+      throw std::invalid_argument("time " + seconds(times[k]) + " s is outside the life [0, " +
+                                  seconds(duration) + "] s (it ends at its first step past " +
+                                  seconds(duration) + " s)");
     if (k > 0 && times[k] < times[k - 1])
       throw std::invalid_argument("frame times must be ascending");
   }
@@ -22,11 +36,21 @@ void check_times(const std::vector<double>& times, double duration) {
 
 }  // namespace
 
+double longest_step(const Model& m) {
+  // stable_dt only grows as moduli fall; without development they never change, and with it
+  // none falls below e_min (or its own start, for one that does not develop).
+  const double start = stable_dt(m, m.e0);
+  if (m.def.treatment == Treatment::kNone || m.n == 0) return start;
+  double low = m.def.e_min;
+  for (const double e : m.e0) low = std::min(low, e);
+  return std::max(start, stable_dt(m, std::vector<double>(m.n, low)));
+}
+
 FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control) {
   return [model = std::move(model), control](const std::vector<double>& times,
                                              const FrameSink& sink, const ProgressFn& progress) {
     const Model& m = *model;
-    check_times(times, m.def.duration);
+    check_times(times, m);
     // A frame at or after the settle time waits here until the life has settled (it settles
     // on the first step past the settle time), so each goes out with the centre of mass the
     // finished life reports.
@@ -53,6 +77,13 @@ FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control) {
     };
     const SimResult r = simulate(m, options);
     hand_over(r.settled, r.com_settled, true);
+    // A life that ran to its end (sunk ones too) has every state there is: a time past its
+    // last step, within the bound check_times allows, is outside it.
+    if (!stopped && r.sim_time > m.def.duration)
+      for (const double t : times)
+        if (t > r.sim_time)
+          throw std::invalid_argument("time " + seconds(t) + " s is outside the life [0, " +
+                                      seconds(r.sim_time) + "] s (its last step)");
     return r;
   };
 }

@@ -50,7 +50,10 @@ void validate(const PhysicsDef& d) {
        "must be in [0, 1000] bonds");
   need(d.contact_diameter > 0 && d.contact_diameter <= 10, "contact_diameter",
        "must be in (0, 10] voxel sizes");
-  need(fin(d.gravity), "gravity", "must be finite");
+  // Gravity is the acceleration along z: a positive value lifts every body off the floor,
+  // and the climb would be scored as locomotion.
+  need(fin(d.gravity) && d.gravity <= 0, "gravity",
+       "must be finite and <= 0 m/s^2 (the acceleration along z; -9.81 is Earth's)");
   need(d.dt_frac >= 1e-3 && d.dt_frac <= 1.5, "dt_frac", "must be in [0.001, 1.5]");
   need(d.act_frequency >= 0 && fin(d.act_frequency), "act_frequency", "must be >= 0 Hz");
   need(d.act_amplitude >= 0 && d.act_amplitude < 0.9, "act_amplitude", "must be in [0, 0.9)");

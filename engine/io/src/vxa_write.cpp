@@ -139,6 +139,21 @@ std::string write_vxa(const RobotDef& robot, const PhysicsDef& p,
     note("physics.act_min_factor is not carried (the authors' simulator uses 0.1)");
   if (p.fitness != FitnessMode::k3D)
     note("physics.fitness is not carried (the authors' simulator reports 3-D displacement)");
+  // plastivox's own rules, which VXA import sets to its defaults: a life judged under other
+  // values is judged differently once exported and simulated again.
+  const PhysicsDef imported;
+  if (p.sinking_invalid != imported.sinking_invalid)
+    note(std::string("physics.sinking_invalid ") + (p.sinking_invalid ? "true" : "false") +
+         " is not carried; VXA import uses " + (imported.sinking_invalid ? "true" : "false") +
+         " (a life that sinks through the floor is " +
+         (imported.sinking_invalid ? "invalid" : "scored") + ")");
+  if (p.max_speed != imported.max_speed)
+    note("physics.max_speed " + format_double(p.max_speed) + " is not carried; VXA import uses " +
+         format_double(imported.max_speed) + " m/s");
+  if (p.act_max_rate != imported.act_max_rate)
+    note("physics.act_max_rate " + format_double(p.act_max_rate) +
+         " is not carried; VXA import uses " + format_double(imported.act_max_rate) +
+         " per second");
   if (p.treatment == Treatment::kNone)
     for (int s = 0; s < robot.sites(); ++s)
       if (robot.present[s] && robot.dev_rate[s] != 0) {

@@ -31,10 +31,17 @@ using ProgressFn = std::function<void(double)>;  // the fraction of the life don
 // it is known: the first state at or after the time. Returns the life's summary (its
 // whole-life values only when the last time is the end of life). A life that goes unstable
 // before the last time hands over the frames before and returns with status kUnstable; the
-// caller sees fewer frames than times. Throws std::invalid_argument for times that are not
-// ascending or lie outside [0, duration].
+// caller sees fewer frames than times. The life ends at its first step past the duration, so
+// its last frame may be asked for by any time up to that step. Throws std::invalid_argument
+// for times that are not ascending or lie outside the life: before simulating for one past
+// duration + longest_step(), after it for one past the last step.
 using FrameSource = std::function<SimResult(const std::vector<double>& times, const FrameSink& sink,
                                             const ProgressFn& progress)>;
+
+// The longest step a life of `model` can take (s): its last state, the first past the
+// duration, lies at most this far past it. The time step of its start without development;
+// with development, of every voxel at the softest modulus it can reach.
+double longest_step(const Model& model);
 
 // Frames simulated from `model` (simulate() with SimOptions::frame_times and on_frame), with
 // the control channels (the actuation signal and sensors) when `control` is set.
