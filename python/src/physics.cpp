@@ -11,6 +11,7 @@
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/base/hash.hpp"
 #include "plastivox/io/robot_file.hpp"  // the environment's JSON form
+#include "plastivox/task.hpp"
 
 namespace plastivox::py {
 namespace {
@@ -21,7 +22,19 @@ const PhysicsField* find_field(const std::string& name) {
   return nullptr;
 }
 
+// The task as files write it: its name alone, or {"name": ..., parameters} when it has any
+// (docs/tasks.md), so every way a PhysicsDef is read gives what with_fields takes back.
+pyb::object task_value(const PhysicsDef& d) {
+  if (d.task_params.empty()) return pyb::str(to_string(d.task));
+  pyb::dict out;
+  out["name"] = to_string(d.task);
+  for (const auto& [name, value] : d.task_params) out[pyb::str(name)] = value;
+  return out;
+}
+
+// One field as to_dict() holds it (a task with its parameters).
 pyb::object field_value(const PhysicsDef& d, const PhysicsField& f) {
+  if (std::strcmp(f.name, "task") == 0) return task_value(d);
   switch (f.kind) {
     case PhysicsField::Kind::kNumber:
       return pyb::float_(d.*f.number);
@@ -184,8 +197,6 @@ pyb::dict to_dict(const PhysicsDef& d) {
   pyb::dict out;
   for (const PhysicsField& f : kPhysicsFields) out[f.name] = field_value(d, f);
   if (d.environment.active()) out["environment"] = environment_value(d);  // as files write it
-  if (!d.task_params.empty())  // {"name": ..., parameters}, as files write it
-    out["task"] = pyb::module_::import("json").attr("loads")(physics_to_json(d))["task"];
   return out;
 }
 
@@ -275,11 +286,8 @@ void bind_physics(pyb::module_& m) {
     c.def_property(
         f->name, [f](const PhysicsDef& d) { return field_value(d, *f); },
         [f](PhysicsDef& d, const pyb::object& v) {
-          PhysicsDef changed = d;
-          set_field(changed, *f, v);
-          if (changed.task != d.task) changed.task_params.clear();  // the other task's
-          validate(changed);
-          d = changed;
+          // As with_physics({name: v}) applies it: a task or treatment object too.
+          d = with_fields(d, pyb::dict(pyb::arg(f->name) = v));
         });
   }
   c.def_property("environment", &environment_value, [](PhysicsDef& d, const pyb::object& v) {

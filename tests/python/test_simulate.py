@@ -350,3 +350,29 @@ def test_terrain_task_with_parameters_is_the_clis():
     q = plastivox.PhysicsDef(task=climb)
     q.task = "slope"
     assert q.to_dict()["task"] == "slope"
+
+
+def test_a_physics_def_reads_and_sets_its_task_as_to_dict_and_with_physics_do():
+    # dict(p), p["task"], p.task and repr(p) give the task with its parameters, as to_dict()
+    # does, so dict(p) is equal to p and simulates alike; and an attribute takes what
+    # with_physics takes (a task or treatment object).
+    walker = plastivox.demo_walker()
+    rough = {"name": "rough", "amplitude": 2.0, "seed": 7}
+    p = walker.with_physics({"task": rough, "duration": 0.5}).physics
+    assert p["task"] == rough and p.task == rough and dict(p)["task"] == rough
+    assert p == dict(p) and plastivox.PhysicsDef(**dict(p)) == p
+    assert "task={'name': 'rough', 'amplitude': 2.0, 'seed': 7.0}" in repr(p)
+    a, b = plastivox.simulate(walker, physics=p), plastivox.simulate(walker, physics=dict(p))
+    assert a.final_state_hash == b.final_state_hash and a.fitness == b.fitness
+    assert plastivox.physics()["task"] == "walk"  # without parameters: the name alone
+    q = plastivox.physics()
+    q.task = {"name": "climb", "rise": 1}
+    assert q.task == {"name": "climb", "rise": 1.0}
+    assert q == plastivox.physics(task={"name": "climb", "rise": 1})
+    with pytest.raises(ValueError, match=r"physics.task.rise: must be in \[0.05, 5\]"):
+        q.task = {"name": "climb", "rise": 9}
+    assert q.task == {"name": "climb", "rise": 1.0}  # unchanged by the refused value
+    q.treatment = {"stimulus": "stress", "law": "rate"}
+    assert q.treatment == "stress" and q.growth == "rate"
+    assert q == plastivox.physics(task={"name": "climb", "rise": 1}, treatment="stress",
+                                  growth="rate")
