@@ -4,8 +4,10 @@
 // that table: no JSON text passes between Python and C++.
 #include <cmath>
 #include <cstring>
+#include <string_view>
 
 #include <pybind11/stl.h>
+#include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
 #include "plastivox/base/error.hpp"  // InputError
@@ -56,6 +58,70 @@ pyb::object environment_value(const PhysicsDef& d) {
   return pyb::module_::import("json").attr("loads")(physics_to_json(d))["environment"];
 }
 
+// A Python value as the JSON the robot file's reader takes: dicts (text keys), lists, tuples
+// and numpy arrays, numbers (numpy scalars included), text, True/False and None. Numbers
+// must be finite. Throws std::invalid_argument naming the field by `path`
+// ("physics.environment.ground.height: must be finite").
+nlohmann::json to_json(const pyb::handle& v, const std::string& path) {
+  if (v.is_none()) return nullptr;
+  const pyb::module_ np = pyb::module_::import("numpy");
+  if (pyb::isinstance(v, np.attr("ndarray"))) return to_json(v.attr("tolist")(), path);
+  if (pyb::isinstance(v, np.attr("generic"))) return to_json(v.attr("item")(), path);
+  if (PyBool_Check(v.ptr())) return v.cast<bool>();
+  if (PyLong_Check(v.ptr())) {
+    int overflow = 0;
+    const long long n = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (overflow != 0) throw std::invalid_argument(path + ": out of range");
+    return n;
+  }
+  if (PyFloat_Check(v.ptr())) {
+    const double x = PyFloat_AsDouble(v.ptr());
+    if (!std::isfinite(x)) throw std::invalid_argument(path + ": must be finite");
+    return x;
+  }
+  if (pyb::isinstance<pyb::str>(v)) return v.cast<std::string>();
+  if (pyb::isinstance<pyb::dict>(v)) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [key, value] : pyb::reinterpret_borrow<pyb::dict>(v)) {
+      if (!pyb::isinstance<pyb::str>(key))
+        throw std::invalid_argument(path + ": field names must be text, got " +
+                                    pyb::repr(key).cast<std::string>());
+      const std::string name = key.cast<std::string>();
+      out[name] = to_json(value, path + "." + name);
+    }
+    return out;
+  }
+  if (pyb::isinstance<pyb::list>(v) || pyb::isinstance<pyb::tuple>(v)) {
+    nlohmann::json out = nlohmann::json::array();
+    size_t i = 0;
+    for (const pyb::handle item : v)
+      out.push_back(to_json(item, path + "[" + std::to_string(i++) + "]"));
+    return out;
+  }
+  throw std::invalid_argument(path +
+                              ": expected a number, text, True or False, a list or a dict, got " +
+                              pyb::str(v.get_type().attr("__name__")).cast<std::string>());
+}
+
+// d with {key: value} applied by the robot file's reader (InputError
+// "physics.<key>.<field>: ...", as every other field's error reads); the environment is left
+// out of the check (validated with the whole, later).
+PhysicsDef applied_as_file(const PhysicsDef& d, const char* key, const pyb::handle& value) {
+  nlohmann::json fields = nlohmann::json::object();
+  fields[key] = to_json(value, std::string("physics.") + key);
+  PhysicsDef with = d;
+  with.environment = Environment{};
+  try {
+    apply_physics_json(fields.dump(), "physics", with);
+  } catch (const InputError& e) {
+    // The reader names the source, then the field: "physics: physics.task.rise: ...".
+    const std::string_view what = e.what(), source = "physics: ";
+    if (what.starts_with(source)) throw InputError(std::string(what.substr(source.size())));
+    throw;
+  }
+  return with;
+}
+
 void set_environment(PhysicsDef& d, const pyb::handle& v) {
   if (v.is_none()) {
     d.environment = Environment{};
@@ -64,25 +130,14 @@ void set_environment(PhysicsDef& d, const pyb::handle& v) {
   if (!pyb::isinstance<pyb::dict>(v))
     throw std::invalid_argument(
         "physics.environment: expected a dict (docs/environments.md) or None");
-  const std::string text = pyb::module_::import("json")
-                               .attr("dumps")(pyb::dict{pyb::arg("environment") = v})
-                               .cast<std::string>();
-  PhysicsDef with = d;
-  with.environment = Environment{};
-  apply_physics_json(text, "physics", with);  // InputError naming physics.environment.<field>
-  d.environment = with.environment;
+  d.environment = applied_as_file(d, "environment", v).environment;
 }
 
 // A task with parameters ({"name": "climb", "rise": 1}, docs/tasks.md), read by the robot
 // file's reader; a name alone goes through kPhysicsFields like any choice (and drops the
 // parameters of another task).
 void set_task_with_params(PhysicsDef& d, const pyb::handle& v) {
-  const std::string text = pyb::module_::import("json")
-                               .attr("dumps")(pyb::dict{pyb::arg("task") = v})
-                               .cast<std::string>();
-  PhysicsDef with = d;
-  with.environment = Environment{};           // checked with the whole, later
-  apply_physics_json(text, "physics", with);  // InputError naming physics.task.<field>
+  const PhysicsDef with = applied_as_file(d, "task", v);
   d.task = with.task;
   d.task_params = with.task_params;
 }

@@ -376,3 +376,28 @@ def test_a_physics_def_reads_and_sets_its_task_as_to_dict_and_with_physics_do():
     assert q.treatment == "stress" and q.growth == "rate"
     assert q == plastivox.physics(task={"name": "climb", "rise": 1}, treatment="stress",
                                   growth="rate")
+
+
+def test_physics_dicts_take_numpy_and_name_a_number_that_is_not_finite():
+    # The environment and a task's parameters take numpy arrays and scalars; NaN and infinity
+    # are refused in one line naming the field, as a file's reader names it.
+    heights = np.array([[0.0, 0.001], [0.002, 0.0]])
+    ground = {"type": "heightfield", "cell": 0.01}
+    p = plastivox.physics(environment={"ground": {**ground, "heights": heights}})
+    assert p == plastivox.physics(environment={"ground": {**ground, "heights": heights.tolist()}})
+    assert p.environment["ground"]["heights"] == heights.tolist()
+    assert plastivox.physics(task={"name": "rough", "amplitude": np.float32(0.5),
+                                   "seed": np.int64(3)}) == \
+        plastivox.physics(task={"name": "rough", "amplitude": 0.5, "seed": 3})
+    walker = plastivox.demo_walker()
+    with pytest.raises(ValueError, match=r"^physics.environment.ground.height: must be finite$"):
+        plastivox.simulate(walker, physics={"environment": {"ground": {"type": "flat",
+                                                                       "height": float("nan")}}})
+    with pytest.raises(ValueError, match=r"^physics.task.amplitude: must be finite$"):
+        plastivox.simulate(walker, physics={"task": {"name": "rough", "amplitude": np.inf}})
+    heights[1, 0] = np.nan
+    with pytest.raises(ValueError,
+                       match=r"^physics.environment.ground.heights\[1\]\[0\]: must be finite$"):
+        plastivox.physics(environment={"ground": {**ground, "heights": heights}})
+    with pytest.raises(ValueError, match=r"^physics.environment.ground.cell: expected a number, "):
+        plastivox.physics(environment={"ground": {**ground, "cell": object()}})
