@@ -189,12 +189,18 @@ PhysicsDef preset(const std::string& name) {
 }
 
 // A treatment given with its law, as in configs: {"stimulus": name, "law": "integral" |
-// "rate"}; the law is physics.growth, so a growth field beside it must agree.
+// "rate"}; the law is physics.growth, so a growth field beside it must agree. Checked as
+// configs and robot files check it: unknown fields first, then a missing stimulus.
 void set_treatment_and_law(PhysicsDef& d, const pyb::dict& t, const pyb::dict& fields) {
   for (const auto& [key, value] : t) {
     const std::string name = pyb::str(key).cast<std::string>();
     if (name != "stimulus" && name != "law")
-      throw std::invalid_argument("physics.treatment." + name + ": unknown field");
+      throw std::invalid_argument("physics.treatment." + name +
+                                  ": unknown field (a treatment has stimulus and law)");
+  }
+  if (!t.contains("stimulus")) throw std::invalid_argument("physics.treatment.stimulus: missing");
+  for (const auto& [key, value] : t) {
+    const std::string name = pyb::str(key).cast<std::string>();
     if (!pyb::isinstance<pyb::str>(value))
       throw std::invalid_argument("physics.treatment." + name + ": expected text");
     try {

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import plastivox
-from conftest import cli_json, vxa
+from conftest import cli_json, run_cli, vxa
 
 # The summary keys that are science (the rest are wall time and speed).
 TIMING = {"wall_seconds", "voxel_steps_per_second"}
@@ -401,3 +401,15 @@ def test_physics_dicts_take_numpy_and_name_a_number_that_is_not_finite():
         plastivox.physics(environment={"ground": {**ground, "heights": heights}})
     with pytest.raises(ValueError, match=r"^physics.environment.ground.cell: expected a number, "):
         plastivox.physics(environment={"ground": {**ground, "cell": object()}})
+
+
+def test_a_treatment_object_without_a_stimulus_is_refused_as_the_cli_refuses_it():
+    walker = plastivox.demo_walker()
+    for treatment in ({"law": "rate"}, {}):
+        code, _, err = run_cli("simulate", "--duration", "0.1", "--physics",
+                               json.dumps({"treatment": treatment}), check=False)
+        assert code != 0 and "physics.treatment.stimulus: missing" in err
+        with pytest.raises(ValueError, match=r"^physics.treatment.stimulus: missing$"):
+            plastivox.simulate(walker, physics={"treatment": treatment})
+        with pytest.raises(ValueError, match=r"^physics.treatment.stimulus: missing$"):
+            plastivox.physics(treatment=treatment)
