@@ -84,16 +84,20 @@ def _physics(physics):
 
 def _with_task(physics, task):
     """physics with its "task" field set to `task` ("walk", "jump", "turn", ...; docs/tasks.md),
-    when given."""
+    when given. The task's parameters in physics["task"] ({"name": ..., ...}) stay when it
+    names the same task; another task replaces it with its defaults."""
     if task is None:
         return physics
     if not isinstance(task, str):
         raise TypeError("task: expected a task name (walk, jump, turn, rough, climb, slope, "
                         f"obstacles, carry, push), got {type(task).__name__}")
     if isinstance(physics, PhysicsDef):
-        return physics.replace(task=task)
+        return physics.replace(task=task)  # keeps the parameters of the same task
     if physics is not None and not isinstance(physics, dict):
         return physics  # _physics names the mistake
+    given = (physics or {}).get("task")
+    if isinstance(given, dict) and given.get("name") == task:
+        return physics
     return {**(physics or {}), "task": task}
 
 

@@ -378,6 +378,33 @@ def test_a_physics_def_reads_and_sets_its_task_as_to_dict_and_with_physics_do():
                                   growth="rate")
 
 
+def test_the_task_argument_keeps_the_parameters_of_the_same_task():
+    # task= naming the task physics["task"] names keeps its parameters; another task comes
+    # with its defaults (docs/python.md, "Simulation").
+    walker = plastivox.demo_walker()
+    rough = {"name": "rough", "amplitude": 2.0, "seed": 7}
+    physics = {"duration": 0.5, "task": rough}
+    given = plastivox.simulate(walker, physics=physics)
+    assert given.final_state_hash != \
+        plastivox.simulate(walker, physics={**physics, "task": "rough"}).final_state_hash
+    for same in (plastivox.simulate(walker, physics=physics, task="rough"),
+                 plastivox.simulate_many([walker], physics=physics, task="rough", threads=1)[0],
+                 plastivox.simulate(walker, physics=walker.physics.replace(**physics),
+                                    task="rough")):
+        assert same.final_state_hash == given.final_state_hash and same.fitness == given.fitness
+    env = plastivox.VoxelEnv(walker, physics=physics, task="rough", sensors="time")
+    obs, _ = env.reset()
+    while True:  # the built-in sine replayed: simulate's life, on the same ground
+        action = plastivox.sin_cycles(env.act_frequency * obs[-1] + env.voxel_phase)
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            break
+    assert info["state_hash"] == given.final_state_hash and info["fitness"] == given.fitness
+    other = plastivox.simulate(walker, physics=physics, task="slope")
+    slope = plastivox.simulate(walker, physics={"duration": 0.5, "task": "slope"})
+    assert other.final_state_hash == slope.final_state_hash and other.fitness == slope.fitness
+
+
 def test_physics_dicts_take_numpy_and_name_a_number_that_is_not_finite():
     # The environment and a task's parameters take numpy arrays and scalars; NaN and infinity
     # are refused in one line naming the field, as a file's reader names it.
