@@ -450,7 +450,8 @@ class Simulator:
     robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
     its robot and physics and step a new one. With free objects in the environment
     (docs/environments.md) every per-voxel array holds the robot's robot_voxels rows first,
-    then the objects' voxels.
+    then the objects' voxels; the actuation (set_actuation, actuation, voxel_phase) is the
+    robot's alone: a free object does not actuate.
 
     Per-step control (docs/control.md): sensors() gives the sensors of the present step,
     set_actuation(u) sets each voxel's signal in [-1, 1] (held until set again), step()
@@ -500,10 +501,11 @@ class Simulator:
         return self._core.sensors(None if names is None else list(names))
 
     def set_actuation(self, actuation):
-        """Sets each voxel's actuation signal: a float array of shape (n,), voxel order, every
-        value in [-1, 1] (times the voxel's amplitude: how far it swells, > 0, or shrinks).
-        Held until set again; the built-in controller stops driving the robot. A wrong array
-        raises TypeError or ValueError naming `actuation`."""
+        """Sets each of the robot's voxels' actuation signal: a float array of shape
+        (robot_voxels,) (n without free objects), voxel order, every value in [-1, 1] (times
+        the voxel's amplitude: how far it swells, > 0, or shrinks). Held until set again; the
+        built-in controller stops driving the robot. A wrong array raises TypeError or
+        ValueError naming `actuation`."""
         self._core.set_actuation(actuation)
 
     def set_controller(self, controller, every=1):
@@ -521,13 +523,15 @@ class Simulator:
         self._core.reset()
 
     actuation = property(lambda self: self._core.actuation(),
-                         doc="each voxel's present actuation signal, in [-1, 1] (a copy)")
+                         doc="each of the robot's voxels' present actuation signal, in "
+                             "[-1, 1] (a copy, robot_voxels values)")
     controller = property(lambda self: self._core.controller(),
                           doc='the built-in controller: "sine", or None (set_actuation)')
     act_frequency = property(lambda self: self._core.act_frequency(),
                              doc="the sine's frequency, Hz (physics.act_frequency)")
     voxel_phase = property(lambda self: self._core.voxel_phase(),
-                           doc="each voxel's sine phase, cycles (voxel order)")
+                           doc="each of the robot's voxels' sine phase, cycles (voxel "
+                               "order, robot_voxels values)")
 
     def step(self, n=1):
         if isinstance(n, bool) or not isinstance(n, (int, _np.integer)) or n < 0:
