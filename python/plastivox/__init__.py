@@ -671,9 +671,15 @@ def _config_args(config):
     raise TypeError(f"config: expected a dict or a file path, got {type(config).__name__}")
 
 
-def _check_threads(threads):
+def _run_threads(threads):
+    """An evolution's threads as the C++ layer takes them: None (the config's "threads", as
+    `plastivox evolve` without --threads) is -1; else an integer >= 0 (0: all cores)."""
+    if threads is None:
+        return -1
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
-        raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
+        raise ValueError(f"threads: expected None (the config's) or an integer >= 0 (0: all "
+                         f"cores), got {threads!r}")
+    return threads
 
 
 def _score(value, index, what):
@@ -699,10 +705,12 @@ def _function_name(fn):
     return f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', type(fn).__name__)}"
 
 
-def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_after=None,
+def evolve(config, out, threads=None, on_generation=None, on_message=None, stop_after=None,
            fitness=None, record_fps=0):
     """Runs (or resumes) an evolution into the results file `out`: the same run as
     `plastivox evolve --config ... --out ...`. `config` is a dict or a config file path.
+    threads: None (the config's "threads", as the command without --threads) or the
+    evaluation threads to use instead (0: all cores).
     on_generation(progress_dict) is called after every generation; raising from it, or
     Ctrl-C, stops the run at the next checkpoint (resumable: call evolve again). Returns a
     dict with outcome ("finished", "stopped", "already-finished") and generations_done.
@@ -714,7 +722,7 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
     scored. The results file names the function (provenance fitness_function) and resumes
     only under the same name; raising from it stops the run at its last checkpoint."""
     text, path = _config_args(config)
-    _check_threads(threads)
+    threads = _run_threads(threads)
     for name, fn in (("on_generation", on_generation), ("on_message", on_message),
                      ("fitness", fitness)):
         if fn is not None and not callable(fn):
@@ -723,9 +731,11 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
     evaluate, name = None, ""
     if fitness is not None:
         fps = _record_fps(record_fps)
+        lives_threads = threads if threads >= 0 else _core.config_threads(text, path)
 
         def evaluate(robots):
-            lives = simulate_many([Robot(r) for r in robots], threads=threads, record_fps=fps)
+            lives = simulate_many([Robot(r) for r in robots], threads=lives_threads,
+                                  record_fps=fps)
             return [_score(life if life.status != "finished" else fitness(life), i, "fitness")
                     for i, life in enumerate(lives)]
         name = _function_name(fitness)
@@ -765,9 +775,9 @@ class Evolver:
 
     _CLOSE = object()
 
-    def __init__(self, config, out, threads=0, name="ask-tell"):
+    def __init__(self, config, out, threads=None, name="ask-tell"):
         text, path = _config_args(config)
-        _check_threads(threads)
+        threads = _run_threads(threads)
         if not isinstance(name, str) or not name:
             raise ValueError("name: expected a non-empty string")
         self._asks = _queue.Queue(maxsize=1)
