@@ -955,11 +955,13 @@ def read_study(folder):
 
 # --- rendering -------------------------------------------------------------------------
 
-def render(source, time=0.2, color="congenital", size=(640, 480), out=None, generation=-1,
+def render(source, time=0.2, color="congenital", size=(640, 480), out=None, generation=None,
            overlay=True, zoom=1.0, azimuth=-60.0, elevation=25.0, antialias="msaa"):
     """One frame of a life at simulated `time` (s) as an (h, w, 3) uint8 array, drawn
     off-screen; also written as a PNG when `out` is given. `source` is a Robot, a Result
-    (its robot), a Results (its champion at `generation`) or a .json/.vxa/.h5 path. color:
+    (its robot), a Results (its champion at `generation`, None: the last done) or a
+    .json/.vxa/.h5 path; `generation` applies to a results file only (ValueError otherwise).
+    color:
     congenital, stiffness, change, alpha, phase, stimulus or actuation (the signal, recorded
     while the life is simulated for the picture); the other options are those of
     `plastivox render` (--no-overlay, --zoom, --azimuth, --elevation, --antialias)."""
@@ -969,14 +971,23 @@ def render(source, time=0.2, color="congenital", size=(640, 480), out=None, gene
         raise TypeError(f"size: expected (width, height), got {size!r}") from None
     args = (float(time), str(color), w, h, bool(overlay), float(zoom), float(azimuth),
             float(elevation), str(antialias), "" if out is None else _os.fspath(out))
+    if generation is not None and (isinstance(generation, bool) or
+                                   not isinstance(generation, (int, _np.integer)) or
+                                   generation < -1):
+        raise ValueError(f"generation: expected a generation number or -1 (the last done), "
+                         f"got {generation!r}")
+    if isinstance(source, (Robot, Result)) and generation is not None:
+        raise ValueError(f"generation: applies to a results file (a Results or a .h5 path), "
+                         f"not a {type(source).__name__}")
+    generation = -1 if generation is None else int(generation)
     if isinstance(source, Result):
         source = source.robot
     if isinstance(source, Robot):
         return _core.render_robot(source._core, *args)
     if isinstance(source, Results):
-        return _core.render_file(source.path, int(generation), *args)
+        return _core.render_file(source.path, generation, *args)
     if isinstance(source, (str, _os.PathLike)):
-        return _core.render_file(_os.fspath(source), int(generation), *args)
+        return _core.render_file(_os.fspath(source), generation, *args)
     raise TypeError(f"source: expected a Robot, Result, Results or file path, got {type(source).__name__}")
 
 

@@ -78,12 +78,13 @@ def _box(low, high, shape):
 class VoxelEnv(_gym.Env if _gym is not None else object):
     """One robot's life, stepped by actions (the Gymnasium API; docs/python.md).
 
-    robot: a Robot or a file path (as simulate takes; default the demo walker); task: "walk",
-    "jump", "turn" (overrides physics["task"]); physics, treatment: as simulate takes them;
-    sensors: the names of the sensors observed (default all, in Simulator.sensor_fields
-    order); every: engine steps each action is held for (>= 1); render_mode: None or
-    "rgb_array" (render() returns the present state as an (h, w, 3) uint8 array of
-    render_size = (width, height) pixels).
+    robot: a Robot or a file path (as simulate takes; default the demo walker); task: any of
+    simulate's, "walk", "jump", "turn", "rough", "climb", "slope", "obstacles", "carry" or
+    "push" (overrides physics["task"], as simulate's task= does); physics, treatment: as
+    simulate takes them; sensors: the names of the sensors observed (default all, in
+    Simulator.sensor_fields order); every: engine steps each action is held for (>= 1);
+    render_mode: None or "rgb_array" (render() returns the present state as an (h, w, 3)
+    uint8 array of render_size = (width, height) pixels).
 
     Observation: the observed sensors of the step about to be taken, one after another, each
     flat in voxel order (float64; with a free object, carry and push, its voxels follow the

@@ -294,6 +294,16 @@ def test_a_recorded_life_carries_the_control_channels_on_request(tmp_path):
         plastivox.simulate(robot, record_control=True)
 
 
+def test_every_task_of_simulate_is_an_environment():
+    # docs/python.md: VoxelEnv takes any of simulate's nine tasks.
+    for task in ("walk", "jump", "turn", "rough", "climb", "slope", "obstacles", "carry",
+                 "push"):
+        env = plastivox.VoxelEnv(short_walker(0.2), task=task, sensors="time")
+        assert env.task == task
+        env.reset()
+        env.step(np.zeros(env.action_space.shape))
+
+
 @pytest.mark.parametrize("task", ["carry", "push"])
 def test_a_free_object_is_observed_and_takes_no_action(task):
     # The action covers the robot's voxels only (a free object does not actuate); the
