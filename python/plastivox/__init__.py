@@ -84,16 +84,20 @@ def _physics(physics):
 
 def _with_task(physics, task):
     """physics with its "task" field set to `task` ("walk", "jump", "turn", ...; docs/tasks.md),
-    when given."""
+    when given. The task's parameters in physics["task"] ({"name": ..., ...}) stay when it
+    names the same task; another task replaces it with its defaults."""
     if task is None:
         return physics
     if not isinstance(task, str):
         raise TypeError("task: expected a task name (walk, jump, turn, rough, climb, slope, "
                         f"obstacles, carry, push), got {type(task).__name__}")
     if isinstance(physics, PhysicsDef):
-        return physics.replace(task=task)
+        return physics.replace(task=task)  # keeps the parameters of the same task
     if physics is not None and not isinstance(physics, dict):
         return physics  # _physics names the mistake
+    given = (physics or {}).get("task")
+    if isinstance(given, dict) and given.get("name") == task:
+        return physics
     return {**(physics or {}), "task": task}
 
 
@@ -446,7 +450,8 @@ class Simulator:
     robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
     its robot and physics and step a new one. With free objects in the environment
     (docs/environments.md) every per-voxel array holds the robot's robot_voxels rows first,
-    then the objects' voxels.
+    then the objects' voxels; the actuation (set_actuation, actuation, voxel_phase) is the
+    robot's alone: a free object does not actuate.
 
     Per-step control (docs/control.md): sensors() gives the sensors of the present step,
     set_actuation(u) sets each voxel's signal in [-1, 1] (held until set again), step()
@@ -496,10 +501,11 @@ class Simulator:
         return self._core.sensors(None if names is None else list(names))
 
     def set_actuation(self, actuation):
-        """Sets each voxel's actuation signal: a float array of shape (n,), voxel order, every
-        value in [-1, 1] (times the voxel's amplitude: how far it swells, > 0, or shrinks).
-        Held until set again; the built-in controller stops driving the robot. A wrong array
-        raises TypeError or ValueError naming `actuation`."""
+        """Sets each of the robot's voxels' actuation signal: a float array of shape
+        (robot_voxels,) (n without free objects), voxel order, every value in [-1, 1] (times
+        the voxel's amplitude: how far it swells, > 0, or shrinks). Held until set again; the
+        built-in controller stops driving the robot. A wrong array raises TypeError or
+        ValueError naming `actuation`."""
         self._core.set_actuation(actuation)
 
     def set_controller(self, controller, every=1):
@@ -517,13 +523,15 @@ class Simulator:
         self._core.reset()
 
     actuation = property(lambda self: self._core.actuation(),
-                         doc="each voxel's present actuation signal, in [-1, 1] (a copy)")
+                         doc="each of the robot's voxels' present actuation signal, in "
+                             "[-1, 1] (a copy, robot_voxels values)")
     controller = property(lambda self: self._core.controller(),
                           doc='the built-in controller: "sine", or None (set_actuation)')
     act_frequency = property(lambda self: self._core.act_frequency(),
                              doc="the sine's frequency, Hz (physics.act_frequency)")
     voxel_phase = property(lambda self: self._core.voxel_phase(),
-                           doc="each voxel's sine phase, cycles (voxel order)")
+                           doc="each of the robot's voxels' sine phase, cycles (voxel "
+                               "order, robot_voxels values)")
 
     def step(self, n=1):
         if isinstance(n, bool) or not isinstance(n, (int, _np.integer)) or n < 0:
@@ -663,9 +671,15 @@ def _config_args(config):
     raise TypeError(f"config: expected a dict or a file path, got {type(config).__name__}")
 
 
-def _check_threads(threads):
+def _run_threads(threads):
+    """An evolution's threads as the C++ layer takes them: None (the config's "threads", as
+    `plastivox evolve` without --threads) is -1; else an integer >= 0 (0: all cores)."""
+    if threads is None:
+        return -1
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
-        raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
+        raise ValueError(f"threads: expected None (the config's) or an integer >= 0 (0: all "
+                         f"cores), got {threads!r}")
+    return threads
 
 
 def _score(value, index, what):
@@ -691,10 +705,12 @@ def _function_name(fn):
     return f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', type(fn).__name__)}"
 
 
-def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_after=None,
+def evolve(config, out, threads=None, on_generation=None, on_message=None, stop_after=None,
            fitness=None, record_fps=0):
     """Runs (or resumes) an evolution into the results file `out`: the same run as
     `plastivox evolve --config ... --out ...`. `config` is a dict or a config file path.
+    threads: None (the config's "threads", as the command without --threads) or the
+    evaluation threads to use instead (0: all cores).
     on_generation(progress_dict) is called after every generation; raising from it, or
     Ctrl-C, stops the run at the next checkpoint (resumable: call evolve again). Returns a
     dict with outcome ("finished", "stopped", "already-finished") and generations_done.
@@ -706,7 +722,7 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
     scored. The results file names the function (provenance fitness_function) and resumes
     only under the same name; raising from it stops the run at its last checkpoint."""
     text, path = _config_args(config)
-    _check_threads(threads)
+    threads = _run_threads(threads)
     for name, fn in (("on_generation", on_generation), ("on_message", on_message),
                      ("fitness", fitness)):
         if fn is not None and not callable(fn):
@@ -715,9 +731,11 @@ def evolve(config, out, threads=0, on_generation=None, on_message=None, stop_aft
     evaluate, name = None, ""
     if fitness is not None:
         fps = _record_fps(record_fps)
+        lives_threads = threads if threads >= 0 else _core.config_threads(text, path)
 
         def evaluate(robots):
-            lives = simulate_many([Robot(r) for r in robots], threads=threads, record_fps=fps)
+            lives = simulate_many([Robot(r) for r in robots], threads=lives_threads,
+                                  record_fps=fps)
             return [_score(life if life.status != "finished" else fitness(life), i, "fitness")
                     for i, life in enumerate(lives)]
         name = _function_name(fitness)
@@ -757,9 +775,9 @@ class Evolver:
 
     _CLOSE = object()
 
-    def __init__(self, config, out, threads=0, name="ask-tell"):
+    def __init__(self, config, out, threads=None, name="ask-tell"):
         text, path = _config_args(config)
-        _check_threads(threads)
+        threads = _run_threads(threads)
         if not isinstance(name, str) or not name:
             raise ValueError("name: expected a non-empty string")
         self._asks = _queue.Queue(maxsize=1)
@@ -937,11 +955,13 @@ def read_study(folder):
 
 # --- rendering -------------------------------------------------------------------------
 
-def render(source, time=0.2, color="congenital", size=(640, 480), out=None, generation=-1,
+def render(source, time=0.2, color="congenital", size=(640, 480), out=None, generation=None,
            overlay=True, zoom=1.0, azimuth=-60.0, elevation=25.0, antialias="msaa"):
     """One frame of a life at simulated `time` (s) as an (h, w, 3) uint8 array, drawn
     off-screen; also written as a PNG when `out` is given. `source` is a Robot, a Result
-    (its robot), a Results (its champion at `generation`) or a .json/.vxa/.h5 path. color:
+    (its robot), a Results (its champion at `generation`, None: the last done) or a
+    .json/.vxa/.h5 path; `generation` applies to a results file only (ValueError otherwise).
+    color:
     congenital, stiffness, change, alpha, phase, stimulus or actuation (the signal, recorded
     while the life is simulated for the picture); the other options are those of
     `plastivox render` (--no-overlay, --zoom, --azimuth, --elevation, --antialias)."""
@@ -951,14 +971,23 @@ def render(source, time=0.2, color="congenital", size=(640, 480), out=None, gene
         raise TypeError(f"size: expected (width, height), got {size!r}") from None
     args = (float(time), str(color), w, h, bool(overlay), float(zoom), float(azimuth),
             float(elevation), str(antialias), "" if out is None else _os.fspath(out))
+    if generation is not None and (isinstance(generation, bool) or
+                                   not isinstance(generation, (int, _np.integer)) or
+                                   generation < -1):
+        raise ValueError(f"generation: expected a generation number or -1 (the last done), "
+                         f"got {generation!r}")
+    if isinstance(source, (Robot, Result)) and generation is not None:
+        raise ValueError(f"generation: applies to a results file (a Results or a .h5 path), "
+                         f"not a {type(source).__name__}")
+    generation = -1 if generation is None else int(generation)
     if isinstance(source, Result):
         source = source.robot
     if isinstance(source, Robot):
         return _core.render_robot(source._core, *args)
     if isinstance(source, Results):
-        return _core.render_file(source.path, int(generation), *args)
+        return _core.render_file(source.path, generation, *args)
     if isinstance(source, (str, _os.PathLike)):
-        return _core.render_file(_os.fspath(source), int(generation), *args)
+        return _core.render_file(_os.fspath(source), generation, *args)
     raise TypeError(f"source: expected a Robot, Result, Results or file path, got {type(source).__name__}")
 
 

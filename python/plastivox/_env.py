@@ -78,22 +78,25 @@ def _box(low, high, shape):
 class VoxelEnv(_gym.Env if _gym is not None else object):
     """One robot's life, stepped by actions (the Gymnasium API; docs/python.md).
 
-    robot: a Robot or a file path (as simulate takes; default the demo walker); task: "walk",
-    "jump", "turn" (overrides physics["task"]); physics, treatment: as simulate takes them;
-    sensors: the names of the sensors observed (default all, in Simulator.sensor_fields
-    order); every: engine steps each action is held for (>= 1); render_mode: None or
-    "rgb_array" (render() returns the present state as an (h, w, 3) uint8 array of
-    render_size = (width, height) pixels).
+    robot: a Robot or a file path (as simulate takes; default the demo walker); task: any of
+    simulate's, "walk", "jump", "turn", "rough", "climb", "slope", "obstacles", "carry" or
+    "push" (overrides physics["task"], as simulate's task= does); physics, treatment: as
+    simulate takes them; sensors: the names of the sensors observed (default all, in
+    Simulator.sensor_fields order); every: engine steps each action is held for (>= 1);
+    render_mode: None or "rgb_array" (render() returns the present state as an (h, w, 3)
+    uint8 array of render_size = (width, height) pixels).
 
     Observation: the observed sensors of the step about to be taken, one after another, each
-    flat in voxel order (float64). Action: each voxel's actuation signal, shape (n,),
-    float64 (float32 is taken) in [-1, 1]. Reward: the change of the task's fitness over the
-    step (fitness so far: the task's score as though the life ended there), so an episode's
-    rewards sum to the life's fitness. An episode is one life: truncated when time passes
-    physics.duration, terminated when the life goes unstable or sinks (under
-    physics.sinking_invalid, the moment it is certain to be graded sunk); the last reward then
-    brings the sum to 0, the fitness simulate() gives such a life. The physics has no
-    randomness: every reset starts the same life; reset(seed=...) seeds np_random."""
+    flat in voxel order (float64; with a free object, carry and push, its voxels follow the
+    robot's). Action: each of the robot's voxels' actuation signal, shape (robot voxels,),
+    float64 (float32 is taken) in [-1, 1] (a free object has none). Reward: the change of
+    the task's fitness over the step (fitness so far: the task's score as though the life
+    ended there), so an episode's rewards sum to the life's fitness. An episode is one life:
+    truncated when time passes physics.duration, terminated when the life goes unstable or
+    sinks (under physics.sinking_invalid, the moment it is certain to be graded sunk); the
+    last reward then brings the sum to 0, the fitness simulate() gives such a life. The
+    physics has no randomness: every reset starts the same life; reset(seed=...) seeds
+    np_random."""
 
     metadata = {"render_modes": ["rgb_array"]}
 
@@ -134,7 +137,7 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
             low += [lo] * size
             high += [hi] * size
         self.observation_space = _box(_np.array(low), _np.array(high), (self._episode.obs_size,))
-        self.action_space = _box(-1.0, 1.0, (n,))
+        self.action_space = _box(-1.0, 1.0, (self._episode.robot_voxels,))
         self.render_mode = render_mode
         self.render_size = (width, height)
         self._fitness = 0.0
@@ -203,11 +206,13 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
     act_frequency = property(lambda self: self._episode.act_frequency,
                              doc="the sine's frequency, Hz (physics.act_frequency)")
     voxel_phase = property(lambda self: self._episode.voxel_phase,
-                           doc="each voxel's sine phase, cycles (voxel order)")
+                           doc="each of the robot's voxels' sine phase, cycles (voxel order; "
+                               "the action's shape)")
     duration = property(lambda self: self._episode.duration, doc="length of the life, s")
 
     def __repr__(self):
-        return (f"VoxelEnv({self.robot.name!r}, task={self.task!r}, voxels={self._episode.voxels}, "
+        return (f"VoxelEnv({self.robot.name!r}, task={self.task!r}, "
+                f"voxels={self._episode.robot_voxels}, "
                 f"obs={self._episode.obs_size}, every={self.every})")
 
 

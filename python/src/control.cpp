@@ -103,7 +103,9 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
       "set_actuation",
       [use](const pyb::handle& self, const pyb::handle& actuation) {
         use(self, [&](Simulator& sim) {
-          const std::vector<double> u = checked_actuation(actuation, sim.model().n, "actuation");
+          // The robot's voxels (Model::robot_n): the free objects after them do not actuate.
+          const std::vector<double> u =
+              checked_actuation(actuation, sim.model().robot_n, "actuation");
           sim.set_controller(nullptr);  // the caller's signal from now on
           std::copy(u.begin(), u.end(), sim.actuation().begin());
         });
@@ -113,7 +115,8 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
   method("actuation", [use](const pyb::handle& self) {
     pyb::array_t<double> out;
     use(self, [&](Simulator& sim) {
-      const std::span<const double> u = std::as_const(sim).actuation();
+      const std::span<const double> u =
+          std::as_const(sim).actuation().first(static_cast<size_t>(sim.model().robot_n));
       out = pyb::array_t<double>(static_cast<pyb::ssize_t>(u.size()));
       std::copy(u.begin(), u.end(), out.mutable_data());
     });
@@ -166,7 +169,10 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
 
   method("voxel_phase", [use](const pyb::handle& self) {
     pyb::array_t<double> out;
-    use(self, [&](Simulator& sim) { out = to_array(sim.model().phase); });
+    use(self, [&](Simulator& sim) {  // the robot's voxels, as set_actuation takes them
+      const std::vector<double>& phase = sim.model().phase;
+      out = to_array(std::vector<double>(phase.begin(), phase.begin() + sim.model().robot_n));
+    });
     return out;
   });
 

@@ -57,7 +57,8 @@ class PyEpisode {
   pyb::tuple step(const pyb::handle& action) {
     if (!end_.empty())
       throw std::runtime_error("step: the episode is over (" + end_ + "); call reset()");
-    const std::vector<double> u = checked_actuation(action, model_->n, "action");
+    // The robot's voxels only: the free objects that follow (Model::robot_n) do not actuate.
+    const std::vector<double> u = checked_actuation(action, model_->robot_n, "action");
     std::copy(u.begin(), u.end(), sim_.actuation().begin());
     const State& s = sim_.state();
     const bool sinking_ends = model_->def.sinking_invalid;
@@ -82,7 +83,8 @@ class PyEpisode {
     return painter_.draw(model_, sim_.state(), width, height);
   }
 
-  int voxels() const { return model_->n; }
+  int voxels() const { return model_->n; }              // every per-voxel sensor's rows
+  int robot_voxels() const { return model_->robot_n; }  // the action's values
   int obs_size() const { return obs_size_; }
   double fitness() const { return fitness_; }
   const Simulator& sim() const { return sim_; }
@@ -124,6 +126,7 @@ void bind_env(pyb::module_& m) {
       .def("step", &PyEpisode::step, pyb::arg("action"))
       .def("render", &PyEpisode::render, pyb::arg("width"), pyb::arg("height"))
       .def_property_readonly("voxels", &PyEpisode::voxels)
+      .def_property_readonly("robot_voxels", &PyEpisode::robot_voxels)
       .def_property_readonly("obs_size", &PyEpisode::obs_size)
       .def_property_readonly("fitness", &PyEpisode::fitness)
       .def_property_readonly("time", [](const PyEpisode& e) { return e.sim().state().time; })
@@ -133,8 +136,12 @@ void bind_env(pyb::module_& m) {
       .def_property_readonly("dt", [](const PyEpisode& e) { return e.sim().state().dt; })
       .def_property_readonly("act_frequency",
                              [](const PyEpisode& e) { return e.model().def.act_frequency; })
-      .def_property_readonly("voxel_phase",
-                             [](const PyEpisode& e) { return to_array(e.model().phase); })
+      .def_property_readonly(
+          "voxel_phase",
+          [](const PyEpisode& e) {  // the robot's voxels, as the action
+            const std::vector<double>& phase = e.model().phase;
+            return to_array(std::vector<double>(phase.begin(), phase.begin() + e.model().robot_n));
+          })
       .def_property_readonly("task",
                              [](const PyEpisode& e) { return to_string(e.model().def.task); })
       .def_property_readonly("state_hash",

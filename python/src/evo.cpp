@@ -204,6 +204,7 @@ pyb::dict evolve(const std::string& config_text, const std::string& config_path,
                  const std::string& fitness_function) {
   const evo::EvolveConfig config = config_path.empty() ? evo::parse_config(config_text, "config")
                                                        : evo::read_config_file(config_path);
+  // -1: the config's threads, as `plastivox evolve` without --threads.
   if (threads < -1) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
   std::atomic<bool> stop{false};
   // A Python exception (the callback's, or KeyboardInterrupt) waits here until the run
@@ -297,6 +298,15 @@ void bind_evo(pyb::module_& m) {
         pyb::arg("on_message"), pyb::arg("evaluate") = pyb::none(),
         pyb::arg("fitness_function") = "");
   m.def("default_config", [] { return evo::default_config_text(); });
+  // The config's "threads" (what evolve uses when given none), parsed as evolve parses it.
+  m.def(
+      "config_threads",
+      [](const std::string& config_text, const std::string& config_path) {
+        return (config_path.empty() ? evo::parse_config(config_text, "config")
+                                    : evo::read_config_file(config_path))
+            .threads;
+      },
+      pyb::arg("config_text"), pyb::arg("config_path"));
 }
 
 }  // namespace plastivox::py

@@ -4,13 +4,16 @@
 // that table: no JSON text passes between Python and C++.
 #include <cmath>
 #include <cstring>
+#include <string_view>
 
 #include <pybind11/stl.h>
+#include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/base/hash.hpp"
 #include "plastivox/io/robot_file.hpp"  // the environment's JSON form
+#include "plastivox/task.hpp"
 
 namespace plastivox::py {
 namespace {
@@ -21,7 +24,19 @@ const PhysicsField* find_field(const std::string& name) {
   return nullptr;
 }
 
+// The task as files write it: its name alone, or {"name": ..., parameters} when it has any
+// (docs/tasks.md), so every way a PhysicsDef is read gives what with_fields takes back.
+pyb::object task_value(const PhysicsDef& d) {
+  if (d.task_params.empty()) return pyb::str(to_string(d.task));
+  pyb::dict out;
+  out["name"] = to_string(d.task);
+  for (const auto& [name, value] : d.task_params) out[pyb::str(name)] = value;
+  return out;
+}
+
+// One field as to_dict() holds it (a task with its parameters).
 pyb::object field_value(const PhysicsDef& d, const PhysicsField& f) {
+  if (std::strcmp(f.name, "task") == 0) return task_value(d);
   switch (f.kind) {
     case PhysicsField::Kind::kNumber:
       return pyb::float_(d.*f.number);
@@ -43,6 +58,70 @@ pyb::object environment_value(const PhysicsDef& d) {
   return pyb::module_::import("json").attr("loads")(physics_to_json(d))["environment"];
 }
 
+// A Python value as the JSON the robot file's reader takes: dicts (text keys), lists, tuples
+// and numpy arrays, numbers (numpy scalars included), text, True/False and None. Numbers
+// must be finite. Throws std::invalid_argument naming the field by `path`
+// ("physics.environment.ground.height: must be finite").
+nlohmann::json to_json(const pyb::handle& v, const std::string& path) {
+  if (v.is_none()) return nullptr;
+  const pyb::module_ np = pyb::module_::import("numpy");
+  if (pyb::isinstance(v, np.attr("ndarray"))) return to_json(v.attr("tolist")(), path);
+  if (pyb::isinstance(v, np.attr("generic"))) return to_json(v.attr("item")(), path);
+  if (PyBool_Check(v.ptr())) return v.cast<bool>();
+  if (PyLong_Check(v.ptr())) {
+    int overflow = 0;
+    const long long n = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (overflow != 0) throw std::invalid_argument(path + ": out of range");
+    return n;
+  }
+  if (PyFloat_Check(v.ptr())) {
+    const double x = PyFloat_AsDouble(v.ptr());
+    if (!std::isfinite(x)) throw std::invalid_argument(path + ": must be finite");
+    return x;
+  }
+  if (pyb::isinstance<pyb::str>(v)) return v.cast<std::string>();
+  if (pyb::isinstance<pyb::dict>(v)) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [key, value] : pyb::reinterpret_borrow<pyb::dict>(v)) {
+      if (!pyb::isinstance<pyb::str>(key))
+        throw std::invalid_argument(path + ": field names must be text, got " +
+                                    pyb::repr(key).cast<std::string>());
+      const std::string name = key.cast<std::string>();
+      out[name] = to_json(value, path + "." + name);
+    }
+    return out;
+  }
+  if (pyb::isinstance<pyb::list>(v) || pyb::isinstance<pyb::tuple>(v)) {
+    nlohmann::json out = nlohmann::json::array();
+    size_t i = 0;
+    for (const pyb::handle item : v)
+      out.push_back(to_json(item, path + "[" + std::to_string(i++) + "]"));
+    return out;
+  }
+  throw std::invalid_argument(path +
+                              ": expected a number, text, True or False, a list or a dict, got " +
+                              pyb::str(v.get_type().attr("__name__")).cast<std::string>());
+}
+
+// d with {key: value} applied by the robot file's reader (InputError
+// "physics.<key>.<field>: ...", as every other field's error reads); the environment is left
+// out of the check (validated with the whole, later).
+PhysicsDef applied_as_file(const PhysicsDef& d, const char* key, const pyb::handle& value) {
+  nlohmann::json fields = nlohmann::json::object();
+  fields[key] = to_json(value, std::string("physics.") + key);
+  PhysicsDef with = d;
+  with.environment = Environment{};
+  try {
+    apply_physics_json(fields.dump(), "physics", with);
+  } catch (const InputError& e) {
+    // The reader names the source, then the field: "physics: physics.task.rise: ...".
+    const std::string_view what = e.what(), source = "physics: ";
+    if (what.starts_with(source)) throw InputError(std::string(what.substr(source.size())));
+    throw;
+  }
+  return with;
+}
+
 void set_environment(PhysicsDef& d, const pyb::handle& v) {
   if (v.is_none()) {
     d.environment = Environment{};
@@ -51,25 +130,14 @@ void set_environment(PhysicsDef& d, const pyb::handle& v) {
   if (!pyb::isinstance<pyb::dict>(v))
     throw std::invalid_argument(
         "physics.environment: expected a dict (docs/environments.md) or None");
-  const std::string text = pyb::module_::import("json")
-                               .attr("dumps")(pyb::dict{pyb::arg("environment") = v})
-                               .cast<std::string>();
-  PhysicsDef with = d;
-  with.environment = Environment{};
-  apply_physics_json(text, "physics", with);  // InputError naming physics.environment.<field>
-  d.environment = with.environment;
+  d.environment = applied_as_file(d, "environment", v).environment;
 }
 
 // A task with parameters ({"name": "climb", "rise": 1}, docs/tasks.md), read by the robot
 // file's reader; a name alone goes through kPhysicsFields like any choice (and drops the
 // parameters of another task).
 void set_task_with_params(PhysicsDef& d, const pyb::handle& v) {
-  const std::string text = pyb::module_::import("json")
-                               .attr("dumps")(pyb::dict{pyb::arg("task") = v})
-                               .cast<std::string>();
-  PhysicsDef with = d;
-  with.environment = Environment{};           // checked with the whole, later
-  apply_physics_json(text, "physics", with);  // InputError naming physics.task.<field>
+  const PhysicsDef with = applied_as_file(d, "task", v);
   d.task = with.task;
   d.task_params = with.task_params;
 }
@@ -121,12 +189,18 @@ PhysicsDef preset(const std::string& name) {
 }
 
 // A treatment given with its law, as in configs: {"stimulus": name, "law": "integral" |
-// "rate"}; the law is physics.growth, so a growth field beside it must agree.
+// "rate"}; the law is physics.growth, so a growth field beside it must agree. Checked as
+// configs and robot files check it: unknown fields first, then a missing stimulus.
 void set_treatment_and_law(PhysicsDef& d, const pyb::dict& t, const pyb::dict& fields) {
   for (const auto& [key, value] : t) {
     const std::string name = pyb::str(key).cast<std::string>();
     if (name != "stimulus" && name != "law")
-      throw std::invalid_argument("physics.treatment." + name + ": unknown field");
+      throw std::invalid_argument("physics.treatment." + name +
+                                  ": unknown field (a treatment has stimulus and law)");
+  }
+  if (!t.contains("stimulus")) throw std::invalid_argument("physics.treatment.stimulus: missing");
+  for (const auto& [key, value] : t) {
+    const std::string name = pyb::str(key).cast<std::string>();
     if (!pyb::isinstance<pyb::str>(value))
       throw std::invalid_argument("physics.treatment." + name + ": expected text");
     try {
@@ -184,8 +258,6 @@ pyb::dict to_dict(const PhysicsDef& d) {
   pyb::dict out;
   for (const PhysicsField& f : kPhysicsFields) out[f.name] = field_value(d, f);
   if (d.environment.active()) out["environment"] = environment_value(d);  // as files write it
-  if (!d.task_params.empty())  // {"name": ..., parameters}, as files write it
-    out["task"] = pyb::module_::import("json").attr("loads")(physics_to_json(d))["task"];
   return out;
 }
 
@@ -275,11 +347,8 @@ void bind_physics(pyb::module_& m) {
     c.def_property(
         f->name, [f](const PhysicsDef& d) { return field_value(d, *f); },
         [f](PhysicsDef& d, const pyb::object& v) {
-          PhysicsDef changed = d;
-          set_field(changed, *f, v);
-          if (changed.task != d.task) changed.task_params.clear();  // the other task's
-          validate(changed);
-          d = changed;
+          // As with_physics({name: v}) applies it: a task or treatment object too.
+          d = with_fields(d, pyb::dict(pyb::arg(f->name) = v));
         });
   }
   c.def_property("environment", &environment_value, [](PhysicsDef& d, const pyb::object& v) {

@@ -128,7 +128,14 @@ void bind_render(pyb::module_& m) {
         [](const std::string& path, int generation, double time, const std::string& color,
            int width, int height, bool overlay, double zoom, double azimuth, double elevation,
            const std::string& antialias, const std::string& out) {
+          // A generation names a results file's champion; anything else has one life.
+          const auto not_results = [&](const char* what) {
+            return std::invalid_argument("generation: applies to a results file (.h5), and " +
+                                         path + " is " + what);
+          };
+          if (generation != -1 && !path.ends_with(".h5")) throw not_results("a robot file");
           const render::LifeSource source = render::load_life_source(path, generation);
+          if (generation != -1 && source.recorded) throw not_results("a recorded life");
           for (const std::string& w : source.warnings) warn(w);  // named the file already
           return render_source(source, time, color, width, height, overlay, zoom, azimuth,
                                elevation, antialias, out);

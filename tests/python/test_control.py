@@ -339,3 +339,20 @@ def test_the_cli_controller_option_is_the_network_python_hands_over(tmp_path):
     assert err.count("\n") == 1
     assert ("--controller: controller.weights: expected 17 numbers for central with hidden 1, "
             "got 16") in err
+
+
+def test_with_a_free_object_the_actuation_is_the_robots_alone():
+    # A free object (docs/environments.md) does not actuate: set_actuation takes the robot's
+    # voxels, and actuation and voxel_phase give as many; the sine replayed so is the life.
+    robot = short_walker(0.3)
+    n = robot.voxel_count
+    sim = plastivox.Simulator(robot, physics={"task": "push"})
+    everything = len(sim.positions)
+    assert sim.robot_voxels == n < everything
+    assert sim.voxel_phase.shape == (n,) and sim.actuation.shape == (n,)
+    with pytest.raises(ValueError, match=r"actuation: expected shape \(%d,\)" % n):
+        sim.set_actuation(np.zeros(everything))
+    while sim.status == "running":
+        sim.set_actuation(sine_of(sim))
+        sim.step()
+    assert sim.state_hash == plastivox.simulate(robot, task="push").final_state_hash

@@ -292,3 +292,38 @@ def test_a_recorded_life_carries_the_control_channels_on_request(tmp_path):
     assert status == 2 and "--record-control adds the actuation signal" in err
     with pytest.raises(ValueError, match="record_control: .* give record_fps > 0"):
         plastivox.simulate(robot, record_control=True)
+
+
+def test_every_task_of_simulate_is_an_environment():
+    # docs/python.md: VoxelEnv takes any of simulate's nine tasks.
+    for task in ("walk", "jump", "turn", "rough", "climb", "slope", "obstacles", "carry",
+                 "push"):
+        env = plastivox.VoxelEnv(short_walker(0.2), task=task, sensors="time")
+        assert env.task == task
+        env.reset()
+        env.step(np.zeros(env.action_space.shape))
+
+
+@pytest.mark.parametrize("task", ["carry", "push"])
+def test_a_free_object_is_observed_and_takes_no_action(task):
+    # The action covers the robot's voxels only (a free object does not actuate); the
+    # per-voxel sensors cover the object's voxels after the robot's, as a Simulator's do.
+    robot = short_walker(0.3)
+    n = robot.voxel_count
+    sim = plastivox.Simulator(robot, physics={"task": task})
+    everything = len(sim.positions)
+    assert sim.robot_voxels == n < everything
+    env = plastivox.VoxelEnv(robot, task=task, sensors=["touch", "time"])
+    assert env.action_space.shape == (n,) and env.voxel_phase.shape == (n,)
+    assert repr(env).count(f"voxels={n},") == 1
+    obs, _ = env.reset()
+    assert obs.shape == env.observation_space.shape == (everything + 1,)
+    with pytest.raises(ValueError, match=r"action: expected shape \(%d,\), one value per voxel, "
+                                         r"got \(%d,\)" % (n, everything)):
+        env.step(np.zeros(everything))
+    life = plastivox.simulate(robot, task=task)
+    while True:  # the built-in sine replayed on the robot's voxels: simulate's life
+        obs, _, terminated, truncated, info = env.step(sine_action(env, obs))
+        if terminated or truncated:
+            break
+    assert info["state_hash"] == life.final_state_hash and info["fitness"] == life.fitness

@@ -1,5 +1,6 @@
 """evolve, read_results and read_study: the same runs and files as the command line."""
 
+import json
 import os
 import signal
 import warnings
@@ -314,3 +315,32 @@ def test_an_evolver_left_running_at_exit_stops_at_its_checkpoint(tmp_path):
         assert "terminate" not in run.stderr, run.stderr
     res = plastivox.read_results(out)
     assert res.provenance["fitness_function"] == "python: ask-tell" and not res.finished
+
+
+def test_threads_default_to_the_configs_as_on_the_command_line(tmp_path, monkeypatch):
+    # evolve and Evolver without threads= use the config's "threads" (as `plastivox evolve`
+    # without --threads); threads=N overrides it.
+    config = tiny_config(generations=1)
+    assert config["threads"] == 1
+    report = plastivox.evolve(config, str(tmp_path / "own.h5"))
+    assert report["threads"] == 1
+    assert plastivox.read_results(str(tmp_path / "own.h5")).provenance["threads"] == 1
+    assert plastivox.evolve(config, str(tmp_path / "two.h5"), threads=2)["threads"] == 2
+    with plastivox.Evolver(config, str(tmp_path / "asked.h5")) as ev:
+        while not ev.finished:
+            ev.tell([0.0] * len(ev.ask()))
+    assert ev.report["threads"] == 1
+    # A fitness function's lives are simulated on the config's threads too.
+    asked = []
+    simulate_many = plastivox.simulate_many
+
+    def spy(robots, **kwargs):
+        asked.append(kwargs["threads"])
+        return simulate_many(robots, **kwargs)
+    monkeypatch.setattr(plastivox, "simulate_many", spy)
+    cfg = tmp_path / "run.json"
+    cfg.write_text(json.dumps(config))
+    plastivox.evolve(str(cfg), str(tmp_path / "scored.h5"), fitness=lambda life: life.fitness)
+    assert asked and set(asked) == {1}
+    with pytest.raises(ValueError, match=r"threads: expected None \(the config's\) or an integer"):
+        plastivox.evolve(config, str(tmp_path / "bad.h5"), threads=-1)

@@ -82,3 +82,24 @@ def test_colouring_by_actuation_shows_the_signal():
                           plastivox.render(robot, time=0.5, color="actuation", size=(160, 120)))
     assert not np.array_equal(by_actuation,
                               plastivox.render(robot, time=0.55, color="actuation", size=(160, 120)))
+
+
+def test_generation_applies_to_a_results_file_only(tiny_run, tmp_path):
+    # A Robot, a Result, a robot file and a recorded life have one life: a generation given
+    # with them is refused, not ignored.
+    path, _ = tiny_run
+    robot = plastivox.demo_walker().with_physics({"duration": 0.3, "settle_time": 0.1})
+    json_path = tmp_path / "walker.json"
+    robot.save(json_path)
+    life = tmp_path / "life.h5"
+    run_cli("simulate", str(json_path), "--record", str(life))
+    for source in (robot, plastivox.simulate(robot), str(json_path), str(life)):
+        with pytest.raises(ValueError, match=r"^generation: applies to a results file"):
+            plastivox.render(source, generation=1, size=(32, 24))
+    assert plastivox.render(robot, size=(32, 24)).shape == (24, 32, 3)
+    assert plastivox.render(str(life), size=(32, 24)).shape == (24, 32, 3)
+    res = plastivox.read_results(path)
+    first = plastivox.render(res, generation=1, time=0.2, size=(32, 24))
+    assert np.array_equal(first, plastivox.render(path, generation=1, time=0.2, size=(32, 24)))
+    with pytest.raises(ValueError, match=r"^generation: expected a generation number or -1"):
+        plastivox.render(res, generation=-2, size=(32, 24))

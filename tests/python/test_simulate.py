@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import plastivox
-from conftest import cli_json, vxa
+from conftest import cli_json, run_cli, vxa
 
 # The summary keys that are science (the rest are wall time and speed).
 TIMING = {"wall_seconds", "voxel_steps_per_second"}
@@ -350,3 +350,93 @@ def test_terrain_task_with_parameters_is_the_clis():
     q = plastivox.PhysicsDef(task=climb)
     q.task = "slope"
     assert q.to_dict()["task"] == "slope"
+
+
+def test_a_physics_def_reads_and_sets_its_task_as_to_dict_and_with_physics_do():
+    # dict(p), p["task"], p.task and repr(p) give the task with its parameters, as to_dict()
+    # does, so dict(p) is equal to p and simulates alike; and an attribute takes what
+    # with_physics takes (a task or treatment object).
+    walker = plastivox.demo_walker()
+    rough = {"name": "rough", "amplitude": 2.0, "seed": 7}
+    p = walker.with_physics({"task": rough, "duration": 0.5}).physics
+    assert p["task"] == rough and p.task == rough and dict(p)["task"] == rough
+    assert p == dict(p) and plastivox.PhysicsDef(**dict(p)) == p
+    assert "task={'name': 'rough', 'amplitude': 2.0, 'seed': 7.0}" in repr(p)
+    a, b = plastivox.simulate(walker, physics=p), plastivox.simulate(walker, physics=dict(p))
+    assert a.final_state_hash == b.final_state_hash and a.fitness == b.fitness
+    assert plastivox.physics()["task"] == "walk"  # without parameters: the name alone
+    q = plastivox.physics()
+    q.task = {"name": "climb", "rise": 1}
+    assert q.task == {"name": "climb", "rise": 1.0}
+    assert q == plastivox.physics(task={"name": "climb", "rise": 1})
+    with pytest.raises(ValueError, match=r"physics.task.rise: must be in \[0.05, 5\]"):
+        q.task = {"name": "climb", "rise": 9}
+    assert q.task == {"name": "climb", "rise": 1.0}  # unchanged by the refused value
+    q.treatment = {"stimulus": "stress", "law": "rate"}
+    assert q.treatment == "stress" and q.growth == "rate"
+    assert q == plastivox.physics(task={"name": "climb", "rise": 1}, treatment="stress",
+                                  growth="rate")
+
+
+def test_the_task_argument_keeps_the_parameters_of_the_same_task():
+    # task= naming the task physics["task"] names keeps its parameters; another task comes
+    # with its defaults (docs/python.md, "Simulation").
+    walker = plastivox.demo_walker()
+    rough = {"name": "rough", "amplitude": 2.0, "seed": 7}
+    physics = {"duration": 0.5, "task": rough}
+    given = plastivox.simulate(walker, physics=physics)
+    assert given.final_state_hash != \
+        plastivox.simulate(walker, physics={**physics, "task": "rough"}).final_state_hash
+    for same in (plastivox.simulate(walker, physics=physics, task="rough"),
+                 plastivox.simulate_many([walker], physics=physics, task="rough", threads=1)[0],
+                 plastivox.simulate(walker, physics=walker.physics.replace(**physics),
+                                    task="rough")):
+        assert same.final_state_hash == given.final_state_hash and same.fitness == given.fitness
+    env = plastivox.VoxelEnv(walker, physics=physics, task="rough", sensors="time")
+    obs, _ = env.reset()
+    while True:  # the built-in sine replayed: simulate's life, on the same ground
+        action = plastivox.sin_cycles(env.act_frequency * obs[-1] + env.voxel_phase)
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            break
+    assert info["state_hash"] == given.final_state_hash and info["fitness"] == given.fitness
+    other = plastivox.simulate(walker, physics=physics, task="slope")
+    slope = plastivox.simulate(walker, physics={"duration": 0.5, "task": "slope"})
+    assert other.final_state_hash == slope.final_state_hash and other.fitness == slope.fitness
+
+
+def test_physics_dicts_take_numpy_and_name_a_number_that_is_not_finite():
+    # The environment and a task's parameters take numpy arrays and scalars; NaN and infinity
+    # are refused in one line naming the field, as a file's reader names it.
+    heights = np.array([[0.0, 0.001], [0.002, 0.0]])
+    ground = {"type": "heightfield", "cell": 0.01}
+    p = plastivox.physics(environment={"ground": {**ground, "heights": heights}})
+    assert p == plastivox.physics(environment={"ground": {**ground, "heights": heights.tolist()}})
+    assert p.environment["ground"]["heights"] == heights.tolist()
+    assert plastivox.physics(task={"name": "rough", "amplitude": np.float32(0.5),
+                                   "seed": np.int64(3)}) == \
+        plastivox.physics(task={"name": "rough", "amplitude": 0.5, "seed": 3})
+    walker = plastivox.demo_walker()
+    with pytest.raises(ValueError, match=r"^physics.environment.ground.height: must be finite$"):
+        plastivox.simulate(walker, physics={"environment": {"ground": {"type": "flat",
+                                                                       "height": float("nan")}}})
+    with pytest.raises(ValueError, match=r"^physics.task.amplitude: must be finite$"):
+        plastivox.simulate(walker, physics={"task": {"name": "rough", "amplitude": np.inf}})
+    heights[1, 0] = np.nan
+    with pytest.raises(ValueError,
+                       match=r"^physics.environment.ground.heights\[1\]\[0\]: must be finite$"):
+        plastivox.physics(environment={"ground": {**ground, "heights": heights}})
+    with pytest.raises(ValueError, match=r"^physics.environment.ground.cell: expected a number, "):
+        plastivox.physics(environment={"ground": {**ground, "cell": object()}})
+
+
+def test_a_treatment_object_without_a_stimulus_is_refused_as_the_cli_refuses_it():
+    walker = plastivox.demo_walker()
+    for treatment in ({"law": "rate"}, {}):
+        code, _, err = run_cli("simulate", "--duration", "0.1", "--physics",
+                               json.dumps({"treatment": treatment}), check=False)
+        assert code != 0 and "physics.treatment.stimulus: missing" in err
+        with pytest.raises(ValueError, match=r"^physics.treatment.stimulus: missing$"):
+            plastivox.simulate(walker, physics={"treatment": treatment})
+        with pytest.raises(ValueError, match=r"^physics.treatment.stimulus: missing$"):
+            plastivox.physics(treatment=treatment)
