@@ -807,6 +807,7 @@ TEST_F(Study, CommandWritesEveryOutputAndResumes) {
 TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
   const std::string a = run(Treatment::kStress, 1);
   std::ofstream(path("junk.h5")) << "not hdf5";
+  const std::string file = write("afile", "x");
   struct Case {
     std::string args;
     int status;
@@ -821,6 +822,12 @@ TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
       {a + " --out " + path("o") + " --generation 9", 1, a + ": generation 9 not reached"},
       {a + " --out " + path("o") + " --treatments stress,pressure", 1,
        "treatment pressure: no results file given"},
+      // An --out that cannot be a folder: refused before any champion is loaded (the one
+      // line below is the whole output: no "load" line first).
+      {a + " --out " + file, 1, "--out " + file + ": is a file, not a folder"},
+      {a + " --out /dev/null", 1, "--out /dev/null: is a device, pipe or socket, not a folder"},
+      {a + " --out " + file + "/o", 1,
+       "--out " + file + "/o: cannot create the folder: " + file + " is not a folder"},
   };
   for (const Case& c : cases) {
     const testing::Output o = cli(c.args);

@@ -774,5 +774,37 @@ TEST_F(Hardening, BadCommandLineValuesExitTwo) {
   EXPECT_EQ(o.out.find("JSON"), std::string::npos) << o.out;
 }
 
+TEST_F(Hardening, AnalyzeRefusesAnUnwritableOutFolderBeforeAnyWork) {
+  // As root, a tmpfs remounted read-only (root ignores permissions); otherwise a folder
+  // without write permission.
+  const std::string dir = path("ro");
+  const SmallTmpfs tmpfs(dir, "size=1m");
+  if (!tmpfs.mounted && geteuid() == 0) GTEST_SKIP() << tmpfs.why;
+  if (!tmpfs.mounted) fs::create_directories(dir);
+  struct Writable {  // made writable again, so it can be removed
+    std::string dir;
+    ~Writable() {
+      std::error_code ec;
+      fs::permissions(dir, fs::perms::owner_all, ec);
+    }
+  } writable{dir};
+  fs::create_directories(dir + "/old");
+  if (tmpfs.mounted)
+    ASSERT_EQ(mount("tmpfs", dir.c_str(), "tmpfs", MS_REMOUNT | MS_RDONLY, nullptr), 0)
+        << std::strerror(errno);
+  else
+    fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
+  if (!tmpfs.mounted) fs::permissions(dir + "/old", fs::perms::owner_read | fs::perms::owner_exec);
+  ASSERT_EQ(
+      cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
+      0);
+  for (const std::string& out : {dir + "/new", dir + "/old"}) {
+    const Output o = cli("analyze " + path("r.h5") + " --out " + out);
+    EXPECT_EQ(o.status, 1) << o.out;
+    expect_one_line(o, "--out " + out + ": ");  // no "load" or "robustness" line first
+    EXPECT_NE(o.out.find("not writable"), std::string::npos) << o.out;
+  }
+}
+
 }  // namespace
 }  // namespace plastivox
