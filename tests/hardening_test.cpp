@@ -806,5 +806,42 @@ TEST_F(Hardening, AnalyzeRefusesAnUnwritableOutFolderBeforeAnyWork) {
   }
 }
 
+// A plastivox file of one kind given where another is expected is named as what it is.
+TEST_F(Hardening, AFileOfAnotherPlastivoxKindIsNamedAsSuch) {
+  const std::string walker = walker_with(R"({"duration": 0.05, "settle_time": 0})");
+  ASSERT_EQ(cli("simulate " + walker + " --record " + path("life.h5")).status, 0);
+  ASSERT_EQ(
+      cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
+      0);
+  const std::string life = path("life.h5"), run = path("r.h5");
+  const std::string not_results = life + ": a recorded life, not an evolution results file";
+  for (const std::string& args : {"inspect " + life, "export " + life + " --out " + path("x.json"),
+                                  "analyze " + life + " --out " + path("study")}) {
+    const Output o = cli(args);
+    EXPECT_EQ(o.status, 1) << args << "\n" << o.out;
+    expect_one_line(o, not_results);
+  }
+  // A results file where a robot belongs: an HDF5 file, not "a NUL byte at offset 110".
+  const std::string not_robot =
+      run + ": an HDF5 file (a plastivox evolution results file), not a robot file (.json or .vxa)";
+  for (const std::string& args :
+       {"simulate " + run, "hausdorff " + run + " " + walker, "simulate " + life}) {
+    const Output o = cli(args);
+    EXPECT_EQ(o.status, 1) << args << "\n" << o.out;
+    expect_one_line(o, args.find(life) != std::string::npos
+                           ? life + ": an HDF5 file (a plastivox recorded life), not a robot file"
+                           : not_robot);
+    EXPECT_EQ(o.out.find("NUL"), std::string::npos) << o.out;
+  }
+  // ... or where any JSON input belongs (a config), and an HDF5 file of another program.
+  Output o = cli("evolve --config " + run + " --out " + path("r2.h5"));
+  EXPECT_EQ(o.status, 1) << o.out;
+  expect_one_line(o, run + ": (file): an HDF5 file (a plastivox evolution results file), not JSON");
+  const std::string foreign = write("foreign.json", std::string("\x89HDF\r\n\x1a\n\0\0\0", 11));
+  o = cli("simulate " + foreign);
+  EXPECT_EQ(o.status, 1) << o.out;
+  expect_one_line(o, foreign + ": an HDF5 file, not a robot file (.json or .vxa)");
+}
+
 }  // namespace
 }  // namespace plastivox
