@@ -56,6 +56,9 @@ TEST_F(RenderCli, RefusalsNameTheProblemAndWriteNothing) {
        "--antialias expects edge, msaa or none"},
       {"render", "no/dir/f.png", "", 1, "no/dir/f.png"},
       {"gallery", "g.png", path("missing.h5") + " --size 400x200", 1, "missing.h5"},
+      // A name the PNG bytes would not match (it used to write PNG under .jpg).
+      {"render", "f.jpg", "", 2, "--out " + path("f.jpg") + ": render writes PNG only"},
+      {"render", "f.JPEG", "", 2, "render writes PNG only; name the file .png"},
   };
   for (const auto& c : cases) {
     const auto r = draw(c.command, c.out, c.options);
@@ -63,6 +66,12 @@ TEST_F(RenderCli, RefusalsNameTheProblemAndWriteNothing) {
     EXPECT_NE(r.out.find(c.message), std::string::npos) << r.out;
     EXPECT_EQ(files(), 1) << c.command << " " << c.options;
   }
+}
+
+TEST_F(RenderCli, PngNamesInAnyCaseAreWritten) {
+  const auto r = draw("render", "f.PNG", "--size 32x24 --samples 1");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(render::read_png(path("f.PNG")).width, 32);
 }
 
 TEST_F(RenderCli, VideoWritesADecodableMp4) {
