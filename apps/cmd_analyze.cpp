@@ -3,6 +3,9 @@
 // The library calls are analyze_study + write_study_outputs (the data), then the report from
 // the study read back from analysis.h5, as `plastivox experiment` makes it
 // (plastivox/analysis/study.hpp).
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -98,6 +101,34 @@ analysis::StudyOptions parse_options(Args& args, std::string* out, bool* viewer)
   return o;
 }
 
+// --out names a folder that analyze creates or adds to: refused before any work when
+// something else sits there (a file, /dev/null) or the folder cannot be written.
+void check_output_folder(const std::string& out) {
+  namespace fs = std::filesystem;
+  const std::string at = "--out " + out + ": ";
+  struct stat st {};
+  if (::stat(out.c_str(), &st) == 0) {
+    if (!S_ISDIR(st.st_mode))
+      throw InputError(at + (S_ISREG(st.st_mode) ? "is a file" : "is a device, pipe or socket") +
+                       ", not a folder (analyze writes a folder of outputs)");
+    if (::access(out.c_str(), W_OK | X_OK) != 0)
+      throw InputError(at + "the folder is not writable");
+    return;
+  }
+  // Not there yet: the nearest existing ancestor must be a writable folder to create it in.
+  fs::path up = fs::path(out).lexically_normal();
+  if (!up.has_filename()) up = up.parent_path();  // "dir/" -> "dir"
+  for (up = up.parent_path(); !up.empty(); up = up.parent_path()) {
+    if (::stat(up.c_str(), &st) == 0) break;
+    if (up == up.root_path()) break;
+  }
+  if (up.empty()) up = ".";
+  if (::stat(up.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    throw InputError(at + "cannot create the folder: " + up.string() + " is not a folder");
+  if (::access(up.c_str(), W_OK | X_OK) != 0)
+    throw InputError(at + "cannot create the folder: " + up.string() + " is not writable");
+}
+
 }  // namespace
 
 int cmd_analyze(const Args& in) {
@@ -105,6 +136,7 @@ int cmd_analyze(const Args& in) {
   std::string out;
   bool viewer = true;
   analysis::StudyOptions options = parse_options(args, &out, &viewer);
+  check_output_folder(out);  // before any results file is read or champion simulated
   options.cache_dir = (std::filesystem::path(out) / "cache").string();
   options.command = "plastivox analyze";
   for (const std::string& a : in) options.command += " " + a;

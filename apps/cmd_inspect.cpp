@@ -36,7 +36,10 @@ int cmd_inspect(const Args& in) {
   j["finished"] = s.finished();
   j["best_fitness"] = last.best_fitness;
   j["champion_id"] = last.champion_id;
-  j["champion_generation"] = champ.generation;
+  // The generation at whose end the champion first became the best (the results file's
+  // /champion attribute `generation`); it is still the champion at generations_done, the
+  // generation export and Results.champion() name it by.
+  j["champion_since_generation"] = champ.generation;
   j["champion_voxels"] = champ.phenotype.voxel_count();
   j["champion_status"] = to_string(static_cast<evo::EvalStatus>(champ.status));
   j["individuals"] = s.births.size();

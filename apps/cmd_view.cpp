@@ -3,9 +3,12 @@
 // from file:// with no network), one viewer and, for several inputs, a button per life. A
 // recorded life is shown as recorded; a robot or a run's champion is simulated once,
 // recording F frames per simulated second.
+#include <algorithm>
 #include <cstdio>
+#include <vector>
 
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/life_file.hpp"
 #include "plastivox/render/viewer.hpp"
 #include "plastivox/render_files.hpp"
 #include "render_cli.hpp"
@@ -15,8 +18,11 @@ namespace plastivox::cli {
 int cmd_view(const Args& in) {
   Args args = in;
   const std::string out = take_option(args, "--out", "");
-  const double fps = parse_number(take_option(args, "--fps", "30"), "--fps");
-  const int generation = parse_whole(take_option(args, "--generation", "-1"), "--generation");
+  const std::string fps_text = take_option(args, "--fps", "");
+  const std::string generation_text = take_option(args, "--generation", "");
+  const double fps = fps_text.empty() ? 30 : parse_number(fps_text, "--fps");
+  const int generation =
+      generation_text.empty() ? -1 : parse_whole(generation_text, "--generation");
   reject_unknown_options(args);
   if (args.empty())
     throw UsageError{
@@ -24,6 +30,28 @@ int cmd_view(const Args& in) {
         "--out page.html"};
   if (out.empty()) throw UsageError{"--out page.html is required"};
   if (!(fps > 0 && fps <= 1000)) throw UsageError{"--fps must be in (0, 1000]"};
+  // An option that applies to none of the inputs is refused, not ignored (as export does).
+  enum Kind { kRobot, kResults, kLife };
+  const auto kind = [](const std::string& file) {
+    if (!file.ends_with(".h5")) return kRobot;  // load_life_source's own test
+    return is_life_file(file) ? kLife : kResults;
+  };
+  const char* const kNames[] = {"a robot", "a results file", "a recorded life"};
+  const auto refuse_unless_any = [&](const std::string& option, const std::string& given,
+                                     const std::string& applies_to, std::vector<Kind> kinds) {
+    if (given.empty()) return;
+    for (const std::string& file : args)
+      if (std::find(kinds.begin(), kinds.end(), kind(file)) != kinds.end()) return;
+    throw UsageError{option + " applies to " + applies_to + "; " +
+                     (args.size() == 1
+                          ? args[0] + " is " + kNames[kind(args[0])]
+                          : "none of the " + std::to_string(args.size()) + " inputs is one")};
+  };
+  refuse_unless_any("--fps", fps_text,
+                    "a robot or a results file's champion, simulated here (a recorded life keeps "
+                    "its own frames)",
+                    {kRobot, kResults});
+  refuse_unless_any("--generation", generation_text, "a results file (.h5)", {kResults});
   render::check_output_path(out);
   // Each input loaded or simulated once (render::show_life), then packed into one page.
   std::vector<render::ShownLife> shown;

@@ -517,6 +517,55 @@ TEST_F(Study, BadInputsGiveOneClearLine) {
   EXPECT_EQ(r.champions.size(), 2u);
 }
 
+// The run of `seed` stopped after generation 0 of 1, written to `name`: a copy of run(t, seed)
+// that did not finish.
+std::string unfinished_run(const std::string& file, Treatment t, uint64_t seed) {
+  evo::EvolveConfig c = evo::parse_config(
+      R"({"format": "plastivox-evolve-config", "version": 1, "treatment": ")" +
+          std::string(to_string(t)) + R"(", "seed": )" + std::to_string(seed) +
+          R"(, "population": 4, "generations": 1, "lattice": {"nx": 4, "ny": 4, "nz": 4},
+             "physics": {"duration": 0.2, "settle_time": 0.1}})",
+      "tiny");
+  evo::RunOptions o;
+  o.threads = 1;
+  o.stop_after = 0;
+  EXPECT_EQ(evo::run_evolution(c, file, o).outcome, evo::RunOutcome::kStopped);
+  return file;
+}
+
+TEST_F(Study, TwoFilesOfOneRunAreOneReplicateNotTwo) {
+  // A finished run and an unfinished copy of it (same config and seed, 0 of 1 generations):
+  // one replicate, refused in one line naming both, not counted as stress-s1-r2.
+  const std::string a = run(Treatment::kStress, 1);
+  const std::string copy = unfinished_run(path("copy.h5"), Treatment::kStress, 1);
+  const std::string msg = error_of([&] { analyze_study({a, copy}, quick()); });
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  EXPECT_NE(msg.find(" are the same run (treatment stress, seed 1, config digest "),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find(a), std::string::npos) << msg;
+  EXPECT_NE(msg.find(copy), std::string::npos) << msg;
+  EXPECT_NE(msg.find("analyse one"), std::string::npos) << msg;
+  // The same seed under another treatment is another replicate.
+  EXPECT_EQ(analyze_study({a, run(Treatment::kNone, 1)}, quick()).champions.size(), 2u);
+}
+
+TEST_F(Study, RunsAtDifferentGenerationsAreAnalysedWithAWarning) {
+  const std::string done = run(Treatment::kStress, 1);
+  const std::string half = unfinished_run(path("half.h5"), Treatment::kStress, 2);
+  const StudyResult r = analyze_study({done, half}, quick());
+  ASSERT_EQ(r.warnings.size(), 1u);
+  const std::string& w = r.warnings[0];
+  EXPECT_NE(w.find("the runs reached different generations (" + half + ": 0, " + done + ": 1)"),
+            std::string::npos)
+      << w;
+  EXPECT_NE(w.find("--generation 0"), std::string::npos) << w;
+  // At one generation for all, no warning.
+  StudyOptions at0 = quick();
+  at0.generation = 0;
+  EXPECT_TRUE(analyze_study({done, half}, at0).warnings.empty());
+}
+
 TEST_F(Study, UnstableSimulationsAreRecordedNeverTurnedIntoNumbers) {
   // A run whose every simulation goes unstable (max_speed far below gravity's first step)
   // next to a normal one of the same treatment.
@@ -807,6 +856,7 @@ TEST_F(Study, CommandWritesEveryOutputAndResumes) {
 TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
   const std::string a = run(Treatment::kStress, 1);
   std::ofstream(path("junk.h5")) << "not hdf5";
+  const std::string file = write("afile", "x");
   struct Case {
     std::string args;
     int status;
@@ -821,6 +871,12 @@ TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
       {a + " --out " + path("o") + " --generation 9", 1, a + ": generation 9 not reached"},
       {a + " --out " + path("o") + " --treatments stress,pressure", 1,
        "treatment pressure: no results file given"},
+      // An --out that cannot be a folder: refused before any champion is loaded (the one
+      // line below is the whole output: no "load" line first).
+      {a + " --out " + file, 1, "--out " + file + ": is a file, not a folder"},
+      {a + " --out /dev/null", 1, "--out /dev/null: is a device, pipe or socket, not a folder"},
+      {a + " --out " + file + "/o", 1,
+       "--out " + file + "/o: cannot create the folder: " + file + " is not a folder"},
   };
   for (const Case& c : cases) {
     const testing::Output o = cli(c.args);

@@ -56,6 +56,34 @@ TEST_F(ExportTest, ChampionAsVxaResimulatesToTheRecordedFitness) {
   EXPECT_EQ(json_number(json, "fitness"), best);  // bit for bit: same robot, same physics
 }
 
+// inspect's champion generation cannot be read as the generation export names the champion by:
+// champion_since_generation is when it first became the best, export's is the last done.
+TEST_F(ExportTest, InspectSaysSinceWhenTheExportedChampionLeads) {
+  const CliRun info = cli("inspect " + (dir_ / "tiny.h5").string() + " --json");
+  ASSERT_EQ(info.status, 0) << info.out;
+  const nlohmann::json j = nlohmann::json::parse(info.out);
+  EXPECT_FALSE(j.contains("champion_generation")) << info.out;
+  const int since = j.at("champion_since_generation").get<int>();
+  const int done = j.at("generations_done").get<int>();
+  EXPECT_LE(since, done);
+  const CliRun text = cli("inspect " + (dir_ / "tiny.h5").string());
+  EXPECT_NE(text.out.find("since generation " + std::to_string(since) + ")"), std::string::npos)
+      << text.out;
+  const CliRun ex =
+      cli("export " + (dir_ / "tiny.h5").string() + " --out " + (dir_ / "c.json").string());
+  ASSERT_EQ(ex.status, 0) << ex.out;
+  EXPECT_NE(ex.out.find("champion " + std::to_string(j.at("champion_id").get<uint64_t>())),
+            std::string::npos)
+      << ex.out;
+  EXPECT_NE(ex.out.find("at generation " + std::to_string(done)), std::string::npos) << ex.out;
+  // Every key is documented.
+  std::ifstream in(std::string(PLASTIVOX_SOURCE_DIR) + "/docs/results-format.md");
+  const std::string doc((std::istreambuf_iterator<char>(in)), {});
+  for (const auto& [key, value] : j.items())
+    if (doc.find("`" + key + "`") == std::string::npos)
+      ADD_FAILURE() << "docs/results-format.md does not name inspect's key " << key;
+}
+
 TEST_F(ExportTest, ChampionAsPlastivoxRobotFile) {
   const CliRun ex = cli("export " + (dir_ / "tiny.h5").string() + " --out " +
                         (dir_ / "c.json").string() + " --generation 1");

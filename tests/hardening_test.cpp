@@ -778,5 +778,74 @@ TEST_F(Hardening, BadCommandLineValuesExitTwo) {
   EXPECT_EQ(o.out.find("JSON"), std::string::npos) << o.out;
 }
 
+TEST_F(Hardening, AnalyzeRefusesAnUnwritableOutFolderBeforeAnyWork) {
+  // As root, a tmpfs remounted read-only (root ignores permissions); otherwise a folder
+  // without write permission.
+  const std::string dir = path("ro");
+  const SmallTmpfs tmpfs(dir, "size=1m");
+  if (!tmpfs.mounted && geteuid() == 0) GTEST_SKIP() << tmpfs.why;
+  if (!tmpfs.mounted) fs::create_directories(dir);
+  struct Writable {  // made writable again, so it can be removed
+    std::string dir;
+    ~Writable() {
+      std::error_code ec;
+      fs::permissions(dir, fs::perms::owner_all, ec);
+    }
+  } writable{dir};
+  fs::create_directories(dir + "/old");
+  if (tmpfs.mounted)
+    ASSERT_EQ(mount("tmpfs", dir.c_str(), "tmpfs", MS_REMOUNT | MS_RDONLY, nullptr), 0)
+        << std::strerror(errno);
+  else
+    fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
+  if (!tmpfs.mounted) fs::permissions(dir + "/old", fs::perms::owner_read | fs::perms::owner_exec);
+  ASSERT_EQ(
+      cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
+      0);
+  for (const std::string& out : {dir + "/new", dir + "/old"}) {
+    const Output o = cli("analyze " + path("r.h5") + " --out " + out);
+    EXPECT_EQ(o.status, 1) << o.out;
+    expect_one_line(o, "--out " + out + ": ");  // no "load" or "robustness" line first
+    EXPECT_NE(o.out.find("not writable"), std::string::npos) << o.out;
+  }
+}
+
+// A plastivox file of one kind given where another is expected is named as what it is.
+TEST_F(Hardening, AFileOfAnotherPlastivoxKindIsNamedAsSuch) {
+  const std::string walker = walker_with(R"({"duration": 0.05, "settle_time": 0})");
+  ASSERT_EQ(cli("simulate " + walker + " --record " + path("life.h5")).status, 0);
+  ASSERT_EQ(
+      cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
+      0);
+  const std::string life = path("life.h5"), run = path("r.h5");
+  const std::string not_results = life + ": a recorded life, not an evolution results file";
+  for (const std::string& args : {"inspect " + life, "export " + life + " --out " + path("x.json"),
+                                  "analyze " + life + " --out " + path("study")}) {
+    const Output o = cli(args);
+    EXPECT_EQ(o.status, 1) << args << "\n" << o.out;
+    expect_one_line(o, not_results);
+  }
+  // A results file where a robot belongs: an HDF5 file, not "a NUL byte at offset 110".
+  const std::string not_robot =
+      run + ": an HDF5 file (a plastivox evolution results file), not a robot file (.json or .vxa)";
+  for (const std::string& args :
+       {"simulate " + run, "hausdorff " + run + " " + walker, "simulate " + life}) {
+    const Output o = cli(args);
+    EXPECT_EQ(o.status, 1) << args << "\n" << o.out;
+    expect_one_line(o, args.find(life) != std::string::npos
+                           ? life + ": an HDF5 file (a plastivox recorded life), not a robot file"
+                           : not_robot);
+    EXPECT_EQ(o.out.find("NUL"), std::string::npos) << o.out;
+  }
+  // ... or where any JSON input belongs (a config), and an HDF5 file of another program.
+  Output o = cli("evolve --config " + run + " --out " + path("r2.h5"));
+  EXPECT_EQ(o.status, 1) << o.out;
+  expect_one_line(o, run + ": (file): an HDF5 file (a plastivox evolution results file), not JSON");
+  const std::string foreign = write("foreign.json", std::string("\x89HDF\r\n\x1a\n\0\0\0", 11));
+  o = cli("simulate " + foreign);
+  EXPECT_EQ(o.status, 1) << o.out;
+  expect_one_line(o, foreign + ": an HDF5 file, not a robot file (.json or .vxa)");
+}
+
 }  // namespace
 }  // namespace plastivox

@@ -316,6 +316,9 @@ TEST_F(RecordedLives, ForeignAndBrokenFilesAreRefusedInOneLine) {
   // test for a recorded life does not hand it to HDF5 either.
   write_file_atomic(path("r.h5"), "plastivox-evolution-results\nseal_version 1\n");
   EXPECT_FALSE(is_life_file(path("r.h5")));
+  // ... and read as one, it is named as what it is.
+  const std::string r = testing::error_of([&] { read_life_file(path("r.h5")); });
+  EXPECT_NE(r.find("r.h5: an evolution results file, not a recorded life"), std::string::npos) << r;
   const std::string e = testing::error_of([&] { read_life_file(path("x.h5")); });
   EXPECT_NE(e.find("x.h5: not an HDF5 file"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;

@@ -59,6 +59,9 @@ TEST_F(RenderCli, RefusalsNameTheProblemAndWriteNothing) {
        "--antialias expects edge, msaa or none"},
       {"render", "no/dir/f.png", "", 1, "no/dir/f.png"},
       {"gallery", "g.png", path("missing.h5") + " --size 400x200", 1, "missing.h5"},
+      // A name the PNG bytes would not match (it used to write PNG under .jpg).
+      {"render", "f.jpg", "", 2, "--out " + path("f.jpg") + ": render writes PNG only"},
+      {"render", "f.JPEG", "", 2, "render writes PNG only; name the file .png"},
   };
   for (const auto& c : cases) {
     const auto r = draw(c.command, c.out, c.options);
@@ -92,6 +95,44 @@ TEST_F(RenderCli, TheLifesOwnEndTimeRenders) {
             std::string::npos)
       << r.out;
   EXPECT_FALSE(std::filesystem::exists(path("late.png")));
+}
+
+TEST_F(RenderCli, PngNamesInAnyCaseAreWritten) {
+  const auto r = draw("render", "f.PNG", "--size 32x24 --samples 1");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(render::read_png(path("f.PNG")).width, 32);
+}
+
+// view refuses an option that applies to none of its inputs, in one line, as export does
+// (they used to be ignored: --fps for a recorded life, --generation for a robot).
+TEST_F(RenderCli, ViewRefusesOptionsThatDoNotApplyToItsInputs) {
+  PhysicsDef short_life;
+  short_life.duration = 0.3;
+  short_life.settle_time = 0.1;
+  write_robot_file(path("walker.json"), demo_walker(), &short_life);
+  const std::string life = path("life.h5"), robot = path("walker.json");
+  const auto recorded = cli("simulate " + robot + " --record " + life);
+  ASSERT_EQ(recorded.status, 0) << recorded.out;
+  const struct {
+    std::string inputs, options, message;
+  } cases[] = {
+      {life, "--fps 10", "--fps applies to a robot or a results file's champion, simulated here"},
+      {life, "--fps 10", "; " + life + " is a recorded life"},
+      {robot, "--generation 3",
+       "--generation applies to a results file (.h5); " + robot + " is a robot"},
+      {life, "--generation 0", "; " + life + " is a recorded life"},
+      {life + " " + robot, "--generation 3", "; none of the 2 inputs is one"},
+  };
+  for (const auto& c : cases) {
+    const auto r = cli("view " + c.inputs + " --out " + path("page.html") + " " + c.options);
+    EXPECT_EQ(r.status, 2) << c.inputs << " " << c.options << ": " << r.out;
+    EXPECT_NE(r.out.find(c.message), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(path("page.html")));
+  }
+  // Where it applies to one of the inputs, it is taken.
+  const auto ok = cli("view " + life + " " + robot + " --fps 10 --out " + path("page.html"));
+  EXPECT_EQ(ok.status, 0) << ok.out;
 }
 
 TEST_F(RenderCli, VideoWritesADecodableMp4) {

@@ -52,6 +52,14 @@ def test_bad_results_files(tmp_path):
     junk.write_bytes(b"not hdf5 at all" * 10)
     with pytest.raises(plastivox.InputError, match="junk.h5"):
         plastivox.read_results(junk)
+    # A recorded life is named as one, not "not HDF5, or its header is damaged".
+    walker = tmp_path / "walker.json"
+    plastivox.demo_walker().with_physics({"duration": 0.05, "settle_time": 0}).save(walker)
+    life = tmp_path / "life.h5"
+    run_cli("simulate", str(walker), "--record", str(life))
+    with pytest.raises(plastivox.InputError,
+                       match="life.h5: a recorded life, not an evolution results file"):
+        plastivox.read_results(life)
     with pytest.raises(plastivox.InputError, match="population"):
         plastivox.evolve({**tiny_config(), "population": 0}, str(tmp_path / "x.h5"))
     with pytest.raises(TypeError, match="config"):

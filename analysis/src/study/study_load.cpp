@@ -23,6 +23,9 @@ struct Loaded {
   StudyInput input;
   ChampionAnalysis champion;
   std::string physics_without_treatment;  // resolved physics with treatment none
+  // The config's identity (treatment and seed included) without the planned generations: two
+  // files with equal replicate keys hold one evolutionary trajectory, however far each got.
+  std::string replicate_key;
 };
 
 // The run's best and mean fitness and lineage count for generations 0..last.
@@ -88,6 +91,9 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
   PhysicsDef neutral = run.config.physics;
   neutral.treatment = Treatment::kNone;
   l.physics_without_treatment = evo::resolved_physics_json(neutral);
+  nlohmann::json identity = nlohmann::json::parse(run.config.identity_json());
+  identity.erase("generations");
+  l.replicate_key = identity.dump();
 
   ChampionAnalysis& c = l.champion;
   c.treatment = run.config.treatment;
@@ -170,6 +176,22 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
     if (all[i].input.content_digest == all[i - 1].input.content_digest)
       throw std::runtime_error(all[i].input.file + ": the same run as " + all[i - 1].input.file +
                                " (content digest " + all[i].input.content_digest + ")");
+  // Pseudo-replication: two files of the same config and seed (say a finished run and an
+  // unfinished copy of it) are one replicate, not two independent ones.
+  for (size_t i = 0; i < all.size(); ++i)
+    for (size_t j = i + 1; j < all.size(); ++j)
+      if (all[i].replicate_key == all[j].replicate_key) {
+        evo::Hasher h;
+        h.str(all[i].replicate_key);
+        const auto done = [](const Loaded& l) {
+          return std::to_string(l.input.generations_done) + " generations done";
+        };
+        throw std::runtime_error(
+            all[i].input.file + " and " + all[j].input.file + " are the same run (treatment " +
+            to_string(all[i].input.treatment) + ", seed " + std::to_string(all[i].input.seed) +
+            ", config digest " + h.finish().hex().substr(0, 12) + "; " + done(all[i]) + " and " +
+            done(all[j]) + "), not two replicates: analyse one");
+      }
   check_treatments(all, options);
 
   // Physics: every run must have been simulated alike, apart from the treatment.
@@ -185,6 +207,21 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
     if (!options.allow_mixed_physics)
       throw std::runtime_error(what + "; pass --allow-mixed-physics to analyse them anyway");
     out.warnings.push_back(what + "; each champion is re-simulated with its own run's physics");
+  }
+
+  // Champions taken at different generations (each file's last, and the files got to
+  // different generations) are compared across unequal amounts of evolution.
+  if (options.generation < 0) {
+    const auto [lo, hi] = std::minmax_element(
+        all.begin(), all.end(),
+        [](const Loaded& a, const Loaded& b) { return a.input.generation < b.input.generation; });
+    if (lo->input.generation != hi->input.generation)
+      out.warnings.push_back(
+          "the runs reached different generations (" + lo->input.file + ": " +
+          std::to_string(lo->input.generation) + ", " + hi->input.file + ": " +
+          std::to_string(hi->input.generation) +
+          "), so their last champions had unequal evolution; pass --generation " +
+          std::to_string(lo->input.generation) + " to compare them at one generation");
   }
 
   // Labels "<treatment>-s<seed>", made unique with "-r2", "-r3", ... in sorted order.

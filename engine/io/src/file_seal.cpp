@@ -22,6 +22,18 @@ namespace {
 
 constexpr const char* kHdf5Signature = "\x89HDF\r\n\x1a\n";
 
+// Every kind of sealed file plastivox writes.
+constexpr const Kind* kKinds[] = {&kResults, &kLife};
+
+bool starts_with(std::string_view bytes, const char* prefix) {
+  return bytes.substr(0, std::strlen(prefix)) == prefix;
+}
+
+// "a recorded life", "an evolution results file".
+std::string with_article(const char* what) {
+  return (std::strchr("aeiou", what[0]) ? "an " : "a ") + std::string(what);
+}
+
 std::string read_all(const std::string& file, const std::string& name) {
   try {  // a results file may be large: no size limit, but only a regular file
     return read_file_bytes(file, std::numeric_limits<uint64_t>::max());
@@ -74,6 +86,10 @@ void check_seal(const std::string& file, const Kind& kind) {
   const size_t magic_len = std::strlen(kind.magic);
   const std::string what = kind.what;
   if (bytes.size() < magic_len || std::memcmp(bytes.data(), kind.magic, magic_len) != 0) {
+    for (const Kind* other : kKinds)
+      if (starts_with(bytes, other->magic))
+        throw ResultsError(file + ": " + with_article(other->what) + ", not " +
+                           with_article(kind.what));
     if (bytes.size() >= 8 && std::memcmp(bytes.data(), kHdf5Signature, 8) == 0)
       throw ResultsError(file + ": an HDF5 file, but not a plastivox " + what);
     if (bytes.empty()) throw ResultsError(file + ": empty file, not a plastivox " + what);
@@ -102,6 +118,13 @@ void check_seal(const std::string& file, const Kind& kind) {
                        " unexpected bytes after its end (modified after writing?)" + kCopyOut);
   if (payload_hash(bytes).hex() != hash)
     throw ResultsError(file + ": corrupt (content does not match its checksum)" + kCopyOut);
+}
+
+std::string describe_hdf5(std::string_view head) {
+  for (const Kind* k : kKinds)
+    if (starts_with(head, k->magic))
+      return "an HDF5 file (a plastivox " + std::string(k->what) + ")";
+  return starts_with(head, kHdf5Signature) ? "an HDF5 file" : "";
 }
 
 }  // namespace plastivox::seal

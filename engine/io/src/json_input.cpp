@@ -7,6 +7,7 @@
 
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/base/one_line.hpp"
+#include "plastivox/io/file_seal.hpp"
 #include "plastivox/task.hpp"
 
 namespace plastivox {
@@ -85,6 +86,10 @@ class InputChecker : public nlohmann::json_sax<nlohmann::json> {
 nlohmann::json parse_json_input(std::string_view text, const std::string& source,
                                 const std::string& field) {
   using nlohmann::json;
+  // A results file or recorded life given where JSON belongs: say what it is, not where its
+  // first NUL byte sits.
+  if (const std::string hdf5 = seal::describe_hdf5(text); !hdf5.empty())
+    throw InputError(source + ": " + field + ": " + hdf5 + ", not JSON");
   if (const size_t nul = text.find('\0'); nul != std::string_view::npos)
     throw InputError(source + ": " + field + ": not valid JSON: a NUL byte at offset " +
                      std::to_string(nul));

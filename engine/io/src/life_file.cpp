@@ -134,8 +134,10 @@ bool is_life_file(const std::string& path) {
 RecordedLife read_life_file(const std::string& path) {
   // A sealed life is checked whole before HDF5 parses a byte of it: a flipped bit or a changed
   // metadata byte crashed HDF5 1.10 inside a string attribute's read. A life written before
-  // seals (2026-12-05) has none and is read as before.
-  if (seal::has_seal(path, seal::kLife)) seal::check_seal(path, seal::kLife);
+  // seals (2026-12-05) has none and is read as before. A results file (sealed as such) is
+  // named as one, not handed to HDF5.
+  if (seal::has_seal(path, seal::kLife) || seal::has_seal(path, seal::kResults))
+    seal::check_seal(path, seal::kLife);
   const Ctx c = h5::read_context(path);
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw ResultsError(path + ": not an HDF5 file (wrong format, or corrupt or truncated)");

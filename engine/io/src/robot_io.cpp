@@ -1,14 +1,39 @@
 #include "plastivox/io/robot_io.hpp"
 
+#include <sys/stat.h>
+
+#include <cstdio>
 #include <stdexcept>
 
+#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/io/file_seal.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/io/voxcraft.hpp"
 #include "plastivox/io/vxa.hpp"
 
 namespace plastivox {
 
+namespace {
+
+// A results file or recorded life given as a robot is named as such (a JSON or XML reader
+// would call it malformed text). Anything but a readable regular file is left to the readers
+// (opening a pipe would block).
+void refuse_hdf5(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return;
+  char head[64] = {};
+  const size_t got = std::fread(head, 1, sizeof head, f);
+  std::fclose(f);
+  const std::string what = seal::describe_hdf5(std::string_view(head, got));
+  if (!what.empty()) throw InputError(path + ": " + what + ", not a robot file (.json or .vxa)");
+}
+
+}  // namespace
+
 LoadedRobot load_robot(const std::string& path, const std::string& vxd) {
+  refuse_hdf5(path);
   LoadedRobot out;
   if (!vxd.empty() || path.ends_with(".vxa")) {
     VxaRobot v = vxd.empty() ? read_vxa_file(path) : read_voxcraft(path, vxd);

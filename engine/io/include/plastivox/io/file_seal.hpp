@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace plastivox::seal {
 
@@ -38,7 +39,15 @@ void write_seal(const std::string& file, const std::string& name);
 // True when `file` starts with the seal header of `kind` (whatever follows).
 bool has_seal(const std::string& file, const Kind& kind);
 
-// Throws ResultsError when `file` is not a sealed file of `kind` or its payload differs.
+// Throws ResultsError when `file` is not a sealed file of `kind` or its payload differs. A
+// sealed file of another kind is named as what it is ("life.h5: a recorded life, not an
+// evolution results file").
 void check_seal(const std::string& file, const Kind& kind = kResults);
+
+// What a file starting with `head` (its first bytes) is when it is HDF5: "an HDF5 file (a
+// plastivox recorded life)" for a sealed kind, "an HDF5 file" for HDF5's own signature at
+// the start; "" otherwise. For the readers of text formats, which would otherwise call such a
+// file "not valid JSON".
+std::string describe_hdf5(std::string_view head);
 
 }  // namespace plastivox::seal

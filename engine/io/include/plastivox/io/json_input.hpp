@@ -22,7 +22,9 @@ constexpr int kMaxJsonDepth = 32;
 // Throws InputError: "<source>: <field>: not valid JSON: ..." for a syntax error (field is
 // "(file)" for a whole file), "<source>: <a.b.key>: given twice" for a duplicate key,
 // "<source>: <field>: nested deeper than 32 levels" and "<source>: <field>: a NUL byte at
-// offset N" (nlohmann's parser would stop there and ignore whatever follows).
+// offset N" (nlohmann's parser would stop there and ignore whatever follows), and
+// "<source>: <field>: an HDF5 file (a plastivox evolution results file), not JSON" for text
+// that starts as an HDF5 file does (seal::describe_hdf5).
 nlohmann::json parse_json_input(std::string_view text, const std::string& source,
                                 const std::string& field = "(file)");
 
