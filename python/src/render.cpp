@@ -1,13 +1,16 @@
 // Rendering for Python: one frame of a robot's life (off-screen, OSMesa) as an (h, w, 3)
 // uint8 array, optionally written as a PNG; the same call as `plastivox render`. Also a
 // simulator's present state (VoxelEnv.render).
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "plastivox/life.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render_files.hpp"
@@ -33,9 +36,14 @@ pyb::array_t<uint8_t> render_source(const render::LifeSource& source, double tim
                                     const std::string& color, int width, int height, bool overlay,
                                     double zoom, double azimuth, double elevation,
                                     const std::string& antialias, const std::string& out) {
-  if (!(time >= 0 && time <= source.physics.duration))
+  // The life ends at its first step past the duration, so its own end time (Result.sim_time,
+  // VoxelEnv's last info["time"]) is within it; the frames' source refuses a time past the
+  // last step precisely (plastivox/life.hpp).
+  const double end = source.physics.duration + (source.model ? longest_step(*source.model) : 0.0);
+  if (!(time >= 0 && time <= end))
     throw std::invalid_argument("time: must be within the life, [0, " +
-                                std::to_string(source.physics.duration) + "] s");
+                                std::to_string(source.physics.duration) +
+                                "] s (it ends at its first step past that)");
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw std::invalid_argument("size: each side must be 1..16384 pixels");
   if (!(zoom > 0 && std::isfinite(zoom))) throw std::invalid_argument("zoom: must be > 0");
@@ -62,7 +70,14 @@ pyb::array_t<uint8_t> render_source(const render::LifeSource& source, double tim
     style.samples = render::kEdgeAntialiasing;
   else
     throw std::invalid_argument("antialias: expected msaa, edge or none, got '" + antialias + "'");
-  if (!out.empty()) render::check_output_path(out);
+  if (!out.empty()) {
+    // The frame is encoded as PNG whatever the name says, as `plastivox render --out` refuses.
+    std::string ext = std::filesystem::path(out).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (!ext.empty() && ext != ".png")
+      throw std::invalid_argument("out: " + out + ": render writes PNG only; name the file .png");
+    render::check_output_path(out);
+  }
   std::vector<uint8_t> rgba;
   {
     pyb::gil_scoped_release unlocked;

@@ -103,3 +103,22 @@ def test_generation_applies_to_a_results_file_only(tiny_run, tmp_path):
     assert np.array_equal(first, plastivox.render(path, generation=1, time=0.2, size=(32, 24)))
     with pytest.raises(ValueError, match=r"^generation: expected a generation number or -1"):
         plastivox.render(res, generation=-2, size=(32, 24))
+
+def test_the_lifes_own_end_time_renders():
+    # A life ends at its first step past the duration: Result.sim_time is within it (the
+    # last frame), a time well past it is not.
+    robot = plastivox.demo_walker().with_physics({"duration": 0.3, "settle_time": 0.1})
+    result = plastivox.simulate(robot)
+    assert result.sim_time > 0.3
+    last = plastivox.render(robot, time=result.sim_time, size=(64, 48))
+    assert last.shape == (48, 64, 3) and last.std() > 5
+    with pytest.raises(ValueError, match="time"):
+        plastivox.render(robot, time=0.6, size=(64, 48))
+
+def test_an_output_name_other_than_png_is_refused(tmp_path):
+    robot = plastivox.demo_walker().with_physics({"duration": 0.3, "settle_time": 0.1})
+    with pytest.raises(ValueError, match="PNG only"):
+        plastivox.render(robot, time=0.1, size=(32, 24), out=tmp_path / "frame.jpg")
+    assert not (tmp_path / "frame.jpg").exists()
+    plastivox.render(robot, time=0.1, size=(32, 24), out=tmp_path / "frame.PNG")
+    assert (tmp_path / "frame.PNG").exists()
