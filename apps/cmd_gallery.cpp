@@ -40,6 +40,7 @@ int cmd_gallery(const Args& in) {
     throw UsageError{
         "expected results files: plastivox gallery RUN.h5 [RUN.h5 ...] --out gallery.png"};
   if (out.empty()) throw UsageError{"--out gallery.png is required"};
+  check_png_out(out, "gallery");
   if (style.columns < 0) throw UsageError{"--columns must be >= 0"};
   try {
     render::check_gallery_size(style, static_cast<int>(args.size()));

@@ -1,8 +1,6 @@
 // plastivox render ROBOT_OR_RESULTS --out frame.png [--time T] [--color MODE] [--size WxH] ...:
 // one frame of a robot's (or a run champion's) life as a PNG.
-#include <cctype>
 #include <cstdio>
-#include <filesystem>
 
 #include "plastivox/render_files.hpp"
 #include "render_cli.hpp"
@@ -19,11 +17,7 @@ int cmd_render(const Args& in) {
   if (args.size() != 1)
     throw UsageError{"expected one robot or results file: plastivox render ROBOT --out frame.png"};
   if (out.empty()) throw UsageError{"--out frame.png is required"};
-  // The frame is encoded as PNG whatever the name says: another extension would mislabel it.
-  std::string ext = std::filesystem::path(out).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (!ext.empty() && ext != ".png")
-    throw UsageError{"--out " + out + ": render writes PNG only; name the file .png"};
+  check_png_out(out, "render");
   if (time < 0) throw UsageError{"--time must be >= 0"};
   render::render_frame_file(args[0], time, style, out,
                             [](const std::string& s) { log_line("render", s); });

@@ -1,8 +1,10 @@
 // Command-line options shared by `plastivox render`, `video` and `gallery`.
 #pragma once
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "cli.hpp"
@@ -23,6 +25,15 @@ inline int parse_whole(const std::string& text, const std::string& option) {
   if (v != std::floor(v) || std::abs(v) > 1e9)
     throw UsageError{option + " expects a whole number, got '" + text + "'"};
   return static_cast<int>(v);
+}
+
+// An --out that names a PNG: the image is encoded as PNG whatever the name says, so another
+// extension (.jpg) would mislabel it. No extension, or .png in any case, is taken.
+inline void check_png_out(const std::string& out, const char* command) {
+  std::string ext = std::filesystem::path(out).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (!ext.empty() && ext != ".png")
+    throw UsageError{"--out " + out + ": " + command + " writes PNG only; name the file .png"};
 }
 
 // "WxH" -> width, height (1..16384 each).

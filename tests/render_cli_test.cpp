@@ -62,6 +62,8 @@ TEST_F(RenderCli, RefusalsNameTheProblemAndWriteNothing) {
       // A name the PNG bytes would not match (it used to write PNG under .jpg).
       {"render", "f.jpg", "", 2, "--out " + path("f.jpg") + ": render writes PNG only"},
       {"render", "f.JPEG", "", 2, "render writes PNG only; name the file .png"},
+      {"gallery", "g.jpg", path("missing.h5"), 2,
+       "--out " + path("g.jpg") + ": gallery writes PNG only"},
   };
   for (const auto& c : cases) {
     const auto r = draw(c.command, c.out, c.options);
