@@ -1,14 +1,13 @@
 // Command-line options shared by `plastivox render`, `video` and `gallery`.
 #pragma once
 
-#include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <string>
 
 #include "cli.hpp"
 #include "plastivox/render/error.hpp"
+#include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
 
 namespace plastivox::cli {
@@ -30,9 +29,7 @@ inline int parse_whole(const std::string& text, const std::string& option) {
 // An --out that names a PNG: the image is encoded as PNG whatever the name says, so another
 // extension (.jpg) would mislabel it. No extension, or .png in any case, is taken.
 inline void check_png_out(const std::string& out, const char* command) {
-  std::string ext = std::filesystem::path(out).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (!ext.empty() && ext != ".png")
+  if (!render::is_png_name(out))
     throw UsageError{"--out " + out + ": " + command + " writes PNG only; name the file .png"};
 }
 

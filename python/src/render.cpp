@@ -1,9 +1,7 @@
 // Rendering for Python: one frame of a robot's life (off-screen, OSMesa) as an (h, w, 3)
 // uint8 array, optionally written as a PNG; the same call as `plastivox render`. Also a
 // simulator's present state (VoxelEnv.render).
-#include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <memory>
 #include <mutex>
 
@@ -72,9 +70,7 @@ pyb::array_t<uint8_t> render_source(const render::LifeSource& source, double tim
     throw std::invalid_argument("antialias: expected msaa, edge or none, got '" + antialias + "'");
   if (!out.empty()) {
     // The frame is encoded as PNG whatever the name says, as `plastivox render --out` refuses.
-    std::string ext = std::filesystem::path(out).extension().string();
-    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    if (!ext.empty() && ext != ".png")
+    if (!render::is_png_name(out))
       throw std::invalid_argument("out: " + out + ": render writes PNG only; name the file .png");
     render::check_output_path(out);
   }

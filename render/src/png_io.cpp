@@ -3,6 +3,8 @@
 // depend only on the pixels (and the libpng/zlib versions).
 #include <png.h>
 
+#include <cctype>
+#include <filesystem>
 #include <string_view>
 
 #include "plastivox/base/error.hpp"  // InputError
@@ -56,6 +58,12 @@ Image read_png(const std::string& path) {
     throw RenderError(path + ": cannot decode PNG: " + image.message);
   }
   return out;
+}
+
+bool is_png_name(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext.empty() || ext == ".png";
 }
 
 }  // namespace plastivox::render

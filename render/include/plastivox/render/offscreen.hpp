@@ -124,6 +124,9 @@ class ImGuiLayer {
 // Deterministic bytes (no time stamp or text chunks); written to a temporary and renamed
 // so no half-written file is ever left under path. Throws RenderError naming path.
 void write_png(const std::string& path, const std::vector<uint8_t>& rgba, int width, int height);
+// Whether path's name fits the PNG bytes write_png puts there: no extension, or .png in any
+// case (another, such as .jpg, would mislabel the file).
+bool is_png_name(const std::string& path);
 // The same PNG's bytes, in memory (`what` names the image in errors).
 std::string encode_png(const std::vector<uint8_t>& rgba, int width, int height,
                        const std::string& what);
