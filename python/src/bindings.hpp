@@ -100,6 +100,9 @@ using UseSimulator = void (*)(const pyb::handle& self, const std::function<void(
 // An actuation signal a caller hands over (control.cpp), checked: a float array of shape (n,)
 // with every value in [-1, 1]; errors (TypeError, ValueError) begin with `name`, the argument.
 std::vector<double> checked_actuation(const pyb::handle& given, int n, const std::string& name);
+// The actuation phase of the robot's voxels (Model::robot_n: the values an actuation signal
+// takes; free objects do not actuate), cycles, as a numpy array (control.cpp).
+pyb::array_t<double> robot_phase(const Model& model);
 // The row of kSensorFields named `name`; else std::invalid_argument "<what>: no sensor named
 // 'x' (sensors: touch, ...)" (control.cpp).
 const SensorField& sensor_named(const std::string& name, const std::string& what);

@@ -45,6 +45,10 @@ const SensorField& sensor_named(const std::string& name, const std::string& what
 
 // Within kSignalSlack of [-1, 1]: the engine's own sine, which a Python controller replays,
 // reaches -1 - 2.2e-16 at 0.75 cycles.
+pyb::array_t<double> robot_phase(const Model& model) {
+  return to_array(std::vector<double>(model.phase.begin(), model.phase.begin() + model.robot_n));
+}
+
 std::vector<double> checked_actuation(const pyb::handle& given, int n, const std::string& name) {
   const pyb::array a = pyb::array::ensure(given);
   if (!a)
@@ -169,10 +173,7 @@ void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimula
 
   method("voxel_phase", [use](const pyb::handle& self) {
     pyb::array_t<double> out;
-    use(self, [&](Simulator& sim) {  // the robot's voxels, as set_actuation takes them
-      const std::vector<double>& phase = sim.model().phase;
-      out = to_array(std::vector<double>(phase.begin(), phase.begin() + sim.model().robot_n));
-    });
+    use(self, [&](Simulator& sim) { out = robot_phase(sim.model()); });
     return out;
   });
 

@@ -136,12 +136,8 @@ void bind_env(pyb::module_& m) {
       .def_property_readonly("dt", [](const PyEpisode& e) { return e.sim().state().dt; })
       .def_property_readonly("act_frequency",
                              [](const PyEpisode& e) { return e.model().def.act_frequency; })
-      .def_property_readonly(
-          "voxel_phase",
-          [](const PyEpisode& e) {  // the robot's voxels, as the action
-            const std::vector<double>& phase = e.model().phase;
-            return to_array(std::vector<double>(phase.begin(), phase.begin() + e.model().robot_n));
-          })
+      .def_property_readonly("voxel_phase",
+                             [](const PyEpisode& e) { return robot_phase(e.model()); })
       .def_property_readonly("task",
                              [](const PyEpisode& e) { return to_string(e.model().def.task); })
       .def_property_readonly("state_hash",
