@@ -300,7 +300,9 @@ def demo_walker():
 
 def physics(preset="gecco2018-code", **overrides):
     """Every physics field of `preset` with `overrides` applied: a PhysicsDef (also read as a
-    mapping: physics()["duration"], dict(physics()), to_dict()). Unknown fields and bad
+    mapping: physics()["duration"], dict(physics()), to_dict()). Without a "treatment" among the
+    overrides its treatment is None: passed to simulate, Simulator or with_physics it keeps the
+    robot's treatment, as a dict without one does. Unknown fields and bad
     values raise plastivox.InputError / ValueError naming the field."""
     return PhysicsDef(preset, **overrides)
 

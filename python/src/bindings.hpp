@@ -35,10 +35,18 @@ struct PyRobot {
   std::string source;  // file path, or the robot's name for robots built in Python
 };
 
+// plastivox.PhysicsDef: every physics field, and whether its treatment was named (given to
+// physics(), set, or replaced). One that names none keeps the robot's treatment wherever it
+// is passed, as a dict without "treatment" does (resolve_physics); its treatment reads None.
+// robot.physics names the robot's.
+struct PyPhysics : PhysicsDef {
+  bool treatment_named = false;
+};
+
 // The physics of one call (physics.cpp): the robot's own (`base`), or `physics` when it is a
-// PhysicsDef, or base with the fields of `physics` applied when it is a dict ("preset"
-// first); then `treatment`; validated. Throws InputError / std::invalid_argument /
-// pyb::type_error naming the field or argument.
+// PhysicsDef (with base's treatment when it names none), or base with the fields of `physics`
+// applied when it is a dict ("preset" first); then `treatment`; validated. Throws InputError /
+// std::invalid_argument / pyb::type_error naming the field or argument.
 PhysicsDef resolve_physics(const PhysicsDef& base, const pyb::object& physics,
                            const std::optional<std::string>& treatment);
 

@@ -218,7 +218,13 @@ void set_treatment_and_law(PhysicsDef& d, const pyb::dict& t, const pyb::dict& f
   }
 }
 
-// d with the fields of `fields` applied ("preset" first, when given), validated.
+// Whether `fields` names a treatment ("treatment": None names none: the robot's stays).
+bool names_treatment(const pyb::dict& fields) {
+  return fields.contains("treatment") && !fields["treatment"].is_none();
+}
+
+// d with the fields of `fields` applied ("preset" first, when given: every field of that
+// preset but d's treatment and task, as the command line's --preset), validated.
 PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
   for (const auto& [key, value] : fields) {
     if (!pyb::isinstance<pyb::str>(key))
@@ -227,11 +233,15 @@ PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
     if (key.cast<std::string>() != "preset") continue;
     if (!pyb::isinstance<pyb::str>(value))
       throw std::invalid_argument("physics.preset: expected a preset's name");
+    const PhysicsDef before = d;
     d = preset(value.cast<std::string>());
+    d.treatment = before.treatment;
+    d.task = before.task;
+    d.task_params = before.task_params;
   }
   for (const auto& [key, value] : fields) {
     const std::string name = key.cast<std::string>();
-    if (name == "preset") continue;
+    if (name == "preset" || (name == "treatment" && value.is_none())) continue;
     if (name == "environment") {
       set_environment(d, value);
       continue;
@@ -258,6 +268,27 @@ pyb::dict to_dict(const PhysicsDef& d) {
   pyb::dict out;
   for (const PhysicsField& f : kPhysicsFields) out[f.name] = field_value(d, f);
   if (d.environment.active()) out["environment"] = environment_value(d);  // as files write it
+  return out;
+}
+
+// A PhysicsDef's field as Python reads it: the treatment is None when it names none.
+pyb::object py_field_value(const PyPhysics& d, const PhysicsField& f) {
+  if (!d.treatment_named && std::strcmp(f.name, "treatment") == 0) return pyb::none();
+  return field_value(d, f);
+}
+
+pyb::dict py_dict(const PyPhysics& d) {
+  pyb::dict out = to_dict(d);
+  if (!d.treatment_named) out["treatment"] = pyb::none();  // applied as a dict, keeps the robot's
+  return out;
+}
+
+// d with `fields` applied; the treatment is named once a field names it, and unnamed again
+// by "treatment": None (back to the preset's, none, until it is passed).
+PyPhysics py_with_fields(const PyPhysics& d, const pyb::dict& fields) {
+  PyPhysics out{{with_fields(d, fields)}, d.treatment_named};
+  if (fields.contains("treatment")) out.treatment_named = names_treatment(fields);
+  if (!out.treatment_named) out.treatment = Treatment::kNone;
   return out;
 }
 
@@ -323,9 +354,11 @@ pyb::dict physics_dict(const PhysicsDef& d) {
 PhysicsDef resolve_physics(const PhysicsDef& base, const pyb::object& physics,
                            const std::optional<std::string>& treatment) {
   PhysicsDef d = base;
-  if (pyb::isinstance<PhysicsDef>(physics))
-    d = physics.cast<PhysicsDef>();
-  else if (pyb::isinstance<pyb::dict>(physics))
+  if (pyb::isinstance<PyPhysics>(physics)) {
+    const PyPhysics& given = physics.cast<const PyPhysics&>();
+    d = given;
+    if (!given.treatment_named) d.treatment = base.treatment;  // development stays on
+  } else if (pyb::isinstance<pyb::dict>(physics))
     d = with_fields(d, physics.cast<pyb::dict>());
   else if (!physics.is_none())
     throw pyb::type_error("physics: expected a PhysicsDef or a dict of its fields, got " +
@@ -336,67 +369,71 @@ PhysicsDef resolve_physics(const PhysicsDef& base, const pyb::object& physics,
 }
 
 void bind_physics(pyb::module_& m) {
-  pyb::class_<PhysicsDef> c(m, "PhysicsDef",
-                            "Every physics field of a simulation (see plastivox.PhysicsDef).");
+  pyb::class_<PyPhysics> c(m, "PhysicsDef",
+                           "Every physics field of a simulation (see plastivox.PhysicsDef).");
   c.def(pyb::init([](const std::string& name, const pyb::kwargs& fields) {
-          return with_fields(preset(name), fields);
+          return py_with_fields(PyPhysics{{preset(name)}, false}, fields);
         }),
         pyb::arg("preset") = "gecco2018-code");
   for (const PhysicsField& field : kPhysicsFields) {
     const PhysicsField* f = &field;  // the table outlives the module
     c.def_property(
-        f->name, [f](const PhysicsDef& d) { return field_value(d, *f); },
-        [f](PhysicsDef& d, const pyb::object& v) {
+        f->name, [f](const PyPhysics& d) { return py_field_value(d, *f); },
+        [f](PyPhysics& d, const pyb::object& v) {
           // As with_physics({name: v}) applies it: a task or treatment object too.
-          d = with_fields(d, pyb::dict(pyb::arg(f->name) = v));
+          d = py_with_fields(d, pyb::dict(pyb::arg(f->name) = v));
         });
   }
-  c.def_property("environment", &environment_value, [](PhysicsDef& d, const pyb::object& v) {
-    PhysicsDef changed = d;
-    set_environment(changed, v);
-    validate(changed);
-    d = changed;
-  });
+  c.def_property(
+      "environment", [](const PyPhysics& d) { return environment_value(d); },
+      [](PyPhysics& d, const pyb::object& v) {
+        PyPhysics changed = d;
+        set_environment(changed, v);
+        validate(changed);
+        d = changed;
+      });
   c.def("__getitem__",
-        [](const PhysicsDef& d, const std::string& name) {
+        [](const PyPhysics& d, const std::string& name) {
           if (name == "environment") return environment_value(d);
           const PhysicsField* f = find_field(name);
           if (!f) throw pyb::key_error(name);
-          return field_value(d, *f);
+          return py_field_value(d, *f);
         })
       .def("__contains__",
-           [](const PhysicsDef&, const pyb::object& name) {
+           [](const PyPhysics&, const pyb::object& name) {
              return pyb::isinstance<pyb::str>(name) && (name.cast<std::string>() == "environment" ||
                                                         find_field(name.cast<std::string>()));
            })
-      .def("__len__", [](const PhysicsDef& d) { return pyb::len(to_dict(d)); })
-      .def("keys", [](const PhysicsDef& d) { return to_dict(d).attr("keys")(); })
-      .def("__iter__", [](const PhysicsDef& d) { return pyb::iter(to_dict(d)); })
-      .def("items", [](const PhysicsDef& d) { return to_dict(d).attr("items")(); })
-      .def("to_dict", &to_dict)
+      .def("__len__", [](const PyPhysics& d) { return pyb::len(py_dict(d)); })
+      .def("keys", [](const PyPhysics& d) { return py_dict(d).attr("keys")(); })
+      .def("__iter__", [](const PyPhysics& d) { return pyb::iter(py_dict(d)); })
+      .def("items", [](const PyPhysics& d) { return py_dict(d).attr("items")(); })
+      .def("to_dict", &py_dict)
       .def("replace",
-           [](const PhysicsDef& d, const pyb::kwargs& fields) { return with_fields(d, fields); })
+           [](const PyPhysics& d, const pyb::kwargs& fields) { return py_with_fields(d, fields); })
       .def("__eq__",
-           [](const PhysicsDef& d, const pyb::object& other) -> pyb::object {
-             if (pyb::isinstance<PhysicsDef>(other))
-               return pyb::bool_(same_physics(d, other.cast<PhysicsDef>()));
-             if (pyb::isinstance<pyb::dict>(other)) return to_dict(d).attr("__eq__")(other);
+           [](const PyPhysics& d, const pyb::object& other) -> pyb::object {
+             if (pyb::isinstance<PyPhysics>(other)) {
+               const PyPhysics& o = other.cast<const PyPhysics&>();
+               return pyb::bool_(same_physics(d, o) && d.treatment_named == o.treatment_named);
+             }
+             if (pyb::isinstance<pyb::dict>(other)) return py_dict(d).attr("__eq__")(other);
              return pyb::reinterpret_borrow<pyb::object>(Py_NotImplemented);
            })
-      .def("__copy__", [](const PhysicsDef& d) { return d; })
-      .def("__deepcopy__", [](const PhysicsDef& d, const pyb::object&) { return d; })
+      .def("__copy__", [](const PyPhysics& d) { return d; })
+      .def("__deepcopy__", [](const PyPhysics& d, const pyb::object&) { return d; })
       .def("__repr__",
-           [](const PhysicsDef& d) {
+           [](const PyPhysics& d) {
              std::string s = "PhysicsDef(";
              for (const PhysicsField& f : kPhysicsFields)
                s += std::string(&f == &kPhysicsFields[0] ? "" : ", ") + f.name + "=" +
-                    pyb::repr(field_value(d, f)).cast<std::string>();
+                    pyb::repr(py_field_value(d, f)).cast<std::string>();
              if (d.environment.active())
                s += ", environment=" + pyb::repr(environment_value(d)).cast<std::string>();
              return s + ")";
            })
-      .def(pyb::pickle(&to_dict, [](const pyb::dict& fields) {
-        return physics_from(fields, "PhysicsDef pickle");
+      .def(pyb::pickle(&py_dict, [](const pyb::dict& fields) {
+        return PyPhysics{{physics_from(fields, "PhysicsDef pickle")}, names_treatment(fields)};
       }));
   c.attr("__hash__") = pyb::none();  // mutable
 }

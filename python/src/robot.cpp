@@ -348,7 +348,10 @@ void bind_robot(pyb::module_& m) {
       .def_property_readonly("voxel_count", [](const PyRobot& r) { return r.def.voxel_count(); })
       .def_property_readonly("treatment",
                              [](const PyRobot& r) { return to_string(r.physics.treatment); })
-      .def_property_readonly("physics", [](const PyRobot& r) { return r.physics; })
+      .def_property_readonly("physics",
+                             [](const PyRobot& r) {
+                               return PyPhysics{{r.physics}, true};
+                             })
       .def_property_readonly("present_flat", &present_array)
       .def_property_readonly("stiffness_flat",
                              [](const PyRobot& r) { return to_array(r.def.stiffness); })

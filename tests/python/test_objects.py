@@ -283,7 +283,7 @@ def test_every_public_class_has_a_useful_repr(tiny_run, tmp_path):
         plastivox.Results: (plastivox.read_results(tiny_run[0]), ["tiny.h5", "pressure",
                                                                    "generations_done=2/2"]),
         plastivox.Study: (study, ["study", "1 champions"]),
-        plastivox.PhysicsDef: (plastivox.physics(duration=1.5), ["duration=1.5", "treatment='none'"]),
+        plastivox.PhysicsDef: (plastivox.physics(duration=1.5), ["duration=1.5", "treatment=None"]),
         plastivox.VoxelEnv: (plastivox.VoxelEnv(walker, task="jump"),
                              ["demo-walker", "task='jump'", "voxels=512", "every=1"]),
     }

@@ -440,3 +440,52 @@ def test_a_treatment_object_without_a_stimulus_is_refused_as_the_cli_refuses_it(
             plastivox.simulate(walker, physics={"treatment": treatment})
         with pytest.raises(ValueError, match=r"^physics.treatment.stimulus: missing$"):
             plastivox.physics(treatment=treatment)
+
+
+def test_a_physics_def_keeps_the_robots_treatment_unless_it_names_one():
+    # Issue 54: physics=plastivox.physics(...) used to replace the stress walker's treatment with
+    # the preset's none (stiffness change 0.0 against 0.52 with a dict of the same fields).
+    walker = plastivox.demo_walker()
+    quick = {"duration": 0.6, "settle_time": 0.1}
+    p = plastivox.physics(**quick)
+    assert p.treatment is None and p["treatment"] is None and dict(p)["treatment"] is None
+    assert "treatment=None" in repr(p)
+    by_def = plastivox.simulate(walker, physics=p)
+    by_dict = plastivox.simulate(walker, physics=quick)
+    assert by_def.final_state_hash == by_dict.final_state_hash
+    assert np.array_equal(by_def.final_stiffness, by_dict.final_stiffness)
+    assert not np.array_equal(by_def.final_stiffness,
+                              plastivox.simulate(walker, physics={**quick, "treatment": "none"})
+                              .final_stiffness)  # development ran
+    assert plastivox.simulate(walker, physics=dict(p)).final_state_hash == by_def.final_state_hash
+    sim = plastivox.Simulator(walker, physics=p)
+    sim.run()
+    assert sim.state_hash == by_dict.final_state_hash
+    assert walker.with_physics(p).treatment == "stress"
+    assert [r.final_state_hash for r in plastivox.simulate_many([walker], physics=p)] == \
+        [by_dict.final_state_hash]
+    # Named (as an argument, an attribute or replace), it replaces the robot's, as in a dict.
+    none = plastivox.simulate(walker, physics=p.replace(treatment="none"))
+    assert none.final_state_hash == plastivox.simulate(
+        walker, physics={**quick, "treatment": "none"}).final_state_hash
+    named = plastivox.physics(treatment="pressure", **quick)
+    assert named.treatment == "pressure"
+    assert plastivox.simulate(walker, physics=named).final_state_hash == plastivox.simulate(
+        walker, physics={**quick, "treatment": "pressure"}).final_state_hash
+    q = p.replace(duration=0.5)
+    assert q.treatment is None  # replace keeps "names none"
+    q.treatment = "pressure"
+    assert q.treatment == "pressure" and q != p.replace(duration=0.5)
+    q.treatment = None  # names none again
+    assert q == p.replace(duration=0.5)
+    # A robot's own physics names its treatment; the flag survives pickling and copying.
+    assert walker.physics.treatment == "stress"
+    import copy
+    import pickle
+    for x in (p, named):
+        assert pickle.loads(pickle.dumps(x)) == x and copy.deepcopy(x) == x
+        assert pickle.loads(pickle.dumps(x)).treatment == x.treatment
+    # "preset" in a dict keeps the robot's treatment and task, as the command line's --preset.
+    paper = plastivox.simulate(walker, physics={"preset": "gecco2018-paper", **quick})
+    assert paper.to_dict()["treatment"] == "stress"
+
