@@ -15,6 +15,7 @@ setuptools' folders are build-pip/ (the CMake build in build-pip/temp.*/cmake, k
 second install only rebuilds what changed). CMAKE_BUILD_PARALLEL_LEVEL sets the number of
 compile jobs (default: every core); PLASTIVOX_CMAKE_ARGS adds arguments to CMake's configure.
 """
+import importlib.util
 import os
 import re
 import shlex
@@ -23,7 +24,22 @@ import subprocess
 import sys
 from pathlib import Path
 
-from setuptools import Extension, setup
+
+def check_build_tools():
+    """pip install --no-build-isolation builds with this interpreter's own setuptools and wheel
+    (pyproject.toml). Without them pip says only "invalid command 'bdist_wheel'" or
+    "No module named 'setuptools'"; this says in one line what to install instead."""
+    missing = [m for m in ("setuptools", "wheel") if importlib.util.find_spec(m) is None]
+    if missing:
+        sys.exit(f"setup.py: {sys.executable} lacks {' and '.join(missing)}: build with Debian's "
+                 "python3 (/usr/bin/python3 -m venv --system-site-packages ~/pv after apt-get "
+                 f"install python3-setuptools python3-wheel), or pip install {' '.join(missing)} "
+                 "into this one")
+
+
+check_build_tools()
+
+from setuptools import Extension, setup  # noqa: E402 (after the check that it is there)
 from setuptools.command.build_ext import build_ext
 
 ROOT = Path(__file__).resolve().parent

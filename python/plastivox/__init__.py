@@ -22,7 +22,13 @@ import threading as _threading
 import types as _types
 import weakref as _weakref
 
-import numpy as _np
+try:
+    import numpy as _np
+except ImportError as _e:  # a pyenv, conda or bare venv python3 first on PATH (README)
+    import sys as _sys
+    raise ImportError(f"plastivox needs numpy, which {_sys.executable} lacks: run the python3 "
+                      "the module was built for (build/python/python3 in a build tree; CMake's "
+                      "configure names it), or install numpy into this one") from _e
 
 from . import _core
 from ._core import InputError, PhysicsDef, RenderError
