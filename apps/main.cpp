@@ -1,8 +1,10 @@
 // plastivox: evolve, simulate, analyse and render soft voxel robots that develop.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "cli.hpp"
 #include "plastivox/base/one_line.hpp"
@@ -74,6 +76,45 @@ const Command kCommands[] = {
     {"experiment", cmd_experiment},
 };
 
+// Levenshtein distance: insertions, deletions and substitutions of one character.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// One line for a command that is not one: the nearest commands by edit distance (within a
+// third of the longer name, at least 2), else the list, instead of the 47-line usage.
+std::string unknown_command(const std::string& cmd) {
+  std::vector<std::string> names = {"help", "version"};
+  for (const Command& c : kCommands) names.push_back(c.name);
+  size_t best = std::string::npos;
+  std::string nearest, all;
+  for (const std::string& name : names) {
+    all += (all.empty() ? "" : ", ") + name;
+    const size_t d = edit_distance(cmd, name);
+    if (d > std::max<size_t>(2, std::max(cmd.size(), name.size()) / 3)) continue;
+    if (d < best) {
+      best = d;
+      nearest.clear();
+    }
+    if (d == best) nearest += (nearest.empty() ? "" : " or ") + name;
+  }
+  if (!nearest.empty())
+    return "unknown command '" + cmd + "'; did you mean " + nearest +
+           "? (plastivox --help lists the commands)";
+  return "unknown command '" + cmd + "' (the commands: " + all + ")";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -95,7 +136,8 @@ int main(int argc, char** argv) {
       std::fputs(help, stdout);
       return 0;
     }
-    std::fprintf(stderr, "plastivox help: unknown command '%s'\n%s", args[0].c_str(), kUsage);
+    std::fprintf(stderr, "plastivox help: %s\n",
+                 plastivox::one_line(unknown_command(args[0])).c_str());
     return 2;
   }
   try {
@@ -109,7 +151,7 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     }
-    std::fprintf(stderr, "plastivox: unknown command '%s'\n%s", cmd.c_str(), kUsage);
+    std::fprintf(stderr, "plastivox: %s\n", plastivox::one_line(unknown_command(cmd)).c_str());
     return 2;
   } catch (const UsageError& e) {
     std::fprintf(stderr, "plastivox %s: %s (plastivox %s --help lists the options)\n", cmd.c_str(),

@@ -1,5 +1,6 @@
 // plastivox CMD --help, CMD -h and help CMD, for every subcommand: exit 0, the same text,
 // the command's own usage line, an example, and every option the command's source takes.
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -119,6 +120,32 @@ TEST(CliHelp, UnknownCommandForHelpIsAUsageError) {
   const testing::Output r = cli("help frobnicate");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("unknown command 'frobnicate'"), std::string::npos) << r.out;
+}
+
+// Issue 54: a mistyped command printed the 47-line usage and no suggestion.
+TEST(CliHelp, UnknownCommandIsOneLineNamingTheNearestCommands) {
+  const auto one_line = [](const testing::Output& r) {
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  };
+  testing::Output r = cli("simulte");
+  EXPECT_EQ(r.status, 2);
+  one_line(r);
+  EXPECT_EQ(r.out,
+            "plastivox: unknown command 'simulte'; did you mean simulate? (plastivox --help "
+            "lists the commands)\n");
+  r = cli("help rendr");
+  EXPECT_EQ(r.status, 2);
+  one_line(r);
+  EXPECT_NE(r.out.find("did you mean render?"), std::string::npos) << r.out;
+  r = cli("vide");
+  one_line(r);
+  EXPECT_NE(r.out.find("did you mean video?"), std::string::npos) << r.out;
+  r = cli("frobnicate");  // nothing near: the commands, still one line
+  EXPECT_EQ(r.status, 2);
+  one_line(r);
+  EXPECT_NE(r.out.find("unknown command 'frobnicate' (the commands: help, version, simulate"),
+            std::string::npos)
+      << r.out;
 }
 
 TEST(CliHelp, UsageErrorsPointToTheCommandsHelp) {
