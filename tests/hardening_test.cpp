@@ -2,6 +2,8 @@
 // huge or endless inputs, bodies that sink through the floor, graceful stops, messages that
 // name the file's own tags, and exit codes. Each case failed before its fix.
 #include <signal.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
@@ -402,6 +404,61 @@ TEST_F(Hardening, StaleCheckpointTemporariesAreRemovedByTheNextRun) {
   ASSERT_EQ(cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + out).status, 0);
   EXPECT_FALSE(fs::exists(out + ".tmp.9999999"));
   EXPECT_TRUE(fs::exists(alive));
+}
+
+// Issue 54: `evolve --out X` left a 0-byte X.lock behind after success and after a refusal.
+// A run removes its lock file while it still holds the lock; a lock another process holds is
+// left to it; an empty one left by a killed run is taken over and removed.
+TEST_F(Hardening, EvolveLeavesNoLockFileBehind) {
+  const std::string out = path("r.h5"), lock = out + ".lock";
+  ASSERT_EQ(cli("evolve --config " + write("c.json", tiny_config(1)) + " --out " + out).status, 0);
+  EXPECT_FALSE(fs::exists(lock)) << "after a finished run";
+  EXPECT_EQ(cli("evolve --config " + path("c.json") + " --out " + out).status, 0);  // finished
+  EXPECT_FALSE(fs::exists(lock)) << "after an already finished run";
+  Output o = cli("evolve --config " + write("c2.json", tiny_config(2)) + " --out " + out);
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "written by a different configuration");
+  EXPECT_FALSE(fs::exists(lock)) << "after a refusal";
+  // Held by another process (here, this one): refused, and its file stays.
+  const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  o = cli("evolve --config " + path("c2.json") + " --out " + path("other.h5"));
+  EXPECT_EQ(o.status, 0) << o.out;  // another file's lock is another lock
+  o = cli("evolve --config " + path("c.json") + " --out " + out);
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "another plastivox evolve is running on this file");
+  EXPECT_TRUE(fs::exists(lock));
+  ::close(fd);  // as a run killed with -9: the empty file stays, unlocked
+  EXPECT_EQ(cli("evolve --config " + path("c.json") + " --out " + out).status, 0);
+  EXPECT_FALSE(fs::exists(lock)) << "a killed run's file is taken over and removed";
+  EXPECT_FALSE(fs::exists(path("other.h5.lock")));
+}
+
+// Issue 54: `--out nothere/x.h5` said "cannot create lock file". Every command that writes a
+// file names the missing folder, in one line, and creates nothing.
+TEST_F(Hardening, AMissingOutputFolderIsNamed) {
+  const std::string walker = walker_with(R"({"duration": 0.3, "settle_time": 0.1})");
+  ASSERT_EQ(
+      cli("evolve --config " + write("c.json", tiny_config(0)) + " --out " + path("r.h5")).status,
+      0);
+  const std::string missing = path("nothere");
+  for (const std::string& command :
+       {"simulate " + walker + " --record " + missing + "/l.h5",
+        "simulate " + walker + " --record " + missing + "/l.history",
+        "export " + path("r.h5") + " --out " + missing + "/c.json",
+        "export " + path("r.h5") + " --out " + missing + "/c.vxa",
+        "render " + walker + " --out " + missing + "/f.png",
+        "video " + walker + " --out " + missing + "/v.mp4",
+        "view " + walker + " --out " + missing + "/v.html",
+        "gallery " + path("r.h5") + " --out " + missing + "/g.png",
+        "evolve --config " + path("c.json") + " --out " + missing + "/r.h5"}) {
+    const Output o = cli(command);
+    EXPECT_EQ(o.status, 1) << command << "\n" << o.out;
+    expect_one_line(o, "cannot write: folder " + missing + " does not exist");
+    EXPECT_EQ(o.out.find("lock file"), std::string::npos) << o.out;
+    EXPECT_FALSE(fs::exists(missing)) << command;
+  }
 }
 
 // ---- 4. Runs that never end ----

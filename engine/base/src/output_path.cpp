@@ -12,6 +12,12 @@
 namespace plastivox {
 
 void check_output_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  std::error_code ec;
+  if (p.has_parent_path() && !fs::is_directory(p.parent_path(), ec))
+    throw InputError(path + ": cannot write: folder " + p.parent_path().string() +
+                     " does not exist");
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return;
   throw InputError(

@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -25,37 +26,26 @@ using nlohmann::json;
 
 // An exclusive lock on "<out>.lock" for the life of a run, so two processes never write
 // one results file. flock() locks die with their process, so a kill -9 never leaves a
-// stale lock behind.
+// held lock behind (only the empty file, taken over by the next run). A run that ends removes
+// the file while it still holds the lock; so a process that opened it just before and locks it
+// just after holds a lock on a file no longer named "<out>.lock", and must check that the name
+// still leads to the file it locked (else it tries again), or two runs could each hold a lock.
 class RunLock {
  public:
-  explicit RunLock(const std::string& out) {
-    const std::string path = out + ".lock";
+  explicit RunLock(const std::string& out) : path_(out + ".lock") {
     try {  // refuse a device or folder as the results file before the lock is created
       check_output_path(out);
     } catch (const InputError& e) {
       throw ResultsError(e.what());
     }
-    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) {
-      const std::string why =
-          out + ": cannot create lock file " + path + ": " + std::strerror(errno);
-      // A results file on a read-only mount (or in a folder this user cannot write) may
-      // still be a finished run, which needs no lock: the caller decides from the file.
-      if ((errno == EROFS || errno == EACCES) && std::filesystem::exists(out)) {
-        unwritable_ = why;
-        return;
-      }
-      throw ResultsError(why);
+    while (!take(out)) {
     }
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      ::close(fd_);
-      throw ResultsError(out + ": another plastivox evolve is running on this file (" + path +
-                         " is locked)");
-    }
-    remove_stale_temporaries(out);  // a kill during a checkpoint leaves "<out>.tmp.<pid>"
+    if (fd_ >= 0) remove_stale_temporaries(out);  // a kill during a checkpoint leaves these
   }
   ~RunLock() {
-    if (fd_ >= 0) ::close(fd_);
+    if (fd_ < 0) return;
+    ::unlink(path_.c_str());  // before the lock is released: see take()
+    ::close(fd_);
   }
   // Why no lock is held ("" when one is): the results file can be read but not written.
   const std::string& unwritable() const { return unwritable_; }
@@ -63,6 +53,38 @@ class RunLock {
   RunLock& operator=(const RunLock&) = delete;
 
  private:
+  // One try: true when the lock is held (or the run needs none), false when the file locked
+  // was removed meanwhile by the run that held it.
+  bool take(const std::string& out) {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) {
+      const std::string why =
+          out + ": cannot create lock file " + path_ + ": " + std::strerror(errno);
+      // A results file on a read-only mount (or in a folder this user cannot write) may
+      // still be a finished run, which needs no lock: the caller decides from the file.
+      if ((errno == EROFS || errno == EACCES) && std::filesystem::exists(out)) {
+        unwritable_ = why;
+        return true;
+      }
+      throw ResultsError(why);
+    }
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      fd_ = -1;
+      throw ResultsError(out + ": another plastivox evolve is running on this file (" + path_ +
+                         " is locked)");
+    }
+    struct stat held {};
+    struct stat named {};
+    if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 &&
+        held.st_dev == named.st_dev && held.st_ino == named.st_ino)
+      return true;
+    ::close(fd_);
+    fd_ = -1;
+    return false;
+  }
+
+  std::string path_;
   int fd_ = -1;
   std::string unwritable_;
 };

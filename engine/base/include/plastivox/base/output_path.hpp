@@ -5,7 +5,8 @@
 
 namespace plastivox {
 
-// Throws InputError naming path when something that is not a regular file sits there (a
+// Throws InputError naming path when its folder does not exist ("x/y.h5: cannot write: folder
+// x does not exist"), or when something that is not a regular file sits there (a
 // device such as /dev/null, a pipe, a socket or a folder): every write here renames a
 // finished temporary over its path, which would replace that node (as root, a device the
 // whole machine uses). A missing path, or a link to a regular file, passes. Every writer calls
