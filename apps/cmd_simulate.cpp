@@ -22,11 +22,11 @@
 namespace plastivox::cli {
 namespace {
 
-// A non-negative number given to `option`; `what` names its unit in the error.
+// A non-negative number given to `option`; `what` names its unit and rule in the error.
 double parse_non_negative(const std::string& s, const std::string& option, const char* what) {
   double v = 0;
   if (!read_number(s, v) || !(v >= 0))
-    throw UsageError{option + " expects " + what + ", got '" + s + "'"};
+    throw UsageError{option + " must be " + what + ", got '" + s + "'"};
   return v;
 }
 
@@ -90,7 +90,8 @@ int cmd_simulate(const Args& in) {
         fps_text};
   double fps = 30;  // frames per simulated second of --record
   if (!fps_text.empty()) {
-    fps = parse_non_negative(fps_text, "--fps", "a number of frames per simulated second");
+    fps = parse_non_negative(fps_text, "--fps",
+                             "a number of frames per simulated second in (0, 10000]");
     if (!(fps > 0 && fps <= 10000)) throw UsageError{"--fps must be in (0, 10000]"};
   }
   // Command-line values are checked before any file is read (a bad one exits 2).
@@ -113,7 +114,10 @@ int cmd_simulate(const Args& in) {
     throw UsageError{std::string("--task: ") + e.what()};
   }
   const double duration_s =
-      duration.empty() ? 0.0 : parse_non_negative(duration, "--duration", "a number of seconds");
+      duration.empty() ? 0.0
+                       : parse_non_negative(duration, "--duration",
+                                            "a number of seconds >= 0 (the life's length, at "
+                                            "least the physics' settle_time, at most 1e4)");
 
   RobotDef robot;
   PhysicsDef physics;

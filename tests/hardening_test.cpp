@@ -461,6 +461,25 @@ TEST_F(Hardening, AMissingOutputFolderIsNamed) {
   }
 }
 
+// Issue 54: `--duration -1` said "expects a number of seconds"; every way a duration is read
+// states the rule.
+TEST_F(Hardening, DurationErrorsStateTheRule) {
+  Output o = cli("simulate --duration -1");
+  EXPECT_EQ(o.status, 2);
+  expect_one_line(o,
+                  "--duration must be a number of seconds >= 0 (the life's length, at least "
+                  "the physics' settle_time, at most 1e4), got '-1'");
+  o = cli("simulate --physics '{\"duration\": -1}'");
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "physics.duration: must be a number of seconds >= 0");
+  o = cli("simulate " + walker_with(R"({"duration": 0.05, "settle_time": 0.1})"));
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "physics.duration: must be a number of seconds from settle_time");
+  o = evolve_edited(0, R"("duration": 0.2)", R"("duration": -3)");
+  EXPECT_EQ(o.status, 1);
+  expect_one_line(o, "physics.duration: must be a number of seconds >= 0");
+}
+
 // ---- 4. Runs that never end ----
 
 TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {

@@ -489,3 +489,11 @@ def test_a_physics_def_keeps_the_robots_treatment_unless_it_names_one():
     paper = plastivox.simulate(walker, physics={"preset": "gecco2018-paper", **quick})
     assert paper.to_dict()["treatment"] == "stress"
 
+
+def test_a_bad_duration_states_the_rule():
+    # Issue 54: "--duration -1" said "expects a number of seconds"; Python reads the rule too.
+    with pytest.raises(ValueError, match=r"^physics.duration: must be a number of seconds >= 0"):
+        plastivox.physics(duration=-1)
+    with pytest.raises(ValueError, match=r"physics.duration: must be a number of seconds from "
+                                         r"settle_time"):
+        plastivox.simulate(plastivox.demo_walker(), physics={"duration": 0.1, "settle_time": 0.2})

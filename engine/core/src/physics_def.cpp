@@ -61,8 +61,11 @@ void validate(const PhysicsDef& d) {
   need(d.act_max_rate >= 0 && fin(d.act_max_rate), "act_max_rate",
        "must be >= 0 per second (0: no limit)");
   need(d.settle_time >= 0 && fin(d.settle_time), "settle_time", "must be >= 0 s");
+  need(d.duration >= 0 && fin(d.duration), "duration",
+       "must be a number of seconds >= 0 (the life's length, at least settle_time)");
   need(d.duration >= d.settle_time && d.duration <= 1e4, "duration",
-       "must be >= settle_time and <= 1e4 s");
+       "must be a number of seconds from settle_time (the settling before the walk is "
+       "measured) to 1e4");
   need(d.max_change_per_step > 0, "max_change_per_step", "must be > 0 Pa");
   need(d.min_devo_factor >= 0 && fin(d.min_devo_factor), "min_devo_factor", "must be >= 0");
   need(d.max_speed > 0, "max_speed", "must be > 0 m/s");
