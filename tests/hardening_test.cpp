@@ -480,6 +480,24 @@ TEST_F(Hardening, DurationErrorsStateTheRule) {
   expect_one_line(o, "physics.duration: must be a number of seconds >= 0");
 }
 
+// Issue 54: `video --out x.avi` and `render --time 99` simulated the life first, then refused.
+TEST_F(Hardening, VideoNameAndRenderTimeAreCheckedBeforeSimulating) {
+  const std::string walker = walker_with(R"({"duration": 100})");  // a minute to simulate
+  for (const auto& [command, expect] :
+       {std::pair<std::string, std::string>{"video " + walker + " --out " + path("x.avi"),
+                                            "x.avi: cannot choose a container"},
+        {"video " + walker + " --color change --out " + path("x.webm"),
+         "x.webm: cannot choose a container"},
+        {"render " + walker + " --out " + path("f.png") + " --time 101",
+         "time 101 s is outside the life [0, 100] s"}}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Output o = cli(command);
+    EXPECT_EQ(o.status, 1) << command;
+    expect_one_line(o, expect);  // no "simulating ..." line first
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(3)) << command;
+  }
+}
+
 // ---- 4. Runs that never end ----
 
 TEST_F(Hardening, EndlessLivesAreRefusedBeforeSimulating) {

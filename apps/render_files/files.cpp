@@ -86,6 +86,11 @@ void render_frame_file(const std::string& source_path, double time, const FrameS
   check_output_path(out);
   check_render_target(style.width, style.height, style.samples);
   const LifeSource source = load_life_source(source_path);
+  try {  // a time past the life's end is refused before "simulating ..." is said
+    check_frame_times({time}, *source.model);
+  } catch (const std::invalid_argument& e) {
+    throw RenderError(source_path + ": " + e.what());
+  }
   if (log) {
     for (const std::string& w : source.warnings) log("warning: " + w);
     const std::string at = "t = " + std::to_string(time) + " s";

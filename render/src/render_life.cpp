@@ -176,6 +176,7 @@ void check_video_request(const VideoJob& job, const std::string& out) {
   if (job.codec != "auto" && job.codec != "h264" && job.codec != "mpeg4")
     throw RenderError("--codec: unknown video codec '" + job.codec +
                       "' (expected auto, h264 or mpeg4)");
+  check_video_name(out);  // the writer opens after the simulation, when the scale needs it
   check_output_path(out);
 }
 

@@ -241,11 +241,8 @@ VideoWriter::VideoWriter(const std::string& path, const VideoOptions& options)
     m.padded.resize(4 * static_cast<size_t>(m.coded_w) * m.coded_h);
   }
 
+  check_video_name(path);
   const char* muxer = muxer_for(path);
-  if (!muxer)
-    m.fail(
-        "cannot choose a container from the extension: use .mp4 (or .m4v) or .mkv "
-        "(WebM, AVI and others are not written)");
   try {
     check_output_path(path);
   } catch (const InputError& e) {
@@ -333,6 +330,13 @@ int VideoWriter::encoded_height() const {
 }
 int VideoWriter::frames() const {
   return static_cast<int>(impl_->next_pts);
+}
+
+void check_video_name(const std::string& path) {
+  if (!muxer_for(path))
+    throw VideoError(path +
+                     ": cannot choose a container from the extension: use .mp4 (or .m4v) or "
+                     ".mkv (WebM, AVI and others are not written)");
 }
 
 }  // namespace plastivox::render

@@ -19,10 +19,12 @@ std::string seconds(double t) {
   return std::string(buf, std::to_chars(buf, buf + sizeof buf, t).ptr);
 }
 
+}  // namespace
+
 // A life ends at its first step past the duration, so its last state lies up to one step
 // after it: a time there is the life's (its last frame), one further is refused before
 // anything is simulated.
-void check_times(const std::vector<double>& times, const Model& m) {
+void check_frame_times(const std::vector<double>& times, const Model& m) {
   const double duration = m.def.duration, end = duration + longest_step(m);
   for (size_t k = 0; k < times.size(); ++k) {
     if (!(times[k] >= 0 && times[k] <= end))
@@ -33,8 +35,6 @@ void check_times(const std::vector<double>& times, const Model& m) {
       throw std::invalid_argument("frame times must be ascending");
   }
 }
-
-}  // namespace
 
 double longest_step(const Model& m) {
   // stable_dt only grows as moduli fall; without development they never change, and with it
@@ -50,7 +50,7 @@ FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control) {
   return [model = std::move(model), control](const std::vector<double>& times,
                                              const FrameSink& sink, const ProgressFn& progress) {
     const Model& m = *model;
-    check_times(times, m);
+    check_frame_times(times, m);
     // A frame at or after the settle time waits here until the life has settled (it settles
     // on the first step past the settle time), so each goes out with the centre of mass the
     // finished life reports.

@@ -43,6 +43,11 @@ using FrameSource = std::function<SimResult(const std::vector<double>& times, co
 // with development, of every voxel at the softest modulus it can reach.
 double longest_step(const Model& model);
 
+// Throws std::invalid_argument for times that are not ascending or lie outside the life
+// [0, duration + longest_step()]: the check simulated_frames makes before simulating, for
+// callers that want it before they say they simulate.
+void check_frame_times(const std::vector<double>& times, const Model& model);
+
 // Frames simulated from `model` (simulate() with SimOptions::frame_times and on_frame), with
 // the control channels (the actuation signal and sensors) when `control` is set.
 FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control = false);

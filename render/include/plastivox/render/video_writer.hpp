@@ -65,6 +65,10 @@ class VideoWriter {
   std::unique_ptr<Impl> impl_;
 };
 
+// Throws VideoError naming path when its extension names no container this writer makes
+// (the writer's own check, callable before a life is simulated for it).
+void check_video_name(const std::string& path);
+
 // The codecs this build can write, best first (a subset of {"h264", "mpeg4"}).
 std::vector<std::string> available_video_codecs();
 
