@@ -122,6 +122,7 @@ int cmd_simulate(const Args& in) {
   RobotDef robot;
   PhysicsDef physics;
   std::string source = "built-in demo walker";
+  std::optional<double> vxa_density;  // a VXA file's own density, for the warning below
   if (args.empty()) {
     robot = demo_walker();
     physics = preset_gecco2018_code();
@@ -134,6 +135,7 @@ int cmd_simulate(const Args& in) {
       std::fprintf(stderr, "plastivox simulate: warning: %s\n", w.c_str());
     robot = std::move(file.robot);
     physics = file.physics;
+    if (args[0].ends_with(".vxa")) vxa_density = file.physics.density;
   }
   if (!preset.empty()) {  // the preset's physics, for the robot's treatment and task
     const PhysicsDef robot_physics = physics;
@@ -220,6 +222,7 @@ int cmd_simulate(const Args& in) {
                   r.vertical_share, r.displacement.z());
     r.warnings.push_back(buf);
   }
+  if (vxa_density) warn_vxa_density(r, source, *vxa_density, physics, robot.voxel_size);
   // Health warnings (a body pressed into or sunk through the floor): on stderr always, and
   // in the JSON.
   for (const std::string& w : r.warnings)

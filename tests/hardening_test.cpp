@@ -1,8 +1,8 @@
 // Hostile but fair inputs and interruptions (issue 14), through the real binary: a full disk,
 // huge or endless inputs, bodies that sink through the floor, graceful stops, messages that
 // name the file's own tags, and exit codes. Each case failed before its fix.
-#include <signal.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/mount.h>
 #include <sys/stat.h>
@@ -496,6 +496,31 @@ TEST_F(Hardening, VideoNameAndRenderTimeAreCheckedBeforeSimulating) {
     expect_one_line(o, expect);  // no "simulating ..." line first
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(3)) << command;
   }
+}
+
+// Issue 54: an authors'-style VXA file at its own density ended `penetrating` with exit 0 and
+// no word on why; a warning names the density and the fix (docs/vxa.md).
+TEST_F(Hardening, AVxaFileThatPressesIntoTheFloorAtItsOwnDensityIsWarnedWithTheFix) {
+  const std::string pi = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/pi.vxa";
+  const std::string life = R"( --physics '{"duration": 2.0}')";
+  Output o = cli("simulate " + pi + life + " --json");
+  EXPECT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("\"health\": \"penetrating\""), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("plastivox simulate: warning: " + pi +
+                       ": the body pressed into the floor at the VXA file's own density, 1e+09 "
+                       "kg/m^3 (a 0.01 m voxel weighs 1000 kg"),
+            std::string::npos)
+      << o.out;
+  EXPECT_NE(o.out.find(R"(--physics '{\"density\": 1e7}')"), std::string::npos) << o.out;  // JSON
+  // The fix: no warning, the body stands.
+  o = cli("simulate " + pi + R"( --json --physics '{"duration": 2.0, "density": 1e7}')");
+  EXPECT_EQ(o.status, 0);
+  EXPECT_NE(o.out.find("\"health\": \"ok\""), std::string::npos) << o.out;
+  EXPECT_EQ(o.out.find("own density"), std::string::npos) << o.out;
+  // A JSON robot pressed into the floor is no VXA file: its health warning only.
+  o = cli("simulate " + walker_with(R"({"density": 1e11, "duration": 1.0})"));
+  EXPECT_NE(o.out.find("the floor: "), std::string::npos) << o.out;
+  EXPECT_EQ(o.out.find("own density"), std::string::npos) << o.out;
 }
 
 // ---- 4. Runs that never end ----

@@ -1,6 +1,7 @@
 """simulate / simulate_many / Simulator give the bits of `plastivox simulate --json`."""
 
 import json
+import os
 import threading
 import time
 import warnings
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 import plastivox
-from conftest import cli_json, run_cli, vxa
+from conftest import SOURCE, cli_json, run_cli, vxa
 
 # The summary keys that are science (the rest are wall time and speed).
 TIMING = {"wall_seconds", "voxel_steps_per_second"}
@@ -488,6 +489,24 @@ def test_a_physics_def_keeps_the_robots_treatment_unless_it_names_one():
     # "preset" in a dict keeps the robot's treatment and task, as the command line's --preset.
     paper = plastivox.simulate(walker, physics={"preset": "gecco2018-paper", **quick})
     assert paper.to_dict()["treatment"] == "stress"
+
+
+def test_a_vxa_file_pressed_into_the_floor_at_its_own_density_is_warned_as_the_cli_warns():
+    # Issue 54: examples/pi.vxa at its own 1e9 kg/m^3 ends penetrating; the warning names the
+    # density and the fix, in Python's result as in simulate --json.
+    pi = os.path.join(SOURCE, "examples", "pi.vxa")
+    quick = {"duration": 2.0}
+    r = plastivox.simulate(pi, physics=quick)
+    cli = cli_json("simulate", pi, "--json", "--physics", json.dumps(quick))
+    assert r.to_dict()["health"] == "penetrating"
+    assert r.to_dict()["warnings"] == cli["warnings"]
+    assert any("at the VXA file's own density, 1e+09 kg/m^3" in w and '"density": 1e7' in w
+               for w in r.to_dict()["warnings"])
+    [many] = plastivox.simulate_many([pi], physics=quick)
+    assert many.to_dict()["warnings"] == cli["warnings"]
+    light = plastivox.simulate(pi, physics={**quick, "density": 1e7})
+    assert light.to_dict()["health"] == "ok"
+    assert not any("own density" in w for w in light.to_dict()["warnings"])
 
 
 def test_a_bad_duration_states_the_rule():

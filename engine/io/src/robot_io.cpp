@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -58,6 +59,21 @@ void save_robot(const std::string& path, const RobotDef& robot, const PhysicsDef
     throw std::invalid_argument("expected a robot file name ending in .json or .vxa, got '" + path +
                                 "'");
   }
+}
+
+void warn_vxa_density(SimResult& r, const std::string& source, double file_density,
+                      const PhysicsDef& physics, double voxel_size) {
+  if (!source.ends_with(".vxa") || physics.density != file_density ||
+      r.floor_health == FloorHealth::kOk)
+    return;
+  char buf[480];
+  std::snprintf(buf, sizeof buf,
+                "the body pressed into the floor at the VXA file's own density, %g kg/m^3 (a %g "
+                "m voxel weighs %g kg, too heavy for its stiffness): authors'-style files are run "
+                "lighter, e.g. --physics '{\"density\": 1e7}' (Python: physics={\"density\": "
+                "1e7}; docs/vxa.md, \"A VXA file at its own density\")",
+                physics.density, voxel_size, physics.density * std::pow(voxel_size, 3));
+  r.warnings.push_back(buf);
 }
 
 }  // namespace plastivox

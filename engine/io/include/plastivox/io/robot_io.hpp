@@ -7,6 +7,7 @@
 
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
+#include "plastivox/simulator.hpp"  // SimResult
 
 namespace plastivox {
 
@@ -24,5 +25,13 @@ LoadedRobot load_robot(const std::string& path, const std::string& vxd = "");
 // to *warnings. Throws std::invalid_argument for any other extension, InputError on failure.
 void save_robot(const std::string& path, const RobotDef& robot, const PhysicsDef& physics,
                 std::vector<std::string>* warnings);
+
+// The authors' VXA files hold 1e9 kg/m^3 materials of 1e6-1e10 Pa, which their simulator lets
+// sink. When `source` is such a file (.vxa), simulated at its own density `file_density`, and
+// its body pressed into or sank through the floor, adds to r.warnings one naming the density
+// as the cause and the fix (docs/vxa.md, "A VXA file at its own density"). `simulate` and
+// Python's simulate call it, so both summaries hold it.
+void warn_vxa_density(SimResult& r, const std::string& source, double file_density,
+                      const PhysicsDef& physics, double voxel_size);
 
 }  // namespace plastivox
