@@ -240,7 +240,9 @@ std::string paper_table(const StudyResult& r) {
            td(std::to_string(c.n_a) + ", " + std::to_string(c.n_b), "num") +
            td(p_text(c.p_corrected), "num");
     else
-      s += td("–") + td("–") + td("–") + td("–");
+      s += td("–") + td("–") +
+           td(c.n_a > 0 ? std::to_string(c.n_a) + ", " + std::to_string(c.n_b) : "–", "num") +
+           td("–");
     s += td(esc(c.verdict)) + "</tr>\n";
   }
   return s + "</table>\n";
