@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/analysis/bootstrap_coverage.hpp"
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
@@ -531,6 +532,228 @@ std::string unfinished_run(const std::string& file, Treatment t, uint64_t seed) 
   o.stop_after = 0;
   EXPECT_EQ(evo::run_evolution(c, file, o).outcome, evo::RunOutcome::kStopped);
   return file;
+}
+
+// Two champions per treatment (the default study's n): every comparison is reported without
+// power, with no stars in any output, a warning in stats.json and a sentence in the report,
+// and the paper's published comparisons stand beside this study's estimates, none of them
+// called a contradiction.
+TEST_F(Study, TwoChampionsPerTreatmentHaveNoPowerAndThePaperStandsBeside) {
+  const StudyResult r = analyze_study(six_runs(), quick());
+  write_study_outputs(r, path("out"));
+  const Json j = Json::parse(read_text(path("out/stats.json")));
+  EXPECT_EQ(j["statistics"]["min_champions_for_power"], kMinBootstrapN);
+  int comparisons = 0;
+  for (const Json& p : j["panels"])
+    for (const Json& c : p["comparisons"]) {
+      ++comparisons;
+      EXPECT_EQ(c["stars"], "") << p["id"];
+      EXPECT_FALSE(c["powered"].get<bool>()) << p["id"];
+      EXPECT_FALSE(c["significant"].get<bool>()) << p["id"];
+    }
+  // A and C over three treatments, D, E, F over two; B has one pair per treatment: no test.
+  EXPECT_EQ(comparisons, 3 + 3 + 1 + 1 + 1);
+  std::string warning;
+  for (const Json& w : j["warnings"])
+    if (w.get<std::string>().starts_with("no statistical power")) warning = w;
+  EXPECT_NE(
+      warning.find("9 of 9 comparisons (panels A, C, D, E, F) rest on fewer than " +
+                   std::to_string(kMinBootstrapN) + " champions per treatment (the fewest: 2)"),
+      std::string::npos)
+      << j["warnings"].dump();
+  const Json& rows = j["paper_comparison"]["rows"];
+  ASSERT_EQ(rows.size(), 10u);
+  for (const Json& row : rows) {
+    EXPECT_EQ(row["measured"].get<bool>(), row["panel"] != "B") << row.dump();
+    EXPECT_EQ(row["n_a"], 2) << row.dump();
+    EXPECT_FALSE(row["powered"].get<bool>()) << row.dump();
+    if (row["measured"].get<bool>()) {
+      EXPECT_LE(row["ci_low"].get<double>(), row["difference"].get<double>()) << row.dump();
+      EXPECT_GE(row["ci_high"].get<double>(), row["difference"].get<double>()) << row.dump();
+    }
+    const std::string verdict = row["verdict"];
+    EXPECT_FALSE(verdict.starts_with("contradicts")) << verdict;
+    EXPECT_NE(verdict.find("n = 2 < " + std::to_string(kMinBootstrapN)), std::string::npos)
+        << verdict;
+  }
+  EXPECT_EQ(rows[5]["paper_found"], "stress > none");  // robustness, Fig. 5C
+  EXPECT_EQ(rows[5]["paper_p"], "P < 0.01");
+  for (const std::vector<std::string>& row : read_csv(read_text(path("out/statistics.csv"))))
+    EXPECT_TRUE(row[14].empty() || row[14] == "stars") << row[14];
+
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("<p class=\"warn\" id=\"no-power\">These comparisons have no statistical "
+                      "power: 9 of 9 rest on fewer than"),
+            std::string::npos);
+  EXPECT_EQ(html.find("<td class=\"stars\">*"), std::string::npos);
+  EXPECT_NE(html.find("<h3 id=\"paper-comparison\">The paper found / this study found</h3>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td>none (n = 2)</td>"), std::string::npos);
+}
+
+// A comparison's stars follow the sample it rests on, in every output, whatever its result
+// carries (a study read back from an analysis.h5 written before the rule carries stars at any
+// n): none below kMinBootstrapN champions per treatment, the test's own at or above it.
+TEST(StudyPower, StarsOnlyWhereTheSampleCanBearThem) {
+  const auto result_with = [](int n) {
+    NamedSample none{"none", {}}, stress{"stress", {}};
+    for (int i = 0; i < n; ++i) {
+      none.values.push_back(0.1 * (i % 3));
+      stress.values.push_back(1 + 0.1 * (i % 3));
+    }
+    StudyResult r;
+    r.treatments = {Treatment::kNone, Treatment::kStress};
+    PanelStats p;
+    p.id = "C";
+    p.metric = "robustness";
+    p.title = "Robustness";
+    for (const NamedSample* s : {&none, &stress}) {
+      GroupStats g;
+      g.treatment = s == &none ? Treatment::kNone : Treatment::kStress;
+      g.values = s->values;
+      g.mean = mean(g.values);
+      p.groups.push_back(g);
+    }
+    BootstrapTestOptions o;
+    o.resamples = 2000;
+    p.comparisons = pairwise_bootstrap_tests({none, stress}, o);
+    r.panels.push_back(p);
+    return r;
+  };
+  const StudyResult few = result_with(5), enough = result_with(kMinBootstrapN);
+  ASSERT_NE(few.panels[0].comparisons[0].stars, "");  // the test alone would star it
+  ASSERT_EQ(enough.panels[0].comparisons[0].stars, "***");
+  const Json j_few = Json::parse(stats_json(few)), j_enough = Json::parse(stats_json(enough));
+  const Json &c_few = j_few["panels"][0]["comparisons"][0],
+             &c_enough = j_enough["panels"][0]["comparisons"][0];
+  EXPECT_EQ(c_few["stars"], "");
+  EXPECT_FALSE(c_few["powered"].get<bool>());
+  EXPECT_FALSE(c_few["significant"].get<bool>());
+  EXPECT_EQ(c_enough["stars"], "***");
+  EXPECT_TRUE(c_enough["powered"].get<bool>());
+  const auto csv_stars = [](const StudyResult& r) {  // column 14 of the comparison's row
+    for (const std::vector<std::string>& row : read_csv(statistics_csv(r)))
+      if (row[0] == "comparison") return row[14];
+    return std::string("no comparison");
+  };
+  EXPECT_EQ(csv_stars(few), "");
+  EXPECT_EQ(csv_stars(enough), "***");
+  const std::string html_few = report_html(few), html_enough = report_html(enough);
+  EXPECT_NE(html_few.find("<td class=\"stars\"></td>"), std::string::npos);
+  EXPECT_EQ(html_few.find("<td class=\"stars\">*"), std::string::npos);
+  EXPECT_NE(html_few.find("id=\"no-power\""), std::string::npos);
+  EXPECT_NE(html_enough.find("<td class=\"stars\">***</td>"), std::string::npos);
+  EXPECT_EQ(html_enough.find("id=\"no-power\""), std::string::npos);
+  // The paper's robustness finding (stress > none, P < 0.01) beside each.
+  const Json& row_few = j_few["paper_comparison"]["rows"][5];
+  ASSERT_EQ(row_few["panel"], "C");
+  EXPECT_EQ(row_few["verdict"],
+            "same direction, but n = 5 < " + std::to_string(kMinBootstrapN) + " cannot resolve it");
+  EXPECT_EQ(j_enough["paper_comparison"]["rows"][5]["verdict"], "agrees");
+  EXPECT_EQ(j_enough["paper_comparison"]["rows"][0]["verdict"], "not compared in this study");
+  EXPECT_TRUE(j_enough["warnings"].empty());
+}
+
+// Panel B's values are pairs: its power counts the champions behind them, read from the
+// panel's groups (a comparison read back from analysis.h5 carries no n of its own).
+TEST(StudyPower, DiversityCountsChampionsNotPairs) {
+  const auto powered = [](const std::string& metric, int values) {
+    StudyResult r;
+    PanelStats p;
+    p.id = "B";
+    p.metric = metric;
+    for (Treatment t : {Treatment::kNone, Treatment::kStress}) {
+      GroupStats g;
+      g.treatment = t;
+      g.values.assign(static_cast<size_t>(values), 1.0);
+      p.groups.push_back(g);
+    }
+    BootstrapTestResult t;
+    t.name_a = "none";
+    t.name_b = "stress";
+    p.comparisons = {t};
+    r.panels = {p};
+    return Json::parse(stats_json(r))["panels"][0]["comparisons"][0]["powered"].get<bool>();
+  };
+  const int n = kMinBootstrapN;
+  EXPECT_TRUE(powered("diversity", n * (n - 1) / 2));
+  EXPECT_FALSE(powered("diversity", (n - 1) * (n - 2) / 2));
+  EXPECT_TRUE(powered("fitness", (n - 1) * (n - 2) / 2));  // as many champions as values
+  EXPECT_FALSE(powered("fitness", n - 1));
+}
+
+// Champions that share one body descended from a hand-built one are named beside the
+// diversity panel and in stats.json; a champion of the same plan with another body is not.
+TEST(StudySharedBody, ChampionsOfOneSeededBodyAreNamed) {
+  StudyResult r;
+  r.treatments = {Treatment::kNone, Treatment::kStress, Treatment::kPressure};
+  const std::vector<std::string> labels = {"none-s1", "stress-s1", "pressure-s1"};
+  for (int i = 0; i < 3; ++i) {
+    StudyInput in;
+    in.file = labels[i] + ".h5";
+    r.inputs.push_back(in);
+    ChampionAnalysis c;
+    c.label = labels[i];
+    c.input = i;
+    c.treatment = r.treatments[i];
+    c.seeded_plan = 0;
+    c.robot.nx = c.robot.ny = c.robot.nz = 2;
+    c.robot.present = {1, 1, 1, 1, 1, 0, 1, 0};
+    r.champions.push_back(c);
+  }
+  r.champions[2].robot.present[7] = 1;  // pressure-s1 grew a voxel: another body
+  r.hausdorff.n = 3;
+  r.hausdorff.distance = {0, 0, 1, 0, 0, 1, 1, 1, 0};
+  const Json j = Json::parse(stats_json(r));
+  ASSERT_EQ(j["hausdorff"]["shared_seeded_bodies"].size(), 1u);
+  EXPECT_EQ(j["hausdorff"]["shared_seeded_bodies"][0]["seeded_plan"], "Pi");
+  EXPECT_EQ(j["hausdorff"]["shared_seeded_bodies"][0]["labels"],
+            Json::array({"none-s1", "stress-s1"}));
+  const std::string note =
+      "2 champions (none-s1, stress-s1) share one body, descended from the hand-built Π that "
+      "generation 0 held";
+  bool warned = false;
+  for (const Json& w : j["warnings"]) warned |= w.get<std::string>().starts_with(note);
+  EXPECT_TRUE(warned) << j["warnings"].dump();
+  const std::string html = report_html(r);
+  const size_t at = html.find("<p class=\"warn\" id=\"shared-body\">" + note);
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_LT(html.find("Diversity: Hausdorff distances"), at);  // beside the panel
+  EXPECT_LT(at, html.find("<svg", at - 1));
+  // Not seeded (a random start): nothing to say.
+  for (ChampionAnalysis& c : r.champions) c.seeded_plan = -1;
+  EXPECT_TRUE(Json::parse(stats_json(r))["hausdorff"]["shared_seeded_bodies"].empty());
+  EXPECT_EQ(report_html(r).find("id=\"shared-body\""), std::string::npos);
+}
+
+// The load records which hand-built body a champion's lineage began from: at generation 0 of a
+// run seeded with them, the first three individuals are Π, Γ, Υ and any other is random.
+TEST_F(Study, TheLoadKnowsWhichChampionsDescendFromAHandBuiltBody) {
+  std::vector<std::string> files;
+  for (uint64_t seed : {1, 2, 3}) {
+    evo::EvolveConfig c = evo::parse_config(
+        R"({"format": "plastivox-evolve-config", "version": 1, "treatment": "none", "seed": )" +
+            std::to_string(seed) +
+            R"(, "population": 4, "generations": 1, "lattice": {"nx": 6, "ny": 6, "nz": 6},
+               "initial_population": "body-plans",
+               "physics": {"duration": 0.2, "settle_time": 0.1}})",
+        "seeded");
+    files.push_back(path("seeded-" + std::to_string(seed) + ".h5"));
+    evo::RunOptions o;
+    o.threads = 1;
+    ASSERT_EQ(evo::run_evolution(c, files.back(), o).outcome, evo::RunOutcome::kFinished);
+  }
+  StudyOptions o = quick();
+  o.generation = 0;
+  int seeded = 0;
+  for (const ChampionAnalysis& c : analyze_study(files, o).champions) {
+    EXPECT_EQ(c.seeded_plan, c.id < 3 ? static_cast<int>(c.id) : -1) << c.label;
+    seeded += c.seeded_plan >= 0;
+  }
+  EXPECT_GT(seeded, 0);
+  // A random start has no seeded ancestor.
+  for (const ChampionAnalysis& c : analyze_study({run(Treatment::kNone, 1)}, quick()).champions)
+    EXPECT_EQ(c.seeded_plan, -1);
 }
 
 TEST_F(Study, TwoFilesOfOneRunAreOneReplicateNotTwo) {

@@ -298,7 +298,29 @@ TEST_F(ExperimentRun, EveryStageEveryOutputConsistent) {
   EXPECT_NE(report.find(best + " (fitness", activity), std::string::npos) << best;
   const size_t data = report.find("src=\"data:image/png;base64,", image);
   ASSERT_NE(data, std::string::npos);
-  EXPECT_LT(report.find('"', data + 5) - data, 16000u);  // small: at most 128 x 32 pixels
+  // Shown at its own size (no upscaling): the img's width and height are the PNG's (its IHDR,
+  // bytes 16..23, the first 32 base64 characters), and each voxel has its own 2-pixel row.
+  std::string head;  // the PNG's first 24 bytes
+  const std::string b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const size_t png = data + std::string("src=\"data:image/png;base64,").size();
+  for (size_t k = 0; k < 32; k += 4) {
+    uint32_t v = 0;
+    for (size_t m = 0; m < 4; ++m)
+      v = v << 6 | static_cast<uint32_t>(b64.find(report[png + k + m]));
+    for (int shift : {16, 8, 0}) head += static_cast<char>(v >> shift & 0xff);
+  }
+  const auto be32 = [&](size_t at) {
+    uint32_t v = 0;
+    for (size_t m = 0; m < 4; ++m) v = v << 8 | static_cast<uint8_t>(head[at + m]);
+    return v;
+  };
+  const std::string tag = report.substr(image, data - image);
+  EXPECT_NE(tag.find(" width=\"" + std::to_string(be32(16)) + "\""), std::string::npos) << tag;
+  EXPECT_NE(tag.find(" height=\"" + std::to_string(be32(20)) + "\""), std::string::npos) << tag;
+  for (const auto& c : study_stats["champions"])
+    if (c["label"] == best) {
+      EXPECT_EQ(be32(20), 2 * c["voxels"].get<uint32_t>()) << best;
+    }
   ASSERT_EQ(shared_range.size(), 2u);
   double e0_lo = 1e300, e0_hi = 0;
   for (const char* t : {"none", "stress", "pressure"})

@@ -474,6 +474,54 @@ TEST_F(RecordedLives, ColouringByActuationDrawsTheRecordedSignal) {
   EXPECT_NE(pixel(0, 3), pixel(0, 0));
 }
 
+// A body whose every voxel swings through +-1, in six phases a sixth of a cycle apart (as the
+// 180 voxels of the champion in issue 54 did), recorded at 8 frames a cycle: the activity map
+// shows it swinging. One row per voxel, each row reaches both ends of the map; grouped six to a
+// row (one voxel of each phase, where a mean is 0 at every instant and drew white), every cell
+// is as far from white as the group's RMS signal (0.71).
+TEST(ActivityRaster, ABodySwingingAtFullAmplitudeDoesNotLookAtRest) {
+  const int voxels = 180, count = 210;
+  std::vector<Frame> frames(count);
+  for (int k = 0; k < count; ++k) {
+    frames[k].time = k / 40.0;
+    frames[k].pos.resize(voxels);
+    for (int i = 0; i < voxels; ++i)
+      frames[k].actuation.push_back(std::sin(2 * M_PI * (5 * frames[k].time + (i % 6) / 6.0)));
+  }
+  const render::Colormap& map = render::Colormap::diverging();
+  const render::Rgb8 rest = map.at(0.5);
+  const auto from_rest = [&](const render::ActivityRaster& r, int x, int y) {
+    const uint8_t* p = &r.rgba[4 * (static_cast<size_t>(y) * r.width + x)];
+    int d = 0;
+    for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(p[c] - rest[c]));
+    return d;
+  };
+  const auto distance = [&](const render::Rgb8& c) {
+    int d = 0;
+    for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(c[k] - rest[k]));
+    return d;
+  };
+  const int full_swing = std::min(distance(map.at(0)), distance(map.at(1)));
+  const render::ActivityRaster each = render::actuation_raster(frames, 400, 480, 2);
+  EXPECT_EQ(each.rows, voxels);
+  EXPECT_EQ(each.columns, count);
+  EXPECT_EQ(each.width, 2 * count);  // 2 x 2 pixels a cell, shown at its own size
+  EXPECT_EQ(each.height, 2 * voxels);
+  for (int y = 0; y < each.height; ++y) {
+    int strongest = 0;
+    for (int x = 0; x < each.width; ++x) strongest = std::max(strongest, from_rest(each, x, y));
+    EXPECT_GE(strongest, full_swing * 95 / 100) << "row " << y;
+  }
+  const render::ActivityRaster grouped = render::actuation_raster(frames, 30, 480);
+  EXPECT_EQ(grouped.rows, 30);
+  EXPECT_EQ(grouped.voxels_per_row, 6);
+  const int rms = std::min(distance(map.at(0.5 - 0.5 / std::sqrt(2.0))),
+                           distance(map.at(0.5 + 0.5 / std::sqrt(2.0))));
+  for (int y = 0; y < grouped.height; ++y)
+    for (int x = 0; x < grouped.width; ++x)
+      ASSERT_GE(from_rest(grouped, x, y), rms * 9 / 10) << "cell " << x << ", " << y;
+}
+
 TEST_F(RecordedLives, TheCommandLineRecordsAndReplays) {
   // A soft (1e7 Pa), heavy cube sinks through the floor: scored, the authors' rule, so its
   // life is recorded like any other.

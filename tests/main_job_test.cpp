@@ -52,6 +52,30 @@ TEST_F(MainJob, DefaultStudyShowsWalkingBodyPlansThatDevelop) {
         "from hand-built Π, Γ, Υ bodies and random ones"})
     EXPECT_NE(report.find(said), std::string::npos) << said;
   EXPECT_EQ(report.find("excluded from the statistics"), std::string::npos);
+  // Two champions per treatment: no comparison has power, so no stars anywhere, a warning and a
+  // sentence; the paper's findings beside, none called a contradiction; seed 1's three champions
+  // are the hand-built Π, named beside the diversity panel.
+  for (const json& p : j["panels"])
+    for (const json& c : p["comparisons"]) {
+      EXPECT_EQ(c["stars"], "") << p["id"];
+      EXPECT_FALSE(c["powered"].get<bool>()) << p["id"];
+    }
+  EXPECT_EQ(report.find("<td class=\"stars\">*"), std::string::npos);
+  EXPECT_NE(report.find("id=\"no-power\">These comparisons have no statistical power"),
+            std::string::npos);
+  EXPECT_NE(report.find("The paper found / this study found"), std::string::npos);
+  for (const json& row : j["paper_comparison"]["rows"])
+    EXPECT_FALSE(row["verdict"].get<std::string>().starts_with("contradicts")) << row.dump();
+  ASSERT_EQ(j["hausdorff"]["shared_seeded_bodies"].size(), 1u);
+  EXPECT_EQ(j["hausdorff"]["shared_seeded_bodies"][0]["labels"],
+            json::array({"none-s1", "stress-s1", "pressure-s1"}));
+  EXPECT_NE(report.find("3 champions (none-s1, stress-s1, pressure-s1) share one body, descended "
+                        "from the hand-built Π"),
+            std::string::npos);
+  std::string power_warning;
+  for (const json& w : j["warnings"])
+    if (w.get<std::string>().starts_with("no statistical power")) power_warning = w;
+  EXPECT_FALSE(power_warning.empty()) << j["warnings"].dump();
 }
 
 }  // namespace

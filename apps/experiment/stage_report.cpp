@@ -1,6 +1,7 @@
 // Stage 4: report.html — the analysis report with the experiment's own sections (what was
 // run, the figure panels, galleries and video) added; rewritten only if its bytes change.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -112,36 +113,89 @@ std::string body_plan_table(const StageContext& ctx, const std::vector<std::stri
          "</table>\n<style>.thumb{border:1px solid #ddd}.thumb[onclick]{cursor:pointer}</style>\n";
 }
 
-// The best champion's controller activity over its life: its actuation signal, voxels (rows)
-// by time (columns), as a small inline image (a few kB) on the actuation colour map. Its life
-// is simulated again with the control channels, at about 120 frames over the whole life.
+// What the activity map shows after settling: how many voxels swing both ways to at least 0.9
+// (at 8 frames a cycle a sine of amplitude 1 shows at least cos(pi/8) = 0.92 each way), how
+// many never move, and the range of the voxels' RMS signals.
+struct ActivitySummary {
+  int full_swing = 0, still = 0;
+  double rms_low = 0, rms_high = 0;
+};
+ActivitySummary summarise_activity(const std::vector<Frame>& frames, double settle_time) {
+  ActivitySummary a;
+  const size_t n = frames.empty() ? 0 : frames.front().actuation.size();
+  std::vector<double> high(n, 0), low(n, 0), squares(n, 0);
+  int counted = 0;
+  for (const Frame& f : frames) {
+    if (f.time < settle_time || f.actuation.size() != n) continue;
+    ++counted;
+    for (size_t i = 0; i < n; ++i) {
+      high[i] = std::max(high[i], f.actuation[i]);
+      low[i] = std::min(low[i], f.actuation[i]);
+      squares[i] += f.actuation[i] * f.actuation[i];
+    }
+  }
+  if (counted == 0 || n == 0) return a;
+  a.rms_low = INFINITY;
+  for (size_t i = 0; i < n; ++i) {
+    a.full_swing += high[i] >= 0.9 && low[i] <= -0.9;
+    a.still += std::max(high[i], -low[i]) < 0.01;
+    const double rms = std::sqrt(squares[i] / counted);
+    a.rms_low = std::min(a.rms_low, rms);
+    a.rms_high = std::max(a.rms_high, rms);
+  }
+  return a;
+}
+
+// The best champion's controller activity over its life: its actuation signal, one row per
+// voxel by one column per frame, as an inline image shown at its own size, on the actuation
+// colour map. Its life is simulated again with the control channels, at 8 frames per actuation
+// cycle (so that the sine is drawn, not aliased), at least 120 frames over the life.
 ReportSection activity_section(const StageContext& ctx) {
   ReportSection s;
   const analysis::ChampionAnalysis* best = nullptr;
   for (const auto& c : ctx.study->champions)
     if (c.artifact.empty() && (!best || c.fitness > best->fitness)) best = &c;
   if (!best) return s;
+  const PhysicsDef& physics = best->physics;
   SimOptions options;
-  options.record_fps = 120 / best->physics.duration;  // + the first and the last: <= 128
+  options.record_fps = std::max(8 * physics.act_frequency, 120 / physics.duration);
   options.record_control = true;
-  const SimResult life = simulate(compile(best->robot, best->physics), options);
-  const render::ActivityRaster raster = render::actuation_raster(life.recording.frames, 32, 128);
+  const SimResult life = simulate(compile(best->robot, physics), options);
+  const std::vector<Frame>& frames = life.recording.frames;
+  const int max_rows = 400, max_columns = 480;
+  render::ActivityRaster raster = render::actuation_raster(frames, max_rows, max_columns);
   if (raster.width == 0) return s;
+  if (raster.rows <= 200 && raster.columns <= 300)  // small: 2 x 2 pixels a cell, to be seen
+    raster = render::actuation_raster(frames, max_rows, max_columns, 2);
   const std::string png = render::encode_png(raster.rgba, raster.width, raster.height,
                                              "controller activity of " + best->label);
+  const ActivitySummary a = summarise_activity(frames, physics.settle_time);
   s.title = "Controller activity of the best champion";
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "%s (fitness %.3g): each voxel's actuation signal (rows, %d voxels in lattice "
-                "order%s) over its %.3g s life (columns, left to right), blue shrinking (-1), red "
-                "swelling (+1), white at rest (still while it settles, %.3g s).",
-                best->label.c_str(), best->fitness, best->voxels,
-                raster.height < best->voxels ? ", averaged in groups" : "", life.sim_time,
-                best->physics.settle_time);
+  char buf[1200];
+  std::snprintf(
+      buf, sizeof buf,
+      "%s (fitness %.3g): the actuation signal of each of its %d voxels (rows, lattice "
+      "order%s) in %zu frames, %.3g per second, over its %.3g s life (columns, left to right%s), "
+      "blue shrinking (-1), red swelling (+1), white at rest (still while it settles, %.3g s); "
+      "%d x %d pixels, shown at their own size. After settling, %d of the %d voxels swing "
+      "both ways to at least 0.9 and %d never move; the voxels' RMS signals range from %.2f to "
+      "%.2f (a sine of amplitude 1 has 0.71). Stripes shifted from row to row are voxels in "
+      "different phases: a mean over such voxels would cancel to white, which is why each voxel "
+      "has its own row.",
+      best->label.c_str(), best->fitness, best->voxels,
+      raster.voxels_per_row > 1
+          ? (", RMS over groups of " + std::to_string(raster.voxels_per_row)).c_str()
+          : "",
+      frames.size(), options.record_fps, life.sim_time,
+      raster.frames_per_column > 1
+          ? (", RMS over groups of " + std::to_string(raster.frames_per_column) + " frames").c_str()
+          : "",
+      physics.settle_time, raster.width, raster.height, a.full_swing, best->voxels, a.still,
+      a.rms_low, a.rms_high);
   s.paragraphs.push_back(buf);
   s.raw_html = "<img class=\"activity\" alt=\"controller activity of " + best->label +
-               "\" width=\"480\" height=\"" + std::to_string(std::max(32, 4 * raster.height)) +
-               "\" style=\"image-rendering:pixelated\" src=\"data:image/png;base64," +
+               "\" width=\"" + std::to_string(raster.width) + "\" height=\"" +
+               std::to_string(raster.height) + "\" src=\"data:image/png;base64," +
                render::base64(png) + "\">\n";
   return s;
 }

@@ -367,30 +367,42 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
   return s;
 }
 
-ActivityRaster actuation_raster(const std::vector<Frame>& frames, int max_rows, int max_columns) {
+ActivityRaster actuation_raster(const std::vector<Frame>& frames, int max_rows, int max_columns,
+                                int cell) {
   ActivityRaster out;
   const int n = frames.empty() ? 0 : static_cast<int>(frames.front().pos.size());
   const int t = static_cast<int>(frames.size());
-  if (n == 0 || max_rows < 1 || max_columns < 1) return out;
-  const int per_row = (n + max_rows - 1) / max_rows,
-            per_column = (t + max_columns - 1) / max_columns;
-  out.height = (n + per_row - 1) / per_row;
-  out.width = (t + per_column - 1) / per_column;
+  if (n == 0 || max_rows < 1 || max_columns < 1 || cell < 1) return out;
+  out.voxels_per_row = (n + max_rows - 1) / max_rows;
+  out.frames_per_column = (t + max_columns - 1) / max_columns;
+  out.rows = (n + out.voxels_per_row - 1) / out.voxels_per_row;
+  out.columns = (t + out.frames_per_column - 1) / out.frames_per_column;
+  out.width = out.columns * cell;
+  out.height = out.rows * cell;
   out.rgba.assign(4 * static_cast<size_t>(out.width) * out.height, 255);
   ColorScale scale;
   scale.mode = ColorMode::kActuation;
   scale.lo = -1;
   scale.hi = 1;
-  for (int row = 0; row < out.height; ++row)
-    for (int col = 0; col < out.width; ++col) {
-      double sum = 0;
+  for (int row = 0; row < out.rows; ++row)
+    for (int col = 0; col < out.columns; ++col) {
+      // A group's root-mean-square signal with the sign of its mean: one voxel in one frame
+      // is its own signal; a group swinging at +-1 out of phase is as strong as each member.
+      double sum = 0, squares = 0;
       int count = 0;
-      for (int k = col * per_column; k < std::min(t, (col + 1) * per_column); ++k)
-        for (int i = row * per_row; i < std::min(n, (row + 1) * per_row); ++i, ++count)
-          sum += frames[k].actuation.empty() ? 0.0 : frames[k].actuation[i];
-      const Rgb8 c = scale.map().at(scale.position(sum / count));
-      uint8_t* px = &out.rgba[4 * (static_cast<size_t>(row) * out.width + col)];
-      std::copy(c.begin(), c.end(), px);
+      for (int k = col * out.frames_per_column; k < std::min(t, (col + 1) * out.frames_per_column);
+           ++k)
+        for (int i = row * out.voxels_per_row; i < std::min(n, (row + 1) * out.voxels_per_row);
+             ++i, ++count) {
+          const double u = frames[k].actuation.empty() ? 0.0 : frames[k].actuation[i];
+          sum += u;
+          squares += u * u;
+        }
+      const double rms = std::sqrt(squares / count);
+      const Rgb8 c = scale.map().at(scale.position(sum < 0 ? -rms : rms));
+      for (int y = row * cell; y < (row + 1) * cell; ++y)
+        for (int x = col * cell; x < (col + 1) * cell; ++x)
+          std::copy(c.begin(), c.end(), &out.rgba[4 * (static_cast<size_t>(y) * out.width + x)]);
     }
   return out;
 }

@@ -54,6 +54,64 @@ std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r);
 // How many runs started from the hand-built Π, Γ, Υ bodies (initial_population: body-plans).
 int body_plan_start_runs(const StudyResult& r);
 
+// Champions (indices) that share one body descended from a hand-built one: equal lattices and
+// filled sites, the same seeded_plan; groups of two or more, in champion order.
+struct SharedBody {
+  int plan = 0;  // 0 Π, 1 Γ, 2 Υ
+  std::vector<int> champions;
+};
+std::vector<SharedBody> shared_seeded_bodies(const StudyResult& r);
+// One sentence per shared body for the report and stats.json's warnings.
+std::vector<std::string> shared_body_notes(const StudyResult& r);
+
+// ---- study_power.cpp ----
+// How many champions a panel's group rests on: its n, or for panel B (every within-treatment
+// pair) the k with k (k - 1) / 2 = n pairs.
+int champions_behind(const std::string& metric, size_t values);
+// The fewer champions behind the two groups a comparison of panel p compares (read from the
+// panel's groups: a comparison read back from analysis.h5 has no n of its own).
+int comparison_champions(const PanelStats& p, const BootstrapTestResult& t);
+// Whether a comparison can resolve anything: both treatments rest on at least kMinBootstrapN
+// champions (bootstrap_coverage.hpp). compute_panels gives one without power no stars.
+bool has_power(const PanelStats& p, const BootstrapTestResult& t);
+// The stars every output shows: t.stars with power, none without (also for a result read
+// from an analysis.h5 written before the rule).
+std::string stars_shown(const PanelStats& p, const BootstrapTestResult& t);
+// The fewest champions behind any comparison of the study, and how many comparisons lack power.
+struct PowerSummary {
+  int comparisons = 0, without_power = 0, fewest = 0;
+  std::vector<std::string> panels;  // ids of the panels with a comparison without power
+};
+PowerSummary power_summary(const StudyResult& r);
+// stats.json's warning for comparisons without power ("" when every comparison has it).
+std::string power_warning(const StudyResult& r);
+
+// ---- study_paper.cpp ----
+// One comparison the paper published (Kriegman et al. 2018, Fig. 5 and its Results text), in
+// the study's pair order (a before b: none, stress, pressure).
+struct PaperFinding {
+  const char* panel;  // "A".."F"
+  Treatment a, b;
+  int direction;        // sign of mean(b) - mean(a) the paper found; 0: no difference at 0.05
+  const char* p_level;  // as the paper states it, e.g. "P < 0.001", "P ≥ 0.05"
+  const char* where;    // the passage that states it
+};
+const std::vector<PaperFinding>& paper_findings();
+// The paper's finding beside this study's estimate.
+struct PaperComparison {
+  PaperFinding paper;
+  std::string metric, title;  // of the panel
+  bool measured = false;      // this study compared the two treatments in that panel
+  int n_a = 0, n_b = 0;       // champions behind each group
+  std::optional<ConfidenceInterval> difference;  // of mean(b) - mean(a), percentile bootstrap
+  double p_corrected = 1;
+  bool powered = false, significant = false;
+  std::string verdict;  // how the two relate, one phrase
+};
+std::vector<PaperComparison> compare_with_paper(const StudyResult& r);
+// "stress > none", "pressure < stress", "no difference between none and stress".
+std::string direction_text(Treatment a, Treatment b, int direction);
+
 // ---- study_format.cpp ----
 // Shortest decimal text that reads back to the same double (std::to_chars); "" when absent
 // or not finite.

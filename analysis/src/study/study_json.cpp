@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/analysis/bootstrap_coverage.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis {
@@ -76,7 +77,14 @@ Json statistics(const StudyResult& r) {
           {"ci_level", o.ci_level},
           {"stars", "* p<0.05, ** p<0.01, *** p<0.001 (after correction)"},
           {"effect_size", "Hedges' g of a relative to b (Cohen's d with small-sample correction)"},
-          {"seed", o.seed}};
+          {"seed", o.seed},
+          {"min_champions_for_power", kMinBootstrapN},
+          {"power_rule",
+           "a comparison has power when both treatments rest on at least "
+           "min_champions_for_power champions (panel B: the champions behind its pairs), the "
+           "smallest n at which the 95% bootstrap interval reaches its coverage "
+           "(docs/analysis.md); one without power has powered false, no stars and significant "
+           "false"}};
 }
 
 Json group(const GroupStats& g) {
@@ -93,16 +101,17 @@ Json group(const GroupStats& g) {
           {"excluded", excluded}};
 }
 
-Json comparison(const BootstrapTestResult& t) {
+Json comparison(const PanelStats& p, const BootstrapTestResult& t) {
   return {{"a", t.name_a},
           {"b", t.name_b},
           {"mean_diff", num(t.difference)},
           {"p", num(t.p_value)},
           {"p_corrected", num(t.p_corrected)},
-          {"stars", t.stars},
+          {"stars", study::stars_shown(p, t)},
           {"effect_size", num(t.effect.hedges_g)},
           {"cohens_d", num(t.effect.cohens_d)},
-          {"significant", t.significant},
+          {"significant", t.significant && study::has_power(p, t)},
+          {"powered", study::has_power(p, t)},
           {"n_a", t.n_a},
           {"n_b", t.n_b},
           {"mean_a", num(t.mean_a)},
@@ -116,7 +125,7 @@ Json comparison(const BootstrapTestResult& t) {
 Json panel(const PanelStats& p) {
   Json groups = Json::array(), comps = Json::array();
   for (const GroupStats& g : p.groups) groups.push_back(group(g));
-  for (const BootstrapTestResult& t : p.comparisons) comps.push_back(comparison(t));
+  for (const BootstrapTestResult& t : p.comparisons) comps.push_back(comparison(p, t));
   return {{"id", p.id},
           {"metric", p.metric},
           {"title", p.title},
@@ -213,13 +222,21 @@ Json hausdorff(const StudyResult& r) {
     for (int j = 0; j < m.n; ++j) row.push_back(num(m.at(i, j)));
     matrix.push_back(row);
   }
+  static const char* const plans[] = {"Pi", "Gamma", "Upsilon"};
+  Json shared = Json::array();
+  for (const study::SharedBody& g : study::shared_seeded_bodies(r)) {
+    Json members = Json::array();
+    for (int i : g.champions) members.push_back(r.champions[i].label);
+    shared.push_back({{"seeded_plan", plans[g.plan]}, {"labels", members}});
+  }
   return {{"rotations", to_string(m.options.rotations)},
           {"translation", to_string(m.options.translation)},
           {"labels", labels},
           {"matrix", matrix},
           {"units", "voxel lengths"},
           {"most_similar", pair_list(r, study::extreme_pairs(m, 5, true))},
-          {"least_similar", pair_list(r, study::extreme_pairs(m, 5, false))}};
+          {"least_similar", pair_list(r, study::extreme_pairs(m, 5, false))},
+          {"shared_seeded_bodies", shared}};
 }
 
 // Per run and per treatment, one value per generation (docs/analysis.md, "evolution").
@@ -250,6 +267,39 @@ Json evolution(const StudyResult& r) {
           {"treatments", bands}};
 }
 
+// Kriegman et al. (2018)'s published comparisons beside this study's (study_paper.cpp).
+Json paper_comparison(const StudyResult& r) {
+  Json rows = Json::array();
+  for (const study::PaperComparison& c : study::compare_with_paper(r)) {
+    const ConfidenceInterval* d = c.difference ? &*c.difference : nullptr;
+    rows.push_back({{"panel", c.paper.panel},
+                    {"metric", c.metric},
+                    {"a", to_string(c.paper.a)},
+                    {"b", to_string(c.paper.b)},
+                    {"paper_direction", c.paper.direction},
+                    {"paper_found", study::direction_text(c.paper.a, c.paper.b, c.paper.direction)},
+                    {"paper_p", c.paper.p_level},
+                    {"paper_where", c.paper.where},
+                    {"measured", c.measured},
+                    {"n_a", c.n_a},
+                    {"n_b", c.n_b},
+                    {"difference", d ? num(d->mean) : Json(nullptr)},
+                    {"ci_low", d ? num(d->lower) : Json(nullptr)},
+                    {"ci_high", d ? num(d->upper) : Json(nullptr)},
+                    {"p_corrected", c.measured ? num(c.p_corrected) : Json(nullptr)},
+                    {"powered", c.powered},
+                    {"significant", c.significant},
+                    {"verdict", c.verdict}});
+  }
+  return {{"paper",
+           "Kriegman, Cheney, Corucci, Bongard (2018), Interoceptive robustness through "
+           "environment-mediated morphological development, GECCO: the run champions' "
+           "comparisons of Fig. 5 as its Results state them (20 champions per treatment, "
+           "Bonferroni-corrected for three comparisons)"},
+          {"difference", "mean(b) - mean(a) with its percentile bootstrap interval"},
+          {"rows", rows}};
+}
+
 }  // namespace
 
 std::string stats_json(const StudyResult& r) {
@@ -263,6 +313,10 @@ std::string stats_json(const StudyResult& r) {
   Json counts = Json::object();
   for (const auto& [t, k] : study::body_plan_counts(r))
     counts[to_string(t)] = {{"Pi", k[0]}, {"Gamma", k[1]}, {"Upsilon", k[2]}, {"other", k[3]}};
+  // The study's own warnings, then what its statistics cannot bear.
+  std::vector<std::string> warnings = r.warnings;
+  if (const std::string w = study::power_warning(r); !w.empty()) warnings.push_back(w);
+  for (const std::string& n : study::shared_body_notes(r)) warnings.push_back(n);
   const Json j = {{"format", "plastivox-analysis"},
                   {"format_version", kStudyFormatVersion},
                   {"provenance", provenance(r)},
@@ -285,7 +339,8 @@ std::string stats_json(const StudyResult& r) {
                     {"environment", r.environment},
                     {"controller", r.controller},
                     {"keep_artifacts", r.options.keep_artifacts}}},
-                  {"warnings", strings(r.warnings)}};
+                  {"paper_comparison", paper_comparison(r)},
+                  {"warnings", strings(warnings)}};
   return j.dump(1) + "\n";
 }
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/evo/config.hpp"
+#include "plastivox/evo/genome.hpp"  // kBodyPlanSeedCount
 #include "plastivox/evo/hash.hpp"
 #include "plastivox/evo/phenotype.hpp"
 #include "plastivox/evo/results_file.hpp"
@@ -117,6 +118,15 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
     for (const char* m : {"fitness", "m_body", "v_body"}) c.undefined[m] = c.status_detail;
   }
   c.phenotype_digest = phenotype_digest(c.robot);
+  if (l.input.body_plan_start) {  // generation 0's first newcomers, ids 0, 1, 2, were the plans
+    uint64_t root = rec->id;
+    while (root < run.births.size() && run.births[root].parent_id >= 0 &&
+           static_cast<uint64_t>(run.births[root].parent_id) < root)
+      root = static_cast<uint64_t>(run.births[root].parent_id);
+    if (root < static_cast<uint64_t>(evo::kBodyPlanSeedCount) && root < run.births.size() &&
+        run.births[root].generation == 0)
+      c.seeded_plan = static_cast<int>(root);
+  }
   return l;
 }
 
@@ -258,6 +268,7 @@ void load_champion_bodies(StudyResult& r) {
     c.final_stiffness = l.champion.final_stiffness;
     c.physics = l.champion.physics;
     c.fitness = l.champion.fitness;
+    c.seeded_plan = l.champion.seeded_plan;
   }
   if (r.controller.empty()) r.controller = study::controller_of(r.champions);  // an older file
 }

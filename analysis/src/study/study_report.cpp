@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "plastivox/analysis/bootstrap_coverage.hpp"
 #include "plastivox/base/markup.hpp"
 #include "study_internal.hpp"
 
@@ -200,12 +201,51 @@ std::string diversity(const StudyResult& r) {
       "of every pair of champions, minimised over rotations <b>" +
       std::string(to_string(r.hausdorff.options.rotations)) + "</b> and translation <b>" +
       to_string(r.hausdorff.options.translation) +
-      "</b> (voxel lengths). Hover a cell for its value.</p>\n" + heat_map(r);
+      "</b> (voxel lengths). Hover a cell for its value.</p>\n";
+  // Beside the panel: champions whose distance is the seed's, not evolution's.
+  for (const std::string& note : study::shared_body_notes(r))
+    s += "<p class=\"warn\" id=\"shared-body\">" + esc(note) + ".</p>\n";
+  s += heat_map(r);
   s += "<div class=\"pairs\"><div><h3>Most similar pairs</h3>" +
        pair_table(r, study::extreme_pairs(r.hausdorff, 5, true)) + "</div>";
   s += "<div><h3>Least similar pairs</h3>" +
        pair_table(r, study::extreme_pairs(r.hausdorff, 5, false)) + "</div></div>\n";
   return s;
+}
+
+// "the paper found / this study found", one row per published comparison (study_paper.cpp).
+std::string paper_table(const StudyResult& r) {
+  std::string s =
+      "<h3 id=\"paper-comparison\">The paper found / this study found</h3>\n<p>Each comparison "
+      "Kriegman et al. (2018) published for the run champions (Fig. 5 and its Results; 20 "
+      "champions per treatment, P Bonferroni-corrected for three comparisons) beside this "
+      "study's difference of means (b − a) with its " +
+      display(r.options.ci_level * 100, 4) +
+      " % percentile-bootstrap interval. A direction this study cannot resolve (fewer than " +
+      std::to_string(kMinBootstrapN) +
+      " champions per treatment) is no contradiction, whichever way it points.</p>\n"
+      "<table><tr><th>panel</th><th>the paper found</th><th>P</th><th>this study: b − a</th>"
+      "<th>interval</th><th>n</th><th>p corrected</th><th>reading</th></tr>\n";
+  for (const study::PaperComparison& c : study::compare_with_paper(r)) {
+    const std::string title = c.title.empty() ? std::string() : " " + esc(c.title);
+    s += "<tr>" + td(std::string(c.paper.panel) + title) +
+         td(esc(study::direction_text(c.paper.a, c.paper.b, c.paper.direction))) +
+         td(esc(c.paper.p_level));
+    if (c.difference)
+      s += td(display(c.difference->mean, 3) + " (" + to_string(c.paper.b) + " − " +
+                  to_string(c.paper.a) + ")",
+              "num") +
+           td("[" + display(c.difference->lower, 3) + ", " + display(c.difference->upper, 3) + "]",
+              "num") +
+           td(std::to_string(c.n_a) + ", " + std::to_string(c.n_b), "num") +
+           td(p_text(c.p_corrected), "num");
+    else
+      s += td("–") + td("–") +
+           td(c.n_a > 0 ? std::to_string(c.n_a) + ", " + std::to_string(c.n_b) : "–", "num") +
+           td("–");
+    s += td(esc(c.verdict)) + "</tr>\n";
+  }
+  return s + "</table>\n";
 }
 
 std::string statistics(const StudyResult& r) {
@@ -220,6 +260,17 @@ std::string statistics(const StudyResult& r) {
       "of comparisons in each panel; stars after correction: * p&lt;0.05, ** p&lt;0.01, "
       "*** p&lt;0.001 (level " +
       display(o.alpha, 3) + "). Effect size: Hedges' g.</p>\n";
+  const study::PowerSummary power = study::power_summary(r);
+  if (power.without_power > 0)
+    s += "<p class=\"warn\" id=\"no-power\">These comparisons have no statistical power: " +
+         std::to_string(power.without_power) + " of " + std::to_string(power.comparisons) +
+         " rest on fewer than " + std::to_string(kMinBootstrapN) +
+         " champions per treatment (the fewest: " + std::to_string(power.fewest) + "). Below " +
+         std::to_string(kMinBootstrapN) +
+         " the 95 % bootstrap interval misses the true mean far more often than 5 % of the "
+         "time (about half the time at n = 2; docs/analysis.md, \"How many champions a "
+         "comparison needs\"), so they carry no stars, and a difference between treatments "
+         "here, in either direction, is no evidence either way.</p>\n";
   s += "<table><tr><th>panel</th><th>treatment</th><th>n</th><th>mean</th><th>" +
        display(o.ci_level * 100, 4) + " % CI</th></tr>\n";
   for (const PanelStats& p : r.panels)
@@ -230,14 +281,19 @@ std::string statistics(const StudyResult& r) {
               "num") +
            "</tr>\n";
   s += "</table>\n<table><tr><th>panel</th><th>comparison</th><th>difference</th><th>p</th>"
-       "<th>p corrected</th><th></th><th>g</th></tr>\n";
+       "<th>p corrected</th><th></th><th>g</th><th>power</th></tr>\n";
   for (const PanelStats& p : r.panels)
-    for (const BootstrapTestResult& t : p.comparisons)
+    for (const BootstrapTestResult& t : p.comparisons) {
+      const int n = study::comparison_champions(p, t);
       s += "<tr>" + td(p.id + " " + esc(p.title)) + td(t.name_a + " vs " + t.name_b) +
            td(display(t.difference, 4), "num") + td(p_text(t.p_value), "num") +
            td(p_text(t.p_corrected) + " (×" + std::to_string(t.comparisons) + ")", "num") +
-           td(t.stars, "stars") + td(display(t.effect.hedges_g, 3), "num") + "</tr>\n";
-  return s + "</table>\n";
+           td(study::stars_shown(p, t), "stars") + td(display(t.effect.hedges_g, 3), "num") +
+           td(study::has_power(p, t) ? "n = " + std::to_string(n)
+                                     : "none (n = " + std::to_string(n) + ")") +
+           "</tr>\n";
+    }
+  return s + "</table>\n" + paper_table(r);
 }
 
 std::string champions(const StudyResult& r) {

@@ -119,6 +119,12 @@ std::vector<PanelStats> compute_panels(const StudyResult& r) {
       bo.seed = p.seed;
       bo.level = o.alpha;
       p.comparisons = pairwise_bootstrap_tests(samples, bo);
+      // Too few champions to resolve anything (study_power.cpp): p is kept, the verdict is not.
+      for (BootstrapTestResult& t : p.comparisons)
+        if (!study::has_power(p, t)) {
+          t.stars.clear();
+          t.significant = false;
+        }
     }
     panels.push_back(std::move(p));
   }
@@ -182,6 +188,45 @@ int body_plan_start_runs(const StudyResult& r) {
   int n = 0;
   for (const StudyInput& in : r.inputs) n += in.body_plan_start ? 1 : 0;
   return n;
+}
+
+std::vector<SharedBody> shared_seeded_bodies(const StudyResult& r) {
+  std::vector<SharedBody> groups;
+  std::vector<bool> placed(r.champions.size(), false);
+  const auto same_body = [](const RobotDef& a, const RobotDef& b) {
+    return a.nx == b.nx && a.ny == b.ny && a.nz == b.nz && a.present == b.present;
+  };
+  for (size_t i = 0; i < r.champions.size(); ++i) {
+    const ChampionAnalysis& c = r.champions[i];
+    if (placed[i] || c.seeded_plan < 0 || c.robot.present.empty()) continue;
+    SharedBody g;
+    g.plan = c.seeded_plan;
+    g.champions.push_back(static_cast<int>(i));
+    for (size_t j = i + 1; j < r.champions.size(); ++j) {
+      const ChampionAnalysis& d = r.champions[j];
+      if (!placed[j] && d.seeded_plan == c.seeded_plan && same_body(c.robot, d.robot)) {
+        g.champions.push_back(static_cast<int>(j));
+        placed[j] = true;
+      }
+    }
+    if (g.champions.size() >= 2) groups.push_back(std::move(g));
+  }
+  return groups;
+}
+
+std::vector<std::string> shared_body_notes(const StudyResult& r) {
+  static const char* const plans[] = {"Π", "Γ", "Υ"};
+  std::vector<std::string> notes;
+  for (const SharedBody& g : shared_seeded_bodies(r)) {
+    std::string labels;
+    for (int i : g.champions) labels += (labels.empty() ? "" : ", ") + r.champions[i].label;
+    notes.push_back(std::to_string(g.champions.size()) + " champions (" + labels +
+                    ") share one body, descended from the hand-built " + plans[g.plan] +
+                    " that generation 0 held: the same filled voxels, Hausdorff distance 0. "
+                    "Evolution changed their materials and actuation, not their shape, so "
+                    "their distances measure the seed, not diversity that evolved");
+  }
+  return notes;
 }
 
 std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r) {

@@ -152,7 +152,7 @@ std::string statistics_csv(const StudyResult& r) {
                   number(t.difference),
                   number(t.p_value),
                   number(t.p_corrected),
-                  t.stars,
+                  study::stars_shown(p, t),
                   number(t.effect.hedges_g),
                   std::to_string(t.comparisons),
                   t.comparisons > 1 ? "Bonferroni" : "none",

@@ -88,4 +88,12 @@ struct ConfidenceInterval {
 ConfidenceInterval bootstrap_mean_ci(std::span<const double> x, double level = 0.95,
                                      int resamples = 10000, uint64_t seed = 1);
 
+// Percentile bootstrap confidence interval of mean(b) - mean(a): each resample draws n_a values
+// from a, then n_b from b, with replacement (from Rng::stream(seed, kBootstrapCi, 1, 0)); `mean`
+// is the samples' own difference, `n` is n_a + n_b, the bounds as bootstrap_mean_ci's. Each
+// sample needs >= 1 finite value; 0 < level < 1; resamples >= 2.
+ConfidenceInterval bootstrap_difference_ci(std::span<const double> a, std::span<const double> b,
+                                           double level = 0.95, int resamples = 10000,
+                                           uint64_t seed = 1);
+
 }  // namespace plastivox::analysis

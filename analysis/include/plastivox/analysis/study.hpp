@@ -152,6 +152,11 @@ struct ChampionAnalysis {
   std::optional<double> r_mean;        // mean R over valid draws; none if no draw is valid
   std::optional<double> m_body, v_body, v_gain;
   BodyPlanResult body_plan;
+  // The hand-built body (0 Π, 1 Γ, 2 Υ; evo::body_plan_geometry) its lineage began from, when
+  // its run started from them (initial_population: body-plans) and it descends from one; -1
+  // otherwise. Read from the results file's births (not stored in analysis.h5:
+  // load_champion_bodies fills it again).
+  int seeded_plan = -1;
 };
 
 // One treatment's values in one panel.

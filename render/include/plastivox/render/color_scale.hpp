@@ -77,14 +77,20 @@ ColorScale make_color_scale(ColorMode mode, const Model& model,
 // rounded outward as make_color_scale does (for a gallery spanning several robots).
 ColorScale stiffness_data_scale(ColorMode mode, double lo_value, double hi_value);
 
-// A life's controller activity as a small image (RGBA8, rows top-down): rows are voxels in
-// voxel order, columns frames in time order, each cell the actuation signal on the actuation
-// scale's map; consecutive voxels and frames are averaged in equal groups so that the image
-// is at most max_rows x max_columns. A frame without the actuation channel counts as 0.
+// A life's controller activity as an image (RGBA8, rows top-down): one row per voxel, in voxel
+// order, and one column per frame, in time order, each cell the actuation signal on the
+// actuation scale's map, drawn as a block of cell x cell pixels (so that the image is shown at
+// its own size, never scaled up). Beyond max_rows voxels (max_columns frames) consecutive ones
+// share a row (column) in equal groups, coloured by the group's root-mean-square signal with the
+// sign of its mean: a mean would let voxels of different phase cancel, and a body swinging at
+// +-1 would look at rest. A frame without the actuation channel counts as 0.
 struct ActivityRaster {
-  int width = 0, height = 0;  // columns (frame groups), rows (voxel groups)
+  int width = 0, height = 0;  // pixels
+  int rows = 0, columns = 0;  // voxel groups, frame groups
+  int voxels_per_row = 1, frames_per_column = 1;
   std::vector<uint8_t> rgba;  // 4 * width * height
 };
-ActivityRaster actuation_raster(const std::vector<Frame>& frames, int max_rows, int max_columns);
+ActivityRaster actuation_raster(const std::vector<Frame>& frames, int max_rows, int max_columns,
+                                int cell = 1);
 
 }  // namespace plastivox::render
