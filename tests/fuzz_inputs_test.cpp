@@ -271,6 +271,22 @@ TEST_F(FuzzResults, ResultsReader) {
     std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
     evo::read_results(damaged);
   });
+  // Unsealed (issue 54): a results file is never read without its seal, cut off or zeroed, so
+  // HDF5 never parses a damaged one (unlike a recorded life, UnsealedRecordedLifeReader).
+  const auto refusal = [&](const std::string& bytes) {
+    std::ofstream(damaged, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+      evo::read_results(damaged);
+    } catch (const ResultsError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(read)");
+  };
+  EXPECT_EQ(refusal(valid.substr(512)),
+            damaged + ": an HDF5 file, but not a plastivox evolution results file");
+  EXPECT_EQ(
+      refusal(std::string(512, '\0') + valid.substr(512)),
+      damaged + ": not a plastivox evolution results file (not HDF5, or its header is damaged)");
 }
 
 // Recorded lives (issue 40): one flipped bit or one changed metadata byte crashed HDF5 1.10
