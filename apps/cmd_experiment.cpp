@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -113,15 +114,24 @@ int cmd_experiment(const Args& in) {
     const auto speed = experiment::measure_speed(config);
     const auto est = experiment::estimate_cost(config, speed);
     const auto bodies = experiment::sample_bodies(config, speed);
-    const auto plan = experiment::predict_schedule(config, bodies, layout);
+    const auto plan = experiment::predict_with_spread(config, bodies, speed, layout);
+    // A lattice of more than kSampleSites sites is sampled at a coarser one (cost_estimate.hpp).
+    const experiment::SampleLattice sample = experiment::sample_lattice(config);
+    std::string scaled;
+    if (sample.scale > 1)
+      scaled = "estimate: bodies drawn and calibrated on a " + std::to_string(sample.nx) + "x" +
+               std::to_string(sample.ny) + "x" + std::to_string(sample.nz) +
+               " lattice of the same shape, voxels scaled up " +
+               std::to_string(static_cast<int>(std::lround(sample.scale))) +
+               "x (docs/experiment.md, \"Large lattices\")\n";
     std::fprintf(
         stderr,
         "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
-        "%d, %d generations, %.1f s lives\n%s\n%s\nestimate: about %s on disk\n",
+        "%d, %d generations, %.1f s lives\n%s%s\n%s\nestimate: about %s on disk\n",
         config.name.c_str(), config.treatments.size(), config.treatments.size() == 1 ? "" : "s",
         config.seeds.size(), config.seeds.size() == 1 ? "" : "s", config.evolution.population,
-        config.evolution.generations, config.evolution.physics.duration, est.summary().c_str(),
-        plan.summary().c_str(),
+        config.evolution.generations, config.evolution.physics.duration, scaled.c_str(),
+        est.summary().c_str(), plan.summary().c_str(),
         experiment::human_size(experiment::estimate_disk(config, !no_viewer).total()).c_str());
     if (json_out) std::printf("%s\n", plan.json().c_str());
   }

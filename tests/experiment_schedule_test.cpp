@@ -2,11 +2,15 @@
 // by hand, for both policies, and the estimate's JSON through the real binary.
 #include <chrono>
 #include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "experiment/cost_estimate.hpp"
+#include "experiment/experiment_config.hpp"
 #include "experiment/schedule.hpp"
 #include "plastivox/evo/rng.hpp"  // mix64
 #include "plastivox/io/atomic_file.hpp"
@@ -194,6 +198,12 @@ TEST(ScheduleCli, EstimateOnlyJson) {
   EXPECT_GT(j.at("rendering_seconds").get<double>(), 0);
   EXPECT_NEAR(j.at("core_hours").get<double>(), 8 * j.at("wall_seconds").get<double>() / 3600,
               1e-12);
+  // The spread of the speed probe's rounds (issue 54: three runs read 56.6, 64.0 and 85.7 h).
+  const auto wall = j.at("wall_seconds_range"), hours = j.at("core_hours_range");
+  EXPECT_LE(wall[0].get<double>(), j.at("wall_seconds").get<double>());
+  EXPECT_GE(wall[1].get<double>(), j.at("wall_seconds").get<double>());
+  EXPECT_LE(hours[0].get<double>(), j.at("core_hours").get<double>());
+  EXPECT_GE(hours[1].get<double>(), j.at("core_hours").get<double>());
   const auto bad = testing::shell(std::string(PLASTIVOX_CLI) +
                                   " experiment --preset tiny --estimate-only --cores 6 "
                                   "--ranks 4 2>&1");
@@ -204,6 +214,83 @@ TEST(ScheduleCli, EstimateOnlyJson) {
                            " experiment --preset tiny --cores 4 --out x 2>&1")
                 .status,
             2);
+}
+
+// The speed probe measures rounds and reports their median and spread, not one short run.
+TEST(ScheduleSpeed, ProbeReportsTheMedianOfItsRounds) {
+  const ExperimentConfig c = preset_config("tiny");
+  const SpeedSample s = measure_speed(c, 0.05, 3);
+  EXPECT_EQ(s.rounds, 3);
+  EXPECT_GT(s.voxel_steps_low, 0);
+  EXPECT_LE(s.voxel_steps_low, s.voxel_steps_per_second);
+  EXPECT_LE(s.voxel_steps_per_second, s.voxel_steps_high);
+  // A repriced sample is the same bodies at another speed.
+  const BodySample b = sample_bodies(c, s, 6);
+  ASSERT_FALSE(b.bodies.empty());
+  const BodySample slow = repriced(b, s.voxel_steps_per_second / 2);
+  EXPECT_DOUBLE_EQ(slow.bodies[0].seconds, 2 * b.bodies[0].seconds);
+  EXPECT_EQ(slow.bodies[0].voxels, b.bodies[0].voxels);
+}
+
+// Issue 54: the estimate of a 100^3 lattice took 314 s, silent for 120 s: 96 random genomes
+// expressed over 10^6 sites on one thread, and a 500 000-voxel calibration body. Both are now
+// made on a lattice of the same shape of at most kSampleSites sites and scaled up, so the work
+// is bounded at any size a config allows (before: 96 x 10^6 sites at least).
+class ScheduleLargeLattice : public testing::ScratchDirTest {};
+
+TEST_F(ScheduleLargeLattice, EstimateOfTheLargestLatticeWorksOnASampleOfIt) {
+  const auto config_text = [](int nx, int ny, int nz) {
+    return R"({"format": "plastivox-experiment-config", "version": 1, "name": "large",
+      "treatments": ["none", "stress"], "seeds": [1],
+      "evolution": {"population": 4, "generations": 2,
+                    "lattice": {"nx": )" +
+           std::to_string(nx) + R"(, "ny": )" + std::to_string(ny) + R"(, "nz": )" +
+           std::to_string(nz) + R"(, "voxel_size": 0.01},
+                    "physics": {"preset": "gecco2018-code", "duration": 0.5}}})";
+  };
+  const ExperimentConfig big = parse_experiment_config(config_text(100, 100, 100), "big");
+  const SampleLattice l = sample_lattice(big);
+  EXPECT_EQ(l.nx, 10);
+  EXPECT_EQ(l.ny, 10);
+  EXPECT_EQ(l.nz, 10);
+  EXPECT_DOUBLE_EQ(l.scale, 1000);
+  const SpeedSample s = measure_speed(big, 0.05, 1);
+  EXPECT_EQ(s.voxels_simulated, 500);    // the sample lattice's lower half
+  EXPECT_EQ(s.voxels_per_body, 500000);  // the whole lattice's
+  const BodySample b = sample_bodies(big, s, 12);
+  EXPECT_GT(b.sites_evaluated, 0);
+  EXPECT_LT(b.sites_evaluated, 1000000);  // less than one expression of the whole lattice
+  ASSERT_FALSE(b.bodies.empty());
+  for (const Job& j : b.bodies) {  // whole-lattice bodies: at least min_fill of 10^6 sites
+    EXPECT_GE(j.voxels, 0.2 * 1e6);
+    EXPECT_LE(j.voxels, 1e6);
+  }
+  // Flat and thin lattices keep their shape; extents of 1 and 2 stay.
+  const SampleLattice flat = sample_lattice(parse_experiment_config(config_text(100, 100, 2), "f"));
+  EXPECT_EQ(flat.nz, 2);
+  EXPECT_LE(flat.sites(), kSampleSites);
+  EXPECT_EQ(flat.nx, flat.ny);
+  EXPECT_GE(flat.nx, 20);
+  EXPECT_DOUBLE_EQ(flat.scale, 20000.0 / flat.sites());
+  // The paper's lattice is not sampled: its estimate is as before.
+  const SampleLattice paper = sample_lattice(preset_config("gecco2018"));
+  EXPECT_EQ(paper.sites(), 1000);
+  EXPECT_DOUBLE_EQ(paper.scale, 1);
+
+  // Through the binary: it answers, says it sampled, and prints the estimate.
+  const std::string cfg = path("big.json");
+  write_file_atomic(cfg, config_text(100, 100, 100));
+  const auto o = testing::shell(std::string(PLASTIVOX_CLI) + " experiment --config " + cfg +
+                                " --estimate-only --json 2>" + path("err.txt"));
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_EQ(nlohmann::json::parse(o.out).at("simulations"), 2 * (4 + 2 * 5) + 2 * (1 + 10));
+  std::ifstream in(path("err.txt"));
+  const std::string err((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(err.find("estimate: bodies drawn and calibrated on a 10x10x10 lattice of the same "
+                     "shape, voxels scaled up 1000x"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("core-hours of simulation"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -11,18 +11,38 @@
 
 namespace plastivox::experiment {
 
+// Above kSampleSites lattice sites, the estimate draws and calibrates bodies on the lattice's
+// shape scaled down to about that many sites, and scales voxel counts and expression times up
+// by the ratio of sites (docs/experiment.md, "Large lattices"): drawing 96 bodies over a 100^3
+// lattice took 314 s. The paper's 10^3 lattice is not scaled.
+inline constexpr int kSampleSites = 1000;
+struct SampleLattice {
+  int nx = 0, ny = 0, nz = 0;
+  double scale = 1;  // the config's lattice sites / this one's
+  int sites() const { return nx * ny * nz; }
+};
+SampleLattice sample_lattice(const ExperimentConfig& config);
+
 struct SpeedSample {
-  double voxel_steps_per_second = 0;  // one core (the calibration thread's CPU time)
-  double steps_per_life = 0;          // simulated life / dt of a typical body
-  double voxels_per_body = 0;         // typical body (half the lattice filled)
-  double seconds_per_evaluation = 0;  // one core, one full life
+  double voxel_steps_per_second = 0;  // one core (the calibration thread's CPU time): the median
+  double voxel_steps_low = 0, voxel_steps_high = 0;  // the slowest and fastest probe round
+  int rounds = 0;                                    // probe rounds measured
+  double steps_per_life = 0;                         // simulated life / dt of a typical body
+  double voxels_per_body = 0;                        // typical body (half the lattice filled)
+  double voxels_simulated = 0;        // the calibration body's (at most kSampleSites / 2)
+  double seconds_per_evaluation = 0;  // one core, one full life, at the median speed
 };
 
-// Simulates a typical body of the config's lattice and physics (half the sites filled,
-// stiffness spread log-uniformly over [E_min, E_max], development on) for about
-// `budget_seconds` of wall time and extrapolates a whole life. Speed is per CPU second of
-// the calibrating thread, so other jobs on a shared machine do not lower it.
-SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds = 0.5);
+// Simulates a typical body of the config's lattice (scaled down as sample_lattice says) and
+// physics (half the sites filled, stiffness spread log-uniformly over [E_min, E_max],
+// development on) in `rounds` rounds of about `budget_seconds` / `rounds` of wall time each
+// (each at least kMinRoundCpu of the thread's CPU time, so a loaded machine takes longer)
+// and extrapolates a whole life at the median round's speed. Speed is per CPU second of the
+// calibrating thread, so other jobs on a shared machine lower it less (they still do:
+// caches, memory bandwidth); the spread of the rounds is reported with it.
+inline constexpr double kMinRoundCpu = 0.05;
+SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds = 0.6,
+                          int rounds = 5);
 
 struct CostEstimate {
   int64_t evolution_evaluations = 0;  // runs x (P + G (P + 1)), before cache hits
@@ -37,12 +57,17 @@ CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& sp
 
 // What evolution's candidates cost: bodies of random genomes of the config's lattice (every
 // treatment in turn, the same draws on every call), each priced at the measured speed.
+// On a lattice of more than kSampleSites sites the genomes are expressed on sample_lattice's
+// and each body's voxels and the expression time are scaled up by its `scale`.
 struct BodySample {
   std::vector<Job> bodies;            // seconds = voxels x steps / voxel-steps per second
   double seconds_per_expression = 0;  // one genome drawn and expressed, one core
   double voxel_steps_per_second = 0;  // the speed they were priced at (SpeedSample's)
+  int64_t sites_evaluated = 0;        // CPPN sites evaluated drawing them (the work done)
 };
 BodySample sample_bodies(const ExperimentConfig& config, const SpeedSample& speed, int count = 96);
+// The same bodies priced at another speed: the estimate at the probe's slowest and fastest round.
+BodySample repriced(BodySample sample, double voxel_steps_per_second);
 
 // The experiment's evolution replayed on `layout` (schedule.hpp), candidates' costs drawn
 // from `sample`, plus the analysis simulations spread evenly over the cores.
@@ -58,12 +83,19 @@ struct SchedulePrediction {
   double core_hours = 0;              // cores x wall: what the allocation is charged
   int64_t simulations = 0;            // evolution + analysis simulations (before cache hits)
   double mean_candidate_seconds = 0;  // mean cost of one sampled body, one core, s
-  std::string summary() const;        // two lines for the terminal
-  std::string json() const;           // one object; keys: cores, ranks, utilization,
-                                      // wall_seconds, core_hours, simulations (and more)
+  // wall_seconds and core_hours at the speed probe's fastest and slowest round (equal to
+  // them until with_spread fills them in).
+  double wall_low = 0, wall_high = 0, core_hours_low = 0, core_hours_high = 0;
+  std::string summary() const;  // two lines for the terminal
+  std::string json() const;     // one object; keys: cores, ranks, utilization,
+                                // wall_seconds, core_hours, simulations, their
+                                // ranges (and more)
 };
 SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySample& sample,
                                     const Layout& layout);
+// The same, with the wall time and core-hours of the probe's fastest and slowest rounds.
+SchedulePrediction predict_with_spread(const ExperimentConfig& config, const BodySample& sample,
+                                       const SpeedSample& speed, const Layout& layout);
 
 // The rendering stage's wall time on `threads` threads: figure panels, one gallery per
 // treatment and the video at their configured sizes, drawn at this machine's measured `speed`

@@ -87,21 +87,39 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
       capacity > 0 ? (p.evolution.busy_seconds + analysis * mean + p.rendering_seconds) / capacity
                    : 0;
   p.core_hours = capacity / 3600.0;
+  p.wall_low = p.wall_high = p.wall_seconds;
+  p.core_hours_low = p.core_hours_high = p.core_hours;
+  return p;
+}
+
+SchedulePrediction predict_with_spread(const ExperimentConfig& config, const BodySample& sample,
+                                       const SpeedSample& speed, const Layout& layout) {
+  SchedulePrediction p = predict_schedule(config, sample, layout);
+  const SchedulePrediction fast =
+      predict_schedule(config, repriced(sample, speed.voxel_steps_high), layout);
+  const SchedulePrediction slow =
+      predict_schedule(config, repriced(sample, speed.voxel_steps_low), layout);
+  p.wall_low = std::min(fast.wall_seconds, p.wall_seconds);
+  p.wall_high = std::max(slow.wall_seconds, p.wall_seconds);
+  p.core_hours_low = std::min(fast.core_hours, p.core_hours);
+  p.core_hours_high = std::max(slow.core_hours, p.core_hours);
   return p;
 }
 
 std::string SchedulePrediction::summary() const {
-  char buf[640];
+  char buf[896];
   std::snprintf(buf, sizeof buf,
                 "schedule: %d cores (%d rank%s x %d thread%s), %s: evolution %s at %.1f %% "
-                "utilisation; with analysis and rendering about %s, %.3g core-hours\n"
+                "utilisation; with analysis and rendering about %s, %.3g core-hours (%s to %s, "
+                "%.3g to %.3g core-hours, at the speed probe's fastest and slowest round)\n"
                 "schedule: run by run (as before the evaluation pool) the evolution would take "
                 "%s at %.1f %%",
                 layout.cores(), layout.ranks, layout.ranks == 1 ? "" : "s", layout.threads,
                 layout.threads == 1 ? "" : "s",
                 policy == Policy::kPool ? "evaluation pool" : "run by run",
                 human_duration(evolution.wall_seconds).c_str(), 100 * evolution.utilization,
-                human_duration(wall_seconds).c_str(), core_hours,
+                human_duration(wall_seconds).c_str(), core_hours, human_duration(wall_low).c_str(),
+                human_duration(wall_high).c_str(), core_hours_low, core_hours_high,
                 human_duration(run_by_run.wall_seconds).c_str(), 100 * run_by_run.utilization);
   return buf;
 }
@@ -115,6 +133,8 @@ std::string SchedulePrediction::json() const {
   j["utilization"] = utilization;
   j["wall_seconds"] = wall_seconds;
   j["core_hours"] = core_hours;
+  j["wall_seconds_range"] = {wall_low, wall_high};
+  j["core_hours_range"] = {core_hours_low, core_hours_high};
   j["simulations"] = simulations;
   j["evolution"] = {{"wall_seconds", evolution.wall_seconds},
                     {"utilization", evolution.utilization},

@@ -122,3 +122,26 @@ def test_an_output_name_other_than_png_is_refused(tmp_path):
     assert not (tmp_path / "frame.jpg").exists()
     plastivox.render(robot, time=0.1, size=(32, 24), out=tmp_path / "frame.PNG")
     assert (tmp_path / "frame.PNG").exists()
+
+def test_a_damaged_unsealed_life_is_an_error_not_a_crash(tmp_path):
+    # Issue 54: a life without its seal, one byte changed, crashed (or hung) HDF5 inside the
+    # interpreter. It is read in a separate process first (engine/io child_read.hpp).
+    json_path = tmp_path / "small.json"  # a small body, as in the hostile run
+    json_path.write_text('{"format": "plastivox-robot", "version": 1, "lattice": {"nx": 2, '
+                         '"ny": 2, "nz": 1, "voxel_size": 0.01}, "voxels": [[0,0,0,1e9,0,0], '
+                         '[1,0,0,1e9,0,0.5], [0,1,0,1e9,0,0], [1,1,0,1e9,0,0.5]]}')
+    life = tmp_path / "life.h5"
+    run_cli("simulate", str(json_path), "--preset", "gecco2018-code", "--duration", "0.3",
+            "--record", str(life), "--fps", "10")
+    unsealed = life.read_bytes()[512:]  # the 512-byte seal cut off
+    plain = tmp_path / "plain.h5"
+    plain.write_bytes(unsealed)
+    assert np.array_equal(plastivox.render(str(plain), size=(32, 24)),
+                          plastivox.render(str(life), size=(32, 24)))
+    damaged = bytearray(unsealed)
+    damaged[unsealed.index(b"GCOL") + 8] ^= 0xFF  # the global heap's size: HDF5 looped for ever
+    bad = tmp_path / "bad.h5"
+    bad.write_bytes(bytes(damaged))
+    with pytest.raises(plastivox.InputError, match=r"bad\.h5: corrupt \(reading it in a separate "
+                                                   r"process ended by signal"):
+        plastivox.render(str(bad), size=(32, 24))

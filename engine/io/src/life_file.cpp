@@ -4,17 +4,20 @@
 // robot file (JSON) in an attribute, so the life can be simulated again and its model
 // compiled for drawing. The control channels (kControlFrameFields) are written only when
 // recorded, flagged by the root attribute "control". Since 2026-12-05 it carries a seal like a
-// results file (file_seal.hpp), checked before HDF5 reads it, and every read is checked against the
-// shapes the file itself declares.
+// results file (file_seal.hpp), checked before HDF5 reads it; a life without one is read in a
+// child process first (child_read.hpp); every read is checked against the shapes the file
+// itself declares.
 #include "plastivox/io/life_file.hpp"
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/child_read.hpp"
 #include "plastivox/io/file_seal.hpp"
 #include "plastivox/io/h5_util.hpp"
 #include "plastivox/io/robot_file.hpp"
@@ -27,6 +30,30 @@ using h5::Ctx;
 using h5::Handle;
 
 constexpr const char* kLifeFormat = "plastivox-life";
+
+// True when the HDF5 file at `path` (of `size` bytes) says format "plastivox-life" on its root.
+bool has_life_format(const std::string& path, uint64_t size) {
+  if (H5Fis_hdf5(path.c_str()) <= 0) return false;
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);
+  if (file.id() < 0) return false;
+  try {
+    const Ctx c{path, size};
+    Handle root = h5::open_group(c, file.id(), "/");
+    return h5::has_attr(root.id(), "format") &&
+           h5::read_attr_string(c, root.id(), "/", "format") == kLifeFormat;
+  } catch (const ResultsError&) {
+    return false;
+  }
+}
+
+// CPU seconds a child process may take to read an unsealed life of `bytes` (child_read.hpp):
+// HDF5 reads a life at hundreds of MB/s; a damaged one made it loop for ever.
+int cpu_limit(uint64_t bytes) {
+  return 1 + static_cast<int>(std::min<uint64_t>(bytes >> 24, 100000));
+}
+
+// The life in the HDF5 file at `path`, every read checked against the shapes it declares.
+RecordedLife read_hdf5_life(const std::string& path);
 
 }  // namespace
 
@@ -110,34 +137,51 @@ bool is_life_file(const std::string& path) {
   struct stat sb {};
   if (::stat(path.c_str(), &sb) != 0 || !S_ISREG(sb.st_mode)) return false;
   // Nothing sealed is handed to HDF5 before its seal is checked (file_seal.hpp): a life
-  // written since 2026-12-05 starts with its seal's text, an older one with HDF5's signature.
+  // written since 2026-12-05 starts with its seal's text, a results file with its own.
   if (seal::has_seal(path, seal::kLife)) return true;
-  char head[8] = {};
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return false;
-  const size_t got = std::fread(head, 1, sizeof head, f);
-  std::fclose(f);
-  if (got != sizeof head || std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) != 0) return false;
-  if (H5Fis_hdf5(path.c_str()) <= 0) return false;
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), Handle::Kind::kFile);
-  if (file.id() < 0) return false;
-  try {
-    const Ctx c{path, static_cast<uint64_t>(sb.st_size)};
-    Handle root = h5::open_group(c, file.id(), "/");
-    return h5::has_attr(root.id(), "format") &&
-           h5::read_attr_string(c, root.id(), "/", "format") == kLifeFormat;
-  } catch (const ResultsError&) {
-    return false;
-  }
+  if (seal::has_seal(path, seal::kResults)) return false;
+  // Unsealed: HDF5 is asked in a child process (child_read.hpp). A file that crashes it there
+  // is taken for a life, so that read_life_file names the damage.
+  const uint64_t size = static_cast<uint64_t>(sb.st_size);
+  const ChildRead probe = run_in_child(
+      [&] {
+        if (!has_life_format(path, size)) throw ResultsError(path + ": not a life");
+      },
+      cpu_limit(size));
+  return probe.outcome != ChildRead::Outcome::kError;
 }
 
 RecordedLife read_life_file(const std::string& path) {
   // A sealed life is checked whole before HDF5 parses a byte of it: a flipped bit or a changed
-  // metadata byte crashed HDF5 1.10 inside a string attribute's read. A life written before
-  // seals (2026-12-05) has none and is read as before. A results file (sealed as such) is
-  // named as one, not handed to HDF5.
-  if (seal::has_seal(path, seal::kLife) || seal::has_seal(path, seal::kResults))
+  // metadata byte crashed HDF5 1.10 inside a string attribute's read. A results file (sealed
+  // as such) is named as one, not handed to HDF5.
+  if (seal::has_seal(path, seal::kLife) || seal::has_seal(path, seal::kResults)) {
     seal::check_seal(path, seal::kLife);
+    return read_hdf5_life(path);
+  }
+  // Nothing vouches for an unsealed life (written before seals, 2026-12-05, or its seal cut
+  // off), and such a life, damaged, crashed HDF5 (issue 54): it is read in a child process
+  // first, and here only once that read succeeded (child_read.hpp).
+  const Ctx c = h5::read_context(path);  // a missing file or a folder is said without a process
+  const ChildRead probe = run_in_child([&] { read_hdf5_life(path); }, cpu_limit(c.file_size));
+  switch (probe.outcome) {
+    case ChildRead::Outcome::kOk:
+      return read_hdf5_life(path);
+    case ChildRead::Outcome::kError:
+      throw ResultsError(probe.message);
+    case ChildRead::Outcome::kCrashed:
+      throw ResultsError(path + ": corrupt (reading it in a separate process ended by " +
+                         probe.message + "; the life has no seal to check it by)");
+    case ChildRead::Outcome::kNoChild:
+      break;
+  }
+  throw ResultsError(path + ": an unsealed life is read in a separate process, and " +
+                     probe.message);
+}
+
+namespace {
+
+RecordedLife read_hdf5_life(const std::string& path) {
   const Ctx c = h5::read_context(path);
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw ResultsError(path + ": not an HDF5 file (wrong format, or corrupt or truncated)");
@@ -205,4 +249,5 @@ RecordedLife read_life_file(const std::string& path) {
   return life;
 }
 
+}  // namespace
 }  // namespace plastivox

@@ -39,12 +39,15 @@ struct RecordedLife {
 void write_life_file(const std::string& path, const RecordedLife& life);
 
 // Reads a file written by write_life_file; throws ResultsError naming the file and the
-// object for anything missing, mis-shaped or foreign.
+// object for anything missing, mis-shaped or foreign. A sealed life's seal is checked before
+// HDF5 reads it; an unsealed one is read in a child process first (child_read.hpp), so a
+// damaged file that crashes HDF5 is an error here too, never a signal.
 RecordedLife read_life_file(const std::string& path);
 
 // True when `path` is an HDF5 file whose root says format "plastivox-life" (false for a
 // results file, which is recognised by its seal before HDF5 reads it, a missing file or
-// anything else). Never throws.
+// anything else). An unsealed HDF5 file is asked in a child process, and one that crashes
+// HDF5 there counts as a life, for read_life_file to refuse. Never throws.
 bool is_life_file(const std::string& path);
 
 }  // namespace plastivox
