@@ -203,17 +203,18 @@ int cmd_simulate(const Args& in) {
     }
   }
   SimResult r = simulate(model, options);
-  // Without the floor nothing holds a body up (unless boxes do), and walk's 3-D distance
-  // counts a fall like a stride: said, as the floor's health is, since the number alone
-  // reads as a walk.
-  if (r.status == SimStatus::kFinished && !physics.floor && physics.task == Task::kWalk &&
-      r.vertical_share > 0.5) {
-    char buf[320];
+  // Walk's 3-D fitness pays for a rise or a fall as for a stride (without the floor, nothing
+  // holds a body up unless boxes do): said, as the floor's health is, since the number alone
+  // reads as a walk. The study's audit excludes such a champion by the same rule.
+  if (vertical_exploit(physics, r)) {
+    char buf[480];
     std::snprintf(buf, sizeof buf,
-                  "fitness is dominated by vertical motion (vertical share %.3f, dz %.4g voxel "
-                  "lengths): physics.floor is false, so nothing holds the body up and walk "
-                  "scores its fall as distance (fitness \"xy\" scores horizontal travel only)",
-                  r.vertical_share, r.displacement.z());
+                  "fitness owes too much to vertical motion (vertical share %.3f, above the "
+                  "limit %.2g; dz %.4g voxel lengths)%s: walk's 3-D fitness scores a rise or a "
+                  "fall as distance, and a study excludes such a champion (docs/engine.md, "
+                  "\"Vertical motion\"); fitness \"xy\" scores horizontal travel only",
+                  r.vertical_share, kVerticalShareLimit, r.displacement.z(),
+                  physics.floor ? "" : ", physics.floor is false so nothing holds the body up");
     r.warnings.push_back(buf);
   }
   // Health warnings (a body pressed into or sunk through the floor): on stderr always, and

@@ -346,6 +346,12 @@ Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, co
   return d;
 }
 
+bool vertical_exploit(const PhysicsDef& def, const SimResult& r) {
+  return def.task == Task::kWalk && def.fitness == FitnessMode::k3D &&
+         r.status == SimStatus::kFinished && !r.sank && r.vertical_share > kVerticalShareLimit &&
+         std::abs(r.displacement.z()) >= kVerticalRiseMin;
+}
+
 // Derived from the state, not carried in a flag: after any step that may have developed
 // (time past the settle time) dt is recomputed, and for unchanged stiffness stable_dt gives
 // the same dt, bit for bit.
