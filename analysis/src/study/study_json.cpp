@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/simulator.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis {
@@ -183,6 +184,7 @@ Json champion(const StudyResult& r, const ChampionAnalysis& c) {
           {"life_status", c.life_status},
           {"floor_depth", num(c.floor_depth)},
           {"vertical_share", num(c.vertical_share)},
+          {"vertical_exploit", c.vertical_exploit},
           {"excluded", c.artifact.empty() ? Json(nullptr) : Json(c.artifact)},
           {"champion_id", c.id},
           {"phenotype_digest", c.phenotype_digest},
@@ -263,6 +265,7 @@ std::string stats_json(const StudyResult& r) {
   Json counts = Json::object();
   for (const auto& [t, k] : study::body_plan_counts(r))
     counts[to_string(t)] = {{"Pi", k[0]}, {"Gamma", k[1]}, {"Upsilon", k[2]}, {"other", k[3]}};
+  const VerticalAudit vertical = vertical_audit(r);
   const Json j = {{"format", "plastivox-analysis"},
                   {"format_version", kStudyFormatVersion},
                   {"provenance", provenance(r)},
@@ -284,7 +287,13 @@ std::string stats_json(const StudyResult& r) {
                     {"fitness_unit", r.fitness_unit},
                     {"environment", r.environment},
                     {"controller", r.controller},
-                    {"keep_artifacts", r.options.keep_artifacts}}},
+                    {"keep_artifacts", r.options.keep_artifacts},
+                    {"vertical_rule",
+                     {{"applies", vertical.applies},
+                      {"vertical_share_limit", kVerticalShareLimit},
+                      {"flagged", vertical.flagged},
+                      {"excluded", vertical.excluded},
+                      {"keep_vertical", r.options.keep_vertical}}}}},
                   {"warnings", strings(r.warnings)}};
   return j.dump(1) + "\n";
 }
