@@ -203,22 +203,8 @@ int cmd_simulate(const Args& in) {
     }
   }
   SimResult r = simulate(model, options);
-  // Walk's 3-D fitness pays for a rise or a fall as for a stride (without the floor, nothing
-  // holds a body up unless boxes do): said, as the floor's health is, since the number alone
-  // reads as a walk. The study's audit excludes such a champion by the same rule.
-  if (vertical_exploit(physics, r)) {
-    char buf[480];
-    std::snprintf(buf, sizeof buf,
-                  "fitness owes too much to vertical motion (vertical share %.3f, above the "
-                  "limit %.2g; dz %.4g voxel lengths)%s: walk's 3-D fitness scores a rise or a "
-                  "fall as distance, and a study excludes such a champion (docs/engine.md, "
-                  "\"Vertical motion\"); fitness \"xy\" scores horizontal travel only",
-                  r.vertical_share, kVerticalShareLimit, r.displacement.z(),
-                  physics.floor ? "" : ", physics.floor is false so nothing holds the body up");
-    r.warnings.push_back(buf);
-  }
-  // Health warnings (a body pressed into or sunk through the floor): on stderr always, and
-  // in the JSON.
+  // Health warnings (a body pressed into or sunk through the floor, a fitness of vertical
+  // motion: simulate()'s): on stderr always, and in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 

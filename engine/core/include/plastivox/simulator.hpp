@@ -279,8 +279,9 @@ Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, co
 // The vertical rule: true when `def` scores walk in 3-D (the only fitness a vertical motion
 // enters; xy fitness zeroes it and the other tasks define their own direction) and the
 // finished life `r`, not sunk (a fall through the floor is graded as such), has vertical_share
-// above kVerticalShareLimit and |dz| of at least kVerticalRiseMin. `plastivox simulate` warns then,
-// and the study's audit flags such a champion (docs/analysis.md, "The audit").
+// above kVerticalShareLimit and |dz| of at least kVerticalRiseMin. simulate() warns then (in
+// SimResult::warnings, which `plastivox simulate` prints and Python's Result holds), and the
+// study's audit flags such a champion (docs/analysis.md, "The audit").
 bool vertical_exploit(const PhysicsDef& def, const SimResult& r);
 
 const char* to_string(SimStatus s);
