@@ -1018,6 +1018,27 @@ TEST_F(Study, CommandWritesEveryOutputAndResumes) {
   EXPECT_EQ(without_date(read_text(path("a/stats.json"))), before);
 }
 
+// --keep-vertical: the falling champion of a run without the floor stays in the statistics,
+// flagged; without the option it is excluded (the library's side is tested above).
+TEST_F(Study, CommandKeepsVerticalChampionsWithKeepVertical) {
+  const std::string file =
+      run(Treatment::kNone, 4, R"({"duration": 0.2, "settle_time": 0.1, "floor": false})");
+  const std::string opts = " --robustness-draws 1 --resamples 200 --no-viewer --threads 1";
+  for (const bool keep : {false, true}) {
+    const std::string out = path(keep ? "kept" : "default");
+    const testing::Output o = cli(file + " --out " + out + opts + (keep ? " --keep-vertical" : ""));
+    ASSERT_EQ(o.status, 0) << o.out;
+    const Json j = Json::parse(read_text(out + "/stats.json"));
+    EXPECT_EQ(j["audit"]["vertical_rule"]["keep_vertical"], keep);
+    EXPECT_EQ(j["audit"]["vertical_rule"]["flagged"], 1);
+    EXPECT_EQ(j["champions"][0]["vertical_exploit"], true);
+    EXPECT_EQ(j["champions"][0]["excluded"].is_null(), keep) << j["champions"][0].dump();
+    EXPECT_NE(o.out.find("1 too vertical, " + std::string(keep ? "0" : "1") + " excluded"),
+              std::string::npos)
+        << o.out;
+  }
+}
+
 TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
   const std::string a = run(Treatment::kStress, 1);
   std::ofstream(path("junk.h5")) << "not hdf5";
