@@ -93,6 +93,7 @@ analysis::StudyOptions parse_options(Args& args, std::string* out, bool* viewer)
   if (!treatments.empty()) o.treatments = parse_treatments(treatments);
   o.allow_mixed_physics = take_flag(args, "--allow-mixed-physics");
   o.keep_artifacts = take_flag(args, "--keep-artifacts");
+  o.keep_vertical = take_flag(args, "--keep-vertical");
   reject_unknown_options(args);
   render::limit_raster_threads(o.threads);
   if (out->empty()) throw UsageError{"--out DIR is required"};

@@ -55,6 +55,7 @@ int cmd_experiment(const Args& in) {
   const bool json_out = take_flag(args, "--json");
   const bool no_viewer = take_flag(args, "--no-viewer");
   const bool keep_artifacts = take_flag(args, "--keep-artifacts");
+  const bool keep_vertical = take_flag(args, "--keep-vertical");
   reject_unknown_options(args);
   if (!args.empty()) throw UsageError{"unexpected argument '" + args[0] + "'"};
   const std::pair<const char*, std::string> named[] = {{"--preset", preset},
@@ -85,6 +86,7 @@ int cmd_experiment(const Args& in) {
   opt.only_run = only_run;
   opt.viewer = !no_viewer;
   opt.keep_artifacts = keep_artifacts;
+  opt.keep_vertical = keep_vertical;
   for (const auto& a : in) opt.command_line += (opt.command_line.empty() ? "" : " ") + a;
   opt.command_line = "plastivox experiment " + opt.command_line;
   if (!threads.empty()) opt.threads = parse_count(threads, "--threads");

@@ -209,22 +209,9 @@ int cmd_simulate(const Args& in) {
     }
   }
   SimResult r = simulate(model, options);
-  // Without the floor nothing holds a body up (unless boxes do), and walk's 3-D distance
-  // counts a fall like a stride: said, as the floor's health is, since the number alone
-  // reads as a walk.
-  if (r.status == SimStatus::kFinished && !physics.floor && physics.task == Task::kWalk &&
-      r.vertical_share > 0.5) {
-    char buf[320];
-    std::snprintf(buf, sizeof buf,
-                  "fitness is dominated by vertical motion (vertical share %.3f, dz %.4g voxel "
-                  "lengths): physics.floor is false, so nothing holds the body up and walk "
-                  "scores its fall as distance (fitness \"xy\" scores horizontal travel only)",
-                  r.vertical_share, r.displacement.z());
-    r.warnings.push_back(buf);
-  }
   if (vxa_density) warn_vxa_density(r, source, *vxa_density, physics, robot.voxel_size);
-  // Health warnings (a body pressed into or sunk through the floor): on stderr always, and
-  // in the JSON.
+  // Health warnings (a body pressed into or sunk through the floor, a fitness of vertical
+  // motion: simulate()'s): on stderr always, and in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 

@@ -156,6 +156,10 @@ const CommandHelp kHelp[] = {
      "  --allow-mixed-physics analyse runs whose physics differ\n"
      "  --keep-artifacts      keep champions whose life is unstable or sank through the\n"
      "                        floor in the statistics and figures (default: excluded)\n"
+     "  --keep-vertical       keep champions whose walk, scored in 3-D, owes too much of\n"
+     "                        its fitness to vertical motion (vertical share above 0.1,\n"
+     "                        |dz| at least 0.25 voxel lengths) in the statistics and\n"
+     "                        figures (default: excluded)\n"
      "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
      "example:\n"
      "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
@@ -256,6 +260,10 @@ const CommandHelp kHelp[] = {
      "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
      "  --keep-artifacts      keep champions whose life is unstable or sank through the\n"
      "                        floor in the statistics and figures (default: excluded)\n"
+     "  --keep-vertical       keep champions whose walk, scored in 3-D, owes too much of\n"
+     "                        its fitness to vertical motion (vertical share above 0.1,\n"
+     "                        |dz| at least 0.25 voxel lengths) in the statistics and\n"
+     "                        figures (default: excluded)\n"
      "  --print-preset NAME   print a preset's config and exit\n"
      "example:\n"
      "  plastivox experiment --preset tiny --out smoke --threads 2\n"},

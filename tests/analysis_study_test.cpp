@@ -17,7 +17,9 @@
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/io/h5_util.hpp"  // to read analysis.h5 back
+#include "plastivox/io/robot_io.hpp"
 #include "plastivox/simulator.hpp"
+#include "study_internal.hpp"  // the audit of replayed champions
 #include "test_support.hpp"
 
 namespace plastivox::analysis {
@@ -86,9 +88,13 @@ std::vector<std::vector<std::string>> read_csv(const std::string& text) {
 class Study : public testing::ScratchDirTest {
  protected:
   // A finished tiny run; `physics` is the JSON object of physics fields, `controller` the
-  // config's controller field ("" for none: the sine).
+  // config's controller field ("" for none: the sine). By default walk is scored in the
+  // horizontal plane: 0.1 s of settling leaves some of these bodies toppling, and under the 3-D
+  // fitness the vertical rule flags such a champion (stress-s4 of six_runs falls 0.59 voxel
+  // lengths; docs/engine.md, "Vertical motion"), which the tests below test on their own.
   std::string run(Treatment t, uint64_t seed,
-                  const std::string& physics = R"({"duration": 0.2, "settle_time": 0.1})",
+                  const std::string& physics = R"({"duration": 0.2, "settle_time": 0.1,
+                                                   "fitness": "xy"})",
                   const std::string& controller = "") {
     evo::EvolveConfig c = evo::parse_config(
         R"({"format": "plastivox-evolve-config", "version": 1, "treatment": ")" +
@@ -496,7 +502,8 @@ TEST_F(Study, BadInputsGiveOneClearLine) {
 
   // Mixed physics: refused unless allowed, then a warning.
   const std::string c =
-      run(Treatment::kNone, 3, R"({"duration": 0.2, "settle_time": 0.1, "mu_static": 0.9})");
+      run(Treatment::kNone, 3,
+          R"({"duration": 0.2, "settle_time": 0.1, "fitness": "xy", "mu_static": 0.9})");
   expect_error(error_of([&] { analyze_study({a, c}, o); }), "mixed physics");
   // ... naming the first field that differs, with both files' values.
   expect_error(error_of([&] {
@@ -519,13 +526,13 @@ TEST_F(Study, BadInputsGiveOneClearLine) {
 }
 
 // The run of `seed` stopped after generation 0 of 1, written to `name`: a copy of run(t, seed)
-// that did not finish.
+// (its default physics) that did not finish.
 std::string unfinished_run(const std::string& file, Treatment t, uint64_t seed) {
   evo::EvolveConfig c = evo::parse_config(
       R"({"format": "plastivox-evolve-config", "version": 1, "treatment": ")" +
           std::string(to_string(t)) + R"(", "seed": )" + std::to_string(seed) +
           R"(, "population": 4, "generations": 1, "lattice": {"nx": 4, "ny": 4, "nz": 4},
-             "physics": {"duration": 0.2, "settle_time": 0.1}})",
+             "physics": {"duration": 0.2, "settle_time": 0.1, "fitness": "xy"}})",
       "tiny");
   evo::RunOptions o;
   o.threads = 1;
@@ -862,7 +869,7 @@ TEST_F(Study, ChampionsAreAuditedAndArtifactsExcluded) {
   // Three runs of one treatment: a healthy one; one evolved under the authors' rule whose
   // every body is soft (E <= 2e5 Pa) and heavy, so its champion sank through the floor
   // (docs/engine.md); one whose every simulation goes unstable.
-  const std::string ok = run(Treatment::kStress, 3);
+  const std::string ok = run(Treatment::kStress, 3, R"({"duration": 0.2, "settle_time": 0.1})");
   const std::string sank = run(Treatment::kStress, 5,
                                R"({"duration": 1.0, "settle_time": 0.1, "e_max": 2e5,
                                    "act_frequency": 1, "sinking_invalid": false})");
@@ -1020,6 +1027,164 @@ TEST_F(Study, AChampionOfAnOldResultsFileIsSimulatedAgainAndExcluded) {
   EXPECT_NE(report.find("sank</span>, excluded</td><td>sank</td>"), std::string::npos);
 }
 
+// Issue 54: the vertical rule, end to end. A run without the floor crowns a body that falls:
+// walk's 3-D distance is then nearly all vertical, and the audit flags the champion (status
+// "vertical") and leaves it out of the statistics, says so at the top of the report, counts it
+// in stats.json, and keeps it with keep_vertical; under xy fitness the rule does not apply.
+TEST_F(Study, AChampionWhoseFitnessIsMostlyVerticalIsFlaggedAndExcluded) {
+  const std::string falls = R"({"duration": 0.2, "settle_time": 0.1, "floor": false)";
+  const std::string file = run(Treatment::kStress, 4, falls + "}");
+  StudyOptions o = quick();
+  o.robustness_draws = 1;
+  const StudyResult r = analyze_study({file}, o);
+  ASSERT_EQ(r.champions.size(), 1u);
+  const ChampionAnalysis& c = r.champions[0];
+  EXPECT_GT(c.vertical_share, kVerticalShareLimit);
+  EXPECT_TRUE(c.vertical_exploit);
+  EXPECT_EQ(c.status, "vertical");
+  EXPECT_NE(c.artifact.find("its fitness owes too much to vertical motion (vertical share"),
+            std::string::npos)
+      << c.artifact;
+  EXPECT_TRUE(r.panels[0].groups[0].values.empty());
+  ASSERT_EQ(r.panels[0].groups[0].excluded.size(), 1u);
+  EXPECT_TRUE(c.robustness.draws.empty());  // an excluded champion's robustness is not measured
+  write_study_outputs(r, path("out"));
+  const Json j = Json::parse(read_text(path("out/stats.json")));
+  EXPECT_EQ(j["champions"][0]["vertical_exploit"], true);
+  EXPECT_EQ(j["champions"][0]["status"], "vertical");
+  const Json& rule = j["audit"]["vertical_rule"];
+  EXPECT_EQ(rule["applies"], true);
+  EXPECT_EQ(rule["flagged"], 1);
+  EXPECT_EQ(rule["excluded"], 1);
+  EXPECT_EQ(rule["keep_vertical"], false);
+  EXPECT_EQ(rule["vertical_share_limit"].get<double>(), kVerticalShareLimit);
+  const auto rows = read_csv(read_text(path("out/champions.csv")));
+  ASSERT_EQ(rows.size(), 2u);
+  const size_t column = static_cast<size_t>(
+      std::find(rows[0].begin(), rows[0].end(), "vertical_exploit") - rows[0].begin());
+  ASSERT_LT(column, rows[0].size());
+  EXPECT_EQ(rows[1][column], "true");
+  // analysis.h5 keeps the flag: the report made from it says so at the top, with the count.
+  const StudyResult back = read_study_result(path("out/analysis.h5"));
+  EXPECT_TRUE(back.champions[0].vertical_exploit);
+  const std::string report = report_html(back);
+  EXPECT_EQ(report, report_html(r));
+  const size_t sentence = report.find(
+      "1 of 1 champion owes too much of its fitness to vertical motion, rising (or "
+      "falling) rather than walking, and is excluded from the statistics and figures "
+      "(stress-s4: vertical share ");
+  ASSERT_NE(sentence, std::string::npos) << report.substr(0, 3000);
+  EXPECT_LT(sentence, report.find("<h2>"));
+  EXPECT_NE(report.find("<code>--keep-vertical</code> keeps it)."), std::string::npos);
+  EXPECT_NE(report.find("This distance pays for a rise as for a stride: a champion whose "
+                        "vertical share (dz&sup2; / |d|&sup2;) is above 0.1, with |dz| of 0.25 "
+                        "voxel lengths or more, is flagged and excluded (docs/engine.md"),
+            std::string::npos);
+  EXPECT_NE(report.find("vertical</span>, excluded</td>"), std::string::npos);
+
+  // keep_vertical keeps it in the statistics, still flagged and counted.
+  o.keep_vertical = true;
+  const StudyResult kept = analyze_study({file}, o);
+  EXPECT_TRUE(kept.champions[0].vertical_exploit);
+  EXPECT_EQ(kept.champions[0].status, "vertical");
+  EXPECT_TRUE(kept.champions[0].artifact.empty());
+  EXPECT_EQ(kept.panels[0].groups[0].values.size(), 1u);
+  EXPECT_EQ(vertical_audit(kept).flagged, 1);
+  EXPECT_EQ(vertical_audit(kept).excluded, 0);
+  EXPECT_NE(
+      report_html(kept).find("1 of 1 champion owes too much of its fitness to vertical motion, "
+                             "rising (or falling) rather than walking, and is kept in the "
+                             "statistics and figures by <code>--keep-vertical</code>"),
+      std::string::npos);
+  EXPECT_NE(study_fingerprint({"x"}, o), study_fingerprint({"x"}, quick()));
+
+  // Under xy fitness the same fall scores nothing vertical: the rule does not apply.
+  o.keep_vertical = false;
+  const StudyResult xy =
+      analyze_study({run(Treatment::kStress, 5, falls + R"(, "fitness": "xy"})")}, o);
+  EXPECT_FALSE(xy.champions[0].vertical_exploit);
+  EXPECT_EQ(xy.champions[0].vertical_share, 0);
+  EXPECT_TRUE(xy.champions[0].artifact.empty());
+  EXPECT_FALSE(vertical_audit(xy).applies);
+  EXPECT_NE(report_html(xy).find("The vertical rule (docs/engine.md) does not apply"),
+            std::string::npos);
+  EXPECT_EQ(report_html(xy).find("owes too much of its fitness"), std::string::npos);
+}
+
+// The champions of tests/data/vertical (README.md there says how each was made), replayed by
+// the audit as one study's champions under the physics of their files (gecco2018-code: walk in
+// 3-D) or the same physics scoring walk in the horizontal plane.
+StudyResult replayed(const StudyOptions& o, bool xy) {
+  StudyResult r;
+  r.options = o;
+  for (const char* name : {"crouching", "riser"}) {
+    const LoadedRobot f =
+        load_robot(std::string(PLASTIVOX_SOURCE_DIR) + "/tests/data/vertical/" + name + ".json");
+    ChampionAnalysis c;
+    c.label = name;
+    c.input = static_cast<int>(r.inputs.size());
+    c.treatment = f.physics.treatment;
+    c.robot = f.robot;
+    c.physics = f.physics;
+    if (xy) c.physics.fitness = FitnessMode::kXY;
+    c.voxels = f.robot.voxel_count();  // fitness stays 0: the audit's own life is what counts
+    StudyInput in;
+    in.file = std::string(name) + ".json";
+    in.treatment = c.treatment;
+    in.physics_json = R"({"sinking_invalid": true})";
+    r.inputs.push_back(in);
+    r.champions.push_back(c);
+    if (r.treatments.empty() || r.treatments.back() != c.treatment)
+      r.treatments.push_back(c.treatment);
+  }
+  study::audit_champions(r, {});
+  std::vector<VoxelSet> sets;
+  for (const ChampionAnalysis& c : r.champions) sets.push_back(voxel_set(c.robot));
+  r.hausdorff = hausdorff_matrix(sets, {}, 1);
+  r.panels = study::compute_panels(r);
+  return r;
+}
+
+// The champion of two generations of CMA-ES under the 3-D fitness, which walked 0.60 voxel
+// lengths and crouched 0.28 (vertical share 0.18: its rise, downwards, scored as a stride),
+// and a riser (its fitness mostly rise): both flagged and excluded under walk's 3-D fitness,
+// neither flagged under xy (keep_vertical is tested on the falling champion above).
+TEST_F(Study, ReplayedCrouchingAndRisingChampionsAreFlaggedUnderThe3DRuleOnly) {
+  const StudyResult r = replayed(quick(), false);
+  ASSERT_EQ(r.champions.size(), 2u);
+  for (const ChampionAnalysis& c : r.champions) {
+    EXPECT_EQ(c.life_status, "finished") << c.label;
+    EXPECT_EQ(c.health, "ok") << c.label;
+    EXPECT_GT(c.vertical_share, kVerticalShareLimit) << c.label;
+    EXPECT_TRUE(c.vertical_exploit) << c.label;
+    EXPECT_EQ(c.status, "vertical") << c.label;
+    EXPECT_NE(c.artifact.find("too much to vertical motion"), std::string::npos) << c.label;
+  }
+  EXPECT_LT(r.champions[0].vertical_share, 0.5);  // the crouching one walks most of its fitness
+  EXPECT_GT(r.champions[1].vertical_share, 0.5);  // the riser rises most of it
+  const PanelStats& a = r.panels[0];
+  ASSERT_EQ(a.id, "A");
+  size_t values = 0, excluded = 0;
+  for (const GroupStats& g : a.groups) values += g.values.size(), excluded += g.excluded.size();
+  EXPECT_EQ(values, 0u);
+  EXPECT_EQ(excluded, 2u);
+  const Json j = Json::parse(stats_json(r));
+  EXPECT_EQ(j["audit"]["vertical_rule"]["flagged"], 2);
+  EXPECT_EQ(j["audit"]["vertical_rule"]["excluded"], 2);
+  EXPECT_NE(
+      report_html(r).find("2 of 2 champions owe too much of their fitness to vertical motion"),
+      std::string::npos);
+
+  const StudyResult xy = replayed(quick(), true);
+  for (const ChampionAnalysis& c : xy.champions) {
+    EXPECT_EQ(c.vertical_share, 0) << c.label;
+    EXPECT_FALSE(c.vertical_exploit) << c.label;
+    EXPECT_EQ(c.status, "ok") << c.label;
+    EXPECT_TRUE(c.artifact.empty()) << c.label;
+  }
+  EXPECT_EQ(Json::parse(stats_json(xy))["audit"]["vertical_rule"]["flagged"], 0);
+}
+
 // ---- the command line ----
 
 testing::Output cli(const std::string& args) {
@@ -1074,6 +1239,27 @@ TEST_F(Study, CommandWritesEveryOutputAndResumes) {
   ASSERT_EQ(o3.status, 0) << o3.out;
   EXPECT_NE(o3.out.find("3 from checkpoint"), std::string::npos) << o3.out;
   EXPECT_EQ(without_date(read_text(path("a/stats.json"))), before);
+}
+
+// --keep-vertical: the falling champion of a run without the floor stays in the statistics,
+// flagged; without the option it is excluded (the library's side is tested above).
+TEST_F(Study, CommandKeepsVerticalChampionsWithKeepVertical) {
+  const std::string file =
+      run(Treatment::kNone, 4, R"({"duration": 0.2, "settle_time": 0.1, "floor": false})");
+  const std::string opts = " --robustness-draws 1 --resamples 200 --no-viewer --threads 1";
+  for (const bool keep : {false, true}) {
+    const std::string out = path(keep ? "kept" : "default");
+    const testing::Output o = cli(file + " --out " + out + opts + (keep ? " --keep-vertical" : ""));
+    ASSERT_EQ(o.status, 0) << o.out;
+    const Json j = Json::parse(read_text(out + "/stats.json"));
+    EXPECT_EQ(j["audit"]["vertical_rule"]["keep_vertical"], keep);
+    EXPECT_EQ(j["audit"]["vertical_rule"]["flagged"], 1);
+    EXPECT_EQ(j["champions"][0]["vertical_exploit"], true);
+    EXPECT_EQ(j["champions"][0]["excluded"].is_null(), keep) << j["champions"][0].dump();
+    EXPECT_NE(o.out.find("1 too vertical, " + std::string(keep ? "0" : "1") + " excluded"),
+              std::string::npos)
+        << o.out;
+  }
 }
 
 TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {

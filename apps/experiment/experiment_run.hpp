@@ -40,6 +40,7 @@ struct ExperimentOptions {
   // The report's 3-D viewer: every champion's life in lives/ (--no-viewer: none).
   bool viewer = true;
   bool keep_artifacts = false;  // keep champions whose life is unstable or sank in the statistics
+  bool keep_vertical = false;   // keep champions the vertical rule flags in the statistics
 };
 
 struct ExperimentOutcome {

@@ -28,6 +28,7 @@ analysis::StudyOptions study_options(const StageContext& ctx) {
   o.seed = a.seed;
   o.treatments = ctx.config.treatments;
   o.keep_artifacts = ctx.opt.keep_artifacts;
+  o.keep_vertical = ctx.opt.keep_vertical;
   o.threads = ctx.opt.threads >= 0 ? ctx.opt.threads : ctx.config.threads;
   o.cache_dir = ctx.dir + "/cache/robustness";
   o.command = ctx.opt.command_line;

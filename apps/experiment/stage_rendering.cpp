@@ -170,9 +170,12 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
     render::GalleryEntry& e = entries[todo[j]];
     e.source = render::load_life_source(study.inputs[c.input].file, c.generation);
     // A champion the audit flagged says so under its tile (short: tiles can be narrow):
-    // "· SANK" when it is left out of the statistics, "· SANK, kept" with --keep-artifacts.
-    if (c.health == "sank" || c.life_status == "unstable")
-      e.source.label += std::string(c.life_status == "unstable" ? " · UNSTABLE" : " · SANK") +
+    // "· SANK" when it is left out of the statistics, "· SANK, kept" with --keep-artifacts;
+    // "· VERTICAL" (", kept" with --keep-vertical) for a fitness mostly of rising.
+    if (c.health == "sank" || c.life_status == "unstable" || c.vertical_exploit)
+      e.source.label += std::string(c.life_status == "unstable" ? " · UNSTABLE"
+                                    : c.vertical_exploit        ? " · VERTICAL"
+                                                                : " · SANK") +
                         (c.artifact.empty() ? ", kept" : "");
     const auto times =
         framed[todo[j]] ? render::gallery_times(e.source.physics, style) : std::vector<double>{};

@@ -86,6 +86,7 @@ std::string options_json(const StudyOptions& o) {
   j["ci_level"] = o.ci_level;
   j["allow_mixed_physics"] = o.allow_mixed_physics;
   j["keep_artifacts"] = o.keep_artifacts;
+  j["keep_vertical"] = o.keep_vertical;
   nlohmann::ordered_json ts = nlohmann::ordered_json::array();
   for (Treatment t : o.treatments) ts.push_back(to_string(t));
   j["treatments"] = ts;
@@ -98,8 +99,9 @@ std::string study_fingerprint(const std::vector<std::string>& content_digests,
   std::sort(sorted.begin(), sorted.end());
   evo::Hasher h;
   // The tag changes whenever the outputs gain or change a field, so a study analysed by an
-  // older build is analysed again rather than reused without it (v3: audit.controller).
-  h.str("plastivox-analysis-fingerprint-v3");
+  // older build is analysed again rather than reused without it (v3: audit.controller; v4:
+  // the vertical rule).
+  h.str("plastivox-analysis-fingerprint-v4");
   h.u64(static_cast<uint64_t>(kStudyFormatVersion));
   h.u64(sorted.size());
   for (const std::string& d : sorted) h.str(d);

@@ -2,7 +2,11 @@
 // graded for floor contact (docs/engine.md, "Floor contact and sinking"). A run evolved under
 // the authors' rule may have crowned a body that fell through the floor; whatever the rule,
 // that life is measured here, and a champion whose life is unstable or sank is left out of
-// the statistics and figures unless StudyOptions::keep_artifacts.
+// the statistics and figures unless StudyOptions::keep_artifacts. A finished life the
+// vertical rule flags (walk scored in 3-D, too much of its fitness from rising or falling:
+// vertical_exploit, plastivox/simulator.hpp) is left out the same way unless
+// StudyOptions::keep_vertical: a stronger search climbs onto its own legs before it learns to
+// walk further, and the 3-D distance pays for the climb as for a stride.
 #include <algorithm>
 #include <cstdio>
 
@@ -90,10 +94,21 @@ void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
                     "it sank through the floor (%.3g voxel lengths deep; %.0f %% of its "
                     "fitness is vertical)",
                     life.floor_depth, 100 * life.vertical_share);
+    bool keep = r.options.keep_artifacts;
+    const char* code = life.sank ? "sank" : "unstable";
+    if (why[0] == 0 && vertical_exploit(physics, life)) {
+      c.vertical_exploit = true;
+      keep = r.options.keep_vertical;
+      code = "vertical";
+      std::snprintf(why, sizeof why,
+                    "its fitness owes too much to vertical motion (vertical share %.2f, above %.2g "
+                    "under walk's 3-D fitness; dz %.3g voxel lengths)",
+                    life.vertical_share, kVerticalShareLimit, life.displacement.z());
+    }
     if (why[0] == 0) return;
-    if (c.status == "ok") c.status = life.sank ? "sank" : "unstable";
+    if (c.status == "ok") c.status = code;
     c.status_detail += (c.status_detail.empty() ? "" : "; ") + std::string("audit: ") + why;
-    if (!r.options.keep_artifacts) c.artifact = why;
+    if (!keep) c.artifact = why;
   });
 
   std::vector<std::string> rules, directions, tasks, units, environments;
@@ -113,16 +128,32 @@ void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
   }
   r.controller = controller_of(r.champions);
 
-  int excluded = 0, flagged = 0;
+  int excluded = 0, flagged = 0, vertical = 0;
   for (const ChampionAnalysis& c : r.champions) {
     excluded += c.artifact.empty() ? 0 : 1;
     flagged += c.status == "sank" || c.life_status == "unstable" ? 1 : 0;
+    vertical += c.vertical_exploit ? 1 : 0;
   }
   if (progress)
     progress({"audit", n, n,
               "audit: " + std::to_string(n) + " champions re-simulated, " +
-                  std::to_string(flagged) + " unstable or sunk, " + std::to_string(excluded) +
-                  " excluded"});
+                  std::to_string(flagged) + " unstable or sunk, " + std::to_string(vertical) +
+                  " too vertical, " + std::to_string(excluded) + " excluded"});
 }
 
 }  // namespace plastivox::analysis::study
+
+namespace plastivox::analysis {
+
+VerticalAudit vertical_audit(const StudyResult& r) {
+  VerticalAudit v;
+  // direction_of's words for walk in 3-D, alone or among mixed directions.
+  v.applies = r.fitness_direction.find("3-D displacement") != std::string::npos;
+  for (const ChampionAnalysis& c : r.champions) {
+    v.flagged += c.vertical_exploit ? 1 : 0;
+    v.excluded += c.vertical_exploit && !c.artifact.empty() ? 1 : 0;
+  }
+  return v;
+}
+
+}  // namespace plastivox::analysis

@@ -95,6 +95,8 @@ void write_champions(const Ctx& c, hid_t root, const StudyResult& r) {
                                 [](const Ch& ch) { return to_string(ch.body_plan.plan); });
   h5::write_column<int32_t>(c, id, "valid_draws", all,
                             [](const Ch& ch) { return ch.robustness.valid_draws; });
+  h5::write_column<int32_t>(c, id, "vertical_exploit", all,
+                            [](const Ch& ch) { return ch.vertical_exploit ? 1 : 0; });
   // Undefined values are NaN.
   h5::write_column<double>(c, id, "fitness", all, [](const Ch& ch) {
     return ch.evaluation == "ok" ? ch.fitness : kUndefined;
@@ -285,6 +287,7 @@ E parse_name(const Ctx& c, const std::string& object, const std::string& name,
 StudyOptions read_options(const Ctx& c, hid_t root) {
   const std::string text = h5::read_attr_string(c, root, "/", "options");
   StudyOptions o;
+  bool vertical_known = false;
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
     o.generation = j.at("generation").is_string() ? -1 : j.at("generation").get<int>();
@@ -302,11 +305,16 @@ StudyOptions read_options(const Ctx& c, hid_t root) {
     o.ci_level = j.at("ci_level").get<double>();
     o.allow_mixed_physics = j.at("allow_mixed_physics").get<bool>();
     o.keep_artifacts = j.at("keep_artifacts").get<bool>();
+    // Absent in files written before the vertical rule: nothing was flagged then.
+    vertical_known = j.contains("keep_vertical");
+    o.keep_vertical = vertical_known && j.at("keep_vertical").get<bool>();
     for (const auto& t : j.at("treatments")) o.treatments.push_back(parse_treatment(t));
   } catch (const std::exception& e) {
     c.fail("/@options", std::string("not understood (") + e.what() + ")");
   }
-  if (options_json(o) != text) c.fail("/@options", "not understood (fields this build lacks)");
+  nlohmann::ordered_json expect = nlohmann::ordered_json::parse(options_json(o));
+  if (!vertical_known) expect.erase("keep_vertical");
+  if (expect.dump() != text) c.fail("/@options", "not understood (fields this build lacks)");
   o.command = h5::read_attr_string(c, root, "/", "command");
   o.threads = static_cast<int>(h5::read_attr_int(c, root, "/", "threads"));
   return o;
@@ -338,6 +346,10 @@ void read_champions(const Ctx& c, hid_t root, StudyResult& r) {
   const Columns col{c, id, n};
   const auto treatment = col.strings("treatment"), plan = col.strings("body_plan");
   const auto valid = col.ints("valid_draws");
+  // Absent in files written before the vertical rule, which flagged nothing.
+  const auto vertical = H5Lexists(id, "vertical_exploit", H5P_DEFAULT) > 0
+                            ? col.ints("vertical_exploit")
+                            : std::vector<int32_t>(n, 0);
   const auto fitness = col.reals("fitness"), f_train = col.reals("f_train"),
              r_mean = col.reals("r_mean"), m_body = col.reals("m_body"),
              v_body = col.reals("v_body"), v_gain = col.reals("v_gain"),
@@ -352,6 +364,7 @@ void read_champions(const Ctx& c, hid_t root, StudyResult& r) {
         parse_name(c, "/champions/body_plan", plan[i],
                    {BodyPlan::kPi, BodyPlan::kGamma, BodyPlan::kUpsilon, BodyPlan::kOther});
     ch.body_plan.confidence = confidence[i];
+    ch.vertical_exploit = vertical[i] != 0;
     if (ch.input < 0 || static_cast<size_t>(ch.input) >= r.inputs.size())
       c.fail("/champions/input", "entry " + std::to_string(i) + " names no input");
     ch.fitness = std::isnan(fitness[i]) ? 0 : fitness[i];

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/analysis/bootstrap_coverage.hpp"
+#include "plastivox/simulator.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis {
@@ -192,6 +193,7 @@ Json champion(const StudyResult& r, const ChampionAnalysis& c) {
           {"life_status", c.life_status},
           {"floor_depth", num(c.floor_depth)},
           {"vertical_share", num(c.vertical_share)},
+          {"vertical_exploit", c.vertical_exploit},
           {"excluded", c.artifact.empty() ? Json(nullptr) : Json(c.artifact)},
           {"champion_id", c.id},
           {"phenotype_digest", c.phenotype_digest},
@@ -317,6 +319,7 @@ std::string stats_json(const StudyResult& r) {
   std::vector<std::string> warnings = r.warnings;
   if (const std::string w = study::power_warning(r); !w.empty()) warnings.push_back(w);
   for (const std::string& n : study::shared_body_notes(r)) warnings.push_back(n);
+  const VerticalAudit vertical = vertical_audit(r);
   const Json j = {{"format", "plastivox-analysis"},
                   {"format_version", kStudyFormatVersion},
                   {"provenance", provenance(r)},
@@ -338,7 +341,13 @@ std::string stats_json(const StudyResult& r) {
                     {"fitness_unit", r.fitness_unit},
                     {"environment", r.environment},
                     {"controller", r.controller},
-                    {"keep_artifacts", r.options.keep_artifacts}}},
+                    {"keep_artifacts", r.options.keep_artifacts},
+                    {"vertical_rule",
+                     {{"applies", vertical.applies},
+                      {"vertical_share_limit", kVerticalShareLimit},
+                      {"flagged", vertical.flagged},
+                      {"excluded", vertical.excluded},
+                      {"keep_vertical", r.options.keep_vertical}}}}},
                   {"paper_comparison", paper_comparison(r)},
                   {"warnings", strings(warnings)}};
   return j.dump(1) + "\n";

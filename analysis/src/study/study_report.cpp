@@ -10,6 +10,7 @@
 
 #include "plastivox/analysis/bootstrap_coverage.hpp"
 #include "plastivox/base/markup.hpp"
+#include "plastivox/simulator.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis {
@@ -318,26 +319,62 @@ std::string champions(const StudyResult& r) {
   return s + "</table>\n";
 }
 
-// The audit, at the top: what was excluded (one sentence with the count, when anything was),
-// the direction fitness is measured in and the rule for sunk lives the runs evolved under.
+// The audit, at the top: what was excluded (one sentence with the count for lives that are
+// unstable or sank, one for lives the vertical rule flagged, when there are any), the
+// direction fitness is measured in and whether the vertical rule applies to it, and the rule
+// for sunk lives the runs evolved under.
 std::string audit(const StudyResult& r) {
-  std::string s, names;
+  std::string s, names, vertical_names;
   int excluded = 0;
   for (const ChampionAnalysis& c : r.champions) {
+    if (c.vertical_exploit) {
+      vertical_names += (vertical_names.empty() ? "" : "; ") + esc(c.label) + ": vertical share " +
+                        display(c.vertical_share, 2);
+      continue;
+    }
     if (c.artifact.empty()) continue;
     ++excluded;
     names += (names.empty() ? "" : "; ") + esc(c.label) + ": " + esc(c.artifact);
   }
+  const std::string of = " of " + std::to_string(r.champions.size()) +
+                         (r.champions.size() == 1 ? " champion " : " champions ");
   if (excluded > 0)
-    s += "<p class=\"warn\" id=\"excluded\">" + std::to_string(excluded) + " of " +
-         std::to_string(r.champions.size()) +
-         (r.champions.size() == 1 ? " champion " : " champions ") +
+    s += "<p class=\"warn\" id=\"excluded\">" + std::to_string(excluded) + of +
          (excluded == 1 ? "is excluded from the statistics and figures because its life, "
                           "simulated again, is"
                         : "are excluded from the statistics and figures because their lives, "
                           "simulated again, are") +
          " unstable or sank through the floor (" + names +
          "; <code>--keep-artifacts</code> keeps " + (excluded == 1 ? "it" : "them") + ").</p>\n";
+  const VerticalAudit v = vertical_audit(r);
+  if (v.flagged > 0) {
+    const bool one = v.flagged == 1;
+    s += "<p class=\"warn\" id=\"vertical\">" + std::to_string(v.flagged) + of +
+         (one ? "owes" : "owe") + " too much of " + (one ? "its" : "their") +
+         " fitness to vertical motion, rising (or falling) rather than walking, and " +
+         (v.excluded > 0
+              ? std::string(one ? "is" : "are") + " excluded from the statistics and figures (" +
+                    vertical_names + "; <code>--keep-vertical</code> keeps " + (one ? "it" : "them")
+              : std::string(one ? "is" : "are") +
+                    " kept in the statistics and figures by "
+                    "<code>--keep-vertical</code> (" +
+                    vertical_names) +
+         ").</p>\n";
+  }
+  char limit[256];
+  std::snprintf(limit, sizeof limit,
+                " This distance pays for a rise as for a stride: a champion whose vertical share "
+                "(dz&sup2; / |d|&sup2;) is above %.2g, with |dz| of %.2g voxel lengths or more, "
+                "is flagged",
+                kVerticalShareLimit, kVerticalRiseMin);
+  const std::string vertical_rule =
+      v.applies ? std::string(limit) +
+                      (r.options.keep_vertical ? " and kept (<code>--keep-vertical</code>)"
+                                               : " and excluded") +
+                      " (docs/engine.md, &ldquo;Vertical motion&rdquo;)."
+                : std::string(
+                      " The vertical rule (docs/engine.md) does not apply: only "
+                      "walk&#39;s 3-D distance counts a rise as distance walked.");
   s += "<p>The task is <b>" + esc(r.task) + "</b>, on " + esc(r.environment) +
        " (docs/tasks.md). Fitness is the " + esc(r.fitness_direction) + ", in " +
        esc(r.fitness_unit) + "." +
@@ -346,7 +383,8 @@ std::string audit(const StudyResult& r) {
             : " The controller is <b>" + esc(r.controller) + "</b> (docs/control.md).") +
        " Lives that sank through the floor were " + esc(r.sinking_rule) +
        " during evolution (physics <code>sinking_invalid</code>, docs/engine.md); every "
-       "champion was simulated again and graded for floor contact.</p>\n";
+       "champion was simulated again and graded for floor contact." +
+       vertical_rule + "</p>\n";
   return s;
 }
 

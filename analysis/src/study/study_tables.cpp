@@ -64,6 +64,7 @@ std::string champions_csv(const StudyResult& r) {
                                    "health",
                                    "floor_depth",
                                    "vertical_share",
+                                   "vertical_exploit",
                                    "excluded"};
   for (int k = 0; k < draws; ++k) head.push_back("r_draw_" + std::to_string(k));
   std::string out = row(head);
@@ -98,6 +99,7 @@ std::string champions_csv(const StudyResult& r) {
                                   c.health,
                                   number(c.floor_depth),
                                   number(c.vertical_share),
+                                  c.vertical_exploit ? "true" : "false",
                                   c.artifact};
     for (const RobustnessDraw& d : rb.draws) v.push_back(d.valid ? number(d.r) : "");
     out += row(v);

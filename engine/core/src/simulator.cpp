@@ -272,6 +272,23 @@ void grade_floor_contact(const Model& m, const State& s, double deepest, int mos
   }
 }
 
+// The vertical rule's warning (vertical_exploit): walk's 3-D fitness pays for a rise or a fall
+// as for a stride (without the floor, nothing holds a body up unless boxes do). Said, as the
+// floor's health is, since the number alone reads as a walk; the study's audit excludes such a
+// champion by the same rule.
+void warn_if_vertical(const PhysicsDef& def, SimResult& r) {
+  if (!vertical_exploit(def, r)) return;
+  char buf[480];
+  std::snprintf(buf, sizeof buf,
+                "fitness owes too much to vertical motion (vertical share %.3f, above the limit "
+                "%.2g; dz %.4g voxel lengths)%s: walk's 3-D fitness scores a rise or a fall as "
+                "distance, and a study excludes such a champion (docs/engine.md, \"Vertical "
+                "motion\"); fitness \"xy\" scores horizontal travel only",
+                r.vertical_share, kVerticalShareLimit, r.displacement.z(),
+                def.floor ? "" : ", physics.floor is false so nothing holds the body up");
+  r.warnings.push_back(buf);
+}
+
 }  // namespace
 
 // One step, as a list of stages. Order follows Voxelyze 0.9 so results can be compared:
@@ -344,6 +361,12 @@ Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, co
   Vec3 d = (com - com_settled) / model.size;
   if (model.def.fitness == FitnessMode::kXY) d.z() = 0;
   return d;
+}
+
+bool vertical_exploit(const PhysicsDef& def, const SimResult& r) {
+  return def.task == Task::kWalk && def.fitness == FitnessMode::k3D &&
+         r.status == SimStatus::kFinished && !r.sank && r.vertical_share > kVerticalShareLimit &&
+         std::abs(r.displacement.z()) >= kVerticalRiseMin;
 }
 
 // Derived from the state, not carried in a flag: after any step that may have developed
@@ -498,6 +521,7 @@ SimResult LifeWatch::summary(const State& s) const {
   SimResult r;
   summarise(*model_, s, *task_, r);
   grade_floor_contact(*model_, s, deepest_, most_deep_, r);
+  warn_if_vertical(model_->def, r);
   return r;
 }
 

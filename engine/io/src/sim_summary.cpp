@@ -27,6 +27,7 @@ std::vector<SummaryField> sim_summary_fields(const SimResult& r, const PhysicsDe
       {"voxels_deep_max", int64_t{r.voxels_deep_max}},
       {"voxels_below_floor", int64_t{r.voxels_below_floor}},
       {"vertical_share", r.vertical_share},
+      {"vertical_exploit", vertical_exploit(physics, r)},
       {"sinking_invalid", physics.sinking_invalid},
       {"steps", int64_t{r.steps}},
       {"dt", r.dt_initial},

@@ -52,6 +52,9 @@ struct StudyOptions {
   // false: a champion whose re-simulated life is unstable or sank through the floor is left
   // out of the statistics and figures (counted and listed); true keeps it in.
   bool keep_artifacts = false;
+  // false: a champion the vertical rule flags (walk scored in 3-D with vertical_share above
+  // kVerticalShareLimit, plastivox/simulator.hpp) is left out the same way; true keeps it in.
+  bool keep_vertical = false;
   // Not part of the results (never written to stats.json):
   int threads = 0;        // 0 = all cores
   std::string cache_dir;  // robustness checkpoints (created on demand); empty = no cache
@@ -140,8 +143,12 @@ struct ChampionAnalysis {
   std::string health;         // "ok", "penetrating" or "sank" (SimResult::floor_health)
   double floor_depth = 0;     // deepest penetration below the floor, voxel lengths
   double vertical_share = 0;  // share of its fitness from vertical displacement, [0, 1]
+  // The vertical rule (vertical_exploit, plastivox/simulator.hpp): a finished life, not sunk,
+  // whose walk is scored in 3-D and owes more than kVerticalShareLimit to vertical motion.
+  bool vertical_exploit = false;
   // Why it is left out of every statistic and figure (an unstable or sunk life, unless
-  // StudyOptions::keep_artifacts); empty when it is in.
+  // StudyOptions::keep_artifacts; a vertical_exploit, unless StudyOptions::keep_vertical);
+  // empty when it is in.
   std::string artifact;
   // Why a measure has no value: metric ("fitness", "robustness", "m_body", "v_body", "v_gain")
   // -> reason. A metric absent here has a value.
@@ -222,6 +229,15 @@ struct StudyResult {
 // it checks all inputs before any simulation runs and writes nothing but cache files.
 StudyResult analyze_study(const std::vector<std::string>& files, const StudyOptions& options,
                           const StudyProgressFn& progress = {});
+
+// The vertical rule in a study (docs/analysis.md, "The audit"): whether it applies (some of
+// the runs score walk in 3-D, as fitness_direction says), how many champions it flagged and
+// how many of those are left out of the statistics (all of them unless keep_vertical).
+struct VerticalAudit {
+  bool applies = false;
+  int flagged = 0, excluded = 0;
+};
+VerticalAudit vertical_audit(const StudyResult& r);
 
 // A hex fingerprint of what a study's results depend on: the inputs' content digests (in any
 // order) and options_json(options). Equal to stats.json's provenance.fingerprint when the

@@ -23,7 +23,8 @@ struct SummaryField {
 // The summary's fields, described once; the JSON below and the Python module's Result are
 // made from them. Fields: source, status, failure (only when unstable), warnings, treatment,
 // growth_model, fitness, dist_x/y/z, voxels, health, floor_depth, voxels_deep_max,
-// voxels_below_floor, vertical_share, sinking_invalid, steps, dt, dt_final, sim_time,
+// voxels_below_floor, vertical_share, vertical_exploit (the vertical rule, simulator.hpp),
+// sinking_invalid, steps, dt, dt_final, sim_time,
 // wall_seconds, voxel_steps_per_second, stiffness_change_*, final_stiffness,
 // final_state_hash, version. `physics` is what the life was simulated under; `source` names
 // the robot.
