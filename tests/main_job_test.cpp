@@ -33,6 +33,7 @@ TEST_F(MainJob, DefaultStudyShowsWalkingBodyPlansThatDevelop) {
     EXPECT_EQ(c["health"], "ok") << label;
     EXPECT_TRUE(c["excluded"].is_null()) << label;
     EXPECT_LT(c["vertical_share"].get<double>(), 0.05) << label;
+    EXPECT_EQ(c["vertical_exploit"], false) << label;
     EXPECT_GT(c["fitness"].get<double>(), 3.0) << label << ": walks several voxel lengths";
     plans.insert(c["body_plan"].get<std::string>());
     if (c["treatment"] != "none") {  // mean |E / E0 - 1| over the body at the end of life
@@ -44,10 +45,14 @@ TEST_F(MainJob, DefaultStudyShowsWalkingBodyPlansThatDevelop) {
       << "no champion has one of the paper's body plans";
   EXPECT_EQ(j["body_plans"]["runs_started_from_body_plans"], 6);
   EXPECT_EQ(j["audit"]["sinking_rule"], "invalid");
+  // The paper's study keeps the authors' 3-D fitness, so the vertical rule applies (issue 54).
+  EXPECT_EQ(j["audit"]["vertical_rule"]["applies"], true);
+  EXPECT_EQ(j["audit"]["vertical_rule"]["flagged"], 0);
   const std::string report = read_file_bytes(dir + "/report.html");
   for (const char* said :
        {"Lives that sank through the floor were invalid during evolution",
         "Fitness is the 3-D displacement of the centre of mass",
+        "This distance pays for a rise as for a stride: a champion whose vertical share",
         "Generation 0 of every run held one hand-built body of each plan, Π, Γ and Υ",
         "from hand-built Π, Γ, Υ bodies and random ones"})
     EXPECT_NE(report.find(said), std::string::npos) << said;
