@@ -1060,6 +1060,10 @@ TEST_F(Study, AChampionWhoseFitnessIsMostlyVerticalIsFlaggedAndExcluded) {
   EXPECT_EQ(rule["vertical_share_limit"].get<double>(), kVerticalShareLimit);
   const auto rows = read_csv(read_text(path("out/champions.csv")));
   ASSERT_EQ(rows.size(), 2u);
+  // A cell for every column: its robustness draw, not measured, is an empty cell.
+  ASSERT_EQ(rows[1].size(), rows[0].size());
+  EXPECT_EQ(rows[0].back(), "r_draw_0");
+  EXPECT_EQ(rows[1].back(), "");
   const size_t column = static_cast<size_t>(
       std::find(rows[0].begin(), rows[0].end(), "vertical_exploit") - rows[0].begin());
   ASSERT_LT(column, rows[0].size());

@@ -101,7 +101,10 @@ std::string champions_csv(const StudyResult& r) {
                                   number(c.vertical_share),
                                   c.vertical_exploit ? "true" : "false",
                                   c.artifact};
-    for (const RobustnessDraw& d : rb.draws) v.push_back(d.valid ? number(d.r) : "");
+    // Every row has a cell per draw: a champion whose robustness was not measured (an
+    // artifact, a vertical exploit) has them empty.
+    for (size_t k = 0; k < static_cast<size_t>(draws); ++k)
+      v.push_back(k < rb.draws.size() && rb.draws[k].valid ? number(rb.draws[k].r) : "");
     out += row(v);
   }
   return out;
