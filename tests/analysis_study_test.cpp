@@ -1266,6 +1266,32 @@ TEST_F(Study, CommandKeepsVerticalChampionsWithKeepVertical) {
   }
 }
 
+// analyze's report, made from analysis.h5 with the bodies loaded again as the experiment's is,
+// names the champions that share a hand-built body as stats.json does. Three treatments of one
+// seed start from the same hand-built bodies; at generation 0 their champions share one.
+TEST_F(Study, CommandReportNamesSharedSeededBodiesAsStatsJsonDoes) {
+  std::string files;
+  for (const char* t : {"none", "stress", "pressure"}) {
+    evo::EvolveConfig c = evo::parse_config(
+        std::string(R"({"format": "plastivox-evolve-config", "version": 1, "treatment": ")") + t +
+            R"(", "seed": 1, "population": 4, "generations": 1,
+               "lattice": {"nx": 6, "ny": 6, "nz": 6}, "initial_population": "body-plans",
+               "physics": {"duration": 0.2, "settle_time": 0.1, "fitness": "xy"}})",
+        "seeded");
+    const std::string file = path(std::string("seeded-") + t + ".h5");
+    evo::RunOptions o;
+    o.threads = 1;
+    ASSERT_EQ(evo::run_evolution(c, file, o).outcome, evo::RunOutcome::kFinished);
+    files += file + " ";
+  }
+  const testing::Output o = cli(files + "--generation 0 --out " + path("out") +
+                                " --robustness-draws 1 --resamples 200 --no-viewer --threads 1");
+  ASSERT_EQ(o.status, 0) << o.out;
+  const Json j = Json::parse(read_text(path("out/stats.json")));
+  ASSERT_FALSE(j["hausdorff"]["shared_seeded_bodies"].empty()) << j["hausdorff"].dump();
+  EXPECT_NE(read_text(path("out/report.html")).find("id=\"shared-body\""), std::string::npos);
+}
+
 TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
   const std::string a = run(Treatment::kStress, 1);
   std::ofstream(path("junk.h5")) << "not hdf5";
