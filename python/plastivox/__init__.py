@@ -905,6 +905,8 @@ class Study:
 def _cell(text):
     if text == "":
         return None
+    if text in ("true", "false"):  # a flag column (vertical_exploit): a bool, as "false" is truthy
+        return text == "true"
     for kind in (int, float):
         try:
             return kind(text)

@@ -129,6 +129,7 @@ def test_read_study(tiny_run, tmp_path):
     assert champ["treatment"] == "pressure"
     assert champ["fitness"] == plastivox.read_results(path).best_fitness[-1]
     assert isinstance(champ["voxels"], int)
+    assert champ["vertical_exploit"] is (champ["status"] == "vertical")  # a bool, not "false"
     assert study.statistics and all("kind" in row for row in study.statistics)
     with pytest.raises(plastivox.InputError, match="stats.json"):
         plastivox.read_study(tmp_path)
