@@ -35,6 +35,9 @@ void write_all(int fd, const std::string& text) {
   const rlim_t cpu = static_cast<rlim_t>(std::max(cpu_seconds, 1));
   const rlimit cpu_limit{cpu, cpu + 1};  // SIGXCPU at the soft limit, SIGKILL a second later
   ::setrlimit(RLIMIT_CPU, &cpu_limit);
+  // A read that blocks uses no CPU: a fork copies a lock another thread held (HDF5's global
+  // one, say) and the child would wait for ever. SIGALRM ends it after ample wall time.
+  ::alarm(static_cast<unsigned>(10 * cpu + 10));
   const int null = ::open("/dev/null", O_WRONLY);
   if (null >= 0) ::dup2(null, STDERR_FILENO);
   int status = 0;
