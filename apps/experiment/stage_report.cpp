@@ -171,7 +171,7 @@ ReportSection activity_section(const StageContext& ctx) {
                                              "controller activity of " + best->label);
   const ActivitySummary a = summarise_activity(frames, physics.settle_time);
   s.title = "Controller activity of the best champion";
-  char buf[1200];
+  char buf[1400];
   std::snprintf(
       buf, sizeof buf,
       "%s (fitness %.3g): the actuation signal of each of its %d voxels (rows, lattice "
@@ -180,8 +180,7 @@ ReportSection activity_section(const StageContext& ctx) {
       "%d x %d pixels, shown at their own size. After settling, %d of the %d voxels swing "
       "both ways to at least 0.9 and %d never move; the voxels' RMS signals range from %.2f to "
       "%.2f (a sine of amplitude 1 has 0.71). Stripes shifted from row to row are voxels in "
-      "different phases: a mean over such voxels would cancel to white, which is why each voxel "
-      "has its own row.",
+      "different phases: a mean over such voxels would cancel to white, %s.",
       best->label.c_str(), best->fitness, best->voxels,
       raster.voxels_per_row > 1
           ? (", RMS over groups of " + std::to_string(raster.voxels_per_row)).c_str()
@@ -191,7 +190,12 @@ ReportSection activity_section(const StageContext& ctx) {
           ? (", RMS over groups of " + std::to_string(raster.frames_per_column) + " frames").c_str()
           : "",
       physics.settle_time, raster.width, raster.height, a.full_swing, best->voxels, a.still,
-      a.rms_low, a.rms_high);
+      a.rms_low, a.rms_high,
+      raster.voxels_per_row > 1 || raster.frames_per_column > 1
+          ? "so a cell that groups voxels or frames shows their RMS signal (how far they swing), "
+            "coloured by the sign of their mean, which for a swing both ways says little of "
+            "which way"
+          : "which is why each voxel has its own row");
   s.paragraphs.push_back(buf);
   s.raw_html = "<img class=\"activity\" alt=\"controller activity of " + best->label +
                "\" width=\"" + std::to_string(raster.width) + "\" height=\"" +
