@@ -162,12 +162,12 @@ ValueAxis value_axis(const PanelStats& panel) {
   return axis_over(lo, hi);
 }
 
-// ---- The frame both figures share ------------------------------------------------------
+// ---- The geometry both figures share ---------------------------------------------------
 
 // Scale, fonts, the value axis and the margins that follow from them: padding, tick length,
 // line width, the title's baseline and the plot's left edge (right of the y tick labels) and
 // right edge. Each figure sets its own top and bottom.
-struct FigureFrame {
+struct FigureGeometry {
   float s = 1;  // scale of an 800 x 600 figure
   std::vector<FontFace> fonts;
   ValueAxis axis;
@@ -180,8 +180,8 @@ struct FigureFrame {
   }
 };
 
-FigureFrame figure_frame(const ValueAxis& axis, int width, int height) {
-  FigureFrame f;
+FigureGeometry figure_geometry(const ValueAxis& axis, int width, int height) {
+  FigureGeometry f;
   f.s = std::min(width / 800.0f, height / 600.0f);
   f.fonts = panel_fonts(f.s);
   f.axis = axis;
@@ -203,15 +203,15 @@ FigureFrame figure_frame(const ValueAxis& axis, int width, int height) {
 // Where everything of one bar panel goes, in pixels. Margins: letter and title (top), y label
 // and tick labels (left), treatment names and n (bottom), and headroom above the axis for the
 // brackets.
-struct PanelFrame : FigureFrame {
+struct PanelGeometry : FigureGeometry {
   float bracket_step = 0, y_zero = 0;
   float bar_w = 0;
   std::vector<float> centre;  // per bar: centre x
 };
 
-PanelFrame panel_frame(const PanelStats& panel, size_t brackets, int width, int height) {
-  PanelFrame f;
-  static_cast<FigureFrame&>(f) = figure_frame(value_axis(panel), width, height);
+PanelGeometry panel_geometry(const PanelStats& panel, size_t brackets, int width, int height) {
+  PanelGeometry f;
+  static_cast<FigureGeometry&>(f) = figure_geometry(value_axis(panel), width, height);
   f.bracket_step = std::round(f.px(kStars) * 1.1f + 8 * f.s);
   f.top = std::round(f.y_title + 16 * f.s + brackets * f.bracket_step);
   f.bottom =
@@ -225,21 +225,21 @@ PanelFrame panel_frame(const PanelStats& panel, size_t brackets, int width, int 
   return f;
 }
 
-// The drawing a figure's parts are added to, in the order they are drawn, with its frame
-// (PanelFrame or EvolutionFrame: where things go, and the line width).
-template <class Frame>
+// The drawing a figure's parts are added to, in the order they are drawn, with its geometry
+// (PanelGeometry or EvolutionGeometry: where things go, and the line width).
+template <class Geometry>
 struct Canvas {
-  const Frame& f;
+  const Geometry& f;
   Drawing& d;
   void add(Shape shape) { d.shapes.push_back(std::move(shape)); }
   void line(float x0, float y0, float x1, float y1) {
     add(LineShape{x0, y0, x1, y1, f.line_w, kInk});
   }
 };
-using PanelCanvas = Canvas<PanelFrame>;
+using PanelCanvas = Canvas<PanelGeometry>;
 
 void add_titles(PanelCanvas& c, const PanelStats& panel) {
-  const PanelFrame& f = c.f;
+  const PanelGeometry& f = c.f;
   c.add(text(panel.id, kLetter, f.pad, f.y_title, Anchor::kStart));
   c.add(text(markup(panel.title, kTitle, kTitleSub, 0.25f * f.px(kTitle)),
              std::round((f.left + f.right) / 2), f.y_title, Anchor::kMiddle));
@@ -249,7 +249,7 @@ void add_titles(PanelCanvas& c, const PanelStats& panel) {
 // overlap one already placed moves sideways (right, left, further right, ...) within the
 // bar's width. Returns the highest dot's top edge.
 float add_points(PanelCanvas& c, const PanelGroup& g, float x) {
-  const PanelFrame& f = c.f;
+  const PanelGeometry& f = c.f;
   const float r = std::max(2.5f, std::round(4.5f * f.s * 2) / 2);
   const float stroke = std::max(1.0f, std::round(1.0f * f.s * 2) / 2);
   const float reach = std::max(0.0f, f.bar_w / 2 - r);
@@ -282,7 +282,7 @@ float add_points(PanelCanvas& c, const PanelGroup& g, float x) {
 // Bar i from zero (or "no data"), its error bar with caps, its points, its treatment's name
 // and sample size. Returns its highest point: where the brackets above it start.
 float add_bar(PanelCanvas& c, const PanelGroup& g, size_t i) {
-  const PanelFrame& f = c.f;
+  const PanelGeometry& f = c.f;
   const float x = f.centre[i];
   float top = f.y_zero;
   if (g.mean) {
@@ -312,7 +312,7 @@ float add_bar(PanelCanvas& c, const PanelGroup& g, size_t i) {
 
 // The y axis with ticks, tick labels and the unit; the zero line under the bars.
 void add_value_axis(PanelCanvas& c, const std::string& unit) {
-  const PanelFrame& f = c.f;
+  const PanelGeometry& f = c.f;
   const ValueAxis& a = f.axis;
   c.line(f.left, f.y_of(a.lo()), f.left, f.y_of(a.hi()));
   c.line(f.left, f.y_zero, f.right, f.y_zero);
@@ -333,7 +333,7 @@ void add_value_axis(PanelCanvas& c, const std::string& unit) {
 // step above every bracket placed before it that it overlaps; legs stop short of the bars.
 void add_brackets(PanelCanvas& c, const std::vector<Bracket>& brackets,
                   const std::vector<float>& bar_top) {
-  const PanelFrame& f = c.f;
+  const PanelGeometry& f = c.f;
   const float gap = std::round(10 * f.s), leg = std::round(6 * f.s);
   std::vector<std::pair<Bracket, float>> placed;
   for (const Bracket& b : brackets) {
@@ -364,7 +364,7 @@ Rgb tint(Rgb c, float amount) {
 
 // Where everything of the evolution figure goes, in pixels, and the axes: generations
 // 0..last; fitness over every value drawn, from 0 when all are >= 0.
-struct EvolutionFrame : FigureFrame {
+struct EvolutionGeometry : FigureGeometry {
   int last = -1;  // last generation
   double x_step = 1;
   std::map<std::string, size_t> colour_index;  // treatment -> colour index
@@ -385,7 +385,7 @@ struct EvolutionFrame : FigureFrame {
   }
 };
 
-EvolutionFrame evolution_frame(const EvolutionStats& e, int width, int height) {
+EvolutionGeometry evolution_geometry(const EvolutionStats& e, int width, int height) {
   int last = -1;
   double lo = 0, hi = 0;
   bool any = false;
@@ -406,8 +406,8 @@ EvolutionFrame evolution_frame(const EvolutionStats& e, int width, int height) {
   }
   if (last < 0) throw StatsError("evolution: no generations to draw");
 
-  EvolutionFrame f;
-  static_cast<FigureFrame&>(f) = figure_frame(axis_over(lo, hi), width, height);
+  EvolutionGeometry f;
+  static_cast<FigureGeometry&>(f) = figure_geometry(axis_over(lo, hi), width, height);
   f.last = last;
   f.x_step = last > 0 ? nice_step(last, 6) : 1;
   if (f.x_step < 1) f.x_step = 1;
@@ -420,11 +420,11 @@ EvolutionFrame evolution_frame(const EvolutionStats& e, int width, int height) {
   return f;
 }
 
-using EvolutionCanvas = Canvas<EvolutionFrame>;
+using EvolutionCanvas = Canvas<EvolutionGeometry>;
 
 // 95 % CI per generation as a step: one rectangle per generation drawn, in a light tint.
 void add_bands(EvolutionCanvas& c, const EvolutionStats& e) {
-  const EvolutionFrame& f = c.f;
+  const EvolutionGeometry& f = c.f;
   const std::vector<int> g = f.thinned();
   for (const EvolutionTreatmentBand& b : e.treatments) {
     const Rgb fill = tint(f.colour(b.treatment), 0.8f);
@@ -442,7 +442,7 @@ void add_bands(EvolutionCanvas& c, const EvolutionStats& e) {
 
 void add_polyline(EvolutionCanvas& c, const std::vector<std::optional<double>>& v, float width,
                   Rgb colour) {
-  const EvolutionFrame& f = c.f;
+  const EvolutionGeometry& f = c.f;
   const std::vector<int> g = f.thinned();
   for (size_t i = 1; i < g.size(); ++i) {
     const int a = g[i - 1], b = g[i];
@@ -452,7 +452,7 @@ void add_polyline(EvolutionCanvas& c, const std::vector<std::optional<double>>& 
 }
 
 void add_lines(EvolutionCanvas& c, const EvolutionStats& e) {
-  const EvolutionFrame& f = c.f;
+  const EvolutionGeometry& f = c.f;
   const float thin = std::max(1.0f, std::round(1.0f * f.s * 2) / 2);
   // Each band's edges over every fill, so a band under another one still shows.
   for (const EvolutionTreatmentBand& b : e.treatments)
@@ -465,7 +465,7 @@ void add_lines(EvolutionCanvas& c, const EvolutionStats& e) {
 }
 
 void add_axes(EvolutionCanvas& c, const EvolutionStats& e) {
-  const EvolutionFrame& f = c.f;
+  const EvolutionGeometry& f = c.f;
   c.line(f.left, f.top, f.left, f.bottom);
   c.line(f.left, f.bottom, f.right, f.bottom);
   for (long k = f.axis.k_lo; k <= f.axis.k_hi; ++k) {
@@ -491,7 +491,7 @@ void add_axes(EvolutionCanvas& c, const EvolutionStats& e) {
 
 // Top left of the plot: a swatch and "Stress (2 runs)" per treatment, then the key.
 void add_legend(EvolutionCanvas& c, const EvolutionStats& e) {
-  const EvolutionFrame& f = c.f;
+  const EvolutionGeometry& f = c.f;
   float y = f.top + f.px(kSmall) * 1.4f;
   const float x = f.left + 14 * f.s, sw = std::round(22 * f.s);
   for (const EvolutionTreatmentBand& b : e.treatments) {
@@ -513,12 +513,12 @@ void add_legend(EvolutionCanvas& c, const EvolutionStats& e) {
 
 Drawing layout_panel(const PanelStats& panel, int width, int height) {
   const std::vector<Bracket> brackets = significant_brackets(panel);
-  const PanelFrame frame = panel_frame(panel, brackets.size(), width, height);
+  const PanelGeometry geometry = panel_geometry(panel, brackets.size(), width, height);
   Drawing d;
   d.width = width;
   d.height = height;
-  d.fonts = frame.fonts;
-  PanelCanvas c{frame, d};
+  d.fonts = geometry.fonts;
+  PanelCanvas c{geometry, d};
   add_titles(c, panel);
   std::vector<float> bar_top;  // per bar: highest point of bar, error bar, points or "no data"
   for (size_t i = 0; i < panel.groups.size(); ++i)
@@ -529,14 +529,14 @@ Drawing layout_panel(const PanelStats& panel, int width, int height) {
 }
 
 Drawing layout_evolution(const EvolutionStats& evolution, int width, int height) {
-  const EvolutionFrame frame = evolution_frame(evolution, width, height);
+  const EvolutionGeometry geometry = evolution_geometry(evolution, width, height);
   Drawing d;
   d.width = width;
   d.height = height;
-  d.fonts = frame.fonts;
-  EvolutionCanvas c{frame, d};
-  c.add(text("Best fitness over generations", kTitle, std::round((frame.left + frame.right) / 2),
-             frame.y_title, Anchor::kMiddle));
+  d.fonts = geometry.fonts;
+  EvolutionCanvas c{geometry, d};
+  c.add(text("Best fitness over generations", kTitle,
+             std::round((geometry.left + geometry.right) / 2), geometry.y_title, Anchor::kMiddle));
   add_bands(c, evolution);
   add_lines(c, evolution);
   add_axes(c, evolution);

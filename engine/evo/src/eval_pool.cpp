@@ -3,7 +3,7 @@
 #include <exception>
 #include <tuple>
 
-#include "plastivox/evo/thread_pool.hpp"
+#include "plastivox/base/parallel.hpp"
 
 namespace plastivox::evo {
 
@@ -16,7 +16,7 @@ struct EvaluationPool::Batch {
   size_t remaining;
 };
 
-bool EvaluationPool::Task::operator<(const Task& o) const {
+bool EvaluationPool::Job::operator<(const Job& o) const {
   return std::tie(cost, o.seq) < std::tie(o.cost, seq);
 }
 
@@ -40,20 +40,20 @@ void EvaluationPool::work() {
   for (;;) {
     work_ready_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
     if (queue_.empty()) return;  // stopping, nothing left
-    const Task task = queue_.top();
+    const Job job = queue_.top();
     queue_.pop();
     lock.unlock();
-    Batch& b = *task.batch;
+    Batch& b = *job.batch;
     Evaluation e;
     std::exception_ptr error;
     try {
-      e = evaluate_phenotype(*(*b.bodies)[task.index], *b.physics);
+      e = evaluate_phenotype(*(*b.bodies)[job.index], *b.physics);
     } catch (...) {
       error = std::current_exception();
     }
     lock.lock();
-    b.results[task.index] = std::move(e);
-    b.errors[task.index] = error;
+    b.results[job.index] = std::move(e);
+    b.errors[job.index] = error;
     if (--b.remaining == 0) batch_done_.notify_all();
   }
 }
@@ -61,9 +61,9 @@ void EvaluationPool::work() {
 bool EvaluationPool::try_claim(Claim& out) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (queue_.empty()) return false;
-  const Task task = queue_.top();
+  const Job job = queue_.top();
   queue_.pop();
-  out = {(*task.batch->bodies)[task.index], task.batch->physics, task.batch, task.index};
+  out = {(*job.batch->bodies)[job.index], job.batch->physics, job.batch, job.index};
   return true;
 }
 

@@ -10,8 +10,8 @@
 
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/names.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/afpo.hpp"
-#include "plastivox/evo/thread_pool.hpp"
 #include "plastivox/evo/variation.hpp"
 #include "plastivox/io/limits.hpp"
 #include "plastivox/simulator.hpp"
@@ -116,24 +116,24 @@ GenerationStats Evolver::step() {
   // --- 1-3: who is created: children of the survivors (ascending id), then one newcomer;
   // at generation 0, `population` random individuals (the first three of the body plans
   // when the config asks for them).
-  struct Task {
+  struct Spawn {
     uint64_t id;
     int parent;  // index into the population, -1 for a random individual
   };
-  std::vector<Task> tasks;
+  std::vector<Spawn> spawns;
   if (gen == 0) {
-    for (int i = 0; i < cfg.population; ++i) tasks.push_back({s.next_id++, -1});
+    for (int i = 0; i < cfg.population; ++i) spawns.push_back({s.next_id++, -1});
   } else {
     for (Individual& ind : s.population) ++ind.age;
     for (size_t p = 0; p < s.population.size(); ++p)
-      tasks.push_back({s.next_id++, static_cast<int>(p)});
-    tasks.push_back({s.next_id++, -1});
+      spawns.push_back({s.next_id++, static_cast<int>(p)});
+    spawns.push_back({s.next_id++, -1});
   }
 
-  // --- 4a: make and express, in parallel; each task draws from its own stream.
-  std::vector<Offspring> made(tasks.size());
-  parallel_for(tasks.size(), threads_, [&](size_t i) {
-    const Task& t = tasks[i];
+  // --- 4a: make and express, in parallel; each spawn draws from its own stream.
+  std::vector<Offspring> made(spawns.size());
+  parallel_for(spawns.size(), threads_, [&](size_t i) {
+    const Spawn& t = spawns[i];
     if (t.parent < 0) {
       Rng rng = Rng::stream(cfg.seed, StreamPurpose::kNewcomer, gen, t.id);
       const bool seeded = gen == 0 && cfg.initial_population == InitialPopulation::kBodyPlans &&
@@ -148,15 +148,15 @@ GenerationStats Evolver::step() {
                              cfg.max_mutation_tries);
     }
   });
-  std::vector<Individual> fresh(tasks.size());
-  std::vector<BirthRecord> births(tasks.size());
-  for (size_t i = 0; i < tasks.size(); ++i) {
+  std::vector<Individual> fresh(spawns.size());
+  std::vector<BirthRecord> births(spawns.size());
+  for (size_t i = 0; i < spawns.size(); ++i) {
     Individual& ind = fresh[i];
-    ind.id = tasks[i].id;
+    ind.id = spawns[i].id;
     ind.born = gen;
-    if (tasks[i].parent >= 0) {
-      ind.parent_id = static_cast<int64_t>(s.population[tasks[i].parent].id);
-      ind.age = s.population[tasks[i].parent].age;
+    if (spawns[i].parent >= 0) {
+      ind.parent_id = static_cast<int64_t>(s.population[spawns[i].parent].id);
+      ind.age = s.population[spawns[i].parent].age;
     }
     ind.genome = std::move(made[i].genome);
     ind.outputs = std::move(made[i].outputs);
@@ -266,7 +266,7 @@ GenerationStats Evolver::step() {
       // a cached body, or when an outside fitness gave a number alone) simulated again;
       // the simulation is deterministic.
       auto simulated_now = std::find_if(to_sim.begin(), to_sim.end(),
-                                        [&](size_t i) { return tasks[i].id == champ.id; });
+                                        [&](size_t i) { return spawns[i].id == champ.id; });
       c.final_stiffness =
           simulated_now != to_sim.end() && !evals[*simulated_now].final_stiffness.empty()
               ? evals[*simulated_now].final_stiffness

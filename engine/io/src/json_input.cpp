@@ -35,7 +35,7 @@ class InputChecker : public nlohmann::json_sax<nlohmann::json> {
   bool end_object() override { return close_level(); }
   bool end_array() override { return close_level(); }
   bool key(string_t& k) override {
-    Frame& f = open_.back();
+    Level& f = open_.back();
     f.last_key = k;
     if (!f.keys.insert(k).second)
       throw InputError(source_ + ": " + (f.path.empty() ? "" : f.path + ".") + k +
@@ -48,7 +48,7 @@ class InputChecker : public nlohmann::json_sax<nlohmann::json> {
 
  private:
   // One frame per open object or array: its path and, for objects, the keys seen so far.
-  struct Frame {
+  struct Level {
     std::string path;
     std::set<std::string> keys;
     std::string last_key;
@@ -64,7 +64,7 @@ class InputChecker : public nlohmann::json_sax<nlohmann::json> {
     }
     std::string path;
     if (!open_.empty()) {
-      const Frame& f = open_.back();
+      const Level& f = open_.back();
       const std::string name = f.last_key.empty() ? "[]" : f.last_key;
       path = f.path.empty() ? name : f.path + (name == "[]" ? "" : ".") + name;
     }
@@ -78,7 +78,7 @@ class InputChecker : public nlohmann::json_sax<nlohmann::json> {
 
   const std::string& source_;
   const std::string& field_;
-  std::vector<Frame> open_;
+  std::vector<Level> open_;
 };
 
 }  // namespace

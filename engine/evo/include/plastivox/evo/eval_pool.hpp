@@ -54,18 +54,18 @@ class EvaluationPool final : public Simulations {
 
  private:
   struct Batch;
-  struct Task {
+  struct Job {
     double cost;   // voxels x expected steps
     uint64_t seq;  // submission order
     Batch* batch;
-    size_t index;                         // in the batch
-    bool operator<(const Task& o) const;  // priority_queue pops the longest, then the earliest
+    size_t index;                        // in the batch
+    bool operator<(const Job& o) const;  // priority_queue pops the longest, then the earliest
   };
   void work();
 
   std::mutex mutex_;
   std::condition_variable work_ready_, batch_done_;
-  std::priority_queue<Task> queue_;
+  std::priority_queue<Job> queue_;
   uint64_t next_seq_ = 0;
   bool stopping_ = false;
   std::vector<std::thread> workers_;
