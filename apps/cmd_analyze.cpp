@@ -15,8 +15,8 @@
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/render/error.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/render_files.hpp"
 
 namespace plastivox::cli {
 namespace {
@@ -158,7 +158,7 @@ int cmd_analyze(const Args& in) {
   // OUT/lives/ (--no-viewer: none).
   analysis::ReportExtras extras;
   if (viewer) {
-    std::vector<render::ReportLifeSource> sources;
+    std::vector<render::ReportChampion> sources;
     for (const auto& c : r.champions)
       sources.push_back({c.label, r.inputs[c.input].file, c.generation});
     std::fprintf(stderr, "plastivox analyze: lives for the 3-D viewer: simulating %zu champions\n",

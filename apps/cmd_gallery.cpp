@@ -2,9 +2,9 @@
 // [--e0-range LO,HI] ...: the champions side by side (the paper's Figs. 2-4).
 #include <cstdio>
 
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/scene.hpp"
-#include "plastivox/render_files.hpp"
 #include "render_cli.hpp"
 
 namespace plastivox::cli {

@@ -2,7 +2,7 @@
 // one frame of a robot's (or a run champion's) life as a PNG.
 #include <cstdio>
 
-#include "plastivox/render_files.hpp"
+#include "plastivox/render/files.hpp"
 #include "render_cli.hpp"
 
 namespace plastivox::cli {

@@ -2,7 +2,7 @@
 // [--start S --end S] [--stride N]: a life as an MP4 (H.264, or MPEG-4 Part 2 without x264).
 #include <cstdio>
 
-#include "plastivox/render_files.hpp"
+#include "plastivox/render/files.hpp"
 #include "render_cli.hpp"
 
 namespace plastivox::cli {

@@ -9,8 +9,8 @@
 
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/life_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/render_files.hpp"
 #include "render_cli.hpp"
 
 namespace plastivox::cli {
@@ -63,7 +63,7 @@ int cmd_view(const Args& in) {
       return 3;
     }
   }
-  std::vector<render::ViewerLife> lives;
+  std::vector<render::ViewerItem> lives;
   size_t frames = 0;
   for (const render::ShownLife& s : shown) {
     lives.push_back(s.life());

@@ -17,9 +17,9 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
-#include "plastivox/render_files.hpp"
 
 namespace {
 
@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
   std::vector<double> times;
   for (int k = 0; k < frames && k / 30.0 < source.physics.duration; ++k) times.push_back(k / 30.0);
   double w0 = wall_seconds(), c0 = cpu_seconds();
-  const Life life = take_life(source, times);
+  const FrameSet life = take_frame_set(source, times);
   std::printf("simulated %d voxels to t = %.2f s for %zu frames: %.2f s wall, %.2f s CPU\n",
               life.model->n, times.back(), times.size(), wall_seconds() - w0, cpu_seconds() - c0);
   std::vector<const Frame*> all;
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
   for (const Variant& v : variants) {
     if (!only.empty() && only != v.name) continue;
     const ColorScale scale = make_color_scale(v.style.color, *life.model, all);
-    LifeRenderer renderer(v.style);
+    FrameRenderer renderer(v.style);
     // Warm-up (shader compilation); with --png, the last frame is written as DIR/<style>.png.
     const std::vector<uint8_t> first = renderer.render(life, life.frames.back(), scale, "none");
     if (!png_dir.empty())

@@ -35,7 +35,7 @@ target_include_directories(plastivox_render PUBLIC ${CMAKE_CURRENT_LIST_DIR}/inc
 target_include_directories(plastivox_render SYSTEM PUBLIC ${IMGUI_INCLUDE_DIR}
                            PRIVATE ${OSMESA_INCLUDE_DIR})
 # Drawing knows lives and frames only: reading them from robot, results and recorded-life
-# files is plastivox_render_files' (apps/render_files, above render and the evolver).
+# files is plastivox_render_files' (render/files/, above render and the evolver).
 target_link_libraries(plastivox_render PUBLIC plastivox_io
                       PRIVATE plastivox_video nlohmann_json::nlohmann_json ${IMGUI_LIBRARY}
                               ${STB_LIBRARY} ${OSMESA_LIBRARY} PNG::PNG)

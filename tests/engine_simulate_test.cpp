@@ -101,7 +101,7 @@ TEST(FramesAtTimes, TheLifesLastStepIsWithinIt) {
          {std::nextafter(d.duration, 1.0), (d.duration + whole.sim_time) / 2, whole.sim_time}) {
       std::vector<Frame> got;
       const SimResult r = frames({at},
-                                 [&](LifeFrame&& f) {
+                                 [&](SourcedFrame&& f) {
                                    got.push_back(std::move(f.frame));
                                    return true;
                                  },
@@ -111,7 +111,7 @@ TEST(FramesAtTimes, TheLifesLastStepIsWithinIt) {
       EXPECT_EQ(r.final_state_hash, whole.final_state_hash) << at;
     }
     auto refusal = [&](double at) {
-      return testing::error_of([&] { frames({at}, [](LifeFrame&&) { return true; }, {}); });
+      return testing::error_of([&] { frames({at}, [](SourcedFrame&&) { return true; }, {}); });
     };
     // Past the last step but before the bound: refused once the life is known.
     const double past = std::nextafter(whole.sim_time, 1.0);

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <set>
 
+#include "plastivox/base/hash.hpp"
 #include "plastivox/evo/cppn.hpp"
-#include "plastivox/evo/hash.hpp"
 #include "plastivox/evo/rng.hpp"
 #include "test_support.hpp"
 

@@ -19,9 +19,9 @@
 #include "plastivox/io/life_file.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/render/color_scale.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/history_file.hpp"
 #include "plastivox/render/render_life.hpp"
-#include "plastivox/render_files.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -425,7 +425,7 @@ TEST_F(RecordedLives, ARecordedFrameDrawsAsTheSimulatedOne) {
         << "t = " << t;
   }
   EXPECT_NE(testing::error_of([&] {
-              render::take_life(from_file, {1.0});
+              render::take_frame_set(from_file, {1.0});
             }).find("past the recording's last frame"),
             std::string::npos);
 }

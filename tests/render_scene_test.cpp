@@ -10,11 +10,11 @@
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render/video_writer.hpp"
-#include "plastivox/render_files.hpp"
 #include "test_support.hpp"
 
 namespace plastivox::render {
@@ -327,13 +327,13 @@ TEST(RenderColorScale, ChangeTicksAreShortExactRatios) {
 // in the drawn colour bar at the height of 1e8.
 TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
   const int w = 240, h = 160;
-  const Life life = take_life(source_of(demo_cube(1, 1e8)), {0.0});
+  const FrameSet life = take_frame_set(source_of(demo_cube(1, 1e8)), {0.0});
   // The paper's fixed range, so 1e8 Pa sits in the middle of the bar.
   const ColorScale scale =
       make_color_scale(ColorMode::kCongenital, *life.model, {}, ColorRange::kPaper);
   FrameStyle st = flat_top_view(w, h);
   st.overlay.colorbar = true;
-  LifeRenderer renderer(st);
+  FrameRenderer renderer(st);
   const std::vector<uint8_t> img = renderer.render(life, life.frames[0], scale, "none");
   const Rgb8 expected = scale.map().at(scale.position(8.0));
   const uint8_t* c = pixel(img, w, w / 2, h / 2);
@@ -374,12 +374,12 @@ TEST(RenderPixels, SingleVoxelHasTheColourBarColourAtItsCentre) {
 // tolerance of the map colour in chromaticity (ratios of channels).
 TEST(RenderPixels, LitVoxelKeepsItsColourWithinShadingTolerance) {
   const int w = 120, h = 90;
-  const Life life = take_life(source_of(demo_cube(1, 1e6)), {0.0});
+  const FrameSet life = take_frame_set(source_of(demo_cube(1, 1e6)), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
   FrameStyle st = small_style(w, h);
   st.orthographic = true;
   st.elevation_deg = 90;
-  LifeRenderer renderer(st);
+  FrameRenderer renderer(st);
   const std::vector<uint8_t> img = renderer.render(life, life.frames[0], scale, "none");
   const Rgb8 expected = scale.color(*life.model, life.frames[0], 0);
   const uint8_t* c = pixel(img, w, w / 2, h / 2);
@@ -421,7 +421,7 @@ TEST(RenderPixels, EmptySceneIsFloorOnly) {
 }
 
 TEST(RenderPixels, SameSceneRenderedTwiceIsByteIdentical) {
-  const Life life = take_life(source_of(demo_walker(), Treatment::kStress), {0.3});
+  const FrameSet life = take_frame_set(source_of(demo_walker(), Treatment::kStress), {0.3});
   std::vector<const Frame*> frames{&life.frames[0]};
   const ColorScale scale = make_color_scale(ColorMode::kChange, *life.model, frames);
   FrameStyle st = small_style(200, 120);
@@ -429,10 +429,10 @@ TEST(RenderPixels, SameSceneRenderedTwiceIsByteIdentical) {
   st.overlay = OverlayOptions{};
   std::vector<uint8_t> first;
   {
-    LifeRenderer a(st);
+    FrameRenderer a(st);
     first = a.render(life, life.frames[0], scale, "stress");
   }
-  LifeRenderer b(st);
+  FrameRenderer b(st);
   EXPECT_EQ(b.render(life, life.frames[0], scale, "stress"), first);
   EXPECT_EQ(b.render(life, life.frames[0], scale, "stress"), first);
 }
@@ -442,14 +442,14 @@ TEST(RenderPixels, SameSceneRenderedTwiceIsByteIdentical) {
 // from the two (each on the line between them); without anti-aliasing there are none.
 TEST(RenderPixels, EdgeAntialiasingBlendsOutlinesAndNothingElse) {
   const int w = 160, h = 120;
-  const Life life = take_life(source_of(demo_cube(1, 1e8)), {0.0});
+  const FrameSet life = take_frame_set(source_of(demo_cube(1, 1e8)), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
   FrameStyle st = flat_top_view(w, h);
   st.azimuth_deg = -60;
   const Rgb8 voxel = scale.color(*life.model, life.frames[0], 0), floor = Scene{}.floor_color;
   auto mixed_pixels = [&](int samples) {
     st.samples = samples;
-    LifeRenderer renderer(st);
+    FrameRenderer renderer(st);
     const std::vector<uint8_t> img = renderer.render(life, life.frames[0], scale, "none");
     EXPECT_EQ(Rgb8({pixel(img, w, w / 2, h / 2)[0], pixel(img, w, w / 2, h / 2)[1],
                     pixel(img, w, w / 2, h / 2)[2]}),
@@ -484,7 +484,7 @@ TEST(RenderPixels, EdgeAntialiasingBlendsOutlinesAndNothingElse) {
 // lookup); they meet without cracks: no pixel of the near floor shows the background.
 TEST(RenderPixels, FloorPiecesLeaveNoCracks) {
   const int w = 320, h = 240;
-  const Life life = take_life(source_of(demo_walker(), Treatment::kNone), {0.0});
+  const FrameSet life = take_frame_set(source_of(demo_walker(), Treatment::kNone), {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
   const Rgb8 background = Scene{}.background;
   for (const int samples : {1, kEdgeAntialiasing, 4}) {
@@ -492,7 +492,7 @@ TEST(RenderPixels, FloorPiecesLeaveNoCracks) {
     st.samples = samples;
     for (const double azimuth : {-60.0, 10.0, 135.0}) {
       st.azimuth_deg = azimuth;
-      LifeRenderer turned(st);
+      FrameRenderer turned(st);
       const std::vector<uint8_t> img = turned.render(life, life.frames[0], scale, "none");
       int cracks = 0;
       for (int y = h / 2; y < h; ++y)
@@ -505,16 +505,16 @@ TEST(RenderPixels, FloorPiecesLeaveNoCracks) {
   }
 }
 
-// take_frames hands over exactly the frames take_life keeps, each with the
+// take_frames hands over exactly the frames take_frame_set keeps, each with the
 // settling state the finished life reports (frames before the settle time: not settled).
 TEST(RenderLife, StreamedFramesEqualTheCollectedLife) {
   const LifeSource src = source_of(demo_walker(), Treatment::kStress);
   const std::vector<double> times = {0.0, 0.05, 0.1, 0.2, 0.25, 0.3};
-  const Life life = take_life(src, times);
+  const FrameSet life = take_frame_set(src, times);
   ASSERT_TRUE(life.settled);
   const std::shared_ptr<const Model> model = src.model;
-  std::vector<LifeFrame> streamed;
-  take_frames(src, times, [&](LifeFrame&& f) {
+  std::vector<SourcedFrame> streamed;
+  take_frames(src, times, [&](SourcedFrame&& f) {
     streamed.push_back(std::move(f));
     return true;
   });
@@ -531,7 +531,7 @@ TEST(RenderLife, StreamedFramesEqualTheCollectedLife) {
     if (!before) {
       EXPECT_EQ(streamed[k].com_settled, life.com_settled);
     }
-    Life view;
+    FrameSet view;
     view.model = model;
     view.settled = streamed[k].settled;
     view.com_settled = streamed[k].com_settled;
@@ -539,7 +539,7 @@ TEST(RenderLife, StreamedFramesEqualTheCollectedLife) {
   }
   // Stopping early: the sink's false ends the simulation after that frame.
   int seen = 0;
-  take_frames(src, times, [&](LifeFrame&&) { return ++seen < 2; });
+  take_frames(src, times, [&](SourcedFrame&&) { return ++seen < 2; });
   EXPECT_EQ(seen, 2);
 }
 
@@ -551,7 +551,7 @@ TEST(RenderCamera, WalkingRobotStaysInsideTheImageInEveryFrame) {
   const LifeSource src = source_of(demo_walker(), Treatment::kStress);
   std::vector<double> times;
   for (int k = 0; k * 0.1 < src.physics.duration; ++k) times.push_back(k * 0.1);
-  const Life life = take_life(src, times);
+  const FrameSet life = take_frame_set(src, times);
   ASSERT_EQ(life.frames.size(), times.size());
   std::vector<const Frame*> frames;
   for (const Frame& f : life.frames) frames.push_back(&f);
@@ -594,7 +594,7 @@ TEST(RenderCamera, WalkingRobotStaysInsideTheImageInEveryFrame) {
 // life_cameras backs off until it fits.
 TEST(RenderCamera, LifeCamerasBackOffUntilATallBodyFits) {
   const LifeSource src = source_of(demo_cube(1, 1e8));
-  const Life life = take_life(src, {0.0});
+  const FrameSet life = take_frame_set(src, {0.0});
   Frame tall = life.frames[0];
   tall.pos[0].z() = 0.2;  // a voxel 20 voxel lengths up
   const std::vector<Camera> cams =

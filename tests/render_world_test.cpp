@@ -11,9 +11,9 @@
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/life_file.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/render_files.hpp"
 #include "test_support.hpp"
 
 namespace plastivox::render {
@@ -164,11 +164,11 @@ Shot shoot(const Environment& env, const FrameStyle& st) {
   physics.environment = env;
   const LifeSource src =
       simulated_life_source("inline", testing::block(3, 3, 2, 1e7), physics, "block");
-  const Life life = take_life(src, {0.0});
+  const FrameSet life = take_frame_set(src, {0.0});
   const ColorScale scale = make_color_scale(ColorMode::kCongenital, *life.model, {});
   const Camera cam = life_cameras(*life.model, {&life.frames[0]}, styled_camera(st, Camera{}),
                                   static_cast<double>(st.width) / st.height, st.zoom)[0];
-  LifeRenderer renderer(st);
+  FrameRenderer renderer(st);
   return {renderer.render(life, life.frames[0], scale, "none", cam), cam, life.model};
 }
 
@@ -329,7 +329,7 @@ TEST(ViewerWorld, MetaCarriesTheGroundAndBoxesOnlyBeyondTheFloor) {
     f.stimulus.push_back(0);
   }
   rec.frames = {f};
-  ViewerLife life;
+  ViewerItem life;
   life.model = &plain;
   life.recording = &rec;
   EXPECT_FALSE(nlohmann::json::parse(life_meta_json(life)).contains("world"));

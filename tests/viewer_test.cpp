@@ -11,9 +11,9 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/render_files.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -51,7 +51,7 @@ Synthetic synthetic_block() {
 
 // A life that sinks through the floor is drawn to its end, so the fall can be watched, and
 // keeps the fitness its rule gives it: 0 where sunk lives are invalid (the default).
-TEST(ViewerLife, ASunkLifeIsShownToItsEndWithTheFitnessOfItsRule) {
+TEST(ViewerItem, ASunkLifeIsShownToItsEndWithTheFitnessOfItsRule) {
   const RobotDef robot = testing::block(3, 3, 3, 1e5);  // soft and heavy: it falls through
   PhysicsDef physics = testing::passive_physics();
   physics.duration = 0.5;
@@ -77,7 +77,7 @@ TEST(ViewerLife, ASunkLifeIsShownToItsEndWithTheFitnessOfItsRule) {
 
 TEST(ViewerPack, ATenCubedChampionAtThirtyFramesPerSecondFitsInThreeMegabytes) {
   const Synthetic s = synthetic_block();
-  render::ViewerLife life;
+  render::ViewerItem life;
   life.model = &s.model;
   life.recording = &s.rec;
   const std::string packed = render::pack_life(life);
@@ -99,7 +99,7 @@ TEST(ViewerPack, TheActuationSignalFollowsWhenRecorded) {
   s.rec.control = true;
   for (Frame& f : s.rec.frames)
     for (int i = 0; i < s.model.n; ++i) f.actuation.push_back(std::sin(f.time + i));
-  render::ViewerLife life;
+  render::ViewerItem life;
   life.model = &s.model;
   life.recording = &s.rec;
   const std::string packed = render::pack_life(life);

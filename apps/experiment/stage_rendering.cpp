@@ -21,11 +21,11 @@
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
 #include "plastivox/render/render_life.hpp"
 #include "plastivox/render/viewer.hpp"
-#include "plastivox/render_files.hpp"
 #include "stamps.hpp"
 
 namespace plastivox::experiment {
@@ -161,7 +161,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
   const int threads = ctx.opt.threads >= 0 ? ctx.opt.threads : ctx.config.threads;
   std::vector<render::GalleryEntry> entries(study.champions.size());
   std::vector<std::string> frame_failures(study.champions.size()), life_failures(todo.size());
-  std::vector<std::optional<render::LifeLink>> links(todo.size());
+  std::vector<std::optional<render::ViewerLink>> links(todo.size());
   int done = 0;  // champions simulated, and life_seconds below: under status_mutex
   std::mutex status_mutex;
   double life_seconds = 0;  // writing the lives (packing, base64, files), summed over threads
@@ -180,7 +180,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
     const auto times =
         framed[todo[j]] ? render::gallery_times(e.source.physics, style) : std::vector<double>{};
     if (lives) {
-      render::ReportLife life = render::report_life(e.source, render::kViewerFps, times);
+      render::ReportFrames life = render::report_life(e.source, render::kViewerFps, times);
       e.life = std::move(life.frames);
       frame_failures[todo[j]] = life.frames_failure;
       if (!life.shown.failure.empty()) {
@@ -193,7 +193,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
       }
     } else {
       try {
-        e.life = render::take_life(e.source, times);
+        e.life = render::take_frame_set(e.source, times);
       } catch (const render::RenderError& err) {
         frame_failures[todo[j]] = err.what();
       }
@@ -213,7 +213,7 @@ ChampionOutputs render_champions(StageContext& ctx, Stamps& stamps) {
 
   if (lives) {
     uintmax_t bytes = 0;
-    std::vector<render::LifeLink> kept;
+    std::vector<render::ViewerLink> kept;
     for (size_t j = 0; j < todo.size(); ++j) {
       if (!life_failures[j].empty()) ctx.progress.log("[rendering] " + life_failures[j]);
       if (!links[j]) continue;

@@ -65,7 +65,7 @@ ReportSection experiment_section(const StageContext& ctx) {
 // gallery (CSS background offsets from the gallery's sidecar, no extra image files).
 // Clicking a thumbnail shows that champion in the 3-D viewer, when it has a life there.
 std::string body_plan_table(const StageContext& ctx, const std::vector<std::string>& outputs,
-                            const std::vector<render::LifeLink>& lives) {
+                            const std::vector<render::ViewerLink>& lives) {
   const auto& r = ctx.config.rendering;
   const double thumb_w = 150;
   std::string rows;
@@ -265,7 +265,7 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
   }
   if (!galleries.media.empty()) extras.sections.push_back(galleries);
   // The lives the rendering stage wrote, in champion order (lives/<label>.js).
-  std::vector<render::LifeLink> lives;
+  std::vector<render::ViewerLink> lives;
   for (const auto& f : outputs)
     if (f.starts_with("lives/") && f.ends_with(".js"))
       lives.push_back({fs::path(f).stem().string(), f});

@@ -20,7 +20,7 @@
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::render {
-class LifeRenderer;
+class FrameRenderer;
 }
 
 namespace plastivox::py {
@@ -92,7 +92,7 @@ class StatePainter {
                              int width, int height);
 
  private:
-  std::unique_ptr<render::LifeRenderer> drawer_;
+  std::unique_ptr<render::FrameRenderer> drawer_;
 };
 
 void bind_physics(pyb::module_& m);   // physics.cpp

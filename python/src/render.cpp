@@ -9,9 +9,9 @@
 
 #include "bindings.hpp"
 #include "plastivox/life.hpp"
+#include "plastivox/render/files.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/render_life.hpp"
-#include "plastivox/render_files.hpp"
 
 namespace plastivox::py {
 namespace {
@@ -103,7 +103,7 @@ pyb::array_t<uint8_t> StatePainter::draw(const std::shared_ptr<const Model>& mod
   style.width = width;
   style.height = height;
   style.samples = 4;  // as render()'s default, msaa
-  render::Life life;
+  render::FrameSet life;
   life.model = model;
   life.frames.push_back(capture_frame(state));
   life.settled = state.settled;
@@ -120,7 +120,7 @@ pyb::array_t<uint8_t> StatePainter::draw(const std::shared_ptr<const Model>& mod
         render::life_cameras(*model, {&frame}, render::styled_camera(style, render::Camera{}),
                              static_cast<double>(width) / height, style.zoom)[0];
     if (!drawer_ || drawer_->style().width != width || drawer_->style().height != height)
-      drawer_ = std::make_unique<render::LifeRenderer>(style);
+      drawer_ = std::make_unique<render::FrameRenderer>(style);
     rgba = drawer_->render(life, frame, scale, to_string(model->def.treatment), camera);
   }
   return rgb_array(rgba, width, height);

@@ -11,7 +11,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/io/robot_io.hpp"
-#include "plastivox/render_files.hpp"
+#include "plastivox/render/files.hpp"
 
 namespace plastivox::py {
 namespace {

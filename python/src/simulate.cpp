@@ -9,7 +9,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "plastivox/evo/thread_pool.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/io/limits.hpp"
 #include "plastivox/io/robot_io.hpp"  // warn_vxa_density
 #include "plastivox/io/sim_summary.hpp"
@@ -122,14 +122,13 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::ob
     // The summaries are built on the workers too: only making the Python objects needs the
     // GIL, and what stays serial bounds the speed-up (docs/benchmarks.md, "Python module").
     pyb::gil_scoped_release unlocked;
-    evo::parallel_for(
-        robots.size(), threads == 0 ? evo::hardware_threads() : threads, [&](size_t i) {
-          results[i] = simulate(compile(robots[i]->def, physics[i], limits), options);
-          warn_vxa_density(results[i], robots[i]->source, robots[i]->physics.density, physics[i],
-                           robots[i]->def.voxel_size);
-          summaries[i] =
-              sim_summary_fields(results[i], physics[i], robots[i]->source, PLASTIVOX_VERSION);
-        });
+    parallel_for(robots.size(), threads == 0 ? hardware_threads() : threads, [&](size_t i) {
+      results[i] = simulate(compile(robots[i]->def, physics[i], limits), options);
+      warn_vxa_density(results[i], robots[i]->source, robots[i]->physics.density, physics[i],
+                       robots[i]->def.voxel_size);
+      summaries[i] =
+          sim_summary_fields(results[i], physics[i], robots[i]->source, PLASTIVOX_VERSION);
+    });
   }
   pyb::list out;
   for (size_t i = 0; i < robots.size(); ++i) out.append(life_to_python(results[i], summaries[i]));

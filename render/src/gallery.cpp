@@ -16,7 +16,7 @@ constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct Item {
   LifeSource source;
-  Life life;
+  FrameSet life;
   double heading_deg = 0;
   double fitness = 0;  // voxel lengths
 };

@@ -19,7 +19,7 @@ SimResult take_frames(const LifeSource& source, const std::vector<double>& times
   try {
     r = source.frames(
         times,
-        [&](LifeFrame&& f) {
+        [&](SourcedFrame&& f) {
           taken += 1;
           stopped = !sink(std::move(f));
           return !stopped;
@@ -36,14 +36,14 @@ SimResult take_frames(const LifeSource& source, const std::vector<double>& times
   return r;
 }
 
-Life take_life(const LifeSource& source, const std::vector<double>& times,
-               const ProgressFn& progress) {
-  Life life;
+FrameSet take_frame_set(const LifeSource& source, const std::vector<double>& times,
+                        const ProgressFn& progress) {
+  FrameSet life;
   life.model = source.model;
   life.frames.reserve(times.size());
   const SimResult r = take_frames(
       source, times,
-      [&](LifeFrame&& f) {
+      [&](SourcedFrame&& f) {
         // Every frame leaves with the final settling state but the ones before settling,
         // which leave with "not settled" and do not use it.
         life.settled = f.settled;
@@ -56,7 +56,7 @@ Life take_life(const LifeSource& source, const std::vector<double>& times,
   return life;
 }
 
-double displacement_so_far(const Life& life, const Frame& frame) {
+double displacement_so_far(const FrameSet& life, const Frame& frame) {
   const Model& m = *life.model;
   if (!life.settled || frame.time < m.def.settle_time) return 0;
   // The robot's centre of mass: the free objects' voxels that follow it are not the robot's.

@@ -88,13 +88,13 @@ std::optional<LifeSource> with_color_channels(const LifeSource& source, ColorMod
 
 }  // namespace
 
-LifeRenderer::LifeRenderer(const FrameStyle& style) : style_(style) {
+FrameRenderer::FrameRenderer(const FrameStyle& style) : style_(style) {
   ctx_ = std::make_unique<OffscreenContext>(style.width, style.height);
   scene_ = std::make_unique<SceneRenderer>(*ctx_);
   if (style.overlay.any()) ui_ = std::make_unique<ImGuiLayer>(*ctx_, overlay_fonts(style.height));
 }
 
-LifeRenderer::~LifeRenderer() {
+FrameRenderer::~FrameRenderer() {
   ui_.reset();  // GL objects go before their context
   scene_.reset();
 }
@@ -106,15 +106,15 @@ Camera styled_camera(const FrameStyle& style, Camera c) {
   return c;
 }
 
-std::vector<uint8_t> LifeRenderer::render(const Life& life, const Frame& frame,
-                                          const ColorScale& scale, const std::string& treatment) {
+std::vector<uint8_t> FrameRenderer::render(const FrameSet& life, const Frame& frame,
+                                           const ColorScale& scale, const std::string& treatment) {
   return render(life, frame, scale, treatment,
                 styled_camera(style_, follow_camera(*life.model, frame, style_.zoom)));
 }
 
-std::vector<uint8_t> LifeRenderer::render(const Life& life, const Frame& frame,
-                                          const ColorScale& scale, const std::string& treatment,
-                                          const Camera& camera) {
+std::vector<uint8_t> FrameRenderer::render(const FrameSet& life, const Frame& frame,
+                                           const ColorScale& scale, const std::string& treatment,
+                                           const Camera& camera) {
   const Model& model = *life.model;
   Scene scene;
   scene.boxes = frame_boxes(model, frame, scale);
@@ -160,13 +160,13 @@ std::vector<uint8_t> render_frame(const LifeSource& given, double time, const Fr
   check_render_target(style.width, style.height, style.samples);  // before simulating
   const std::optional<LifeSource> colored = with_color_channels(given, style.color);
   const LifeSource& source = colored ? *colored : given;
-  const Life life = take_life(source, {time});
+  const FrameSet life = take_frame_set(source, {time});
   const ColorScale scale =
       make_color_scale(style.color, *life.model, {&life.frames[0]}, style.color_range);
   const Camera camera =
       life_cameras(*life.model, {&life.frames[0]}, styled_camera(style, Camera{}),
                    static_cast<double>(style.width) / style.height, style.zoom)[0];
-  LifeRenderer renderer(style);
+  FrameRenderer renderer(style);
   return renderer.render(life, life.frames[0], scale, to_string(source.physics.treatment), camera);
 }
 
@@ -211,14 +211,14 @@ VideoSummary render_video(const LifeSource& given, const FrameStyle& style, cons
       source.recorded || style.camera == FrameStyle::CameraPath::kLife ||
       style.color == ColorMode::kChange ||
       (style.color == ColorMode::kStiffness && style.color_range == ColorRange::kData);
-  std::vector<LifeFrame> simulated;  // all frames, when the scale needs them
+  std::vector<SourcedFrame> simulated;  // all frames, when the scale needs them
   if (scale_needs_frames) {
     say(log,
         source.recorded
             ? "reading " + std::to_string(count) + " frames of the recorded life " + source_path
             : "simulating " + source_path + " (" + std::to_string(count) + " frames to capture)");
     simulated.reserve(count);
-    take_frames(source, times, [&](LifeFrame&& f) {
+    take_frames(source, times, [&](SourcedFrame&& f) {
       simulated.push_back(std::move(f));
       return true;
     });
@@ -228,7 +228,7 @@ VideoSummary render_video(const LifeSource& given, const FrameStyle& style, cons
                  " frames to capture) while drawing and encoding");
   }
   std::vector<const Frame*> frames;
-  for (const LifeFrame& f : simulated) frames.push_back(&f.frame);
+  for (const SourcedFrame& f : simulated) frames.push_back(&f.frame);
   const ColorScale scale = make_color_scale(style.color, *model, frames, style.color_range);
   const std::vector<Camera> cameras =
       style.camera == FrameStyle::CameraPath::kLife
@@ -242,10 +242,10 @@ VideoSummary render_video(const LifeSource& given, const FrameStyle& style, cons
   vo.fps = job.fps;
   vo.codec = job.codec;
   VideoWriter writer(out, vo);
-  LifeRenderer renderer(style);
+  FrameRenderer renderer(style);
   const std::string treatment = to_string(source.physics.treatment);
 
-  Channel<LifeFrame> from_simulation(32);  // ~150 kB a frame for 1000 voxels
+  Channel<SourcedFrame> from_simulation(32);  // ~150 kB a frame for 1000 voxels
   Channel<std::vector<uint8_t>> to_encoder(3);
   std::exception_ptr simulation_error, encoder_error;
   double simulation_seconds = 0;
@@ -253,7 +253,7 @@ VideoSummary render_video(const LifeSource& given, const FrameStyle& style, cons
   // Declared after the writer: on any exit the workers are stopped and joined before the
   // writer (and its temporary file) goes.
   struct Workers {
-    Channel<LifeFrame>& a;
+    Channel<SourcedFrame>& a;
     Channel<std::vector<uint8_t>>& b;
     std::thread& s;
     std::thread& e;
@@ -269,7 +269,7 @@ VideoSummary render_video(const LifeSource& given, const FrameStyle& style, cons
     simulation = std::thread([&] {
       try {
         take_frames(source, times,
-                    [&](LifeFrame&& f) { return from_simulation.push(std::move(f)); });
+                    [&](SourcedFrame&& f) { return from_simulation.push(std::move(f)); });
       } catch (...) {
         simulation_error = std::current_exception();
       }
@@ -293,12 +293,12 @@ VideoSummary render_video(const LifeSource& given, const FrameStyle& style, cons
   const auto draw_start = std::chrono::steady_clock::now();
   int drawn = 0;
   for (int k = 0; k < count; ++k) {
-    LifeFrame f;
+    SourcedFrame f;
     if (scale_needs_frames)
       f = std::move(simulated[k]);
     else if (!from_simulation.pop(f))
-      break;    // the simulation failed
-    Life life;  // what the overlay needs of the life: the model and settling
+      break;        // the simulation failed
+    FrameSet life;  // what the overlay needs of the life: the model and settling
     life.model = model;
     life.settled = f.settled;
     life.com_settled = f.com_settled;

@@ -10,19 +10,20 @@
 
 namespace plastivox::render {
 
-LifeLink write_report_life(const std::string& dir, const std::string& id, const ViewerLife& life) {
+ViewerLink write_report_life(const std::string& dir, const std::string& id,
+                             const ViewerItem& life) {
   std::filesystem::create_directories(dir + "/lives");
   write_file_atomic(dir + "/lives/" + id + ".js", life_script(id, life));
-  return LifeLink{id, "lives/" + id + ".js"};
+  return ViewerLink{id, "lives/" + id + ".js"};
 }
 
-void remove_other_lives(const std::string& dir, const std::vector<LifeLink>& keep) {
+void remove_other_lives(const std::string& dir, const std::vector<ViewerLink>& keep) {
   namespace fs = std::filesystem;
   if (!fs::is_directory(dir + "/lives")) return;
   for (const auto& e : fs::directory_iterator(dir + "/lives")) {
     const std::string src = "lives/" + e.path().filename().string();
     const bool kept =
-        std::any_of(keep.begin(), keep.end(), [&](const LifeLink& l) { return l.src == src; });
+        std::any_of(keep.begin(), keep.end(), [&](const ViewerLink& l) { return l.src == src; });
     if (!kept && e.path().extension() == ".js") fs::remove(e.path());
   }
 }

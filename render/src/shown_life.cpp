@@ -17,8 +17,8 @@
 
 namespace plastivox::render {
 
-ViewerLife ShownLife::life() const {
-  ViewerLife l = info;
+ViewerItem ShownLife::life() const {
+  ViewerItem l = info;
   l.model = &model;
   l.recording = &recording;
   return l;
@@ -39,9 +39,9 @@ ShownLife described(const LifeSource& source) {
 
 }  // namespace
 
-ReportLife report_life(const LifeSource& source, double fps, const std::vector<double>& times) {
+ReportFrames report_life(const LifeSource& source, double fps, const std::vector<double>& times) {
   const PhysicsDef& def = source.physics;
-  ReportLife out;
+  ReportFrames out;
   out.shown = described(source);
   ShownLife& shown = out.shown;
   if (!(fps > 0)) throw RenderError("report_life: fps must be > 0");
@@ -80,7 +80,7 @@ ReportLife report_life(const LifeSource& source, double fps, const std::vector<d
   try {
     r = signal_frames(
         all_times,
-        [&](LifeFrame&& f) {
+        [&](SourcedFrame&& f) {
           const int to = wanted[taken++].second;
           if (to >= 0) {
             out.frames.frames[to] = f.frame;

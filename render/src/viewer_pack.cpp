@@ -140,7 +140,7 @@ nlohmann::json world_json(const Model& m, const std::vector<Frame>& frames) {
 
 }  // namespace
 
-std::string pack_life(const ViewerLife& life) {
+std::string pack_life(const ViewerItem& life) {
   const Model& m = *life.model;
   const std::vector<Frame>& frames = life.recording->frames;
   const int n = m.n;
@@ -179,7 +179,7 @@ std::string pack_life(const ViewerLife& life) {
   for (int i = 0; i < n; ++i) put_f32(out, m.phase[i]);
   // Per frame: time, displacement (as the video overlay reads it) and centre of mass. The
   // f32 bounds read back (the same rounding) quantise the per-voxel values below.
-  Life overlay;  // what displacement_so_far needs: the model (not owned) and settling
+  FrameSet overlay;  // what displacement_so_far needs: the model (not owned) and settling
   overlay.model = std::shared_ptr<const Model>(std::shared_ptr<const Model>(), &m);
   overlay.settled = life.settled;
   overlay.com_settled = life.com_settled;
@@ -208,7 +208,7 @@ std::string pack_life(const ViewerLife& life) {
   return out;
 }
 
-std::string life_meta_json(const ViewerLife& life) {
+std::string life_meta_json(const ViewerItem& life) {
   const Model& m = *life.model;
   std::vector<const Frame*> frames;
   for (const Frame& f : life.recording->frames) frames.push_back(&f);

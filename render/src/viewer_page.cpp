@@ -80,7 +80,7 @@ std::string buttons_html(size_t n) {
 }
 
 // One life as the viewer reads it: {meta: <life_meta_json>, data: "<base64 of pack_life>"}.
-std::string life_object_js(const ViewerLife& life) {
+std::string life_object_js(const ViewerItem& life) {
   return "{meta: " + life_meta_json(life) + ", data: \"" + base64(pack_life(life)) + "\"}";
 }
 
@@ -98,7 +98,7 @@ ViewerScripts viewer_scripts() {
   return s;
 }
 
-std::string viewer_page(const std::vector<ViewerLife>& lives, const std::string& title) {
+std::string viewer_page(const std::vector<ViewerItem>& lives, const std::string& title) {
   // Text from files (robot names, labels) reaches the page only as JSON, set by the script
   // as text: nothing in it is parsed as HTML.
   std::string html;
@@ -111,7 +111,7 @@ std::string viewer_page(const std::vector<ViewerLife>& lives, const std::string&
   if (lives.size() > 1) html += buttons_html(lives.size());  // one viewer; these pick its life
   html += read_asset("viewer/viewer_panel.html");
   std::string list;
-  for (const ViewerLife& life : lives)
+  for (const ViewerItem& life : lives)
     list += "PLASTIVOX_LIVES.push(" + script_safe(life_object_js(life)) + ");\n";
   html += scripts_html(list);
   html += "<script>document.title = document.querySelector(\".pv-title\").textContent = " +
@@ -121,18 +121,18 @@ std::string viewer_page(const std::vector<ViewerLife>& lives, const std::string&
   return html;
 }
 
-std::string life_script(const std::string& id, const ViewerLife& life) {
+std::string life_script(const std::string& id, const ViewerItem& life) {
   return "plastivoxViewer.deliver(" + nlohmann::json(id).dump() + ", " + life_object_js(life) +
          ");\n";
 }
 
-std::string viewer_fragment(const std::vector<LifeLink>& lives, bool buttons) {
+std::string viewer_fragment(const std::vector<ViewerLink>& lives, bool buttons) {
   if (lives.empty()) return "";
   std::string html = read_asset("viewer/viewer.css.html");
   if (buttons) html += buttons_html(lives.size());
   html += read_asset("viewer/viewer_panel.html");
   std::string list;
-  for (const LifeLink& l : lives)
+  for (const ViewerLink& l : lives)
     list += "PLASTIVOX_LIVES.push({id: " + nlohmann::json(l.id).dump() +
             ", src: " + nlohmann::json(l.src).dump() +
             ", meta: {label: " + nlohmann::json(l.id).dump() + "}});\n";

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/base/clock.hpp"
-#include "plastivox/evo/hash.hpp"
+#include "plastivox/base/hash.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "study_internal.hpp"
 
@@ -97,7 +97,7 @@ std::string study_fingerprint(const std::vector<std::string>& content_digests,
                               const StudyOptions& options) {
   std::vector<std::string> sorted = content_digests;
   std::sort(sorted.begin(), sorted.end());
-  evo::Hasher h;
+  Hasher h;
   // The tag changes whenever the outputs gain or change a field, so a study analysed by an
   // older build is analysed again rather than reused without it (v3: audit.controller; v4:
   // the vertical rule).

@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/base/hash.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/genome.hpp"  // kBodyPlanSeedCount
-#include "plastivox/evo/hash.hpp"
 #include "plastivox/evo/phenotype.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/json_input.hpp"
@@ -166,7 +166,7 @@ void check_treatments(const std::vector<Loaded>& all, const StudyOptions& option
 }  // namespace
 
 std::string phenotype_digest(const RobotDef& robot) {
-  evo::Hasher h;
+  Hasher h;
   evo::hash_robot(h, robot);  // the evolver's phenotype hash
   return h.finish().hex();
 }
@@ -191,7 +191,7 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
   for (size_t i = 0; i < all.size(); ++i)
     for (size_t j = i + 1; j < all.size(); ++j)
       if (all[i].replicate_key == all[j].replicate_key) {
-        evo::Hasher h;
+        Hasher h;
         h.str(all[i].replicate_key);
         const auto done = [](const Loaded& l) {
           return std::to_string(l.input.generations_done) + " generations done";

@@ -20,9 +20,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/base/hash.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/config.hpp"
-#include "plastivox/evo/hash.hpp"
 #include "plastivox/io/limits.hpp"
 #include "study_internal.hpp"
 
@@ -59,7 +59,7 @@ RobustnessOptions robustness_options(const StudyOptions& o, uint64_t seed, int t
 }
 
 uint64_t champion_seed(uint64_t seed, const std::string& phenotype_digest) {
-  evo::Hasher h;
+  Hasher h;
   h.str("plastivox-robustness-seed-v1");
   h.u64(seed);
   h.str(phenotype_digest);
@@ -67,7 +67,7 @@ uint64_t champion_seed(uint64_t seed, const std::string& phenotype_digest) {
 }
 
 std::string checkpoint_key(const ChampionAnalysis& c, const StudyOptions& o) {
-  evo::Hasher h;
+  Hasher h;
   h.str("plastivox-robustness-checkpoint-v2");
   h.str(c.phenotype_digest);
   h.str(evo::resolved_physics_json(robustness_physics(c.physics)));

@@ -54,12 +54,12 @@ FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control) {
     // A frame at or after the settle time waits here until the life has settled (it settles
     // on the first step past the settle time), so each goes out with the centre of mass the
     // finished life reports.
-    std::deque<LifeFrame> waiting;
+    std::deque<SourcedFrame> waiting;
     bool stopped = false;
     auto hand_over = [&](bool settled, const Vec3& com_settled, bool finished) {
       while (!stopped && !waiting.empty() &&
              (finished || settled || waiting.front().frame.time < m.def.settle_time)) {
-        LifeFrame f = std::move(waiting.front());
+        SourcedFrame f = std::move(waiting.front());
         waiting.pop_front();
         f.settled = settled;
         f.com_settled = settled ? com_settled : Vec3::Zero();
@@ -71,7 +71,7 @@ FrameSource simulated_frames(std::shared_ptr<const Model> model, bool control) {
     options.progress = progress;
     options.record_control = control;
     options.on_frame = [&](const State& s, Frame&& frame) {
-      waiting.push_back(LifeFrame{std::move(frame), false, Vec3::Zero()});
+      waiting.push_back(SourcedFrame{std::move(frame), false, Vec3::Zero()});
       hand_over(s.settled, s.com_settled, false);
       return !stopped;
     };
@@ -109,7 +109,7 @@ FrameSource recorded_frames(std::shared_ptr<const Recording> recording, bool set
             (frames.empty() ? std::string("none") : std::to_string(frames.back().time)) + " s)";
         return r;
       }
-      LifeFrame f;
+      SourcedFrame f;
       f.frame = frames[k];
       f.settled = settled && f.frame.time >= settle_time;
       f.com_settled = f.settled ? com_settled : Vec3::Zero();

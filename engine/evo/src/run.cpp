@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plastivox/evo/thread_pool.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/task.hpp"

@@ -5,9 +5,9 @@
 #include <mutex>
 #include <thread>
 
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/eval_pool.hpp"
 #include "plastivox/evo/run.hpp"
-#include "plastivox/evo/thread_pool.hpp"
 
 namespace plastivox::evo {
 

@@ -17,14 +17,14 @@ namespace plastivox {
 // One frame as a FrameSource hands it over, with what was known of settling then: exactly
 // what the finished life says (a frame at or after the settle time is held back until the
 // life has settled; one before it goes out "not settled").
-struct LifeFrame {
+struct SourcedFrame {
   Frame frame;
   bool settled = false;
   Vec3 com_settled = Vec3::Zero();  // m; zero when not settled
 };
 
 // Receives each frame in time order; returns false to stop the life there.
-using FrameSink = std::function<bool(LifeFrame&&)>;
+using FrameSink = std::function<bool(SourcedFrame&&)>;
 using ProgressFn = std::function<void(double)>;  // the fraction of the life done, [0, 1]
 
 // Hands `sink` the frame at each time in `times` (s, ascending, within the life), as soon as

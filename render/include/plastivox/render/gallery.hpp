@@ -51,13 +51,13 @@ void check_gallery_request(const GalleryStyle& style, size_t tiles, const std::s
 // A tile's champion and its life's frames at gallery_times(), in that order.
 struct GalleryEntry {
   LifeSource source;
-  Life life;
+  FrameSet life;
 };
 // The times a gallery needs of each life: the frame shown (style.time, or the end of
 // settling) and the end of life (for the heading).
 std::vector<double> gallery_times(const PhysicsDef& physics, const GalleryStyle& style);
 // Renders the gallery to a PNG at `out` (atomically) from champions already simulated
-// (render_gallery_file, plastivox/render_files.hpp, reads and simulates them; the experiment
+// (render_gallery_file, plastivox/render/files.hpp, reads and simulates them; the experiment
 // shares one simulation per champion with the 3-D viewer's lives).
 GalleryLayout render_gallery(const std::vector<GalleryEntry>& entries, const GalleryStyle& style,
                              const std::string& out);

@@ -1,7 +1,7 @@
 // A life to draw: a robot under its physics with its frames on demand (plastivox/life.hpp):
 // simulated (deterministically, so a champion's is exactly the life evolution scored) or
 // recorded earlier. Whoever makes a LifeSource decides where its frames come from (reading
-// one from a file is plastivox/render_files.hpp's); the renderer only asks for frames, so it
+// one from a file is plastivox/render/files.hpp's); the renderer only asks for frames, so it
 // never compiles or simulates anything itself. No GL here.
 #pragma once
 
@@ -36,7 +36,7 @@ struct LifeSource {
 };
 
 // The frames of a life at the requested times.
-struct Life {
+struct FrameSet {
   std::shared_ptr<const Model> model;
   std::vector<Frame> frames;    // one per requested time, in the order requested
   Eigen::Vector3d com_settled;  // centre of mass at the end of settling, m
@@ -53,12 +53,12 @@ struct Life {
 SimResult take_frames(const LifeSource& source, const std::vector<double>& times,
                       const FrameSink& sink, const ProgressFn& progress = {});
 
-// The Life of take_frames(): every frame kept.
-Life take_life(const LifeSource& source, const std::vector<double>& times,
-               const ProgressFn& progress = {});
+// The FrameSet of take_frames(): every frame kept.
+FrameSet take_frame_set(const LifeSource& source, const std::vector<double>& times,
+                        const ProgressFn& progress = {});
 
 // Displacement of the centre of mass since settling, voxel lengths (zero before settling;
 // z ignored under the xy fitness mode), the quantity fitness measures.
-double displacement_so_far(const Life& life, const Frame& frame);
+double displacement_so_far(const FrameSet& life, const Frame& frame);
 
 }  // namespace plastivox::render

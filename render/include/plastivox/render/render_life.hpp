@@ -42,19 +42,19 @@ Camera styled_camera(const FrameStyle& style, Camera c);
 
 // Draws frames of lives with one style, reusing its GL context, shaders and fonts (create
 // once, call render() for every frame; not thread-safe).
-class LifeRenderer {
+class FrameRenderer {
  public:
-  explicit LifeRenderer(const FrameStyle& style);  // throws RenderError
-  ~LifeRenderer();
-  LifeRenderer(const LifeRenderer&) = delete;
-  LifeRenderer& operator=(const LifeRenderer&) = delete;
+  explicit FrameRenderer(const FrameStyle& style);  // throws RenderError
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
 
   // One frame of `life` coloured by `scale`, camera following the robot; returns RGBA8 rows
   // top-down (4 * width * height bytes). `treatment` is the overlay's caption.
-  std::vector<uint8_t> render(const Life& life, const Frame& frame, const ColorScale& scale,
+  std::vector<uint8_t> render(const FrameSet& life, const Frame& frame, const ColorScale& scale,
                               const std::string& treatment);
   // The same seen by `camera` (styled_camera already applied).
-  std::vector<uint8_t> render(const Life& life, const Frame& frame, const ColorScale& scale,
+  std::vector<uint8_t> render(const FrameSet& life, const Frame& frame, const ColorScale& scale,
                               const std::string& treatment, const Camera& camera);
   const FrameStyle& style() const { return style_; }
 
@@ -100,7 +100,7 @@ void check_video_request(const VideoJob& job, const std::string& out);
 // default, the cameras of life_cameras over all frames. Drawing and encoding run at the same
 // time on two threads, after the simulation when the camera path or the colour scale needs
 // every frame, else alongside it on a third; the bytes are those of one after the other.
-// (render_video_file, plastivox/render_files.hpp, reads the life from a file first.)
+// (render_video_file, plastivox/render/files.hpp, reads the life from a file first.)
 VideoSummary render_video(const LifeSource& source, const FrameStyle& style, const VideoJob& job,
                           const std::string& out, const LogFn& log = {});
 

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/hash.hpp"
 #include "plastivox/evo/genome.hpp"
-#include "plastivox/evo/hash.hpp"
 #include "plastivox/robot.hpp"
 
 namespace plastivox::evo {

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/base/hash.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/genome.hpp"
-#include "plastivox/evo/hash.hpp"
 #include "plastivox/evo/phenotype.hpp"
 
 namespace plastivox::evo {

@@ -1,5 +1,5 @@
-// Lives from files and the file-taking rendering commands (plastivox/render_files.hpp).
-#include "plastivox/render_files.hpp"
+// Lives from files and the file-taking rendering commands (plastivox/render/files.hpp).
+#include "plastivox/render/files.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -120,7 +120,7 @@ GalleryLayout render_gallery_file(const std::vector<std::string>& inputs, const 
     if (log)
       log("gallery " + std::to_string(k + 1) + "/" + std::to_string(inputs.size()) + ": " +
           inputs[k] + " (" + e.source.label + ")");
-    e.life = take_life(e.source, gallery_times(e.source.physics, style));
+    e.life = take_frame_set(e.source, gallery_times(e.source.physics, style));
     if (e.life.sank) e.source.label += " · SANK";  // as the study marks an audited champion
     entries.push_back(std::move(e));
   }
@@ -141,10 +141,10 @@ ShownLife show_life(const std::string& file, int generation, double fps,
   return show_life(source, fps);
 }
 
-std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
-                                         const std::string& dir, double fps, int threads,
-                                         const std::function<void(const std::string&)>& log) {
-  std::vector<std::optional<LifeLink>> links(sources.size());
+std::vector<ViewerLink> write_report_lives(const std::vector<ReportChampion>& sources,
+                                           const std::string& dir, double fps, int threads,
+                                           const std::function<void(const std::string&)>& log) {
+  std::vector<std::optional<ViewerLink>> links(sources.size());
   std::vector<std::string> failures(sources.size());
   parallel_for(sources.size(), threads, [&](size_t i) {
     const ShownLife shown = show_life(sources[i].file, sources[i].generation, fps);
@@ -153,7 +153,7 @@ std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& so
     else
       links[i] = write_report_life(dir, sources[i].id, shown.life());
   });
-  std::vector<LifeLink> out;
+  std::vector<ViewerLink> out;
   for (size_t i = 0; i < links.size(); ++i) {
     if (links[i]) out.push_back(*links[i]);
     if (!failures[i].empty() && log) log(failures[i]);

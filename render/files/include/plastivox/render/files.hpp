@@ -53,7 +53,7 @@ ShownLife show_life(const std::string& file, int generation, double fps,
 
 // A champion a report replays: its id (the run label, also the script's name), its results
 // file and generation (-1: the last).
-struct ReportLifeSource {
+struct ReportChampion {
   std::string id;
   std::string file;
   int generation = -1;
@@ -62,8 +62,8 @@ struct ReportLifeSource {
 // Writes each champion's life to `dir`/lives/<id>.js (simulated at `fps` frames per
 // simulated second, on up to `threads` threads), removes other lives there, and returns the
 // links in the sources' order. A life that does not finish is left out, with a line to `log`.
-std::vector<LifeLink> write_report_lives(const std::vector<ReportLifeSource>& sources,
-                                         const std::string& dir, double fps, int threads,
-                                         const std::function<void(const std::string&)>& log);
+std::vector<ViewerLink> write_report_lives(const std::vector<ReportChampion>& sources,
+                                           const std::string& dir, double fps, int threads,
+                                           const std::function<void(const std::string&)>& log);
 
 }  // namespace plastivox::render
