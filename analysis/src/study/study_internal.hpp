@@ -19,9 +19,6 @@ namespace plastivox::analysis::study {
 void load_champions(const std::vector<std::string>& files, const StudyOptions& options,
                     StudyResult& out);
 
-// Hex hash of a robot's definition (lattice, voxel size, present, E0, alpha, phase).
-std::string phenotype_digest(const RobotDef& robot);
-
 // ---- study_audit.cpp ----
 // Simulates every champion's life again with its run's physics (sunk lives scored): sets
 // life_status, health, floor_depth, vertical_share, and for an unstable or sunk life the

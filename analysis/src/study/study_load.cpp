@@ -165,12 +165,6 @@ void check_treatments(const std::vector<Loaded>& all, const StudyOptions& option
 
 }  // namespace
 
-std::string phenotype_digest(const RobotDef& robot) {
-  Hasher h;
-  evo::hash_robot(h, robot);  // the evolver's phenotype hash
-  return h.finish().hex();
-}
-
 void load_champions(const std::vector<std::string>& files, const StudyOptions& options,
                     StudyResult& out) {
   if (files.empty()) throw std::runtime_error("no results files given");
@@ -253,6 +247,12 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
 }  // namespace plastivox::analysis::study
 
 namespace plastivox::analysis {
+
+std::string phenotype_digest(const RobotDef& robot) {
+  Hasher h;
+  evo::hash_robot(h, robot);  // the evolver's phenotype hash
+  return h.finish().hex();
+}
 
 void load_champion_bodies(StudyResult& r) {
   for (ChampionAnalysis& c : r.champions) {

@@ -267,3 +267,11 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress) {
 }
 
 }  // namespace plastivox::analysis::study
+
+namespace plastivox::analysis {
+
+uint64_t champion_robustness_seed(uint64_t seed, const RobotDef& robot) {
+  return study::champion_seed(seed, phenotype_digest(robot));
+}
+
+}  // namespace plastivox::analysis

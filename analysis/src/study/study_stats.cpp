@@ -92,7 +92,7 @@ GroupStats group_values(const StudyResult& r, const PanelDef& def, Treatment t) 
 std::vector<PanelStats> compute_panels(const StudyResult& r) {
   const StudyOptions& o = r.options;
   std::vector<PanelStats> panels;
-  uint64_t number = 0;
+  int number = 0;
   for (const PanelDef& def : panel_defs()) {
     PanelStats p;
     p.id = def.id;
@@ -100,15 +100,14 @@ std::vector<PanelStats> compute_panels(const StudyResult& r) {
     p.title = def.title;
     // Fitness is in the runs' task's unit (voxel lengths under walk; docs/tasks.md).
     p.unit = def.metric == std::string("fitness") ? r.fitness_unit : def.unit;
-    p.seed = mix64(o.seed ^ mix64(++number));
+    p.seed = panel_seed(o.seed, ++number);
     std::vector<NamedSample> samples;
     for (Treatment t : r.treatments) {
       if (def.developing_only && t == Treatment::kNone) continue;
       GroupStats g = group_values(r, def, t);
       if (!g.values.empty()) g.mean = mean(g.values);
       if (g.values.size() >= 2) {
-        g.ci = bootstrap_mean_ci(g.values, o.ci_level, o.resamples,
-                                 mix64(p.seed + 1 + static_cast<uint64_t>(t)));
+        g.ci = bootstrap_mean_ci(g.values, o.ci_level, o.resamples, group_ci_seed(p.seed, t));
         samples.push_back({to_string(t), g.values});
       }
       p.groups.push_back(std::move(g));
@@ -238,3 +237,15 @@ std::map<Treatment, std::array<int, 4>> body_plan_counts(const StudyResult& r) {
 }
 
 }  // namespace plastivox::analysis::study
+
+namespace plastivox::analysis {
+
+uint64_t panel_seed(uint64_t seed, int panel) {
+  return mix64(seed ^ mix64(static_cast<uint64_t>(panel)));
+}
+
+uint64_t group_ci_seed(uint64_t panel_seed, Treatment t) {
+  return mix64(panel_seed + 1 + static_cast<uint64_t>(t));
+}
+
+}  // namespace plastivox::analysis

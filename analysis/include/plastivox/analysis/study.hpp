@@ -297,6 +297,23 @@ StudyResult read_study_result(const std::string& path);
 // naming the file when it is not the run analysed (another content digest).
 void load_champion_bodies(StudyResult& r);
 
+// The evolver's phenotype hash of a robot (evo::hash_robot: lattice, voxel size, present, E0,
+// alpha, phase, controller; not its name), hex: ChampionAnalysis::phenotype_digest.
+std::string phenotype_digest(const RobotDef& robot);
+
+// The seed of a champion's robustness draws in a study seeded with `seed`: a hash of the seed
+// and the champion's phenotype digest, so its draws depend on the robot, not on its position
+// among the champions or on the thread count (ChampionAnalysis::robustness_seed).
+uint64_t champion_robustness_seed(uint64_t seed, const RobotDef& robot);
+
+// The seeds of a study's statistics: panel p (1 = A ... 6 = F) resamples with
+// panel_seed(seed, p) = mix64(seed ^ mix64(p)), which its tests pass to
+// pairwise_bootstrap_tests; the CI of treatment t's group uses
+// group_ci_seed(panel seed, t) = mix64(panel seed + 1 + t), t the Treatment's value (none 0,
+// stress 1, pressure 2).
+uint64_t panel_seed(uint64_t seed, int panel);
+uint64_t group_ci_seed(uint64_t panel_seed, Treatment t);
+
 // The text of one output, as written (for callers and tests).
 std::string champions_csv(const StudyResult& r);
 std::string statistics_csv(const StudyResult& r);
