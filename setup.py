@@ -3,7 +3,7 @@ configures the project and builds only the two targets the package needs, in Rel
 they are placed in the package beside its Python files:
 
     plastivox/__init__.py, __main__.py,     python/plastivox
-    _env.py
+    _env.py, analysis.py
     plastivox/_core.<abi>.so                the compiled module (target plastivox_python)
     plastivox/bin/plastivox                 the program (target plastivox), run by the
                                             `plastivox` command and `python3 -m plastivox`
