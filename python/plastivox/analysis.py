@@ -9,8 +9,8 @@ so the same robots, stiffness and seeds give the same numbers, bit for bit:
 - ``hausdorff``: the pairwise Hausdorff distance matrix (panel B);
 - ``body_plan``: the Π / Γ / Υ template scores and the class;
 - ``bootstrap_ci``, ``bootstrap_test``, ``bootstrap_tests``, ``bonferroni``: the statistics;
-- ``panel_seed``, ``ci_seed``, ``robustness_seed``: the seeds analyze derives from its
-  ``--seed``, to reproduce its numbers.
+- ``panel_seed``, ``ci_seed``, ``robustness_seed``, ``mix64``: the seeds analyze derives
+  from its ``--seed``, to reproduce its numbers.
 
 Wherever robots are taken, each may be a ``plastivox.Robot``, a robot or results file path, or
 a ``plastivox.Results`` (its last champion, under the run's physics, with the final stiffness
@@ -54,7 +54,11 @@ def _champion(item, name):
         present = _np.asarray(core.present_flat) != 0
         return _Champion(robot, _np.asarray(lattice_final)[present], evaluation)
     if isinstance(item, (str, _os.PathLike)) and _os.fspath(item).endswith(".h5"):
-        return _champion(plastivox.read_results(item), name)
+        try:
+            results = plastivox.read_results(item)
+        except plastivox.InputError:  # a recorded life (its robot), or a bad file: render's way
+            return _Champion(plastivox._as_robot(item, name))
+        return _champion(results, name)
     if isinstance(item, (plastivox.Robot, str, _os.PathLike)):
         return _Champion(plastivox._as_robot(item, name))
     raise TypeError(f"{name}: expected a plastivox.Robot, a plastivox.Results or a robot or "
@@ -295,8 +299,8 @@ def canalization(robots, final_stiffness=None, alpha_range=None, threads=0):
             lo, hi = (float(x) for x in alpha_range)
         except (TypeError, ValueError):
             raise ValueError(f"alpha_range: expected (lo, hi) in 1/s, got {alpha_range!r}") from None
-        if not (_np.isfinite(lo) and _np.isfinite(hi)):
-            raise ValueError(f"alpha_range: expected finite numbers, got ({lo}, {hi})")
+        if not (_np.isfinite(lo) and _np.isfinite(hi) and lo < hi):
+            raise ValueError(f"alpha_range: expected finite lo < hi, got ({lo}, {hi})")
     alphas = [_body(c.robot, c.robot._core.dev_rate_flat) for c in champions]
     ranges = {}
     for c, a in zip(champions, alphas):

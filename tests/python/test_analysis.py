@@ -209,6 +209,8 @@ def test_bad_arguments_are_refused_naming_them(study, tmp_path):
          r"final_stiffness\[0\]: expected"),
         (lambda: analysis.canalization([robot, robot], final_stiffness=[np.ones(3)]), ValueError,
          "final_stiffness: 1 entries for 2 robots"),
+        (lambda: analysis.canalization([robot], alpha_range=(1, 1)), ValueError,
+         "alpha_range: expected finite lo < hi"),
         (lambda: analysis.hausdorff([]), ValueError, "robots: the list is empty"),
         (lambda: analysis.hausdorff([robot], rotations="some"), ValueError, "rotations: expected"),
         (lambda: analysis.body_plan(robot, threshold=2), ValueError, "threshold: expected"),
@@ -229,6 +231,12 @@ def test_bad_arguments_are_refused_naming_them(study, tmp_path):
         with pytest.raises(error, match=message) as info:
             call()
         assert "\n" not in str(info.value), str(info.value)
+    # Robot files and recorded lives are robots too (read as render reads them).
+    robot.save(str(tmp_path / "champion.json"))
+    run_cli("simulate", str(tmp_path / "champion.json"), "--record", str(tmp_path / "life.h5"),
+            "--fps", "10")
+    m = analysis.hausdorff([results[0], str(tmp_path / "champion.json"), tmp_path / "life.h5"])
+    assert (m == 0).all()
     # A file that is not a results file is refused as a bad file, naming it.
     bad = tmp_path / "bad.h5"
     bad.write_bytes(b"not hdf5")
