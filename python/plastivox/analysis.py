@@ -188,7 +188,9 @@ def robustness(robots, draws=10, seed=1, sampling="linear", e_range=None, physic
     Draw k of a robot comes from the stream (stream seed, robustness, k): the stream seed is
     ``robustness_seed(robot, seed)``, as analyze ``--seed seed`` derives it for the champion,
     so ``seed`` and ``draws`` equal to analyze's ``--seed`` and ``--robustness-draws`` give its
-    numbers. ``stream_seed`` sets the stream seed itself instead.
+    numbers. ``stream_seed`` sets the stream seed itself instead. Robots run in parallel on
+    ``threads`` threads (0: all cores), each one's 1 + draws lives on the spare ones, as analyze
+    runs them; the numbers do not depend on it.
 
     Returns a dict of numpy arrays over the robots (for one robot, its own values): ``r`` and
     ``f_test`` (robots, draws), NaN where a draw went unstable; ``valid`` (bool, same shape);
@@ -215,11 +217,11 @@ def robustness(robots, draws=10, seed=1, sampling="linear", e_range=None, physic
         stream_seed = _seed(stream_seed, "stream_seed")
     out = {"r": [], "f_test": [], "valid": [], "f_train": [], "r_mean": [], "valid_draws": [],
            "seed": [], "failures": []}
-    for c in champions:
-        s = stream_seed if stream_seed is not None else \
-            _core.analysis_robustness_seed(seed, c.robot._core)
-        d = _core.analysis_robustness(c.robot._core, physics, s, draws, sampling, e_lo, e_hi,
-                                      threads)
+    seeds = [stream_seed if stream_seed is not None else
+             _core.analysis_robustness_seed(seed, c.robot._core) for c in champions]
+    lives = _core.analysis_robustness([c.robot._core for c in champions], physics, seeds, draws,
+                                      sampling, e_lo, e_hi, threads)
+    for d in lives:
         valid = _np.asarray(d["valid"], bool)  # a draw is valid only with a valid F_train
         out["r"].append(_np.where(valid, d["r"], _np.nan))
         out["f_test"].append(_np.where(valid, d["f_test"], _np.nan))

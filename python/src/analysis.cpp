@@ -4,6 +4,8 @@
 // arguments the study passes (plastivox/analysis/study.hpp, analysis/src/study/), so the same
 // robot, stiffness and seeds give the same bits as analyze. The Python layer checks arguments;
 // long calls (robustness, the Hausdorff matrix) release the GIL.
+#include <algorithm>
+
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
@@ -13,6 +15,7 @@
 #include "plastivox/analysis/hausdorff.hpp"
 #include "plastivox/analysis/robustness.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/limits.hpp"
@@ -26,26 +29,7 @@ std::vector<double> values(const Values& a) {
   return {a.data(), a.data() + a.size()};
 }
 
-// One champion's robustness as the study measures it (study_robustness.cpp): the robot under
-// its physics, `draws` draws of `sampling` stiffness seeded by `seed` (the stream's own seed).
-pyb::dict robustness_of(const PyRobot& robot, const pyb::object& physics_arg, uint64_t seed,
-                        int draws, const std::string& sampling, double e_lo, double e_hi,
-                        int threads) {
-  const PhysicsDef physics = resolve_physics(robot.physics, physics_arg, std::nullopt);
-  analysis::RobustnessOptions o;
-  o.draws = draws;
-  o.seed = seed;
-  o.distribution = sampling == "log" ? analysis::StiffnessDistribution::kLogUniform
-                                     : analysis::StiffnessDistribution::kLinear;
-  o.e_lo = e_lo;
-  o.e_hi = e_hi;
-  o.threads = threads;
-  analysis::RobustnessResult r;
-  {
-    pyb::gil_scoped_release unlocked;
-    o.limits = limits_from_environment();
-    r = analysis::robustness(robot.def, physics, o);
-  }
+pyb::dict robustness_dict(const analysis::RobustnessResult& r) {
   std::vector<double> f_test, ratio;
   std::vector<uint8_t> valid;
   pyb::list failures;
@@ -69,6 +53,41 @@ pyb::dict robustness_of(const PyRobot& robot, const pyb::object& physics_arg, ui
   out["failures"] = failures;
   out["valid_draws"] = r.valid_draws;
   out["mean_r"] = r.mean_r;
+  return out;
+}
+
+// Robots' robustness as the study measures its champions' (study_robustness.cpp): each robot
+// under its physics, `draws` draws of `sampling` stiffness from its stream seed seeds[i];
+// robots in parallel, each one's 1 + draws lives on the spare threads, as the study splits them
+// (the numbers do not depend on it).
+pyb::list robustness_of(const std::vector<const PyRobot*>& robots, const pyb::object& physics_arg,
+                        const std::vector<uint64_t>& seeds, int draws, const std::string& sampling,
+                        double e_lo, double e_hi, int threads) {
+  if (seeds.size() != robots.size()) throw std::invalid_argument("seeds: one per robot");
+  std::vector<PhysicsDef> physics;
+  for (const PyRobot* r : robots)
+    physics.push_back(resolve_physics(r->physics, physics_arg, std::nullopt));
+  std::vector<analysis::RobustnessResult> results(robots.size());
+  {
+    pyb::gil_scoped_release unlocked;
+    const int all = threads > 0 ? threads : hardware_threads();
+    const int outer = std::min(all, static_cast<int>(robots.size()));
+    analysis::RobustnessOptions o;
+    o.draws = draws;
+    o.distribution = sampling == "log" ? analysis::StiffnessDistribution::kLogUniform
+                                       : analysis::StiffnessDistribution::kLinear;
+    o.e_lo = e_lo;
+    o.e_hi = e_hi;
+    o.threads = std::max(1, all / outer);
+    o.limits = limits_from_environment();
+    parallel_for(robots.size(), outer, [&](size_t i) {
+      analysis::RobustnessOptions mine = o;
+      mine.seed = seeds[i];
+      results[i] = analysis::robustness(robots[i]->def, physics[i], mine);
+    });
+  }
+  pyb::list out;
+  for (const analysis::RobustnessResult& r : results) out.append(robustness_dict(r));
   return out;
 }
 
@@ -200,8 +219,8 @@ pyb::tuple results_champion(const std::string& path, int generation) {
 }  // namespace
 
 void bind_analysis(pyb::module_& m) {
-  m.def("analysis_robustness", &robustness_of, pyb::arg("robot"), pyb::arg("physics"),
-        pyb::arg("seed"), pyb::arg("draws"), pyb::arg("sampling"), pyb::arg("e_lo"),
+  m.def("analysis_robustness", &robustness_of, pyb::arg("robots"), pyb::arg("physics"),
+        pyb::arg("seeds"), pyb::arg("draws"), pyb::arg("sampling"), pyb::arg("e_lo"),
         pyb::arg("e_hi"), pyb::arg("threads"));
   m.def("analysis_robustness_seed", [](uint64_t seed, const PyRobot& r) {
     return analysis::champion_robustness_seed(seed, r.def);

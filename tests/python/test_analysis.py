@@ -81,6 +81,8 @@ def test_robustness_draws_seeds_and_means_equal_analyze(study):
                                 stream_seed=int(rob["seed"][0]))
     assert same_bits(again["r"], rob["r"][0])
     assert analysis.robustness_seed(results[keep[0]], SEED) == rob["seed"][0]
+    serial = analysis.robustness([results[i] for i in keep], draws=DRAWS, seed=SEED, threads=1)
+    assert same_bits(serial["r"], rob["r"])  # robots in parallel or one by one: the same bits
     other = analysis.robustness(results[keep[0]], draws=DRAWS, seed=SEED + 1)
     assert not same_bits(other["r"], rob["r"][0])  # another seed, other draws
 
