@@ -11,6 +11,7 @@
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/life_file.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/io/resolve_physics.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/io/robot_io.hpp"
 #include "plastivox/io/sim_summary.hpp"
@@ -95,11 +96,10 @@ int cmd_simulate(const Args& in) {
     if (!(fps > 0 && fps <= 10000)) throw UsageError{"--fps must be in (0, 10000]"};
   }
   // Command-line values are checked before any file is read (a bad one exits 2).
-  std::optional<PhysicsDef> preset_physics;
   std::optional<Treatment> treatment_given;
   std::optional<Task> task_given;
   try {
-    if (!preset.empty()) preset_physics = physics_preset(preset);
+    if (!preset.empty()) physics_preset(preset);
   } catch (const std::invalid_argument& e) {
     throw UsageError{std::string("--preset: ") + e.what()};
   }
@@ -137,37 +137,20 @@ int cmd_simulate(const Args& in) {
     physics = file.physics;
     if (args[0].ends_with(".vxa")) vxa_density = file.physics.density;
   }
-  if (!preset.empty()) {  // the preset's physics, for the robot's treatment and task
-    const PhysicsDef robot_physics = physics;
-    physics = *preset_physics;
-    physics.treatment = robot_physics.treatment;
-    physics.task = robot_physics.task;
-    physics.task_params = robot_physics.task_params;
-  }
-  // The single-field flags win over --physics, as Python's keywords win over its physics
-  // dict (plastivox simulate --help). They are applied before it too, so that --physics is
-  // checked against them (--duration 20 --physics '{"settle_time": 10}' is a valid life).
-  auto apply_flags = [&] {
-    if (treatment_given) physics.treatment = *treatment_given;
-    if (task_given && *task_given != physics.task) {  // the parameters were another task's
-      physics.task = *task_given;
-      physics.task_params.clear();
-    }
-    if (!duration.empty()) physics.duration = duration_s;
-  };
-  apply_flags();
+  // The life's physics by the one rule (docs/robot-format.md, "Resolving a run's physics"):
+  // the file's, --preset, --physics, then --treatment, --task and --duration, which win.
+  PhysicsRequest request;
+  request.preset = preset;
+  request.fields = overrides;
+  request.where = overrides.empty() ? source : "--physics";
+  request.treatment = treatment_given;
+  request.task = task_given;
+  if (!duration.empty()) request.duration = duration_s;
+  physics = resolve_physics(physics, request);
+  // Recording is not physics: frames are kept only in a file, at --fps. (An older physics
+  // object names its rate as record_fps.)
   if (!overrides.empty()) {
-    const PhysicsDef before = physics;
-    apply_physics_json(overrides, "--physics", physics);
     const nlohmann::json given = parse_json_input(overrides, "--physics", "--physics");
-    if (given.contains("preset")) {  // as --preset: for the robot's treatment and task
-      if (!given.contains("treatment")) physics.treatment = before.treatment;
-      if (!given.contains("task")) {
-        physics.task = before.task;
-        physics.task_params = before.task_params;
-      }
-    }
-    // Recording is not physics: frames are kept only in a file, at --fps.
     if (given.contains("record_fps")) {
       const double asked = given["record_fps"].is_number() ? given["record_fps"].get<double>() : 0;
       if (record.empty())
@@ -179,7 +162,6 @@ int cmd_simulate(const Args& in) {
       if (!(fps > 0)) throw UsageError{"--physics: record_fps must be > 0 with --record"};
     }
   }
-  apply_flags();
 
   if (!controller.empty())  // replaces the robot's own (docs/control.md)
     robot.controller = json_field::controller(parse_json_input(controller, "--controller"),

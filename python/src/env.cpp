@@ -24,10 +24,10 @@ namespace {
 class PyEpisode {
  public:
   PyEpisode(const PyRobot& robot, const pyb::object& physics,
-            const std::optional<std::string>& treatment, const std::vector<std::string>& sensors,
-            int every)
+            const std::optional<std::string>& treatment, const std::optional<std::string>& task,
+            const std::vector<std::string>& sensors, int every)
       : model_(std::make_shared<const Model>(
-            compile(robot.def, resolve_physics(robot.physics, physics, treatment),
+            compile(robot.def, physics_of_call(robot.physics, physics, treatment, task),
                     limits_from_environment()))),
         sim_(*model_),
         watch_(*model_),
@@ -119,9 +119,9 @@ class PyEpisode {
 void bind_env(pyb::module_& m) {
   pyb::class_<PyEpisode>(m, "Episode")
       .def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&,
-                     const std::vector<std::string>&, int>(),
-           pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"), pyb::arg("sensors"),
-           pyb::arg("every"))
+                     const std::optional<std::string>&, const std::vector<std::string>&, int>(),
+           pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"), pyb::arg("task"),
+           pyb::arg("sensors"), pyb::arg("every"))
       .def("reset", &PyEpisode::reset)
       .def("step", &PyEpisode::step, pyb::arg("action"))
       .def("render", &PyEpisode::render, pyb::arg("width"), pyb::arg("height"))

@@ -11,6 +11,7 @@
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/io/resolve_physics.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/task.hpp"
@@ -192,14 +193,18 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       fail(src, k, "unknown field");
     }
   }
-  // Physics: the preset (default gecco2018-code) with the given overrides, then the
-  // run's treatment. apply_physics_json names the field of any error.
+  // Physics: the preset (default gecco2018-code) with the given overrides, then the run's
+  // treatment and task (docs/robot-format.md, "Resolving a run's physics"), errors naming the
+  // field.
   if (treatment.law)
     c.physics_json = fold_law(c.physics_json, *treatment.law, src, "treatment.law");
-  c.physics = preset_gecco2018_code();
-  apply_physics_json(c.physics_json, src, c.physics);
-  c.physics.treatment = c.treatment;
-  set_task(c, c.task);
+  PhysicsRequest request;  // the one rule (resolve_physics.hpp), over no robot's physics
+  request.fields = c.physics_json;
+  request.where = src;
+  request.treatment = c.treatment;
+  request.task = c.task;
+  request.task_params = c.task_params;
+  c.physics = resolve_physics(preset_gecco2018_code(), request);
   try {  // the task's parameters against a given environment (docs/tasks.md)
     validate_task(c.physics);
   } catch (const std::invalid_argument& e) {
