@@ -378,6 +378,10 @@ PhysicsDef physics_of_call(const PhysicsDef& base, const pyb::object& physics,
                               pyb::repr(key).cast<std::string>());
       const std::string name = key.cast<std::string>();
       if ((name == "treatment" || name == "task") && value.is_none()) continue;  // the robot's
+      if (name == "environment" && value.is_none()) {  // the flat floor, an empty environment
+        fields[name] = nlohmann::json::object();
+        continue;
+      }
       fields[name] = to_json(value, "physics." + name);
     }
   } else if (!physics.is_none()) {
