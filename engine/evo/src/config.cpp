@@ -263,10 +263,11 @@ std::string fold_law(const std::string& physics_json, GrowthModel law, const std
 }
 
 void set_task(EvolveConfig& config, Task task) {
-  if (task != config.task) config.task_params.clear();
+  PhysicsRequest request;  // a single field over the resolved physics, by the one rule
+  request.task = task;
+  config.physics = resolve_physics(config.physics, request);
   config.task = task;
-  config.physics.task = task;
-  config.physics.task_params = config.task_params;
+  config.task_params = config.physics.task_params;
 }
 
 std::string resolved_physics_json(const PhysicsDef& d) {
