@@ -16,6 +16,7 @@
 #include "plastivox/io/robot_io.hpp"
 #include "plastivox/io/sim_summary.hpp"
 #include "plastivox/render/history_file.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
 #include "plastivox_version.hpp"
@@ -191,9 +192,10 @@ int cmd_simulate(const Args& in) {
     }
   }
   SimResult r = simulate(model, options);
+  judge_life(physics, r);  // whether it counts (the exit status), the vertical rule's warning
   if (vxa_density) warn_vxa_density(r, source, *vxa_density, physics, robot.voxel_size);
-  // Health warnings (a body pressed into or sunk through the floor, a fitness of vertical
-  // motion: simulate()'s): on stderr always, and in the JSON.
+  // Health warnings (a body pressed into or sunk through the floor: simulate()'s; a fitness
+  // of vertical motion: judge_life's): on stderr always, and in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 

@@ -15,6 +15,7 @@
 #include "bindings.hpp"
 #include "plastivox/control.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
 
@@ -61,17 +62,25 @@ class PyEpisode {
     const std::vector<double> u = checked_actuation(action, model_->robot_n, "action");
     std::copy(u.begin(), u.end(), sim_.actuation().begin());
     const State& s = sim_.state();
-    const bool sinking_ends = model_->def.sinking_invalid;
+    const PhysicsDef& def = model_->def;
     for (int k = 0; k < every_ && s.status == SimStatus::kRunning; ++k) {
       sim_.step();
       watch_.see(s);
-      if (sinking_ends && watch_.sunk()) break;  // simulate() would score this life 0
+      if (ends_invalid(def, watch_.sunk())) break;  // simulate() would judge this life 0
     }
-    fitness_ = watch_.fitness(s);  // 0 once the life is unstable, or sunk under sinking_ends
+    // A life that is over is judged as simulate() and evolution judge it; one still running
+    // ends invalid (fitness 0) once it is certain to be judged sunk.
+    SimResult life;
+    if (s.status != SimStatus::kRunning) {
+      life = watch_.summary(s);
+      judge_life(def, life);
+    }
+    const bool sank = ends_invalid(def, watch_.sunk()) ||
+                      (s.status == SimStatus::kFinished && life.status != SimStatus::kFinished);
+    fitness_ = sank ? 0.0 : s.status == SimStatus::kRunning ? watch_.fitness(s) : life.fitness;
     if (s.status == SimStatus::kUnstable)
       end_ = "unstable";
-    else if (sinking_ends &&
-             (watch_.sunk() || (s.status == SimStatus::kFinished && watch_.summary(s).sank)))
+    else if (sank)
       end_ = "sank";
     else if (s.status == SimStatus::kFinished)
       end_ = "finished";

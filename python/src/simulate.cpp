@@ -13,6 +13,7 @@
 #include "plastivox/io/limits.hpp"
 #include "plastivox/io/robot_io.hpp"  // warn_vxa_density
 #include "plastivox/io/sim_summary.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
 
@@ -91,6 +92,7 @@ pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
           limits.recording_mb);
     r = simulate(model, options);
   }
+  judge_life(physics, r);  // as plastivox simulate judges it
   warn_vxa_density(r, robot.source, robot.physics.density, physics, robot.def.voxel_size);
   const std::vector<SummaryField> summary =
       sim_summary_fields(r, physics, robot.source, PLASTIVOX_VERSION);
@@ -127,6 +129,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::ob
     evo::parallel_for(
         robots.size(), threads == 0 ? evo::hardware_threads() : threads, [&](size_t i) {
           results[i] = simulate(compile(robots[i]->def, physics[i], limits), options);
+          judge_life(physics[i], results[i]);
           warn_vxa_density(results[i], robots[i]->source, robots[i]->physics.density, physics[i],
                            robots[i]->def.voxel_size);
           summaries[i] =

@@ -289,6 +289,11 @@ std::string resolved_physics_json(const PhysicsDef& d) {
   return p.dump();
 }
 
+bool sinking_invalid_in(const std::string& resolved_physics) {
+  const json p = json::parse(resolved_physics);
+  return p.contains("sinking_invalid") && p["sinking_invalid"] == true;
+}
+
 std::string default_config_text() {
   const EvolveConfig c;
   json j = canonical(c, true);
