@@ -204,13 +204,13 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
   request.treatment = c.treatment;
   request.task = c.task;
   request.task_params = c.task_params;
-  c.physics = resolve_physics(preset_gecco2018_code(), request);
-  try {  // the task's parameters against a given environment (docs/tasks.md)
-    validate_task(c.physics);
-  } catch (const std::invalid_argument& e) {
-    const std::string what = e.what();  // "physics.task.<name>: ...": the top level's here
-    const bool top = what.starts_with("physics.task.");
-    throw InputError(src + ": " + (top ? what.substr(std::string("physics.").size()) : what));
+  try {  // validated with the task's parameters against a given environment (docs/tasks.md)
+    c.physics = resolve_physics(preset_gecco2018_code(), request);
+  } catch (const InputError& e) {
+    // "<src>: physics.task.<name>: ...": a config's task is its top level's "task".
+    const std::string what = e.what(), task = src + ": physics.task.";
+    if (!what.starts_with(task)) throw;
+    throw InputError(src + ": " + what.substr(task.size() - std::string("task.").size()));
   }
   // Evaluations never record frames (a champion can be re-simulated with recording).
   const json given = json::parse(c.physics_json);
