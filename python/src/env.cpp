@@ -66,9 +66,9 @@ class PyEpisode {
     for (int k = 0; k < every_ && s.status == SimStatus::kRunning; ++k) {
       sim_.step();
       watch_.see(s);
-      if (ends_invalid(def, watch_.sunk())) break;  // simulate() would judge this life 0
+      if (ends_invalid(def, watch_.sunk())) break;  // judge_life would make this life 0
     }
-    // A life that is over is judged as simulate() and evolution judge it; one still running
+    // A life that is over is judged as plastivox simulate and evolution judge it; one running
     // ends invalid (fitness 0) once it is certain to be judged sunk.
     SimResult life;
     if (s.status != SimStatus::kRunning) {
