@@ -6,6 +6,7 @@
 #include "cli.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::cli {
@@ -27,7 +28,10 @@ int cmd_demo(const Args& in) {
   std::vector<SimResult> results(models.size());
   std::vector<std::thread> workers;
   for (size_t k = 0; k < models.size(); ++k)
-    workers.emplace_back([&, k] { results[k] = simulate(models[k]); });
+    workers.emplace_back([&, k] {
+      results[k] = simulate(models[k]);
+      judge_life(models[k].def, results[k]);
+    });
   for (auto& w : workers) w.join();
   std::printf("%-10s %10s %14s %16s %10s %8s\n", "treatment", "fitness", "dE/E0 mean %",
               "|dE/E0| mean %", "steps", "wall s");

@@ -11,10 +11,12 @@
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/life_file.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/io/resolve_physics.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/io/robot_io.hpp"
 #include "plastivox/io/sim_summary.hpp"
 #include "plastivox/render/history_file.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
 #include "plastivox_version.hpp"
@@ -95,11 +97,10 @@ int cmd_simulate(const Args& in) {
     if (!(fps > 0 && fps <= 10000)) throw UsageError{"--fps must be in (0, 10000]"};
   }
   // Command-line values are checked before any file is read (a bad one exits 2).
-  std::optional<PhysicsDef> preset_physics;
   std::optional<Treatment> treatment_given;
   std::optional<Task> task_given;
   try {
-    if (!preset.empty()) preset_physics = physics_preset(preset);
+    if (!preset.empty()) physics_preset(preset);
   } catch (const std::invalid_argument& e) {
     throw UsageError{std::string("--preset: ") + e.what()};
   }
@@ -137,37 +138,20 @@ int cmd_simulate(const Args& in) {
     physics = file.physics;
     if (args[0].ends_with(".vxa")) vxa_density = file.physics.density;
   }
-  if (!preset.empty()) {  // the preset's physics, for the robot's treatment and task
-    const PhysicsDef robot_physics = physics;
-    physics = *preset_physics;
-    physics.treatment = robot_physics.treatment;
-    physics.task = robot_physics.task;
-    physics.task_params = robot_physics.task_params;
-  }
-  // The single-field flags win over --physics, as Python's keywords win over its physics
-  // dict (plastivox simulate --help). They are applied before it too, so that --physics is
-  // checked against them (--duration 20 --physics '{"settle_time": 10}' is a valid life).
-  auto apply_flags = [&] {
-    if (treatment_given) physics.treatment = *treatment_given;
-    if (task_given && *task_given != physics.task) {  // the parameters were another task's
-      physics.task = *task_given;
-      physics.task_params.clear();
-    }
-    if (!duration.empty()) physics.duration = duration_s;
-  };
-  apply_flags();
+  // The life's physics by the one rule (docs/robot-format.md, "Resolving a run's physics"):
+  // the file's, --preset, --physics, then --treatment, --task and --duration, which win.
+  PhysicsRequest request;
+  request.preset = preset;
+  request.fields = overrides;
+  request.where = overrides.empty() ? source : "--physics";
+  request.treatment = treatment_given;
+  request.task = task_given;
+  if (!duration.empty()) request.duration = duration_s;
+  physics = resolve_physics(physics, request);
+  // Recording is not physics: frames are kept only in a file, at --fps. (An older physics
+  // object names its rate as record_fps.)
   if (!overrides.empty()) {
-    const PhysicsDef before = physics;
-    apply_physics_json(overrides, "--physics", physics);
     const nlohmann::json given = parse_json_input(overrides, "--physics", "--physics");
-    if (given.contains("preset")) {  // as --preset: for the robot's treatment and task
-      if (!given.contains("treatment")) physics.treatment = before.treatment;
-      if (!given.contains("task")) {
-        physics.task = before.task;
-        physics.task_params = before.task_params;
-      }
-    }
-    // Recording is not physics: frames are kept only in a file, at --fps.
     if (given.contains("record_fps")) {
       const double asked = given["record_fps"].is_number() ? given["record_fps"].get<double>() : 0;
       if (record.empty())
@@ -179,7 +163,6 @@ int cmd_simulate(const Args& in) {
       if (!(fps > 0)) throw UsageError{"--physics: record_fps must be > 0 with --record"};
     }
   }
-  apply_flags();
 
   if (!controller.empty())  // replaces the robot's own (docs/control.md)
     robot.controller = json_field::controller(parse_json_input(controller, "--controller"),
@@ -209,9 +192,10 @@ int cmd_simulate(const Args& in) {
     }
   }
   SimResult r = simulate(model, options);
+  judge_life(physics, r);  // whether it counts (the exit status), the vertical rule's warning
   if (vxa_density) warn_vxa_density(r, source, *vxa_density, physics, robot.voxel_size);
-  // Health warnings (a body pressed into or sunk through the floor, a fitness of vertical
-  // motion: simulate()'s): on stderr always, and in the JSON.
+  // Health warnings (a body pressed into or sunk through the floor: simulate()'s; a fitness
+  // of vertical motion: judge_life's): on stderr always, and in the JSON.
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "plastivox simulate: warning: %s: %s\n", source.c_str(), w.c_str());
 

@@ -59,6 +59,7 @@ const CommandHelp kHelp[] = {
      "                        Order: the file's physics, --preset, --physics (a \"preset\"\n"
      "                        in it: that preset, for the file's treatment and task),\n"
      "                        then --treatment, --task and --duration, which win over it\n"
+     "                        (docs/robot-format.md, \"Resolving a run's physics\")\n"
      "  --controller JSON     the robot's controller instead of its own: {\"kind\": ...,\n"
      "                        \"hidden\": ..., \"every\": ..., \"weights\": [...]}\n"
      "                        (docs/control.md)\n"

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "plastivox/analysis/robustness.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/task.hpp"
 #include "test_support.hpp"
 
@@ -59,6 +60,13 @@ TEST(Robustness, FTrainIsTheFitnessWithoutDevelopment) {
   EXPECT_EQ(robustness_physics(short_life()).treatment, Treatment::kNone);
 }
 
+// A life's fitness as evolution judged it (a sunk life counts 0 under sinking_invalid).
+double judged_fitness(const Model& m) {
+  SimResult r = simulate(m);
+  judge_life(m.def, r);
+  return r.fitness;
+}
+
 // Every task: the champion is re-simulated under its own task, parameters and so environment
 // (the terrain tasks' default grounds are made from them, plastivox/task.hpp), each draw too.
 TEST(Robustness, UsesTheChampionsTaskAndEnvironment) {
@@ -75,9 +83,9 @@ TEST(Robustness, UsesTheChampionsTaskAndEnvironment) {
     EXPECT_EQ(none.task_params, p.task_params);
     const Model trained = compile(without_development(robot), none);
     EXPECT_EQ(trained.terrain, t.environment != nullptr) << t.name;
-    EXPECT_EQ(r.f_train, simulate(trained).fitness) << t.name;
+    EXPECT_EQ(r.f_train, judged_fitness(trained)) << t.name;
     const RobotDef drawn = robustness_draw(robot, p, o, 1);
-    EXPECT_EQ(r.draws[1].f_test, simulate(compile(drawn, none)).fitness) << t.name;
+    EXPECT_EQ(r.draws[1].f_test, judged_fitness(compile(drawn, none))) << t.name;
   }
 }
 

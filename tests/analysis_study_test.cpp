@@ -18,6 +18,7 @@
 #include "plastivox/evo/run.hpp"
 #include "plastivox/io/h5_util.hpp"  // to read analysis.h5 back
 #include "plastivox/io/robot_io.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "study_internal.hpp"  // the audit of replayed champions
 #include "test_support.hpp"

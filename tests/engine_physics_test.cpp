@@ -3,6 +3,7 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/energy.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -171,11 +172,14 @@ TEST(HeavyMaterials, SoftColumnIsCrushedStiffColumnStands) {
 // Floor contact as a health (docs/engine.md, "Floor contact and sinking"): a 3x3x3 block
 // resting on the floor for 1 s, graded from its deepest penetration over the life. Its
 // bottom voxels carry three voxels' weight: 3 m g / (2 E L) below L/2 at rest.
-SimResult resting_block(double E, bool sinking_invalid = true) {
+PhysicsDef resting_physics(bool sinking_invalid = true) {
   PhysicsDef d = testing::passive_physics();
   d.duration = 1.0;
   d.sinking_invalid = sinking_invalid;
-  return simulate(compile(testing::block(3, 3, 3, E), d));
+  return d;
+}
+SimResult resting_block(double E, bool sinking_invalid = true) {
+  return simulate(compile(testing::block(3, 3, 3, E), resting_physics(sinking_invalid)));
 }
 
 TEST(FloorHealth, StiffBlockStandsOk) {
@@ -208,14 +212,20 @@ TEST(FloorHealth, SoftHeavyCubeSankAndIsInvalidByDefault) {
   EXPECT_GT(r.floor_depth, 100.0);
   EXPECT_EQ(r.voxels_below_floor, 27);
   EXPECT_GT(r.vertical_share, 0.99);
-  EXPECT_EQ(r.status, SimStatus::kUnstable);
-  EXPECT_EQ(r.fitness, 0.0);
-  EXPECT_NE(r.failure.find("sank through the floor"), std::string::npos) << r.failure;
-  // The authors' rule scores the same life; observing it changed nothing.
-  const SimResult authors = resting_block(1e5, false);
+  // The core measures the life to its end; whether it counts is judge_life's.
+  EXPECT_EQ(r.status, SimStatus::kFinished) << r.failure;
+  EXPECT_GT(r.fitness, 100.0);
+  SimResult judged = r;
+  judge_life(resting_physics(), judged);
+  EXPECT_EQ(judged.status, SimStatus::kUnstable);
+  EXPECT_EQ(judged.fitness, 0.0);
+  EXPECT_NE(judged.failure.find("sank through the floor"), std::string::npos) << judged.failure;
+  // The authors' rule scores the same life; the rule changes nothing the core measures.
+  SimResult authors = resting_block(1e5, false);
+  judge_life(resting_physics(false), authors);
   EXPECT_EQ(authors.status, SimStatus::kFinished);
   EXPECT_EQ(authors.floor_health, FloorHealth::kSank);
-  EXPECT_GT(authors.fitness, 100.0);
+  EXPECT_EQ(authors.fitness, r.fitness);
   EXPECT_EQ(authors.final_state_hash, r.final_state_hash);
   EXPECT_EQ(authors.floor_depth, r.floor_depth);
 }

@@ -12,6 +12,7 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "test_support.hpp"
 
@@ -222,7 +223,8 @@ TEST(Terrain, HealthIsMeasuredFromTheGround) {
   EXPECT_LT(firm.com_final.z(), 0);  // in the gap
   EXPECT_LT(firm.floor_depth, 0.1);
 
-  const SimResult soft = simulate(compile(block(2, 2, 2, 1e5), with_environment(d, gap)));
+  SimResult soft = simulate(compile(block(2, 2, 2, 1e5), with_environment(d, gap)));
+  judge_life(d, soft);
   EXPECT_TRUE(soft.sank);
   EXPECT_EQ(soft.status, SimStatus::kUnstable);  // sinking_invalid
   EXPECT_GT(soft.voxels_below_floor, 0);

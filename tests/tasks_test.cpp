@@ -13,6 +13,7 @@
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/task.hpp"
 #include "test_support.hpp"
 
@@ -196,7 +197,8 @@ TEST(Tasks, ALifeThatSankScoresZeroUnderEveryTask) {
     PhysicsDef d = preset_gecco2018_code();
     d.duration = 1.0;
     d.task = t.task;
-    const SimResult r = simulate(compile(block(2, 2, 2, 1e5), d));
+    SimResult r = simulate(compile(block(2, 2, 2, 1e5), d));
+    judge_life(d, r);  // sinking_invalid, on in every preset
     EXPECT_TRUE(r.sank) << t.name;
     EXPECT_EQ(r.status, SimStatus::kUnstable) << t.name;
     EXPECT_EQ(r.fitness, 0.0) << t.name;

@@ -14,6 +14,7 @@
 #include "plastivox/render/files.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -56,7 +57,8 @@ TEST(ViewerItem, ASunkLifeIsShownToItsEndWithTheFitnessOfItsRule) {
   PhysicsDef physics = testing::passive_physics();
   physics.duration = 0.5;
   ASSERT_TRUE(physics.sinking_invalid);
-  const SimResult verdict = simulate(compile(robot, physics));
+  SimResult verdict = simulate(compile(robot, physics));
+  judge_life(physics, verdict);
   ASSERT_EQ(verdict.floor_health, FloorHealth::kSank);
   ASSERT_EQ(verdict.status, SimStatus::kUnstable);
   for (const bool invalid : {true, false}) {

@@ -9,6 +9,7 @@
 #include "plastivox/analysis/rng.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/model.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::analysis {
@@ -38,7 +39,8 @@ struct Outcome {
 };
 
 Outcome run(const RobotDef& robot, const PhysicsDef& physics, const Limits& limits) {
-  const SimResult r = simulate(compile(robot, physics, limits));
+  SimResult r = simulate(compile(robot, physics, limits));
+  judge_life(physics, r);  // as evolution judged the champion
   Outcome o;
   o.stable = r.status == SimStatus::kFinished;
   o.fitness = r.fitness;

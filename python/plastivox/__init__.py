@@ -81,30 +81,21 @@ def _check_treatment(treatment):
 
 def _physics(physics):
     """A physics argument as the C++ layer takes it: None, a PhysicsDef, or a dict of fields
-    (applied on top of a robot's own physics there, through the same field table)."""
+    (resolved with the robot's own physics there, by the engine's one rule: docs/robot-format.md,
+    "Resolving a run's physics")."""
     if physics is None or isinstance(physics, (PhysicsDef, dict)):
         return physics
     raise TypeError(f"physics: expected a PhysicsDef or a dict of its fields (see "
                     f"plastivox.physics()), got {type(physics).__name__}")
 
 
-def _with_task(physics, task):
-    """physics with its "task" field set to `task` ("walk", "jump", "turn", ...; docs/tasks.md),
-    when given. The task's parameters in physics["task"] ({"name": ..., ...}) stay when it
-    names the same task; another task replaces it with its defaults."""
-    if task is None:
-        return physics
-    if not isinstance(task, str):
+def _check_task(task):
+    """A task argument as the C++ layer takes it: None or a task's name (which wins over the
+    physics' task there, keeping its parameters when it names the same task)."""
+    if task is not None and not isinstance(task, str):
         raise TypeError("task: expected a task name (walk, jump, turn, rough, climb, slope, "
                         f"obstacles, carry, push), got {type(task).__name__}")
-    if isinstance(physics, PhysicsDef):
-        return physics.replace(task=task)  # keeps the parameters of the same task
-    if physics is not None and not isinstance(physics, dict):
-        return physics  # _physics names the mistake
-    given = (physics or {}).get("task")
-    if isinstance(given, dict) and given.get("name") == task:
-        return physics
-    return {**(physics or {}), "task": task}
+    return task
 
 
 def _as_robot(source, name="robot"):
@@ -248,10 +239,11 @@ class Robot:
         return Robot(self._core.with_controller(kind, hidden, every,
                                                 _np.ascontiguousarray(w, dtype=_np.float64)))
 
-    def with_physics(self, physics=None, treatment=None):
-        """A copy simulated under `physics` (a PhysicsDef, or a dict of fields applied on top)
-        and `treatment`."""
-        return Robot(self._core.with_physics(_physics(physics), _check_treatment(treatment)))
+    def with_physics(self, physics=None, treatment=None, task=None):
+        """A copy simulated under `physics` (a PhysicsDef, or a dict of fields applied on top),
+        `treatment` and `task`, resolved as simulate resolves them."""
+        return Robot(self._core.with_physics(_physics(physics), _check_treatment(treatment),
+                                             _check_task(task)))
 
     def save(self, path):
         """Writes the robot and its physics as .json (plastivox-robot) or .vxa, atomically."""
@@ -306,9 +298,10 @@ def demo_walker():
 
 def physics(preset="gecco2018-code", **overrides):
     """Every physics field of `preset` with `overrides` applied: a PhysicsDef (also read as a
-    mapping: physics()["duration"], dict(physics()), to_dict()). Without a "treatment" among the
-    overrides its treatment is None: passed to simulate, Simulator or with_physics it keeps the
-    robot's treatment, as a dict without one does. Unknown fields and bad
+    mapping: physics()["duration"], dict(physics()), to_dict()). Without a "treatment" (a
+    "task") among the overrides its treatment (task) is None: passed to simulate, Simulator or
+    with_physics it keeps the robot's, as a preset and a dict without one do
+    (docs/robot-format.md, "Resolving a run's physics"). Unknown fields and bad
     values raise plastivox.InputError / ValueError naming the field."""
     return PhysicsDef(preset, **overrides)
 
@@ -413,12 +406,11 @@ def simulate(robot, physics=None, treatment=None, record_fps=0, task=None, recor
     record_control: the Trajectory also carries the actuation signal and the sensors (needs
     record_fps > 0; the life's bits are unchanged)."""
     robot = _as_robot(robot)
-    physics = _with_task(physics, task)
     summary, traj, cxx_seconds = _core.simulate(robot._core, _physics(physics),
-                                                _check_treatment(treatment), _record_fps(record_fps),
-                                                bool(record_control))
-    if physics is not None or treatment is not None:
-        robot = robot.with_physics(physics, treatment)  # what render(result) shows
+                                                _check_treatment(treatment), _check_task(task),
+                                                _record_fps(record_fps), bool(record_control))
+    if physics is not None or treatment is not None or task is not None:
+        robot = robot.with_physics(physics, treatment, task)  # what render(result) shows
     result = Result(summary, traj, robot)
     result._cxx_seconds = cxx_seconds  # the C++ part of this call (bench/python_bench.py)
     return result
@@ -429,7 +421,6 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0,
     """Simulates every robot (Robots or file paths, as simulate takes) on C++ threads
     (0: all cores), results in input order, each bit-identical to simulate() of that robot
     alone; physics, treatment, record_fps, task and record_control as simulate takes them."""
-    physics = _with_task(physics, task)
     if isinstance(robots, (str, _os.PathLike, Robot)):
         raise TypeError(f"robots: expected a list of robots or paths, got one {type(robots).__name__}")
     robots = [_as_robot(r, f"robots[{i}]") for i, r in enumerate(robots)]
@@ -437,7 +428,8 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0,
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
     lives = _core.simulate_many(cores, _physics(physics), _check_treatment(treatment),
-                                _record_fps(record_fps), bool(record_control), threads)
+                                _check_task(task), _record_fps(record_fps), bool(record_control),
+                                threads)
     return [Result(s, t, r) for (s, t), r in zip(lives, robots)]
 
 
@@ -671,8 +663,10 @@ def _config_args(config):
     """(text, path) for the C++ layer: a config dict as JSON text, or a config file path."""
     if isinstance(config, dict):
         # A PhysicsDef in the config (config["physics"] = plastivox.physics(...)) goes as its fields.
-        text = _json.dumps(config, default=lambda o: o.to_dict() if isinstance(o, PhysicsDef) else
-                           _json.JSONEncoder().default(o))
+        # Its None fields (an unnamed treatment or task, no environment) are left out.
+        text = _json.dumps(config, default=lambda o: {k: v for k, v in o.to_dict().items()
+                                                      if v is not None}
+                           if isinstance(o, PhysicsDef) else _json.JSONEncoder().default(o))
         return text, ""
     if isinstance(config, (str, _os.PathLike)):
         return "", _os.fspath(config)

@@ -102,7 +102,7 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
 
     def __init__(self, robot=None, task=None, physics=None, treatment=None, sensors=None,
                  every=1, render_mode=None, render_size=(640, 480)):
-        from . import (_as_robot, _check_treatment, _physics, _with_task, demo_walker)
+        from . import (_as_robot, _check_task, _check_treatment, _physics, demo_walker)
         if isinstance(every, bool) or not isinstance(every, (int, _np.integer)) or every < 1:
             raise ValueError(f"every: expected a number of steps >= 1, got {every!r}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -123,8 +123,8 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
         else:
             sensors = list(sensors)
         robot = demo_walker() if robot is None else _as_robot(robot)
-        self._episode = _core.Episode(robot._core, _physics(_with_task(physics, task)),
-                                      _check_treatment(treatment), sensors, int(every))
+        self._episode = _core.Episode(robot._core, _physics(physics), _check_treatment(treatment),
+                                      _check_task(task), sensors, int(every))
         self.robot = robot
         self.sensors = tuple(sensors)
         self.every = int(every)

@@ -35,20 +35,23 @@ struct PyRobot {
   std::string source;  // file path, or the robot's name for robots built in Python
 };
 
-// plastivox.PhysicsDef: every physics field, and whether its treatment was named (given to
-// physics(), set, or replaced). One that names none keeps the robot's treatment wherever it
-// is passed, as a dict without "treatment" does (resolve_physics); its treatment reads None.
-// robot.physics names the robot's.
+// plastivox.PhysicsDef: every physics field, and whether its treatment and its task were named
+// (given to physics(), set, or replaced). One that names neither keeps the robot's treatment
+// and task wherever it is passed, as a preset does and a dict without them does; they read
+// None. robot.physics names the robot's.
 struct PyPhysics : PhysicsDef {
   bool treatment_named = false;
+  bool task_named = false;
 };
 
-// The physics of one call (physics.cpp): the robot's own (`base`), or `physics` when it is a
-// PhysicsDef (with base's treatment when it names none), or base with the fields of `physics`
-// applied when it is a dict ("preset" first); then `treatment`; validated. Throws InputError /
-// std::invalid_argument / pyb::type_error naming the field or argument.
-PhysicsDef resolve_physics(const PhysicsDef& base, const pyb::object& physics,
-                           const std::optional<std::string>& treatment);
+// The physics of one call, by io's one rule (plastivox/io/resolve_physics.hpp): the robot's
+// own (`base`); `physics`, a PhysicsDef (as a preset, with the treatment and task it names)
+// or a dict of fields applied on top ("preset" first); then `treatment` and `task`, which
+// win. Throws InputError / std::invalid_argument / pyb::type_error naming the field or
+// argument.
+PhysicsDef physics_of_call(const PhysicsDef& base, const pyb::object& physics,
+                           const std::optional<std::string>& treatment,
+                           const std::optional<std::string>& task);
 
 // Every field of d as a dict, from kPhysicsFields; and back (a dict with every field, as
 // physics_dict writes it; `what` names the source in errors).

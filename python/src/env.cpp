@@ -15,6 +15,7 @@
 #include "bindings.hpp"
 #include "plastivox/control.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
 
@@ -24,10 +25,10 @@ namespace {
 class PyEpisode {
  public:
   PyEpisode(const PyRobot& robot, const pyb::object& physics,
-            const std::optional<std::string>& treatment, const std::vector<std::string>& sensors,
-            int every)
+            const std::optional<std::string>& treatment, const std::optional<std::string>& task,
+            const std::vector<std::string>& sensors, int every)
       : model_(std::make_shared<const Model>(
-            compile(robot.def, resolve_physics(robot.physics, physics, treatment),
+            compile(robot.def, physics_of_call(robot.physics, physics, treatment, task),
                     limits_from_environment()))),
         sim_(*model_),
         watch_(*model_),
@@ -61,17 +62,25 @@ class PyEpisode {
     const std::vector<double> u = checked_actuation(action, model_->robot_n, "action");
     std::copy(u.begin(), u.end(), sim_.actuation().begin());
     const State& s = sim_.state();
-    const bool sinking_ends = model_->def.sinking_invalid;
+    const PhysicsDef& def = model_->def;
     for (int k = 0; k < every_ && s.status == SimStatus::kRunning; ++k) {
       sim_.step();
       watch_.see(s);
-      if (sinking_ends && watch_.sunk()) break;  // simulate() would score this life 0
+      if (ends_invalid(def, watch_.sunk())) break;  // judge_life would make this life 0
     }
-    fitness_ = watch_.fitness(s);  // 0 once the life is unstable, or sunk under sinking_ends
+    // A life that is over is judged as plastivox simulate and evolution judge it; one running
+    // ends invalid (fitness 0) once it is certain to be judged sunk.
+    SimResult life;
+    if (s.status != SimStatus::kRunning) {
+      life = watch_.summary(s);
+      judge_life(def, life);
+    }
+    const bool sank = ends_invalid(def, watch_.sunk()) ||
+                      (s.status == SimStatus::kFinished && life.status != SimStatus::kFinished);
+    fitness_ = sank ? 0.0 : s.status == SimStatus::kRunning ? watch_.fitness(s) : life.fitness;
     if (s.status == SimStatus::kUnstable)
       end_ = "unstable";
-    else if (sinking_ends &&
-             (watch_.sunk() || (s.status == SimStatus::kFinished && watch_.summary(s).sank)))
+    else if (sank)
       end_ = "sank";
     else if (s.status == SimStatus::kFinished)
       end_ = "finished";
@@ -119,9 +128,9 @@ class PyEpisode {
 void bind_env(pyb::module_& m) {
   pyb::class_<PyEpisode>(m, "Episode")
       .def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&,
-                     const std::vector<std::string>&, int>(),
-           pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"), pyb::arg("sensors"),
-           pyb::arg("every"))
+                     const std::optional<std::string>&, const std::vector<std::string>&, int>(),
+           pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"), pyb::arg("task"),
+           pyb::arg("sensors"), pyb::arg("every"))
       .def("reset", &PyEpisode::reset)
       .def("step", &PyEpisode::step, pyb::arg("action"))
       .def("render", &PyEpisode::render, pyb::arg("width"), pyb::arg("height"))

@@ -12,6 +12,8 @@
 #include "bindings.hpp"
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/base/hash.hpp"
+#include "plastivox/io/json_input.hpp"  // task_json
+#include "plastivox/io/resolve_physics.hpp"
 #include "plastivox/io/robot_file.hpp"  // the environment's JSON form
 #include "plastivox/task.hpp"
 
@@ -218,13 +220,13 @@ void set_treatment_and_law(PhysicsDef& d, const pyb::dict& t, const pyb::dict& f
   }
 }
 
-// Whether `fields` names a treatment ("treatment": None names none: the robot's stays).
-bool names_treatment(const pyb::dict& fields) {
-  return fields.contains("treatment") && !fields["treatment"].is_none();
+// Whether `fields` names `key`, the treatment or the task (None names none: the robot's stays).
+bool names(const pyb::dict& fields, const char* key) {
+  return fields.contains(key) && !fields[key].is_none();
 }
 
-// d with the fields of `fields` applied ("preset" first, when given: every field of that
-// preset but d's treatment and task, as the command line's --preset), validated.
+// d with the fields of `fields` applied ("preset" first, when given: with_preset, as
+// resolve_physics applies it), validated.
 PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
   for (const auto& [key, value] : fields) {
     if (!pyb::isinstance<pyb::str>(key))
@@ -233,15 +235,15 @@ PhysicsDef with_fields(PhysicsDef d, const pyb::dict& fields) {
     if (key.cast<std::string>() != "preset") continue;
     if (!pyb::isinstance<pyb::str>(value))
       throw std::invalid_argument("physics.preset: expected a preset's name");
-    const PhysicsDef before = d;
-    d = preset(value.cast<std::string>());
-    d.treatment = before.treatment;
-    d.task = before.task;
-    d.task_params = before.task_params;
+    try {
+      d = with_preset(d, value.cast<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("physics.preset: ") + e.what());
+    }
   }
   for (const auto& [key, value] : fields) {
     const std::string name = key.cast<std::string>();
-    if (name == "preset" || (name == "treatment" && value.is_none())) continue;
+    if (name == "preset" || ((name == "treatment" || name == "task") && value.is_none())) continue;
     if (name == "environment") {
       set_environment(d, value);
       continue;
@@ -271,24 +273,32 @@ pyb::dict to_dict(const PhysicsDef& d) {
   return out;
 }
 
-// A PhysicsDef's field as Python reads it: the treatment is None when it names none.
+// A PhysicsDef's field as Python reads it: the treatment or task is None when it names none.
 pyb::object py_field_value(const PyPhysics& d, const PhysicsField& f) {
   if (!d.treatment_named && std::strcmp(f.name, "treatment") == 0) return pyb::none();
+  if (!d.task_named && std::strcmp(f.name, "task") == 0) return pyb::none();
   return field_value(d, f);
 }
 
 pyb::dict py_dict(const PyPhysics& d) {
   pyb::dict out = to_dict(d);
-  if (!d.treatment_named) out["treatment"] = pyb::none();  // applied as a dict, keeps the robot's
+  // Applied as a dict, None keeps the robot's.
+  if (!d.treatment_named) out["treatment"] = pyb::none();
+  if (!d.task_named) out["task"] = pyb::none();
   return out;
 }
 
-// d with `fields` applied; the treatment is named once a field names it, and unnamed again
-// by "treatment": None (back to the preset's, none, until it is passed).
+// d with `fields` applied; the treatment (task) is named once a field names it, and unnamed
+// again by "treatment" ("task"): None (back to the preset's, none (walk), until it is passed).
 PyPhysics py_with_fields(const PyPhysics& d, const pyb::dict& fields) {
-  PyPhysics out{{with_fields(d, fields)}, d.treatment_named};
-  if (fields.contains("treatment")) out.treatment_named = names_treatment(fields);
+  PyPhysics out{{with_fields(d, fields)}, d.treatment_named, d.task_named};
+  if (fields.contains("treatment")) out.treatment_named = names(fields, "treatment");
+  if (fields.contains("task")) out.task_named = names(fields, "task");
   if (!out.treatment_named) out.treatment = Treatment::kNone;
+  if (!out.task_named) {
+    out.task = Task::kWalk;
+    out.task_params.clear();
+  }
   return out;
 }
 
@@ -351,28 +361,55 @@ pyb::dict physics_dict(const PhysicsDef& d) {
   return to_dict(d);
 }
 
-PhysicsDef resolve_physics(const PhysicsDef& base, const pyb::object& physics,
-                           const std::optional<std::string>& treatment) {
-  PhysicsDef d = base;
-  if (pyb::isinstance<PyPhysics>(physics)) {
+PhysicsDef physics_of_call(const PhysicsDef& base, const pyb::object& physics,
+                           const std::optional<std::string>& treatment,
+                           const std::optional<std::string>& task) {
+  PhysicsRequest request;  // io's one rule; Python only translates its arguments
+  nlohmann::json fields = nlohmann::json::object();
+  if (pyb::isinstance<PyPhysics>(physics)) {  // as a preset, with what it names
     const PyPhysics& given = physics.cast<const PyPhysics&>();
-    d = given;
-    if (!given.treatment_named) d.treatment = base.treatment;  // development stays on
-  } else if (pyb::isinstance<pyb::dict>(physics))
-    d = with_fields(d, physics.cast<pyb::dict>());
-  else if (!physics.is_none())
+    request.whole = static_cast<const PhysicsDef&>(given);
+    if (given.treatment_named) fields["treatment"] = to_string(given.treatment);
+    if (given.task_named) fields["task"] = json_field::task_json(given.task, given.task_params);
+  } else if (pyb::isinstance<pyb::dict>(physics)) {
+    for (const auto& [key, value] : physics.cast<pyb::dict>()) {
+      if (!pyb::isinstance<pyb::str>(key))
+        throw pyb::type_error("physics: field names must be text, got " +
+                              pyb::repr(key).cast<std::string>());
+      const std::string name = key.cast<std::string>();
+      if ((name == "treatment" || name == "task") && value.is_none()) continue;  // the robot's
+      if (name == "environment" && value.is_none()) {  // the flat floor, an empty environment
+        fields[name] = nlohmann::json::object();
+        continue;
+      }
+      fields[name] = to_json(value, "physics." + name);
+    }
+  } else if (!physics.is_none()) {
     throw pyb::type_error("physics: expected a PhysicsDef or a dict of its fields, got " +
                           pyb::str(physics.get_type().attr("__name__")).cast<std::string>());
-  if (treatment) d.treatment = parse_treatment(*treatment);
-  validate(d);
-  return d;
+  }
+  if (!fields.empty()) request.fields = fields.dump();
+  if (treatment) request.treatment = parse_treatment(*treatment);
+  try {
+    if (task) request.task = parse_task(*task);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("physics.task: ") + e.what());
+  }
+  try {
+    return resolve_physics(base, request);
+  } catch (const InputError& e) {
+    // "physics: physics.duration: ..." names the field twice; Python's errors name it once.
+    const std::string_view what = e.what(), source = "physics: ";
+    if (what.starts_with(source)) throw InputError(std::string(what.substr(source.size())));
+    throw;
+  }
 }
 
 void bind_physics(pyb::module_& m) {
   pyb::class_<PyPhysics> c(m, "PhysicsDef",
                            "Every physics field of a simulation (see plastivox.PhysicsDef).");
   c.def(pyb::init([](const std::string& name, const pyb::kwargs& fields) {
-          return py_with_fields(PyPhysics{{preset(name)}, false}, fields);
+          return py_with_fields(PyPhysics{{preset(name)}, false, false}, fields);
         }),
         pyb::arg("preset") = "gecco2018-code");
   for (const PhysicsField& field : kPhysicsFields) {
@@ -415,7 +452,8 @@ void bind_physics(pyb::module_& m) {
            [](const PyPhysics& d, const pyb::object& other) -> pyb::object {
              if (pyb::isinstance<PyPhysics>(other)) {
                const PyPhysics& o = other.cast<const PyPhysics&>();
-               return pyb::bool_(same_physics(d, o) && d.treatment_named == o.treatment_named);
+               return pyb::bool_(same_physics(d, o) && d.treatment_named == o.treatment_named &&
+                                 d.task_named == o.task_named);
              }
              if (pyb::isinstance<pyb::dict>(other)) return py_dict(d).attr("__eq__")(other);
              return pyb::reinterpret_borrow<pyb::object>(Py_NotImplemented);
@@ -433,7 +471,9 @@ void bind_physics(pyb::module_& m) {
              return s + ")";
            })
       .def(pyb::pickle(&py_dict, [](const pyb::dict& fields) {
-        return PyPhysics{{physics_from(fields, "PhysicsDef pickle")}, names_treatment(fields)};
+        return PyPhysics{{physics_from(fields, "PhysicsDef pickle")},
+                         names(fields, "treatment"),
+                         names(fields, "task")};
       }));
   c.attr("__hash__") = pyb::none();  // mutable
 }

@@ -350,7 +350,7 @@ void bind_robot(pyb::module_& m) {
                              [](const PyRobot& r) { return to_string(r.physics.treatment); })
       .def_property_readonly("physics",
                              [](const PyRobot& r) {
-                               return PyPhysics{{r.physics}, true};
+                               return PyPhysics{{r.physics}, true, true};
                              })
       .def_property_readonly("present_flat", &present_array)
       .def_property_readonly("stiffness_flat",
@@ -360,13 +360,15 @@ void bind_robot(pyb::module_& m) {
       .def_property_readonly("phase_flat", [](const PyRobot& r) { return to_array(r.def.phase); })
       .def_property_readonly("act_amplitude_flat",
                              [](const PyRobot& r) { return to_array(r.def.act_amplitude); })
-      .def("with_physics",
-           [](const PyRobot& r, const pyb::object& physics,
-              const std::optional<std::string>& treatment) {
-             PyRobot out = r;
-             out.physics = resolve_physics(r.physics, physics, treatment);
-             return out;
-           })
+      .def(
+          "with_physics",
+          [](const PyRobot& r, const pyb::object& physics,
+             const std::optional<std::string>& treatment, const std::optional<std::string>& task) {
+            PyRobot out = r;
+            out.physics = physics_of_call(r.physics, physics, treatment, task);
+            return out;
+          },
+          pyb::arg("physics"), pyb::arg("treatment"), pyb::arg("task") = pyb::none())
       .def_property_readonly("controller", &controller_dict)
       .def("with_controller", &with_controller, pyb::arg("kind"), pyb::arg("hidden"),
            pyb::arg("every"), pyb::arg("weights"))

@@ -13,6 +13,7 @@
 #include "plastivox/io/limits.hpp"
 #include "plastivox/io/robot_io.hpp"  // warn_vxa_density
 #include "plastivox/io/sim_summary.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
 
@@ -72,10 +73,11 @@ pyb::tuple life_to_python(const SimResult& r, const std::vector<SummaryField>& f
 // --json` does in C++ for this life (resolve the physics, compile, simulate, build the
 // summary), so bench/python_bench.py can set the whole Python call against it.
 pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
-                        const std::optional<std::string>& treatment, double record_fps,
+                        const std::optional<std::string>& treatment,
+                        const std::optional<std::string>& task, double record_fps,
                         bool record_control) {
   const auto t0 = std::chrono::steady_clock::now();
-  const PhysicsDef physics = resolve_physics(robot.physics, physics_arg, treatment);
+  const PhysicsDef physics = physics_of_call(robot.physics, physics_arg, treatment, task);
   const SimOptions options = recording(record_fps, record_control);
   SimResult r;
   {
@@ -90,6 +92,7 @@ pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
           limits.recording_mb);
     r = simulate(model, options);
   }
+  judge_life(physics, r);  // as plastivox simulate judges it
   warn_vxa_density(r, robot.source, robot.physics.density, physics, robot.def.voxel_size);
   const std::vector<SummaryField> summary =
       sim_summary_fields(r, physics, robot.source, PLASTIVOX_VERSION);
@@ -100,7 +103,8 @@ pyb::tuple simulate_one(const PyRobot& robot, const pyb::object& physics_arg,
 }
 
 pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::object& physics_arg,
-                        const std::optional<std::string>& treatment, double record_fps,
+                        const std::optional<std::string>& treatment,
+                        const std::optional<std::string>& task, double record_fps,
                         bool record_control, int threads) {
   if (threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: all cores)");
   const SimOptions options = recording(record_fps, record_control);
@@ -109,7 +113,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::ob
   physics.reserve(robots.size());
   double recorded = 0;  // every life's frames (and arrays) are held at once, until returned
   for (const PyRobot* r : robots) {
-    physics.push_back(resolve_physics(r->physics, physics_arg, treatment));
+    physics.push_back(physics_of_call(r->physics, physics_arg, treatment, task));
     if (record_fps > 0)
       recorded +=
           2 * recording_bytes(r->def.voxel_count() + object_voxels(physics.back().environment),
@@ -124,6 +128,7 @@ pyb::list simulate_many(const std::vector<const PyRobot*>& robots, const pyb::ob
     pyb::gil_scoped_release unlocked;
     parallel_for(robots.size(), threads == 0 ? hardware_threads() : threads, [&](size_t i) {
       results[i] = simulate(compile(robots[i]->def, physics[i], limits), options);
+      judge_life(physics[i], results[i]);
       warn_vxa_density(results[i], robots[i]->source, robots[i]->physics.density, physics[i],
                        robots[i]->def.voxel_size);
       summaries[i] =
@@ -164,7 +169,7 @@ class PySimulator {
   PySimulator(const PyRobot& robot, const pyb::object& physics_arg,
               const std::optional<std::string>& treatment)
       : model_(std::make_shared<const Model>(
-            compile(robot.def, resolve_physics(robot.physics, physics_arg, treatment),
+            compile(robot.def, physics_of_call(robot.physics, physics_arg, treatment, {}),
                     limits_from_environment()))),
         sim_(std::make_unique<Simulator>(*model_)) {}
 
@@ -267,9 +272,9 @@ pyb::list state_field_table() {
 
 void bind_simulate(pyb::module_& m) {
   m.def("simulate", &simulate_one, pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"),
-        pyb::arg("record_fps"), pyb::arg("record_control") = false);
+        pyb::arg("task"), pyb::arg("record_fps"), pyb::arg("record_control") = false);
   m.def("simulate_many", &simulate_many, pyb::arg("robots"), pyb::arg("physics"),
-        pyb::arg("treatment"), pyb::arg("record_fps"), pyb::arg("record_control"),
+        pyb::arg("treatment"), pyb::arg("task"), pyb::arg("record_fps"), pyb::arg("record_control"),
         pyb::arg("threads"));
   auto simulator = pyb::class_<PySimulator>(m, "Simulator");
   simulator.def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&>())

@@ -14,6 +14,7 @@
 #include "plastivox/life.hpp"
 #include "plastivox/render/error.hpp"
 #include "plastivox/render/viewer.hpp"
+#include "plastivox/rules/life_rules.hpp"
 
 namespace plastivox::render {
 
@@ -96,8 +97,9 @@ ReportFrames report_life(const LifeSource& source, double fps, const std::vector
     throw RenderError(source.path + ": " + e.what());
   }
   // A life that sinks through the floor is drawn to its end: the fall is what a reader needs
-  // to see. Its fitness stays what the rule in force gives it (0 where sunk lives are
-  // invalid); only a life that blew up is a failure here.
+  // to see. Its fitness stays what the rule in force gives it (judge_life: 0 where sunk lives
+  // are invalid); only a life that blew up is a failure here.
+  if (source.model) judge_life(source.model->def, r);
   shown.info.settled = r.settled;
   shown.info.com_settled = r.com_settled;
   shown.info.fitness = r.fitness;

@@ -257,8 +257,9 @@ def test_an_environment_rides_with_the_physics_through_pickles_and_equality():
     walker = plastivox.demo_walker().with_physics(d)
     back = pickle.loads(pickle.dumps(walker))
     assert back == walker and hash(back) == hash(walker)
-    # d names no treatment, so the walker keeps its own (stress); its physics names it.
-    assert back.physics == d.replace(treatment="stress") and back.physics != d
+    # d names no treatment nor task, so the walker keeps its own (stress, walk); its physics
+    # names them.
+    assert back.physics == d.replace(treatment="stress", task="walk") and back.physics != d
     assert walker != plastivox.demo_walker().with_physics({"duration": 0.3})
     flat = walker.with_physics({"environment": None})
     assert flat.physics.environment is None

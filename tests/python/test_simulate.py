@@ -365,7 +365,8 @@ def test_a_physics_def_reads_and_sets_its_task_as_to_dict_and_with_physics_do():
     assert "task={'name': 'rough', 'amplitude': 2.0, 'seed': 7.0}" in repr(p)
     a, b = plastivox.simulate(walker, physics=p), plastivox.simulate(walker, physics=dict(p))
     assert a.final_state_hash == b.final_state_hash and a.fitness == b.fitness
-    assert plastivox.physics()["task"] == "walk"  # without parameters: the name alone
+    assert plastivox.physics(task="walk")["task"] == "walk"  # without parameters: the name
+    assert plastivox.physics()["task"] is None  # names none: the robot's (as a preset keeps it)
     q = plastivox.physics()
     q.task = {"name": "climb", "rise": 1}
     assert q.task == {"name": "climb", "rise": 1.0}

@@ -4,16 +4,16 @@
 // that life is measured here, and a champion whose life is unstable or sank is left out of
 // the statistics and figures unless StudyOptions::keep_artifacts. A finished life the
 // vertical rule flags (walk scored in 3-D, too much of its fitness from rising or falling:
-// vertical_exploit, plastivox/simulator.hpp) is left out the same way unless
+// vertical_exploit, plastivox/rules/life_rules.hpp) is left out the same way unless
 // StudyOptions::keep_vertical: a stronger search climbs onto its own legs before it learns to
 // walk further, and the 3-D distance pays for the climb as for a stride.
 #include <algorithm>
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "plastivox/base/parallel.hpp"
+#include "plastivox/evo/config.hpp"  // sinking_invalid_in
 #include "plastivox/io/limits.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
 #include "study_internal.hpp"
@@ -23,10 +23,7 @@ namespace {
 
 // "invalid" or "scored (the authors' rule)" for one run's resolved physics.
 std::string rule_of(const StudyInput& in) {
-  const nlohmann::json p = nlohmann::json::parse(in.physics_json);
-  return p.contains("sinking_invalid") && p["sinking_invalid"] == true
-             ? "invalid"
-             : "scored (the authors' rule)";
+  return evo::sinking_invalid_in(in.physics_json) ? "invalid" : "scored (the authors' rule)";
 }
 
 std::string direction_of(const PhysicsDef& d) {
@@ -79,15 +76,17 @@ void audit_champions(StudyResult& r, const StudyProgressFn& progress) {
   const int threads = r.options.threads > 0 ? r.options.threads : hardware_threads();
   parallel_for(r.champions.size(), std::min(threads, std::max(1, n)), [&](size_t i) {
     ChampionAnalysis& c = r.champions[i];
+    // Every champion is held to the sinking rule, whatever rule its run selected under.
     PhysicsDef physics = c.physics;
-    physics.sinking_invalid = false;  // measure the fall rather than cut it short
-    const SimResult life = simulate(compile(c.robot, physics, limits_from_environment()));
-    c.life_status = life.status == SimStatus::kFinished ? "finished" : "unstable";
+    physics.sinking_invalid = true;
+    SimResult life = simulate(compile(c.robot, physics, limits_from_environment()));
+    c.life_status = life.status == SimStatus::kFinished ? "finished" : "unstable";  // measured
     c.health = to_string(life.floor_health);
     c.floor_depth = life.floor_depth;
     c.vertical_share = life.vertical_share;
+    judge_life(physics, life);
     char why[200] = "";
-    if (life.status != SimStatus::kFinished)
+    if (life.status != SimStatus::kFinished && !life.sank)
       std::snprintf(why, sizeof why, "its life is unstable (%s)", life.failure.c_str());
     else if (life.sank)
       std::snprintf(why, sizeof why,

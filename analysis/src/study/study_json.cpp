@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/analysis/bootstrap_coverage.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "study_internal.hpp"
 

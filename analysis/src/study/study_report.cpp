@@ -10,6 +10,7 @@
 
 #include "plastivox/analysis/bootstrap_coverage.hpp"
 #include "plastivox/base/markup.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "study_internal.hpp"
 

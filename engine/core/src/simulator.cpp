@@ -222,8 +222,8 @@ void see_floor(const Model& m, const State& s, double& deepest, int& most_deep) 
 }
 
 // Fills the floor health of r (SimResult, "Health") from the deepest penetration seen and the
-// most voxels at once deep, with a warning past kFloorPenetratingDepth; a sunk finished life
-// becomes unstable under def.sinking_invalid.
+// most voxels at once deep, with a warning past kFloorPenetratingDepth. Whether a sunk life
+// counts is judge_life's (plastivox/rules/life_rules.hpp), not the core's.
 void grade_floor_contact(const Model& m, const State& s, double deepest, int most_deep,
                          SimResult& r) {
   const Vec3& d = r.displacement;
@@ -262,30 +262,6 @@ void grade_floor_contact(const Model& m, const State& s, double deepest, int mos
                   "%g); %d of %d voxels at once deeper than %g",
                   r.floor_depth, kFloorPenetratingDepth, r.voxels_deep_max, m.n,
                   kFloorPenetratingDepth);
-  r.warnings.push_back(buf);
-  if (r.sank && m.def.sinking_invalid) {
-    r.status = SimStatus::kUnstable;
-    r.failure = std::string(buf) +
-                " (sunk lives are invalid: physics.sinking_invalid; false restores the "
-                "authors' rule, which scores them)";
-    r.fitness = 0;
-  }
-}
-
-// The vertical rule's warning (vertical_exploit): walk's 3-D fitness pays for a rise or a fall
-// as for a stride (without the floor, nothing holds a body up unless boxes do). Said, as the
-// floor's health is, since the number alone reads as a walk; the study's audit excludes such a
-// champion by the same rule.
-void warn_if_vertical(const PhysicsDef& def, SimResult& r) {
-  if (!vertical_exploit(def, r)) return;
-  char buf[480];
-  std::snprintf(buf, sizeof buf,
-                "fitness owes too much to vertical motion (vertical share %.3f, above the limit "
-                "%.2g; dz %.4g voxel lengths)%s: walk's 3-D fitness scores a rise or a fall as "
-                "distance, and a study excludes such a champion (docs/engine.md, \"Vertical "
-                "motion\"); fitness \"xy\" scores horizontal travel only",
-                r.vertical_share, kVerticalShareLimit, r.displacement.z(),
-                def.floor ? "" : ", physics.floor is false so nothing holds the body up");
   r.warnings.push_back(buf);
 }
 
@@ -361,12 +337,6 @@ Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, co
   Vec3 d = (com - com_settled) / model.size;
   if (model.def.fitness == FitnessMode::kXY) d.z() = 0;
   return d;
-}
-
-bool vertical_exploit(const PhysicsDef& def, const SimResult& r) {
-  return def.task == Task::kWalk && def.fitness == FitnessMode::k3D &&
-         r.status == SimStatus::kFinished && !r.sank && r.vertical_share > kVerticalShareLimit &&
-         std::abs(r.displacement.z()) >= kVerticalRiseMin;
 }
 
 // Derived from the state, not carried in a flag: after any step that may have developed
@@ -511,7 +481,6 @@ bool LifeWatch::sunk() const {
 
 double LifeWatch::fitness(const State& s) const {
   if (s.status != SimStatus::kRunning) return summary(s).fitness;
-  if (model_->def.sinking_invalid && sunk()) return 0.0;
   SimResult r;
   fill_displacement(*model_, s, r);
   return task_->score(*model_, s, r);
@@ -521,7 +490,6 @@ SimResult LifeWatch::summary(const State& s) const {
   SimResult r;
   summarise(*model_, s, *task_, r);
   grade_floor_contact(*model_, s, deepest_, most_deep_, r);
-  warn_if_vertical(model_->def, r);
   return r;
 }
 

@@ -11,6 +11,7 @@
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/io/resolve_physics.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/task.hpp"
@@ -192,20 +193,24 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       fail(src, k, "unknown field");
     }
   }
-  // Physics: the preset (default gecco2018-code) with the given overrides, then the
-  // run's treatment. apply_physics_json names the field of any error.
+  // Physics: the preset (default gecco2018-code) with the given overrides, then the run's
+  // treatment and task (docs/robot-format.md, "Resolving a run's physics"), errors naming the
+  // field.
   if (treatment.law)
     c.physics_json = fold_law(c.physics_json, *treatment.law, src, "treatment.law");
-  c.physics = preset_gecco2018_code();
-  apply_physics_json(c.physics_json, src, c.physics);
-  c.physics.treatment = c.treatment;
-  set_task(c, c.task);
-  try {  // the task's parameters against a given environment (docs/tasks.md)
-    validate_task(c.physics);
-  } catch (const std::invalid_argument& e) {
-    const std::string what = e.what();  // "physics.task.<name>: ...": the top level's here
-    const bool top = what.starts_with("physics.task.");
-    throw InputError(src + ": " + (top ? what.substr(std::string("physics.").size()) : what));
+  PhysicsRequest request;  // the one rule (resolve_physics.hpp), over no robot's physics
+  request.fields = c.physics_json;
+  request.where = src;
+  request.treatment = c.treatment;
+  request.task = c.task;
+  request.task_params = c.task_params;
+  try {  // validated with the task's parameters against a given environment (docs/tasks.md)
+    c.physics = resolve_physics(preset_gecco2018_code(), request);
+  } catch (const InputError& e) {
+    // "<src>: physics.task.<name>: ...": a config's task is its top level's "task".
+    const std::string what = e.what(), task = src + ": physics.task.";
+    if (!what.starts_with(task)) throw;
+    throw InputError(src + ": " + what.substr(task.size() - std::string("task.").size()));
   }
   // Evaluations never record frames (a champion can be re-simulated with recording).
   const json given = json::parse(c.physics_json);
@@ -258,10 +263,11 @@ std::string fold_law(const std::string& physics_json, GrowthModel law, const std
 }
 
 void set_task(EvolveConfig& config, Task task) {
-  if (task != config.task) config.task_params.clear();
+  PhysicsRequest request;  // a single field over the resolved physics, by the one rule
+  request.task = task;
+  config.physics = resolve_physics(config.physics, request);
   config.task = task;
-  config.physics.task = task;
-  config.physics.task_params = config.task_params;
+  config.task_params = config.physics.task_params;
 }
 
 std::string resolved_physics_json(const PhysicsDef& d) {
@@ -281,6 +287,11 @@ std::string resolved_physics_json(const PhysicsDef& d) {
   else
     p.erase("sinking_invalid");
   return p.dump();
+}
+
+bool sinking_invalid_in(const std::string& resolved_physics) {
+  const json p = json::parse(resolved_physics);
+  return p.contains("sinking_invalid") && p["sinking_invalid"] == true;
 }
 
 std::string default_config_text() {

@@ -14,6 +14,7 @@
 #include "plastivox/evo/afpo.hpp"
 #include "plastivox/evo/variation.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::evo {
@@ -48,7 +49,8 @@ Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   const auto t0 = std::chrono::steady_clock::now();
   Evaluation e;
   const Model model = compile(p.robot, physics, limits_from_environment());
-  const SimResult r = simulate(model);
+  SimResult r = simulate(model);
+  judge_life(physics, r);  // a sunk life is invalid under physics.sinking_invalid
   e.sank = r.sank;
   e.final_stiffness.assign(p.robot.sites(), 0.0);
   for (int v = 0; v < model.n && v < static_cast<int>(r.final_stiffness.size()); ++v)

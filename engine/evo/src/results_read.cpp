@@ -253,9 +253,7 @@ ResultsFile read_results(const std::string& path) {
   } catch (const InputError& e) {
     throw ResultsError(e.what());
   }
-  // The rule for sunk lives the run selected under, as its resolved physics spells it
-  // (evo::resolved_physics_json): "sinking_invalid": true, or absent for the authors' rule,
-  // the only rule of files written before the other became the default.
+  // The rule for sunk lives the run selected under, as its resolved physics spells it.
   if (h5::has_attr(r, "resolved_physics")) {
     const std::string text = h5::read_attr_string(c, r, "/", "resolved_physics");
     nlohmann::json p;
@@ -265,8 +263,7 @@ ResultsFile read_results(const std::string& path) {
       throw ResultsError(e.what());
     }
     if (!p.is_object()) c.fail("/@resolved_physics", "is not a JSON object");
-    s.config.physics.sinking_invalid =
-        p.contains("sinking_invalid") && p["sinking_invalid"] == true;
+    s.config.physics.sinking_invalid = sinking_invalid_in(text);
   }
   s.generations_done = static_cast<int>(h5::read_attr_int(c, r, "/", "generations_done"));
   if (s.generations_done < 0 || s.generations_done > s.config.generations)

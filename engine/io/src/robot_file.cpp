@@ -11,9 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include "environment_json.hpp"
+#include "physics_object.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/io/resolve_physics.hpp"
 
 namespace plastivox {
 namespace {
@@ -37,11 +39,13 @@ int site_of(const RobotDef& r, const json& xyz, const std::string& source,
   return r.site(x, y, z);
 }
 
-void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
+}  // namespace
+
+void apply_physics_object(const json& p, const std::string& where, PhysicsDef& d) {
   if (!p.is_object()) fail(where, "physics", "expected an object");
-  if (p.contains("preset")) {
+  if (p.contains("preset")) {  // for the treatment and task so far (resolve_physics.hpp)
     try {
-      d = physics_preset(text(p["preset"], where, "physics.preset"));
+      d = with_preset(d, text(p["preset"], where, "physics.preset"));
     } catch (const std::invalid_argument& e) {
       fail(where, "physics.preset", e.what());
     }
@@ -99,6 +103,12 @@ void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
       fail(where, field, e.what());
     }
   }
+}
+
+namespace {
+
+void apply_physics(const json& p, const std::string& where, PhysicsDef& d) {
+  apply_physics_object(p, where, d);
   try {
     validate(d);
   } catch (const std::invalid_argument& e) {

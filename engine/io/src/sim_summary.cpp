@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/task.hpp"
 
 namespace plastivox {

@@ -53,7 +53,8 @@ struct StudyOptions {
   // out of the statistics and figures (counted and listed); true keeps it in.
   bool keep_artifacts = false;
   // false: a champion the vertical rule flags (walk scored in 3-D with vertical_share above
-  // kVerticalShareLimit, plastivox/simulator.hpp) is left out the same way; true keeps it in.
+  // kVerticalShareLimit, plastivox/rules/life_rules.hpp) is left out the same way; true keeps it
+  // in.
   bool keep_vertical = false;
   // Not part of the results (never written to stats.json):
   int threads = 0;        // 0 = all cores
@@ -143,8 +144,8 @@ struct ChampionAnalysis {
   std::string health;         // "ok", "penetrating" or "sank" (SimResult::floor_health)
   double floor_depth = 0;     // deepest penetration below the floor, voxel lengths
   double vertical_share = 0;  // share of its fitness from vertical displacement, [0, 1]
-  // The vertical rule (vertical_exploit, plastivox/simulator.hpp): a finished life, not sunk,
-  // whose walk is scored in 3-D and owes more than kVerticalShareLimit to vertical motion.
+  // The vertical rule (vertical_exploit, plastivox/rules/life_rules.hpp): a finished life, not
+  // sunk, whose walk is scored in 3-D and owes more than kVerticalShareLimit to vertical motion.
   bool vertical_exploit = false;
   // Why it is left out of every statistic and figure (an unstable or sunk life, unless
   // StudyOptions::keep_artifacts; a vertical_exploit, unless StudyOptions::keep_vertical);

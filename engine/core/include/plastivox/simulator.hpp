@@ -153,16 +153,6 @@ enum class FloorHealth {
 inline constexpr double kFloorPenetratingDepth = 0.5;  // a voxel's centre reaches the floor
 inline constexpr double kFloorSankDepth = 2.0;
 
-// The vertical rule (docs/engine.md, "Vertical motion"): walk's 3-D fitness pays for a rise
-// or a fall of the centre of mass as for a stride, so a life whose vertical_share exceeds
-// kVerticalShareLimit owes its score too much to moving up or down rather than walking,
-// provided it rose or fell at least kVerticalRiseMin voxel lengths (the share of a tiny
-// displacement is noise: the demo walker's first 0.2 s of walking has a share of 0.32 on
-// dz = 0.05). Set from measured lives: every walker measured stays at or below 0.06, the
-// champions an optimiser crowns before they walk (crouching or rising) reach 0.17 and more.
-inline constexpr double kVerticalShareLimit = 0.1;
-inline constexpr double kVerticalRiseMin = 0.25;  // voxel lengths
-
 struct SimResult {
   SimStatus status = SimStatus::kRunning;
   std::string failure;  // why the run went unstable; empty when it finished
@@ -189,10 +179,11 @@ struct SimResult {
   // contact and sinking"). A voxel's penetration is how far its bottom face (half its
   // actuated size below its centre, tilt ignored, as the floor contact sees it) is below
   // z = 0; the deepest over every step is floor_depth. Heavy, soft bodies pass through the
-  // floor: their time step is long enough to cross the contact in one step. A sunk life
-  // counts as unstable unless def.sinking_invalid is off (the authors' rule). Only a life
-  // that ran to its end is graded (one that blew up stays kOk and says why in `failure`);
-  // floor_depth and the counts are measured either way.
+  // floor: their time step is long enough to cross the contact in one step. Whether a sunk
+  // life counts is not the core's to say: judge_life (plastivox/rules/life_rules.hpp) makes
+  // it invalid under def.sinking_invalid. Only a life that ran to its end is graded (one that
+  // blew up stays kOk and says why in `failure`); floor_depth and the counts are measured
+  // either way.
   FloorHealth floor_health = FloorHealth::kOk;
   double floor_depth = 0;      // deepest penetration over the life, voxel lengths (>= 0)
   int voxels_deep_max = 0;     // most voxels at once deeper than kFloorPenetratingDepth
@@ -257,8 +248,8 @@ class LifeWatch {
 
   void see(const State& s);  // after every step, as the step left the state
   // The task's score of the life as though it ended at s (0 before settling): while it runs,
-  // from what see() saw; once over, simulate()'s fitness (0 for a life that went unstable or,
-  // under physics.sinking_invalid, sank). 0 as soon as sunk() under sinking_invalid.
+  // from what see() saw; once over, simulate()'s fitness (0 for a life that went unstable).
+  // A measurement: whether a sunk life counts is judge_life's (plastivox/rules/life_rules.hpp).
   double fitness(const State& s) const;
   // The body has gone kFloorSankDepth or deeper into the floor: a finished life is graded sunk.
   bool sunk() const;
@@ -275,14 +266,6 @@ class LifeWatch {
 // Displacement of the centre of mass from com_settled to com in voxel lengths, z zeroed
 // under the xy fitness mode: the vector whose norm is fitness.
 Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, const Vec3& com);
-
-// The vertical rule: true when `def` scores walk in 3-D (the only fitness a vertical motion
-// enters; xy fitness zeroes it and the other tasks define their own direction) and the
-// finished life `r`, not sunk (a fall through the floor is graded as such), has vertical_share
-// above kVerticalShareLimit and |dz| of at least kVerticalRiseMin. simulate() warns then (in
-// SimResult::warnings, which `plastivox simulate` prints and Python's Result holds), and the
-// study's audit flags such a champion (docs/analysis.md, "The audit").
-bool vertical_exploit(const PhysicsDef& def, const SimResult& r);
 
 const char* to_string(SimStatus s);
 const char* to_string(FloorHealth h);  // "ok", "penetrating", "sank"

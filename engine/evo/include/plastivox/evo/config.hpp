@@ -71,5 +71,9 @@ void set_task(EvolveConfig& config, Task task);
 
 // All physics fields of def as a canonical JSON object (provenance: what was simulated).
 std::string resolved_physics_json(const PhysicsDef& def);
+// The rule for sunk lives that text (a JSON object resolved_physics_json wrote) spells:
+// "sinking_invalid": true, or absent for the authors' rule, the only rule of files written
+// before the other became the default.
+bool sinking_invalid_in(const std::string& resolved_physics);
 
 }  // namespace plastivox::evo
