@@ -1,6 +1,7 @@
 // The engine side of plastivox.VoxelEnv (python/plastivox/_env.py, docs/python.md): one life
-// stepped by actions and watched as simulate() watches it (LifeWatch), so the task's fitness
-// so far is known after every step and the last one is simulate()'s, bit for bit. One call
+// stepped by actions; the Simulator keeps the watches in its State as simulate() does, so the
+// task's fitness so far is known after every step and the last one is simulate()'s, bit for
+// bit. One call
 // per environment step: the action checked and held, `every` engine steps taken, the
 // observation assembled. The GIL stays held (a step is short), so one Episode is never
 // stepped by two threads at once.
@@ -30,7 +31,6 @@ class PyEpisode {
             compile(robot.def, resolve_physics(robot.physics, physics, treatment),
                     limits_from_environment()))),
         sim_(*model_),
-        watch_(*model_),
         every_(every) {
     if (every < 1) throw std::invalid_argument("every: must be a number of steps >= 1");
     if (sensors.empty()) throw std::invalid_argument("sensors: name at least one sensor");
@@ -45,13 +45,12 @@ class PyEpisode {
   // Back to t = 0; the first observation.
   pyb::array_t<double> reset() {
     sim_.reset();
-    watch_ = LifeWatch(*model_);
     fitness_ = 0;
     end_ = "";
     return observe();
   }
 
-  // Holds `action` for `every` steps (fewer when the life ends), watching each. Returns
+  // Holds `action` for `every` steps (fewer when the life ends). Returns
   // (observation, fitness so far, how the episode stands: "running", "finished",
   // "unstable" or "sank").
   pyb::tuple step(const pyb::handle& action) {
@@ -64,14 +63,13 @@ class PyEpisode {
     const bool sinking_ends = model_->def.sinking_invalid;
     for (int k = 0; k < every_ && s.status == SimStatus::kRunning; ++k) {
       sim_.step();
-      watch_.see(s);
-      if (sinking_ends && watch_.sunk()) break;  // simulate() would score this life 0
+      if (sinking_ends && has_sunk(*model_, s)) break;  // simulate() would score this life 0
     }
-    fitness_ = watch_.fitness(s);  // 0 once the life is unstable, or sunk under sinking_ends
+    fitness_ = fitness_so_far(*model_, s);  // 0 once unstable, or sunk under sinking_ends
     if (s.status == SimStatus::kUnstable)
       end_ = "unstable";
     else if (sinking_ends &&
-             (watch_.sunk() || (s.status == SimStatus::kFinished && watch_.summary(s).sank)))
+             (has_sunk(*model_, s) || (s.status == SimStatus::kFinished && sim_.result().sank)))
       end_ = "sank";
     else if (s.status == SimStatus::kFinished)
       end_ = "finished";
@@ -105,7 +103,6 @@ class PyEpisode {
 
   std::shared_ptr<const Model> model_;
   Simulator sim_;
-  LifeWatch watch_;
   int every_;
   std::vector<const SensorField*> observed_;
   int obs_size_ = 0;

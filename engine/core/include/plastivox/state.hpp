@@ -21,6 +21,7 @@
 namespace plastivox {
 
 using Quat = Eigen::Quaterniond;
+using Vec2 = Eigen::Vector2d;
 
 enum class SimStatus { kRunning, kFinished, kUnstable };
 
@@ -29,6 +30,11 @@ enum class SimStatus { kRunning, kFinished, kUnstable };
 // relative to its rest place (m), [3..5] rotation vector of a, [6..8] rotation vector of b
 // (rad); all in the bond frame.
 using BondPrev = std::array<std::vector<double>, 9>;
+
+// A task's running values (docs/tasks.md names each task's): what its fitness needs besides
+// the last state, kept up after every step (task.hpp, TaskInfo::see).
+inline constexpr int kTaskValues = 10;
+using TaskValues = std::array<double, kTaskValues>;
 
 // What the list's initial values are made of (m: the model).
 namespace state_init {
@@ -50,7 +56,10 @@ inline BondPrev bond_components(const Model& m) {
 // Every field of State, in order: FIELD(type, name, initial value, shape, unit, frame,
 // meaning); bond_prev is one member of nine rows. The size is actuated for the next step's
 // bonds and contacts (none before the first step); dt follows stiffness; Voxelyze 0.9 starts
-// every bond in its small-angle frame.
+// every bond in its small-angle frame. The last six rows are what the Simulator keeps besides
+// the physics, so that a snapshot resumes the score too: the signal and the controller's
+// memory (control.hpp), and the watches step2 updates after every step (the floor's deepest
+// penetration, the task's running values: simulator.hpp).
 // clang-format off
 #define PLASTIVOX_STATE_FIELDS(FIELD, MEMBER, ROW)                                              \
   FIELD(double, time, 0.0, "1", "s", "-", "simulated time")                                     \
@@ -95,7 +104,20 @@ inline BondPrev bond_components(const Model& m) {
         "bonds", "-", "-", "1 while the bond uses the small-angle frame")                       \
   FIELD(Vec3, com_settled, Vec3(Vec3::Zero()), "3", "m", "world",                               \
         "centre of mass when settling ended")                                                   \
-  FIELD(bool, settled, false, "1", "-", "-", "time has passed the settle time")
+  FIELD(bool, settled, false, "1", "-", "-", "time has passed the settle time")          \
+  FIELD(std::vector<double>, actuation, state_init::per_voxel(m, 0.0), "n", "1", "-",           \
+        "actuation signal: the controller's last output, held until its next call")             \
+  FIELD(std::vector<double>, control_memory,                                                    \
+        std::vector<double>(controller_memory_size(m.controller, m.n), 0.0), "memory", "1", "-", \
+        "what the controller remembers between calls (distributed: the signals in flight)")     \
+  FIELD(double, floor_deepest, 0.0, "1", "m", "world",                                          \
+        "deepest floor penetration of any voxel after any step")                                \
+  FIELD(int32_t, floor_deep_most, int32_t{0}, "1", "1", "-",                                    \
+        "most voxels at once deeper than half a voxel length")                                  \
+  FIELD(TaskValues, task_values, TaskValues{}, "10", "-", "-",                                  \
+        "the task's running values (docs/tasks.md)")                                            \
+  FIELD(std::vector<Vec2>, task_layout, state_init::per_voxel(m, Vec2(Vec2::Zero())), "n x 2",  \
+        "m", "world", "turn: horizontal offset from the centre of mass when settling ended")
 // clang-format on
 
 struct State {
