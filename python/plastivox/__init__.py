@@ -454,7 +454,8 @@ class Simulator:
     numpy copies of the current state, in voxel order (increasing lattice site). state is
     every field of the engine's state (state_fields describes them) as read-only numpy views
     of the simulator's own memory, which follow it as it steps. save_state() gives the state
-    as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically).
+    as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically,
+    its score included); result() is the life's Result so far, or final once it is over.
     robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
     its robot and physics and step a new one. With free objects in the environment
     (docs/environments.md) every per-voxel array holds the robot's robot_voxels rows first,
@@ -475,9 +476,21 @@ class Simulator:
     state_fields = tuple(_core.Simulator.state_fields())
 
     def __init__(self, robot, physics=None, treatment=None):
-        self._core = _core.Simulator(_as_robot(robot)._core, _physics(physics),
-                                     _check_treatment(treatment))
+        robot = _as_robot(robot)
+        self._core = _core.Simulator(robot._core, _physics(physics), _check_treatment(treatment))
         self._views = None
+        # The robot a Result of this life names, as simulate() makes it.
+        self._robot = (robot if physics is None and treatment is None
+                       else robot.with_physics(physics, treatment))
+
+    def result(self):
+        """The life's Result at this point: so far while it runs (status "running", fitness
+        the task's score as though the life ended now), final once it is over; the same
+        fields and bits as simulate() gives for the same life (a life simulate() ends at the
+        same time, or the whole life), its wall time aside, without a trajectory. A snapshot
+        (save_state) holds what the score is made of, so a restored life reports the score of
+        the whole life."""
+        return Result(self._core.result(), None, self._robot)
 
     @property
     def state(self):

@@ -167,7 +167,10 @@ class PySimulator {
       : model_(std::make_shared<const Model>(
             compile(robot.def, resolve_physics(robot.physics, physics_arg, treatment),
                     limits_from_environment()))),
-        sim_(std::make_unique<Simulator>(*model_)) {}
+        sim_(std::make_unique<Simulator>(*model_)),
+        source_(robot.source),
+        file_density_(robot.physics.density),
+        voxel_size_(robot.def.voxel_size) {}
 
   // Advances up to n steps, stopping when the life is over (time past the duration, as in
   // simulate()) or unstable. Returns the steps taken.
@@ -222,6 +225,19 @@ class PySimulator {
     f(*sim_);
   }
 
+  // The life's summary so far (Simulator::result: final once the life is over), as
+  // simulate() hands its summary over: the same fields, the same bits but the wall time.
+  pyb::dict result() const {
+    SimResult r;
+    {
+      const Busy busy(*this);
+      r = sim_->result();
+    }
+    warn_vxa_density(r, source_, file_density_, model_->def, voxel_size_);
+    return life_to_python(r, sim_summary_fields(r, model_->def, source_, PLASTIVOX_VERSION))[0]
+        .cast<pyb::dict>();
+  }
+
   pyb::bytes save_state() const {
     const Busy busy(*this);
     const std::vector<uint8_t> bytes = sim_->save_state();  // the State, then the signal
@@ -257,6 +273,8 @@ class PySimulator {
 
   std::shared_ptr<const Model> model_;
   std::unique_ptr<Simulator> sim_;
+  std::string source_;  // the robot's file or name, and its own density and voxel size: what
+  double file_density_, voxel_size_;  // simulate()'s summary says of them
   mutable std::mutex in_use_;
 };
 
@@ -290,6 +308,7 @@ void bind_simulate(pyb::module_& m) {
           "state_views",
           [](const pyb::object& self) { return self.cast<const PySimulator&>().state_views(self); })
       .def("state_copy", &PySimulator::state_copy, pyb::arg("name"))
+      .def("result", &PySimulator::result)
       .def("save_state", &PySimulator::save_state)
       .def("restore_state", &PySimulator::restore_state, pyb::arg("snapshot"))
       .def_static("state_fields", &state_field_table);
