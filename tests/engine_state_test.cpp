@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/model_fields.hpp"
 #include "plastivox/simulator.hpp"
 #include "test_support.hpp"
 
@@ -64,6 +65,29 @@ TEST(StateFields, EveryByteOfEveryFieldIsInTheHash) {
 
 TEST(StateFields, DocsListEveryFieldWithItsUnit) {
   testing::expect_doc_lists_every_field("docs/engine.md", kStateFields);
+}
+
+// The Model's table: every row reads the model's own numbers, and docs/engine.md lists it.
+TEST(ModelFields, EveryRowReadsTheModelAndTheDocsListIt) {
+  const Model m = developing_walker(0.5);
+  std::set<std::string> names;
+  for (const ModelField& f : kModelFields) {
+    EXPECT_TRUE(names.insert(f.name).second) << f.name << " listed twice";
+    const StateFieldBytes b = f.bytes(m);
+    EXPECT_GT(b.count, 0u) << f.name;
+    EXPECT_EQ(b.count % b.width, 0u) << f.name;
+  }
+  const auto first = [&](const char* name) { return model_field(name).bytes(m).data; };
+  EXPECT_EQ(*static_cast<const int*>(first("n")), m.n);
+  EXPECT_EQ(*static_cast<const double*>(first("mass")), m.mass);
+  EXPECT_EQ(*static_cast<const double*>(first("k_kb3")), m.k.kb3);
+  EXPECT_EQ(first("rest_pos"), m.rest_pos.data());
+  EXPECT_EQ(model_field("rest_pos").bytes(m).count, static_cast<size_t>(3 * m.n));
+  EXPECT_EQ(model_field("voxel_bonds").bytes(m).count, static_cast<size_t>(6 * m.n));
+  EXPECT_EQ(static_cast<const int*>(first("voxel_bonds"))[6 * 2 + 1], m.voxel_bonds[2][1]);
+  EXPECT_EQ(model_field("bond_a").bytes(m).count, static_cast<size_t>(m.bond_count()));
+  EXPECT_THROW(model_field("no_such_field"), std::invalid_argument);
+  testing::expect_doc_lists_every_field("docs/engine.md", kModelFields);
 }
 
 // The two public halves, called with nothing between them, are step(): the life ends where

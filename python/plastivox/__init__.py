@@ -475,10 +475,15 @@ class Simulator:
     # frame and meaning, in the engine's order (docs/engine.md, "State").
     state_fields = tuple(_core.Simulator.state_fields())
 
+    # Each number and array of the compiled model: name, shape, unit, frame and meaning, in
+    # the engine's order (docs/engine.md, "Model").
+    model_fields = tuple(_core.Simulator.model_fields())
+
     def __init__(self, robot, physics=None, treatment=None):
         robot = _as_robot(robot)
         self._core = _core.Simulator(robot._core, _physics(physics), _check_treatment(treatment))
         self._views = None
+        self._model_views = None
         # The robot a Result of this life names, as simulate() makes it.
         self._robot = (robot if physics is None and treatment is None
                        else robot.with_physics(physics, treatment))
@@ -499,6 +504,15 @@ class Simulator:
         if self._views is None:
             self._views = _types.MappingProxyType(self._core.state_views())
         return self._views
+
+    @property
+    def model(self):
+        """{field name: read-only numpy view} of the compiled model (model_fields describes
+        them: voxel count, size, mass, rest positions, E0, development rates, phases, bonds,
+        derived constants, ...); it never changes during a life."""
+        if self._model_views is None:
+            self._model_views = _types.MappingProxyType(self._core.model_views())
+        return self._model_views
 
     def save_state(self):
         """The state as bytes (every field, in state_fields order)."""

@@ -13,6 +13,7 @@
 #include "plastivox/io/limits.hpp"
 #include "plastivox/io/robot_io.hpp"  // warn_vxa_density
 #include "plastivox/io/sim_summary.hpp"
+#include "plastivox/model_fields.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
 
@@ -144,7 +145,8 @@ pyb::dtype field_dtype(const StateFieldBytes& b) {
 
 // A field's numpy shape: () for one value, (count,) for a fixed vector or one value per
 // voxel or bond, (entries, width) for a vector or quaternion per voxel.
-std::vector<pyb::ssize_t> field_shape(const StateField& f, const StateFieldBytes& b) {
+template <class Row>
+std::vector<pyb::ssize_t> field_shape(const Row& f, const StateFieldBytes& b) {
   const auto count = static_cast<pyb::ssize_t>(b.count);
   const auto width = static_cast<pyb::ssize_t>(b.width);
   if (std::string(f.shape) == "1") return {};
@@ -152,9 +154,10 @@ std::vector<pyb::ssize_t> field_shape(const StateField& f, const StateFieldBytes
   return {count};
 }
 
-// A field of s as a numpy array: a view of s's memory that keeps `base` alive, or, with a
-// null base, a copy.
-pyb::array field_array(const StateField& f, const State& s, const pyb::handle& base) {
+// A field of s (a State, or a Model) as a numpy array: a view of s's memory that keeps `base`
+// alive, or, with a null base, a copy.
+template <class S>
+pyb::array field_array(const FieldRow<S>& f, const S& s, const pyb::handle& base) {
   const StateFieldBytes b = f.bytes(s);
   return pyb::array(field_dtype(b), field_shape(f, b), {}, b.data, base);
 }
@@ -205,6 +208,18 @@ class PySimulator {
     pyb::dict views;
     for (const StateField& f : kStateFields) {
       pyb::array a = field_array(f, s, self);
+      a.attr("setflags")(pyb::arg("write") = false);
+      views[f.name] = a;
+    }
+    return views;
+  }
+
+  // Every row of kModelFields as a read-only numpy view of the compiled model, which never
+  // changes and lives as long as this object.
+  pyb::dict model_views(const pyb::object& self) const {
+    pyb::dict views;
+    for (const ModelField& f : kModelFields) {
+      pyb::array a = field_array(f, *model_, self);
       a.attr("setflags")(pyb::arg("write") = false);
       views[f.name] = a;
     }
@@ -282,6 +297,10 @@ pyb::list state_field_table() {
   return describe_fields(kStateFields);
 }
 
+pyb::list model_field_table() {
+  return describe_fields(kModelFields);
+}
+
 }  // namespace
 
 void bind_simulate(pyb::module_& m) {
@@ -311,7 +330,11 @@ void bind_simulate(pyb::module_& m) {
       .def("result", &PySimulator::result)
       .def("save_state", &PySimulator::save_state)
       .def("restore_state", &PySimulator::restore_state, pyb::arg("snapshot"))
-      .def_static("state_fields", &state_field_table);
+      .def_static("state_fields", &state_field_table)
+      .def(
+          "model_views",
+          [](const pyb::object& self) { return self.cast<const PySimulator&>().model_views(self); })
+      .def_static("model_fields", &model_field_table);
   bind_control(m, simulator, [](const pyb::handle& self, const std::function<void(Simulator&)>& f) {
     self.cast<PySimulator&>().use(f);
   });

@@ -73,3 +73,21 @@ def test_every_row_of_the_state_table_is_a_view_the_score_rows_included():
     assert float(state["floor_deepest"]) > 0 and state["floor_deep_most"].dtype == np.int32
     assert state["task_values"].shape == (10,) and float(state["task_values"][0]) > 0
     assert state["task_layout"].shape == (n, 2)
+
+
+def test_the_model_table_is_read_whole_from_python():
+    sim = plastivox.Simulator(walker(), {"task": "push"})  # a free box: objects + 1 rows
+    names = [f["name"] for f in sim.model_fields]
+    model = sim.model
+    assert list(model) == names and len(names) > 30
+    n = len(sim.positions)
+    assert int(model["n"]) == n and int(model["robot_n"]) == sim.robot_voxels < n
+    assert np.array_equal(model["object_begin"], [sim.robot_voxels, n])
+    assert model["rest_pos"].shape == (n, 3) and model["voxel_bonds"].shape == (n, 6)
+    assert float(model["mass"]) == sim._core.voxel_mass
+    assert np.array_equal(model["phase"][:sim.robot_voxels], sim.voxel_phase)
+    bonds = model["bond_a"].shape[0]
+    assert model["bond_b"].shape == (bonds,) and model["bond_axis"].dtype == np.uint8
+    assert not model["e0"].flags.writeable
+    # Before the first step the state's stiffness is the model's E0.
+    assert np.array_equal(sim.state["stiffness"], model["e0"])
