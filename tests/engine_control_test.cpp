@@ -34,8 +34,8 @@ uint64_t run_life(Simulator& sim) {
 // Reverses the sine wherever the voxel touches the floor: a closed loop that reads a sensor.
 class ReverseOnTouch final : public Controller {
  public:
-  void act(const Sensors& sensors, std::span<double> actuation) override {
-    sine_.act(sensors, actuation);
+  void act(const Sensors& sensors, std::span<double> actuation, std::span<double> m) override {
+    sine_.act(sensors, actuation, m);
     const std::span<const double> touch = sensors.read(Sensor::kTouch);
     for (size_t i = 0; i < actuation.size(); ++i)
       if (touch[i] == 1.0) actuation[i] = -actuation[i];
@@ -48,7 +48,7 @@ class ReverseOnTouch final : public Controller {
 // Counts its calls and writes the step count into the signal (scaled into [-1, 1]).
 class Counting final : public Controller {
  public:
-  void act(const Sensors& sensors, std::span<double> actuation) override {
+  void act(const Sensors& sensors, std::span<double> actuation, std::span<double>) override {
     ++calls;
     for (double& u : actuation) u = std::sin(0.01 * static_cast<double>(sensors.state().steps));
   }

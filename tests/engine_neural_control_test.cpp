@@ -183,18 +183,20 @@ TEST(NeuralControl, SnapshotsCarryTheSignalsInFlight) {
   second.restore_state(snapshot);
   for (int k = 0; k < 250; ++k) second.step();
   EXPECT_EQ(state_hash(second.state()), state_hash(first.state()));
-  // The sine remembers nothing: its snapshots hold no memory, and it takes the State and
-  // signal of a network's snapshot.
+  // The memory is the State's (control_memory: the 7 outputs of every voxel), sized by the
+  // model's controller: a Simulator of the model driven by the sine keeps it (unused) and
+  // takes the network's snapshot.
+  EXPECT_EQ(first.state().control_memory.size(), static_cast<size_t>(7 * model.n));
   Simulator sine(model);
   sine.set_controller(std::make_unique<SineController>());
-  EXPECT_EQ(sine.save_state().size() + 8 * 6 * model.n + 8 * model.n + 16, snapshot.size());
+  EXPECT_EQ(sine.save_state().size(), snapshot.size());
   sine.restore_state(snapshot);
   EXPECT_EQ(sine.state().steps, 250);
-  // A snapshot whose memory is damaged is refused, naming it.
-  std::vector<uint8_t> damaged = snapshot;
-  const size_t count_at = damaged.size() - (16 + 8 * model.n) - 16;
-  damaged[count_at + 7] = 0x7f;
-  EXPECT_NE(testing::error_of([&] { second.restore_state(damaged); }).find("controller memory"),
+  // A snapshot of the same body without the network (no memory) is refused, naming the row.
+  const Model plain = compile(walker_with(ControllerDef{}), short_life());
+  EXPECT_NE(testing::error_of([&] {
+              second.restore_state(Simulator(plain).save_state());
+            }).find("field 'control_memory' holds 0 values"),
             std::string::npos);
 }
 

@@ -223,10 +223,7 @@ State moved(const Settled& b, const Vec3& body, const Vec3& object) {
 }
 
 double score_after(const Settled& b, const std::vector<State>& states) {
-  const std::unique_ptr<TaskWatch> w = make_task_watch(b.model);
-  w->see(b.model, b.state);
-  for (const State& s : states) w->see(b.model, s);
-  return w->score(b.model, states.back(), SimResult{});
+  return testing::task_score_after(b.model, b.state, states);
 }
 
 TEST(Objects, TasksPlaceTheirObjectsFromTheBodysBounds) {

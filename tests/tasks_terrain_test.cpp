@@ -46,7 +46,7 @@ double score_of(const Model& m, const Vec3& from, const Vec3& to) {
   summary.com_settled = from;
   summary.com_final = to;
   summary.displacement = to - from;
-  return make_task_watch(m)->score(m, State{}, summary);
+  return task_score(m, State{}, summary);
 }
 
 // The centre of the 3 x 2 footprint at height z.

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/task.hpp"
 
 namespace plastivox::testing {
 
@@ -34,6 +35,18 @@ PhysicsDef passive_physics() {
 PhysicsDef with_environment(PhysicsDef def, const std::string& environment) {
   apply_physics_json("{\"environment\": " + environment + "}", "test", def);
   return def;
+}
+
+double task_score_after(const Model& m, const State& first, const std::vector<State>& states) {
+  State seen = first;
+  carry_task_values(make_initial_state(m), seen);
+  see_task(m, seen);
+  for (State s : states) {
+    carry_task_values(seen, s);
+    see_task(m, s);
+    seen = s;
+  }
+  return task_score(m, seen, SimResult{});
 }
 
 void run_until(Simulator& sim, double t) {

@@ -30,6 +30,17 @@ PhysicsDef with_environment(PhysicsDef def, const std::string& environment);
 // Steps the simulator until its time reaches t (or it goes unstable).
 void run_until(Simulator& sim, double t);
 
+// The task's running values (task_values, task_layout) of `from` put into `to`, as the task's
+// watch would have carried them had the life stepped from `from` to `to`: for feeding a task
+// hand-made states.
+inline void carry_task_values(const State& from, State& to) {
+  to.task_values = from.task_values;
+  to.task_layout = from.task_layout;
+}
+// The task's score (of m's task) of a life that went through `first` and then `states` in
+// order and ended on the last: the task's watch sees each, none seen before `first`.
+double task_score_after(const Model& m, const State& first, const std::vector<State>& states);
+
 // |actual - expected| <= rel * |expected|, with a message naming both.
 inline ::testing::AssertionResult RelNear(double actual, double expected, double rel) {
   if (std::abs(actual - expected) <= rel * std::abs(expected)) return ::testing::AssertionSuccess();

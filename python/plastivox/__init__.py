@@ -446,7 +446,8 @@ class Simulator:
     numpy copies of the current state, in voxel order (increasing lattice site). state is
     every field of the engine's state (state_fields describes them) as read-only numpy views
     of the simulator's own memory, which follow it as it steps. save_state() gives the state
-    as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically).
+    as bytes, restore_state(snapshot) returns to it (the life then continues bit-identically,
+    its score included); result() is the life's Result so far, or final once it is over.
     robot is a Robot or a file path, as simulate takes. A Simulator does not pickle: pickle
     its robot and physics and step a new one. With free objects in the environment
     (docs/environments.md) every per-voxel array holds the robot's robot_voxels rows first,
@@ -466,10 +467,27 @@ class Simulator:
     # frame and meaning, in the engine's order (docs/engine.md, "State").
     state_fields = tuple(_core.Simulator.state_fields())
 
+    # Each number and array of the compiled model: name, shape, unit, frame and meaning, in
+    # the engine's order (docs/engine.md, "Model").
+    model_fields = tuple(_core.Simulator.model_fields())
+
     def __init__(self, robot, physics=None, treatment=None):
-        self._core = _core.Simulator(_as_robot(robot)._core, _physics(physics),
-                                     _check_treatment(treatment))
+        robot = _as_robot(robot)
+        self._core = _core.Simulator(robot._core, _physics(physics), _check_treatment(treatment))
         self._views = None
+        self._model_views = None
+        # The robot a Result of this life names, as simulate() makes it.
+        self._robot = (robot if physics is None and treatment is None
+                       else robot.with_physics(physics, treatment))
+
+    def result(self):
+        """The life's Result at this point: so far while it runs (status "running", fitness
+        the task's score as though the life ended now), final once it is over; the same
+        fields and bits as simulate() gives for the same life (a life simulate() ends at the
+        same time, or the whole life), its wall time aside, without a trajectory. A snapshot
+        (save_state) holds what the score is made of, so a restored life reports the score of
+        the whole life."""
+        return Result(self._core.result(), None, self._robot)
 
     @property
     def state(self):
@@ -478,6 +496,15 @@ class Simulator:
         if self._views is None:
             self._views = _types.MappingProxyType(self._core.state_views())
         return self._views
+
+    @property
+    def model(self):
+        """{field name: read-only numpy view} of the compiled model (model_fields describes
+        them: voxel count, size, mass, rest positions, E0, development rates, phases, bonds,
+        derived constants, ...); it never changes during a life."""
+        if self._model_views is None:
+            self._model_views = _types.MappingProxyType(self._core.model_views())
+        return self._model_views
 
     def save_state(self):
         """The state as bytes (every field, in state_fields order)."""

@@ -1,6 +1,7 @@
 // The engine side of plastivox.VoxelEnv (python/plastivox/_env.py, docs/python.md): one life
-// stepped by actions and watched as simulate() watches it (LifeWatch), so the task's fitness
-// so far is known after every step and the last one is simulate()'s, bit for bit. One call
+// stepped by actions; the Simulator keeps the watches in its State as simulate() does, so the
+// task's fitness so far is known after every step and the last one is simulate()'s, bit for
+// bit. One call
 // per environment step: the action checked and held, `every` engine steps taken, the
 // observation assembled. The GIL stays held (a step is short), so one Episode is never
 // stepped by two threads at once.
@@ -31,7 +32,6 @@ class PyEpisode {
             compile(robot.def, physics_of_call(robot.physics, physics, treatment, task),
                     limits_from_environment()))),
         sim_(*model_),
-        watch_(*model_),
         every_(every) {
     if (every < 1) throw std::invalid_argument("every: must be a number of steps >= 1");
     if (sensors.empty()) throw std::invalid_argument("sensors: name at least one sensor");
@@ -46,13 +46,12 @@ class PyEpisode {
   // Back to t = 0; the first observation.
   pyb::array_t<double> reset() {
     sim_.reset();
-    watch_ = LifeWatch(*model_);
     fitness_ = 0;
     end_ = "";
     return observe();
   }
 
-  // Holds `action` for `every` steps (fewer when the life ends), watching each. Returns
+  // Holds `action` for `every` steps (fewer when the life ends). Returns
   // (observation, fitness so far, how the episode stands: "running", "finished",
   // "unstable" or "sank").
   pyb::tuple step(const pyb::handle& action) {
@@ -65,19 +64,20 @@ class PyEpisode {
     const PhysicsDef& def = model_->def;
     for (int k = 0; k < every_ && s.status == SimStatus::kRunning; ++k) {
       sim_.step();
-      watch_.see(s);
-      if (ends_invalid(def, watch_.sunk())) break;  // judge_life would make this life 0
+      if (ends_invalid(def, has_sunk(*model_, s))) break;  // judge_life would make this life 0
     }
     // A life that is over is judged as plastivox simulate and evolution judge it; one running
     // ends invalid (fitness 0) once it is certain to be judged sunk.
     SimResult life;
     if (s.status != SimStatus::kRunning) {
-      life = watch_.summary(s);
+      life = sim_.result();
       judge_life(def, life);
     }
-    const bool sank = ends_invalid(def, watch_.sunk()) ||
+    const bool sank = ends_invalid(def, has_sunk(*model_, s)) ||
                       (s.status == SimStatus::kFinished && life.status != SimStatus::kFinished);
-    fitness_ = sank ? 0.0 : s.status == SimStatus::kRunning ? watch_.fitness(s) : life.fitness;
+    fitness_ = sank                              ? 0.0
+               : s.status == SimStatus::kRunning ? fitness_so_far(*model_, s)
+                                                 : life.fitness;
     if (s.status == SimStatus::kUnstable)
       end_ = "unstable";
     else if (sank)
@@ -114,7 +114,6 @@ class PyEpisode {
 
   std::shared_ptr<const Model> model_;
   Simulator sim_;
-  LifeWatch watch_;
   int every_;
   std::vector<const SensorField*> observed_;
   int obs_size_ = 0;

@@ -13,6 +13,7 @@
 #include "plastivox/io/limits.hpp"
 #include "plastivox/io/robot_io.hpp"  // warn_vxa_density
 #include "plastivox/io/sim_summary.hpp"
+#include "plastivox/model_fields.hpp"
 #include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
@@ -148,7 +149,8 @@ pyb::dtype field_dtype(const StateFieldBytes& b) {
 
 // A field's numpy shape: () for one value, (count,) for a fixed vector or one value per
 // voxel or bond, (entries, width) for a vector or quaternion per voxel.
-std::vector<pyb::ssize_t> field_shape(const StateField& f, const StateFieldBytes& b) {
+template <class Row>
+std::vector<pyb::ssize_t> field_shape(const Row& f, const StateFieldBytes& b) {
   const auto count = static_cast<pyb::ssize_t>(b.count);
   const auto width = static_cast<pyb::ssize_t>(b.width);
   if (std::string(f.shape) == "1") return {};
@@ -156,9 +158,10 @@ std::vector<pyb::ssize_t> field_shape(const StateField& f, const StateFieldBytes
   return {count};
 }
 
-// A field of s as a numpy array: a view of s's memory that keeps `base` alive, or, with a
-// null base, a copy.
-pyb::array field_array(const StateField& f, const State& s, const pyb::handle& base) {
+// A field of s (a State, or a Model) as a numpy array: a view of s's memory that keeps `base`
+// alive, or, with a null base, a copy.
+template <class S>
+pyb::array field_array(const FieldRow<S>& f, const S& s, const pyb::handle& base) {
   const StateFieldBytes b = f.bytes(s);
   return pyb::array(field_dtype(b), field_shape(f, b), {}, b.data, base);
 }
@@ -171,7 +174,10 @@ class PySimulator {
       : model_(std::make_shared<const Model>(
             compile(robot.def, physics_of_call(robot.physics, physics_arg, treatment, {}),
                     limits_from_environment()))),
-        sim_(std::make_unique<Simulator>(*model_)) {}
+        sim_(std::make_unique<Simulator>(*model_)),
+        source_(robot.source),
+        file_density_(robot.physics.density),
+        voxel_size_(robot.def.voxel_size) {}
 
   // Advances up to n steps, stopping when the life is over (time past the duration, as in
   // simulate()) or unstable. Returns the steps taken.
@@ -212,6 +218,18 @@ class PySimulator {
     return views;
   }
 
+  // Every row of kModelFields as a read-only numpy view of the compiled model, which never
+  // changes and lives as long as this object.
+  pyb::dict model_views(const pyb::object& self) const {
+    pyb::dict views;
+    for (const ModelField& f : kModelFields) {
+      pyb::array a = field_array(f, *model_, self);
+      a.attr("setflags")(pyb::arg("write") = false);
+      views[f.name] = a;
+    }
+    return views;
+  }
+
   // A copy of one field, made while no other thread steps.
   pyb::array state_copy(const std::string& name) const {
     const State& s = state();
@@ -224,6 +242,21 @@ class PySimulator {
   void use(const std::function<void(Simulator&)>& f) {
     const Busy busy(*this);
     f(*sim_);
+  }
+
+  // The life's summary so far (Simulator::result: final once the life is over), judged as
+  // simulate() judges it (judge_life), and handed over as simulate() hands its summary over:
+  // the same fields, the same bits but the wall time.
+  pyb::dict result() const {
+    SimResult r;
+    {
+      const Busy busy(*this);
+      r = sim_->result();
+    }
+    judge_life(model_->def, r);  // as simulate() and plastivox simulate judge a life
+    warn_vxa_density(r, source_, file_density_, model_->def, voxel_size_);
+    return life_to_python(r, sim_summary_fields(r, model_->def, source_, PLASTIVOX_VERSION))[0]
+        .cast<pyb::dict>();
   }
 
   pyb::bytes save_state() const {
@@ -261,11 +294,17 @@ class PySimulator {
 
   std::shared_ptr<const Model> model_;
   std::unique_ptr<Simulator> sim_;
+  std::string source_;  // the robot's file or name, and its own density and voxel size: what
+  double file_density_, voxel_size_;  // simulate()'s summary says of them
   mutable std::mutex in_use_;
 };
 
 pyb::list state_field_table() {
   return describe_fields(kStateFields);
+}
+
+pyb::list model_field_table() {
+  return describe_fields(kModelFields);
 }
 
 }  // namespace
@@ -294,9 +333,14 @@ void bind_simulate(pyb::module_& m) {
           "state_views",
           [](const pyb::object& self) { return self.cast<const PySimulator&>().state_views(self); })
       .def("state_copy", &PySimulator::state_copy, pyb::arg("name"))
+      .def("result", &PySimulator::result)
       .def("save_state", &PySimulator::save_state)
       .def("restore_state", &PySimulator::restore_state, pyb::arg("snapshot"))
-      .def_static("state_fields", &state_field_table);
+      .def_static("state_fields", &state_field_table)
+      .def(
+          "model_views",
+          [](const pyb::object& self) { return self.cast<const PySimulator&>().model_views(self); })
+      .def_static("model_fields", &model_field_table);
   bind_control(m, simulator, [](const pyb::handle& self, const std::function<void(Simulator&)>& f) {
     self.cast<PySimulator&>().use(f);
   });

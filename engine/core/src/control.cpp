@@ -114,7 +114,7 @@ std::span<const double> Sensors::read(Sensor id) const {
   return v;
 }
 
-void SineController::act(const Sensors& sensors, std::span<double> actuation) {
+void SineController::act(const Sensors& sensors, std::span<double> actuation, std::span<double>) {
   const Model& m = sensors.model();
   const State& s = sensors.state();
   if (s.time < m.def.settle_time) return;  // not actuated yet: the signal is not read
@@ -122,7 +122,9 @@ void SineController::act(const Sensors& sensors, std::span<double> actuation) {
     std::fill(actuation.begin(), actuation.end(), 0.0);
     return;
   }
-  kernels().sine(m.phase.data(), actuation.data(), m.n, m.def.act_frequency * s.time);
+  // The robot's voxels: a free object does not actuate (its signal, a row of the State, stays
+  // 0, as a caller that drives the robot writes it).
+  kernels().sine(m.phase.data(), actuation.data(), m.robot_n, m.def.act_frequency * s.time);
 }
 
 double sin_cycles_of(double u) {

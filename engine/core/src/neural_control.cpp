@@ -92,47 +92,42 @@ class DistributedController final : public Controller {
       }
     in_.resize(static_cast<size_t>(n_) * kDistributedInputs);
     hidden_.resize(static_cast<size_t>(n_) * def_.hidden);
-    out_.resize(static_cast<size_t>(n_) * kDistributedOutputs);
-    reset();
   }
 
-  void reset() override { std::fill(out_.begin(), out_.end(), 0.0); }
   double max_rate() const override { return max_rate_; }
-  // The outputs of the last call: the signals in flight (and the actuation, which the next
-  // call overwrites).
-  std::span<const double> memory() const override { return out_; }
-  void set_memory(std::span<const double> values) override {
-    std::copy(values.begin(), values.end(), out_.begin());
-  }
+  // The outputs of the last call (the signals in flight, and the actuation, which the next
+  // call overwrites), kept in the State: controller_memory_size.
+  size_t memory_size() const override { return controller_memory_size(def_, n_); }
 
-  void act(const Sensors& sensors, std::span<double> actuation) override {
+  void act(const Sensors& sensors, std::span<double> actuation, std::span<double> memory) override {
     const int n = n_;
+    double* out = memory.data();
     local_inputs(sensors, in_.data());
     // From the neighbour j across face f: what j sent across its opposite face (f ^ 1) at
-    // the last call, still in out_ (row 1 + face).
+    // the last call, still in the memory (row 1 + face).
     for (int f = 0; f < kFaces; ++f) {
       double* x = &in_[static_cast<size_t>(kLocalInputs + f) * n];
-      const double* sent = &out_[static_cast<size_t>(1 + (f ^ 1)) * n];
+      const double* sent = &out[static_cast<size_t>(1 + (f ^ 1)) * n];
       const int* j = &neighbour_[static_cast<size_t>(f) * n];
       for (int i = 0; i < n; ++i) x[i] = j[i] >= 0 ? sent[j[i]] : 0.0;
     }
     const double* w = def_.weights.data();
     if (def_.hidden > 0) {
       w = layer(w, in_.data(), kDistributedInputs, hidden_.data(), def_.hidden, n);
-      layer(w, hidden_.data(), def_.hidden, out_.data(), kDistributedOutputs, n);
+      layer(w, hidden_.data(), def_.hidden, out, kDistributedOutputs, n);
     } else {
-      layer(w, in_.data(), kDistributedInputs, out_.data(), kDistributedOutputs, n);
+      layer(w, in_.data(), kDistributedInputs, out, kDistributedOutputs, n);
     }
-    std::copy_n(out_.begin(), n, actuation.begin());
+    std::copy_n(out, n, actuation.begin());
   }
 
  private:
   ControllerDef def_;
   int n_;
   std::vector<int> neighbour_;  // 6 rows of n voxel indices
-  // Rows of n: the inputs, the hidden units, and the outputs (actuation, then the signals
-  // sent across each face, which the next call reads).
-  std::vector<double> in_, hidden_, out_;
+  // Rows of n: the inputs and the hidden units (scratch; the outputs are the memory:
+  // actuation, then the signals sent across each face, which the next call reads).
+  std::vector<double> in_, hidden_;
   double max_rate_;  // physics.act_max_rate
 };
 
@@ -148,7 +143,7 @@ class CentralController final : public Controller {
         max_rate_(m.def.act_max_rate) {}
   double max_rate() const override { return max_rate_; }
 
-  void act(const Sensors& sensors, std::span<double> actuation) override {
+  void act(const Sensors& sensors, std::span<double> actuation, std::span<double>) override {
     const Model& m = sensors.model();
     const int n = m.n, h = def_.hidden;
     local_inputs(sensors, local_.data());
@@ -200,6 +195,12 @@ std::string controller_text(const ControllerDef& c) {
   else if (c.kind != ControllerKind::kSine)
     s += ", every step";
   return s;
+}
+
+size_t controller_memory_size(const ControllerDef& c, int voxels) {
+  return c.kind == ControllerKind::kDistributed
+             ? static_cast<size_t>(voxels) * static_cast<size_t>(kDistributedOutputs)
+             : 0;
 }
 
 int weight_count(ControllerKind kind, int hidden) {

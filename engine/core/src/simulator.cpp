@@ -23,7 +23,7 @@ Simulator::Simulator(const Model& model)
       ws_(std::make_unique<Workspace>(model)),
       controller_(make_controller(model)),
       every_(model.controller.every),
-      actuation_(model.n, 0.0) {
+      see_task_(task_info(model.def.task).see) {
   bind_views(model, state_, *ws_);
 }
 Simulator::~Simulator() = default;
@@ -35,85 +35,16 @@ State& Simulator::mutable_state() {
   return state_;
 }
 
-namespace {
-
-// The actuation signal follows the State in a Simulator's snapshot: this tag, the value
-// count, the values.
-constexpr char kActuationTag[8] = {'P', 'V', 'X', 'A', 'C', 'T', 'U', '1'};
-// A controller's memory (Controller::memory), when it has any, stands between the State and
-// the signal: its values, their count, then this tag (read backwards from the signal).
-constexpr char kMemoryTag[8] = {'P', 'V', 'X', 'M', 'E', 'M', 'O', '1'};
-constexpr size_t kActuationHeader = sizeof kActuationTag + sizeof(uint64_t);
-
-void put_bytes(std::vector<uint8_t>& out, const void* data, size_t bytes) {
-  const auto* p = static_cast<const uint8_t*>(data);
-  out.insert(out.end(), p, p + bytes);
-}
-
-}  // namespace
-
 std::vector<uint8_t> Simulator::save_state() const {
   if (between_halves_)
     throw std::logic_error(
         "save_state: the simulator is between the halves of a step (step1 or sensors() ran, "
         "step2 not yet): save before reading the sensors, or after the step");
-  std::vector<uint8_t> out = plastivox::save_state(state_);
-  const std::span<const double> memory =
-      controller_ ? controller_->memory() : std::span<const double>();
-  if (!memory.empty()) {
-    const uint64_t m = memory.size();
-    put_bytes(out, memory.data(), m * sizeof(double));
-    put_bytes(out, &m, sizeof m);
-    put_bytes(out, kMemoryTag, sizeof kMemoryTag);
-  }
-  const uint64_t count = actuation_.size();
-  put_bytes(out, kActuationTag, sizeof kActuationTag);
-  put_bytes(out, &count, sizeof count);
-  put_bytes(out, actuation_.data(), count * sizeof(double));
-  return out;
+  return plastivox::save_state(state_);
 }
 
 void Simulator::restore_state(const std::vector<uint8_t>& snapshot) {
-  // A Simulator's snapshot ends with this model's signal; anything else is taken as a
-  // snapshot of the State alone (and checked as one).
-  const size_t tail = kActuationHeader + actuation_.size() * sizeof(double);
-  const uint8_t* signal =
-      snapshot.size() >= tail ? snapshot.data() + snapshot.size() - tail : nullptr;
-  uint64_t count = 0;
-  if (signal) std::memcpy(&count, signal + sizeof kActuationTag, sizeof count);
-  if (signal && std::memcmp(signal, kActuationTag, sizeof kActuationTag) == 0 &&
-      count == actuation_.size()) {
-    // The controller's memory, when the snapshot holds one, just before the signal.
-    size_t state_end = snapshot.size() - tail;
-    const uint8_t* memory = nullptr;
-    uint64_t m = 0;
-    const size_t footer = sizeof m + sizeof kMemoryTag;
-    if (state_end >= footer &&
-        std::memcmp(signal - sizeof kMemoryTag, kMemoryTag, sizeof kMemoryTag) == 0) {
-      std::memcpy(&m, signal - footer, sizeof m);
-      if (m > (state_end - footer) / sizeof(double))
-        throw std::invalid_argument("snapshot: controller memory: damaged (count " +
-                                    std::to_string(m) + ")");
-      state_end -= footer + m * sizeof(double);
-      memory = snapshot.data() + state_end;
-      const size_t own = controller_ ? controller_->memory().size() : 0;
-      if (own != 0 && own != m)
-        throw std::invalid_argument("snapshot: controller memory: " + std::to_string(m) +
-                                    " values, this simulator's controller holds " +
-                                    std::to_string(own) + " (another model or controller)");
-      if (own == 0) memory = nullptr;  // another controller's: this one remembers nothing
-    }
-    plastivox::restore_state(state_,
-                             std::vector<uint8_t>(snapshot.begin(), snapshot.begin() + state_end));
-    std::memcpy(actuation_.data(), signal + kActuationHeader, count * sizeof(double));
-    if (memory) {
-      std::vector<double> values(m);  // the snapshot's bytes may not be aligned for double
-      std::memcpy(values.data(), memory, m * sizeof(double));
-      controller_->set_memory(values);
-    }
-  } else {
-    plastivox::restore_state(state_, snapshot);
-  }
+  plastivox::restore_state(state_, snapshot);
   between_halves_ = false;
   sensor_cache_.invalidate();
   // The self-collision candidates are a cache of the positions at their last refresh: start
@@ -125,9 +56,8 @@ void Simulator::restore_state(const std::vector<uint8_t>& snapshot) {
 }
 
 void Simulator::reset() {
-  std::vector<uint8_t> initial = plastivox::save_state(make_initial_state(*model_));
-  restore_state(initial);
-  std::fill(actuation_.begin(), actuation_.end(), 0.0);
+  // Copied into the State's own arrays, which keep their storage (Python's views read them).
+  restore_state(plastivox::save_state(make_initial_state(*model_)));
   if (controller_) controller_->reset();
 }
 
@@ -135,6 +65,12 @@ void Simulator::set_controller(std::unique_ptr<Controller> controller, int every
   if (every < 1)
     throw std::invalid_argument("every: the control rate must be >= 1 step, got " +
                                 std::to_string(every));
+  const size_t memory = controller ? controller->memory_size() : 0;
+  if (memory != 0 && memory != state_.control_memory.size())
+    throw std::invalid_argument("set_controller: the controller keeps " + std::to_string(memory) +
+                                " values of memory, this model's State " +
+                                std::to_string(state_.control_memory.size()) +
+                                " (State::control_memory is sized by the model's own controller)");
   controller_ = std::move(controller);
   every_ = every;
 }
@@ -182,7 +118,8 @@ inline void run_stage(StageTimings* timings, double StageTimings::*seconds, Stag
   timings->*seconds += seconds_since(start);
 }
 
-// Watches the floor over a life: after every step, the deepest penetration of any voxel's
+// Watches the floor over a life (the State's rows floor_deepest and floor_deep_most): after
+// every step, the deepest penetration of any voxel's
 // bottom face below z = 0 (as the next step's floor contact sees it: half the actuated size
 // below the centre, tilt ignored) and the most voxels at once deeper than
 // kFloorPenetratingDepth. With an environment, the ground's height field replaces z = 0
@@ -204,7 +141,7 @@ inline void run_stage(StageTimings* timings, double StageTimings::*seconds, Stag
   deep = count;
 }
 
-void see_floor(const Model& m, const State& s, double& deepest, int& most_deep) {
+void see_floor(const Model& m, State& s) {
   if (!m.def.floor) return;
   const double limit = kFloorPenetratingDepth * m.size;
   double step_deepest = 0;
@@ -217,15 +154,15 @@ void see_floor(const Model& m, const State& s, double& deepest, int& most_deep) 
       step_deepest = std::max(step_deepest, pen);
       deep += pen > limit ? 1 : 0;
     }
-  deepest = std::max(deepest, step_deepest);
-  most_deep = std::max(most_deep, deep);
+  s.floor_deepest = std::max(s.floor_deepest, step_deepest);
+  s.floor_deep_most = std::max(s.floor_deep_most, deep);
 }
 
 // Fills the floor health of r (SimResult, "Health") from the deepest penetration seen and the
-// most voxels at once deep, with a warning past kFloorPenetratingDepth. Whether a sunk life
-// counts is judge_life's (plastivox/rules/life_rules.hpp), not the core's.
-void grade_floor_contact(const Model& m, const State& s, double deepest, int most_deep,
-                         SimResult& r) {
+// most voxels at once deep (the State's watch rows), with a warning past
+// kFloorPenetratingDepth. Whether a sunk life counts is judge_life's
+// (plastivox/rules/life_rules.hpp), not the core's.
+void grade_floor_contact(const Model& m, const State& s, SimResult& r) {
   const Vec3& d = r.displacement;
   const double d2 = d.squaredNorm();
   r.vertical_share = d2 > 0 ? d.z() * d.z() / d2 : 0.0;
@@ -236,8 +173,8 @@ void grade_floor_contact(const Model& m, const State& s, double deepest, int mos
   };
   for (int i = 0; i < m.n; ++i)
     r.voxels_below_floor += s.pos[i].z() + 0.5 * m.size < ground(s.pos[i]) ? 1 : 0;
-  r.floor_depth = deepest / m.size;
-  r.voxels_deep_max = most_deep;
+  r.floor_depth = s.floor_deepest / m.size;
+  r.voxels_deep_max = s.floor_deep_most;
   // Only a life that ran to its end is graded: one that blew up is unstable, not sunk (its
   // voxels may fly anywhere, under the floor too), and says so.
   if (r.status != SimStatus::kFinished) return;
@@ -310,17 +247,18 @@ void Simulator::step2(StageTimings* t) {
   if (controller_ && s.steps % every_ == 0)
     run_stage(t, &T::actuate, [&] {
       const double rate = controller_->max_rate();
-      if (rate > 0) held_.assign(actuation_.begin(), actuation_.end());
-      controller_->act(Sensors(m, s, w, sensor_cache_), actuation_);
+      std::vector<double>& u = s.actuation;
+      if (rate > 0) held_.assign(u.begin(), u.end());
+      controller_->act(Sensors(m, s, w, sensor_cache_), u, s.control_memory);
       if (rate > 0) {  // no faster than the controller allows, from the signal held
         const double most = rate * every_ * s.dt;
-        for (size_t i = 0; i < actuation_.size(); ++i)
-          actuation_[i] = std::clamp(actuation_[i], held_[i] - most, held_[i] + most);
+        for (size_t i = 0; i < u.size(); ++i)
+          u[i] = std::clamp(u[i], held_[i] - most, held_[i] + most);
       }
     });
   between_halves_ = false;
   run_stage(t, &T::integrate, [&] { integrate(m, s, w); });
-  run_stage(t, &T::actuate, [&] { actuate(m, s, actuation_.data()); });
+  run_stage(t, &T::actuate, [&] { actuate(m, s, s.actuation.data()); });
   run_stage(t, &T::develop, [&] { develop(m, s, w); });
   if (t) t->steps += 1;
 
@@ -331,6 +269,8 @@ void Simulator::step2(StageTimings* t) {
     s.settled = true;
   }
   if (s.status == SimStatus::kRunning && s.time > m.def.duration) s.status = SimStatus::kFinished;
+  see_floor(m, s);  // the watches, as the step left the state
+  if (see_task_) see_task_(m, s);
 }
 
 Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, const Vec3& com) {
@@ -436,9 +376,18 @@ void fill_displacement(const Model& model, const State& s, SimResult& r) {
   r.displacement = displacement_since_settling(model, r.com_settled, r.com_final);
 }
 
-// The summary of a life from its last state: status, fitness (the task's score of a
-// finished life, else 0), displacement and the lifetime stiffness change (SimResult).
-void summarise(const Model& model, const State& s, const TaskWatch& task, SimResult& r) {
+// The task's score of the life as though it ended at s: 0 for a life that went unstable. A
+// measurement: whether a sunk life counts is judge_life's (plastivox/rules/life_rules.hpp).
+double score_so_far(const Model& m, const State& s) {
+  if (s.status == SimStatus::kUnstable) return 0.0;
+  SimResult r;
+  fill_displacement(m, s, r);
+  return task_score(m, s, r);
+}
+
+// The summary of a life from its last state: status, fitness (the task's score so far, 0 for
+// an unstable life), displacement and the lifetime stiffness change (SimResult).
+void summarise(const Model& model, const State& s, SimResult& r) {
   r.voxels = model.robot_n;  // the free objects' voxels are not the robot's
   r.status = s.status;       // kRunning for a life ended early by on_frame or frame_times
   r.failure = s.failure;
@@ -446,7 +395,7 @@ void summarise(const Model& model, const State& s, const TaskWatch& task, SimRes
   r.sim_time = s.time;
   r.dt_final = s.dt;
   fill_displacement(model, s, r);
-  r.fitness = r.status == SimStatus::kFinished ? task.score(model, s, r) : 0.0;
+  r.fitness = score_so_far(model, s);
   r.final_stiffness.assign(s.stiffness.begin(), s.stiffness.begin() + model.robot_n);
   double sum = 0, sum_abs = 0, sum_sq = 0;
   for (int i = 0; i < model.robot_n; ++i) {
@@ -465,37 +414,31 @@ void summarise(const Model& model, const State& s, const TaskWatch& task, SimRes
 
 }  // namespace
 
-LifeWatch::LifeWatch(const Model& model) : model_(&model), task_(make_task_watch(model)) {}
-LifeWatch::~LifeWatch() = default;
-LifeWatch::LifeWatch(LifeWatch&&) noexcept = default;
-LifeWatch& LifeWatch::operator=(LifeWatch&&) noexcept = default;
-
-void LifeWatch::see(const State& s) {
-  see_floor(*model_, s, deepest_, most_deep_);
-  task_->see(*model_, s);
+bool has_sunk(const Model& m, const State& s) {
+  return s.floor_deepest >= kFloorSankDepth * m.size;
 }
 
-bool LifeWatch::sunk() const {
-  return deepest_ >= kFloorSankDepth * model_->size;
+double fitness_so_far(const Model& m, const State& s) {
+  return s.status == SimStatus::kRunning ? score_so_far(m, s) : result_of(m, s).fitness;
 }
 
-double LifeWatch::fitness(const State& s) const {
-  if (s.status != SimStatus::kRunning) return summary(s).fitness;
+SimResult result_of(const Model& m, const State& s) {
   SimResult r;
-  fill_displacement(*model_, s, r);
-  return task_->score(*model_, s, r);
+  summarise(m, s, r);
+  grade_floor_contact(m, s, r);
+  return r;
 }
 
-SimResult LifeWatch::summary(const State& s) const {
-  SimResult r;
-  summarise(*model_, s, *task_, r);
-  grade_floor_contact(*model_, s, deepest_, most_deep_, r);
+SimResult Simulator::result() const {
+  SimResult r = result_of(*model_, state_);
+  r.dt_initial = stable_dt(*model_, model_->e0);  // make_initial_state's dt
   return r;
 }
 
 // A life, as a list: step until the Simulator says the life is over (like Voxelyze, until
 // time first passes the duration) or the frames end it, taking frames, reporting progress
-// and watching the floor and the task as it goes; then the summary and the floor's grade.
+// (the Simulator watches the floor and the task as it steps); then the summary and the floor's
+// grade.
 SimResult simulate(const Model& model, const SimOptions& o) {
   const auto wall_start = WallClock::now();
   Simulator sim(model);
@@ -503,16 +446,14 @@ SimResult simulate(const Model& model, const SimOptions& o) {
   const double dt_initial = s.dt;
   FrameTaker frames(o, sim);
   ProgressReport progress(o, frames.end(model.def.duration));
-  LifeWatch watch(model);
   while (s.status == SimStatus::kRunning && frames.take_due()) {
     progress.at(s.time);
     sim.step(o.timings);
-    watch.see(s);
   }
   if (s.status == SimStatus::kFinished) frames.take_last();
   if (!frames.stopped()) progress.done();
 
-  SimResult r = watch.summary(s);
+  SimResult r = sim.result();
   r.dt_initial = dt_initial;
   r.recording = std::move(frames.recording());
   r.wall_seconds = seconds_since(wall_start);

@@ -13,36 +13,64 @@ namespace plastivox {
 
 const std::vector<TaskInfo>& all_tasks() {
   static const std::vector<TaskInfo> tasks = {
-      {Task::kWalk, "walk", "voxel lengths",
+      {Task::kWalk,
+       "walk",
+       "voxel lengths",
        "|c(T) - c(settle)| / L: the centre of mass's displacement from the end of settling to "
        "the end of the life (horizontal only under physics.fitness = xy)",
-       make_walk_watch},
+       walk_score,
+       nullptr,
+       {}},
       {Task::kJump, "jump", "voxel lengths",
        "max over t >= settle of (c_z(t) - c_z(settle)) / L: the highest rise of the centre of "
        "mass above its settled height",
-       make_jump_watch},
+       jump_score, see_jump, jump_values()},
       {Task::kTurn, "turn", "rad",
        "|theta(T)|: the body's net rotation about the vertical axis since settling, the "
        "least-squares turn of its voxel centres' horizontal layout, counted through whole turns",
-       make_turn_watch},
-      {Task::kRough, "rough", "voxel lengths",
+       turn_score, see_turn, turn_values()},
+      {Task::kRough,
+       "rough",
+       "voxel lengths",
        "|c_xy(T) - c_xy(settle)| / L: the centre of mass's horizontal displacement over a "
        "seeded random height field",
-       make_rough_watch, rough_params(), rough_environment,
+       horizontal_travel,
+       nullptr,
+       {},
+       rough_params(),
+       rough_environment,
        "rough ground: node heights uniform in [-amplitude, 0], one node every cell, seeded"},
-      {Task::kClimb, "climb", "voxel lengths",
+      {Task::kClimb,
+       "climb",
+       "voxel lengths",
        "max(0, |c_xy(T) - c_xy(settle)| + w (h(c(T)) - h(c(settle)))) / L: horizontal "
        "displacement plus w times the rise of the ground under the centre of mass",
-       make_climb_watch, climb_params(), climb_environment,
+       climb_score,
+       nullptr,
+       {},
+       climb_params(),
+       climb_environment,
        "terraces: count steps of height rise, one every run, rising away from the start every way"},
-      {Task::kSlope, "slope", "voxel lengths",
+      {Task::kSlope,
+       "slope",
+       "voxel lengths",
        "max(0, h(c(T)) - h(c(settle))) / L: the rise of the ground under the centre of mass",
-       make_slope_watch, slope_params(), slope_environment,
+       slope_score,
+       nullptr,
+       {},
+       slope_params(),
+       slope_environment,
        "a pit: ramps at angle_deg rising away from the start every way for length"},
-      {Task::kObstacles, "obstacles", "voxel lengths",
+      {Task::kObstacles,
+       "obstacles",
+       "voxel lengths",
        "|c_xy(T) - c_xy(settle)| / L: the centre of mass's horizontal displacement through a "
        "field of static blocks",
-       make_obstacles_watch, obstacles_params(), obstacles_environment,
+       horizontal_travel,
+       nullptr,
+       {},
+       obstacles_params(),
+       obstacles_environment,
        "a field of static blocks, height by size by size, one at a seeded place in every square "
        "of side spacing"},
       {Task::kCarry,
@@ -51,7 +79,9 @@ const std::vector<TaskInfo>& all_tasks() {
        "min(|p_xy(t_last) - p_xy(settle)|, |c_xy(t_last) - c_xy(settle)|) / L: the lesser of the "
        "payload's and the body's horizontal displacements from the end of settling to the last "
        "step the payload was on the body (no payload voxel within a voxel length of the ground)",
-       make_carry_watch,
+       carry_score,
+       see_carry,
+       carry_values(),
        {},
        nullptr,
        "flat floor with friction; a free payload of 2 x 2 x 1 voxels centred on top of the body"},
@@ -60,7 +90,9 @@ const std::vector<TaskInfo>& all_tasks() {
        "voxel lengths",
        "|b_xy(T) - b_xy(settle)| / L: the horizontal displacement of the box's centre from the "
        "end of settling to the end of the life",
-       make_push_watch,
+       push_score,
+       see_push,
+       push_values(),
        {},
        nullptr,
        "flat floor with friction; a free box of 2 x 2 x 2 voxels one voxel in front (+x) of the "
@@ -113,8 +145,12 @@ std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot) {
   return {};
 }
 
-std::unique_ptr<TaskWatch> make_task_watch(const Model& model) {
-  return task_info(model.def.task).watch(model);
+void see_task(const Model& model, State& state) {
+  if (const auto see = task_info(model.def.task).see) see(model, state);
+}
+
+double task_score(const Model& model, const State& last, const SimResult& summary) {
+  return task_info(model.def.task).score(model, last, summary);
 }
 
 namespace {
@@ -210,31 +246,21 @@ std::string environment_text(const PhysicsDef& def) {
 
 namespace plastivox {
 
-namespace {
+void travel_to(TaskValues& v, int at, const Vec3& point, bool first) {
+  v[at + 2] = point.x();
+  v[at + 3] = point.y();
+  if (first) v[at] = v[at + 2], v[at + 1] = v[at + 3];
+}
 
-class SummaryWatch final : public TaskWatch {
- public:
-  explicit SummaryWatch(double (*score)(const Model&, const SimResult&)) : score_(score) {}
-  void see(const Model&, const State&) override {}
-  double score(const Model& m, const State&, const SimResult& summary) const override {
-    return score_(m, summary);
-  }
-
- private:
-  double (*score_)(const Model&, const SimResult&);
-};
-
-}  // namespace
-
-std::unique_ptr<TaskWatch> watch_of_summary(double (*score)(const Model&, const SimResult&)) {
-  return std::make_unique<SummaryWatch>(score);
+double travel_voxel_lengths(const Model& model, const TaskValues& v, int at) {
+  return std::hypot(v[at + 2] - v[at], v[at + 3] - v[at + 1]) / model.size;
 }
 
 double horizontal_displacement(const SimResult& r) {
   return (r.com_final - r.com_settled).head<2>().norm();
 }
 
-double horizontal_travel(const Model& m, const SimResult& r) {
+double horizontal_travel(const Model& m, const State&, const SimResult& r) {
   return horizontal_displacement(r) / m.size;
 }
 

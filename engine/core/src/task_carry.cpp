@@ -44,32 +44,42 @@ bool off_ground(const Model& m, const State& s, int k) {
   return true;
 }
 
-class CarryWatch final : public TaskWatch {
- public:
-  void see(const Model& m, const State& s) override {
-    if (!s.settled || dropped_ || m.object_count() == 0) return;
-    if (!off_ground(m, s, 0)) {
-      dropped_ = true;
-      return;
-    }
-    payload_.add(object_center(m, s, 0));
-    body_.add(body_center_of_mass(m, s));
-  }
-  double score(const Model& m, const State&, const SimResult&) const override {
-    return std::min(payload_.voxel_lengths(m), body_.voxel_lengths(m));
-  }
-
- private:
-  // From the end of settling while the payload is on the body (none: never on).
-  Travel payload_;        // its centre
-  Travel body_;           // the body's centre of mass
-  bool dropped_ = false;  // it has come near the ground since settling
-};
+// task_values: 1 once the payload has come near the ground since settling, 1 once the
+// travels are started, then the payload's travel and the body's (travel_to), from the end of
+// settling while the payload is on the body (none: never on).
+constexpr int kCarryDropped = 0, kCarryStarted = 1, kCarryPayload = 2, kCarryBody = 6;
 
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_carry_watch(const Model&) {
-  return std::make_unique<CarryWatch>();
+void see_carry(const Model& m, State& s) {
+  TaskValues& v = s.task_values;
+  if (!s.settled || v[kCarryDropped] != 0 || m.object_count() == 0) return;
+  if (!off_ground(m, s, 0)) {
+    v[kCarryDropped] = 1;
+    return;
+  }
+  const bool first = v[kCarryStarted] == 0;
+  travel_to(v, kCarryPayload, object_center(m, s, 0), first);
+  travel_to(v, kCarryBody, body_center_of_mass(m, s), first);
+  v[kCarryStarted] = 1;
+}
+
+double carry_score(const Model& m, const State& s, const SimResult&) {
+  return std::min(travel_voxel_lengths(m, s.task_values, kCarryPayload),
+                  travel_voxel_lengths(m, s.task_values, kCarryBody));
+}
+
+std::vector<const char*> carry_values() {
+  return {"1 once the payload has come near the ground since settling",
+          "1 once the travels are started",
+          "the payload's first x, m",
+          "the payload's first y, m",
+          "the payload's last x, m",
+          "the payload's last y, m",
+          "the body's first x, m",
+          "the body's first y, m",
+          "the body's last x, m",
+          "the body's last y, m"};
 }
 
 }  // namespace plastivox

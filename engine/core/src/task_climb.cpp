@@ -24,15 +24,11 @@ namespace {
 constexpr double kClimbFlat = 1;     // voxel lengths of level ground around the footprint
 constexpr double kClimbCell = 0.25;  // voxel lengths between nodes: a riser's width
 
-double climb_score(const Model& m, const SimResult& summary) {
-  const double w = task_param(m.def, "height_weight");
-  return std::max(0.0, horizontal_displacement(summary) + w * ground_rise(m, summary)) / m.size;
-}
-
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_climb_watch(const Model&) {
-  return watch_of_summary(climb_score);
+double climb_score(const Model& m, const State&, const SimResult& summary) {
+  const double w = task_param(m.def, "height_weight");
+  return std::max(0.0, horizontal_displacement(summary) + w * ground_rise(m, summary)) / m.size;
 }
 
 std::vector<TaskParam> climb_params() {

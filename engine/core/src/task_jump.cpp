@@ -11,23 +11,21 @@
 namespace plastivox {
 namespace {
 
-class JumpWatch final : public TaskWatch {
- public:
-  void see(const Model& m, const State& s) override {
-    if (s.settled) highest_ = std::max(highest_, body_center_of_mass(m, s).z() - s.com_settled.z());
-  }
-  double score(const Model& m, const State&, const SimResult&) const override {
-    return highest_ / m.size;
-  }
-
- private:
-  double highest_ = 0;  // m above the settled centre of mass, the most seen
-};
+constexpr int kJumpHighest = 0;  // task_values: m above the settled centre of mass, the most seen
 
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_jump_watch(const Model&) {
-  return std::make_unique<JumpWatch>();
+void see_jump(const Model& m, State& s) {
+  double& highest = s.task_values[kJumpHighest];
+  if (s.settled) highest = std::max(highest, body_center_of_mass(m, s).z() - s.com_settled.z());
+}
+
+double jump_score(const Model& m, const State& s, const SimResult&) {
+  return s.task_values[kJumpHighest] / m.size;
+}
+
+std::vector<const char*> jump_values() {
+  return {"the highest rise of the centre of mass above its settled height seen, m"};
 }
 
 }  // namespace plastivox

@@ -29,10 +29,6 @@ constexpr uint64_t kBlockStream = 0x626c6f636b73;  // "blocks"
 
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_obstacles_watch(const Model&) {
-  return watch_of_summary(horizontal_travel);
-}
-
 std::vector<TaskParam> obstacles_params() {
   return {{"height", 0.5, 0.05, 5, "voxel lengths"},
           {"size", 1, 0.25, 5, "voxel lengths"},

@@ -24,23 +24,24 @@ std::vector<ObjectDef> push_objects(const RobotDef& robot) {
 
 namespace {
 
-class PushWatch final : public TaskWatch {
- public:
-  void see(const Model& m, const State& s) override {
-    if (s.settled && m.object_count() > 0) box_.add(object_center(m, s, 0));
-  }
-  double score(const Model& m, const State&, const SimResult&) const override {
-    return box_.voxel_lengths(m);
-  }
-
- private:
-  Travel box_;  // from the end of settling
-};
+// task_values: the box's travel from the end of settling (travel_to), once started.
+constexpr int kPushStarted = 0, kPushBox = 1;
 
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_push_watch(const Model&) {
-  return std::make_unique<PushWatch>();
+void see_push(const Model& m, State& s) {
+  if (!s.settled || m.object_count() == 0) return;
+  travel_to(s.task_values, kPushBox, object_center(m, s, 0), s.task_values[kPushStarted] == 0);
+  s.task_values[kPushStarted] = 1;
+}
+
+double push_score(const Model& m, const State& s, const SimResult&) {
+  return travel_voxel_lengths(m, s.task_values, kPushBox);
+}
+
+std::vector<const char*> push_values() {
+  return {"1 once the box's travel is started (settled)", "the box's first x, m",
+          "the box's first y, m", "the box's last x, m", "the box's last y, m"};
 }
 
 }  // namespace plastivox

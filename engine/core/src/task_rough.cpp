@@ -21,10 +21,6 @@ constexpr double kRoughReach = 40;  // voxel lengths of ground past the footprin
 
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_rough_watch(const Model&) {
-  return watch_of_summary(horizontal_travel);
-}
-
 std::vector<TaskParam> rough_params() {
   return {{"amplitude", 0.25, 0, 5, "voxel lengths"},
           {"cell", 1, 0.25, 10, "voxel lengths"},

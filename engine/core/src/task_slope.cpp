@@ -23,14 +23,10 @@ constexpr double kSlopePi = 3.14159265358979323846;
 constexpr double kSlopeFlat = 1;    // voxel lengths of level ground around the footprint
 constexpr double kSlopeCell = 0.5;  // voxel lengths between nodes
 
-double slope_score(const Model& m, const SimResult& summary) {
-  return std::max(0.0, ground_rise(m, summary)) / m.size;
-}
-
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_slope_watch(const Model&) {
-  return watch_of_summary(slope_score);
+double slope_score(const Model& m, const State&, const SimResult& summary) {
+  return std::max(0.0, ground_rise(m, summary)) / m.size;
 }
 
 std::vector<TaskParam> slope_params() {

@@ -22,48 +22,48 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925287;
 
-class TurnWatch final : public TaskWatch {
- public:
-  void see(const Model& m, const State& s) override {
-    if (!s.settled) return;
-    if (x0_.empty()) {  // the first state after settling: the layout turns are measured from
-      x0_.resize(m.robot_n);
-      y0_.resize(m.robot_n);
-      for (int i = 0; i < m.robot_n; ++i) {
-        x0_[i] = s.pos[i].x() - s.com_settled.x();
-        y0_[i] = s.pos[i].y() - s.com_settled.y();
-      }
-    }
-    const Vec3 c = body_center_of_mass(m, s);
-    double dot = 0, cross = 0;
-    for (int i = 0; i < m.robot_n; ++i) {
-      const double x = s.pos[i].x() - c.x(), y = s.pos[i].y() - c.y();
-      dot += x0_[i] * x + y0_[i] * y;
-      cross += x0_[i] * y - y0_[i] * x;
-    }
-    // Through +pi (cross from >= 0 to < 0 behind the axis) is a whole turn more; back, one less.
-    if (dot < 0 && (cross < 0) != (cross_ < 0)) turns_ += cross < 0 ? 1 : -1;
-    dot_ = dot;
-    cross_ = cross;
-  }
-
-  double score(const Model&, const State&, const SimResult&) const override {
-    if (x0_.empty()) return 0;  // never settled
-    // cross_ == 0 behind the axis is +pi, as the count above takes it (not -pi for -0.0).
-    const double theta = std::atan2(cross_ == 0 ? 0.0 : cross_, dot_) + kTwoPi * turns_;
-    return std::abs(theta);
-  }
-
- private:
-  std::vector<double> x0_, y0_;  // settled horizontal offsets from the centre of mass, m
-  double dot_ = 0, cross_ = 0;   // sums at the last state seen, m^2
-  long turns_ = 0;               // whole turns counted, + anticlockwise seen from above
-};
+// task_values: 1 once the settled layout is taken (task_layout, per voxel: its horizontal
+// offset from the centre of mass), the sums at the last state seen (m^2), and the whole turns
+// counted (+ anticlockwise seen from above).
+constexpr int kTurnLaid = 0, kTurnDot = 1, kTurnCross = 2, kTurnTurns = 3;
 
 }  // namespace
 
-std::unique_ptr<TaskWatch> make_turn_watch(const Model&) {
-  return std::make_unique<TurnWatch>();
+void see_turn(const Model& m, State& s) {
+  if (!s.settled) return;
+  TaskValues& v = s.task_values;
+  if (v[kTurnLaid] == 0) {  // the first state after settling: the layout turns are measured from
+    for (int i = 0; i < m.robot_n; ++i)
+      s.task_layout[i] = {s.pos[i].x() - s.com_settled.x(), s.pos[i].y() - s.com_settled.y()};
+    v[kTurnLaid] = 1;
+  }
+  const Vec3 c = body_center_of_mass(m, s);
+  double dot = 0, cross = 0;
+  for (int i = 0; i < m.robot_n; ++i) {
+    const double x = s.pos[i].x() - c.x(), y = s.pos[i].y() - c.y();
+    const double x0 = s.task_layout[i].x(), y0 = s.task_layout[i].y();
+    dot += x0 * x + y0 * y;
+    cross += x0 * y - y0 * x;
+  }
+  // Through +pi (cross from >= 0 to < 0 behind the axis) is a whole turn more; back, one less.
+  if (dot < 0 && (cross < 0) != (v[kTurnCross] < 0)) v[kTurnTurns] += cross < 0 ? 1 : -1;
+  v[kTurnDot] = dot;
+  v[kTurnCross] = cross;
+}
+
+double turn_score(const Model&, const State& s, const SimResult&) {
+  const TaskValues& v = s.task_values;
+  if (v[kTurnLaid] == 0) return 0;  // never settled
+  // cross == 0 behind the axis is +pi, as the count above takes it (not -pi for -0.0).
+  const double theta =
+      std::atan2(v[kTurnCross] == 0 ? 0.0 : v[kTurnCross], v[kTurnDot]) + kTwoPi * v[kTurnTurns];
+  return std::abs(theta);
+}
+
+std::vector<const char*> turn_values() {
+  return {"1 once the settled layout (task_layout) is taken",
+          "sum of the layout's dot products with the present offsets, m^2",
+          "sum of their cross products, m^2", "whole turns counted, + anticlockwise"};
 }
 
 }  // namespace plastivox

@@ -11,11 +11,21 @@
 
 namespace plastivox {
 
-std::unique_ptr<TaskWatch> make_walk_watch(const Model& model);
-std::unique_ptr<TaskWatch> make_jump_watch(const Model& model);
-std::unique_ptr<TaskWatch> make_turn_watch(const Model& model);
-std::unique_ptr<TaskWatch> make_carry_watch(const Model& model);
-std::unique_ptr<TaskWatch> make_push_watch(const Model& model);
+// Each task's score and, where it has one, its watch and the names of its running values
+// (TaskInfo).
+double walk_score(const Model& model, const State& last, const SimResult& summary);
+double jump_score(const Model& model, const State& last, const SimResult& summary);
+void see_jump(const Model& model, State& state);
+std::vector<const char*> jump_values();
+double turn_score(const Model& model, const State& last, const SimResult& summary);
+void see_turn(const Model& model, State& state);
+std::vector<const char*> turn_values();
+double carry_score(const Model& model, const State& last, const SimResult& summary);
+void see_carry(const Model& model, State& state);
+std::vector<const char*> carry_values();
+double push_score(const Model& model, const State& last, const SimResult& summary);
+void see_push(const Model& model, State& state);
+std::vector<const char*> push_values();
 
 // The free objects a task places when the environment gives none (compile() adds them):
 // carry's payload and push's box, sized in voxels and placed from the robot's lattice; none
@@ -28,41 +38,26 @@ std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot);
 Vec3 object_center(const Model& model, const State& state, int k);
 
 // How far a point moved horizontally (a free object's centre, the body's centre of mass),
-// for carry and push: add() its place at each state to count, the first one the start.
-struct Travel {
-  bool started = false;
-  Vec3 from = Vec3::Zero(), to = Vec3::Zero();  // the point, first and last, m
-  void add(const Vec3& at) {
-    to = at;
-    if (!started) from = to, started = true;
-  }
-  // |to_xy - from_xy| / L, voxel lengths; 0 before any state.
-  double voxel_lengths(const Model& model) const {
-    return std::hypot(to.x() - from.x(), to.y() - from.y()) / model.size;
-  }
-};
+// for carry and push, kept in four running values from `at`: the point's first place (x, y)
+// and its last (x, y), m. travel_to() sets the last, and the first too when `first`.
+void travel_to(TaskValues& values, int at, const Vec3& point, bool first);
+// |last_xy - first_xy| / L, voxel lengths; 0 before any state.
+double travel_voxel_lengths(const Model& model, const TaskValues& values, int at);
 
 // The bounds of the robot's voxels on its lattice, in sites: lo[a] <= site coordinate <= hi[a].
 void lattice_bounds(const RobotDef& robot, int lo[3], int hi[3]);
 
 // The terrain tasks: each one's watch, parameters and default environment.
-std::unique_ptr<TaskWatch> make_rough_watch(const Model& model);
 std::vector<TaskParam> rough_params();
 Environment rough_environment(const PhysicsDef& def, const TaskSite& site);
-std::unique_ptr<TaskWatch> make_climb_watch(const Model& model);
+double climb_score(const Model& model, const State& last, const SimResult& summary);
 std::vector<TaskParam> climb_params();
 Environment climb_environment(const PhysicsDef& def, const TaskSite& site);
-std::unique_ptr<TaskWatch> make_slope_watch(const Model& model);
+double slope_score(const Model& model, const State& last, const SimResult& summary);
 std::vector<TaskParam> slope_params();
 Environment slope_environment(const PhysicsDef& def, const TaskSite& site);
-std::unique_ptr<TaskWatch> make_obstacles_watch(const Model& model);
 std::vector<TaskParam> obstacles_params();
 Environment obstacles_environment(const PhysicsDef& def, const TaskSite& site);
-
-// A watch that looks at nothing and scores a finished life from its summary with `score`
-// (the tasks whose fitness needs only the start and end of the life).
-std::unique_ptr<TaskWatch> watch_of_summary(double (*score)(const Model& model,
-                                                            const SimResult& summary));
 
 // Shared by the terrain tasks' fitnesses, from a life's summary (m):
 // the horizontal displacement of the centre of mass since settling,
@@ -70,7 +65,7 @@ double horizontal_displacement(const SimResult& summary);
 // and the rise of the ground under it (model.ground; 0 on the flat floor).
 double ground_rise(const Model& model, const SimResult& summary);
 // The fitness of rough and obstacles: the horizontal displacement in voxel lengths.
-double horizontal_travel(const Model& model, const SimResult& summary);
+double horizontal_travel(const Model& model, const State& last, const SimResult& summary);
 
 // A square height field of node spacing `cell` centred on (cx, cy), nodes out to at least
 // `reach` from it along each axis, node heights h(d) of the Chebyshev distance d from the

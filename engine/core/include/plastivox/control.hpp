@@ -86,20 +86,26 @@ class Sensors {
 // call. It must be deterministic (the same sensors give the same signal, on any thread), so
 // lives stay bit-identical. Values outside [-1, 1] are the controller's bug: the actuation
 // stage reads what it is given.
+//
+// What it remembers from one call to the next lives in the State, not in the controller
+// (State::control_memory, memory_size() values, 0 at t = 0): act() is handed it to read and
+// write. So a snapshot, the state's hash and Python's state views hold it without the
+// controller's help, a State copied into another Simulator carries it, and the controller is
+// a function of what it is handed (which later work on gradients through a life needs).
 class Controller {
  public:
   virtual ~Controller() = default;
-  virtual void act(const Sensors& sensors, std::span<double> actuation) = 0;
-  // Forget any memory: the life starts again (Simulator::reset).
+  virtual void act(const Sensors& sensors, std::span<double> actuation,
+                   std::span<double> memory) = 0;
+  // How many values it keeps in State::control_memory: 0, or the State's (the model's
+  // controller's, controller_memory_size); Simulator::set_controller refuses any other.
+  virtual size_t memory_size() const { return 0; }
+  // The life starts again (Simulator::reset): for a controller that counts or caches
+  // something of its own (its memory in the State is reset with the State).
   virtual void reset() {}
-  // What it remembers from one call to the next (empty when nothing), and setting it back:
-  // a Simulator's snapshot carries it, so a restored life continues bit for bit. set_memory
-  // takes exactly memory().size() values.
-  virtual std::span<const double> memory() const { return {}; }
   // The fastest its signal may change, per second (0: no limit): the Simulator moves each
   // voxel's signal at most max_rate * every * dt from the one it held, after act().
   virtual double max_rate() const { return 0; }
-  virtual void set_memory(std::span<const double> /*values*/) {}
 };
 
 // Today's open loop, the default: u_i = sin(2 pi (f t + phase_i)), f = physics.act_frequency,
@@ -107,7 +113,7 @@ class Controller {
 // settle_time it writes nothing (the actuation stage ignores the signal then).
 class SineController final : public Controller {
  public:
-  void act(const Sensors& sensors, std::span<double> actuation) override;
+  void act(const Sensors& sensors, std::span<double> actuation, std::span<double>) override;
 };
 
 // The controller model.controller asks for (docs/control.md): the sine, or a distributed or

@@ -3,6 +3,7 @@
 // docs/control.md describes each kind's inputs, outputs and the weights' order.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,11 @@ struct ControllerDef {
 // How many weights a network of this kind and hidden size has (0 for sine); -1 when
 // `hidden` is out of range for the kind.
 int weight_count(ControllerKind kind, int hidden);
+
+// How many values a controller of this kind remembers between calls for a body of `voxels`
+// voxels (State::control_memory): the distributed network's outputs (the signals it sends to
+// its neighbours), none for the others.
+size_t controller_memory_size(const ControllerDef& c, int voxels);
 
 // The controller in words, as reports state it: "sine (open loop)", "distributed, 4 hidden
 // units, every step", "central, 1 hidden unit, every 2 steps", "distributed, no hidden

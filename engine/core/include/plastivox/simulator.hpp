@@ -19,7 +19,7 @@
 
 namespace plastivox {
 
-class TaskWatch;   // plastivox/task.hpp
+struct SimResult;
 struct Workspace;  // per-step scratch arrays (engine/core/src/workspace.hpp)
 
 // Wall time spent in each stage of Simulator::step, summed over the steps timed (as
@@ -65,19 +65,16 @@ class Simulator {
   const State& state() const { return state_; }
   // The state may be changed, or replaced by one copied from another Simulator of the same
   // model: the life then continues bit-identically (State holds everything that carries
-  // over). The kernels' views of the state's arrays are rebuilt at the next step, so make
-  // the changes through this reference before stepping (do not keep it across steps).
+  // over: the physics, the actuation signal, the controller's memory and the watches the
+  // score is made from). The kernels' views of the state's arrays are rebuilt at the next
+  // step, so make the changes through this reference before stepping (do not keep it across
+  // steps).
   State& mutable_state();
 
-  // The state as bytes, and back: save_state() in state.hpp (every field of kStateFields
-  // in order), then the controller's memory when it has any (Controller::memory: the signals
-  // a distributed network has in flight), then the actuation signal (actuation(): the
-  // controller's last output, which holds until its next call). restore_state() takes a
-  // snapshot saved from a Simulator of the same model (at any step, by this one or another)
-  // and the life continues from it bit-identically under the same controller (a memory of
-  // another size is refused; one that this controller lacks is ignored); a snapshot of the
-  // State alone
-  // (plastivox::save_state) is taken too, and leaves the signal as it is. A snapshot of
+  // The state as bytes, and back: plastivox::save_state/restore_state (state.hpp, every row
+  // of kStateFields in order). restore_state() takes a snapshot saved from a Simulator of the
+  // same model (at any step, by this one or another) and the life continues from it
+  // bit-identically under the same controller, its score included (result()). A snapshot of
   // another model's state, or a damaged one, is refused with std::invalid_argument naming the
   // field, and the state is left as it was. Save between steps: between step1 and step2 the
   // State is half-way through a step and save_state() throws std::logic_error.
@@ -98,8 +95,9 @@ class Simulator {
   // Each voxel's actuation signal, in [-1, 1], voxel order (n values): what the controller
   // last wrote, read by the actuation stage in step2. Write it between steps (or between the
   // halves of one) when no controller is set.
-  std::span<double> actuation() { return actuation_; }
-  std::span<const double> actuation() const { return actuation_; }
+  // The State's row `actuation`.
+  std::span<double> actuation() { return state_.actuation; }
+  std::span<const double> actuation() const { return state_.actuation; }
   // The sensors of the present step, computed on first read: runs step1 first when it has
   // not run since the last step2 (step() or step2() then finishes that step). The handle is
   // valid until the next step.
@@ -119,14 +117,21 @@ class Simulator {
   //          with gravity and floor contact, and self-contacts (workspace()).
   //   step2: acts on them: calls the controller (every k steps), integrates, sets each
   //          voxel's actuated size for the next step from its signal, develops stiffness,
-  //          advances time, and ends the life once time passes the duration. It runs step1
-  //          first when step1 was not called since the last step2.
+  //          advances time, ends the life once time passes the duration, and updates the
+  //          watches in the State (the floor's deepest penetration, the task's running
+  //          values), so any life stepped by any front end can be scored (result()). It runs
+  //          step1 first when step1 was not called since the last step2.
   void step1(StageTimings* timings = nullptr);
   void step2(StageTimings* timings = nullptr);
 
   // The scratch of the current step, as step1 leaves it (engine/core/src/workspace.hpp: bond
   // strains and stresses, forces, contact candidates); for tests and controllers.
   const Workspace& workspace() const { return *ws_; }
+
+  // The life's SimResult at this point (result_of, with dt_initial): so far for a running
+  // life, final for a finished one, and bit for bit what simulate() returns for the same life
+  // (without its recording and wall time).
+  SimResult result() const;
 
  private:
   const Model* model_;
@@ -136,9 +141,9 @@ class Simulator {
   bool views_stale_ = false;     // mutable_state() was called since the views were built
   std::unique_ptr<Controller> controller_;
   int every_ = 1;
-  std::vector<double> actuation_;  // the signal, per voxel
-  std::vector<double> held_;       // the signal before a rate-limited controller's call
-  SensorCache sensor_cache_;       // sensors read this step
+  std::vector<double> held_;  // the signal before a rate-limited controller's call
+  void (*see_task_)(const Model&, State&) = nullptr;  // the task's watch (TaskInfo::see)
+  SensorCache sensor_cache_;                          // sensors read this step
 };
 
 // How a life met the floor, graded from its deepest penetration (SimResult::floor_depth).
@@ -156,8 +161,11 @@ inline constexpr double kFloorSankDepth = 2.0;
 struct SimResult {
   SimStatus status = SimStatus::kRunning;
   std::string failure;  // why the run went unstable; empty when it finished
-  // The task's score of a finished life (def.task, plastivox/task.hpp; 0 otherwise): under
-  // walk, the default, the centre-of-mass displacement settle..end, voxel lengths.
+  // The task's score (def.task, plastivox/task.hpp) of the life: of a finished one its
+  // fitness, of one ended early (still running) its score so far, 0 for an unstable one (a
+  // sunk one keeps its score here: judge_life, plastivox/rules/life_rules.hpp, decides whether
+  // it counts). Under walk, the default, the centre-of-mass displacement settle..end, voxel
+  // lengths.
   double fitness = 0;
   Vec3 displacement = Vec3::Zero();  // centre of mass, settle..end, per axis, voxel lengths
   Vec3 com_settled = Vec3::Zero();   // m
@@ -235,33 +243,18 @@ Frame capture_frame(const State& state);
 // those of the last step.
 void capture_control(Simulator& sim, Frame& frame);
 
-// What simulate() watches over a life besides the state: the task (TaskWatch) and how deep
-// the body went into the floor. For a life stepped outside simulate() (Python's VoxelEnv):
-// see() after every step, fitness() at any state, summary() at the end give what simulate()
-// gives for the same life, bit for bit.
-class LifeWatch {
- public:
-  explicit LifeWatch(const Model& model);  // model must outlive the watch
-  ~LifeWatch();
-  LifeWatch(LifeWatch&&) noexcept;
-  LifeWatch& operator=(LifeWatch&&) noexcept;
-
-  void see(const State& s);  // after every step, as the step left the state
-  // The task's score of the life as though it ended at s (0 before settling): while it runs,
-  // from what see() saw; once over, simulate()'s fitness (0 for a life that went unstable).
-  // A measurement: whether a sunk life counts is judge_life's (plastivox/rules/life_rules.hpp).
-  double fitness(const State& s) const;
-  // The body has gone kFloorSankDepth or deeper into the floor: a finished life is graded sunk.
-  bool sunk() const;
-  // simulate()'s summary of a life that ended at s (without recording, wall time, dt_initial).
-  SimResult summary(const State& s) const;
-
- private:
-  const Model* model_;
-  std::unique_ptr<TaskWatch> task_;
-  double deepest_ = 0;  // m, the deepest floor penetration seen
-  int most_deep_ = 0;   // most voxels at once deeper than kFloorPenetratingDepth
-};
+// A life's score, as functions of the model and the state (the watches step2 keeps up are
+// rows of the State: floor_deepest, floor_deep_most, task_values, task_layout).
+// The SimResult of the life so far (simulate()'s, without its recording, wall time and
+// dt_initial): status, displacement, stiffness change, floor health and the task's fitness:
+// of a finished life its score; of a running one the score as though it ended here (0 before
+// settling); 0 for an unstable one. Measurements only: judge_life
+// (plastivox/rules/life_rules.hpp) decides whether a sunk life counts.
+SimResult result_of(const Model& model, const State& state);
+// Its fitness alone, without the rest of the summary (cheaper, for every step of an episode).
+double fitness_so_far(const Model& model, const State& state);
+// The body has gone kFloorSankDepth or deeper into the floor: a finished life is graded sunk.
+bool has_sunk(const Model& model, const State& state);
 
 // Displacement of the centre of mass from com_settled to com in voxel lengths, z zeroed
 // under the xy fitness mode: the vector whose norm is fitness.

@@ -1,5 +1,8 @@
 // The mutable state of one simulation, defined in one place: everything that evolves with
-// time and must be saved to resume bit-identically. Per-voxel fields are structure-of-arrays.
+// time and must be saved to resume bit-identically. One list of fields (PLASTIVOX_STATE_FIELDS)
+// generates the struct's members, their values at t = 0 (make_initial_state) and the table
+// (kStateFields) that drives save_state/restore_state, state_hash and the Python module's
+// state views (plastivox/field_table.hpp says how). Per-voxel fields are structure-of-arrays.
 #pragma once
 
 #include <array>
@@ -12,72 +15,123 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "plastivox/field_table.hpp"
 #include "plastivox/model.hpp"
 
 namespace plastivox {
 
 using Quat = Eigen::Quaterniond;
+using Vec2 = Eigen::Vector2d;
 
 enum class SimStatus { kRunning, kFinished, kUnstable };
 
+// Per bond, the deformation at the previous step, for the bond's internal damping: one array
+// per component (structure-of-arrays for the batched bond kernel): [0..2] position of b
+// relative to its rest place (m), [3..5] rotation vector of a, [6..8] rotation vector of b
+// (rad); all in the bond frame.
+using BondPrev = std::array<std::vector<double>, 9>;
+
+// A task's running values (docs/tasks.md names each task's): what its fitness needs besides
+// the last state, kept up after every step (task.hpp, TaskInfo::see).
+inline constexpr int kTaskValues = 10;
+using TaskValues = std::array<double, kTaskValues>;
+
+// What the list's initial values are made of (m: the model).
+namespace state_init {
+template <class T>
+std::vector<T> per_voxel(const Model& m, T value) {
+  return std::vector<T>(static_cast<size_t>(m.n), value);
+}
+template <class T>
+std::vector<T> per_bond(const Model& m, T value) {
+  return std::vector<T>(static_cast<size_t>(m.bond_count()), value);
+}
+inline BondPrev bond_components(const Model& m) {
+  BondPrev b;
+  for (auto& component : b) component = per_bond(m, 0.0);
+  return b;
+}
+}  // namespace state_init
+
+// Every field of State, in order: FIELD(type, name, initial value, shape, unit, frame,
+// meaning); bond_prev is one member of nine rows. The size is actuated for the next step's
+// bonds and contacts (none before the first step); dt follows stiffness; Voxelyze 0.9 starts
+// every bond in its small-angle frame. The last six rows are what the Simulator keeps besides
+// the physics, so that a snapshot resumes the score too: the signal and the controller's
+// memory (control.hpp), and the watches step2 updates after every step (the floor's deepest
+// penetration, the task's running values: simulator.hpp).
+// clang-format off
+#define PLASTIVOX_STATE_FIELDS(FIELD, MEMBER, ROW)                                              \
+  FIELD(double, time, 0.0, "1", "s", "-", "simulated time")                                     \
+  FIELD(int64_t, steps, int64_t{0}, "1", "1", "-", "steps taken")                               \
+  FIELD(double, dt, stable_dt(m, m.e0), "1", "s", "-",                                          \
+        "the next step's length (follows stiffness)")                                           \
+  FIELD(SimStatus, status, SimStatus::kRunning, "1", "-", "-",                                  \
+        "running, finished or unstable (SimStatus)")                                            \
+  FIELD(std::vector<Vec3>, pos, m.rest_pos, "n x 3", "m", "world", "voxel centre")              \
+  FIELD(std::vector<Quat>, orient, state_init::per_voxel(m, Quat::Identity()), "n x 4", "1",    \
+        "body to world", "voxel rotation (x, y, z, w)")                                         \
+  FIELD(std::vector<Vec3>, lin_mom, state_init::per_voxel(m, Vec3(Vec3::Zero())), "n x 3",      \
+        "kg m/s", "world", "linear momentum")                                                   \
+  FIELD(std::vector<Vec3>, ang_mom, state_init::per_voxel(m, Vec3(Vec3::Zero())), "n x 3",      \
+        "kg m^2/s", "world", "angular momentum")                                                \
+  FIELD(std::vector<double>, stiffness, m.e0, "n", "Pa", "-", "current Young's modulus")        \
+  FIELD(std::vector<double>, size, state_init::per_voxel(m, m.size), "n", "m", "-",             \
+        "actuated edge length for the next step")                                               \
+  FIELD(std::vector<double>, stimulus, state_init::per_voxel(m, 0.0), "n", "Pa", "-",           \
+        "the treatment's last stimulus")                                                        \
+  FIELD(std::vector<double>, stim_integral, state_init::per_voxel(m, 0.0), "n", "Pa s", "-",    \
+        "integral of the stimulus since settling")                                              \
+  FIELD(std::vector<double>, stim_ref, state_init::per_voxel(m, 0.0), "n", "Pa", "-",           \
+        "stimulus at the end of settling (rate model)")                                         \
+  FIELD(bool, stim_ref_set, false, "1", "-", "-", "stim_ref has been taken")                    \
+  FIELD(std::vector<uint8_t>, static_friction, state_init::per_voxel(m, uint8_t{0}), "n", "-",  \
+        "-", "1 while held by floor static friction")                                           \
+  MEMBER(BondPrev, bond_prev, state_init::bond_components(m))                                   \
+  ROW(bond_prev_x, bond_prev[0], "bonds", "m", "bond", "previous deformation: b's offset, x")   \
+  ROW(bond_prev_y, bond_prev[1], "bonds", "m", "bond", "previous deformation: b's offset, y")   \
+  ROW(bond_prev_z, bond_prev[2], "bonds", "m", "bond", "previous deformation: b's offset, z")   \
+  ROW(bond_prev_rot_a_x, bond_prev[3], "bonds", "rad", "bond", "previous rotation vector of a, x") \
+  ROW(bond_prev_rot_a_y, bond_prev[4], "bonds", "rad", "bond", "previous rotation vector of a, y") \
+  ROW(bond_prev_rot_a_z, bond_prev[5], "bonds", "rad", "bond", "previous rotation vector of a, z") \
+  ROW(bond_prev_rot_b_x, bond_prev[6], "bonds", "rad", "bond", "previous rotation vector of b, x") \
+  ROW(bond_prev_rot_b_y, bond_prev[7], "bonds", "rad", "bond", "previous rotation vector of b, y") \
+  ROW(bond_prev_rot_b_z, bond_prev[8], "bonds", "rad", "bond", "previous rotation vector of b, z") \
+  FIELD(std::vector<uint8_t>, bond_prev_valid, state_init::per_bond(m, uint8_t{0}), "bonds",    \
+        "-", "-", "1 once the previous deformation is recorded")                                \
+  FIELD(std::vector<uint8_t>, bond_small_angle,                                                 \
+        state_init::per_bond(m, static_cast<uint8_t>(m.def.bond_model == BondModel::kVoxelyze09)), \
+        "bonds", "-", "-", "1 while the bond uses the small-angle frame")                       \
+  FIELD(Vec3, com_settled, Vec3(Vec3::Zero()), "3", "m", "world",                               \
+        "centre of mass when settling ended")                                                   \
+  FIELD(bool, settled, false, "1", "-", "-", "time has passed the settle time")          \
+  FIELD(std::vector<double>, actuation, state_init::per_voxel(m, 0.0), "n", "1", "-",           \
+        "actuation signal: the controller's last output, held until its next call")             \
+  FIELD(std::vector<double>, control_memory,                                                    \
+        std::vector<double>(controller_memory_size(m.controller, m.n), 0.0), "memory", "1", "-", \
+        "what the controller remembers between calls (distributed: the signals in flight)")     \
+  FIELD(double, floor_deepest, 0.0, "1", "m", "world",                                          \
+        "deepest floor penetration of any voxel after any step")                                \
+  FIELD(int32_t, floor_deep_most, int32_t{0}, "1", "1", "-",                                    \
+        "most voxels at once deeper than half a voxel length")                                  \
+  FIELD(TaskValues, task_values, TaskValues{}, "10", "-", "-",                                  \
+        "the task's running values (docs/tasks.md)")                                            \
+  FIELD(std::vector<Vec2>, task_layout, state_init::per_voxel(m, Vec2(Vec2::Zero())), "n x 2",  \
+        "m", "world", "turn: horizontal offset from the centre of mass when settling ended")
+// clang-format on
+
 struct State {
-  double time = 0;    // simulated time, s
-  int64_t steps = 0;  // steps taken
-  double dt = 0;      // current step, s (follows stiffness)
-  SimStatus status = SimStatus::kRunning;
-  std::string failure;  // why the run went unstable (empty otherwise)
-
-  // Per voxel (model.n entries).
-  std::vector<Vec3> pos;                 // centre, m, world frame
-  std::vector<Quat> orient;              // body-to-world rotation
-  std::vector<Vec3> lin_mom;             // linear momentum, kg m/s, world frame
-  std::vector<Vec3> ang_mom;             // angular momentum, kg m^2/s, world frame
-  std::vector<double> stiffness;         // current Young's modulus E, Pa
-  std::vector<double> size;              // actuated edge length, m, set by the actuation
-                                         // stage for the next step's bonds and contacts
-  std::vector<double> stimulus;          // last stimulus of the treatment, Pa (docs/plasticity.md)
-  std::vector<double> stim_integral;     // integral of the stimulus since settling, Pa s
-  std::vector<double> stim_ref;          // stimulus at the end of settling (rate model), Pa
-  bool stim_ref_set = false;             // stim_ref has been taken
-  std::vector<uint8_t> static_friction;  // 1 while held by floor static friction
-
-  // Per bond: deformation at the previous step, for the bond's internal damping.
-  // Per bond, one array per component (structure-of-arrays for the batched bond kernel):
-  // [0..2] position of b relative to its rest place (m), [3..5] rotation vector of a,
-  // [6..8] rotation vector of b (rad); all in the bond frame.
-  std::array<std::vector<double>, 9> bond_prev;
-  std::vector<uint8_t> bond_prev_valid;   // 1 once the previous deformation is recorded
-  std::vector<uint8_t> bond_small_angle;  // 1 while the bond uses the small-angle frame
-
-  Vec3 com_settled = Vec3::Zero();  // centre of mass when settling ended, m
-  bool settled = false;             // true once time >= settle_time
+  PLASTIVOX_MEMBERS(PLASTIVOX_STATE_FIELDS)
+  std::string failure;  // why the run went unstable (empty otherwise): text, not a row
 };
 
 // The state at t = 0: voxels at rest positions, E = E0, dt from E0.
 State make_initial_state(const Model& model);
 
-// The fields of State, described once: what each holds, its shape, unit and frame, and
-// where its bytes are. The table drives state_hash, save_state/restore_state and the Python
-// module's state views (a recorded life's frames keep a subset: capture_frame). Shapes: "1" one
-// value, "n" per voxel, "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w:
-// Eigen's order), "bonds" per bond. `failure` is text that explains `status` and is not a field
-// here.
-struct StateFieldBytes {
-  const void* data = nullptr;
-  size_t count = 0;        // values (doubles, bytes or integers), all components included
-  size_t value_bytes = 0;  // bytes per value
-  char kind = 'f';         // what a value is: 'f' floating point, 'i' signed integer (or the
-                           // SimStatus enum), 'u' unsigned integer, 'b' bool
-  size_t width = 1;        // values per entry: 3 for a vector, 4 for a quaternion, else 1
-};
-struct StateField {
-  const char* name;
-  const char* shape;
-  const char* unit;
-  const char* frame;
-  const char* meaning;
-  StateFieldBytes (*bytes)(const State&);
-};
+// The table of State's fields, generated from PLASTIVOX_STATE_FIELDS: what each holds, its
+// shape, unit and frame, and where its bytes are (a recorded life's frames keep a subset:
+// capture_frame). `failure` is text that explains `status` and is not a row here.
+using StateField = FieldRow<State>;
 extern const std::vector<StateField> kStateFields;
 // The row of kStateFields called `name`; std::invalid_argument for a name not in it.
 const StateField& state_field(std::string_view name);

@@ -1,9 +1,12 @@
 // Tasks: what a life is scored on (docs/tasks.md). A task is an environment plus a fitness
 // with a stated formula and unit; PhysicsDef::task chooses one, and simulate() scores every
 // life with it. Each task is one small file (engine/core/src/task_<name>.cpp) behind this
-// interface: a TaskWatch, made once per life, that sees the state after every step (only
-// the tasks that need more than the last state look at it: jump keeps the highest centre of
-// mass, turn the body's accumulated yaw) and scores the finished life.
+// interface: a score of the life from its state, and, for the tasks that need more than the
+// last state, a watch that the Simulator calls after every step (at the end of step2) to
+// keep the task's running values in the State (task_values, task_layout): jump keeps the
+// highest centre of mass, turn the body's accumulated yaw, carry and push where the payload
+// or box went. So a snapshot resumes the score, and any life stepped by any front end can be
+// scored (Simulator::result).
 //
 // Every task scores 0 for a life that did not finish (unstable, or sunk through the floor
 // under physics.sinking_invalid): simulate() applies that rule, not the tasks.
@@ -13,8 +16,8 @@
 // lays it out around the body's starting footprint, in voxel lengths, when the physics gives
 // none (physics.environment inactive); an environment given by the user is used as given.
 //
-// Adding a task: its value in `enum class Task` (physics_def.hpp), its file with a
-// make_<name>_watch() (and, when it has them, its parameters and default environment), its
+// Adding a task: its value in `enum class Task` (physics_def.hpp), its file with its score
+// and watch (and, when it has them, its parameters and default environment), its
 // row in all_tasks() (task.cpp), a test with known answers and its section in docs/tasks.md.
 #pragma once
 
@@ -29,17 +32,6 @@
 namespace plastivox {
 
 struct SimResult;
-
-// One life's view of its task. Not thread-safe; one per life.
-class TaskWatch {
- public:
-  virtual ~TaskWatch() = default;
-  // After every step (and not before the first): the state as the step left it.
-  virtual void see(const Model& model, const State& state) = 0;
-  // The fitness of a life that ran to its end, in the task's unit, from what see() saw, the
-  // last state and the summary (displacement and centres of mass already filled in).
-  virtual double score(const Model& model, const State& last, const SimResult& summary) const = 0;
-};
 
 // One parameter of a task: a number in [lo, hi] (whole: an integer), `fallback` when not
 // given. `ground`: it shapes the task's default environment only (so giving it together with
@@ -67,7 +59,14 @@ struct TaskInfo {
   const char* name;     // in configs, on the command line (--task) and in results files
   const char* unit;     // of the fitness: "voxel lengths", "rad"
   const char* formula;  // one line, as docs/tasks.md states it
-  std::unique_ptr<TaskWatch> (*watch)(const Model& model);
+  // The fitness of the life ended at `last`, in the task's unit, from its running values and
+  // the summary (displacement and centres of mass already filled in).
+  double (*score)(const Model& model, const State& last, const SimResult& summary);
+  // After every step (and not before the first): updates the running values from the state
+  // the step left; nullptr for a task that needs only the last state.
+  void (*see)(const Model& model, State& state);
+  // What each of task_values holds under this task, in order (one line each; none unused).
+  std::vector<const char*> values;
   std::vector<TaskParam> params = {};  // its parameters, in docs/tasks.md's order
   // Its default environment for a body at `site` with parameters `def.task_params`; nullptr:
   // the flat floor.
@@ -83,8 +82,10 @@ const char* to_string(Task task);  // "walk", "jump", "turn", ...
 Task parse_task(const std::string& name);
 std::string task_names();  // "walk, jump, turn, carry, push"
 
-// The watch of the model's task (model.def.task) for one life.
-std::unique_ptr<TaskWatch> make_task_watch(const Model& model);
+// The model's task (model.def.task): its watch after a step (nothing for a task without
+// one), and its score of the life ended at `last`.
+void see_task(const Model& model, State& state);
+double task_score(const Model& model, const State& last, const SimResult& summary);
 
 // The value of parameter `name` of def.task: given, else its default. Throws
 // std::invalid_argument when the task has no such parameter (a programming error).

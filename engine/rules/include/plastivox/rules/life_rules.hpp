@@ -36,7 +36,8 @@ bool vertical_exploit(const PhysicsDef& def, const SimResult& r);
 void judge_life(const PhysicsDef& def, SimResult& r);
 
 // A life still running (Python's VoxelEnv) ends invalid the moment it is certain to be
-// judged sunk: `sunk` is LifeWatch::sunk(), under def.sinking_invalid. Its fitness is then 0.
+// judged sunk: `sunk` is has_sunk(model, state) (plastivox/simulator.hpp), under
+// def.sinking_invalid. Its fitness is then 0.
 bool ends_invalid(const PhysicsDef& def, bool sunk);
 
 }  // namespace plastivox
