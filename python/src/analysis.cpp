@@ -66,7 +66,7 @@ pyb::list robustness_of(const std::vector<const PyRobot*>& robots, const pyb::ob
   if (seeds.size() != robots.size()) throw std::invalid_argument("seeds: one per robot");
   std::vector<PhysicsDef> physics;
   for (const PyRobot* r : robots)
-    physics.push_back(resolve_physics(r->physics, physics_arg, std::nullopt));
+    physics.push_back(physics_of_call(r->physics, physics_arg, std::nullopt, std::nullopt));
   std::vector<analysis::RobustnessResult> results(robots.size());
   {
     pyb::gil_scoped_release unlocked;
