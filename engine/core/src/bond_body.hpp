@@ -149,9 +149,8 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   // previous deformation exists: valid = 0). The halves are taken in the coefficients
   // (h_*: c (g / 2) = (c / 2) g exactly, as scaling by a power of two is), so the changes g
   // are used whole.
-  double* const* P = io.prev;
   T old[9];
-  for (int j = 0; j < 9; ++j) old[j] = load(P[j], i, T{});
+  for (int j = 0; j < 9; ++j) old[j] = load(io.prev[j], i, T{});
   const T gpx = px - old[0], gpy = zero - old[1], gpz = zero - old[2];
   const T g1x = t1x - old[3], g1y = t1y - old[4], g1z = t1z - old[5];
   const T g2x = t2x - old[6], g2y = t2y - old[7], g2z = t2z - old[8];
@@ -171,7 +170,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
 
   // Flagged lanes keep their previous deformation: the scalar path redoes them from it.
   const T now[9] = {px, zero, zero, t1x, t1y, t1z, t2x, t2y, t2z};
-  for (int j = 0; j < 9; ++j) store(P[j], i, pick(redo, old[j], now[j]));
+  for (int j = 0; j < 9; ++j) store(io.prev_next[j], i, pick(redo, old[j], now[j]));
 
   // World frame. The chord-aligned frame's axes, in world coordinates, are the chord
   // direction u and a's permuted y and z axes turned by the smallest rotation taking a's

@@ -267,8 +267,9 @@ double elastic_energy(const Model& m, const State& s) {
 namespace {
 
 // The scalar path: every bond under the Voxelyze 0.9 model, and under the exact model the
-// few bonds the batched kernel flags (large rotations, degenerate chords).
-void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
+// few bonds the batched kernel flags (large rotations, degenerate chords). Reads the State;
+// what the next step inherits (the deformation, the frame) goes to the Workspace.
+void scalar_bond(const Model& m, const State& s, Workspace& w, int b) {
   const ModelConstants& mk = m.k;
   const double L = m.size;
   // Damping multiplier 2 sqrt(m) zeta / dt: turns sqrt(k) * (deformation change) into a
@@ -288,10 +289,10 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
       // Switching frames: deformation rates are undefined this step (no damping, and the
       // previous deformation is not refreshed), as in Voxelyze 0.9.
       small = next;
-      s.bond_small_angle[b] = small ? 1 : 0;
       g = bond_geometry(m, s, R, b, small, voxelyze);
       damp_ok = false;
     }
+    w.views.small_angle_next[b] = small ? 1 : 0;
   }
   const V3& p = g.p;
   const V3& t1 = g.th1;
@@ -317,7 +318,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
   V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y), b2 * p.y - b3 * (2 * t1.z + t2.z)};
   V3 mb{a2 * (t1.x - t2.x), -b2 * p.z - b3 * (t1.y + 2 * t2.y), b2 * p.y - b3 * (t1.z + 2 * t2.z)};
 
-  auto& P = s.bond_prev;
+  const auto& P = s.bond_prev;
   const Vec3 prev_p(P[0][b], P[1][b], P[2][b]);
   const Vec3 prev_1(P[3][b], P[4][b], P[5][b]);
   const Vec3 prev_2(P[6][b], P[7][b], P[8][b]);
@@ -341,11 +342,13 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     mb.y += -c_b2h * dp.z - c_b3 * (d1.y + 2 * d2.y);
     mb.z += c_b2h * dp.y - c_b3 * (d1.z + 2 * d2.z);
   }
-  if (damp_ok || !s.bond_prev_valid[b]) {
-    const double now[9] = {p.x, p.y, p.z, t1.x, t1.y, t1.z, t2.x, t2.y, t2.z};
-    for (int k = 0; k < 9; ++k) P[k][b] = now[k];
-  }
-  s.bond_prev_valid[b] = 1;
+  // The deformation the next step damps against: this one, unless the bond switched frames
+  // with a deformation recorded (then the recorded one stays, as in Voxelyze 0.9). Every bond
+  // has one recorded after the step (commit_bond_deformation).
+  const double now[9] = {p.x, p.y, p.z, t1.x, t1.y, t1.z, t2.x, t2.y, t2.z};
+  const bool refresh = damp_ok || !s.bond_prev_valid[b];
+  double* const* next = w.views.bond.prev_next;  // may be P itself (compute_bond_forces)
+  for (int k = 0; k < 9; ++k) next[k][b] = refresh ? now[k] : P[k][b];
 
   const Vec3 results[3] = {to_world(g, R, f), to_world(g, R, ma), to_world(g, R, mb)};
   for (int v = 0; v < 3; ++v)
@@ -364,8 +367,14 @@ void bind_bond_views(const Model& m, State& s, Workspace& w) {
   io.quat = flat(s.orient);  // x, y, z, w
   io.stiff = s.stiffness.data();
   io.prev_valid = s.bond_prev_valid.data();
-  io.all_valid = false;                                            // set by each step
-  for (int k = 0; k < 9; ++k) io.prev[k] = s.bond_prev[k].data();  // updated in place
+  io.all_valid = false;  // set by each step
+  for (int k = 0; k < 9; ++k) {
+    io.prev[k] = s.bond_prev[k].data();
+    io.prev_next[k] = w.bond_prev_next[k].data();  // chosen by each step
+    w.views.prev_in_state[k] = s.bond_prev[k].data();
+  }
+  w.views.small_angle_in_state = s.bond_small_angle.data();
+  w.views.small_angle_next = w.bond_small_angle_next.data();
   for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
   io.strain = w.bond_strain.data();
   io.stress = w.bond_stress.data();
@@ -393,7 +402,15 @@ void bind_bond_views(const Model& m, State& s, Workspace& w) {
 // Exact model: the batched kernel reads the voxels and writes every bond's results; the
 // few bonds it cannot handle (degenerate chords, rotations near half a turn) are redone in
 // scalar code. Voxelyze 0.9 model: the scalar path for every bond (its frame switching).
-void compute_bond_forces(const Model& m, State& s, Workspace& w) {
+// The State is read only: each bond's deformation (and frame) for the next step goes to the
+// Workspace, and step2 commits it (commit_bond_deformation); or, with next_into_state, into
+// the State's arrays, through the views (each bond's are read before they are written).
+void compute_bond_forces(const Model& m, const State& s, Workspace& w, bool next_into_state) {
+  KernelViews& v = w.views;
+  w.bonds_next_in_state = next_into_state;
+  for (int k = 0; k < 9; ++k)
+    v.bond.prev_next[k] = next_into_state ? v.prev_in_state[k] : w.bond_prev_next[k].data();
+  v.small_angle_next = next_into_state ? v.small_angle_in_state : w.bond_small_angle_next.data();
   // Centres and sizes as records of 4 doubles: the bond kernel's and the self-collision
   // test's inputs (positions and sizes do not change until the update stage; why a second
   // layout: Workspace::centre_size).
@@ -416,7 +433,21 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   const int redo = kernels().bond(io, nb, w.views.bond_k);
   // From the unchanged previous deformation.
   for (int r = 0; r < redo; ++r) scalar_bond(m, s, w, w.redo[r]);
-  std::fill(s.bond_prev_valid.begin(), s.bond_prev_valid.end(), 1);
+}
+
+// Copies, not swaps: the State's arrays keep their storage for the whole life (the kernels'
+// views and Python's numpy views point into them). Nothing to copy after step(): its bond
+// stage wrote them in place.
+void commit_bond_deformation(const Model& m, State& s, const Workspace& w) {
+  const size_t nb = static_cast<size_t>(m.bond_count());
+  if (nb == 0) return;
+  if (!w.bonds_next_in_state) {
+    for (int k = 0; k < 9; ++k)
+      std::memcpy(s.bond_prev[k].data(), w.bond_prev_next[k].data(), nb * sizeof(double));
+    if (m.def.bond_model == BondModel::kVoxelyze09)
+      std::memcpy(s.bond_small_angle.data(), w.bond_small_angle_next.data(), nb);
+  }
+  std::memset(s.bond_prev_valid.data(), 1, nb);
 }
 
 }  // namespace plastivox

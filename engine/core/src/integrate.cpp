@@ -59,9 +59,9 @@ void bind_voxel_views(const Model& m, State& s, Workspace& w) {
   k.voxelyze_turns = d.bond_model == BondModel::kVoxelyze09;
 }
 
-void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
+// Reads the State through the views (positions, momenta, stiffness); the gather takes no dt.
+void gather_voxel_forces(const Model& m, const State&, Workspace& w) {
   if (m.n == 0) return;
-  w.views.voxel_k.dt = s.dt;
   kernels().gather(w.views.voxel, m.n, w.views.voxel_k);
 }
 

@@ -32,18 +32,20 @@ struct BondKernelIo {
   // whether every bond's is (after the first step, always), so lanes need not read it.
   const uint8_t* prev_valid = nullptr;
   bool all_valid = false;
-  // Per bond, in and out: the previous deformation (State::bond_prev); out: the results
-  // (Workspace::bond_out: force on a, moment on a, moment on b, each as records of
-  // (x, y, z, 0); bond_strain, bond_stress).
-  double* prev[9] = {};
+  // Per bond, in: the previous deformation (State::bond_prev, read only); out: this step's
+  // deformation, the next step's previous one (Workspace::bond_prev_next, which step2 commits
+  // to the State), and the results (Workspace::bond_out: force on a, moment on a, moment on
+  // b, each as records of (x, y, z, 0); bond_strain, bond_stress).
+  const double* prev[9] = {};
+  double* prev_next[9] = {};
   double* out[3] = {};
   double* strain = nullptr;
   double* stress = nullptr;
   // Out when not null: stress times strain (Workspace::bond_energy; the strain_energy stimulus).
   double* energy = nullptr;
   // Out: indices of the bonds the kernel could not compute (degenerate chord, relative
-  // rotation near half a turn), in increasing order; room for one per bond. They keep
-  // their previous deformation and must be recomputed by the scalar path.
+  // rotation near half a turn), in increasing order; room for one per bond. Their
+  // prev_next is their previous deformation, and the scalar path must recompute them.
   int* redo = nullptr;
 };
 
