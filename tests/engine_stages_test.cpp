@@ -1,13 +1,17 @@
 // The two halves of a step (Simulator::step1 and step2, simulator.hpp): step1 reads the State
 // and writes only the Workspace, so between the halves the State is the state before the
-// step. On every instruction set the tests cover, since each has its own bond kernel.
+// step. On every instruction set the tests cover, since each has its own bond kernel. And the
+// constants the kernels read: the Model's own, made once by compile().
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
+#include <type_traits>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "kernels.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/simd.hpp"
 #include "plastivox/simulator.hpp"
@@ -159,6 +163,51 @@ TEST(Stages, ChangingTheStateBetweenTheHalvesRedoesStep1) {
   push(between.mutable_state());
   between.step2();
   EXPECT_EQ(state_hash(between.state()), state_hash(reference.state()));
+}
+
+// Constants once: every kernel that reads constants takes the Model's own (a Model is a
+// ModelConstants, model_constants.hpp) and only what follows the step besides, so no copy of
+// them under other names stands between compile() and the kernels.
+static_assert(std::is_base_of_v<ModelConstants, Model>);
+static_assert(std::is_same_v<decltype(KernelSet::bond),
+                             int (*)(const BondKernelIo&, int, const ModelConstants&, double)>);
+static_assert(std::is_same_v<decltype(KernelSet::gather),
+                             void (*)(const VoxelKernelIo&, int, const ModelConstants&)>);
+static_assert(std::is_same_v<decltype(KernelSet::update),
+                             VoxelUpdateSummary (*)(const VoxelKernelIo&, const VoxelStateOut&, int,
+                                                    const ModelConstants&, double)>);
+static_assert(std::is_same_v<decltype(KernelSet::develop),
+                             void (*)(const DevelopIo&, int, const ModelConstants&, double, bool)>);
+
+// compile() derives each constant from the parameters, as the formulas that used to make them
+// in each stage did (the golden hashes hold the rest).
+TEST(Constants, CompileDerivesEachOnceFromTheParameters) {
+  PhysicsDef d = preset_gecco2018_code();
+  d.axial_modulus = AxialModulus::kNegativeVoxel;
+  const Model m = compile(demo_walker(), d);
+  const double L = m.size;
+  EXPECT_EQ(m.inv_mass, 1.0 / m.mass);
+  EXPECT_EQ(m.inv_inertia, 1.0 / m.inertia);
+  EXPECT_EQ(m.inv_volume, 1.0 / (L * L * L));
+  EXPECT_EQ(m.inv_L, 1.0 / L);
+  EXPECT_EQ(m.bond_damp, 2.0 * std::sqrt(m.mass) * d.bond_damping);
+  EXPECT_TRUE(m.axial_own);
+  EXPECT_EQ(m.min_shear_chord, 0.1 * L);
+  EXPECT_EQ(m.c_col_unit, d.collision_damping * 2.0 * std::sqrt(m.mass * L));
+  EXPECT_EQ(m.rot_damp, d.global_damping_rot_factor * d.global_damping);
+  EXPECT_EQ(m.weight[0], 0.0);
+  EXPECT_EQ(m.weight[1], 0.0);
+  EXPECT_EQ(m.weight[2], m.mass * d.gravity);
+  EXPECT_EQ(m.pressure_denominator, 3.0 * (1.0 - 2.0 * d.poisson));
+  EXPECT_EQ(m.gate, d.min_devo_factor * d.e_min);
+  EXPECT_TRUE(m.flat_floor);
+  // An environment's ground takes the floor from the update kernel (terrain.cpp).
+  const Model rough =
+      compile(demo_walker(),
+              testing::with_environment(
+                  d, R"({"ground": {"type": "ramp", "angle_deg": 10, "at": 0.1, "length": 0.5}})"));
+  EXPECT_FALSE(rough.flat_floor);
+  EXPECT_FALSE(compile(demo_walker(), preset_gecco2018_code()).axial_own);
 }
 
 }  // namespace

@@ -34,12 +34,6 @@
 namespace plastivox {
 namespace {
 
-// Floor of the chord in the exact model's shear coupling 3 b3 / chord, in nominal lengths.
-// Below it the coupling's stiffness, ~3 b3 / chord^2, exceeds what the step integrates: at a
-// tenth of L it is 50 E L, within the ~195x headroom of dt's 0.9 / (2 pi) over the stiffest
-// bond even for a bond of that stiffness. Only a bond crushed to a tenth of its length sees it.
-constexpr double kMinShearChord = 0.1;
-
 struct V3 {
   double x, y, z;
 };
@@ -244,15 +238,14 @@ inline Vec3 to_world(const BondGeometry& g, const double* R, const V3& v) {
 }  // namespace
 
 double elastic_energy(const Model& m, const State& s) {
-  const ModelConstants& k = m.k;
-  const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
+  const ModelConstants& k = m;
   double u = 0;
   for (int b = 0; b < m.bond_count(); ++b) {
     const Eigen::Matrix3d R = s.orient[m.bond_a[b]].toRotationMatrix();
     const BondGeometry g = bond_geometry(m, s, R.data(), b, false, false);
     const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
     const double e = 2.0 * ea * eb / (ea + eb);
-    const double a1 = (axial_own ? ea : e) * k.kb1;
+    const double a1 = (k.axial_own ? ea : e) * k.kb1;
     const double a2 = e * k.ka2;
     const double b3 = e * k.kb3;
     const V3& t1 = g.th1;
@@ -270,12 +263,10 @@ namespace {
 // few bonds the batched kernel flags (large rotations, degenerate chords). Reads the State;
 // what the next step inherits (the deformation, the frame) goes to the Workspace.
 void scalar_bond(const Model& m, const State& s, Workspace& w, int b) {
-  const ModelConstants& mk = m.k;
-  const double L = m.size;
+  const ModelConstants& mk = m;
   // Damping multiplier 2 sqrt(m) zeta / dt: turns sqrt(k) * (deformation change) into a
   // critical-fraction damping force.
   const double damp = mk.bond_damp / s.dt;
-  const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   const bool voxelyze = m.def.bond_model == BondModel::kVoxelyze09;
   const int ia = m.bond_a[b], ib = m.bond_b[b];
   bool small = s.bond_small_angle[b] != 0;
@@ -301,7 +292,7 @@ void scalar_bond(const Model& m, const State& s, Workspace& w, int b) {
   const double strain = p.x * mk.inv_L;
   const double ea = s.stiffness[ia], eb = s.stiffness[ib];
   const double e = 2.0 * ea * eb / (ea + eb);  // harmonic mean: two springs in series
-  const double stress = (axial_own ? ea : e) * strain;
+  const double stress = (mk.axial_own ? ea : e) * strain;
   w.bond_strain[b] = strain;
   w.bond_stress[b] = stress;
   if (!w.bond_energy.empty()) w.bond_energy[b] = stress * strain;
@@ -311,9 +302,10 @@ void scalar_bond(const Model& m, const State& s, Workspace& w, int b) {
   // 3 b3 / chord, which makes the forces the gradient of the bending energy and the
   // bond's moments balance its forces (angular momentum is conserved) once bonds stretch
   // or actuate by several percent. The two agree at rest length. The chord is floored at
-  // kMinShearChord L: as a crushed bond's centres meet, 1/chord (a transverse displacement
-  // turns a short chord by a large angle) would grow without bound.
-  const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, kMinShearChord * L);
+  // min_shear_chord (kMinShearChord L, compile.cpp): as a crushed bond's centres meet,
+  // 1/chord (a transverse displacement turns a short chord by a large angle) would grow
+  // without bound.
+  const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, mk.min_shear_chord);
   V3 f{stress * mk.area, b1 * p.y - b2c * (t1.z + t2.z), b1 * p.z + b2c * (t1.y + t2.y)};
   V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y), b2 * p.y - b3 * (2 * t1.z + t2.z)};
   V3 mb{a2 * (t1.x - t2.x), -b2 * p.z - b3 * (t1.y + 2 * t2.y), b2 * p.y - b3 * (t1.z + 2 * t2.z)};
@@ -380,23 +372,6 @@ void bind_bond_views(const Model& m, State& s, Workspace& w) {
   io.stress = w.bond_stress.data();
   io.energy = w.bond_energy.empty() ? nullptr : w.bond_energy.data();
   io.redo = w.redo.data();
-
-  const ModelConstants& mk = m.k;
-  BondConstants& k = w.views.bond_k;
-  k.L = m.size;
-  k.area = mk.area;
-  k.inv_L = mk.inv_L;
-  k.ka2 = mk.ka2;
-  k.kb1 = mk.kb1;
-  k.kb2 = mk.kb2;
-  k.kb3 = mk.kb3;
-  k.damp = mk.bond_damp / s.dt;  // follows dt: set by each step
-  k.dk_a1 = mk.damp_a1;
-  k.dk_b2 = mk.damp_b2;
-  k.dk_a2 = mk.damp_a2;
-  k.dk_b3 = mk.damp_b3;
-  k.axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
-  k.min_shear_chord = kMinShearChord * m.size;
 }
 
 // Exact model: the batched kernel reads the voxels and writes every bond's results; the
@@ -429,8 +404,7 @@ void compute_bond_forces(const Model& m, const State& s, Workspace& w, bool next
   if (nb == 0) return;
   BondKernelIo& io = w.views.bond;
   io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
-  w.views.bond_k.damp = m.k.bond_damp / s.dt;
-  const int redo = kernels().bond(io, nb, w.views.bond_k);
+  const int redo = kernels().bond(io, nb, m, m.bond_damp / s.dt);
   // From the unchanged previous deformation.
   for (int r = 0; r < redo; ++r) scalar_bond(m, s, w, w.redo[r]);
 }

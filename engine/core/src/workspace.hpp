@@ -62,12 +62,9 @@ struct KernelViews {
   double* prev_in_state[9] = {};
   uint8_t* small_angle_in_state = nullptr;
   uint8_t* small_angle_next = nullptr;
-  BondConstants bond_k{};  // damp follows dt
   VoxelKernelIo voxel;
   VoxelStateOut voxel_out;
-  VoxelConstants voxel_k{};  // dt follows the state
   DevelopIo develop;
-  DevelopConstants develop_k{};  // first and dt follow the state
 };
 
 struct Workspace {
@@ -122,9 +119,9 @@ struct Workspace {
   bool bonds_next_in_state = false;
   std::vector<int> redo;                // bonds the batched kernel left to the scalar path
   std::vector<int64_t> bond_axis_wide;  // Model::bond_axis as 64-bit integers (bond kernel)
-  // The kernels' views of the Model's, State's and this Workspace's arrays, and the
-  // constants that do not change during a life (bind_views); the stages set only what
-  // changes with each step (dt, whether every bond has a previous deformation).
+  // The kernels' views of the Model's, State's and this Workspace's arrays (bind_views); the
+  // stages set only what changes with each step (whether every bond has a previous
+  // deformation, where the next ones go). The kernels read the Model's constants directly.
   KernelViews views;
 
   explicit Workspace(const Model& m)
@@ -159,7 +156,7 @@ struct Workspace {
   Workspace& operator=(const Workspace&) = delete;
 };
 
-// Points w.views at the arrays of m, s and w, and fills the constants of a life. Called
+// Points w.views at the arrays of m, s and w. Called
 // once when a Simulator is made and again when its State is replaced (restore_state,
 // mutable_state): the views stay valid as long as no array is reallocated, and none is
 // during a life (every array has its final size from the start; restore copies into them).
