@@ -176,6 +176,9 @@ static_assert(std::is_same_v<decltype(KernelSet::gather),
 static_assert(std::is_same_v<decltype(KernelSet::update),
                              VoxelUpdateSummary (*)(const VoxelKernelIo&, const VoxelStateOut&, int,
                                                     const ModelConstants&, double)>);
+static_assert(std::is_same_v<decltype(KernelSet::actuate),
+                             void (*)(const double*, const double*, const double*, double*, int,
+                                      const ModelConstants&)>);
 static_assert(std::is_same_v<decltype(KernelSet::develop),
                              void (*)(const DevelopIo&, int, const ModelConstants&, double, bool)>);
 
@@ -201,6 +204,11 @@ TEST(Constants, CompileDerivesEachOnceFromTheParameters) {
   EXPECT_EQ(m.pressure_denominator, 3.0 * (1.0 - 2.0 * d.poisson));
   EXPECT_EQ(m.gate, d.min_devo_factor * d.e_min);
   EXPECT_TRUE(m.flat_floor);
+  EXPECT_EQ(m.act_amplitude_xi, d.act_amplitude);  // the paper's xi(E)
+  EXPECT_EQ(m.xi_e_max, d.e_max);
+  EXPECT_EQ(m.xi_inv_range, 1.0 / (d.e_max - d.e_min));
+  EXPECT_EQ(m.xi_base, 0.0);
+  EXPECT_EQ(m.act_wave_max, d.act_expansion ? HUGE_VAL : 0.0);
   // An environment's ground takes the floor from the update kernel (terrain.cpp).
   const Model rough =
       compile(demo_walker(),

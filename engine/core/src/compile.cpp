@@ -162,6 +162,11 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   m.act_per_voxel = !robot.act_amplitude.empty();
   m.controller = robot.controller;  // validated with the robot
   m.act_amplitude_max = m.act_per_voxel ? 0.0 : def.act_amplitude;
+  m.act_amplitude_xi = m.act_per_voxel ? 1.0 : def.act_amplitude;
+  m.xi_e_max = m.act_per_voxel ? 0.0 : def.e_max;
+  m.xi_inv_range = m.act_per_voxel ? 0.0 : 1.0 / (def.e_max - def.e_min);
+  m.xi_base = m.act_per_voxel ? 1.0 : 0.0;
+  m.act_wave_max = def.act_expansion ? HUGE_VAL : 0.0;
   m.voxel_bonds.assign(m.n, {-1, -1, -1, -1, -1, -1});
   const bool develops = def.treatment != Treatment::kNone;
   for (int i = 0; i < m.n; ++i) {

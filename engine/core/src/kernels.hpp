@@ -99,12 +99,7 @@ struct VoxelUpdateSummary {
 // Actuation: size[i] = L max(1 + A xi(E_i) u_i, min_factor) from each voxel's signal u_i in
 // [-1, 1] (the sine controller's is sin(2 pi (f t + phase_i))), with
 // xi(E) = (e_max - E) / (e_max - e_min).
-// xi = (e_max - E) * inv_range + xi_base: the paper's stiffness factor with xi_base 0, and
-// exactly 1 for every E with e_max = inv_range = 0, xi_base = 1 (the robot's own amplitudes).
-// The signal is clipped to at most wave_max: +infinity (no clip) or 0 (contraction only).
-struct ActuationConstants {
-  double L, amplitude, min_factor, e_max, inv_range, xi_base, wave_max;
-};
+// (ModelConstants: act_amplitude_xi, xi_e_max, xi_inv_range, xi_base, act_wave_max.)
 
 // ---- Development: the per-voxel rule of develop.cpp (docs/method.md §5) ----
 
@@ -154,7 +149,7 @@ struct KernelSet {
   void (*sine)(const double* phase, double* signal, int n, double cycles);
   // Voxels [0, n): the actuated sizes from the signals.
   void (*actuate)(const double* stiff, const double* signal, const double* gain, double* size,
-                  int n, const ActuationConstants& k);
+                  int n, const ModelConstants& k);
   // Voxels [0, n): stimulus and stiffness update over a step of dt; first: the first
   // developing step (the rate model's reference is taken now).
   void (*develop)(const DevelopIo& io, int n, const ModelConstants& k, double dt, bool first);

@@ -214,20 +214,21 @@ inline void run_sine(const double* phase, double* signal, int n, double cycles) 
 // Voxels [i, i + width): the actuated size from each voxel's signal (docs/method.md §4).
 template <class T>
 inline void actuate_lanes(const double* stiff, const double* signal, const double* gain,
-                          double* size, int i, const ActuationConstants& k) {
+                          double* size, int i, const ModelConstants& k) {
   // Stiff voxels barely move; xi follows the *current* E, so development changes actuation.
   // (A gain of 1 and xi_base 0 leave every bit as the plain formula gives it.)
-  const T xi = (k.e_max - load(stiff, i, T{})) * k.inv_range + k.xi_base;
+  const T xi = (k.xi_e_max - load(stiff, i, T{})) * k.xi_inv_range + k.xi_base;
   const T u = load(signal, i, T{});
-  const T wave = pick(u > k.wave_max, splat(k.wave_max, T{}), u);
+  const T wave = pick(u > k.act_wave_max, splat(k.act_wave_max, T{}), u);
   // The size factor never drops below min_factor (Voxelyze's MIN_TEMP_FACTOR).
-  const T factor = 1.0 + k.amplitude * xi * load(gain, i, T{}) * wave;
-  store(size, i, k.L * pick(factor < k.min_factor, splat(k.min_factor, T{}), factor));
+  const T factor = 1.0 + k.act_amplitude_xi * xi * load(gain, i, T{}) * wave;
+  const double least = k.def.act_min_factor;
+  store(size, i, k.size * pick(factor < least, splat(least, T{}), factor));
 }
 
 template <class T>
 inline void run_actuate(const double* stiff, const double* signal, const double* gain, double* size,
-                        int n, const ActuationConstants& k) {
+                        int n, const ModelConstants& k) {
   over_lanes<T>(
       n, [&](auto lane, int i) { actuate_lanes<decltype(lane)>(stiff, signal, gain, size, i, k); });
 }

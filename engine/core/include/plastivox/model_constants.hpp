@@ -43,6 +43,15 @@ struct ModelConstants {
   // min_devo_factor e_min below which a voxel does not develop, Pa.
   double pressure_denominator = 0;
   double gate = 0;
+  // Actuation (actuate.cpp): size = L max(1 + act_amplitude_xi xi(E) gain u,
+  // def.act_min_factor) with xi(E) = (xi_e_max - E) xi_inv_range + xi_base: the paper's
+  // stiffness factor (e_max - E) / (e_max - e_min) with act_amplitude_xi = def.act_amplitude
+  // and the voxel's gain 1, or, with the robot's own amplitudes (Model::act_per_voxel), exactly
+  // 1 (xi_e_max = xi_inv_range = 0, xi_base = 1) times the gain, its amplitude
+  // (act_amplitude_xi = 1). The signal u is clipped to at most act_wave_max: +infinity, or 0
+  // without def.act_expansion (contraction only).
+  double act_amplitude_xi = 0, xi_e_max = 0, xi_inv_range = 0, xi_base = 0;
+  double act_wave_max = 0;
 };
 
 }  // namespace plastivox
