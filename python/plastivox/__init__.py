@@ -456,7 +456,8 @@ class Simulator:
 
     Per-step control (docs/control.md): sensors() gives the sensors of the present step,
     set_actuation(u) sets each voxel's signal in [-1, 1] (held until set again), step()
-    advances; reset() returns to t = 0. The robot's controller (the sine unless its file names
+    advances (or its two halves, step1() then step2(), as the engine's C++ Simulator and
+    MuJoCo's mj_step1/mj_step2 split it); reset() returns to t = 0. The robot's controller (the sine unless its file names
     a neural one) drives it until set_actuation is first called (or set_controller(None))."""
 
     # Each sensor: name, shape ("n", "n x 3", "3", "1"), unit, frame and meaning, in the
@@ -521,8 +522,8 @@ class Simulator:
     def sensors(self, names=None):
         """{name: numpy array} of the sensors of the present step (all, or those named: a name
         or a list of names), as copies: shape (n,) or (n, 3) per voxel, (3,) or () for the
-        whole body. Reading runs the first half of the step (the sensors come from its bond
-        strains and contacts); step() finishes it. save_state() is refused in between."""
+        whole body. Reading runs the first half of the step, step1() (the sensors come from its
+        bond strains and contacts), which changes no state; step() or step2() finishes it."""
         if isinstance(names, str):
             names = [names]
         return self._core.sensors(None if names is None else list(names))
@@ -564,6 +565,21 @@ class Simulator:
         if isinstance(n, bool) or not isinstance(n, (int, _np.integer)) or n < 0:
             raise ValueError(f"n: expected a number of steps >= 0, got {n!r}")
         return self._core.step(int(n))
+
+    def step1(self):
+        """The first half of a step, from the present state: every bond's strain, stress and
+        forces, the time step, each voxel's forces and the self-contacts (what sensors() reads).
+        It changes no state: state, state_hash and save_state() are as before it (a snapshot
+        taken now is the state before the step), and calling it again gives the same. Does
+        nothing once the life is over."""
+        self._core.step1()
+
+    def step2(self):
+        """The second half of a step: the controller (when one is set), then integration,
+        actuation and development, and time advances by dt; runs step1() first when it has
+        not run since the last step. step1() then step2() is step(), bit for bit. Does nothing
+        once the life is over."""
+        self._core.step2()
 
     def run(self):
         """Steps to the end of the life; returns the steps taken."""

@@ -194,6 +194,19 @@ class PySimulator {
     return done;
   }
 
+  // The halves of one step (Simulator::step1 and step2; both do nothing once the life is
+  // over). step1 changes no State.
+  void step1() {
+    const Busy busy(*this);
+    pyb::gil_scoped_release unlocked;
+    sim_->step1();
+  }
+  void step2() {
+    const Busy busy(*this);
+    pyb::gil_scoped_release unlocked;
+    sim_->step2();
+  }
+
   // Every read of the state comes here: refused while another thread steps (the state is
   // being written without the GIL).
   const State& state() const {
@@ -318,6 +331,8 @@ void bind_simulate(pyb::module_& m) {
   auto simulator = pyb::class_<PySimulator>(m, "Simulator");
   simulator.def(pyb::init<const PyRobot&, const pyb::object&, const std::optional<std::string>&>())
       .def("step", &PySimulator::step, pyb::arg("n") = 1)
+      .def("step1", &PySimulator::step1)
+      .def("step2", &PySimulator::step2)
       .def_property_readonly("time", [](const PySimulator& s) { return s.state().time; })
       .def_property_readonly("steps", [](const PySimulator& s) { return s.state().steps; })
       .def_property_readonly("dt", [](const PySimulator& s) { return s.state().dt; })

@@ -54,7 +54,8 @@ inline BondIn<T> gather(const BondKernelIo& io, int b) {
 }
 
 template <class T>
-inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, int& redo_count) {
+inline void bond_lanes(const BondKernelIo& io, int i, const ModelConstants& k, double damp,
+                       int& redo_count) {
   const T one = splat(1.0, T{}), zero = splat(0.0, T{});
   const BondIn<T> in = gather<T>(io, i);
   // Per-lane choice by the bond's lattice axis: v0 if 0, v1 if 1, v2 if 2.
@@ -138,7 +139,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   if (io.energy) store(io.energy, i, stress * strain);
 
   const T a2 = e * k.ka2, b3 = e * k.kb3;
-  // The chord floored at kMinShearChord L, as in the scalar path (bond_forces.cpp).
+  // The chord floored at min_shear_chord, as in the scalar path (bond_forces.cpp).
   const T chord = px + rest;
   const T b2c = 3.0 * b3 / pick(chord < k.min_shear_chord, splat(k.min_shear_chord, T{}), chord);
   T fx = stress * k.area, fyv = -b2c * (t1z + t2z), fzv = b2c * (t1y + t2y);
@@ -149,16 +150,15 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
   // previous deformation exists: valid = 0). The halves are taken in the coefficients
   // (h_*: c (g / 2) = (c / 2) g exactly, as scaling by a power of two is), so the changes g
   // are used whole.
-  double* const* P = io.prev;
   T old[9];
-  for (int j = 0; j < 9; ++j) old[j] = load(P[j], i, T{});
+  for (int j = 0; j < 9; ++j) old[j] = load(io.prev[j], i, T{});
   const T gpx = px - old[0], gpy = zero - old[1], gpz = zero - old[2];
   const T g1x = t1x - old[3], g1y = t1y - old[4], g1z = t1z - old[5];
   const T g2x = t2x - old[6], g2y = t2y - old[7], g2z = t2z - old[8];
-  const T se = root(e) * k.damp * in.valid;
-  const T h_a1 = se * (0.5 * k.dk_a1), h_b1 = h_a1, h_b2 = se * (0.5 * k.dk_b2);
-  const T h_a2 = se * (0.25 * k.dk_a2), h_b3 = se * (0.25 * k.dk_b3);
-  const T h_b2h = se * (0.25 * k.dk_b2);
+  const T se = root(e) * damp * in.valid;
+  const T h_a1 = se * (0.5 * k.damp_a1), h_b1 = h_a1, h_b2 = se * (0.5 * k.damp_b2);
+  const T h_a2 = se * (0.25 * k.damp_a2), h_b3 = se * (0.25 * k.damp_b3);
+  const T h_b2h = se * (0.25 * k.damp_b2);
   fx = fx + h_a1 * gpx;
   fyv = fyv + (h_b1 * gpy - h_b2 * (g1z + g2z));
   fzv = fzv + (h_b1 * gpz + h_b2 * (g1y + g2y));
@@ -171,7 +171,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
 
   // Flagged lanes keep their previous deformation: the scalar path redoes them from it.
   const T now[9] = {px, zero, zero, t1x, t1y, t1z, t2x, t2y, t2z};
-  for (int j = 0; j < 9; ++j) store(P[j], i, pick(redo, old[j], now[j]));
+  for (int j = 0; j < 9; ++j) store(io.prev_next[j], i, pick(redo, old[j], now[j]));
 
   // World frame. The chord-aligned frame's axes, in world coordinates, are the chord
   // direction u and a's permuted y and z axes turned by the smallest rotation taking a's
@@ -195,9 +195,10 @@ inline void bond_lanes(const BondKernelIo& io, int i, const BondConstants& k, in
 }
 
 template <class T>
-inline int run_bonds(const BondKernelIo& io, int n, const BondConstants& k) {
+inline int run_bonds(const BondKernelIo& io, int n, const ModelConstants& k, double damp) {
   int redo_count = 0;
-  over_lanes<T>(n, [&](auto lane, int i) { bond_lanes<decltype(lane)>(io, i, k, redo_count); });
+  over_lanes<T>(n,
+                [&](auto lane, int i) { bond_lanes<decltype(lane)>(io, i, k, damp, redo_count); });
   return redo_count;
 }
 

@@ -34,12 +34,6 @@
 namespace plastivox {
 namespace {
 
-// Floor of the chord in the exact model's shear coupling 3 b3 / chord, in nominal lengths.
-// Below it the coupling's stiffness, ~3 b3 / chord^2, exceeds what the step integrates: at a
-// tenth of L it is 50 E L, within the ~195x headroom of dt's 0.9 / (2 pi) over the stiffest
-// bond even for a bond of that stiffness. Only a bond crushed to a tenth of its length sees it.
-constexpr double kMinShearChord = 0.1;
-
 struct V3 {
   double x, y, z;
 };
@@ -244,15 +238,14 @@ inline Vec3 to_world(const BondGeometry& g, const double* R, const V3& v) {
 }  // namespace
 
 double elastic_energy(const Model& m, const State& s) {
-  const ModelConstants& k = m.k;
-  const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
+  const ModelConstants& k = m;
   double u = 0;
   for (int b = 0; b < m.bond_count(); ++b) {
     const Eigen::Matrix3d R = s.orient[m.bond_a[b]].toRotationMatrix();
     const BondGeometry g = bond_geometry(m, s, R.data(), b, false, false);
     const double ea = s.stiffness[m.bond_a[b]], eb = s.stiffness[m.bond_b[b]];
     const double e = 2.0 * ea * eb / (ea + eb);
-    const double a1 = (axial_own ? ea : e) * k.kb1;
+    const double a1 = (k.axial_own ? ea : e) * k.kb1;
     const double a2 = e * k.ka2;
     const double b3 = e * k.kb3;
     const V3& t1 = g.th1;
@@ -267,14 +260,13 @@ double elastic_energy(const Model& m, const State& s) {
 namespace {
 
 // The scalar path: every bond under the Voxelyze 0.9 model, and under the exact model the
-// few bonds the batched kernel flags (large rotations, degenerate chords).
-void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
-  const ModelConstants& mk = m.k;
-  const double L = m.size;
+// few bonds the batched kernel flags (large rotations, degenerate chords). Reads the State;
+// what the next step inherits (the deformation, the frame) goes to the Workspace.
+void scalar_bond(const Model& m, const State& s, Workspace& w, int b) {
+  const ModelConstants& mk = m;
   // Damping multiplier 2 sqrt(m) zeta / dt: turns sqrt(k) * (deformation change) into a
   // critical-fraction damping force.
   const double damp = mk.bond_damp / s.dt;
-  const bool axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
   const bool voxelyze = m.def.bond_model == BondModel::kVoxelyze09;
   const int ia = m.bond_a[b], ib = m.bond_b[b];
   bool small = s.bond_small_angle[b] != 0;
@@ -288,10 +280,10 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
       // Switching frames: deformation rates are undefined this step (no damping, and the
       // previous deformation is not refreshed), as in Voxelyze 0.9.
       small = next;
-      s.bond_small_angle[b] = small ? 1 : 0;
       g = bond_geometry(m, s, R, b, small, voxelyze);
       damp_ok = false;
     }
+    w.views.small_angle_next[b] = small ? 1 : 0;
   }
   const V3& p = g.p;
   const V3& t1 = g.th1;
@@ -300,7 +292,7 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
   const double strain = p.x * mk.inv_L;
   const double ea = s.stiffness[ia], eb = s.stiffness[ib];
   const double e = 2.0 * ea * eb / (ea + eb);  // harmonic mean: two springs in series
-  const double stress = (axial_own ? ea : e) * strain;
+  const double stress = (mk.axial_own ? ea : e) * strain;
   w.bond_strain[b] = strain;
   w.bond_stress[b] = stress;
   if (!w.bond_energy.empty()) w.bond_energy[b] = stress * strain;
@@ -310,14 +302,15 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
   // 3 b3 / chord, which makes the forces the gradient of the bending energy and the
   // bond's moments balance its forces (angular momentum is conserved) once bonds stretch
   // or actuate by several percent. The two agree at rest length. The chord is floored at
-  // kMinShearChord L: as a crushed bond's centres meet, 1/chord (a transverse displacement
-  // turns a short chord by a large angle) would grow without bound.
-  const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, kMinShearChord * L);
+  // min_shear_chord (kMinShearChord L, compile.cpp): as a crushed bond's centres meet,
+  // 1/chord (a transverse displacement turns a short chord by a large angle) would grow
+  // without bound.
+  const double b2c = voxelyze ? b2 : 3.0 * b3 / std::max(p.x + g.rest, mk.min_shear_chord);
   V3 f{stress * mk.area, b1 * p.y - b2c * (t1.z + t2.z), b1 * p.z + b2c * (t1.y + t2.y)};
   V3 ma{a2 * (t2.x - t1.x), -b2 * p.z - b3 * (2 * t1.y + t2.y), b2 * p.y - b3 * (2 * t1.z + t2.z)};
   V3 mb{a2 * (t1.x - t2.x), -b2 * p.z - b3 * (t1.y + 2 * t2.y), b2 * p.y - b3 * (t1.z + 2 * t2.z)};
 
-  auto& P = s.bond_prev;
+  const auto& P = s.bond_prev;
   const Vec3 prev_p(P[0][b], P[1][b], P[2][b]);
   const Vec3 prev_1(P[3][b], P[4][b], P[5][b]);
   const Vec3 prev_2(P[6][b], P[7][b], P[8][b]);
@@ -341,11 +334,13 @@ void scalar_bond(const Model& m, State& s, Workspace& w, int b) {
     mb.y += -c_b2h * dp.z - c_b3 * (d1.y + 2 * d2.y);
     mb.z += c_b2h * dp.y - c_b3 * (d1.z + 2 * d2.z);
   }
-  if (damp_ok || !s.bond_prev_valid[b]) {
-    const double now[9] = {p.x, p.y, p.z, t1.x, t1.y, t1.z, t2.x, t2.y, t2.z};
-    for (int k = 0; k < 9; ++k) P[k][b] = now[k];
-  }
-  s.bond_prev_valid[b] = 1;
+  // The deformation the next step damps against: this one, unless the bond switched frames
+  // with a deformation recorded (then the recorded one stays, as in Voxelyze 0.9). Every bond
+  // has one recorded after the step (commit_bond_deformation).
+  const double now[9] = {p.x, p.y, p.z, t1.x, t1.y, t1.z, t2.x, t2.y, t2.z};
+  const bool refresh = damp_ok || !s.bond_prev_valid[b];
+  double* const* next = w.views.bond.prev_next;  // may be P itself (compute_bond_forces)
+  for (int k = 0; k < 9; ++k) next[k][b] = refresh ? now[k] : P[k][b];
 
   const Vec3 results[3] = {to_world(g, R, f), to_world(g, R, ma), to_world(g, R, mb)};
   for (int v = 0; v < 3; ++v)
@@ -364,36 +359,33 @@ void bind_bond_views(const Model& m, State& s, Workspace& w) {
   io.quat = flat(s.orient);  // x, y, z, w
   io.stiff = s.stiffness.data();
   io.prev_valid = s.bond_prev_valid.data();
-  io.all_valid = false;                                            // set by each step
-  for (int k = 0; k < 9; ++k) io.prev[k] = s.bond_prev[k].data();  // updated in place
+  io.all_valid = false;  // set by each step
+  for (int k = 0; k < 9; ++k) {
+    io.prev[k] = s.bond_prev[k].data();
+    io.prev_next[k] = w.bond_prev_next[k].data();  // chosen by each step
+    w.views.prev_in_state[k] = s.bond_prev[k].data();
+  }
+  w.views.small_angle_in_state = s.bond_small_angle.data();
+  w.views.small_angle_next = w.bond_small_angle_next.data();
   for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
   io.strain = w.bond_strain.data();
   io.stress = w.bond_stress.data();
   io.energy = w.bond_energy.empty() ? nullptr : w.bond_energy.data();
   io.redo = w.redo.data();
-
-  const ModelConstants& mk = m.k;
-  BondConstants& k = w.views.bond_k;
-  k.L = m.size;
-  k.area = mk.area;
-  k.inv_L = mk.inv_L;
-  k.ka2 = mk.ka2;
-  k.kb1 = mk.kb1;
-  k.kb2 = mk.kb2;
-  k.kb3 = mk.kb3;
-  k.damp = mk.bond_damp / s.dt;  // follows dt: set by each step
-  k.dk_a1 = mk.damp_a1;
-  k.dk_b2 = mk.damp_b2;
-  k.dk_a2 = mk.damp_a2;
-  k.dk_b3 = mk.damp_b3;
-  k.axial_own = m.def.axial_modulus == AxialModulus::kNegativeVoxel;
-  k.min_shear_chord = kMinShearChord * m.size;
 }
 
 // Exact model: the batched kernel reads the voxels and writes every bond's results; the
 // few bonds it cannot handle (degenerate chords, rotations near half a turn) are redone in
 // scalar code. Voxelyze 0.9 model: the scalar path for every bond (its frame switching).
-void compute_bond_forces(const Model& m, State& s, Workspace& w) {
+// The State is read only: each bond's deformation (and frame) for the next step goes to the
+// Workspace, and step2 commits it (commit_bond_deformation); or, with next_into_state, into
+// the State's arrays, through the views (each bond's are read before they are written).
+void compute_bond_forces(const Model& m, const State& s, Workspace& w, bool next_into_state) {
+  KernelViews& v = w.views;
+  w.bonds_next_in_state = next_into_state;
+  for (int k = 0; k < 9; ++k)
+    v.bond.prev_next[k] = next_into_state ? v.prev_in_state[k] : w.bond_prev_next[k].data();
+  v.small_angle_next = next_into_state ? v.small_angle_in_state : w.bond_small_angle_next.data();
   // Centres and sizes as records of 4 doubles: the bond kernel's and the self-collision
   // test's inputs (positions and sizes do not change until the update stage; why a second
   // layout: Workspace::centre_size).
@@ -412,11 +404,24 @@ void compute_bond_forces(const Model& m, State& s, Workspace& w) {
   if (nb == 0) return;
   BondKernelIo& io = w.views.bond;
   io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
-  w.views.bond_k.damp = m.k.bond_damp / s.dt;
-  const int redo = kernels().bond(io, nb, w.views.bond_k);
+  const int redo = kernels().bond(io, nb, m, m.bond_damp / s.dt);
   // From the unchanged previous deformation.
   for (int r = 0; r < redo; ++r) scalar_bond(m, s, w, w.redo[r]);
-  std::fill(s.bond_prev_valid.begin(), s.bond_prev_valid.end(), 1);
+}
+
+// Copies, not swaps: the State's arrays keep their storage for the whole life (the kernels'
+// views and Python's numpy views point into them). Nothing to copy after step(): its bond
+// stage wrote them in place.
+void commit_bond_deformation(const Model& m, State& s, const Workspace& w) {
+  const size_t nb = static_cast<size_t>(m.bond_count());
+  if (nb == 0) return;
+  if (!w.bonds_next_in_state) {
+    for (int k = 0; k < 9; ++k)
+      std::memcpy(s.bond_prev[k].data(), w.bond_prev_next[k].data(), nb * sizeof(double));
+    if (m.def.bond_model == BondModel::kVoxelyze09)
+      std::memcpy(s.bond_small_angle.data(), w.bond_small_angle_next.data(), nb);
+  }
+  std::memset(s.bond_prev_valid.data(), 1, nb);
 }
 
 }  // namespace plastivox

@@ -102,6 +102,13 @@ void place_in_environment(Model& m) {
 
 }  // namespace
 
+// Floor of the chord in the exact model's shear coupling 3 b3 / chord (bond_forces.cpp), in
+// nominal lengths. Below it the coupling's stiffness, ~3 b3 / chord^2, exceeds what the step
+// integrates: at a tenth of L it is 50 E L, within the ~195x headroom of dt's 0.9 / (2 pi)
+// over the stiffest bond even for a bond of that stiffness. Only a bond crushed to a tenth of
+// its length sees it.
+constexpr double kMinShearChord = 0.1;
+
 Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits) {
   validate(robot, limits);
   validate(def);
@@ -111,7 +118,10 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   m.size = L;
   m.mass = def.density * L * L * L;
   m.inertia = m.mass * L * L / 6.0;
-  ModelConstants& k = m.k;
+  m.inv_mass = 1.0 / m.mass;
+  m.inv_inertia = 1.0 / m.inertia;
+  m.inv_volume = 1.0 / (L * L * L);
+  ModelConstants& k = m;
   const double nu = def.poisson;
   k.area = L * L;
   k.inv_L = 1.0 / L;
@@ -124,8 +134,15 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   k.damp_b2 = std::sqrt(L * L * L / 4.0);
   k.damp_a2 = std::sqrt(L * L * L * L * L / (72.0 * (1.0 + nu)));
   k.damp_b3 = std::sqrt(L * L * L * L * L / 36.0);
+  k.axial_own = def.axial_modulus == AxialModulus::kNegativeVoxel;
+  k.min_shear_chord = kMinShearChord * L;
   k.c_lin_unit = 2.0 * std::sqrt(m.mass * L);
   k.c_rot_unit = 2.0 * std::sqrt(m.inertia * L * L * L);
+  k.c_col_unit = def.collision_damping * k.c_lin_unit;
+  k.rot_damp = def.global_damping_rot_factor * def.global_damping;
+  k.weight[2] = m.mass * def.gravity;
+  k.pressure_denominator = 3.0 * (1.0 - 2.0 * nu);
+  k.gate = def.min_devo_factor * def.e_min;
 
   // Voxels in increasing site order. The site -> voxel lookup for bonding searches that
   // sorted list, so the model costs memory per voxel, not per lattice site.
@@ -145,6 +162,11 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
   m.act_per_voxel = !robot.act_amplitude.empty();
   m.controller = robot.controller;  // validated with the robot
   m.act_amplitude_max = m.act_per_voxel ? 0.0 : def.act_amplitude;
+  m.act_amplitude_xi = m.act_per_voxel ? 1.0 : def.act_amplitude;
+  m.xi_e_max = m.act_per_voxel ? 0.0 : def.e_max;
+  m.xi_inv_range = m.act_per_voxel ? 0.0 : 1.0 / (def.e_max - def.e_min);
+  m.xi_base = m.act_per_voxel ? 1.0 : 0.0;
+  m.act_wave_max = def.act_expansion ? HUGE_VAL : 0.0;
   m.voxel_bonds.assign(m.n, {-1, -1, -1, -1, -1, -1});
   const bool develops = def.treatment != Treatment::kNone;
   for (int i = 0; i < m.n; ++i) {
@@ -162,6 +184,7 @@ Model compile(const RobotDef& robot, const PhysicsDef& def, const Limits& limits
     if (!robot.act_scale.empty()) m.act_gain[i] *= robot.act_scale[s];  // 0: passive
   }
   place_in_environment(m);
+  m.flat_floor = def.floor && !m.terrain;  // an environment's ground: terrain.cpp
   // Bounded in time before anything runs: the stiffest voxel, or e_max if E can grow.
   double e_top = 0;
   for (double e : m.e0) e_top = std::max(e_top, e);

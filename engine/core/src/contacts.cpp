@@ -199,7 +199,8 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
 // collision_damping (2 zeta sqrt(m_r k), m_r = m / 2 the pair's reduced mass), and kinetic
 // friction mu_k N against the pair's relative tangential velocity, capped at the force that
 // stops that sliding within the step (m_r |v_t| / dt), as the floor stops a voxel rather than
-// reverse it. Equal and opposite on the two voxels, so momentum is conserved.
+// reverse it. Equal and opposite on the two voxels, so momentum is conserved. dt is this
+// step's (Workspace::dt_next: step1 leaves the State's as it was).
 void object_contact(const Model& m, const State& s, Workspace& w, int i, int j, const Vec3& d,
                     double dist, double contact) {
   const double ei = s.stiffness[i], ej = s.stiffness[j];
@@ -213,7 +214,7 @@ void object_contact(const Model& m, const State& s, Workspace& w, int i, int j, 
   const Vec3 vt = v - vn * n;
   const double speed = vt.norm();
   if (speed > 0) {
-    const double friction = std::min(m.def.mu_kinetic * normal, m_r * speed / s.dt);
+    const double friction = std::min(m.def.mu_kinetic * normal, m_r * speed / w.dt_next);
     f -= vt * (friction / speed);
   }
   for (int c3 = 0; c3 < 3; ++c3) {  // f acts on j

@@ -64,11 +64,10 @@ void compute(Sensor id, const Model& m, const State& s, const Workspace& w,
     case Sensor::kPressure: {
       // The development stimulus of that name, of this step's bonds (the bond stage's strains
       // and stresses), by the development kernel's own formula.
-      DevelopConstants k = w.views.develop_k;
-      k.stimulus = id == Sensor::kStrain   ? Treatment::kStrain
-                   : id == Sensor::kStress ? Treatment::kStress
-                                           : Treatment::kPressure;
-      for (int i = 0; i < n; ++i) out[i] = stimulus_lanes<double>(w.views.develop, i, k);
+      const Treatment which = id == Sensor::kStrain   ? Treatment::kStrain
+                              : id == Sensor::kStress ? Treatment::kStress
+                                                      : Treatment::kPressure;
+      for (int i = 0; i < n; ++i) out[i] = stimulus_lanes<double>(w.views.develop, i, m, which);
       return;
     }
     case Sensor::kVelocity:

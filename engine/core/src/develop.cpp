@@ -27,7 +27,6 @@ namespace plastivox {
 //   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor
 //   e_min) and alpha != 0 develop: soft voxels never do, and one softened to the gate stops.
 void bind_develop_views(const Model& m, State& s, Workspace& w) {
-  const PhysicsDef& d = m.def;
   DevelopIo& io = w.views.develop;
   for (int slot = 0; slot < 6; ++slot) io.slot_bond[slot] = w.slot_bond[slot].data();
   io.no_bond = m.bond_count();
@@ -44,29 +43,11 @@ void bind_develop_views(const Model& m, State& s, Workspace& w) {
   io.stimulus = s.stimulus.data();
   io.stim_integral = s.stim_integral.data();
   io.stim_ref = s.stim_ref.data();
-  // first and dt are set by each step.
-  DevelopConstants& k = w.views.develop_k;
-  k.stimulus = d.treatment;
-  k.split = d.axial_modulus == AxialModulus::kHarmonicMean;
-  k.integral = d.growth == GrowthModel::kIntegral;
-  k.first = !s.stim_ref_set;
-  k.pressure_denominator = 3.0 * (1.0 - 2.0 * d.poisson);
-  k.gate = d.min_devo_factor * d.e_min;
-  k.dt = s.dt;
-  k.max_change = d.max_change_per_step;
-  k.e_min = d.e_min;
-  k.e_max = d.e_max;
-  k.inv_mass = 1.0 / m.mass;
-  k.inv_inertia = 1.0 / m.inertia;
-  k.inv_volume = 1.0 / (m.size * m.size * m.size);
 }
 
 void develop(const Model& m, State& s, Workspace& w) {
   if (m.def.treatment == Treatment::kNone || s.time < m.def.settle_time) return;
-  DevelopConstants& k = w.views.develop_k;
-  k.first = !s.stim_ref_set;
-  k.dt = s.dt;
-  kernels().develop(w.views.develop, m.n, k);
+  kernels().develop(w.views.develop, m.n, m, s.dt, !s.stim_ref_set);
   s.stim_ref_set = true;
 }
 

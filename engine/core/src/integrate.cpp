@@ -38,45 +38,24 @@ void bind_voxel_views(const Model& m, State& s, Workspace& w) {
   out.lin_mom = flat(s.lin_mom);
   out.ang_mom = flat(s.ang_mom);
   out.static_friction = s.static_friction.data();
-
-  // From the model's precomputed constants; dt is set by each step.
-  const PhysicsDef& d = m.def;
-  VoxelConstants& k = w.views.voxel_k;
-  k.weight[0] = 0, k.weight[1] = 0, k.weight[2] = m.mass * d.gravity;
-  k.slow_zeta = d.global_damping;
-  k.c_lin_unit = m.k.c_lin_unit;
-  k.c_rot_unit = m.k.c_rot_unit;
-  k.c_col_unit = d.collision_damping * k.c_lin_unit;
-  k.rot_damp = d.global_damping_rot_factor * d.global_damping;
-  k.mass = m.mass;
-  k.inv_mass = 1.0 / m.mass;
-  k.inv_inertia = 1.0 / m.inertia;
-  k.L = m.size;
-  k.dt = s.dt;
-  k.mu_static = d.mu_static;
-  k.mu_kinetic = d.mu_kinetic;
-  k.floor = d.floor && !m.terrain;  // an environment's ground: terrain.cpp
-  k.voxelyze_turns = d.bond_model == BondModel::kVoxelyze09;
 }
 
-void gather_voxel_forces(const Model& m, const State& s, Workspace& w) {
+// Reads the State through the views (positions, momenta, stiffness); the gather takes no dt.
+void gather_voxel_forces(const Model& m, const State&, Workspace& w) {
   if (m.n == 0) return;
-  w.views.voxel_k.dt = s.dt;
-  kernels().gather(w.views.voxel, m.n, w.views.voxel_k);
+  kernels().gather(w.views.voxel, m.n, m);
 }
 
 void integrate(const Model& m, State& s, Workspace& w) {
   if (m.n == 0) return;
-  w.views.voxel_k.dt = s.dt;
   if (m.terrain) terrain_contacts(m, s, w);
-  const VoxelUpdateSummary r =
-      kernels().update(w.views.voxel, w.views.voxel_out, m.n, w.views.voxel_k);
+  const VoxelUpdateSummary r = kernels().update(w.views.voxel, w.views.voxel_out, m.n, m, s.dt);
   if (m.terrain) terrain_after_update(m, s, w);
   const double limit = m.def.max_speed;
   if (!r.non_finite && !(r.max_speed2 > limit * limit)) return;
 
   // Unstable: name the fastest free voxel (the first of equals) from the updated momenta.
-  const double inv_mass = 1.0 / m.mass;
+  const double inv_mass = m.inv_mass;
   double max_speed2 = 0;
   int fastest = -1;
   for (int i = 0; i < m.n; ++i) {

@@ -9,7 +9,7 @@
 
 #include <cstdint>
 
-#include "plastivox/physics_def.hpp"
+#include "plastivox/model_constants.hpp"
 
 namespace plastivox {
 
@@ -32,28 +32,21 @@ struct BondKernelIo {
   // whether every bond's is (after the first step, always), so lanes need not read it.
   const uint8_t* prev_valid = nullptr;
   bool all_valid = false;
-  // Per bond, in and out: the previous deformation (State::bond_prev); out: the results
-  // (Workspace::bond_out: force on a, moment on a, moment on b, each as records of
-  // (x, y, z, 0); bond_strain, bond_stress).
-  double* prev[9] = {};
+  // Per bond, in: the previous deformation (State::bond_prev, read only); out: this step's
+  // deformation, the next step's previous one (Workspace::bond_prev_next, which step2 commits
+  // to the State), and the results (Workspace::bond_out: force on a, moment on a, moment on
+  // b, each as records of (x, y, z, 0); bond_strain, bond_stress).
+  const double* prev[9] = {};
+  double* prev_next[9] = {};
   double* out[3] = {};
   double* strain = nullptr;
   double* stress = nullptr;
   // Out when not null: stress times strain (Workspace::bond_energy; the strain_energy stimulus).
   double* energy = nullptr;
   // Out: indices of the bonds the kernel could not compute (degenerate chord, relative
-  // rotation near half a turn), in increasing order; room for one per bond. They keep
-  // their previous deformation and must be recomputed by the scalar path.
+  // rotation near half a turn), in increasing order; room for one per bond. Their
+  // prev_next is their previous deformation, and the scalar path must recompute them.
   int* redo = nullptr;
-};
-
-struct BondConstants {
-  double L, area, inv_L;
-  double ka2, kb1, kb2, kb3;          // beam constants per unit modulus
-  double damp;                        // 2 sqrt(m) zeta / dt
-  double dk_a1, dk_b2, dk_a2, dk_b3;  // damping coefficients per sqrt(E) (Workspace)
-  bool axial_own;                     // axial stress from a's own modulus
-  double min_shear_chord;             // floor of the chord in the shear coupling, m
 };
 
 // ---- Voxels: gathering bond forces, floor contact, friction and the Euler update ----
@@ -96,23 +89,6 @@ struct VoxelStateOut {
   uint8_t* static_friction = nullptr;
 };
 
-// Constants of the voxel stages, each kept as the factor the formulas multiply by (so every
-// product is rounded as in the scalar expressions of integrate.cpp's history).
-struct VoxelConstants {
-  double weight[3];   // m g, N
-  double slow_zeta;   // global (slow) damping ratio
-  double c_lin_unit;  // 2 sqrt(m L): critical damping of a voxel's axial spring per sqrt(E)
-  double c_rot_unit;  // 2 sqrt(I L^3): the same for rotation
-  double c_col_unit;  // floor damping ratio times c_lin_unit
-  double rot_damp;    // rotational slow damping: factor over the linear one times zeta
-  double mass, inv_mass, inv_inertia, L, dt;
-  double mu_static, mu_kinetic;
-  bool floor;
-  // bond_model voxelyze09: turn as Voxelyze 0.9 does (first-order quaternion step, and an
-  // orientation within about 3e-8 rad of the lattice's reset to exactly none).
-  bool voxelyze_turns;
-};
-
 // What the update stage reports for the stability check: the largest squared speed of a
 // free voxel (m^2/s^2) and whether some free voxel's momenta are not finite.
 struct VoxelUpdateSummary {
@@ -123,12 +99,7 @@ struct VoxelUpdateSummary {
 // Actuation: size[i] = L max(1 + A xi(E_i) u_i, min_factor) from each voxel's signal u_i in
 // [-1, 1] (the sine controller's is sin(2 pi (f t + phase_i))), with
 // xi(E) = (e_max - E) / (e_max - e_min).
-// xi = (e_max - E) * inv_range + xi_base: the paper's stiffness factor with xi_base 0, and
-// exactly 1 for every E with e_max = inv_range = 0, xi_base = 1 (the robot's own amplitudes).
-// The signal is clipped to at most wave_max: +infinity (no clip) or 0 (contraction only).
-struct ActuationConstants {
-  double L, amplitude, min_factor, e_max, inv_range, xi_base, wave_max;
-};
+// (ModelConstants: act_amplitude_xi, xi_e_max, xi_inv_range, xi_base, act_wave_max.)
 
 // ---- Development: the per-voxel rule of develop.cpp (docs/method.md §5) ----
 
@@ -157,36 +128,31 @@ struct DevelopIo {
   double* stim_ref = nullptr;
 };
 
-struct DevelopConstants {
-  Treatment stimulus;  // which stimulus (never kNone here)
-  bool split;  // pressure from bond stresses (each voxel's share of the strain); else E_i x strain
-  bool integral;  // E = E0 + alpha * integral; else the rate model
-  bool first;     // the first developing step: the rate model's reference is taken now
-  double pressure_denominator;  // 3 (1 - 2 nu)
-  double gate;                  // development only while E > gate
-  double dt, max_change, e_min, e_max;
-  double inv_mass, inv_inertia, inv_volume;  // kinetic: 1/m, 1/I, 1/L^3
-};
-
 // ---- The set ----
 
+// Every kernel reads the model's constants as compile() made them (ModelConstants, which a
+// Model is), and is handed only what follows the step: dt, or the bonds' damping factor
+// bond_damp / dt.
 struct KernelSet {
   // Bonds [0, n); returns how many bond indices it wrote to io.redo.
-  int (*bond)(const BondKernelIo& io, int n, const BondConstants& k);
+  int (*bond)(const BondKernelIo& io, int n, const ModelConstants& k, double damp);
   // Voxels [0, n): force[i] = the sum of its bonds' forces in slot order - slow damping +
   // weight + load; moment[i] = the sum of its bonds' moments; sqrt_e[i] = sqrt(E_i).
-  void (*gather)(const VoxelKernelIo& io, int n, const VoxelConstants& k);
+  void (*gather)(const VoxelKernelIo& io, int n, const ModelConstants& k);
   // Voxels [0, n): floor contact and friction on force[i], then momenta, position and
-  // orientation.
+  // orientation, over a step of dt (bond_model voxelyze09 turns as Voxelyze 0.9 does: a
+  // first-order quaternion step, and an orientation within about 3e-8 rad of the lattice's
+  // reset to exactly none).
   VoxelUpdateSummary (*update)(const VoxelKernelIo& io, const VoxelStateOut& st, int n,
-                               const VoxelConstants& k);
+                               const ModelConstants& k, double dt);
   // Voxels [0, n): signal[i] = sin(2 pi (cycles + phase[i])), the sine controller's.
   void (*sine)(const double* phase, double* signal, int n, double cycles);
   // Voxels [0, n): the actuated sizes from the signals.
   void (*actuate)(const double* stiff, const double* signal, const double* gain, double* size,
-                  int n, const ActuationConstants& k);
-  // Voxels [0, n): stimulus and stiffness update.
-  void (*develop)(const DevelopIo& io, int n, const DevelopConstants& k);
+                  int n, const ModelConstants& k);
+  // Voxels [0, n): stimulus and stiffness update over a step of dt; first: the first
+  // developing step (the rate model's reference is taken now).
+  void (*develop)(const DevelopIo& io, int n, const ModelConstants& k, double dt, bool first);
   // Writes to out, increasing, every e in [begin, end) with
   // (px[e] - x)^2 + (py[e] - y)^2 + (pz[e] - z)^2 < r2 (a plain comparison of those rounded
   // sums); returns how many. out has room for end - begin entries. (Self-collision refresh.)

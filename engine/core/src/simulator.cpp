@@ -31,15 +31,16 @@ Simulator::Simulator(Simulator&&) noexcept = default;
 
 State& Simulator::mutable_state() {
   views_stale_ = true;  // the caller may replace the State's arrays
+  // What step1 computed came from the State as it was: the next step runs step1 again.
+  between_halves_ = false;
   sensor_cache_.invalidate();
   return state_;
 }
 
+// Between step1 and step2 too: step1 writes only the Workspace, so the State (with the signal
+// and the controller's memory, which the controller sets in step2) is still the state before
+// the step.
 std::vector<uint8_t> Simulator::save_state() const {
-  if (between_halves_)
-    throw std::logic_error(
-        "save_state: the simulator is between the halves of a step (step1 or sensors() ran, "
-        "step2 not yet): save before reading the sensors, or after the step");
   return plastivox::save_state(state_);
 }
 
@@ -100,7 +101,10 @@ bool views_bound_to(const State& s, const Workspace& w) {
       v.develop.size == s.size.data() && v.develop.stimulus == s.stimulus.data() &&
       v.develop.stim_integral == s.stim_integral.data() &&
       v.develop.stim_ref == s.stim_ref.data() && v.bond.prev_valid == s.bond_prev_valid.data();
-  for (int k = 0; k < 9; ++k) same = same && v.bond.prev[k] == s.bond_prev[k].data();
+  for (int k = 0; k < 9; ++k)
+    same = same && v.bond.prev[k] == s.bond_prev[k].data() &&
+           v.prev_in_state[k] == s.bond_prev[k].data();
+  same = same && v.small_angle_in_state == s.bond_small_angle.data();
   return same;
 }
 
@@ -212,8 +216,14 @@ void Simulator::step(StageTimings* t) {
 }
 
 void Simulator::step1(StageTimings* t) {
+  first_half(t, false);
+}
+
+// step1, or with next_into_state (step2 running it: nothing can see the State between the
+// halves) the same with the bonds' next deformations written into the State (Workspace).
+void Simulator::first_half(StageTimings* t, bool next_into_state) {
   const Model& m = *model_;
-  State& s = state_;
+  const State& s = state_;  // read only: what the next state takes goes to the Workspace
   Workspace& w = *ws_;
   if (s.status != SimStatus::kRunning) return;
   assert(s.pos.size() == static_cast<size_t>(m.n) && s.size.size() == s.pos.size() &&
@@ -222,7 +232,7 @@ void Simulator::step1(StageTimings* t) {
          "the State was not made for this Model: restore only a State saved from a Simulator "
          "of the same compiled model");
   if (views_stale_) {
-    bind_views(m, s, w);
+    bind_views(m, state_, w);
     views_stale_ = false;
   }
   assert(views_bound_to(s, w) &&
@@ -230,8 +240,8 @@ void Simulator::step1(StageTimings* t) {
          "through mutable_state() or restore_state() before the step");
   sensor_cache_.invalidate();
   using T = StageTimings;
-  run_stage(t, &T::bond_forces, [&] { compute_bond_forces(m, s, w); });
-  run_stage(t, &T::time_step, [&] { follow_stiffness(m, s); });
+  run_stage(t, &T::bond_forces, [&] { compute_bond_forces(m, s, w, next_into_state); });
+  run_stage(t, &T::time_step, [&] { follow_stiffness(m, s, w); });
   run_stage(t, &T::voxel_forces, [&] { gather_voxel_forces(m, s, w); });
   run_stage(t, &T::self_collisions, [&] { apply_self_collisions(m, s, w); });
   between_halves_ = true;
@@ -241,9 +251,13 @@ void Simulator::step2(StageTimings* t) {
   const Model& m = *model_;
   State& s = state_;
   Workspace& w = *ws_;
-  if (!between_halves_) step1(t);
+  if (!between_halves_) first_half(t, true);
   if (s.status != SimStatus::kRunning) return;
   using T = StageTimings;
+  // What step1 computed for the next state: the State is mid-step from here on (the
+  // controller sees this step's dt, as it always has).
+  s.dt = w.dt_next;
+  run_stage(t, &T::bond_forces, [&] { commit_bond_deformation(m, s, w); });
   if (controller_ && s.steps % every_ == 0)
     run_stage(t, &T::actuate, [&] {
       const double rate = controller_->max_rate();
@@ -281,10 +295,11 @@ Vec3 displacement_since_settling(const Model& model, const Vec3& com_settled, co
 
 // Derived from the state, not carried in a flag: after any step that may have developed
 // (time past the settle time) dt is recomputed, and for unchanged stiffness stable_dt gives
-// the same dt, bit for bit.
-void follow_stiffness(const Model& m, State& s) {
-  if (m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time)
-    s.dt = stable_dt(m, s.stiffness);
+// the same dt, bit for bit. Into the Workspace: step2 commits it.
+void follow_stiffness(const Model& m, const State& s, Workspace& w) {
+  w.dt_next = m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time
+                  ? stable_dt(m, s.stiffness)
+                  : s.dt;
 }
 
 namespace {

@@ -69,8 +69,8 @@ void drop_tangent(const Normal& c, double v[3]) {
 // returns the normal force (N) and sets held when static friction holds the voxel or a stop
 // brought it to rest.
 double apply_contact(const Normal& c, double pen, double E, double se, bool was_held,
-                     const VoxelConstants& k, double f[3], double p[3], bool& held) {
-  const double normal = 2.0 * E * k.L * pen;
+                     const ModelConstants& k, double dt, double f[3], double p[3], bool& held) {
+  const double normal = 2.0 * E * k.size * pen;
   double v[3], vt[3], ft[3];
   for (int a = 0; a < 3; ++a) v[a] = p[a] * k.inv_mass;
   const double vn =
@@ -82,13 +82,13 @@ double apply_contact(const Normal& c, double pen, double E, double se, bool was_
   const bool still = vt[0] == 0.0 && vt[1] == 0.0 && vt[2] == 0.0;
   const bool at_rest = still || (c.axis < 0 && was_held);
   const bool sticks =
-      std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) < k.mu_static * normal;
+      std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) < k.def.mu_static * normal;
   // Sliding: kinetic friction against the tangential velocity, or a stop if it would reverse
   // the motion within this step.
   const double speed = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-  const double fric = k.mu_kinetic * normal;
+  const double fric = k.def.mu_kinetic * normal;
   const bool moving = !at_rest;
-  const bool slides = moving && fric * k.dt < k.mass * speed;
+  const bool slides = moving && fric * dt < k.mass * speed;
   const bool stops = moving && !slides;
   if (slides)
     for (int a = 0; a < 3; ++a) f[a] = f[a] - fric * vt[a] / speed;
@@ -192,7 +192,8 @@ void body_bounds(const State& s, const std::vector<Vec3>* also, Vec3& lo, Vec3& 
 }  // namespace
 
 void terrain_contacts(const Model& m, State& s, Workspace& w) {
-  const VoxelConstants& k = w.views.voxel_k;
+  const ModelConstants& k = m;
+  const double dt = s.dt;
   const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
   if (!boxes.empty()) {
     Vec3 lo, hi;
@@ -214,7 +215,7 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
       const double pen = m.ground.penetration(x.x(), x.y(), x.z(), r, c.n);
       if (pen > 0) {
         if (c.n[0] == 0 && c.n[1] == 0) c.axis = 2;
-        normal += apply_contact(c, pen, E, se, was_held, k, f, p, held);
+        normal += apply_contact(c, pen, E, se, was_held, k, dt, f, p, held);
       }
     }
     for (int box : w.terrain_boxes) {
@@ -225,7 +226,7 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
         continue;
       double pen;
       const Normal c = nearest_face(lo, hi, x.data(), pen);
-      normal += apply_contact(c, pen, E, se, was_held, k, f, p, held);
+      normal += apply_contact(c, pen, E, se, was_held, k, dt, f, p, held);
     }
     for (int a = 0; a < 3; ++a) w.force[a][i] = f[a];
     w.terrain_held[i] = held;

@@ -32,7 +32,7 @@ inline void load_vec4(const double* p, Vec4& v) {
 // force or moment is one record, so the three components are summed together (each exactly
 // as on its own). A slot without a bond reads the zero record past the last bond, so there
 // is no branch (its only effect on the sum is that -0 + 0 is +0).
-inline void gather_voxel(const VoxelKernelIo& io, int i, const VoxelConstants& k, double coef) {
+inline void gather_voxel(const VoxelKernelIo& io, int i, const ModelConstants& k, double coef) {
   Vec4 f = {0, 0, 0, 0}, mo = {0, 0, 0, 0};
   for (int slot = 0; slot < 6; ++slot) {
     const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]);
@@ -56,9 +56,8 @@ inline void gather_voxel(const VoxelKernelIo& io, int i, const VoxelConstants& k
 // finiteness of the momenta of the free voxels into max_speed2 / bad.
 template <class T, class Mask>
 inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i,
-                         const VoxelConstants& k, T& max_speed2, Mask& bad) {
+                         const ModelConstants& k, double dt, T& max_speed2, Mask& bad) {
   const T zero = splat(0.0, T{}), one = splat(1.0, T{});
-  const double dt = k.dt;
   const Mask fixed = load_flag(io.fixed, i, T{});
   const T E = load(io.stiff, i, T{});
   const T se = load(io.sqrt_e, i, T{});
@@ -72,23 +71,23 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
   Mask held = and_not(fixed, fixed);  // all clear
   T floor_normal = zero;
 
-  if (k.floor) {
+  if (k.flat_floor) {
     // Penetration of the voxel's (actuated) half-size below the floor plane z = 0; the
     // voxel's tilt is ignored, as in Voxelyze.
     const T pen = 0.5 * load(io.size, i, T{}) - z0;
     const Mask contact = pen > 0.0;
     if (any(contact)) {
-      const T normal = 2.0 * E * k.L * pen;
+      const T normal = 2.0 * E * k.size * pen;
       const T vz = pz * k.inv_mass;
       const T c_col = k.c_col_unit * se;
       const T vx = px * k.inv_mass, vy = py * k.inv_mass;
       // At rest: stick unless the lateral load exceeds the static limit.
       const Mask at_rest = (vx == 0.0) & (vy == 0.0);
-      const Mask sticks = root(fx * fx + fy * fy) < k.mu_static * normal;
+      const Mask sticks = root(fx * fx + fy * fy) < k.def.mu_static * normal;
       // Sliding: kinetic friction against the velocity, or a stop if it would reverse the
       // motion within this step.
       const T speed = root(vx * vx + vy * vy);
-      const T fric = k.mu_kinetic * normal;
+      const T fric = k.def.mu_kinetic * normal;
       const Mask moving = and_not(contact, at_rest);
       const Mask slides = moving & (fric * dt < k.mass * speed);
       const Mask stops = and_not(moving, slides);
@@ -126,7 +125,7 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
   load4(io.quat, i, q);
   const T bx = q[0], by = q[1], bz = q[2], bw = q[3];
   T qx, qy, qz, qw;
-  if (k.voxelyze_turns) {
+  if (k.def.bond_model == BondModel::kVoxelyze09) {
     // Voxelyze 0.9 (CVXS_Voxel::EulerStep, CQuat::NormalizeFast): q += dt (0, omega/2) q,
     // then q *= 1/|q|, and a q whose w is then 1 becomes exactly no turn. So a voxel turned
     // less than about 3e-8 rad from the lattice stays unturned while its angular momentum
@@ -215,20 +214,21 @@ inline void run_sine(const double* phase, double* signal, int n, double cycles) 
 // Voxels [i, i + width): the actuated size from each voxel's signal (docs/method.md §4).
 template <class T>
 inline void actuate_lanes(const double* stiff, const double* signal, const double* gain,
-                          double* size, int i, const ActuationConstants& k) {
+                          double* size, int i, const ModelConstants& k) {
   // Stiff voxels barely move; xi follows the *current* E, so development changes actuation.
   // (A gain of 1 and xi_base 0 leave every bit as the plain formula gives it.)
-  const T xi = (k.e_max - load(stiff, i, T{})) * k.inv_range + k.xi_base;
+  const T xi = (k.xi_e_max - load(stiff, i, T{})) * k.xi_inv_range + k.xi_base;
   const T u = load(signal, i, T{});
-  const T wave = pick(u > k.wave_max, splat(k.wave_max, T{}), u);
+  const T wave = pick(u > k.act_wave_max, splat(k.act_wave_max, T{}), u);
   // The size factor never drops below min_factor (Voxelyze's MIN_TEMP_FACTOR).
-  const T factor = 1.0 + k.amplitude * xi * load(gain, i, T{}) * wave;
-  store(size, i, k.L * pick(factor < k.min_factor, splat(k.min_factor, T{}), factor));
+  const T factor = 1.0 + k.act_amplitude_xi * xi * load(gain, i, T{}) * wave;
+  const double least = k.def.act_min_factor;
+  store(size, i, k.size * pick(factor < least, splat(least, T{}), factor));
 }
 
 template <class T>
 inline void run_actuate(const double* stiff, const double* signal, const double* gain, double* size,
-                        int n, const ActuationConstants& k) {
+                        int n, const ModelConstants& k) {
   over_lanes<T>(
       n, [&](auto lane, int i) { actuate_lanes<decltype(lane)>(stiff, signal, gain, size, i, k); });
 }
@@ -237,15 +237,15 @@ inline void run_actuate(const double* stiff, const double* signal, const double*
 // spring, against absolute velocity; its coefficient (and sqrt(E), kept for the update) for
 // lanes of voxels at a time, as square roots and divisions are slow one by one.
 template <class T>
-inline T slow_damping_lanes(const VoxelKernelIo& io, int i, const VoxelConstants& k) {
+inline T slow_damping_lanes(const VoxelKernelIo& io, int i, const ModelConstants& k) {
   const T se = root(load(io.stiff, i, T{}));
   store(io.sqrt_e, i, se);
   const T c_lin = k.c_lin_unit * se;
-  return (k.slow_zeta * c_lin) / k.mass;
+  return (k.def.global_damping * c_lin) / k.mass;
 }
 
 template <class T>
-inline void run_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) {
+inline void run_gather(const VoxelKernelIo& io, int n, const ModelConstants& k) {
   over_lanes<T>(n, [&](auto lane, int i) {
     using L = decltype(lane);
     double coef[kLanes<L>];
@@ -256,7 +256,7 @@ inline void run_gather(const VoxelKernelIo& io, int n, const VoxelConstants& k) 
 
 template <class T>
 inline VoxelUpdateSummary run_update(const VoxelKernelIo& io, const VoxelStateOut& st, int n,
-                                     const VoxelConstants& k) {
+                                     const ModelConstants& k, double dt) {
   using Mask = decltype(T{} < T{});
   T max_speed2 = splat(0.0, T{});
   Mask bad = max_speed2 < max_speed2;  // all clear
@@ -264,9 +264,9 @@ inline VoxelUpdateSummary run_update(const VoxelKernelIo& io, const VoxelStateOu
   bool bad_tail = false;
   over_lanes<T>(n, [&](auto lane, int i) {
     if constexpr (kLanes<decltype(lane)> == 1)
-      update_lanes<double, bool>(io, st, i, k, max_speed2_tail, bad_tail);
+      update_lanes<double, bool>(io, st, i, k, dt, max_speed2_tail, bad_tail);
     else
-      update_lanes<T, Mask>(io, st, i, k, max_speed2, bad);
+      update_lanes<T, Mask>(io, st, i, k, dt, max_speed2, bad);
   });
   VoxelUpdateSummary summary;
   summary.max_speed2 = max_speed2_tail;

@@ -1,7 +1,9 @@
 // Scratch arrays one step fills and consumes. Not part of State: nothing here carries
-// information from one step to the next. The self-collision candidates persist as a cache
-// (rebuilt from positions when stale; a fresh workspace finds the same contacts), and the
-// model's index tables in the layout the kernels read are built once here.
+// information from one step to the next. step1 reads the State and writes only here,
+// including what it computes for the next state (the *_next fields), which step2 commits to
+// the State. The self-collision candidates persist as a cache (rebuilt from positions when
+// stale; a fresh workspace finds the same contacts), and the model's index tables in the
+// layout the kernels read are built once here.
 #pragma once
 
 #include <array>
@@ -53,13 +55,16 @@ inline double* flat(std::vector<Quat>& v) {
 
 // What the stages hand the kernels (kernels.hpp), built once by bind_views.
 struct KernelViews {
-  BondKernelIo bond;
-  BondConstants bond_k{};  // damp follows dt
+  BondKernelIo bond;  // prev_next: where this step1 writes (compute_bond_forces)
+  // The State's own arrays of each bond's previous deformation and frame (the frame's only
+  // under the Voxelyze 0.9 model), where step() has the bond stage write the next values,
+  // and where the scalar path writes the frame this step (one or the other's).
+  double* prev_in_state[9] = {};
+  uint8_t* small_angle_in_state = nullptr;
+  uint8_t* small_angle_next = nullptr;
   VoxelKernelIo voxel;
   VoxelStateOut voxel_out;
-  VoxelConstants voxel_k{};  // dt follows the state
   DevelopIo develop;
-  DevelopConstants develop_k{};  // first and dt follow the state
 };
 
 struct Workspace {
@@ -100,11 +105,23 @@ struct Workspace {
   // Self-collision candidates: unbonded voxel pairs near enough to touch soon.
   ContactGrid contact_grid;
   bool contacts_valid = false;
+  // What step1 computes for the next state and step2 commits to it (so between them the
+  // State is still the state before the step): the time step (s, follow_stiffness), each
+  // bond's deformation this step, which the next step damps against (State::bond_prev's next
+  // value; every bond then has one, bond_prev_valid), and under the Voxelyze 0.9 model each
+  // bond's frame (State::bond_small_angle's; empty otherwise).
+  // step() runs both halves with nothing between them, so there the bond stage writes the
+  // deformations and frames into the State itself (bonds_next_in_state) and the commit has
+  // nothing to copy: copying 9 doubles per bond each step made whole lives 5-9 % slower.
+  double dt_next = 0;
+  std::array<std::vector<double>, 9> bond_prev_next;
+  std::vector<uint8_t> bond_small_angle_next;
+  bool bonds_next_in_state = false;
   std::vector<int> redo;                // bonds the batched kernel left to the scalar path
   std::vector<int64_t> bond_axis_wide;  // Model::bond_axis as 64-bit integers (bond kernel)
-  // The kernels' views of the Model's, State's and this Workspace's arrays, and the
-  // constants that do not change during a life (bind_views); the stages set only what
-  // changes with each step (dt, whether every bond has a previous deformation).
+  // The kernels' views of the Model's, State's and this Workspace's arrays (bind_views); the
+  // stages set only what changes with each step (whether every bond has a previous
+  // deformation, where the next ones go). The kernels read the Model's constants directly.
   KernelViews views;
 
   explicit Workspace(const Model& m)
@@ -117,12 +134,14 @@ struct Workspace {
         terrain_held(m.terrain ? m.n : 0, 0),
         terrain_normal(m.terrain ? m.n : 0, 0.0),
         terrain_prev(m.terrain ? m.n : 0, Vec3::Zero()),
+        bond_small_angle_next(m.def.bond_model == BondModel::kVoxelyze09 ? m.bond_count() : 0),
         redo(m.bond_count()),
         bond_axis_wide(m.bond_axis.begin(), m.bond_axis.end()) {
     // One more entry than there are bonds, always 0: where a voxel slot has no bond.
     for (auto& vectors : bond_out)
       vectors.assign(4 * (static_cast<size_t>(m.bond_count()) + 1), 0.0);
     for (int c = 0; c < 3; ++c) force[c].assign(m.n, 0.0), moment[c].assign(m.n, 0.0);
+    for (auto& component : bond_prev_next) component.assign(m.bond_count(), 0.0);
     if (m.terrain) terrain_boxes.reserve(m.def.environment.obstacles.size());
     for (int k = 0; k < 6; ++k) {
       slot_bond[k].resize(m.n);
@@ -137,7 +156,7 @@ struct Workspace {
   Workspace& operator=(const Workspace&) = delete;
 };
 
-// Points w.views at the arrays of m, s and w, and fills the constants of a life. Called
+// Points w.views at the arrays of m, s and w. Called
 // once when a Simulator is made and again when its State is replaced (restore_state,
 // mutable_state): the views stay valid as long as no array is reallocated, and none is
 // during a life (every array has its final size from the start; restore copies into them).
@@ -151,10 +170,18 @@ bool views_bound_to(const State& s, const Workspace& w);
 
 // The stages of one step, in the order Simulator::step() calls them (one file each:
 // bond_forces.cpp, simulator.cpp, integrate.cpp, contacts.cpp, actuate.cpp, develop.cpp).
-void compute_bond_forces(const Model& m, State& s, Workspace& w);
-void follow_stiffness(const Model& m, State& s);  // dt from the stiffness development left
+// step1's read the State and write the Workspace only, but for one case: with
+// next_into_state (step(), nothing between the halves) the bond stage writes each bond's next
+// deformation and frame straight into the State's arrays, as the commit would.
+void compute_bond_forces(const Model& m, const State& s, Workspace& w, bool next_into_state);
+// The time step from the stiffness development left, into w.dt_next.
+void follow_stiffness(const Model& m, const State& s, Workspace& w);
 void gather_voxel_forces(const Model& m, const State& s, Workspace& w);
 void apply_self_collisions(const Model& m, const State& s, Workspace& w);
+// step2's first: what step1 computed for the next state (each bond's deformation and frame,
+// unless already there, and that every bond has one) into the State; Simulator::step2 sets dt
+// beside it.
+void commit_bond_deformation(const Model& m, State& s, const Workspace& w);
 void integrate(const Model& m, State& s, Workspace& w);  // floor, friction, Euler update
 // Within integrate, with an environment (terrain.cpp): contact with the ground and boxes
 // before the update kernel, and after it the static-friction flags, the contact stimulus's

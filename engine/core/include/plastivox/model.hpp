@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "plastivox/model_constants.hpp"
 #include "plastivox/physics_def.hpp"
 #include "plastivox/robot.hpp"
 
@@ -17,24 +18,9 @@ namespace plastivox {
 
 using Vec3 = Eigen::Vector3d;
 
-// Constants of the bond and voxel formulas that depend only on the lattice and the
-// parameters, computed once by compile() (each as the factor the formulas multiply by).
-struct ModelConstants {
-  // Beam stiffness per unit modulus (times E, Pa, gives the stiffness): axial area L^2 (m^2),
-  // torsion L^3 / (12 (1 + nu)), shear L, shear-rotation coupling L^2 / 2, bending L^3 / 6.
-  double area = 0, inv_L = 0, ka2 = 0, kb1 = 0, kb2 = 0, kb3 = 0;
-  // Bond damping: 2 sqrt(m) zeta_bond, over dt per step; the coefficients are sqrt(E) times
-  // that times these geometric constants: sqrt(k) per sqrt(E) for k = E L (axial, shear),
-  // E L^3 / 4 (shear-rotation coupling), G J / L and 2 E I / L (torsion, bending).
-  double bond_damp = 0;
-  double damp_a1 = 0, damp_b2 = 0, damp_a2 = 0, damp_b3 = 0;
-  // Voxel damping per sqrt(E): 2 sqrt(m L) (linear), 2 sqrt(I L^3) (rotation).
-  double c_lin_unit = 0, c_rot_unit = 0;
-};
-
-struct Model {
-  PhysicsDef def;  // parameters, validated
-
+// The model's constants (model_constants.hpp: def, size, mass, inertia and the factors
+// derived from them, which the kernels read as they are), then its arrays.
+struct Model : ModelConstants {
   int n = 0;  // number of voxels: the robot's, then the free objects'
   // Voxels [0, robot_n) are the robot's; [robot_n, n) belong to the free objects
   // (def.environment.objects, or the task's default ones: task.hpp), object k holding
@@ -44,10 +30,6 @@ struct Model {
   // reads the first robot_n voxels; the physics and the floor health read all n.
   int robot_n = 0;
   std::vector<int> object_begin;  // object count + 1 entries ({robot_n} without objects)
-  double size = 0;                // nominal voxel edge length L, m
-  double mass = 0;                // per voxel, kg
-  double inertia = 0;  // per voxel moment of inertia about any centre axis (m L^2 / 6), kg m^2
-  ModelConstants k;    // derived from size, mass, inertia and def
 
   // Per voxel (n entries), in voxel order = increasing lattice site.
   std::vector<int> site;       // lattice site index of the voxel

@@ -25,11 +25,12 @@ struct Workspace;  // per-step scratch arrays (engine/core/src/workspace.hpp)
 // Wall time spent in each stage of Simulator::step, summed over the steps timed (as
 // MuJoCo's timers do). Costs two clock reads per stage, so only on request.
 struct StageTimings {
-  double bond_forces = 0;      // s: strains and forces of every bond
+  double bond_forces = 0;      // s: strains and forces of every bond, and step2's commit of
+                               // their deformation (and dt) into the State
   double time_step = 0;        // s: dt follows developed stiffness
-  double voxel_forces = 0;     // s: bond forces gathered per voxel, gravity, floor contact
+  double voxel_forces = 0;     // s: bond forces gathered per voxel, slow damping, gravity
   double self_collisions = 0;  // s
-  double integrate = 0;        // s: velocities and poses
+  double integrate = 0;        // s: floor contact and friction, velocities and poses
   double actuate = 0;          // s: the controller, and sizes for the next step
   double develop = 0;          // s: stimulus and stiffness
   int64_t steps = 0;
@@ -68,7 +69,8 @@ class Simulator {
   // over: the physics, the actuation signal, the controller's memory and the watches the
   // score is made from). The kernels' views of the state's arrays are rebuilt at the next
   // step, so make the changes through this reference before stepping (do not keep it across
-  // steps).
+  // steps). Between step1 and step2 it drops what step1 computed: step2 runs step1 again
+  // first.
   State& mutable_state();
 
   // The state as bytes, and back: plastivox::save_state/restore_state (state.hpp, every row
@@ -76,8 +78,9 @@ class Simulator {
   // same model (at any step, by this one or another) and the life continues from it
   // bit-identically under the same controller, its score included (result()). A snapshot of
   // another model's state, or a damaged one, is refused with std::invalid_argument naming the
-  // field, and the state is left as it was. Save between steps: between step1 and step2 the
-  // State is half-way through a step and save_state() throws std::logic_error.
+  // field, and the state is left as it was. Between step1 and step2 (or after sensors()) the
+  // snapshot is the state before that step, as step1 writes only the workspace; restoring it
+  // (here or in another Simulator) runs the step again from step1, bit-identically.
   std::vector<uint8_t> save_state() const;
   void restore_state(const std::vector<uint8_t>& snapshot);
   // Back to the state at t = 0, as a new Simulator of the model starts; the controller and
@@ -99,8 +102,8 @@ class Simulator {
   std::span<double> actuation() { return state_.actuation; }
   std::span<const double> actuation() const { return state_.actuation; }
   // The sensors of the present step, computed on first read: runs step1 first when it has
-  // not run since the last step2 (step() or step2() then finishes that step). The handle is
-  // valid until the next step.
+  // not run since the last step2 (step() or step2() then finishes that step). Changes no
+  // State (step1 fills the workspace only). The handle is valid until the next step.
   Sensors sensors();
 
   // Advances one time step: step1() (unless it already ran: sensors(), or a call of step1())
@@ -114,13 +117,20 @@ class Simulator {
   // controller can read and act between them. The stage order is step()'s either way.
   //   step1: what the present configuration implies: every bond's strain, stress and forces
   //          (the development stimuli come from them), the time step, each voxel's forces
-  //          with gravity and floor contact, and self-contacts (workspace()).
-  //   step2: acts on them: calls the controller (every k steps), integrates, sets each
-  //          voxel's actuated size for the next step from its signal, develops stiffness,
-  //          advances time, ends the life once time passes the duration, and updates the
-  //          watches in the State (the floor's deepest penetration, the task's running
-  //          values), so any life stepped by any front end can be scored (result()). It runs
-  //          step1 first when step1 was not called since the last step2.
+  //          with gravity, and self-contacts (workspace()). It reads the State and writes
+  //          only the workspace, including what the next state takes from this step (the
+  //          time step, each bond's deformation, Voxelyze 0.9's bond frames): between the
+  //          halves the State is the state before the step, save_state() takes it, and
+  //          step1 called again leaves the same workspace. (step() has nothing between the
+  //          halves, so there the bond stage writes the bonds' next deformations into the
+  //          State directly: the same bits without step2's copy.)
+  //   step2: acts on them: commits what step1 computed for the next state, calls the
+  //          controller (every k steps), integrates (with floor contact and friction),
+  //          sets each voxel's actuated size for the next step from its signal, develops
+  //          stiffness, advances time, ends the life once time passes the duration, and
+  //          updates the watches in the State (the floor's deepest penetration, the task's
+  //          running values), so any life stepped by any front end can be scored (result()).
+  //          It runs step1 first when step1 was not called since the last step2.
   void step1(StageTimings* timings = nullptr);
   void step2(StageTimings* timings = nullptr);
 
@@ -134,6 +144,9 @@ class Simulator {
   SimResult result() const;
 
  private:
+  // step1; step2 has it write the bonds' next deformations into the State (simulator.cpp).
+  void first_half(StageTimings* t, bool next_into_state);
+
   const Model* model_;
   State state_;
   std::unique_ptr<Workspace> ws_;
