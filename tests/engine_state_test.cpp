@@ -80,7 +80,8 @@ TEST(ModelFields, EveryRowReadsTheModelAndTheDocsListIt) {
   const auto first = [&](const char* name) { return model_field(name).bytes(m).data; };
   EXPECT_EQ(*static_cast<const int*>(first("n")), m.n);
   EXPECT_EQ(*static_cast<const double*>(first("mass")), m.mass);
-  EXPECT_EQ(*static_cast<const double*>(first("k_kb3")), m.k.kb3);
+  EXPECT_EQ(*static_cast<const double*>(first("kb3")), m.kb3);
+  EXPECT_EQ(static_cast<const double*>(first("weight"))[2], m.weight[2]);
   EXPECT_EQ(first("rest_pos"), m.rest_pos.data());
   EXPECT_EQ(model_field("rest_pos").bytes(m).count, static_cast<size_t>(3 * m.n));
   EXPECT_EQ(model_field("voxel_bonds").bytes(m).count, static_cast<size_t>(6 * m.n));

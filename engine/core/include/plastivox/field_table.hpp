@@ -81,6 +81,10 @@ template <class T, size_t kSize>
 StateFieldBytes bytes_of(const std::array<T, kSize>& v) {
   return {v.data(), kSize, sizeof(T), kind_of<T>(), 1};
 }
+template <class T, size_t kSize>
+StateFieldBytes bytes_of(const T (&v)[kSize]) {
+  return {v, kSize, sizeof(T), kind_of<T>(), 1};
+}
 
 // A member's value before make_initial_state sets it (Eigen leaves its vectors unset).
 template <class T>
