@@ -109,6 +109,7 @@ Phenotype express_vector(const EvolveConfig& c, const std::vector<double>& x) {
   }
   p.valid = true;
   p.voxels = static_cast<int>(n);
+  p.vector = x;
   Hasher h;
   hash_robot(h, r);
   p.hash = h.finish();
