@@ -265,5 +265,22 @@ TEST_F(CmaFiles, StopAndResumeEqualsUninterruptedAndTheChampionReplays) {
   }
 }
 
+// One evaluation pool for a CMA-ES run and an AFPO run at once: each gives its own bits.
+TEST_F(CmaFiles, SharingOnePoolWithAnAfpoRunChangesNoBit) {
+  EvolveConfig afpo = parse_config(config_text(R"(, "population": 4,
+      "lattice": {"nx": 4, "ny": 4, "nz": 4})"),
+                                   "afpo");
+  afpo.generations = 2;
+  const EvolveConfig cma = tiny("materials");
+  const std::string alone_afpo = evolved_digest(afpo, 1), alone_cma = evolved_digest(cma, 1);
+  ManyRunOptions o;
+  o.threads = 2;
+  const std::vector<RunReport> r =
+      run_evolutions({{afpo, path("afpo.h5")}, {cma, path("cma.h5")}}, o);
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].content_digest, alone_afpo);
+  EXPECT_EQ(r[1].content_digest, alone_cma);
+}
+
 }  // namespace
 }  // namespace plastivox::evo
