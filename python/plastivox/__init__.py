@@ -644,7 +644,9 @@ class Results:
         """The population at the file's last checkpoint: one dict per individual (ascending
         id) with id, parent_id, age, born, fitness, status ("ok", "invalid", "unstable") and
         robot, its genome decoded into a Robot under the run's physics (None for an invalid
-        body). With champion(), these are every individual whose genome the file stores."""
+        body); a CMA-ES run's also carry genome, the vector (a list of floats) the robot is
+        the fixed body with. With champion(), these are every individual whose genome the file
+        stores."""
         people = self._core.population()
         for p in people:
             p["robot"] = None if p["robot"] is None else Robot(p["robot"])
