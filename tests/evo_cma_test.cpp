@@ -159,6 +159,13 @@ TEST(CmaConfig, TheAlgorithmFieldAndItsRefusals) {
   EXPECT_EQ(error(cma + R"(, "cma": {"sigma": -1})"), "run.json: cma.sigma: must be in (0, 1000]");
   EXPECT_EQ(error(cma + R"(, "cma": {"covariance": "lowrank"})"),
             "run.json: cma.covariance: 'lowrank' is unknown (use auto, full or separable)");
+  RobotDef big = make_empty_robot(20, 20, 6);
+  big.present.assign(big.sites(), 1);
+  big.stiffness.assign(big.sites(), 5e9);
+  EXPECT_EQ(error(R"(, "algorithm": "cma-es", "genome": "phase", "cma": {"covariance": "full"},
+      "body": )" + robot_to_json(big)),
+            "run.json: cma.covariance: full covariance for 2400 numbers is too large (at most "
+            "2000); use separable");
   EXPECT_EQ(error(cma + R"(, "population": 1)"),
             "run.json: population: cma-es needs at least 2 samples a generation");
   EXPECT_EQ(error(R"(, "algorithm": "cma-es", "genome": "gait", "body": "x.json")"),

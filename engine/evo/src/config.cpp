@@ -124,6 +124,10 @@ void resolve_cma(const json& j, const std::string& src, EvolveConfig& c) {
   if (c.cma.sigma == 0) c.cma.sigma = default_sigma(c.cma.genome);
   c.cma.separable =
       c.cma.covariance == "separable" || (c.cma.covariance == "auto" && n > kCmaFullMaxDimension);
+  if (!c.cma.separable && n > kCmaFullLimit)  // n^2 numbers and an O(n^3) step a generation
+    fail(src, "cma.covariance",
+         "full covariance for " + std::to_string(n) + " numbers is too large (at most " +
+             std::to_string(kCmaFullLimit) + "); use separable");
 }
 
 }  // namespace

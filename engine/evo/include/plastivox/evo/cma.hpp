@@ -21,6 +21,7 @@
 namespace plastivox::evo {
 
 constexpr int kCmaFullMaxDimension = 200;
+constexpr int kCmaFullLimit = 2000;  // a full covariance asked for beyond this is refused
 
 // The default number of samples a generation: 4 + floor(3 ln n) (the tutorial's).
 int cma_default_lambda(int n);
