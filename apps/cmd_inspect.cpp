@@ -30,6 +30,13 @@ int cmd_inspect(const Args& in) {
   j["task"] = to_string(s.config.task);
   j["fitness_unit"] = task_info(s.config.task).unit;
   j["seed"] = s.config.seed;
+  j["algorithm"] = to_string(s.config.algorithm);
+  if (s.config.algorithm == evo::Algorithm::kCmaEs) {
+    j["genome"] = to_string(s.config.cma.genome);
+    j["genome_dimension"] = s.config.controller_genes.count;
+    j["covariance"] = s.config.cma.separable ? "separable" : "full";
+    j["step_size"] = s.cma.sigma;
+  }
   j["population"] = s.config.population;
   j["generations_planned"] = s.config.generations;
   j["generations_done"] = s.generations_done;
@@ -54,6 +61,12 @@ int cmd_inspect(const Args& in) {
               to_string(s.config.treatment), to_string(s.config.task),
               static_cast<unsigned long long>(s.config.seed), s.generations_done,
               s.config.generations, s.finished() ? " (finished)" : "");
+  if (s.config.algorithm == evo::Algorithm::kCmaEs)
+    std::printf(
+        "  cma-es on the body's %s (%d numbers, %s covariance, %d samples a generation), "
+        "step size now %.4g\n",
+        to_string(s.config.cma.genome), s.config.controller_genes.count,
+        s.config.cma.separable ? "separable" : "full", s.config.population, s.cma.sigma);
   std::printf("  best fitness %.6f %s: champion id %llu (%d voxels, since generation %d)\n",
               last.best_fitness, task_info(s.config.task).unit,
               static_cast<unsigned long long>(last.champion_id), champ.phenotype.voxel_count(),

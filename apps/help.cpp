@@ -86,9 +86,10 @@ const CommandHelp kHelp[] = {
      "  plastivox demo\n"},
     {"evolve",
      "usage: plastivox evolve --config FILE --out RESULTS.h5 [--config FILE --out R.h5 ...]\n"
-     "Run an evolution (AFPO over four CPPNs) into an HDF5 results file. The same command\n"
-     "resumes a killed run from its last checkpoint (docs/evolution.md). Several --config /\n"
-     "--out pairs evolve at once, sharing one pool of worker threads.\n"
+     "Run an evolution (AFPO over four CPPNs, or with \"algorithm\": \"cma-es\" in the config\n"
+     "CMA-ES on a fixed body's controller, phases or materials) into an HDF5 results file.\n"
+     "The same command resumes a killed run from its last checkpoint (docs/evolution.md).\n"
+     "Several --config / --out pairs evolve at once, sharing one pool of worker threads.\n"
      "options:\n"
      "  --config FILE         evolution config (JSON); repeat for several runs\n"
      "  --out RESULTS.h5      results file (new, or resumed if it exists), one per --config\n"

@@ -200,6 +200,50 @@ TEST_F(EvoCli, KillNineAndResumeWithADistributedControllerEqualsUninterrupted) {
       tiny_config("c.json", 34, 8, R"({"kind": "distributed", "hidden": 4, "every": 1})"));
 }
 
+// A 3x2x2 robot file (5e9 Pa, phases along x) for CMA-ES runs, with a distributed
+// controller when `neural`.
+std::string block_robot(bool neural) {
+  std::string voxels;
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 3; ++x)
+        voxels += (voxels.empty() ? "[" : ", [") + std::to_string(x) + ", " + std::to_string(y) +
+                  ", " + std::to_string(z) + ", 5e9, 0.5, " + std::to_string(0.25 * x) + "]";
+  return R"({"format": "plastivox-robot", "version": 1, "name": "block",
+      "lattice": {"nx": 3, "ny": 2, "nz": 2, "voxel_size": 0.01}, "voxels": [)" +
+         voxels + "]" +
+         (neural ? R"(, "controller": {"kind": "distributed", "hidden": 2, "every": 1}})" : "}");
+}
+
+// A CMA-ES run (docs/evolution.md, "CMA-ES"): killed and resumed, the same bits; inspect says
+// what it searched; its exported champion is the body with the genome and replays its
+// fitness; the study refuses it in one line.
+TEST_F(EvoCli, ACmaEsRunResumesAfterKillNineExportsItsChampionAndTheStudyRefusesIt) {
+  const std::string body = write("block.json", block_robot(false));
+  const std::string cfg = write("cma.json", R"({"format": "plastivox-evolve-config", "version": 1,
+      "seed": 8, "generations": 8, "algorithm": "cma-es", "genome": "phase", "body": ")" +
+                                                body + R"(", "treatment": "stress",
+      "physics": {"duration": 0.4, "settle_time": 0.2}})");
+  kill_nine_and_resume(cfg);
+  const Output i = cli("inspect " + path("full.h5") + " --json");
+  ASSERT_EQ(i.status, 0) << i.out;
+  const auto j = nlohmann::json::parse(i.out);
+  EXPECT_EQ(j["algorithm"], "cma-es");
+  EXPECT_EQ(j["genome"], "phase");
+  EXPECT_EQ(j["genome_dimension"], 12);
+  EXPECT_EQ(j["covariance"], "full");
+  ASSERT_EQ(cli("export " + path("full.h5") + " --out " + path("champ.json")).status, 0);
+  const Output s = cli("simulate " + path("champ.json") + " --json");
+  ASSERT_EQ(s.status, 0) << s.out;
+  EXPECT_EQ(nlohmann::json::parse(s.out)["fitness"].get<double>(), j["best_fitness"].get<double>());
+  const Output a = cli("analyze " + path("full.h5") + " --out " + path("study"));
+  EXPECT_NE(a.status, 0);
+  EXPECT_NE(a.out.find(path("full.h5") + ": a cma-es run (one fixed body's phase searched); the "
+                                         "study compares afpo runs' evolved bodies"),
+            std::string::npos)
+      << a.out;
+}
+
 TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {
   const std::string cfg = tiny_config("c.json", 5, 1);
   ASSERT_EQ(cli("evolve --config " + cfg + " --out " + path("r.h5")).status, 0);

@@ -59,6 +59,20 @@ TEST_F(EvoMpi, TwoRanksGiveTheSameDigestAsOneProcess) {
   }
 }
 
+// CMA-ES (docs/evolution.md): the samples travel to the other rank as bodies like AFPO's.
+TEST_F(EvoMpi, TwoRanksGiveACmaEsRunTheSameDigestAsOneProcess) {
+  std::ofstream(path("body.json")) << R"({"format": "plastivox-robot", "version": 1,
+      "lattice": {"nx": 2, "ny": 2, "nz": 2, "voxel_size": 0.01}, "voxels": [
+      [0, 0, 0, 5e9, 0, 0], [1, 0, 0, 5e9, 0, 0.25], [0, 1, 0, 5e9, 0, 0.5],
+      [1, 1, 0, 5e9, 0, -0.25], [0, 0, 1, 5e9, 0, 0], [1, 0, 1, 5e9, 0, 0.1],
+      [0, 1, 1, 5e9, 0, 0.2], [1, 1, 1, 5e9, 0, 0.3]]})";
+  std::ofstream(path("cma.json")) << R"({"format": "plastivox-evolve-config", "version": 1,
+      "seed": 43, "generations": 3, "algorithm": "cma-es", "genome": "materials", "body": ")"
+                                  << path("body.json") << R"(", "treatment": "pressure",
+      "physics": {"duration": 0.2, "settle_time": 0.1}})";
+  two_ranks_give_the_same_digest(path("cma.json"));
+}
+
 // A run's digest is the same on two ranks as in one process (the controller's weights travel
 // with each body to the other rank).
 void EvoMpi::two_ranks_give_the_same_digest(const std::string& cfg) const {

@@ -679,7 +679,9 @@ class Results:
         """The population at the file's last checkpoint: one dict per individual (ascending
         id) with id, parent_id, age, born, fitness, status ("ok", "invalid", "unstable") and
         robot, its genome decoded into a Robot under the run's physics (None for an invalid
-        body). With champion(), these are every individual whose genome the file stores."""
+        body); a CMA-ES run's also carry genome, the vector (a list of floats) the robot is
+        the fixed body with. With champion(), these are every individual whose genome the file
+        stores."""
         people = self._core.population()
         for p in people:
             p["robot"] = None if p["robot"] is None else Robot(p["robot"])
@@ -778,7 +780,7 @@ def evolve(config, out, threads=None, on_generation=None, on_message=None, stop_
         fps = _record_fps(record_fps)
         lives_threads = threads if threads >= 0 else _core.config_threads(text, path)
 
-        def evaluate(robots):
+        def evaluate(robots, vectors):
             lives = simulate_many([Robot(r) for r in robots], threads=lives_threads,
                                   record_fps=fps)
             return [_score(life if life.status != "finished" else fitness(life), i, "fitness")
@@ -800,8 +802,9 @@ def _close_evolvers():
 
 
 class Evolver:
-    """An evolution driven from outside, ask/tell style: the same AFPO, checkpoints, resume
-    and results file as evolve(), with the lives scored by the caller.
+    """An evolution driven from outside, ask/tell style: the same search (the config's
+    algorithm, AFPO or CMA-ES), checkpoints, resume and results file as evolve(), with the
+    lives scored by the caller.
 
         ev = plastivox.Evolver(config, "run.h5")
         while not ev.finished:
@@ -828,13 +831,15 @@ class Evolver:
         self._asks = _queue.Queue(maxsize=1)
         self._tells = _queue.Queue(maxsize=1)
         self._next = None        # the next generation's robots, once known; [] at the end
+        self._vectors = []       # their genome vectors (cma-es) or Nones
         self._pending = None     # robots asked and not yet told
         self._error = None
         self.report = None       # evolve()'s dict once the run has ended
         self.generations_done = -1
 
-        def evaluate(robots):
-            self._asks.put([Robot(r) for r in robots])
+        def evaluate(robots, vectors):
+            self._asks.put(([Robot(r) for r in robots],
+                            [None if v is None else _np.asarray(v, dtype=float) for v in vectors]))
             scores = self._tells.get()
             if scores is Evolver._CLOSE:
                 raise InterruptedError("the ask/tell loop was closed")
@@ -859,7 +864,7 @@ class Evolver:
     def _wait(self):
         if self._next is None:
             batch = self._asks.get()
-            self._next = [] if batch is None else batch
+            self._next, self._vectors = ([], []) if batch is None else batch
             if batch is None:
                 self._thread.join()
                 if self._error is not None and not isinstance(self._error, InterruptedError):
@@ -871,14 +876,18 @@ class Evolver:
         """True once the run has ended (waits for the run to reach its next generation)."""
         return self._pending is None and not self._wait()
 
-    def ask(self):
-        """The next generation's new bodies to score, as Robots; [] once the run has ended."""
+    def ask(self, genomes=False):
+        """The next generation's new bodies to score, as Robots; [] once the run has ended.
+        genomes=True: (robots, genomes) instead, each robot's genome beside it: under
+        algorithm cma-es the vector the search sampled (a float array; the robot is the
+        fixed body with it applied, docs/evolution.md), under afpo None."""
         if self._pending is not None:
             raise RuntimeError("ask: tell() the scores of the robots asked before")
         robots = self._wait()
+        vectors = self._vectors
         if robots:
             self._pending, self._next = robots, None
-        return list(robots)
+        return (list(robots), list(vectors)) if genomes else list(robots)
 
     def tell(self, scores):
         """One score per robot the last ask() gave, in its order."""

@@ -10,6 +10,7 @@
 
 #include "bindings.hpp"
 #include "plastivox/evo/champion.hpp"
+#include "plastivox/evo/cma_body.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
@@ -53,7 +54,11 @@ pyb::list population(const PyResults& r) {
     d["born"] = ind.born;
     d["fitness"] = ind.fitness;
     d["status"] = evo::to_string(ind.status);
-    const evo::Phenotype body = expresser.express(ind.genome);
+    const evo::Phenotype body = run.config.algorithm == evo::Algorithm::kCmaEs
+                                    ? evo::express_vector(run.config, ind.genome.controller)
+                                    : expresser.express(ind.genome);
+    if (run.config.algorithm == evo::Algorithm::kCmaEs)
+      d["genome"] = ind.genome.controller;  // the CMA-ES vector
     if (body.valid) {
       PyRobot robot;
       robot.def = body.robot;
@@ -102,6 +107,8 @@ pyb::dict progress_dict(const evo::RunProgress& p) {
   d["unstable"] = p.stats.unstable;
   d["sank"] = p.stats.sank;  // of the simulated: sank through the floor (also unstable by default)
   d["wall_seconds"] = p.stats.wall_seconds;
+  d["sim_wall_seconds"] = p.stats.sim_wall_seconds;  // of which simulating (wall)
+  d["sim_cpu_seconds"] = p.stats.sim_cpu_seconds;    // the lives' own times, summed
   d["checkpointed"] = p.checkpointed;
   d["eta_seconds"] = p.eta_seconds;
   return d;
@@ -126,8 +133,9 @@ struct EvaluationAbandoned : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Lives scored by Python: evaluate(robots) receives a generation's new bodies as Robots
-// under the run's physics and returns one (ok, fitness, failure, sank, final_stiffness)
+// Lives scored by Python: evaluate(robots, vectors) receives a generation's new bodies as
+// Robots under the run's physics (and, under CMA-ES, each one's genome vector; None under
+// AFPO) and returns one (ok, fitness, failure, sank, final_stiffness)
 // per robot: ok False for a life that failed (fitness ignored: the worst), final_stiffness
 // one value per voxel (Pa, increasing site order) or None (then a champion's is simulated).
 // The Python layer (plastivox.evolve, plastivox.Evolver) makes these from users' numbers
@@ -142,15 +150,16 @@ class PythonEvaluations : public evo::Simulations {
     if (batch.empty()) return {};  // every new body was invalid or seen before
     pyb::gil_scoped_acquire locked;
     try {
-      pyb::list robots;
+      pyb::list robots, vectors;  // a CMA-ES run's genomes too (None under AFPO)
       for (const evo::Phenotype* p : batch) {
         PyRobot r;
         r.def = p->robot;
         r.physics = physics;
         r.source = "evolution";
         robots.append(pyb::cast(std::move(r)));
+        vectors.append(p->vector.empty() ? pyb::object(pyb::none()) : pyb::cast(p->vector));
       }
-      const pyb::list scored = evaluate_(robots);
+      const pyb::list scored = evaluate_(robots, vectors);
       if (scored.size() != batch.size())
         throw std::invalid_argument("evaluate: expected " + std::to_string(batch.size()) +
                                     " scores, got " + std::to_string(scored.size()));

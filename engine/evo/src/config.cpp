@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/evo/cma.hpp"
+#include "plastivox/evo/cma_body.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/limits.hpp"
@@ -54,6 +56,14 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
       k["mutation_sigma"] = c.controller_genes.sigma;
     }
   }
+  if (c.algorithm != Algorithm::kAfpo) {  // only then: every AFPO identity and digest holds
+    j["algorithm"] = to_string(c.algorithm);
+    j["genome"] = to_string(c.cma.genome);
+    j["body"] = json::parse(c.cma.body_json);
+    j["cma"] = {{"sigma", c.cma.sigma}, {"covariance", c.cma.covariance}};
+    for (const char* afpo_only : {"lattice", "geometry", "min_fill", "max_mutation_tries"})
+      j.erase(afpo_only);
+  }
   j["physics"] = json::parse(c.physics_json);
   if (with_run_control) {
     j["checkpoint_every"] = c.checkpoint_every;
@@ -62,7 +72,76 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
   return j;
 }
 
+// The fields one algorithm reads and the other would silently ignore: refused instead.
+constexpr const char* kAfpoOnly[] = {
+    "lattice", "geometry", "min_fill", "initial_population", "max_mutation_tries", "controller"};
+constexpr const char* kCmaOnly[] = {"body", "genome", "cma"};
+
+// A CMA-ES run's fields, once the loop has read them all (the treatment among them).
+// Before any field is read, so a field of the other algorithm is named as such.
+void check_algorithm_fields(const json& j, const std::string& src) {
+  const bool cma = j.contains("algorithm") && j["algorithm"] == "cma-es";
+  if (j.contains("algorithm") && !cma && j["algorithm"] != "afpo") return;  // the loop refuses it
+  for (const char* f : kCmaOnly)
+    if (!cma && j.contains(f)) fail(src, f, "applies to algorithm cma-es only");
+  for (const char* f : kAfpoOnly)
+    if (cma && j.contains(f))
+      fail(src, f, "applies to algorithm afpo only (cma-es searches a genome of its fixed body)");
+}
+
+void resolve_cma(const json& j, const std::string& src, EvolveConfig& c) {
+  if (c.algorithm != Algorithm::kCmaEs) return;
+  if (!j.contains("body"))
+    fail(src, "body", "missing: cma-es needs a fixed body (a robot file or a results file)");
+  if (!j.contains("genome")) fail(src, "genome", "missing: controller, phase or materials");
+  const json& b = j["body"];
+  RobotDef body;
+  if (b.is_string())
+    body = read_body(b.get<std::string>(), src);
+  else if (b.is_object())
+    body = parse_robot_json(b.dump(), src + ": body").robot;
+  else
+    fail(src, "body", "expected a file name or a robot object");
+  // As a results file will give it back, so a resumed run sees the very same body.
+  c.cma.body_json = robot_to_json(body);
+  c.cma.body = parse_robot_json(c.cma.body_json, src + ": body").robot;
+  c.nx = c.cma.body.nx;
+  c.ny = c.cma.body.ny;
+  c.nz = c.cma.body.nz;
+  c.voxel_size = c.cma.body.voxel_size;
+  if (c.cma.genome == GenomeKind::kController &&
+      c.cma.body.controller.kind == ControllerKind::kSine)
+    fail(src, "genome",
+         "controller needs a body with a distributed or central controller (it runs "
+         "the sine)");
+  const int n = genome_dimension(c);
+  if (n < 1) fail(src, "body", "has no voxels");
+  c.controller_genes = ControllerGenes{};
+  c.controller_genes.count = n;  // the vector a genome carries (results files store it so)
+  if (!j.contains("population"))
+    c.population = cma_default_lambda(n);
+  else if (c.population < 2)
+    fail(src, "population", "cma-es needs at least 2 samples a generation");
+  if (c.cma.sigma == 0) c.cma.sigma = default_sigma(c.cma.genome);
+  c.cma.separable =
+      c.cma.covariance == "separable" || (c.cma.covariance == "auto" && n > kCmaFullMaxDimension);
+  if (!c.cma.separable && n > kCmaFullLimit)  // n^2 numbers and an O(n^3) step a generation
+    fail(src, "cma.covariance",
+         "full covariance for " + std::to_string(n) + " numbers is too large (at most " +
+             std::to_string(kCmaFullLimit) + "); use separable");
+}
+
 }  // namespace
+
+const char* to_string(Algorithm a) {
+  return a == Algorithm::kCmaEs ? "cma-es" : "afpo";
+}
+
+const char* to_string(GenomeKind g) {
+  return g == GenomeKind::kController ? "controller"
+         : g == GenomeKind::kPhase    ? "phase"
+                                      : "materials";
+}
 
 const char* to_string(InitialPopulation p) {
   return p == InitialPopulation::kBodyPlans ? "body-plans" : "random";
@@ -101,6 +180,7 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
          "unsupported version " + std::to_string(version) + " (this build reads " +
              std::to_string(kConfigVersion) + ")");
 
+  check_algorithm_fields(j, src);
   EvolveConfig c;
   TreatmentSpec treatment;
   const int kMaxInt = std::numeric_limits<int>::max();
@@ -109,6 +189,44 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
     const json& v = *it;
     if (k == "format" || k == "version" || k == "_comment") {
       continue;
+    } else if (k == "algorithm") {
+      const std::string a = text(v, src, k);
+      if (a == "afpo")
+        c.algorithm = Algorithm::kAfpo;
+      else if (a == "cma-es")
+        c.algorithm = Algorithm::kCmaEs;
+      else if (a == "map-elites")
+        fail(src, k, "map-elites is not built yet (use afpo or cma-es)");
+      else
+        fail(src, k, "'" + a + "' is unknown (use afpo or cma-es)");
+    } else if (k == "body") {
+      continue;  // read by resolve_cma, once the algorithm is known
+    } else if (k == "genome") {
+      const std::string g = text(v, src, k);
+      if (g == "controller")
+        c.cma.genome = GenomeKind::kController;
+      else if (g == "phase")
+        c.cma.genome = GenomeKind::kPhase;
+      else if (g == "materials")
+        c.cma.genome = GenomeKind::kMaterials;
+      else
+        fail(src, k, "'" + g + "' is unknown (use controller, phase or materials)");
+    } else if (k == "cma") {
+      if (!v.is_object()) fail(src, k, "expected an object {sigma, covariance}");
+      for (auto ct = v.begin(); ct != v.end(); ++ct) {
+        const std::string f = "cma." + ct.key();
+        if (ct.key() == "sigma") {
+          c.cma.sigma = number(*ct, src, f);
+          if (!(c.cma.sigma > 0 && c.cma.sigma <= 1000)) fail(src, f, "must be in (0, 1000]");
+        } else if (ct.key() == "covariance") {
+          c.cma.covariance = text(*ct, src, f);
+          if (c.cma.covariance != "auto" && c.cma.covariance != "full" &&
+              c.cma.covariance != "separable")
+            fail(src, f, "'" + c.cma.covariance + "' is unknown (use auto, full or separable)");
+        } else {
+          fail(src, f, "unknown field");
+        }
+      }
     } else if (k == "seed") {
       if (!v.is_number_unsigned()) fail(src, k, "expected a non-negative integer");
       c.seed = v.get<uint64_t>();
@@ -193,6 +311,7 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       fail(src, k, "unknown field");
     }
   }
+  resolve_cma(j, src, c);
   // Physics: the preset (default gecco2018-code) with the given overrides, then the run's
   // treatment and task (docs/robot-format.md, "Resolving a run's physics"), errors naming the
   // field.
@@ -236,7 +355,9 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
     }
   }
   try {  // every body this run makes is bounded by e_max, so none can fail later
-    check_life_bounds(c.physics, c.voxel_size, c.physics.e_max, limits_from_environment());
+    double e_top = c.physics.e_max;  // a cma-es body keeps its own stiffness unless searched
+    for (double e : c.cma.body.stiffness) e_top = std::max(e_top, e);
+    check_life_bounds(c.physics, c.voxel_size, e_top, limits_from_environment());
   } catch (const std::invalid_argument& e) {
     throw InputError(src + ": " + e.what());
   }
@@ -324,6 +445,11 @@ std::string default_config_text() {
        "checkpoint_every: generations between checkpoints of the results file (1).",
        "threads: evaluation threads, 0 = all cores (--threads overrides; results do not",
        "  depend on it).",
+       "algorithm: afpo (the default, so absent above) | cma-es: CMA-ES on one part of a fixed",
+       "  body, with \"body\" (a robot file, or a results file whose champion it takes),",
+       "  \"genome\" (controller | phase | materials) and optionally \"cma\": {\"sigma\": ...,",
+       "  \"covariance\": auto | full | separable}; population is then the samples a",
+       "  generation (default 4 + 3 ln n). docs/evolution.md, \"Algorithms\".",
        "physics: a preset (gecco2018-code | gecco2018-paper) plus any PhysicsDef field to",
        "  override, e.g. {\"preset\": \"gecco2018-code\", \"duration\": 5.2}; the",
        "  treatment is set above, not here."});

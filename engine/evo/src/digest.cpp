@@ -70,6 +70,16 @@ Hash128 content_digest(const RunState& s) {
     h.u64(static_cast<uint8_t>(ind.status));
     hash_genome(h, ind.genome);
   }
+  if (s.config.algorithm == Algorithm::kCmaEs) {  // the search distribution the run goes on from
+    h.str("cma-es");
+    h.vec(s.cma.mean);
+    h.vec(s.cma.p_sigma);
+    h.vec(s.cma.p_c);
+    h.vec(s.cma.cov);
+    h.f64(s.cma.sigma);
+    h.u64(static_cast<uint64_t>(s.cma.updates));
+    h.u64(s.cma.separable ? 1 : 0);
+  }
   return h.finish();
 }
 

@@ -12,6 +12,8 @@
 #include "plastivox/base/names.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/afpo.hpp"
+#include "plastivox/evo/cma.hpp"
+#include "plastivox/evo/cma_body.hpp"
 #include "plastivox/evo/variation.hpp"
 #include "plastivox/io/limits.hpp"
 #include "plastivox/rules/life_rules.hpp"
@@ -101,19 +103,41 @@ Evolver::Evolver(RunState state, int threads, Simulations* simulations)
       simulations_(simulations) {
   // Re-express the population (derived data is not stored in checkpoints).
   std::vector<Individual>& pop = state_.population;
+  const bool cma = state_.config.algorithm == Algorithm::kCmaEs;
   parallel_for(pop.size(), threads_, [&](size_t i) {
+    if (cma) {  // no networks: the vector on the fixed body
+      pop[i].phenotype = express_vector(state_.config, pop[i].genome.controller);
+      return;
+    }
     pop[i].outputs = expresser_.evaluate(pop[i].genome);
     pop[i].phenotype = expresser_.express(pop[i].outputs);
   });
 }
 
+struct Evolver::Evaluated {
+  std::vector<uint64_t> sim_id;   // ids of the individuals simulated this generation
+  std::vector<Evaluation> evals;  // their results, in the same order
+};
+
 GenerationStats Evolver::step() {
   const auto t0 = std::chrono::steady_clock::now();
+  GenerationStats st;
+  st.generation = state_.generations_done + 1;
+  switch (state_.config.algorithm) {
+    case Algorithm::kAfpo:
+      step_afpo(st, t0);
+      break;
+    case Algorithm::kCmaEs:
+      step_cma(st, t0);
+      break;
+  }
+  return st;
+}
+
+void Evolver::step_afpo(GenerationStats& st, std::chrono::steady_clock::time_point t0) {
   RunState& s = state_;
   const EvolveConfig& cfg = s.config;
-  const int gen = s.generations_done + 1;
-  GenerationStats st;
-  st.generation = gen;
+  const int gen = st.generation;
 
   // --- 1-3: who is created: children of the survivors (ascending id), then one newcomer;
   // at generation 0, `population` random individuals (the first three of the body plans
@@ -171,6 +195,92 @@ GenerationStats Evolver::step() {
   }
   made.clear();
 
+  Evaluated ev;
+  evaluate_new(fresh, births, st, ev);
+
+  // --- 5: selection over survivors and new individuals.
+  std::vector<Individual> candidates = std::move(s.population);
+  for (Individual& ind : fresh) candidates.push_back(std::move(ind));
+  std::vector<Objectives> objectives;
+  for (const Individual& ind : candidates)
+    objectives.push_back({ind.id, ranked_fitness(ind), ind.age});
+  std::vector<size_t> keep = afpo_select(objectives, static_cast<size_t>(cfg.population));
+  std::sort(keep.begin(), keep.end(),
+            [&](size_t a, size_t b) { return candidates[a].id < candidates[b].id; });
+  s.population.clear();
+  for (size_t k : keep) s.population.push_back(std::move(candidates[k]));
+
+  // --- records: births, champion, history.
+  for (BirthRecord& b : births) s.births.push_back(std::move(b));
+  const Individual& champ = s.population[champion_index(s.population)];
+  const bool changed = s.champions.empty() || s.champions.back().id != champ.id;
+  record(gen, changed ? &champ : nullptr, ev, st, t0);
+}
+
+// CMA-ES (cma.hpp): `population` samples of the search distribution, evaluated as AFPO's new
+// individuals are; the population is this generation's samples; the distribution moves
+// toward the best half. The champion is the best individual ever sampled (the search is not
+// elitist), ties to the earlier.
+void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_point t0) {
+  RunState& s = state_;
+  const EvolveConfig& cfg = s.config;
+  const int gen = st.generation;
+  if (gen == 0) s.cma = cma_start(genome_start(cfg), cfg.cma.sigma, cfg.cma.separable);
+  const CmaBasis basis = cma_basis(s.cma);
+
+  // --- 4a: sample and express, in parallel; each sample draws from its own stream.
+  const size_t lambda = static_cast<size_t>(cfg.population);
+  std::vector<Individual> fresh(lambda);
+  std::vector<BirthRecord> births(lambda);
+  for (size_t i = 0; i < lambda; ++i) fresh[i].id = s.next_id++;
+  parallel_for(lambda, threads_, [&](size_t i) {
+    Individual& ind = fresh[i];
+    Rng rng = Rng::stream(cfg.seed, StreamPurpose::kCmaSample, gen, ind.id);
+    ind.genome.nets.fill(minimal_cppn());  // no networks: the genome is the vector alone
+    ind.genome.controller = cma_sample(s.cma, basis, rng);
+    ind.phenotype = express_vector(cfg, ind.genome.controller);
+  });
+  for (size_t i = 0; i < lambda; ++i) {
+    Individual& ind = fresh[i];
+    ind.born = gen;
+    births[i].id = ind.id;
+    births[i].generation = gen;
+    births[i].voxels = ind.phenotype.voxels;
+    births[i].tries = 1;
+  }
+
+  Evaluated ev;
+  evaluate_new(fresh, births, st, ev);
+
+  // --- 5: rank (failed lives last, ties to the lower id) and update from the best half.
+  std::vector<size_t> order(lambda);
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const double fa = ranked_fitness(fresh[a]), fb = ranked_fitness(fresh[b]);
+    return fa != fb ? fa > fb : fresh[a].id < fresh[b].id;
+  });
+  std::vector<const std::vector<double>*> best;
+  for (size_t k = 0; k < lambda / 2; ++k) best.push_back(&fresh[order[k]].genome.controller);
+  cma_update(s.cma, basis, best, static_cast<int>(lambda));
+  s.population = std::move(fresh);  // ascending id
+
+  // --- records: births, champion (the best ever), history.
+  for (BirthRecord& b : births) s.births.push_back(std::move(b));
+  const Individual& top = s.population[order[0]];
+  const auto ranked_record = [](const ChampionRecord& c) {
+    return c.status == static_cast<uint8_t>(EvalStatus::kOk)
+               ? c.fitness
+               : -std::numeric_limits<double>::infinity();
+  };
+  const bool better =
+      s.champions.empty() || ranked_fitness(top) > ranked_record(s.champions.back());
+  record(gen, better ? &top : nullptr, ev, st, t0);
+}
+
+void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,
+                           GenerationStats& st, Evaluated& out) {
+  RunState& s = state_;
+  const EvolveConfig& cfg = s.config;
   // --- 4b: serially, by id: invalid, cached, duplicate of an earlier new one, or to simulate.
   std::vector<size_t> to_sim;
   std::vector<size_t> duplicates;
@@ -236,23 +346,18 @@ GenerationStats Evolver::step() {
   }
   st.created = static_cast<int>(fresh.size());
   st.simulated = static_cast<int>(to_sim.size());
+  for (size_t k = 0; k < to_sim.size(); ++k) {
+    out.sim_id.push_back(fresh[to_sim[k]].id);
+    out.evals.push_back(std::move(evals[to_sim[k]]));
+  }
+}
 
-  // --- 5: selection over survivors and new individuals.
-  std::vector<Individual> candidates = std::move(s.population);
-  for (Individual& ind : fresh) candidates.push_back(std::move(ind));
-  std::vector<Objectives> objectives;
-  for (const Individual& ind : candidates)
-    objectives.push_back({ind.id, ranked_fitness(ind), ind.age});
-  std::vector<size_t> keep = afpo_select(objectives, static_cast<size_t>(cfg.population));
-  std::sort(keep.begin(), keep.end(),
-            [&](size_t a, size_t b) { return candidates[a].id < candidates[b].id; });
-  s.population.clear();
-  for (size_t k : keep) s.population.push_back(std::move(candidates[k]));
-
-  // --- records: births, champion, history.
-  for (BirthRecord& b : births) s.births.push_back(std::move(b));
-  const Individual& champ = s.population[champion_index(s.population)];
-  if (s.champions.empty() || s.champions.back().id != champ.id) {
+void Evolver::record(int gen, const Individual* new_champion, const Evaluated& ev,
+                     GenerationStats& st, Time t0) {
+  RunState& s = state_;
+  const EvolveConfig& cfg = s.config;
+  if (new_champion) {
+    const Individual& champ = *new_champion;
     ChampionRecord c;
     c.generation = gen;
     c.id = champ.id;
@@ -267,15 +372,15 @@ GenerationStats Evolver::step() {
       // Its life's final stiffness: from this generation's simulation, or (rarely, for
       // a cached body, or when an outside fitness gave a number alone) simulated again;
       // the simulation is deterministic.
-      auto simulated_now = std::find_if(to_sim.begin(), to_sim.end(),
-                                        [&](size_t i) { return spawns[i].id == champ.id; });
-      c.final_stiffness =
-          simulated_now != to_sim.end() && !evals[*simulated_now].final_stiffness.empty()
-              ? evals[*simulated_now].final_stiffness
-              : evaluate_phenotype(champ.phenotype, cfg.physics).final_stiffness;
+      const auto now = std::find(ev.sim_id.begin(), ev.sim_id.end(), champ.id);
+      const size_t k = static_cast<size_t>(now - ev.sim_id.begin());
+      c.final_stiffness = now != ev.sim_id.end() && !ev.evals[k].final_stiffness.empty()
+                              ? ev.evals[k].final_stiffness
+                              : evaluate_phenotype(champ.phenotype, cfg.physics).final_stiffness;
     }
     s.champions.push_back(std::move(c));
   }
+  const ChampionRecord& champ = s.champions.back();
   GenerationRecord rec;
   for (const Individual& ind : s.population) {
     rec.id.push_back(ind.id);
@@ -294,7 +399,6 @@ GenerationStats Evolver::step() {
   st.wall_seconds = seconds_since(t0);
   rec.wall_seconds = st.wall_seconds;
   s.history.push_back(std::move(rec));
-  return st;
 }
 
 }  // namespace plastivox::evo

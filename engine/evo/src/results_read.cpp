@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/evo/cma_body.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/file_seal.hpp"
 #include "plastivox/io/h5_util.hpp"
@@ -153,6 +154,13 @@ void read_champions(const Ctx& c, hid_t root, RunState& s) {
     // Its controller: the run's, with the genome's weights (as the expresser made it).
     ch.phenotype.controller = s.config.controller;
     ch.phenotype.controller.weights = ch.genome.controller;
+    if (s.config.algorithm == Algorithm::kCmaEs) {  // the fixed body with the genome applied
+      const RobotDef made = express_vector(s.config, ch.genome.controller).robot;
+      if (made.present != ch.phenotype.present || made.stiffness != ch.phenotype.stiffness ||
+          made.dev_rate != ch.phenotype.dev_rate || made.phase != ch.phenotype.phase)
+        c.fail(obj + "/phenotype", "is not the run's body with the champion's genome");
+      ch.phenotype = made;
+    }
     std::vector<hsize_t> dims = {hsize_t(s.config.nz), hsize_t(s.config.ny), hsize_t(s.config.nx)};
     ch.final_stiffness = h5::read<double>(c, g.id(), "final_stiffness", dims);
     s.champions.push_back(std::move(ch));
@@ -201,6 +209,20 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
     const auto w = h5::read<double>(c, genomes.id(), "controller", dims);
     for (hsize_t i = 0; i < P; ++i)
       s.population[i].genome.controller.assign(w.begin() + i * count, w.begin() + (i + 1) * count);
+  }
+  if (s.config.algorithm == Algorithm::kCmaEs) {  // the search distribution (cma.hpp)
+    const hsize_t n = static_cast<hsize_t>(s.config.controller_genes.count);
+    Handle g = h5::open_group(c, ck.id(), "cma");
+    CmaState& m = s.cma;
+    m.separable = s.config.cma.separable;
+    m.sigma = h5::read_attr_double(c, g.id(), "/checkpoint/cma", "sigma");
+    m.updates = static_cast<int>(h5::read_attr_int(c, g.id(), "/checkpoint/cma", "updates"));
+    m.mean = h5::read<double>(c, g.id(), "mean", n);
+    m.p_sigma = h5::read<double>(c, g.id(), "p_sigma", n);
+    m.p_c = h5::read<double>(c, g.id(), "p_c", n);
+    std::vector<hsize_t> dims = {n, n};
+    m.cov = m.separable ? h5::read<double>(c, g.id(), "cov", n)
+                        : h5::read<double>(c, g.id(), "cov", dims);
   }
   Handle cache = h5::open_group(c, ck.id(), "cache");
   std::vector<hsize_t> cd = {h5::kAnyExtent};

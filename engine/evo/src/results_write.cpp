@@ -231,6 +231,19 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
       c.fail("/checkpoint/population/genome/controller", "internal error: weight count");
     h5::write(c, genomes.id(), "controller", w, {static_cast<hsize_t>(s.population.size()), count});
   }
+  if (s.config.algorithm == Algorithm::kCmaEs) {  // the search distribution (cma.hpp)
+    const hsize_t n = s.cma.mean.size();
+    Handle g = h5::create_group(c, ck.id(), "cma");
+    h5::write_attr(c, g.id(), "sigma", s.cma.sigma);
+    h5::write_attr(c, g.id(), "updates", int64_t{s.cma.updates});
+    h5::write(c, g.id(), "mean", s.cma.mean);
+    h5::write(c, g.id(), "p_sigma", s.cma.p_sigma);
+    h5::write(c, g.id(), "p_c", s.cma.p_c);
+    if (s.cma.separable)
+      h5::write(c, g.id(), "cov", s.cma.cov);
+    else
+      h5::write(c, g.id(), "cov", s.cma.cov, {n, n});
+  }
   Handle cache = h5::create_group(c, ck.id(), "cache");
   std::vector<uint64_t> hi, lo, failure_row;
   std::vector<double> fit;

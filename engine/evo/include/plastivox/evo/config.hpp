@@ -19,7 +19,29 @@ constexpr int kConfigVersion = 1;
 enum class InitialPopulation { kRandom, kBodyPlans };
 const char* to_string(InitialPopulation p);  // "random", "body-plans"
 
+// The search (docs/evolution.md, "Algorithms"): AFPO over CPPN genomes (the paper), or
+// CMA-ES over a vector that sets one part of a fixed body. Adding one: a value here, its
+// name in to_string/parse_config, and its step in Evolver::step().
+enum class Algorithm { kAfpo, kCmaEs };
+const char* to_string(Algorithm a);  // "afpo", "cma-es"
+
+// What a CMA-ES vector sets on the fixed body (cma_body.hpp).
+enum class GenomeKind { kController, kPhase, kMaterials };
+const char* to_string(GenomeKind g);  // "controller", "phase", "materials"
+
+// A CMA-ES run's own fields (algorithm cma-es; config "body", "genome", "cma").
+struct CmaSettings {
+  GenomeKind genome = GenomeKind::kController;
+  RobotDef body;                    // the fixed body; its own values are where the search starts
+  std::string body_json;            // the body as a robot file's JSON: the identity holds it whole
+  double sigma = 0;                 // initial step size (0 until parsed: the genome's default)
+  bool separable = false;           // sep-CMA-ES (diagonal C): by the dimension rule, or as asked
+  std::string covariance = "auto";  // as given: auto | full | separable
+};
+
 struct EvolveConfig {
+  Algorithm algorithm = Algorithm::kAfpo;
+  CmaSettings cma;    // algorithm cma-es only
   uint64_t seed = 1;  // run seed; every random draw derives from it
   Treatment treatment = Treatment::kNone;
   Task task = Task::kWalk;        // what lives are scored on (plastivox/task.hpp); physics.task

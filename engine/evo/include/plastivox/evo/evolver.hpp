@@ -1,4 +1,8 @@
-// The AFPO loop (docs/method.md §7): one call of step() runs one generation.
+// The generation loop: one call of step() runs one generation of the config's algorithm,
+// AFPO (below) or CMA-ES (docs/evolution.md; new individuals sampled from the search
+// distribution, evaluated by the same steps 4a-4d, the distribution updated from them).
+//
+// The AFPO loop (docs/method.md §7):
 //
 // Generation 0 creates `population` random individuals. Every later generation:
 //   1. every survivor's age += 1;
@@ -12,6 +16,7 @@
 // so the result is bit-identical for any number of threads.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <vector>
 
@@ -77,12 +82,24 @@ class Evolver {
 
   static RunState new_run(const EvolveConfig& config);
 
-  GenerationStats step();  // one generation; must not be called when finished()
+  // One generation of the config's algorithm; must not be called when finished().
+  GenerationStats step();
   bool finished() const { return state_.finished(); }
   const RunState& state() const { return state_; }
   int threads() const { return threads_; }
 
  private:
+  struct Evaluated;  // what evaluate_new() simulated (evolver.cpp)
+  using Time = std::chrono::steady_clock::time_point;
+  void step_afpo(GenerationStats& st, Time t0);
+  void step_cma(GenerationStats& st, Time t0);  // docs/evolution.md, "CMA-ES"
+  // The stages every algorithm shares: 4b-4d above for the generation's new individuals, and
+  // the records (new_champion: null when the champion did not change).
+  void evaluate_new(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,
+                    GenerationStats& st, Evaluated& out);
+  void record(int gen, const Individual* new_champion, const Evaluated& ev, GenerationStats& st,
+              Time t0);
+
   RunState state_;
   Expresser expresser_;
   int threads_;

@@ -55,6 +55,9 @@ struct Phenotype {
   std::string invalid_reason;  // empty when valid
   int voxels = 0;              // voxels kept
   Hash128 hash;  // bit-exact identity of (lattice, present, E0, alpha, phase, controller)
+  // Algorithm cma-es: the vector this body expresses (cma_body.hpp), for whoever scores it
+  // outside (Python's ask/tell); empty under AFPO. Not part of the identity.
+  std::vector<double> vector;
   bool same_as(const Phenotype& o) const;  // bit-exact equality of the arrays
 };
 

@@ -13,9 +13,10 @@ using plastivox::Rng;
 
 // What a stream is for; part of its key so two purposes never share numbers.
 enum class StreamPurpose : uint64_t {
-  kNewcomer = 1,  // a random individual (initial population or the per-generation newcomer)
-  kMutation = 2,  // the mutations that turn a parent into its child
-  kTest = 99,     // reserved for tests
+  kNewcomer = 1,   // a random individual (initial population or the per-generation newcomer)
+  kMutation = 2,   // the mutations that turn a parent into its child
+  kCmaSample = 3,  // a CMA-ES sample's normals (cma.hpp), keyed by (generation, id)
+  kTest = 99,      // reserved for tests
 };
 
 }  // namespace plastivox::evo

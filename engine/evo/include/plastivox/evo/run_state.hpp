@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "plastivox/base/hash.hpp"
+#include "plastivox/evo/cma.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/genome.hpp"
 #include "plastivox/evo/phenotype.hpp"
@@ -99,6 +100,7 @@ struct RunState {
   std::vector<BirthRecord> births;        // every individual, ascending id
   std::vector<ChampionRecord> champions;  // in order of appearance
   std::map<Hash128, CacheEntry> cache;    // by phenotype hash
+  CmaState cma;  // algorithm cma-es: the search distribution after the last generation
 
   bool finished() const { return generations_done >= config.generations; }
 };
