@@ -163,6 +163,26 @@ const CommandHelp kHelp[] = {
      "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
      "example:\n"
      "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
+    {"robustness",
+     "usage: plastivox robustness RESULTS.h5 [RESULTS.h5 ...] [options]\n"
+     "The robustness battery (docs/analysis.md, \"Robustness battery\"): each run champion's\n"
+     "fitness kept (F_perturbed / F_unperturbed) at every severity of every perturbation,\n"
+     "its spread over seeds and the area under each curve; per perturbation the treatments'\n"
+     "means with 95 % bootstrap CIs and Bonferroni-corrected tests. Lives that go unstable\n"
+     "or sink are counted and shown, never averaged in.\n"
+     "options:\n"
+     "  --battery B           default (every perturbation), paper (Eq. 2 alone: R), small\n"
+     "                        (the default study's) or a battery file (JSON)\n"
+     "  --out DIR             write DIR/robustness.json and DIR/robustness.csv\n"
+     "  --generation G        the champions of generation G (default: last)\n"
+     "  --seed S              seed of the draws and the bootstrap (default 1)\n"
+     "  --robustness-draws N  lives of the paper battery (default 10)\n"
+     "  --resamples N         bootstrap resamples (default 10000, at least 100)\n"
+     "  --threads N           worker threads (default 0 = all cores)\n"
+     "  --estimate-only       print the lives and predicted time, simulate one life only\n"
+     "  --allow-mixed-physics, --keep-artifacts, --keep-vertical   as analyze's\n"
+     "example:\n"
+     "  plastivox robustness runs/*.h5 --battery default --out robustness --threads 2\n"},
     {"render",
      "usage: plastivox render ROBOT_OR_RESULTS --out frame.png [options]\n"
      "One frame of a robot's life (or a results file's champion's) as a PNG. A recorded life\n"
