@@ -7,9 +7,12 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/render/panels.hpp"
 
 namespace plastivox::cli {
 namespace {
@@ -112,9 +115,15 @@ int cmd_robustness(const Args& in) {
   print_comparisons(r);
   if (!out.empty()) {
     std::filesystem::create_directories(out);
-    write_file_atomic(out + "/robustness.json", analysis::battery_stats_json(r));
+    const std::string json = analysis::battery_stats_json(r);
+    write_file_atomic(out + "/robustness.json", json);
     write_file_atomic(out + "/robustness.csv", analysis::battery_csv(r));
-    std::printf("wrote %s/{robustness.json, robustness.csv}\n", out.c_str());
+    // The heat map is drawn from the file just written, as plastivox figures draws stats.json.
+    const render::BatteryHeatMap map =
+        render::parse_battery_heat_map(nlohmann::json::parse(json), out + "/robustness.json", "");
+    render::write_battery_heat_map(map, out, render::FigureOptions{});
+    std::printf("wrote %s/{robustness.json, robustness.csv, robustness_heatmap.svg, .png}\n",
+                out.c_str());
   }
   return 0;
 }

@@ -161,6 +161,9 @@ const CommandHelp kHelp[] = {
      "                        |dz| at least 0.25 voxel lengths) in the statistics and\n"
      "                        figures (default: excluded)\n"
      "  --no-viewer           no 3-D viewer in report.html (and no DIR/lives/)\n"
+     "  --battery B           also run a robustness battery (default, paper, small or a\n"
+     "                        battery file; plastivox robustness --help): its profiles and\n"
+     "                        comparisons in stats.json, analysis.h5 and the report\n"
      "example:\n"
      "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
     {"robustness",

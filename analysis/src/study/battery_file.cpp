@@ -72,9 +72,13 @@ Battery load_battery(const std::string& spec, int paper_draws) {
                                 "built-in batteries default, paper, small)");
   std::stringstream ss;
   ss << in.rdbuf();
+  return parse_battery(ss.str(), spec);
+}
+
+Battery parse_battery(const std::string& text, const std::string& spec) {
   Json j;
   try {
-    j = Json::parse(ss.str());
+    j = Json::parse(text);
   } catch (const std::exception& e) {
     throw std::invalid_argument(spec + ": not JSON: " + e.what());
   }

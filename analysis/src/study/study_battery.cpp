@@ -50,6 +50,9 @@ void run_battery(StudyResult& r, const StudyProgressFn& progress) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::lock_guard<std::mutex> lock(mutex);
     ++done;
+    r.battery_lives += c.profile->lives;
+    r.battery_unstable += c.profile->unstable;
+    r.battery_sank += c.profile->sank;
     char buf[160];
     std::snprintf(buf, sizeof buf, "battery %d/%zu %s: %d lives (%d unstable, %d sank), %.1f s",
                   done, todo.size(), c.label.c_str(), per, c.profile->unstable, c.profile->sank, s);

@@ -81,6 +81,8 @@ Battery builtin_battery(const std::string& name, int paper_draws = 10);
 // std::invalid_argument naming the file and the field for a bad file. Implemented in
 // plastivox_study (it reads JSON).
 Battery load_battery(const std::string& spec, int paper_draws = 10);
+// A battery from JSON text; `where` names it in errors (the file) and becomes its name.
+Battery parse_battery(const std::string& text, const std::string& where);
 // The battery as JSON text (what load_battery reads).
 std::string battery_json(const Battery& battery);
 

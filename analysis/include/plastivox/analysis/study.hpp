@@ -213,6 +213,8 @@ struct StudyResult {
   // compared between treatments as a Fig. 5 panel (id "P1", "P2", ...; metric "battery:NAME").
   std::optional<Battery> battery;
   std::vector<PanelStats> battery_panels;
+  // Every battery life simulated, and those that went unstable or sank (left out of the means).
+  int battery_lives = 0, battery_unstable = 0, battery_sank = 0;
   // What the report states of the runs' physics: the rule for sunk lives in force while they
   // evolved ("invalid", "scored (the authors' rule)" or "mixed: ...") and the direction fitness
   // is measured in ("3-D ..." or "xy-plane ...").
