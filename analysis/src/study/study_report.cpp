@@ -161,15 +161,17 @@ std::string battery_section(const StudyResult& r) {
            " n=" + std::to_string(g.values.size()) + "</td>";
     }
     std::string tests;
-    for (const BootstrapTestResult& c : p.comparisons)
+    for (const BootstrapTestResult& c : p.comparisons) {
+      const std::string stars = study::stars_shown(p, c);
       tests += (tests.empty() ? "" : "; ") + c.name_a + "-" + c.name_b +
-               " p=" + p_text(c.p_corrected) + " " + study::stars_shown(p, c);
+               " p=" + p_text(c.p_corrected) + (stars.empty() ? "" : " " + stars);
+    }
     s += "<td>" + esc(tests) + "</td></tr>\n";
   }
   s += "</table>\n";
-  s += "<p>" + std::to_string(r.battery_lives) + " lives simulated: " +
-       std::to_string(r.battery_unstable) + " unstable, " + std::to_string(r.battery_sank) +
-       " sank.</p>\n";
+  s += "<p>" + std::to_string(r.battery_lives) +
+       " lives simulated: " + std::to_string(r.battery_unstable) + " unstable, " +
+       std::to_string(r.battery_sank) + " sank.</p>\n";
   return s;
 }
 
