@@ -1376,6 +1376,12 @@ TEST_F(Study, BatteryProfilesGoToStatsH5AndTheReport) {
   EXPECT_NE(html.find("<h2>Robustness battery</h2>"), std::string::npos);
   EXPECT_NE(html.find("<td>gravity</td>"), std::string::npos);
 
+  // The fingerprint follows the battery file's content, not only its name.
+  const std::string before = study_fingerprint({"d"}, o);
+  write("battery.json", R"({"format": "plastivox-battery", "version": 1, "perturbations": [
+      {"kind": "gravity", "severities": [0.5, 1.5, 2.5], "seeds": [0]}]})");
+  EXPECT_NE(study_fingerprint({"d"}, o), before);
+
   // Without a battery: nothing of it anywhere, the options as before.
   StudyOptions plain = quick();
   const StudyResult none = analyze_study(files, plain);

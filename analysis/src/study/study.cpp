@@ -107,6 +107,9 @@ std::string study_fingerprint(const std::vector<std::string>& content_digests,
   h.u64(sorted.size());
   for (const std::string& d : sorted) h.str(d);
   h.str(options_json(options));
+  // A battery file's content, not only its name: an edited battery is analysed again.
+  if (!options.battery.empty())
+    h.str(battery_json(load_battery(options.battery, options.robustness_draws)));
   return h.finish().hex();
 }
 

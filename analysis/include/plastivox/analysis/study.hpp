@@ -280,8 +280,10 @@ struct VerticalAudit {
 VerticalAudit vertical_audit(const StudyResult& r);
 
 // A hex fingerprint of what a study's results depend on: the inputs' content digests (in any
-// order) and options_json(options). Equal to stats.json's provenance.fingerprint when the
-// outputs were made from these inputs with these options (the "already done" check).
+// order), options_json(options) and, with a battery, the battery itself (a file's content: an
+// edited battery file changes it; throws like load_battery). Equal to stats.json's
+// provenance.fingerprint when the outputs were made from these inputs with these options (the
+// "already done" check).
 std::string study_fingerprint(const std::vector<std::string>& content_digests,
                               const StudyOptions& options);
 
