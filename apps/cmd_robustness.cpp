@@ -1,8 +1,10 @@
 // plastivox robustness: the robustness battery (docs/analysis.md, "Robustness battery") on the
-// run champions of several results files: each champion's profile (fitness kept at every
-// severity of every perturbation, its spread over seeds, the area under each curve) and the
-// treatments compared per perturbation. Prints a table; --out DIR writes robustness.json and
-// robustness.csv. The library call is battery_study (plastivox/analysis/study.hpp).
+// run champions of several results files (or on robot files, each under its own physics): each
+// champion's profile (fitness kept at every severity of every perturbation, its spread over seeds,
+// the area under each curve) and the treatments compared per perturbation. Prints a table; --out
+// DIR writes robustness.json and robustness.csv. The library call is battery_study
+// (plastivox/analysis/study.hpp).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -12,6 +14,7 @@
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/robot_io.hpp"
 #include "plastivox/render/panels.hpp"
 
 namespace plastivox::cli {
@@ -63,6 +66,34 @@ void print_comparisons(const analysis::StudyResult& r) {
   }
 }
 
+// Whether the inputs are robot files (.json, .vxa) rather than results files (.h5); a mixture
+// is refused.
+bool robot_files(const Args& files) {
+  int results = 0;
+  for (const std::string& f : files) results += f.size() > 3 && f.substr(f.size() - 3) == ".h5";
+  if (results > 0 && results < static_cast<int>(files.size()))
+    throw UsageError{"expected results files (.h5) or robot files (.json, .vxa), not both"};
+  return results == 0;
+}
+
+// Robot files: each under its own physics, labelled by its file name (made unique).
+analysis::StudyResult robots_study(const Args& files, const analysis::StudyOptions& o,
+                                   const analysis::StudyProgressFn& progress) {
+  std::vector<std::string> labels;
+  std::vector<RobotDef> robots;
+  std::vector<PhysicsDef> physics;
+  for (const std::string& f : files) {
+    LoadedRobot loaded = load_robot(f);
+    std::string label = std::filesystem::path(f).stem().string();
+    if (std::count(labels.begin(), labels.end(), label) > 0)
+      label += "-" + std::to_string(labels.size() + 1);
+    labels.push_back(label);
+    robots.push_back(std::move(loaded.robot));
+    physics.push_back(loaded.physics);
+  }
+  return analysis::battery_study_of_robots(labels, robots, physics, o, progress);
+}
+
 }  // namespace
 
 int cmd_robustness(const Args& in) {
@@ -85,7 +116,7 @@ int cmd_robustness(const Args& in) {
   const bool estimate_only = take_flag(args, "--estimate-only");
   reject_unknown_options(args);
   if (args.empty())
-    throw UsageError{"expected results files: plastivox robustness RESULTS.h5 [...]"};
+    throw UsageError{"expected results or robot files: plastivox robustness RESULTS.h5 [...]"};
   // The battery is read and checked before any results file or life.
   const analysis::Battery battery = [&] {
     try {
@@ -95,6 +126,8 @@ int cmd_robustness(const Args& in) {
     }
   }();
 
+  if (estimate_only && robot_files(args))
+    throw UsageError{"--estimate-only reads results files (.h5), not robot files"};
   if (estimate_only) {
     const analysis::BatteryEstimate e = analysis::estimate_battery(args, o);
     std::printf(
@@ -107,10 +140,11 @@ int cmd_robustness(const Args& in) {
   }
   o.command = "plastivox robustness";
   for (const std::string& a : in) o.command += " " + a;
-  const analysis::StudyResult r =
-      analysis::battery_study(args, o, [](const analysis::StudyProgress& p) {
-        std::fprintf(stderr, "plastivox robustness: %s\n", p.message.c_str());
-      });
+  const auto progress = [](const analysis::StudyProgress& p) {
+    std::fprintf(stderr, "plastivox robustness: %s\n", p.message.c_str());
+  };
+  const analysis::StudyResult r = robot_files(args) ? robots_study(args, o, progress)
+                                                    : analysis::battery_study(args, o, progress);
   print_profiles(r);
   print_comparisons(r);
   if (!out.empty()) {

@@ -168,11 +168,13 @@ const CommandHelp kHelp[] = {
      "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
     {"robustness",
      "usage: plastivox robustness RESULTS.h5 [RESULTS.h5 ...] [options]\n"
+     "       plastivox robustness ROBOT.json|ROBOT.vxa [...] [options]\n"
      "The robustness battery (docs/analysis.md, \"Robustness battery\"): each run champion's\n"
      "fitness kept (F_perturbed / F_unperturbed) at every severity of every perturbation,\n"
      "its spread over seeds and the area under each curve; per perturbation the treatments'\n"
      "means with 95 % bootstrap CIs and Bonferroni-corrected tests. Lives that go unstable\n"
-     "or sink are counted and shown, never averaged in.\n"
+     "or sink are counted and shown, never averaged in. Robot files are measured each under\n"
+     "its own physics, grouped by its treatment.\n"
      "options:\n"
      "  --battery B           default (every perturbation), paper (Eq. 2 alone: R), small\n"
      "                        (the default study's) or a battery file (JSON)\n"
@@ -185,7 +187,8 @@ const CommandHelp kHelp[] = {
      "  --estimate-only       print the lives and predicted time, simulate one life only\n"
      "  --allow-mixed-physics, --keep-artifacts, --keep-vertical   as analyze's\n"
      "example:\n"
-     "  plastivox robustness runs/*.h5 --battery default --out robustness --threads 2\n"},
+     "  plastivox robustness runs/*.h5 --battery default --out robustness --threads 2\n"
+     "  plastivox robustness examples/pi.json examples/gamma.json --battery small\n"},
     {"render",
      "usage: plastivox render ROBOT_OR_RESULTS --out frame.png [options]\n"
      "One frame of a robot's life (or a results file's champion's) as a PNG. A recorded life\n"

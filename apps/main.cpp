@@ -41,7 +41,7 @@ const char* kUsage =
     "           analyse run champions: robustness, canalization, diversity, body plans,\n"
     "           bootstrap statistics -> DIR/stats.json, CSV tables, analysis.h5,\n"
     "           report.html; rerun after a kill to resume (docs/analysis.md)\n"
-    "  robustness RESULTS.h5 [RESULTS.h5 ...] [--battery default|paper|small|FILE]\n"
+    "  robustness RESULTS.h5|ROBOT [...] [--battery default|paper|small|FILE]\n"
     "           [--out DIR] [--seed S] [--threads N] [--estimate-only]\n"
     "           the robustness battery: every champion's fitness kept under graded\n"
     "           perturbations, compared between treatments (docs/analysis.md)\n"

@@ -1416,6 +1416,18 @@ TEST_F(Study, RobustnessCommandWritesProfilesAndRefusesBadBatteries) {
   EXPECT_NE(est.out.find("63 lives per champion; 2 champions: 126 lives"), std::string::npos)
       << est.out;
 
+  // Robot files: each under its own physics, labelled by its name; mixed with results: refused.
+  const std::string robot = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/mixture.json";
+  const std::string short_battery = write("short.json", R"({"format": "plastivox-battery",
+      "version": 1, "perturbations": [{"kind": "gravity", "severities": [2], "seeds": [0]}]})");
+  const testing::Output robots =
+      testing::cli("robustness " + robot + " --threads 2 --battery " + short_battery);
+  ASSERT_EQ(robots.status, 0) << robots.out;
+  EXPECT_NE(robots.out.find("mixture: 2 lives"), std::string::npos) << robots.out;
+  const testing::Output mixed = testing::cli("robustness " + robot + " " + a);
+  EXPECT_EQ(mixed.status, 2) << mixed.out;
+  EXPECT_NE(mixed.out.find("not both"), std::string::npos) << mixed.out;
+
   const std::string bad = write("bad.json", R"({"format": "plastivox-battery", "version": 1,
       "perturbations": [{"kind": "voxel-loss", "severities": [0.1, 2], "seeds": [0]}]})");
   for (const std::string& command : {"robustness " + a, "analyze " + a + " --out " + path("o")}) {

@@ -222,6 +222,40 @@ StudyResult battery_study(const std::vector<std::string>& files, const StudyOpti
   return r;
 }
 
+StudyResult battery_study_of_robots(const std::vector<std::string>& labels,
+                                    const std::vector<RobotDef>& robots,
+                                    const std::vector<PhysicsDef>& physics,
+                                    const StudyOptions& options, const StudyProgressFn& progress) {
+  if (options.battery.empty()) throw std::invalid_argument("battery_study: no battery given");
+  if (labels.size() != robots.size() || physics.size() != robots.size())
+    throw std::invalid_argument("battery_study_of_robots: one label and physics per robot");
+  StudyResult r;
+  r.options = options;
+  r.battery = load_battery(options.battery, options.robustness_draws);
+  for (size_t i = 0; i < robots.size(); ++i) {
+    ChampionAnalysis c;
+    c.label = labels[i];
+    c.robot = robots[i];
+    c.physics = physics[i];
+    c.treatment = physics[i].treatment;
+    c.voxels = robots[i].voxel_count();
+    r.champions.push_back(std::move(c));
+  }
+  for (Treatment t : all_treatments())
+    for (const ChampionAnalysis& c : r.champions)
+      if (c.treatment == t) {
+        r.treatments.push_back(t);
+        break;
+      }
+  const Provenance prov = current_provenance(options.threads);
+  r.version = prov.plastivox_version;
+  r.commit = prov.git_commit;
+  r.date = prov.date_created;
+  study::run_battery(r, progress);
+  r.battery_panels = study::compute_battery_panels(r);
+  return r;
+}
+
 BatteryEstimate estimate_battery(const std::vector<std::string>& files,
                                  const StudyOptions& options) {
   if (options.battery.empty()) throw std::invalid_argument("estimate_battery: no battery given");

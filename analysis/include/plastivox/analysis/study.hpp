@@ -250,6 +250,14 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
 // treatments per perturbation (battery_panels). No canalization, Hausdorff or Fig. 5 panels.
 StudyResult battery_study(const std::vector<std::string>& files, const StudyOptions& options,
                           const StudyProgressFn& progress = {});
+// The battery on robots given directly (plastivox robustness ROBOT.json ...): robot i labelled
+// labels[i], under physics[i], grouped by that physics' treatment; nothing is audited or
+// excluded. Loads options.battery first (errors as battery_study's).
+StudyResult battery_study_of_robots(const std::vector<std::string>& labels,
+                                    const std::vector<RobotDef>& robots,
+                                    const std::vector<PhysicsDef>& physics,
+                                    const StudyOptions& options,
+                                    const StudyProgressFn& progress = {});
 // What the battery will cost (--estimate-only): champions, lives, voxel-steps
 // (battery_voxel_steps) and the wall time they take at the speed of one timed life (the first
 // champion's, unperturbed) spread over the threads. Loads the champions and the battery (errors
