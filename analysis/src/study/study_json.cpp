@@ -320,39 +320,40 @@ std::string stats_json(const StudyResult& r) {
   if (const std::string w = study::power_warning(r); !w.empty()) warnings.push_back(w);
   for (const std::string& n : study::shared_body_notes(r)) warnings.push_back(n);
   const VerticalAudit vertical = vertical_audit(r);
-  Json j = {{"format", "plastivox-analysis"},
-            {"format_version", kStudyFormatVersion},
-            {"provenance", provenance(r)},
-            {"statistics", statistics(r)},
-            {"treatments", treatments},
-            {"panels", panels},
-            {"evolution", evolution(r)},
-            {"champions", champions},
-            {"hausdorff", hausdorff(r)},
-            {"body_plans",
-             {{"counts", counts},
-              {"threshold", BodyPlanOptions{}.threshold},
-              {"runs_started_from_body_plans", study::body_plan_start_runs(r)}}},
-            {"alpha_ranges", ranges},
-            {"audit",
-             {{"sinking_rule", r.sinking_rule},
-              {"fitness_direction", r.fitness_direction},
-              {"task", r.task},
-              {"fitness_unit", r.fitness_unit},
-              {"environment", r.environment},
-              {"controller", r.controller},
-              {"keep_artifacts", r.options.keep_artifacts},
-              {"vertical_rule",
-               {{"applies", vertical.applies},
-                {"vertical_share_limit", kVerticalShareLimit},
-                {"flagged", vertical.flagged},
-                {"excluded", vertical.excluded},
-                {"keep_vertical", r.options.keep_vertical}}}}},
-            {"paper_comparison", paper_comparison(r)},
-            {"warnings", strings(warnings)}};
-  // Only with a battery, so that a study without one writes what it always did.
-  if (r.battery) j["robustness_battery"] = Json::parse(study::battery_block_json(r));
-  return j.dump(1) + "\n";
+  const Json j = {{"format", "plastivox-analysis"},
+                  {"format_version", kStudyFormatVersion},
+                  {"provenance", provenance(r)},
+                  {"statistics", statistics(r)},
+                  {"treatments", treatments},
+                  {"panels", panels},
+                  {"evolution", evolution(r)},
+                  {"champions", champions},
+                  {"hausdorff", hausdorff(r)},
+                  {"body_plans",
+                   {{"counts", counts},
+                    {"threshold", BodyPlanOptions{}.threshold},
+                    {"runs_started_from_body_plans", study::body_plan_start_runs(r)}}},
+                  {"alpha_ranges", ranges},
+                  {"audit",
+                   {{"sinking_rule", r.sinking_rule},
+                    {"fitness_direction", r.fitness_direction},
+                    {"task", r.task},
+                    {"fitness_unit", r.fitness_unit},
+                    {"environment", r.environment},
+                    {"controller", r.controller},
+                    {"keep_artifacts", r.options.keep_artifacts},
+                    {"vertical_rule",
+                     {{"applies", vertical.applies},
+                      {"vertical_share_limit", kVerticalShareLimit},
+                      {"flagged", vertical.flagged},
+                      {"excluded", vertical.excluded},
+                      {"keep_vertical", r.options.keep_vertical}}}}},
+                  {"paper_comparison", paper_comparison(r)},
+                  {"warnings", strings(warnings)}};
+  if (!r.battery) return j.dump(1) + "\n";  // without a battery: what it always wrote
+  Json with_battery = j;
+  with_battery["robustness_battery"] = Json::parse(study::battery_block_json(r));
+  return with_battery.dump(1) + "\n";
 }
 
 }  // namespace plastivox::analysis
