@@ -27,6 +27,7 @@ int cmd_inspect(const Args& args);     // apps/cmd_inspect.cpp
 int cmd_hausdorff(const Args& args);   // apps/cmd_hausdorff.cpp
 int cmd_export(const Args& args);      // apps/cmd_export.cpp
 int cmd_analyze(const Args& args);     // apps/cmd_analyze.cpp
+int cmd_robustness(const Args& args);  // apps/cmd_robustness.cpp
 int cmd_render(const Args& args);      // apps/cmd_render.cpp
 int cmd_video(const Args& args);       // apps/cmd_video.cpp
 int cmd_view(const Args& args);        // apps/cmd_view.cpp

@@ -94,6 +94,7 @@ analysis::StudyOptions parse_options(Args& args, std::string* out, bool* viewer)
   o.allow_mixed_physics = take_flag(args, "--allow-mixed-physics");
   o.keep_artifacts = take_flag(args, "--keep-artifacts");
   o.keep_vertical = take_flag(args, "--keep-vertical");
+  o.battery = take_option(args, "--battery", "");
   reject_unknown_options(args);
   render::limit_raster_threads(o.threads);
   if (out->empty()) throw UsageError{"--out DIR is required"};

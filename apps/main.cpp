@@ -41,6 +41,10 @@ const char* kUsage =
     "           analyse run champions: robustness, canalization, diversity, body plans,\n"
     "           bootstrap statistics -> DIR/stats.json, CSV tables, analysis.h5,\n"
     "           report.html; rerun after a kill to resume (docs/analysis.md)\n"
+    "  robustness RESULTS.h5|ROBOT [...] [--battery default|paper|small|FILE]\n"
+    "           [--out DIR] [--seed S] [--threads N] [--estimate-only]\n"
+    "           the robustness battery: every champion's fitness kept under graded\n"
+    "           perturbations, compared between treatments (docs/analysis.md)\n"
     "  render   ROBOT_OR_RESULTS --out frame.png [--time T] [--color MODE] [--size WxH]\n"
     "           one frame as PNG; MODE: congenital, stiffness, change, alpha, phase,\n"
     "           stimulus, actuation;\n"
@@ -67,12 +71,19 @@ struct Command {
   int (*run)(const Args&);
 };
 const Command kCommands[] = {
-    {"simulate", cmd_simulate},     {"demo", cmd_demo},
-    {"evolve", cmd_evolve},         {"inspect", cmd_inspect},
-    {"hausdorff", cmd_hausdorff},   {"export", cmd_export},
-    {"analyze", cmd_analyze},       {"render", cmd_render},
-    {"video", cmd_video},           {"view", cmd_view},
-    {"gallery", cmd_gallery},       {"figures", cmd_figures},
+    {"simulate", cmd_simulate},
+    {"demo", cmd_demo},
+    {"evolve", cmd_evolve},
+    {"inspect", cmd_inspect},
+    {"hausdorff", cmd_hausdorff},
+    {"export", cmd_export},
+    {"analyze", cmd_analyze},
+    {"render", cmd_render},
+    {"robustness", cmd_robustness},
+    {"video", cmd_video},
+    {"view", cmd_view},
+    {"gallery", cmd_gallery},
+    {"figures", cmd_figures},
     {"experiment", cmd_experiment},
 };
 

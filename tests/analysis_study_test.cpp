@@ -1327,5 +1327,120 @@ TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
   }
 }
 
+// ---- the robustness battery ----
+
+// With a battery the study measures every champion's profile, compares the treatments per
+// perturbation and writes both to stats.json, analysis.h5 (read back) and the report; without
+// one the options and stats.json carry no trace of it. The paper perturbation at spread 1 is
+// R's own draws: the same numbers as panel C's.
+TEST_F(Study, BatteryProfilesGoToStatsH5AndTheReport) {
+  const std::vector<std::string> files = {run(Treatment::kNone, 1), run(Treatment::kNone, 2),
+                                          run(Treatment::kStress, 3), run(Treatment::kStress, 4)};
+  const std::string battery = write("battery.json", R"({"format": "plastivox-battery",
+      "version": 1, "perturbations": [
+      {"name": "eq2", "kind": "paper", "severities": [0.5, 1], "seeds": [0, 1, 2]},
+      {"kind": "gravity", "severities": [0.5, 1.5, 2], "seeds": [0]}]})");
+  StudyOptions o = quick();
+  o.battery = battery;
+  const StudyResult r = analyze_study(files, o);
+  ASSERT_TRUE(r.battery);
+  ASSERT_EQ(r.battery_panels.size(), 2u);
+  EXPECT_EQ(r.battery_lives, 4 * battery_lives(*r.battery));
+  for (const ChampionAnalysis& c : r.champions) {
+    ASSERT_TRUE(c.profile) << c.label;
+    const SeverityLevel& eq2 = c.profile->perturbations[0].levels[1];
+    ASSERT_TRUE(c.r_mean && eq2.mean_kept) << c.label;
+    EXPECT_EQ(*eq2.mean_kept, *c.r_mean) << c.label;  // quick(): three draws, seeds 0..2
+  }
+  write_study_outputs(r, path("out"));
+  const Json stats = Json::parse(read_text(path("out/stats.json")));
+  const Json& block = stats.at("robustness_battery");
+  EXPECT_EQ(block.at("champions").size(), 4u);
+  EXPECT_EQ(block.at("comparisons").size(), 2u);
+  EXPECT_EQ(block.at("comparisons")[1].at("perturbation"), "gravity");
+  EXPECT_EQ(block.at("units").at("kept"), "F_perturbed / F_reference (dimensionless)");
+  EXPECT_EQ(block.at("comparisons")[0].at("groups")[0].at("mean").get<double>(),
+            *r.battery_panels[0].groups[0].mean);
+  const StudyResult back = read_study_result(path("out/analysis.h5"));
+  ASSERT_TRUE(back.battery);
+  EXPECT_EQ(battery_json(*back.battery), battery_json(*r.battery));
+  EXPECT_EQ(back.options.battery, battery);
+  EXPECT_EQ(back.battery_lives, r.battery_lives);
+  ASSERT_EQ(back.battery_panels.size(), 2u);
+  for (size_t i = 0; i < 2; ++i)
+    for (size_t g = 0; g < 2; ++g) {
+      EXPECT_EQ(back.battery_panels[i].groups[g].values, r.battery_panels[i].groups[g].values);
+      EXPECT_EQ(back.battery_panels[i].groups[g].ci->lower,
+                r.battery_panels[i].groups[g].ci->lower);
+    }
+  const std::string html = report_html(back);
+  EXPECT_NE(html.find("<h2>Robustness battery</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<td>gravity</td>"), std::string::npos);
+
+  // The fingerprint follows the battery file's content, not only its name.
+  const std::string before = study_fingerprint({"d"}, o);
+  write("battery.json", R"({"format": "plastivox-battery", "version": 1, "perturbations": [
+      {"kind": "gravity", "severities": [0.5, 1.5, 2.5], "seeds": [0]}]})");
+  EXPECT_NE(study_fingerprint({"d"}, o), before);
+
+  // Without a battery: nothing of it anywhere, the options as before.
+  StudyOptions plain = quick();
+  const StudyResult none = analyze_study(files, plain);
+  EXPECT_FALSE(none.battery);
+  EXPECT_EQ(options_json(plain).find("battery"), std::string::npos);
+  EXPECT_EQ(stats_json(none).find("robustness_battery"), std::string::npos);
+  EXPECT_EQ(report_html(none).find("Robustness battery"), std::string::npos);
+  EXPECT_EQ(Json::parse(stats_json(none)).at("panels"), stats.at("panels"));
+}
+
+// plastivox robustness: profiles, the comparison, robustness.json/csv and the heat map; a bad
+// battery is refused in one line before any results file is read or life simulated;
+// --estimate-only simulates one life.
+TEST_F(Study, RobustnessCommandWritesProfilesAndRefusesBadBatteries) {
+  const std::string a = run(Treatment::kNone, 1), b = run(Treatment::kStress, 2);
+  const testing::Output ok =
+      testing::cli("robustness " + a + " " + b +
+                   " --battery small --resamples 200 --threads 2 --out " + path("rb"));
+  ASSERT_EQ(ok.status, 0) << ok.out;
+  EXPECT_NE(ok.out.find("voxel-loss      AUC"), std::string::npos) << ok.out;
+  for (const char* f :
+       {"robustness.json", "robustness.csv", "robustness_heatmap.svg", "robustness_heatmap.png"})
+    EXPECT_TRUE(fs::exists(path("rb/") + f)) << f;
+  const Json j = Json::parse(read_text(path("rb/robustness.json")));
+  EXPECT_EQ(j.at("format"), "plastivox-robustness");
+  EXPECT_EQ(j.at("battery").at("perturbations").size(), 4u);
+  EXPECT_NE(read_text(path("rb/robustness_heatmap.svg")).find("voxel-loss"), std::string::npos);
+
+  const testing::Output est =
+      testing::cli("robustness " + a + " " + b + " --battery default --estimate-only");
+  ASSERT_EQ(est.status, 0) << est.out;
+  EXPECT_NE(est.out.find("63 lives per champion; 2 champions: 126 lives"), std::string::npos)
+      << est.out;
+
+  // Robot files: each under its own physics, labelled by its name; mixed with results: refused.
+  const std::string robot = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/mixture.json";
+  const std::string short_battery = write("short.json", R"({"format": "plastivox-battery",
+      "version": 1, "perturbations": [{"kind": "gravity", "severities": [2], "seeds": [0]}]})");
+  const testing::Output robots =
+      testing::cli("robustness " + robot + " --threads 2 --battery " + short_battery);
+  ASSERT_EQ(robots.status, 0) << robots.out;
+  EXPECT_NE(robots.out.find("mixture: 2 lives"), std::string::npos) << robots.out;
+  const testing::Output mixed = testing::cli("robustness " + robot + " " + a);
+  EXPECT_EQ(mixed.status, 2) << mixed.out;
+  EXPECT_NE(mixed.out.find("not both"), std::string::npos) << mixed.out;
+
+  const std::string bad = write("bad.json", R"({"format": "plastivox-battery", "version": 1,
+      "perturbations": [{"kind": "voxel-loss", "severities": [0.1, 2], "seeds": [0]}]})");
+  for (const std::string& command : {"robustness " + a, "analyze " + a + " --out " + path("o")}) {
+    const testing::Output o = testing::cli(command + " --battery " + bad);
+    EXPECT_EQ(o.status, 1) << o.out;
+    EXPECT_NE(o.out.find(bad + ": perturbations[0].severities[1]: 2.000000 is outside [0, 0.9]"),
+              std::string::npos)
+        << o.out;
+    EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;  // no "load" line
+    EXPECT_FALSE(fs::exists(path("o")));
+  }
+}
+
 }  // namespace
 }  // namespace plastivox::analysis

@@ -594,5 +594,56 @@ TEST_F(PanelFiles, CommandErrorsAreOneLine) {
   EXPECT_NE(r.out.find("--format expects png, svg or png,svg"), std::string::npos) << r.out;
 }
 
+// ---------------------------------------------------------------------------------------
+// The robustness battery's heat map
+// ---------------------------------------------------------------------------------------
+
+// stats.json's "robustness_battery" as the analysis writes it: two perturbations, two
+// treatments; gravity's none-stress comparison significant.
+Json with_battery() {
+  Json stats = sample_stats();
+  const auto perturbation = [](const std::string& name, double a, double b,
+                               const std::string& stars) {
+    return Json{{"perturbation", name},
+                {"groups", {group("none", a, 0.05, 3), group("stress", b, 0.05, 3)}},
+                {"comparisons", {comparison("none", "stress", 0.01, stars)}}};
+  };
+  stats["robustness_battery"] = {
+      {"comparisons",
+       {perturbation("paper", 0.4, 0.9, ""), perturbation("gravity", 1.0, 1.6, "*")}}};
+  return stats;
+}
+
+TEST_F(PanelFiles, BatteryHeatMapIsDrawnWhenTheStatsHaveABattery) {
+  const StatsFigure f = parse_stats_figure(with_battery(), "stats.json");
+  ASSERT_TRUE(f.battery);
+  EXPECT_EQ(f.battery->perturbations, (std::vector<std::string>{"paper", "gravity"}));
+  EXPECT_EQ(f.battery->treatments, (std::vector<std::string>{"none", "stress"}));
+  EXPECT_EQ(f.battery->tests, (std::vector<std::string>{"", "none-stress *"}));
+  const std::vector<std::string> written =
+      write_figures(f, path("fig"), FigureOptions{.width = 400, .height = 300});
+  EXPECT_EQ(fs::path(written.back()).filename(), "robustness_heatmap.png");
+  const std::string svg = read_file_bytes(path("fig/robustness_heatmap.svg"));
+  EXPECT_NE(svg.find("0.40 (n=3)"), std::string::npos);
+  EXPECT_NE(svg.find("none-stress *"), std::string::npos);
+  // The cells' colours follow the means: 1.0 (all kept) is white-ish, 0.4 is red.
+  const Drawing d = layout_battery_heat_map(*f.battery, 400, 300);
+  std::vector<Rgb> cells;
+  for (const Shape& s : d.shapes)
+    if (const auto* r = std::get_if<RectShape>(&s); r && r->css_class == "cell")
+      cells.push_back(r->fill);
+  ASSERT_EQ(cells.size(), 4u);
+  EXPECT_GT(cells[0].r, cells[0].b + 40);                          // paper/none 0.4: red
+  EXPECT_GT(std::min({cells[2].r, cells[2].g, cells[2].b}), 220);  // gravity/none 1.0: white
+  EXPECT_GT(cells[3].b, cells[3].r + 40);                          // gravity/stress 1.6: blue
+  // A malformed block names its field.
+  Json bad = with_battery();
+  bad["robustness_battery"]["comparisons"][1]["groups"][0].erase("mean");
+  EXPECT_NE(parse_error(bad).find(
+                "stats.json: robustness_battery.comparisons[1].groups[0].mean: missing"),
+            std::string::npos)
+      << parse_error(bad);
+}
+
 }  // namespace
 }  // namespace plastivox::render

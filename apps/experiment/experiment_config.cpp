@@ -8,7 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "experiment_presets.hpp"    // generated from assets/presets/experiment-*.json
+#include "experiment_presets.hpp"  // generated from assets/presets/experiment-*.json
+#include "plastivox/analysis/battery.hpp"
 #include "plastivox/base/error.hpp"  // InputError
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
@@ -96,9 +97,20 @@ void parse_analysis(const json& v, const std::string& src, AnalysisSettings& a) 
     } else if (it.key() == "seed") {
       if (!it->is_number_unsigned()) fail(src, f, "expected a non-negative integer");
       a.seed = it->get<uint64_t>();
+    } else if (it.key() == "battery") {
+      if (!it->is_string() || it->get<std::string>().empty())
+        fail(src, f, "expected default, paper, small or a battery file");
+      a.battery = it->get<std::string>();
     } else {
       fail(src, f, "unknown field");
     }
+  }
+  if (a.battery.empty()) return;
+  try {  // a bad battery stops the study here, before any run evolves
+    a.battery_lives =
+        analysis::battery_lives(analysis::load_battery(a.battery, a.robustness_draws));
+  } catch (const std::invalid_argument& e) {
+    fail(src, "analysis.battery", e.what());
   }
 }
 
@@ -150,6 +162,7 @@ json canonical(const ExperimentConfig& c, bool with_run_control) {
                    {"rotations", a.rotations},
                    {"translation", a.translation},
                    {"seed", a.seed}};
+  if (!a.battery.empty()) j["analysis"]["battery"] = a.battery;  // absent: the same identity
   const auto& r = c.rendering;
   j["rendering"] = {{"figures", r.figures},
                     {"galleries", r.galleries},

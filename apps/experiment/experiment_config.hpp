@@ -21,6 +21,12 @@ struct AnalysisSettings {
   std::string rotations = "paper";             // none | paper | all
   std::string translation = "none";            // none | integer
   uint64_t seed = 1;                           // statistics and robustness draws
+  // The robustness battery run on every champion (docs/analysis.md, "Robustness battery"):
+  // "" (none), default, paper, small or a battery file; checked when the config is read.
+  std::string battery;
+  int battery_lives = 0;  // lives per champion it simulates (from the battery; 0 without)
+  // Simulations the analysis runs per champion: F_train, the draws and the battery's lives.
+  int lives_per_champion() const { return 1 + robustness_draws + battery_lives; }
 };
 
 struct RenderSettings {

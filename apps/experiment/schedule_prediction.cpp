@@ -73,7 +73,7 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
   double mean = 0;
   for (const Job& j : sample.bodies) mean += j.seconds / static_cast<double>(sample.bodies.size());
   const int64_t analysis =
-      static_cast<int64_t>(config.runs()) * (1 + config.analysis.robustness_draws);
+      static_cast<int64_t>(config.runs()) * config.analysis.lives_per_champion();
   p.analysis_seconds = static_cast<double>(analysis) * mean / layout.cores();
   p.rendering_seconds =
       rendering_seconds(config, mean, sample.voxel_steps_per_second, layout.threads);

@@ -127,7 +127,7 @@ CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& sp
   const int64_t p = config.evolution.population, g = config.evolution.generations;
   c.evolution_evaluations = config.runs() * (p + g * (p + 1));
   c.analysis_evaluations =
-      static_cast<int64_t>(config.runs()) * (1 + config.analysis.robustness_draws);
+      static_cast<int64_t>(config.runs()) * config.analysis.lives_per_champion();
   const double evals = static_cast<double>(c.evolution_evaluations + c.analysis_evaluations);
   const double core_seconds = evals * speed.seconds_per_evaluation;
   c.core_hours = core_seconds / 3600.0;

@@ -26,6 +26,7 @@ analysis::StudyOptions study_options(const StageContext& ctx) {
                                              : analysis::TranslationSearch::kNone;
   o.resamples = a.resamples;
   o.seed = a.seed;
+  o.battery = a.battery;
   o.treatments = ctx.config.treatments;
   o.keep_artifacts = ctx.opt.keep_artifacts;
   o.keep_vertical = ctx.opt.keep_vertical;

@@ -23,7 +23,7 @@ import numpy as _np
 
 from . import _core
 
-__all__ = ["robustness", "canalization", "hausdorff", "body_plan", "bootstrap_ci",
+__all__ = ["robustness", "robustness_battery", "canalization", "hausdorff", "body_plan", "bootstrap_ci",
            "bootstrap_test", "bootstrap_tests", "bonferroni", "robustness_seed", "panel_seed",
            "ci_seed", "mix64", "PANELS"]
 
@@ -238,6 +238,59 @@ def robustness(robots, draws=10, seed=1, sampling="linear", e_range=None, physic
     for k, t in dtypes.items():
         out[k] = _np.array(out[k], dtype=t)
     return _one(out, single)
+
+
+_BATTERY_COLUMNS = ("robot", "perturbation", "kind", "severity", "severity_unit", "seed",
+                    "fitness", "kept", "status", "failure", "f_reference", "mean_kept", "sd_kept",
+                    "auc")
+
+
+def robustness_battery(robots, battery="default", seed=1, draws=10, physics=None, threads=0,
+                       frame=None):
+    """The robustness battery (docs/analysis.md, "Robustness battery") on each robot, as
+    ``plastivox robustness`` and ``analyze --battery`` run it: every perturbation of the battery
+    at each of its severities and seeds, one life each; fitness kept = F_perturbed /
+    F_unperturbed (for ``paper``: F_train without development, as R). ``battery`` is
+    "default", "paper" (Eq. 2 alone, ``draws`` seeds: its kept values are ``robustness``'s R,
+    bit for bit), "small" or a battery file. ``seed`` as analyze's ``--seed`` (each robot's
+    stream seed is ``robustness_seed(robot, seed)``). Also ``plastivox.robustness``.
+
+    Returns a table with one row per life: robot (index), perturbation, kind, severity,
+    severity_unit, seed, fitness (NaN for an unstable or sunk life), kept (NaN unless valid),
+    status ("ok", "unstable", "sank" or "no-reference"), failure, f_reference, and the
+    perturbation-level mean_kept, sd_kept (over valid lives at that severity) and auc. A
+    pandas DataFrame when pandas is importable (``frame=False``: always a dict of numpy arrays;
+    ``frame=True``: pandas required). A bad battery raises ValueError naming the file and field
+    before any life is simulated."""
+    champions, _ = _champions(robots)
+    if not isinstance(battery, (str, _os.PathLike)):
+        raise TypeError(f"battery: expected default, paper, small or a file path, got "
+                        f"{type(battery).__name__}")
+    seed = _seed(seed)
+    draws = _int(draws, "draws", 1, 1_000_000)
+    import plastivox
+    physics = plastivox._physics(physics)
+    threads = _threads(threads)
+    seeds = [_core.analysis_robustness_seed(seed, c.robot._core) for c in champions]
+    profiles = _core.analysis_battery([c.robot._core for c in champions], physics, seeds,
+                                      _os.fspath(battery), draws, threads)
+    table = {k: [] for k in _BATTERY_COLUMNS}
+    for i, p in enumerate(profiles):
+        table["robot"].append(_np.full(len(p["severity"]), i, dtype=int))
+        for k in _BATTERY_COLUMNS[1:]:
+            table[k].append(_np.asarray(p[k], dtype=object if isinstance(p[k], list) else None))
+    out = {k: _np.concatenate(v) for k, v in table.items()}
+    for k in ("perturbation", "kind", "severity_unit", "status", "failure"):
+        out[k] = out[k].astype(str)
+    if frame is False:
+        return out
+    try:
+        import pandas
+    except ImportError:
+        if frame:
+            raise
+        return out
+    return pandas.DataFrame(out)
 
 
 def _final_stiffness(champions, final_stiffness, threads):

@@ -5,10 +5,12 @@
 // robot, stiffness and seeds give the same bits as analyze. The Python layer checks arguments;
 // long calls (robustness, the Hausdorff matrix) release the GIL.
 #include <algorithm>
+#include <limits>
 
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "plastivox/analysis/battery.hpp"
 #include "plastivox/analysis/body_plan.hpp"
 #include "plastivox/analysis/bootstrap.hpp"
 #include "plastivox/analysis/canalization.hpp"
@@ -88,6 +90,76 @@ pyb::list robustness_of(const std::vector<const PyRobot*>& robots, const pyb::ob
   }
   pyb::list out;
   for (const analysis::RobustnessResult& r : results) out.append(robustness_dict(r));
+  return out;
+}
+
+// Robots' robustness profiles over a battery (battery.hpp), as the study runs them
+// (study_battery.cpp): robot i from its stream seed seeds[i], robots in parallel, each one's
+// lives on the spare threads. One row per life: columns as lists, for the Python layer.
+pyb::list battery_of(const std::vector<const PyRobot*>& robots, const pyb::object& physics_arg,
+                     const std::vector<uint64_t>& seeds, const std::string& spec, int paper_draws,
+                     int threads) {
+  if (seeds.size() != robots.size()) throw std::invalid_argument("seeds: one per robot");
+  const analysis::Battery battery = analysis::load_battery(spec, paper_draws);
+  std::vector<PhysicsDef> physics;
+  for (const PyRobot* r : robots)
+    physics.push_back(resolve_physics(r->physics, physics_arg, std::nullopt));
+  std::vector<analysis::RobustnessProfile> profiles(robots.size());
+  {
+    pyb::gil_scoped_release unlocked;
+    const int all = threads > 0 ? threads : hardware_threads();
+    const int outer = std::min(all, static_cast<int>(robots.size()));
+    parallel_for(robots.size(), outer, [&](size_t i) {
+      analysis::ProfileOptions o;
+      o.seed = seeds[i];
+      o.threads = std::max(1, all / outer);
+      o.limits = limits_from_environment();
+      profiles[i] = analysis::robustness_profile(robots[i]->def, physics[i], battery, o);
+    });
+  }
+  pyb::list out;
+  for (const analysis::RobustnessProfile& prof : profiles) {
+    pyb::list perturbation, kind, unit, status, failure;
+    std::vector<double> severity, fitness, kept, reference, mean, sd, auc;
+    std::vector<uint64_t> seed;
+    for (const analysis::PerturbationProfile& p : prof.perturbations)
+      for (const analysis::SeverityLevel& l : p.levels)
+        for (size_t k = 0; k < l.lives.size(); ++k) {
+          const analysis::LifeOutcome& o = l.lives[k];
+          const double nan = std::numeric_limits<double>::quiet_NaN();
+          perturbation.append(p.name);
+          kind.append(analysis::to_string(p.kind));
+          unit.append(p.unit);
+          status.append(o.status);
+          failure.append(o.failure);
+          severity.push_back(l.severity);
+          seed.push_back(l.seeds[k]);
+          fitness.push_back(o.status == "ok" || o.status == "no-reference" ? o.fitness : nan);
+          kept.push_back(o.valid ? o.kept : nan);
+          reference.push_back(p.reference_valid ? p.f_reference : nan);
+          mean.push_back(l.mean_kept.value_or(nan));
+          sd.push_back(l.sd_kept.value_or(nan));
+          auc.push_back(p.auc.value_or(nan));
+        }
+    pyb::dict d;
+    d["perturbation"] = perturbation;
+    d["kind"] = kind;
+    d["severity_unit"] = unit;
+    d["status"] = status;
+    d["failure"] = failure;
+    d["severity"] = to_array(severity);
+    d["seed"] = pyb::array_t<uint64_t>(static_cast<pyb::ssize_t>(seed.size()), seed.data());
+    d["fitness"] = to_array(fitness);
+    d["kept"] = to_array(kept);
+    d["f_reference"] = to_array(reference);
+    d["mean_kept"] = to_array(mean);
+    d["sd_kept"] = to_array(sd);
+    d["auc"] = to_array(auc);
+    d["lives"] = prof.lives;
+    d["unstable"] = prof.unstable;
+    d["sank"] = prof.sank;
+    out.append(d);
+  }
   return out;
 }
 
@@ -222,6 +294,8 @@ void bind_analysis(pyb::module_& m) {
   m.def("analysis_robustness", &robustness_of, pyb::arg("robots"), pyb::arg("physics"),
         pyb::arg("seeds"), pyb::arg("draws"), pyb::arg("sampling"), pyb::arg("e_lo"),
         pyb::arg("e_hi"), pyb::arg("threads"));
+  m.def("analysis_battery", &battery_of, pyb::arg("robots"), pyb::arg("physics"), pyb::arg("seeds"),
+        pyb::arg("battery"), pyb::arg("paper_draws"), pyb::arg("threads"));
   m.def("analysis_robustness_seed", [](uint64_t seed, const PyRobot& r) {
     return analysis::champion_robustness_seed(seed, r.def);
   });

@@ -74,6 +74,22 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
     write_drawing(layout_evolution(*figure.evolution, o.width, o.height),
                   (dir / "evolution").string(), o, written);
   if (combined) write_drawing(*combined, (dir / "figure_5").string(), o, written);
+  if (figure.battery) {
+    const std::vector<std::string> more = write_battery_heat_map(*figure.battery, out_dir, o);
+    written.insert(written.end(), more.begin(), more.end());
+  }
+  return written;
+}
+
+std::vector<std::string> write_battery_heat_map(const BatteryHeatMap& map,
+                                                const std::string& out_dir,
+                                                const FigureOptions& o) {
+  const Drawing d = layout_battery_heat_map(map, o.width, o.height);
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw RenderError(out_dir + ": cannot create the output directory: " + ec.message());
+  std::vector<std::string> written;
+  write_drawing(d, (std::filesystem::path(out_dir) / "robustness_heatmap").string(), o, written);
   return written;
 }
 

@@ -169,6 +169,40 @@ EvolutionStats read_evolution(const Reader& r) {
 
 }  // namespace
 
+BatteryHeatMap parse_battery_heat_map(const Json& block, const std::string& source,
+                                      const std::string& where) {
+  const Reader top(block, source, where);
+  BatteryHeatMap map;
+  const Json& panels = top.array("comparisons");
+  for (size_t i = 0; i < panels.size(); ++i) {
+    const Reader p = top.child(panels[i], top.field("comparisons") + "[" + std::to_string(i) + "]");
+    map.perturbations.push_back(p.str("perturbation"));
+    const Json& groups = p.array("groups");
+    std::string tests;
+    for (size_t k = 0; k < groups.size(); ++k) {
+      const Reader g = p.child(groups[k], p.field("groups") + "[" + std::to_string(k) + "]");
+      const std::string t = g.str("treatment");
+      if (i == 0) map.treatments.push_back(t);
+      if (k >= map.treatments.size() || map.treatments[k] != t)
+        g.fail(g.field("treatment"), "treatments differ from the first perturbation's");
+      map.mean.push_back(g.number_or_null("mean"));
+      map.n.push_back(g.count("n"));
+    }
+    if (groups.size() != map.treatments.size())
+      p.fail(p.field("groups"), "treatments differ from the first perturbation's");
+    const Json& comparisons = p.array("comparisons");
+    for (size_t k = 0; k < comparisons.size(); ++k) {
+      const Reader c =
+          p.child(comparisons[k], p.field("comparisons") + "[" + std::to_string(k) + "]");
+      const std::string stars = c.str("stars");
+      if (!stars.empty())
+        tests += (tests.empty() ? "" : "  ") + c.str("a") + "-" + c.str("b") + " " + stars;
+    }
+    map.tests.push_back(tests);
+  }
+  return map;
+}
+
 StatsFigure parse_stats_figure(const Json& stats, const std::string& source) {
   const Reader top(stats, source, "");
   const std::string format = top.str("format");
@@ -189,6 +223,9 @@ StatsFigure parse_stats_figure(const Json& stats, const std::string& source) {
   }
   if (stats.contains("evolution"))
     figure.evolution = read_evolution(top.child(top.at("evolution"), "evolution"));
+  if (stats.contains("robustness_battery"))
+    figure.battery =
+        parse_battery_heat_map(stats.at("robustness_battery"), source, "robustness_battery");
   return figure;
 }
 

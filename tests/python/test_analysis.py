@@ -275,3 +275,47 @@ def test_long_calls_release_the_gil(call):
     worker.join()
     print(f"{call}: {time.monotonic() - start:.2f} s, {turns} turns")
     assert turns >= 20, f"{call}: the main thread ran {turns} times during the call"
+
+
+def test_robustness_battery_equals_the_command_and_paper_is_r(study, tmp_path):
+    stats, h5, results = study
+    measured = [c["excluded"] is None for c in stats["champions"]]
+    keep = [r for r, m in zip(results, measured) if m]
+    # The paper battery is R: the same draws, the same bits.
+    table = plastivox.robustness(keep, battery="paper", draws=DRAWS, seed=SEED, frame=False)
+    rob = analysis.robustness(keep, draws=DRAWS, seed=SEED)
+    assert same_bits(table["kept"].reshape(len(keep), DRAWS), rob["r"])
+    assert same_bits(table["f_reference"][::DRAWS], rob["f_train"])
+    assert (table["status"] == "ok").all() and (table["kind"] == "paper").all()
+    # The small battery gives the numbers plastivox robustness writes, life by life.
+    out = tmp_path / "rb"
+    run_cli("robustness", *[c["file"] for c in stats["champions"]], "--battery", "small",
+            "--seed", str(SEED), "--resamples", str(RESAMPLES), "--threads", "2", "--out", str(out))
+    written = json.load(open(out / "robustness.json"))
+    small = plastivox.robustness(keep, battery="small", seed=SEED, frame=False, threads=1)
+    profiles = [c["profile"] for c in written["champions"] if "profile" in c]
+    assert len(profiles) == len(keep)
+    expected = [json_number(x) for p in profiles for q in p["perturbations"]
+                for level in q["levels"] for x in level["kept"]]
+    assert same_bits(small["kept"], expected)
+    assert set(small["perturbation"]) == {"paper", "voxel-loss", "friction", "gravity"}
+    # A table: a pandas frame when pandas is there, else the same columns as numpy arrays.
+    default = plastivox.robustness(keep[0], battery="small", seed=SEED)
+    try:
+        import pandas
+        assert isinstance(default, pandas.DataFrame)
+        assert same_bits(default["kept"].to_numpy(), small["kept"][small["robot"] == 0])
+    except ImportError:
+        assert isinstance(default, dict)
+        assert same_bits(default["kept"], small["kept"][small["robot"] == 0])
+
+
+def test_bad_battery_is_refused_naming_file_and_field(study, tmp_path):
+    _, _, results = study
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"format": "plastivox-battery", "version": 1,
+                               "perturbations": [{"kind": "friction", "severities": [1]}]}))
+    with pytest.raises(ValueError, match=r"bad.json: perturbations\[0\].seeds: missing"):
+        plastivox.robustness(results[0], battery=str(bad))
+    with pytest.raises(ValueError, match="unknown built-in battery 'huge'|huge: cannot read"):
+        plastivox.robustness(results[0], battery="huge")

@@ -90,6 +90,7 @@ std::string options_json(const StudyOptions& o) {
   nlohmann::ordered_json ts = nlohmann::ordered_json::array();
   for (Treatment t : o.treatments) ts.push_back(to_string(t));
   j["treatments"] = ts;
+  if (!o.battery.empty()) j["battery"] = o.battery;  // absent without one: the same options
   return j.dump();
 }
 
@@ -106,6 +107,9 @@ std::string study_fingerprint(const std::vector<std::string>& content_digests,
   h.u64(sorted.size());
   for (const std::string& d : sorted) h.str(d);
   h.str(options_json(options));
+  // A battery file's content, not only its name: an edited battery is analysed again.
+  if (!options.battery.empty())
+    h.str(battery_json(load_battery(options.battery, options.robustness_draws)));
   return h.finish().hex();
 }
 
@@ -118,6 +122,8 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
   const auto start = Clock::now();
   StudyResult r;
   r.options = options;
+  // A battery is read and checked before any results file is read or life simulated.
+  if (!options.battery.empty()) r.battery = load_battery(options.battery, options.robustness_draws);
 
   auto t0 = Clock::now();
   study::load_champions(files, options, r);
@@ -146,6 +152,7 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
 
   t0 = Clock::now();
   study::run_robustness(r, progress);
+  study::run_battery(r, progress);
   r.timings.robustness = seconds_since(t0);
 
   t0 = Clock::now();
@@ -174,6 +181,7 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
 
   t0 = Clock::now();
   r.panels = study::compute_panels(r);
+  r.battery_panels = study::compute_battery_panels(r);
   r.evolution = study::compute_evolution(r);
   r.timings.statistics = seconds_since(t0);
   {

@@ -165,10 +165,9 @@ void write_hausdorff(const Ctx& c, hid_t root, const StudyResult& r) {
   h5::write(c, g.id(), "pair_translation", trans, {pa.size(), 3});
 }
 
-void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
-  Handle all = h5::create_group(c, root, "panels");
-  for (const PanelStats& p : r.panels) {
-    Handle g = h5::create_group(c, all.id(), p.id);
+void write_panel(const Ctx& c, hid_t all, const PanelStats& p) {
+  {
+    Handle g = h5::create_group(c, all, p.id);
     h5::write_attr(c, g.id(), "metric", p.metric);
     h5::write_attr(c, g.id(), "title", p.title);
     h5::write_attr(c, g.id(), "unit", p.unit);
@@ -201,6 +200,67 @@ void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
     h5::write_column<double>(c, cg.id(), "effect_size", tests,
                              [](const Test& t) { return t.effect.hedges_g; });
   }
+}
+
+void write_panels(const Ctx& c, hid_t root, const StudyResult& r) {
+  Handle all = h5::create_group(c, root, "panels");
+  for (const PanelStats& p : r.panels) write_panel(c, all.id(), p);
+}
+
+// /battery (only with a battery): the battery as JSON, one row per champion x perturbation x
+// severity, and per perturbation its AUC compared between treatments (panels P1, P2, ...).
+void write_battery(const Ctx& c, hid_t root, const StudyResult& r) {
+  if (!r.battery) return;
+  Handle g = h5::create_group(c, root, "battery");
+  h5::write_attr(c, g.id(), "battery", battery_json(*r.battery));
+  h5::write_attr(c, g.id(), "name", r.battery->name);
+  h5::write_attr(c, g.id(), "lives", static_cast<int64_t>(r.battery_lives));
+  h5::write_attr(c, g.id(), "unstable", static_cast<int64_t>(r.battery_unstable));
+  h5::write_attr(c, g.id(), "sank", static_cast<int64_t>(r.battery_sank));
+  std::vector<std::string> champion, perturbation, kind, unit;
+  std::vector<double> severity, mean, sd, auc, reference;
+  std::vector<int32_t> lives, valid, unstable, sank;
+  for (const ChampionAnalysis& ch : r.champions) {
+    if (!ch.profile) continue;
+    for (const PerturbationProfile& p : ch.profile->perturbations)
+      for (const SeverityLevel& l : p.levels) {
+        champion.push_back(ch.label);
+        perturbation.push_back(p.name);
+        kind.push_back(to_string(p.kind));
+        unit.push_back(p.unit);
+        severity.push_back(l.severity);
+        mean.push_back(value(l.mean_kept));
+        sd.push_back(value(l.sd_kept));
+        auc.push_back(value(p.auc));
+        reference.push_back(p.reference_valid ? p.f_reference : kUndefined);
+        lives.push_back(static_cast<int32_t>(l.lives.size()));
+        valid.push_back(l.valid);
+        unstable.push_back(l.unstable);
+        sank.push_back(l.sank);
+      }
+  }
+  Handle t = h5::create_group(c, g.id(), "profiles");
+  h5::write_strings(c, t.id(), "champion", champion);
+  h5::write_strings(c, t.id(), "perturbation", perturbation);
+  h5::write_strings(c, t.id(), "kind", kind);
+  h5::write_strings(c, t.id(), "severity_unit", unit);
+  h5::write(c, t.id(), "severity", severity);
+  h5::write_units(c, t.id(), "severity", "the row's severity_unit");
+  for (const auto& [name, column] :
+       {std::pair<const char*, const std::vector<double>*>{"mean_kept", &mean},
+        {"sd_kept", &sd},
+        {"auc", &auc}}) {
+    h5::write(c, t.id(), name, *column);
+    h5::write_units(c, t.id(), name, "F_perturbed / F_reference (dimensionless)");
+  }
+  h5::write(c, t.id(), "f_reference", reference);
+  h5::write_units(c, t.id(), "f_reference", r.fitness_unit);
+  h5::write(c, t.id(), "lives", lives);
+  h5::write(c, t.id(), "valid", valid);
+  h5::write(c, t.id(), "unstable", unstable);
+  h5::write(c, t.id(), "sank", sank);
+  Handle all = h5::create_group(c, g.id(), "panels");
+  for (const PanelStats& p : r.battery_panels) write_panel(c, all.id(), p);
 }
 
 void write_root(const Ctx& c, hid_t root, const StudyResult& r) {
@@ -309,6 +369,7 @@ StudyOptions read_options(const Ctx& c, hid_t root) {
     vertical_known = j.contains("keep_vertical");
     o.keep_vertical = vertical_known && j.at("keep_vertical").get<bool>();
     for (const auto& t : j.at("treatments")) o.treatments.push_back(parse_treatment(t));
+    if (j.contains("battery")) o.battery = j.at("battery").get<std::string>();
   } catch (const std::exception& e) {
     c.fail("/@options", std::string("not understood (") + e.what() + ")");
   }
@@ -402,13 +463,10 @@ void read_hausdorff(const Ctx& c, hid_t root, StudyResult& r) {
   m.distance = h5::read<double>(c, g.id(), "matrix", shape);
 }
 
-void read_panels(const Ctx& c, hid_t root, StudyResult& r) {
-  Handle all = h5::open_group(c, root, "panels");
-  for (char letter = 'A'; letter <= 'Z'; ++letter) {
-    const std::string name(1, letter);
-    if (!h5::has_link(all.id(), name)) continue;
-    Handle g = h5::open_group(c, all.id(), name);
-    const std::string where = "/panels/" + name;
+PanelStats read_panel(const Ctx& c, hid_t all, const std::string& name, const std::string& where,
+                      const StudyResult& r) {
+  {
+    Handle g = h5::open_group(c, all, name);
     PanelStats p;
     p.id = name;
     p.metric = h5::read_attr_string(c, g.id(), where, "metric");
@@ -452,7 +510,36 @@ void read_panels(const Ctx& c, hid_t root, StudyResult& r) {
       tests[k].comparisons = comparisons;
     }
     p.comparisons = std::move(tests);
-    r.panels.push_back(std::move(p));
+    return p;
+  }
+}
+
+void read_panels(const Ctx& c, hid_t root, StudyResult& r) {
+  Handle all = h5::open_group(c, root, "panels");
+  for (char letter = 'A'; letter <= 'Z'; ++letter) {
+    const std::string name(1, letter);
+    if (h5::has_link(all.id(), name))
+      r.panels.push_back(read_panel(c, all.id(), name, "/panels/" + name, r));
+  }
+}
+
+// The battery and its panels (the profiles stay in the file: the report draws the panels).
+void read_battery(const Ctx& c, hid_t root, StudyResult& r) {
+  if (!h5::has_link(root, "battery")) return;
+  Handle g = h5::open_group(c, root, "battery");
+  try {
+    r.battery = parse_battery(h5::read_attr_string(c, g.id(), "/battery", "battery"),
+                              h5::read_attr_string(c, g.id(), "/battery", "name"));
+  } catch (const std::invalid_argument& e) {
+    c.fail("/battery@battery", e.what());
+  }
+  r.battery_lives = static_cast<int>(h5::read_attr_int(c, g.id(), "/battery", "lives"));
+  r.battery_unstable = static_cast<int>(h5::read_attr_int(c, g.id(), "/battery", "unstable"));
+  r.battery_sank = static_cast<int>(h5::read_attr_int(c, g.id(), "/battery", "sank"));
+  Handle all = h5::open_group(c, g.id(), "panels");
+  for (size_t k = 1; k <= r.battery->perturbations.size(); ++k) {
+    const std::string name = "P" + std::to_string(k);
+    r.battery_panels.push_back(read_panel(c, all.id(), name, "/battery/panels/" + name, r));
   }
 }
 
@@ -471,6 +558,7 @@ void write_analysis_h5(const StudyResult& r, const std::string& final_path,
       write_champions(c, root.id(), r);
       write_hausdorff(c, root.id(), r);
       write_panels(c, root.id(), r);
+      write_battery(c, root.id(), r);
     }
     bytes = f.image();
   }
@@ -522,6 +610,7 @@ StudyResult read_study_result(const std::string& path) {
   study::read_champions(c, r, s);
   study::read_hausdorff(c, r, s);
   study::read_panels(c, r, s);
+  study::read_battery(c, r, s);
   return s;
 }
 

@@ -35,7 +35,23 @@ std::string controller_of(const std::vector<ChampionAnalysis>& champions);
 // options.cache_dir. Sets robustness, robustness_seed, robustness_from_cache and r_mean.
 void run_robustness(StudyResult& r, const StudyProgressFn& progress);
 
+// ---- study_battery.cpp ----
+// Every champion's robustness profile over r.battery (nothing without one; excluded artifacts
+// get none), champions in parallel.
+void run_battery(StudyResult& r, const StudyProgressFn& progress);
+// Per perturbation, the treatments' AUC compared as a Fig. 5 panel.
+std::vector<PanelStats> compute_battery_panels(const StudyResult& r);
+// stats.json's "robustness_battery" block ("null" without a battery).
+std::string battery_block_json(const StudyResult& r);
+
 // ---- study_stats.cpp ----
+// A panel's group: its mean and, with n >= 2, its bootstrap CI (seed group_ci_seed(p.seed,
+// treatment)); appended to p.groups and, with n >= 2, to the samples compare_groups tests.
+void add_group(PanelStats& p, GroupStats g, const StudyOptions& o,
+               std::vector<NamedSample>& samples);
+// The Bonferroni-corrected pairwise bootstrap tests of the samples (seed p.seed), verdicts
+// withheld where a comparison has no power; nothing with fewer than two samples.
+void compare_groups(PanelStats& p, const std::vector<NamedSample>& samples, const StudyOptions& o);
 // Panels A..F from the measured champions and the Hausdorff matrix.
 std::vector<PanelStats> compute_panels(const StudyResult& r);
 // Per treatment, the mean best-fitness curve over its runs with a bootstrap CI per generation

@@ -351,7 +351,10 @@ std::string stats_json(const StudyResult& r) {
                       {"keep_vertical", r.options.keep_vertical}}}}},
                   {"paper_comparison", paper_comparison(r)},
                   {"warnings", strings(warnings)}};
-  return j.dump(1) + "\n";
+  if (!r.battery) return j.dump(1) + "\n";  // without a battery: what it always wrote
+  Json with_battery = j;
+  with_battery["robustness_battery"] = Json::parse(study::battery_block_json(r));
+  return with_battery.dump(1) + "\n";
 }
 
 }  // namespace plastivox::analysis

@@ -89,6 +89,31 @@ GroupStats group_values(const StudyResult& r, const PanelDef& def, Treatment t) 
 
 }  // namespace
 
+void add_group(PanelStats& p, GroupStats g, const StudyOptions& o,
+               std::vector<NamedSample>& samples) {
+  if (!g.values.empty()) g.mean = mean(g.values);
+  if (g.values.size() >= 2) {
+    g.ci = bootstrap_mean_ci(g.values, o.ci_level, o.resamples, group_ci_seed(p.seed, g.treatment));
+    samples.push_back({to_string(g.treatment), g.values});
+  }
+  p.groups.push_back(std::move(g));
+}
+
+void compare_groups(PanelStats& p, const std::vector<NamedSample>& samples, const StudyOptions& o) {
+  if (samples.size() < 2) return;
+  BootstrapTestOptions bo;
+  bo.resamples = o.resamples;
+  bo.seed = p.seed;
+  bo.level = o.alpha;
+  p.comparisons = pairwise_bootstrap_tests(samples, bo);
+  // Too few champions to resolve anything (study_power.cpp): p is kept, the verdict is not.
+  for (BootstrapTestResult& t : p.comparisons)
+    if (!study::has_power(p, t)) {
+      t.stars.clear();
+      t.significant = false;
+    }
+}
+
 std::vector<PanelStats> compute_panels(const StudyResult& r) {
   const StudyOptions& o = r.options;
   std::vector<PanelStats> panels;
@@ -104,27 +129,9 @@ std::vector<PanelStats> compute_panels(const StudyResult& r) {
     std::vector<NamedSample> samples;
     for (Treatment t : r.treatments) {
       if (def.developing_only && t == Treatment::kNone) continue;
-      GroupStats g = group_values(r, def, t);
-      if (!g.values.empty()) g.mean = mean(g.values);
-      if (g.values.size() >= 2) {
-        g.ci = bootstrap_mean_ci(g.values, o.ci_level, o.resamples, group_ci_seed(p.seed, t));
-        samples.push_back({to_string(t), g.values});
-      }
-      p.groups.push_back(std::move(g));
+      add_group(p, group_values(r, def, t), o, samples);
     }
-    if (samples.size() >= 2) {
-      BootstrapTestOptions bo;
-      bo.resamples = o.resamples;
-      bo.seed = p.seed;
-      bo.level = o.alpha;
-      p.comparisons = pairwise_bootstrap_tests(samples, bo);
-      // Too few champions to resolve anything (study_power.cpp): p is kept, the verdict is not.
-      for (BootstrapTestResult& t : p.comparisons)
-        if (!study::has_power(p, t)) {
-          t.stars.clear();
-          t.significant = false;
-        }
-    }
+    compare_groups(p, samples, o);
     panels.push_back(std::move(p));
   }
   return panels;

@@ -20,6 +20,7 @@ enum class StreamPurpose : uint64_t {
   kBootstrapTest = 1,  // resampling for a two-sample hypothesis test
   kBootstrapCi = 2,    // resampling for a confidence interval
   kRobustness = 3,     // random stiffness fields for the robustness test
+  kBattery = 4,        // the robustness battery's perturbations (battery.hpp)
   kTest = 99,          // reserved for tests
 };
 

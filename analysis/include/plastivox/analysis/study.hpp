@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/analysis/battery.hpp"
 #include "plastivox/analysis/body_plan.hpp"
 #include "plastivox/analysis/bootstrap.hpp"
 #include "plastivox/analysis/canalization.hpp"
@@ -56,6 +57,10 @@ struct StudyOptions {
   // kVerticalShareLimit, plastivox/rules/life_rules.hpp) is left out the same way; true keeps it
   // in.
   bool keep_vertical = false;
+  // The robustness battery to run on every champion (battery.hpp; docs/analysis.md,
+  // "Robustness battery"): a built-in name or a battery file; empty (the default): none, and
+  // the outputs are what they were before batteries existed.
+  std::string battery;
   // Not part of the results (never written to stats.json):
   int threads = 0;        // 0 = all cores
   std::string cache_dir;  // robustness checkpoints (created on demand); empty = no cache
@@ -165,6 +170,9 @@ struct ChampionAnalysis {
   // otherwise. Read from the results file's births (not stored in analysis.h5:
   // load_champion_bodies fills it again).
   int seeded_plan = -1;
+  // The champion's robustness profile over StudyOptions::battery (none without a battery, or
+  // for an excluded artifact).
+  std::optional<RobustnessProfile> profile;
 };
 
 // One treatment's values in one panel.
@@ -202,6 +210,12 @@ struct StudyResult {
   std::vector<PanelStats> panels;                // A..F
   std::vector<EvolutionBand> evolution;          // one per treatment, in treatment order
   std::vector<std::string> warnings;             // e.g. mixed physics when allowed
+  // The battery run (options.battery; none without one) and, per perturbation, its AUC
+  // compared between treatments as a Fig. 5 panel (id "P1", "P2", ...; metric "battery:NAME").
+  std::optional<Battery> battery;
+  std::vector<PanelStats> battery_panels;
+  // Every battery life simulated, and those that went unstable or sank (left out of the means).
+  int battery_lives = 0, battery_unstable = 0, battery_sank = 0;
   // What the report states of the runs' physics: the rule for sunk lives in force while they
   // evolved ("invalid", "scored (the authors' rule)" or "mixed: ...") and the direction fitness
   // is measured in ("3-D ..." or "xy-plane ...").
@@ -231,6 +245,40 @@ struct StudyResult {
 StudyResult analyze_study(const std::vector<std::string>& files, const StudyOptions& options,
                           const StudyProgressFn& progress = {});
 
+// The robustness battery alone (plastivox robustness): loads and audits the champions as
+// analyze_study does, loads options.battery (throws naming the file and field before any life
+// is simulated), runs every champion's profile (excluded artifacts get none) and compares the
+// treatments per perturbation (battery_panels). No canalization, Hausdorff or Fig. 5 panels.
+StudyResult battery_study(const std::vector<std::string>& files, const StudyOptions& options,
+                          const StudyProgressFn& progress = {});
+// The battery on robots given directly (plastivox robustness ROBOT.json ...): robot i labelled
+// labels[i], under physics[i], grouped by that physics' treatment; nothing is audited or
+// excluded. Loads options.battery first (errors as battery_study's).
+StudyResult battery_study_of_robots(const std::vector<std::string>& labels,
+                                    const std::vector<RobotDef>& robots,
+                                    const std::vector<PhysicsDef>& physics,
+                                    const StudyOptions& options,
+                                    const StudyProgressFn& progress = {});
+// What the battery will cost (--estimate-only): champions, lives, voxel-steps
+// (battery_voxel_steps) and the wall time they take at the speed of one timed life (the first
+// champion's, unperturbed) spread over the threads. Loads the champions and the battery (errors
+// as battery_study's) and simulates that one life only; counts every champion (the audit, which
+// may leave some out, is not run).
+struct BatteryEstimate {
+  int champions = 0, lives = 0, threads = 1;
+  double voxel_steps = 0;
+  double seconds_per_voxel_step = 0;  // measured
+  double seconds = 0;                 // predicted wall time of the battery
+};
+BatteryEstimate estimate_battery(const std::vector<std::string>& files,
+                                 const StudyOptions& options);
+// The battery's part of stats.json as its own document ("plastivox-robustness"): the battery,
+// every champion's profile and the comparisons (robustness.json of plastivox robustness).
+std::string battery_stats_json(const StudyResult& r);
+// One row per champion x perturbation x severity: mean and sd of fitness kept, lives, unstable,
+// sank, AUC (robustness.csv).
+std::string battery_csv(const StudyResult& r);
+
 // The vertical rule in a study (docs/analysis.md, "The audit"): whether it applies (some of
 // the runs score walk in 3-D, as fitness_direction says), how many champions it flagged and
 // how many of those are left out of the statistics (all of them unless keep_vertical).
@@ -241,8 +289,10 @@ struct VerticalAudit {
 VerticalAudit vertical_audit(const StudyResult& r);
 
 // A hex fingerprint of what a study's results depend on: the inputs' content digests (in any
-// order) and options_json(options). Equal to stats.json's provenance.fingerprint when the
-// outputs were made from these inputs with these options (the "already done" check).
+// order), options_json(options) and, with a battery, the battery itself (a file's content: an
+// edited battery file changes it; throws like load_battery). Equal to stats.json's
+// provenance.fingerprint when the outputs were made from these inputs with these options (the
+// "already done" check).
 std::string study_fingerprint(const std::vector<std::string>& content_digests,
                               const StudyOptions& options);
 

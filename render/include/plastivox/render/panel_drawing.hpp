@@ -80,6 +80,10 @@ Drawing layout_panel(const PanelStats& panel, int width, int height);
 // with each treatment's number of runs. Long runs are thinned to at most ~400 points a line.
 Drawing layout_evolution(const EvolutionStats& evolution, int width, int height);
 
+// The robustness battery's heat map: a row per perturbation, a column per treatment, each
+// cell coloured by its mean fitness kept (diverging map: red below 1, white at 1, blue above)
+// and labelled with it and its n; the significant tests beside each row.
+Drawing layout_battery_heat_map(const BatteryHeatMap& map, int width, int height);
 // All panels in a grid of `columns` columns, each cell width x height.
 Drawing layout_figure(const StatsFigure& figure, int width, int height, int columns = 3);
 

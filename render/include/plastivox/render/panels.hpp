@@ -75,9 +75,25 @@ struct EvolutionStats {
   std::vector<EvolutionTreatmentBand> treatments;
 };
 
+// The robustness battery's heat map (docs/analysis.md, "Robustness battery"): per
+// perturbation (row) and treatment (column) the mean area under the fitness-kept curve, from
+// the "comparisons" of stats.json's "robustness_battery" (or of plastivox robustness's
+// robustness.json).
+struct BatteryHeatMap {
+  std::vector<std::string> treatments, perturbations;
+  std::vector<std::optional<double>> mean;  // [perturbation * treatments.size() + treatment]
+  std::vector<int> n;                       // champions behind each mean, same index
+  std::vector<std::string> tests;           // per perturbation: "a-b ***" for each significant pair
+};
+// `block` holds "comparisons" (stats.json's robustness_battery, or robustness.json itself);
+// `where` is its path for messages ("robustness_battery" or ""). Throws StatsError.
+BatteryHeatMap parse_battery_heat_map(const nlohmann::json& block, const std::string& source,
+                                      const std::string& where);
+
 struct StatsFigure {
   std::string source;  // file the data came from (for messages)
   std::vector<PanelStats> panels;
+  std::optional<BatteryHeatMap> battery;    // when the study ran a robustness battery
   std::optional<EvolutionStats> evolution;  // absent in stats.json written before it existed
 };
 
@@ -101,6 +117,12 @@ struct FigureOptions {
 // Throws StatsError/RenderError (one line) on bad input or an unwritable directory.
 std::vector<std::string> write_figures(const StatsFigure& figure, const std::string& out_dir,
                                        const FigureOptions& options);
+
+// Writes DIR/robustness_heatmap.{svg,png} (as options.svg/png ask) at options' panel size;
+// returns the paths written.
+std::vector<std::string> write_battery_heat_map(const BatteryHeatMap& map,
+                                                const std::string& out_dir,
+                                                const FigureOptions& options);
 
 // Throws RenderError (one line) when panels of options.width x options.height cannot be
 // drawn: each side in [200, 8192], and the combined PNG of `panels` panels (3 columns) at
