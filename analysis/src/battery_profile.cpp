@@ -8,6 +8,7 @@
 #include "plastivox/analysis/battery.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/model.hpp"
+#include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 
 namespace plastivox::analysis {
@@ -26,7 +27,8 @@ struct Sim {
 };
 
 Sim run(const PerturbedLife& life, const Limits& limits) {
-  const SimResult r = simulate(compile(life.robot, life.physics, limits));
+  SimResult r = simulate(compile(life.robot, life.physics, limits));
+  judge_life(life.physics, r);  // a sunk life counts as evolution counts it (sinking_invalid)
   Sim s;
   if (r.status == SimStatus::kFinished) {
     s.fitness = r.fitness;

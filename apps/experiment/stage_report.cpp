@@ -160,7 +160,8 @@ ReportSection activity_section(const StageContext& ctx) {
   SimOptions options;
   options.record_fps = std::max(8 * physics.act_frequency, 120 / physics.duration);
   options.record_control = true;
-  const SimResult life = simulate(compile(best->robot, physics), options);
+  const SimResult life =
+      simulate(compile(best->robot, physics), options);  // its frames: not judged (the audit did)
   const std::vector<Frame>& frames = life.recording.frames;
   const int max_rows = 400, max_columns = 480;
   render::ActivityRaster raster = render::actuation_raster(frames, max_rows, max_columns);

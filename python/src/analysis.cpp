@@ -103,7 +103,7 @@ pyb::list battery_of(const std::vector<const PyRobot*>& robots, const pyb::objec
   const analysis::Battery battery = analysis::load_battery(spec, paper_draws);
   std::vector<PhysicsDef> physics;
   for (const PyRobot* r : robots)
-    physics.push_back(resolve_physics(r->physics, physics_arg, std::nullopt));
+    physics.push_back(physics_of_call(r->physics, physics_arg, std::nullopt, std::nullopt));
   std::vector<analysis::RobustnessProfile> profiles(robots.size());
   {
     pyb::gil_scoped_release unlocked;

@@ -273,7 +273,7 @@ BatteryEstimate estimate_battery(const std::vector<std::string>& files,
   if (r.champions.empty()) return e;
   const ChampionAnalysis& first = r.champions.front();
   const auto t0 = std::chrono::steady_clock::now();
-  simulate(compile(first.robot, first.physics, limits_from_environment()));
+  simulate(compile(first.robot, first.physics, limits_from_environment()));  // timed, not judged
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   Battery one;
   one.name = "one life";
