@@ -44,7 +44,7 @@ PhysicsDef developing(BondModel bonds) {
 
 // The bodies whose step1 takes each path that writes something for the next state: the
 // exact model's batched kernel (and its scalar redo, on the irregular body's bent bonds),
-// Voxelyze 0.9's scalar path (which switches bond frames), and free objects (whose contacts
+// Voxelyze 0.9's scalar path (which switches bond axes), and free objects (whose contacts
 // read this step's dt).
 struct Body {
   const char* name;

@@ -61,7 +61,7 @@ TEST(StateList, AFieldAddedToTheListHasAMemberAnInitialValueAndARow) {
   EXPECT_STREQ(row.name, "test_extra");
   EXPECT_STREQ(row.shape, "n");
   EXPECT_STREQ(row.unit, "m");
-  EXPECT_STREQ(row.frame, "world");
+  EXPECT_STREQ(row.axes, "world");
   const StateFieldBytes b = row.bytes(s);
   EXPECT_EQ(b.data, s.test_extra.data());
   EXPECT_EQ(b.count, static_cast<size_t>(m.n));

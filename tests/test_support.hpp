@@ -95,7 +95,7 @@ class ScratchDirTest : public ::testing::Test {
 
 // Every row of a field table (kStateFields, kSensorFields: name, shape, unit, frame,
 // meaning) stands in the document `doc` (a path below the source tree) as the Markdown row
-// "| `name` | shape | unit | frame | meaning |".
+// "| `name` | shape | unit | axes | meaning |".
 template <class Table>
 void expect_doc_lists_every_field(const std::string& doc, const Table& table) {
   std::ifstream in(std::string(PLASTIVOX_SOURCE_DIR) + "/" + doc);
@@ -104,7 +104,7 @@ void expect_doc_lists_every_field(const std::string& doc, const Table& table) {
   const std::string content = text.str();
   for (const auto& f : table) {
     const std::string row = std::string("| `") + f.name + "` | " + f.shape + " | " + f.unit +
-                            " | " + f.frame + " | " + f.meaning + " |";
+                            " | " + f.axes + " | " + f.meaning + " |";
     EXPECT_NE(content.find(row), std::string::npos) << doc << " lacks the row " << row;
   }
 }

@@ -309,7 +309,7 @@ def physics(preset="gecco2018-code", **overrides):
 # --- simulation ------------------------------------------------------------------------
 
 class Trajectory:
-    """A recorded life: times[T] (s), positions[T, n, 3] (m, world frame),
+    """A recorded life: times[T] (s), positions[T, n, 3] (m, world axes),
     orientations[T, n, 4] (unit quaternions w, x, y, z), sizes[T, n] (m),
     stiffness[T, n] (Pa), stimulus[T, n] (the treatment's stimulus, Pa): the engine's frame
     channels (kFrameFields), as a recorded life file holds them.
@@ -460,15 +460,15 @@ class Simulator:
     MuJoCo's mj_step1/mj_step2 split it); reset() returns to t = 0. The robot's controller (the sine unless its file names
     a neural one) drives it until set_actuation is first called (or set_controller(None))."""
 
-    # Each sensor: name, shape ("n", "n x 3", "3", "1"), unit, frame and meaning, in the
+    # Each sensor: name, shape ("n", "n x 3", "3", "1"), unit, axes and meaning, in the
     # engine's order (docs/control.md, "Sensors").
     sensor_fields = tuple(_core.Simulator.sensor_fields())
 
     # Each field of the state: name, shape ("1", "3", "n", "n x 3", "n x 4", "bonds"), unit,
-    # frame and meaning, in the engine's order (docs/engine.md, "State").
+    # axes and meaning, in the engine's order (docs/engine.md, "State").
     state_fields = tuple(_core.Simulator.state_fields())
 
-    # Each number and array of the compiled model: name, shape, unit, frame and meaning, in
+    # Each number and array of the compiled model: name, shape, unit, axes and meaning, in
     # the engine's order (docs/engine.md, "Model").
     model_fields = tuple(_core.Simulator.model_fields())
 

@@ -246,7 +246,7 @@ _BATTERY_COLUMNS = ("robot", "perturbation", "kind", "severity", "severity_unit"
 
 
 def robustness_battery(robots, battery="default", seed=1, draws=10, physics=None, threads=0,
-                       frame=None):
+                       pandas=None):
     """The robustness battery (docs/analysis.md, "Robustness battery") on each robot, as
     ``plastivox robustness`` and ``analyze --battery`` run it: every perturbation of the battery
     at each of its severities and seeds, one life each; fitness kept = F_perturbed /
@@ -259,8 +259,8 @@ def robustness_battery(robots, battery="default", seed=1, draws=10, physics=None
     severity_unit, seed, fitness (NaN for an unstable or sunk life), kept (NaN unless valid),
     status ("ok", "unstable", "sank" or "no-reference"), failure, f_reference, and the
     perturbation-level mean_kept, sd_kept (over valid lives at that severity) and auc. A
-    pandas DataFrame when pandas is importable (``frame=False``: always a dict of numpy arrays;
-    ``frame=True``: pandas required). A bad battery raises ValueError naming the file and field
+    pandas DataFrame when pandas is importable (``pandas=False``: always a dict of numpy arrays;
+    ``pandas=True``: pandas required). A bad battery raises ValueError naming the file and field
     before any life is simulated."""
     champions, _ = _champions(robots)
     if not isinstance(battery, (str, _os.PathLike)):
@@ -282,15 +282,15 @@ def robustness_battery(robots, battery="default", seed=1, draws=10, physics=None
     out = {k: _np.concatenate(v) for k, v in table.items()}
     for k in ("perturbation", "kind", "severity_unit", "status", "failure"):
         out[k] = out[k].astype(str)
-    if frame is False:
+    if pandas is False:
         return out
     try:
-        import pandas
+        import pandas as _pandas
     except ImportError:
-        if frame:
+        if pandas:
             raise
         return out
-    return pandas.DataFrame(out)
+    return _pandas.DataFrame(out)
 
 
 def _final_stiffness(champions, final_stiffness, threads):

@@ -72,7 +72,7 @@ pyb::list describe_fields(const Fields& fields) {
   pyb::list out;
   for (const auto& f : fields)
     out.append(pyb::dict(pyb::arg("name") = f.name, pyb::arg("shape") = f.shape,
-                         pyb::arg("unit") = f.unit, pyb::arg("frame") = f.frame,
+                         pyb::arg("unit") = f.unit, pyb::arg("axes") = f.axes,
                          pyb::arg("meaning") = f.meaning));
   return out;
 }

@@ -274,7 +274,7 @@ class PySimulator {
 
   pyb::bytes save_state() const {
     const Busy busy(*this);
-    const std::vector<uint8_t> bytes = sim_->save_state();  // the State, then the signal
+    const std::vector<uint8_t> bytes = sim_->save_state();  // the State (signal included)
     return pyb::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
 

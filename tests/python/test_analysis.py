@@ -282,7 +282,7 @@ def test_robustness_battery_equals_the_command_and_paper_is_r(study, tmp_path):
     measured = [c["excluded"] is None for c in stats["champions"]]
     keep = [r for r, m in zip(results, measured) if m]
     # The paper battery is R: the same draws, the same bits.
-    table = plastivox.robustness(keep, battery="paper", draws=DRAWS, seed=SEED, frame=False)
+    table = plastivox.robustness(keep, battery="paper", draws=DRAWS, seed=SEED, pandas=False)
     rob = analysis.robustness(keep, draws=DRAWS, seed=SEED)
     assert same_bits(table["kept"].reshape(len(keep), DRAWS), rob["r"])
     assert same_bits(table["f_reference"][::DRAWS], rob["f_train"])

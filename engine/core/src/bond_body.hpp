@@ -7,7 +7,7 @@
 // its columns cyclically permuted so the bond's axis comes first (a per-lane select), and
 // rotations of any size take atan_over_t (elementary.hpp).
 // The arithmetic is arranged for a short chain of dependent operations (the chord frame is
-// not normalised, results go to the world frame through the frame's axes), so it matches
+// not normalised, results go to the world axes through the frame's axes), so it matches
 // the scalar path's to rounding, not to the bit; the scalar path only ever takes whole
 // bonds, so no result mixes the two.
 // Only degenerate chords and relative rotations near half a turn are left to the scalar path
@@ -24,7 +24,7 @@ namespace {
 // Inputs of one group of bonds: what the kernel reads from their voxels.
 template <class T>
 struct BondIn {
-  T dx, dy, dz;      // centre of b minus centre of a, m, world frame
+  T dx, dy, dz;      // centre of b minus centre of a, m, world axes
   T ax, ay, az, aw;  // orientation of a
   T bx, by, bz, bw;  // orientation of b
   T size_a, size_b;  // actuated sizes, m
@@ -82,7 +82,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const ModelConstants& k, d
     m[3 + r] = sel(R[3 + r], R[6 + r], R[r]);
     m[6 + r] = sel(R[6 + r], R[r], R[3 + r]);
   }
-  // Chord a->b in a's permuted body frame.
+  // Chord a->b in a's permuted body axes.
   const T x = m[0] * in.dx + m[1] * in.dy + m[2] * in.dz;
   const T y = m[3] * in.dx + m[4] * in.dy + m[5] * in.dz;
   const T z = m[6] * in.dx + m[7] * in.dy + m[8] * in.dz;
@@ -173,7 +173,7 @@ inline void bond_lanes(const BondKernelIo& io, int i, const ModelConstants& k, d
   const T now[9] = {px, zero, zero, t1x, t1y, t1z, t2x, t2y, t2z};
   for (int j = 0; j < 9; ++j) store(io.prev_next[j], i, pick(redo, old[j], now[j]));
 
-  // World frame. The chord-aligned frame's axes, in world coordinates, are the chord
+  // World axes. The chord-aligned frame's axes, in world coordinates, are the chord
   // direction u and a's permuted y and z axes turned by the smallest rotation taking a's
   // permuted x axis (c0) onto u; for an axis c orthogonal to c0 that rotation gives
   // c - (c0 + u) (u . c) / (1 + c0 . u), and u . c / (1 + c0 . u) is y / h (or z / h) in a's

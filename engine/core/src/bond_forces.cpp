@@ -1,7 +1,7 @@
 // Bond stage: the elastic and damping forces of every beam bond between face neighbours.
 //
 // Each bond is an Euler-Bernoulli beam of nominal length L and square section L x L
-// joining two voxel centres. Forces are computed in a "bond frame": voxel a's body frame,
+// joining two voxel centres. Forces are computed in a "bond axes": voxel a's body axes,
 // cyclically permuted so the bond's lattice axis is +x, then (in the chord-aligned form)
 // rotated so the chord from a to b lies on +x. In that frame the chord carries only the
 // axial extension and the two voxels' rotation vectors carry shear, bending and torsion;
@@ -91,7 +91,7 @@ inline V3 voxelyze_rotation_vector(double w, double x, double y, double z) {
   return {x * 2.0 * a / r, y * 2.0 * a / r, z * 2.0 * a / r};
 }
 
-// The deformation of one bond in its bond frame. Two frames are used:
+// The deformation of one bond in its bond axes. Two frames are used:
 //  - chord-aligned ("large angle"): voxel a's permuted frame rotated by the quaternion
 //    f = (fw, 0, fy, fz) so the chord lies on +x; then p = (extension, 0, 0);
 //  - voxel-aligned ("small angle", Voxelyze 0.9 only): voxel a's permuted frame itself
@@ -100,8 +100,8 @@ struct BondGeometry {
   int axis;
   double fw, fy, fz;  // frame rotation (a quaternion with zero x part; unit but for voxelyze09's
                       // first-order frame, within 1e-8 of it)
-  V3 p;               // position of b relative to its rest place, m, bond frame
-  V3 th1, th2;        // rotation vectors of a and b, rad, bond frame
+  V3 p;               // position of b relative to its rest place, m, bond axes
+  V3 th1, th2;        // rotation vectors of a and b, rad, bond axes
   V3 r;               // chord from a to b in the permuted frame of a, m
   double rest;        // actuated rest length, m
   double q2w;         // scalar part of b's rotation relative to a
@@ -146,7 +146,7 @@ inline BondGeometry bond_geometry(const Model& m, const State& s, const double* 
   const int ia = m.bond_a[b], ib = m.bond_b[b], d = m.bond_axis[b];
   BondGeometry g;
   g.axis = d;
-  // Chord in a's body frame: R_a^T (p_b - p_a), then permuted.
+  // Chord in a's body axes: R_a^T (p_b - p_a), then permuted.
   const double dx = s.pos[ib].x() - s.pos[ia].x();
   const double dy = s.pos[ib].y() - s.pos[ia].y();
   const double dz = s.pos[ib].z() - s.pos[ia].z();
@@ -223,7 +223,7 @@ inline bool next_small_angle(const BondGeometry& g, bool small_now) {
   return angle < kVoxelyzeSmallAngle && turn >= 0 && turn < kBendTurn && extend < kExtension;
 }
 
-// v expressed in the bond frame -> world: undo the frame rotation f (apply f^T), undo the
+// v expressed in the bond axes -> world: undo the frame rotation f (apply f^T), undo the
 // permutation, apply a's orientation.
 inline Vec3 to_world(const BondGeometry& g, const double* R, const V3& v) {
   const double w = g.fw, y = g.fy, z = g.fz;
@@ -376,7 +376,7 @@ void bind_bond_views(const Model& m, State& s, Workspace& w) {
 
 // Exact model: the batched kernel reads the voxels and writes every bond's results; the
 // few bonds it cannot handle (degenerate chords, rotations near half a turn) are redone in
-// scalar code. Voxelyze 0.9 model: the scalar path for every bond (its frame switching).
+// scalar code. Voxelyze 0.9 model: the scalar path for every bond (its switch of axes).
 // The State is read only: each bond's deformation (and frame) for the next step goes to the
 // Workspace, and step2 commits it (commit_bond_deformation); or, with next_into_state, into
 // the State's arrays, through the views (each bond's are read before they are written).

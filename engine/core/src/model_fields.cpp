@@ -10,9 +10,9 @@ namespace {
 using fields::bytes_of;
 
 // A row of one Model member, its bytes as bytes_of gives them.
-#define PLASTIVOX_MODEL_ROW(name, member, shape, unit, frame, meaning)                   \
+#define PLASTIVOX_MODEL_ROW(name, member, shape, unit, axes, meaning)                   \
   {                                                                                      \
-    name, shape, unit, frame, meaning, [](const Model& m) { return bytes_of(m.member); } \
+    name, shape, unit, axes, meaning, [](const Model& m) { return bytes_of(m.member); } \
   }
 
 // The six bond slots of each voxel, one int per face.

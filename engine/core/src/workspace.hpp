@@ -69,7 +69,7 @@ struct KernelViews {
 
 struct Workspace {
   // Per voxel.
-  // Total force (N) and moment (N m), world frame, one array per component.
+  // Total force (N) and moment (N m), world axes, one array per component.
   std::array<std::vector<double>, 3> force, moment;
   std::vector<double> sqrt_e;  // sqrt of the current stiffness, sqrt(Pa)
   // Per voxel, 4 doubles: centre (m) and actuated size (m), copied from the state at the
@@ -83,7 +83,7 @@ struct Workspace {
   // names the extra zero entry of bond_out (index bond_count()).
   std::array<std::vector<int>, 6> slot_bond;
   // Per bond (plus one zero record), filled by the bond stage, gathered per voxel in a fixed
-  // order; world frame, records of 4 doubles (x, y, z, 0) so a voxel reads a bond's vector in
+  // order; world axes, records of 4 doubles (x, y, z, 0) so a voxel reads a bond's vector in
   // one load: [0] force on voxel a (N; the force on b is its negative), [1] moment on a,
   // [2] moment on b (N m).
   std::array<std::vector<double>, 3> bond_out;
@@ -97,7 +97,7 @@ struct Workspace {
   std::vector<double> floor_normal;
   // Per voxel, only with an environment (Model::terrain; terrain.cpp): whether a contact
   // held the voxel this step, the normal force of its contacts (N), and its centre before
-  // the update (m, world frame).
+  // the update (m, world axes).
   std::vector<uint8_t> terrain_held;
   std::vector<double> terrain_normal;
   std::vector<Vec3> terrain_prev;

@@ -41,13 +41,13 @@ enum class Sensor {
 inline constexpr int kSensorCount = 10;
 
 // One sensor, described once (as kStateFields describes the state): name, shape ("n" one
-// value per voxel, "n x 3" a vector per voxel, "3" and "1" whole-body), unit, frame, meaning.
+// value per voxel, "n x 3" a vector per voxel, "3" and "1" whole-body), unit, axes, meaning.
 struct SensorField {
   Sensor id;
   const char* name;
   const char* shape;
   const char* unit;
-  const char* frame;
+  const char* axes;
   const char* meaning;
   bool per_voxel;  // n entries of `width` values; else `width` values in all
   int width;
@@ -108,9 +108,10 @@ class Controller {
   virtual double max_rate() const { return 0; }
 };
 
-// Today's open loop, the default: u_i = sin(2 pi (f t + phase_i)), f = physics.act_frequency,
-// t the time at the start of the step; 0 everywhere when f = 0. Reads no sensor. Before
-// settle_time it writes nothing (the actuation stage ignores the signal then).
+// Today's open loop, the default: u_i = sin(2 pi (f t + phase_i)) for each of the robot's
+// voxels (a free object's signal stays 0), f = physics.act_frequency, t the time at the start
+// of the step; 0 everywhere when f = 0. Reads no sensor. Before settle_time it writes nothing
+// (the actuation stage ignores the signal then).
 class SineController final : public Controller {
  public:
   void act(const Sensors& sensors, std::span<double> actuation, std::span<double>) override;

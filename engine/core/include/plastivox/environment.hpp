@@ -51,7 +51,7 @@ struct GroundDef {
   bool operator==(const GroundDef&) const = default;
 };
 
-// A static box of the world, m, world frame (min < max on every axis).
+// A static box of the world, m, world axes (min < max on every axis).
 struct ObstacleBox {
   std::array<double, 3> min{0, 0, 0};
   std::array<double, 3> max{0, 0, 0};
@@ -65,7 +65,7 @@ struct ObstacleBox {
 // and are no part of the robot's centre of mass or fitness.
 struct ObjectDef {
   std::array<int, 3> voxels{1, 1, 1};  // extent along x, y, z, in voxels (each >= 1)
-  std::array<double, 3> at{0, 0, 0};   // the box's lowest corner (min x, y, z), m, world frame
+  std::array<double, 3> at{0, 0, 0};   // the box's lowest corner (min x, y, z), m, world axes
   // Young's modulus of its voxels, Pa; 0 (the default): the robot's stiffest congenital
   // modulus, so the object does not shorten the time step at birth.
   double stiffness = 0;

@@ -1,10 +1,10 @@
 // What a list of fields generates (state.hpp's PLASTIVOX_STATE_FIELDS, in the manner of
 // MuJoCo's X-macro lists for mjData): a struct's members, their values at t = 0, and a table
-// of rows (name, shape, unit, frame, meaning, bytes) that drives saving, restoring and
+// of rows (name, shape, unit, axes, meaning, bytes) that drives saving, restoring and
 // hashing, and the Python module's views. A list is a macro of three macros:
-//   FIELD(type, name, initial, shape, unit, frame, meaning): a member and its row;
+//   FIELD(type, name, initial, shape, unit, axes, meaning): a member and its row;
 //   MEMBER(type, name, initial): a member whose rows are listed apart (one per component);
-//   ROW(name, member, shape, unit, frame, meaning): a row of `member` (an expression such as
+//   ROW(name, member, shape, unit, axes, meaning): a row of `member` (an expression such as
 //       bond_prev[0]).
 // `initial` is an expression of the model `m`. Shapes: "1" one value, "3" a fixed vector,
 // "n" per voxel, "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w:
@@ -40,7 +40,7 @@ struct FieldRow {
   const char* name;
   const char* shape;
   const char* unit;
-  const char* frame;
+  const char* axes;
   const char* meaning;
   StateFieldBytes (*bytes)(const S&);
 };
@@ -127,18 +127,18 @@ void copy(const std::vector<View>& rows, const Read& read);
 }  // namespace plastivox
 
 // The generators, each applied to a list.
-#define PLASTIVOX_FIELD_DECLARE(type, name, initial, shape, unit, frame, meaning) \
+#define PLASTIVOX_FIELD_DECLARE(type, name, initial, shape, unit, axes, meaning) \
   type name = ::plastivox::fields::zero<type>();
 #define PLASTIVOX_MEMBER_DECLARE(type, name, initial) type name = ::plastivox::fields::zero<type>();
-#define PLASTIVOX_FIELD_INITIAL(type, name, initial, shape, unit, frame, meaning) s.name = initial;
+#define PLASTIVOX_FIELD_INITIAL(type, name, initial, shape, unit, axes, meaning) s.name = initial;
 #define PLASTIVOX_MEMBER_INITIAL(type, name, initial) s.name = initial;
-#define PLASTIVOX_ROW_ENTRY(name, member, shape, unit, frame, meaning) \
+#define PLASTIVOX_ROW_ENTRY(name, member, shape, unit, axes, meaning) \
   {#name, shape,   unit,                                               \
    frame, meaning, [](const auto& s) { return ::plastivox::fields::bytes_of(s.member); }},
-#define PLASTIVOX_FIELD_ROW(type, name, initial, shape, unit, frame, meaning) \
-  PLASTIVOX_ROW_ENTRY(name, name, shape, unit, frame, meaning)
+#define PLASTIVOX_FIELD_ROW(type, name, initial, shape, unit, axes, meaning) \
+  PLASTIVOX_ROW_ENTRY(name, name, shape, unit, axes, meaning)
 #define PLASTIVOX_NO_MEMBER(type, name, initial)
-#define PLASTIVOX_NO_ROW(name, member, shape, unit, frame, meaning)
+#define PLASTIVOX_NO_ROW(name, member, shape, unit, axes, meaning)
 
 // The members of a struct (inside its braces).
 #define PLASTIVOX_MEMBERS(LIST) \

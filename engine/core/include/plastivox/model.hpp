@@ -33,7 +33,7 @@ struct Model : ModelConstants {
 
   // Per voxel (n entries), in voxel order = increasing lattice site.
   std::vector<int> site;       // lattice site index of the voxel
-  std::vector<Vec3> rest_pos;  // initial centre, m, world frame; resting on the ground (z = 0)
+  std::vector<Vec3> rest_pos;  // initial centre, m, world axes; resting on the ground (z = 0)
   std::vector<double> e0;      // congenital Young's modulus, Pa
   std::vector<double> alpha;   // development rate, 1/s (0 everywhere under kNone)
   std::vector<double> phase;   // actuation phase, cycles
@@ -49,7 +49,7 @@ struct Model : ModelConstants {
   // -1 where there is no neighbour.
   std::vector<std::array<int, 6>> voxel_bonds;
   std::vector<uint8_t> fixed;    // 1 if clamped (boundary condition)
-  std::vector<Vec3> load;        // constant external force, N, world frame
+  std::vector<Vec3> load;        // constant external force, N, world axes
   std::vector<uint8_t> surface;  // 1 if some face has no neighbour (collision-eligible)
   // For each voxel, the sorted ids of voxels within def.collision_exclude_hops bonds
   // (never collide with each other: their bonds already keep them apart).

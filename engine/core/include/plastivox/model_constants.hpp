@@ -35,7 +35,7 @@ struct ModelConstants {
   // Rotational slow damping: its factor over the linear one times that one's ratio,
   // global_damping_rot_factor global_damping.
   double rot_damp = 0;
-  double weight[3] = {0, 0, 0};  // m g, N, world frame
+  double weight[3] = {0, 0, 0};  // m g, N, world axes
   // The floor z = 0 of the update kernel: def.floor without an environment's ground, which
   // the terrain contact handles instead (terrain.cpp).
   bool flat_floor = false;

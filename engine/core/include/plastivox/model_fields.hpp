@@ -1,4 +1,4 @@
-// The compiled Model's numbers as a table (name, shape, unit, frame, meaning, and where the
+// The compiled Model's numbers as a table (name, shape, unit, axes, meaning, and where the
 // bytes are), as State's table (kStateFields) describes the state: what Python's
 // Simulator.model shows and docs/engine.md, "Model", lists. Every number and array of Model
 // is a row, but what other tables or files give: the physics (Model::def, PhysicsDef's

@@ -41,7 +41,7 @@ enum class AxialModulus { kHarmonicMean, kNegativeVoxel };
 // How bond deformation is measured. kExact: always in the chord-aligned frame, with shear
 // forces that are the exact gradient of the bending energy (conserves energy and angular
 // momentum). kVoxelyze09: what the authors' simulator (their Voxelyze 0.9 fork) did, rules
-// and defects alike: the switch between a voxel-aligned small-angle frame and the
+// and defects alike: the switch between a voxel-aligned small-angle axes and the
 // chord-aligned frame, with hysteresis; its first-order turn that resets turns below ~3e-8
 // rad; its rotation vectors and chord frame; its time step (docs/vxa.md).
 enum class BondModel { kExact, kVoxelyze09 };

@@ -17,7 +17,7 @@ namespace plastivox {
 struct Frame {
   double time = 0;                         // s
   int64_t step = 0;                        // simulation steps taken to reach this state
-  std::vector<Eigen::Vector3d> pos;        // voxel centre, m, world frame (n)
+  std::vector<Eigen::Vector3d> pos;        // voxel centre, m, world axes (n)
   std::vector<Eigen::Quaterniond> orient;  // body-to-world rotation (n)
   std::vector<double> size;                // actuated edge length, m (n)
   std::vector<double> stiffness;           // current E, Pa (n)
@@ -30,8 +30,8 @@ struct Frame {
   std::vector<double> strain;             // sensor: 1 (n)
   std::vector<double> stress;             // sensor: Pa (n)
   std::vector<double> pressure;           // sensor: Pa (n)
-  std::vector<Eigen::Vector3d> velocity;  // sensor: m/s, world frame (n)
-  std::vector<Eigen::Vector3d> up;        // sensor: the voxel's +z axis, world frame (n)
+  std::vector<Eigen::Vector3d> velocity;  // sensor: m/s, world axes (n)
+  std::vector<Eigen::Vector3d> up;        // sensor: the voxel's +z axis, world axes (n)
 };
 
 // The per-voxel channels of a Frame, described once. Each copies one row of kStateFields

@@ -35,7 +35,7 @@ struct RobotDef {
   std::vector<int> fixed_sites;  // sites whose voxel is clamped: no translation, no rotation
   struct Load {
     int site = 0;                   // lattice site of the loaded voxel
-    double fx = 0, fy = 0, fz = 0;  // constant external force, N, world frame
+    double fx = 0, fy = 0, fz = 0;  // constant external force, N, world axes
   };
   std::vector<Load> loads;
 

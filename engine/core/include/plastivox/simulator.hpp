@@ -119,7 +119,7 @@ class Simulator {
   //          (the development stimuli come from them), the time step, each voxel's forces
   //          with gravity, and self-contacts (workspace()). It reads the State and writes
   //          only the workspace, including what the next state takes from this step (the
-  //          time step, each bond's deformation, Voxelyze 0.9's bond frames): between the
+  //          time step, each bond's deformation, Voxelyze 0.9's bond axes): between the
   //          halves the State is the state before the step, save_state() takes it, and
   //          step1 called again leaves the same workspace. (step() has nothing between the
   //          halves, so there the bond stage writes the bonds' next deformations into the

@@ -28,7 +28,7 @@ enum class SimStatus { kRunning, kFinished, kUnstable };
 // Per bond, the deformation at the previous step, for the bond's internal damping: one array
 // per component (structure-of-arrays for the batched bond kernel): [0..2] position of b
 // relative to its rest place (m), [3..5] rotation vector of a, [6..8] rotation vector of b
-// (rad); all in the bond frame.
+// (rad); all in the bond axes.
 using BondPrev = std::array<std::vector<double>, 9>;
 
 // A task's running values (docs/tasks.md names each task's): what its fitness needs besides
@@ -56,7 +56,7 @@ inline BondPrev bond_components(const Model& m) {
 // Every field of State, in order: FIELD(type, name, initial value, shape, unit, frame,
 // meaning); bond_prev is one member of nine rows. The size is actuated for the next step's
 // bonds and contacts (none before the first step); dt follows stiffness; Voxelyze 0.9 starts
-// every bond in its small-angle frame. The last six rows are what the Simulator keeps besides
+// every bond in its small-angle axes. The last six rows are what the Simulator keeps besides
 // the physics, so that a snapshot resumes the score too: the signal and the controller's
 // memory (control.hpp), and the watches step2 updates after every step (the floor's deepest
 // penetration, the task's running values: simulator.hpp).
@@ -101,7 +101,7 @@ inline BondPrev bond_components(const Model& m) {
         "-", "-", "1 once the previous deformation is recorded")                                \
   FIELD(std::vector<uint8_t>, bond_small_angle,                                                 \
         state_init::per_bond(m, static_cast<uint8_t>(m.def.bond_model == BondModel::kVoxelyze09)), \
-        "bonds", "-", "-", "1 while the bond uses the small-angle frame")                       \
+        "bonds", "-", "-", "1 while the bond uses the small-angle axes")                       \
   FIELD(Vec3, com_settled, Vec3(Vec3::Zero()), "3", "m", "world",                               \
         "centre of mass when settling ended")                                                   \
   FIELD(bool, settled, false, "1", "-", "-", "time has passed the settle time")          \
@@ -129,7 +129,7 @@ struct State {
 State make_initial_state(const Model& model);
 
 // The table of State's fields, generated from PLASTIVOX_STATE_FIELDS: what each holds, its
-// shape, unit and frame, and where its bytes are (a recorded life's frames keep a subset:
+// shape, unit and axes, and where its bytes are (a recorded life's frames keep a subset:
 // capture_frame). `failure` is text that explains `status` and is not a row here.
 using StateField = FieldRow<State>;
 extern const std::vector<StateField> kStateFields;

@@ -21,7 +21,7 @@ namespace plastivox::render {
 class OffscreenContext;
 
 struct Box {
-  Eigen::Vector3f center;     // m, world frame (z up)
+  Eigen::Vector3f center;     // m, world axes (z up)
   Eigen::Quaternionf orient;  // body-to-world rotation
   float edge = 0.01f;         // edge length, m
   Rgb8 color{};               // sRGB
@@ -105,7 +105,7 @@ double ground_height(const Model& model, double x, double y);
 // The world's surfaces as the renderer draws them (no GL; render/src/world_mesh.cpp): the
 // ground (none when null) and the boxes, over the square `centre` +- `half` (x, y, m) where
 // the floor would be drawn. Per triangle corner:
-// position (m, world frame) and its face's unit normal (outward; upward on the ground), 6
+// position (m, world axes) and its face's unit normal (outward; upward on the ground), 6
 // floats. The ground is cut along the node lines of its height field where the surface bends
 // (at most kMaxGroundLines per axis inside the square: beyond that every k-th), and along the
 // rectangle (lo, hi), where the robot's shadow may fall; boxes outside the square are left
