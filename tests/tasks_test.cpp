@@ -526,6 +526,13 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   EXPECT_EQ(j.at("task"), "jump");
   EXPECT_EQ(j.at("fitness_unit"), "voxel lengths");
   EXPECT_GT(j.at("best_fitness").get<double>(), 0);
+  EXPECT_EQ(j.at("champion_success").get<bool>(), j.at("best_fitness").get<double>() >= 0.5);
+  o = cli("inspect " + out);
+  EXPECT_NE(o.out.find(std::string(j.at("champion_success").get<bool>() ? "  success: "
+                                                                        : "  no success: ") +
+                       task_info(Task::kJump).criterion + "\n"),
+            std::string::npos)
+      << o.out;
   // The file's config says the task, so the run resumes (here: is already finished) without
   // --task, ...
   const evo::ResultsFile f = evo::read_results(out);
