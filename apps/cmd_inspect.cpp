@@ -20,6 +20,14 @@ int cmd_inspect(const Args& in) {
   const evo::RunState& s = f.state;
   const evo::GenerationRecord& last = s.history.back();
   const evo::ChampionRecord& champ = s.champions.back();
+  // Whether the champion meets its task's criterion, where the file can tell: a least fitness
+  // (every task but climb). Climb's criterion reads the ground under the centre of mass at
+  // the end of the life, which the file does not keep: null, and the text says how to check.
+  const TaskInfo& task = task_info(s.config.task);
+  const bool decidable = task.succeeds == nullptr;
+  const bool success = decidable &&
+                       static_cast<evo::EvalStatus>(champ.status) == evo::EvalStatus::kOk &&
+                       last.best_fitness >= task.threshold;
   int64_t simulations = 0;
   for (const evo::GenerationRecord& g : s.history) simulations += g.simulated;
 
@@ -49,6 +57,7 @@ int cmd_inspect(const Args& in) {
   j["champion_since_generation"] = champ.generation;
   j["champion_voxels"] = champ.phenotype.voxel_count();
   j["champion_status"] = to_string(static_cast<evo::EvalStatus>(champ.status));
+  j["champion_success"] = decidable ? nlohmann::json(success) : nlohmann::json(nullptr);
   j["individuals"] = s.births.size();
   j["simulations"] = simulations;
   j["content_digest"] = f.content_digest;
@@ -71,6 +80,11 @@ int cmd_inspect(const Args& in) {
               last.best_fitness, task_info(s.config.task).unit,
               static_cast<unsigned long long>(last.champion_id), champ.phenotype.voxel_count(),
               champ.generation);
+  std::printf("  %s: %s\n",
+              !decidable ? "success unknown (export the champion and simulate it)"
+              : success  ? "success"
+                         : "no success",
+              task.criterion);
   std::printf("  %zu individuals, %lld simulated; content digest %s\n", s.births.size(),
               static_cast<long long>(simulations), f.content_digest.c_str());
   std::printf("  written by plastivox %s (commit %s) on %s, %s\n",

@@ -221,6 +221,8 @@ int cmd_simulate(const Args& in) {
     std::printf("  fitness %.4f %s (dx %.4f, dy %.4f, dz %.4f voxel lengths)\n", r.fitness,
                 task_info(physics.task).unit, r.displacement.x(), r.displacement.y(),
                 r.displacement.z());
+    std::printf("  %s: %s\n", r.success ? "success" : "no success",
+                task_info(physics.task).criterion);
     std::printf(
         "  floor: %s, %.3g voxel lengths deep at the deepest; vertical share of "
         "fitness %.3f\n",

@@ -418,6 +418,10 @@ TEST_F(TerrainTasksCli, EvolutionRecordsTheTaskWithItsParameters) {
   EXPECT_EQ(f.state.config.physics.task, Task::kClimb);
   const TaskParams want = {{"rise", 0.25}};
   EXPECT_EQ(f.state.config.physics.task_params, want);
+  // Climb's criterion reads the ground under the centre of mass, which the file does not keep.
+  const Output info = cli("inspect " + out + " --json");
+  ASSERT_EQ(info.status, 0) << info.out;
+  EXPECT_TRUE(nlohmann::json::parse(info.out).at("champion_success").is_null()) << info.out;
   // The analysis names the task and its environment, in the report and stats.json.
   const Output a = cli("analyze " + out + " --out " + path("analysis"));
   ASSERT_EQ(a.status, 0) << a.out;

@@ -99,7 +99,98 @@ TEST(Tasks, ABodyThatDoesNotMoveScoresZeroOnEveryTask) {
     ASSERT_TRUE(r.settled);
     EXPECT_EQ(r.com_final, r.com_settled) << t.name << ": the body moved";
     EXPECT_EQ(r.fitness, 0.0) << t.name;
+    EXPECT_FALSE(r.success) << t.name << ": standing still meets no task's criterion";
   }
+}
+
+// Each criterion is its threshold on the fitness (climb's the ground under the centre of
+// mass): met at the threshold, missed just below it.
+TEST(Tasks, EachCriterionIsItsThreshold) {
+  for (const TaskInfo& t : all_tasks()) {
+    EXPECT_NE(std::string(t.criterion), "") << t.name;
+    if (t.task == Task::kClimb) continue;
+    const Model m = compile(block(3, 2, 2, 1e6), still_physics(t.task));
+    SimResult r;
+    r.fitness = t.threshold;
+    EXPECT_TRUE(task_success(m, r)) << t.name;
+    r.fitness = std::nextafter(t.threshold, 0.0);
+    EXPECT_FALSE(task_success(m, r)) << t.name;
+  }
+  EXPECT_EQ(task_info(Task::kWalk).threshold, 5);
+  EXPECT_EQ(task_info(Task::kJump).threshold, 0.5);
+  EXPECT_NEAR(task_info(Task::kTurn).threshold, kPi / 2, 1e-15);
+  EXPECT_EQ(task_info(Task::kSlope).threshold, 1);
+  EXPECT_EQ(task_info(Task::kPush).threshold, 2);
+}
+
+// climb succeeds when the centre of mass ends over the first terrace or higher, however far
+// it walked: the 3x2 footprint's level ground reaches 1.5 + 1 voxel lengths from its centre,
+// the first step (rise 0.5) then runs 3 voxel lengths.
+TEST(Tasks, ClimbSucceedsOnTheFirstTerrace) {
+  const Model m = compile(block(3, 2, 2, 1e6), still_physics(Task::kClimb));
+  const double L = m.size;
+  SimResult r;
+  r.com_settled = Vec3(1.5 * L, 1 * L, 0.5 * L);
+  const auto ends_at = [&](double x, double y) {
+    r.com_final = r.com_settled + Vec3(x * L, y * L, 0);
+    return task_success(m, r);
+  };
+  EXPECT_FALSE(ends_at(2.2, 0));   // on the level ground, 2.2 voxel lengths walked
+  EXPECT_FALSE(ends_at(-2, 1.9));  // farther, still level
+  EXPECT_TRUE(ends_at(3.5, 0));    // on the first terrace
+  EXPECT_TRUE(ends_at(0, -4));     // the same every way
+  EXPECT_TRUE(ends_at(6.5, 0));    // the second
+}
+
+// judge_life withdraws success from a life that does not count.
+TEST(Tasks, OnlyALifeThatCountsSucceeds) {
+  PhysicsDef d = preset_gecco2018_code();
+  SimResult sunk;
+  sunk.status = SimStatus::kFinished;
+  sunk.sank = true;
+  sunk.fitness = 9;
+  sunk.success = true;
+  judge_life(d, sunk);
+  EXPECT_EQ(sunk.status, SimStatus::kUnstable);
+  EXPECT_FALSE(sunk.success);
+  SimResult unstable;
+  unstable.status = SimStatus::kUnstable;
+  unstable.success = true;
+  judge_life(d, unstable);
+  EXPECT_FALSE(unstable.success);
+  d.sinking_invalid = false;  // the authors' rule: a sunk life counts
+  sunk.status = SimStatus::kFinished;
+  sunk.success = true;
+  judge_life(d, sunk);
+  EXPECT_TRUE(sunk.success);
+}
+
+// Every task ships a robot, examples/tasks/<task>.json, that meets its criterion under the
+// physics and environment the file names (docs/tasks.md, "Examples"), checked as a reader
+// would: plastivox simulate --json.
+TEST(Tasks, EveryTaskHasAnExampleThatSucceeds) {
+  for (const TaskInfo& t : all_tasks()) {
+    const std::string file =
+        std::string(PLASTIVOX_SOURCE_DIR) + "/examples/tasks/" + t.name + ".json";
+    const Output o =
+        testing::shell(std::string(PLASTIVOX_CLI) + " simulate " + file + " --json 2>/dev/null");
+    ASSERT_EQ(o.status, 0) << t.name;
+    const nlohmann::json j = nlohmann::json::parse(o.out);
+    EXPECT_EQ(j.at("task"), t.name);
+    EXPECT_EQ(j.at("status"), "finished") << t.name;
+    EXPECT_TRUE(j.at("success").get<bool>())
+        << t.name << ": fitness " << j.at("fitness") << "; " << t.criterion;
+  }
+}
+
+TEST(Tasks, SimulateSaysWhetherTheLifeSucceeded) {
+  const std::string walk = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/tasks/walk.json";
+  const Output o = cli("simulate " + walk + " --duration 0.4");  // too short to walk 5
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("  no success: fitness >= 5: the centre of mass travels at least 5 voxel "
+                       "lengths\n"),
+            std::string::npos)
+      << o.out;
 }
 
 TEST(Tasks, JumpScoresTheHighestRiseAboveTheSettledHeight) {
@@ -435,6 +526,13 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   EXPECT_EQ(j.at("task"), "jump");
   EXPECT_EQ(j.at("fitness_unit"), "voxel lengths");
   EXPECT_GT(j.at("best_fitness").get<double>(), 0);
+  EXPECT_EQ(j.at("champion_success").get<bool>(), j.at("best_fitness").get<double>() >= 0.5);
+  o = cli("inspect " + out);
+  EXPECT_NE(o.out.find(std::string(j.at("champion_success").get<bool>() ? "  success: "
+                                                                        : "  no success: ") +
+                       task_info(Task::kJump).criterion + "\n"),
+            std::string::npos)
+      << o.out;
   // The file's config says the task, so the run resumes (here: is already finished) without
   // --task, ...
   const evo::ResultsFile f = evo::read_results(out);

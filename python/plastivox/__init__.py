@@ -351,7 +351,8 @@ class Trajectory:
 class Result:
     """One simulated life: every key of `plastivox simulate --json` as an attribute (and
     in to_dict()), the fields of the engine's summary (sim_summary_fields); `status` is
-    "finished" or "unstable" (then `failure` says why, else it is ""); `trajectory` is a
+    "finished" or "unstable" (then `failure` says why, else it is ""); `success` whether the
+    life met its task's criterion (docs/tasks.md, "Success"); `trajectory` is a
     Trajectory when recorded (record_fps > 0), else None."""
 
     def __init__(self, summary, trajectory, robot):
@@ -384,7 +385,7 @@ class Result:
 
     def __repr__(self):
         return (f"Result(status={self.status!r}, fitness={self.fitness!r}, "
-                f"voxels={self.voxels}, steps={self.steps})")
+                f"success={self.success!r}, voxels={self.voxels}, steps={self.steps})")
 
 
 def _record_fps(record_fps):

@@ -521,3 +521,22 @@ def test_a_bad_duration_states_the_rule():
     with pytest.raises(ValueError, match=r"physics.duration: must be a number of seconds from "
                                          r"settle_time"):
         plastivox.simulate(plastivox.demo_walker(), physics={"duration": 0.1, "settle_time": 0.2})
+
+
+def test_success_is_the_tasks_criterion_as_the_cli_says():
+    # docs/tasks.md, "Success": push's example moves its box more than two voxel lengths.
+    path = os.path.join(SOURCE, "examples", "tasks", "push.json")
+    robot = plastivox.load_robot(path)
+    r = plastivox.simulate(robot)
+    cli = cli_json("simulate", path, "--json")
+    assert r.task == "push" and r.fitness >= 2
+    assert r.success is True and cli["success"] is True
+    assert "success=True" in repr(r)
+    # Cut short, the same robot has not moved the box far enough yet.
+    assert plastivox.simulate(robot, physics={"duration": 0.4}).success is False
+    sim = plastivox.Simulator(robot)
+    sim.step(50)
+    assert sim.result().success is False  # still running: no success claimed
+    while sim.status == "running":
+        sim.step(997)
+    assert sim.result().success is True

@@ -411,6 +411,7 @@ void summarise(const Model& model, const State& s, SimResult& r) {
   r.dt_final = s.dt;
   fill_displacement(model, s, r);
   r.fitness = score_so_far(model, s);
+  r.success = s.status == SimStatus::kFinished && task_success(model, r);
   r.final_stiffness.assign(s.stiffness.begin(), s.stiffness.begin() + model.robot_n);
   double sum = 0, sum_abs = 0, sum_sq = 0;
   for (int i = 0; i < model.robot_n; ++i) {

@@ -10,6 +10,11 @@
 #include "tasks.hpp"
 
 namespace plastivox {
+namespace {
+
+constexpr double kQuarterTurn = 1.5707963267948966;  // rad
+
+}  // namespace
 
 const std::vector<TaskInfo>& all_tasks() {
   static const std::vector<TaskInfo> tasks = {
@@ -18,22 +23,28 @@ const std::vector<TaskInfo>& all_tasks() {
        "voxel lengths",
        "|c(T) - c(settle)| / L: the centre of mass's displacement from the end of settling to "
        "the end of the life (horizontal only under physics.fitness = xy)",
+       "fitness >= 5: the centre of mass travels at least 5 voxel lengths",
+       5,
        walk_score,
        nullptr,
        {}},
       {Task::kJump, "jump", "voxel lengths",
        "max over t >= settle of (c_z(t) - c_z(settle)) / L: the highest rise of the centre of "
        "mass above its settled height",
-       jump_score, see_jump, jump_values()},
+       "fitness >= 0.5: the centre of mass rises at least half a voxel length", 0.5, jump_score,
+       see_jump, jump_values()},
       {Task::kTurn, "turn", "rad",
        "|theta(T)|: the body's net rotation about the vertical axis since settling, the "
        "least-squares turn of its voxel centres' horizontal layout, counted through whole turns",
-       turn_score, see_turn, turn_values()},
+       "fitness >= pi/2: the body turns at least a quarter turn", kQuarterTurn, turn_score,
+       see_turn, turn_values()},
       {Task::kRough,
        "rough",
        "voxel lengths",
        "|c_xy(T) - c_xy(settle)| / L: the centre of mass's horizontal displacement over a "
        "seeded random height field",
+       "fitness >= 5: the centre of mass travels at least 5 voxel lengths over the rough ground",
+       5,
        horizontal_travel,
        nullptr,
        {},
@@ -45,16 +56,22 @@ const std::vector<TaskInfo>& all_tasks() {
        "voxel lengths",
        "max(0, |c_xy(T) - c_xy(settle)| + w (h(c(T)) - h(c(settle)))) / L: horizontal "
        "displacement plus w times the rise of the ground under the centre of mass",
+       "the ground under the centre of mass ends at least one step (rise) above the ground "
+       "under it at settling: on the first terrace or higher",
+       0,
        climb_score,
        nullptr,
        {},
        climb_params(),
        climb_environment,
-       "terraces: count steps of height rise, one every run, rising away from the start every way"},
+       "terraces: count steps of height rise, one every run, rising away from the start every way",
+       climb_succeeds},
       {Task::kSlope,
        "slope",
        "voxel lengths",
        "max(0, h(c(T)) - h(c(settle))) / L: the rise of the ground under the centre of mass",
+       "fitness >= 1: the ground under the centre of mass rises at least one voxel length",
+       1,
        slope_score,
        nullptr,
        {},
@@ -66,6 +83,8 @@ const std::vector<TaskInfo>& all_tasks() {
        "voxel lengths",
        "|c_xy(T) - c_xy(settle)| / L: the centre of mass's horizontal displacement through a "
        "field of static blocks",
+       "fitness >= 5: the centre of mass travels at least 5 voxel lengths through the blocks",
+       5,
        horizontal_travel,
        nullptr,
        {},
@@ -79,6 +98,8 @@ const std::vector<TaskInfo>& all_tasks() {
        "min(|p_xy(t_last) - p_xy(settle)|, |c_xy(t_last) - c_xy(settle)|) / L: the lesser of the "
        "payload's and the body's horizontal displacements from the end of settling to the last "
        "step the payload was on the body (no payload voxel within a voxel length of the ground)",
+       "fitness >= 2: the body carries the payload at least two voxel lengths",
+       2,
        carry_score,
        see_carry,
        carry_values(),
@@ -90,6 +111,8 @@ const std::vector<TaskInfo>& all_tasks() {
        "voxel lengths",
        "|b_xy(T) - b_xy(settle)| / L: the horizontal displacement of the box's centre from the "
        "end of settling to the end of the life",
+       "fitness >= 2: the box moves at least two voxel lengths",
+       2,
        push_score,
        see_push,
        push_values(),
@@ -143,6 +166,11 @@ std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot) {
   if (task == Task::kCarry) return carry_objects(robot);
   if (task == Task::kPush) return push_objects(robot);
   return {};
+}
+
+bool task_success(const Model& model, const SimResult& summary) {
+  const TaskInfo& t = task_info(model.def.task);
+  return t.succeeds ? t.succeeds(model, summary) : summary.fitness >= t.threshold;
 }
 
 void see_task(const Model& model, State& state) {

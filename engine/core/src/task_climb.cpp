@@ -31,6 +31,12 @@ double climb_score(const Model& m, const State&, const SimResult& summary) {
   return std::max(0.0, horizontal_displacement(summary) + w * ground_rise(m, summary)) / m.size;
 }
 
+// Success: the ground under the centre of mass rose at least one step, less a rounding's
+// worth (the ground is interpolated between nodes, and a terrace is level at rise).
+bool climb_succeeds(const Model& m, const SimResult& summary) {
+  return ground_rise(m, summary) >= (task_param(m.def, "rise") - 1e-9) * m.size;
+}
+
 std::vector<TaskParam> climb_params() {
   return {{"rise", 0.5, 0.05, 5, "voxel lengths"},
           {"run", 3, 0.5, 10, "voxel lengths"},

@@ -53,6 +53,7 @@ Environment rough_environment(const PhysicsDef& def, const TaskSite& site);
 double climb_score(const Model& model, const State& last, const SimResult& summary);
 std::vector<TaskParam> climb_params();
 Environment climb_environment(const PhysicsDef& def, const TaskSite& site);
+bool climb_succeeds(const Model& model, const SimResult& summary);
 double slope_score(const Model& model, const State& last, const SimResult& summary);
 std::vector<TaskParam> slope_params();
 Environment slope_environment(const PhysicsDef& def, const TaskSite& site);

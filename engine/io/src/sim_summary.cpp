@@ -19,6 +19,7 @@ std::vector<SummaryField> sim_summary_fields(const SimResult& r, const PhysicsDe
       {"task", std::string(to_string(physics.task))},
       {"fitness", r.fitness},
       {"fitness_unit", std::string(task_info(physics.task).unit)},
+      {"success", r.success},
       {"dist_x", r.displacement.x()},
       {"dist_y", r.displacement.y()},
       {"dist_z", r.displacement.z()},

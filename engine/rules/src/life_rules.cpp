@@ -31,6 +31,8 @@ void judge_life(const PhysicsDef& def, SimResult& r) {
                 "authors' rule, which scores them)";
     r.fitness = 0;
   }
+  // Only a life that counts succeeds (the core claims success for finished lives alone).
+  if (r.status != SimStatus::kFinished) r.success = false;
   // Said, as the floor's health is, since the number alone reads as a walk (without the
   // floor nothing holds a body up unless boxes do).
   if (!vertical_exploit(def, r)) return;

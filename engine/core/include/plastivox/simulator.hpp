@@ -180,6 +180,9 @@ struct SimResult {
   // it counts). Under walk, the default, the centre-of-mass displacement settle..end, voxel
   // lengths.
   double fitness = 0;
+  // Whether a finished life met its task's criterion (TaskInfo::criterion, docs/tasks.md);
+  // false for a life that did not finish, and judge_life clears it for one that does not count.
+  bool success = false;
   Vec3 displacement = Vec3::Zero();  // centre of mass, settle..end, per axis, voxel lengths
   Vec3 com_settled = Vec3::Zero();   // m
   Vec3 com_final = Vec3::Zero();     // m

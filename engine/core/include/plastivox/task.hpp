@@ -59,6 +59,11 @@ struct TaskInfo {
   const char* name;     // in configs, on the command line (--task) and in results files
   const char* unit;     // of the fitness: "voxel lengths", "rad"
   const char* formula;  // one line, as docs/tasks.md states it
+  // What a life must achieve to succeed at the task, one line a reader can check, as
+  // docs/tasks.md states it; `threshold` is the least fitness that meets it (in `unit`) unless
+  // `succeeds` decides.
+  const char* criterion;
+  double threshold;
   // The fitness of the life ended at `last`, in the task's unit, from its running values and
   // the summary (displacement and centres of mass already filled in).
   double (*score)(const Model& model, const State& last, const SimResult& summary);
@@ -72,6 +77,9 @@ struct TaskInfo {
   // the flat floor.
   Environment (*environment)(const PhysicsDef& def, const TaskSite& site) = nullptr;
   const char* environment_text = "flat floor with friction";  // one line, for reports
+  // Whether the life summarised by `summary` (fitness filled in) meets the criterion, for a
+  // criterion that is not a least fitness; nullptr: fitness >= threshold.
+  bool (*succeeds)(const Model& model, const SimResult& summary) = nullptr;
 };
 
 // Every task, in the enum's order.
@@ -86,6 +94,10 @@ std::string task_names();  // "walk, jump, turn, carry, push"
 // one), and its score of the life ended at `last`.
 void see_task(const Model& model, State& state);
 double task_score(const Model& model, const State& last, const SimResult& summary);
+// Whether the life summarised by `summary` (its fitness the task's score) meets the task's
+// criterion. A measurement: simulate() claims it only for a finished life, and judge_life
+// (plastivox/rules/life_rules.hpp) withdraws it from a life that does not count.
+bool task_success(const Model& model, const SimResult& summary);
 
 // The value of parameter `name` of def.task: given, else its default. Throws
 // std::invalid_argument when the task has no such parameter (a programming error).

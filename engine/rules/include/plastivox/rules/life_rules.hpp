@@ -32,7 +32,9 @@ bool vertical_exploit(const PhysicsDef& def, const SimResult& r);
 //   - sinking: a finished life that sank (r.sank) is invalid under def.sinking_invalid: its
 //     status becomes kUnstable, its fitness 0 and `failure` says what sank and which rule
 //     decided (false, the authors' rule, scores it like any other life);
-//   - vertical: a life vertical_exploit flags gets a warning saying so.
+//   - vertical: a life vertical_exploit flags gets a warning saying so;
+//   - success: a life that does not count (not finished, or made invalid here) has
+//     success false, whatever the task's criterion said of its measurements.
 void judge_life(const PhysicsDef& def, SimResult& r);
 
 // A life still running (Python's VoxelEnv) ends invalid the moment it is certain to be
