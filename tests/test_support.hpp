@@ -93,7 +93,7 @@ class ScratchDirTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-// Every row of a field table (kStateFields, kSensorFields: name, shape, unit, frame,
+// Every row of a field table (kStateFields, kSensorFields: name, shape, unit, axes,
 // meaning) stands in the document `doc` (a path below the source tree) as the Markdown row
 // "| `name` | shape | unit | axes | meaning |".
 template <class Table>

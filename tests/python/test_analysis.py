@@ -292,7 +292,7 @@ def test_robustness_battery_equals_the_command_and_paper_is_r(study, tmp_path):
     run_cli("robustness", *[c["file"] for c in stats["champions"]], "--battery", "small",
             "--seed", str(SEED), "--resamples", str(RESAMPLES), "--threads", "2", "--out", str(out))
     written = json.load(open(out / "robustness.json"))
-    small = plastivox.robustness(keep, battery="small", seed=SEED, frame=False, threads=1)
+    small = plastivox.robustness(keep, battery="small", seed=SEED, pandas=False, threads=1)
     profiles = [c["profile"] for c in written["champions"] if "profile" in c]
     assert len(profiles) == len(keep)
     expected = [json_number(x) for p in profiles for q in p["perturbations"]

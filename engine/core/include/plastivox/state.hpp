@@ -53,7 +53,7 @@ inline BondPrev bond_components(const Model& m) {
 }
 }  // namespace state_init
 
-// Every field of State, in order: FIELD(type, name, initial value, shape, unit, frame,
+// Every field of State, in order: FIELD(type, name, initial value, shape, unit, axes,
 // meaning); bond_prev is one member of nine rows. The size is actuated for the next step's
 // bonds and contacts (none before the first step); dt follows stiffness; Voxelyze 0.9 starts
 // every bond in its small-angle axes. The last six rows are what the Simulator keeps besides
