@@ -11,7 +11,7 @@ using fields::bytes_of;
 
 // A row of one Model member, its bytes as bytes_of gives them.
 #define PLASTIVOX_MODEL_ROW(name, member, shape, unit, axes, meaning)                   \
-  {                                                                                      \
+  {                                                                                     \
     name, shape, unit, axes, meaning, [](const Model& m) { return bytes_of(m.member); } \
   }
 

@@ -74,7 +74,8 @@ void validate(const Battery& battery, const std::string& where = "battery");
 
 // The built-in batteries: "default" (every kind, three or more severities, three seeds),
 // "paper" (Eq. 2 alone: severity 1, seeds 0..draws-1) and "small" (the default study's: paper,
-// voxel-loss, friction, gravity at three severities, one seed: 14 lives a champion). Throws for another name.
+// voxel-loss, friction, gravity at three severities, one seed: 14 lives a champion). Throws for
+// another name.
 Battery builtin_battery(const std::string& name, int paper_draws = 10);
 
 // The battery named by `spec`: a built-in name or a JSON file (docs/analysis.md). Throws

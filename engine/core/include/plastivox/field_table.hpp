@@ -133,8 +133,8 @@ void copy(const std::vector<View>& rows, const Read& read);
 #define PLASTIVOX_FIELD_INITIAL(type, name, initial, shape, unit, axes, meaning) s.name = initial;
 #define PLASTIVOX_MEMBER_INITIAL(type, name, initial) s.name = initial;
 #define PLASTIVOX_ROW_ENTRY(name, member, shape, unit, axes, meaning) \
-  {#name, shape,   unit,                                               \
-   axes, meaning, [](const auto& s) { return ::plastivox::fields::bytes_of(s.member); }},
+  {#name, shape,   unit,                                              \
+   axes,  meaning, [](const auto& s) { return ::plastivox::fields::bytes_of(s.member); }},
 #define PLASTIVOX_FIELD_ROW(type, name, initial, shape, unit, axes, meaning) \
   PLASTIVOX_ROW_ENTRY(name, name, shape, unit, axes, meaning)
 #define PLASTIVOX_NO_MEMBER(type, name, initial)
