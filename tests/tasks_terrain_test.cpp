@@ -110,7 +110,8 @@ TEST(TerrainTasks, SlopeScoresTheRiseOfTheGroundUnderTheCentreOfMass) {
 }
 
 TEST(TerrainTasks, ClimbScoresDistancePlusWeightedHeightGained) {
-  const Model m = block_under(physics_of(Task::kClimb));
+  // Steps of 0.5 L (the default is 0.25 L) keep the sums round.
+  const Model m = block_under(physics_of(Task::kClimb, {{"rise", 0.5}}));
   const double flat = 1.5 * L + 1 * L;
   EXPECT_EQ(score_of(m, centre(), centre()), 0.0);
   // On the level ground: the distance alone (2 L).
@@ -122,7 +123,7 @@ TEST(TerrainTasks, ClimbScoresDistancePlusWeightedHeightGained) {
   // Down again to the start: 7 L across less 4 x 1 L down.
   EXPECT_NEAR(score_of(m, second, centre()), 7.0 - 4.0, 1e-9);
   // Parameters: a weight of 0 is distance alone; steps of 1 L: onto the first, 2.5 + 4 x 1.
-  const Model w0 = block_under(physics_of(Task::kClimb, {{"height_weight", 0}}));
+  const Model w0 = block_under(physics_of(Task::kClimb, {{"rise", 0.5}, {"height_weight", 0}}));
   EXPECT_NEAR(score_of(w0, centre(), second), 7.0, 1e-9);
   const Model tall = block_under(physics_of(Task::kClimb, {{"rise", 1}}));
   EXPECT_NEAR(score_of(tall, centre(), centre() + Vec3(-flat - 1.5 * L, 0, 0)), 4.0 + 4.0, 1e-9);

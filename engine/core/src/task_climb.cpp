@@ -38,7 +38,7 @@ bool climb_succeeds(const Model& m, const SimResult& summary) {
 }
 
 std::vector<TaskParam> climb_params() {
-  return {{"rise", 0.5, 0.05, 5, "voxel lengths"},
+  return {{"rise", 0.25, 0.05, 5, "voxel lengths"},
           {"run", 3, 0.5, 10, "voxel lengths"},
           {"count", 8, 1, 20, "", true},
           {"height_weight", 4, 0, 100, "", false, false}};
