@@ -301,6 +301,13 @@ TEST_F(Study, OutputsExistAndAgreeWithEachOther) {
   // The report: self-contained HTML with the heat map, every champion and the statistics.
   const std::string html = report_html(read_study_result(path("out/analysis.h5")));
   EXPECT_NE(html.find("<svg"), std::string::npos);
+  // The heat map's legend: the largest distance alone under the bar's end, the unit after the
+  // bar (a number and the unit under a short bar overran its 0).
+  char top[64];
+  std::snprintf(top, sizeof top, ">%.4g</text>",
+                *std::max_element(r.hausdorff.distance.begin(), r.hausdorff.distance.end()));
+  EXPECT_NE(html.find(top), std::string::npos) << top;
+  EXPECT_NE(html.find("\">voxel lengths</text>"), std::string::npos);
   EXPECT_EQ(html.find("<script"), std::string::npos);
   for (const ChampionAnalysis& c : r.champions) EXPECT_NE(html.find(c.label), std::string::npos);
   EXPECT_NE(html.find("Bonferroni"), std::string::npos);

@@ -67,7 +67,9 @@ std::string heat_map(const StudyResult& r) {
   for (double d : m.distance) top = std::max(top, d);
   const int cell = std::clamp(560 / std::max(n, 1), 8, 36);
   const int label_w = 130, legend_h = 50;
-  const int w = label_w + n * cell + 20, h = label_w + n * cell + legend_h;
+  // The legend's bar, and the unit written after it (wider than the grid of a few champions).
+  const int lw = std::max(120, n * cell / 2);
+  const int w = label_w + std::max(n * cell + 20, lw + 100), h = label_w + n * cell + legend_h;
   std::string s;
   char buf[512];
   std::snprintf(buf, sizeof buf,
@@ -110,18 +112,20 @@ std::string heat_map(const StudyResult& r) {
         x, label_w, x, label_w + n * cell, label_w, x, label_w + n * cell, x);
     s += buf;
   }
-  // Legend: 0 .. the largest distance.
-  const int ly = label_w + n * cell + 16, lw = std::max(120, n * cell / 2);
+  // Legend: 0 .. the largest distance under the bar's ends, the unit after it (under the bar,
+  // a long number and the unit ran into the 0).
+  const int ly = label_w + n * cell + 16;
   for (int k = 0; k < 32; ++k) {
     std::snprintf(buf, sizeof buf,
                   "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"10\" fill=\"%s\"/>",
                   label_w + k * lw / 32, ly, lw / 32 + 1, colour(k / 31.0).c_str());
     s += buf;
   }
-  std::snprintf(buf, sizeof buf,
-                "<text x=\"%d\" y=\"%d\">0</text><text x=\"%d\" y=\"%d\" text-anchor=\"end\">%s "
-                "voxel lengths</text>",
-                label_w, ly + 24, label_w + lw, ly + 24, display(top, 4).c_str());
+  std::snprintf(
+      buf, sizeof buf,
+      "<text x=\"%d\" y=\"%d\">0</text><text x=\"%d\" y=\"%d\" text-anchor=\"end\">%s</text>"
+      "<text x=\"%d\" y=\"%d\" dominant-baseline=\"middle\">voxel lengths</text>",
+      label_w, ly + 24, label_w + lw, ly + 24, display(top, 4).c_str(), label_w + lw + 6, ly + 5);
   s += buf;
   return s + "</svg>\n";
 }
