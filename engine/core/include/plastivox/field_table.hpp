@@ -7,15 +7,16 @@
 //   RECORDED(type, name, initial, views, shape, unit, axes, meaning, dataset, python): a FIELD
 //       that every recorded frame also copies, as the channel `dataset` of a recorded life
 //       file and the attribute `python` of a Python Trajectory;
-//   MEMBER(type, name, initial): a member whose rows are listed apart (one per component);
-//   ROW(name, member, views, shape, unit, axes, meaning): a row of `member` (an expression
-//       such as bond_prev[0]).
+//   MEMBER(type, name, initial, views): a member whose rows are listed apart (one per
+//       component);
+//   ROW(name, member, shape, unit, axes, meaning): a row of `member` (an expression such as
+//       bond_prev[0]).
 // `initial` is an expression of the model `m`. `views` is a parenthesised list of the
-// kernels' pointers to the row's array, named through `views` (a KernelViews,
+// kernels' pointers to the member's array, named through `views` (a KernelViews,
 // engine/core/src/workspace.hpp), such as (views.voxel.pos, views.voxel_out.pos); () for
-// none. Shapes: "1" one value, "3" a fixed vector, "n" per voxel, "n x 3" a vector per voxel,
-// "n x 4" a quaternion per voxel (x, y, z, w: Eigen's order), "bonds" per bond, "memory" as
-// many as the controller keeps.
+// none; a MEMBER's are arrays of pointers, one per component. Shapes: "1" one value, "3" a fixed
+// vector, "n" per voxel, "n x 3" a vector per voxel, "n x 4" a quaternion per voxel (x, y, z, w:
+// Eigen's order), "bonds" per bond, "memory" as many as the controller keeps.
 #pragma once
 
 #include <array>
