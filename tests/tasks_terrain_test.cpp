@@ -394,16 +394,13 @@ TEST_F(TerrainTasksCli, BadTaskIsOneLineAndANonZeroExit) {
 }
 
 TEST_F(TerrainTasksCli, SimulateNamesTheTaskAndScoresOnItsGround) {
-  const Output o = cli("simulate --task rough --duration 0.6 --json");
-  ASSERT_EQ(o.status, 0) << o.out;
-  const nlohmann::json j = nlohmann::json::parse(o.out);
+  const nlohmann::json j = testing::cli_json("simulate --task rough --duration 0.6 --json");
   EXPECT_EQ(j.at("task"), "rough");
   EXPECT_EQ(j.at("fitness_unit"), "voxel lengths");
-  const Output walk = cli("simulate --duration 0.6 --json");
-  ASSERT_EQ(walk.status, 0) << walk.out;
   // The ground is not the floor's: the life differs. (On slope's or climb's default, a body
   // that stays on the level ground around its start lives the floor's life, bit for bit.)
-  EXPECT_NE(nlohmann::json::parse(walk.out).at("final_state_hash"), j.at("final_state_hash"));
+  EXPECT_NE(testing::cli_json("simulate --duration 0.6 --json").at("final_state_hash"),
+            j.at("final_state_hash"));
 }
 
 TEST_F(TerrainTasksCli, EvolutionRecordsTheTaskWithItsParameters) {
@@ -420,9 +417,7 @@ TEST_F(TerrainTasksCli, EvolutionRecordsTheTaskWithItsParameters) {
   const TaskParams want = {{"rise", 0.25}};
   EXPECT_EQ(f.state.config.physics.task_params, want);
   // Climb's criterion reads the ground under the centre of mass, which the file does not keep.
-  const Output info = cli("inspect " + out + " --json");
-  ASSERT_EQ(info.status, 0) << info.out;
-  EXPECT_TRUE(nlohmann::json::parse(info.out).at("champion_success").is_null()) << info.out;
+  EXPECT_TRUE(testing::cli_json("inspect " + out + " --json").at("champion_success").is_null());
   // The analysis names the task and its environment, in the report and stats.json.
   const Output a = cli("analyze " + out + " --out " + path("analysis"));
   ASSERT_EQ(a.status, 0) << a.out;

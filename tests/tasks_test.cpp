@@ -379,36 +379,28 @@ class TasksCli : public testing::ScratchDirTest {
 };
 
 TEST_F(TasksCli, UnknownTaskIsOneLineAndANonZeroExit) {
-  Output o = cli("simulate --task fly --duration 0.1");
-  EXPECT_EQ(o.status, 2);
-  EXPECT_EQ(o.out,
-            "plastivox simulate: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
-            "slope, obstacles, carry, push) (plastivox "
-            "simulate --help lists the options)\n");
-  o = cli("evolve --config x.json --out x.h5 --task fly");
-  EXPECT_EQ(o.status, 2);
-  EXPECT_EQ(o.out,
-            "plastivox evolve: --task: unknown task 'fly' (use walk, jump, turn, rough, climb, "
-            "slope, obstacles, carry, push) (plastivox "
-            "evolve --help lists the options)\n");
+  const std::string unknown =
+      "unknown task 'fly' (use walk, jump, turn, rough, climb, slope, obstacles, carry, push)";
+  for (const std::string command :
+       {"simulate --duration 0.1", "evolve --config x.json --out x.h5"}) {
+    const std::string name = command.substr(0, command.find(' '));
+    const Output o = cli(command + " --task fly");
+    EXPECT_EQ(o.status, 2);
+    EXPECT_EQ(o.out, "plastivox " + name + ": --task: " + unknown + " (plastivox " + name +
+                         " --help lists the options)\n");
+  }
   const std::string cfg = write("run.json", R"({"format": "plastivox-evolve-config",
       "version": 1, "task": {"name": "fly"}})");
-  o = cli("evolve --config " + cfg + " --out " + path("run.h5"));
+  const Output o = cli("evolve --config " + cfg + " --out " + path("run.h5"));
   EXPECT_EQ(o.status, 1);
-  EXPECT_EQ(o.out, "plastivox evolve: error: " + cfg +
-                       ": task.name: unknown task 'fly' (use walk, jump, turn, rough, climb, "
-                       "slope, obstacles, carry, push)\n");
+  EXPECT_EQ(o.out, "plastivox evolve: error: " + cfg + ": task.name: " + unknown + "\n");
 }
 
 TEST_F(TasksCli, SimulateScoresTheTaskItIsGiven) {
-  const Output o = cli("simulate --task turn --duration 0.6 --json");
-  ASSERT_EQ(o.status, 0) << o.out;
-  const nlohmann::json j = nlohmann::json::parse(o.out);
+  const nlohmann::json j = testing::cli_json("simulate --task turn --duration 0.6 --json");
   EXPECT_EQ(j.at("task"), "turn");
   EXPECT_EQ(j.at("fitness_unit"), "rad");
-  const Output walk = cli("simulate --duration 0.6 --json");
-  ASSERT_EQ(walk.status, 0) << walk.out;
-  const nlohmann::json w = nlohmann::json::parse(walk.out);
+  const nlohmann::json w = testing::cli_json("simulate --duration 0.6 --json");
   EXPECT_EQ(w.at("task"), "walk");
   // The same life (the state's hash differs: it covers the task's running values).
   for (const char* key : {"dist_x", "dist_y", "dist_z", "final_stiffness", "steps"})
@@ -520,9 +512,7 @@ TEST_F(TasksCli, EvolutionWithTaskJumpRunsRecordsTheTaskAndRefusesAnother) {
   const std::string out = path("jump.h5");
   Output o = cli("evolve --config " + cfg + " --out " + out + " --task jump --threads 1");
   ASSERT_EQ(o.status, 0) << o.out;
-  o = cli("inspect " + out + " --json");
-  ASSERT_EQ(o.status, 0) << o.out;
-  const nlohmann::json j = nlohmann::json::parse(o.out);
+  const nlohmann::json j = testing::cli_json("inspect " + out + " --json");
   EXPECT_EQ(j.at("task"), "jump");
   EXPECT_EQ(j.at("fitness_unit"), "voxel lengths");
   EXPECT_GT(j.at("best_fitness").get<double>(), 0);

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/task.hpp"
 
@@ -121,6 +123,12 @@ std::string error_of(const std::function<void()>& f) {
 
 Output cli(const std::string& args) {
   return shell(std::string(PLASTIVOX_CLI) + " " + args + " 2>&1");
+}
+
+nlohmann::json cli_json(const std::string& args) {
+  const Output o = cli(args);
+  EXPECT_EQ(o.status, 0) << args << ": " << o.out;
+  return o.status == 0 ? nlohmann::json::parse(o.out) : nlohmann::json();
 }
 
 void ScratchDirTest::SetUp() {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json_fwd.hpp>
 
 #include "plastivox/model.hpp"
 #include "plastivox/simulator.hpp"
@@ -68,6 +69,9 @@ Output shell(const std::string& command_line);
 // The plastivox program (this build's) run with `args` (words for the shell), its standard
 // error merged into the output.
 Output cli(const std::string& args);
+// The JSON object cli(args) prints; a non-zero exit is a test failure (with the output), and
+// the JSON is then null.
+nlohmann::json cli_json(const std::string& args);
 
 // Headless Chromium (Debian package chromium) with software WebGL (SwiftShader) and every
 // host name unresolvable, as with the network off: the program and its flags, with a fresh

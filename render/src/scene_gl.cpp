@@ -115,6 +115,22 @@ void set_int(GLuint prog, const char* name, int v) {
 }
 
 // The unit cube as 6 faces x 4 corners with outward normals, and its 36 indices.
+// A vertex array and its vertex buffer, made and bound.
+void make_vertex_array(GLuint& vao, GLuint& vbo) {
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glGenBuffers(1, &vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo);
+}
+
+// Vertex attribute `index` of the bound buffer: `count` floats at `offset` floats into each
+// record of `stride` floats.
+void float_attribute(GLuint index, int count, int stride, int offset) {
+  glEnableVertexAttribArray(index);
+  glVertexAttribPointer(index, count, GL_FLOAT, GL_FALSE, stride * sizeof(float),
+                        reinterpret_cast<void*>(offset * sizeof(float)));
+}
+
 void cube_mesh(std::vector<float>& vertices, std::vector<GLushort>& indices) {
   for (int axis = 0; axis < 3; ++axis)
     for (int sign = -1; sign <= 1; sign += 2) {
@@ -269,17 +285,11 @@ SceneRenderer::SceneRenderer(OffscreenContext& ctx) : impl_(std::make_unique<Imp
   std::vector<float> verts;
   std::vector<GLushort> idx;
   cube_mesh(verts, idx);
-  glGenVertexArrays(1, &g.box_vao);
-  glBindVertexArray(g.box_vao);
-  glGenBuffers(1, &g.cube_vbo);
-  glBindBuffer(GL_ARRAY_BUFFER, g.cube_vbo);
+  make_vertex_array(g.box_vao, g.cube_vbo);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(verts.size() * sizeof(float)), verts.data(),
                GL_STATIC_DRAW);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                        reinterpret_cast<void*>(3 * sizeof(float)));
+  float_attribute(0, 3, 6, 0);  // position
+  float_attribute(1, 3, 6, 3);  // normal
   glGenBuffers(1, &g.cube_ibo);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.cube_ibo);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(idx.size() * sizeof(GLushort)),
@@ -287,45 +297,28 @@ SceneRenderer::SceneRenderer(OffscreenContext& ctx) : impl_(std::make_unique<Imp
   // Per-instance: centre (3), orientation (4), edge (1), colour (3) = 11 floats.
   glGenBuffers(1, &g.instance_vbo);
   glBindBuffer(GL_ARRAY_BUFFER, g.instance_vbo);
-  const GLsizei stride = 11 * sizeof(float);
   const int sizes[] = {3, 4, 1, 3};
-  size_t offset = 0;
+  int offset = 0;
   for (int a = 0; a < 4; ++a) {
-    glEnableVertexAttribArray(2 + a);
-    glVertexAttribPointer(2 + a, sizes[a], GL_FLOAT, GL_FALSE, stride,
-                          reinterpret_cast<void*>(offset * sizeof(float)));
+    float_attribute(2 + a, sizes[a], 11, offset);
     glVertexAttribDivisor(2 + a, 1);
     offset += sizes[a];
   }
 
   // Floor pieces are world positions, uploaded with each scene.
-  glGenVertexArrays(1, &g.floor_vao);
-  glBindVertexArray(g.floor_vao);
-  glGenBuffers(1, &g.floor_vbo);
-  glBindBuffer(GL_ARRAY_BUFFER, g.floor_vbo);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+  make_vertex_array(g.floor_vao, g.floor_vbo);
+  float_attribute(0, 3, 3, 0);
 
   // The world's triangles (world_triangles: position and normal per corner), per scene.
-  glGenVertexArrays(1, &g.world_vao);
-  glBindVertexArray(g.world_vao);
-  glGenBuffers(1, &g.world_vbo);
-  glBindBuffer(GL_ARRAY_BUFFER, g.world_vbo);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                        reinterpret_cast<void*>(3 * sizeof(float)));
+  make_vertex_array(g.world_vao, g.world_vbo);
+  float_attribute(0, 3, 6, 0);
+  float_attribute(1, 3, 6, 3);
 
   // One triangle covering the viewport, for the edge anti-aliasing pass.
   const float cover[] = {-1, -1, 0, 3, -1, 0, -1, 3, 0};
-  glGenVertexArrays(1, &g.edge_vao);
-  glBindVertexArray(g.edge_vao);
-  glGenBuffers(1, &g.edge_vbo);
-  glBindBuffer(GL_ARRAY_BUFFER, g.edge_vbo);
+  make_vertex_array(g.edge_vao, g.edge_vbo);
   glBufferData(GL_ARRAY_BUFFER, sizeof cover, cover, GL_STATIC_DRAW);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+  float_attribute(0, 3, 3, 0);
   glBindVertexArray(0);
 
   glGenTextures(1, &g.shadow_tex);

@@ -5,6 +5,8 @@ PLASTIVOX_TEST_DATA_DIR (python/CMakeLists.txt)."""
 import json
 import os
 import subprocess
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -27,6 +29,48 @@ def run_cli(*args, check=True):
 
 def cli_json(*args):
     return json.loads(run_cli(*args)[1])
+
+
+def main_thread_turns(call):
+    """Runs call() in another thread and counts how often this thread wakes (every
+    millisecond) from the call's start to its end. A call that releases the GIL lets it wake
+    about once a millisecond; one that holds it, only in the few bytecodes around the call."""
+    inside = threading.Event()
+    done = threading.Event()
+
+    def work():
+        inside.set()
+        try:
+            call()
+        finally:
+            done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    inside.wait()
+    turns = 0
+    while not done.is_set():
+        turns += 1
+        time.sleep(0.001)
+    worker.join()
+    return turns
+
+
+def expect_signals_refused(take, name, n):
+    """take(signal), which takes one value per voxel in [-1, 1] (Simulator.set_actuation,
+    VoxelEnv.step), refuses a wrong shape, an integer or object array and a value out of range,
+    each in one line naming the argument `name`, and takes float32."""
+    with pytest.raises(ValueError, match=r"%s: expected shape \(%d,\).*got \(%d,\)" % (name, n, n + 1)):
+        take(np.zeros(n + 1))
+    with pytest.raises(TypeError, match=r"%s: expected a float array .*int64" % name):
+        take(np.zeros(n, dtype=np.int64))
+    with pytest.raises(TypeError, match=r"%s: expected a float array .* got dtype object" % name):
+        take(None)
+    u = np.zeros(n)
+    u[2] = 1.5
+    with pytest.raises(ValueError, match=r"%s: every value must be in \[-1, 1\]; %s\[2\] is 1.5" % (name, name)):
+        take(u)
+    take(np.full(n, 0.5, dtype=np.float32))
 
 
 def vxa(name):

@@ -12,7 +12,7 @@ import pytest
 import plastivox
 from plastivox import analysis
 
-from conftest import run_cli, tiny_config
+from conftest import main_thread_turns, run_cli, tiny_config
 
 SEED, DRAWS, RESAMPLES = 7, 2, 200  # analyze's --seed, --robustness-draws, --resamples
 
@@ -249,30 +249,21 @@ def test_bad_arguments_are_refused_naming_them(study, tmp_path):
 @pytest.mark.parametrize("call", ["robustness", "hausdorff"])
 def test_long_calls_release_the_gil(call):
     """While robustness's lives or the Hausdorff search run in C++, other Python threads run."""
-    import threading
     import time
     walker = plastivox.demo_walker().with_physics({"duration": 0.5})
     rng = np.random.default_rng(1)
     shape = (14, 14, 14)
     bodies = [walker] + [plastivox.Robot.from_arrays(rng.random(shape) < 0.3, np.full(shape, 1e9),
                                                      np.zeros(shape)) for _ in range(20)]
-    done = threading.Event()
 
     def work():
         if call == "robustness":
             analysis.robustness(walker, draws=2, threads=1)
         else:
             analysis.hausdorff(bodies, rotations="all", threads=1)
-        done.set()
 
-    worker = threading.Thread(target=work)
     start = time.monotonic()
-    worker.start()
-    turns = 0
-    while not done.is_set():
-        turns += 1
-        time.sleep(0.001)
-    worker.join()
+    turns = main_thread_turns(work)
     print(f"{call}: {time.monotonic() - start:.2f} s, {turns} turns")
     assert turns >= 20, f"{call}: the main thread ran {turns} times during the call"
 

@@ -8,7 +8,7 @@ import pytest
 
 import plastivox
 
-from conftest import run_cli
+from conftest import expect_signals_refused, run_cli
 
 
 def short_walker(duration=0.4):
@@ -58,23 +58,12 @@ def test_sin_cycles_stays_in_range():
 def test_wrong_action_arrays_raise_a_clear_error():
     sim = plastivox.Simulator(short_walker())
     n = len(sim.voxel_phase)
-    with pytest.raises(ValueError, match=r"actuation: expected shape \(%d,\).*got \(%d,\)" % (n, n + 1)):
-        sim.set_actuation(np.zeros(n + 1))
     with pytest.raises(ValueError, match=r"actuation: expected shape .* got \(1, %d\)" % n):
         sim.set_actuation(np.zeros((1, n)))
-    with pytest.raises(TypeError, match="actuation: expected a float array .*int64"):
-        sim.set_actuation(np.zeros(n, dtype=np.int64))
-    with pytest.raises(ValueError, match=r"actuation: every value must be in \[-1, 1\]; actuation\[3\] is 1.5"):
-        u = np.zeros(n)
-        u[3] = 1.5
-        sim.set_actuation(u)
     with pytest.raises(ValueError, match=r"actuation\[0\] is nan"):
         sim.set_actuation(np.full(n, np.nan))
-    with pytest.raises(TypeError, match="actuation"):
-        sim.set_actuation(None)
-    # Nothing was taken: the sine still drives, and float32 arrays are fine.
-    assert sim.controller == "sine"
-    sim.set_actuation(np.full(n, 0.5, dtype=np.float32))
+    assert sim.controller == "sine"  # nothing was taken: the sine still drives
+    expect_signals_refused(sim.set_actuation, "actuation", n)  # and float32 arrays are fine
     assert np.array_equal(sim.actuation, np.full(n, 0.5))
     with pytest.raises(ValueError, match="every"):
         sim.set_controller("sine", every=0)

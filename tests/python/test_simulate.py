@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import plastivox
-from conftest import SOURCE, cli_json, run_cli, vxa
+from conftest import SOURCE, cli_json, main_thread_turns, run_cli, vxa
 
 # The summary keys that are science (the rest are wall time and speed).
 TIMING = {"wall_seconds", "voxel_steps_per_second"}
@@ -214,27 +214,16 @@ def test_long_calls_release_the_gil(call):
     """While a life runs in C++ another Python thread keeps running: with the GIL held it
     could run only in the few bytecodes before and after the call."""
     robot = short_walker(1.0)
-    inside = threading.Event()
-    done = threading.Event()
 
     def work():
-        inside.set()
         if call == "simulate":
             plastivox.simulate(robot)
         elif call == "simulate_many":
             plastivox.simulate_many([robot, robot], threads=2)
         else:
             plastivox.Simulator(robot).step(1 << 30)
-        done.set()
 
-    worker = threading.Thread(target=work)
-    worker.start()
-    inside.wait()
-    turns = 0
-    while not done.is_set():
-        turns += 1
-        time.sleep(0.001)
-    worker.join()
+    turns = main_thread_turns(work)
     assert turns >= 20, f"{call}: the main thread ran {turns} times during the call"
 
 

@@ -349,23 +349,17 @@ void scalar_bond(const Model& m, const State& s, Workspace& w, int b) {
 
 }  // namespace
 
-void bind_bond_views(const Model& m, State& s, Workspace& w) {
+void bind_bond_views(const Model& m, Workspace& w) {
   static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
   BondKernelIo& io = w.views.bond;
   io.bond_a = m.bond_a.data();
   io.bond_b = m.bond_b.data();
   io.axis_wide = w.bond_axis_wide.data();
   io.centre_size = w.centre_size.data();
-  io.quat = flat(s.orient);  // x, y, z, w
-  io.stiff = s.stiffness.data();
-  io.prev_valid = s.bond_prev_valid.data();
-  io.all_valid = false;  // set by each step
-  for (int k = 0; k < 9; ++k) {
-    io.prev[k] = s.bond_prev[k].data();
-    io.prev_next[k] = w.bond_prev_next[k].data();  // chosen by each step
-    w.views.prev_in_state[k] = s.bond_prev[k].data();
-  }
-  w.views.small_angle_in_state = s.bond_small_angle.data();
+  // Each step sets whether every bond has a previous deformation and chooses where the next
+  // ones go (compute_bond_forces).
+  io.all_valid = false;
+  for (int k = 0; k < 9; ++k) io.prev_next[k] = w.bond_prev_next[k].data();
   w.views.small_angle_next = w.bond_small_angle_next.data();
   for (int v = 0; v < 3; ++v) io.out[v] = w.bond_out[v].data();
   io.strain = w.bond_strain.data();

@@ -26,7 +26,7 @@ namespace plastivox {
 //   E = E0 + alpha * (stimulus - stimulus at the end of settling); the change in one step is
 //   capped, E is clamped to [e_min, e_max], and only voxels with E > gate (min_devo_factor
 //   e_min) and alpha != 0 develop: soft voxels never do, and one softened to the gate stops.
-void bind_develop_views(const Model& m, State& s, Workspace& w) {
+void bind_develop_views(const Model& m, Workspace& w) {
   DevelopIo& io = w.views.develop;
   for (int slot = 0; slot < 6; ++slot) io.slot_bond[slot] = w.slot_bond[slot].data();
   io.no_bond = m.bond_count();
@@ -34,15 +34,8 @@ void bind_develop_views(const Model& m, State& s, Workspace& w) {
   io.bond_strain = w.bond_strain.data();
   io.bond_energy = w.bond_energy.data();
   io.floor_normal = w.floor_normal.data();
-  io.size = s.size.data();
-  io.lin_mom = flat(s.lin_mom);
-  io.ang_mom = flat(s.ang_mom);
   io.e0 = m.e0.data();
   io.alpha = m.alpha.data();
-  io.stiffness = s.stiffness.data();
-  io.stimulus = s.stimulus.data();
-  io.stim_integral = s.stim_integral.data();
-  io.stim_ref = s.stim_ref.data();
 }
 
 void develop(const Model& m, State& s, Workspace& w) {

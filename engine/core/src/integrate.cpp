@@ -12,32 +12,18 @@
 namespace plastivox {
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Quat) == 4 * sizeof(double));
 
-void bind_voxel_views(const Model& m, State& s, Workspace& w) {
+void bind_voxel_views(const Model& m, Workspace& w) {
   VoxelKernelIo& io = w.views.voxel;
   for (int k = 0; k < 6; ++k) io.slot_bond[k] = w.slot_bond[k].data();
   io.fixed = m.fixed.data();
-  io.load = flat(m.load);
+  io.load = fields::data_of(m.load);
   for (int v = 0; v < 3; ++v) io.bond_out[v] = w.bond_out[v].data();
-  io.pos = flat(s.pos);
-  io.quat = flat(s.orient);
-  io.lin_mom = flat(s.lin_mom);
-  io.ang_mom = flat(s.ang_mom);
-  io.stiff = s.stiffness.data();
-  io.static_friction = s.static_friction.data();
-  io.size = s.size.data();
   for (int c = 0; c < 3; ++c) {
     io.force[c] = w.force[c].data();
     io.moment[c] = w.moment[c].data();
   }
   io.sqrt_e = w.sqrt_e.data();
   io.floor_normal = w.floor_normal.empty() ? nullptr : w.floor_normal.data();
-
-  VoxelStateOut& out = w.views.voxel_out;
-  out.pos = flat(s.pos);
-  out.quat = flat(s.orient);
-  out.lin_mom = flat(s.lin_mom);
-  out.ang_mom = flat(s.ang_mom);
-  out.static_friction = s.static_friction.data();
 }
 
 // Reads the State through the views (positions, momenta, stiffness); the gather takes no dt.

@@ -12,39 +12,34 @@
 namespace plastivox {
 namespace {
 
-// A Frame member as doubles: Eigen's fixed-size vectors and quaternions are plain arrays of
-// doubles (x, y, z[, w]), so a vector of them is one flat array.
+// A control channel: a Frame member as doubles (Eigen's fixed-size vectors are plain arrays
+// of doubles, x, y, z, so a vector of them is one flat array), filled by capture_control.
 template <class T, std::vector<T> Frame::*kMember>
-FrameField channel(const char* name, const char* python, const char* state_field,
-                   std::initializer_list<int> order) {
+FrameField channel(const char* name, const char* python, const char* state_field) {
   static_assert(sizeof(T) % sizeof(double) == 0);
-  FrameField f{name, python, state_field, static_cast<int>(sizeof(T) / sizeof(double)), {}, {}, {}};
-  int k = 0;
-  for (int o : order) f.order[k++] = o;
-  f.values = [](const Frame& fr) { return reinterpret_cast<const double*>((fr.*kMember).data()); };
-  f.resize = [](Frame& fr, size_t voxels) { (fr.*kMember).resize(voxels); };
-  return f;
+  return {name,
+          python,
+          state_field,
+          static_cast<int>(sizeof(T) / sizeof(double)),
+          {0, 1, 2, 3},
+          [](const Frame& fr) { return reinterpret_cast<const double*>((fr.*kMember).data()); },
+          [](Frame& fr, size_t voxels) { (fr.*kMember).resize(voxels); },
+          nullptr};
 }
 
 }  // namespace
 
-const std::vector<FrameField> kFrameFields = {
-    channel<Vec3, &Frame::pos>("position", "positions", "pos", {0, 1, 2}),
-    channel<Quat, &Frame::orient>("orientation", "orientations", "orient", {3, 0, 1, 2}),
-    channel<double, &Frame::size>("size", "sizes", "size", {0}),
-    channel<double, &Frame::stiffness>("stiffness", "stiffness", "stiffness", {0}),
-    channel<double, &Frame::stimulus>("stimulus", "stimulus", "stimulus", {0}),
-};
+const std::vector<FrameField> kFrameFields = PLASTIVOX_FRAME_CHANNELS(PLASTIVOX_STATE_FIELDS);
 
 const std::vector<FrameField> kControlFrameFields = {
-    channel<double, &Frame::actuation>("actuation", "actuation", "actuation", {0}),
-    channel<double, &Frame::touch>("touch", "touch", "touch", {0}),
-    channel<double, &Frame::floor_force>("floor_force", "floor_force", "floor_force", {0}),
-    channel<double, &Frame::strain>("strain", "strain", "strain", {0}),
-    channel<double, &Frame::stress>("stress", "stress", "stress", {0}),
-    channel<double, &Frame::pressure>("pressure", "pressure", "pressure", {0}),
-    channel<Vec3, &Frame::velocity>("velocity", "velocity", "velocity", {0, 1, 2}),
-    channel<Vec3, &Frame::up>("up", "up", "up", {0, 1, 2}),
+    channel<double, &Frame::actuation>("actuation", "actuation", "actuation"),
+    channel<double, &Frame::touch>("touch", "touch", "touch"),
+    channel<double, &Frame::floor_force>("floor_force", "floor_force", "floor_force"),
+    channel<double, &Frame::strain>("strain", "strain", "strain"),
+    channel<double, &Frame::stress>("stress", "stress", "stress"),
+    channel<double, &Frame::pressure>("pressure", "pressure", "pressure"),
+    channel<Vec3, &Frame::velocity>("velocity", "velocity", "velocity"),
+    channel<Vec3, &Frame::up>("up", "up", "up"),
 };
 
 namespace {
@@ -83,11 +78,7 @@ Frame capture_frame(const State& s) {
   Frame frame;
   frame.time = s.time;
   frame.step = s.steps;
-  for (const FrameField& f : kFrameFields) {
-    const StateFieldBytes b = state_field(f.state_field).bytes(s);
-    f.resize(frame, b.count / b.width);
-    std::memcpy(const_cast<double*>(f.values(frame)), b.data, b.count * b.value_bytes);
-  }
+  for (const FrameField& f : kFrameFields) f.copy(s, frame);
   return frame;
 }
 

@@ -81,31 +81,19 @@ Sensors Simulator::sensors() {
   return Sensors(*model_, state_, *ws_, sensor_cache_);
 }
 
+// The Model's and Workspace's arrays by each stage's own binding, the State's from the list's
+// kernel views column (PLASTIVOX_STATE_FIELDS).
 void bind_views(const Model& m, State& s, Workspace& w) {
-  bind_bond_views(m, s, w);
-  bind_voxel_views(m, s, w);
-  bind_develop_views(m, s, w);
+  bind_bond_views(m, w);
+  bind_voxel_views(m, w);
+  bind_develop_views(m, w);
+  KernelViews& views = w.views;
+  PLASTIVOX_BIND_VIEWS(PLASTIVOX_STATE_FIELDS)
 }
 
 bool views_bound_to(const State& s, const Workspace& w) {
-  const KernelViews& v = w.views;
-  bool same =
-      v.voxel.pos == flat(s.pos) && v.voxel_out.pos == v.voxel.pos &&
-      v.voxel.quat == (s.orient.empty() ? nullptr : s.orient.front().coeffs().data()) &&
-      v.voxel_out.quat == v.voxel.quat && v.bond.quat == v.voxel.quat &&
-      v.voxel.lin_mom == flat(s.lin_mom) && v.develop.lin_mom == v.voxel.lin_mom &&
-      v.voxel.ang_mom == flat(s.ang_mom) && v.develop.ang_mom == v.voxel.ang_mom &&
-      v.voxel.stiff == s.stiffness.data() && v.bond.stiff == v.voxel.stiff &&
-      v.develop.stiffness == s.stiffness.data() &&
-      v.voxel.static_friction == s.static_friction.data() && v.voxel.size == s.size.data() &&
-      v.develop.size == s.size.data() && v.develop.stimulus == s.stimulus.data() &&
-      v.develop.stim_integral == s.stim_integral.data() &&
-      v.develop.stim_ref == s.stim_ref.data() && v.bond.prev_valid == s.bond_prev_valid.data();
-  for (int k = 0; k < 9; ++k)
-    same = same && v.bond.prev[k] == s.bond_prev[k].data() &&
-           v.prev_in_state[k] == s.bond_prev[k].data();
-  same = same && v.small_angle_in_state == s.bond_small_angle.data();
-  return same;
+  const KernelViews& views = w.views;
+  return PLASTIVOX_VIEWS_BOUND(PLASTIVOX_STATE_FIELDS);
 }
 
 namespace {

@@ -162,6 +162,15 @@ void lattice_bounds(const RobotDef& r, int lo[3], int hi[3]) {
   }
 }
 
+ObjectDef centred_object(const RobotDef& robot, std::array<int, 3> voxels, int lo[3], int hi[3]) {
+  lattice_bounds(robot, lo, hi);
+  const double L = robot.voxel_size;
+  ObjectDef o;
+  o.voxels = voxels;
+  for (int a = 0; a < 2; ++a) o.at[a] = 0.5 * (lo[a] + hi[a] + 1) * L - 0.5 * voxels[a] * L;
+  return o;
+}
+
 std::vector<ObjectDef> task_objects(Task task, const RobotDef& robot) {
   if (task == Task::kCarry) return carry_objects(robot);
   if (task == Task::kPush) return push_objects(robot);

@@ -23,12 +23,8 @@ namespace plastivox {
 
 std::vector<ObjectDef> carry_objects(const RobotDef& robot) {
   int lo[3], hi[3];
-  lattice_bounds(robot, lo, hi);
-  const double L = robot.voxel_size;
-  ObjectDef payload;
-  payload.voxels = {2, 2, 1};
-  payload.at = {0.5 * (lo[0] + hi[0] + 1) * L - L, 0.5 * (lo[1] + hi[1] + 1) * L - L,
-                (hi[2] + 1) * L};
+  ObjectDef payload = centred_object(robot, {2, 2, 1}, lo, hi);
+  payload.at[2] = (hi[2] + 1) * robot.voxel_size;  // on the bounds' top
   return {payload};
 }
 

@@ -14,11 +14,8 @@ namespace plastivox {
 
 std::vector<ObjectDef> push_objects(const RobotDef& robot) {
   int lo[3], hi[3];
-  lattice_bounds(robot, lo, hi);
-  const double L = robot.voxel_size;
-  ObjectDef box;
-  box.voxels = {2, 2, 2};
-  box.at = {(hi[0] + 2) * L, 0.5 * (lo[1] + hi[1] + 1) * L - L, 0};
+  ObjectDef box = centred_object(robot, {2, 2, 2}, lo, hi);
+  box.at[0] = (hi[0] + 2) * robot.voxel_size;  // a voxel length beyond the bounds' +x face
   return {box};
 }
 

@@ -2,6 +2,7 @@
 // names them (plastivox/task.hpp).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -46,6 +47,9 @@ double travel_voxel_lengths(const Model& model, const TaskValues& values, int at
 
 // The bounds of the robot's voxels on its lattice, in sites: lo[a] <= site coordinate <= hi[a].
 void lattice_bounds(const RobotDef& robot, int lo[3], int hi[3]);
+// A free object of `voxels` centred on those bounds in x and y, its bottom at z = 0, and the
+// bounds (lo, hi), from which carry_objects and push_objects place it.
+ObjectDef centred_object(const RobotDef& robot, std::array<int, 3> voxels, int lo[3], int hi[3]);
 
 // The terrain tasks: each one's watch, parameters and default environment.
 std::vector<TaskParam> rough_params();

@@ -41,18 +41,6 @@ struct ContactGrid {
   int dim[3] = {0, 0, 0};  // cells per axis
 };
 
-// An array of Eigen vectors or quaternions as the flat array of doubles it is (x, y, z per
-// vector; x, y, z, w per quaternion), or nullptr when empty.
-inline const double* flat(const std::vector<Vec3>& v) {
-  return v.empty() ? nullptr : v.front().data();
-}
-inline double* flat(std::vector<Vec3>& v) {
-  return v.empty() ? nullptr : v.front().data();
-}
-inline double* flat(std::vector<Quat>& v) {
-  return v.empty() ? nullptr : v.front().coeffs().data();
-}
-
 // What the stages hand the kernels (kernels.hpp), built once by bind_views.
 struct KernelViews {
   BondKernelIo bond;  // prev_next: where this step1 writes (compute_bond_forces)
@@ -156,15 +144,15 @@ struct Workspace {
   Workspace& operator=(const Workspace&) = delete;
 };
 
-// Points w.views at the arrays of m, s and w. Called
+// Points w.views at the arrays of m, s and w (s's as PLASTIVOX_STATE_FIELDS names them). Called
 // once when a Simulator is made and again when its State is replaced (restore_state,
 // mutable_state): the views stay valid as long as no array is reallocated, and none is
 // during a life (every array has its final size from the start; restore copies into them).
 void bind_views(const Model& m, State& s, Workspace& w);
-// Each stage's part of it (in the stage's file).
-void bind_bond_views(const Model& m, State& s, Workspace& w);
-void bind_voxel_views(const Model& m, State& s, Workspace& w);
-void bind_develop_views(const Model& m, State& s, Workspace& w);
+// Each stage's part of it for the Model's and the Workspace's arrays (in the stage's file).
+void bind_bond_views(const Model& m, Workspace& w);
+void bind_voxel_views(const Model& m, Workspace& w);
+void bind_develop_views(const Model& m, Workspace& w);
 // Whether w.views still point at s's arrays (for assertions).
 bool views_bound_to(const State& s, const Workspace& w);
 

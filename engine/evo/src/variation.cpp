@@ -5,7 +5,6 @@ namespace plastivox::evo {
 Offspring mutate_child(const Expresser& ex, const Genome& parent,
                        const NetworkOutputs& parent_outputs, const Phenotype& parent_phenotype,
                        Rng& rng, int max_tries) {
-  Offspring child;
   const ControllerGenes& genes = ex.def().controller_genes;
   const int parts = kNetworkCount + (genes.count > 0 ? 1 : 0);
   for (int attempt = 1; attempt <= max_tries; ++attempt) {
@@ -34,19 +33,9 @@ Offspring mutate_child(const Expresser& ex, const Genome& parent,
     if (!applied) continue;
     Phenotype p = ex.express(out);
     if (!p.valid || p.same_as(parent_phenotype)) continue;
-    child.genome = std::move(g);
-    child.outputs = std::move(out);
-    child.phenotype = std::move(p);
-    child.tries = attempt;
-    child.success = true;
-    return child;
+    return {std::move(g), std::move(out), std::move(p), attempt, true};
   }
-  child.genome = parent;
-  child.outputs = parent_outputs;
-  child.phenotype = parent_phenotype;
-  child.tries = max_tries;
-  child.success = false;
-  return child;
+  return {parent, parent_outputs, parent_phenotype, max_tries, false};  // the parent again
 }
 
 namespace {

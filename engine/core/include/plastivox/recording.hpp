@@ -9,19 +9,17 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
+#include "plastivox/state.hpp"
 
 namespace plastivox {
 
 struct Frame {
-  double time = 0;                         // s
-  int64_t step = 0;                        // simulation steps taken to reach this state
-  std::vector<Eigen::Vector3d> pos;        // voxel centre, m, world axes (n)
-  std::vector<Eigen::Quaterniond> orient;  // body-to-world rotation (n)
-  std::vector<double> size;                // actuated edge length, m (n)
-  std::vector<double> stiffness;           // current E, Pa (n)
-  std::vector<double> stimulus;            // the treatment's stimulus, Pa (n; docs/plasticity.md)
+  double time = 0;   // s
+  int64_t step = 0;  // simulation steps taken to reach this state
+  // The State's RECORDED rows (PLASTIVOX_STATE_FIELDS), as the State holds them: pos (voxel
+  // centre, m, world axes), orient (body-to-world rotation), stiffness (current E, Pa), size
+  // (actuated edge length, m), stimulus (the treatment's, Pa; docs/plasticity.md); n each.
+  PLASTIVOX_FRAME_MEMBERS(PLASTIVOX_STATE_FIELDS)
   // The control channels (kControlFrameFields), only when recorded (SimOptions::record_control;
   // empty otherwise). The sensors are those a controller reads at this state (docs/control.md).
   std::vector<double> actuation;          // the signal behind this frame's sizes, in [-1, 1] (n)
@@ -34,25 +32,17 @@ struct Frame {
   std::vector<Eigen::Vector3d> up;        // sensor: the voxel's +z axis, world axes (n)
 };
 
-// The per-voxel channels of a Frame, described once. Each copies one row of kStateFields
-// (state.hpp, which gives its shape, unit and frame) as `width` doubles per voxel. Outside
-// the engine a channel is an array (frames, voxels[, width]) with its components in `order`
-// (the quaternion w first, as in the file formats). capture_frame, the recorded life file's
-// writer and reader and the Python trajectory all go through this table, so a channel added
-// here is recorded, written, read and handed to Python alike.
-struct FrameField {
-  const char* name;         // dataset in a recorded life file
-  const char* python;       // attribute of a Python Trajectory
-  const char* state_field;  // the kStateFields row it copies
-  int width;                // doubles per voxel
-  int order[4];             // the array's component k is the frame's component order[k]
-  const double* (*values)(const Frame&);  // the frame's voxels x width doubles
-  void (*resize)(Frame&, size_t voxels);
-};
+// The per-voxel channels of a Frame, described once: one for each RECORDED row of
+// PLASTIVOX_STATE_FIELDS, generated from the list (FrameRow, plastivox/field_table.hpp, says
+// what a channel holds). capture_frame, the recorded life file's writer and reader and the
+// Python trajectory all go through this table, so a row made RECORDED in the list is
+// recorded, written, read and handed to Python alike.
+using FrameField = FrameRow<State, Frame>;
 extern const std::vector<FrameField> kFrameFields;
 // The control channels, a parallel table recorded only on request (so a default recording
 // keeps its size): the actuation signal ("actuation") and every per-voxel sensor; here
-// `state_field` names the kSensorFields row a channel copies ("actuation": the signal).
+// `state_field` names the kSensorFields row a channel copies ("actuation": the signal), and
+// `copy` is null (capture_control fills them).
 extern const std::vector<FrameField> kControlFrameFields;
 // The unit of a channel of either table ("1" for the signal).
 const char* frame_field_unit(const FrameField& f);

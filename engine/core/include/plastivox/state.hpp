@@ -2,7 +2,8 @@
 // time and must be saved to resume bit-identically. One list of fields (PLASTIVOX_STATE_FIELDS)
 // generates the struct's members, their values at t = 0 (make_initial_state) and the table
 // (kStateFields) that drives save_state/restore_state, state_hash and the Python module's
-// state views (plastivox/field_table.hpp says how). Per-voxel fields are structure-of-arrays.
+// state views, the kernels' views of its arrays and the recorded frames' channels
+// (plastivox/field_table.hpp says how). Per-voxel fields are structure-of-arrays.
 #pragma once
 
 #include <array>
@@ -53,71 +54,88 @@ inline BondPrev bond_components(const Model& m) {
 }
 }  // namespace state_init
 
-// Every field of State, in order: FIELD(type, name, initial value, shape, unit, axes,
-// meaning); bond_prev is one member of nine rows. The size is actuated for the next step's
-// bonds and contacts (none before the first step); dt follows stiffness; Voxelyze 0.9 starts
-// every bond in its small-angle axes. The last six rows are what the Simulator keeps besides
-// the physics, so that a snapshot resumes the score too: the signal and the controller's
-// memory (control.hpp), and the watches step2 updates after every step (the floor's deepest
-// penetration, the task's running values: simulator.hpp).
+// Every field of State, in order: FIELD(type, name, initial value, kernel views, shape, unit,
+// axes, meaning), RECORDED for the rows every recorded frame copies (with the channel's name in
+// a recorded life file and in a Python Trajectory); bond_prev is one member (its views are
+// arrays of nine pointers, one per component) of nine rows. The
+// kernel views are the kernels' pointers to the row's array (KernelViews, bound by
+// bind_views). The size is actuated for the next step's bonds and contacts (none before the
+// first step); dt follows stiffness; Voxelyze 0.9 starts every bond in its small-angle axes.
+// The last six rows are what the Simulator keeps besides the physics, so that a snapshot
+// resumes the score too: the signal and the controller's memory (control.hpp), and the
+// watches step2 updates after every step (the floor's deepest penetration, the task's running
+// values: simulator.hpp). plastivox/field_table.hpp says what the list generates.
 // clang-format off
-#define PLASTIVOX_STATE_FIELDS(FIELD, MEMBER, ROW)                                              \
-  FIELD(double, time, 0.0, "1", "s", "-", "simulated time")                                     \
-  FIELD(int64_t, steps, int64_t{0}, "1", "1", "-", "steps taken")                               \
-  FIELD(double, dt, stable_dt(m, m.e0), "1", "s", "-",                                          \
-        "the next step's length (follows stiffness)")                                           \
-  FIELD(SimStatus, status, SimStatus::kRunning, "1", "-", "-",                                  \
-        "running, finished or unstable (SimStatus)")                                            \
-  FIELD(std::vector<Vec3>, pos, m.rest_pos, "n x 3", "m", "world", "voxel centre")              \
-  FIELD(std::vector<Quat>, orient, state_init::per_voxel(m, Quat::Identity()), "n x 4", "1",    \
-        "body to world", "voxel rotation (x, y, z, w)")                                         \
-  FIELD(std::vector<Vec3>, lin_mom, state_init::per_voxel(m, Vec3(Vec3::Zero())), "n x 3",      \
-        "kg m/s", "world", "linear momentum")                                                   \
-  FIELD(std::vector<Vec3>, ang_mom, state_init::per_voxel(m, Vec3(Vec3::Zero())), "n x 3",      \
-        "kg m^2/s", "world", "angular momentum")                                                \
-  FIELD(std::vector<double>, stiffness, m.e0, "n", "Pa", "-", "current Young's modulus")        \
-  FIELD(std::vector<double>, size, state_init::per_voxel(m, m.size), "n", "m", "-",             \
-        "actuated edge length for the next step")                                               \
-  FIELD(std::vector<double>, stimulus, state_init::per_voxel(m, 0.0), "n", "Pa", "-",           \
-        "the treatment's last stimulus")                                                        \
-  FIELD(std::vector<double>, stim_integral, state_init::per_voxel(m, 0.0), "n", "Pa s", "-",    \
-        "integral of the stimulus since settling")                                              \
-  FIELD(std::vector<double>, stim_ref, state_init::per_voxel(m, 0.0), "n", "Pa", "-",           \
-        "stimulus at the end of settling (rate model)")                                         \
-  FIELD(bool, stim_ref_set, false, "1", "-", "-", "stim_ref has been taken")                    \
-  FIELD(std::vector<uint8_t>, static_friction, state_init::per_voxel(m, uint8_t{0}), "n", "-",  \
-        "-", "1 while held by floor static friction")                                           \
-  MEMBER(BondPrev, bond_prev, state_init::bond_components(m))                                   \
-  ROW(bond_prev_x, bond_prev[0], "bonds", "m", "bond", "previous deformation: b's offset, x")   \
-  ROW(bond_prev_y, bond_prev[1], "bonds", "m", "bond", "previous deformation: b's offset, y")   \
-  ROW(bond_prev_z, bond_prev[2], "bonds", "m", "bond", "previous deformation: b's offset, z")   \
+#define PLASTIVOX_STATE_FIELDS(FIELD, RECORDED, MEMBER, ROW)                                      \
+  FIELD(double, time, 0.0, (), "1", "s", "-", "simulated time")                                   \
+  FIELD(int64_t, steps, int64_t{0}, (), "1", "1", "-", "steps taken")                             \
+  FIELD(double, dt, stable_dt(m, m.e0), (), "1", "s", "-",                                        \
+        "the next step's length (follows stiffness)")                                             \
+  FIELD(SimStatus, status, SimStatus::kRunning, (), "1", "-", "-",                                \
+        "running, finished or unstable (SimStatus)")                                              \
+  RECORDED(std::vector<Vec3>, pos, m.rest_pos, (views.voxel.pos, views.voxel_out.pos),            \
+           "n x 3", "m", "world", "voxel centre", "position", "positions")                         \
+  RECORDED(std::vector<Quat>, orient, state_init::per_voxel(m, Quat::Identity()),                 \
+           (views.voxel.quat, views.voxel_out.quat, views.bond.quat), "n x 4", "1",               \
+           "body to world", "voxel rotation (x, y, z, w)", "orientation", "orientations")         \
+  FIELD(std::vector<Vec3>, lin_mom, state_init::per_voxel(m, Vec3(Vec3::Zero())),                 \
+        (views.voxel.lin_mom, views.voxel_out.lin_mom, views.develop.lin_mom), "n x 3",           \
+        "kg m/s", "world", "linear momentum")                                                     \
+  FIELD(std::vector<Vec3>, ang_mom, state_init::per_voxel(m, Vec3(Vec3::Zero())),                 \
+        (views.voxel.ang_mom, views.voxel_out.ang_mom, views.develop.ang_mom), "n x 3",           \
+        "kg m^2/s", "world", "angular momentum")                                                  \
+  RECORDED(std::vector<double>, stiffness, m.e0,                                                  \
+           (views.voxel.stiff, views.bond.stiff, views.develop.stiffness), "n", "Pa", "-",        \
+           "current Young's modulus", "stiffness", "stiffness")                                   \
+  RECORDED(std::vector<double>, size, state_init::per_voxel(m, m.size),                           \
+           (views.voxel.size, views.develop.size), "n", "m", "-",                                 \
+           "actuated edge length for the next step", "size", "sizes")                             \
+  RECORDED(std::vector<double>, stimulus, state_init::per_voxel(m, 0.0),                          \
+           (views.develop.stimulus), "n", "Pa", "-", "the treatment's last stimulus",             \
+           "stimulus", "stimulus")                                                                \
+  FIELD(std::vector<double>, stim_integral, state_init::per_voxel(m, 0.0),                        \
+        (views.develop.stim_integral), "n", "Pa s", "-",                                          \
+        "integral of the stimulus since settling")                                                \
+  FIELD(std::vector<double>, stim_ref, state_init::per_voxel(m, 0.0), (views.develop.stim_ref),   \
+        "n", "Pa", "-", "stimulus at the end of settling (rate model)")                           \
+  FIELD(bool, stim_ref_set, false, (), "1", "-", "-", "stim_ref has been taken")                  \
+  FIELD(std::vector<uint8_t>, static_friction, state_init::per_voxel(m, uint8_t{0}),              \
+        (views.voxel.static_friction, views.voxel_out.static_friction), "n", "-", "-",            \
+        "1 while held by floor static friction")                                                  \
+  MEMBER(BondPrev, bond_prev, state_init::bond_components(m),                                    \
+         (views.bond.prev, views.prev_in_state))                                                  \
+  ROW(bond_prev_x, bond_prev[0], "bonds", "m", "bond", "previous deformation: b's offset, x")      \
+  ROW(bond_prev_y, bond_prev[1], "bonds", "m", "bond", "previous deformation: b's offset, y")      \
+  ROW(bond_prev_z, bond_prev[2], "bonds", "m", "bond", "previous deformation: b's offset, z")      \
   ROW(bond_prev_rot_a_x, bond_prev[3], "bonds", "rad", "bond", "previous rotation vector of a, x") \
   ROW(bond_prev_rot_a_y, bond_prev[4], "bonds", "rad", "bond", "previous rotation vector of a, y") \
   ROW(bond_prev_rot_a_z, bond_prev[5], "bonds", "rad", "bond", "previous rotation vector of a, z") \
   ROW(bond_prev_rot_b_x, bond_prev[6], "bonds", "rad", "bond", "previous rotation vector of b, x") \
   ROW(bond_prev_rot_b_y, bond_prev[7], "bonds", "rad", "bond", "previous rotation vector of b, y") \
   ROW(bond_prev_rot_b_z, bond_prev[8], "bonds", "rad", "bond", "previous rotation vector of b, z") \
-  FIELD(std::vector<uint8_t>, bond_prev_valid, state_init::per_bond(m, uint8_t{0}), "bonds",    \
-        "-", "-", "1 once the previous deformation is recorded")                                \
-  FIELD(std::vector<uint8_t>, bond_small_angle,                                                 \
+  FIELD(std::vector<uint8_t>, bond_prev_valid, state_init::per_bond(m, uint8_t{0}),               \
+        (views.bond.prev_valid), "bonds", "-", "-", "1 once the previous deformation is recorded") \
+  FIELD(std::vector<uint8_t>, bond_small_angle,                                                   \
         state_init::per_bond(m, static_cast<uint8_t>(m.def.bond_model == BondModel::kVoxelyze09)), \
-        "bonds", "-", "-", "1 while the bond uses the small-angle axes")                       \
-  FIELD(Vec3, com_settled, Vec3(Vec3::Zero()), "3", "m", "world",                               \
-        "centre of mass when settling ended")                                                   \
-  FIELD(bool, settled, false, "1", "-", "-", "time has passed the settle time")          \
-  FIELD(std::vector<double>, actuation, state_init::per_voxel(m, 0.0), "n", "1", "-",           \
-        "actuation signal: the controller's last output, held until its next call")             \
-  FIELD(std::vector<double>, control_memory,                                                    \
-        std::vector<double>(controller_memory_size(m.controller, m.n), 0.0), "memory", "1", "-", \
-        "what the controller remembers between calls (distributed: the signals in flight)")     \
-  FIELD(double, floor_deepest, 0.0, "1", "m", "world",                                          \
-        "deepest floor penetration of any voxel after any step")                                \
-  FIELD(int32_t, floor_deep_most, int32_t{0}, "1", "1", "-",                                    \
-        "most voxels at once deeper than half a voxel length")                                  \
-  FIELD(TaskValues, task_values, TaskValues{}, "10", "-", "-",                                  \
-        "the task's running values (docs/tasks.md)")                                            \
-  FIELD(std::vector<Vec2>, task_layout, state_init::per_voxel(m, Vec2(Vec2::Zero())), "n x 2",  \
-        "m", "world", "turn: horizontal offset from the centre of mass when settling ended")
+        (views.small_angle_in_state), "bonds", "-", "-",                                          \
+        "1 while the bond uses the small-angle axes")                                             \
+  FIELD(Vec3, com_settled, Vec3(Vec3::Zero()), (), "3", "m", "world",                             \
+        "centre of mass when settling ended")                                                     \
+  FIELD(bool, settled, false, (), "1", "-", "-", "time has passed the settle time")               \
+  FIELD(std::vector<double>, actuation, state_init::per_voxel(m, 0.0), (), "n", "1", "-",         \
+        "actuation signal: the controller's last output, held until its next call")               \
+  FIELD(std::vector<double>, control_memory,                                                      \
+        std::vector<double>(controller_memory_size(m.controller, m.n), 0.0), (), "memory", "1",   \
+        "-", "what the controller remembers between calls (distributed: the signals in flight)")  \
+  FIELD(double, floor_deepest, 0.0, (), "1", "m", "world",                                        \
+        "deepest floor penetration of any voxel after any step")                                  \
+  FIELD(int32_t, floor_deep_most, int32_t{0}, (), "1", "1", "-",                                  \
+        "most voxels at once deeper than half a voxel length")                                    \
+  FIELD(TaskValues, task_values, TaskValues{}, (), "10", "-", "-",                                \
+        "the task's running values (docs/tasks.md)")                                              \
+  FIELD(std::vector<Vec2>, task_layout, state_init::per_voxel(m, Vec2(Vec2::Zero())), (),         \
+        "n x 2", "m", "world",                                                                    \
+        "turn: horizontal offset from the centre of mass when settling ended")
 // clang-format on
 
 struct State {
@@ -129,8 +147,9 @@ struct State {
 State make_initial_state(const Model& model);
 
 // The table of State's fields, generated from PLASTIVOX_STATE_FIELDS: what each holds, its
-// shape, unit and axes, and where its bytes are (a recorded life's frames keep a subset:
-// capture_frame). `failure` is text that explains `status` and is not a row here.
+// shape, unit and axes, and where its bytes are (a recorded life's frames keep the RECORDED
+// rows: kFrameFields, recording.hpp). `failure` is text that explains `status` and is not a row
+// here.
 using StateField = FieldRow<State>;
 extern const std::vector<StateField> kStateFields;
 // The row of kStateFields called `name`; std::invalid_argument for a name not in it.
