@@ -221,6 +221,18 @@ TEST(ExperimentCost, CountsEveryEvaluation) {
   EXPECT_EQ(e.evolution_evaluations, 6 * (2 + 2 * 3));  // runs x (P + G (P + 1))
   EXPECT_EQ(e.analysis_evaluations, 6 * (1 + 2));       // champions x (1 + draws)
   EXPECT_DOUBLE_EQ(e.core_hours, (48 + 18) * 2.0 / 3600);
+  EXPECT_EQ(e.battery_evaluations, 0);
+  EXPECT_EQ(e.summary().find("battery"), std::string::npos);
+  // With the small battery (14 lives a champion): its lives and core-seconds, said apart.
+  nlohmann::json with = micro_config();
+  with["analysis"]["battery"] = "small";
+  const auto b = experiment::estimate_cost(parse_experiment_config(with.dump(), "micro"), s);
+  EXPECT_EQ(b.battery_evaluations, 6 * 14);
+  EXPECT_EQ(b.analysis_evaluations, 6 * (1 + 2 + 14));
+  EXPECT_DOUBLE_EQ(b.battery_core_seconds, 6 * 14 * 2.0);
+  EXPECT_NE(b.summary().find("the robustness battery: 84 lives, 168 core-seconds"),
+            std::string::npos)
+      << b.summary();
   const auto measured = experiment::measure_speed(c, 0.05);
   EXPECT_GT(measured.voxel_steps_per_second, 0);
   EXPECT_GT(measured.steps_per_life, 100);
