@@ -128,6 +128,22 @@ std::string heat_map(const StudyResult& r) {
 
 // ---- sections ----
 
+// The warning a table of comparisons carries when some rest on fewer than kMinBootstrapN
+// champions per treatment (Fig. 5's statistics and the battery's alike); "" when all have power.
+std::string no_power_note(const study::PowerSummary& power, const std::string& id) {
+  if (power.without_power == 0) return "";
+  return "<p class=\"warn\" id=\"" + id +
+         "\">These comparisons have no statistical power: " + std::to_string(power.without_power) +
+         " of " + std::to_string(power.comparisons) + " rest on fewer than " +
+         std::to_string(kMinBootstrapN) +
+         " champions per treatment (the fewest: " + std::to_string(power.fewest) + "). Below " +
+         std::to_string(kMinBootstrapN) +
+         " the 95 % bootstrap interval misses the true mean far more often than 5 % of the "
+         "time (about half the time at n = 2; docs/analysis.md, \"How many champions a "
+         "comparison needs\"), so they carry no stars, and a difference between treatments "
+         "here, in either direction, is no evidence either way.</p>\n";
+}
+
 // The robustness battery (only with one): per perturbation and treatment the mean AUC of the
 // fitness kept with its bootstrap CI, cells coloured from red (all lost) through white (all
 // kept) to blue (doubled), the corrected tests, and the lives that failed.
@@ -140,7 +156,8 @@ std::string battery_section(const StudyResult& r) {
       "fitness kept). Means per treatment with " +
       display(r.options.ci_level * 100, 4) +
       " % bootstrap intervals; tests Bonferroni-corrected as in Fig. 5. Lives that went "
-      "unstable or sank are counted below and left out of the means, never scored as 0.</p>\n"
+      "unstable or sank are counted below and left out of the means, never scored as 0.</p>\n" +
+      no_power_note(study::power_summary(r.battery_panels), "battery-no-power") +
       "<table class=\"battery\"><tr><th>perturbation</th>";
   for (Treatment t : r.treatments) s += "<th>" + esc(to_string(t)) + "</th>";
   s += "<th>tests</th></tr>\n";
@@ -165,7 +182,10 @@ std::string battery_section(const StudyResult& r) {
     for (const BootstrapTestResult& c : p.comparisons) {
       const std::string stars = study::stars_shown(p, c);
       tests += (tests.empty() ? "" : "; ") + c.name_a + "-" + c.name_b +
-               " p=" + p_text(c.p_corrected) + (stars.empty() ? "" : " " + stars);
+               " p=" + p_text(c.p_corrected) + (stars.empty() ? "" : " " + stars) +
+               (study::has_power(p, c)
+                    ? ""
+                    : " (no power: n = " + std::to_string(study::comparison_champions(p, c)) + ")");
     }
     s += "<td>" + esc(tests) + "</td></tr>\n";
   }
@@ -310,17 +330,7 @@ std::string statistics(const StudyResult& r) {
       "of comparisons in each panel; stars after correction: * p&lt;0.05, ** p&lt;0.01, "
       "*** p&lt;0.001 (level " +
       display(o.alpha, 3) + "). Effect size: Hedges' g.</p>\n";
-  const study::PowerSummary power = study::power_summary(r);
-  if (power.without_power > 0)
-    s += "<p class=\"warn\" id=\"no-power\">These comparisons have no statistical power: " +
-         std::to_string(power.without_power) + " of " + std::to_string(power.comparisons) +
-         " rest on fewer than " + std::to_string(kMinBootstrapN) +
-         " champions per treatment (the fewest: " + std::to_string(power.fewest) + "). Below " +
-         std::to_string(kMinBootstrapN) +
-         " the 95 % bootstrap interval misses the true mean far more often than 5 % of the "
-         "time (about half the time at n = 2; docs/analysis.md, \"How many champions a "
-         "comparison needs\"), so they carry no stars, and a difference between treatments "
-         "here, in either direction, is no evidence either way.</p>\n";
+  s += no_power_note(study::power_summary(r), "no-power");
   s += "<table><tr><th>panel</th><th>treatment</th><th>n</th><th>mean</th><th>" +
        display(o.ci_level * 100, 4) + " % CI</th></tr>\n";
   for (const PanelStats& p : r.panels)
