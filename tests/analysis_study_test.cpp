@@ -1388,6 +1388,19 @@ TEST_F(Study, BatteryProfilesGoToStatsH5AndTheReport) {
   EXPECT_NE(html.find("none-stress p=", section), std::string::npos);
   EXPECT_NE(html.find("(no power: n = 2)", section), std::string::npos);
   EXPECT_FALSE(block.at("comparisons")[0].at("comparisons")[0].at("powered").get<bool>());
+  EXPECT_NE(html.find("Cells are red where fitness is lost", section), std::string::npos);
+  EXPECT_EQ(html.find("left out (no valid life", section), std::string::npos);
+  // A champion without an AUC (every life of a severity failed) is counted in its cell, and a
+  // perturbation nothing could be compared in says so rather than leaving the cell blank.
+  StudyResult thin = back;
+  thin.battery_panels[0].groups[0].values.pop_back();
+  thin.battery_panels[1].comparisons.clear();
+  const std::string thin_html = report_html(thin);
+  EXPECT_NE(thin_html.find(" n=1, 1 left out (no valid life at a severity)</td>"),
+            std::string::npos);
+  EXPECT_NE(thin_html.find("<td>no test: fewer than two treatments with two or more "
+                           "champions</td>"),
+            std::string::npos);
 
   // The fingerprint follows the battery file's content, not only its name.
   const std::string before = study_fingerprint({"d"}, o);

@@ -70,13 +70,21 @@ std::vector<std::string> stage_analysis(StageContext& ctx) {
     analysis::write_study_outputs(result, ctx.dir);
     stamps.record("outputs", fingerprint, kAnalysisOutputs);
     const auto& t = result.timings;
-    char buf[256];
+    char buf[320];
     std::snprintf(buf, sizeof buf,
-                  "[analysis] done in %.1f s (robustness %.1f s: %d simulations, %d champions "
+                  "[analysis] done in %.1f s (robustness%s %.1f s: %d simulations, %d champions "
                   "cached; hausdorff %.2f s; statistics %.2f s)",
-                  t.total, t.robustness, t.robustness_simulations, t.robustness_cached, t.hausdorff,
-                  t.statistics);
+                  t.total, result.battery ? " and battery" : "", t.robustness,
+                  t.robustness_simulations, t.robustness_cached, t.hausdorff, t.statistics);
     ctx.progress.log(buf);
+    if (result.battery) {  // its lives are not among R's simulations above
+      std::snprintf(buf, sizeof buf,
+                    "[analysis] battery %s: %d lives (%d unstable, %d sank), %d champions from "
+                    "checkpoint",
+                    result.battery->name.c_str(), result.battery_lives, result.battery_unstable,
+                    result.battery_sank, result.battery_cached);
+      ctx.progress.log(buf);
+    }
   }
   // The later stages take the study as analysis.h5 holds it, whether written now or before,
   // with the champions' bodies from their runs (named as this session names them: the folder

@@ -205,6 +205,7 @@ BatteryHeatMap parse_battery_heat_map(const Json& block, const std::string& sour
     }
     // As the report's table says: below 20 champions a treatment no comparison has power.
     if (unpowered > 0) tests += (tests.empty() ? "" : "  ") + std::string("no power (n < 20)");
+    if (comparisons.empty()) tests = "no test (n < 2)";
     map.tests.push_back(tests);
   }
   return map;

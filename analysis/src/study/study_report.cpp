@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include "plastivox/analysis/bootstrap_coverage.hpp"
@@ -155,17 +156,28 @@ std::string battery_section(const StudyResult& r) {
       "each perturbation, summarised by the area under its curve over the severities (1 = all "
       "fitness kept). Means per treatment with " +
       display(r.options.ci_level * 100, 4) +
-      " % bootstrap intervals; tests Bonferroni-corrected as in Fig. 5. Lives that went "
-      "unstable or sank are counted below and left out of the means, never scored as 0.</p>\n" +
+      " % bootstrap intervals; tests Bonferroni-corrected as in Fig. 5. Cells are red where "
+      "fitness is lost (0: all of it), white where it is kept (1) and blue where it grows (2: "
+      "doubled). Lives that went unstable or sank are counted below and left out of the "
+      "means, never scored as 0; a champion with no valid life at some severity has no area "
+      "for that perturbation and is left out of its mean (counted in its cell).</p>\n" +
       no_power_note(study::power_summary(r.battery_panels), "battery-no-power") +
       "<table class=\"battery\"><tr><th>perturbation</th>";
   for (Treatment t : r.treatments) s += "<th>" + esc(to_string(t)) + "</th>";
   s += "<th>tests</th></tr>\n";
+  // Champions of each treatment the battery measured (not left out of the study by the audit).
+  std::map<Treatment, size_t> measured;
+  for (const ChampionAnalysis& c : r.champions)
+    if (c.artifact.empty()) ++measured[c.treatment];
   for (const PanelStats& p : r.battery_panels) {
     s += "<tr><td>" + esc(p.title) + "</td>";
     for (const GroupStats& g : p.groups) {
+      const size_t out =
+          measured[g.treatment] > g.values.size() ? measured[g.treatment] - g.values.size() : 0;
+      const std::string left_out =
+          out > 0 ? ", " + std::to_string(out) + " left out (no valid life at a severity)" : "";
       if (!g.mean) {
-        s += "<td>undefined</td>";
+        s += "<td>undefined" + left_out + "</td>";
         continue;
       }
       const double t = std::clamp(0.5 + (1 - *g.mean) / 2, 0.0, 1.0);  // 0 blue .. 1 red
@@ -176,7 +188,7 @@ std::string battery_section(const StudyResult& r) {
                     static_cast<int>(std::lround(t > 0.5 ? 255 - 350 * (t - 0.5) : 255)));
       s += "<td style=\"" + std::string(bg) + "\">" + display(g.mean, 3) +
            (g.ci ? " [" + display(g.ci->lower, 3) + ", " + display(g.ci->upper, 3) + "]" : "") +
-           " n=" + std::to_string(g.values.size()) + "</td>";
+           " n=" + std::to_string(g.values.size()) + left_out + "</td>";
     }
     std::string tests;
     for (const BootstrapTestResult& c : p.comparisons) {
@@ -187,6 +199,8 @@ std::string battery_section(const StudyResult& r) {
                     ? ""
                     : " (no power: n = " + std::to_string(study::comparison_champions(p, c)) + ")");
     }
+    if (p.comparisons.empty())
+      tests = "no test: fewer than two treatments with two or more champions";
     s += "<td>" + esc(tests) + "</td></tr>\n";
   }
   s += "</table>\n";
