@@ -663,7 +663,12 @@ std::vector<std::string> run_labels(const experiment::ExperimentConfig& c) {
 // still those of the run alone, on 1 or 2 threads, under mpirun, as separate `plastivox
 // evolve` runs and as one `plastivox evolve` given every config.
 TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
-  const json j = three_by_three();
+  json j = three_by_three();
+  // A battery of three lives a champion: under mpirun its lives are shared by the ranks, and
+  // the analysis is the one-process analysis (below).
+  write_file_atomic(path("battery.json"), R"({"format": "plastivox-battery", "version": 1,
+      "perturbations": [{"kind": "gravity", "severities": [0.5, 2], "seeds": [0]}]})");
+  j["analysis"]["battery"] = path("battery.json");
   const std::string cfg = write_config(j);
   const auto c = parse_experiment_config(j.dump(), "3x3");
   ASSERT_EQ(run("--config " + cfg + " --out " + path("t1") + " --threads 1").status, 0);
@@ -708,6 +713,15 @@ TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
       cfg + " --out " + path("mpi") + " --threads 1 2>&1");
   ASSERT_EQ(mpi.status, 0) << mpi.out;
   folders.push_back("mpi/runs");
+  EXPECT_NE(mpi.out.find("the battery's lives shared by 2 ranks"), std::string::npos) << mpi.out;
+  json one = json::parse(read_file_bytes(path("t1/stats.json")));
+  json two_ranks = json::parse(read_file_bytes(path("mpi/stats.json")));
+  ASSERT_FALSE(one.at("robustness_battery").is_null());
+  for (json* s : {&one, &two_ranks}) {  // what names the folder or the session
+    s->erase("provenance");
+    for (json& c : s->at("champions")) c.erase("file");
+  }
+  EXPECT_EQ(one, two_ranks);
 #endif
   for (const std::string& label : run_labels(c)) {
     const std::string want = digest_of(path("t1/runs/") + label + ".h5");
