@@ -1511,6 +1511,10 @@ TEST_F(Study, RobotFilesGiveTheNumbersOfTheirResultsFiles) {
     EXPECT_EQ(ca, cb) << i;
   }
   EXPECT_EQ(rb.champions[0].label, "none-s1");  // a robot file is labelled by its name
+  // The estimate counts robot files' lives as results files' (simulating one life only).
+  const BatteryEstimate from_robots = estimate_battery(robots, o);
+  EXPECT_EQ(from_robots.lives, 4 * 14);
+  EXPECT_EQ(from_robots.voxel_steps, estimate_battery(files, o).voxel_steps);
 
   // Labels: TREATMENT=FILE sets a robot file's treatment (through resolve_physics), must equal a
   // results file's, and anything else is refused in one line naming the argument.

@@ -357,7 +357,7 @@ BatteryEstimate estimate_battery(const std::vector<std::string>& files,
   StudyResult r;
   r.options = options;
   const Battery battery = load_battery(options.battery, options.robustness_draws);
-  study::load_champions(files, options, r);
+  study::load_champions(files, options, r, /*score_robot_files=*/false);
   BatteryEstimate e;
   e.champions = static_cast<int>(r.champions.size());
   e.lives = e.champions * battery_lives(battery);

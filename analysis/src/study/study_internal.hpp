@@ -18,8 +18,10 @@ namespace plastivox::analysis::study {
 // Reads every file, picks the champions, checks the inputs (no files, duplicates, expected
 // treatments, usable champions, mixed physics) and returns them sorted (treatment, seed,
 // digest) with unique labels; fills inputs, treatments and warnings of `out`.
+// A robot file's own life is simulated here (its fitness and final stiffness, as a results file
+// records them) unless `score_robot_files` is false (an estimate, which simulates one life only).
 void load_champions(const std::vector<std::string>& files, const StudyOptions& options,
-                    StudyResult& out);
+                    StudyResult& out, bool score_robot_files = true);
 
 // ---- study_audit.cpp ----
 // Simulates every champion's life again with its run's physics (sunk lives scored): sets

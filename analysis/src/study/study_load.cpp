@@ -279,7 +279,10 @@ void check_treatments(const std::vector<Loaded>& all, const StudyOptions& option
   std::map<Treatment, bool> usable;
   for (const Loaded& l : all) {
     files[l.input.treatment] += (files[l.input.treatment].empty() ? "" : ", ") + l.input.file;
-    usable[l.input.treatment] = usable[l.input.treatment] || l.champion.evaluation == "ok";
+    // A robot file not scored (an estimate) is not known to be unusable.
+    const bool unscored = l.robot_file && l.champion.evaluation.empty();
+    usable[l.input.treatment] =
+        usable[l.input.treatment] || l.champion.evaluation == "ok" || unscored;
   }
   for (const auto& [t, ok] : usable)
     if (!ok)
@@ -290,14 +293,14 @@ void check_treatments(const std::vector<Loaded>& all, const StudyOptions& option
 }  // namespace
 
 void load_champions(const std::vector<std::string>& files, const StudyOptions& options,
-                    StudyResult& out) {
+                    StudyResult& out, bool score_robot_files) {
   if (files.empty()) throw std::runtime_error("no results files given");
   std::vector<Loaded> all;
   for (const std::string& f : files) all.push_back(load_one(f, options));
   // Robot files are scored as evolution scored its champions, in parallel.
   std::vector<Loaded*> robots;
   for (Loaded& l : all)
-    if (l.robot_file) robots.push_back(&l);
+    if (l.robot_file && score_robot_files) robots.push_back(&l);
   const int threads = options.threads > 0 ? options.threads : hardware_threads();
   parallel_for(robots.size(), threads, [&](size_t i) { evaluate_robot_file(*robots[i]); });
 
