@@ -12,8 +12,10 @@
 #include <filesystem>
 #include <string>
 
+#include "battery_ranks.hpp"
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/evo/run.hpp"  // Cluster
 #include "plastivox/render/error.hpp"
 #include "plastivox/render/files.hpp"
 #include "plastivox/render/viewer.hpp"
@@ -99,7 +101,8 @@ analysis::StudyOptions parse_options(Args& args, std::string* out, bool* viewer)
   render::limit_raster_threads(o.threads);
   if (out->empty()) throw UsageError{"--out DIR is required"};
   if (args.empty())
-    throw UsageError{"expected results files: plastivox analyze RESULTS.h5 [...] --out DIR"};
+    throw UsageError{
+        "expected results or robot files: plastivox analyze [TREATMENT=]FILE [...] --out DIR"};
   return o;
 }
 
@@ -143,18 +146,32 @@ int cmd_analyze(const Args& in) {
   options.command = "plastivox analyze";
   for (const std::string& a : in) options.command += " " + a;
 
-  options.stop_requested = &g_stop;
-  std::signal(SIGINT, on_analyze_interrupt);
-  std::signal(SIGTERM, on_analyze_interrupt);
+  // Under mpirun every rank runs the same analysis and the battery's lives are shared among
+  // them (battery_ranks.hpp); rank 0 alone talks and writes (checkpoints included). A stop
+  // request would reach the ranks at different moments, so under MPI a kill stops it and a
+  // rerun resumes from the checkpoints.
+  const std::unique_ptr<evo::Cluster> mpi = join_mpi_job();
+  const bool leader = !mpi || mpi->rank() == 0;
+  options.battery_lives = battery_lives_over_ranks(mpi.get(), options.threads);
+  options.write_cache = leader;
+  if (!options.battery_lives) {
+    options.stop_requested = &g_stop;
+    std::signal(SIGINT, on_analyze_interrupt);
+    std::signal(SIGTERM, on_analyze_interrupt);
+  }
   analysis::StudyResult r;
   try {
-    r = analysis::analyze_study(args, options, [](const analysis::StudyProgress& p) {
-      std::fprintf(stderr, "plastivox analyze: %s\n", p.message.c_str());
+    r = analysis::analyze_study(args, options, [leader](const analysis::StudyProgress& p) {
+      if (leader) std::fprintf(stderr, "plastivox analyze: %s\n", p.message.c_str());
     });
   } catch (const analysis::StudyStopped& e) {
     std::fprintf(stderr, "plastivox analyze: %s; rerun the same command to resume\n", e.what());
     return 130;
+  } catch (const std::exception& e) {
+    abort_other_ranks(mpi.get(), "analyze", e);  // they would wait for ever
+    throw;
   }
+  if (!leader) return 0;
   // The report's 3-D viewer: every champion's life, simulated once more with frames, in
   // OUT/lives/ (--no-viewer: none).
   analysis::ReportExtras extras;
@@ -195,6 +212,9 @@ int cmd_analyze(const Args& in) {
       "canalization %.3f, body plans %.3f, hausdorff %.3f, statistics %.3f)\n",
       t.total, t.load, t.robustness, t.robustness_simulations, t.robustness_cached, t.canalization,
       t.body_plans, t.hausdorff, t.statistics);
+  if (r.battery)
+    std::printf("battery: %d lives (%d unstable, %d sank); %d champions from checkpoint\n",
+                r.battery_lives, r.battery_unstable, r.battery_sank, r.battery_cached);
   return 0;
 }
 

@@ -10,10 +10,12 @@
 #include <sstream>
 #include <thread>
 
+#include "battery_ranks.hpp"
 #include "cli.hpp"
 #include "experiment/cost_estimate.hpp"
 #include "experiment/experiment_run.hpp"
-#include "plastivox/base/error.hpp"  // InputError
+#include "plastivox/analysis/study.hpp"  // StudyOptions
+#include "plastivox/base/error.hpp"      // InputError
 #include "plastivox/evo/run.hpp"
 #include "plastivox/render/offscreen.hpp"  // limit_raster_threads, RenderError
 
@@ -93,6 +95,10 @@ int cmd_experiment(const Args& in) {
 
   const std::unique_ptr<evo::Cluster> mpi = join_mpi_job();
   opt.cluster = mpi.get();
+  // Under mpirun the analysis's battery is shared by every rank (battery_ranks.hpp).
+  if (BatteryLives lives =
+          battery_lives_over_ranks(mpi.get(), opt.threads >= 0 ? opt.threads : config.threads))
+    opt.share_battery = [lives](analysis::StudyOptions& o) { o.battery_lives = lives; };
   const bool leader = !opt.cluster || opt.cluster->rank() == 0;
   const int ranks = opt.cluster ? opt.cluster->size() : 1;
 

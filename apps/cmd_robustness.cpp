@@ -1,5 +1,6 @@
 // plastivox robustness: the robustness battery (docs/analysis.md, "Robustness battery") on the
-// run champions of several results files (or on robot files, each under its own physics): each
+// run champions of several results files or on robot files (each under its own physics,
+// optionally labelled TREATMENT=FILE), audited as analyze audits them: each
 // champion's profile (fitness kept at every severity of every perturbation, its spread over seeds,
 // the area under each curve) and the treatments compared per perturbation. Prints a table; --out
 // DIR writes robustness.json and robustness.csv. The library call is battery_study
@@ -11,10 +12,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "battery_ranks.hpp"
 #include "cli.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/evo/run.hpp"  // Cluster
 #include "plastivox/io/atomic_file.hpp"
-#include "plastivox/io/robot_io.hpp"
 #include "plastivox/render/panels.hpp"
 
 namespace plastivox::cli {
@@ -66,34 +68,6 @@ void print_comparisons(const analysis::StudyResult& r) {
   }
 }
 
-// Whether the inputs are robot files (.json, .vxa) rather than results files (.h5); a mixture
-// is refused.
-bool robot_files(const Args& files) {
-  int results = 0;
-  for (const std::string& f : files) results += f.size() > 3 && f.substr(f.size() - 3) == ".h5";
-  if (results > 0 && results < static_cast<int>(files.size()))
-    throw UsageError{"expected results files (.h5) or robot files (.json, .vxa), not both"};
-  return results == 0;
-}
-
-// Robot files: each under its own physics, labelled by its file name (made unique).
-analysis::StudyResult robots_study(const Args& files, const analysis::StudyOptions& o,
-                                   const analysis::StudyProgressFn& progress) {
-  std::vector<std::string> labels;
-  std::vector<RobotDef> robots;
-  std::vector<PhysicsDef> physics;
-  for (const std::string& f : files) {
-    LoadedRobot loaded = load_robot(f);
-    std::string label = std::filesystem::path(f).stem().string();
-    if (std::count(labels.begin(), labels.end(), label) > 0)
-      label += "-" + std::to_string(labels.size() + 1);
-    labels.push_back(label);
-    robots.push_back(std::move(loaded.robot));
-    physics.push_back(loaded.physics);
-  }
-  return analysis::battery_study_of_robots(labels, robots, physics, o, progress);
-}
-
 }  // namespace
 
 int cmd_robustness(const Args& in) {
@@ -116,7 +90,8 @@ int cmd_robustness(const Args& in) {
   const bool estimate_only = take_flag(args, "--estimate-only");
   reject_unknown_options(args);
   if (args.empty())
-    throw UsageError{"expected results or robot files: plastivox robustness RESULTS.h5 [...]"};
+    throw UsageError{
+        "expected results or robot files: plastivox robustness [TREATMENT=]FILE [...]"};
   // The battery is read and checked before any results file or life.
   const analysis::Battery battery = [&] {
     try {
@@ -126,25 +101,35 @@ int cmd_robustness(const Args& in) {
     }
   }();
 
-  if (estimate_only && robot_files(args))
-    throw UsageError{"--estimate-only reads results files (.h5), not robot files"};
   if (estimate_only) {
     const analysis::BatteryEstimate e = analysis::estimate_battery(args, o);
     std::printf(
         "battery %s: %d perturbations, %d lives per champion; %s: %d lives, %.3g voxel-steps; "
-        "%.3g s per voxel-step (one life timed); predicted %.0f s on %s\n",
+        "%.3g s per voxel-step (one life timed); predicted %.0f core-seconds, %.0f s on %s\n",
         battery.name.c_str(), static_cast<int>(battery.perturbations.size()),
         analysis::battery_lives(battery), count_of(e.champions, "champion").c_str(), e.lives,
-        e.voxel_steps, e.seconds_per_voxel_step, e.seconds, count_of(e.threads, "thread").c_str());
+        e.voxel_steps, e.seconds_per_voxel_step, e.core_seconds, e.seconds,
+        count_of(e.threads, "thread").c_str());
     return 0;
   }
   o.command = "plastivox robustness";
   for (const std::string& a : in) o.command += " " + a;
-  const auto progress = [](const analysis::StudyProgress& p) {
-    std::fprintf(stderr, "plastivox robustness: %s\n", p.message.c_str());
+  // Under mpirun every rank runs the same study and the battery's lives are shared among them
+  // (battery_ranks.hpp); rank 0 alone talks and writes.
+  const std::unique_ptr<evo::Cluster> mpi = join_mpi_job();
+  const bool leader = !mpi || mpi->rank() == 0;
+  o.battery_lives = battery_lives_over_ranks(mpi.get(), o.threads);
+  const auto progress = [leader](const analysis::StudyProgress& p) {
+    if (leader) std::fprintf(stderr, "plastivox robustness: %s\n", p.message.c_str());
   };
-  const analysis::StudyResult r = robot_files(args) ? robots_study(args, o, progress)
-                                                    : analysis::battery_study(args, o, progress);
+  analysis::StudyResult r;
+  try {
+    r = analysis::battery_study(args, o, progress);
+  } catch (const std::exception& e) {
+    abort_other_ranks(mpi.get(), "robustness", e);  // they would wait for ever
+    throw;
+  }
+  if (!leader) return 0;
   print_profiles(r);
   print_comparisons(r);
   if (!out.empty()) {

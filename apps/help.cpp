@@ -140,10 +140,14 @@ const CommandHelp kHelp[] = {
      "  plastivox export examples/pi.json --format voxcraft --out pi_voxcraft --lossy\n"
      "  plastivox export --demo pi --out pi.json\n"},
     {"analyze",
-     "usage: plastivox analyze RESULTS.h5 [RESULTS.h5 ...] --out DIR [options]\n"
+     "usage: plastivox analyze [TREATMENT=]FILE [...] --out DIR [options]\n"
      "Analyse run champions: robustness, canalization, diversity, body plans and bootstrap\n"
      "statistics -> DIR/stats.json, CSV tables, analysis.h5, report.html. Rerun after a kill\n"
-     "to resume (docs/analysis.md).\n"
+     "to resume (docs/analysis.md). Under mpirun the battery's lives are shared by the ranks.\n"
+     "inputs: results files (.h5) of any algorithm (afpo, cma-es), or robot files (.json,\n"
+     "  .vxa) each scored and audited under its own physics; TREATMENT=FILE labels a robot\n"
+     "  file's treatment (none, stress, pressure, ...: its physics' treatment is set so), and\n"
+     "  must equal a results file's. Without a label a file's own treatment counts.\n"
      "options:\n"
      "  --out DIR             output folder\n"
      "  --generation G        analyse the champions of generation G (default: last)\n"
@@ -167,16 +171,17 @@ const CommandHelp kHelp[] = {
      "                        battery file; plastivox robustness --help): its profiles and\n"
      "                        comparisons in stats.json, analysis.h5 and the report\n"
      "example:\n"
-     "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"},
+     "  plastivox analyze runs/*.h5 --out analysis --threads 2\n"
+     "  plastivox analyze none=a.json none=b.json stress=c.vxa stress=d.vxa --out analysis\n"},
     {"robustness",
-     "usage: plastivox robustness RESULTS.h5 [RESULTS.h5 ...] [options]\n"
-     "       plastivox robustness ROBOT.json|ROBOT.vxa [...] [options]\n"
+     "usage: plastivox robustness [TREATMENT=]FILE [...] [options]\n"
      "The robustness battery (docs/analysis.md, \"Robustness battery\"): each run champion's\n"
      "fitness kept (F_perturbed / F_unperturbed) at every severity of every perturbation,\n"
      "its spread over seeds and the area under each curve; per perturbation the treatments'\n"
      "means with 95 % bootstrap CIs and Bonferroni-corrected tests. Lives that go unstable\n"
-     "or sink are counted and shown, never averaged in. Robot files are measured each under\n"
-     "its own physics, grouped by its treatment.\n"
+     "or sink are counted and shown, never averaged in. Inputs as analyze's: results files\n"
+     "or robot files (each under its own physics), labelled TREATMENT=FILE or by their own\n"
+     "treatment, every champion audited first. Under mpirun the lives are shared by the ranks.\n"
      "options:\n"
      "  --battery B           default (every perturbation), paper (Eq. 2 alone: R), small\n"
      "                        (the default study's) or a battery file (JSON)\n"
@@ -186,11 +191,12 @@ const CommandHelp kHelp[] = {
      "  --robustness-draws N  lives of the paper battery (default 10)\n"
      "  --resamples N         bootstrap resamples (default 10000, at least 100)\n"
      "  --threads N           worker threads (default 0 = all cores)\n"
-     "  --estimate-only       print the lives and predicted time, simulate one life only\n"
+     "  --estimate-only       print the lives, core-seconds and wall time predicted,\n"
+     "                        simulating one life only\n"
      "  --allow-mixed-physics, --keep-artifacts, --keep-vertical   as analyze's\n"
      "example:\n"
      "  plastivox robustness runs/*.h5 --battery default --out robustness --threads 2\n"
-     "  plastivox robustness examples/pi.json examples/gamma.json --battery small\n"},
+     "  plastivox robustness stress=examples/pi.json none=examples/gamma.json --battery small\n"},
     {"render",
      "usage: plastivox render ROBOT_OR_RESULTS --out frame.png [options]\n"
      "One frame of a robot's life (or a results file's champion's) as a PNG. A recorded life\n"

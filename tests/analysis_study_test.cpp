@@ -14,9 +14,11 @@
 
 #include "plastivox/analysis/bootstrap_coverage.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 #include "plastivox/io/h5_util.hpp"  // to read analysis.h5 back
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/io/robot_io.hpp"
 #include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
@@ -1309,7 +1311,7 @@ TEST_F(Study, CommandRefusesBadInputWithoutOutputs) {
     int status;
     std::string expect;
   } cases[] = {
-      {"--out " + path("o"), 2, "expected results files"},
+      {"--out " + path("o"), 2, "expected results or robot files"},
       {a, 2, "--out DIR is required"},
       {a + " --out " + path("o") + " --rotations some", 2, "--rotations expects"},
       {a + " --out " + path("o") + " --robustness-draws 0", 2, "--robustness-draws expects"},
@@ -1383,6 +1385,29 @@ TEST_F(Study, BatteryProfilesGoToStatsH5AndTheReport) {
   const std::string html = report_html(back);
   EXPECT_NE(html.find("<h2>Robustness battery</h2>"), std::string::npos);
   EXPECT_NE(html.find("<td>gravity</td>"), std::string::npos);
+  // Two champions a treatment: the battery's table carries Fig. 5's warning, and each test
+  // says it has no power (as stats.json does).
+  const size_t section = html.find("<h2>Robustness battery</h2>");
+  EXPECT_NE(html.find("id=\"battery-no-power\">These comparisons have no statistical power: 2 "
+                      "of 2 rest on fewer than 20 champions per treatment (the fewest: 2)",
+                      section),
+            std::string::npos);
+  EXPECT_NE(html.find("none-stress p=", section), std::string::npos);
+  EXPECT_NE(html.find("(no power: n = 2)", section), std::string::npos);
+  EXPECT_FALSE(block.at("comparisons")[0].at("comparisons")[0].at("powered").get<bool>());
+  EXPECT_NE(html.find("Cells are red where fitness is lost", section), std::string::npos);
+  EXPECT_EQ(html.find("left out (no valid life", section), std::string::npos);
+  // A champion without an AUC (every life of a severity failed) is counted in its cell, and a
+  // perturbation nothing could be compared in says so rather than leaving the cell blank.
+  StudyResult thin = back;
+  thin.battery_panels[0].groups[0].values.pop_back();
+  thin.battery_panels[1].comparisons.clear();
+  const std::string thin_html = report_html(thin);
+  EXPECT_NE(thin_html.find(" n=1, 1 left out (no valid life at a severity)</td>"),
+            std::string::npos);
+  EXPECT_NE(thin_html.find("<td>no test: fewer than two treatments with two or more "
+                           "champions</td>"),
+            std::string::npos);
 
   // The fingerprint follows the battery file's content, not only its name.
   const std::string before = study_fingerprint({"d"}, o);
@@ -1423,6 +1448,7 @@ TEST_F(Study, RobustnessCommandWritesProfilesAndRefusesBadBatteries) {
   ASSERT_EQ(est.status, 0) << est.out;
   EXPECT_NE(est.out.find("63 lives per champion; 2 champions: 126 lives"), std::string::npos)
       << est.out;
+  EXPECT_NE(est.out.find(" core-seconds, "), std::string::npos) << est.out;
 
   // Robot files: each under its own physics, labelled by its name; mixed with results: refused.
   const std::string robot = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/mixture.json";
@@ -1432,9 +1458,10 @@ TEST_F(Study, RobustnessCommandWritesProfilesAndRefusesBadBatteries) {
       testing::cli("robustness " + robot + " --threads 2 --battery " + short_battery);
   ASSERT_EQ(robots.status, 0) << robots.out;
   EXPECT_NE(robots.out.find("mixture: 2 lives"), std::string::npos) << robots.out;
+  // Robot and results files together are one study: here of different physics, refused so.
   const testing::Output mixed = testing::cli("robustness " + robot + " " + a);
-  EXPECT_EQ(mixed.status, 2) << mixed.out;
-  EXPECT_NE(mixed.out.find("not both"), std::string::npos) << mixed.out;
+  EXPECT_EQ(mixed.status, 1) << mixed.out;
+  EXPECT_NE(mixed.out.find("mixed physics"), std::string::npos) << mixed.out;
 
   const std::string bad = write("bad.json", R"({"format": "plastivox-battery", "version": 1,
       "perturbations": [{"kind": "voxel-loss", "severities": [0.1, 2], "seeds": [0]}]})");
@@ -1447,6 +1474,112 @@ TEST_F(Study, RobustnessCommandWritesProfilesAndRefusesBadBatteries) {
     EXPECT_EQ(std::count(o.out.begin(), o.out.end(), '\n'), 1) << o.out;  // no "load" line
     EXPECT_FALSE(fs::exists(path("o")));
   }
+}
+
+// The champion of each results file written as a robot file named after its label, as
+// `plastivox export` writes it (with the run's physics).
+std::vector<std::string> exported(const std::vector<std::string>& files, const std::string& dir) {
+  std::vector<std::string> out;
+  for (const std::string& f : files) {
+    const evo::ResultsFile rf = evo::read_results(f);
+    const evo::RunState& run = rf.state;
+    const std::string name = dir + "/" + to_string(run.config.treatment) + "-s" +
+                             std::to_string(run.config.seed) + ".json";
+    write_robot_file(name, evo::champion_robot(evo::champion_at(run, -1, f), run.generations_done),
+                     &run.config.physics);
+    out.push_back(name);
+  }
+  return out;
+}
+
+// Robot files exported from results files give analyze's numbers for those results files to the
+// bit: every Fig. 5 panel and the battery (the robot's own life, scored as evolution scored it,
+// is the recorded fitness and final stiffness; the audit runs on each).
+TEST_F(Study, RobotFilesGiveTheNumbersOfTheirResultsFiles) {
+  const std::vector<std::string> files = {run(Treatment::kNone, 1), run(Treatment::kNone, 2),
+                                          run(Treatment::kStress, 3), run(Treatment::kStress, 4)};
+  const std::vector<std::string> robots = exported(files, path(""));
+  StudyOptions o = quick();
+  o.battery = "small";
+  const Json a = Json::parse(stats_json(analyze_study(files, o)));
+  const StudyResult rb = analyze_study(robots, o);
+  const Json b = Json::parse(stats_json(rb));
+  EXPECT_EQ(a.at("panels"), b.at("panels"));
+  EXPECT_EQ(a.at("robustness_battery"), b.at("robustness_battery"));
+  EXPECT_EQ(a.at("hausdorff"), b.at("hausdorff"));
+  EXPECT_EQ(a.at("audit"), b.at("audit"));
+  ASSERT_EQ(a.at("champions").size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    Json ca = a.at("champions")[i], cb = b.at("champions")[i];
+    for (const char* k : {"file", "seed", "generation", "champion_id"}) {
+      ca.erase(k);
+      cb.erase(k);
+    }
+    EXPECT_EQ(ca, cb) << i;
+  }
+  EXPECT_EQ(rb.champions[0].label, "none-s1");  // a robot file is labelled by its name
+  // The estimate counts robot files' lives as results files' (simulating one life only).
+  const BatteryEstimate from_robots = estimate_battery(robots, o);
+  EXPECT_EQ(from_robots.lives, 4 * 14);
+  EXPECT_EQ(from_robots.voxel_steps, estimate_battery(files, o).voxel_steps);
+
+  // Labels: TREATMENT=FILE sets a robot file's treatment (through resolve_physics), must equal a
+  // results file's, and anything else is refused in one line naming the argument.
+  StudyOptions plain = quick();
+  const StudyResult relabelled =
+      analyze_study({"stress=" + robots[0], "stress=" + robots[1], robots[2], robots[3]}, plain);
+  EXPECT_EQ(relabelled.treatments, std::vector<Treatment>{Treatment::kStress});
+  EXPECT_EQ(relabelled.champions[0].physics.treatment, Treatment::kStress);
+  EXPECT_EQ(analyze_study({"none=" + files[0], files[1]}, plain).champions.size(), 2u);
+  for (const auto& [args, says] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"stress=" + files[0]},
+            "stress=" + files[0] + ": the run's treatment is none, not stress"},
+           {{"fast=" + robots[0]}, "fast=" + robots[0] + ": 'fast' is not a treatment"},
+           {{"none="}, "none=: no file after the treatment label"},
+           {{path("absent.json")}, path("absent.json") + ": cannot open"}}) {
+    const std::string msg = error_of([&] { analyze_study(args, plain); });
+    EXPECT_EQ(msg.rfind(says, 0), 0u) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
+// The battery is checkpointed per champion: an analysis stopped in the middle of the battery
+// resumes without simulating the finished champions' lives again and gives the uninterrupted
+// analysis's bits; on 1 and 2 threads the same.
+TEST_F(Study, BatteryResumesFromCheckpointsToTheSameBits) {
+  const std::vector<std::string> files = {run(Treatment::kNone, 1), run(Treatment::kNone, 2),
+                                          run(Treatment::kStress, 3), run(Treatment::kStress, 4)};
+  StudyOptions o = quick();
+  o.battery = "small";
+  o.threads = 1;
+  const std::string uninterrupted = without_date(stats_json(analyze_study(files, o)));
+  o.threads = 2;
+  EXPECT_EQ(without_date(stats_json(analyze_study(files, o))), uninterrupted);
+
+  o.threads = 1;  // a round is one champion
+  o.cache_dir = path("cache");
+  std::atomic<bool> stop{false};
+  o.stop_requested = &stop;
+  const std::string msg = error_of([&] {
+    analyze_study(files, o, [&](const StudyProgress& p) {
+      if (p.stage == "battery") stop.store(true);  // after the first champion's battery
+    });
+  });
+  EXPECT_NE(msg.find("stopped on request with 1 of 4 champions' battery done"), std::string::npos)
+      << msg;
+  int battery_files = 0;
+  for (const auto& e : fs::directory_iterator(path("cache")))
+    battery_files += e.path().filename().string().rfind("battery-", 0) == 0 ? 1 : 0;
+  EXPECT_EQ(battery_files, 1);
+
+  stop.store(false);
+  const StudyResult resumed = analyze_study(files, o);
+  EXPECT_EQ(resumed.battery_cached, 1);
+  EXPECT_EQ(without_date(stats_json(resumed)), uninterrupted);
+  const StudyResult again = analyze_study(files, o);  // everything from checkpoints
+  EXPECT_EQ(again.battery_cached, 4);
+  EXPECT_EQ(again.timings.robustness_simulations, 0);
+  EXPECT_EQ(without_date(stats_json(again)), uninterrupted);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // refuses a different config with rank 0's one-line error.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,11 @@ namespace {
 namespace fs = std::filesystem;
 
 using plastivox::testing::Output;
+
+std::string read_file(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
 
 Output shell(const std::string& cmd) {
   return plastivox::testing::shell(cmd + " 2>&1");
@@ -128,6 +134,39 @@ TEST_F(EvoMpi, AnInvalidConfigIsReportedOnceByRankZero) {
   EXPECT_NE(o.out.find(needle), std::string::npos) << o.out;
   EXPECT_EQ(o.out.find(needle), o.out.rfind(needle)) << o.out;
   EXPECT_FALSE(fs::exists(path("r.h5")));
+}
+
+// The robustness battery's lives shared by two ranks (apps/battery_ranks.cpp): plastivox
+// robustness writes the bytes one process writes, and analyze's stats.json holds the same
+// numbers (its provenance aside); rank 0 alone writes checkpoints and outputs.
+TEST_F(EvoMpi, TheBatteryOnTwoRanksGivesOneProcesssProfiles) {
+  const std::string cli = PLASTIVOX_CLI;
+  std::string runs;
+  for (int seed : {51, 52}) {
+    const std::string out = path("p" + std::to_string(seed) + ".h5");
+    ASSERT_EQ(shell(cli + " evolve --config " + config("c.json", seed) + " --out " + out).status,
+              0);
+    runs += " " + out;
+  }
+  const std::string args = " robustness" + runs + " --battery small --resamples 200 --threads 1";
+  const Output one = shell(cli + args + " --out " + path("one"));
+  ASSERT_EQ(one.status, 0) << one.out;
+  const Output two = shell(mpirun(2) + args + " --out " + path("two"));
+  ASSERT_EQ(two.status, 0) << two.out;
+  EXPECT_EQ(read_file(path("one/robustness.json")), read_file(path("two/robustness.json")));
+  EXPECT_EQ(std::count(two.out.begin(), two.out.end(), '\n'),
+            std::count(one.out.begin(), one.out.end(), '\n'))
+      << two.out;  // rank 0 alone talks
+
+  const std::string study = " analyze" + runs + " --battery small --resamples 200 --no-viewer";
+  ASSERT_EQ(shell(cli + study + " --out " + path("a1")).status, 0);
+  const Output a2 = shell(mpirun(2) + study + " --threads 1 --out " + path("a2"));
+  ASSERT_EQ(a2.status, 0) << a2.out;
+  nlohmann::json s1 = nlohmann::json::parse(read_file(path("a1/stats.json")));
+  nlohmann::json s2 = nlohmann::json::parse(read_file(path("a2/stats.json")));
+  s1.erase("provenance");
+  s2.erase("provenance");
+  EXPECT_EQ(s1, s2);
 }
 
 }  // namespace

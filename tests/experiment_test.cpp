@@ -221,6 +221,18 @@ TEST(ExperimentCost, CountsEveryEvaluation) {
   EXPECT_EQ(e.evolution_evaluations, 6 * (2 + 2 * 3));  // runs x (P + G (P + 1))
   EXPECT_EQ(e.analysis_evaluations, 6 * (1 + 2));       // champions x (1 + draws)
   EXPECT_DOUBLE_EQ(e.core_hours, (48 + 18) * 2.0 / 3600);
+  EXPECT_EQ(e.battery_evaluations, 0);
+  EXPECT_EQ(e.summary().find("battery"), std::string::npos);
+  // With the small battery (14 lives a champion): its lives and core-seconds, said apart.
+  nlohmann::json with = micro_config();
+  with["analysis"]["battery"] = "small";
+  const auto b = experiment::estimate_cost(parse_experiment_config(with.dump(), "micro"), s);
+  EXPECT_EQ(b.battery_evaluations, 6 * 14);
+  EXPECT_EQ(b.analysis_evaluations, 6 * (1 + 2 + 14));
+  EXPECT_DOUBLE_EQ(b.battery_core_seconds, 6 * 14 * 2.0);
+  EXPECT_NE(b.summary().find("the robustness battery: 84 lives, 168 core-seconds"),
+            std::string::npos)
+      << b.summary();
   const auto measured = experiment::measure_speed(c, 0.05);
   EXPECT_GT(measured.voxel_steps_per_second, 0);
   EXPECT_GT(measured.steps_per_life, 100);
@@ -651,7 +663,12 @@ std::vector<std::string> run_labels(const experiment::ExperimentConfig& c) {
 // still those of the run alone, on 1 or 2 threads, under mpirun, as separate `plastivox
 // evolve` runs and as one `plastivox evolve` given every config.
 TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
-  const json j = three_by_three();
+  json j = three_by_three();
+  // A battery of three lives a champion: under mpirun its lives are shared by the ranks, and
+  // the analysis is the one-process analysis (below).
+  write_file_atomic(path("battery.json"), R"({"format": "plastivox-battery", "version": 1,
+      "perturbations": [{"kind": "gravity", "severities": [0.5, 2], "seeds": [0]}]})");
+  j["analysis"]["battery"] = path("battery.json");
   const std::string cfg = write_config(j);
   const auto c = parse_experiment_config(j.dump(), "3x3");
   ASSERT_EQ(run("--config " + cfg + " --out " + path("t1") + " --threads 1").status, 0);
@@ -696,6 +713,15 @@ TEST_F(ExperimentRun, ConcurrentRunsGiveTheDigestsOfEachRunAlone) {
       cfg + " --out " + path("mpi") + " --threads 1 2>&1");
   ASSERT_EQ(mpi.status, 0) << mpi.out;
   folders.push_back("mpi/runs");
+  EXPECT_NE(mpi.out.find("the battery's lives shared by 2 ranks"), std::string::npos) << mpi.out;
+  json one = json::parse(read_file_bytes(path("t1/stats.json")));
+  json two_ranks = json::parse(read_file_bytes(path("mpi/stats.json")));
+  ASSERT_FALSE(one.at("robustness_battery").is_null());
+  for (json* s : {&one, &two_ranks}) {  // what names the folder or the session
+    s->erase("provenance");
+    for (json& c : s->at("champions")) c.erase("file");
+  }
+  EXPECT_EQ(one, two_ranks);
 #endif
   for (const std::string& label : run_labels(c)) {
     const std::string want = digest_of(path("t1/runs/") + label + ".h5");

@@ -643,6 +643,20 @@ TEST_F(PanelFiles, BatteryHeatMapIsDrawnWhenTheStatsHaveABattery) {
                 "stats.json: robustness_battery.comparisons[1].groups[0].mean: missing"),
             std::string::npos)
       << parse_error(bad);
+  // A comparison without power (fewer than 20 champions a treatment) says so in its row, as
+  // the report's battery table does; one of another type is refused naming the field.
+  Json weak = with_battery();
+  weak["robustness_battery"]["comparisons"][0]["comparisons"][0]["powered"] = false;
+  EXPECT_EQ(parse_stats_figure(weak, "stats.json").battery->tests,
+            (std::vector<std::string>{"no power (n < 20)", "none-stress *"}));
+  Json none = with_battery();
+  none["robustness_battery"]["comparisons"][1]["comparisons"] = Json::array();
+  EXPECT_EQ(parse_stats_figure(none, "stats.json").battery->tests[1], "no test (n < 2)");
+  weak["robustness_battery"]["comparisons"][0]["comparisons"][0]["powered"] = "no";
+  EXPECT_NE(parse_error(weak).find("robustness_battery.comparisons[0].comparisons[0].powered: "
+                                   "expected true or false"),
+            std::string::npos)
+      << parse_error(weak);
 }
 
 }  // namespace

@@ -21,25 +21,6 @@ struct Job {
   bool paper_reference = false;
 };
 
-struct Sim {
-  double fitness = 0;
-  std::string status, failure;  // "ok", "unstable" or "sank"
-};
-
-Sim run(const PerturbedLife& life, const Limits& limits) {
-  SimResult r = simulate(compile(life.robot, life.physics, limits));
-  judge_life(life.physics, r);  // a sunk life counts as evolution counts it (sinking_invalid)
-  Sim s;
-  if (r.status == SimStatus::kFinished) {
-    s.fitness = r.fitness;
-    s.status = "ok";
-  } else {
-    s.status = r.sank ? "sank" : "unstable";
-    s.failure = r.failure;
-  }
-  return s;
-}
-
 bool needs_paper_reference(const Battery& b) {
   for (const Perturbation& p : b.perturbations)
     if (p.kind == PerturbationKind::kPaper) return true;
@@ -123,6 +104,31 @@ void summarise(PerturbationProfile& p) {
 
 }  // namespace
 
+LifeRun run_battery_life(const PerturbedLife& life, const Limits& limits) {
+  SimResult r = simulate(compile(life.robot, life.physics, limits));
+  judge_life(life.physics, r);  // a sunk life counts as evolution counts it (sinking_invalid)
+  LifeRun s;
+  if (r.status == SimStatus::kFinished) {
+    s.fitness = r.fitness;
+    s.status = "ok";
+  } else {
+    s.status = r.sank ? "sank" : "unstable";
+    s.failure = r.failure;
+  }
+  return s;
+}
+
+double life_voxel_steps(const PerturbedLife& life) {
+  double e_top = 0;
+  int voxels = 0;
+  for (int s = 0; s < life.robot.sites(); ++s)
+    if (life.robot.present[s]) {
+      e_top = std::max(e_top, life.robot.stiffness[s]);
+      ++voxels;
+    }
+  return voxels * life.physics.duration / time_step_at(life.physics, life.robot.voxel_size, e_top);
+}
+
 int battery_lives(const Battery& b) {
   return static_cast<int>(jobs_of(b).size());
 }
@@ -131,42 +137,48 @@ double battery_voxel_steps(const RobotDef& champion, const PhysicsDef& physics,
                            const Battery& battery, uint64_t base_seed) {
   validate(battery, battery.name.empty() ? "battery" : battery.name);
   double total = 0;
-  for (const PerturbedLife& life : lives_of(champion, physics, battery, base_seed)) {
-    double e_top = 0;
-    int voxels = 0;
-    for (int s = 0; s < life.robot.sites(); ++s)
-      if (life.robot.present[s]) {
-        e_top = std::max(e_top, life.robot.stiffness[s]);
-        ++voxels;
-      }
-    total +=
-        voxels * life.physics.duration / time_step_at(life.physics, life.robot.voxel_size, e_top);
-  }
+  for (const PerturbedLife& life : lives_of(champion, physics, battery, base_seed))
+    total += life_voxel_steps(life);
   return total;
+}
+
+std::vector<PerturbedLife> battery_lives_of(const RobotDef& champion, const PhysicsDef& physics,
+                                            const Battery& battery, uint64_t base_seed,
+                                            const Limits& limits) {
+  validate(champion);
+  validate(physics);
+  validate(battery, battery.name.empty() ? "battery" : battery.name);
+  std::vector<PerturbedLife> lives = lives_of(champion, physics, battery, base_seed);
+  for (const PerturbedLife& life : lives) {
+    validate(life.robot, limits);
+    validate(life.physics);
+  }
+  return lives;
 }
 
 RobustnessProfile robustness_profile(const RobotDef& champion, const PhysicsDef& physics,
                                      const Battery& battery, const ProfileOptions& options) {
-  validate(champion);
-  validate(physics);
-  validate(battery, battery.name.empty() ? "battery" : battery.name);
-
   // Every perturbed robot and physics is made (and checked) before any life is simulated.
-  const std::vector<Job> jobs = jobs_of(battery);
-  const std::vector<PerturbedLife> lives = lives_of(champion, physics, battery, options.seed);
-  for (const PerturbedLife& life : lives) {
-    validate(life.robot, options.limits);
-    validate(life.physics);
-  }
-  std::vector<Sim> sims(jobs.size());
-  parallel_for(jobs.size(), options.threads,
-               [&](size_t j) { sims[j] = run(lives[j], options.limits); });
+  const std::vector<PerturbedLife> lives =
+      battery_lives_of(champion, physics, battery, options.seed, options.limits);
+  std::vector<LifeRun> runs(lives.size());
+  parallel_for(lives.size(), options.threads,
+               [&](size_t j) { runs[j] = run_battery_life(lives[j], options.limits); });
+  return assemble_profile(battery, options.seed, runs);
+}
 
+RobustnessProfile assemble_profile(const Battery& battery, uint64_t base_seed,
+                                   const std::vector<LifeRun>& sims) {
+  const std::vector<Job> jobs = jobs_of(battery);
+  if (sims.size() != jobs.size())
+    throw std::invalid_argument("assemble_profile: " + std::to_string(sims.size()) +
+                                " outcomes for a battery of " + std::to_string(jobs.size()) +
+                                " lives");
   RobustnessProfile out;
   out.battery = battery.name;
-  out.seed = options.seed;
-  const Sim* evolved_ref = nullptr;
-  const Sim* paper_ref = nullptr;
+  out.seed = base_seed;
+  const LifeRun* evolved_ref = nullptr;
+  const LifeRun* paper_ref = nullptr;
   for (size_t j = 0; j < jobs.size(); ++j)
     if (jobs[j].perturbation < 0) (jobs[j].paper_reference ? paper_ref : evolved_ref) = &sims[j];
   for (const Perturbation& p : battery.perturbations) {
@@ -174,7 +186,7 @@ RobustnessProfile robustness_profile(const RobotDef& champion, const PhysicsDef&
     pp.name = p.name;
     pp.kind = p.kind;
     pp.unit = severity_unit(p.kind);
-    const Sim& ref = *(p.kind == PerturbationKind::kPaper ? paper_ref : evolved_ref);
+    const LifeRun& ref = *(p.kind == PerturbationKind::kPaper ? paper_ref : evolved_ref);
     pp.f_reference = ref.fitness;
     pp.reference_valid = ref.status == "ok" && ref.fitness > 0;
     pp.reference_failure =

@@ -46,10 +46,12 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds 
 
 struct CostEstimate {
   int64_t evolution_evaluations = 0;  // runs x (P + G (P + 1)), before cache hits
-  int64_t analysis_evaluations = 0;   // champions x (1 + robustness draws)
+  int64_t analysis_evaluations = 0;   // champions x (1 + robustness draws + battery lives)
+  int64_t battery_evaluations = 0;    // champions x the battery's lives (0 without a battery)
+  double battery_core_seconds = 0;    // what those lives cost at the typical body's cost
   double core_hours = 0;              // simulation alone, at the typical body's cost (busy cores)
   SpeedSample speed;
-  std::string summary() const;  // two lines for the terminal
+  std::string summary() const;  // two lines for the terminal (three with a battery)
 };
 
 // Wall time and utilisation on a given layout: predict_schedule below.

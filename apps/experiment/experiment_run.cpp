@@ -125,17 +125,31 @@ ExperimentOutcome run_experiment(const ExperimentConfig& config, const Experimen
   out.outputs.push_back("experiment.log");
   if (!stage_evolution(ctx)) return out;
   for (const auto& f : ctx.run_files) out.outputs.push_back(f);
-  if (!leader || !opt.only_run.empty()) {  // analysis, rendering and the report run on rank 0 alone
+  // Analysis, rendering and the report run on rank 0 alone; under mpirun with a battery the
+  // other ranks stay for the analysis and share the battery's lives (docs/analysis.md).
+  ctx.shared_analysis = opt.cluster && opt.cluster->size() > 1 && opt.share_battery &&
+                        !config.analysis.battery.empty() && opt.only_run.empty();
+  if ((!leader && !ctx.shared_analysis) || !opt.only_run.empty()) {
     out.completed = true;
     return out;
   }
   // A stop request between stages ends the session cleanly; every stage is resumable.
   auto stopping = [&] { return opt.stop_requested && opt.stop_requested->load(); };
-  if (stopping()) return out;
+  if (ctx.shared_analysis) {  // rank 0's flag decides for every rank
+    std::string go = stopping() ? "stop" : "go";
+    opt.cluster->broadcast(go);
+    if (go == "stop") return out;
+  } else if (stopping()) {
+    return out;
+  }
   try {
     for (const auto& f : stage_analysis(ctx)) out.outputs.push_back(f);
   } catch (const analysis::StudyStopped&) {
     progress.log("[analysis] stopped; the champions done are checkpointed (rerun to resume)");
+    return out;
+  }
+  if (!leader) {  // it helped with the battery; rank 0 renders and reports
+    out.completed = true;
     return out;
   }
   if (stopping()) return out;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <set>
 #include <string>
@@ -21,7 +22,8 @@ class Cluster;
 }
 namespace plastivox::analysis {
 struct StudyResult;
-}
+struct StudyOptions;
+}  // namespace plastivox::analysis
 
 namespace plastivox::experiment {
 
@@ -41,6 +43,11 @@ struct ExperimentOptions {
   bool viewer = true;
   bool keep_artifacts = false;  // keep champions whose life is unstable or sank in the statistics
   bool keep_vertical = false;   // keep champions the vertical rule flags in the statistics
+  // Under mpirun: sets the analysis's StudyOptions::battery_lives so that a robustness battery
+  // is shared by every rank (cmd_experiment, apps/battery_ranks.hpp). Then, with a battery in
+  // the config, the other ranks stay after evolution and run the analysis with rank 0; without
+  // it (or a battery) analysis, rendering and the report run on rank 0 alone.
+  std::function<void(analysis::StudyOptions&)> share_battery;
 };
 
 struct ExperimentOutcome {
@@ -65,6 +72,9 @@ struct StageContext {
   std::vector<std::string> run_labels;
   int run_index_offset = 0;  // index of run_files[0] among all runs (with --run)
   std::shared_ptr<const analysis::StudyResult> study;  // set by stage_analysis
+  // Every rank runs the analysis stage (a battery shared over MPI ranks); rank 0 decides and
+  // alone writes.
+  bool shared_analysis = false;
 };
 bool stage_evolution(StageContext& ctx);  // false: stopped by request
 std::vector<std::string> stage_analysis(StageContext& ctx);

@@ -128,6 +128,9 @@ CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& sp
   c.evolution_evaluations = config.runs() * (p + g * (p + 1));
   c.analysis_evaluations =
       static_cast<int64_t>(config.runs()) * config.analysis.lives_per_champion();
+  c.battery_evaluations = static_cast<int64_t>(config.runs()) * config.analysis.battery_lives;
+  c.battery_core_seconds =
+      static_cast<double>(c.battery_evaluations) * speed.seconds_per_evaluation;
   const double evals = static_cast<double>(c.evolution_evaluations + c.analysis_evaluations);
   const double core_seconds = evals * speed.seconds_per_evaluation;
   c.core_hours = core_seconds / 3600.0;
@@ -182,7 +185,15 @@ std::string CostEstimate::summary() const {
                 static_cast<long long>(analysis_evaluations), speed.voxels_per_body,
                 speed.steps_per_life, v / 1e6, speed.rounds, speed.voxel_steps_low / 1e6,
                 speed.voxel_steps_high / 1e6, speed.seconds_per_evaluation, core_hours, lo, hi);
-  return buf;
+  std::string out = buf;
+  if (battery_evaluations > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "\nestimate: of the analysis, the robustness battery: %lld lives, %.3g "
+                  "core-seconds at that body's cost",
+                  static_cast<long long>(battery_evaluations), battery_core_seconds);
+    out += buf;
+  }
+  return out;
 }
 
 }  // namespace plastivox::experiment

@@ -191,13 +191,21 @@ BatteryHeatMap parse_battery_heat_map(const Json& block, const std::string& sour
     if (groups.size() != map.treatments.size())
       p.fail(p.field("groups"), "treatments differ from the first perturbation's");
     const Json& comparisons = p.array("comparisons");
+    int unpowered = 0;
     for (size_t k = 0; k < comparisons.size(); ++k) {
       const Reader c =
           p.child(comparisons[k], p.field("comparisons") + "[" + std::to_string(k) + "]");
       const std::string stars = c.str("stars");
       if (!stars.empty())
         tests += (tests.empty() ? "" : "  ") + c.str("a") + "-" + c.str("b") + " " + stars;
+      // Absent in files written before the field: those comparisons' stars already said it.
+      if (c.has("powered") && !c.at("powered").is_boolean())
+        c.fail(c.field("powered"), "expected true or false");
+      unpowered += c.has("powered") && !c.at("powered").get<bool>() ? 1 : 0;
     }
+    // As the report's table says: below 20 champions a treatment no comparison has power.
+    if (unpowered > 0) tests += (tests.empty() ? "" : "  ") + std::string("no power (n < 20)");
+    if (comparisons.empty()) tests = "no test (n < 2)";
     map.tests.push_back(tests);
   }
   return map;

@@ -5,6 +5,7 @@ each) that analyze has analysed; and bad arguments are refused in one line namin
 
 import json
 import os
+import pathlib
 
 import numpy as np
 import pytest
@@ -15,6 +16,14 @@ from plastivox import analysis
 from conftest import main_thread_turns, run_cli, tiny_config
 
 SEED, DRAWS, RESAMPLES = 7, 2, 200  # analyze's --seed, --robustness-draws, --resamples
+# PLASTIVOX_STUDY=DIR: the same comparisons on the champions of a study analyze or experiment
+# already wrote in DIR (its options read from its stats.json), e.g. the default study's:
+#   plastivox experiment --out DIR     (about 10 min on 2 cores), then this file with it set.
+STUDY_DIR = os.environ.get("PLASTIVOX_STUDY")
+if STUDY_DIR:
+    with open(os.path.join(STUDY_DIR, "stats.json")) as _f:
+        _options = json.load(_f)["provenance"]["options"]
+    SEED, DRAWS, RESAMPLES = _options["seed"], _options["robustness_draws"], _options["resamples"]
 
 
 def same_bits(a, b):
@@ -34,6 +43,9 @@ def json_number(x):
 def study(tmp_path_factory):
     """(stats.json, analysis.h5 opened, the champions' Results in analyze's order)."""
     h5py = pytest.importorskip("h5py")  # Debian python3-h5py, in .ci/packages.txt
+    if STUDY_DIR:
+        yield from opened(pathlib.Path(STUDY_DIR), h5py)
+        return
     d = tmp_path_factory.mktemp("study")
     files = []
     for treatment in ("none", "stress", "pressure"):
@@ -46,6 +58,11 @@ def study(tmp_path_factory):
     out = d / "out"
     run_cli("analyze", *files, "--out", str(out), "--seed", str(SEED), "--robustness-draws",
             str(DRAWS), "--resamples", str(RESAMPLES), "--threads", "2")
+    yield from opened(out, h5py)
+
+
+def opened(out, h5py):
+    """A study folder's (stats.json, analysis.h5 opened, the champions' Results)."""
     stats = json.load(open(out / "stats.json"))
     results = [plastivox.read_results(c["file"]) for c in stats["champions"]]
     with h5py.File(out / "analysis.h5", "r") as h5:
@@ -290,6 +307,11 @@ def test_robustness_battery_equals_the_command_and_paper_is_r(study, tmp_path):
                 for level in q["levels"] for x in level["kept"]]
     assert same_bits(small["kept"], expected)
     assert set(small["perturbation"]) == {"paper", "voxel-loss", "friction", "gravity"}
+    if stats.get("robustness_battery") and stats["robustness_battery"]["name"] == "small":
+        # A study analysed with the small battery (the default study's): its own stats.json.
+        mine = [c["profile"] for c in stats["robustness_battery"]["champions"] if "profile" in c]
+        assert same_bits(small["kept"], [json_number(x) for p in mine for q in p["perturbations"]
+                                         for level in q["levels"] for x in level["kept"]])
     # A table: a pandas frame when pandas is there, else the same columns as numpy arrays.
     default = plastivox.robustness(keep[0], battery="small", seed=SEED)
     try:

@@ -1,20 +1,25 @@
 // The robustness battery in a study (battery.hpp; docs/analysis.md, "Robustness battery"):
-// every champion's profile, champions in parallel with each champion's lives on the spare
-// threads (as run_robustness splits them), and per perturbation the treatments' AUC compared as
-// a Fig. 5 panel: means with percentile bootstrap CIs, Bonferroni-corrected bootstrap tests.
+// every champion's profile, the lives of a round of champions in one pool (this process's
+// threads, or MPI ranks through StudyOptions::battery_lives), each champion checkpointed when
+// its round is back (a rerun reads it, bit for bit); and per perturbation the treatments' AUC
+// compared as a Fig. 5 panel: means with percentile bootstrap CIs, Bonferroni-corrected tests.
 //
 // Seeds: a champion's lives draw from its robustness seed (champion_robustness_seed), so its
 // `paper` lives are R's draws; perturbation i's panel resamples with panel_seed(seed, 100 + i),
 // apart from Fig. 5's panels (1..6) and the evolution bands (100 is mixed differently).
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <mutex>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "plastivox/base/clock.hpp"
+#include "plastivox/base/hash.hpp"
 #include "plastivox/base/parallel.hpp"
+#include "plastivox/evo/config.hpp"  // resolved_physics_json
 #include "plastivox/io/limits.hpp"
 #include "plastivox/io/provenance.hpp"
 #include "plastivox/model.hpp"
@@ -24,40 +29,165 @@
 namespace plastivox::analysis {
 namespace study {
 
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// A champion's battery checkpoint: <cache_dir>/battery-<key>.json holds every life's outcome
+// (fitness as its 64 bits), from which assemble_profile makes the profile again bit for bit.
+// The key hashes all the outcomes depend on: the robot, its physics, the battery and the seed.
+std::string checkpoint_key(const ChampionAnalysis& c, const Battery& b, uint64_t seed) {
+  Hasher h;
+  h.str("plastivox-battery-checkpoint-v1");
+  h.str(c.phenotype_digest.empty() ? phenotype_digest(c.robot) : c.phenotype_digest);
+  h.str(evo::resolved_physics_json(c.physics));
+  h.str(battery_json(b));
+  h.u64(seed);
+  return h.finish().hex();
+}
+
+std::string checkpoint_path(const std::string& dir, const std::string& key) {
+  return (std::filesystem::path(dir) / ("battery-" + key + ".json")).string();
+}
+
+std::string checkpoint_text(const std::string& key, const std::string& label,
+                            const std::vector<LifeRun>& runs) {
+  Json lives = Json::array();
+  for (const LifeRun& l : runs)
+    lives.push_back({{"fitness", bits(l.fitness)}, {"status", l.status}, {"failure", l.failure}});
+  const Json j = {{"format", "plastivox-battery-checkpoint"},
+                  {"version", 1},
+                  {"key", key},
+                  {"label", label},
+                  {"lives", lives}};
+  return j.dump(1) + "\n";
+}
+
+// The outcomes, or nothing when the file is absent, unreadable, for another key or of another
+// length.
+std::optional<std::vector<LifeRun>> read_checkpoint(const std::string& path, const std::string& key,
+                                                    size_t lives) {
+  const std::optional<Json> read = read_checkpoint_json(path, "plastivox-battery-checkpoint", key);
+  if (!read) return std::nullopt;
+  const Json& j = *read;
+  try {
+    if (j.at("lives").size() != lives) return std::nullopt;
+    std::vector<LifeRun> runs;
+    for (const Json& l : j.at("lives")) {
+      LifeRun x;
+      x.fitness = from_bits(l.at("fitness").get<std::string>());
+      x.status = l.at("status").get<std::string>();
+      x.failure = l.at("failure").get<std::string>();
+      if (x.status != "ok" && x.status != "unstable" && x.status != "sank") return std::nullopt;
+      runs.push_back(x);
+    }
+    return runs;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+// This process's pool: every life of the round on `threads`, the longest first.
+std::vector<LifeRun> lives_on_threads(const std::vector<PerturbedLife>& lives, int threads,
+                                      const Limits& limits) {
+  std::vector<size_t> order(lives.size());
+  std::vector<double> cost(lives.size());
+  for (size_t i = 0; i < lives.size(); ++i) {
+    order[i] = i;
+    cost[i] = life_voxel_steps(lives[i]);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return cost[a] > cost[b]; });
+  std::vector<LifeRun> runs(lives.size());
+  parallel_for(order.size(), threads,
+               [&](size_t k) { runs[order[k]] = run_battery_life(lives[order[k]], limits); });
+  return runs;
+}
+
+}  // namespace
+
 void run_battery(StudyResult& r, const StudyProgressFn& progress) {
   if (!r.battery) return;
   const Battery& battery = *r.battery;
+  const StudyOptions& o = r.options;
+  const Limits limits = limits_from_environment();
   std::vector<int> todo;
-  for (int i = 0; i < static_cast<int>(r.champions.size()); ++i)
-    if (r.champions[i].artifact.empty()) todo.push_back(i);
-  if (todo.empty()) return;
-  const int per = battery_lives(battery);
-  const int threads = r.options.threads > 0 ? r.options.threads : hardware_threads();
-  const int outer = std::min(threads, static_cast<int>(todo.size()));
-  const int inner = std::max(1, threads / outer);
-  std::mutex mutex;
-  int done = 0;
-  parallel_for(todo.size(), outer, [&](size_t k) {
-    if (r.options.stop_requested && r.options.stop_requested->load())
-      throw StudyStopped("stopped on request during the robustness battery");
-    ChampionAnalysis& c = r.champions[todo[k]];
-    ProfileOptions o;
-    o.seed = champion_robustness_seed(r.options.seed, c.robot);
-    o.threads = inner;
-    o.limits = limits_from_environment();
-    const auto t0 = std::chrono::steady_clock::now();
-    c.profile = robustness_profile(c.robot, c.physics, battery, o);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::lock_guard<std::mutex> lock(mutex);
+  std::vector<std::string> keys(r.champions.size());
+  int done = 0, from_cache = 0;
+  const int total =
+      static_cast<int>(std::count_if(r.champions.begin(), r.champions.end(),
+                                     [](const ChampionAnalysis& c) { return c.artifact.empty(); }));
+  auto finish = [&](ChampionAnalysis& c, const std::vector<LifeRun>& runs, const char* how) {
+    c.profile = assemble_profile(battery, champion_robustness_seed(o.seed, c.robot), runs);
     ++done;
     r.battery_lives += c.profile->lives;
     r.battery_unstable += c.profile->unstable;
     r.battery_sank += c.profile->sank;
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "battery %d/%zu %s: %d lives (%d unstable, %d sank), %.1f s",
-                  done, todo.size(), c.label.c_str(), per, c.profile->unstable, c.profile->sank, s);
-    if (progress) progress({"battery", done, static_cast<int>(todo.size()), buf});
-  });
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "battery %d/%d %s: %d lives (%d unstable, %d sank)%s", done,
+                  total, c.label.c_str(), c.profile->lives, c.profile->unstable, c.profile->sank,
+                  how);
+    if (progress) progress({"battery", done, total, buf});
+  };
+  // What an earlier, interrupted analysis finished is read back, not simulated again.
+  for (int i = 0; i < static_cast<int>(r.champions.size()); ++i) {
+    ChampionAnalysis& c = r.champions[i];
+    if (!c.artifact.empty()) continue;
+    keys[i] = checkpoint_key(c, battery, o.seed);
+    std::optional<std::vector<LifeRun>> cached;
+    if (!o.cache_dir.empty())
+      cached = read_checkpoint(checkpoint_path(o.cache_dir, keys[i]), keys[i],
+                               static_cast<size_t>(battery_lives(battery)));
+    if (!cached) {
+      todo.push_back(i);
+      continue;
+    }
+    ++from_cache;
+    finish(c, *cached, " (from checkpoint)");
+  }
+  r.battery_cached = from_cache;
+  if (todo.empty()) return;
+  if (!o.cache_dir.empty() && o.write_cache) std::filesystem::create_directories(o.cache_dir);
+
+  // Rounds of as many champions as there are threads: every life of a round goes into one pool
+  // (on this process's threads, or over MPI ranks through options.battery_lives), and each
+  // champion of the round is checkpointed once the round is back.
+  const int threads = o.threads > 0 ? o.threads : hardware_threads();
+  const size_t per_round = static_cast<size_t>(std::max(1, threads));
+  for (size_t first = 0; first < todo.size(); first += per_round) {
+    if (o.stop_requested && o.stop_requested->load())
+      throw StudyStopped("stopped on request with " + std::to_string(done) + " of " +
+                         std::to_string(total) + " champions' battery done and checkpointed");
+    const size_t last = std::min(todo.size(), first + per_round);
+    std::vector<PerturbedLife> lives;
+    std::vector<size_t> start;  // where each champion's lives begin in `lives`
+    for (size_t k = first; k < last; ++k) {
+      const ChampionAnalysis& c = r.champions[todo[k]];
+      start.push_back(lives.size());
+      for (PerturbedLife& l : battery_lives_of(c.robot, c.physics, battery,
+                                               champion_robustness_seed(o.seed, c.robot), limits))
+        lives.push_back(std::move(l));
+    }
+    start.push_back(lives.size());
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<LifeRun> runs =
+        o.battery_lives ? o.battery_lives(lives) : lives_on_threads(lives, threads, limits);
+    if (runs.size() != lives.size())
+      throw std::runtime_error("battery: " + std::to_string(runs.size()) + " outcomes for " +
+                               std::to_string(lives.size()) + " lives");
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (size_t k = first; k < last; ++k) {
+      ChampionAnalysis& c = r.champions[todo[k]];
+      const std::vector<LifeRun> mine(runs.begin() + static_cast<long>(start[k - first]),
+                                      runs.begin() + static_cast<long>(start[k - first + 1]));
+      if (!o.cache_dir.empty() && o.write_cache)
+        write_atomically(checkpoint_path(o.cache_dir, keys[todo[k]]),
+                         checkpoint_text(keys[todo[k]], c.label, mine));
+      char how[64];
+      std::snprintf(how, sizeof how, ", round of %zu in %.1f s", last - first, s);
+      finish(c, mine, how);
+    }
+  }
 }
 
 std::vector<PanelStats> compute_battery_panels(const StudyResult& r) {
@@ -102,8 +232,6 @@ std::vector<PanelStats> compute_battery_panels(const StudyResult& r) {
 }
 
 namespace {
-
-using Json = nlohmann::ordered_json;
 
 Json optional_number(const std::optional<double>& x) {
   return x ? Json(*x) : Json(nullptr);
@@ -170,6 +298,7 @@ Json panel_json(const PanelStats& p) {
                      {"p", t.p_value},
                      {"p_corrected", t.p_corrected},
                      {"significant", t.significant},
+                     {"powered", has_power(p, t)},
                      {"stars", stars_shown(p, t)}});
   return {{"id", p.id},     {"metric", p.metric}, {"perturbation", p.title}, {"unit", p.unit},
           {"seed", p.seed}, {"groups", groups},   {"comparisons", tests}};
@@ -222,47 +351,13 @@ StudyResult battery_study(const std::vector<std::string>& files, const StudyOpti
   return r;
 }
 
-StudyResult battery_study_of_robots(const std::vector<std::string>& labels,
-                                    const std::vector<RobotDef>& robots,
-                                    const std::vector<PhysicsDef>& physics,
-                                    const StudyOptions& options, const StudyProgressFn& progress) {
-  if (options.battery.empty()) throw std::invalid_argument("battery_study: no battery given");
-  if (labels.size() != robots.size() || physics.size() != robots.size())
-    throw std::invalid_argument("battery_study_of_robots: one label and physics per robot");
-  StudyResult r;
-  r.options = options;
-  r.battery = load_battery(options.battery, options.robustness_draws);
-  for (size_t i = 0; i < robots.size(); ++i) {
-    ChampionAnalysis c;
-    c.label = labels[i];
-    c.robot = robots[i];
-    c.physics = physics[i];
-    c.treatment = physics[i].treatment;
-    c.voxels = robots[i].voxel_count();
-    r.champions.push_back(std::move(c));
-  }
-  for (Treatment t : all_treatments())
-    for (const ChampionAnalysis& c : r.champions)
-      if (c.treatment == t) {
-        r.treatments.push_back(t);
-        break;
-      }
-  const Provenance prov = current_provenance(options.threads);
-  r.version = prov.plastivox_version;
-  r.commit = prov.git_commit;
-  r.date = prov.date_created;
-  study::run_battery(r, progress);
-  r.battery_panels = study::compute_battery_panels(r);
-  return r;
-}
-
 BatteryEstimate estimate_battery(const std::vector<std::string>& files,
                                  const StudyOptions& options) {
   if (options.battery.empty()) throw std::invalid_argument("estimate_battery: no battery given");
   StudyResult r;
   r.options = options;
   const Battery battery = load_battery(options.battery, options.robustness_draws);
-  study::load_champions(files, options, r);
+  study::load_champions(files, options, r, /*score_robot_files=*/false);
   BatteryEstimate e;
   e.champions = static_cast<int>(r.champions.size());
   e.lives = e.champions * battery_lives(battery);
@@ -281,7 +376,8 @@ BatteryEstimate estimate_battery(const std::vector<std::string>& files,
   // A battery of one unperturbed-gravity life costs the reference plus that life: half is one.
   const double units = battery_voxel_steps(first.robot, first.physics, one, 0) / 2;
   e.seconds_per_voxel_step = units > 0 ? s / units : 0;
-  e.seconds = e.voxel_steps * e.seconds_per_voxel_step / std::min(e.threads, std::max(1, e.lives));
+  e.core_seconds = e.voxel_steps * e.seconds_per_voxel_step;
+  e.seconds = e.core_seconds / std::min(e.threads, std::max(1, e.lives));
   return e;
 }
 

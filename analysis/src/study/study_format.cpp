@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "plastivox/io/atomic_file.hpp"
@@ -25,6 +27,38 @@ std::string number(double x) {
 
 std::string number(const std::optional<double>& x) {
   return x ? number(*x) : "";
+}
+
+std::string bits(double x) {
+  uint64_t u = 0;
+  std::memcpy(&u, &x, sizeof u);
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(u));
+  return buf;
+}
+
+double from_bits(const std::string& s) {
+  if (s.size() != 16) throw std::runtime_error("bad double bits");
+  const uint64_t u = std::stoull(s, nullptr, 16);
+  double x = 0;
+  std::memcpy(&x, &u, sizeof x);
+  return x;
+}
+
+std::optional<nlohmann::ordered_json> read_checkpoint_json(const std::string& path,
+                                                           const std::string& format,
+                                                           const std::string& key) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  try {
+    std::stringstream ss;
+    ss << in.rdbuf();
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(ss.str());
+    if (j.at("format") != format || j.at("version") != 1 || j.at("key") != key) return std::nullopt;
+    return j;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
 }
 
 std::string display(double x, int digits) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "plastivox/analysis/study.hpp"
 
 namespace plastivox::analysis::study {
@@ -16,8 +18,10 @@ namespace plastivox::analysis::study {
 // Reads every file, picks the champions, checks the inputs (no files, duplicates, expected
 // treatments, usable champions, mixed physics) and returns them sorted (treatment, seed,
 // digest) with unique labels; fills inputs, treatments and warnings of `out`.
+// A robot file's own life is simulated here (its fitness and final stiffness, as a results file
+// records them) unless `score_robot_files` is false (an estimate, which simulates one life only).
 void load_champions(const std::vector<std::string>& files, const StudyOptions& options,
-                    StudyResult& out);
+                    StudyResult& out, bool score_robot_files = true);
 
 // ---- study_audit.cpp ----
 // Simulates every champion's life again with its run's physics (sunk lives scored): sets
@@ -37,7 +41,9 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress);
 
 // ---- study_battery.cpp ----
 // Every champion's robustness profile over r.battery (nothing without one; excluded artifacts
-// get none), champions in parallel.
+// get none): the lives of several champions at a time in one pool (options.threads, or
+// options.battery_lives across MPI ranks), each champion checkpointed in options.cache_dir
+// when its lives are done, and read back from there by a rerun.
 void run_battery(StudyResult& r, const StudyProgressFn& progress);
 // Per perturbation, the treatments' AUC compared as a Fig. 5 panel.
 std::vector<PanelStats> compute_battery_panels(const StudyResult& r);
@@ -95,7 +101,8 @@ struct PowerSummary {
   int comparisons = 0, without_power = 0, fewest = 0;
   std::vector<std::string> panels;  // ids of the panels with a comparison without power
 };
-PowerSummary power_summary(const StudyResult& r);
+PowerSummary power_summary(const StudyResult& r);  // of Fig. 5's panels (r.panels)
+PowerSummary power_summary(const std::vector<PanelStats>& panels);
 // stats.json's warning for comparisons without power ("" when every comparison has it).
 std::string power_warning(const StudyResult& r);
 
@@ -130,6 +137,15 @@ std::string direction_text(Treatment a, Treatment b, int direction);
 // or not finite.
 std::string number(double x);
 std::string number(const std::optional<double>& x);
+// A double's 64 bits as 16 hex digits, and back (checkpoints store doubles so; from_bits
+// throws std::runtime_error for anything else).
+std::string bits(double x);
+double from_bits(const std::string& hex);
+// A checkpoint file's JSON when it exists, parses, and holds `format`, version 1 and `key`;
+// nothing otherwise (a damaged or foreign checkpoint is recomputed, never trusted).
+std::optional<nlohmann::ordered_json> read_checkpoint_json(const std::string& path,
+                                                           const std::string& format,
+                                                           const std::string& key);
 // A double rounded for display ("%.*g").
 std::string display(double x, int digits = 3);
 std::string display(const std::optional<double>& x, int digits = 3);

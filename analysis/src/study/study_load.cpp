@@ -1,7 +1,11 @@
 // Loading a study's inputs: one champion per results file, checked before anything runs.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -9,11 +13,15 @@
 #include <nlohmann/json.hpp>
 
 #include "plastivox/base/hash.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/evo/config.hpp"
-#include "plastivox/evo/genome.hpp"  // kBodyPlanSeedCount
+#include "plastivox/evo/evolver.hpp"  // evaluate_phenotype
+#include "plastivox/evo/genome.hpp"   // kBodyPlanSeedCount
 #include "plastivox/evo/phenotype.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/json_input.hpp"
+#include "plastivox/io/resolve_physics.hpp"
+#include "plastivox/io/robot_io.hpp"
 #include "study_internal.hpp"
 
 namespace plastivox::analysis::study {
@@ -27,7 +35,47 @@ struct Loaded {
   // The config's identity (treatment and seed included) without the planned generations: two
   // files with equal replicate keys hold one evolutionary trajectory, however far each got.
   std::string replicate_key;
+  bool robot_file = false;  // a robot file (.json, .vxa), not a results file
+  std::string sort_name;    // a robot file's label (its file name); "" for a results file
 };
+
+// One input as given: "FILE" or "TREATMENT=FILE" (a treatment label; a path that exists as
+// given is a file, '=' and all).
+struct InputSpec {
+  std::string path;
+  std::optional<Treatment> label;
+};
+
+InputSpec parse_input(const std::string& arg) {
+  const size_t eq = arg.find('=');
+  if (eq == std::string::npos || std::filesystem::exists(arg)) return {arg, std::nullopt};
+  const std::string name = arg.substr(0, eq), path = arg.substr(eq + 1);
+  std::string names;
+  for (Treatment t : all_treatments())
+    names += (names.empty() ? "" : ", ") + std::string(to_string(t));
+  Treatment t{};
+  try {
+    t = parse_treatment(name);
+  } catch (const std::exception&) {
+    throw std::runtime_error(arg + ": '" + name +
+                             "' is not a treatment (a label is TREATMENT=FILE, TREATMENT one of " +
+                             names + ")");
+  }
+  if (path.empty()) throw std::runtime_error(arg + ": no file after the treatment label");
+  return {path, t};
+}
+
+// Whether the study reads a results file of this algorithm: every algorithm's champion is a
+// body with its fitness under the run's physics. The one place an algorithm is admitted or
+// refused; the switch has no default, so a new algorithm must be decided here to compile.
+void check_algorithm_readable(const evo::RunState& run, const std::string& file) {
+  switch (run.config.algorithm) {
+    case evo::Algorithm::kAfpo:   // evolved bodies
+    case evo::Algorithm::kCmaEs:  // one fixed body with searched genes, rebuilt in its record
+      return;
+  }
+  throw std::runtime_error(file + ": a results file of an algorithm the study does not read");
+}
 
 // The run's best and mean fitness and lineage count for generations 0..last.
 EvolutionCurve evolution_curve(const evo::RunState& run, int last) {
@@ -59,15 +107,17 @@ EvolutionCurve evolution_curve(const evo::RunState& run, int last) {
   return c;
 }
 
-Loaded load_one(const std::string& file, const StudyOptions& options) {
+Loaded load_results(const std::string& file, const std::optional<Treatment>& label,
+                    const StudyOptions& options) {
   const evo::ResultsFile rf = evo::read_results(file);  // names the file when it refuses
   const evo::RunState& run = rf.state;
   if (run.generations_done < 0) throw std::runtime_error(file + ": no generation done yet");
-  if (run.config.algorithm != evo::Algorithm::kAfpo)  // its bodies were not evolved
-    throw std::runtime_error(file + ": a " + to_string(run.config.algorithm) +
-                             " run (one fixed body's " + to_string(run.config.cma.genome) +
-                             " searched); the study compares afpo runs' evolved bodies and does "
-                             "not read it");
+  check_algorithm_readable(run, file);
+  if (label && *label != run.config.treatment)
+    throw std::runtime_error(std::string(to_string(*label)) + "=" + file +
+                             ": the run's treatment is " + to_string(run.config.treatment) +
+                             ", not " + to_string(*label) +
+                             " (a results file's treatment is its config's)");
   int generation = run.generations_done;
   if (options.generation >= 0) {
     if (options.generation > run.generations_done)
@@ -135,6 +185,75 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
   return l;
 }
 
+// A robot file (.json, .vxa; docs/robot-format.md): its physics resolved by resolve_physics
+// (the file's own, the label's treatment over it), its fitness and final stiffness simulated
+// later (evaluate_robot_files), as evolution would have scored it.
+Loaded load_robot_input(const std::string& file, const std::optional<Treatment>& label) {
+  LoadedRobot loaded = load_robot(file);  // InputError naming the file and field
+  PhysicsRequest req;
+  req.where = file;
+  req.treatment = label;
+  const PhysicsDef physics = resolve_physics(loaded.physics, req);
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  Hasher h;
+  h.str("plastivox-study-robot-file-v1");
+  h.str(bytes.str());
+  h.str(evo::resolved_physics_json(physics));  // a label makes another input of the same bytes
+
+  Loaded l;
+  l.robot_file = true;
+  l.sort_name = std::filesystem::path(file).stem().string();
+  l.input.file = file;
+  l.input.content_digest = h.finish().hex();
+  l.input.treatment = physics.treatment;
+  l.input.generation = -1;
+  l.input.generations_done = -1;
+  l.input.physics_json = evo::resolved_physics_json(physics);
+  PhysicsDef neutral = physics;
+  neutral.treatment = Treatment::kNone;
+  l.physics_without_treatment = evo::resolved_physics_json(neutral);
+  l.replicate_key = "robot file " + l.input.content_digest;
+
+  ChampionAnalysis& c = l.champion;
+  c.treatment = physics.treatment;
+  c.generation = -1;
+  c.robot = std::move(loaded.robot);
+  c.physics = physics;
+  c.voxels = c.robot.voxel_count();
+  if (c.voxels == 0) throw std::runtime_error(file + ": the robot has no voxels");
+  c.phenotype_digest = phenotype_digest(c.robot);
+  return l;
+}
+
+// A robot file's own life, as evolution scores a body (evaluate_phenotype): its fitness, status
+// and final stiffness, which a results file records beside its champion.
+void evaluate_robot_file(Loaded& l) {
+  ChampionAnalysis& c = l.champion;
+  evo::Phenotype p;
+  p.robot = c.robot;
+  p.valid = true;
+  p.voxels = c.voxels;
+  const evo::Evaluation e = evo::evaluate_phenotype(p, c.physics);
+  c.fitness = e.fitness;
+  c.final_stiffness = e.final_stiffness;
+  c.evaluation = evo::to_string(e.status);
+  if (c.evaluation != "ok") {
+    c.status = c.evaluation;
+    c.status_detail = "the robot's own life: " + c.evaluation + " (" + e.failure + ")";
+    for (const char* m : {"fitness", "m_body", "v_body"}) c.undefined[m] = c.status_detail;
+  }
+}
+
+// One input as given ("FILE" or "TREATMENT=FILE"): a results file (.h5) or a robot file.
+Loaded load_one(const std::string& arg, const StudyOptions& options) {
+  const InputSpec spec = parse_input(arg);
+  if (spec.path.size() > 3 && spec.path.substr(spec.path.size() - 3) == ".h5")
+    return load_results(spec.path, spec.label, options);
+  return load_robot_input(spec.path, spec.label);
+}
+
 std::string join_treatments(const std::vector<Treatment>& ts) {
   std::string s;
   for (Treatment t : ts) s += (s.empty() ? "" : ", ") + std::string(to_string(t));
@@ -160,7 +279,10 @@ void check_treatments(const std::vector<Loaded>& all, const StudyOptions& option
   std::map<Treatment, bool> usable;
   for (const Loaded& l : all) {
     files[l.input.treatment] += (files[l.input.treatment].empty() ? "" : ", ") + l.input.file;
-    usable[l.input.treatment] = usable[l.input.treatment] || l.champion.evaluation == "ok";
+    // A robot file not scored (an estimate) is not known to be unusable.
+    const bool unscored = l.robot_file && l.champion.evaluation.empty();
+    usable[l.input.treatment] =
+        usable[l.input.treatment] || l.champion.evaluation == "ok" || unscored;
   }
   for (const auto& [t, ok] : usable)
     if (!ok)
@@ -171,15 +293,22 @@ void check_treatments(const std::vector<Loaded>& all, const StudyOptions& option
 }  // namespace
 
 void load_champions(const std::vector<std::string>& files, const StudyOptions& options,
-                    StudyResult& out) {
+                    StudyResult& out, bool score_robot_files) {
   if (files.empty()) throw std::runtime_error("no results files given");
   std::vector<Loaded> all;
   for (const std::string& f : files) all.push_back(load_one(f, options));
+  // Robot files are scored as evolution scored its champions, in parallel.
+  std::vector<Loaded*> robots;
+  for (Loaded& l : all)
+    if (l.robot_file && score_robot_files) robots.push_back(&l);
+  const int threads = options.threads > 0 ? options.threads : hardware_threads();
+  parallel_for(robots.size(), threads, [&](size_t i) { evaluate_robot_file(*robots[i]); });
 
-  // File order must not matter: sort by treatment, run seed, content digest.
+  // File order must not matter: sort by treatment, run seed (none for a robot file), a robot
+  // file's name, content digest.
   std::sort(all.begin(), all.end(), [](const Loaded& a, const Loaded& b) {
-    return std::tie(a.input.treatment, a.input.seed, a.input.content_digest) <
-           std::tie(b.input.treatment, b.input.seed, b.input.content_digest);
+    return std::tie(a.input.treatment, a.input.seed, a.sort_name, a.input.content_digest) <
+           std::tie(b.input.treatment, b.input.seed, b.sort_name, b.input.content_digest);
   });
   for (size_t i = 1; i < all.size(); ++i)
     if (all[i].input.content_digest == all[i - 1].input.content_digest)
@@ -220,10 +349,15 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
 
   // Champions taken at different generations (each file's last, and the files got to
   // different generations) are compared across unequal amounts of evolution.
-  if (options.generation < 0) {
-    const auto [lo, hi] = std::minmax_element(
-        all.begin(), all.end(),
-        [](const Loaded& a, const Loaded& b) { return a.input.generation < b.input.generation; });
+  std::vector<const Loaded*> runs;  // results files: robot files have no generation
+  for (const Loaded& l : all)
+    if (!l.robot_file) runs.push_back(&l);
+  if (options.generation < 0 && !runs.empty()) {
+    const auto [lo_it, hi_it] = std::minmax_element(
+        runs.begin(), runs.end(),
+        [](const Loaded* a, const Loaded* b) { return a->input.generation < b->input.generation; });
+    const Loaded* lo = *lo_it;
+    const Loaded* hi = *hi_it;
     if (lo->input.generation != hi->input.generation)
       out.warnings.push_back(
           "the runs reached different generations (" + lo->input.file + ": " +
@@ -237,7 +371,9 @@ void load_champions(const std::vector<std::string>& files, const StudyOptions& o
   std::map<std::string, int> seen;
   for (size_t i = 0; i < all.size(); ++i) {
     ChampionAnalysis& c = all[i].champion;
-    c.label = std::string(to_string(c.treatment)) + "-s" + std::to_string(c.run_seed);
+    c.label = all[i].robot_file
+                  ? all[i].sort_name
+                  : std::string(to_string(c.treatment)) + "-s" + std::to_string(c.run_seed);
     const int k = ++seen[c.label];
     if (k > 1) c.label += "-r" + std::to_string(k);
     c.input = static_cast<int>(i);
@@ -264,7 +400,11 @@ void load_champion_bodies(StudyResult& r) {
     const StudyInput& in = r.inputs.at(static_cast<size_t>(c.input));
     StudyOptions o = r.options;
     o.generation = in.generation;
-    const study::Loaded l = study::load_one(in.file, o);
+    const bool robot_file = !(in.file.size() > 3 && in.file.substr(in.file.size() - 3) == ".h5");
+    // A robot file is read again under the treatment it was analysed with (its label's).
+    study::Loaded l = study::load_one(
+        robot_file ? std::string(to_string(in.treatment)) + "=" + in.file : in.file, o);
+    if (robot_file) study::evaluate_robot_file(l);
     if (l.input.content_digest != in.content_digest)
       throw std::runtime_error(in.file + ": not the run analysed (content digest " +
                                l.input.content_digest + ", the analysis read " + in.content_digest +

@@ -37,8 +37,12 @@ std::string stars_shown(const PanelStats& p, const BootstrapTestResult& t) {
 }
 
 PowerSummary power_summary(const StudyResult& r) {
+  return power_summary(r.panels);
+}
+
+PowerSummary power_summary(const std::vector<PanelStats>& panels) {
   PowerSummary s;
-  for (const PanelStats& p : r.panels)
+  for (const PanelStats& p : panels)
     for (const BootstrapTestResult& t : p.comparisons) {
       ++s.comparisons;
       if (has_power(p, t)) continue;

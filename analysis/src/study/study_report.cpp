@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include "plastivox/analysis/bootstrap_coverage.hpp"
@@ -132,6 +133,22 @@ std::string heat_map(const StudyResult& r) {
 
 // ---- sections ----
 
+// The warning a table of comparisons carries when some rest on fewer than kMinBootstrapN
+// champions per treatment (Fig. 5's statistics and the battery's alike); "" when all have power.
+std::string no_power_note(const study::PowerSummary& power, const std::string& id) {
+  if (power.without_power == 0) return "";
+  return "<p class=\"warn\" id=\"" + id +
+         "\">These comparisons have no statistical power: " + std::to_string(power.without_power) +
+         " of " + std::to_string(power.comparisons) + " rest on fewer than " +
+         std::to_string(kMinBootstrapN) +
+         " champions per treatment (the fewest: " + std::to_string(power.fewest) + "). Below " +
+         std::to_string(kMinBootstrapN) +
+         " the 95 % bootstrap interval misses the true mean far more often than 5 % of the "
+         "time (about half the time at n = 2; docs/analysis.md, \"How many champions a "
+         "comparison needs\"), so they carry no stars, and a difference between treatments "
+         "here, in either direction, is no evidence either way.</p>\n";
+}
+
 // The robustness battery (only with one): per perturbation and treatment the mean AUC of the
 // fitness kept with its bootstrap CI, cells coloured from red (all lost) through white (all
 // kept) to blue (doubled), the corrected tests, and the lives that failed.
@@ -143,16 +160,28 @@ std::string battery_section(const StudyResult& r) {
       "each perturbation, summarised by the area under its curve over the severities (1 = all "
       "fitness kept). Means per treatment with " +
       display(r.options.ci_level * 100, 4) +
-      " % bootstrap intervals; tests Bonferroni-corrected as in Fig. 5. Lives that went "
-      "unstable or sank are counted below and left out of the means, never scored as 0.</p>\n"
+      " % bootstrap intervals; tests Bonferroni-corrected as in Fig. 5. Cells are red where "
+      "fitness is lost (0: all of it), white where it is kept (1) and blue where it grows (2: "
+      "doubled). Lives that went unstable or sank are counted below and left out of the "
+      "means, never scored as 0; a champion with no valid life at some severity has no area "
+      "for that perturbation and is left out of its mean (counted in its cell).</p>\n" +
+      no_power_note(study::power_summary(r.battery_panels), "battery-no-power") +
       "<table class=\"battery\"><tr><th>perturbation</th>";
   for (Treatment t : r.treatments) s += "<th>" + esc(to_string(t)) + "</th>";
   s += "<th>tests</th></tr>\n";
+  // Champions of each treatment the battery measured (not left out of the study by the audit).
+  std::map<Treatment, size_t> measured;
+  for (const ChampionAnalysis& c : r.champions)
+    if (c.artifact.empty()) ++measured[c.treatment];
   for (const PanelStats& p : r.battery_panels) {
     s += "<tr><td>" + esc(p.title) + "</td>";
     for (const GroupStats& g : p.groups) {
+      const size_t out =
+          measured[g.treatment] > g.values.size() ? measured[g.treatment] - g.values.size() : 0;
+      const std::string left_out =
+          out > 0 ? ", " + std::to_string(out) + " left out (no valid life at a severity)" : "";
       if (!g.mean) {
-        s += "<td>undefined</td>";
+        s += "<td>undefined" + left_out + "</td>";
         continue;
       }
       const double t = std::clamp(0.5 + (1 - *g.mean) / 2, 0.0, 1.0);  // 0 blue .. 1 red
@@ -163,14 +192,19 @@ std::string battery_section(const StudyResult& r) {
                     static_cast<int>(std::lround(t > 0.5 ? 255 - 350 * (t - 0.5) : 255)));
       s += "<td style=\"" + std::string(bg) + "\">" + display(g.mean, 3) +
            (g.ci ? " [" + display(g.ci->lower, 3) + ", " + display(g.ci->upper, 3) + "]" : "") +
-           " n=" + std::to_string(g.values.size()) + "</td>";
+           " n=" + std::to_string(g.values.size()) + left_out + "</td>";
     }
     std::string tests;
     for (const BootstrapTestResult& c : p.comparisons) {
       const std::string stars = study::stars_shown(p, c);
       tests += (tests.empty() ? "" : "; ") + c.name_a + "-" + c.name_b +
-               " p=" + p_text(c.p_corrected) + (stars.empty() ? "" : " " + stars);
+               " p=" + p_text(c.p_corrected) + (stars.empty() ? "" : " " + stars) +
+               (study::has_power(p, c)
+                    ? ""
+                    : " (no power: n = " + std::to_string(study::comparison_champions(p, c)) + ")");
     }
+    if (p.comparisons.empty())
+      tests = "no test: fewer than two treatments with two or more champions";
     s += "<td>" + esc(tests) + "</td></tr>\n";
   }
   s += "</table>\n";
@@ -314,17 +348,7 @@ std::string statistics(const StudyResult& r) {
       "of comparisons in each panel; stars after correction: * p&lt;0.05, ** p&lt;0.01, "
       "*** p&lt;0.001 (level " +
       display(o.alpha, 3) + "). Effect size: Hedges' g.</p>\n";
-  const study::PowerSummary power = study::power_summary(r);
-  if (power.without_power > 0)
-    s += "<p class=\"warn\" id=\"no-power\">These comparisons have no statistical power: " +
-         std::to_string(power.without_power) + " of " + std::to_string(power.comparisons) +
-         " rest on fewer than " + std::to_string(kMinBootstrapN) +
-         " champions per treatment (the fewest: " + std::to_string(power.fewest) + "). Below " +
-         std::to_string(kMinBootstrapN) +
-         " the 95 % bootstrap interval misses the true mean far more often than 5 % of the "
-         "time (about half the time at n = 2; docs/analysis.md, \"How many champions a "
-         "comparison needs\"), so they carry no stars, and a difference between treatments "
-         "here, in either direction, is no evidence either way.</p>\n";
+  s += no_power_note(study::power_summary(r), "no-power");
   s += "<table><tr><th>panel</th><th>treatment</th><th>n</th><th>mean</th><th>" +
        display(o.ci_level * 100, 4) + " % CI</th></tr>\n";
   for (const PanelStats& p : r.panels)

@@ -31,23 +31,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string bits(double x) {
-  uint64_t u = 0;
-  std::memcpy(&u, &x, sizeof u);
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(u));
-  return buf;
-}
-
-double from_bits(const Json& j) {
-  const std::string s = j.get<std::string>();
-  if (s.size() != 16) throw std::runtime_error("bad double bits");
-  const uint64_t u = std::stoull(s, nullptr, 16);
-  double x = 0;
-  std::memcpy(&x, &u, sizeof x);
-  return x;
-}
-
 RobustnessOptions robustness_options(const StudyOptions& o, uint64_t seed, int threads) {
   RobustnessOptions r;
   r.limits = limits_from_environment();
@@ -113,29 +96,26 @@ std::string checkpoint_text(const ChampionAnalysis& c, const std::string& key) {
 // The checkpoint's result, or nothing when absent, unreadable or for another key.
 std::optional<RobustnessResult> read_checkpoint(const std::string& path, const std::string& key,
                                                 int draws) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
+  const std::optional<Json> read =
+      read_checkpoint_json(path, "plastivox-robustness-checkpoint", key);
+  if (!read) return std::nullopt;
+  const Json& j = *read;
   try {
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const Json j = Json::parse(ss.str());
-    if (j.at("format") != "plastivox-robustness-checkpoint" || j.at("version") != 1 ||
-        j.at("key") != key || j.at("draws").size() != static_cast<size_t>(draws))
-      return std::nullopt;
+    if (j.at("draws").size() != static_cast<size_t>(draws)) return std::nullopt;
     RobustnessResult r;
     r.distribution = j.at("distribution").get<std::string>();
-    r.e_lo = from_bits(j.at("e_lo"));
-    r.e_hi = from_bits(j.at("e_hi"));
+    r.e_lo = from_bits(j.at("e_lo").get<std::string>());
+    r.e_hi = from_bits(j.at("e_hi").get<std::string>());
     r.seed = j.at("seed").get<uint64_t>();
-    r.f_train = from_bits(j.at("f_train"));
+    r.f_train = from_bits(j.at("f_train").get<std::string>());
     r.train_valid = j.at("train_valid").get<bool>();
     r.train_failure = j.at("train_failure").get<std::string>();
     r.valid_draws = j.at("valid_draws").get<int>();
-    r.mean_r = from_bits(j.at("mean_r"));
+    r.mean_r = from_bits(j.at("mean_r").get<std::string>());
     for (const Json& d : j.at("draws")) {
       RobustnessDraw x;
-      x.f_test = from_bits(d.at("f_test"));
-      x.r = from_bits(d.at("r"));
+      x.f_test = from_bits(d.at("f_test").get<std::string>());
+      x.r = from_bits(d.at("r").get<std::string>());
       x.valid = d.at("valid").get<bool>();
       x.failure = d.at("failure").get<std::string>();
       r.draws.push_back(x);
@@ -223,7 +203,7 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress) {
            r_text(c) + " (from checkpoint)");
   }
   if (todo.empty()) return;
-  if (!o.cache_dir.empty()) std::filesystem::create_directories(o.cache_dir);
+  if (!o.cache_dir.empty() && o.write_cache) std::filesystem::create_directories(o.cache_dir);
 
   // Champions in parallel; a champion's own 1 + draws simulations share the spare threads.
   const int threads = o.threads > 0 ? o.threads : hardware_threads();
@@ -238,7 +218,7 @@ void run_robustness(StudyResult& r, const StudyProgressFn& progress) {
       c.robustness =
           robustness(c.robot, c.physics, robustness_options(o, c.robustness_seed, inner));
       summarise(c);
-      if (!o.cache_dir.empty())
+      if (!o.cache_dir.empty() && o.write_cache)
         write_atomically(checkpoint_path(o.cache_dir, keys[todo[k]]),
                          checkpoint_text(c, keys[todo[k]]));
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -184,6 +184,19 @@ void MpiCluster::barrier() {
   MPI_Barrier(MPI_COMM_WORLD);
 }
 
+std::vector<std::string> MpiCluster::allgather(const std::string& mine) {
+  int my_bytes = static_cast<int>(mine.size());
+  std::vector<int> sizes(size_), displs(size_, 0);
+  MPI_Allgather(&my_bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + sizes[r - 1];
+  std::vector<char> all(static_cast<size_t>(displs.back()) + sizes.back());
+  MPI_Allgatherv(mine.data(), my_bytes, MPI_BYTE, all.data(), sizes.data(), displs.data(), MPI_BYTE,
+                 MPI_COMM_WORLD);
+  std::vector<std::string> out;
+  for (int r = 0; r < size_; ++r) out.emplace_back(all.data() + displs[r], sizes[r]);
+  return out;
+}
+
 std::vector<int> assign_to_ranks(const std::vector<const Phenotype*>& batch, int ranks) {
   std::vector<size_t> order(batch.size());
   std::iota(order.begin(), order.end(), size_t{0});
@@ -331,14 +344,10 @@ std::vector<Evaluation> MpiCluster::run(const std::vector<const Phenotype*>& bat
   std::vector<char> out;
   for (size_t k = 0; k < mine.size(); ++k) pack(out, mine[k], done[k]);
 
-  // Exchange: sizes, then bytes.
-  int my_bytes = static_cast<int>(out.size());
-  std::vector<int> sizes(size_), displs(size_, 0);
-  MPI_Allgather(&my_bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + sizes[r - 1];
-  std::vector<char> all(static_cast<size_t>(displs.back()) + sizes.back());
-  MPI_Allgatherv(out.data(), my_bytes, MPI_BYTE, all.data(), sizes.data(), displs.data(), MPI_BYTE,
-                 MPI_COMM_WORLD);
+  // Exchange: every rank's results, in rank order.
+  std::vector<char> all;
+  for (const std::string& part : allgather(std::string(out.begin(), out.end())))
+    all.insert(all.end(), part.begin(), part.end());
 
   std::vector<Evaluation> results(batch.size());
   std::vector<uint8_t> filled(batch.size(), 0);

@@ -157,6 +157,26 @@ int battery_lives(const Battery& battery);
 double battery_voxel_steps(const RobotDef& champion, const PhysicsDef& physics,
                            const Battery& battery, uint64_t base_seed);
 
+// ---- the profile in three steps (what robustness_profile does), for callers that spread the
+// lives of many champions over one pool of threads or MPI ranks (the study) ----
+// Every life of the battery on this champion, references first, in the profile's order; each
+// robot and physics validated (std::invalid_argument) before any life is simulated.
+std::vector<PerturbedLife> battery_lives_of(const RobotDef& champion, const PhysicsDef& physics,
+                                            const Battery& battery, uint64_t base_seed,
+                                            const Limits& limits);
+// One life simulated and judged (judge_life): its fitness and status "ok", "unstable" or
+// "sank" (failure: the simulator's reason). Deterministic: the same on any thread or rank.
+struct LifeRun {
+  double fitness = 0;
+  std::string status, failure;
+};
+LifeRun run_battery_life(const PerturbedLife& life, const Limits& limits);
+// Its cost for ordering and sharing work: voxels x duration / time step at the stiffest voxel.
+double life_voxel_steps(const PerturbedLife& life);
+// The profile from the lives' outcomes, in battery_lives_of's order.
+RobustnessProfile assemble_profile(const Battery& battery, uint64_t base_seed,
+                                   const std::vector<LifeRun>& runs);
+
 // Validates robot, physics and battery (std::invalid_argument) before any life is simulated.
 RobustnessProfile robustness_profile(const RobotDef& champion, const PhysicsDef& physics,
                                      const Battery& battery, const ProfileOptions& options = {});

@@ -6,11 +6,14 @@
 // Why a separate library: it reads the evolver's HDF5 results and writes HDF5/JSON/CSV/HTML,
 // while plastivox_analysis (the measures themselves) stays free of file formats.
 //
-// Determinism: champions are ordered by (treatment none, stress, pressure; run seed; content
-// digest), never by file order; every random draw is keyed by the champion's content (robustness)
-// or by the panel and treatment (bootstrap), so the results do not depend on the order of the
-// files, the thread count or on resuming. Resuming: the robustness simulations (the expensive
-// part) are checkpointed per champion in options.cache_dir; a rerun reuses them.
+// Inputs: results files of any algorithm the evolver writes, or robot files (.json, .vxa), each
+// optionally labelled with its treatment as "TREATMENT=FILE" (docs/analysis.md).
+//
+// Determinism: champions are ordered by (treatment none, stress, pressure; run seed; a robot
+// file's name; content digest), never by file order; every random draw is keyed by the champion's
+// content (robustness) or by the panel and treatment (bootstrap), so the results do not depend on
+// the order of the files, the thread count or on resuming. Resuming: the robustness simulations
+// (the expensive part) are checkpointed per champion in options.cache_dir; a rerun reuses them.
 //
 // Threads: analyze_study parallelises simulations and Hausdorff pairs internally; call it and
 // the writers from one thread at a time (HDF5 is not thread-safe).
@@ -68,6 +71,14 @@ struct StudyOptions {
   // Polled before each champion's robustness starts: when it reads true, analyze_study lets
   // the champions in progress finish (and checkpoint) and throws StudyStopped. nullptr: never.
   const std::atomic<bool>* stop_requested = nullptr;
+  // false: checkpoints in cache_dir are read but never written (an MPI rank other than 0,
+  // which computes what rank 0 computes and writes).
+  bool write_cache = true;
+  // Where a round of battery lives is simulated: empty = this process's `threads` (one pool
+  // for every champion's lives); set under MPI to spread them over the ranks (apps' cli,
+  // every rank calling it with the same lives in the same order). Returns the outcomes in the
+  // lives' order; the same bits whoever simulates.
+  std::function<std::vector<LifeRun>(const std::vector<PerturbedLife>&)> battery_lives;
 };
 
 // Thrown by analyze_study when options.stop_requested was set; rerun to resume.
@@ -216,6 +227,7 @@ struct StudyResult {
   std::vector<PanelStats> battery_panels;
   // Every battery life simulated, and those that went unstable or sank (left out of the means).
   int battery_lives = 0, battery_unstable = 0, battery_sank = 0;
+  int battery_cached = 0;  // champions whose battery this call read from checkpoints
   // What the report states of the runs' physics: the rule for sunk lives in force while they
   // evolved ("invalid", "scored (the authors' rule)" or "mixed: ...") and the direction fitness
   // is measured in ("3-D ..." or "xy-plane ...").
@@ -251,24 +263,17 @@ StudyResult analyze_study(const std::vector<std::string>& files, const StudyOpti
 // treatments per perturbation (battery_panels). No canalization, Hausdorff or Fig. 5 panels.
 StudyResult battery_study(const std::vector<std::string>& files, const StudyOptions& options,
                           const StudyProgressFn& progress = {});
-// The battery on robots given directly (plastivox robustness ROBOT.json ...): robot i labelled
-// labels[i], under physics[i], grouped by that physics' treatment; nothing is audited or
-// excluded. Loads options.battery first (errors as battery_study's).
-StudyResult battery_study_of_robots(const std::vector<std::string>& labels,
-                                    const std::vector<RobotDef>& robots,
-                                    const std::vector<PhysicsDef>& physics,
-                                    const StudyOptions& options,
-                                    const StudyProgressFn& progress = {});
 // What the battery will cost (--estimate-only): champions, lives, voxel-steps
-// (battery_voxel_steps) and the wall time they take at the speed of one timed life (the first
-// champion's, unperturbed) spread over the threads. Loads the champions and the battery (errors
-// as battery_study's) and simulates that one life only; counts every champion (the audit, which
-// may leave some out, is not run).
+// (battery_voxel_steps), the core-seconds they take at the speed of one timed life (the first
+// champion's, unperturbed) and the wall time over the threads. Loads the champions and the
+// battery (errors as battery_study's) and simulates that one life only; counts every champion
+// (the audit, which may leave some out, is not run).
 struct BatteryEstimate {
   int champions = 0, lives = 0, threads = 1;
   double voxel_steps = 0;
   double seconds_per_voxel_step = 0;  // measured
-  double seconds = 0;                 // predicted wall time of the battery
+  double core_seconds = 0;            // predicted CPU time of the battery
+  double seconds = 0;                 // predicted wall time on `threads`
 };
 BatteryEstimate estimate_battery(const std::vector<std::string>& files,
                                  const StudyOptions& options);

@@ -42,6 +42,9 @@ class MpiCluster final : public Cluster {
   void serve(EvaluationPool& pool, const std::function<bool()>& finished) override;
   void work(int threads) override;
 
+  // Collective: every rank's bytes, in rank order, on every rank (MPI_Allgatherv). The
+  // analysis spreads battery lives over the ranks with it (apps/battery_ranks.cpp).
+  std::vector<std::string> allgather(const std::string& mine);
   // Ends every rank (MPI_Abort): for errors on one rank that the others cannot see.
   [[noreturn]] void abort(int code);
 
