@@ -86,8 +86,9 @@ const CommandHelp kHelp[] = {
      "  plastivox demo\n"},
     {"evolve",
      "usage: plastivox evolve --config FILE --out RESULTS.h5 [--config FILE --out R.h5 ...]\n"
-     "Run an evolution (AFPO over four CPPNs, or with \"algorithm\": \"cma-es\" in the config\n"
-     "CMA-ES on a fixed body's controller, phases or materials) into an HDF5 results file.\n"
+     "Run an evolution (AFPO over four CPPNs; with \"algorithm\": \"map-elites\" in the config\n"
+     "MAP-Elites over the same genomes in a grid of descriptors; with \"cma-es\" CMA-ES on a\n"
+     "fixed body's controller, phases or materials) into an HDF5 results file.\n"
      "The same command resumes a killed run from its last checkpoint (docs/evolution.md).\n"
      "Several --config / --out pairs evolve at once, sharing one pool of worker threads.\n"
      "options:\n"

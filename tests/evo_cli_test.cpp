@@ -45,6 +45,19 @@ class EvoCli : public plastivox::testing::ScratchDirTest {
                            (controller.empty() ? "" : ", \"controller\": " + controller) + "}");
   }
   void kill_nine_and_resume(const std::string& cfg) const;
+  // full.h5's champion, exported, simulates to its fitness bit for bit (`inspected`: inspect's
+  // JSON of the file); analyze refuses the file with `refusal` after its name.
+  void exported_champion_replays_and_the_study_refuses(const nlohmann::json& inspected,
+                                                       const std::string& refusal) const {
+    ASSERT_EQ(cli("export " + path("full.h5") + " --out " + path("champ.json")).status, 0);
+    const Output s = cli("simulate " + path("champ.json") + " --json");
+    ASSERT_EQ(s.status, 0) << s.out;
+    EXPECT_EQ(nlohmann::json::parse(s.out)["fitness"].get<double>(),
+              inspected["best_fitness"].get<double>());
+    const Output a = cli("analyze " + path("full.h5") + " --out " + path("study"));
+    EXPECT_NE(a.status, 0);
+    EXPECT_NE(a.out.find(path("full.h5") + refusal), std::string::npos) << a.out;
+  }
   std::string digest(const std::string& results) const {
     const Output o = cli("inspect " + results + " --json");
     EXPECT_EQ(o.status, 0) << o.out;
@@ -232,16 +245,36 @@ TEST_F(EvoCli, ACmaEsRunResumesAfterKillNineExportsItsChampionAndTheStudyRefuses
   EXPECT_EQ(j["genome"], "phase");
   EXPECT_EQ(j["genome_dimension"], 12);
   EXPECT_EQ(j["covariance"], "full");
-  ASSERT_EQ(cli("export " + path("full.h5") + " --out " + path("champ.json")).status, 0);
-  const Output s = cli("simulate " + path("champ.json") + " --json");
-  ASSERT_EQ(s.status, 0) << s.out;
-  EXPECT_EQ(nlohmann::json::parse(s.out)["fitness"].get<double>(), j["best_fitness"].get<double>());
-  const Output a = cli("analyze " + path("full.h5") + " --out " + path("study"));
-  EXPECT_NE(a.status, 0);
-  EXPECT_NE(a.out.find(path("full.h5") + ": a cma-es run (one fixed body's phase searched); the "
-                                         "study compares afpo runs' evolved bodies"),
-            std::string::npos)
-      << a.out;
+  exported_champion_replays_and_the_study_refuses(
+      j,
+      ": a cma-es run (one fixed body's phase searched); the study compares afpo runs' "
+      "evolved bodies");
+}
+
+// A MAP-Elites run (docs/evolution.md, "MAP-Elites"): killed and resumed, the same bits;
+// inspect gives the archive's coverage and QD score; the exported champion (the best elite)
+// replays its fitness; the study refuses it in one line.
+TEST_F(EvoCli, AMapElitesRunResumesAfterKillNineExportsItsChampionAndTheStudyRefusesIt) {
+  const std::string cfg = write("me.json", R"({"format": "plastivox-evolve-config", "version": 1,
+      "seed": 9, "generations": 8, "population": 6, "treatment": "stress",
+      "lattice": {"nx": 4, "ny": 4, "nz": 4}, "algorithm": "map-elites",
+      "map_elites": {"descriptors": [{"name": "voxels", "bounds": [12, 64], "bins": 6},
+        {"name": "com_height", "bounds": [0, 3], "bins": 6}]},
+      "physics": {"duration": 0.2, "settle_time": 0.1, "fitness": "xy"}})");
+  kill_nine_and_resume(cfg);
+  const Output i = cli("inspect " + path("full.h5") + " --json");
+  ASSERT_EQ(i.status, 0) << i.out;
+  const auto j = nlohmann::json::parse(i.out);
+  EXPECT_EQ(j["algorithm"], "map-elites");
+  EXPECT_EQ(j["cells"], 36);
+  EXPECT_GT(j["filled"].get<int>(), 1);
+  EXPECT_EQ(j["coverage"].get<double>(), j["filled"].get<double>() / 36);
+  EXPECT_GE(j["qd_score"].get<double>(), j["best_fitness"].get<double>());
+  EXPECT_NE(cli("inspect " + path("full.h5")).out.find("map-elites archive: "), std::string::npos);
+  exported_champion_replays_and_the_study_refuses(
+      j,
+      ": a map-elites run (an archive of elites); the study compares afpo runs' evolved "
+      "bodies and does not read it yet");
 }
 
 TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {

@@ -804,8 +804,9 @@ def _close_evolvers():
 
 class Evolver:
     """An evolution driven from outside, ask/tell style: the same search (the config's
-    algorithm, AFPO or CMA-ES), checkpoints, resume and results file as evolve(), with the
-    lives scored by the caller.
+    algorithm, AFPO, MAP-Elites or CMA-ES), checkpoints, resume and results file as evolve(),
+    with the lives scored by the caller (under MAP-Elites the descriptors of a life stay the
+    engine's: it simulates a life scored by a number for them).
 
         ev = plastivox.Evolver(config, "run.h5")
         while not ev.finished:
@@ -881,7 +882,7 @@ class Evolver:
         """The next generation's new bodies to score, as Robots; [] once the run has ended.
         genomes=True: (robots, genomes) instead, each robot's genome beside it: under
         algorithm cma-es the vector the search sampled (a float array; the robot is the
-        fixed body with it applied, docs/evolution.md), under afpo None."""
+        fixed body with it applied, docs/evolution.md), under afpo and map-elites None."""
         if self._pending is not None:
             raise RuntimeError("ask: tell() the scores of the robots asked before")
         robots = self._wait()

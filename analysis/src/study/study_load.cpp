@@ -63,11 +63,15 @@ Loaded load_one(const std::string& file, const StudyOptions& options) {
   const evo::ResultsFile rf = evo::read_results(file);  // names the file when it refuses
   const evo::RunState& run = rf.state;
   if (run.generations_done < 0) throw std::runtime_error(file + ": no generation done yet");
-  if (run.config.algorithm != evo::Algorithm::kAfpo)  // its bodies were not evolved
+  if (run.config.algorithm == evo::Algorithm::kCmaEs)  // its bodies were not evolved
     throw std::runtime_error(file + ": a " + to_string(run.config.algorithm) +
                              " run (one fixed body's " + to_string(run.config.cma.genome) +
                              " searched); the study compares afpo runs' evolved bodies and does "
                              "not read it");
+  if (run.config.algorithm != evo::Algorithm::kAfpo)  // an archive, not a population
+    throw std::runtime_error(file + ": a " + std::string(to_string(run.config.algorithm)) +
+                             " run (an archive of elites); the study compares afpo runs' "
+                             "evolved bodies and does not read it yet");
   int generation = run.generations_done;
   if (options.generation >= 0) {
     if (options.generation > run.generations_done)
