@@ -257,6 +257,21 @@ const CommandHelp kHelp[] = {
                                                     "stress-*.h5 "
                                                     "--out "
                                                     "stress.png\n"},
+    {"archive",
+     "usage: plastivox archive RESULTS.h5 --out DIR [options]\n"
+     "A MAP-Elites run's archive (docs/evolution.md, \"MAP-Elites\"): DIR/archive.svg and\n"
+     "DIR/archive.png (two descriptors, each cell coloured by its best elite's fitness, empty\n"
+     "cells grey), DIR/archive.csv (every elite: cell, bins, descriptors, fitness, ids) and\n"
+     "DIR/elites.png (a gallery of the best elites, each simulated under the run's physics).\n"
+     "options:\n"
+     "  --out DIR             folder to write (created if needed)\n"
+     "  --axes X,Y            the two descriptors shown (default: the config's first two;\n"
+     "                        the best elite over any others)\n"
+     "  --elites N            elites in the gallery, best first (default 12)\n"
+     "  --size WxH            the gallery's size in pixels\n"
+     "  --no-gallery          the map and table only (nothing simulated)\n"
+     "example:\n"
+     "  plastivox archive run.h5 --out archive\n"},
     {"figures",
      "usage: plastivox figures STATS.json --out DIR [options]\n"
      "Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json.\n"

@@ -275,6 +275,32 @@ TEST_F(EvoCli, AMapElitesRunResumesAfterKillNineExportsItsChampionAndTheStudyRef
       j,
       ": a map-elites run (an archive of elites); the study compares afpo runs' evolved "
       "bodies and does not read it yet");
+  // plastivox archive: the map (a rect per cell, as many filled as the archive), the table (a
+  // row per elite) and the gallery; a run without an archive is refused in one line.
+  const Output m = cli("archive " + path("full.h5") + " --out " + path("map") +
+                       " --elites 3 --size 640x360 --axes com_height,voxels");
+  ASSERT_EQ(m.status, 0) << m.out;
+  const std::string svg = read_file(path("map/archive.svg"));
+  const auto count = [&](const std::string& what) {
+    size_t n = 0;
+    for (size_t at = svg.find(what); at != std::string::npos; at = svg.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("class=\"cell\""), 36u);
+  EXPECT_EQ(36u - count("data-group=\"empty\""), j["filled"].get<size_t>());
+  const std::string csv = read_file(path("map/archive.csv"));
+  EXPECT_EQ(static_cast<size_t>(std::count(csv.begin(), csv.end(), '\n')),
+            j["filled"].get<size_t>() + 1);
+  EXPECT_EQ(csv.rfind("cell,bin_voxels,bin_com_height,voxels,com_height,fitness,", 0), 0u) << csv;
+  EXPECT_GT(read_file(path("map/archive.png")).size(), 1000u);
+  EXPECT_GT(read_file(path("map/elites.png")).size(), 1000u);
+  ASSERT_EQ(
+      cli("evolve --config " + tiny_config("afpo.json", 3, 0) + " --out " + path("afpo.h5")).status,
+      0);
+  const Output refused = cli("archive " + path("afpo.h5") + " --out " + path("none"));
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.out.find(path("afpo.h5") + ": a afpo run has no archive"), std::string::npos)
+      << refused.out;
 }
 
 TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {
