@@ -688,6 +688,18 @@ class Results:
             p["robot"] = None if p["robot"] is None else Robot(p["robot"])
         return people
 
+    def archive(self):
+        """A MAP-Elites run's archive at the file's last checkpoint (docs/evolution.md,
+        "MAP-Elites"): a dict with descriptors (each axis's name, bounds and bins), cells,
+        qd_offset, elites (one dict per filled cell, ascending cell: cell, bins, descriptors,
+        fitness, id, parent_id, born and robot, its genome's Robot under the run's physics)
+        and, per generation, qd_score, coverage and evaluations (individuals made so far)
+        as arrays. ValueError for another algorithm's run."""
+        a = self._core.archive()
+        for e in a["elites"]:
+            e["robot"] = Robot(e["robot"])
+        return a
+
     def __repr__(self):
         return (f"Results({self.path!r}, treatment={self.treatment!r}, seed={self.seed}, "
                 f"generations_done={self.generations_done}/{self.generations})")
