@@ -221,6 +221,28 @@ TEST(MapElitesRun, EachCellHoldsTheBestLifeSeenForIt) {
     }
 }
 
+// initial_population body-plans seeds generation 0 as under AFPO: the first three bodies are
+// the paper's Π, Γ and Υ, and each one's own template score is its highest.
+TEST(MapElitesRun, BodyPlanSeedsStartTheArchiveWithTheirOwnPlanScores) {
+  std::string text = config_text(R"(, "algorithm": "map-elites",
+      "initial_population": "body-plans", "map_elites": {"descriptors": [
+      {"name": "pi", "bounds": [0, 1], "bins": 4}, {"name": "gamma", "bounds": [0, 1], "bins": 4},
+      {"name": "upsilon", "bounds": [0, 1], "bins": 4}]})");
+  const std::string small = R"("nx": 4, "ny": 4, "nz": 4)";
+  text.replace(text.find(small), small.size(), R"("nx": 6, "ny": 6, "nz": 6)");
+  EvolveConfig c = parse_config(text, "seeded");
+  c.generations = 0;
+  const RunState s = evolved(c, 2);
+  for (size_t plan = 0; plan < 3; ++plan) {
+    const std::vector<double>& d = s.births[plan].descriptors;
+    for (size_t other = 0; other < 3; ++other)
+      if (other != plan) {
+        EXPECT_GT(d[plan], d[other]) << plan << " " << other;
+      }
+    EXPECT_GE(d[plan], 0.75) << plan;  // labelled as its plan by the classifier's threshold
+  }
+}
+
 class MapElitesFiles : public testing::ScratchDirTest {};
 
 TEST_F(MapElitesFiles, StopAndResumeEqualsUninterruptedAndTheChampionReplays) {
