@@ -33,6 +33,7 @@ int cmd_video(const Args& args);       // apps/cmd_video.cpp
 int cmd_view(const Args& args);        // apps/cmd_view.cpp
 int cmd_gallery(const Args& args);     // apps/cmd_gallery.cpp
 int cmd_figures(const Args& args);     // apps/cmd_figures.cpp
+int cmd_archive(const Args& args);     // apps/cmd_archive.cpp
 int cmd_experiment(const Args& args);  // apps/cmd_experiment.cpp
 
 // The usage text of one command (apps/help.cpp), or nullptr for an unknown command.

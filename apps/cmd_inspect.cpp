@@ -45,6 +45,18 @@ int cmd_inspect(const Args& in) {
     j["covariance"] = s.config.cma.separable ? "separable" : "full";
     j["step_size"] = s.cma.sigma;
   }
+  if (s.config.algorithm == evo::Algorithm::kMapElites) {  // the archive (champion: best elite)
+    const evo::MapElitesSettings& me = s.config.map_elites;
+    nlohmann::json axes = nlohmann::json::array();
+    for (const evo::DescriptorAxis& a : me.axes)
+      axes.push_back({{"name", to_string(a.what)}, {"bounds", {a.lo, a.hi}}, {"bins", a.bins}});
+    j["descriptors"] = axes;
+    j["cells"] = me.cells();
+    j["filled"] = s.archive.size();
+    j["coverage"] = static_cast<double>(s.archive.size()) / static_cast<double>(me.cells());
+    j["qd_score"] = s.history.empty() ? 0.0 : s.history.back().qd_score;
+    j["qd_offset"] = me.qd_offset;
+  }
   j["population"] = s.config.population;
   j["generations_planned"] = s.config.generations;
   j["generations_done"] = s.generations_done;
@@ -76,6 +88,14 @@ int cmd_inspect(const Args& in) {
         "step size now %.4g\n",
         to_string(s.config.cma.genome), s.config.controller_genes.count,
         s.config.cma.separable ? "separable" : "full", s.config.population, s.cma.sigma);
+  if (s.config.algorithm == evo::Algorithm::kMapElites)
+    std::printf(
+        "  map-elites archive: %zu of %lld cells filled (coverage %.4f), QD score %.6g "
+        "(fitness - %g summed over them), %d children a generation\n",
+        s.archive.size(), static_cast<long long>(s.config.map_elites.cells()),
+        static_cast<double>(s.archive.size()) / static_cast<double>(s.config.map_elites.cells()),
+        s.history.empty() ? 0.0 : s.history.back().qd_score, s.config.map_elites.qd_offset,
+        s.config.population);
   std::printf("  best fitness %.6f %s: champion id %llu (%d voxels, since generation %d)\n",
               last.best_fitness, task_info(s.config.task).unit,
               static_cast<unsigned long long>(last.champion_id), champ.phenotype.voxel_count(),

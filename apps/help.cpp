@@ -86,8 +86,9 @@ const CommandHelp kHelp[] = {
      "  plastivox demo\n"},
     {"evolve",
      "usage: plastivox evolve --config FILE --out RESULTS.h5 [--config FILE --out R.h5 ...]\n"
-     "Run an evolution (AFPO over four CPPNs, or with \"algorithm\": \"cma-es\" in the config\n"
-     "CMA-ES on a fixed body's controller, phases or materials) into an HDF5 results file.\n"
+     "Run an evolution (AFPO over four CPPNs; with \"algorithm\": \"map-elites\" in the config\n"
+     "MAP-Elites over the same genomes in a grid of descriptors; with \"cma-es\" CMA-ES on a\n"
+     "fixed body's controller, phases or materials) into an HDF5 results file.\n"
      "The same command resumes a killed run from its last checkpoint (docs/evolution.md).\n"
      "Several --config / --out pairs evolve at once, sharing one pool of worker threads.\n"
      "options:\n"
@@ -262,6 +263,21 @@ const CommandHelp kHelp[] = {
                                                     "stress-*.h5 "
                                                     "--out "
                                                     "stress.png\n"},
+    {"archive",
+     "usage: plastivox archive RESULTS.h5 --out DIR [options]\n"
+     "A MAP-Elites run's archive (docs/evolution.md, \"MAP-Elites\"): DIR/archive.svg and\n"
+     "DIR/archive.png (two descriptors, each cell coloured by its best elite's fitness, empty\n"
+     "cells grey), DIR/archive.csv (every elite: cell, bins, descriptors, fitness, ids) and\n"
+     "DIR/elites.png (a gallery of the best elites, each simulated under the run's physics).\n"
+     "options:\n"
+     "  --out DIR             folder to write (created if needed)\n"
+     "  --axes X,Y            the two descriptors shown (default: the config's first two;\n"
+     "                        the best elite over any others)\n"
+     "  --elites N            elites in the gallery, best first (default 12)\n"
+     "  --size WxH            the gallery's size in pixels\n"
+     "  --no-gallery          the map and table only (nothing simulated)\n"
+     "example:\n"
+     "  plastivox archive run.h5 --out archive\n"},
     {"figures",
      "usage: plastivox figures STATS.json --out DIR [options]\n"
      "Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json.\n"

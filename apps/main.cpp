@@ -55,6 +55,8 @@ const char* kUsage =
     "  view     LIFE.h5|RESULTS.h5|ROBOT --out page.html [--fps F] [--generation G]\n"
     "           the life in an interactive 3-D page (opens offline, from file://)\n"
     "  gallery  RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]\n"
+    "  archive  RESULTS.h5 --out DIR [--axes X,Y] [--elites N] [--no-gallery]\n"
+    "           a MAP-Elites run's archive: map (SVG, PNG) by fitness, table, elites' gallery\n"
     "  figures  STATS.json --out DIR [--size WxH] [--format png,svg] [--no-combined]\n"
     "           Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json\n"
     "  experiment [--config FILE | --preset NAME] --out DIR [--threads N]\n"
@@ -70,6 +72,8 @@ struct Command {
   const char* name;
   int (*run)(const Args&);
 };
+// One command a row (clang-format would pack sixteen rows into columns).
+// clang-format off
 const Command kCommands[] = {
     {"simulate", cmd_simulate},
     {"demo", cmd_demo},
@@ -83,9 +87,11 @@ const Command kCommands[] = {
     {"video", cmd_video},
     {"view", cmd_view},
     {"gallery", cmd_gallery},
+    {"archive", cmd_archive},
     {"figures", cmd_figures},
     {"experiment", cmd_experiment},
 };
+// clang-format on
 
 // Levenshtein distance: insertions, deletions and substitutions of one character.
 size_t edit_distance(const std::string& a, const std::string& b) {

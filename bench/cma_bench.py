@@ -42,8 +42,9 @@ def run(config, label):
     line = (f"{label:30s} {lives:4d} lives {1e3 * cpu / lives:7.1f} ms CPU/life; "
             f"outside the search {outside:6.1f} ns/voxel-step")
     last = seen[-1]
-    if config.get("algorithm") == "cma-es" and last["simulated"] == len(people):
-        # a CMA-ES population is the last generation's samples: the same lives, in the run
+    if config.get("algorithm") in ("cma-es", "map-elites") and last["simulated"] == len(people):
+        # a CMA-ES or MAP-Elites population is the last generation's samples or children: the
+        # same lives, in the run
         line += f", in it {1e9 * last['sim_cpu_seconds'] / voxel_steps:6.1f}"
     print(line + f"; search overhead {1e3 * statistics.median(over):6.2f} ms/generation "
                  f"(median), {100 * share:5.3f} % of wall")

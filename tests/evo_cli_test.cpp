@@ -45,6 +45,15 @@ class EvoCli : public plastivox::testing::ScratchDirTest {
                            (controller.empty() ? "" : ", \"controller\": " + controller) + "}");
   }
   void kill_nine_and_resume(const std::string& cfg) const;
+  // full.h5's champion, exported, simulates to its fitness bit for bit (`inspected`: inspect's
+  // JSON of the file).
+  void exported_champion_replays(const nlohmann::json& inspected) const {
+    ASSERT_EQ(cli("export " + path("full.h5") + " --out " + path("champ.json")).status, 0);
+    const Output s = cli("simulate " + path("champ.json") + " --json");
+    ASSERT_EQ(s.status, 0) << s.out;
+    EXPECT_EQ(nlohmann::json::parse(s.out)["fitness"].get<double>(),
+              inspected["best_fitness"].get<double>());
+  }
   std::string digest(const std::string& results) const {
     const Output o = cli("inspect " + results + " --json");
     EXPECT_EQ(o.status, 0) << o.out;
@@ -232,16 +241,69 @@ TEST_F(EvoCli, ACmaEsRunResumesAfterKillNineExportsItsChampionAndTheStudyReadsIt
   EXPECT_EQ(j["genome"], "phase");
   EXPECT_EQ(j["genome_dimension"], 12);
   EXPECT_EQ(j["covariance"], "full");
-  ASSERT_EQ(cli("export " + path("full.h5") + " --out " + path("champ.json")).status, 0);
-  const Output s = cli("simulate " + path("champ.json") + " --json");
-  ASSERT_EQ(s.status, 0) << s.out;
-  EXPECT_EQ(nlohmann::json::parse(s.out)["fitness"].get<double>(), j["best_fitness"].get<double>());
+  exported_champion_replays(j);
   // The study reads any results file the evolver writes: the champion audited, its fitness
   // the recorded one.
   const Output a = cli("analyze " + path("full.h5") + " --out " + path("study") + " --no-viewer");
   ASSERT_EQ(a.status, 0) << a.out;
   const auto stats = nlohmann::json::parse(read_file(path("study/stats.json")));
   EXPECT_EQ(stats["champions"][0]["fitness"].get<double>(), j["best_fitness"].get<double>());
+}
+
+// A MAP-Elites run (docs/evolution.md, "MAP-Elites"): killed and resumed, the same bits;
+// inspect gives the archive's coverage and QD score; the exported champion (the best elite)
+// replays its fitness; the study refuses it in one line.
+TEST_F(EvoCli, AMapElitesRunResumesAfterKillNineExportsItsChampionAndTheStudyRefusesIt) {
+  const std::string cfg = write("me.json", R"({"format": "plastivox-evolve-config", "version": 1,
+      "seed": 9, "generations": 8, "population": 6, "treatment": "stress",
+      "lattice": {"nx": 4, "ny": 4, "nz": 4}, "algorithm": "map-elites",
+      "map_elites": {"descriptors": [{"name": "voxels", "bounds": [12, 64], "bins": 6},
+        {"name": "com_height", "bounds": [0, 3], "bins": 6}]},
+      "physics": {"duration": 0.2, "settle_time": 0.1, "fitness": "xy"}})");
+  kill_nine_and_resume(cfg);
+  const Output i = cli("inspect " + path("full.h5") + " --json");
+  ASSERT_EQ(i.status, 0) << i.out;
+  const auto j = nlohmann::json::parse(i.out);
+  EXPECT_EQ(j["algorithm"], "map-elites");
+  EXPECT_EQ(j["cells"], 36);
+  EXPECT_GT(j["filled"].get<int>(), 1);
+  EXPECT_EQ(j["coverage"].get<double>(), j["filled"].get<double>() / 36);
+  EXPECT_GE(j["qd_score"].get<double>(), j["best_fitness"].get<double>());
+  EXPECT_NE(cli("inspect " + path("full.h5")).out.find("map-elites archive: "), std::string::npos);
+  exported_champion_replays(j);
+  const Output a = cli("analyze " + path("full.h5") + " --out " + path("study"));
+  EXPECT_NE(a.status, 0);
+  EXPECT_NE(a.out.find(path("full.h5") + ": a map-elites run (an archive of elites); the study "
+                                         "does not read it yet"),
+            std::string::npos)
+      << a.out;
+  // plastivox archive: the map (a rect per cell, as many filled as the archive), the table (a
+  // row per elite) and the gallery; a run without an archive is refused in one line.
+  const Output m = cli("archive " + path("full.h5") + " --out " + path("map") +
+                       " --elites 3 --size 640x360 --axes com_height,voxels");
+  ASSERT_EQ(m.status, 0) << m.out;
+  const std::string svg = read_file(path("map/archive.svg"));
+  const auto count = [&](const std::string& what) {
+    size_t n = 0;
+    for (size_t at = svg.find(what); at != std::string::npos; at = svg.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("class=\"cell\""), 36u);
+  EXPECT_EQ(36u - count("data-group=\"empty\""), j["filled"].get<size_t>());
+  const std::string csv = read_file(path("map/archive.csv"));
+  EXPECT_EQ(static_cast<size_t>(std::count(csv.begin(), csv.end(), '\n')),
+            j["filled"].get<size_t>() + 1);
+  EXPECT_EQ(csv.rfind("cell,bin_voxels,bin_com_height,voxels,com_height,fitness,", 0), 0u) << csv;
+  EXPECT_GT(read_file(path("map/archive.png")).size(), 1000u);
+  EXPECT_GT(read_file(path("map/elites.png")).size(), 1000u);
+  ASSERT_EQ(
+      cli("evolve --config " + tiny_config("afpo.json", 3, 0) + " --out " + path("afpo.h5")).status,
+      0);
+  const Output refused = cli("archive " + path("afpo.h5") + " --out " + path("none"));
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.out.find(path("afpo.h5") + ": algorithm afpo keeps no archive"),
+            std::string::npos)
+      << refused.out;
 }
 
 TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {

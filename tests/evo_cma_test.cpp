@@ -142,18 +142,16 @@ TEST(CmaConfig, TheAlgorithmFieldAndItsRefusals) {
   };
   EXPECT_EQ(parse_config(config_text(R"(, "algorithm": "afpo")"), "a").identity_json(),
             parse_config(config_text(""), "b").identity_json());  // afpo is the default
-  EXPECT_EQ(error(R"(, "algorithm": "map-elites")"),
-            "run.json: algorithm: map-elites is not built yet (use afpo or cma-es)");
   EXPECT_EQ(error(R"(, "algorithm": "nsga")"),
-            "run.json: algorithm: 'nsga' is unknown (use afpo or cma-es)");
+            "run.json: algorithm: 'nsga' is unknown (use afpo, cma-es or map-elites)");
   EXPECT_EQ(error(R"(, "genome": "phase")"), "run.json: genome: applies to algorithm cma-es only");
   const std::string cma = R"(, "algorithm": "cma-es", "genome": "phase", "body": )" + body_json();
   EXPECT_EQ(error(cma + R"(, "lattice": {"nx": 4})"),
-            "run.json: lattice: applies to algorithm afpo only (cma-es searches a genome of its "
-            "fixed body)");
+            "run.json: lattice: applies to algorithms afpo and map-elites only (cma-es searches a "
+            "genome of its fixed body)");
   EXPECT_EQ(error(cma + R"(, "controller": {"kind": "central"})"),
-            "run.json: controller: applies to algorithm afpo only (cma-es searches a genome of "
-            "its fixed body)");
+            "run.json: controller: applies to algorithms afpo and map-elites only (cma-es searches "
+            "a genome of its fixed body)");
   EXPECT_EQ(error(R"(, "algorithm": "cma-es", "genome": "phase")"),
             "run.json: body: missing: cma-es needs a fixed body (a robot file or a results file)");
   EXPECT_EQ(error(cma + R"(, "cma": {"sigma": -1})"), "run.json: cma.sigma: must be in (0, 1000]");

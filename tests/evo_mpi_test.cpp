@@ -79,6 +79,18 @@ TEST_F(EvoMpi, TwoRanksGiveACmaEsRunTheSameDigestAsOneProcess) {
   two_ranks_give_the_same_digest(path("cma.json"));
 }
 
+// MAP-Elites (docs/evolution.md): the children travel as AFPO's, their lives' measures come back.
+TEST_F(EvoMpi, TwoRanksGiveAMapElitesRunTheSameDigestAsOneProcess) {
+  std::ofstream(path("me.json")) << R"({"format": "plastivox-evolve-config", "version": 1,
+      "seed": 44, "generations": 3, "population": 6, "treatment": "pressure",
+      "lattice": {"nx": 4, "ny": 4, "nz": 4}, "algorithm": "map-elites",
+      "map_elites": {"descriptors": [{"name": "fill", "bounds": [0.2, 1], "bins": 4},
+        {"name": "floor_contact", "bounds": [0, 1], "bins": 4},
+        {"name": "development", "bounds": [0, 1], "bins": 2}]},
+      "physics": {"duration": 0.2, "settle_time": 0.1}})";
+  two_ranks_give_the_same_digest(path("me.json"));
+}
+
 // A run's digest is the same on two ranks as in one process (the controller's weights travel
 // with each body to the other rank).
 void EvoMpi::two_ranks_give_the_same_digest(const std::string& cfg) const {

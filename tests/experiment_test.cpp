@@ -85,6 +85,15 @@ TEST(ExperimentConfig, ErrorsNameTheirField) {
   j = micro_config();
   j["evolution"]["seed"] = 3;
   EXPECT_NE(error_of(j.dump()).find("evolution.seed: not allowed here"), std::string::npos);
+  j = micro_config();  // refused before any life, as analyze refuses such a run's file
+  j["evolution"]["algorithm"] = "map-elites";
+  j["evolution"]["map_elites"] = {
+      {"descriptors", json::array({{{"name", "fill"}, {"bounds", {0.2, 1}}, {"bins", 2}},
+                                   {{"name", "floor_contact"}, {"bounds", {0, 1}}, {"bins", 2}}})}};
+  EXPECT_NE(error_of(j.dump()).find("study.json: evolution.algorithm: map-elites: the study "
+                                    "compares afpo runs' evolved bodies"),
+            std::string::npos)
+      << error_of(j.dump());
   j = micro_config();
   j["evolution"]["physics"]["e_max"] = "hard";
   EXPECT_NE(error_of(j.dump()).find("e_max"), std::string::npos);

@@ -688,6 +688,18 @@ class Results:
             p["robot"] = None if p["robot"] is None else Robot(p["robot"])
         return people
 
+    def archive(self):
+        """A MAP-Elites run's archive at the file's last checkpoint (docs/evolution.md,
+        "MAP-Elites"): a dict with descriptors (each axis's name, bounds and bins), cells,
+        qd_offset, elites (one dict per filled cell, ascending cell: cell, bins, descriptors,
+        fitness, id, parent_id, born and robot, its genome's Robot under the run's physics)
+        and, per generation, qd_score, coverage and evaluations (individuals made so far)
+        as arrays. ValueError for another algorithm's run."""
+        a = self._core.archive()
+        for e in a["elites"]:
+            e["robot"] = Robot(e["robot"])
+        return a
+
     def __repr__(self):
         return (f"Results({self.path!r}, treatment={self.treatment!r}, seed={self.seed}, "
                 f"generations_done={self.generations_done}/{self.generations})")
@@ -804,8 +816,9 @@ def _close_evolvers():
 
 class Evolver:
     """An evolution driven from outside, ask/tell style: the same search (the config's
-    algorithm, AFPO or CMA-ES), checkpoints, resume and results file as evolve(), with the
-    lives scored by the caller.
+    algorithm, AFPO, MAP-Elites or CMA-ES), checkpoints, resume and results file as evolve(),
+    with the lives scored by the caller (under MAP-Elites the descriptors of a life stay the
+    engine's: it simulates a life scored by a number for them).
 
         ev = plastivox.Evolver(config, "run.h5")
         while not ev.finished:
@@ -881,7 +894,7 @@ class Evolver:
         """The next generation's new bodies to score, as Robots; [] once the run has ended.
         genomes=True: (robots, genomes) instead, each robot's genome beside it: under
         algorithm cma-es the vector the search sampled (a float array; the robot is the
-        fixed body with it applied, docs/evolution.md), under afpo None."""
+        fixed body with it applied, docs/evolution.md), under afpo and map-elites None."""
         if self._pending is not None:
             raise RuntimeError("ask: tell() the scores of the robots asked before")
         robots = self._wait()

@@ -12,6 +12,7 @@
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/cma_body.hpp"
 #include "plastivox/evo/config.hpp"
+#include "plastivox/evo/map_elites.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
 
@@ -71,6 +72,63 @@ pyb::list population(const PyResults& r) {
     }
     out.append(d);
   }
+  return out;
+}
+
+// A MAP-Elites run's archive at the file's last checkpoint (docs/evolution.md, "MAP-Elites"):
+// its axes, every elite (cell, bins, descriptors, fitness, ids, its robot under the run's
+// physics) and, per generation, the QD score, coverage and evaluations so far.
+pyb::dict archive(const PyResults& r) {
+  const evo::RunState& run = r.file.state;
+  if (run.config.algorithm != evo::Algorithm::kMapElites)
+    throw std::invalid_argument(r.path + ": algorithm " +
+                                std::string(to_string(run.config.algorithm)) + " keeps no archive");
+  const evo::MapElitesSettings& me = run.config.map_elites;
+  pyb::dict out;
+  pyb::list axes;
+  for (const evo::DescriptorAxis& a : me.axes) {
+    pyb::dict d;
+    d["name"] = to_string(a.what);
+    d["bounds"] = pyb::make_tuple(a.lo, a.hi);
+    d["bins"] = a.bins;
+    axes.append(d);
+  }
+  out["descriptors"] = axes;
+  out["cells"] = me.cells();
+  out["qd_offset"] = me.qd_offset;
+  const evo::Expresser expresser(run.config.expression());
+  pyb::list elites;
+  for (const evo::Individual& e : run.archive) {
+    pyb::dict d;
+    d["cell"] = e.cell;
+    d["bins"] = evo::bins_of(me, e.cell);
+    d["descriptors"] = e.descriptors;
+    d["fitness"] = e.fitness;
+    d["id"] = e.id;
+    d["parent_id"] = e.parent_id;
+    d["born"] = e.born;
+    PyRobot robot;
+    robot.def = expresser.express(e.genome).robot;
+    robot.def.name = "elite-" + std::to_string(e.id);
+    robot.physics = run.config.physics;
+    robot.source = r.path;
+    d["robot"] = robot;
+    elites.append(d);
+  }
+  out["elites"] = elites;
+  std::vector<double> qd, coverage, evaluations;
+  size_t born = 0;
+  for (const evo::GenerationRecord& h : run.history) {
+    qd.push_back(h.qd_score);
+    coverage.push_back(static_cast<double>(h.filled) / static_cast<double>(me.cells()));
+    while (born < run.births.size() &&
+           run.births[born].generation <= static_cast<int>(evaluations.size()))
+      ++born;
+    evaluations.push_back(static_cast<double>(born));
+  }
+  out["qd_score"] = to_array(qd);
+  out["coverage"] = to_array(coverage);
+  out["evaluations"] = to_array(evaluations);
   return out;
 }
 
@@ -292,6 +350,7 @@ void bind_evo(pyb::module_& m) {
                              [](const PyResults& r) { return provenance_dict(r.file.provenance); })
       .def("champion", &champion, pyb::arg("generation") = -1)
       .def("population", &population)
+      .def("archive", &archive)
       .def("fitness_curves", &fitness_curves);
   m.def(
       "read_results",

@@ -81,16 +81,31 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
   return written;
 }
 
-std::vector<std::string> write_battery_heat_map(const BatteryHeatMap& map,
-                                                const std::string& out_dir,
-                                                const FigureOptions& o) {
-  const Drawing d = layout_battery_heat_map(map, o.width, o.height);
+namespace {
+
+// One drawing written as DIR/<stem>.{svg,png}, creating DIR.
+std::vector<std::string> write_drawing_in(const Drawing& d, const std::string& out_dir,
+                                          const std::string& stem, const FigureOptions& o) {
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw RenderError(out_dir + ": cannot create the output directory: " + ec.message());
   std::vector<std::string> written;
-  write_drawing(d, (std::filesystem::path(out_dir) / "robustness_heatmap").string(), o, written);
+  write_drawing(d, (std::filesystem::path(out_dir) / stem).string(), o, written);
   return written;
+}
+
+}  // namespace
+
+std::vector<std::string> write_battery_heat_map(const BatteryHeatMap& map,
+                                                const std::string& out_dir,
+                                                const FigureOptions& o) {
+  return write_drawing_in(layout_battery_heat_map(map, o.width, o.height), out_dir,
+                          "robustness_heatmap", o);
+}
+
+std::vector<std::string> write_archive_map(const ArchiveMap& map, const std::string& out_dir,
+                                           const FigureOptions& o) {
+  return write_drawing_in(layout_archive_map(map, o.width, o.height), out_dir, "archive", o);
 }
 
 }  // namespace plastivox::render

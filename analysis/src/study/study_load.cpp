@@ -73,6 +73,11 @@ void check_algorithm_readable(const evo::RunState& run, const std::string& file)
     case evo::Algorithm::kAfpo:   // evolved bodies
     case evo::Algorithm::kCmaEs:  // one fixed body with searched genes, rebuilt in its record
       return;
+    case evo::Algorithm::kMapElites:  // an archive, not a population
+      throw std::runtime_error(file +
+                               ": a map-elites run (an archive of elites); the study "
+                               "does not read it yet (plastivox archive draws it; plastivox "
+                               "export writes its best elite as a robot file the study reads)");
   }
   throw std::runtime_error(file + ": a results file of an algorithm the study does not read");
 }

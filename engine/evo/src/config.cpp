@@ -2,14 +2,17 @@
 #include "plastivox/evo/config.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "plastivox/base/names.hpp"
 #include "plastivox/evo/cma.hpp"
 #include "plastivox/evo/cma_body.hpp"
+#include "plastivox/evo/map_elites.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
 #include "plastivox/io/limits.hpp"
@@ -56,7 +59,14 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
       k["mutation_sigma"] = c.controller_genes.sigma;
     }
   }
-  if (c.algorithm != Algorithm::kAfpo) {  // only then: every AFPO identity and digest holds
+  if (c.algorithm == Algorithm::kMapElites) {  // only then: every AFPO identity and digest holds
+    j["algorithm"] = to_string(c.algorithm);
+    json axes = json::array();
+    for (const DescriptorAxis& a : c.map_elites.axes)
+      axes.push_back({{"name", to_string(a.what)}, {"bounds", {a.lo, a.hi}}, {"bins", a.bins}});
+    j["map_elites"] = {{"descriptors", axes}, {"qd_offset", c.map_elites.qd_offset}};
+  }
+  if (c.algorithm == Algorithm::kCmaEs) {  // only then: every AFPO identity and digest holds
     j["algorithm"] = to_string(c.algorithm);
     j["genome"] = to_string(c.cma.genome);
     j["body"] = json::parse(c.cma.body_json);
@@ -72,21 +82,97 @@ json canonical(const EvolveConfig& c, bool with_run_control) {
   return j;
 }
 
-// The fields one algorithm reads and the other would silently ignore: refused instead.
-constexpr const char* kAfpoOnly[] = {
+// The fields one algorithm reads and another would silently ignore: refused instead.
+constexpr const char* kCppnOnly[] = {  // the CPPN genomes' (afpo and map-elites)
     "lattice", "geometry", "min_fill", "initial_population", "max_mutation_tries", "controller"};
 constexpr const char* kCmaOnly[] = {"body", "genome", "cma"};
 
-// A CMA-ES run's fields, once the loop has read them all (the treatment among them).
-// Before any field is read, so a field of the other algorithm is named as such.
+// Before any field is read, so a field of another algorithm is named as such.
 void check_algorithm_fields(const json& j, const std::string& src) {
   const bool cma = j.contains("algorithm") && j["algorithm"] == "cma-es";
-  if (j.contains("algorithm") && !cma && j["algorithm"] != "afpo") return;  // the loop refuses it
+  const bool elites = j.contains("algorithm") && j["algorithm"] == "map-elites";
+  if (j.contains("algorithm") && !cma && !elites && j["algorithm"] != "afpo")
+    return;  // the loop refuses it
   for (const char* f : kCmaOnly)
     if (!cma && j.contains(f)) fail(src, f, "applies to algorithm cma-es only");
-  for (const char* f : kAfpoOnly)
+  if (!elites && j.contains("map_elites"))
+    fail(src, "map_elites", "applies to algorithm map-elites only");
+  if (elites && !j.contains("map_elites"))
+    fail(src, "map_elites",
+         "missing: map-elites needs its descriptors ({\"descriptors\": [{\"name\": ..., "
+         "\"bounds\": [lo, hi], \"bins\": ...}, ...]})");
+  for (const char* f : kCppnOnly)
     if (cma && j.contains(f))
-      fail(src, f, "applies to algorithm afpo only (cma-es searches a genome of its fixed body)");
+      fail(src, f,
+           "applies to algorithms afpo and map-elites only (cma-es searches a genome of its "
+           "fixed body)");
+}
+
+const Descriptor kDescriptors[] = {
+    Descriptor::kVoxels,      Descriptor::kFill,         Descriptor::kPi,
+    Descriptor::kGamma,       Descriptor::kUpsilon,      Descriptor::kStiffness,
+    Descriptor::kDevelopment, Descriptor::kFloorContact, Descriptor::kComHeight};
+
+// "map_elites": {"descriptors": [{"name", "bounds": [lo, hi], "bins"}, ...], "qd_offset"}.
+MapElitesSettings parse_map_elites(const json& v, const std::string& src) {
+  MapElitesSettings m;
+  if (!v.is_object()) fail(src, "map_elites", "expected an object {descriptors, qd_offset}");
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string f = "map_elites." + it.key();
+    if (it.key() == "qd_offset") {
+      m.qd_offset = number(*it, src, f);
+      if (!std::isfinite(m.qd_offset)) fail(src, f, "must be finite");
+    } else if (it.key() != "descriptors") {
+      fail(src, f, "unknown field");
+    }
+  }
+  const std::string f = "map_elites.descriptors";
+  if (!v.contains("descriptors")) fail(src, f, "missing: a list of 2 or more descriptors");
+  const json& list = v["descriptors"];
+  if (!list.is_array() || list.size() < 2) fail(src, f, "expected a list of 2 or more descriptors");
+  std::string names;
+  for (const Descriptor d : kDescriptors) {
+    if (!names.empty()) names += ", ";
+    names += to_string(d);
+  }
+  double cells = 1;
+  for (size_t k = 0; k < list.size(); ++k) {
+    const std::string at = f + "[" + std::to_string(k) + "]";
+    const json& e = list[k];
+    if (!e.is_object()) fail(src, at, "expected an object {name, bounds, bins}");
+    for (auto it = e.begin(); it != e.end(); ++it)
+      if (it.key() != "name" && it.key() != "bounds" && it.key() != "bins")
+        fail(src, at + "." + it.key(), "unknown field");
+    DescriptorAxis a;
+    if (!e.contains("name")) fail(src, at + ".name", "missing (one of " + names + ")");
+    const std::string name = text(e["name"], src, at + ".name");
+    bool known = false;
+    for (const Descriptor d : kDescriptors)
+      if (name == to_string(d)) a.what = d, known = true;
+    if (!known) fail(src, at + ".name", "'" + name + "' is unknown (use " + names + ")");
+    for (const DescriptorAxis& b : m.axes)
+      if (b.what == a.what) fail(src, at + ".name", "'" + name + "' is given twice");
+    if (!e.contains("bounds"))
+      fail(src, at + ".bounds",
+           "missing: give [lo, hi] (docs/evolution.md, \"MAP-Elites\", lists each descriptor's "
+           "range)");
+    const json& b = e["bounds"];
+    if (!b.is_array() || b.size() != 2 || !b[0].is_number() || !b[1].is_number())
+      fail(src, at + ".bounds", "expected [lo, hi], two numbers");
+    a.lo = b[0].get<double>();
+    a.hi = b[1].get<double>();
+    if (!(std::isfinite(a.lo) && std::isfinite(a.hi) && a.lo < a.hi))
+      fail(src, at + ".bounds", "must be finite with lo < hi");
+    if (!e.contains("bins")) fail(src, at + ".bins", "missing: the number of bins (>= 1)");
+    a.bins = integer(e["bins"], src, at + ".bins", 1, 100000);
+    cells *= a.bins;
+    m.axes.push_back(a);
+  }
+  if (cells > kMaxArchiveCells)
+    fail(src, f,
+         std::to_string(static_cast<int64_t>(cells)) + " cells are too many (at most " +
+             std::to_string(kMaxArchiveCells) + ")");
+  return m;
 }
 
 void resolve_cma(const json& j, const std::string& src, EvolveConfig& c) {
@@ -134,7 +220,26 @@ void resolve_cma(const json& j, const std::string& src, EvolveConfig& c) {
 }  // namespace
 
 const char* to_string(Algorithm a) {
-  return a == Algorithm::kCmaEs ? "cma-es" : "afpo";
+  return a == Algorithm::kCmaEs ? "cma-es" : a == Algorithm::kMapElites ? "map-elites" : "afpo";
+}
+
+const char* to_string(Descriptor d) {
+  static constexpr Named<Descriptor> kNames[] = {{Descriptor::kVoxels, "voxels"},
+                                                 {Descriptor::kFill, "fill"},
+                                                 {Descriptor::kPi, "pi"},
+                                                 {Descriptor::kGamma, "gamma"},
+                                                 {Descriptor::kUpsilon, "upsilon"},
+                                                 {Descriptor::kStiffness, "stiffness"},
+                                                 {Descriptor::kDevelopment, "development"},
+                                                 {Descriptor::kFloorContact, "floor_contact"},
+                                                 {Descriptor::kComHeight, "com_height"}};
+  return name_in(kNames, d);
+}
+
+int64_t MapElitesSettings::cells() const {
+  int64_t n = 1;
+  for (const DescriptorAxis& a : axes) n *= a.bins;
+  return n;
 }
 
 const char* to_string(GenomeKind g) {
@@ -196,9 +301,11 @@ EvolveConfig parse_config(const std::string& input, const std::string& src) {
       else if (a == "cma-es")
         c.algorithm = Algorithm::kCmaEs;
       else if (a == "map-elites")
-        fail(src, k, "map-elites is not built yet (use afpo or cma-es)");
+        c.algorithm = Algorithm::kMapElites;
       else
-        fail(src, k, "'" + a + "' is unknown (use afpo or cma-es)");
+        fail(src, k, "'" + a + "' is unknown (use afpo, cma-es or map-elites)");
+    } else if (k == "map_elites") {
+      c.map_elites = parse_map_elites(v, src);
     } else if (k == "body") {
       continue;  // read by resolve_cma, once the algorithm is known
     } else if (k == "genome") {
@@ -450,6 +557,10 @@ std::string default_config_text() {
        "  \"genome\" (controller | phase | materials) and optionally \"cma\": {\"sigma\": ...,",
        "  \"covariance\": auto | full | separable}; population is then the samples a",
        "  generation (default 4 + 3 ln n). docs/evolution.md, \"Algorithms\".",
+       "  | map-elites: an archive over descriptors, with \"map_elites\": {\"descriptors\":",
+       "  [{\"name\": \"fill\", \"bounds\": [0.2, 1], \"bins\": 8}, {\"name\":",
+       "  \"floor_contact\", \"bounds\": [0, 1], \"bins\": 8}], \"qd_offset\": 0};",
+       "  population is then the children a generation (docs/evolution.md, \"MAP-Elites\").",
        "physics: a preset (gecco2018-code | gecco2018-paper) plus any PhysicsDef field to",
        "  override, e.g. {\"preset\": \"gecco2018-code\", \"duration\": 5.2}; the",
        "  treatment is set above, not here."});

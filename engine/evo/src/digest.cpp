@@ -80,6 +80,24 @@ Hash128 content_digest(const RunState& s) {
     h.u64(static_cast<uint64_t>(s.cma.updates));
     h.u64(s.cma.separable ? 1 : 0);
   }
+  if (s.config.algorithm == Algorithm::kMapElites) {  // the archive and what led to it
+    h.str("map-elites");
+    for (const BirthRecord& b : s.births) h.vec(b.descriptors);
+    for (const GenerationRecord& g : s.history) {
+      h.f64(g.qd_score);
+      h.u64(static_cast<uint64_t>(g.filled));
+    }
+    h.u64(s.archive.size());
+    for (const Individual& e : s.archive) {
+      h.u64(static_cast<uint64_t>(e.cell));
+      h.u64(e.id);
+      h.u64(static_cast<uint64_t>(e.parent_id));
+      h.u64(static_cast<uint64_t>(e.born));
+      h.f64(e.fitness);
+      h.vec(e.descriptors);
+      hash_genome(h, e.genome);
+    }
+  }
   return h.finish();
 }
 

@@ -14,6 +14,7 @@
 #include "plastivox/evo/afpo.hpp"
 #include "plastivox/evo/cma.hpp"
 #include "plastivox/evo/cma_body.hpp"
+#include "plastivox/evo/map_elites.hpp"
 #include "plastivox/evo/variation.hpp"
 #include "plastivox/io/limits.hpp"
 #include "plastivox/rules/life_rules.hpp"
@@ -38,6 +39,18 @@ size_t champion_index(const std::vector<Individual>& pop) {
   return best;
 }
 
+// A random individual of generation `gen` (AFPO's newcomer, MAP-Elites' start): the first
+// kBodyPlanSeedCount of generation 0 (spawn index `index`) of the body plans when the config
+// asks for them.
+Offspring newcomer(const Expresser& ex, const EvolveConfig& cfg, int gen, uint64_t id,
+                   size_t index) {
+  Rng rng = Rng::stream(cfg.seed, StreamPurpose::kNewcomer, gen, id);
+  const bool seeded = gen == 0 && cfg.initial_population == InitialPopulation::kBodyPlans &&
+                      index < static_cast<size_t>(kBodyPlanSeedCount);
+  return seeded ? body_plan_individual(ex, rng, static_cast<int>(index), cfg.max_mutation_tries)
+                : random_individual(ex, rng, cfg.max_mutation_tries);
+}
+
 }  // namespace
 
 const char* to_string(EvalStatus s) {
@@ -51,7 +64,17 @@ Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   const auto t0 = std::chrono::steady_clock::now();
   Evaluation e;
   const Model model = compile(p.robot, physics, limits_from_environment());
-  SimResult r = simulate(model);
+  // simulate()'s loop, with the life watched for MAP-Elites' descriptors (reading the states
+  // only: the life and its result are simulate()'s, bit for bit; Simulator::result()).
+  Simulator sim(model);
+  LifeWatch watch(model);
+  watch.see(sim.state());
+  while (sim.state().status == SimStatus::kRunning) {
+    sim.step();
+    watch.see(sim.state());
+  }
+  SimResult r = sim.result();
+  e.measures = watch.finish(r.stiffness_change_abs_mean);
   judge_life(physics, r);  // a sunk life is invalid under physics.sinking_invalid
   e.sank = r.sank;
   e.final_stiffness.assign(p.robot.sites(), 0.0);
@@ -112,6 +135,11 @@ Evolver::Evolver(RunState state, int threads, Simulations* simulations)
     pop[i].outputs = expresser_.evaluate(pop[i].genome);
     pop[i].phenotype = expresser_.express(pop[i].outputs);
   });
+  std::vector<Individual>& elites = state_.archive;  // MAP-Elites' parents
+  parallel_for(elites.size(), threads_, [&](size_t i) {
+    elites[i].outputs = expresser_.evaluate(elites[i].genome);
+    elites[i].phenotype = expresser_.express(elites[i].outputs);
+  });
 }
 
 struct Evolver::Evaluated {
@@ -129,6 +157,9 @@ GenerationStats Evolver::step() {
       break;
     case Algorithm::kCmaEs:
       step_cma(st, t0);
+      break;
+    case Algorithm::kMapElites:
+      step_map_elites(st, t0);
       break;
   }
   return st;
@@ -161,12 +192,7 @@ void Evolver::step_afpo(GenerationStats& st, std::chrono::steady_clock::time_poi
   parallel_for(spawns.size(), threads_, [&](size_t i) {
     const Spawn& t = spawns[i];
     if (t.parent < 0) {
-      Rng rng = Rng::stream(cfg.seed, StreamPurpose::kNewcomer, gen, t.id);
-      const bool seeded = gen == 0 && cfg.initial_population == InitialPopulation::kBodyPlans &&
-                          i < static_cast<size_t>(kBodyPlanSeedCount);
-      made[i] = seeded ? body_plan_individual(expresser_, rng, static_cast<int>(i),
-                                              cfg.max_mutation_tries)
-                       : random_individual(expresser_, rng, cfg.max_mutation_tries);
+      made[i] = newcomer(expresser_, cfg, gen, t.id, i);
     } else {
       const Individual& parent = s.population[t.parent];
       Rng rng = Rng::stream(cfg.seed, StreamPurpose::kMutation, gen, t.id);
@@ -277,6 +303,108 @@ void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_poin
   record(gen, better ? &top : nullptr, ev, st, t0);
 }
 
+// MAP-Elites (map_elites.hpp; docs/evolution.md, "MAP-Elites"): `population` children, each of
+// an elite drawn uniformly from the archive (its own stream) and mutated as AFPO mutates;
+// while the archive is empty (generation 0), random individuals instead. They are evaluated as
+// AFPO's new individuals are, then offered to their cells serially by id: a child whose life
+// counts (ok, not sunk) takes its cell when the cell is empty or its fitness is strictly
+// higher than the elite's (the elite keeps ties). The population is this generation's
+// children; the champion is the best elite (ties to the lower id).
+void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::time_point t0) {
+  RunState& s = state_;
+  const EvolveConfig& cfg = s.config;
+  const MapElitesSettings& me = cfg.map_elites;
+  const int gen = st.generation;
+
+  // --- 1-4a: who is created, made and expressed in parallel; each draws from its own streams.
+  const size_t n = static_cast<size_t>(cfg.population);
+  std::vector<Individual> fresh(n);
+  std::vector<BirthRecord> births(n);
+  for (size_t i = 0; i < n; ++i) fresh[i].id = s.next_id++;
+  parallel_for(n, threads_, [&](size_t i) {
+    Individual& ind = fresh[i];
+    Offspring made;
+    if (s.archive.empty()) {
+      made = newcomer(expresser_, cfg, gen, ind.id, i);
+    } else {
+      Rng pick = Rng::stream(cfg.seed, StreamPurpose::kParent, gen, ind.id);
+      const Individual& parent = s.archive[pick.index(static_cast<int>(s.archive.size()))];
+      Rng rng = Rng::stream(cfg.seed, StreamPurpose::kMutation, gen, ind.id);
+      made = mutate_child(expresser_, parent.genome, parent.outputs, parent.phenotype, rng,
+                          cfg.max_mutation_tries);
+      ind.parent_id = static_cast<int64_t>(parent.id);
+    }
+    ind.born = gen;
+    ind.genome = std::move(made.genome);
+    ind.outputs = std::move(made.outputs);
+    ind.phenotype = std::move(made.phenotype);
+    ind.descriptors = body_descriptors(me, ind.phenotype);
+    births[i].tries = made.tries;
+  });
+  for (size_t i = 0; i < n; ++i) {
+    births[i].id = fresh[i].id;
+    births[i].parent_id = fresh[i].parent_id;
+    births[i].generation = gen;
+    births[i].voxels = fresh[i].phenotype.voxels;
+  }
+
+  Evaluated ev;
+  evaluate_new(fresh, births, st, ev);
+
+  // --- 4e: the life's descriptors, from the cache (every life evaluated is in it). An outside
+  // fitness gives no measures: those lives are simulated again here (deterministic).
+  std::vector<size_t> again;
+  std::map<Hash128, size_t> queued;
+  for (size_t i = 0; i < n; ++i) {
+    const Individual& ind = fresh[i];
+    if (!needs_life(me) || ind.status != EvalStatus::kOk) continue;
+    if (!s.cache.at(ind.phenotype.hash).measures.measured && !queued.count(ind.phenotype.hash)) {
+      queued[ind.phenotype.hash] = again.size();
+      again.push_back(i);
+    }
+  }
+  std::vector<LifeMeasures> measured(again.size());
+  parallel_for(again.size(), threads_, [&](size_t k) {
+    measured[k] = evaluate_phenotype(fresh[again[k]].phenotype, cfg.physics).measures;
+  });
+  for (size_t k = 0; k < again.size(); ++k)
+    s.cache.at(fresh[again[k]].phenotype.hash).measures = measured[k];
+
+  // --- 5: each child offered to its cell, by id.
+  for (size_t i = 0; i < n; ++i) {
+    Individual& ind = fresh[i];
+    const bool counts = ind.status == EvalStatus::kOk && births[i].sank == 0;
+    if (counts) life_descriptors(me, s.cache.at(ind.phenotype.hash).measures, ind.descriptors);
+    births[i].descriptors = ind.descriptors;
+    const int64_t cell = counts ? cell_of(me, ind.descriptors) : -1;
+    if (cell < 0) continue;
+    const auto at = std::lower_bound(s.archive.begin(), s.archive.end(), cell,
+                                     [](const Individual& e, int64_t c) { return e.cell < c; });
+    if (at != s.archive.end() && at->cell == cell && !(ind.fitness > at->fitness)) continue;
+    Individual elite = ind;
+    elite.cell = cell;
+    if (at != s.archive.end() && at->cell == cell)
+      *at = std::move(elite);
+    else
+      s.archive.insert(at, std::move(elite));
+  }
+  s.population = std::move(fresh);  // ascending id
+
+  // --- records: births, champion (the best elite), history with the archive's QD score.
+  for (BirthRecord& b : births) s.births.push_back(std::move(b));
+  const Individual* champ = nullptr;
+  for (const Individual& e : s.archive)
+    if (!champ || e.fitness > champ->fitness || (e.fitness == champ->fitness && e.id < champ->id))
+      champ = &e;
+  if (!champ && s.champions.empty()) champ = &s.population[0];  // nothing counts yet
+  const bool changed = champ && (s.champions.empty() || s.champions.back().id != champ->id);
+  record(gen, changed ? champ : nullptr, ev, st, t0);
+  GenerationRecord& rec = s.history.back();
+  rec.filled = static_cast<int64_t>(s.archive.size());
+  rec.qd_score = 0;
+  for (const Individual& e : s.archive) rec.qd_score += std::max(0.0, e.fitness - me.qd_offset);
+}
+
 void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,
                            GenerationStats& st, Evaluated& out) {
   RunState& s = state_;
@@ -328,7 +456,7 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
     births[i].failure = e.failure;
     births[i].simulated = 1;
     births[i].sank = e.sank ? 1 : 0;
-    s.cache[ind.phenotype.hash] = CacheEntry{e.fitness, e.status, e.failure, e.sank};
+    s.cache[ind.phenotype.hash] = CacheEntry{e.fitness, e.status, e.failure, e.sank, e.measures};
     st.sim_cpu_seconds += e.wall_seconds;
     if (e.status == EvalStatus::kUnstable) ++st.unstable;
     if (e.sank) ++st.sank;

@@ -23,7 +23,8 @@ namespace plastivox::evo {
 namespace {
 
 // Evaluation <-> bytes: index u64, fitness f64, status u8, sank u8, failure (u64 length + bytes),
-// final stiffness (u64 count + f64s). Same machine architecture on every rank.
+// final stiffness (u64 count + f64s), the life's measures (u8 + 3 f64), wall seconds. Same
+// machine architecture on every rank.
 template <class T>
 void put(std::vector<char>& b, const T& v) {
   const char* p = reinterpret_cast<const char*>(&v);
@@ -48,6 +49,10 @@ void pack(std::vector<char>& b, uint64_t index, const Evaluation& e) {
   b.insert(b.end(), e.failure.begin(), e.failure.end());
   put(b, static_cast<uint64_t>(e.final_stiffness.size()));
   for (double x : e.final_stiffness) put(b, x);
+  put(b, static_cast<uint8_t>(e.measures.measured ? 1 : 0));
+  put(b, e.measures.floor_contact);
+  put(b, e.measures.com_height);
+  put(b, e.measures.development);
   put(b, e.wall_seconds);
 }
 
@@ -66,6 +71,10 @@ Evaluation unpack(const std::vector<char>& b, size_t& at) {
     throw std::runtime_error("MPI: truncated evaluation message");
   e.final_stiffness.resize(count);
   for (double& x : e.final_stiffness) x = get<double>(b, at);
+  e.measures.measured = get<uint8_t>(b, at) != 0;
+  e.measures.floor_contact = get<double>(b, at);
+  e.measures.com_height = get<double>(b, at);
+  e.measures.development = get<double>(b, at);
   e.wall_seconds = get<double>(b, at);
   return e;
 }

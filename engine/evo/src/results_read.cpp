@@ -93,6 +93,14 @@ void read_generations(const Ctx& c, hid_t root, RunState& s) {
     r.wall_seconds = wall[k];
     s.history.push_back(std::move(r));
   }
+  if (s.config.algorithm == Algorithm::kMapElites) {  // the archive over evaluations
+    const auto qd = h5::read<double>(c, g.id(), "qd_score", G);
+    const auto filled = h5::read<int64_t>(c, g.id(), "filled", G);
+    for (hsize_t k = 0; k < G; ++k) {
+      s.history[k].qd_score = qd[k];
+      s.history[k].filled = filled[k];
+    }
+  }
 }
 
 void read_individuals(const Ctx& c, hid_t root, RunState& s) {
@@ -120,6 +128,13 @@ void read_individuals(const Ctx& c, hid_t root, RunState& s) {
   for (size_t k = 0; k < failure_id.size(); ++k) {
     if (failure_id[k] >= N) c.fail("/individuals/failure_id", "refers to an unknown individual");
     b[failure_id[k]].failure = failure[k];
+  }
+  if (s.config.algorithm == Algorithm::kMapElites) {  // (N, D)
+    const hsize_t D = s.config.map_elites.axes.size();
+    std::vector<hsize_t> dd = {N, D};
+    const auto d = h5::read<double>(c, g.id(), "descriptors", dd);
+    for (hsize_t i = 0; i < N; ++i)
+      b[i].descriptors.assign(d.begin() + i * D, d.begin() + (i + 1) * D);
   }
 }
 
@@ -167,6 +182,68 @@ void read_champions(const Ctx& c, hid_t root, RunState& s) {
   }
 }
 
+// The genomes write_genomes stacked (results_write.cpp), into members (already sized).
+void read_genomes(const Ctx& c, hid_t parent, const std::string& where,
+                  std::vector<Individual>& members, hsize_t count) {
+  const hsize_t P = members.size();
+  Handle genomes = h5::open_group(c, parent, "genome");
+  for (int n = 0; n < kNetworkCount; ++n) {
+    const std::string obj = where + "/genome/" + layout::kNetworkNames[n];
+    Handle g = h5::open_group(c, genomes.id(), layout::kNetworkNames[n]);
+    const auto node_off = h5::read<int64_t>(c, g.id(), "node_offset", P + 1);
+    const auto link_off = h5::read<int64_t>(c, g.id(), "link_offset", P + 1);
+    const auto act = h5::read<uint8_t>(c, g.id(), "activation", h5::kAnyExtent);
+    std::vector<hsize_t> ld = {h5::kAnyExtent};
+    const auto src = h5::read<int32_t>(c, g.id(), "source", ld);
+    const auto dst = h5::read<int32_t>(c, g.id(), "target", ld[0]);
+    const auto w = h5::read<double>(c, g.id(), "weight", ld[0]);
+    for (hsize_t i = 0; i < P; ++i) {
+      const int64_t n0 = node_off[i], n1 = node_off[i + 1], l0 = link_off[i], l1 = link_off[i + 1];
+      if (n0 < 0 || n1 < n0 || n1 > static_cast<int64_t>(act.size()) || l0 < 0 || l1 < l0 ||
+          l1 > static_cast<int64_t>(w.size()))
+        c.fail(obj, "offsets out of range");
+      members[i].genome.nets[n] = make_network(
+          c, obj, {act.begin() + n0, act.begin() + n1}, {src.begin() + l0, src.begin() + l1},
+          {dst.begin() + l0, dst.begin() + l1}, {w.begin() + l0, w.begin() + l1});
+    }
+  }
+  if (count > 0) {
+    std::vector<hsize_t> dims = {P, count};
+    const auto w = h5::read<double>(c, genomes.id(), "controller", dims);
+    for (hsize_t i = 0; i < P; ++i)
+      members[i].genome.controller.assign(w.begin() + i * count, w.begin() + (i + 1) * count);
+  }
+}
+
+// Algorithm map-elites: the archive (write_archive), each elite in the cell its descriptors
+// give, cells ascending.
+void read_archive(const Ctx& c, hid_t root, RunState& s) {
+  const MapElitesSettings& me = s.config.map_elites;
+  Handle g = h5::open_group(c, root, "archive");
+  std::vector<hsize_t> ed = {h5::kAnyExtent};
+  const auto cell = h5::read<int64_t>(c, g.id(), "cell", ed);
+  const hsize_t E = ed[0];
+  if (E > static_cast<hsize_t>(me.cells())) c.fail("/archive/cell", "more elites than cells");
+  std::vector<Individual>& e = s.archive;
+  e.resize(E);
+  h5::read_column(c, g.id(), "id", e, &Individual::id);
+  h5::read_column(c, g.id(), "parent_id", e, &Individual::parent_id);
+  h5::read_column(c, g.id(), "born", e, &Individual::born);
+  h5::read_column(c, g.id(), "fitness", e, &Individual::fitness);
+  const hsize_t D = me.axes.size();
+  std::vector<hsize_t> dd = {E, D};
+  const auto d = h5::read<double>(c, g.id(), "descriptors", dd);
+  for (hsize_t i = 0; i < E; ++i) {
+    e[i].cell = cell[i];
+    e[i].status = EvalStatus::kOk;
+    e[i].descriptors.assign(d.begin() + i * D, d.begin() + (i + 1) * D);
+    if (cell_of(me, e[i].descriptors) != cell[i] || (i > 0 && cell[i] <= cell[i - 1]) ||
+        e[i].id >= s.next_id)
+      c.fail("/archive", "an elite is not in the cell its descriptors give, or out of order");
+  }
+  read_genomes(c, g.id(), "/archive", e, static_cast<hsize_t>(s.config.controller_genes.count));
+}
+
 void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
   Handle ck = h5::open_group(c, root, "checkpoint");
   Handle pop = h5::open_group(c, ck.id(), "population");
@@ -182,34 +259,8 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
     if (ind.id != s.history.back().id[i] || ind.age != s.history.back().age[i])
       c.fail("/checkpoint/population", "does not match the last generation's population");
   }
-  Handle genomes = h5::open_group(c, pop.id(), "genome");
-  for (int n = 0; n < kNetworkCount; ++n) {
-    const std::string obj =
-        std::string("/checkpoint/population/genome/") + layout::kNetworkNames[n];
-    Handle g = h5::open_group(c, genomes.id(), layout::kNetworkNames[n]);
-    const auto node_off = h5::read<int64_t>(c, g.id(), "node_offset", P + 1);
-    const auto link_off = h5::read<int64_t>(c, g.id(), "link_offset", P + 1);
-    const auto act = h5::read<uint8_t>(c, g.id(), "activation", h5::kAnyExtent);
-    std::vector<hsize_t> ld = {h5::kAnyExtent};
-    const auto src = h5::read<int32_t>(c, g.id(), "source", ld);
-    const auto dst = h5::read<int32_t>(c, g.id(), "target", ld[0]);
-    const auto w = h5::read<double>(c, g.id(), "weight", ld[0]);
-    for (hsize_t i = 0; i < P; ++i) {
-      const int64_t n0 = node_off[i], n1 = node_off[i + 1], l0 = link_off[i], l1 = link_off[i + 1];
-      if (n0 < 0 || n1 < n0 || n1 > static_cast<int64_t>(act.size()) || l0 < 0 || l1 < l0 ||
-          l1 > static_cast<int64_t>(w.size()))
-        c.fail(obj, "offsets out of range");
-      s.population[i].genome.nets[n] = make_network(
-          c, obj, {act.begin() + n0, act.begin() + n1}, {src.begin() + l0, src.begin() + l1},
-          {dst.begin() + l0, dst.begin() + l1}, {w.begin() + l0, w.begin() + l1});
-    }
-  }
-  if (const hsize_t count = s.config.controller_genes.count; count > 0) {
-    std::vector<hsize_t> dims = {P, count};
-    const auto w = h5::read<double>(c, genomes.id(), "controller", dims);
-    for (hsize_t i = 0; i < P; ++i)
-      s.population[i].genome.controller.assign(w.begin() + i * count, w.begin() + (i + 1) * count);
-  }
+  read_genomes(c, pop.id(), "/checkpoint/population", members,
+               static_cast<hsize_t>(s.config.controller_genes.count));
   if (s.config.algorithm == Algorithm::kCmaEs) {  // the search distribution (cma.hpp)
     const hsize_t n = static_cast<hsize_t>(s.config.controller_genes.count);
     Handle g = h5::open_group(c, ck.id(), "cma");
@@ -241,9 +292,18 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
     if (failure_row[k] >= hi.size()) c.fail("/checkpoint/cache/failure_row", "out of range");
     reasons[failure_row[k]] = failure[k];
   }
+  std::vector<LifeMeasures> measures(hi.size());
+  if (s.config.algorithm == Algorithm::kMapElites) {  // what each life gave the descriptors
+    const auto measured = h5::read<uint8_t>(c, cache.id(), "measured", cd[0]);
+    std::vector<hsize_t> md = {cd[0], 3};
+    const auto m = h5::read<double>(c, cache.id(), "measures", md);
+    for (size_t k = 0; k < hi.size(); ++k)
+      measures[k] = {measured[k] != 0, m[3 * k], m[3 * k + 1], m[3 * k + 2]};
+  }
   for (size_t k = 0; k < hi.size(); ++k)
-    s.cache[Hash128{hi[k], lo[k]}] = CacheEntry{
-        fit[k], status_code(c, "/checkpoint/cache/status", st[k]), reasons[k], sank[k] != 0};
+    s.cache[Hash128{hi[k], lo[k]}] =
+        CacheEntry{fit[k], status_code(c, "/checkpoint/cache/status", st[k]), reasons[k],
+                   sank[k] != 0, measures[k]};
 }
 
 }  // namespace
@@ -297,6 +357,7 @@ ResultsFile read_results(const std::string& path) {
   read_individuals(c, r, s);
   read_champions(c, r, s);
   read_checkpoint(c, r, s);
+  if (s.config.algorithm == Algorithm::kMapElites) read_archive(c, r, s);
 
   for_each_field(out.provenance, [&](const char* name, auto& v) {
     // Files written before 2026-12-05 do not say what scored them: the engine did.

@@ -34,6 +34,12 @@ Hash128 checkpoint_digest(const RunState& s) {
     h.f64(e.fitness);
     h.u64(static_cast<uint8_t>(e.status));
     h.str(e.failure);
+    if (s.config.algorithm == Algorithm::kMapElites) {  // only then: other digests hold
+      h.u64(e.measures.measured ? 1 : 0);
+      h.f64(e.measures.floor_contact);
+      h.f64(e.measures.com_height);
+      h.f64(e.measures.development);
+    }
   }
   for (const GenerationRecord& g : s.history) {
     h.u64(static_cast<uint64_t>(g.simulated));
@@ -134,6 +140,18 @@ void write_generations(const Ctx& c, hid_t root, const RunState& s) {
   h5::write_units(c, g.id(), "fitness", fitness_unit(s));
   h5::write_units(c, g.id(), "best_fitness", fitness_unit(s));
   h5::write_units(c, g.id(), "wall_seconds", "s");
+  if (s.config.algorithm == Algorithm::kMapElites) {  // the archive over evaluations
+    const double cells = static_cast<double>(s.config.map_elites.cells());
+    std::vector<int64_t> evaluations(h.size(), 0);
+    for (const BirthRecord& b : s.births) ++evaluations[static_cast<size_t>(b.generation)];
+    for (size_t k = 1; k < evaluations.size(); ++k) evaluations[k] += evaluations[k - 1];
+    h5::write(c, g.id(), "evaluations", evaluations);
+    h5::write_column(c, g.id(), "qd_score", h, &GenerationRecord::qd_score);
+    h5::write_column(c, g.id(), "filled", h, &GenerationRecord::filled);
+    h5::write_column<double>(c, g.id(), "coverage", h,
+                             [&](const GenerationRecord& r) { return r.filled / cells; });
+    h5::write_units(c, g.id(), "qd_score", fitness_unit(s));
+  }
 }
 
 void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
@@ -154,6 +172,15 @@ void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
     }
   h5::write(c, g.id(), "failure_id", failure_id);
   h5::write_strings(c, g.id(), "failure_reason", failure);
+  if (s.config.algorithm == Algorithm::kMapElites) {  // (N, D), NaN where not measured
+    const hsize_t D = s.config.map_elites.axes.size();
+    std::vector<double> d;
+    for (const BirthRecord& r : b) {
+      if (r.descriptors.size() != D) c.fail("/individuals/descriptors", "internal error: count");
+      d.insert(d.end(), r.descriptors.begin(), r.descriptors.end());
+    }
+    h5::write(c, g.id(), "descriptors", d, {static_cast<hsize_t>(b.size()), D});
+  }
 }
 
 void write_champions(const Ctx& c, hid_t root, const RunState& s) {
@@ -186,24 +213,18 @@ void write_champions(const Ctx& c, hid_t root, const RunState& s) {
   }
 }
 
-void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
-  Handle ck = h5::create_group(c, root, "checkpoint");
-  h5::write_attr_u64(c, ck.id(), "next_id", s.next_id);
-  Handle pop = h5::create_group(c, ck.id(), "population");
-  const std::vector<Individual>& p = s.population;
-  layout::for_each_member_column(
-      [&](const char* name, auto member) { h5::write_column(c, pop.id(), name, p, member); });
-  h5::write_units(c, pop.id(), "fitness", fitness_unit(s));
-  h5::write_column<uint8_t>(c, pop.id(), "status", p, [](const Individual& i) { return i.status; });
-  // Genomes, stacked per network: individual i owns nodes [node_offset[i], node_offset[i+1])
-  // and links [link_offset[i], link_offset[i+1]).
-  Handle genomes = h5::create_group(c, pop.id(), "genome");
+// Genomes, stacked per network: individual i owns nodes [node_offset[i], node_offset[i+1]) and
+// links [link_offset[i], link_offset[i+1]); the controllers' weights, (P, count), when the run
+// evolves a controller.
+void write_genomes(const Ctx& c, hid_t parent, const std::string& obj,
+                   const std::vector<Individual>& members, hsize_t count) {
+  Handle genomes = h5::create_group(c, parent, "genome");
   for (int n = 0; n < kNetworkCount; ++n) {
     std::vector<int64_t> node_off = {0}, link_off = {0};
     std::vector<uint8_t> act;
     std::vector<int32_t> src, dst;
     std::vector<double> w;
-    for (const Individual& ind : s.population) {
+    for (const Individual& ind : members) {
       const Cppn& net = ind.genome.nets[n];
       for (Activation a : net.nodes) act.push_back(static_cast<uint8_t>(a));
       for (const CppnLink& l : net.links) {
@@ -222,15 +243,59 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
     h5::write(c, g.id(), "target", dst);
     h5::write(c, g.id(), "weight", w);
   }
-  // The controllers' weights, (P, count), when the run evolves a controller.
-  if (const hsize_t count = s.config.controller_genes.count; count > 0) {
+  if (count > 0) {
     std::vector<double> w;
-    for (const Individual& ind : s.population)
+    for (const Individual& ind : members)
       w.insert(w.end(), ind.genome.controller.begin(), ind.genome.controller.end());
-    if (w.size() != s.population.size() * count)
-      c.fail("/checkpoint/population/genome/controller", "internal error: weight count");
-    h5::write(c, genomes.id(), "controller", w, {static_cast<hsize_t>(s.population.size()), count});
+    if (w.size() != members.size() * count)
+      c.fail(obj + "/genome/controller", "internal error: weight count");
+    h5::write(c, genomes.id(), "controller", w, {static_cast<hsize_t>(members.size()), count});
   }
+}
+
+// Algorithm map-elites: the archive, one row per filled cell in ascending cell order (also
+// what a resumed run continues from).
+void write_archive(const Ctx& c, hid_t root, const RunState& s) {
+  const MapElitesSettings& me = s.config.map_elites;
+  Handle g = h5::create_group(c, root, "archive");
+  std::string names;
+  for (const DescriptorAxis& a : me.axes) {
+    if (!names.empty()) names += ",";
+    names += to_string(a.what);
+  }
+  h5::write_attr(c, g.id(), "descriptors", names);
+  h5::write_attr(c, g.id(), "cells", int64_t{me.cells()});
+  h5::write_attr(c, g.id(), "qd_offset", me.qd_offset);
+  const std::vector<Individual>& e = s.archive;
+  h5::write_column(c, g.id(), "cell", e, &Individual::cell);
+  h5::write_column(c, g.id(), "id", e, &Individual::id);
+  h5::write_column(c, g.id(), "parent_id", e, &Individual::parent_id);
+  h5::write_column(c, g.id(), "born", e, &Individual::born);
+  h5::write_column(c, g.id(), "fitness", e, &Individual::fitness);
+  h5::write_units(c, g.id(), "fitness", fitness_unit(s));
+  const hsize_t D = me.axes.size();
+  std::vector<double> d;
+  std::vector<int32_t> bins;
+  for (const Individual& ind : e) {
+    d.insert(d.end(), ind.descriptors.begin(), ind.descriptors.end());
+    for (int b : bins_of(me, ind.cell)) bins.push_back(b);
+  }
+  h5::write(c, g.id(), "descriptors", d, {static_cast<hsize_t>(e.size()), D});
+  h5::write(c, g.id(), "bins", bins, {static_cast<hsize_t>(e.size()), D});
+  write_genomes(c, g.id(), "/archive", e, static_cast<hsize_t>(s.config.controller_genes.count));
+}
+
+void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
+  Handle ck = h5::create_group(c, root, "checkpoint");
+  h5::write_attr_u64(c, ck.id(), "next_id", s.next_id);
+  Handle pop = h5::create_group(c, ck.id(), "population");
+  const std::vector<Individual>& p = s.population;
+  layout::for_each_member_column(
+      [&](const char* name, auto member) { h5::write_column(c, pop.id(), name, p, member); });
+  h5::write_units(c, pop.id(), "fitness", fitness_unit(s));
+  h5::write_column<uint8_t>(c, pop.id(), "status", p, [](const Individual& i) { return i.status; });
+  write_genomes(c, pop.id(), "/checkpoint/population", p,
+                static_cast<hsize_t>(s.config.controller_genes.count));
   if (s.config.algorithm == Algorithm::kCmaEs) {  // the search distribution (cma.hpp)
     const hsize_t n = s.cma.mean.size();
     Handle g = h5::create_group(c, ck.id(), "cma");
@@ -268,6 +333,16 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   h5::write(c, cache.id(), "sank", sank);
   h5::write(c, cache.id(), "failure_row", failure_row);
   h5::write_strings(c, cache.id(), "failure_reason", failure);
+  if (s.config.algorithm == Algorithm::kMapElites) {  // what each life gave the descriptors
+    std::vector<uint8_t> measured;
+    std::vector<double> m;
+    for (const auto& [key, e] : s.cache) {
+      measured.push_back(e.measures.measured ? 1 : 0);
+      m.insert(m.end(), {e.measures.floor_contact, e.measures.com_height, e.measures.development});
+    }
+    h5::write(c, cache.id(), "measured", measured);
+    h5::write(c, cache.id(), "measures", m, {static_cast<hsize_t>(measured.size()), 3});
+  }
 }
 
 }  // namespace
@@ -287,6 +362,7 @@ void write_results(const std::string& path, const RunState& s, const Provenance&
       write_individuals(c, root.id(), s);
       write_champions(c, root.id(), s);
       write_checkpoint(c, root.id(), s);
+      if (s.config.algorithm == Algorithm::kMapElites) write_archive(c, root.id(), s);
     }
     bytes = f.image();
   }

@@ -84,6 +84,10 @@ Drawing layout_evolution(const EvolutionStats& evolution, int width, int height)
 // cell coloured by its mean fitness kept (diverging map: red below 1, white at 1, blue above)
 // and labelled with it and its n; the significant tests beside each row.
 Drawing layout_battery_heat_map(const BatteryHeatMap& map, int width, int height);
+// The archive's map (ArchiveMap, panels.hpp): each cell coloured by the fitness of its best
+// elite (a sequential map over the elites' range), empty cells grey, bin 0 of y at the bottom;
+// the bounds and names on the axes.
+Drawing layout_archive_map(const ArchiveMap& map, int width, int height);
 // All panels in a grid of `columns` columns, each cell width x height.
 Drawing layout_figure(const StatsFigure& figure, int width, int height, int columns = 3);
 

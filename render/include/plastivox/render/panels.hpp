@@ -90,6 +90,15 @@ struct BatteryHeatMap {
 BatteryHeatMap parse_battery_heat_map(const nlohmann::json& block, const std::string& source,
                                       const std::string& where);
 
+// A MAP-Elites archive on two descriptor axes (plastivox archive; docs/evolution.md,
+// "MAP-Elites"): per cell the fitness of its best elite (over any further axes).
+struct ArchiveMap {
+  std::string title, x_name, y_name, fitness_unit;
+  double x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;
+  int x_bins = 1, y_bins = 1;
+  std::vector<std::optional<double>> fitness;  // [y_bin * x_bins + x_bin]; empty cell: none
+};
+
 struct StatsFigure {
   std::string source;  // file the data came from (for messages)
   std::vector<PanelStats> panels;
@@ -123,6 +132,11 @@ std::vector<std::string> write_figures(const StatsFigure& figure, const std::str
 std::vector<std::string> write_battery_heat_map(const BatteryHeatMap& map,
                                                 const std::string& out_dir,
                                                 const FigureOptions& options);
+
+// Writes DIR/archive.{svg,png} (as options.svg/png ask) at options' panel size; returns the
+// paths written.
+std::vector<std::string> write_archive_map(const ArchiveMap& map, const std::string& out_dir,
+                                           const FigureOptions& options);
 
 // Throws RenderError (one line) when panels of options.width x options.height cannot be
 // drawn: each side in [200, 8192], and the combined PNG of `panels` panels (3 columns) at

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "plastivox/evo/phenotype.hpp"
 #include "plastivox/physics_def.hpp"
@@ -19,11 +20,12 @@ constexpr int kConfigVersion = 1;
 enum class InitialPopulation { kRandom, kBodyPlans };
 const char* to_string(InitialPopulation p);  // "random", "body-plans"
 
-// The search (docs/evolution.md, "Algorithms"): AFPO over CPPN genomes (the paper), or
-// CMA-ES over a vector that sets one part of a fixed body. Adding one: a value here, its
-// name in to_string/parse_config, and its step in Evolver::step().
-enum class Algorithm { kAfpo, kCmaEs };
-const char* to_string(Algorithm a);  // "afpo", "cma-es"
+// The search (docs/evolution.md, "Algorithms"): AFPO over CPPN genomes (the paper), CMA-ES
+// over a vector that sets one part of a fixed body, or MAP-Elites over CPPN genomes in a grid
+// of descriptors. Adding one: a value here, its name in to_string/parse_config, and its step in
+// Evolver::step().
+enum class Algorithm { kAfpo, kCmaEs, kMapElites };
+const char* to_string(Algorithm a);  // "afpo", "cma-es", "map-elites"
 
 // What a CMA-ES vector sets on the fixed body (cma_body.hpp).
 enum class GenomeKind { kController, kPhase, kMaterials };
@@ -39,10 +41,41 @@ struct CmaSettings {
   std::string covariance = "auto";  // as given: auto | full | separable
 };
 
+// What a MAP-Elites archive is a grid over (docs/evolution.md, "MAP-Elites"): of the body
+// (voxels, fill, the Π/Γ/Υ template scores, mean congenital stiffness) or of its life
+// (development, floor contact, centre-of-mass height). map_elites.hpp computes them.
+enum class Descriptor {
+  kVoxels,
+  kFill,
+  kPi,
+  kGamma,
+  kUpsilon,
+  kStiffness,
+  kDevelopment,
+  kFloorContact,
+  kComHeight
+};
+const char* to_string(Descriptor d);  // "voxels", "fill", "pi", ..., "com_height"
+
+// One axis of the grid: `bins` equal bins over [lo, hi]; values outside go to the end bins.
+struct DescriptorAxis {
+  Descriptor what = Descriptor::kFill;
+  double lo = 0, hi = 1;
+  int bins = 1;
+};
+
+// A MAP-Elites run's own fields (algorithm map-elites; config "map_elites").
+struct MapElitesSettings {
+  std::vector<DescriptorAxis> axes;  // 2 or more, the first varying slowest in a cell index
+  double qd_offset = 0;              // QD score: sum over filled cells of fitness - qd_offset
+  int64_t cells() const;             // product of the bins
+};
+
 struct EvolveConfig {
   Algorithm algorithm = Algorithm::kAfpo;
-  CmaSettings cma;    // algorithm cma-es only
-  uint64_t seed = 1;  // run seed; every random draw derives from it
+  CmaSettings cma;               // algorithm cma-es only
+  MapElitesSettings map_elites;  // algorithm map-elites only
+  uint64_t seed = 1;             // run seed; every random draw derives from it
   Treatment treatment = Treatment::kNone;
   Task task = Task::kWalk;        // what lives are scored on (plastivox/task.hpp); physics.task
   TaskParams task_params;         // its parameters as given (physics.task_params)

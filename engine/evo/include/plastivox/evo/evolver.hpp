@@ -1,6 +1,8 @@
 // The generation loop: one call of step() runs one generation of the config's algorithm,
-// AFPO (below) or CMA-ES (docs/evolution.md; new individuals sampled from the search
-// distribution, evaluated by the same steps 4a-4d, the distribution updated from them).
+// AFPO (below), CMA-ES (docs/evolution.md; new individuals sampled from the search
+// distribution, evaluated by the same steps 4a-4d, the distribution updated from them) or
+// MAP-Elites (children of elites drawn from the archive, evaluated by the same steps, each
+// offered to its cell).
 //
 // The AFPO loop (docs/method.md §7):
 //
@@ -48,6 +50,9 @@ struct Evaluation {
   // Pa, lattice-sized, 0 where absent; empty when an outside fitness gave none (the
   // evolver then simulates a champion again for it).
   std::vector<double> final_stiffness;
+  // The life's measures for MAP-Elites' descriptors (map_elites.hpp); not measured when an
+  // outside fitness gave a number alone (the evolver then simulates the life for them).
+  LifeMeasures measures;
   double wall_seconds = 0;
 };
 // Simulates a valid phenotype under physics (thread-safe).
@@ -92,7 +97,8 @@ class Evolver {
   struct Evaluated;  // what evaluate_new() simulated (evolver.cpp)
   using Time = std::chrono::steady_clock::time_point;
   void step_afpo(GenerationStats& st, Time t0);
-  void step_cma(GenerationStats& st, Time t0);  // docs/evolution.md, "CMA-ES"
+  void step_cma(GenerationStats& st, Time t0);         // docs/evolution.md, "CMA-ES"
+  void step_map_elites(GenerationStats& st, Time t0);  // docs/evolution.md, "MAP-Elites"
   // The stages every algorithm shares: 4b-4d above for the generation's new individuals, and
   // the records (new_champion: null when the champion did not change).
   void evaluate_new(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,

@@ -16,6 +16,7 @@ enum class StreamPurpose : uint64_t {
   kNewcomer = 1,   // a random individual (initial population or the per-generation newcomer)
   kMutation = 2,   // the mutations that turn a parent into its child
   kCmaSample = 3,  // a CMA-ES sample's normals (cma.hpp), keyed by (generation, id)
+  kParent = 4,     // a MAP-Elites child's parent cell (map_elites.hpp), keyed by (generation, id)
   kTest = 99,      // reserved for tests
 };
 

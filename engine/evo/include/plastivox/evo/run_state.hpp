@@ -12,6 +12,7 @@
 #include "plastivox/evo/cma.hpp"
 #include "plastivox/evo/config.hpp"
 #include "plastivox/evo/genome.hpp"
+#include "plastivox/evo/map_elites.hpp"
 #include "plastivox/evo/phenotype.hpp"
 
 namespace plastivox::evo {
@@ -35,6 +36,9 @@ struct Individual {
   Genome genome;
   double fitness = kWorstFitness;  // voxel lengths
   EvalStatus status = EvalStatus::kInvalid;
+  // Algorithm map-elites, an elite of the archive: its cell and descriptor values.
+  int64_t cell = -1;
+  std::vector<double> descriptors;
   // Derived from the genome (recomputed on resume, never stored):
   NetworkOutputs outputs;
   Phenotype phenotype;
@@ -53,6 +57,9 @@ struct GenerationRecord {
   int32_t simulated = 0;    // new individuals simulated this generation
   int32_t cache_hits = 0;   // new individuals whose phenotype was already evaluated
   double wall_seconds = 0;  // wall time of the generation, s
+  // Algorithm map-elites: the archive after the generation (content).
+  double qd_score = 0;  // sum over filled cells of fitness - qd_offset
+  int64_t filled = 0;   // cells holding an elite
 };
 
 // One row per individual ever created, in id order.
@@ -68,6 +75,9 @@ struct BirthRecord {
   std::string failure;    // why the phenotype was invalid or the simulation unstable
   uint8_t sank = 0;       // 1 if its life sank through the floor (SimResult::sank); a
                           // health flag, not part of content_digest
+  // Algorithm map-elites: its descriptor values (NaN where not measured: an invalid body, a
+  // failed life); empty otherwise.
+  std::vector<double> descriptors;
 };
 
 // A new best individual: recorded when the champion changes (and at generation 0).
@@ -88,7 +98,8 @@ struct CacheEntry {
   double fitness = kWorstFitness;
   EvalStatus status = EvalStatus::kOk;
   std::string failure;
-  bool sank = false;  // SimResult::sank
+  bool sank = false;      // SimResult::sank
+  LifeMeasures measures;  // what the life gave the MAP-Elites descriptors
 };
 
 struct RunState {
@@ -101,6 +112,8 @@ struct RunState {
   std::vector<ChampionRecord> champions;  // in order of appearance
   std::map<Hash128, CacheEntry> cache;    // by phenotype hash
   CmaState cma;  // algorithm cma-es: the search distribution after the last generation
+  // Algorithm map-elites: one elite per filled cell, ascending cell (Individual::cell).
+  std::vector<Individual> archive;
 
   bool finished() const { return generations_done >= config.generations; }
 };
