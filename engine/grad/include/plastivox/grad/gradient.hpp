@@ -1,0 +1,73 @@
+// Reverse-mode gradients of a life (docs/gradients.md): the derivative of a life's fitness
+// with respect to each voxel's congenital stiffness, actuation phase and development rate and
+// the global actuation amplitude, through the engine's own discrete life.
+//
+// The forward pass is the engine's Simulator, unchanged: the fitness and the final state hash
+// are simulate()'s, bit for bit. It stores a snapshot of the State every `checkpoint_every`
+// steps. The backward pass takes the segments last to first: it recomputes each from its
+// snapshot with the engine's own kernel templates run on a recording number type (the
+// "replica", which checks that it reaches the next snapshot bit for bit), then propagates the
+// adjoint of the segment's last state back to its first. Memory: the snapshots plus one
+// segment's tape; cost: the forward life, the recomputation and the reverse sweep.
+//
+// This library depends on the core; the core knows nothing of it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "plastivox/model.hpp"
+
+namespace plastivox::grad {
+
+struct GradientOptions {
+  // Steps between stored states (the length of a recomputed segment); 0 chooses about the
+  // square root of the life's steps, which balances the snapshots' memory against the tape's.
+  int checkpoint_every = 0;
+};
+
+struct Gradient {
+  // The life's fitness and final state hash: simulate()'s for the same model, bit for bit.
+  double fitness = 0;
+  uint64_t final_state_hash = 0;
+  int64_t steps = 0;
+  // d fitness / d parameter, one value per robot voxel in voxel order (Model::e0's order):
+  std::vector<double> stiffness;  // per Pa of congenital stiffness E0 (Model::e0)
+  std::vector<double> phase;      // per cycle of actuation phase (Model::phase)
+  std::vector<double> dev_rate;   // per 1/s of development rate (Model::alpha; 0 without
+                                  // development, whose rates compile() zeroes)
+  double amplitude = 0;  // per unit of physics.act_amplitude (0 when the robot gives its own
+                         // amplitudes or actuation is off)
+  // What it cost.
+  int checkpoint_every = 0;     // steps per segment
+  size_t checkpoints = 0;       // snapshots stored
+  size_t checkpoint_bytes = 0;  // their total size
+  size_t peak_tape_nodes = 0;   // largest segment's tape (32 bytes a node with its adjoint)
+};
+
+// The reason, in one line, why the gradient of this model's life is not available yet, or ""
+// when it is (docs/gradients.md, "Not covered yet"): the task must be walk, the bond model
+// exact, the controller the sine, no environment, no free objects.
+std::string unsupported(const Model& model);
+
+// The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
+// reason, and std::domain_error when the life takes a branch that is not differentiated yet
+// (a bond the batched kernel hands to the
+// scalar path) or does not finish (unstable).
+Gradient gradient(const Model& model, const GradientOptions& options = {});
+
+// The replica's forward life alone, without recording (for tests): its fitness, which must
+// equal simulate()'s bit for bit, and a signature of the life's non-differentiable events
+// (the voxels that set the time step, each voxel's floor contact and static friction, the
+// pairs in self-contact, every comparison of the actuation and development kernels (their
+// clamps, gates and maxima) at every step, the steps at which settling and the life end): two lives
+// with one signature took the same branches.
+struct ReplicaLife {
+  double fitness = 0;
+  uint64_t events = 0;
+  int64_t steps = 0;
+};
+ReplicaLife replicate_life(const Model& model);
+
+}  // namespace plastivox::grad
