@@ -205,6 +205,15 @@ TEST(Gradient, RefusesWhatItDoesNotDifferentiateInOneLine) {
   EXPECT_NE(e.find("walk"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos);
   EXPECT_EQ(grad::unsupported(compile(cube3(), short_life(0.1, 0.02))), "");
+  // A life whose snapshots and tape would exceed the memory limit is refused before it runs.
+  grad::GradientOptions tight;
+  tight.memory_limit = 1e6;
+  const Model walker = compile(demo_walker(), short_life(0.1, 0.02));
+  const std::string big = error_of([&] { grad::gradient(walker, tight); });
+  EXPECT_NE(big.find("memory_limit"), std::string::npos) << big;
+  EXPECT_EQ(big.find('\n'), std::string::npos);
+  tight.memory_limit = 1e9;
+  EXPECT_LT(grad::gradient(walker, tight).estimated_bytes, 1e9);
 }
 
 }  // namespace

@@ -32,30 +32,39 @@ struct Node {
 struct Tape {
   std::vector<Node> nodes;
   // Shadows: for each registered array, its base address and the node of each element (-1:
-  // constant).
+  // constant), in an open-addressed table (a load looks its array up; a few dozen arrays).
   struct Shadow {
-    const double* base;
-    int32_t* ids;
+    const double* base = nullptr;
+    int32_t* ids = nullptr;
   };
-  std::vector<Shadow> shadows;
-  size_t peak_nodes = 0;
+  static constexpr size_t kSlots = 256;
+  std::vector<Shadow> table = std::vector<Shadow>(kSlots);
+  size_t shadow_count = 0;
 
   int32_t leaf() {
     nodes.push_back({-1, -1, 0.0, 0.0});
     return static_cast<int32_t>(nodes.size() - 1);
   }
-  int32_t shadow_index(const double* base) const {
-    for (size_t k = 0; k < shadows.size(); ++k)
-      if (shadows[k].base == base) return static_cast<int32_t>(k);
-    return -1;
+  static size_t slot_of(const double* base) {
+    return static_cast<size_t>((reinterpret_cast<uintptr_t>(base) >> 3) * 0x9e3779b97f4a7c15ull >>
+                               56);
   }
   int32_t* ids_of(const double* base) const {
-    const int32_t k = shadow_index(base);
-    return k < 0 ? nullptr : shadows[k].ids;
+    for (size_t k = slot_of(base);; k = (k + 1) % kSlots) {
+      if (table[k].base == base) return table[k].ids;
+      if (!table[k].base) return nullptr;
+    }
   }
   void add_shadow(const double* base, int32_t* ids) {
-    if (shadow_index(base) >= 0) throw std::logic_error("gradient: an array registered twice");
-    shadows.push_back({base, ids});
+    if (ids_of(base)) throw std::logic_error("gradient: an array registered twice");
+    if (2 * ++shadow_count > kSlots) throw std::logic_error("gradient: too many arrays");
+    size_t k = slot_of(base);
+    while (table[k].base) k = (k + 1) % kSlots;
+    table[k] = {base, ids};
+  }
+  void clear_shadows() {
+    table.assign(kSlots, Shadow{});
+    shadow_count = 0;
   }
 };
 

@@ -356,6 +356,31 @@ void sweep(const Tape& t, std::vector<double>& adj) {
   }
 }
 
+// Bytes a tape node costs: the node and its adjoint.
+constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
+
+// The nodes one step records: the first step of the life, and a fifth more for what the first
+// step lacks (actuation and development start after settling; damping after the first step).
+size_t nodes_per_step(const Model& m) {
+  Tape tape;
+  Replica rep(m);
+  g_tape = &tape;
+  for (auto& row : rep.ids())
+    for (auto& id : row) id = tape.leaf();
+  ParamLeaves params;
+  params.make(tape, m);
+  rep.register_arrays(tape);
+  const size_t leaves = tape.nodes.size();
+  try {
+    rep.step(nullptr);
+  } catch (...) {
+    g_tape = nullptr;
+    throw;
+  }
+  g_tape = nullptr;
+  return (tape.nodes.size() - leaves) * 6 / 5 + 1;
+}
+
 }  // namespace
 
 std::string unsupported(const Model& m) {
@@ -393,10 +418,24 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
   Gradient g;
   // ---- Forward: the engine's own life, with a snapshot every K steps ----
   Simulator sim(m);
-  const double steps_estimate = m.def.duration / sim.state().dt + 1;
+  const double steps =
+      std::ceil(m.def.duration / sim.state().dt) + 1;  // dt may change: an estimate
+  const double state_bytes = static_cast<double>(sim.save_state().size());
+  const double step_bytes = kNodeBytes * static_cast<double>(nodes_per_step(m));
+  // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
+  // two equal and their sum, 2 sqrt(N S T), the least.
   const int K = options.checkpoint_every > 0
                     ? options.checkpoint_every
-                    : std::max(1, static_cast<int>(std::ceil(std::sqrt(steps_estimate))));
+                    : static_cast<int>(std::clamp(
+                          std::round(std::sqrt(steps * state_bytes / step_bytes)), 1.0, steps));
+  g.estimated_bytes = steps / K * state_bytes + K * step_bytes;
+  if (options.memory_limit > 0 && g.estimated_bytes > options.memory_limit)
+    throw std::invalid_argument(
+        "gradient: the life needs about " + std::to_string(g.estimated_bytes / 1e6) + " MB (" +
+        std::to_string(static_cast<long long>(steps)) + " steps, a snapshot every " +
+        std::to_string(K) + "), more than memory_limit " +
+        std::to_string(options.memory_limit / 1e6) +
+        " MB: shorten the life or raise the limit (multi-level checkpointing is not built yet)");
   std::vector<std::vector<uint8_t>> snaps;
   while (sim.state().status == SimStatus::kRunning) {
     if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());
@@ -433,10 +472,11 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
   // first (the last segment of the life, the longest but for rounding) no page is faulted in
   // again.
   Tape tape;
+  tape.nodes.reserve(static_cast<size_t>(1.25 * K * step_bytes / kNodeBytes));
   std::vector<double> adj;
   for (size_t seg = snaps.size(); seg-- > 0;) {
     tape.nodes.clear();
-    tape.shadows.clear();
+    tape.clear_shadows();
     g_tape = &tape;
     restore_state(rep.state(), snaps[seg]);
     std::vector<std::vector<int32_t>>& ids = rep.ids();
@@ -481,7 +521,7 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
     const size_t dt_row = &state_field("dt") - kStateFields.data();
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj_state[stiff_row][i];
     tape.nodes.clear();
-    tape.shadows.clear();
+    tape.clear_shadows();
     g_tape = &tape;
     std::vector<int32_t> e0_ids(m.n);
     for (auto& id : e0_ids) id = tape.leaf();

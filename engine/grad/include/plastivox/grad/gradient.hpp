@@ -22,9 +22,13 @@
 namespace plastivox::grad {
 
 struct GradientOptions {
-  // Steps between stored states (the length of a recomputed segment); 0 chooses about the
-  // square root of the life's steps, which balances the snapshots' memory against the tape's.
+  // Steps between stored states (the length of a recomputed segment); 0 chooses
+  // sqrt(steps x snapshot bytes / tape bytes per step), which balances the snapshots' memory
+  // against the tape's (their sum is then 2 sqrt(steps x snapshot x tape per step)).
   int checkpoint_every = 0;
+  // Refuse a life whose estimated memory (snapshots and one segment's tape) exceeds this many
+  // bytes, with one line saying so; 0: no limit.
+  double memory_limit = 0;
 };
 
 struct Gradient {
@@ -44,6 +48,7 @@ struct Gradient {
   size_t checkpoints = 0;       // snapshots stored
   size_t checkpoint_bytes = 0;  // their total size
   size_t peak_tape_nodes = 0;   // largest segment's tape (32 bytes a node with its adjoint)
+  double estimated_bytes = 0;   // the memory estimate the spacing was chosen by
 };
 
 // The reason, in one line, why the gradient of this model's life is not available yet, or ""
