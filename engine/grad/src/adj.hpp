@@ -74,6 +74,9 @@ inline thread_local Tape* g_tape = nullptr;
 inline int32_t record(int32_t a, double da, int32_t b, double db) {
   if (!g_tape || (a < 0 && b < 0)) return -1;
   if (a < 0) a = b, da = db, b = -1, db = 0.0;
+  // One recorded operand with a partial of exactly 1 (x + c, x - c, x * 1): the result's
+  // adjoint is the operand's, so it takes the operand's node and no new one.
+  if (b < 0 && da == 1.0) return a;
   g_tape->nodes.push_back({a, b, da, b < 0 ? 0.0 : db});
   return static_cast<int32_t>(g_tape->nodes.size() - 1);
 }
