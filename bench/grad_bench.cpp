@@ -1,13 +1,13 @@
 // The gradient's cost against a forward life (docs/gradients.md, "Cost"), one process per run
 // so that farm-bench pairs whole processes and /usr/bin/time -v reads the peak memory:
-//   grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY]
+//   grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | STRIDE]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
 // physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
 // fitness, the wall time and, for the gradient, its snapshots and largest tape.
 // check: the gradient against central differences of simulate() (h = 1e-4 of E0, 1e-4 cycles)
-// on every 16th voxel's E0 and phase: each parameter's relative error, whether the nudged lives
-// took the life's branches, and per kind the cosine between the two vectors (the measured
-// agreement over a whole life, docs/gradients.md).
+// on every STRIDE-th voxel's E0 and phase (16 unless given): each parameter's relative error,
+// whether the nudged lives took the life's branches, and per kind the cosine between the two
+// vectors (the measured agreement over a whole life, docs/gradients.md).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(
         stderr,
-        "usage: grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY]\n");
+        "usage: grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | "
+        "STRIDE]\n");
     return 2;
   }
   const std::string mode = argv[1], body = argv[2];
@@ -64,11 +65,12 @@ int main(int argc, char** argv) {
   } else if (mode == "check") {
     const grad::Gradient g = grad::gradient(m);
     const uint64_t events = grad::replicate_life(m).events;
+    const int stride = argc > 4 ? std::max(1, std::atoi(argv[4])) : 16;
     for (int kind = 0; kind < 2; ++kind) {
       double dot = 0, gg = 0, dd = 0;
       std::vector<double> errors;
       int smooth = 0, count = 0;
-      for (int i = 0; i < m.n; i += 16) {
+      for (int i = 0; i < m.n; i += stride) {
         const double h = kind == 0 ? 1e-4 * m.e0[i] : 1e-4;
         double f[2];
         bool same = true;

@@ -538,6 +538,14 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
     for (int i = 0; i < m.n; ++i) g.amplitude += m.act_gain[i] * d_gain[i];
     g.amplitude /= m.def.act_amplitude;
   }
+  // The initial state: positions (rest_pos) and momenta (zero), velocities being momenta / m.
+  {
+    const std::vector<double>& pos = adj_state[&state_field("pos") - kStateFields.data()];
+    const std::vector<double>& mom = adj_state[&state_field("lin_mom") - kStateFields.data()];
+    g.initial_position.assign(pos.begin(), pos.begin() + 3 * size_t(m.robot_n));
+    g.initial_velocity.resize(3 * size_t(m.robot_n));
+    for (size_t k = 0; k < g.initial_velocity.size(); ++k) g.initial_velocity[k] = mom[k] * m.mass;
+  }
   g.stiffness.resize(m.robot_n);
   g.phase.resize(m.robot_n);
   g.dev_rate.resize(m.robot_n);

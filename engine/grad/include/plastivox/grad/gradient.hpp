@@ -41,6 +41,9 @@ struct Gradient {
   std::vector<double> phase;      // per cycle of actuation phase (Model::phase)
   std::vector<double> dev_rate;   // per 1/s of development rate (Model::alpha; 0 without
                                   // development, whose rates compile() zeroes)
+  // d fitness / d initial centre (per m) and velocity (per m/s) of each robot voxel: x, y, z
+  // per voxel, voxel order (the life starts at rest at Model::rest_pos).
+  std::vector<double> initial_position, initial_velocity;
   double amplitude = 0;  // per unit of physics.act_amplitude (0 when the robot gives its own
                          // amplitudes or actuation is off)
   // What it cost.
