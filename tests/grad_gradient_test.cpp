@@ -239,6 +239,10 @@ TEST(Gradient, RefusesWhatItDoesNotDifferentiateInOneLine) {
   const std::string big = error_of([&] { grad::gradient(walker, tight); });
   EXPECT_NE(big.find("memory_limit"), std::string::npos) << big;
   EXPECT_EQ(big.find('\n'), std::string::npos);
+  grad::GradientOptions long_segments;
+  long_segments.checkpoint_every = 1 << 20;
+  const std::string nodes = error_of([&] { grad::gradient(walker, long_segments); });
+  EXPECT_NE(nodes.find("2^31"), std::string::npos) << nodes;
   tight.memory_limit = 1e9;
   EXPECT_LT(grad::gradient(walker, tight).estimated_bytes, 1e9);
 }

@@ -428,6 +428,14 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
                     ? options.checkpoint_every
                     : static_cast<int>(std::clamp(
                           std::round(std::sqrt(steps * state_bytes / step_bytes)), 1.0, steps));
+  // A node is named by a 32-bit index: one segment's tape must stay below 2^31 nodes.
+  const double segment_nodes = K * step_bytes / kNodeBytes * 1.25;
+  if (segment_nodes >= 2147483647.0)
+    throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
+                                " steps records about " +
+                                std::to_string(static_cast<long long>(segment_nodes)) +
+                                " nodes, more than a tape holds (2^31): take snapshots more often "
+                                "(checkpoint_every)");
   g.estimated_bytes = steps / K * state_bytes + K * step_bytes;
   if (options.memory_limit > 0 && g.estimated_bytes > options.memory_limit)
     throw std::invalid_argument(
