@@ -207,6 +207,44 @@ TEST(Gradient, InitialPositionsAndVelocitiesMatchCentralDifferences) {
   }
 }
 
+// A loss of the final state of one's own (here a voxel's final x and another's final vertical
+// momentum) instead of the task's fitness.
+TEST(Gradient, OfAUsersLossOfTheFinalStateMatchesCentralDifferences) {
+  const Model m = compile(cube3(), short_life(0.2, 0.05));
+  const auto value = [](const State& s) { return s.pos[13].x() + 1e-3 * s.lin_mom[2].z(); };
+  const grad::FinalLoss loss = [&](const State& s, std::vector<std::vector<double>>& d) {
+    d[&state_field("pos") - kStateFields.data()][3 * 13] += 1.0;
+    d[&state_field("lin_mom") - kStateFields.data()][3 * 2 + 2] += 1e-3;
+    return value(s);
+  };
+  const Gradient g = grad::gradient_of(m, loss);
+  const auto final_value = [&](const Model& x) {
+    Simulator sim(x);
+    while (sim.state().status == SimStatus::kRunning) sim.step();
+    return value(sim.state());
+  };
+  EXPECT_EQ(g.fitness, final_value(m));
+  for (int i : {1, 2, 13}) {
+    const auto difference = [&](double h, bool stiffness) {
+      Model a = m, b = m;
+      (stiffness ? a.e0[i] : a.phase[i]) += h;
+      (stiffness ? b.e0[i] : b.phase[i]) -= h;
+      return (final_value(a) - final_value(b)) / (2 * h);
+    };
+    for (bool stiffness : {true, false}) {
+      const double h = stiffness ? 1e-4 * m.e0[i] : 1e-4;
+      const double d = (4 * difference(h / 2, stiffness) - difference(h, stiffness)) / 3;
+      EXPECT_TRUE(RelNear(stiffness ? g.stiffness[i] : g.phase[i], d, 1e-6))
+          << (stiffness ? "stiffness " : "phase ") << i;
+    }
+  }
+  const grad::FinalLoss wrong = [](const State&, std::vector<std::vector<double>>& d) {
+    d[&state_field("pos") - kStateFields.data()].assign(2, 1.0);
+    return 0.0;
+  };
+  EXPECT_NE(error_of([&] { grad::gradient_of(m, wrong); }).find("'pos'"), std::string::npos);
+}
+
 // Snapshots every step, or few: the same gradient (to rounding: the segments' sums group
 // differently).
 TEST(Gradient, CheckpointSpacingChangesNothingButRounding) {

@@ -8,6 +8,8 @@
 #include "bindings.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/rules/life_rules.hpp"
+#include "plastivox/simulator.hpp"
 
 namespace plastivox::py {
 namespace {
@@ -34,6 +36,16 @@ pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
   {
     pyb::gil_scoped_release unlocked;
     model = compile(robot.def, physics, limits_from_environment());
+    // The life as simulate judges it first (a fortieth of the gradient's time): one that does
+    // not count (sank under sinking_invalid, or unstable) scores 0 whatever its parameters,
+    // and has no gradient to give.
+    SimResult r = simulate(model);  // not judged here: judge_life below
+    judge_life(physics, r);
+    if (r.status != SimStatus::kFinished)
+      throw std::invalid_argument(
+          "gradient: the life does not count, so its fitness has no "
+          "gradient: " +
+          r.failure);
     g = grad::gradient(model);
   }
   const auto on_sites = [&](const std::vector<double>& per_voxel) {

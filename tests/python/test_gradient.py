@@ -50,3 +50,12 @@ def test_bad_input_is_refused_in_one_line():
         plastivox.gradient(cube3(), wrt=["mass"], physics=SHORT)
     with pytest.raises(ValueError, match="only the walk task"):
         plastivox.gradient(cube3(), physics=dict(SHORT, task="jump"))
+
+
+def test_a_life_that_does_not_count_has_no_gradient():
+    # A soft block falls through the floor: sunk, invalid under sinking_invalid (on in every
+    # preset), fitness 0 whatever its parameters.
+    soft = plastivox.Robot.from_arrays(np.ones((2, 2, 2), dtype=np.uint8), np.full((2, 2, 2), 1e5),
+                                       np.zeros((2, 2, 2)))
+    with pytest.raises(ValueError, match="^gradient: the life does not count.*sank"):
+        plastivox.gradient(soft, physics={"duration": 1.0, "sinking_invalid": True})

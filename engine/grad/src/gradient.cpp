@@ -385,6 +385,10 @@ size_t nodes_per_step(const Model& m) {
 
 std::string unsupported(const Model& m) {
   if (m.def.task != Task::kWalk) return "only the walk task's fitness is differentiated yet";
+  return unsupported_life(m);
+}
+
+std::string unsupported_life(const Model& m) {
   if (m.def.bond_model != BondModel::kExact)
     return "only the exact bond model is differentiated yet (physics.bond_model)";
   if (m.terrain) return "environments (ground, boxes) are not differentiated yet";
@@ -412,6 +416,21 @@ ReplicaLife replicate_life(const Model& m) {
 
 Gradient gradient(const Model& m, const GradientOptions& options) {
   const std::string why = unsupported(m);
+  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
+  // Walk's fitness of the final state (summarise's), seeding the adjoints of the final
+  // positions and of com_settled.
+  const FinalLoss walk = [&m](const State& s, std::vector<std::vector<double>>& d) {
+    const FitnessSeed seed = walk_fitness(m, s);
+    d[&state_field("pos") - kStateFields.data()] = seed.d_pos;
+    for (int k = 0; k < 3; ++k)
+      d[&state_field("com_settled") - kStateFields.data()][k] = seed.d_com_settled[k];
+    return seed.value;
+  };
+  return gradient_of(m, walk, options);
+}
+
+Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOptions& options) {
+  const std::string why = unsupported_life(m);
   if (!why.empty()) throw std::invalid_argument("gradient: " + why);
   if (options.checkpoint_every < 0)
     throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
@@ -452,7 +471,6 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
   if (sim.state().status != SimStatus::kFinished)
     throw std::domain_error("gradient: the life went unstable (" + sim.state().failure + ")");
   const SimResult result = sim.result();
-  g.fitness = result.fitness;
   g.final_state_hash = result.final_state_hash;
   g.steps = sim.state().steps;
   g.checkpoint_every = K;
@@ -464,13 +482,13 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
   const auto& rows = rep.rows();
   std::vector<std::vector<double>> adj_state(rows.size());
   for (size_t r = 0; r < rows.size(); ++r) adj_state[r].assign(rep.ids()[r].size(), 0.0);
-  {
-    const FitnessSeed seed = walk_fitness(m, sim.state());
-    const size_t pos_row = &state_field("pos") - kStateFields.data();
-    const size_t com_row = &state_field("com_settled") - kStateFields.data();
-    adj_state[pos_row] = seed.d_pos;
-    for (int k = 0; k < 3; ++k) adj_state[com_row][k] = seed.d_com_settled[k];
-  }
+  g.fitness = loss(sim.state(), adj_state);
+  for (size_t r = 0; r < rows.size(); ++r)
+    if (adj_state[r].size() != rep.ids()[r].size())
+      throw std::invalid_argument(std::string("gradient: the loss's derivative of row '") +
+                                  kStateFields[r].name + "' has " +
+                                  std::to_string(adj_state[r].size()) + " values, the row " +
+                                  std::to_string(rep.ids()[r].size()));
   g.stiffness.assign(m.n, 0.0);
   g.phase.assign(m.n, 0.0);
   g.dev_rate.assign(m.n, 0.0);

@@ -14,10 +14,12 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "plastivox/model.hpp"
+#include "plastivox/state.hpp"
 
 namespace plastivox::grad {
 
@@ -59,11 +61,25 @@ struct Gradient {
 // exact, the controller the sine, no environment, no free objects.
 std::string unsupported(const Model& model);
 
+// A loss of the life's final state: returns its value and adds its derivative with respect to
+// each floating-point row of kStateFields to d[row] (d has one entry per row of kStateFields,
+// sized like the row for a floating-point row and empty for the others, zero on entry).
+using FinalLoss = std::function<double(const State& final, std::vector<std::vector<double>>& d)>;
+
 // The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
 // reason, and std::domain_error when the life takes a branch that is not differentiated yet
 // (a bond the batched kernel hands to the
 // scalar path) or does not finish (unstable).
 Gradient gradient(const Model& model, const GradientOptions& options = {});
+
+// The gradient of a loss of the final state instead of the task's fitness (any task): the
+// returned fitness is the loss's value. Throws as gradient() does, but for the task, and
+// std::invalid_argument when the loss sizes a derivative unlike its row.
+Gradient gradient_of(const Model& model, const FinalLoss& loss,
+                     const GradientOptions& options = {});
+
+// unsupported() without the task: why the life itself cannot be differentiated yet, or "".
+std::string unsupported_life(const Model& model);
 
 // The replica's forward life alone, without recording (for tests): its fitness, which must
 // equal simulate()'s bit for bit, and a signature of the life's non-differentiable events
