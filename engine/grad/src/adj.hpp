@@ -71,7 +71,8 @@ struct Tape {
 // The tape being recorded on this thread, or none (values only: the replica's forward).
 inline thread_local Tape* g_tape = nullptr;
 
-inline int32_t record(int32_t a, double da, int32_t b, double db) {
+// Inlined everywhere: the call, not the work, was a third of a replica's step without a tape.
+[[gnu::always_inline]] inline int32_t record(int32_t a, double da, int32_t b, double db) {
   if (!g_tape || (a < 0 && b < 0)) return -1;
   if (a < 0) a = b, da = db, b = -1, db = 0.0;
   // One recorded operand with a partial of exactly 1 (x + c, x - c, x * 1): the result's

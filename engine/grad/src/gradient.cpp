@@ -14,6 +14,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "adj.hpp"
 #include "elementary.hpp"
@@ -260,29 +261,32 @@ class Replica {
     if (!m.def.self_collision) return;
     const State& s = s_;
     const double half_d = 0.5 * m.def.contact_diameter;
-    for (int i = 0; i < m.n; ++i) {
-      if (!m.surface[i]) continue;
-      const std::vector<int>& near = m.near_voxels[i];
-      for (int j = i + 1; j < m.n; ++j) {
-        if (!m.surface[j] || std::binary_search(near.begin(), near.end(), j)) continue;
-        const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
-        const double dz = s.pos[j].z() - s.pos[i].z();
-        const double contact = half_d * (s.size[i] + s.size[j]);
-        const double dist2 = dx * dx + dy * dy + dz * dz;
-        if (dist2 >= contact * contact || dist2 == 0) continue;
-        if (events) events->add((uint64_t(i) << 32) + uint64_t(j));
-        Adj d[3];
-        for (int k = 0; k < 3; ++k) d[k] = pos(j, k) - pos(i, k);
-        const Adj cont = half_d * (get(s.size.data(), i) + get(s.size.data(), j));
-        const Adj dist = root(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        const Adj ei = get(s.stiffness.data(), i), ej = get(s.stiffness.data(), j);
-        const Adj k = 2.0 * ei * ej / (ei + ej) * m.size;
-        const Adj scale = k * (cont - dist) / dist;
-        for (int c = 0; c < 3; ++c) {
-          const Adj f = d[c] * scale;
-          put(w_.force[c].data(), j, load(w_.force[c].data(), j, Adj{}) + f);
-          put(w_.force[c].data(), i, load(w_.force[c].data(), i, Adj{}) - f);
-        }
+    if (pairs_.empty())  // every pair that may touch, once: (i, j), i < j, in increasing order
+      for (int i = 0; i < m.n; ++i) {
+        if (!m.surface[i]) continue;
+        const std::vector<int>& near = m.near_voxels[i];
+        for (int j = i + 1; j < m.n; ++j)
+          if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j))
+            pairs_.push_back({i, j});
+      }
+    for (const auto& [i, j] : pairs_) {
+      const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
+      const double dz = s.pos[j].z() - s.pos[i].z();
+      const double contact = half_d * (s.size[i] + s.size[j]);
+      const double dist2 = dx * dx + dy * dy + dz * dz;
+      if (dist2 >= contact * contact || dist2 == 0) continue;
+      if (events) events->add((uint64_t(i) << 32) + uint64_t(j));
+      Adj d[3];
+      for (int k = 0; k < 3; ++k) d[k] = pos(j, k) - pos(i, k);
+      const Adj cont = half_d * (get(s.size.data(), i) + get(s.size.data(), j));
+      const Adj dist = root(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const Adj ei = get(s.stiffness.data(), i), ej = get(s.stiffness.data(), j);
+      const Adj k = 2.0 * ei * ej / (ei + ej) * m.size;
+      const Adj scale = k * (cont - dist) / dist;
+      for (int c = 0; c < 3; ++c) {
+        const Adj f = d[c] * scale;
+        put(w_.force[c].data(), j, load(w_.force[c].data(), j, Adj{}) + f);
+        put(w_.force[c].data(), i, load(w_.force[c].data(), i, Adj{}) - f);
       }
     }
   }
@@ -295,6 +299,7 @@ class Replica {
   std::vector<StateFieldBytes> rows_;
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
+  std::vector<std::pair<int, int>> pairs_;  // the surface pairs self-collision tests
 };
 
 // Walk's fitness of a finished life and its derivative with respect to the final positions
