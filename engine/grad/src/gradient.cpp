@@ -419,6 +419,42 @@ ReplicaLife replicate_life(const Model& m) {
   return out;
 }
 
+Plan plan(const Model& m, const GradientOptions& options) {
+  const std::string why = unsupported_life(m);
+  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
+  if (options.checkpoint_every < 0)
+    throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
+  Plan p;
+  const State initial = make_initial_state(m);
+  p.steps = std::ceil(m.def.duration / initial.dt) + 1;  // dt may change: an estimate
+  p.snapshot_bytes = static_cast<double>(save_state(initial).size());
+  p.tape_bytes_per_step = kNodeBytes * static_cast<double>(nodes_per_step(m));
+  // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
+  // two equal and their sum, 2 sqrt(N S T), the least.
+  const double N = p.steps, S = p.snapshot_bytes, T = p.tape_bytes_per_step;
+  const int K = options.checkpoint_every > 0
+                    ? options.checkpoint_every
+                    : static_cast<int>(std::clamp(std::round(std::sqrt(N * S / T)), 1.0, N));
+  // A node is named by a 32-bit index: one segment's tape must stay below 2^31 nodes.
+  const double segment_nodes = K * T / kNodeBytes * 1.25;
+  if (segment_nodes >= 2147483647.0)
+    throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
+                                " steps records about " +
+                                std::to_string(static_cast<long long>(segment_nodes)) +
+                                " nodes, more than a tape holds (2^31): take snapshots more often "
+                                "(checkpoint_every)");
+  p.checkpoint_every = K;
+  p.estimated_bytes = std::ceil(N / K) * S + K * T;
+  if (options.memory_limit > 0 && p.estimated_bytes > options.memory_limit)
+    throw std::invalid_argument(
+        "gradient: the life needs about " + std::to_string(p.estimated_bytes / 1e6) + " MB (" +
+        std::to_string(static_cast<long long>(N)) + " steps, a snapshot every " +
+        std::to_string(K) + "), more than memory_limit " +
+        std::to_string(options.memory_limit / 1e6) +
+        " MB: shorten the life or raise the limit (multi-level checkpointing is not built yet)");
+  return p;
+}
+
 Gradient gradient(const Model& m, const GradientOptions& options) {
   const std::string why = unsupported(m);
   if (!why.empty()) throw std::invalid_argument("gradient: " + why);
@@ -435,39 +471,13 @@ Gradient gradient(const Model& m, const GradientOptions& options) {
 }
 
 Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOptions& options) {
-  const std::string why = unsupported_life(m);
-  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
-  if (options.checkpoint_every < 0)
-    throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
   Gradient g;
   // ---- Forward: the engine's own life, with a snapshot every K steps ----
+  const Plan p = plan(m, options);
+  const int K = p.checkpoint_every;
+  const double step_bytes = p.tape_bytes_per_step;
+  g.estimated_bytes = p.estimated_bytes;
   Simulator sim(m);
-  const double steps =
-      std::ceil(m.def.duration / sim.state().dt) + 1;  // dt may change: an estimate
-  const double state_bytes = static_cast<double>(sim.save_state().size());
-  const double step_bytes = kNodeBytes * static_cast<double>(nodes_per_step(m));
-  // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
-  // two equal and their sum, 2 sqrt(N S T), the least.
-  const int K = options.checkpoint_every > 0
-                    ? options.checkpoint_every
-                    : static_cast<int>(std::clamp(
-                          std::round(std::sqrt(steps * state_bytes / step_bytes)), 1.0, steps));
-  // A node is named by a 32-bit index: one segment's tape must stay below 2^31 nodes.
-  const double segment_nodes = K * step_bytes / kNodeBytes * 1.25;
-  if (segment_nodes >= 2147483647.0)
-    throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
-                                " steps records about " +
-                                std::to_string(static_cast<long long>(segment_nodes)) +
-                                " nodes, more than a tape holds (2^31): take snapshots more often "
-                                "(checkpoint_every)");
-  g.estimated_bytes = steps / K * state_bytes + K * step_bytes;
-  if (options.memory_limit > 0 && g.estimated_bytes > options.memory_limit)
-    throw std::invalid_argument(
-        "gradient: the life needs about " + std::to_string(g.estimated_bytes / 1e6) + " MB (" +
-        std::to_string(static_cast<long long>(steps)) + " steps, a snapshot every " +
-        std::to_string(K) + "), more than memory_limit " +
-        std::to_string(options.memory_limit / 1e6) +
-        " MB: shorten the life or raise the limit (multi-level checkpointing is not built yet)");
   std::vector<std::vector<uint8_t>> snaps;
   while (sim.state().status == SimStatus::kRunning) {
     if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());

@@ -61,6 +61,19 @@ struct Gradient {
 // exact, the controller the sine, no environment, no free objects.
 std::string unsupported(const Model& model);
 
+// How gradient() will store the life, before it runs: the snapshot spacing and the memory it
+// expects (snapshots and one segment's tape). Throws what gradient() throws before the life
+// runs (an unsupported life, memory_limit, a tape too long).
+struct Plan {
+  double steps = 0;                // the life's steps, from the initial time step (an estimate
+                                   // when development changes dt)
+  double snapshot_bytes = 0;       // one snapshot of the State
+  double tape_bytes_per_step = 0;  // nodes and adjoints of one step (the first, and a fifth)
+  int checkpoint_every = 0;
+  double estimated_bytes = 0;  // snapshots and one segment's tape
+};
+Plan plan(const Model& model, const GradientOptions& options = {});
+
 // A loss of the life's final state: returns its value and adds its derivative with respect to
 // each floating-point row of kStateFields to d[row] (d has one entry per row of kStateFields,
 // sized like the row for a floating-point row and empty for the others, zero on entry).
