@@ -38,7 +38,7 @@ __all__ = [
     "InputError", "RenderError", "PhysicsDef", "Robot", "Result", "Trajectory", "Simulator", "Results",
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
     "read_results", "read_study", "evolve", "Evolver", "default_config", "render", "sin_cycles",
-    "VoxelEnv", "controller_weight_count", "analysis", "robustness",
+    "VoxelEnv", "controller_weight_count", "analysis", "robustness", "gradient",
 ]
 
 _TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
@@ -432,6 +432,25 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0,
                                 _check_task(task), _record_fps(record_fps), bool(record_control),
                                 threads)
     return [Result(s, t, r) for (s, t), r in zip(lives, robots)]
+
+
+def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None):
+    """The fitness of the robot's life and its derivative with respect to each name in wrt
+    (docs/gradients.md), by reverse accumulation through the engine's own discrete life.
+    Returns (fitness, grads): fitness is simulate()'s, bit for bit; grads maps each name to
+    numpy arrays shaped like the Robot's own ((nx, ny, nz), 0 where no voxel is): "stiffness"
+    (per Pa of congenital stiffness), "phase" (per cycle), "dev_rate" (per 1/s); or to a float,
+    "amplitude" (per unit of physics act_amplitude). robot, physics and treatment as simulate
+    takes them. Only the walk task, the sine controller and the exact bond model, without an
+    environment, are differentiated yet (ValueError otherwise)."""
+    robot = _as_robot(robot)
+    if isinstance(wrt, str):
+        wrt = (wrt,)
+    names = [str(w) for w in wrt]
+    fitness, flat = _core.gradient(robot._core, _physics(physics), _check_treatment(treatment), names)
+    grads = {k: (v if k == "amplitude" else _np.reshape(v, robot.shape, order="F"))
+             for k, v in flat.items()}
+    return fitness, grads
 
 
 def sin_cycles(u):

@@ -105,6 +105,7 @@ void bind_evo(pyb::module_& m);       // evo.cpp
 void bind_render(pyb::module_& m);    // render.cpp
 void bind_env(pyb::module_& m);       // env.cpp
 void bind_analysis(pyb::module_& m);  // analysis.cpp
+void bind_gradient(pyb::module_& m);  // gradient.cpp
 
 // Runs f on the engine Simulator behind a Python Simulator object (self), refused with
 // RuntimeError while another thread steps it (simulate.cpp).

@@ -35,4 +35,5 @@ PYBIND11_MODULE(_core, m) {
   plastivox::py::bind_render(m);
   plastivox::py::bind_env(m);
   plastivox::py::bind_analysis(m);
+  plastivox::py::bind_gradient(m);
 }

@@ -53,8 +53,10 @@ inline BondIn<T> gather(const BondKernelIo& io, int b) {
   return in;
 }
 
-template <class T>
-inline void bond_lanes(const BondKernelIo& io, int i, const ModelConstants& k, double damp,
+// S: the type of the damping factor, double here; the gradient library (engine/grad) runs the
+// same body with its recording number type for both T and S, so that dt is differentiated too.
+template <class T, class S = double>
+inline void bond_lanes(const BondKernelIo& io, int i, const ModelConstants& k, S damp,
                        int& redo_count) {
   const T one = splat(1.0, T{}), zero = splat(0.0, T{});
   const BondIn<T> in = gather<T>(io, i);

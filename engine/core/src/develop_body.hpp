@@ -76,9 +76,9 @@ inline T stimulus_lanes(const DevelopIo& io, int i, const ModelConstants& k, Tre
 
 // Voxels [i, i + width), a step of dt; first: the first developing step (the rate model's
 // reference is taken now).
-template <class T>
-inline void develop_lanes(const DevelopIo& io, int i, const ModelConstants& k, double dt,
-                          bool first) {
+// S: the type of dt, double here (engine/grad runs the same body with its recording type).
+template <class T, class S = double>
+inline void develop_lanes(const DevelopIo& io, int i, const ModelConstants& k, S dt, bool first) {
   const T stim = stimulus_lanes<T>(io, i, k, k.def.treatment);
   store(io.stimulus, i, stim);
   if (first) store(io.stim_ref, i, stim);

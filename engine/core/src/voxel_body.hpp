@@ -54,9 +54,10 @@ inline void gather_voxel(const VoxelKernelIo& io, int i, const ModelConstants& k
 // Voxels [i, i + width): floor contact and Coulomb friction, semi-implicit Euler update of
 // momenta and position, orientation advanced by omega dt. Folds the squared speed and the
 // finiteness of the momenta of the free voxels into max_speed2 / bad.
-template <class T, class Mask>
+// S: the type of dt, double here (engine/grad runs the same body with its recording type).
+template <class T, class Mask, class S = double>
 inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i,
-                         const ModelConstants& k, double dt, T& max_speed2, Mask& bad) {
+                         const ModelConstants& k, S dt, T& max_speed2, Mask& bad) {
   const T zero = splat(0.0, T{}), one = splat(1.0, T{});
   const Mask fixed = load_flag(io.fixed, i, T{});
   const T E = load(io.stiff, i, T{});
@@ -106,7 +107,7 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
   fy = pick(held, zero, fy);
 
   px = px + fx * dt, py = py + fy * dt, pz = pz + fz * dt;
-  const double step = dt * k.inv_mass;
+  const S step = dt * k.inv_mass;
   const T x1 = x0 + px * step, y1 = y0 + py * step, z1 = z0 + pz * step;
 
   // Rotation: moment, then slow rotational damping as a per-step decay of the angular
@@ -149,7 +150,7 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
     // common case uses the series cos(h) = 1 - h^2/2 + h^4/24 - h^6/720 + h^8/40320,
     // sin(h)/h = 1 - h^2/6 + h^4/120 - h^6/5040 + h^8/362880 (truncation error below 1e-20
     // for h < 5e-3); larger turns take sin_cycles lane by lane.
-    const double turn = dt * k.inv_inertia;
+    const S turn = dt * k.inv_inertia;
     const T vx = hx * turn, vy = hy * turn, vz = hz * turn;
     const T a2 = vx * vx + vy * vy + vz * vz;
     const T h2 = 0.25 * a2;  // (angle / 2)^2
@@ -159,13 +160,14 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
     const T half_sinc = 0.5 * sinc;
     T rx = half_sinc * vx, ry = half_sinc * vy, rz = half_sinc * vz;
     for_each_lane(mask_not(h2 < 2.5e-5), [&](int j) {
-      const double angle = std::sqrt(lane_get(a2, j));
-      const double ax = lane_get(vx, j) / angle, ay = lane_get(vy, j) / angle;
-      const double az = lane_get(vz, j) / angle;
+      // (auto: a double here, the lane's own type in engine/grad's recording instantiation.)
+      const auto angle = root(lane_get(a2, j));
+      const auto ax = lane_get(vx, j) / angle, ay = lane_get(vy, j) / angle;
+      const auto az = lane_get(vz, j) / angle;
       // sin and cos of the half angle by the engine's own sin(2 pi u) (elementary.hpp), so no
       // result depends on the C library.
-      const double u = (0.5 * angle) * (1.0 / (2.0 * M_PI));
-      const double sh = sin_cycles(u);
+      const auto u = (0.5 * angle) * (1.0 / (2.0 * M_PI));
+      const auto sh = sin_cycles(u);
       lane_set(rw, j, sin_cycles(u + 0.25));
       lane_set(rx, j, ax * sh), lane_set(ry, j, ay * sh), lane_set(rz, j, az * sh);
     });
@@ -201,8 +203,8 @@ inline void update_lanes(const VoxelKernelIo& io, const VoxelStateOut& st, int i
 }
 
 // Voxels [i, i + width): the sine controller's signal, sin(2 pi (cycles + phase_i)).
-template <class T>
-inline void sine_lanes(const double* phase, double* signal, int i, double cycles) {
+template <class T, class S = double>
+inline void sine_lanes(const double* phase, double* signal, int i, S cycles) {
   store(signal, i, sin_cycles(cycles + load(phase, i, T{})));
 }
 

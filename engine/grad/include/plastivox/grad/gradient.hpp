@@ -1,0 +1,110 @@
+// Reverse-mode gradients of a life (docs/gradients.md): the derivative of a life's fitness
+// with respect to each voxel's congenital stiffness, actuation phase and development rate and
+// the global actuation amplitude, through the engine's own discrete life.
+//
+// The forward pass is the engine's Simulator, unchanged: the fitness and the final state hash
+// are simulate()'s, bit for bit. It stores a snapshot of the State every `checkpoint_every`
+// steps. The backward pass takes the segments last to first: it recomputes each from its
+// snapshot with the engine's own kernel templates run on a recording number type (the
+// "replica", which checks that it reaches the next snapshot bit for bit), then propagates the
+// adjoint of the segment's last state back to its first. Memory: the snapshots plus one
+// segment's tape; cost: the forward life, the recomputation and the reverse sweep.
+//
+// This library depends on the core; the core knows nothing of it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "plastivox/model.hpp"
+#include "plastivox/state.hpp"
+
+namespace plastivox::grad {
+
+struct GradientOptions {
+  // Steps between stored states (the length of a recomputed segment); 0 chooses
+  // sqrt(steps x snapshot bytes / tape bytes per step), which balances the snapshots' memory
+  // against the tape's (their sum is then 2 sqrt(steps x snapshot x tape per step)).
+  int checkpoint_every = 0;
+  // Refuse a life whose estimated memory (snapshots and one segment's tape) exceeds this many
+  // bytes, with one line saying so; 0: no limit.
+  double memory_limit = 0;
+};
+
+struct Gradient {
+  // The life's fitness and final state hash: simulate()'s for the same model, bit for bit.
+  double fitness = 0;
+  uint64_t final_state_hash = 0;
+  int64_t steps = 0;
+  // d fitness / d parameter, one value per robot voxel in voxel order (Model::e0's order):
+  std::vector<double> stiffness;  // per Pa of congenital stiffness E0 (Model::e0)
+  std::vector<double> phase;      // per cycle of actuation phase (Model::phase)
+  std::vector<double> dev_rate;   // per 1/s of development rate (Model::alpha; 0 without
+                                  // development, whose rates compile() zeroes)
+  // d fitness / d initial centre (per m) and velocity (per m/s) of each robot voxel: x, y, z
+  // per voxel, voxel order (the life starts at rest at Model::rest_pos).
+  std::vector<double> initial_position, initial_velocity;
+  double amplitude = 0;  // per unit of physics.act_amplitude (0 when the robot gives its own
+                         // amplitudes or actuation is off)
+  // What it cost.
+  int checkpoint_every = 0;     // steps per segment
+  size_t checkpoints = 0;       // snapshots stored
+  size_t checkpoint_bytes = 0;  // their total size
+  size_t peak_tape_nodes = 0;   // largest segment's tape (32 bytes a node with its adjoint)
+  double estimated_bytes = 0;   // the memory estimate the spacing was chosen by
+};
+
+// The reason, in one line, why the gradient of this model's life is not available yet, or ""
+// when it is (docs/gradients.md, "Not covered yet"): the task must be walk, the bond model
+// exact, the controller the sine, no environment, no free objects.
+std::string unsupported(const Model& model);
+
+// How gradient() will store the life, before it runs: the snapshot spacing and the memory it
+// expects (snapshots and one segment's tape). Throws what gradient() throws before the life
+// runs (an unsupported life, memory_limit, a tape too long).
+struct Plan {
+  double steps = 0;                // the life's steps, from the initial time step (an estimate
+                                   // when development changes dt)
+  double snapshot_bytes = 0;       // one snapshot of the State
+  double tape_bytes_per_step = 0;  // nodes and adjoints of one step (the first, and a fifth)
+  int checkpoint_every = 0;
+  double estimated_bytes = 0;  // snapshots and one segment's tape
+};
+Plan plan(const Model& model, const GradientOptions& options = {});
+
+// A loss of the life's final state: returns its value and adds its derivative with respect to
+// each floating-point row of kStateFields to d[row] (d has one entry per row of kStateFields,
+// sized like the row for a floating-point row and empty for the others, zero on entry).
+using FinalLoss = std::function<double(const State& final, std::vector<std::vector<double>>& d)>;
+
+// The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
+// reason, and std::domain_error when the life takes a branch that is not differentiated yet
+// (a bond the batched kernel hands to the
+// scalar path) or does not finish (unstable).
+Gradient gradient(const Model& model, const GradientOptions& options = {});
+
+// The gradient of a loss of the final state instead of the task's fitness (any task): the
+// returned fitness is the loss's value. Throws as gradient() does, but for the task, and
+// std::invalid_argument when the loss sizes a derivative unlike its row.
+Gradient gradient_of(const Model& model, const FinalLoss& loss,
+                     const GradientOptions& options = {});
+
+// unsupported() without the task: why the life itself cannot be differentiated yet, or "".
+std::string unsupported_life(const Model& model);
+
+// The replica's forward life alone, without recording (for tests): its fitness, which must
+// equal simulate()'s bit for bit, and a signature of the life's non-differentiable events
+// (the voxels that set the time step, each voxel's floor contact and static friction, the
+// pairs in self-contact, every comparison of the actuation and development kernels (their
+// clamps, gates and maxima) at every step, the steps at which settling and the life end): two lives
+// with one signature took the same branches.
+struct ReplicaLife {
+  double fitness = 0;
+  uint64_t events = 0;
+  int64_t steps = 0;
+};
+ReplicaLife replicate_life(const Model& model);
+
+}  // namespace plastivox::grad

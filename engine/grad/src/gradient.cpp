@@ -1,0 +1,596 @@
+// The gradient of a life (gradient.hpp; docs/gradients.md says why it is built this way).
+//
+// The replica below is one step of Simulator::step2 (engine/core/src/simulator.cpp), stage by
+// stage, with the engine's own kernel templates (bond_body.hpp, voxel_body.hpp,
+// develop_body.hpp) instantiated on the recording type Adj (adj.hpp). The few lines of the
+// stages that are not kernels (the voxel gather, self-collision, stable_dt, the sine
+// controller's call, time and settling) are written here in the engine's order of operations,
+// so the replica computes the engine's bits; gradient() checks it at every snapshot.
+#include "plastivox/grad/gradient.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "adj.hpp"
+#include "elementary.hpp"
+#include "lanes.hpp"
+
+namespace plastivox {
+namespace {
+
+// sin(2 pi u) for Adj: the engine's own value (the rounding trick of its range reduction has
+// no derivative to record), and its derivative 2 pi cos(2 pi u) = 2 pi sin(2 pi (u + 1/4)).
+template <>
+inline grad::Adj sin_cycles<grad::Adj>(grad::Adj u) {
+  const double s = sin_cycles(u.v);
+  return {s, grad::record(u.id, 2.0 * std::numbers::pi * sin_cycles(u.v + 0.25), -1, 0.0)};
+}
+
+}  // namespace
+}  // namespace plastivox
+
+#include "bond_body.hpp"
+#include "develop_body.hpp"
+#include "plastivox/simulator.hpp"
+#include "plastivox/state.hpp"
+#include "plastivox/task.hpp"
+#include "voxel_body.hpp"
+#include "workspace.hpp"
+
+namespace plastivox::grad {
+namespace {
+
+// FNV-1a, for the event signature.
+struct Fnv {
+  uint64_t h = 1469598103934665603ull;
+  void add(uint64_t v) {
+    for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xff)) * 1099511628211ull;
+  }
+};
+
+// The watches (the floor's deepest penetration, the task's running values) are not physics:
+// the replica does not keep them, and they are not compared.
+bool is_watch(const char* name) {
+  return !std::strcmp(name, "floor_deepest") || !std::strcmp(name, "floor_deep_most") ||
+         !std::strcmp(name, "task_values") || !std::strcmp(name, "task_layout");
+}
+
+// The stable time step (compile.cpp, stable_dt: the exact model's rule), in the engine's order
+// of operations, on recorded stiffness.
+// With events, the voxels and bonds within the rule's 1e-9 of the stiffest are events: at a tie
+// for the stiffest the time step has no derivative.
+Adj stable_dt_adj(const Model& m, const double* E, Fnv* events = nullptr) {
+  const int32_t* ids = g_tape ? g_tape->ids_of(E) : nullptr;
+  const auto at = [&](int i) { return Adj(E[i], ids ? ids[i] : -1); };
+  Adj e_top = 0.0;
+  for (int i = 0; i < m.n; ++i) e_top = E[i] > e_top.v ? at(i) : e_top;
+  const double near_top = e_top.v * (1.0 - 1e-9);
+  Adj k_max = e_top * m.size;
+  for (int i = 0; i < m.n; ++i) {
+    if (!(E[i] >= near_top)) continue;
+    if (events) events->add(i);
+    for (int axis = 0; axis < 3; ++axis) {
+      const int b = m.voxel_bonds[i][2 * axis + 1];
+      if (b < 0) continue;
+      const Adj ea = at(i), eb = at(m.bond_b[b]);
+      if (eb.v >= near_top) {
+        if (events) events->add(~uint64_t(b));
+        const Adj k = 2.0 * ea * eb / (ea + eb) * m.size;
+        k_max = k_max < k ? k : k_max;  // std::max
+      }
+    }
+  }
+  return m.def.dt_frac / (2.0 * std::numbers::pi * root(k_max / m.mass));
+}
+
+// One life's replica: a State (its values) and the node of every value of its floating-point
+// rows, with the scratch arrays of a step.
+class Replica {
+ public:
+  explicit Replica(const Model& m) : m_(m), s_(make_initial_state(m)), w_(m), nb_(m.bond_count()) {
+    for (const StateField& f : kStateFields) {
+      const StateFieldBytes b = f.bytes(s_);
+      rows_.push_back(b);
+      ids_.emplace_back(b.kind == 'f' && b.value_bytes == sizeof(double) ? b.count : 0, -1);
+    }
+    // The engine's own views of the State's and the Workspace's arrays (bind_views); the bond
+    // stage writes each bond's next deformation to the Workspace (bond_prev_next), which the
+    // commit copies, as Simulator::step1 and step2 do.
+    bind_views(m, s_, w_);
+  }
+
+  State& state() { return s_; }
+  const std::vector<StateFieldBytes>& rows() const { return rows_; }
+  std::vector<std::vector<int32_t>>& ids() { return ids_; }
+
+  // Every scratch array and State row as the tape's shadows (when recording).
+  void register_arrays(Tape& t) {
+    for (size_t r = 0; r < rows_.size(); ++r)
+      if (!ids_[r].empty()) t.add_shadow(static_cast<const double*>(rows_[r].data), ids_[r].data());
+    scratch_ids_.resize(kScratch);
+    size_t k = 0;
+    const auto add = [&](std::vector<double>& v) {
+      std::vector<int32_t>& ids = scratch_ids_[k++];
+      if (v.empty()) return;
+      ids.assign(v.size(), -1);
+      t.add_shadow(v.data(), ids.data());
+    };
+    Workspace& w = w_;
+    add(w.centre_size);
+    add(w.bond_strain);
+    add(w.bond_stress);
+    add(w.bond_energy);
+    add(w.floor_normal);
+    add(w.sqrt_e);
+    for (int c = 0; c < 3; ++c) add(w.bond_out[c]), add(w.force[c]), add(w.moment[c]);
+    for (int c = 0; c < 9; ++c) add(w.bond_prev_next[c]);
+  }
+
+  // The value and node of element k of a State row.
+  Adj get(const double* row, size_t k = 0) const { return {row[k], node_at(row, k)}; }
+  // Component k of voxel i's centre (the row's base address finds its shadow).
+  Adj pos(int i, int k) const { return get(s_.pos.front().data(), 3 * size_t(i) + k); }
+
+  // One step: Simulator::step2 with step1 before it. Returns false when the life went unstable.
+  bool step(Fnv* events) {
+    const Model& m = m_;
+    State& s = s_;
+    const Adj dt_old = get(&s.dt);
+    // ---- step1: bonds, time step, gather, self-collision ----
+    for (int i = 0; i < m.n; ++i) {
+      const Adj r[4] = {pos(i, 0), pos(i, 1), pos(i, 2), get(s.size.data(), i)};
+      store4(w_.centre_size.data(), i, r);
+    }
+    BondKernelIo& io = w_.views.bond;
+    io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
+    if (nb_ > 0) {
+      const Adj damp = m.bond_damp / dt_old;
+      int redo = 0;
+      for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
+      if (redo > 0)
+        throw std::domain_error("gradient: bond " + std::to_string(w_.redo[0]) + " at step " +
+                                std::to_string(s.steps) +
+                                " has a degenerate chord or a relative rotation near half a "
+                                "turn (the scalar bond path), which is not differentiated yet");
+    }
+    const Adj dt_next = m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time
+                            ? stable_dt_adj(m, s.stiffness.data(), events)
+                            : dt_old;
+    gather();
+    self_collisions(events);
+    // ---- step2 ----
+    put(&s.dt, 0, dt_next);
+    for (int k = 0; k < 9; ++k)
+      for (int b = 0; b < nb_; ++b)
+        put(s.bond_prev[k].data(), b, load(w_.bond_prev_next[k].data(), b, Adj{}));
+    std::memset(s.bond_prev_valid.data(), 1, s.bond_prev_valid.size());
+    const Adj dt = dt_next;
+    const Adj time = get(&s.time);
+    if (s.steps % m.controller.every == 0 && !(s.time < m.def.settle_time)) {  // the sine
+      if (m.def.act_frequency == 0) {
+        for (int i = 0; i < m.robot_n; ++i) put(s.actuation.data(), i, Adj(0.0));
+      } else {
+        const Adj cycles = m.def.act_frequency * time;
+        for (int i = 0; i < m.robot_n; ++i)
+          sine_lanes<Adj, Adj>(m.phase.data(), s.actuation.data(), i, cycles);
+      }
+    }
+    // integrate: floor, friction, Euler update
+    if (events && m.flat_floor)
+      for (int i = 0; i < m.n; ++i) events->add(0.5 * s.size[i] - s.pos[i].z() > 0.0 ? 1 : 0);
+    Adj max_speed2 = 0.0;
+    bool bad = false;
+    for (int i = 0; i < m.n; ++i)
+      update_lanes<Adj, bool, Adj>(w_.views.voxel, w_.views.voxel_out, i, m, dt, max_speed2, bad);
+    if (bad || max_speed2.v > m.def.max_speed * m.def.max_speed) return false;
+    if (events)
+      for (int i = 0; i < m.n; ++i) events->add(s.static_friction[i]);
+    // actuate (its clamps and development's gates, clamps and maxima are events)
+    g_branches = events ? &events->h : nullptr;
+    if (s.time < m.def.settle_time || m.act_amplitude_max == 0) {
+      for (int i = 0; i < m.n; ++i) put(s.size.data(), i, Adj(m.size));
+    } else {
+      for (int i = 0; i < m.n; ++i)
+        actuate_lanes<Adj>(s.stiffness.data(), s.actuation.data(), m.act_gain.data(), s.size.data(),
+                           i, m);
+    }
+    // develop
+    if (m.def.treatment != Treatment::kNone && !(s.time < m.def.settle_time)) {
+      for (int i = 0; i < m.n; ++i)
+        develop_lanes<Adj, Adj>(w_.views.develop, i, m, dt, !s.stim_ref_set);
+      s.stim_ref_set = true;
+    }
+    g_branches = nullptr;
+    put(&s.time, 0, time + dt);
+    s.steps += 1;
+    if (!s.settled && s.time > m.def.settle_time) {
+      // center_of_mass(pos, robot_n): the sum in voxel order, then divided by the count
+      Adj c[3] = {0.0, 0.0, 0.0};
+      for (int i = 0; i < m.robot_n; ++i)
+        for (int k = 0; k < 3; ++k) c[k] = c[k] + pos(i, k);
+      for (int k = 0; k < 3; ++k)
+        put(s.com_settled.data(), k, m.robot_n == 0 ? c[k] : c[k] / static_cast<double>(m.robot_n));
+      s.settled = true;
+      if (events) events->add(0x5e771ed00000000ull + s.steps);
+    }
+    if (s.time > m.def.duration) {
+      s.status = SimStatus::kFinished;
+      if (events) events->add(0xf1a1500000000000ull + s.steps);
+    }
+    return true;
+  }
+
+ private:
+  // gather_voxel (voxel_body.hpp) on Adj: bond forces and moments in slot order (the 4-double
+  // records element by element, each as the vector sum computes it), slow damping, weight,
+  // load; slow_damping_lanes itself is the kernel's.
+  void gather() {
+    const Model& m = m_;
+    const VoxelKernelIo& io = w_.views.voxel;
+    for (int i = 0; i < m.n; ++i) {
+      const Adj coef = slow_damping_lanes<Adj>(io, i, m);
+      Adj f[3] = {0.0, 0.0, 0.0}, mo[3] = {0.0, 0.0, 0.0};
+      for (int slot = 0; slot < 6; ++slot) {
+        const int b = 4 * io.slot_bond[slot][i];
+        const bool plus = slot & 1;
+        for (int c = 0; c < 3; ++c) {
+          const Adj fa = load(io.bond_out[0], b + c, Adj{});
+          const Adj mc = load(io.bond_out[plus ? 1 : 2], b + c, Adj{});
+          f[c] = plus ? f[c] + fa : f[c] - fa;
+          mo[c] = mo[c] + mc;
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        const Adj fc = f[c] - coef * load(io.lin_mom, 3 * i + c, Adj{});
+        put(io.force[c], i, (fc + m.weight[c]) + m.load[i][c]);
+        put(io.moment[c], i, mo[c]);
+      }
+    }
+  }
+
+  // apply_self_collisions (contacts.cpp) for the robot's own voxels: every pair of surface
+  // voxels i < j not near each other in the bond graph, in (i, j) order, as the engine adds
+  // the pairs its candidate lists find (they miss no contact, and the exact test is this one).
+  void self_collisions(Fnv* events) {
+    const Model& m = m_;
+    if (!m.def.self_collision) return;
+    const State& s = s_;
+    const double half_d = 0.5 * m.def.contact_diameter;
+    if (pairs_.empty())  // every pair that may touch, once: (i, j), i < j, in increasing order
+      for (int i = 0; i < m.n; ++i) {
+        if (!m.surface[i]) continue;
+        const std::vector<int>& near = m.near_voxels[i];
+        for (int j = i + 1; j < m.n; ++j)
+          if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j))
+            pairs_.push_back({i, j});
+      }
+    for (const auto& [i, j] : pairs_) {
+      const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
+      const double dz = s.pos[j].z() - s.pos[i].z();
+      const double contact = half_d * (s.size[i] + s.size[j]);
+      const double dist2 = dx * dx + dy * dy + dz * dz;
+      if (dist2 >= contact * contact || dist2 == 0) continue;
+      if (events) events->add((uint64_t(i) << 32) + uint64_t(j));
+      Adj d[3];
+      for (int k = 0; k < 3; ++k) d[k] = pos(j, k) - pos(i, k);
+      const Adj cont = half_d * (get(s.size.data(), i) + get(s.size.data(), j));
+      const Adj dist = root(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const Adj ei = get(s.stiffness.data(), i), ej = get(s.stiffness.data(), j);
+      const Adj k = 2.0 * ei * ej / (ei + ej) * m.size;
+      const Adj scale = k * (cont - dist) / dist;
+      for (int c = 0; c < 3; ++c) {
+        const Adj f = d[c] * scale;
+        put(w_.force[c].data(), j, load(w_.force[c].data(), j, Adj{}) + f);
+        put(w_.force[c].data(), i, load(w_.force[c].data(), i, Adj{}) - f);
+      }
+    }
+  }
+
+  static constexpr size_t kScratch = 6 + 3 * 3 + 9;  // the Workspace arrays with shadows
+  const Model& m_;
+  State s_;
+  Workspace w_;
+  int nb_;
+  std::vector<StateFieldBytes> rows_;
+  std::vector<std::vector<int32_t>> ids_;
+  std::vector<std::vector<int32_t>> scratch_ids_;
+  std::vector<std::pair<int, int>> pairs_;  // the surface pairs self-collision tests
+};
+
+// Walk's fitness of a finished life and its derivative with respect to the final positions
+// and com_settled (summarise, displacement_since_settling: |(com - com_settled) / L|, dz
+// dropped under xy fitness).
+struct FitnessSeed {
+  double value = 0;
+  std::vector<double> d_pos;  // 3 per voxel
+  double d_com_settled[3] = {0, 0, 0};
+};
+FitnessSeed walk_fitness(const Model& m, const State& s) {
+  FitnessSeed out;
+  const Vec3 com = body_center_of_mass(m, s);
+  const Vec3 settled = s.settled ? s.com_settled : com;
+  const Vec3 d = displacement_since_settling(m, settled, com);
+  out.value = d.norm();
+  out.d_pos.assign(3 * size_t(m.n), 0.0);
+  if (!(out.value > 0) || !s.settled) return out;  // |d| has no derivative at 0
+  for (int k = 0; k < 3; ++k) {
+    const double g = d[k] / out.value / m.size;  // d|d| / d com_k
+    out.d_com_settled[k] = -g;
+    for (int i = 0; i < m.robot_n; ++i) out.d_pos[3 * size_t(i) + k] = g / m.robot_n;
+  }
+  return out;
+}
+
+bool physics_equal(const State& a, const State& b) {
+  for (const StateField& f : kStateFields) {
+    if (is_watch(f.name)) continue;
+    const StateFieldBytes x = f.bytes(a), y = f.bytes(b);
+    if (x.count != y.count || std::memcmp(x.data, y.data, x.count * x.value_bytes) != 0)
+      return false;
+  }
+  return true;
+}
+
+// The parameters as leaves of a tape: one node per value of an array of the Model.
+struct ParamLeaves {
+  std::vector<int32_t> e0, phase, alpha, gain;
+  void make(Tape& t, const Model& m) {
+    for (auto* v : {&e0, &phase, &alpha, &gain}) {
+      v->resize(m.n);
+      for (auto& id : *v) id = t.leaf();
+    }
+    t.add_shadow(m.e0.data(), e0.data());
+    t.add_shadow(m.phase.data(), phase.data());
+    t.add_shadow(m.alpha.data(), alpha.data());
+    t.add_shadow(m.act_gain.data(), gain.data());
+  }
+};
+
+void sweep(const Tape& t, std::vector<double>& adj) {
+  for (size_t n = t.nodes.size(); n-- > 0;) {
+    const double a = adj[n];
+    if (a == 0) continue;
+    const Node& nd = t.nodes[n];
+    if (nd.a >= 0) adj[nd.a] += nd.da * a;
+    if (nd.b >= 0) adj[nd.b] += nd.db * a;
+  }
+}
+
+// Bytes a tape node costs: the node and its adjoint.
+constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
+
+// The nodes one step records: the first step of the life, and a fifth more for what the first
+// step lacks (actuation and development start after settling; damping after the first step).
+size_t nodes_per_step(const Model& m) {
+  Tape tape;
+  Replica rep(m);
+  g_tape = &tape;
+  for (auto& row : rep.ids())
+    for (auto& id : row) id = tape.leaf();
+  ParamLeaves params;
+  params.make(tape, m);
+  rep.register_arrays(tape);
+  const size_t leaves = tape.nodes.size();
+  try {
+    rep.step(nullptr);
+  } catch (...) {
+    g_tape = nullptr;
+    throw;
+  }
+  g_tape = nullptr;
+  return (tape.nodes.size() - leaves) * 6 / 5 + 1;
+}
+
+}  // namespace
+
+std::string unsupported(const Model& m) {
+  if (m.def.task != Task::kWalk) return "only the walk task's fitness is differentiated yet";
+  return unsupported_life(m);
+}
+
+std::string unsupported_life(const Model& m) {
+  if (m.def.bond_model != BondModel::kExact)
+    return "only the exact bond model is differentiated yet (physics.bond_model)";
+  if (m.terrain) return "environments (ground, boxes) are not differentiated yet";
+  if (m.robot_n != m.n) return "free objects are not differentiated yet";
+  if (m.controller.kind != ControllerKind::kSine)
+    return "only the sine controller is differentiated yet (robot controller)";
+  return "";
+}
+
+ReplicaLife replicate_life(const Model& m) {
+  const std::string why = unsupported(m);
+  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
+  g_tape = nullptr;
+  Replica r(m);
+  Fnv events;
+  stable_dt_adj(m, m.e0.data(), &events);  // the initial time step's (make_initial_state)
+  while (r.state().status == SimStatus::kRunning)
+    if (!r.step(&events)) throw std::domain_error("gradient: the life went unstable");
+  ReplicaLife out;
+  out.fitness = walk_fitness(m, r.state()).value;
+  out.events = events.h;
+  out.steps = r.state().steps;
+  return out;
+}
+
+Plan plan(const Model& m, const GradientOptions& options) {
+  const std::string why = unsupported_life(m);
+  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
+  if (options.checkpoint_every < 0)
+    throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
+  Plan p;
+  const State initial = make_initial_state(m);
+  p.steps = std::ceil(m.def.duration / initial.dt) + 1;  // dt may change: an estimate
+  p.snapshot_bytes = static_cast<double>(save_state(initial).size());
+  p.tape_bytes_per_step = kNodeBytes * static_cast<double>(nodes_per_step(m));
+  // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
+  // two equal and their sum, 2 sqrt(N S T), the least.
+  const double N = p.steps, S = p.snapshot_bytes, T = p.tape_bytes_per_step;
+  const int K = options.checkpoint_every > 0
+                    ? options.checkpoint_every
+                    : static_cast<int>(std::clamp(std::round(std::sqrt(N * S / T)), 1.0, N));
+  // A node is named by a 32-bit index: one segment's tape must stay below 2^31 nodes.
+  const double segment_nodes = K * T / kNodeBytes * 1.25;
+  if (segment_nodes >= 2147483647.0)
+    throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
+                                " steps records about " +
+                                std::to_string(static_cast<long long>(segment_nodes)) +
+                                " nodes, more than a tape holds (2^31): take snapshots more often "
+                                "(checkpoint_every)");
+  p.checkpoint_every = K;
+  p.estimated_bytes = std::ceil(N / K) * S + K * T;
+  if (options.memory_limit > 0 && p.estimated_bytes > options.memory_limit)
+    throw std::invalid_argument(
+        "gradient: the life needs about " + std::to_string(p.estimated_bytes / 1e6) + " MB (" +
+        std::to_string(static_cast<long long>(N)) + " steps, a snapshot every " +
+        std::to_string(K) + "), more than memory_limit " +
+        std::to_string(options.memory_limit / 1e6) +
+        " MB: shorten the life or raise the limit (multi-level checkpointing is not built yet)");
+  return p;
+}
+
+Gradient gradient(const Model& m, const GradientOptions& options) {
+  const std::string why = unsupported(m);
+  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
+  // Walk's fitness of the final state (summarise's), seeding the adjoints of the final
+  // positions and of com_settled.
+  const FinalLoss walk = [&m](const State& s, std::vector<std::vector<double>>& d) {
+    const FitnessSeed seed = walk_fitness(m, s);
+    d[&state_field("pos") - kStateFields.data()] = seed.d_pos;
+    for (int k = 0; k < 3; ++k)
+      d[&state_field("com_settled") - kStateFields.data()][k] = seed.d_com_settled[k];
+    return seed.value;
+  };
+  return gradient_of(m, walk, options);
+}
+
+Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOptions& options) {
+  Gradient g;
+  // ---- Forward: the engine's own life, with a snapshot every K steps ----
+  const Plan p = plan(m, options);
+  const int K = p.checkpoint_every;
+  const double step_bytes = p.tape_bytes_per_step;
+  g.estimated_bytes = p.estimated_bytes;
+  Simulator sim(m);
+  std::vector<std::vector<uint8_t>> snaps;
+  while (sim.state().status == SimStatus::kRunning) {
+    if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());
+    sim.step();
+  }
+  if (sim.state().status != SimStatus::kFinished)
+    throw std::domain_error("gradient: the life went unstable (" + sim.state().failure + ")");
+  const SimResult result = sim.result();
+  g.final_state_hash = result.final_state_hash;
+  g.steps = sim.state().steps;
+  g.checkpoint_every = K;
+  g.checkpoints = snaps.size();
+  for (const auto& s : snaps) g.checkpoint_bytes += s.size();
+
+  // ---- Backward: segments last to first ----
+  Replica rep(m);
+  const auto& rows = rep.rows();
+  std::vector<std::vector<double>> adj_state(rows.size());
+  for (size_t r = 0; r < rows.size(); ++r) adj_state[r].assign(rep.ids()[r].size(), 0.0);
+  g.fitness = loss(sim.state(), adj_state);
+  for (size_t r = 0; r < rows.size(); ++r)
+    if (adj_state[r].size() != rep.ids()[r].size())
+      throw std::invalid_argument(std::string("gradient: the loss's derivative of row '") +
+                                  kStateFields[r].name + "' has " +
+                                  std::to_string(adj_state[r].size()) + " values, the row " +
+                                  std::to_string(rep.ids()[r].size()));
+  g.stiffness.assign(m.n, 0.0);
+  g.phase.assign(m.n, 0.0);
+  g.dev_rate.assign(m.n, 0.0);
+  std::vector<double> d_gain(m.n, 0.0);
+  State next_check = sim.state();
+  // One tape and one adjoint array for every segment: cleared, not freed, so that after the
+  // first (the last segment of the life, the longest but for rounding) no page is faulted in
+  // again.
+  Tape tape;
+  tape.nodes.reserve(static_cast<size_t>(1.25 * K * step_bytes / kNodeBytes));
+  std::vector<double> adj;
+  for (size_t seg = snaps.size(); seg-- > 0;) {
+    tape.nodes.clear();
+    tape.clear_shadows();
+    g_tape = &tape;
+    restore_state(rep.state(), snaps[seg]);
+    std::vector<std::vector<int32_t>>& ids = rep.ids();
+    for (auto& row : ids)
+      for (auto& id : row) id = tape.leaf();
+    const std::vector<std::vector<int32_t>> start = ids;
+    ParamLeaves params;
+    params.make(tape, m);
+    rep.register_arrays(tape);
+    const int64_t end = seg + 1 < snaps.size() ? static_cast<int64_t>(seg + 1) * K : g.steps;
+    try {
+      while (rep.state().steps < end)
+        if (!rep.step(nullptr)) throw std::domain_error("gradient: the replica went unstable");
+    } catch (...) {
+      g_tape = nullptr;
+      throw;
+    }
+    g_tape = nullptr;
+    if (seg + 1 < snaps.size()) restore_state(next_check, snaps[seg + 1]);
+    if (!physics_equal(rep.state(), next_check))
+      throw std::logic_error("gradient: the replica left the engine's life in steps " +
+                             std::to_string(seg * K) + ".." + std::to_string(end) +
+                             " (a stage differs from the engine's; docs/gradients.md)");
+    g.peak_tape_nodes = std::max(g.peak_tape_nodes, tape.nodes.size());
+    adj.assign(tape.nodes.size(), 0.0);
+    for (size_t r = 0; r < ids.size(); ++r)
+      for (size_t k = 0; k < ids[r].size(); ++k)
+        if (ids[r][k] >= 0) adj[ids[r][k]] += adj_state[r][k];
+    sweep(tape, adj);
+    for (size_t r = 0; r < ids.size(); ++r)
+      for (size_t k = 0; k < ids[r].size(); ++k) adj_state[r][k] = adj[start[r][k]];
+    for (int i = 0; i < m.n; ++i) {
+      g.stiffness[i] += adj[params.e0[i]];
+      g.phase[i] += adj[params.phase[i]];
+      g.dev_rate[i] += adj[params.alpha[i]];
+      d_gain[i] += adj[params.gain[i]];
+    }
+  }
+  // ---- The initial state's dependence on the parameters: stiffness = E0, dt = stable_dt(E0)
+  {
+    const size_t stiff_row = &state_field("stiffness") - kStateFields.data();
+    const size_t dt_row = &state_field("dt") - kStateFields.data();
+    for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj_state[stiff_row][i];
+    tape.nodes.clear();
+    tape.clear_shadows();
+    g_tape = &tape;
+    std::vector<int32_t> e0_ids(m.n);
+    for (auto& id : e0_ids) id = tape.leaf();
+    tape.add_shadow(m.e0.data(), e0_ids.data());
+    const Adj dt0 = stable_dt_adj(m, m.e0.data());
+    g_tape = nullptr;
+    adj.assign(tape.nodes.size(), 0.0);
+    if (dt0.id >= 0) adj[dt0.id] = adj_state[dt_row][0];
+    sweep(tape, adj);
+    for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
+  }
+  // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
+  if (!m.act_per_voxel && m.def.act_amplitude != 0) {
+    for (int i = 0; i < m.n; ++i) g.amplitude += m.act_gain[i] * d_gain[i];
+    g.amplitude /= m.def.act_amplitude;
+  }
+  // The initial state: positions (rest_pos) and momenta (zero), velocities being momenta / m.
+  {
+    const std::vector<double>& pos = adj_state[&state_field("pos") - kStateFields.data()];
+    const std::vector<double>& mom = adj_state[&state_field("lin_mom") - kStateFields.data()];
+    g.initial_position.assign(pos.begin(), pos.begin() + 3 * size_t(m.robot_n));
+    g.initial_velocity.resize(3 * size_t(m.robot_n));
+    for (size_t k = 0; k < g.initial_velocity.size(); ++k) g.initial_velocity[k] = mom[k] * m.mass;
+  }
+  g.stiffness.resize(m.robot_n);
+  g.phase.resize(m.robot_n);
+  g.dev_rate.resize(m.robot_n);
+  return g;
+}
+
+}  // namespace plastivox::grad

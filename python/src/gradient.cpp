@@ -1,0 +1,73 @@
+// Gradients of a life for Python (docs/gradients.md): plastivox.gradient. The C++ library
+// engine/grad computes them; this binds one call, with the GIL released.
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "plastivox/grad/gradient.hpp"
+#include "plastivox/io/limits.hpp"
+#include "plastivox/rules/life_rules.hpp"
+#include "plastivox/simulator.hpp"
+
+namespace plastivox::py {
+namespace {
+
+// What `wrt` may name: the Robot's own arrays, and the physics' global amplitude.
+constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "amplitude"};
+
+// The fitness of the robot's life (as simulate gives it, bit for bit) and, for each name in
+// wrt, its derivative: a flat array over the lattice's sites (0 where no voxel is; the Python
+// layer shapes it like the Robot's arrays), or a float for "amplitude".
+pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
+                        const std::optional<std::string>& treatment,
+                        const std::vector<std::string>& wrt) {
+  for (const std::string& name : wrt) {
+    bool known = false;
+    for (const char* k : kWrt) known = known || name == k;
+    if (!known)
+      throw std::invalid_argument("wrt: no parameter is called '" + name +
+                                  "' (stiffness, phase, dev_rate, amplitude)");
+  }
+  const PhysicsDef physics = physics_of_call(robot.physics, physics_arg, treatment, std::nullopt);
+  grad::Gradient g;
+  Model model;
+  {
+    pyb::gil_scoped_release unlocked;
+    model = compile(robot.def, physics, limits_from_environment());
+    // The life as simulate judges it first (a fortieth of the gradient's time): one that does
+    // not count (sank under sinking_invalid, or unstable) scores 0 whatever its parameters,
+    // and has no gradient to give.
+    SimResult r = simulate(model);  // not judged here: judge_life below
+    judge_life(physics, r);
+    if (r.status != SimStatus::kFinished)
+      throw std::invalid_argument(
+          "gradient: the life does not count, so its fitness has no "
+          "gradient: " +
+          r.failure);
+    g = grad::gradient(model);
+  }
+  const auto on_sites = [&](const std::vector<double>& per_voxel) {
+    std::vector<double> sites(robot.def.present.size(), 0.0);
+    for (int i = 0; i < model.robot_n; ++i) sites[model.site[i]] = per_voxel[i];
+    return to_array(sites);
+  };
+  pyb::dict out;
+  for (const std::string& name : wrt) {
+    if (name == "stiffness") out[name.c_str()] = on_sites(g.stiffness);
+    if (name == "phase") out[name.c_str()] = on_sites(g.phase);
+    if (name == "dev_rate") out[name.c_str()] = on_sites(g.dev_rate);
+    if (name == "amplitude") out[name.c_str()] = g.amplitude;
+  }
+  return pyb::make_tuple(g.fitness, out);
+}
+
+}  // namespace
+
+void bind_gradient(pyb::module_& m) {
+  m.def("gradient", &gradient_one, pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"),
+        pyb::arg("wrt"));
+}
+
+}  // namespace plastivox::py

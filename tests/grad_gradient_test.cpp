@@ -1,0 +1,302 @@
+// Reverse-mode gradients of a life (engine/grad, docs/gradients.md): the forward pass is the
+// engine's life bit for bit, the replica that the backward pass records is the engine's life
+// bit for bit, and the gradient agrees with central differences of simulate()'s fitness.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "plastivox/demo_robots.hpp"
+#include "plastivox/grad/gradient.hpp"
+#include "plastivox/simulator.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+using grad::Gradient;
+using plastivox::testing::error_of;
+using plastivox::testing::RelNear;
+
+// A short life with actuation: settling ends early so the phases matter.
+PhysicsDef short_life(double duration, double settle, Treatment treatment = Treatment::kNone) {
+  PhysicsDef def;
+  def.duration = duration;
+  def.settle_time = settle;
+  def.treatment = treatment;
+  return def;
+}
+
+// A 3x3x3 body with distinct stiffness (one stiffest voxel), phases and development rates.
+RobotDef cube3() {
+  RobotDef r = make_empty_robot(3, 3, 3);
+  r.name = "cube3";
+  for (int s = 0; s < r.sites(); ++s) {
+    r.present[s] = 1;
+    r.stiffness[s] = 1e8 * (1.5 + std::sin(1.7 * s + 0.3));
+    r.phase[s] = 0.37 * std::sin(0.9 * s) + 0.05 * s;
+    r.dev_rate[s] = 2.0 + std::cos(1.3 * s);
+  }
+  return r;
+}
+
+// One kind of parameter of a Model: how to nudge it, and its gradient.
+struct Param {
+  std::string name;
+  int index;
+  double value;
+  std::function<void(Model&, double)> nudge;  // adds h
+  double gradient;
+};
+
+std::vector<Param> params_of(const Model& m, const Gradient& g, const std::vector<int>& voxels,
+                             bool dev_rate) {
+  std::vector<Param> out;
+  for (int i : voxels) {
+    out.push_back(
+        {"stiffness", i, m.e0[i], [i](Model& x, double h) { x.e0[i] += h; }, g.stiffness[i]});
+    out.push_back(
+        {"phase", i, m.phase[i], [i](Model& x, double h) { x.phase[i] += h; }, g.phase[i]});
+    if (dev_rate)
+      out.push_back(
+          {"dev_rate", i, m.alpha[i], [i](Model& x, double h) { x.alpha[i] += h; }, g.dev_rate[i]});
+  }
+  out.push_back({"amplitude", -1, m.def.act_amplitude,
+                 [](Model& x, double h) {
+                   x.def.act_amplitude += h;
+                   x.act_amplitude_xi += h;
+                   x.act_amplitude_max += h;
+                 },
+                 g.amplitude});
+  return out;
+}
+
+// Central differences of simulate()'s fitness, Richardson-extrapolated: D(h) has error
+// c2 h^2 + c4 h^4, so (4 D(h/2) - D(h)) / 3 has error O(h^4), and h can be large enough that
+// rounding (~1e-16 of the fitness, over 2h) stays far below 1e-6 of the derivative.
+// `smooth` says whether all four nudged lives took the branches the life itself took
+// (replicate_life's event signature): otherwise the difference spans a kink.
+struct Difference {
+  double value = 0;
+  bool smooth = true;
+};
+Difference central(const Model& m, const Param& p, double h, uint64_t events) {
+  Difference d;
+  double f[4];
+  const double steps[4] = {h, -h, 0.5 * h, -0.5 * h};
+  for (int k = 0; k < 4; ++k) {
+    Model x = m;
+    p.nudge(x, steps[k]);
+    f[k] = simulate(x).fitness;
+    d.smooth = d.smooth && grad::replicate_life(x).events == events;
+  }
+  const double d1 = (f[0] - f[1]) / (2 * h), d2 = (f[2] - f[3]) / h;
+  d.value = (4 * d2 - d1) / 3;
+  return d;
+}
+
+// Checks every parameter given against central differences: relative error below `tol`
+// wherever the nudged lives take the life's branches (an error measured against the larger of
+// the difference and 1e-3 of the largest difference of that kind, so a component near zero is
+// held to the kind's scale). Returns how many were checked smooth.
+int check_against_differences(const Model& m, const std::vector<int>& voxels, bool dev_rate,
+                              double tol) {
+  const Gradient g = grad::gradient(m);
+  const uint64_t events = grad::replicate_life(m).events;
+  std::vector<Param> ps = params_of(m, g, voxels, dev_rate);
+  std::vector<Difference> ds;
+  for (const Param& p : ps) {
+    const double h = p.name == "phase" ? 1e-4 : 1e-4 * std::max(std::abs(p.value), 1e-3);
+    ds.push_back(central(m, p, h, events));
+  }
+  int smooth = 0;
+  for (size_t k = 0; k < ps.size(); ++k) {
+    double scale = 0;
+    for (size_t j = 0; j < ps.size(); ++j)
+      if (ps[j].name == ps[k].name) scale = std::max(scale, std::abs(ds[j].value));
+    const double err =
+        std::abs(ps[k].gradient - ds[k].value) / std::max(std::abs(ds[k].value), 1e-3 * scale);
+    if (!ds[k].smooth) {
+      std::printf("  %s[%d]: nudged lives cross a kink (gradient %.6e, difference %.6e)\n",
+                  ps[k].name.c_str(), ps[k].index, ps[k].gradient, ds[k].value);
+      continue;
+    }
+    ++smooth;
+    EXPECT_LT(err, tol) << ps[k].name << "[" << ps[k].index << "]: gradient " << ps[k].gradient
+                        << ", central difference " << ds[k].value;
+  }
+  return smooth;
+}
+
+TEST(Gradient, ForwardIsSimulateBitForBit) {
+  const Model m = compile(demo_walker(), short_life(0.1, 0.02));
+  const SimResult r = simulate(m);
+  const Gradient g = grad::gradient(m);
+  EXPECT_EQ(g.fitness, r.fitness);
+  EXPECT_EQ(g.final_state_hash, r.final_state_hash);
+  EXPECT_EQ(g.steps, r.steps);
+  EXPECT_GT(g.fitness, 0.0);
+}
+
+// The replica the backward pass records is the engine's life: same fitness, bit for bit (and
+// gradient() checks every snapshot), with and without development, with self-collision on.
+TEST(Gradient, ReplicaIsTheEnginesLife) {
+  for (Treatment t : {Treatment::kNone, Treatment::kStress, Treatment::kPressure}) {
+    const Model walker = compile(demo_walker(), short_life(0.1, 0.02, t));
+    EXPECT_EQ(grad::replicate_life(walker).fitness, simulate(walker).fitness);
+    const Model cube = compile(cube3(), short_life(0.2, 0.05, t));
+    EXPECT_EQ(grad::replicate_life(cube).fitness, simulate(cube).fitness);
+  }
+}
+
+TEST(Gradient, MatchesCentralDifferencesOnA3x3x3Body) {
+  const Model m = compile(cube3(), short_life(0.2, 0.05));
+  std::vector<int> all(m.n);
+  for (int i = 0; i < m.n; ++i) all[i] = i;
+  const int smooth = check_against_differences(m, all, false, 1e-6);
+  EXPECT_GE(smooth, 2 * m.n + 1 - 4);  // nearly every parameter's nudges are smooth
+}
+
+TEST(Gradient, MatchesCentralDifferencesWithDevelopment) {
+  const Model m = compile(cube3(), short_life(0.2, 0.05, Treatment::kStress));
+  std::vector<int> all(m.n);
+  for (int i = 0; i < m.n; ++i) all[i] = i;
+  const int smooth = check_against_differences(m, all, true, 1e-6);
+  EXPECT_GE(smooth, 3 * m.n + 1 - 6);
+}
+
+// The walker: a spread of voxels, and the stiffest, which sets dt. That one ties with another
+// voxel of the same stiffness (to the rule's 1e-9), where dt has no derivative: its stiffness
+// differences are reported as crossing a kink, and every other parameter is held to 1e-6.
+TEST(Gradient, MatchesCentralDifferencesOnTheDemoWalker) {
+  const Model m = compile(demo_walker(), short_life(0.04, 0.02));
+  std::vector<int> some = {0, 300};
+  some.push_back(static_cast<int>(std::max_element(m.e0.begin(), m.e0.end()) - m.e0.begin()));
+  const int smooth = check_against_differences(m, some, false, 1e-6);
+  EXPECT_GE(smooth, 2 * static_cast<int>(some.size()));
+}
+
+// The initial positions and velocities: central differences of lives started from a nudged
+// initial state (a Simulator's state changed before its first step).
+TEST(Gradient, InitialPositionsAndVelocitiesMatchCentralDifferences) {
+  const Model m = compile(cube3(), short_life(0.2, 0.05));
+  const Gradient g = grad::gradient(m);
+  const auto fitness = [&](int k, double dx, double dv) {
+    Simulator sim(m);
+    sim.mutable_state().pos[k / 3][k % 3] += dx;
+    sim.mutable_state().lin_mom[k / 3][k % 3] += dv * m.mass;
+    while (sim.state().status == SimStatus::kRunning) sim.step();
+    return sim.result().fitness;
+  };
+  // Components of voxels 0, 4, 13 and 20: not the z of a voxel on the floor, which starts
+  // exactly at the floor contact's threshold (a kink: its penetration is 0).
+  for (int k : {1, 12, 40, 62}) {
+    // A velocity of 1e-4 m/s already moves a contact event within the life (the differences
+    // of 1e-3, 1e-4, 1e-5 and 1e-6 m/s approach the gradient only from 1e-5 on): 1e-6.
+    const double hx = 1e-4 * m.size, hv = 1e-6;
+    const double dx1 = (fitness(k, hx, 0) - fitness(k, -hx, 0)) / (2 * hx);
+    const double dx2 = (fitness(k, hx / 2, 0) - fitness(k, -hx / 2, 0)) / hx;
+    const double dv1 = (fitness(k, 0, hv) - fitness(k, 0, -hv)) / (2 * hv);
+    const double dv2 = (fitness(k, 0, hv / 2) - fitness(k, 0, -hv / 2)) / hv;
+    EXPECT_TRUE(RelNear(g.initial_position[k], (4 * dx2 - dx1) / 3, 1e-6)) << k;
+    EXPECT_TRUE(RelNear(g.initial_velocity[k], (4 * dv2 - dv1) / 3, 1e-6)) << k;
+  }
+}
+
+// A loss of the final state of one's own (here a voxel's final x and another's final vertical
+// momentum) instead of the task's fitness.
+TEST(Gradient, OfAUsersLossOfTheFinalStateMatchesCentralDifferences) {
+  const Model m = compile(cube3(), short_life(0.2, 0.05));
+  const auto value = [](const State& s) { return s.pos[13].x() + 1e-3 * s.lin_mom[2].z(); };
+  const grad::FinalLoss loss = [&](const State& s, std::vector<std::vector<double>>& d) {
+    d[&state_field("pos") - kStateFields.data()][3 * 13] += 1.0;
+    d[&state_field("lin_mom") - kStateFields.data()][3 * 2 + 2] += 1e-3;
+    return value(s);
+  };
+  const Gradient g = grad::gradient_of(m, loss);
+  const auto final_value = [&](const Model& x) {
+    Simulator sim(x);
+    while (sim.state().status == SimStatus::kRunning) sim.step();
+    return value(sim.state());
+  };
+  EXPECT_EQ(g.fitness, final_value(m));
+  for (int i : {1, 2, 13}) {
+    const auto difference = [&](double h, bool stiffness) {
+      Model a = m, b = m;
+      (stiffness ? a.e0[i] : a.phase[i]) += h;
+      (stiffness ? b.e0[i] : b.phase[i]) -= h;
+      return (final_value(a) - final_value(b)) / (2 * h);
+    };
+    for (bool stiffness : {true, false}) {
+      const double h = stiffness ? 1e-4 * m.e0[i] : 1e-4;
+      const double d = (4 * difference(h / 2, stiffness) - difference(h, stiffness)) / 3;
+      EXPECT_TRUE(RelNear(stiffness ? g.stiffness[i] : g.phase[i], d, 1e-6))
+          << (stiffness ? "stiffness " : "phase ") << i;
+    }
+  }
+  const grad::FinalLoss wrong = [](const State&, std::vector<std::vector<double>>& d) {
+    d[&state_field("pos") - kStateFields.data()].assign(2, 1.0);
+    return 0.0;
+  };
+  EXPECT_NE(error_of([&] { grad::gradient_of(m, wrong); }).find("'pos'"), std::string::npos);
+}
+
+// The bound: a 10^3 body over a whole 5.2 s life within 2 GB. The plan (snapshots and
+// one segment's tape) is checked here without running the life; the measured peak of the whole
+// process, 823 MiB, is in docs/gradients.md ("Cost and memory").
+TEST(Gradient, A10CubedBodyOverAWholeLifeIsPlannedUnder2GB) {
+  RobotDef r = demo_cube(10, 1e10);
+  for (int s = 0; s < r.sites(); ++s) r.stiffness[s] *= 1.0 + 1e-3 * (s % 7);
+  const grad::Plan p = grad::plan(compile(r, PhysicsDef{}));
+  EXPECT_GT(p.steps, 11000);
+  EXPECT_LT(p.estimated_bytes, 2e9);
+  EXPECT_GT(p.checkpoint_every, 1);
+}
+
+// Snapshots every step, or few: the same gradient (to rounding: the segments' sums group
+// differently).
+TEST(Gradient, CheckpointSpacingChangesNothingButRounding) {
+  const Model m = compile(cube3(), short_life(0.2, 0.05));
+  grad::GradientOptions every1, every7;
+  every1.checkpoint_every = 1;
+  every7.checkpoint_every = 7;
+  const Gradient a = grad::gradient(m, every1), b = grad::gradient(m, every7),
+                 c = grad::gradient(m);
+  EXPECT_EQ(a.fitness, b.fitness);
+  for (int i = 0; i < m.n; ++i) {
+    EXPECT_TRUE(RelNear(a.stiffness[i], b.stiffness[i], 1e-11));
+    EXPECT_TRUE(RelNear(a.phase[i], c.phase[i], 1e-11));
+  }
+  EXPECT_GT(a.checkpoints, b.checkpoints);
+}
+
+TEST(Gradient, RefusesWhatItDoesNotDifferentiateInOneLine) {
+  PhysicsDef def = short_life(0.1, 0.02);
+  def.task = Task::kJump;
+  const Model m = compile(cube3(), def);
+  const std::string e = error_of([&] { grad::gradient(m); });
+  EXPECT_NE(e.find("walk"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+  EXPECT_EQ(grad::unsupported(compile(cube3(), short_life(0.1, 0.02))), "");
+  // A life whose snapshots and tape would exceed the memory limit is refused before it runs.
+  grad::GradientOptions tight;
+  tight.memory_limit = 1e6;
+  const Model walker = compile(demo_walker(), short_life(0.03, 0.02));
+  const std::string big = error_of([&] { grad::gradient(walker, tight); });
+  EXPECT_NE(big.find("memory_limit"), std::string::npos) << big;
+  EXPECT_EQ(big.find('\n'), std::string::npos);
+  grad::GradientOptions long_segments;
+  long_segments.checkpoint_every = 1 << 20;
+  const std::string nodes = error_of([&] { grad::gradient(walker, long_segments); });
+  EXPECT_NE(nodes.find("2^31"), std::string::npos) << nodes;
+  tight.memory_limit = 1e9;
+  EXPECT_LT(grad::gradient(walker, tight).estimated_bytes, 1e9);
+}
+
+}  // namespace
+}  // namespace plastivox
+namespace plastivox {}  // namespace plastivox

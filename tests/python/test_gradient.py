@@ -1,0 +1,61 @@
+"""plastivox.gradient (docs/gradients.md): simulate()'s fitness bit for bit, derivatives shaped
+like the robot's arrays, agreeing with central differences of simulate(); bad names refused."""
+
+import numpy as np
+import pytest
+
+import plastivox
+
+SHORT = {"duration": 0.2, "settle_time": 0.05}
+
+
+def cube3(phase_shift=0.0, site=None):
+    """A 3x3x3 body with distinct stiffness and phases (tests/grad_gradient_test.cpp's)."""
+    s = np.arange(27, dtype=np.float64).reshape((3, 3, 3), order="F")
+    stiffness = 1e8 * (1.5 + np.sin(1.7 * s + 0.3))
+    phase = 0.37 * np.sin(0.9 * s) + 0.05 * s
+    if site is not None:
+        phase[site] += phase_shift
+    return plastivox.Robot.from_arrays(np.ones((3, 3, 3), dtype=np.uint8), stiffness, phase)
+
+
+def test_fitness_is_simulates_and_arrays_are_shaped_like_the_robots():
+    robot = cube3()
+    fitness, grads = plastivox.gradient(robot, wrt=["stiffness", "phase", "dev_rate", "amplitude"],
+                                        physics=SHORT)
+    assert fitness == plastivox.simulate(robot, physics=SHORT).fitness
+    for name in ("stiffness", "phase", "dev_rate"):
+        assert grads[name].shape == robot.shape
+    assert isinstance(grads["amplitude"], float)
+    assert np.all(grads["dev_rate"] == 0)  # no development under treatment none
+    assert np.any(grads["phase"] != 0) and np.any(grads["stiffness"] != 0)
+
+
+def test_phase_derivative_agrees_with_central_differences():
+    site = (1, 0, 0)  # voxel 1 of tests/grad_gradient_test.cpp's 3x3x3 body: a smooth one
+    _, grads = plastivox.gradient(cube3(), wrt="phase", physics=SHORT)
+
+    def f(h):
+        return plastivox.simulate(cube3(h, site), physics=SHORT).fitness
+
+    h = 1e-4
+    d1 = (f(h) - f(-h)) / (2 * h)
+    d2 = (f(h / 2) - f(-h / 2)) / h
+    difference = (4 * d2 - d1) / 3  # Richardson: error O(h^4)
+    assert grads["phase"][site] == pytest.approx(difference, rel=1e-6)
+
+
+def test_bad_input_is_refused_in_one_line():
+    with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass' \(stiffness"):
+        plastivox.gradient(cube3(), wrt=["mass"], physics=SHORT)
+    with pytest.raises(ValueError, match="only the walk task"):
+        plastivox.gradient(cube3(), physics=dict(SHORT, task="jump"))
+
+
+def test_a_life_that_does_not_count_has_no_gradient():
+    # A soft block falls through the floor: sunk, invalid under sinking_invalid (on in every
+    # preset), fitness 0 whatever its parameters.
+    soft = plastivox.Robot.from_arrays(np.ones((2, 2, 2), dtype=np.uint8), np.full((2, 2, 2), 1e5),
+                                       np.zeros((2, 2, 2)))
+    with pytest.raises(ValueError, match="^gradient: the life does not count.*sank"):
+        plastivox.gradient(soft, physics={"duration": 1.0, "sinking_invalid": True})
