@@ -65,7 +65,7 @@ BatteryLives battery_lives_over_ranks(evo::Cluster* cluster, int threads) {
       load[static_cast<size_t>(r)] += cost[i];
       if (r == mpi->rank()) mine.push_back(i);
     }
-    std::vector<analysis::LifeRun> done(mine.size());
+    std::vector<analysis::BatteryRun> done(mine.size());
     parallel_for(mine.size(), threads > 0 ? threads : hardware_threads(),
                  [&](size_t k) { done[k] = analysis::run_battery_life(lives[mine[k]], limits); });
     std::string bytes;
@@ -75,7 +75,7 @@ BatteryLives battery_lives_over_ranks(evo::Cluster* cluster, int threads) {
       put_text(bytes, done[k].status);
       put_text(bytes, done[k].failure);
     }
-    std::vector<analysis::LifeRun> out(lives.size());
+    std::vector<analysis::BatteryRun> out(lives.size());
     std::vector<uint8_t> filled(lives.size(), 0);
     for (const std::string& b : mpi->allgather(bytes))
       for (size_t at = 0; at < b.size();) {

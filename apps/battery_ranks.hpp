@@ -13,7 +13,7 @@ class Cluster;
 namespace plastivox::cli {
 
 using BatteryLives =
-    std::function<std::vector<analysis::LifeRun>(const std::vector<analysis::PerturbedLife>&)>;
+    std::function<std::vector<analysis::BatteryRun>(const std::vector<analysis::PerturbedLife>&)>;
 
 // Under mpirun with more than one rank, StudyOptions::battery_lives for this rank: every rank
 // is handed the same lives in the same order (each runs the same study), simulates its share

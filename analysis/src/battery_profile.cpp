@@ -76,7 +76,7 @@ void summarise(PerturbationProfile& p) {
   bool all_defined = true;
   for (SeverityLevel& l : p.levels) {
     double sum = 0;
-    for (const LifeOutcome& o : l.lives)
+    for (const PerturbedOutcome& o : l.lives)
       if (o.valid) sum += o.kept;
     if (l.valid == 0) {
       all_defined = false;
@@ -85,7 +85,7 @@ void summarise(PerturbationProfile& p) {
     l.mean_kept = sum / l.valid;
     if (l.valid >= 2) {
       double ss = 0;
-      for (const LifeOutcome& o : l.lives)
+      for (const PerturbedOutcome& o : l.lives)
         if (o.valid) ss += (o.kept - *l.mean_kept) * (o.kept - *l.mean_kept);
       l.sd_kept = std::sqrt(ss / (l.valid - 1));
     }
@@ -104,10 +104,10 @@ void summarise(PerturbationProfile& p) {
 
 }  // namespace
 
-LifeRun run_battery_life(const PerturbedLife& life, const Limits& limits) {
+BatteryRun run_battery_life(const PerturbedLife& life, const Limits& limits) {
   SimResult r = simulate(compile(life.robot, life.physics, limits));
   judge_life(life.physics, r);  // a sunk life counts as evolution counts it (sinking_invalid)
-  LifeRun s;
+  BatteryRun s;
   if (r.status == SimStatus::kFinished) {
     s.fitness = r.fitness;
     s.status = "ok";
@@ -161,14 +161,14 @@ RobustnessProfile robustness_profile(const RobotDef& champion, const PhysicsDef&
   // Every perturbed robot and physics is made (and checked) before any life is simulated.
   const std::vector<PerturbedLife> lives =
       battery_lives_of(champion, physics, battery, options.seed, options.limits);
-  std::vector<LifeRun> runs(lives.size());
+  std::vector<BatteryRun> runs(lives.size());
   parallel_for(lives.size(), options.threads,
                [&](size_t j) { runs[j] = run_battery_life(lives[j], options.limits); });
   return assemble_profile(battery, options.seed, runs);
 }
 
 RobustnessProfile assemble_profile(const Battery& battery, uint64_t base_seed,
-                                   const std::vector<LifeRun>& sims) {
+                                   const std::vector<BatteryRun>& sims) {
   const std::vector<Job> jobs = jobs_of(battery);
   if (sims.size() != jobs.size())
     throw std::invalid_argument("assemble_profile: " + std::to_string(sims.size()) +
@@ -177,8 +177,8 @@ RobustnessProfile assemble_profile(const Battery& battery, uint64_t base_seed,
   RobustnessProfile out;
   out.battery = battery.name;
   out.seed = base_seed;
-  const LifeRun* evolved_ref = nullptr;
-  const LifeRun* paper_ref = nullptr;
+  const BatteryRun* evolved_ref = nullptr;
+  const BatteryRun* paper_ref = nullptr;
   for (size_t j = 0; j < jobs.size(); ++j)
     if (jobs[j].perturbation < 0) (jobs[j].paper_reference ? paper_ref : evolved_ref) = &sims[j];
   for (const Perturbation& p : battery.perturbations) {
@@ -186,7 +186,7 @@ RobustnessProfile assemble_profile(const Battery& battery, uint64_t base_seed,
     pp.name = p.name;
     pp.kind = p.kind;
     pp.unit = severity_unit(p.kind);
-    const LifeRun& ref = *(p.kind == PerturbationKind::kPaper ? paper_ref : evolved_ref);
+    const BatteryRun& ref = *(p.kind == PerturbationKind::kPaper ? paper_ref : evolved_ref);
     pp.f_reference = ref.fitness;
     pp.reference_valid = ref.status == "ok" && ref.fitness > 0;
     pp.reference_failure =
@@ -205,7 +205,7 @@ RobustnessProfile assemble_profile(const Battery& battery, uint64_t base_seed,
     if (job.perturbation < 0) continue;
     PerturbationProfile& pp = out.perturbations[job.perturbation];
     SeverityLevel& l = pp.levels[job.level];
-    LifeOutcome o;
+    PerturbedOutcome o;
     o.status = sims[j].status;
     o.failure = sims[j].failure;
     if (o.status == "ok") {

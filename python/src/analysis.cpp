@@ -125,7 +125,7 @@ pyb::list battery_of(const std::vector<const PyRobot*>& robots, const pyb::objec
     for (const analysis::PerturbationProfile& p : prof.perturbations)
       for (const analysis::SeverityLevel& l : p.levels)
         for (size_t k = 0; k < l.lives.size(); ++k) {
-          const analysis::LifeOutcome& o = l.lives[k];
+          const analysis::PerturbedOutcome& o = l.lives[k];
           const double nan = std::numeric_limits<double>::quiet_NaN();
           perturbation.append(p.name);
           kind.append(analysis::to_string(p.kind));

@@ -51,9 +51,9 @@ std::string checkpoint_path(const std::string& dir, const std::string& key) {
 }
 
 std::string checkpoint_text(const std::string& key, const std::string& label,
-                            const std::vector<LifeRun>& runs) {
+                            const std::vector<BatteryRun>& runs) {
   Json lives = Json::array();
-  for (const LifeRun& l : runs)
+  for (const BatteryRun& l : runs)
     lives.push_back({{"fitness", bits(l.fitness)}, {"status", l.status}, {"failure", l.failure}});
   const Json j = {{"format", "plastivox-battery-checkpoint"},
                   {"version", 1},
@@ -65,16 +65,16 @@ std::string checkpoint_text(const std::string& key, const std::string& label,
 
 // The outcomes, or nothing when the file is absent, unreadable, for another key or of another
 // length.
-std::optional<std::vector<LifeRun>> read_checkpoint(const std::string& path, const std::string& key,
-                                                    size_t lives) {
+std::optional<std::vector<BatteryRun>> read_checkpoint(const std::string& path,
+                                                       const std::string& key, size_t lives) {
   const std::optional<Json> read = read_checkpoint_json(path, "plastivox-battery-checkpoint", key);
   if (!read) return std::nullopt;
   const Json& j = *read;
   try {
     if (j.at("lives").size() != lives) return std::nullopt;
-    std::vector<LifeRun> runs;
+    std::vector<BatteryRun> runs;
     for (const Json& l : j.at("lives")) {
-      LifeRun x;
+      BatteryRun x;
       x.fitness = from_bits(l.at("fitness").get<std::string>());
       x.status = l.at("status").get<std::string>();
       x.failure = l.at("failure").get<std::string>();
@@ -88,8 +88,8 @@ std::optional<std::vector<LifeRun>> read_checkpoint(const std::string& path, con
 }
 
 // This process's pool: every life of the round on `threads`, the longest first.
-std::vector<LifeRun> lives_on_threads(const std::vector<PerturbedLife>& lives, int threads,
-                                      const Limits& limits) {
+std::vector<BatteryRun> lives_on_threads(const std::vector<PerturbedLife>& lives, int threads,
+                                         const Limits& limits) {
   std::vector<size_t> order(lives.size());
   std::vector<double> cost(lives.size());
   for (size_t i = 0; i < lives.size(); ++i) {
@@ -98,7 +98,7 @@ std::vector<LifeRun> lives_on_threads(const std::vector<PerturbedLife>& lives, i
   }
   std::stable_sort(order.begin(), order.end(),
                    [&](size_t a, size_t b) { return cost[a] > cost[b]; });
-  std::vector<LifeRun> runs(lives.size());
+  std::vector<BatteryRun> runs(lives.size());
   parallel_for(order.size(), threads,
                [&](size_t k) { runs[order[k]] = run_battery_life(lives[order[k]], limits); });
   return runs;
@@ -117,7 +117,7 @@ void run_battery(StudyResult& r, const StudyProgressFn& progress) {
   const int total =
       static_cast<int>(std::count_if(r.champions.begin(), r.champions.end(),
                                      [](const ChampionAnalysis& c) { return c.artifact.empty(); }));
-  auto finish = [&](ChampionAnalysis& c, const std::vector<LifeRun>& runs, const char* how) {
+  auto finish = [&](ChampionAnalysis& c, const std::vector<BatteryRun>& runs, const char* how) {
     c.profile = assemble_profile(battery, champion_robustness_seed(o.seed, c.robot), runs);
     ++done;
     r.battery_lives += c.profile->lives;
@@ -134,7 +134,7 @@ void run_battery(StudyResult& r, const StudyProgressFn& progress) {
     ChampionAnalysis& c = r.champions[i];
     if (!c.artifact.empty()) continue;
     keys[i] = checkpoint_key(c, battery, o.seed);
-    std::optional<std::vector<LifeRun>> cached;
+    std::optional<std::vector<BatteryRun>> cached;
     if (!o.cache_dir.empty())
       cached = read_checkpoint(checkpoint_path(o.cache_dir, keys[i]), keys[i],
                                static_cast<size_t>(battery_lives(battery)));
@@ -170,7 +170,7 @@ void run_battery(StudyResult& r, const StudyProgressFn& progress) {
     }
     start.push_back(lives.size());
     const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<LifeRun> runs =
+    const std::vector<BatteryRun> runs =
         o.battery_lives ? o.battery_lives(lives) : lives_on_threads(lives, threads, limits);
     if (runs.size() != lives.size())
       throw std::runtime_error("battery: " + std::to_string(runs.size()) + " outcomes for " +
@@ -178,8 +178,8 @@ void run_battery(StudyResult& r, const StudyProgressFn& progress) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (size_t k = first; k < last; ++k) {
       ChampionAnalysis& c = r.champions[todo[k]];
-      const std::vector<LifeRun> mine(runs.begin() + static_cast<long>(start[k - first]),
-                                      runs.begin() + static_cast<long>(start[k - first + 1]));
+      const std::vector<BatteryRun> mine(runs.begin() + static_cast<long>(start[k - first]),
+                                         runs.begin() + static_cast<long>(start[k - first + 1]));
       if (!o.cache_dir.empty() && o.write_cache)
         write_atomically(checkpoint_path(o.cache_dir, keys[todo[k]]),
                          checkpoint_text(keys[todo[k]], c.label, mine));
@@ -243,7 +243,7 @@ Json profile_json(const RobustnessProfile& prof) {
     Json levels = Json::array();
     for (const SeverityLevel& l : p.levels) {
       Json kept = Json::array(), fitness = Json::array(), status = Json::array();
-      for (const LifeOutcome& o : l.lives) {
+      for (const PerturbedOutcome& o : l.lives) {
         kept.push_back(o.valid ? Json(o.kept) : Json(nullptr));
         fitness.push_back(o.status == "ok" || o.status == "no-reference" ? Json(o.fitness)
                                                                          : Json(nullptr));

@@ -67,7 +67,7 @@ Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   // simulate()'s loop, with the life watched for MAP-Elites' descriptors (reading the states
   // only: the life and its result are simulate()'s, bit for bit; Simulator::result()).
   Simulator sim(model);
-  LifeWatch watch(model);
+  DescriptorWatch watch(model);
   watch.see(sim.state());
   while (sim.state().status == SimStatus::kRunning) {
     sim.step();
@@ -363,7 +363,7 @@ void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::ti
       again.push_back(i);
     }
   }
-  std::vector<LifeMeasures> measured(again.size());
+  std::vector<DescriptorMeasures> measured(again.size());
   parallel_for(again.size(), threads_, [&](size_t k) {
     measured[k] = evaluate_phenotype(fresh[again[k]].phenotype, cfg.physics).measures;
   });

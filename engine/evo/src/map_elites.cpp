@@ -10,7 +10,7 @@
 
 namespace plastivox::evo {
 
-void LifeWatch::see(const State& s) {
+void DescriptorWatch::see(const State& s) {
   if (s.time < next_) return;
   while (next_ <= s.time) next_ += kLifeSampleInterval;  // several sample times in one step: one
   const Model& m = model_;
@@ -27,8 +27,8 @@ void LifeWatch::see(const State& s) {
   ++samples_;
 }
 
-LifeMeasures LifeWatch::finish(double development) const {
-  LifeMeasures out;
+DescriptorMeasures DescriptorWatch::finish(double development) const {
+  DescriptorMeasures out;
   out.measured = true;
   if (samples_ > 0) {
     out.floor_contact = contact_sum_ / static_cast<double>(samples_);
@@ -90,7 +90,7 @@ std::vector<double> body_descriptors(const MapElitesSettings& s, const Phenotype
   return out;
 }
 
-void life_descriptors(const MapElitesSettings& s, const LifeMeasures& life,
+void life_descriptors(const MapElitesSettings& s, const DescriptorMeasures& life,
                       std::vector<double>& values) {
   if (!life.measured) return;
   for (size_t k = 0; k < s.axes.size(); ++k) {

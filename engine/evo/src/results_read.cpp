@@ -292,7 +292,7 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
     if (failure_row[k] >= hi.size()) c.fail("/checkpoint/cache/failure_row", "out of range");
     reasons[failure_row[k]] = failure[k];
   }
-  std::vector<LifeMeasures> measures(hi.size());
+  std::vector<DescriptorMeasures> measures(hi.size());
   if (s.config.algorithm == Algorithm::kMapElites) {  // what each life gave the descriptors
     const auto measured = h5::read<uint8_t>(c, cache.id(), "measured", cd[0]);
     std::vector<hsize_t> md = {cd[0], 3};

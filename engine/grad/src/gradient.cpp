@@ -403,7 +403,7 @@ std::string unsupported_life(const Model& m) {
   return "";
 }
 
-ReplicaLife replicate_life(const Model& m) {
+ReplicaSummary replicate_life(const Model& m) {
   const std::string why = unsupported(m);
   if (!why.empty()) throw std::invalid_argument("gradient: " + why);
   g_tape = nullptr;
@@ -412,7 +412,7 @@ ReplicaLife replicate_life(const Model& m) {
   stable_dt_adj(m, m.e0.data(), &events);  // the initial time step's (make_initial_state)
   while (r.state().status == SimStatus::kRunning)
     if (!r.step(&events)) throw std::domain_error("gradient: the life went unstable");
-  ReplicaLife out;
+  ReplicaSummary out;
   out.fitness = walk_fitness(m, r.state()).value;
   out.events = events.h;
   out.steps = r.state().steps;

@@ -104,7 +104,7 @@ PerturbedLife reference_life(const RobotDef& champion, const PhysicsDef& physics
                              PerturbationKind kind);
 
 // ---- the profile ----
-struct LifeOutcome {
+struct PerturbedOutcome {
   double fitness = 0;   // voxel lengths (of the task), 0 when not valid
   double kept = 0;      // fitness / F_reference (0 when not valid)
   bool valid = false;   // finished, did not sink, and the reference is valid
@@ -114,8 +114,8 @@ struct LifeOutcome {
 
 struct SeverityLevel {
   double severity = 0;
-  std::vector<uint64_t> seeds;     // the lives' seeds (one for a kind that draws nothing)
-  std::vector<LifeOutcome> lives;  // in seed order
+  std::vector<uint64_t> seeds;          // the lives' seeds (one for a kind that draws nothing)
+  std::vector<PerturbedOutcome> lives;  // in seed order
   int valid = 0, unstable = 0, sank = 0;
   std::optional<double> mean_kept;  // over valid lives, in seed order
   std::optional<double> sd_kept;    // sample standard deviation, when valid >= 2
@@ -166,16 +166,16 @@ std::vector<PerturbedLife> battery_lives_of(const RobotDef& champion, const Phys
                                             const Limits& limits);
 // One life simulated and judged (judge_life): its fitness and status "ok", "unstable" or
 // "sank" (failure: the simulator's reason). Deterministic: the same on any thread or rank.
-struct LifeRun {
+struct BatteryRun {
   double fitness = 0;
   std::string status, failure;
 };
-LifeRun run_battery_life(const PerturbedLife& life, const Limits& limits);
+BatteryRun run_battery_life(const PerturbedLife& life, const Limits& limits);
 // Its cost for ordering and sharing work: voxels x duration / time step at the stiffest voxel.
 double life_voxel_steps(const PerturbedLife& life);
 // The profile from the lives' outcomes, in battery_lives_of's order.
 RobustnessProfile assemble_profile(const Battery& battery, uint64_t base_seed,
-                                   const std::vector<LifeRun>& runs);
+                                   const std::vector<BatteryRun>& runs);
 
 // Validates robot, physics and battery (std::invalid_argument) before any life is simulated.
 RobustnessProfile robustness_profile(const RobotDef& champion, const PhysicsDef& physics,

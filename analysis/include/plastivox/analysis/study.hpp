@@ -78,7 +78,7 @@ struct StudyOptions {
   // for every champion's lives); set under MPI to spread them over the ranks (apps' cli,
   // every rank calling it with the same lives in the same order). Returns the outcomes in the
   // lives' order; the same bits whoever simulates.
-  std::function<std::vector<LifeRun>(const std::vector<PerturbedLife>&)> battery_lives;
+  std::function<std::vector<BatteryRun>(const std::vector<PerturbedLife>&)> battery_lives;
 };
 
 // Thrown by analyze_study when options.stop_requested was set; rerun to resume.

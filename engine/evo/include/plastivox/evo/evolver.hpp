@@ -52,7 +52,7 @@ struct Evaluation {
   std::vector<double> final_stiffness;
   // The life's measures for MAP-Elites' descriptors (map_elites.hpp); not measured when an
   // outside fitness gave a number alone (the evolver then simulates the life for them).
-  LifeMeasures measures;
+  DescriptorMeasures measures;
   double wall_seconds = 0;
 };
 // Simulates a valid phenotype under physics (thread-safe).

@@ -22,8 +22,9 @@ namespace plastivox::evo {
 constexpr int64_t kMaxArchiveCells = 1000000;
 
 // What a life gives the descriptors. Measured by the evaluator from the states it steps
-// through (LifeWatch), never from a State row of its own, so no life and no golden hash moves.
-struct LifeMeasures {
+// through (DescriptorWatch), never from a State row of its own, so no life and no golden hash
+// moves.
+struct DescriptorMeasures {
   bool measured = false;  // false: an outside fitness gave a number alone
   // Mean over the samples of the share of the robot's voxels touching the ground (a voxel's
   // bottom face, half its actuated size below its centre, tilt ignored, below the ground:
@@ -35,7 +36,7 @@ struct LifeMeasures {
   // Mean |E/E0 - 1| over the robot's voxels at the end of life (SimResult::
   // stiffness_change_abs_mean); 0 when nothing develops.
   double development = 0;
-  bool operator==(const LifeMeasures&) const = default;
+  bool operator==(const DescriptorMeasures&) const = default;
 };
 
 // The gait's samples are taken every kLifeSampleInterval of simulated time: the first state
@@ -44,12 +45,12 @@ struct LifeMeasures {
 constexpr double kLifeSampleInterval = 0.01;  // s
 
 // Watches a life while it is stepped: see() before the first step and after every step.
-class LifeWatch {
+class DescriptorWatch {
  public:
-  explicit LifeWatch(const Model& model) : model_(model) {}
+  explicit DescriptorWatch(const Model& model) : model_(model) {}
   void see(const State& s);
   // development: the life's SimResult::stiffness_change_abs_mean.
-  LifeMeasures finish(double development) const;
+  DescriptorMeasures finish(double development) const;
 
  private:
   const Model& model_;
@@ -65,7 +66,7 @@ bool needs_life(const MapElitesSettings& s);
 // Each axis's value for a valid body, axis order, the life's descriptors NaN; life_descriptors
 // then fills those in from the life's measures.
 std::vector<double> body_descriptors(const MapElitesSettings& s, const Phenotype& p);
-void life_descriptors(const MapElitesSettings& s, const LifeMeasures& life,
+void life_descriptors(const MapElitesSettings& s, const DescriptorMeasures& life,
                       std::vector<double>& values);
 
 // The cell of a set of values: axis k's bin is floor((v - lo) / (hi - lo) * bins), values

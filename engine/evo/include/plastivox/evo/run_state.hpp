@@ -98,8 +98,8 @@ struct CacheEntry {
   double fitness = kWorstFitness;
   EvalStatus status = EvalStatus::kOk;
   std::string failure;
-  bool sank = false;      // SimResult::sank
-  LifeMeasures measures;  // what the life gave the MAP-Elites descriptors
+  bool sank = false;            // SimResult::sank
+  DescriptorMeasures measures;  // what the life gave the MAP-Elites descriptors
 };
 
 struct RunState {

@@ -100,11 +100,11 @@ std::string unsupported_life(const Model& model);
 // pairs in self-contact, every comparison of the actuation and development kernels (their
 // clamps, gates and maxima) at every step, the steps at which settling and the life end): two lives
 // with one signature took the same branches.
-struct ReplicaLife {
+struct ReplicaSummary {
   double fitness = 0;
   uint64_t events = 0;
   int64_t steps = 0;
 };
-ReplicaLife replicate_life(const Model& model);
+ReplicaSummary replicate_life(const Model& model);
 
 }  // namespace plastivox::grad
