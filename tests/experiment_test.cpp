@@ -85,13 +85,13 @@ TEST(ExperimentConfig, ErrorsNameTheirField) {
   j = micro_config();
   j["evolution"]["seed"] = 3;
   EXPECT_NE(error_of(j.dump()).find("evolution.seed: not allowed here"), std::string::npos);
-  j = micro_config();  // refused before any life, as analyze refuses such a run's file
+  j = micro_config();  // refused before any life (analyze reads such a run's file)
   j["evolution"]["algorithm"] = "map-elites";
   j["evolution"]["map_elites"] = {
       {"descriptors", json::array({{{"name", "fill"}, {"bounds", {0.2, 1}}, {"bins", 2}},
                                    {{"name", "floor_contact"}, {"bounds", {0, 1}}, {"bins", 2}}})}};
-  EXPECT_NE(error_of(j.dump()).find("study.json: evolution.algorithm: map-elites: the study "
-                                    "compares afpo runs' evolved bodies"),
+  EXPECT_NE(error_of(j.dump()).find("study.json: evolution.algorithm: map-elites: the "
+                                    "experiment evolves afpo runs only"),
             std::string::npos)
       << error_of(j.dump());
   j = micro_config();

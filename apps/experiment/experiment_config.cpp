@@ -284,11 +284,11 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
   evolution["format"] = "plastivox-evolve-config";
   evolution["version"] = evo::kConfigVersion;
   c.evolution = evo::parse_config(evolution.dump(), src + ": evolution");
-  if (c.evolution.algorithm != evo::Algorithm::kAfpo)  // as analyze refuses its results files
+  if (c.evolution.algorithm != evo::Algorithm::kAfpo)  // its treatments x seeds are AFPO runs
     fail(src, "evolution.algorithm",
          std::string(to_string(c.evolution.algorithm)) +
-             ": the study compares afpo runs' evolved bodies and does not read other algorithms' "
-             "runs yet (run them with plastivox evolve)");
+             ": the experiment evolves afpo runs only (evolve with plastivox evolve, then "
+             "plastivox analyze reads the results files)");
   if (c.analysis.generation > c.evolution.generations)
     fail(src, "analysis.generation",
          "generation " + std::to_string(c.analysis.generation) + " is after the last (" +

@@ -70,14 +70,10 @@ InputSpec parse_input(const std::string& arg) {
 // refused; the switch has no default, so a new algorithm must be decided here to compile.
 void check_algorithm_readable(const evo::RunState& run, const std::string& file) {
   switch (run.config.algorithm) {
-    case evo::Algorithm::kAfpo:   // evolved bodies
-    case evo::Algorithm::kCmaEs:  // one fixed body with searched genes, rebuilt in its record
+    case evo::Algorithm::kAfpo:       // evolved bodies
+    case evo::Algorithm::kCmaEs:      // one fixed body with searched genes, rebuilt in its record
+    case evo::Algorithm::kMapElites:  // the best elite; the curve's best is the archive's best
       return;
-    case evo::Algorithm::kMapElites:  // an archive, not a population
-      throw std::runtime_error(file +
-                               ": a map-elites run (an archive of elites); the study "
-                               "does not read it yet (plastivox archive draws it; plastivox "
-                               "export writes its best elite as a robot file the study reads)");
   }
   throw std::runtime_error(file + ": a results file of an algorithm the study does not read");
 }
