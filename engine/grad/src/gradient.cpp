@@ -330,7 +330,8 @@ bool physics_equal(const State& a, const State& b) {
   for (const StateField& f : kStateFields) {
     if (is_watch(f.name)) continue;
     const StateFieldBytes x = f.bytes(a), y = f.bytes(b);
-    if (x.count != y.count || std::memcmp(x.data, y.data, x.count * x.value_bytes) != 0)
+    if (x.count != y.count ||
+        (x.count > 0 && std::memcmp(x.data, y.data, x.count * x.value_bytes) != 0))
       return false;
   }
   return true;
