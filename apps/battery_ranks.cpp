@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -54,17 +53,12 @@ BatteryLives battery_lives_over_ranks(evo::Cluster* cluster, int threads) {
     const Limits limits = limits_from_environment();
     std::vector<double> cost(lives.size());
     for (size_t i = 0; i < lives.size(); ++i) cost[i] = analysis::life_voxel_steps(lives[i]);
-    std::vector<size_t> order(lives.size());
-    std::iota(order.begin(), order.end(), size_t{0});
-    std::stable_sort(order.begin(), order.end(),
+    const std::vector<int> owner = evo::assign_by_cost(cost, mpi->size());
+    std::vector<size_t> mine;
+    for (size_t i = 0; i < lives.size(); ++i)
+      if (owner[i] == mpi->rank()) mine.push_back(i);
+    std::stable_sort(mine.begin(), mine.end(),  // longest first on this rank's threads
                      [&](size_t a, size_t b) { return cost[a] > cost[b]; });
-    std::vector<double> load(static_cast<size_t>(mpi->size()), 0.0);
-    std::vector<size_t> mine;  // longest first
-    for (size_t i : order) {
-      const auto r = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
-      load[static_cast<size_t>(r)] += cost[i];
-      if (r == mpi->rank()) mine.push_back(i);
-    }
     std::vector<analysis::BatteryRun> done(mine.size());
     parallel_for(mine.size(), threads > 0 ? threads : hardware_threads(),
                  [&](size_t k) { done[k] = analysis::run_battery_life(lives[mine[k]], limits); });

@@ -206,19 +206,25 @@ std::vector<std::string> MpiCluster::allgather(const std::string& mine) {
   return out;
 }
 
-std::vector<int> assign_to_ranks(const std::vector<const Phenotype*>& batch, int ranks) {
-  std::vector<size_t> order(batch.size());
+std::vector<int> assign_by_cost(const std::vector<double>& cost, int ranks) {
+  std::vector<size_t> order(cost.size());
   std::iota(order.begin(), order.end(), size_t{0});
   std::stable_sort(order.begin(), order.end(),
-                   [&](size_t a, size_t b) { return batch[a]->voxels > batch[b]->voxels; });
-  std::vector<int64_t> load(ranks, 0);
-  std::vector<int> owner(batch.size(), 0);
+                   [&](size_t a, size_t b) { return cost[a] > cost[b]; });
+  std::vector<double> load(static_cast<size_t>(ranks), 0.0);
+  std::vector<int> owner(cost.size(), 0);
   for (size_t i : order) {
-    const int r = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
-    owner[i] = r;
-    load[r] += 1 + batch[i]->voxels;
+    const auto r = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    owner[i] = static_cast<int>(r);
+    load[r] += cost[i];
   }
   return owner;
+}
+
+std::vector<int> assign_to_ranks(const std::vector<const Phenotype*>& batch, int ranks) {
+  std::vector<double> cost(batch.size());  // whole numbers: sums exact in a double
+  for (size_t i = 0; i < batch.size(); ++i) cost[i] = 1.0 + batch[i]->voxels;
+  return assign_by_cost(cost, ranks);
 }
 
 void MpiCluster::serve(EvaluationPool& pool, const std::function<bool()>& finished) {

@@ -52,8 +52,10 @@ class MpiCluster final : public Cluster {
   int rank_ = 0, size_ = 1;
 };
 
-// The rank that simulates each body of a batch: largest first (ties by index), each to the
-// rank with the fewest voxels assigned so far (ties to the lowest rank). Deterministic.
+// The rank of each job of cost cost[i]: the costliest first (ties by index), each to the rank
+// with the least cost assigned so far (ties to the lowest rank). Deterministic.
+std::vector<int> assign_by_cost(const std::vector<double>& cost, int ranks);
+// assign_by_cost for a batch of bodies, a body's cost 1 + its voxels.
 std::vector<int> assign_to_ranks(const std::vector<const Phenotype*>& batch, int ranks);
 
 }  // namespace plastivox::evo
