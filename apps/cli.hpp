@@ -35,6 +35,7 @@ int cmd_gallery(const Args& args);     // apps/cmd_gallery.cpp
 int cmd_figures(const Args& args);     // apps/cmd_figures.cpp
 int cmd_archive(const Args& args);     // apps/cmd_archive.cpp
 int cmd_experiment(const Args& args);  // apps/cmd_experiment.cpp
+int cmd_optimize(const Args& args);    // apps/cmd_optimize.cpp
 
 // The usage text of one command (apps/help.cpp), or nullptr for an unknown command.
 const char* command_help(const std::string& command);

@@ -63,6 +63,9 @@ const char* kUsage =
     "           [--force STAGE,...] [--run LABEL] [--estimate-only] [--print-preset NAME]\n"
     "           the whole study: evolve, analyse, render, report (resumable); NAME: default,\n"
     "           tiny, gecco2018, a task's baseline or walk-/rough-distributed (see --help)\n"
+    "  optimize ROBOT --out OPTIMISED.json [--wrt phase,stiffness] [--method adam|sgd]\n"
+    "           [--steps N] [--lr X]   gradient ascent of the robot's fitness through its\n"
+    "           life; a log of fitness per step (docs/gradients.md)\n"
     "  version  print version and commit\n"
     "plastivox CMD --help (or plastivox help CMD) prints a command's options and an example.\n";
 
@@ -90,6 +93,7 @@ const Command kCommands[] = {
     {"archive", cmd_archive},
     {"figures", cmd_figures},
     {"experiment", cmd_experiment},
+    {"optimize", cmd_optimize},
 };
 // clang-format on
 

@@ -79,8 +79,8 @@ TEST(CliHelp, SharedRenderOptionsAreSeen) {
   EXPECT_EQ(options_of("gallery").count("--color-range"), 1u);
 }
 
-TEST(CliHelp, MainDispatchesTheSixteenCommands) {
-  EXPECT_EQ(dispatched_commands().size(), 16u);
+TEST(CliHelp, MainDispatchesTheSeventeenCommands) {
+  EXPECT_EQ(dispatched_commands().size(), 17u);
 }
 
 TEST(CliHelp, EveryCommandHasItsOwnHelpWithEveryOptionAndAnExample) {

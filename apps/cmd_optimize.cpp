@@ -1,0 +1,312 @@
+// plastivox optimize: gradient ascent of a robot's fitness through its life (docs/gradients.md,
+// "plastivox optimize"). Each step compiles the robot, simulates it as `simulate` judges it,
+// takes grad::gradient() of the same life and moves the chosen arrays; the best robot seen is
+// written with the robot writer, and a JSON-lines log keeps every step's fitness.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "plastivox/grad/gradient.hpp"
+#include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/limits.hpp"
+#include "plastivox/io/provenance.hpp"
+#include "plastivox/io/resolve_physics.hpp"
+#include "plastivox/io/robot_file.hpp"
+#include "plastivox/io/robot_io.hpp"
+#include "plastivox/rules/life_rules.hpp"
+#include "plastivox/simulator.hpp"
+#include "plastivox_version.hpp"
+
+namespace plastivox::cli {
+namespace {
+
+using nlohmann::json;
+
+// The robot arrays `--wrt` may name (RobotDef's and Python's Robot's own attribute names).
+constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate"};
+
+// Adam's moments for one array, per lattice site.
+struct Moments {
+  std::vector<double> m, v;
+};
+
+struct Settings {
+  std::string method = "adam";
+  double lr = 0.01;
+  double beta1 = 0.9, beta2 = 0.999, eps = 1e-8;  // Adam's usual constants
+};
+
+// The robot's array called `name`.
+std::vector<double>& array_of(RobotDef& r, const std::string& name) {
+  if (name == "stiffness") return r.stiffness;
+  if (name == "phase") return r.phase;
+  return r.dev_rate;
+}
+
+// d fitness / d (the optimised coordinate) of robot voxel i: per cycle of phase, per 1/s of
+// rate, and per unit of log E for stiffness (a step of lr moves E by about lr of itself, and
+// a modulus spans six decades: the same lr serves every voxel).
+double slope(const std::string& name, const grad::Gradient& g, const Model& m, int i) {
+  if (name == "stiffness") return g.stiffness[i] * m.e0[i];
+  if (name == "phase") return g.phase[i];
+  return g.dev_rate[i];
+}
+
+// Moves one value by `step` in its coordinate and keeps it valid for the robot file and the
+// engine: E in [e_min, e_max] (compile() clamps there, so beyond it the fitness is flat), a
+// phase wrapped into [-0.5, 0.5] cycles when it leaves it (the sine has period 1), a rate
+// anything finite.
+double moved(const std::string& name, double value, double step, const PhysicsDef& physics) {
+  if (name == "stiffness")
+    return std::clamp(std::exp(std::log(value) + step), physics.e_min, physics.e_max);
+  if (name == "phase") {
+    const double p = value + step;
+    return p > 0.5 || p < -0.5 ? p - std::round(p) : p;
+  }
+  return value + step;
+}
+
+// The life as `simulate` judges it: its fitness, or why it does not count.
+struct Judged {
+  double fitness = 0;
+  std::string failure;  // "" when the life counts
+};
+Judged judged_life(const Model& model, const PhysicsDef& physics) {
+  SimResult r = simulate(model);
+  judge_life(physics, r);
+  Judged out;
+  out.fitness = r.fitness;
+  if (r.status != SimStatus::kFinished)
+    out.failure = std::string(r.sank ? "life invalid: " : "simulation unstable: ") + r.failure;
+  return out;
+}
+
+std::string g6(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+// The log's first line: what was asked, of what, with which physics, by which build.
+json log_header(const std::string& source, const std::vector<std::string>& wrt, const Settings& s,
+                int steps, const PhysicsDef& physics, const std::string& out) {
+  json h = {{"format", "plastivox-optimize-log"},
+            {"version", 1},
+            {"robot", source},
+            {"out", out},
+            {"wrt", wrt},
+            {"method", s.method},
+            {"lr", s.lr},
+            {"steps", steps},
+            {"physics", json::parse(physics_to_json(physics))},
+            {"seed", nullptr}};  // gradient ascent draws nothing: the inputs fix the run
+  if (s.method == "adam") h["adam"] = {{"beta1", s.beta1}, {"beta2", s.beta2}, {"eps", s.eps}};
+  json prov;
+  const Provenance here = current_provenance(1);
+  for_each_field(here, [&](const char* name, const auto& v) { prov[name] = v; });
+  h["provenance"] = prov;
+  return h;
+}
+
+}  // namespace
+
+int cmd_optimize(const Args& in) {
+  Args args = in;
+  const std::string wrt_text = take_option(args, "--wrt", "phase,stiffness");
+  const std::string method = take_option(args, "--method", "adam");
+  const std::string steps_text = take_option(args, "--steps", "10");
+  const std::string lr_text = take_option(args, "--lr", "0.01");
+  const std::string out = take_option(args, "--out", "");
+  std::string log_path = take_option(args, "--log", "");
+  const std::string memory_text = take_option(args, "--memory-limit", "2048");
+  const std::string treatment = take_option(args, "--treatment", "");
+  const std::string preset = take_option(args, "--preset", "");
+  const std::string duration = take_option(args, "--duration", "");
+  const std::string overrides = take_option(args, "--physics", "");
+  reject_unknown_options(args);
+  if (args.size() != 1)
+    throw UsageError{"expected one robot file: plastivox optimize ROBOT --out OPTIMISED.json"};
+  if (out.empty()) throw UsageError{"--out ROBOT.json (or ROBOT.vxa) is required"};
+  if (!out.ends_with(".json") && !out.ends_with(".vxa"))
+    throw UsageError{"--out must end in .json or .vxa, got '" + out + "'"};
+  if (log_path.empty()) log_path = out.substr(0, out.rfind('.')) + ".log.jsonl";
+  std::vector<std::string> wrt;
+  for (size_t at = 0; at <= wrt_text.size();) {
+    const size_t comma = std::min(wrt_text.find(',', at), wrt_text.size());
+    const std::string name = wrt_text.substr(at, comma - at);
+    bool known = false;
+    for (const char* k : kWrt) known = known || name == k;
+    if (!known)
+      throw UsageError{"--wrt: no parameter is called '" + name + "' (stiffness, phase, dev_rate)"};
+    for (const std::string& w : wrt)
+      if (w == name) throw UsageError{"--wrt names '" + name + "' twice"};
+    wrt.push_back(name);
+    at = comma + 1;
+  }
+  Settings settings;
+  settings.method = method;
+  if (method != "adam" && method != "sgd")
+    throw UsageError{"--method expects adam or sgd, got '" + method + "'"};
+  const int steps = parse_count(steps_text, "--steps");
+  if (steps < 1) throw UsageError{"--steps must be at least 1"};
+  if (!read_number(lr_text, settings.lr) || !(settings.lr > 0))
+    throw UsageError{"--lr must be a number > 0, got '" + lr_text + "'"};
+  double memory_mb = 0;
+  if (!read_number(memory_text, memory_mb) || !(memory_mb > 0))
+    throw UsageError{"--memory-limit must be a number of MB > 0, got '" + memory_text + "'"};
+  PhysicsRequest request;
+  request.preset = preset;
+  request.fields = overrides;
+  request.where = overrides.empty() ? args[0] : "--physics";
+  try {
+    if (!preset.empty()) physics_preset(preset);
+    if (!treatment.empty()) request.treatment = parse_treatment(treatment);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{std::string(preset.empty() ? "--treatment: " : "--preset: ") + e.what()};
+  }
+  if (!duration.empty()) {
+    double d = 0;
+    if (!read_number(duration, d) || !(d >= 0))
+      throw UsageError{"--duration must be a number of seconds >= 0, got '" + duration + "'"};
+    request.duration = d;
+  }
+
+  // The robot and its physics, by simulate's rule (docs/robot-format.md).
+  const std::string source = args[0];
+  LoadedRobot file = load_robot(source);
+  for (const std::string& w : file.warnings)
+    std::fprintf(stderr, "plastivox optimize: warning: %s\n", w.c_str());
+  RobotDef robot = std::move(file.robot);
+  const PhysicsDef physics = resolve_physics(file.physics, request);
+  const Limits limits = limits_from_environment();
+  const auto compiled = [&](const RobotDef& r) {
+    try {
+      return compile(r, physics, limits);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(source + ": " + e.what());
+    }
+  };
+  // Refused before anything runs: a life whose gradient is not built, or that would need more
+  // memory than --memory-limit (the plan of the first life; later lives are planned again).
+  grad::GradientOptions options;
+  options.memory_limit = memory_mb * 1e6;
+  {
+    const Model model = compiled(robot);
+    const std::string why = grad::unsupported(model);
+    if (!why.empty()) throw InputError(source + ": no gradient: " + why);
+    try {
+      grad::plan(model, options);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(source + ": " + e.what() + " (--memory-limit)");
+    }
+    for (const std::string& name : wrt)
+      if (name == "dev_rate" && physics.treatment == Treatment::kNone)
+        throw UsageError{
+            "--wrt dev_rate: the life has no development (treatment none), so the rates "
+            "change nothing; give --treatment"};
+  }
+  // Stiffness starts inside [e_min, e_max], where compile() holds it anyway: the same life.
+  for (int s = 0; s < robot.sites(); ++s)
+    if (robot.present[s])
+      robot.stiffness[s] = std::clamp(robot.stiffness[s], physics.e_min, physics.e_max);
+
+  std::string log_text = log_header(source, wrt, settings, steps, physics, out).dump() + "\n";
+  std::vector<Moments> moments(wrt.size());
+  for (Moments& mo : moments) mo.m.assign(robot.sites(), 0.0), mo.v.assign(robot.sites(), 0.0);
+  RobotDef best = robot;
+  double best_fitness = -HUGE_VAL, first_fitness = 0;
+  int best_step = -1;
+  std::string stopped;
+  for (int k = 0; k <= steps; ++k) {
+    const auto started = std::chrono::steady_clock::now();
+    const Model model = compiled(robot);
+    const Judged life = judged_life(model, physics);
+    if (!life.failure.empty()) {
+      if (k == 0)
+        throw InputError(source +
+                         ": the life does not count, so it has no gradient: " + life.failure);
+      stopped = "step " + std::to_string(k) + ": " + life.failure;
+      break;
+    }
+    json line = {{"step", k}, {"fitness", life.fitness}};
+    if (k == 0) first_fitness = life.fitness;
+    if (life.fitness > best_fitness) best = robot, best_fitness = life.fitness, best_step = k;
+    if (k < steps) {  // the last robot is only evaluated
+      grad::Gradient g;
+      try {
+        g = grad::gradient(model, options);
+      } catch (const std::exception& e) {
+        if (k == 0) throw;
+        stopped = "step " + std::to_string(k) + ": " + e.what();
+        break;
+      }
+      if (g.fitness != life.fitness)  // the same life, bit for bit (docs/gradients.md)
+        throw std::logic_error("optimize: the gradient's life scored " + g6(g.fitness) +
+                               ", simulate's " + g6(life.fitness));
+      const double t = k + 1;
+      for (size_t p = 0; p < wrt.size(); ++p) {
+        std::vector<double>& values = array_of(robot, wrt[p]);
+        Moments& mo = moments[p];
+        double norm2 = 0;
+        for (int i = 0; i < model.robot_n; ++i) {
+          const int s = model.site[i];
+          const double d = slope(wrt[p], g, model, i);
+          norm2 += d * d;
+          double step = settings.lr * d;
+          if (settings.method == "adam") {
+            mo.m[s] = settings.beta1 * mo.m[s] + (1 - settings.beta1) * d;
+            mo.v[s] = settings.beta2 * mo.v[s] + (1 - settings.beta2) * d * d;
+            const double mh = mo.m[s] / (1 - std::pow(settings.beta1, t));
+            const double vh = mo.v[s] / (1 - std::pow(settings.beta2, t));
+            step = settings.lr * mh / (std::sqrt(vh) + settings.eps);
+          }
+          values[s] = moved(wrt[p], values[s], step, physics);
+        }
+        line["gradient_norm"][wrt[p]] = std::sqrt(norm2);
+      }
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    line["seconds"] = seconds;
+    log_text += line.dump() + "\n";
+    write_file_atomic(log_path, log_text);  // a killed run keeps the steps it took
+    std::fprintf(stderr, "plastivox optimize: step %d/%d fitness %s%s (%.1f s)\n", k, steps,
+                 g6(life.fitness).c_str(), k < steps ? "" : " (the last robot)", seconds);
+  }
+  if (!stopped.empty())
+    std::fprintf(stderr, "plastivox optimize: warning: stopped at %s; writing the best so far\n",
+                 stopped.c_str());
+
+  // The best robot, written, then replayed from the file as `simulate OUT` reads it: the
+  // log's last line is what that replay scores.
+  std::vector<std::string> warnings;
+  save_robot(out, best, physics, &warnings);
+  for (const std::string& w : warnings)
+    std::fprintf(stderr, "plastivox optimize: warning: %s\n", w.c_str());
+  LoadedRobot written = load_robot(out);
+  const Judged replay =
+      judged_life(compile(written.robot, written.physics, limits), written.physics);
+  if (replay.fitness != best_fitness)
+    std::fprintf(stderr,
+                 "plastivox optimize: warning: %s replays to fitness %s, not %s (the file "
+                 "format rounds the values; .json keeps them exactly)\n",
+                 out.c_str(), g6(replay.fitness).c_str(), g6(best_fitness).c_str());
+  json result = {{"written", out}, {"step", best_step}, {"fitness", replay.fitness}};
+  if (!stopped.empty()) result["stopped"] = stopped;
+  log_text += result.dump() + "\n";
+  write_file_atomic(log_path, log_text);
+  std::printf("wrote %s: fitness %s at step %d of %d (from %s at step 0); log %s\n", out.c_str(),
+              g6(replay.fitness).c_str(), best_step, steps, g6(first_fitness).c_str(),
+              log_path.c_str());
+  return 0;
+}
+
+}  // namespace plastivox::cli
