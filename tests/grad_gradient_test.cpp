@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "plastivox/control.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/simulator.hpp"
@@ -255,6 +256,89 @@ TEST(Gradient, A10CubedBodyOverAWholeLifeIsPlannedUnder2GB) {
   EXPECT_GT(p.steps, 11000);
   EXPECT_LT(p.estimated_bytes, 2e9);
   EXPECT_GT(p.checkpoint_every, 1);
+}
+
+// A body driven by a neural controller (docs/control.md) with distinct weights of both signs.
+RobotDef cube3_with_network(ControllerKind kind, int hidden) {
+  RobotDef r = cube3();
+  r.controller.kind = kind;
+  r.controller.hidden = hidden;
+  for (int k = 0; k < weight_count(kind, hidden); ++k)
+    r.controller.weights.push_back(0.8 * std::sin(1.3 * k + 0.7));
+  return r;
+}
+
+// Every `stride`-th weight of the controller against central differences of simulate()'s
+// fitness, as check_against_differences holds the robot's arrays, with h = 3e-4 of the weight
+// (at 1e-4 the weights that act only through the neighbours' signals, whose derivatives are
+// near 1e-3 of the largest, sit on the differences' rounding floor: their differences wander
+// by about 1e-10 as h goes from 1e-5 to 1e-4, and agree with the gradient to 1e-8 at 1e-2). A
+// nudge that flips the sign of a unit's input is an event: softsign's curvature jumps there,
+// so Richardson's O(h^4) does not hold across it. Returns how many were smooth.
+int check_weights(const Model& m, double tol, size_t stride = 1) {
+  const Gradient g = grad::gradient(m);
+  EXPECT_EQ(g.fitness, simulate(m).fitness);
+  EXPECT_EQ(g.controller_weights.size(), m.controller.weights.size());
+  const uint64_t events = grad::replicate_life(m).events;
+  std::vector<Difference> ds;
+  double scale = 0;
+  std::vector<size_t> ks;
+  for (size_t k = 0; k < m.controller.weights.size(); k += stride) {
+    ks.push_back(k);
+    const Param p{"weight", static_cast<int>(k), m.controller.weights[k],
+                  [k](Model& x, double h) { x.controller.weights[k] += h; },
+                  g.controller_weights[k]};
+    ds.push_back(central(m, p, 3e-4 * std::max(std::abs(p.value), 1e-2), events));
+    scale = std::max(scale, std::abs(ds.back().value));
+  }
+  int smooth = 0;
+  for (size_t c = 0; c < ds.size(); ++c) {
+    const size_t k = ks[c];
+    const double gk = g.controller_weights[k], d = ds[c].value;
+    if (!ds[c].smooth) {
+      std::printf("  weight %zu: nudged lives cross a kink (gradient %.6e, difference %.6e)\n", k,
+                  gk, d);
+      continue;
+    }
+    ++smooth;
+    EXPECT_LT(std::abs(gk - d) / std::max(std::abs(d), 1e-3 * scale), tol)
+        << "weight " << k << ": gradient " << gk << ", central difference " << d;
+  }
+  EXPECT_GT(scale, 0.0);
+  return smooth;
+}
+
+// The weights of a neural controller, through its sensors (strain, pressure / E, velocity,
+// orientation, the centre of mass's velocity; touch is 0 or 1) and its memory (the distributed
+// network's signals to its neighbours), on short lives: the replica is the engine's life, and
+// the gradient agrees with central differences to 1e-6. With the default rate limit and
+// without it (act_max_rate 0), where the limit binds (a clamp, a kink) the nudges cross it.
+TEST(Gradient, ControllerWeightsMatchCentralDifferences) {
+  struct Case {
+    ControllerKind kind;
+    int hidden;
+    double max_rate;
+    Treatment treatment;
+  };
+  for (const Case& c :
+       {Case{ControllerKind::kDistributed, 2, 0.0, Treatment::kNone},
+        Case{ControllerKind::kDistributed, 0, 31.415926535897931, Treatment::kStress},
+        Case{ControllerKind::kCentral, 2, 0.0, Treatment::kPressure},
+        Case{ControllerKind::kCentral, 3, 31.415926535897931, Treatment::kNone}}) {
+    PhysicsDef def = short_life(0.2, 0.05, c.treatment);
+    def.act_max_rate = c.max_rate;
+    const Model m = compile(cube3_with_network(c.kind, c.hidden), def);
+    SCOPED_TRACE(controller_text(m.controller) + ", act_max_rate " + std::to_string(c.max_rate) +
+                 ", treatment " + to_string(c.treatment));
+    EXPECT_EQ(grad::unsupported(m), "");
+    EXPECT_EQ(grad::replicate_life(m).fitness, simulate(m).fitness);
+    const size_t stride = m.controller.weights.size() > 60 ? 4 : 1;  // a quarter of the 105
+    const int checked = static_cast<int>((m.controller.weights.size() + stride - 1) / stride);
+    const int smooth = check_weights(m, 1e-6, stride);
+    std::printf("%s: %d of %d weights smooth\n", controller_text(m.controller).c_str(), smooth,
+                checked);
+    EXPECT_GE(smooth, checked * 3 / 5);
+  }
 }
 
 // Snapshots every step, or few: the same gradient (to rounding: the segments' sums group

@@ -439,16 +439,18 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None):
     (docs/gradients.md), by reverse accumulation through the engine's own discrete life.
     Returns (fitness, grads): fitness is simulate()'s, bit for bit; grads maps each name to
     numpy arrays shaped like the Robot's own ((nx, ny, nz), 0 where no voxel is): "stiffness"
-    (per Pa of congenital stiffness), "phase" (per cycle), "dev_rate" (per 1/s); or to a float,
-    "amplitude" (per unit of physics act_amplitude). robot, physics and treatment as simulate
-    takes them. Only the walk task, the sine controller and the exact bond model, without an
-    environment, are differentiated yet (ValueError otherwise)."""
+    (per Pa of congenital stiffness), "phase" (per cycle), "dev_rate" (per 1/s); to a float,
+    "amplitude" (per unit of physics act_amplitude); or "controller": a flat array shaped like
+    robot.controller["weights"], the derivative with respect to each weight of a neural
+    controller (biases included, docs/control.md's order). robot, physics and treatment as
+    simulate takes them. Only the walk task and the exact bond model, without an environment,
+    are differentiated yet (ValueError otherwise)."""
     robot = _as_robot(robot)
     if isinstance(wrt, str):
         wrt = (wrt,)
     names = [str(w) for w in wrt]
     fitness, flat = _core.gradient(robot._core, _physics(physics), _check_treatment(treatment), names)
-    grads = {k: (v if k == "amplitude" else _np.reshape(v, robot.shape, order="F"))
+    grads = {k: (v if k in ("amplitude", "controller") else _np.reshape(v, robot.shape, order="F"))
              for k, v in flat.items()}
     return fitness, grads
 

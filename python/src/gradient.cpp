@@ -14,8 +14,9 @@
 namespace plastivox::py {
 namespace {
 
-// What `wrt` may name: the Robot's own arrays, and the physics' global amplitude.
-constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "amplitude"};
+// What `wrt` may name: the Robot's own arrays, the physics' global amplitude and the Robot's
+// controller (its weights).
+constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "amplitude", "controller"};
 
 // The fitness of the robot's life (as simulate gives it, bit for bit) and, for each name in
 // wrt, its derivative: a flat array over the lattice's sites (0 where no voxel is; the Python
@@ -28,9 +29,14 @@ pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
     for (const char* k : kWrt) known = known || name == k;
     if (!known)
       throw std::invalid_argument("wrt: no parameter is called '" + name +
-                                  "' (stiffness, phase, dev_rate, amplitude)");
+                                  "' (stiffness, phase, dev_rate, amplitude, controller)");
   }
   const PhysicsDef physics = physics_of_call(robot.physics, physics_arg, treatment, std::nullopt);
+  for (const std::string& name : wrt)
+    if (name == "controller" && robot.def.controller.weights.empty())
+      throw std::invalid_argument(
+          "wrt: 'controller': the robot's controller is the sine, which has no weights "
+          "(Robot.with_controller gives it a network)");
   grad::Gradient g;
   Model model;
   {
@@ -59,6 +65,7 @@ pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
     if (name == "phase") out[name.c_str()] = on_sites(g.phase);
     if (name == "dev_rate") out[name.c_str()] = on_sites(g.dev_rate);
     if (name == "amplitude") out[name.c_str()] = g.amplitude;
+    if (name == "controller") out[name.c_str()] = to_array(g.controller_weights);
   }
   return pyb::make_tuple(g.fitness, out);
 }

@@ -45,6 +45,32 @@ def test_phase_derivative_agrees_with_central_differences():
     assert grads["phase"][site] == pytest.approx(difference, rel=1e-6)
 
 
+def test_controller_weights_agree_with_central_differences():
+    # A distributed network (no hidden layer: 105 weights) on the 3x3x3 body, rate limit off.
+    count = plastivox.controller_weight_count("distributed", 0)
+    weights = 0.8 * np.sin(1.3 * np.arange(count) + 0.7)
+    physics = dict(SHORT, act_max_rate=0.0)
+
+    def robot(w):
+        return cube3().with_controller("distributed", hidden=0, every=1, weights=w)
+
+    fitness, grads = plastivox.gradient(robot(weights), wrt=["controller"], physics=physics)
+    assert fitness == plastivox.simulate(robot(weights), physics=physics).fitness
+    assert grads["controller"].shape == robot(weights).controller["weights"].shape
+    k = 2  # the touch input's weight of the actuation unit: a smooth one
+    def f(h):
+        w = weights.copy()
+        w[k] += h
+        return plastivox.simulate(robot(w), physics=physics).fitness
+
+    h = 3e-4 * abs(weights[k])
+    d1 = (f(h) - f(-h)) / (2 * h)
+    d2 = (f(h / 2) - f(-h / 2)) / h
+    assert grads["controller"][k] == pytest.approx((4 * d2 - d1) / 3, rel=1e-6)
+    with pytest.raises(ValueError, match="^wrt: 'controller': the robot's controller is the sine"):
+        plastivox.gradient(cube3(), wrt=["controller"], physics=SHORT)
+
+
 def test_bad_input_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass' \(stiffness"):
         plastivox.gradient(cube3(), wrt=["mass"], physics=SHORT)

@@ -3,9 +3,10 @@
 // The replica below is one step of Simulator::step2 (engine/core/src/simulator.cpp), stage by
 // stage, with the engine's own kernel templates (bond_body.hpp, voxel_body.hpp,
 // develop_body.hpp) instantiated on the recording type Adj (adj.hpp). The few lines of the
-// stages that are not kernels (the voxel gather, self-collision, stable_dt, the sine
-// controller's call, time and settling) are written here in the engine's order of operations,
-// so the replica computes the engine's bits; gradient() checks it at every snapshot.
+// stages that are not kernels (the voxel gather, self-collision, stable_dt, the controller's
+// call: the sine here, the networks in network.hpp; time and settling) are written in the
+// engine's order of operations, so the replica computes the engine's bits; gradient() checks
+// it at every snapshot.
 #include "plastivox/grad/gradient.hpp"
 
 #include <algorithm>
@@ -36,6 +37,7 @@ inline grad::Adj sin_cycles<grad::Adj>(grad::Adj u) {
 
 #include "bond_body.hpp"
 #include "develop_body.hpp"
+#include "network.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 #include "plastivox/task.hpp"
@@ -92,7 +94,8 @@ Adj stable_dt_adj(const Model& m, const double* E, Fnv* events = nullptr) {
 // rows, with the scratch arrays of a step.
 class Replica {
  public:
-  explicit Replica(const Model& m) : m_(m), s_(make_initial_state(m)), w_(m), nb_(m.bond_count()) {
+  explicit Replica(const Model& m)
+      : m_(m), s_(make_initial_state(m)), w_(m), nb_(m.bond_count()), net_(m) {
     for (const StateField& f : kStateFields) {
       const StateFieldBytes b = f.bytes(s_);
       rows_.push_back(b);
@@ -171,7 +174,11 @@ class Replica {
     std::memset(s.bond_prev_valid.data(), 1, s.bond_prev_valid.size());
     const Adj dt = dt_next;
     const Adj time = get(&s.time);
-    if (s.steps % m.controller.every == 0 && !(s.time < m.def.settle_time)) {  // the sine
+    if (s.steps % m.controller.every == 0 && m.controller.kind != ControllerKind::kSine) {
+      g_branches = events ? &events->h : nullptr;  // the rate limit's clamps are events
+      net_.act(s, w_, dt);                         // a network, from its sensors (network.hpp)
+      g_branches = nullptr;
+    } else if (s.steps % m.controller.every == 0 && !(s.time < m.def.settle_time)) {  // the sine
       if (m.def.act_frequency == 0) {
         for (int i = 0; i < m.robot_n; ++i) put(s.actuation.data(), i, Adj(0.0));
       } else {
@@ -300,6 +307,7 @@ class Replica {
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
   std::vector<std::pair<int, int>> pairs_;  // the surface pairs self-collision tests
+  NetworkReplica net_;                      // the neural controller's call
 };
 
 // Walk's fitness of a finished life and its derivative with respect to the final positions
@@ -339,7 +347,7 @@ bool physics_equal(const State& a, const State& b) {
 
 // The parameters as leaves of a tape: one node per value of an array of the Model.
 struct ParamLeaves {
-  std::vector<int32_t> e0, phase, alpha, gain;
+  std::vector<int32_t> e0, phase, alpha, gain, weights;
   void make(Tape& t, const Model& m) {
     for (auto* v : {&e0, &phase, &alpha, &gain}) {
       v->resize(m.n);
@@ -349,6 +357,9 @@ struct ParamLeaves {
     t.add_shadow(m.phase.data(), phase.data());
     t.add_shadow(m.alpha.data(), alpha.data());
     t.add_shadow(m.act_gain.data(), gain.data());
+    weights.resize(m.controller.weights.size());
+    for (auto& id : weights) id = t.leaf();
+    if (!weights.empty()) t.add_shadow(m.controller.weights.data(), weights.data());
   }
 };
 
@@ -399,8 +410,6 @@ std::string unsupported_life(const Model& m) {
     return "only the exact bond model is differentiated yet (physics.bond_model)";
   if (m.terrain) return "environments (ground, boxes) are not differentiated yet";
   if (m.robot_n != m.n) return "free objects are not differentiated yet";
-  if (m.controller.kind != ControllerKind::kSine)
-    return "only the sine controller is differentiated yet (robot controller)";
   return "";
 }
 
@@ -508,6 +517,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   g.stiffness.assign(m.n, 0.0);
   g.phase.assign(m.n, 0.0);
   g.dev_rate.assign(m.n, 0.0);
+  g.controller_weights.assign(m.controller.weights.size(), 0.0);
   std::vector<double> d_gain(m.n, 0.0);
   State next_check = sim.state();
   // One tape and one adjoint array for every segment: cleared, not freed, so that after the
@@ -556,6 +566,8 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
       g.dev_rate[i] += adj[params.alpha[i]];
       d_gain[i] += adj[params.gain[i]];
     }
+    for (size_t k = 0; k < params.weights.size(); ++k)
+      g.controller_weights[k] += adj[params.weights[k]];
   }
   // ---- The initial state's dependence on the parameters: stiffness = E0, dt = stable_dt(E0)
   {

@@ -1,6 +1,7 @@
 // Reverse-mode gradients of a life (docs/gradients.md): the derivative of a life's fitness
-// with respect to each voxel's congenital stiffness, actuation phase and development rate and
-// the global actuation amplitude, through the engine's own discrete life.
+// with respect to each voxel's congenital stiffness, actuation phase and development rate, the
+// global actuation amplitude and a neural controller's weights, through the engine's own
+// discrete life.
 //
 // The forward pass is the engine's Simulator, unchanged: the fitness and the final state hash
 // are simulate()'s, bit for bit. It stores a snapshot of the State every `checkpoint_every`
@@ -46,6 +47,9 @@ struct Gradient {
   // d fitness / d initial centre (per m) and velocity (per m/s) of each robot voxel: x, y, z
   // per voxel, voxel order (the life starts at rest at Model::rest_pos).
   std::vector<double> initial_position, initial_velocity;
+  // d fitness / d each weight of a neural controller (Model::controller.weights, in its order:
+  // docs/control.md; biases are weights there); empty for the sine.
+  std::vector<double> controller_weights;
   double amplitude = 0;  // per unit of physics.act_amplitude (0 when the robot gives its own
                          // amplitudes or actuation is off)
   // What it cost.
@@ -58,7 +62,7 @@ struct Gradient {
 
 // The reason, in one line, why the gradient of this model's life is not available yet, or ""
 // when it is (docs/gradients.md, "Not covered yet"): the task must be walk, the bond model
-// exact, the controller the sine, no environment, no free objects.
+// exact, no environment, no free objects (any controller: the sine or a network).
 std::string unsupported(const Model& model);
 
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it
@@ -98,7 +102,8 @@ std::string unsupported_life(const Model& model);
 // equal simulate()'s bit for bit, and a signature of the life's non-differentiable events
 // (the voxels that set the time step, each voxel's floor contact and static friction, the
 // pairs in self-contact, every comparison of the actuation and development kernels (their
-// clamps, gates and maxima) at every step, the steps at which settling and the life end): two lives
+// clamps, gates and maxima) and of a network's call (the sign of each softsign input, the rate
+// limit's clamps) at every step, the steps at which settling and the life end): two lives
 // with one signature took the same branches.
 struct ReplicaSummary {
   double fitness = 0;
