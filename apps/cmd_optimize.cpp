@@ -30,10 +30,11 @@ namespace {
 
 using nlohmann::json;
 
-// The robot arrays `--wrt` may name (RobotDef's and Python's Robot's own attribute names).
-constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate"};
+// What `--wrt` may name: the robot's arrays and its controller's weights (RobotDef's and
+// Python's Robot's own attribute names).
+constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "controller"};
 
-// Adam's moments for one array, per lattice site.
+// Adam's moments for one array, per lattice site or weight.
 struct Moments {
   std::vector<double> m, v;
 };
@@ -48,22 +49,41 @@ struct Settings {
 std::vector<double>& array_of(RobotDef& r, const std::string& name) {
   if (name == "stiffness") return r.stiffness;
   if (name == "phase") return r.phase;
+  if (name == "controller") return r.controller.weights;
   return r.dev_rate;
 }
 
-// d fitness / d (the optimised coordinate) of robot voxel i: per cycle of phase, per 1/s of
-// rate, and per unit of log E for stiffness (a step of lr moves E by about lr of itself, and
-// a modulus spans six decades: the same lr serves every voxel).
-double slope(const std::string& name, const grad::Gradient& g, const Model& m, int i) {
-  if (name == "stiffness") return g.stiffness[i] * m.e0[i];
-  if (name == "phase") return g.phase[i];
-  return g.dev_rate[i];
+// One optimised coordinate: where it sits in its array (a lattice site, or a weight's index)
+// and d fitness / d it.
+struct Coordinate {
+  size_t at;
+  double slope;
+};
+
+// The coordinates of `name`: per cycle of phase, per 1/s of rate, per unit of a weight, and
+// per unit of log E for stiffness (a step of lr moves E by about lr of itself, and a modulus
+// spans six decades: the same lr serves every voxel).
+std::vector<Coordinate> coordinates(const std::string& name, const grad::Gradient& g,
+                                    const Model& m) {
+  std::vector<Coordinate> out;
+  if (name == "controller") {
+    for (size_t k = 0; k < g.controller_weights.size(); ++k)
+      out.push_back({k, g.controller_weights[k]});
+    return out;
+  }
+  for (int i = 0; i < m.robot_n; ++i) {
+    const double d = name == "stiffness" ? g.stiffness[i] * m.e0[i]
+                     : name == "phase"   ? g.phase[i]
+                                         : g.dev_rate[i];
+    out.push_back({static_cast<size_t>(m.site[i]), d});
+  }
+  return out;
 }
 
 // Moves one value by `step` in its coordinate and keeps it valid for the robot file and the
 // engine: E in [e_min, e_max] (compile() clamps there, so beyond it the fitness is flat), a
-// phase wrapped into [-0.5, 0.5] cycles when it leaves it (the sine has period 1), a rate
-// anything finite.
+// phase wrapped into [-0.5, 0.5] cycles when it leaves it (the sine has period 1), a rate or
+// a weight anything finite.
 double moved(const std::string& name, double value, double step, const PhysicsDef& physics) {
   if (name == "stiffness")
     return std::clamp(std::exp(std::log(value) + step), physics.e_min, physics.e_max);
@@ -145,7 +165,8 @@ int cmd_optimize(const Args& in) {
     bool known = false;
     for (const char* k : kWrt) known = known || name == k;
     if (!known)
-      throw UsageError{"--wrt: no parameter is called '" + name + "' (stiffness, phase, dev_rate)"};
+      throw UsageError{"--wrt: no parameter is called '" + name +
+                       "' (stiffness, phase, dev_rate, controller)"};
     for (const std::string& w : wrt)
       if (w == name) throw UsageError{"--wrt names '" + name + "' twice"};
     wrt.push_back(name);
@@ -212,6 +233,11 @@ int cmd_optimize(const Args& in) {
         throw UsageError{
             "--wrt dev_rate: the life has no development (treatment none), so the rates "
             "change nothing; give --treatment"};
+    for (const std::string& name : wrt)
+      if (name == "controller" && robot.controller.weights.empty())
+        throw UsageError{
+            "--wrt controller: the robot's controller is the sine, which has no weights "
+            "(docs/control.md gives a robot a network)"};
   }
   // Stiffness starts inside [e_min, e_max], where compile() holds it anyway: the same life.
   for (int s = 0; s < robot.sites(); ++s)
@@ -220,7 +246,11 @@ int cmd_optimize(const Args& in) {
 
   std::string log_text = log_header(source, wrt, settings, steps, physics, out).dump() + "\n";
   std::vector<Moments> moments(wrt.size());
-  for (Moments& mo : moments) mo.m.assign(robot.sites(), 0.0), mo.v.assign(robot.sites(), 0.0);
+  for (size_t p = 0; p < wrt.size(); ++p) {
+    const size_t size = array_of(robot, wrt[p]).size();
+    moments[p].m.assign(size, 0.0);
+    moments[p].v.assign(size, 0.0);
+  }
   RobotDef best = robot;
   double best_fitness = -HUGE_VAL, first_fitness = 0;
   int best_step = -1;
@@ -256,9 +286,7 @@ int cmd_optimize(const Args& in) {
         std::vector<double>& values = array_of(robot, wrt[p]);
         Moments& mo = moments[p];
         double norm2 = 0;
-        for (int i = 0; i < model.robot_n; ++i) {
-          const int s = model.site[i];
-          const double d = slope(wrt[p], g, model, i);
+        for (const auto& [s, d] : coordinates(wrt[p], g, model)) {
           norm2 += d * d;
           double step = settings.lr * d;
           if (settings.method == "adam") {
