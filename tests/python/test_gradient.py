@@ -71,6 +71,22 @@ def test_controller_weights_agree_with_central_differences():
         plastivox.gradient(cube3(), wrt=["controller"], physics=SHORT)
 
 
+def test_the_documented_ascent_loop_raises_the_fitness():
+    # docs/python.md's loop over plastivox.gradient, on the 3x3x3 body.
+    robot = cube3().with_physics(SHORT, treatment="stress")
+    seen = []
+    for _ in range(3):
+        fitness, g = plastivox.gradient(robot, wrt=["phase"])
+        seen.append(fitness)
+        phase = robot.phase + 0.02 * g["phase"] / np.abs(g["phase"]).max()
+        phase -= np.round(phase)
+        robot = plastivox.Robot.from_arrays(robot.geometry, robot.stiffness, phase, robot.dev_rate,
+                                            controller=robot.controller).with_physics(
+                                                robot.physics, treatment=robot.treatment)
+    assert robot.treatment == "stress" and np.all(np.abs(robot.phase) <= 0.5)
+    assert plastivox.simulate(robot).fitness > seen[-1] > seen[0], seen
+
+
 def test_bad_input_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass' \(stiffness"):
         plastivox.gradient(cube3(), wrt=["mass"], physics=SHORT)
