@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <typeinfo>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -92,6 +93,33 @@ double moved(const std::string& name, double value, double step, const PhysicsDe
     return p > 0.5 || p < -0.5 ? p - std::round(p) : p;
   }
   return value + step;
+}
+
+// One step of the method on every array `wrt` names (t: the step's number from 1, for Adam's
+// bias correction); returns the gradient's norm per name, for the log.
+json ascend(RobotDef& robot, const std::vector<std::string>& wrt, std::vector<Moments>& moments,
+            const Settings& settings, int t, const grad::Gradient& g, const Model& model,
+            const PhysicsDef& physics) {
+  json norms;
+  for (size_t p = 0; p < wrt.size(); ++p) {
+    std::vector<double>& values = array_of(robot, wrt[p]);
+    Moments& mo = moments[p];
+    double norm2 = 0;
+    for (const auto& [s, d] : coordinates(wrt[p], g, model)) {
+      norm2 += d * d;
+      double step = settings.lr * d;
+      if (settings.method == "adam") {
+        mo.m[s] = settings.beta1 * mo.m[s] + (1 - settings.beta1) * d;
+        mo.v[s] = settings.beta2 * mo.v[s] + (1 - settings.beta2) * d * d;
+        const double mh = mo.m[s] / (1 - std::pow(settings.beta1, t));
+        const double vh = mo.v[s] / (1 - std::pow(settings.beta2, t));
+        step = settings.lr * mh / (std::sqrt(vh) + settings.eps);
+      }
+      values[s] = moved(wrt[p], values[s], step, physics);
+    }
+    norms[wrt[p]] = std::sqrt(norm2);
+  }
+  return norms;
 }
 
 // The life as `simulate` judges it: its fitness, or why it does not count.
@@ -187,12 +215,16 @@ int cmd_optimize(const Args& in) {
   request.preset = preset;
   request.fields = overrides;
   request.where = overrides.empty() ? args[0] : "--physics";
-  try {
-    if (!preset.empty()) physics_preset(preset);
-    if (!treatment.empty()) request.treatment = parse_treatment(treatment);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError{std::string(preset.empty() ? "--treatment: " : "--preset: ") + e.what()};
-  }
+  const auto checked = [](const std::string& option, const auto& parse) {
+    try {
+      return parse();
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{option + ": " + e.what()};
+    }
+  };
+  if (!preset.empty()) checked("--preset", [&] { return physics_preset(preset); });
+  if (!treatment.empty())
+    request.treatment = checked("--treatment", [&] { return parse_treatment(treatment); });
   if (!duration.empty()) {
     double d = 0;
     if (!read_number(duration, d) || !(d >= 0))
@@ -264,41 +296,26 @@ int cmd_optimize(const Args& in) {
         throw InputError(source +
                          ": the life does not count, so it has no gradient: " + life.failure);
       stopped = "step " + std::to_string(k) + ": " + life.failure;
+      log_text += json({{"step", k}, {"fitness", life.fitness}, {"failure", life.failure}}).dump();
+      log_text += "\n";
       break;
     }
     json line = {{"step", k}, {"fitness", life.fitness}};
     if (k == 0) first_fitness = life.fitness;
     if (life.fitness > best_fitness) best = robot, best_fitness = life.fitness, best_step = k;
     if (k < steps) {  // the last robot is only evaluated
-      grad::Gradient g;
       try {
-        g = grad::gradient(model, options);
+        const grad::Gradient g = grad::gradient(model, options);
+        if (g.fitness != life.fitness)  // the same life, bit for bit (docs/gradients.md)
+          throw std::logic_error("optimize: the gradient's life scored " + g6(g.fitness) +
+                                 ", simulate's " + g6(life.fitness));
+        line["gradient_norm"] = ascend(robot, wrt, moments, settings, k + 1, g, model, physics);
       } catch (const std::exception& e) {
-        if (k == 0) throw;
+        // Refused (memory, a tape too long: invalid_argument) or a branch not differentiated
+        // yet (domain_error): the run stops after this step's line. A replica that left the
+        // engine's life (a plain logic_error) is a bug, and propagates.
+        if (k == 0 || typeid(e) == typeid(std::logic_error)) throw;
         stopped = "step " + std::to_string(k) + ": " + e.what();
-        break;
-      }
-      if (g.fitness != life.fitness)  // the same life, bit for bit (docs/gradients.md)
-        throw std::logic_error("optimize: the gradient's life scored " + g6(g.fitness) +
-                               ", simulate's " + g6(life.fitness));
-      const double t = k + 1;
-      for (size_t p = 0; p < wrt.size(); ++p) {
-        std::vector<double>& values = array_of(robot, wrt[p]);
-        Moments& mo = moments[p];
-        double norm2 = 0;
-        for (const auto& [s, d] : coordinates(wrt[p], g, model)) {
-          norm2 += d * d;
-          double step = settings.lr * d;
-          if (settings.method == "adam") {
-            mo.m[s] = settings.beta1 * mo.m[s] + (1 - settings.beta1) * d;
-            mo.v[s] = settings.beta2 * mo.v[s] + (1 - settings.beta2) * d * d;
-            const double mh = mo.m[s] / (1 - std::pow(settings.beta1, t));
-            const double vh = mo.v[s] / (1 - std::pow(settings.beta2, t));
-            step = settings.lr * mh / (std::sqrt(vh) + settings.eps);
-          }
-          values[s] = moved(wrt[p], values[s], step, physics);
-        }
-        line["gradient_norm"][wrt[p]] = std::sqrt(norm2);
       }
     }
     const double seconds =
@@ -308,6 +325,7 @@ int cmd_optimize(const Args& in) {
     write_file_atomic(log_path, log_text);  // a killed run keeps the steps it took
     std::fprintf(stderr, "plastivox optimize: step %d/%d fitness %s%s (%.1f s)\n", k, steps,
                  g6(life.fitness).c_str(), k < steps ? "" : " (the last robot)", seconds);
+    if (!stopped.empty()) break;
   }
   if (!stopped.empty())
     std::fprintf(stderr, "plastivox optimize: warning: stopped at %s; writing the best so far\n",

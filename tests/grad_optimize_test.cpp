@@ -110,6 +110,32 @@ TEST_F(Optimize, RaisesANetworksFitnessThroughItsWeights) {
   EXPECT_NE(sine.out.find("the robot's controller is the sine"), std::string::npos) << sine.out;
 }
 
+// A later life whose gradient is refused (here a stiffer body takes more steps than
+// --memory-limit allows) ends the run after that step's line: the best robot so far is
+// written, the last line says why, and the exit status is 0.
+TEST_F(Optimize, StopsWhenALaterLifeIsRefusedAndWritesTheBestSoFar) {
+  const Output first =
+      cli("optimize " + kWalker + kShort + " --memory-limit 1 --out " + path("x.json"));
+  const size_t at = first.out.find("needs about ");
+  ASSERT_NE(at, std::string::npos) << first.out;
+  const double mb = std::stod(first.out.substr(at + 12));  // the first life's estimate
+  const Output o =
+      cli("optimize " + kWalker + kShort + " --wrt stiffness --lr 0.3 --steps 3" +
+          " --memory-limit " + std::to_string(mb * 1.01) + " --out " + path("opt.json"));
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("warning: stopped at step 1: gradient: the life needs about"),
+            std::string::npos)
+      << o.out;
+  const std::vector<nlohmann::json> log = lines_of(testing::file_text(path("opt.log.jsonl")));
+  ASSERT_EQ(log.size(), 4u);  // header, steps 0 and 1, the written robot
+  EXPECT_FALSE(log[2].contains("gradient_norm"));
+  EXPECT_NE(log[3]["stopped"].get<std::string>().find("memory_limit"), std::string::npos);
+  const nlohmann::json replay = testing::cli_json("simulate " + path("opt.json") + " --json");
+  EXPECT_EQ(replay["fitness"].get<double>(), log[3]["fitness"].get<double>());
+  EXPECT_EQ(log[3]["fitness"].get<double>(),
+            std::max(log[1]["fitness"].get<double>(), log[2]["fitness"].get<double>()));
+}
+
 TEST_F(Optimize, RefusesBadInputInOneLine) {
   const auto one_line = [](const Output& r) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
