@@ -5,7 +5,7 @@
 // checks it at every snapshot). The weights are read through the shadow of
 // Model::controller.weights, so their adjoints are the gradient's controller_weights.
 //
-// Included by gradient.cpp after adj.hpp and the kernel bodies (stimulus_lanes, sin_cycles).
+// Included by gradient.cpp after its sin_cycles<Adj> (the derivative the series lacks).
 #pragma once
 
 #include <algorithm>
@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "adj.hpp"
+#include "develop_body.hpp"  // stimulus_lanes
+#include "elementary.hpp"    // sin_cycles
 #include "plastivox/control.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/state.hpp"
