@@ -166,6 +166,19 @@ TEST_F(Optimize, RefusesBadInputInOneLine) {
   EXPECT_EQ(r.status, 2);
   one_line(r);
   EXPECT_NE(r.out.find("no development"), std::string::npos) << r.out;
+  // A life that does not count (a soft block sinks through the floor: fitness 0 whatever its
+  // parameters) has no gradient.
+  RobotDef soft = make_empty_robot(2, 2, 2);
+  for (int s = 0; s < soft.sites(); ++s) soft.present[s] = 1, soft.stiffness[s] = 1e5;
+  PhysicsDef sinks;
+  sinks.duration = 1.0;
+  sinks.sinking_invalid = true;
+  write_robot_file(path("soft.json"), soft, &sinks);
+  r = cli("optimize " + path("soft.json") + out);
+  EXPECT_EQ(r.status, 1);
+  one_line(r);
+  EXPECT_NE(r.out.find("the life does not count, so it has no gradient: "), std::string::npos)
+      << r.out;
   r = cli("optimize " + kWalker + " --method newton" + out);
   EXPECT_EQ(r.status, 2);
   one_line(r);
