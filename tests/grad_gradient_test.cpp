@@ -339,6 +339,15 @@ TEST(Gradient, ControllerWeightsMatchCentralDifferences) {
                 checked);
     EXPECT_GE(smooth, checked * 3 / 5);
   }
+  // The demo walker (512 voxels, faces inside and out) under each network: the replica is the
+  // engine's life.
+  for (const auto& [kind, hidden] :
+       {std::pair{ControllerKind::kDistributed, 4}, std::pair{ControllerKind::kCentral, 2}}) {
+    RobotDef r = demo_walker();
+    r.controller = cube3_with_network(kind, hidden).controller;
+    const Model m = compile(r, short_life(0.1, 0.02, Treatment::kStress));
+    EXPECT_EQ(grad::replicate_life(m).fitness, simulate(m).fitness) << to_string(kind);
+  }
 }
 
 // Snapshots every step, or few: the same gradient (to rounding: the segments' sums group
