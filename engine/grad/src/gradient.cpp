@@ -17,33 +17,36 @@
 #include <utility>
 
 #include "adj.hpp"
-#include "elementary.hpp"
-#include "lanes.hpp"
-
-namespace plastivox {
-namespace {
-
-// sin(2 pi u) for Adj: the engine's own value (the rounding trick of its range reduction has
-// no derivative to record), and its derivative 2 pi cos(2 pi u) = 2 pi sin(2 pi (u + 1/4)).
-template <>
-inline grad::Adj sin_cycles<grad::Adj>(grad::Adj u) {
-  const double s = sin_cycles(u.v);
-  return {s, grad::record(u.id, 2.0 * std::numbers::pi * sin_cycles(u.v + 0.25), -1, 0.0)};
-}
-
-}  // namespace
-}  // namespace plastivox
-
+#include "adj_elementary.hpp"
+#include "bond_adjoint.hpp"
 #include "bond_body.hpp"
 #include "develop_body.hpp"
+#include "lanes.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 #include "plastivox/task.hpp"
+#include "voxel_adjoint.hpp"
 #include "voxel_body.hpp"
 #include "workspace.hpp"
 
 namespace plastivox::grad {
 namespace {
+
+// One bond or one voxel update of one step on the tape (bond_adjoint.hpp, voxel_adjoint.hpp):
+// its outputs are the leaves from node `first`.
+struct BondBlock {
+  int64_t first;
+  BondArgs args;
+};
+struct VoxelBlock {
+  int64_t first;
+  VoxelArgs args;
+};
+struct Blocks {
+  std::vector<BondBlock> bonds;
+  std::vector<VoxelBlock> voxels;
+  void clear() { bonds.clear(), voxels.clear(); }
+};
 
 // FNV-1a, for the event signature.
 struct Fnv {
@@ -105,6 +108,10 @@ class Replica {
   }
 
   State& state() { return s_; }
+  // Record the bond stage and the voxel update as one block a bond and a voxel
+  // (bond_adjoint.hpp, voxel_adjoint.hpp) in `blocks`, or, given null, operation by operation
+  // on the tape (the reference).
+  void record_blocks_into(Blocks* blocks) { blocks_ = blocks; }
   const std::vector<StateFieldBytes>& rows() const { return rows_; }
   std::vector<std::vector<int32_t>>& ids() { return ids_; }
 
@@ -151,7 +158,10 @@ class Replica {
     if (nb_ > 0) {
       const Adj damp = m.bond_damp / dt_old;
       int redo = 0;
-      for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
+      if (g_tape && blocks_)
+        record_bonds(io, damp, redo);
+      else
+        for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
       if (redo > 0)
         throw std::domain_error("gradient: bond " + std::to_string(w_.redo[0]) + " at step " +
                                 std::to_string(s.steps) +
@@ -183,11 +193,17 @@ class Replica {
     // integrate: floor, friction, Euler update
     if (events && m.flat_floor)
       for (int i = 0; i < m.n; ++i) events->add(0.5 * s.size[i] - s.pos[i].z() > 0.0 ? 1 : 0);
-    Adj max_speed2 = 0.0;
+    double max_speed2 = 0.0;
     bool bad = false;
-    for (int i = 0; i < m.n; ++i)
-      update_lanes<Adj, bool, Adj>(w_.views.voxel, w_.views.voxel_out, i, m, dt, max_speed2, bad);
-    if (bad || max_speed2.v > m.def.max_speed * m.def.max_speed) return false;
+    if (g_tape && blocks_) {
+      record_updates(dt, max_speed2, bad);
+    } else {
+      Adj top = 0.0;
+      for (int i = 0; i < m.n; ++i)
+        update_lanes<Adj, bool, Adj>(w_.views.voxel, w_.views.voxel_out, i, m, dt, top, bad);
+      max_speed2 = top.v;
+    }
+    if (bad || max_speed2 > m.def.max_speed * m.def.max_speed) return false;
     if (events)
       for (int i = 0; i < m.n; ++i) events->add(s.static_friction[i]);
     // actuate (its clamps and development's gates, clamps and maxima are events)
@@ -226,6 +242,61 @@ class Replica {
   }
 
  private:
+  // The bond stage on doubles, each bond's arguments kept in a block and its outputs made
+  // leaves of the tape, which the sweep's block reverse gives their adjoints.
+  void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
+    Tape& t = *g_tape;
+    const BondReads reads = bond_reads(io, damp.v, damp.id);
+    int32_t* out_ids[3];
+    int32_t* next_ids[9];
+    for (int v = 0; v < 3; ++v) out_ids[v] = t.ids_of(io.out[v]);
+    for (int j = 0; j < 9; ++j) next_ids[j] = t.ids_of(io.prev_next[j]);
+    int32_t* strain_ids = t.ids_of(io.strain);
+    int32_t* stress_ids = t.ids_of(io.stress);
+    int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
+    for (int b = 0; b < nb_; ++b) {
+      blocks_->bonds.push_back({static_cast<int64_t>(t.nodes.size()), bond_args(io, b, reads)});
+      redo += bond_forward(io, b, m_, damp.v);
+      const int32_t first = static_cast<int32_t>(t.nodes.size());
+      t.nodes.resize(t.nodes.size() + kBondOutputs, Node{-1, -1, 0.0, 0.0});
+      for (int v = 0; v < 3; ++v) {
+        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = first + kOut + 3 * v + c;
+        out_ids[v][4 * size_t(b) + 3] = -1;
+      }
+      for (int j = 0; j < 9; ++j) next_ids[j][b] = first + kPrevNext + j;
+      strain_ids[b] = first + kStrain;
+      stress_ids[b] = first + kStress;
+      if (energy_ids) energy_ids[b] = first + kEnergy;
+    }
+  }
+
+  // The voxel update on doubles, as record_bonds does the bond stage.
+  void record_updates(Adj dt, double& max_speed2, bool& bad) {
+    Tape& t = *g_tape;
+    const VoxelKernelIo& io = w_.views.voxel;
+    const VoxelStateOut& st = w_.views.voxel_out;
+    const VoxelReads reads = voxel_reads(io, dt.v, dt.id);
+    int32_t* pos_ids = t.ids_of(st.pos);
+    int32_t* lin_ids = t.ids_of(st.lin_mom);
+    int32_t* ang_ids = t.ids_of(st.ang_mom);
+    int32_t* quat_ids = t.ids_of(st.quat);
+    int32_t* normal_ids = io.floor_normal ? t.ids_of(io.floor_normal) : nullptr;
+    for (int i = 0; i < m_.n; ++i) {
+      blocks_->voxels.push_back({static_cast<int64_t>(t.nodes.size()), voxel_args(io, i, reads)});
+      voxel_forward(io, st, i, m_, dt.v, max_speed2, bad);
+      const int32_t first = static_cast<int32_t>(t.nodes.size());
+      t.nodes.resize(t.nodes.size() + kVoxelOutputs, Node{-1, -1, 0.0, 0.0});
+      const size_t v = static_cast<size_t>(i);
+      for (int c = 0; c < 3; ++c) {
+        pos_ids[3 * v + c] = first + kVOutPos + c;
+        lin_ids[3 * v + c] = first + kVOutLinMom + c;
+        ang_ids[3 * v + c] = first + kVOutAngMom + c;
+      }
+      for (int c = 0; c < 4; ++c) quat_ids[4 * v + c] = first + kVOutQuat + c;
+      if (normal_ids) normal_ids[v] = first + kVOutNormal;
+    }
+  }
+
   // gather_voxel (voxel_body.hpp) on Adj: bond forces and moments in slot order (the 4-double
   // records element by element, each as the vector sum computes it), slow damping, weight,
   // load; slow_damping_lanes itself is the kernel's.
@@ -300,6 +371,7 @@ class Replica {
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
   std::vector<std::pair<int, int>> pairs_;  // the surface pairs self-collision tests
+  Blocks* blocks_ = nullptr;
 };
 
 // Walk's fitness of a finished life and its derivative with respect to the final positions
@@ -352,24 +424,57 @@ struct ParamLeaves {
   }
 };
 
-void sweep(const Tape& t, std::vector<double>& adj) {
-  for (size_t n = t.nodes.size(); n-- > 0;) {
-    const double a = adj[n];
-    if (a == 0) continue;
-    const Node& nd = t.nodes[n];
-    if (nd.a >= 0) adj[nd.a] += nd.da * a;
-    if (nd.b >= 0) adj[nd.b] += nd.db * a;
+// One block's reverse: from the adjoints of its outputs (nodes first..), those of its inputs.
+template <int kIn, int kOut, class Args, class Hand, class Reference>
+void block_reverse(const Args& args, size_t first, std::vector<double>& adj,
+                   const ModelConstants& k, Hand hand, Reference reference) {
+  const double* out = adj.data() + first;
+  bool any = false;
+  for (int o = 0; o < kOut; ++o) any = any || out[o] != 0;
+  if (!any) return;
+  double in[kIn] = {};
+  if (!hand(args, k, out, in)) reference(args, k, out, in);
+  for (int i = 0; i < kIn; ++i)
+    if (args.id[i] >= 0) adj[args.id[i]] += in[i];
+}
+
+// The whole tape, with each block's reverse where its output leaves begin.
+void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const ModelConstants& k) {
+  size_t end = t.nodes.size();
+  size_t nb = blocks.bonds.size(), nv = blocks.voxels.size();
+  while (nb > 0 || nv > 0) {
+    const bool bond =
+        nv == 0 || (nb > 0 && blocks.bonds[nb - 1].first > blocks.voxels[nv - 1].first);
+    const size_t first =
+        static_cast<size_t>(bond ? blocks.bonds[nb - 1].first : blocks.voxels[nv - 1].first);
+    sweep_nodes(t, adj, first + (bond ? int{kBondOutputs} : int{kVoxelOutputs}), end);
+    end = first;
+    if (bond)
+      block_reverse<kBondInputs, kBondOutputs>(blocks.bonds[--nb].args, first, adj, k, bond_reverse,
+                                               bond_reverse_tape);
+    else
+      block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[--nv].args, first, adj, k,
+                                                 voxel_reverse, voxel_reverse_tape);
   }
+  sweep_nodes(t, adj, 0, end);
 }
 
 // Bytes a tape node costs: the node and its adjoint.
 constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
+// Bytes the blocks of a step cost (one a bond and one a voxel).
+double block_bytes(const Model& m) {
+  return sizeof(BondBlock) * double(m.bond_count()) + sizeof(VoxelBlock) * double(m.n);
+}
+
 // The nodes one step records: the first step of the life, and a fifth more for what the first
 // step lacks (actuation and development start after settling; damping after the first step).
+// Its bond blocks are one a bond.
 size_t nodes_per_step(const Model& m) {
   Tape tape;
   Replica rep(m);
+  Blocks blocks;
+  rep.record_blocks_into(&blocks);
   g_tape = &tape;
   for (auto& row : rep.ids())
     for (auto& id : row) id = tape.leaf();
@@ -429,7 +534,8 @@ Plan plan(const Model& m, const GradientOptions& options) {
   const State initial = make_initial_state(m);
   p.steps = std::ceil(m.def.duration / initial.dt) + 1;  // dt may change: an estimate
   p.snapshot_bytes = static_cast<double>(save_state(initial).size());
-  p.tape_bytes_per_step = kNodeBytes * static_cast<double>(nodes_per_step(m));
+  const double step_nodes = static_cast<double>(nodes_per_step(m));
+  p.tape_bytes_per_step = kNodeBytes * step_nodes + block_bytes(m);
   // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
   // two equal and their sum, 2 sqrt(N S T), the least.
   const double N = p.steps, S = p.snapshot_bytes, T = p.tape_bytes_per_step;
@@ -437,7 +543,7 @@ Plan plan(const Model& m, const GradientOptions& options) {
                     ? options.checkpoint_every
                     : static_cast<int>(std::clamp(std::round(std::sqrt(N * S / T)), 1.0, N));
   // A node is named by a 32-bit index: one segment's tape must stay below 2^31 nodes.
-  const double segment_nodes = K * T / kNodeBytes * 1.25;
+  const double segment_nodes = K * step_nodes * 1.25;
   if (segment_nodes >= 2147483647.0)
     throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
                                 " steps records about " +
@@ -476,7 +582,6 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   // ---- Forward: the engine's own life, with a snapshot every K steps ----
   const Plan p = plan(m, options);
   const int K = p.checkpoint_every;
-  const double step_bytes = p.tape_bytes_per_step;
   g.estimated_bytes = p.estimated_bytes;
   Simulator sim(m);
   std::vector<std::vector<uint8_t>> snaps;
@@ -514,11 +619,17 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   // first (the last segment of the life, the longest but for rounding) no page is faulted in
   // again.
   Tape tape;
-  tape.nodes.reserve(static_cast<size_t>(1.25 * K * step_bytes / kNodeBytes));
+  tape.nodes.reserve(
+      static_cast<size_t>(1.25 * K * (p.tape_bytes_per_step - block_bytes(m)) / kNodeBytes));
+  Blocks blocks;
+  blocks.bonds.reserve(static_cast<size_t>(K) * m.bond_count());
+  blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
+  rep.record_blocks_into(&blocks);
   std::vector<double> adj;
   for (size_t seg = snaps.size(); seg-- > 0;) {
     tape.nodes.clear();
     tape.clear_shadows();
+    blocks.clear();
     g_tape = &tape;
     restore_state(rep.state(), snaps[seg]);
     std::vector<std::vector<int32_t>>& ids = rep.ids();
@@ -547,7 +658,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k)
         if (ids[r][k] >= 0) adj[ids[r][k]] += adj_state[r][k];
-    sweep(tape, adj);
+    sweep(tape, adj, blocks, m);
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k) adj_state[r][k] = adj[start[r][k]];
     for (int i = 0; i < m.n; ++i) {
@@ -572,7 +683,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     g_tape = nullptr;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = adj_state[dt_row][0];
-    sweep(tape, adj);
+    sweep(tape, adj, {}, m);
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.

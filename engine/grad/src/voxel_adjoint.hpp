@@ -1,0 +1,75 @@
+// The voxel update's own adjoint (floor contact, Coulomb friction, the Euler update of
+// momenta, position and orientation; voxel_body.hpp's update_lanes), as bond_adjoint.hpp is
+// the bond stage's: the replica runs the update on doubles and keeps, per voxel, what it
+// read; its outputs are leaves of the tape, and the sweep calls the voxel's reverse there.
+//
+// voxel_reverse_tape records the kernel template on a small tape (the reference, and the path
+// of clamped voxels and of turns past the series' range); voxel_reverse is written by hand for
+// the rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12).
+#pragma once
+
+#include <cstdint>
+
+#include "kernels.hpp"
+#include "plastivox/model_constants.hpp"
+
+namespace plastivox::grad {
+
+// What the update reads: the modulus and its square root, the total force, momentum,
+// centre, actuated size, angular momentum, total moment, orientation (x, y, z, w), and dt.
+enum VoxelInput : int {
+  kVE = 0,
+  kVSqrtE = 1,
+  kVForce = 2,
+  kVLinMom = 5,
+  kVPos = 8,
+  kVSize = 11,
+  kVAngMom = 12,
+  kVMoment = 15,
+  kVQuat = 18,
+  kVDt = 22,
+  kVoxelInputs = 23
+};
+// What it writes: the centre, momentum, angular momentum, orientation, and the floor's normal
+// force.
+enum VoxelOutput : int {
+  kVOutPos = 0,
+  kVOutLinMom = 3,
+  kVOutAngMom = 6,
+  kVOutQuat = 9,
+  kVOutNormal = 13,
+  kVoxelOutputs = 14
+};
+
+struct VoxelArgs {
+  double v[kVoxelInputs];
+  int32_t id[kVoxelInputs];  // tape nodes (-1: a constant)
+  uint8_t fixed;             // clamped
+  uint8_t was_held;          // static friction held it last step
+};
+
+// The tape nodes of the arrays the update reads (null: constants), looked up once a step.
+struct VoxelReads {
+  const int32_t *stiff = nullptr, *sqrt_e = nullptr, *force[3] = {}, *lin_mom = nullptr,
+                *pos = nullptr, *size = nullptr, *ang_mom = nullptr, *moment[3] = {},
+                *quat = nullptr;
+  double dt = 0;
+  int32_t dt_id = -1;
+};
+VoxelReads voxel_reads(const VoxelKernelIo& io, double dt, int32_t dt_id);
+VoxelArgs voxel_args(const VoxelKernelIo& io, int i, const VoxelReads& r);
+
+// Voxel i's update on doubles (the kernel template's double lane, the engine's bits), folding
+// into max_speed2 and bad as the kernel does.
+void voxel_forward(const VoxelKernelIo& io, const VoxelStateOut& st, int i, const ModelConstants& k,
+                   double dt, double& max_speed2, bool& bad);
+
+// From the adjoints of a voxel's outputs (kVoxelOutputs), adds those of its inputs to in_adj.
+void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
+                        double* in_adj);
+// The same by hand; returns false, having done nothing, off its path (a clamped voxel, a turn
+// of more than 0.01 rad in the step, a bond model other than the exact one).
+bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
+                   double* in_adj);
+
+}  // namespace plastivox::grad
