@@ -47,12 +47,6 @@ BondArgs bond_args(const BondKernelIo& io, int b, const BondReads& r) {
   return a;
 }
 
-int bond_forward(const BondKernelIo& io, int b, const ModelConstants& k, double damp) {
-  int redo = 0;
-  bond_lanes<double, double>(io, b, k, damp, redo);
-  return redo;
-}
-
 namespace {
 
 // One bond as the kernel sees it: bond 0 from voxel 0 to voxel 1, in arrays of its own.

@@ -62,10 +62,6 @@ struct BondReads {
 BondReads bond_reads(const BondKernelIo& io, double damp, int32_t damp_id);
 BondArgs bond_args(const BondKernelIo& io, int b, const BondReads& r);
 
-// Bond b on doubles (the kernel template's double lane, the engine's bits); returns 1 when the
-// bond is left to the scalar path (io.redo), else 0.
-int bond_forward(const BondKernelIo& io, int b, const ModelConstants& k, double damp);
-
 // From the adjoints of a bond's outputs (kBondOutputs of them), adds those of its inputs to
 // in_adj (kBondInputs).
 void bond_reverse_tape(const BondArgs& a, const ModelConstants& k, const double* out_adj,

@@ -254,9 +254,10 @@ class Replica {
     int32_t* strain_ids = t.ids_of(io.strain);
     int32_t* stress_ids = t.ids_of(io.stress);
     int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
+    // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
+    redo += kernels().bond(io, nb_, m_, damp.v);
     for (int b = 0; b < nb_; ++b) {
       blocks_->bonds.push_back({static_cast<int64_t>(t.nodes.size()), bond_args(io, b, reads)});
-      redo += bond_forward(io, b, m_, damp.v);
       const int32_t first = static_cast<int32_t>(t.nodes.size());
       t.nodes.resize(t.nodes.size() + kBondOutputs, Node{-1, -1, 0.0, 0.0});
       for (int v = 0; v < 3; ++v) {
@@ -281,9 +282,14 @@ class Replica {
     int32_t* ang_ids = t.ids_of(st.ang_mom);
     int32_t* quat_ids = t.ids_of(st.quat);
     int32_t* normal_ids = io.floor_normal ? t.ids_of(io.floor_normal) : nullptr;
+    const size_t start = blocks_->voxels.size();
+    for (int i = 0; i < m_.n; ++i) blocks_->voxels.push_back({0, voxel_args(io, i, reads)});
+    // Updated in place by the engine's own kernel set, after every voxel's arguments are kept.
+    const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
+    max_speed2 = summary.max_speed2;
+    bad = summary.non_finite;
     for (int i = 0; i < m_.n; ++i) {
-      blocks_->voxels.push_back({static_cast<int64_t>(t.nodes.size()), voxel_args(io, i, reads)});
-      voxel_forward(io, st, i, m_, dt.v, max_speed2, bad);
+      blocks_->voxels[start + size_t(i)].first = static_cast<int64_t>(t.nodes.size());
       const int32_t first = static_cast<int32_t>(t.nodes.size());
       t.nodes.resize(t.nodes.size() + kVoxelOutputs, Node{-1, -1, 0.0, 0.0});
       const size_t v = static_cast<size_t>(i);
@@ -332,15 +338,24 @@ class Replica {
     if (!m.def.self_collision) return;
     const State& s = s_;
     const double half_d = 0.5 * m.def.contact_diameter;
-    if (pairs_.empty())  // every pair that may touch, once: (i, j), i < j, in increasing order
+    if (!paired_) {  // every pair that may touch, once: (i, j), i < j, in increasing order
       for (int i = 0; i < m.n; ++i) {
         if (!m.surface[i]) continue;
         const std::vector<int>& near = m.near_voxels[i];
         for (int j = i + 1; j < m.n; ++j)
           if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j))
-            pairs_.push_back({i, j});
+            pair_a_.push_back(i), pair_b_.push_back(j);
       }
-    for (const auto& [i, j] : pairs_) {
+      touching_.resize(pair_a_.size());
+      paired_ = true;
+    }
+    // The engine's own filter first (centre distance within a margin of contact, pairs in
+    // increasing order), then the exact test on what it keeps.
+    const int candidates =
+        kernels().touch_candidates(w_.centre_size.data(), pair_a_.data(), pair_b_.data(),
+                                   int(pair_a_.size()), half_d, touching_.data());
+    for (int c = 0; c < candidates; ++c) {
+      const int i = pair_a_[touching_[c]], j = pair_b_[touching_[c]];
       const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
       const double dz = s.pos[j].z() - s.pos[i].z();
       const double contact = half_d * (s.size[i] + s.size[j]);
@@ -370,7 +385,9 @@ class Replica {
   std::vector<StateFieldBytes> rows_;
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
-  std::vector<std::pair<int, int>> pairs_;  // the surface pairs self-collision tests
+  // The surface pairs self-collision tests (built on the first step), and those that may touch.
+  std::vector<int> pair_a_, pair_b_, touching_;
+  bool paired_ = false;
   Blocks* blocks_ = nullptr;
 };
 

@@ -55,11 +55,6 @@ VoxelArgs voxel_args(const VoxelKernelIo& io, int i, const VoxelReads& r) {
   return a;
 }
 
-void voxel_forward(const VoxelKernelIo& io, const VoxelStateOut& st, int i, const ModelConstants& k,
-                   double dt, double& max_speed2, bool& bad) {
-  update_lanes<double, bool, double>(io, st, i, k, dt, max_speed2, bad);
-}
-
 namespace {
 
 // One voxel as the update sees it, in arrays of its own (outputs apart from inputs).

@@ -59,11 +59,6 @@ struct VoxelReads {
 VoxelReads voxel_reads(const VoxelKernelIo& io, double dt, int32_t dt_id);
 VoxelArgs voxel_args(const VoxelKernelIo& io, int i, const VoxelReads& r);
 
-// Voxel i's update on doubles (the kernel template's double lane, the engine's bits), folding
-// into max_speed2 and bad as the kernel does.
-void voxel_forward(const VoxelKernelIo& io, const VoxelStateOut& st, int i, const ModelConstants& k,
-                   double dt, double& max_speed2, bool& bad);
-
 // From the adjoints of a voxel's outputs (kVoxelOutputs), adds those of its inputs to in_adj.
 void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                         double* in_adj);
