@@ -3,14 +3,17 @@
 // reference): bonds along each axis, with and without damping, with either stress rule and
 // with the shear chord floored; voxels in the air and on the floor sliding, stopping, held by
 // static friction and slipping from rest. Every input's adjoint agrees to 1e-12 of the largest
-// of its kind.
+// of its kind. And whole gradients with the stages' adjoints (the gather's too) against the
+// same gradients recorded operation by operation.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "adj.hpp"
 #include "bond_adjoint.hpp"
 #include "plastivox/demo_robots.hpp"
+#include "plastivox/grad/gradient.hpp"
 #include "plastivox/model.hpp"
 #include "voxel_adjoint.hpp"
 
@@ -159,6 +162,52 @@ TEST(VoxelAdjoint, ClampedVoxelsAndLargeTurnsAreLeftToTheTape) {
   clamped.fixed = 1;
   EXPECT_FALSE(voxel_reverse(clamped, m, out, in));
   for (double g : in) EXPECT_EQ(g, 0.0);
+}
+
+// a against b, kind by kind, to `tol` of b's largest.
+void same_vector(const std::vector<double>& a, const std::vector<double>& b, double tol,
+                 const char* what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  double top = 0;
+  for (double v : b) top = std::max(top, std::abs(v));
+  EXPECT_GT(top, 0.0) << what;
+  for (size_t j = 0; j < a.size(); ++j)
+    EXPECT_LE(std::abs(a[j] - b[j]), tol * top) << what << "[" << j << "]";
+}
+
+void same_gradient(const Model& m) {
+  const Gradient fast = gradient(m);
+  g_reference_tape = true;
+  const Gradient reference = gradient(m);
+  g_reference_tape = false;
+  EXPECT_EQ(fast.fitness, reference.fitness);
+  // The blocks were used: a step of tape is a fraction of the reference's.
+  EXPECT_LT(4.0 * fast.peak_tape_nodes / fast.checkpoint_every,
+            1.0 * reference.peak_tape_nodes / reference.checkpoint_every);
+  same_vector(fast.stiffness, reference.stiffness, 1e-12, "stiffness");
+  same_vector(fast.phase, reference.phase, 1e-12, "phase");
+  same_vector(fast.initial_position, reference.initial_position, 1e-12, "initial_position");
+  same_vector(fast.initial_velocity, reference.initial_velocity, 1e-12, "initial_velocity");
+  EXPECT_NEAR(fast.amplitude, reference.amplitude, 1e-12 * std::abs(reference.amplitude));
+  if (m.def.treatment != Treatment::kNone)
+    same_vector(fast.dev_rate, reference.dev_rate, 1e-12, "dev_rate");
+}
+
+TEST(StageAdjoints, WholeGradientEqualsTheOperationByOperationTapes) {
+  PhysicsDef walk;  // the walker on the floor, actuated from 0.02 s
+  walk.duration = 0.04;
+  walk.settle_time = 0.02;
+  same_gradient(compile(demo_walker(), walk));
+  PhysicsDef develop = walk;  // a developing cube under stress
+  develop.duration = 0.1;
+  develop.treatment = Treatment::kStress;
+  RobotDef cube = demo_cube(3, 1e8);
+  for (int v = 0; v < cube.sites(); ++v) {
+    cube.stiffness[v] *= 1.5 + std::sin(1.7 * v + 0.3);
+    cube.phase[v] = 0.37 * std::sin(0.9 * v);
+    cube.dev_rate[v] = 2.0 + std::cos(1.3 * v);
+  }
+  same_gradient(compile(cube, develop));
 }
 
 }  // namespace

@@ -80,6 +80,10 @@ inline void sweep_nodes(const Tape& t, std::vector<double>& adj, size_t begin, s
   }
 }
 
+// When set, gradient() records every stage operation by operation, without the stages' own
+// adjoints (bond_adjoint.hpp, voxel_adjoint.hpp): the reference they are tested against.
+inline thread_local bool g_reference_tape = false;
+
 // The tape being recorded on this thread, or none (values only: the replica's forward).
 inline thread_local Tape* g_tape = nullptr;
 

@@ -42,10 +42,18 @@ struct VoxelBlock {
   int64_t first;
   VoxelArgs args;
 };
+struct GatherBlock {
+  int64_t first;
+  GatherArgs args;
+};
 struct Blocks {
   std::vector<BondBlock> bonds;
   std::vector<VoxelBlock> voxels;
-  void clear() { bonds.clear(), voxels.clear(); }
+  std::vector<GatherBlock> gathers;
+  // Every block in the order recorded (its kind and its index in that kind's list).
+  enum Kind : uint8_t { kBond, kVoxel, kGather };
+  std::vector<std::pair<Kind, uint32_t>> order;
+  void clear() { bonds.clear(), voxels.clear(), gathers.clear(), order.clear(); }
 };
 
 // FNV-1a, for the event signature.
@@ -171,7 +179,10 @@ class Replica {
     const Adj dt_next = m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time
                             ? stable_dt_adj(m, s.stiffness.data(), events)
                             : dt_old;
-    gather();
+    if (g_tape && blocks_)
+      record_gather();
+    else
+      gather();
     self_collisions(events);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
@@ -257,6 +268,7 @@ class Replica {
     // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
     redo += kernels().bond(io, nb_, m_, damp.v);
     for (int b = 0; b < nb_; ++b) {
+      blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
       blocks_->bonds.push_back({static_cast<int64_t>(t.nodes.size()), bond_args(io, b, reads)});
       const int32_t first = static_cast<int32_t>(t.nodes.size());
       t.nodes.resize(t.nodes.size() + kBondOutputs, Node{-1, -1, 0.0, 0.0});
@@ -283,7 +295,10 @@ class Replica {
     int32_t* quat_ids = t.ids_of(st.quat);
     int32_t* normal_ids = io.floor_normal ? t.ids_of(io.floor_normal) : nullptr;
     const size_t start = blocks_->voxels.size();
-    for (int i = 0; i < m_.n; ++i) blocks_->voxels.push_back({0, voxel_args(io, i, reads)});
+    for (int i = 0; i < m_.n; ++i) {
+      blocks_->order.push_back({Blocks::kVoxel, uint32_t(blocks_->voxels.size())});
+      blocks_->voxels.push_back({0, voxel_args(io, i, reads)});
+    }
     // Updated in place by the engine's own kernel set, after every voxel's arguments are kept.
     const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
     max_speed2 = summary.max_speed2;
@@ -300,6 +315,46 @@ class Replica {
       }
       for (int c = 0; c < 4; ++c) quat_ids[4 * v + c] = first + kVOutQuat + c;
       if (normal_ids) normal_ids[v] = first + kVOutNormal;
+    }
+  }
+
+  // The gather on doubles (the engine's kernel set), one block a voxel (voxel_adjoint.hpp).
+  void record_gather() {
+    Tape& t = *g_tape;
+    const VoxelKernelIo& io = w_.views.voxel;
+    kernels().gather(io, m_.n, m_);
+    const int32_t* out_ids[3] = {t.ids_of(io.bond_out[0]), t.ids_of(io.bond_out[1]),
+                                 t.ids_of(io.bond_out[2])};
+    const int32_t* lin_ids = t.ids_of(io.lin_mom);
+    const int32_t* stiff_ids = t.ids_of(io.stiff);
+    int32_t* force_ids[3] = {t.ids_of(io.force[0]), t.ids_of(io.force[1]), t.ids_of(io.force[2])};
+    int32_t* moment_ids[3] = {t.ids_of(io.moment[0]), t.ids_of(io.moment[1]),
+                              t.ids_of(io.moment[2])};
+    int32_t* sqrt_ids = t.ids_of(io.sqrt_e);
+    const auto id = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
+    for (int i = 0; i < m_.n; ++i) {
+      const size_t v = static_cast<size_t>(i);
+      GatherArgs a;
+      for (int slot = 0; slot < 6; ++slot) {
+        const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]);
+        for (int c = 0; c < 3; ++c) {
+          a.id[kGSlots + 6 * slot + c] = id(out_ids[0], b + c);
+          a.id[kGSlots + 6 * slot + 3 + c] = id(out_ids[slot & 1 ? 1 : 2], b + c);
+        }
+      }
+      for (int c = 0; c < 3; ++c)
+        a.lin_mom[c] = io.lin_mom[3 * v + c], a.id[kGLinMom + c] = id(lin_ids, 3 * v + c);
+      a.e = io.stiff[v];
+      a.id[kGE] = id(stiff_ids, v);
+      const int32_t first = static_cast<int32_t>(t.nodes.size());
+      blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
+      blocks_->gathers.push_back({first, a});
+      t.nodes.resize(t.nodes.size() + kGatherOutputs, Node{-1, -1, 0.0, 0.0});
+      for (int c = 0; c < 3; ++c) {
+        force_ids[c][v] = first + kGOutForce + c;
+        moment_ids[c][v] = first + kGOutMoment + c;
+      }
+      sqrt_ids[v] = first + kGOutSqrtE;
     }
   }
 
@@ -442,36 +497,50 @@ struct ParamLeaves {
 };
 
 // One block's reverse: from the adjoints of its outputs (nodes first..), those of its inputs.
-template <int kIn, int kOut, class Args, class Hand, class Reference>
+template <int kIn, int kOut, class Args, class Reverse>
 void block_reverse(const Args& args, size_t first, std::vector<double>& adj,
-                   const ModelConstants& k, Hand hand, Reference reference) {
+                   const ModelConstants& k, Reverse reverse) {
   const double* out = adj.data() + first;
   bool any = false;
   for (int o = 0; o < kOut; ++o) any = any || out[o] != 0;
   if (!any) return;
   double in[kIn] = {};
-  if (!hand(args, k, out, in)) reference(args, k, out, in);
+  reverse(args, k, out, in);
   for (int i = 0; i < kIn; ++i)
     if (args.id[i] >= 0) adj[args.id[i]] += in[i];
 }
 
-// The whole tape, with each block's reverse where its output leaves begin.
+// The whole tape, with each block's reverse where its output leaves begin: by hand where the
+// stage has one for the branch taken, else by the kernel recorded on a small tape.
 void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const ModelConstants& k) {
   size_t end = t.nodes.size();
-  size_t nb = blocks.bonds.size(), nv = blocks.voxels.size();
-  while (nb > 0 || nv > 0) {
-    const bool bond =
-        nv == 0 || (nb > 0 && blocks.bonds[nb - 1].first > blocks.voxels[nv - 1].first);
-    const size_t first =
-        static_cast<size_t>(bond ? blocks.bonds[nb - 1].first : blocks.voxels[nv - 1].first);
-    sweep_nodes(t, adj, first + (bond ? int{kBondOutputs} : int{kVoxelOutputs}), end);
-    end = first;
-    if (bond)
-      block_reverse<kBondInputs, kBondOutputs>(blocks.bonds[--nb].args, first, adj, k, bond_reverse,
-                                               bond_reverse_tape);
+  for (size_t j = blocks.order.size(); j-- > 0;) {
+    const auto [kind, index] = blocks.order[j];
+    size_t first = 0;
+    int outputs = 0;
+    if (kind == Blocks::kBond)
+      first = size_t(blocks.bonds[index].first), outputs = kBondOutputs;
+    else if (kind == Blocks::kVoxel)
+      first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs;
     else
-      block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[--nv].args, first, adj, k,
-                                                 voxel_reverse, voxel_reverse_tape);
+      first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs;
+    sweep_nodes(t, adj, first + outputs, end);
+    end = first;
+    if (kind == Blocks::kBond)
+      block_reverse<kBondInputs, kBondOutputs>(blocks.bonds[index].args, first, adj, k,
+                                               [](auto& a, auto& c, auto* o, auto* in) {
+                                                 if (!bond_reverse(a, c, o, in))
+                                                   bond_reverse_tape(a, c, o, in);
+                                               });
+    else if (kind == Blocks::kVoxel)
+      block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[index].args, first, adj, k,
+                                                 [](auto& a, auto& c, auto* o, auto* in) {
+                                                   if (!voxel_reverse(a, c, o, in))
+                                                     voxel_reverse_tape(a, c, o, in);
+                                                 });
+    else
+      block_reverse<kGatherInputs, kGatherOutputs>(blocks.gathers[index].args, first, adj, k,
+                                                   gather_reverse);
   }
   sweep_nodes(t, adj, 0, end);
 }
@@ -481,7 +550,9 @@ constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
 // Bytes the blocks of a step cost (one a bond and one a voxel).
 double block_bytes(const Model& m) {
-  return sizeof(BondBlock) * double(m.bond_count()) + sizeof(VoxelBlock) * double(m.n);
+  const double order = sizeof(Blocks::order[0]) * double(m.bond_count() + 2 * m.n);
+  return sizeof(BondBlock) * double(m.bond_count()) +
+         (sizeof(VoxelBlock) + sizeof(GatherBlock)) * double(m.n) + order;
 }
 
 // The nodes one step records: the first step of the life, and a fifth more for what the first
@@ -491,7 +562,7 @@ size_t nodes_per_step(const Model& m) {
   Tape tape;
   Replica rep(m);
   Blocks blocks;
-  rep.record_blocks_into(&blocks);
+  rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   g_tape = &tape;
   for (auto& row : rep.ids())
     for (auto& id : row) id = tape.leaf();
@@ -641,7 +712,9 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   Blocks blocks;
   blocks.bonds.reserve(static_cast<size_t>(K) * m.bond_count());
   blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
-  rep.record_blocks_into(&blocks);
+  blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
+  blocks.order.reserve(static_cast<size_t>(K) * (m.bond_count() + 2 * m.n));
+  rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   std::vector<double> adj;
   for (size_t seg = snaps.size(); seg-- > 0;) {
     tape.nodes.clear();

@@ -287,4 +287,24 @@ bool voxel_reverse(const VoxelArgs& A, const ModelConstants& k, const double* ou
   return true;
 }
 
+void gather_reverse(const GatherArgs& a, const ModelConstants& k, const double* out_adj,
+                    double* in_adj) {
+  // force = ((sum_s +-F_s - coef p) + weight) + load, moment = sum_s M_s,
+  // coef = global_damping c_lin_unit sqrt(E) / mass.
+  const double se = std::sqrt(a.e);
+  const double coef = (k.def.global_damping * (k.c_lin_unit * se)) / k.mass;
+  double g_coef = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double g_f = out_adj[kGOutForce + c], g_m = out_adj[kGOutMoment + c];
+    for (int slot = 0; slot < 6; ++slot) {
+      in_adj[kGSlots + 6 * slot + c] += slot & 1 ? g_f : -g_f;
+      in_adj[kGSlots + 6 * slot + 3 + c] += g_m;
+    }
+    in_adj[kGLinMom + c] -= g_f * coef;
+    g_coef -= g_f * a.lin_mom[c];
+  }
+  const double g_se = out_adj[kGOutSqrtE] + g_coef * k.def.global_damping * k.c_lin_unit / k.mass;
+  in_adj[kGE] += se > 0 ? g_se * (0.5 / se) : 0.0;
+}
+
 }  // namespace plastivox::grad

@@ -67,4 +67,26 @@ void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const doubl
 bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                    double* in_adj);
 
+// The gather (voxel_body.hpp's gather_voxel and slow_damping_lanes) of voxel i, which is
+// linear but for the slow damping: its inputs are the records its six slots read (force on a,
+// and moment on a or on b, of each slot's bond: 3 each), its momentum and its modulus; its
+// outputs the total force, the total moment and sqrt(E).
+enum GatherIo : int {
+  kGSlots = 0,  // slot s: force at 6 s, moment at 6 s + 3
+  kGLinMom = 36,
+  kGE = 39,
+  kGatherInputs = 40,
+  kGOutForce = 0,
+  kGOutMoment = 3,
+  kGOutSqrtE = 6,
+  kGatherOutputs = 7
+};
+struct GatherArgs {
+  int32_t id[kGatherInputs];  // tape nodes (-1: a constant)
+  double lin_mom[3], e;       // the values its derivative needs
+};
+// From the adjoints of the gather's outputs (kGatherOutputs), adds those of its inputs.
+void gather_reverse(const GatherArgs& a, const ModelConstants& k, const double* out_adj,
+                    double* in_adj);
+
 }  // namespace plastivox::grad
