@@ -1,7 +1,9 @@
 // The bond stage's adjoint (bond_adjoint.hpp).
 #include "bond_adjoint.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "adj.hpp"
 #include "elementary.hpp"
@@ -11,39 +13,44 @@
 
 namespace plastivox::grad {
 
-BondReads bond_reads(const BondKernelIo& io, double damp, int32_t damp_id) {
-  BondReads r;
-  if (g_tape) {
-    r.centre = g_tape->ids_of(io.centre_size);
-    r.quat = g_tape->ids_of(io.quat);
-    r.stiff = g_tape->ids_of(io.stiff);
-    for (int j = 0; j < 9; ++j) r.prev[j] = g_tape->ids_of(io.prev[j]);
-  }
-  r.damp = damp;
-  r.damp_id = damp_id;
-  return r;
+void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
+                     double* values, int32_t* ids) {
+  const auto keep = [&](size_t at, const double* row, size_t count) {
+    std::memcpy(values + at, row, count * sizeof(double));
+    const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
+    if (row_ids)
+      std::memcpy(ids + at, row_ids, count * sizeof(int32_t));
+    else
+      std::fill(ids + at, ids + at + count, -1);
+  };
+  keep(0, io.centre_size, 4 * L.n);
+  keep(L.quat(), io.quat, 4 * L.n);
+  keep(L.stiff(), io.stiff, L.n);
+  for (int j = 0; j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb);
+  values[L.damp()] = damp;
+  ids[L.damp()] = damp_id;
 }
 
-BondArgs bond_args(const BondKernelIo& io, int b, const BondReads& r) {
+BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
+                   const int32_t* ids, int b, bool valid) {
   BondArgs a;
   const size_t ia = static_cast<size_t>(io.bond_a[b]), ib = static_cast<size_t>(io.bond_b[b]);
-  const auto take = [&](int slot, const double* values, const int32_t* ids, size_t k) {
-    a.v[slot] = values[k];
-    a.id[slot] = ids ? ids[k] : -1;
+  const auto take = [&](int slot, size_t at) {
+    a.v[slot] = values[at];
+    a.id[slot] = ids[at];
   };
   for (int c = 0; c < 4; ++c) {
-    take(kCentreA + c, io.centre_size, r.centre, 4 * ia + c);
-    take(kCentreB + c, io.centre_size, r.centre, 4 * ib + c);
-    take(kQuatA + c, io.quat, r.quat, 4 * ia + c);
-    take(kQuatB + c, io.quat, r.quat, 4 * ib + c);
+    take(kCentreA + c, 4 * ia + c);
+    take(kCentreB + c, 4 * ib + c);
+    take(kQuatA + c, L.quat() + 4 * ia + c);
+    take(kQuatB + c, L.quat() + 4 * ib + c);
   }
-  take(kStiffA, io.stiff, r.stiff, ia);
-  take(kStiffB, io.stiff, r.stiff, ib);
-  for (int j = 0; j < 9; ++j) take(kPrev + j, io.prev[j], r.prev[j], static_cast<size_t>(b));
-  a.v[kDamp] = r.damp;
-  a.id[kDamp] = r.damp_id;
+  take(kStiffA, L.stiff() + ia);
+  take(kStiffB, L.stiff() + ib);
+  for (int j = 0; j < 9; ++j) take(kPrev + j, L.prev(j) + static_cast<size_t>(b));
+  take(kDamp, L.damp());
   a.axis = static_cast<int32_t>(io.axis_wide[b]);
-  a.valid = io.all_valid || io.prev_valid[b] ? 1 : 0;
+  a.valid = valid ? 1 : 0;
   return a;
 }
 

@@ -50,17 +50,25 @@ struct BondArgs {
   uint8_t valid;            // its previous deformation is recorded (damping on)
 };
 
-// The tape nodes of the arrays the bond kernel reads (null: constants), looked up once a step.
-struct BondReads {
-  const int32_t* centre = nullptr;
-  const int32_t* quat = nullptr;
-  const int32_t* stiff = nullptr;
-  const int32_t* prev[9] = {};
-  double damp = 0;
-  int32_t damp_id = -1;
+// A step's bond stage as kept for its reverse: the arrays the kernel read, values and tape
+// nodes side by side (copied whole, not bond by bond), at these offsets for n voxels and nb
+// bonds: centres and sizes (4 a voxel), orientations (4 a voxel), moduli, the previous
+// deformations (component by component, nb each), the damping factor.
+struct BondStageLayout {
+  size_t n, nb;
+  size_t quat() const { return 4 * n; }
+  size_t stiff() const { return 8 * n; }
+  size_t prev(int j) const { return 9 * n + size_t(j) * nb; }
+  size_t damp() const { return 9 * n + 9 * nb; }
+  size_t size() const { return damp() + 1; }
 };
-BondReads bond_reads(const BondKernelIo& io, double damp, int32_t damp_id);
-BondArgs bond_args(const BondKernelIo& io, int b, const BondReads& r);
+// Writes the stage's record (L.size() values and nodes; the nodes through the tape's shadows,
+// -1 for an array without one) before the kernel runs.
+void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
+                     double* values, int32_t* ids);
+// Bond b's arguments from a kept stage (valid: its damping flag).
+BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
+                   const int32_t* ids, int b, bool valid);
 
 // From the adjoints of a bond's outputs (kBondOutputs of them), adds those of its inputs to
 // in_adj (kBondInputs).

@@ -34,9 +34,12 @@ namespace {
 
 // One bond or one voxel update of one step on the tape (bond_adjoint.hpp, voxel_adjoint.hpp):
 // its outputs are the leaves from node `first`.
+// A step's bond stage: its outputs are kBondOutputs leaves a bond, in bond order, from node
+// `first`; its record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
 struct BondBlock {
   int64_t first;
-  BondArgs args;
+  size_t at;
+  bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
 };
 struct VoxelBlock {
   int64_t first;
@@ -48,12 +51,18 @@ struct GatherBlock {
 };
 struct Blocks {
   std::vector<BondBlock> bonds;
+  std::vector<double> bond_values;
+  std::vector<int32_t> bond_ids;
+  std::vector<uint8_t> bond_valid;  // nb a stage without all_valid, in order
   std::vector<VoxelBlock> voxels;
   std::vector<GatherBlock> gathers;
   // Every block in the order recorded (its kind and its index in that kind's list).
   enum Kind : uint8_t { kBond, kVoxel, kGather };
   std::vector<std::pair<Kind, uint32_t>> order;
-  void clear() { bonds.clear(), voxels.clear(), gathers.clear(), order.clear(); }
+  void clear() {
+    bonds.clear(), bond_values.clear(), bond_ids.clear(), bond_valid.clear();
+    voxels.clear(), gathers.clear(), order.clear();
+  }
 };
 
 // FNV-1a, for the event signature.
@@ -116,6 +125,7 @@ class Replica {
   }
 
   State& state() { return s_; }
+  const BondKernelIo& bond_io() const { return w_.views.bond; }
   // Record the bond stage and the voxel update as one block a bond and a voxel
   // (bond_adjoint.hpp, voxel_adjoint.hpp) in `blocks`, or, given null, operation by operation
   // on the tape (the reference).
@@ -257,7 +267,18 @@ class Replica {
   // leaves of the tape, which the sweep's block reverse gives their adjoints.
   void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
     Tape& t = *g_tape;
-    const BondReads reads = bond_reads(io, damp.v, damp.id);
+    const BondStageLayout L{size_t(m_.n), size_t(nb_)};
+    const BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
+                          io.all_valid};
+    blocks_->bond_values.resize(stage.at + L.size());
+    blocks_->bond_ids.resize(stage.at + L.size());
+    keep_bond_stage(io, L, damp.v, damp.id, blocks_->bond_values.data() + stage.at,
+                    blocks_->bond_ids.data() + stage.at);
+    if (!io.all_valid)
+      blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
+    blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
+    blocks_->bonds.push_back(stage);
+    t.nodes.resize(t.nodes.size() + size_t(kBondOutputs) * size_t(nb_), Node{-1, -1, 0.0, 0.0});
     int32_t* out_ids[3];
     int32_t* next_ids[9];
     for (int v = 0; v < 3; ++v) out_ids[v] = t.ids_of(io.out[v]);
@@ -268,10 +289,7 @@ class Replica {
     // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
     redo += kernels().bond(io, nb_, m_, damp.v);
     for (int b = 0; b < nb_; ++b) {
-      blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
-      blocks_->bonds.push_back({static_cast<int64_t>(t.nodes.size()), bond_args(io, b, reads)});
-      const int32_t first = static_cast<int32_t>(t.nodes.size());
-      t.nodes.resize(t.nodes.size() + kBondOutputs, Node{-1, -1, 0.0, 0.0});
+      const int32_t first = static_cast<int32_t>(stage.first + int64_t(kBondOutputs) * b);
       for (int v = 0; v < 3; ++v) {
         for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = first + kOut + 3 * v + c;
         out_ids[v][4 * size_t(b) + 3] = -1;
@@ -512,27 +530,38 @@ void block_reverse(const Args& args, size_t first, std::vector<double>& adj,
 
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
-void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const ModelConstants& k) {
+void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
+           const BondKernelIo& io) {
+  const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
+  size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   size_t end = t.nodes.size();
   for (size_t j = blocks.order.size(); j-- > 0;) {
     const auto [kind, index] = blocks.order[j];
     size_t first = 0;
     int outputs = 0;
     if (kind == Blocks::kBond)
-      first = size_t(blocks.bonds[index].first), outputs = kBondOutputs;
+      first = size_t(blocks.bonds[index].first), outputs = kBondOutputs * k.bond_count();
     else if (kind == Blocks::kVoxel)
       first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs;
     else
       first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs;
     sweep_nodes(t, adj, first + outputs, end);
     end = first;
-    if (kind == Blocks::kBond)
-      block_reverse<kBondInputs, kBondOutputs>(blocks.bonds[index].args, first, adj, k,
-                                               [](auto& a, auto& c, auto* o, auto* in) {
-                                                 if (!bond_reverse(a, c, o, in))
-                                                   bond_reverse_tape(a, c, o, in);
-                                               });
-    else if (kind == Blocks::kVoxel)
+    if (kind == Blocks::kBond) {
+      const BondBlock& stage = blocks.bonds[index];
+      const uint8_t* valid = nullptr;
+      if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
+      for (size_t b = L.nb; b-- > 0;) {
+        const BondArgs a =
+            bond_args(io, L, blocks.bond_values.data() + stage.at,
+                      blocks.bond_ids.data() + stage.at, int(b), stage.all_valid || valid[b]);
+        block_reverse<kBondInputs, kBondOutputs>(a, first + kBondOutputs * b, adj, k,
+                                                 [](auto& a, auto& c, auto* o, auto* in) {
+                                                   if (!bond_reverse(a, c, o, in))
+                                                     bond_reverse_tape(a, c, o, in);
+                                                 });
+      }
+    } else if (kind == Blocks::kVoxel)
       block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[index].args, first, adj, k,
                                                  [](auto& a, auto& c, auto* o, auto* in) {
                                                    if (!voxel_reverse(a, c, o, in))
@@ -550,9 +579,10 @@ constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
 // Bytes the blocks of a step cost (one a bond and one a voxel).
 double block_bytes(const Model& m) {
-  const double order = sizeof(Blocks::order[0]) * double(m.bond_count() + 2 * m.n);
-  return sizeof(BondBlock) * double(m.bond_count()) +
-         (sizeof(VoxelBlock) + sizeof(GatherBlock)) * double(m.n) + order;
+  const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
+  const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
+  const double order = sizeof(Blocks::order[0]) * double(1 + 2 * m.n);
+  return bond_stage + (sizeof(VoxelBlock) + sizeof(GatherBlock)) * double(m.n) + order;
 }
 
 // The nodes one step records: the first step of the life, and a fifth more for what the first
@@ -710,10 +740,12 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   tape.nodes.reserve(
       static_cast<size_t>(1.25 * K * (p.tape_bytes_per_step - block_bytes(m)) / kNodeBytes));
   Blocks blocks;
-  blocks.bonds.reserve(static_cast<size_t>(K) * m.bond_count());
+  blocks.bond_values.reserve(static_cast<size_t>(K) *
+                             BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
+  blocks.bond_ids.reserve(blocks.bond_values.capacity());
   blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
   blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
-  blocks.order.reserve(static_cast<size_t>(K) * (m.bond_count() + 2 * m.n));
+  blocks.order.reserve(static_cast<size_t>(K) * (1 + 2 * m.n));
   rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   std::vector<double> adj;
   for (size_t seg = snaps.size(); seg-- > 0;) {
@@ -748,7 +780,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k)
         if (ids[r][k] >= 0) adj[ids[r][k]] += adj_state[r][k];
-    sweep(tape, adj, blocks, m);
+    sweep(tape, adj, blocks, m, rep.bond_io());
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k) adj_state[r][k] = adj[start[r][k]];
     for (int i = 0; i < m.n; ++i) {
@@ -773,7 +805,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     g_tape = nullptr;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = adj_state[dt_row][0];
-    sweep(tape, adj, {}, m);
+    sweep(tape, adj, {}, m, rep.bond_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
