@@ -403,6 +403,38 @@ class Replica {
     }
   }
 
+  // The pairs that can touch until the next refresh, in increasing order: those whose centres
+  // were within reach when the list was made (anchor_ the centres then). A pair touching now is
+  // closer than half_d (size_i + size_j) <= 2 half_d size_top_; while no voxel has moved more
+  // than kDrift L from its anchor and no size has grown past size_top_, its centres were then
+  // closer than that plus 2 kDrift L, which is reach. Otherwise the list is made again.
+  void refresh_near_pairs(double half_d) {
+    static constexpr double kDrift = 0.05;  // of a voxel's edge
+    const Model& m = m_;
+    const State& s = s_;
+    const double drift = kDrift * m.size;
+    double size_top = 0, moved2 = 0;
+    for (int i = 0; i < m.n; ++i) size_top = std::max(size_top, s.size[i]);
+    if (anchor_.size() == 3 * size_t(m.n))
+      for (int i = 0; i < m.n && moved2 <= drift * drift; ++i) {
+        const double* a = &anchor_[3 * size_t(i)];
+        const double dx = s.pos[i].x() - a[0], dy = s.pos[i].y() - a[1], dz = s.pos[i].z() - a[2];
+        moved2 = std::max(moved2, dx * dx + dy * dy + dz * dz);
+      }
+    if (anchor_.size() == 3 * size_t(m.n) && moved2 <= drift * drift && size_top <= size_top_)
+      return;
+    anchor_.resize(3 * size_t(m.n));
+    for (int i = 0; i < m.n; ++i)
+      for (int k = 0; k < 3; ++k) anchor_[3 * size_t(i) + k] = s.pos[i][k];
+    size_top_ = size_top * (1 + 1e-3);
+    const double reach = (2 * half_d * size_top_ + 2 * drift) * (1 + 1e-9);
+    near_.clear();
+    for (size_t p = 0; p < pair_a_.size(); ++p) {
+      const Vec3 d = s.pos[pair_b_[p]] - s.pos[pair_a_[p]];
+      if (d.squaredNorm() < reach * reach) near_.push_back(static_cast<int>(p));
+    }
+  }
+
   // apply_self_collisions (contacts.cpp) for the robot's own voxels: every pair of surface
   // voxels i < j not near each other in the bond graph, in (i, j) order, as the engine adds
   // the pairs its candidate lists find (they miss no contact, and the exact test is this one).
@@ -419,16 +451,11 @@ class Replica {
           if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j))
             pair_a_.push_back(i), pair_b_.push_back(j);
       }
-      touching_.resize(pair_a_.size());
       paired_ = true;
     }
-    // The engine's own filter first (centre distance within a margin of contact, pairs in
-    // increasing order), then the exact test on what it keeps.
-    const int candidates =
-        kernels().touch_candidates(w_.centre_size.data(), pair_a_.data(), pair_b_.data(),
-                                   int(pair_a_.size()), half_d, touching_.data());
-    for (int c = 0; c < candidates; ++c) {
-      const int i = pair_a_[touching_[c]], j = pair_b_[touching_[c]];
+    refresh_near_pairs(half_d);
+    for (size_t c = 0; c < near_.size(); ++c) {
+      const int i = pair_a_[near_[c]], j = pair_b_[near_[c]];
       const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
       const double dz = s.pos[j].z() - s.pos[i].z();
       const double contact = half_d * (s.size[i] + s.size[j]);
@@ -459,8 +486,10 @@ class Replica {
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
   // The surface pairs self-collision tests (built on the first step), and those that may touch.
-  std::vector<int> pair_a_, pair_b_, touching_;
+  std::vector<int> pair_a_, pair_b_, near_;
   bool paired_ = false;
+  std::vector<double> anchor_;  // refresh_near_pairs'
+  double size_top_ = 0;
   Blocks* blocks_ = nullptr;
 };
 
