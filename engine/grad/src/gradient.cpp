@@ -5,7 +5,10 @@
 // develop_body.hpp) instantiated on the recording type Adj (adj.hpp). The few lines of the
 // stages that are not kernels (the voxel gather, self-collision, stable_dt, the sine
 // controller's call, time and settling) are written here in the engine's order of operations,
-// so the replica computes the engine's bits; gradient() checks it at every snapshot.
+// so the replica computes the engine's bits; gradient() checks it at every snapshot. When
+// recording for gradient(), the bond stage, the gather and the voxel update run on doubles
+// with the engine's kernel set and are kept as blocks with their own reverses (bond_adjoint.hpp,
+// voxel_adjoint.hpp); g_reference_tape records them operation by operation instead.
 #include "plastivox/grad/gradient.hpp"
 
 #include <algorithm>
@@ -32,8 +35,8 @@
 namespace plastivox::grad {
 namespace {
 
-// One bond or one voxel update of one step on the tape (bond_adjoint.hpp, voxel_adjoint.hpp):
-// its outputs are the leaves from node `first`.
+// The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
+// voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
 // A step's bond stage: its outputs are kBondOutputs leaves a bond, in bond order, from node
 // `first`; its record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
 struct BondBlock {
@@ -126,9 +129,9 @@ class Replica {
 
   State& state() { return s_; }
   const BondKernelIo& bond_io() const { return w_.views.bond; }
-  // Record the bond stage and the voxel update as one block a bond and a voxel
-  // (bond_adjoint.hpp, voxel_adjoint.hpp) in `blocks`, or, given null, operation by operation
-  // on the tape (the reference).
+  // Keep the bond stage (one block a step), the gather and the voxel update (one block a voxel
+  // each) for their own reverses in `blocks`, or, given null, record them operation by
+  // operation on the tape (the reference).
   void record_blocks_into(Blocks* blocks) { blocks_ = blocks; }
   const std::vector<StateFieldBytes>& rows() const { return rows_; }
   std::vector<std::vector<int32_t>>& ids() { return ids_; }
@@ -263,8 +266,8 @@ class Replica {
   }
 
  private:
-  // The bond stage on doubles, each bond's arguments kept in a block and its outputs made
-  // leaves of the tape, which the sweep's block reverse gives their adjoints.
+  // The bond stage on doubles (the engine's kernel set), its input arrays kept and its outputs
+  // made leaves of the tape, which the sweep's block reverse gives their adjoints.
   void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
     Tape& t = *g_tape;
     const BondStageLayout L{size_t(m_.n), size_t(nb_)};
