@@ -68,6 +68,22 @@ struct Tape {
   }
 };
 
+// Reverse accumulation over nodes [begin, end) of a tape, last to first: each node's adjoint
+// times its partials added to its operands'.
+inline void sweep_nodes(const Tape& t, std::vector<double>& adj, size_t begin, size_t end) {
+  for (size_t n = end; n-- > begin;) {
+    const double a = adj[n];
+    if (a == 0) continue;
+    const Node& nd = t.nodes[n];
+    if (nd.a >= 0) adj[nd.a] += nd.da * a;
+    if (nd.b >= 0) adj[nd.b] += nd.db * a;
+  }
+}
+
+// When set, gradient() records every stage operation by operation, without the stages' own
+// adjoints (bond_adjoint.hpp, voxel_adjoint.hpp): the reference they are tested against.
+inline thread_local bool g_reference_tape = false;
+
 // The tape being recorded on this thread, or none (values only: the replica's forward).
 inline thread_local Tape* g_tape = nullptr;
 

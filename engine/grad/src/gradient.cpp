@@ -6,7 +6,10 @@
 // stages that are not kernels (the voxel gather, self-collision, stable_dt, the controller's
 // call: the sine here, the networks in network.hpp; time and settling) are written in the
 // engine's order of operations, so the replica computes the engine's bits; gradient() checks
-// it at every snapshot.
+// it at every snapshot. When recording for gradient(), the bond stage, the gather and the
+// voxel update run on doubles with the engine's kernel set and are kept as blocks with their
+// own reverses (bond_adjoint.hpp, voxel_adjoint.hpp); g_reference_tape records them operation
+// by operation instead.
 #include "plastivox/grad/gradient.hpp"
 
 #include <algorithm>
@@ -18,34 +21,54 @@
 #include <utility>
 
 #include "adj.hpp"
-#include "elementary.hpp"
-#include "lanes.hpp"
-
-namespace plastivox {
-namespace {
-
-// sin(2 pi u) for Adj: the engine's own value (the rounding trick of its range reduction has
-// no derivative to record), and its derivative 2 pi cos(2 pi u) = 2 pi sin(2 pi (u + 1/4)).
-template <>
-inline grad::Adj sin_cycles<grad::Adj>(grad::Adj u) {
-  const double s = sin_cycles(u.v);
-  return {s, grad::record(u.id, 2.0 * std::numbers::pi * sin_cycles(u.v + 0.25), -1, 0.0)};
-}
-
-}  // namespace
-}  // namespace plastivox
-
+#include "adj_elementary.hpp"
+#include "bond_adjoint.hpp"
 #include "bond_body.hpp"
 #include "develop_body.hpp"
+#include "lanes.hpp"
 #include "network.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 #include "plastivox/task.hpp"
+#include "voxel_adjoint.hpp"
 #include "voxel_body.hpp"
 #include "workspace.hpp"
 
 namespace plastivox::grad {
 namespace {
+
+// The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
+// voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
+// A step's bond stage: its outputs are kBondOutputs leaves a bond, in bond order, from node
+// `first`; its record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
+struct BondBlock {
+  int64_t first;
+  size_t at;
+  bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
+};
+struct VoxelBlock {
+  int64_t first;
+  VoxelArgs args;
+};
+struct GatherBlock {
+  int64_t first;
+  GatherArgs args;
+};
+struct Blocks {
+  std::vector<BondBlock> bonds;
+  std::vector<double> bond_values;
+  std::vector<int32_t> bond_ids;
+  std::vector<uint8_t> bond_valid;  // nb a stage without all_valid, in order
+  std::vector<VoxelBlock> voxels;
+  std::vector<GatherBlock> gathers;
+  // Every block in the order recorded (its kind and its index in that kind's list).
+  enum Kind : uint8_t { kBond, kVoxel, kGather };
+  std::vector<std::pair<Kind, uint32_t>> order;
+  void clear() {
+    bonds.clear(), bond_values.clear(), bond_ids.clear(), bond_valid.clear();
+    voxels.clear(), gathers.clear(), order.clear();
+  }
+};
 
 // FNV-1a, for the event signature.
 struct Fnv {
@@ -108,6 +131,11 @@ class Replica {
   }
 
   State& state() { return s_; }
+  const BondKernelIo& bond_io() const { return w_.views.bond; }
+  // Keep the bond stage (one block a step), the gather and the voxel update (one block a voxel
+  // each) for their own reverses in `blocks`, or, given null, record them operation by
+  // operation on the tape (the reference).
+  void record_blocks_into(Blocks* blocks) { blocks_ = blocks; }
   const std::vector<StateFieldBytes>& rows() const { return rows_; }
   std::vector<std::vector<int32_t>>& ids() { return ids_; }
 
@@ -154,7 +182,10 @@ class Replica {
     if (nb_ > 0) {
       const Adj damp = m.bond_damp / dt_old;
       int redo = 0;
-      for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
+      if (g_tape && blocks_)
+        record_bonds(io, damp, redo);
+      else
+        for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
       if (redo > 0)
         throw std::domain_error("gradient: bond " + std::to_string(w_.redo[0]) + " at step " +
                                 std::to_string(s.steps) +
@@ -164,7 +195,10 @@ class Replica {
     const Adj dt_next = m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time
                             ? stable_dt_adj(m, s.stiffness.data(), events)
                             : dt_old;
-    gather();
+    if (g_tape && blocks_)
+      record_gather();
+    else
+      gather();
     self_collisions(events);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
@@ -190,11 +224,17 @@ class Replica {
     // integrate: floor, friction, Euler update
     if (events && m.flat_floor)
       for (int i = 0; i < m.n; ++i) events->add(0.5 * s.size[i] - s.pos[i].z() > 0.0 ? 1 : 0);
-    Adj max_speed2 = 0.0;
+    double max_speed2 = 0.0;
     bool bad = false;
-    for (int i = 0; i < m.n; ++i)
-      update_lanes<Adj, bool, Adj>(w_.views.voxel, w_.views.voxel_out, i, m, dt, max_speed2, bad);
-    if (bad || max_speed2.v > m.def.max_speed * m.def.max_speed) return false;
+    if (g_tape && blocks_) {
+      record_updates(dt, max_speed2, bad);
+    } else {
+      Adj top = 0.0;
+      for (int i = 0; i < m.n; ++i)
+        update_lanes<Adj, bool, Adj>(w_.views.voxel, w_.views.voxel_out, i, m, dt, top, bad);
+      max_speed2 = top.v;
+    }
+    if (bad || max_speed2 > m.def.max_speed * m.def.max_speed) return false;
     if (events)
       for (int i = 0; i < m.n; ++i) events->add(s.static_friction[i]);
     // actuate (its clamps and development's gates, clamps and maxima are events)
@@ -233,6 +273,119 @@ class Replica {
   }
 
  private:
+  // The bond stage on doubles (the engine's kernel set), its input arrays kept and its outputs
+  // made leaves of the tape, which the sweep's block reverse gives their adjoints.
+  void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
+    Tape& t = *g_tape;
+    const BondStageLayout L{size_t(m_.n), size_t(nb_)};
+    const BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
+                          io.all_valid};
+    blocks_->bond_values.resize(stage.at + L.size());
+    blocks_->bond_ids.resize(stage.at + L.size());
+    keep_bond_stage(io, L, damp.v, damp.id, blocks_->bond_values.data() + stage.at,
+                    blocks_->bond_ids.data() + stage.at);
+    if (!io.all_valid)
+      blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
+    blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
+    blocks_->bonds.push_back(stage);
+    t.nodes.resize(t.nodes.size() + size_t(kBondOutputs) * size_t(nb_), Node{-1, -1, 0.0, 0.0});
+    int32_t* out_ids[3];
+    int32_t* next_ids[9];
+    for (int v = 0; v < 3; ++v) out_ids[v] = t.ids_of(io.out[v]);
+    for (int j = 0; j < 9; ++j) next_ids[j] = t.ids_of(io.prev_next[j]);
+    int32_t* strain_ids = t.ids_of(io.strain);
+    int32_t* stress_ids = t.ids_of(io.stress);
+    int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
+    // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
+    redo += kernels().bond(io, nb_, m_, damp.v);
+    for (int b = 0; b < nb_; ++b) {
+      const int32_t first = static_cast<int32_t>(stage.first + int64_t(kBondOutputs) * b);
+      for (int v = 0; v < 3; ++v) {
+        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = first + kOut + 3 * v + c;
+        out_ids[v][4 * size_t(b) + 3] = -1;
+      }
+      for (int j = 0; j < 9; ++j) next_ids[j][b] = first + kPrevNext + j;
+      strain_ids[b] = first + kStrain;
+      stress_ids[b] = first + kStress;
+      if (energy_ids) energy_ids[b] = first + kEnergy;
+    }
+  }
+
+  // The voxel update on doubles, as record_bonds does the bond stage.
+  void record_updates(Adj dt, double& max_speed2, bool& bad) {
+    Tape& t = *g_tape;
+    const VoxelKernelIo& io = w_.views.voxel;
+    const VoxelStateOut& st = w_.views.voxel_out;
+    const VoxelReads reads = voxel_reads(io, dt.v, dt.id);
+    int32_t* pos_ids = t.ids_of(st.pos);
+    int32_t* lin_ids = t.ids_of(st.lin_mom);
+    int32_t* ang_ids = t.ids_of(st.ang_mom);
+    int32_t* quat_ids = t.ids_of(st.quat);
+    int32_t* normal_ids = io.floor_normal ? t.ids_of(io.floor_normal) : nullptr;
+    const size_t start = blocks_->voxels.size();
+    for (int i = 0; i < m_.n; ++i) {
+      blocks_->order.push_back({Blocks::kVoxel, uint32_t(blocks_->voxels.size())});
+      blocks_->voxels.push_back({0, voxel_args(io, i, reads)});
+    }
+    // Updated in place by the engine's own kernel set, after every voxel's arguments are kept.
+    const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
+    max_speed2 = summary.max_speed2;
+    bad = summary.non_finite;
+    for (int i = 0; i < m_.n; ++i) {
+      blocks_->voxels[start + size_t(i)].first = static_cast<int64_t>(t.nodes.size());
+      const int32_t first = static_cast<int32_t>(t.nodes.size());
+      t.nodes.resize(t.nodes.size() + kVoxelOutputs, Node{-1, -1, 0.0, 0.0});
+      const size_t v = static_cast<size_t>(i);
+      for (int c = 0; c < 3; ++c) {
+        pos_ids[3 * v + c] = first + kVOutPos + c;
+        lin_ids[3 * v + c] = first + kVOutLinMom + c;
+        ang_ids[3 * v + c] = first + kVOutAngMom + c;
+      }
+      for (int c = 0; c < 4; ++c) quat_ids[4 * v + c] = first + kVOutQuat + c;
+      if (normal_ids) normal_ids[v] = first + kVOutNormal;
+    }
+  }
+
+  // The gather on doubles (the engine's kernel set), one block a voxel (voxel_adjoint.hpp).
+  void record_gather() {
+    Tape& t = *g_tape;
+    const VoxelKernelIo& io = w_.views.voxel;
+    kernels().gather(io, m_.n, m_);
+    const int32_t* out_ids[3] = {t.ids_of(io.bond_out[0]), t.ids_of(io.bond_out[1]),
+                                 t.ids_of(io.bond_out[2])};
+    const int32_t* lin_ids = t.ids_of(io.lin_mom);
+    const int32_t* stiff_ids = t.ids_of(io.stiff);
+    int32_t* force_ids[3] = {t.ids_of(io.force[0]), t.ids_of(io.force[1]), t.ids_of(io.force[2])};
+    int32_t* moment_ids[3] = {t.ids_of(io.moment[0]), t.ids_of(io.moment[1]),
+                              t.ids_of(io.moment[2])};
+    int32_t* sqrt_ids = t.ids_of(io.sqrt_e);
+    const auto id = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
+    for (int i = 0; i < m_.n; ++i) {
+      const size_t v = static_cast<size_t>(i);
+      GatherArgs a;
+      for (int slot = 0; slot < 6; ++slot) {
+        const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]);
+        for (int c = 0; c < 3; ++c) {
+          a.id[kGSlots + 6 * slot + c] = id(out_ids[0], b + c);
+          a.id[kGSlots + 6 * slot + 3 + c] = id(out_ids[slot & 1 ? 1 : 2], b + c);
+        }
+      }
+      for (int c = 0; c < 3; ++c)
+        a.lin_mom[c] = io.lin_mom[3 * v + c], a.id[kGLinMom + c] = id(lin_ids, 3 * v + c);
+      a.e = io.stiff[v];
+      a.id[kGE] = id(stiff_ids, v);
+      const int32_t first = static_cast<int32_t>(t.nodes.size());
+      blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
+      blocks_->gathers.push_back({first, a});
+      t.nodes.resize(t.nodes.size() + kGatherOutputs, Node{-1, -1, 0.0, 0.0});
+      for (int c = 0; c < 3; ++c) {
+        force_ids[c][v] = first + kGOutForce + c;
+        moment_ids[c][v] = first + kGOutMoment + c;
+      }
+      sqrt_ids[v] = first + kGOutSqrtE;
+    }
+  }
+
   // gather_voxel (voxel_body.hpp) on Adj: bond forces and moments in slot order (the 4-double
   // records element by element, each as the vector sum computes it), slow damping, weight,
   // load; slow_damping_lanes itself is the kernel's.
@@ -260,6 +413,38 @@ class Replica {
     }
   }
 
+  // The pairs that can touch until the next refresh, in increasing order: those whose centres
+  // were within reach when the list was made (anchor_ the centres then). A pair touching now is
+  // closer than half_d (size_i + size_j) <= 2 half_d size_top_; while no voxel has moved more
+  // than kDrift L from its anchor and no size has grown past size_top_, its centres were then
+  // closer than that plus 2 kDrift L, which is reach. Otherwise the list is made again.
+  void refresh_near_pairs(double half_d) {
+    static constexpr double kDrift = 0.05;  // of a voxel's edge
+    const Model& m = m_;
+    const State& s = s_;
+    const double drift = kDrift * m.size;
+    double size_top = 0, moved2 = 0;
+    for (int i = 0; i < m.n; ++i) size_top = std::max(size_top, s.size[i]);
+    if (anchor_.size() == 3 * size_t(m.n))
+      for (int i = 0; i < m.n && moved2 <= drift * drift; ++i) {
+        const double* a = &anchor_[3 * size_t(i)];
+        const double dx = s.pos[i].x() - a[0], dy = s.pos[i].y() - a[1], dz = s.pos[i].z() - a[2];
+        moved2 = std::max(moved2, dx * dx + dy * dy + dz * dz);
+      }
+    if (anchor_.size() == 3 * size_t(m.n) && moved2 <= drift * drift && size_top <= size_top_)
+      return;
+    anchor_.resize(3 * size_t(m.n));
+    for (int i = 0; i < m.n; ++i)
+      for (int k = 0; k < 3; ++k) anchor_[3 * size_t(i) + k] = s.pos[i][k];
+    size_top_ = size_top * (1 + 1e-3);
+    const double reach = (2 * half_d * size_top_ + 2 * drift) * (1 + 1e-9);
+    near_.clear();
+    for (size_t p = 0; p < pair_a_.size(); ++p) {
+      const Vec3 d = s.pos[pair_b_[p]] - s.pos[pair_a_[p]];
+      if (d.squaredNorm() < reach * reach) near_.push_back(static_cast<int>(p));
+    }
+  }
+
   // apply_self_collisions (contacts.cpp) for the robot's own voxels: every pair of surface
   // voxels i < j not near each other in the bond graph, in (i, j) order, as the engine adds
   // the pairs its candidate lists find (they miss no contact, and the exact test is this one).
@@ -268,15 +453,19 @@ class Replica {
     if (!m.def.self_collision) return;
     const State& s = s_;
     const double half_d = 0.5 * m.def.contact_diameter;
-    if (pairs_.empty())  // every pair that may touch, once: (i, j), i < j, in increasing order
+    if (!paired_) {  // every pair that may touch, once: (i, j), i < j, in increasing order
       for (int i = 0; i < m.n; ++i) {
         if (!m.surface[i]) continue;
         const std::vector<int>& near = m.near_voxels[i];
         for (int j = i + 1; j < m.n; ++j)
           if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j))
-            pairs_.push_back({i, j});
+            pair_a_.push_back(i), pair_b_.push_back(j);
       }
-    for (const auto& [i, j] : pairs_) {
+      paired_ = true;
+    }
+    refresh_near_pairs(half_d);
+    for (size_t c = 0; c < near_.size(); ++c) {
+      const int i = pair_a_[near_[c]], j = pair_b_[near_[c]];
       const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
       const double dz = s.pos[j].z() - s.pos[i].z();
       const double contact = half_d * (s.size[i] + s.size[j]);
@@ -306,8 +495,13 @@ class Replica {
   std::vector<StateFieldBytes> rows_;
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
-  std::vector<std::pair<int, int>> pairs_;  // the surface pairs self-collision tests
-  NetworkReplica net_;                      // the neural controller's call
+  // The surface pairs self-collision tests (built on the first step), and those that may touch.
+  std::vector<int> pair_a_, pair_b_, near_;
+  bool paired_ = false;
+  std::vector<double> anchor_;  // refresh_near_pairs'
+  double size_top_ = 0;
+  Blocks* blocks_ = nullptr;
+  NetworkReplica net_;  // the neural controller's call
 };
 
 // Walk's fitness of a finished life and its derivative with respect to the final positions
@@ -363,24 +557,85 @@ struct ParamLeaves {
   }
 };
 
-void sweep(const Tape& t, std::vector<double>& adj) {
-  for (size_t n = t.nodes.size(); n-- > 0;) {
-    const double a = adj[n];
-    if (a == 0) continue;
-    const Node& nd = t.nodes[n];
-    if (nd.a >= 0) adj[nd.a] += nd.da * a;
-    if (nd.b >= 0) adj[nd.b] += nd.db * a;
+// One block's reverse: from the adjoints of its outputs (nodes first..), those of its inputs.
+template <int kIn, int kOut, class Args, class Reverse>
+void block_reverse(const Args& args, size_t first, std::vector<double>& adj,
+                   const ModelConstants& k, Reverse reverse) {
+  const double* out = adj.data() + first;
+  bool any = false;
+  for (int o = 0; o < kOut; ++o) any = any || out[o] != 0;
+  if (!any) return;
+  double in[kIn] = {};
+  reverse(args, k, out, in);
+  for (int i = 0; i < kIn; ++i)
+    if (args.id[i] >= 0) adj[args.id[i]] += in[i];
+}
+
+// The whole tape, with each block's reverse where its output leaves begin: by hand where the
+// stage has one for the branch taken, else by the kernel recorded on a small tape.
+void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
+           const BondKernelIo& io) {
+  const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
+  size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
+  size_t end = t.nodes.size();
+  for (size_t j = blocks.order.size(); j-- > 0;) {
+    const auto [kind, index] = blocks.order[j];
+    size_t first = 0;
+    int outputs = 0;
+    if (kind == Blocks::kBond)
+      first = size_t(blocks.bonds[index].first), outputs = kBondOutputs * k.bond_count();
+    else if (kind == Blocks::kVoxel)
+      first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs;
+    else
+      first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs;
+    sweep_nodes(t, adj, first + outputs, end);
+    end = first;
+    if (kind == Blocks::kBond) {
+      const BondBlock& stage = blocks.bonds[index];
+      const uint8_t* valid = nullptr;
+      if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
+      for (size_t b = L.nb; b-- > 0;) {
+        const BondArgs a =
+            bond_args(io, L, blocks.bond_values.data() + stage.at,
+                      blocks.bond_ids.data() + stage.at, int(b), stage.all_valid || valid[b]);
+        block_reverse<kBondInputs, kBondOutputs>(a, first + kBondOutputs * b, adj, k,
+                                                 [](auto& a, auto& c, auto* o, auto* in) {
+                                                   if (!bond_reverse(a, c, o, in))
+                                                     bond_reverse_tape(a, c, o, in);
+                                                 });
+      }
+    } else if (kind == Blocks::kVoxel)
+      block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[index].args, first, adj, k,
+                                                 [](auto& a, auto& c, auto* o, auto* in) {
+                                                   if (!voxel_reverse(a, c, o, in))
+                                                     voxel_reverse_tape(a, c, o, in);
+                                                 });
+    else
+      block_reverse<kGatherInputs, kGatherOutputs>(blocks.gathers[index].args, first, adj, k,
+                                                   gather_reverse);
   }
+  sweep_nodes(t, adj, 0, end);
 }
 
 // Bytes a tape node costs: the node and its adjoint.
 constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
+// Bytes the blocks of a step cost (one a bond and one a voxel).
+double block_bytes(const Model& m) {
+  const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
+  const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
+  const double order = sizeof(Blocks::order[0]) * double(1 + 2 * m.n);
+  return bond_stage + (sizeof(VoxelBlock) + sizeof(GatherBlock)) * double(m.n) + order;
+}
+
 // The nodes one step records: the first step of the life, and a fifth more for what the first
 // step lacks (actuation and development start after settling; damping after the first step).
+// Its bond blocks are one a bond.
 size_t nodes_per_step(const Model& m) {
   Tape tape;
   Replica rep(m);
+  Blocks blocks;
+  rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   g_tape = &tape;
   for (auto& row : rep.ids())
     for (auto& id : row) id = tape.leaf();
@@ -438,7 +693,8 @@ Plan plan(const Model& m, const GradientOptions& options) {
   const State initial = make_initial_state(m);
   p.steps = std::ceil(m.def.duration / initial.dt) + 1;  // dt may change: an estimate
   p.snapshot_bytes = static_cast<double>(save_state(initial).size());
-  p.tape_bytes_per_step = kNodeBytes * static_cast<double>(nodes_per_step(m));
+  const double step_nodes = static_cast<double>(nodes_per_step(m));
+  p.tape_bytes_per_step = kNodeBytes * step_nodes + block_bytes(m);
   // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
   // two equal and their sum, 2 sqrt(N S T), the least.
   const double N = p.steps, S = p.snapshot_bytes, T = p.tape_bytes_per_step;
@@ -446,7 +702,7 @@ Plan plan(const Model& m, const GradientOptions& options) {
                     ? options.checkpoint_every
                     : static_cast<int>(std::clamp(std::round(std::sqrt(N * S / T)), 1.0, N));
   // A node is named by a 32-bit index: one segment's tape must stay below 2^31 nodes.
-  const double segment_nodes = K * T / kNodeBytes * 1.25;
+  const double segment_nodes = K * step_nodes * 1.25;
   if (segment_nodes >= 2147483647.0)
     throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
                                 " steps records about " +
@@ -485,7 +741,6 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   // ---- Forward: the engine's own life, with a snapshot every K steps ----
   const Plan p = plan(m, options);
   const int K = p.checkpoint_every;
-  const double step_bytes = p.tape_bytes_per_step;
   g.estimated_bytes = p.estimated_bytes;
   Simulator sim(m);
   std::vector<std::vector<uint8_t>> snaps;
@@ -524,11 +779,21 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   // first (the last segment of the life, the longest but for rounding) no page is faulted in
   // again.
   Tape tape;
-  tape.nodes.reserve(static_cast<size_t>(1.25 * K * step_bytes / kNodeBytes));
+  tape.nodes.reserve(
+      static_cast<size_t>(1.25 * K * (p.tape_bytes_per_step - block_bytes(m)) / kNodeBytes));
+  Blocks blocks;
+  blocks.bond_values.reserve(static_cast<size_t>(K) *
+                             BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
+  blocks.bond_ids.reserve(blocks.bond_values.capacity());
+  blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
+  blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
+  blocks.order.reserve(static_cast<size_t>(K) * (1 + 2 * m.n));
+  rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   std::vector<double> adj;
   for (size_t seg = snaps.size(); seg-- > 0;) {
     tape.nodes.clear();
     tape.clear_shadows();
+    blocks.clear();
     g_tape = &tape;
     restore_state(rep.state(), snaps[seg]);
     std::vector<std::vector<int32_t>>& ids = rep.ids();
@@ -557,7 +822,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k)
         if (ids[r][k] >= 0) adj[ids[r][k]] += adj_state[r][k];
-    sweep(tape, adj);
+    sweep(tape, adj, blocks, m, rep.bond_io());
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k) adj_state[r][k] = adj[start[r][k]];
     for (int i = 0; i < m.n; ++i) {
@@ -584,7 +849,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     g_tape = nullptr;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = adj_state[dt_row][0];
-    sweep(tape, adj);
+    sweep(tape, adj, {}, m, rep.bond_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.

@@ -1,0 +1,82 @@
+// The bond stage's own adjoint (docs/gradients.md, "Cost"). Recording the bond kernel
+// operation by operation was most of a gradient's time: about 400 tape nodes a bond a step,
+// recorded in the recomputation and swept back through a tape too large for the cache. Instead
+// the replica runs the kernel on doubles (the engine's own bits) and keeps, per bond, what the
+// kernel read (its arguments below, values and tape nodes); its outputs are fresh leaves of
+// the tape. The sweep, on reaching a bond's leaves, calls the bond's reverse, which recomputes
+// the bond from its arguments and adds the adjoints of its inputs.
+//
+// Two reverses: bond_reverse_tape records the kernel template on a small tape of its own and
+// sweeps it (the reference, and the path of rotations past pi/16, the arctangent's wide
+// branch); bond_reverse is written by hand for the path nearly every bond takes every step
+// (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12).
+#pragma once
+
+#include <cstdint>
+
+#include "kernels.hpp"
+#include "plastivox/model_constants.hpp"
+
+namespace plastivox::grad {
+
+// What a bond reads, in this order: the centre and actuated size of a and of b, their
+// orientations (x, y, z, w), their moduli, the previous deformation, the damping factor.
+enum BondInput : int {
+  kCentreA = 0,
+  kCentreB = 4,
+  kQuatA = 8,
+  kQuatB = 12,
+  kStiffA = 16,
+  kStiffB = 17,
+  kPrev = 18,
+  kDamp = 27,
+  kBondInputs = 28
+};
+// What it writes: the records out[0..2] (x, y, z of each), the next deformation, strain,
+// stress, and stress x strain.
+enum BondOutput : int {
+  kOut = 0,
+  kPrevNext = 9,
+  kStrain = 18,
+  kStress = 19,
+  kEnergy = 20,
+  kBondOutputs = 21
+};
+
+struct BondArgs {
+  double v[kBondInputs];
+  int32_t id[kBondInputs];  // tape nodes (-1: a constant)
+  int32_t axis;             // the bond's lattice axis
+  uint8_t valid;            // its previous deformation is recorded (damping on)
+};
+
+// A step's bond stage as kept for its reverse: the arrays the kernel read, values and tape
+// nodes side by side (copied whole, not bond by bond), at these offsets for n voxels and nb
+// bonds: centres and sizes (4 a voxel), orientations (4 a voxel), moduli, the previous
+// deformations (component by component, nb each), the damping factor.
+struct BondStageLayout {
+  size_t n, nb;
+  size_t quat() const { return 4 * n; }
+  size_t stiff() const { return 8 * n; }
+  size_t prev(int j) const { return 9 * n + size_t(j) * nb; }
+  size_t damp() const { return 9 * n + 9 * nb; }
+  size_t size() const { return damp() + 1; }
+};
+// Writes the stage's record (L.size() values and nodes; the nodes through the tape's shadows,
+// -1 for an array without one) before the kernel runs.
+void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
+                     double* values, int32_t* ids);
+// Bond b's arguments from a kept stage (valid: its damping flag).
+BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
+                   const int32_t* ids, int b, bool valid);
+
+// From the adjoints of a bond's outputs (kBondOutputs of them), adds those of its inputs to
+// in_adj (kBondInputs).
+void bond_reverse_tape(const BondArgs& a, const ModelConstants& k, const double* out_adj,
+                       double* in_adj);
+// The same by hand; returns false, having done nothing, off its path (a degenerate chord, or a
+// rotation whose arctangent takes the wide branch).
+bool bond_reverse(const BondArgs& a, const ModelConstants& k, const double* out_adj,
+                  double* in_adj);
+
+}  // namespace plastivox::grad
