@@ -763,13 +763,15 @@ def _run_threads(threads):
 
 def _score(value, index, what):
     """One life's score as the C++ layer takes it: (ok, fitness, failure, sank,
-    final_stiffness or None). A Result is scored as the engine scores it (a life that did not
-    finish, or sank while sinking_invalid is on, fails); a number is the fitness (not finite:
-    the life failed)."""
+    final_stiffness or None, vertical). A Result is scored as the engine scores it (a life that
+    did not finish, or sank while sinking_invalid is on, fails; its vertical_exploit flag is
+    kept, so no MAP-Elites archive admits it); a number is the fitness (not finite: the life
+    failed), never flagged."""
     if isinstance(value, Result):
         ok = value.status == "finished"
         return (ok, float(value.fitness), "" if ok else (value.failure or value.status),
-                value.health == "sank", _np.asarray(value.final_stiffness, dtype=float))
+                value.health == "sank", _np.asarray(value.final_stiffness, dtype=float),
+                bool(value.vertical_exploit))
     if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, float, _np.integer,
                                                                       _np.floating)):
         raise TypeError(f"{what}[{index}]: expected a number or a plastivox.Result, "
@@ -777,7 +779,7 @@ def _score(value, index, what):
     fitness = float(value)
     finite = _math.isfinite(fitness)
     return (finite, fitness if finite else 0.0,
-            "" if finite else f"the fitness function gave {fitness}", False, None)
+            "" if finite else f"the fitness function gave {fitness}", False, None, False)
 
 
 def _function_name(fn):

@@ -235,10 +235,11 @@ class PythonEvaluations : public evo::Simulations {
 
  private:
   static evo::Evaluation evaluation(const evo::Phenotype& p, const pyb::handle& item) {
-    const auto [ok, fitness, failure, sank, stiffness] = item.cast<
-        std::tuple<bool, double, std::string, bool, std::optional<std::vector<double>>>>();
+    const auto [ok, fitness, failure, sank, stiffness, vertical] = item.cast<
+        std::tuple<bool, double, std::string, bool, std::optional<std::vector<double>>, bool>>();
     evo::Evaluation e;
     e.sank = sank;
+    e.vertical = vertical;
     if (ok && std::isfinite(fitness)) {
       e.status = evo::EvalStatus::kOk;
       e.fitness = fitness;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/names.hpp"
@@ -32,10 +33,30 @@ double ranked_fitness(const Individual& ind) {
   return ind.status == EvalStatus::kOk ? ind.fitness : -std::numeric_limits<double>::infinity();
 }
 
+// What a champion is chosen by (docs/evolution.md, "Flagged lives"): a life that counts (ok,
+// not flagged by the vertical rule) by its fitness, above every flagged life (ok, but scored by
+// rising or falling: Evaluation::vertical), above every failed one. Selection still sees
+// ranked_fitness; without a flagged life the two order alike, so runs without one keep their
+// champions and digests.
+using ChampionRank = std::pair<int, double>;
+ChampionRank champion_rank(EvalStatus status, bool vertical, double fitness) {
+  if (status != EvalStatus::kOk) return {0, 0.0};
+  return {vertical ? 1 : 2, fitness};
+}
+ChampionRank champion_rank(const Individual& ind) {
+  return champion_rank(ind.status, ind.vertical, ind.fitness);
+}
+// The recorded champion's rank: its flag is its birth's.
+ChampionRank champion_rank(const RunState& s, const ChampionRecord& c) {
+  return champion_rank(static_cast<EvalStatus>(c.status), s.births.at(c.id).vertical != 0,
+                       c.fitness);
+}
+
+// The best of a population (by id) by champion_rank, ties to the lowest id.
 size_t champion_index(const std::vector<Individual>& pop) {
   size_t best = 0;
   for (size_t i = 1; i < pop.size(); ++i)
-    if (ranked_fitness(pop[i]) > ranked_fitness(pop[best])) best = i;
+    if (champion_rank(pop[i]) > champion_rank(pop[best])) best = i;
   return best;
 }
 
@@ -77,6 +98,7 @@ Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   e.measures = watch.finish(r.stiffness_change_abs_mean);
   judge_life(physics, r);  // a sunk life is invalid under physics.sinking_invalid
   e.sank = r.sank;
+  e.vertical = vertical_exploit(physics, r);
   e.final_stiffness.assign(p.robot.sites(), 0.0);
   for (int v = 0; v < model.n && v < static_cast<int>(r.final_stiffness.size()); ++v)
     e.final_stiffness[model.site[v]] = r.final_stiffness[v];
@@ -140,6 +162,10 @@ Evolver::Evolver(RunState state, int threads, Simulations* simulations)
     elites[i].outputs = expresser_.evaluate(elites[i].genome);
     elites[i].phenotype = expresser_.express(elites[i].outputs);
   });
+  // Each life's vertical flag is its birth's (the checkpoint keeps it there once).
+  for (std::vector<Individual>* members : {&pop, &elites})
+    for (Individual& ind : *members)
+      ind.vertical = ind.id < state_.births.size() && state_.births[ind.id].vertical != 0;
 }
 
 struct Evolver::Evaluated {
@@ -236,17 +262,24 @@ void Evolver::step_afpo(GenerationStats& st, std::chrono::steady_clock::time_poi
   s.population.clear();
   for (size_t k : keep) s.population.push_back(std::move(candidates[k]));
 
-  // --- records: births, champion, history.
+  // --- records: births, champion, history. The champion is the population's best by
+  // champion_rank; a champion dropped by selection for a flagged life stays champion until a
+  // life that counts beats it (without flagged lives AFPO always keeps its fittest, so this is
+  // the population's best).
   for (BirthRecord& b : births) s.births.push_back(std::move(b));
   const Individual& champ = s.population[champion_index(s.population)];
-  const bool changed = s.champions.empty() || s.champions.back().id != champ.id;
+  const bool changed =
+      s.champions.empty() || (s.champions.back().id != champ.id &&
+                              !(champion_rank(champ) < champion_rank(s, s.champions.back())));
   record(gen, changed ? &champ : nullptr, ev, st, t0);
 }
 
 // CMA-ES (cma.hpp): `population` samples of the search distribution, evaluated as AFPO's new
 // individuals are; the population is this generation's samples; the distribution moves
-// toward the best half. The champion is the best individual ever sampled (the search is not
-// elitist), ties to the earlier.
+// toward the best half. The champion is the best individual ever sampled by champion_rank (the
+// search is not elitist; a flagged life is crowned only while none counts), ties to the earlier.
+// The update still ranks by ranked_fitness: a flagged life pulls the distribution as its
+// fitness says.
 void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_point t0) {
   RunState& s = state_;
   const EvolveConfig& cfg = s.config;
@@ -292,14 +325,9 @@ void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_poin
 
   // --- records: births, champion (the best ever), history.
   for (BirthRecord& b : births) s.births.push_back(std::move(b));
-  const Individual& top = s.population[order[0]];
-  const auto ranked_record = [](const ChampionRecord& c) {
-    return c.status == static_cast<uint8_t>(EvalStatus::kOk)
-               ? c.fitness
-               : -std::numeric_limits<double>::infinity();
-  };
+  const Individual& top = s.population[champion_index(s.population)];
   const bool better =
-      s.champions.empty() || ranked_fitness(top) > ranked_record(s.champions.back());
+      s.champions.empty() || champion_rank(top) > champion_rank(s, s.champions.back());
   record(gen, better ? &top : nullptr, ev, st, t0);
 }
 
@@ -307,9 +335,9 @@ void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_poin
 // an elite drawn uniformly from the archive (its own stream) and mutated as AFPO mutates;
 // while the archive is empty (generation 0), random individuals instead. They are evaluated as
 // AFPO's new individuals are, then offered to their cells serially by id: a child whose life
-// counts (ok, not sunk) takes its cell when the cell is empty or its fitness is strictly
-// higher than the elite's (the elite keeps ties). The population is this generation's
-// children; the champion is the best elite (ties to the lower id).
+// counts (ok, not sunk, not flagged by the vertical rule) takes its cell when the cell is empty or
+// its fitness is strictly higher than the elite's (the elite keeps ties). The population is this
+// generation's children; the champion is the best elite (ties to the lower id).
 void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::time_point t0) {
   RunState& s = state_;
   const EvolveConfig& cfg = s.config;
@@ -373,7 +401,7 @@ void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::ti
   // --- 5: each child offered to its cell, by id.
   for (size_t i = 0; i < n; ++i) {
     Individual& ind = fresh[i];
-    const bool counts = ind.status == EvalStatus::kOk && births[i].sank == 0;
+    const bool counts = ind.status == EvalStatus::kOk && births[i].sank == 0 && !ind.vertical;
     if (counts) life_descriptors(me, s.cache.at(ind.phenotype.hash).measures, ind.descriptors);
     births[i].descriptors = ind.descriptors;
     const int64_t cell = counts ? cell_of(me, ind.descriptors) : -1;
@@ -396,7 +424,8 @@ void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::ti
   for (const Individual& e : s.archive)
     if (!champ || e.fitness > champ->fitness || (e.fitness == champ->fitness && e.id < champ->id))
       champ = &e;
-  if (!champ && s.champions.empty()) champ = &s.population[0];  // nothing counts yet
+  // Nothing counts yet: the generation's best by champion_rank.
+  if (!champ && s.champions.empty()) champ = &s.population[champion_index(s.population)];
   const bool changed = champ && (s.champions.empty() || s.champions.back().id != champ->id);
   record(gen, changed ? champ : nullptr, ev, st, t0);
   GenerationRecord& rec = s.history.back();
@@ -425,6 +454,7 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
       ind.fitness = c->second.fitness;
       births[i].failure = c->second.failure;
       births[i].sank = c->second.sank ? 1 : 0;
+      ind.vertical = c->second.vertical;
       ++st.cache_hits;
     } else if (first_of.count(ind.phenotype.hash)) {
       duplicates.push_back(i);
@@ -456,7 +486,9 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
     births[i].failure = e.failure;
     births[i].simulated = 1;
     births[i].sank = e.sank ? 1 : 0;
-    s.cache[ind.phenotype.hash] = CacheEntry{e.fitness, e.status, e.failure, e.sank, e.measures};
+    ind.vertical = e.vertical;
+    s.cache[ind.phenotype.hash] =
+        CacheEntry{e.fitness, e.status, e.failure, e.sank, e.measures, e.vertical};
     st.sim_cpu_seconds += e.wall_seconds;
     if (e.status == EvalStatus::kUnstable) ++st.unstable;
     if (e.sank) ++st.sank;
@@ -467,10 +499,12 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
     fresh[i].fitness = c.fitness;
     births[i].failure = c.failure;
     births[i].sank = c.sank ? 1 : 0;
+    fresh[i].vertical = c.vertical;
   }
   for (size_t i = 0; i < fresh.size(); ++i) {
     births[i].fitness = fresh[i].fitness;
     births[i].status = static_cast<uint8_t>(fresh[i].status);
+    births[i].vertical = fresh[i].vertical ? 1 : 0;
   }
   st.created = static_cast<int>(fresh.size());
   st.simulated = static_cast<int>(to_sim.size());

@@ -47,6 +47,10 @@ struct Evaluation {
   EvalStatus status = EvalStatus::kInvalid;
   std::string failure;
   bool sank = false;  // SimResult::sank: the body ended below the floor
+  // The rules' vertical_exploit (plastivox/rules/life_rules.hpp): a finished life that scored
+  // by rising or falling under walk's 3-D fitness. No archive admits it, and it is crowned only
+  // when no life counts (docs/evolution.md, "Flagged lives").
+  bool vertical = false;
   // Pa, lattice-sized, 0 where absent; empty when an outside fitness gave none (the
   // evolver then simulates a champion again for it).
   std::vector<double> final_stiffness;
