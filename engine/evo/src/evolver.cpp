@@ -171,6 +171,7 @@ Evolver::Evolver(RunState state, int threads, Simulations* simulations)
 struct Evolver::Evaluated {
   std::vector<uint64_t> sim_id;   // ids of the individuals simulated this generation
   std::vector<Evaluation> evals;  // their results, in the same order
+  std::vector<size_t> edited;     // indices into fresh whose genome the caller set
 };
 
 GenerationStats Evolver::step() {
@@ -378,6 +379,7 @@ void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::ti
 
   Evaluated ev;
   evaluate_new(fresh, births, st, ev);
+  for (size_t i : ev.edited) fresh[i].descriptors = body_descriptors(me, fresh[i].phenotype);
 
   // --- 4e: the life's descriptors, from the cache (every life evaluated is in it). An outside
   // fitness gives no measures: those lives are simulated again here (deterministic).
@@ -441,6 +443,7 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
   // --- 4b: serially, by id: invalid, cached, duplicate of an earlier new one, or to simulate.
   std::vector<size_t> to_sim;
   std::vector<size_t> duplicates;
+  std::vector<size_t> duplicate_of;    // the index in fresh each duplicate's body is simulated for
   std::map<Hash128, size_t> first_of;  // phenotype hash -> index in fresh
   for (size_t i = 0; i < fresh.size(); ++i) {
     Individual& ind = fresh[i];
@@ -458,6 +461,7 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
       ++st.cache_hits;
     } else if (first_of.count(ind.phenotype.hash)) {
       duplicates.push_back(i);
+      duplicate_of.push_back(first_of[ind.phenotype.hash]);
       ++st.cache_hits;
     } else {
       first_of[ind.phenotype.hash] = i;
@@ -467,7 +471,12 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
 
   // --- 4c: simulate (thread pool or MPI ranks); results land by index.
   std::vector<const Phenotype*> batch;
-  for (size_t i : to_sim) batch.push_back(&fresh[i].phenotype);
+  std::vector<const Genome*> genomes;
+  for (size_t i : to_sim) {
+    batch.push_back(&fresh[i].phenotype);
+    genomes.push_back(&fresh[i].genome);
+  }
+  if (simulations_) simulations_->genomes(genomes);
   const auto t_sim = std::chrono::steady_clock::now();
   std::vector<Evaluation> results = simulations_
                                         ? simulations_->run(batch, cfg.physics, threads_)
@@ -476,6 +485,19 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
   if (results.size() != batch.size()) throw std::logic_error("simulation backend lost results");
   std::vector<Evaluation> evals(fresh.size());
   for (size_t k = 0; k < to_sim.size(); ++k) evals[to_sim[k]] = std::move(results[k]);
+  for (size_t i : to_sim)  // genomes the caller set, serially by id
+    if (evals[i].edited) {
+      if (cfg.algorithm == Algorithm::kCmaEs)
+        throw std::invalid_argument("genomes: a CMA-ES run's samples cannot be set");
+      Genome g = std::move(*evals[i].edited);
+      evals[i].edited.reset();
+      if (g == fresh[i].genome) continue;  // set unchanged: nothing to do
+      std::vector<size_t> group = {i};     // every new individual with the body asked about
+      for (size_t k = 0; k < duplicates.size(); ++k)
+        if (duplicate_of[k] == i) group.push_back(duplicates[k]);
+      apply_edit(fresh, births, group, g, evals[i]);
+      out.edited.insert(out.edited.end(), group.begin(), group.end());
+    }
 
   // --- 4d: record results by id, fill the cache, resolve duplicates.
   for (size_t i : to_sim) {
@@ -487,6 +509,10 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
     births[i].simulated = 1;
     births[i].sank = e.sank ? 1 : 0;
     ind.vertical = e.vertical;
+    if (!ind.phenotype.valid) {  // a genome the caller set gave an invalid body
+      ++st.invalid;
+      continue;
+    }
     s.cache[ind.phenotype.hash] =
         CacheEntry{e.fitness, e.status, e.failure, e.sank, e.measures, e.vertical};
     st.sim_cpu_seconds += e.wall_seconds;
@@ -494,6 +520,13 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
     if (e.sank) ++st.sank;
   }
   for (size_t i : duplicates) {
+    if (!fresh[i].phenotype.valid) {  // of a body whose set genome gave an invalid one
+      fresh[i].status = EvalStatus::kInvalid;
+      fresh[i].fitness = kWorstFitness;
+      births[i].failure = fresh[i].phenotype.invalid_reason;
+      ++st.invalid;
+      continue;
+    }
     const CacheEntry& c = s.cache.at(fresh[i].phenotype.hash);
     fresh[i].status = c.status;
     fresh[i].fitness = c.fitness;
@@ -511,6 +544,23 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
   for (size_t k = 0; k < to_sim.size(); ++k) {
     out.sim_id.push_back(fresh[to_sim[k]].id);
     out.evals.push_back(std::move(evals[to_sim[k]]));
+  }
+}
+
+void Evolver::apply_edit(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,
+                         const std::vector<size_t>& edited, const Genome& genome, Evaluation& e) {
+  NetworkOutputs outputs = expresser_.evaluate(genome);
+  Phenotype phenotype = expresser_.express(outputs);
+  for (size_t j : edited) {
+    fresh[j].genome = genome;
+    fresh[j].outputs = outputs;
+    fresh[j].phenotype = phenotype;
+    births[j].voxels = phenotype.voxels;
+  }
+  if (!phenotype.valid) {
+    e = Evaluation{};
+    e.failure = "the genome set gives an invalid body: " + phenotype.invalid_reason;
+    for (size_t j : edited) fresh[j].phenotype.invalid_reason = e.failure;
   }
 }
 

@@ -20,6 +20,7 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "plastivox/evo/run_state.hpp"
@@ -58,6 +59,10 @@ struct Evaluation {
   // outside fitness gave a number alone (the evolver then simulates the life for them).
   DescriptorMeasures measures;
   double wall_seconds = 0;
+  // Python's ask/tell (docs/python.md): the genome the caller set for this body in place of
+  // the one it was handed; the evolver expresses it, and this evaluation is its body's
+  // (AFPO and MAP-Elites; validated by the caller).
+  std::optional<Genome> edited;
 };
 // Simulates a valid phenotype under physics (thread-safe).
 Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics);
@@ -76,6 +81,9 @@ class Simulations {
   virtual ~Simulations() = default;
   virtual std::vector<Evaluation> run(const std::vector<const Phenotype*>& batch,
                                       const PhysicsDef& physics, int threads) = 0;
+  // Before run(): the genome of each body of the batch (its first new individual's), for a
+  // backend that hands genomes out (Python's ask/tell). The default ignores them.
+  virtual void genomes(const std::vector<const Genome*>& batch) { (void)batch; }
 };
 
 // The thread-pool implementation: largest bodies first on `threads` threads.
@@ -99,6 +107,10 @@ class Evolver {
 
  private:
   struct Evaluated;  // what evaluate_new() simulated (evolver.cpp)
+  // A genome the caller set (Evaluation::edited) for the new individuals `edited` (one body
+  // and its duplicates): re-expressed, and `e` made an invalid body's when it is one.
+  void apply_edit(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,
+                  const std::vector<size_t>& edited, const Genome& genome, Evaluation& e);
   using Time = std::chrono::steady_clock::time_point;
   void step_afpo(GenerationStats& st, Time t0);
   void step_cma(GenerationStats& st, Time t0);         // docs/evolution.md, "CMA-ES"
