@@ -25,7 +25,11 @@ int cmd_inspect(const Args& in) {
   // the end of the life, which the file does not keep: null, and the text says how to check.
   const TaskInfo& task = task_info(s.config.task);
   const bool decidable = task.succeeds == nullptr;
-  const bool success = decidable &&
+  // Whether the champion's life scored by rising or falling (docs/evolution.md, "Flagged
+  // lives"): crowned only when no life of the run counted (false in files written before the
+  // flag, which did not look).
+  const bool vertical = champ.id < s.births.size() && s.births[champ.id].vertical != 0;
+  const bool success = decidable && !vertical &&
                        static_cast<evo::EvalStatus>(champ.status) == evo::EvalStatus::kOk &&
                        last.best_fitness >= task.threshold;
   int64_t simulations = 0;
@@ -69,6 +73,7 @@ int cmd_inspect(const Args& in) {
   j["champion_since_generation"] = champ.generation;
   j["champion_voxels"] = champ.phenotype.voxel_count();
   j["champion_status"] = to_string(static_cast<evo::EvalStatus>(champ.status));
+  j["champion_vertical"] = vertical;
   j["champion_success"] = decidable ? nlohmann::json(success) : nlohmann::json(nullptr);
   j["individuals"] = s.births.size();
   j["simulations"] = simulations;
@@ -100,6 +105,10 @@ int cmd_inspect(const Args& in) {
               last.best_fitness, task_info(s.config.task).unit,
               static_cast<unsigned long long>(last.champion_id), champ.phenotype.voxel_count(),
               champ.generation);
+  if (vertical)
+    std::printf(
+        "  the champion scored by rising or falling, as no life of the run counted "
+        "(docs/evolution.md, \"Flagged lives\")\n");
   std::printf("  %s: %s\n",
               !decidable ? "success unknown (export the champion and simulate it)"
               : success  ? "success"

@@ -345,5 +345,28 @@ TEST_F(EvoCli, DamagedAndForeignFilesGiveOneLineErrors) {
   EXPECT_EQ(cli("inspect " + path("nothing.h5")).status, 1);
 }
 
+// docs/evolution.md, "Flagged lives": without a floor every life falls, none counts, and the
+// champion is a falling life, which inspect names and never calls a success; on the floor the
+// same run's champion is a life that counts.
+TEST_F(EvoCli, InspectSaysWhenTheChampionScoredByFalling) {
+  const auto inspected = [&](const std::string& name, bool floor) {
+    const std::string cfg = write(name + ".json", R"({"format": "plastivox-evolve-config",
+        "version": 1, "seed": 2, "treatment": "stress", "population": 4, "generations": 1,
+        "lattice": {"nx": 4, "ny": 4, "nz": 4},
+        "physics": {"duration": 0.2, "settle_time": 0.1, "floor": )" +
+                                                      std::string(floor ? "true" : "false") + "}}");
+    const Output e = cli("evolve --config " + cfg + " --out " + path(name + ".h5"));
+    EXPECT_EQ(e.status, 0) << e.out;
+    const Output o = cli("inspect " + path(name + ".h5"));
+    EXPECT_EQ(o.out.find("scored by rising or falling") != std::string::npos, !floor) << o.out;
+    return nlohmann::json::parse(cli("inspect " + path(name + ".h5") + " --json").out);
+  };
+  const nlohmann::json falls = inspected("falls", false);
+  EXPECT_EQ(falls.at("champion_status"), "ok");
+  EXPECT_EQ(falls.at("champion_vertical"), true);
+  EXPECT_EQ(falls.at("champion_success"), false);
+  EXPECT_EQ(inspected("stands", true).at("champion_vertical"), false);
+}
+
 }  // namespace
 }  // namespace plastivox::evo

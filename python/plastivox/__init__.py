@@ -765,13 +765,15 @@ def _run_threads(threads):
 
 def _score(value, index, what):
     """One life's score as the C++ layer takes it: (ok, fitness, failure, sank,
-    final_stiffness or None). A Result is scored as the engine scores it (a life that did not
-    finish, or sank while sinking_invalid is on, fails); a number is the fitness (not finite:
-    the life failed)."""
+    final_stiffness or None, vertical). A Result is scored as the engine scores it (a life that
+    did not finish, or sank while sinking_invalid is on, fails; its vertical_exploit flag is
+    kept, so no MAP-Elites archive admits it); a number is the fitness (not finite: the life
+    failed), never flagged."""
     if isinstance(value, Result):
         ok = value.status == "finished"
         return (ok, float(value.fitness), "" if ok else (value.failure or value.status),
-                value.health == "sank", _np.asarray(value.final_stiffness, dtype=float))
+                value.health == "sank", _np.asarray(value.final_stiffness, dtype=float),
+                bool(value.vertical_exploit))
     if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, float, _np.integer,
                                                                       _np.floating)):
         raise TypeError(f"{what}[{index}]: expected a number or a plastivox.Result, "
@@ -779,7 +781,7 @@ def _score(value, index, what):
     fitness = float(value)
     finite = _math.isfinite(fitness)
     return (finite, fitness if finite else 0.0,
-            "" if finite else f"the fitness function gave {fitness}", False, None)
+            "" if finite else f"the fitness function gave {fitness}", False, None, False)
 
 
 def _function_name(fn):
@@ -818,7 +820,7 @@ def evolve(config, out, threads=None, on_generation=None, on_message=None, stop_
             lives = simulate_many([Robot(r) for r in robots], threads=lives_threads,
                                   record_fps=fps)
             return [_score(life if life.status != "finished" else fitness(life), i, "fitness")
-                    for i, life in enumerate(lives)]
+                    + (None,) for i, life in enumerate(lives)]
         name = _function_name(fitness)
     return _core.evolve(text, path, _os.fspath(out), threads, stop, on_generation, on_message,
                         evaluate, name)
@@ -847,7 +849,9 @@ class Evolver:
             ev.tell([score(r) for r in robots])
 
     ask() gives the bodies the engine would simulate (new, valid, not seen before; the
-    others are scored from the run's cache), under the run's physics. tell() takes one score
+    others are scored from the run's cache), under the run's physics; ask(genomes=True)
+    gives each body's genome beside it, and tell(scores, genomes=...) takes edited ones back
+    (docs/python.md, "Genomes"). tell() takes one score
     per robot: a number (higher is better; NaN or infinite: the life failed) or a
     plastivox.Result of simulating it (scored as evolve() scores it, so
     tell(plastivox.simulate_many(robots)) gives the digest `plastivox evolve` gives). The
@@ -863,10 +867,11 @@ class Evolver:
         threads = _run_threads(threads)
         if not isinstance(name, str) or not name:
             raise ValueError("name: expected a non-empty string")
+        self._config = (text, path)
         self._asks = _queue.Queue(maxsize=1)
         self._tells = _queue.Queue(maxsize=1)
         self._next = None        # the next generation's robots, once known; [] at the end
-        self._vectors = []       # their genome vectors (cma-es) or Nones
+        self._vectors = []       # their genomes: vectors (cma-es) or CPPN genome dicts
         self._pending = None     # robots asked and not yet told
         self._error = None
         self.report = None       # evolve()'s dict once the run has ended
@@ -874,7 +879,8 @@ class Evolver:
 
         def evaluate(robots, vectors):
             self._asks.put(([Robot(r) for r in robots],
-                            [None if v is None else _np.asarray(v, dtype=float) for v in vectors]))
+                            [v if v is None or isinstance(v, dict) else _np.asarray(v, dtype=float)
+                             for v in vectors]))
             scores = self._tells.get()
             if scores is Evolver._CLOSE:
                 raise InterruptedError("the ask/tell loop was closed")
@@ -915,7 +921,12 @@ class Evolver:
         """The next generation's new bodies to score, as Robots; [] once the run has ended.
         genomes=True: (robots, genomes) instead, each robot's genome beside it: under
         algorithm cma-es the vector the search sampled (a float array; the robot is the
-        fixed body with it applied, docs/evolution.md), under afpo and map-elites None."""
+        fixed body with it applied, docs/evolution.md); under afpo and map-elites its four
+        CPPNs, a dict per network ("geometry", "stiffness", "development", "phase") of
+        "activation" (a name per node: the five inputs x, y, z, d, bias, the hidden nodes, the
+        output), "source", "target" (int32 arrays of node indices) and "weight" (a float
+        array), a link each, and "controller", the controller's weights (docs/python.md,
+        "Genomes"). Edit a copy and give it back to tell(genomes=...)."""
         if self._pending is not None:
             raise RuntimeError("ask: tell() the scores of the robots asked before")
         robots = self._wait()
@@ -924,8 +935,13 @@ class Evolver:
             self._pending, self._next = robots, None
         return (list(robots), list(vectors)) if genomes else list(robots)
 
-    def tell(self, scores):
-        """One score per robot the last ask() gave, in its order."""
+    def tell(self, scores, genomes=None):
+        """One score per robot the last ask() gave, in its order. genomes (afpo and
+        map-elites): None, or one entry per robot: None (its genome as asked) or a genome as
+        ask(genomes=True) gives it, edited; the robot's genome becomes that one, and its score
+        must then be the body robot(genome) gives (an invalid body fails whatever its score).
+        A malformed genome is a ValueError naming it and its field, and the generation still
+        waits for a tell()."""
         if self._pending is None:
             raise RuntimeError("tell: ask() for robots first")
         scores = list(scores)
@@ -933,8 +949,27 @@ class Evolver:
             raise ValueError(f"scores: expected {len(self._pending)}, one per robot ask() "
                              f"gave, got {len(scores)}")
         converted = [_score(v, i, "scores") for i, v in enumerate(scores)]
+        genomes = [None] * len(scores) if genomes is None else list(genomes)
+        if len(genomes) != len(scores):
+            raise ValueError(f"genomes: expected one per robot ask() gave ({len(scores)}), "
+                             f"got {len(genomes)}")
+        for i, (g, asked) in enumerate(zip(genomes, self._vectors)):
+            if g is None:
+                continue
+            if not isinstance(asked, dict):
+                raise ValueError(f"genomes[{i}]: only a CPPN genome (afpo, map-elites) can be "
+                                 f"set; a CMA-ES run's samples are the search's")
+            _core.check_genome(g, len(asked["controller"]), f"genomes[{i}]")
+        converted = [c + (g,) for c, g in zip(converted, genomes)]
         self._pending = None
         self._tells.put(converted)
+
+    def robot(self, genome):
+        """The body a CPPN genome (as ask(genomes=True) gives it) expresses under the run's
+        config, as a Robot under its physics; None when the body is invalid (too few voxels,
+        or NaN)."""
+        r = _core.express_genome(*self._config, genome)
+        return None if r is None else Robot(r)
 
     def close(self):
         """Stops the run at its last checkpoint (resumable with the same config, out and

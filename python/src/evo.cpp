@@ -12,6 +12,7 @@
 #include "plastivox/evo/champion.hpp"
 #include "plastivox/evo/cma_body.hpp"
 #include "plastivox/evo/config.hpp"
+#include "plastivox/evo/genome.hpp"
 #include "plastivox/evo/map_elites.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/evo/run.hpp"
@@ -38,6 +39,123 @@ PyRobot champion(const PyResults& r, int generation) {
   out.physics = run.config.physics;
   out.source = r.path;
   return out;
+}
+
+// A CPPN genome as Python reads and sets it (docs/python.md, "Genomes"): per network
+// (geometry, stiffness, development, phase) a dict of `activation` (one name per node, in
+// topological order: the five inputs, hidden nodes, the output), `source`, `target` (int
+// arrays, node indices) and `weight` (float array), one entry per link sorted by (target,
+// source); and `controller`, the controller's weights (empty under the sine).
+pyb::dict genome_to_python(const evo::Genome& g) {
+  pyb::dict d;
+  for (int n = 0; n < evo::kNetworkCount; ++n) {
+    const evo::Cppn& net = g.nets[n];
+    pyb::list act;
+    for (evo::Activation a : net.nodes) act.append(evo::to_string(a));
+    pyb::array_t<int32_t> src(static_cast<pyb::ssize_t>(net.links.size()));
+    pyb::array_t<int32_t> dst(static_cast<pyb::ssize_t>(net.links.size()));
+    std::vector<double> w;
+    for (size_t k = 0; k < net.links.size(); ++k) {
+      src.mutable_at(k) = net.links[k].source;
+      dst.mutable_at(k) = net.links[k].target;
+      w.push_back(net.links[k].weight);
+    }
+    pyb::dict nd;
+    nd["activation"] = act;
+    nd["source"] = src;
+    nd["target"] = dst;
+    nd["weight"] = to_array(w);
+    d[evo::to_string(static_cast<evo::Network>(n))] = nd;
+  }
+  d["controller"] = to_array(g.controller);
+  return d;
+}
+
+// The inverse, checked: the keys, one activation name a node, link arrays of one length, the
+// networks' invariants (evo::validate: layout, order, ranges, weights in [-1, 1]) and
+// `controller_count` weights. std::invalid_argument naming `what` and the field.
+evo::Genome genome_from_python(const pyb::handle& given, size_t controller_count,
+                               const std::string& what) {
+  if (!pyb::isinstance<pyb::dict>(given))
+    throw std::invalid_argument(what + ": expected a dict (ask(genomes=True) gives one)");
+  const pyb::dict d = pyb::reinterpret_borrow<pyb::dict>(given);
+  for (const auto& item : d) {
+    const std::string k = pyb::str(item.first);
+    bool known = k == "controller";
+    for (int n = 0; n < evo::kNetworkCount; ++n)
+      known |= k == evo::to_string(static_cast<evo::Network>(n));
+    if (!known) throw std::invalid_argument(what + ": unknown key '" + k + "'");
+  }
+  evo::Genome g;
+  for (int n = 0; n < evo::kNetworkCount; ++n) {
+    const std::string name = evo::to_string(static_cast<evo::Network>(n));
+    const std::string at = what + "." + name;
+    if (!d.contains(name)) throw std::invalid_argument(at + ": missing");
+    const pyb::object net = d[name.c_str()];
+    if (!pyb::isinstance<pyb::dict>(net))
+      throw std::invalid_argument(at + ": expected a dict of activation, source, target, weight");
+    const pyb::dict nd = pyb::reinterpret_borrow<pyb::dict>(net);
+    for (const char* field : {"activation", "source", "target", "weight"})
+      if (!nd.contains(field)) throw std::invalid_argument(at + "." + field + ": missing");
+    std::vector<std::string> act;
+    std::vector<int64_t> src, dst;
+    std::vector<double> w;
+    try {
+      act = nd["activation"].cast<std::vector<std::string>>();
+    } catch (const pyb::cast_error&) {
+      throw std::invalid_argument(at + ".activation: expected a list of activation names");
+    }
+    try {
+      src = nd["source"].cast<std::vector<int64_t>>();
+      dst = nd["target"].cast<std::vector<int64_t>>();
+      w = nd["weight"].cast<std::vector<double>>();
+    } catch (const pyb::cast_error&) {
+      throw std::invalid_argument(at +
+                                  ": source and target must be integer arrays, weight a "
+                                  "float array");
+    }
+    if (src.size() != w.size() || dst.size() != w.size())
+      throw std::invalid_argument(at + ": source, target and weight must have one length, got " +
+                                  std::to_string(src.size()) + ", " + std::to_string(dst.size()) +
+                                  ", " + std::to_string(w.size()));
+    evo::Cppn& c = g.nets[n];
+    for (size_t k = 0; k < act.size(); ++k) {
+      int code = -1;
+      for (int a = 0; a <= static_cast<int>(evo::Activation::kIdentity); ++a)
+        if (act[k] == evo::to_string(static_cast<evo::Activation>(a))) code = a;
+      if (code < 0)
+        throw std::invalid_argument(at + ".activation[" + std::to_string(k) + "]: '" + act[k] +
+                                    "' is unknown (use sin, abs, neg_abs, square, neg_square, "
+                                    "sqrt_abs, neg_sqrt_abs; identity for inputs and output)");
+      c.nodes.push_back(static_cast<evo::Activation>(code));
+    }
+    constexpr int64_t kMaxNode = int64_t{1} << 30;
+    for (size_t k = 0; k < w.size(); ++k) {
+      if (src[k] < 0 || dst[k] < 0 || src[k] > kMaxNode || dst[k] > kMaxNode)
+        throw std::invalid_argument(at + ": link " + std::to_string(k) +
+                                    " names a node out of range");
+      c.links.push_back({static_cast<int>(src[k]), static_cast<int>(dst[k]), w[k]});
+    }
+    try {
+      evo::validate(c);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(at + ": " + e.what());
+    }
+  }
+  if (d.contains("controller")) {
+    try {
+      g.controller = d["controller"].cast<std::vector<double>>();
+    } catch (const pyb::cast_error&) {
+      throw std::invalid_argument(what + ".controller: expected a float array");
+    }
+  }
+  if (g.controller.size() != controller_count)
+    throw std::invalid_argument(what + ".controller: expected " + std::to_string(controller_count) +
+                                " weights, got " + std::to_string(g.controller.size()));
+  for (double x : g.controller)
+    if (!std::isfinite(x))
+      throw std::invalid_argument(what + ".controller: a weight is not finite");
+  return g;
 }
 
 // The population of the file's last checkpoint, each individual's genome decoded into its
@@ -208,21 +326,37 @@ class PythonEvaluations : public evo::Simulations {
     if (batch.empty()) return {};  // every new body was invalid or seen before
     pyb::gil_scoped_acquire locked;
     try {
-      pyb::list robots, vectors;  // a CMA-ES run's genomes too (None under AFPO)
-      for (const evo::Phenotype* p : batch) {
+      // Each body's genome: a CMA-ES run's vector, or the CPPN genome as a dict.
+      pyb::list robots, vectors;
+      for (size_t i = 0; i < batch.size(); ++i) {
+        const evo::Phenotype* p = batch[i];
         PyRobot r;
         r.def = p->robot;
         r.physics = physics;
         r.source = "evolution";
         robots.append(pyb::cast(std::move(r)));
-        vectors.append(p->vector.empty() ? pyb::object(pyb::none()) : pyb::cast(p->vector));
+        if (!p->vector.empty())
+          vectors.append(pyb::cast(p->vector));
+        else if (i < genomes_.size())
+          vectors.append(genome_to_python(*genomes_[i]));
+        else
+          vectors.append(pyb::none());
       }
       const pyb::list scored = evaluate_(robots, vectors);
       if (scored.size() != batch.size())
         throw std::invalid_argument("evaluate: expected " + std::to_string(batch.size()) +
                                     " scores, got " + std::to_string(scored.size()));
       std::vector<evo::Evaluation> out(batch.size());
-      for (size_t i = 0; i < batch.size(); ++i) out[i] = evaluation(*batch[i], scored[i]);
+      for (size_t i = 0; i < batch.size(); ++i) {
+        const pyb::object set = pyb::reinterpret_borrow<pyb::tuple>(scored[i])[6];
+        out[i] = evaluation(*batch[i], scored[i], !set.is_none());
+        if (set.is_none()) continue;
+        if (i >= genomes_.size() || !batch[i]->vector.empty())
+          throw std::invalid_argument("genomes: only a CPPN genome (afpo, map-elites) can be set");
+        out[i].edited = genome_from_python(set, genomes_[i]->controller.size(),
+                                           "genomes[" + std::to_string(i) + "]");
+      }
+      genomes_.clear();
       return out;
     } catch (pyb::error_already_set& e) {
       pending_.emplace(std::move(e));
@@ -233,12 +367,20 @@ class PythonEvaluations : public evo::Simulations {
     throw EvaluationAbandoned("the generation's lives were not scored");
   }
 
+  void genomes(const std::vector<const evo::Genome*>& batch) override { genomes_ = batch; }
+
  private:
-  static evo::Evaluation evaluation(const evo::Phenotype& p, const pyb::handle& item) {
-    const auto [ok, fitness, failure, sank, stiffness] = item.cast<
-        std::tuple<bool, double, std::string, bool, std::optional<std::vector<double>>>>();
+  // set: a genome was set for this body, so a Result's final stiffness (another body's lattice
+  // sites) is not taken; the evolver simulates a champion's life again for it.
+  static evo::Evaluation evaluation(const evo::Phenotype& p, const pyb::handle& item, bool set) {
+    // The 7th, the genome set (or None), is run()'s.
+    const auto [ok, fitness, failure, sank, stiffness, vertical, genome] =
+        item.cast<std::tuple<bool, double, std::string, bool, std::optional<std::vector<double>>,
+                             bool, pyb::object>>();
+    (void)genome;
     evo::Evaluation e;
     e.sank = sank;
+    e.vertical = vertical;
     if (ok && std::isfinite(fitness)) {
       e.status = evo::EvalStatus::kOk;
       e.fitness = fitness;
@@ -246,7 +388,7 @@ class PythonEvaluations : public evo::Simulations {
       e.status = evo::EvalStatus::kUnstable;
       e.failure = failure.empty() ? "the fitness function gave no finite fitness" : failure;
     }
-    if (stiffness) {
+    if (stiffness && !set) {
       if (static_cast<int>(stiffness->size()) != p.robot.voxel_count())
         throw std::invalid_argument("final_stiffness: expected one value per voxel");
       e.final_stiffness.assign(p.robot.sites(), 0.0);
@@ -259,6 +401,7 @@ class PythonEvaluations : public evo::Simulations {
 
   pyb::function evaluate_;
   std::optional<pyb::error_already_set>& pending_;
+  std::vector<const evo::Genome*> genomes_;  // the batch's, until run() returns
 };
 
 // config_text: a JSON config (from a dict) or empty with config_path set. evaluate, when
@@ -366,6 +509,35 @@ void bind_evo(pyb::module_& m) {
         pyb::arg("on_message"), pyb::arg("evaluate") = pyb::none(),
         pyb::arg("fitness_function") = "");
   m.def("default_config", [] { return evo::default_config_text(); });
+  // A genome as ask(genomes=True) gives it, checked (ValueError naming `what` and the field).
+  m.def(
+      "check_genome",
+      [](const pyb::handle& genome, size_t controller_count, const std::string& what) {
+        genome_from_python(genome, controller_count, what);
+      },
+      pyb::arg("genome"), pyb::arg("controller_count"), pyb::arg("what"));
+  // The body a CPPN genome gives under a config (None when invalid), as the evolver makes it.
+  m.def(
+      "express_genome",
+      [](const std::string& config_text, const std::string& config_path,
+         const pyb::handle& genome) -> pyb::object {
+        const evo::EvolveConfig config = config_path.empty()
+                                             ? evo::parse_config(config_text, "config")
+                                             : evo::read_config_file(config_path);
+        if (config.algorithm == evo::Algorithm::kCmaEs)
+          throw std::invalid_argument("genome: a CMA-ES run's genome is a vector on its body");
+        const evo::Genome g = genome_from_python(
+            genome, static_cast<size_t>(config.controller_genes.count), "genome");
+        const evo::Expresser expresser(config.expression());
+        const evo::Phenotype p = expresser.express(g);
+        if (!p.valid) return pyb::none();
+        PyRobot r;
+        r.def = p.robot;
+        r.physics = config.physics;
+        r.source = "evolution";
+        return pyb::cast(std::move(r));
+      },
+      pyb::arg("config_text"), pyb::arg("config_path"), pyb::arg("genome"));
   // The config's "threads" (what evolve uses when given none), parsed as evolve parses it.
   m.def(
       "config_threads",

@@ -85,7 +85,7 @@ def test_every_python_block_of_docs_python_md_runs_as_written_in_order(tmp_path,
     row = session["row"]  # "Analysis from Python": analyze's numbers, as its comment says
     assert (session["k"]["v_body"], session["plan"]["confidence"]) == \
         (row["v_body"], row["body_plan_confidence"])
-    assert row["excluded"] and row["r_mean"] is None and session["rob"]["r_mean"] > 0
+    assert not row["excluded"] and row["r_mean"] == session["rob"]["r_mean"] > 0
     assert session["d"].shape == (3, 3) and session["plan"]["scores"].shape == (3,)
     assert os.path.getsize("frame.png") > 0 and session["img"].shape == (480, 640, 3)
     assert session["ev"].finished

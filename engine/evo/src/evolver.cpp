@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/names.hpp"
@@ -32,10 +33,30 @@ double ranked_fitness(const Individual& ind) {
   return ind.status == EvalStatus::kOk ? ind.fitness : -std::numeric_limits<double>::infinity();
 }
 
+// What a champion is chosen by (docs/evolution.md, "Flagged lives"): a life that counts (ok,
+// not flagged by the vertical rule) by its fitness, above every flagged life (ok, but scored by
+// rising or falling: Evaluation::vertical), above every failed one. Selection still sees
+// ranked_fitness; without a flagged life the two order alike, so runs without one keep their
+// champions and digests.
+using ChampionRank = std::pair<int, double>;
+ChampionRank champion_rank(EvalStatus status, bool vertical, double fitness) {
+  if (status != EvalStatus::kOk) return {0, 0.0};
+  return {vertical ? 1 : 2, fitness};
+}
+ChampionRank champion_rank(const Individual& ind) {
+  return champion_rank(ind.status, ind.vertical, ind.fitness);
+}
+// The recorded champion's rank: its flag is its birth's.
+ChampionRank champion_rank(const RunState& s, const ChampionRecord& c) {
+  return champion_rank(static_cast<EvalStatus>(c.status), s.births.at(c.id).vertical != 0,
+                       c.fitness);
+}
+
+// The best of a population (by id) by champion_rank, ties to the lowest id.
 size_t champion_index(const std::vector<Individual>& pop) {
   size_t best = 0;
   for (size_t i = 1; i < pop.size(); ++i)
-    if (ranked_fitness(pop[i]) > ranked_fitness(pop[best])) best = i;
+    if (champion_rank(pop[i]) > champion_rank(pop[best])) best = i;
   return best;
 }
 
@@ -77,6 +98,7 @@ Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics) {
   e.measures = watch.finish(r.stiffness_change_abs_mean);
   judge_life(physics, r);  // a sunk life is invalid under physics.sinking_invalid
   e.sank = r.sank;
+  e.vertical = vertical_exploit(physics, r);
   e.final_stiffness.assign(p.robot.sites(), 0.0);
   for (int v = 0; v < model.n && v < static_cast<int>(r.final_stiffness.size()); ++v)
     e.final_stiffness[model.site[v]] = r.final_stiffness[v];
@@ -140,11 +162,16 @@ Evolver::Evolver(RunState state, int threads, Simulations* simulations)
     elites[i].outputs = expresser_.evaluate(elites[i].genome);
     elites[i].phenotype = expresser_.express(elites[i].outputs);
   });
+  // Each life's vertical flag is its birth's (the checkpoint keeps it there once).
+  for (std::vector<Individual>* members : {&pop, &elites})
+    for (Individual& ind : *members)
+      ind.vertical = ind.id < state_.births.size() && state_.births[ind.id].vertical != 0;
 }
 
 struct Evolver::Evaluated {
   std::vector<uint64_t> sim_id;   // ids of the individuals simulated this generation
   std::vector<Evaluation> evals;  // their results, in the same order
+  std::vector<size_t> edited;     // indices into fresh whose genome the caller set
 };
 
 GenerationStats Evolver::step() {
@@ -236,17 +263,24 @@ void Evolver::step_afpo(GenerationStats& st, std::chrono::steady_clock::time_poi
   s.population.clear();
   for (size_t k : keep) s.population.push_back(std::move(candidates[k]));
 
-  // --- records: births, champion, history.
+  // --- records: births, champion, history. The champion is the population's best by
+  // champion_rank; a champion dropped by selection for a flagged life stays champion until a
+  // life that counts beats it (without flagged lives AFPO always keeps its fittest, so this is
+  // the population's best).
   for (BirthRecord& b : births) s.births.push_back(std::move(b));
   const Individual& champ = s.population[champion_index(s.population)];
-  const bool changed = s.champions.empty() || s.champions.back().id != champ.id;
+  const bool changed =
+      s.champions.empty() || (s.champions.back().id != champ.id &&
+                              !(champion_rank(champ) < champion_rank(s, s.champions.back())));
   record(gen, changed ? &champ : nullptr, ev, st, t0);
 }
 
 // CMA-ES (cma.hpp): `population` samples of the search distribution, evaluated as AFPO's new
 // individuals are; the population is this generation's samples; the distribution moves
-// toward the best half. The champion is the best individual ever sampled (the search is not
-// elitist), ties to the earlier.
+// toward the best half. The champion is the best individual ever sampled by champion_rank (the
+// search is not elitist; a flagged life is crowned only while none counts), ties to the earlier.
+// The update still ranks by ranked_fitness: a flagged life pulls the distribution as its
+// fitness says.
 void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_point t0) {
   RunState& s = state_;
   const EvolveConfig& cfg = s.config;
@@ -292,14 +326,9 @@ void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_poin
 
   // --- records: births, champion (the best ever), history.
   for (BirthRecord& b : births) s.births.push_back(std::move(b));
-  const Individual& top = s.population[order[0]];
-  const auto ranked_record = [](const ChampionRecord& c) {
-    return c.status == static_cast<uint8_t>(EvalStatus::kOk)
-               ? c.fitness
-               : -std::numeric_limits<double>::infinity();
-  };
+  const Individual& top = s.population[champion_index(s.population)];
   const bool better =
-      s.champions.empty() || ranked_fitness(top) > ranked_record(s.champions.back());
+      s.champions.empty() || champion_rank(top) > champion_rank(s, s.champions.back());
   record(gen, better ? &top : nullptr, ev, st, t0);
 }
 
@@ -307,9 +336,9 @@ void Evolver::step_cma(GenerationStats& st, std::chrono::steady_clock::time_poin
 // an elite drawn uniformly from the archive (its own stream) and mutated as AFPO mutates;
 // while the archive is empty (generation 0), random individuals instead. They are evaluated as
 // AFPO's new individuals are, then offered to their cells serially by id: a child whose life
-// counts (ok, not sunk) takes its cell when the cell is empty or its fitness is strictly
-// higher than the elite's (the elite keeps ties). The population is this generation's
-// children; the champion is the best elite (ties to the lower id).
+// counts (ok, not sunk, not flagged by the vertical rule) takes its cell when the cell is empty or
+// its fitness is strictly higher than the elite's (the elite keeps ties). The population is this
+// generation's children; the champion is the best elite (ties to the lower id).
 void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::time_point t0) {
   RunState& s = state_;
   const EvolveConfig& cfg = s.config;
@@ -350,6 +379,7 @@ void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::ti
 
   Evaluated ev;
   evaluate_new(fresh, births, st, ev);
+  for (size_t i : ev.edited) fresh[i].descriptors = body_descriptors(me, fresh[i].phenotype);
 
   // --- 4e: the life's descriptors, from the cache (every life evaluated is in it). An outside
   // fitness gives no measures: those lives are simulated again here (deterministic).
@@ -373,7 +403,7 @@ void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::ti
   // --- 5: each child offered to its cell, by id.
   for (size_t i = 0; i < n; ++i) {
     Individual& ind = fresh[i];
-    const bool counts = ind.status == EvalStatus::kOk && births[i].sank == 0;
+    const bool counts = ind.status == EvalStatus::kOk && births[i].sank == 0 && !ind.vertical;
     if (counts) life_descriptors(me, s.cache.at(ind.phenotype.hash).measures, ind.descriptors);
     births[i].descriptors = ind.descriptors;
     const int64_t cell = counts ? cell_of(me, ind.descriptors) : -1;
@@ -396,7 +426,8 @@ void Evolver::step_map_elites(GenerationStats& st, std::chrono::steady_clock::ti
   for (const Individual& e : s.archive)
     if (!champ || e.fitness > champ->fitness || (e.fitness == champ->fitness && e.id < champ->id))
       champ = &e;
-  if (!champ && s.champions.empty()) champ = &s.population[0];  // nothing counts yet
+  // Nothing counts yet: the generation's best by champion_rank.
+  if (!champ && s.champions.empty()) champ = &s.population[champion_index(s.population)];
   const bool changed = champ && (s.champions.empty() || s.champions.back().id != champ->id);
   record(gen, changed ? champ : nullptr, ev, st, t0);
   GenerationRecord& rec = s.history.back();
@@ -412,6 +443,7 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
   // --- 4b: serially, by id: invalid, cached, duplicate of an earlier new one, or to simulate.
   std::vector<size_t> to_sim;
   std::vector<size_t> duplicates;
+  std::vector<size_t> duplicate_of;    // the index in fresh each duplicate's body is simulated for
   std::map<Hash128, size_t> first_of;  // phenotype hash -> index in fresh
   for (size_t i = 0; i < fresh.size(); ++i) {
     Individual& ind = fresh[i];
@@ -425,9 +457,11 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
       ind.fitness = c->second.fitness;
       births[i].failure = c->second.failure;
       births[i].sank = c->second.sank ? 1 : 0;
+      ind.vertical = c->second.vertical;
       ++st.cache_hits;
     } else if (first_of.count(ind.phenotype.hash)) {
       duplicates.push_back(i);
+      duplicate_of.push_back(first_of[ind.phenotype.hash]);
       ++st.cache_hits;
     } else {
       first_of[ind.phenotype.hash] = i;
@@ -437,7 +471,12 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
 
   // --- 4c: simulate (thread pool or MPI ranks); results land by index.
   std::vector<const Phenotype*> batch;
-  for (size_t i : to_sim) batch.push_back(&fresh[i].phenotype);
+  std::vector<const Genome*> genomes;
+  for (size_t i : to_sim) {
+    batch.push_back(&fresh[i].phenotype);
+    genomes.push_back(&fresh[i].genome);
+  }
+  if (simulations_) simulations_->genomes(genomes);
   const auto t_sim = std::chrono::steady_clock::now();
   std::vector<Evaluation> results = simulations_
                                         ? simulations_->run(batch, cfg.physics, threads_)
@@ -446,6 +485,19 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
   if (results.size() != batch.size()) throw std::logic_error("simulation backend lost results");
   std::vector<Evaluation> evals(fresh.size());
   for (size_t k = 0; k < to_sim.size(); ++k) evals[to_sim[k]] = std::move(results[k]);
+  for (size_t i : to_sim)  // genomes the caller set, serially by id
+    if (evals[i].edited) {
+      if (cfg.algorithm == Algorithm::kCmaEs)
+        throw std::invalid_argument("genomes: a CMA-ES run's samples cannot be set");
+      Genome g = std::move(*evals[i].edited);
+      evals[i].edited.reset();
+      if (g == fresh[i].genome) continue;  // set unchanged: nothing to do
+      std::vector<size_t> group = {i};     // every new individual with the body asked about
+      for (size_t k = 0; k < duplicates.size(); ++k)
+        if (duplicate_of[k] == i) group.push_back(duplicates[k]);
+      apply_edit(fresh, births, group, g, evals[i]);
+      out.edited.insert(out.edited.end(), group.begin(), group.end());
+    }
 
   // --- 4d: record results by id, fill the cache, resolve duplicates.
   for (size_t i : to_sim) {
@@ -456,27 +508,59 @@ void Evolver::evaluate_new(std::vector<Individual>& fresh, std::vector<BirthReco
     births[i].failure = e.failure;
     births[i].simulated = 1;
     births[i].sank = e.sank ? 1 : 0;
-    s.cache[ind.phenotype.hash] = CacheEntry{e.fitness, e.status, e.failure, e.sank, e.measures};
+    ind.vertical = e.vertical;
+    if (!ind.phenotype.valid) {  // a genome the caller set gave an invalid body
+      ++st.invalid;
+      continue;
+    }
+    s.cache[ind.phenotype.hash] =
+        CacheEntry{e.fitness, e.status, e.failure, e.sank, e.measures, e.vertical};
     st.sim_cpu_seconds += e.wall_seconds;
     if (e.status == EvalStatus::kUnstable) ++st.unstable;
     if (e.sank) ++st.sank;
   }
   for (size_t i : duplicates) {
+    if (!fresh[i].phenotype.valid) {  // of a body whose set genome gave an invalid one
+      fresh[i].status = EvalStatus::kInvalid;
+      fresh[i].fitness = kWorstFitness;
+      births[i].failure = fresh[i].phenotype.invalid_reason;
+      ++st.invalid;
+      continue;
+    }
     const CacheEntry& c = s.cache.at(fresh[i].phenotype.hash);
     fresh[i].status = c.status;
     fresh[i].fitness = c.fitness;
     births[i].failure = c.failure;
     births[i].sank = c.sank ? 1 : 0;
+    fresh[i].vertical = c.vertical;
   }
   for (size_t i = 0; i < fresh.size(); ++i) {
     births[i].fitness = fresh[i].fitness;
     births[i].status = static_cast<uint8_t>(fresh[i].status);
+    births[i].vertical = fresh[i].vertical ? 1 : 0;
   }
   st.created = static_cast<int>(fresh.size());
   st.simulated = static_cast<int>(to_sim.size());
   for (size_t k = 0; k < to_sim.size(); ++k) {
     out.sim_id.push_back(fresh[to_sim[k]].id);
     out.evals.push_back(std::move(evals[to_sim[k]]));
+  }
+}
+
+void Evolver::apply_edit(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,
+                         const std::vector<size_t>& edited, const Genome& genome, Evaluation& e) {
+  NetworkOutputs outputs = expresser_.evaluate(genome);
+  Phenotype phenotype = expresser_.express(outputs);
+  for (size_t j : edited) {
+    fresh[j].genome = genome;
+    fresh[j].outputs = outputs;
+    fresh[j].phenotype = phenotype;
+    births[j].voxels = phenotype.voxels;
+  }
+  if (!phenotype.valid) {
+    e = Evaluation{};
+    e.failure = "the genome set gives an invalid body: " + phenotype.invalid_reason;
+    for (size_t j : edited) fresh[j].phenotype.invalid_reason = e.failure;
   }
 }
 

@@ -45,6 +45,7 @@ void pack(std::vector<char>& b, uint64_t index, const Evaluation& e) {
   put(b, e.fitness);
   put(b, static_cast<uint8_t>(e.status));
   put(b, static_cast<uint8_t>(e.sank ? 1 : 0));
+  put(b, static_cast<uint8_t>(e.vertical ? 1 : 0));
   put(b, static_cast<uint64_t>(e.failure.size()));
   b.insert(b.end(), e.failure.begin(), e.failure.end());
   put(b, static_cast<uint64_t>(e.final_stiffness.size()));
@@ -62,6 +63,7 @@ Evaluation unpack(const std::vector<char>& b, size_t& at) {
   e.fitness = get<double>(b, at);
   e.status = static_cast<EvalStatus>(get<uint8_t>(b, at));
   e.sank = get<uint8_t>(b, at) != 0;
+  e.vertical = get<uint8_t>(b, at) != 0;
   const auto len = get<uint64_t>(b, at);
   if (at + len > b.size()) throw std::runtime_error("MPI: truncated evaluation message");
   e.failure.assign(b.data() + at, len);

@@ -118,9 +118,14 @@ void read_individuals(const Ctx& c, hid_t root, RunState& s) {
       [&](const char* name, auto member) { h5::read_column(c, g.id(), name, b, member); });
   // Health flag added after format version 1 was fixed: absent in older files (all 0).
   if (h5::has_link(g.id(), "sank")) h5::read_column(c, g.id(), "sank", b, &BirthRecord::sank);
+  // The vertical flag, added on 2026-12-06: absent in older files, whose lives read as not
+  // flagged (their evolver did not look; docs/results-format.md says what that assumes).
+  if (h5::has_link(g.id(), "vertical"))
+    h5::read_column(c, g.id(), "vertical", b, &BirthRecord::vertical);
   for (BirthRecord& r : b) {
     status_code(c, "/individuals/status", r.status);
     r.sank = r.sank ? 1 : 0;
+    r.vertical = r.vertical ? 1 : 0;
   }
   std::vector<hsize_t> fd = {h5::kAnyExtent};
   const auto failure_id = h5::read<uint64_t>(c, g.id(), "failure_id", fd);
@@ -284,6 +289,9 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
   const auto sank = h5::has_link(cache.id(), "sank")
                         ? h5::read<uint8_t>(c, cache.id(), "sank", cd[0])
                         : std::vector<uint8_t>(hi.size(), 0);
+  const auto vertical = h5::has_link(cache.id(), "vertical")  // absent in older files: 0
+                            ? h5::read<uint8_t>(c, cache.id(), "vertical", cd[0])
+                            : std::vector<uint8_t>(hi.size(), 0);
   std::vector<hsize_t> fd = {h5::kAnyExtent};
   const auto failure_row = h5::read<uint64_t>(c, cache.id(), "failure_row", fd);
   const auto failure = h5::read_strings(c, cache.id(), "failure_reason", fd[0]);
@@ -302,8 +310,9 @@ void read_checkpoint(const Ctx& c, hid_t root, RunState& s) {
   }
   for (size_t k = 0; k < hi.size(); ++k)
     s.cache[Hash128{hi[k], lo[k]}] =
-        CacheEntry{fit[k], status_code(c, "/checkpoint/cache/status", st[k]), reasons[k],
-                   sank[k] != 0, measures[k]};
+        CacheEntry{fit[k],      status_code(c, "/checkpoint/cache/status", st[k]),
+                   reasons[k],  sank[k] != 0,
+                   measures[k], vertical[k] != 0};
 }
 
 }  // namespace

@@ -162,6 +162,7 @@ void write_individuals(const Ctx& c, hid_t root, const RunState& s) {
       [&](const char* name, auto member) { h5::write_column(c, g.id(), name, b, member); });
   h5::write_units(c, g.id(), "fitness", fitness_unit(s));
   h5::write_column(c, g.id(), "sank", b, &BirthRecord::sank);
+  h5::write_column(c, g.id(), "vertical", b, &BirthRecord::vertical);
   // Failures are rare: stored sparsely, by id.
   std::vector<uint64_t> failure_id;
   std::vector<std::string> failure;
@@ -312,10 +313,11 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   Handle cache = h5::create_group(c, ck.id(), "cache");
   std::vector<uint64_t> hi, lo, failure_row;
   std::vector<double> fit;
-  std::vector<uint8_t> st, sank;
+  std::vector<uint8_t> st, sank, vertical;
   std::vector<std::string> failure;
   for (const auto& [key, e] : s.cache) {
     sank.push_back(e.sank ? 1 : 0);
+    vertical.push_back(e.vertical ? 1 : 0);
     if (!e.failure.empty()) {
       failure_row.push_back(hi.size());
       failure.push_back(e.failure);
@@ -331,6 +333,7 @@ void write_checkpoint(const Ctx& c, hid_t root, const RunState& s) {
   h5::write_units(c, cache.id(), "fitness", fitness_unit(s));
   h5::write(c, cache.id(), "status", st);
   h5::write(c, cache.id(), "sank", sank);
+  h5::write(c, cache.id(), "vertical", vertical);
   h5::write(c, cache.id(), "failure_row", failure_row);
   h5::write_strings(c, cache.id(), "failure_reason", failure);
   if (s.config.algorithm == Algorithm::kMapElites) {  // what each life gave the descriptors

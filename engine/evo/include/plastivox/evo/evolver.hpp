@@ -20,6 +20,7 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "plastivox/evo/run_state.hpp"
@@ -47,6 +48,10 @@ struct Evaluation {
   EvalStatus status = EvalStatus::kInvalid;
   std::string failure;
   bool sank = false;  // SimResult::sank: the body ended below the floor
+  // The rules' vertical_exploit (plastivox/rules/life_rules.hpp): a finished life that scored
+  // by rising or falling under walk's 3-D fitness. No archive admits it, and it is crowned only
+  // when no life counts (docs/evolution.md, "Flagged lives").
+  bool vertical = false;
   // Pa, lattice-sized, 0 where absent; empty when an outside fitness gave none (the
   // evolver then simulates a champion again for it).
   std::vector<double> final_stiffness;
@@ -54,6 +59,10 @@ struct Evaluation {
   // outside fitness gave a number alone (the evolver then simulates the life for them).
   DescriptorMeasures measures;
   double wall_seconds = 0;
+  // Python's ask/tell (docs/python.md): the genome the caller set for this body in place of
+  // the one it was handed; the evolver expresses it, and this evaluation is its body's
+  // (AFPO and MAP-Elites; validated by the caller).
+  std::optional<Genome> edited;
 };
 // Simulates a valid phenotype under physics (thread-safe).
 Evaluation evaluate_phenotype(const Phenotype& p, const PhysicsDef& physics);
@@ -72,6 +81,9 @@ class Simulations {
   virtual ~Simulations() = default;
   virtual std::vector<Evaluation> run(const std::vector<const Phenotype*>& batch,
                                       const PhysicsDef& physics, int threads) = 0;
+  // Before run(): the genome of each body of the batch (its first new individual's), for a
+  // backend that hands genomes out (Python's ask/tell). The default ignores them.
+  virtual void genomes(const std::vector<const Genome*>& batch) { (void)batch; }
 };
 
 // The thread-pool implementation: largest bodies first on `threads` threads.
@@ -95,6 +107,10 @@ class Evolver {
 
  private:
   struct Evaluated;  // what evaluate_new() simulated (evolver.cpp)
+  // A genome the caller set (Evaluation::edited) for the new individuals `edited` (one body
+  // and its duplicates): re-expressed, and `e` made an invalid body's when it is one.
+  void apply_edit(std::vector<Individual>& fresh, std::vector<BirthRecord>& births,
+                  const std::vector<size_t>& edited, const Genome& genome, Evaluation& e);
   using Time = std::chrono::steady_clock::time_point;
   void step_afpo(GenerationStats& st, Time t0);
   void step_cma(GenerationStats& st, Time t0);         // docs/evolution.md, "CMA-ES"

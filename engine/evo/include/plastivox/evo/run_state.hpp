@@ -39,6 +39,9 @@ struct Individual {
   // Algorithm map-elites, an elite of the archive: its cell and descriptor values.
   int64_t cell = -1;
   std::vector<double> descriptors;
+  // Its life scored by vertical motion (Evaluation::vertical); kept in /individuals, restored
+  // on resume from the births.
+  bool vertical = false;
   // Derived from the genome (recomputed on resume, never stored):
   NetworkOutputs outputs;
   Phenotype phenotype;
@@ -75,6 +78,8 @@ struct BirthRecord {
   std::string failure;    // why the phenotype was invalid or the simulation unstable
   uint8_t sank = 0;       // 1 if its life sank through the floor (SimResult::sank); a
                           // health flag, not part of content_digest
+  uint8_t vertical = 0;   // 1 if its life scored by vertical motion (Evaluation::vertical); a
+                          // flag like sank, not part of content_digest
   // Algorithm map-elites: its descriptor values (NaN where not measured: an invalid body, a
   // failed life); empty otherwise.
   std::vector<double> descriptors;
@@ -100,6 +105,7 @@ struct CacheEntry {
   std::string failure;
   bool sank = false;            // SimResult::sank
   DescriptorMeasures measures;  // what the life gave the MAP-Elites descriptors
+  bool vertical = false;        // Evaluation::vertical (absent in older files: false)
 };
 
 struct RunState {
