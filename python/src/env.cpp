@@ -6,6 +6,7 @@
 // is never stepped by two threads at once; a batch (plastivox.VoxelVecEnv) steps its
 // environments on threads with the GIL released, through the same EpisodeCore.
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -219,6 +220,15 @@ class PyEpisodeBatch {
   // (observations (N, obs), fitness so far (N,), end codes (N,) int8: 0 running, 1 finished,
   // 2 unstable, 3 sank); a reset environment reads 0 and 0.
   pyb::tuple advance(const pyb::object& actions, const pyb::object& which) {
+    // One call at a time: a second Python thread would step the same Simulators while this
+    // call runs without the GIL. It gets a clear error instead (as a Simulator's does).
+    if (busy_.exchange(true))
+      throw std::runtime_error(
+          "VoxelVecEnv: in use by another thread; give each thread its own VoxelVecEnv");
+    struct Release {
+      std::atomic<bool>& flag;
+      ~Release() { flag = false; }
+    } release{busy_};
     const size_t n = envs_.size();
     const int a = envs_[0]->model().robot_n;
     std::vector<uint8_t> reset(n, 1);
@@ -259,7 +269,13 @@ class PyEpisodeBatch {
   }
 
   size_t size() const { return envs_.size(); }
-  const EpisodeCore& env(size_t i) const { return *envs_.at(i); }
+  // Environment i, for reading its state; refused while a step runs on another thread.
+  const EpisodeCore& env(size_t i) const {
+    if (busy_)
+      throw std::runtime_error(
+          "VoxelVecEnv: in use by another thread; give each thread its own VoxelVecEnv");
+    return *envs_.at(i);
+  }
 
  private:
   // An (N, A) float array with every value in [-1, 1], as a flat row-major copy.
@@ -294,6 +310,7 @@ class PyEpisodeBatch {
   std::vector<std::unique_ptr<EpisodeCore>> envs_;
   int obs_size_;
   int threads_;
+  std::atomic<bool> busy_{false};
 };
 
 }  // namespace

@@ -397,3 +397,42 @@ def test_vec_env_refuses_bad_input():
     # Nothing moved: a good step after the refusals is the first step.
     _, _, _, _, infos = vec.step(np.zeros((2, n)))
     assert list(infos["steps"]) == [1, 1]
+
+
+def test_vec_env_refuses_a_second_thread_while_it_steps():
+    # A step runs without the GIL; another thread's step or read of the same VoxelVecEnv is
+    # refused with one line instead of racing, and the stepping thread's life is untouched.
+    import threading
+    robot = short_walker(0.4)
+    vec = plastivox.VoxelVecEnv(robot, num_envs=2, sensors=["time"], every=600, threads=1)
+    n = vec.single_action_space.shape[0]
+    vec.reset()
+    started, results = threading.Event(), []
+
+    def work():
+        started.set()
+        results.append(vec.step(np.zeros((2, n))))
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    started.wait()
+    message = "VoxelVecEnv: in use by another thread; give each thread its own VoxelVecEnv"
+    reads, steps = 0, 0
+    while worker.is_alive():
+        try:
+            vec.state_hash(0)
+            continue
+        except RuntimeError as e:
+            assert str(e) == message
+            reads += 1
+        try:  # the worker is inside its step (unless it has just left it)
+            vec.step(np.zeros((2, n)))
+        except RuntimeError as e:
+            assert str(e) == message
+            steps += 1
+    worker.join()
+    assert reads > 0 and steps > 0, "no call ever met the step"
+    alone = plastivox.VoxelEnv(robot, sensors=["time"], every=600)
+    alone.reset()
+    obs, *_ = alone.step(np.zeros(n))
+    assert len(results) == 1 and np.array_equal(results[0][0][0], obs)
