@@ -1,4 +1,4 @@
-"""PPO against CMA-ES for a fixed body's controller at equal cost (docs/gradients.md,
+"""PPO against CMA-ES for a fixed body's controller at equal cost (docs/control.md,
 "Learning a controller: PPO vs CMA-ES"); not a test.
 
     PYTHONPATH=build/python python3 bench/rl_compare.py --method cma --seed 1 --steps 1000000 \\

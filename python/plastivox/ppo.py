@@ -1,4 +1,4 @@
-"""PPO for a fixed body's controller, through plastivox.VoxelVecEnv (docs/gradients.md,
+"""PPO for a fixed body's controller, through plastivox.VoxelVecEnv (docs/control.md,
 "Learning a controller: PPO vs CMA-ES"). Needs PyTorch (Debian's python3-torch); `import
 plastivox` does not import this module or torch.
 

@@ -1,4 +1,4 @@
-"""plastivox.ppo, PPO through VoxelVecEnv (docs/gradients.md, "Learning a controller: PPO vs
+"""plastivox.ppo, PPO through VoxelVecEnv (docs/control.md, "Learning a controller: PPO vs
 CMA-ES"): a smoke test on a small body and a short life. A few updates give finite losses
 and move the policy; a run stopped after one iteration and resumed from its checkpoint ends
 with the very parameters of a run that was not stopped. Needs python3-torch
