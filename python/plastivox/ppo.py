@@ -227,7 +227,8 @@ def save_atomic(state, path):
 
 
 def parser():
-    ap = argparse.ArgumentParser(prog="python3 -m plastivox.ppo", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python3 -m plastivox.ppo",
+                                 description=__doc__.split("\n\n")[0])
     ap.add_argument("--robot", help="robot file (default: the demo walker)")
     ap.add_argument("--task", default="walk")
     ap.add_argument("--treatment", help="override the robot's treatment (none: no development)")
@@ -267,7 +268,8 @@ def robot_of(args):
 # What must match for a checkpoint to be resumed: everything that changes the run's bits.
 _IDENTITY = ["robot", "task", "treatment", "duration", "settle_time", "every", "num_envs",
              "steps", "seed", "hidden", "lr", "epochs", "minibatches", "clip", "gamma", "lam",
-             "value_coef", "max_grad_norm", "reward_scale", "voxel_sample", "eval_every", "torch_threads"]
+             "value_coef", "max_grad_norm", "reward_scale", "voxel_sample", "eval_every",
+             "torch_threads"]
 
 
 def train(args, stop_after=None):
