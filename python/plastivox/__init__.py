@@ -38,7 +38,7 @@ __all__ = [
     "InputError", "RenderError", "PhysicsDef", "Robot", "Result", "Trajectory", "Simulator", "Results",
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
     "read_results", "read_study", "evolve", "Evolver", "default_config", "render", "sin_cycles",
-    "VoxelEnv", "controller_weight_count", "analysis", "robustness", "gradient",
+    "VoxelEnv", "VoxelVecEnv", "controller_weight_count", "analysis", "robustness", "gradient",
 ]
 
 _TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
@@ -1119,6 +1119,6 @@ def render(source, time=0.2, color="congenital", size=(640, 480), out=None, gene
 
 # --- reinforcement learning ----------------------------------------------------------------
 
-from ._env import VoxelEnv  # noqa: E402 (it uses the helpers above)
+from ._env import VoxelEnv, VoxelVecEnv  # noqa: E402 (it uses the helpers above)
 from . import analysis  # noqa: E402 (the paper's analysis of champions; it uses the classes above)
 from .analysis import robustness_battery as robustness  # noqa: E402 (the battery, by its short name)

@@ -1,4 +1,5 @@
-"""plastivox.VoxelEnv: one robot's life as an environment with the Gymnasium API.
+"""plastivox.VoxelEnv: one robot's life as an environment with the Gymnasium API; and
+plastivox.VoxelVecEnv, N of them stepped together on threads (Gymnasium's vector API).
 
     env = plastivox.VoxelEnv(plastivox.demo_walker(), task="walk")
     obs, info = env.reset(seed=0)
@@ -214,6 +215,115 @@ class VoxelEnv(_gym.Env if _gym is not None else object):
         return (f"VoxelEnv({self.robot.name!r}, task={self.task!r}, "
                 f"voxels={self._episode.robot_voxels}, "
                 f"obs={self._episode.obs_size}, every={self.every})")
+
+
+# The vector API's names (gymnasium.vector.AutoresetMode); the one mode implemented.
+AUTORESET_MODE = "next_step"
+
+
+class VoxelVecEnv:
+    """num_envs lives of one robot stepped together (Gymnasium's vector API; docs/python.md).
+
+    Arguments as VoxelEnv takes them, plus num_envs (>= 1) and threads (the C++ threads a
+    step uses; 0: all cores, 1: serially). Each environment is a VoxelEnv's life: reset() and
+    step(actions) return arrays stacked over the environments (observations (N, obs),
+    rewards, terminated and truncated (N,)) and infos, a dict of (N,) arrays ("time",
+    "steps", "fitness", "status"), each with its "_name" mask as gymnasium's vector envs give.
+    One step is one call into C++ that steps every environment on threads with the GIL
+    released; environment i's observations, rewards and ends are those of a VoxelEnv stepped
+    alone with the same actions, bit for bit, on any number of threads.
+
+    Autoreset "next_step" (gymnasium 1.x's default): the step after an environment's episode
+    ends resets it, ignores its action and returns its first observation with reward 0 and
+    terminated = truncated = False. reset(seed=s) seeds environment i's np_random with s + i
+    (a list seeds each); np_randoms holds them."""
+
+    metadata = {"autoreset_mode": AUTORESET_MODE}
+
+    def __init__(self, robot=None, num_envs=1, task=None, physics=None, treatment=None,
+                 sensors=None, every=1, threads=0):
+        from . import _as_robot, _check_task, _check_treatment, _physics, demo_walker
+        for name, value, least in (("num_envs", num_envs, 1), ("threads", threads, 0)):
+            if isinstance(value, bool) or not isinstance(value, (int, _np.integer)) or \
+                    value < least:
+                raise ValueError(f"{name}: expected a whole number >= {least}, got {value!r}")
+        # One VoxelEnv checks the arguments and gives the spaces; the batch shares its model.
+        robot = demo_walker() if robot is None else _as_robot(robot)
+        self.single_env = VoxelEnv(robot, task=task, physics=physics, treatment=treatment,
+                                   sensors=sensors, every=every)
+        self._batch = _core.EpisodeBatch(robot._core, _physics(physics),
+                                         _check_treatment(treatment), _check_task(task),
+                                         list(self.single_env.sensors), int(every),
+                                         int(num_envs), int(threads))
+        self.num_envs = int(num_envs)
+        self.threads = int(threads)
+        self.robot = robot
+        self.single_observation_space = self.single_env.observation_space
+        self.single_action_space = self.single_env.action_space
+        n = self.num_envs
+        self.observation_space = Box(_np.broadcast_to(self.single_observation_space.low,
+                                                      (n,) + self.single_observation_space.shape),
+                                     _np.broadcast_to(self.single_observation_space.high,
+                                                      (n,) + self.single_observation_space.shape),
+                                     (n,) + self.single_observation_space.shape)
+        self.action_space = Box(-1.0, 1.0, (n,) + self.single_action_space.shape)
+        self.np_randoms = [_np.random.default_rng() for _ in range(n)]
+        self._fitness = _np.zeros(n)
+        self._done = None  # before the first reset: stepping raises
+
+    def reset(self, *, seed=None, options=None):
+        """Every environment back to t = 0: (observations (N, obs), infos). seed: an int
+        (environment i gets seed + i), a list of N ints or Nones, or None."""
+        if seed is not None:
+            seeds = ([int(seed) + i for i in range(self.num_envs)]
+                     if not isinstance(seed, (list, tuple)) else list(seed))
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"seed: expected an int or {self.num_envs} seeds, got "
+                                 f"{len(seeds)}")
+            for i, s in enumerate(seeds):
+                if s is not None:
+                    self.np_randoms[i] = _np.random.default_rng(s)
+        obs, fitness, ends = self._batch.advance(None, None)
+        self._fitness = fitness
+        self._done = _np.zeros(self.num_envs, dtype=bool)
+        return obs, self._infos(fitness, ends)
+
+    def step(self, actions):
+        """Steps every environment with its row of actions ((N, robot voxels) floats in
+        [-1, 1]); an environment whose episode ended at the last step is reset instead.
+        Returns (observations, rewards, terminated, truncated, infos), each stacked."""
+        if self._done is None:
+            raise RuntimeError("step: call reset() first")
+        restart = self._done
+        obs, fitness, ends = self._batch.advance(actions, restart)
+        rewards = _np.where(restart, 0.0, fitness - self._fitness)
+        self._fitness = fitness
+        terminated = (ends == 2) | (ends == 3)
+        truncated = ends == 1
+        self._done = terminated | truncated
+        return obs, rewards, terminated, truncated, self._infos(fitness, ends)
+
+    _STATUS = _np.array(["running", "finished", "unstable", "sank"])
+
+    def _infos(self, fitness, ends):
+        b, n = self._batch, self.num_envs
+        infos = {"time": _np.array([b.time(i) for i in range(n)]),
+                 "steps": _np.array([b.steps(i) for i in range(n)], dtype=_np.int64),
+                 "fitness": fitness, "status": self._STATUS[ends]}
+        for key in list(infos):
+            infos["_" + key] = _np.ones(n, dtype=bool)
+        return infos
+
+    def state_hash(self, i):
+        """Environment i's present state hash (a VoxelEnv's info["state_hash"] at its end)."""
+        return self._batch.state_hash(int(i))
+
+    def close(self):
+        pass
+
+    def __repr__(self):
+        return (f"VoxelVecEnv({self.robot.name!r}, num_envs={self.num_envs}, "
+                f"task={self.single_env.task!r}, threads={self.threads})")
 
 
 def _register():

@@ -319,3 +319,120 @@ def test_a_free_object_is_observed_and_takes_no_action(task):
         if terminated or truncated:
             break
     assert info["state_hash"] == life.final_state_hash and info["fitness"] == life.fitness
+
+
+# --- VoxelVecEnv: N environments stepped in one call (docs/python.md, "Many environments") ---
+
+def vec_actions(rngs, shape):
+    return np.stack([rng.uniform(-1, 1, shape) for rng in rngs])
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_vec_env_steps_each_environment_as_it_steps_alone(threads):
+    # Three walkers driven by their own seeded random actions over more than one episode
+    # (autoreset "next_step"): each row is, bit for bit, what a VoxelEnv gives alone.
+    robot, sensors, every, n = short_walker(0.15), ["touch", "time"], 40, 3
+    vec = plastivox.VoxelVecEnv(robot, num_envs=n, sensors=sensors, every=every,
+                                threads=threads)
+    shape = vec.single_action_space.shape
+    obs, infos = vec.reset(seed=10)
+    singles = [plastivox.VoxelEnv(robot, sensors=sensors, every=every) for _ in range(n)]
+    single_obs = [env.reset(seed=10 + i)[0] for i, env in enumerate(singles)]
+    np.testing.assert_array_equal(obs, np.stack(single_obs))
+    assert list(infos["status"]) == ["running"] * n and infos["_fitness"].all()
+    ends, resets = 0, 0
+    done = [False] * n
+    for _ in range(30):
+        actions = vec_actions(vec.np_randoms, shape)
+        obs, rewards, terminated, truncated, infos = vec.step(actions)
+        for i, env in enumerate(singles):
+            if done[i]:  # next_step autoreset: this step restarted environment i
+                o, _ = env.reset()
+                r, te, tr = 0.0, False, False
+                resets += 1
+            else:
+                o, r, te, tr, info = env.step(actions[i])
+                assert infos["fitness"][i] == info["fitness"]
+                assert infos["steps"][i] == info["steps"] and infos["status"][i] == info["status"]
+            assert np.array_equal(obs[i], o) and rewards[i] == r
+            assert terminated[i] == te and truncated[i] == tr
+            done[i] = te or tr
+            ends += done[i]
+    assert ends >= n and resets >= n  # every environment ended and restarted at least once
+
+
+def test_vec_env_seeds_each_environment():
+    vec = plastivox.VoxelVecEnv(short_walker(), num_envs=2, sensors=["time"])
+    vec.reset(seed=[5, 7])
+    assert vec.np_randoms[0].random() == np.random.default_rng(5).random()
+    assert vec.np_randoms[1].random() == np.random.default_rng(7).random()
+    vec.reset(seed=3)
+    assert vec.np_randoms[1].random() == np.random.default_rng(4).random()
+
+
+def test_vec_env_refuses_bad_input():
+    robot = short_walker()
+    for bad in (0, -1, 1.5, True):
+        with pytest.raises(ValueError, match=r"^num_envs: expected a whole number >= 1"):
+            plastivox.VoxelVecEnv(robot, num_envs=bad)
+    with pytest.raises(ValueError, match=r"^threads: expected a whole number >= 0"):
+        plastivox.VoxelVecEnv(robot, num_envs=2, threads=-1)
+    vec = plastivox.VoxelVecEnv(robot, num_envs=2, sensors=["time"])
+    n = vec.single_action_space.shape[0]
+    with pytest.raises(RuntimeError, match="call reset"):
+        vec.step(np.zeros((2, n)))
+    vec.reset()
+    with pytest.raises(ValueError, match=rf"^actions: expected shape \(2, {n}\), one row per "
+                                         rf"environment and one value per voxel, got \(3, {n}\)$"):
+        vec.step(np.zeros((3, n)))
+    with pytest.raises(ValueError, match=rf"^actions: expected shape \(2, {n}\).* got \({n},\)$"):
+        vec.step(np.zeros(n))
+    with pytest.raises(TypeError, match=r"^actions: expected a float array"):
+        vec.step(np.zeros((2, n), dtype=int))
+    bad = np.zeros((2, n))
+    bad[1, 4] = 1.5
+    with pytest.raises(ValueError, match=r"^actions\[1\]: every value must be in \[-1, 1\]; "
+                                         r"actions\[1\]\[4\] is 1.5"):
+        vec.step(bad)
+    # Nothing moved: a good step after the refusals is the first step.
+    _, _, _, _, infos = vec.step(np.zeros((2, n)))
+    assert list(infos["steps"]) == [1, 1]
+
+
+def test_vec_env_refuses_a_second_thread_while_it_steps():
+    # A step runs without the GIL; another thread's step or read of the same VoxelVecEnv is
+    # refused with one line instead of racing, and the stepping thread's life is untouched.
+    import threading
+    robot = short_walker(0.4)
+    vec = plastivox.VoxelVecEnv(robot, num_envs=2, sensors=["time"], every=600, threads=1)
+    n = vec.single_action_space.shape[0]
+    vec.reset()
+    started, results = threading.Event(), []
+
+    def work():
+        started.set()
+        results.append(vec.step(np.zeros((2, n))))
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    started.wait()
+    message = "VoxelVecEnv: in use by another thread; give each thread its own VoxelVecEnv"
+    reads, steps = 0, 0
+    while worker.is_alive():
+        try:
+            vec.state_hash(0)
+            continue
+        except RuntimeError as e:
+            assert str(e) == message
+            reads += 1
+        try:  # the worker is inside its step (unless it has just left it)
+            vec.step(np.zeros((2, n)))
+        except RuntimeError as e:
+            assert str(e) == message
+            steps += 1
+    worker.join()
+    assert reads > 0 and steps > 0, "no call ever met the step"
+    alone = plastivox.VoxelEnv(robot, sensors=["time"], every=600)
+    alone.reset()
+    obs, *_ = alone.step(np.zeros(n))
+    assert len(results) == 1 and np.array_equal(results[0][0][0], obs)

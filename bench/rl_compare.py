@@ -1,0 +1,113 @@
+"""PPO against CMA-ES for a fixed body's controller at equal cost (docs/control.md,
+"Learning a controller: PPO vs CMA-ES"); not a test.
+
+    PYTHONPATH=build/python python3 bench/rl_compare.py --method cma --seed 1 --steps 1000000 \\
+        --out /tmp/cmp [--treatment none] [--duration 1] [--every 10]
+    PYTHONPATH=build/python python3 bench/rl_compare.py --method ppo --seed 1 --steps 1000000 \\
+        --out /tmp/cmp [...]
+
+The body is the demo walker (512 voxels) with the given treatment ("none": no development;
+"stress": its own), a life of --duration s after a 0.2 s settle, on walk. Both methods run on
+one thread and stop once the engine steps of every life they simulated (counted the same way:
+each life's own steps, PPO's evaluation lives and partial lives included) reach --steps.
+
+  cma  the evolver's CMA-ES (full covariance) on the weights of a distributed controller of
+       4 hidden units acting every --every steps (95 weights, from 0, sigma 0.5, the default
+       population of 17), through plastivox.Evolver with each generation simulated by
+       simulate_many and told as Results (the engine's scoring). The champion is the best
+       life sampled.
+  ppo  plastivox.ppo: a per-voxel Gaussian MLP policy acting every --every steps on 8
+       environments of a VoxelVecEnv; the champion is the best mean-action life.
+
+Prints one JSON line: the champion's fitness, the engine steps and process CPU seconds
+when it was found, and the totals. The CPU seconds include everything in the process after
+start-up (for PPO, torch's forward and backward passes; for CMA-ES, the strategy's update).
+"""
+
+import argparse
+import json
+import math
+import os
+import time
+
+import numpy as np
+
+import plastivox
+
+
+def body(args):
+    robot = plastivox.demo_walker()
+    if args.treatment:
+        robot = robot.with_physics({}, treatment=args.treatment)
+    return robot
+
+
+def cma(args):
+    hidden = 4
+    n = plastivox.controller_weight_count("distributed", hidden)
+    robot = body(args).with_controller("distributed", hidden=hidden, every=args.every,
+                                       weights=np.zeros(n))
+    os.makedirs(args.out, exist_ok=True)
+    path = os.path.join(args.out, f"cma-{args.seed}")
+    robot.save(path + ".json")
+    config = {"format": "plastivox-evolve-config", "version": 1, "seed": args.seed,
+              "generations": 100000, "algorithm": "cma-es", "body": path + ".json",
+              "genome": "controller", "treatment": robot.treatment, "threads": 1,
+              "task": "walk",
+              "physics": {"duration": args.duration, "settle_time": 0.2},
+              "cma": {"sigma": 0.5, "covariance": "full"}}
+    if os.path.exists(path + ".h5"):
+        os.remove(path + ".h5")  # a fresh run: the counters below are not checkpointed
+    start = time.process_time()
+    steps, best, log = 0, {"fitness": -math.inf}, []
+    with plastivox.Evolver(config, path + ".h5", threads=1, name="rl_compare") as ev:
+        while not ev.finished and steps < args.steps:
+            robots = ev.ask()
+            lives = plastivox.simulate_many(robots, threads=1)
+            ev.tell(lives)
+            for life in lives:
+                steps += life.steps
+                if life.status == "finished" and life.fitness > best["fitness"]:
+                    best = {"fitness": life.fitness, "steps": steps,
+                            "cpu_seconds": time.process_time() - start}
+            log.append((steps, best["fitness"]))
+            if not args.quiet:
+                print(f"gen {len(log):4d}  steps {steps:9d}  cpu "
+                      f"{time.process_time() - start:7.1f} s  best {best['fitness']:.4f}",
+                      flush=True)
+    return {"method": "cma-es", "seed": args.seed, "steps": steps,
+            "cpu_seconds": round(time.process_time() - start, 2), "best": best}
+
+
+def ppo(args):
+    from plastivox import ppo as p  # torch only here
+    os.makedirs(args.out, exist_ok=True)
+    checkpoint = os.path.join(args.out, f"ppo-{args.seed}.pt")
+    argv = ["--checkpoint", checkpoint, "--steps", str(args.steps), "--seed", str(args.seed),
+            "--duration", str(args.duration), "--every", str(args.every)]
+    if args.treatment:
+        argv += ["--treatment", args.treatment]
+    if args.quiet:
+        argv.append("--quiet")
+    state = p.train(p.parser().parse_args(argv))
+    return {"method": "ppo", "seed": args.seed, "steps": state["steps"],
+            "cpu_seconds": round(state["cpu_seconds"], 2), "best": state["best"]}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--method", choices=["cma", "ppo"], required=True)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--steps", type=int, default=1_000_000)
+    ap.add_argument("--duration", type=float, default=1.0)
+    ap.add_argument("--every", type=int, default=10)
+    ap.add_argument("--treatment", help="none: no development; default the walker's (stress)")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--quiet", action="store_true")
+    args = ap.parse_args()
+    out = cma(args) if args.method == "cma" else ppo(args)
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    main()
