@@ -426,29 +426,36 @@ def body_plans(a, plan):
             rows.append((bp["plan"], life.fitness, flag_of(life), bp["voxels"]))
         table, distinct = plan_counts([r[:3] for r in rows], a.body_plans)
         every, _ = plan_counts([(p, 0.0, "") for p, _, _, _ in rows], 0.0)
-        fills = [v for *_, v in rows]
+        fills = sorted(r[3] for r in rows)
+        j = judge(rp)
+        champion_plan = plans[ids.index(j["id"])]["plan"] if j["id"] is not None else None
         out["runs"][label] = {
             "algorithm": algorithm, "seed": seed, "individuals": len(rows),
             "flagged": sum(1 for r in rows if r[2]),
             "plans_all": {p: every[p]["count"] for p in PLANS},
             "walking": table, "distinct_walking_plans": distinct,
-            "voxels_median": sorted(fills)[len(fills) // 2],
-            "best_fitness": max((r[1] for r in rows if not r[2]), default=None)}
+            "voxels_median": fills[len(fills) // 2], "champion_plan": champion_plan,
+            "best_fitness": j["fitness"],
+            "lives": [{"id": cid, "plan": r[0], "fitness": round(r[1], 4), "flag": r[2],
+                       "voxels": r[3]} for cid, r in zip(ids, rows)]}
         print(f"{label}: {len(rows)} individuals, plans {out['runs'][label]['plans_all']}, "
               f"walking >= {a.body_plans}: "
               f"{ {p: table[p]['count'] for p in PLANS} }, distinct {distinct}", flush=True)
     with open(os.path.join(a.out, "body_plans.json"), "w") as f:
         json.dump(out, f, indent=1, sort_keys=True)
         f.write("\n")
-    lines = [f"| run | individuals (flagged) | Π / Γ / Υ / other, all | Π / Γ / Υ / other, "
-             f"walking >= {a.body_plans:g} | distinct walking plans | median voxels | best |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [f"| run | stored (flagged) | Π / Γ / Υ / other, all | Π / Γ / Υ / other, walking "
+             f">= {a.body_plans:g} | best Π / Γ / Υ / other | distinct walking plans | "
+             f"champion | median voxels |", "|---|---|---|---|---|---|---|---|"]
     for label, r in out["runs"].items():
         al = " / ".join(str(r["plans_all"][p]) for p in PLANS)
         wk = " / ".join(str(r["walking"][p]["count"]) for p in PLANS)
-        lines.append(f"| {label} | {r['individuals']} ({r['flagged']}) | {al} | {wk} | "
-                     f"{len(r['distinct_walking_plans'])} | {r['voxels_median']} | "
-                     f"{fmt(r['best_fitness'])} |")
+        best = {p: max((x["fitness"] for x in r["lives"] if x["plan"] == p and not x["flag"]),
+                       default=None) for p in PLANS}
+        bs = " / ".join(fmt(best[p], 1) for p in PLANS)
+        lines.append(f"| {label} | {r['individuals']} ({r['flagged']}) | {al} | {wk} | {bs} | "
+                     f"{len(r['distinct_walking_plans'])} | {r['champion_plan']} "
+                     f"{fmt(r['best_fitness'])} | {r['voxels_median']} |")
     text = "\n".join(lines) + "\n"
     with open(os.path.join(a.out, "body_plans.md"), "w") as f:
         f.write(text)

@@ -75,3 +75,13 @@ def test_markdown_row():
     line = baselines.markdown([row]).splitlines()[2]
     assert line == ("| `walk` | map-elites | 1.50 [1.00, 2.00] | 1/3 | 12.3 (25 %) | 288 | 30 | "
                     "96 (2/3 reached) |")
+
+
+def test_plan_counts_leave_out_flagged_and_slow_bodies():
+    rows = [("Pi", 6.0, ""), ("Pi", 7.5, ""), ("Gamma", 9.0, "vertical"), ("Gamma", 2.0, ""),
+            ("Upsilon", 5.0, ""), ("other", 12.0, "")]
+    table, distinct = baselines.plan_counts(rows, 5.0)
+    assert {p: table[p]["count"] for p in baselines.PLANS} == \
+        {"Pi": 2, "Gamma": 0, "Upsilon": 1, "other": 1}
+    assert table["Pi"]["best"] == 7.5 and table["Gamma"]["best"] is None
+    assert distinct == ["Pi", "Upsilon"]  # "other" is no plan
