@@ -144,7 +144,21 @@ def inspect(a, path):
     return json.loads(out.stdout) if out.returncode == 0 else None
 
 
+def sessions(a, label, update=None):
+    """The run's CPU record (DIR/runs/LABEL.cpu.json): one entry a session, written when it
+    starts (cpu_seconds null) and completed when it ends; update(list) edits it."""
+    path = os.path.join(a.out, "runs", label + ".cpu.json")
+    rec = json.load(open(path)) if os.path.exists(path) else {"sessions": []}
+    if update:
+        update(rec["sessions"])
+        with open(path, "w") as f:
+            json.dump(rec, f)
+    return rec["sessions"]
+
+
 def start(a, label):
+    sessions(a, label, lambda s: s.append({"cpu_seconds": None, "wall_seconds": None,
+                                           "exit": None}))
     cfg = os.path.join(a.out, "configs", label + ".json")
     h5 = os.path.join(a.out, "runs", label + ".h5")
     log = open(os.path.join(a.out, "runs", label + ".log"), "a")
@@ -161,7 +175,7 @@ def run_all(a, labels):
             continue
         todo.append(label)
     print(f"{len(labels) - len(todo)} runs finished, {len(todo)} to run", flush=True)
-    running = {}
+    running, failed = {}, []
     while todo or running:
         while todo and len(running) < a.jobs:
             label = todo.pop(0)
@@ -174,14 +188,13 @@ def run_all(a, labels):
         proc.returncode = os.waitstatus_to_exitcode(status)
         log.close()
         cpu = usage.ru_utime + usage.ru_stime
-        rec_path = os.path.join(a.out, "runs", label + ".cpu.json")
-        rec = json.load(open(rec_path)) if os.path.exists(rec_path) else {"sessions": []}
-        rec["sessions"].append({"cpu_seconds": cpu, "wall_seconds": time.time() - t0,
-                                "exit": proc.returncode})
-        json.dump(rec, open(rec_path, "w"))
+        sessions(a, label, lambda s: s[-1].update(cpu_seconds=cpu, wall_seconds=time.time() - t0,
+                                                  exit=proc.returncode))
         print(f"{label}: exit {proc.returncode}, {cpu:.1f} CPU s", flush=True)
         if proc.returncode != 0:
-            sys.exit(f"{label}: plastivox evolve failed (see {label}.log)")
+            failed.append(label)
+    if failed:  # the others ran to their end first: no run is left orphaned
+        sys.exit(f"plastivox evolve failed on {', '.join(failed)} (see DIR/runs/LABEL.log)")
 
 
 # --------------------------------------------------------------------------- judging
@@ -281,11 +294,13 @@ def curves(h5):
 
 
 def cpu_of(a, label):
-    path = os.path.join(a.out, "runs", label + ".cpu.json")
-    if not os.path.exists(path):
+    """CPU seconds of the run's sessions, and whether every session was measured (a session
+    killed with the harness has none)."""
+    s = sessions(a, label)
+    if not s:
         return None, False
-    s = json.load(open(path))["sessions"]
-    return sum(x["cpu_seconds"] for x in s), all(x["exit"] == 0 for x in s)
+    return (sum(x["cpu_seconds"] or 0.0 for x in s),
+            all(x["cpu_seconds"] is not None and x["exit"] == 0 for x in s))
 
 
 # --------------------------------------------------------------------------- summary
@@ -317,11 +332,11 @@ def summarise(a, plan):
                        "coverage": None if cov is None else float(cov[-1]),
                        "cpu_seconds": cpu, "cpu_complete": complete,
                        "_rp": rp, "_judged": j, "_lives": lives}
-        if algorithm == "cma-es":
-            body = os.path.join(ROOT, "examples", "tasks", task + ".json")
-            cfg = json.load(open(os.path.join(a.out, "configs", label + ".json")))
-            physics = dict(cfg["physics"], task=task, treatment=cfg["treatment"])
-            runs[label]["start_fitness"] = plastivox.simulate(body, physics=physics).fitness
+        if algorithm == "cma-es":  # the fixed body as it is, under the run's physics
+            body = plastivox.load_robot(os.path.join(ROOT, "examples", "tasks", task + ".json"))
+            start_life = plastivox.simulate(body.with_physics(rp.res.champion().physics))
+            runs[label]["start_fitness"] = start_life.fitness
+            runs[label]["start_flag"] = flag_of(start_life)
         print(f"{label}: judged {j['fitness']:.3f} (recorded {best[-1]:.3f}, "
               f"{len(j['flagged_above'])} flagged above)", flush=True)
     rows = []
