@@ -125,6 +125,8 @@ def make_config(a, task, algorithm, seed):
     if algorithm == "cma-es":
         c["body"] = os.path.join(ROOT, "examples", "tasks", task + ".json")
         c["genome"] = "phase"
+        if a.cma_sigma is not None:
+            c["cma"] = {"sigma": a.cma_sigma}
     else:
         n = a.lattice
         c["lattice"] = {"nx": n, "ny": n, "nz": n, "voxel_size": 0.01}
@@ -311,6 +313,11 @@ def fmt(x, d=2):
 
 def summarise(a, plan):
     import plastivox
+    targets = {}  # AFPO's mean champion per task, from another summary when AFPO is not run here
+    if a.targets:
+        for row in json.load(open(a.targets))["rows"]:
+            if row["algorithm"] == "afpo":
+                targets[row["task"]] = row["fitness"]["mean"]
     runs = {}
     for task, algorithm, seed, label in plan:
         h5 = os.path.join(a.out, "runs", label + ".h5")
@@ -344,7 +351,7 @@ def summarise(a, plan):
         group = {alg: [r for r in runs.values() if r["task"] == task and r["algorithm"] == alg]
                  for alg in a.algorithms}
         afpo = group.get("afpo") or []
-        target = sum(r["fitness"] for r in afpo) / len(afpo) if afpo else None
+        target = sum(r["fitness"] for r in afpo) / len(afpo) if afpo else targets.get(task)
         for alg in a.algorithms:
             g = group[alg]
             if not g:
@@ -372,7 +379,8 @@ def summarise(a, plan):
            "budget": {"lives": a.lives, "population": a.population, "lattice": a.lattice,
                       "duration": a.duration, "preset": a.preset, "treatment": a.treatment,
                       "map_elites_axes": map_elites_axes(a.axes),
-                      "cma_es": "genome phase on examples/tasks/TASK.json"},
+                      "cma_es": "genome phase on examples/tasks/TASK.json",
+                      "cma_sigma": a.cma_sigma},
            "bootstrap": {"method": "percentile bootstrap of the mean (plastivox.analysis.bootstrap_ci)",
                          "resamples": BOOT_RESAMPLES, "seed": BOOT_SEED, "level": 0.95},
            "rows": rows, "runs": dict(sorted(runs.items()))}
@@ -496,6 +504,11 @@ def parse(argv=None):
     ap.add_argument("--jobs", type=int, default=2, help="runs at once (one thread each)")
     ap.add_argument("--nice", type=int, default=10)
     ap.add_argument("--plastivox", default=os.path.join(ROOT, "build", "apps", "plastivox"))
+    ap.add_argument("--cma-sigma", type=float, default=None,
+                    help="CMA-ES' initial step size (default: the evolver's, 0.25 for phases)")
+    ap.add_argument("--targets", default=None, metavar="SUMMARY.json",
+                    help="AFPO's mean champions from another run's summary, for lives to reach "
+                         "when AFPO is not among --algorithms")
     ap.add_argument("--summarise-only", action="store_true")
     ap.add_argument("--body-plans", type=float, default=None, metavar="X",
                     help="also classify every stored individual's body plan and count the "
