@@ -2,6 +2,9 @@
 
     build/python/python3 bench/baselines.py --out out/algorithms            # run + summarise
     build/python/python3 bench/baselines.py --out out/algorithms --summarise-only
+    build/python/python3 bench/baselines.py --out out/plans --tasks walk \
+        --algorithms afpo,map-elites --seeds 1,2 --population 6 --lives 90 --duration 0 \
+        --treatment stress --axes plans --body-plans 5       # the body-plan question
 
 (docs/tasks.md, "Algorithms compared"; not a test.) For every task x algorithm x seed it
 writes one evolution config (DIR/configs/LABEL.json), runs `nice -n 10 plastivox evolve`
