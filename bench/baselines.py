@@ -11,8 +11,9 @@ writes one evolution config (DIR/configs/LABEL.json), runs `nice -n 10 plastivox
 on it (DIR/runs/LABEL.h5; each child one thread, --jobs of them at once) and records the
 child's CPU seconds (getrusage, DIR/runs/LABEL.cpu.json). Rerunning continues where it
 stopped: a finished run is skipped, a killed one resumed by the evolver from its last
-checkpoint (a session killed with the harness loses only its CPU record: the summary then
-says the CPU time is incomplete).
+checkpoint. SIGTERM or Ctrl-C stops every running child at its next checkpoint (their CPU
+time recorded); a session killed harder (kill -9) loses its CPU record, and the summary then
+says the CPU time is incomplete.
 
 The budget is one number of lives (individuals created, simulated or cached) per run:
 AFPO's population P makes P + G (P + 1) in G generations, MAP-Elites' batch P and CMA-ES'
@@ -37,6 +38,7 @@ its fitness and `success` from that replay.
 import argparse
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -181,12 +183,25 @@ def run_all(a, labels):
         todo.append(label)
     print(f"{len(labels) - len(todo)} runs finished, {len(todo)} to run", flush=True)
     running, failed = {}, []
-    while todo or running:
-        while todo and len(running) < a.jobs:
+    stopping = []
+
+    def stop(signum, frame):  # SIGTERM or Ctrl-C: each run stops at its next checkpoint
+        if not stopping:
+            stopping.append(signum)
+            for _, proc, _, _ in running.values():
+                proc.send_signal(signal.SIGTERM)
+
+    signal.signal(signal.SIGTERM, stop)
+    signal.signal(signal.SIGINT, stop)
+    while (todo and not stopping) or running:
+        while todo and not stopping and len(running) < a.jobs:
             label = todo.pop(0)
             proc, log = start(a, label)
             running[proc.pid] = (label, proc, log, time.time())
-        pid, status, usage = os.wait4(-1, 0)
+        try:
+            pid, status, usage = os.wait4(-1, 0)
+        except ChildProcessError:
+            break
         if pid not in running:
             continue
         label, proc, log, t0 = running.pop(pid)
@@ -198,6 +213,8 @@ def run_all(a, labels):
         print(f"{label}: exit {proc.returncode}, {cpu:.1f} CPU s", flush=True)
         if proc.returncode != 0:
             failed.append(label)
+    if stopping:
+        sys.exit("stopped: rerun the same command to continue")
     if failed:  # the others ran to their end first: no run is left orphaned
         sys.exit(f"plastivox evolve failed on {', '.join(failed)} (see DIR/runs/LABEL.log)")
 
@@ -300,12 +317,13 @@ def curves(h5):
 
 def cpu_of(a, label):
     """CPU seconds of the run's sessions, and whether every session was measured (a session
-    killed with the harness has none)."""
+    killed hard has none; one stopped by a signal, exit 130, has its own) and the last ended
+    the run."""
     s = sessions(a, label)
     if not s:
         return None, False
     return (sum(x["cpu_seconds"] or 0.0 for x in s),
-            all(x["cpu_seconds"] is not None and x["exit"] == 0 for x in s))
+            all(x["cpu_seconds"] is not None for x in s) and s[-1]["exit"] == 0)
 
 
 # --------------------------------------------------------------------------- summary
