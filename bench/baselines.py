@@ -540,7 +540,11 @@ def parse(argv=None):
     for alg in a.algorithms:
         if alg not in ALGORITHMS:
             ap.error(f"--algorithms: unknown '{alg}' (use {', '.join(ALGORITHMS)})")
-    a.seeds = [int(s) for s in a.seeds.split(",")]
+    try:
+        a.seeds = [int(s) for s in a.seeds.split(",")]
+        map_elites_axes(a.axes)
+    except ValueError as e:
+        ap.error(f"--seeds: {e}" if "axes" not in str(e) else str(e))
     if a.lives is None:
         a.lives = a.population * (a.population + 2)
     for alg in a.algorithms:
