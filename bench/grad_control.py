@@ -1,0 +1,111 @@
+"""Gradient ascent on a fixed body's controller, at the budget bench/rl_compare.py gives PPO and
+CMA-ES (docs/gradients.md, "Learning a controller by gradient ascent"); not a test.
+
+    PYTHONPATH=build/python python3 bench/grad_control.py --seed 1 --steps 1000000 \\
+        [--cpu SECONDS] [--treatment none] [--duration 1] [--every 10] [--lr 0.01]
+
+The problem is rl_compare.py's: the demo walker (512 voxels) with the given treatment ("none":
+no development; default the walker's own, stress), a life of --duration s after a 0.2 s settle,
+on walk; a distributed controller of 4 hidden units acting every --every steps (95 weights).
+The initial weights are drawn from N(0, 0.5^2) with --seed: a sample of the distribution CMA-ES
+draws its first generation from (mean 0, sigma 0.5). From zero weights a gradient cannot start:
+every hidden unit is 0, so only the output bias has a derivative, and that never changes.
+
+Each step is one plastivox.gradient(robot, wrt=["controller"]) call, then an Adam step (beta1
+0.9, beta2 0.999, eps 1e-8) of --lr on the weights. Its cost is counted in full: that call
+simulates the life once to judge it, then the gradient runs the forward life and recomputes
+every step once for the reverse sweep, so a step counts three lives' engine steps; the CPU
+seconds are the process's (time.process_time) from the start of the search, the Python and
+numpy around the calls included. The fitness a gradient returns is the life of the weights it
+was taken at, so every step is also an evaluation; the champion is the best life seen. A life
+the gradient refuses (sank, unstable, a bond it cannot differentiate) counts its judging life,
+returns to the previous weights and halves the learning rate.
+
+Runs until the engine steps reach --steps or the CPU seconds --cpu (whichever first). Prints a
+line per step and one JSON line at the end: the champion, when it was found, the best by
+250k / 500k / 1M steps, and the totals.
+"""
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+
+import plastivox
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--steps", type=int, default=1_000_000)
+    ap.add_argument("--cpu", type=float, default=math.inf, help="CPU seconds budget")
+    ap.add_argument("--duration", type=float, default=1.0)
+    ap.add_argument("--every", type=int, default=10)
+    ap.add_argument("--lr", type=float, default=0.01)
+    ap.add_argument("--treatment", help="none: no development; default the walker's (stress)")
+    ap.add_argument("--quiet", action="store_true")
+    args = ap.parse_args()
+
+    hidden = 4
+    n = plastivox.controller_weight_count("distributed", hidden)
+    body = plastivox.demo_walker()
+    if args.treatment:
+        body = body.with_physics({}, treatment=args.treatment)
+    physics = {"duration": args.duration, "settle_time": 0.2}
+    w = np.random.default_rng(args.seed).normal(0.0, 0.5, n)
+
+    def robot(weights):
+        return body.with_controller("distributed", hidden=hidden, every=args.every,
+                                    weights=weights)
+
+    # The life's length in engine steps (outside the budget: the same for every weights
+    # unless a life ends early, which the gradient refuses).
+    life_steps = plastivox.simulate(robot(w), physics=physics).steps
+
+    start = time.process_time()
+    m, v = np.zeros(n), np.zeros(n)
+    lr, t, steps = args.lr, 0, 0
+    best = {"fitness": -math.inf}
+    marks = {250_000: None, 500_000: None, 1_000_000: None}
+    curve = []
+    while steps < args.steps and time.process_time() - start < args.cpu:
+        try:
+            fitness, grads = plastivox.gradient(robot(w), wrt=["controller"], physics=physics)
+        except (ValueError, RuntimeError) as e:
+            steps += life_steps  # the judging life
+            if not args.quiet:
+                print(f"refused: {e}; back to the previous weights, lr {lr / 2:g}", flush=True)
+            if t == 0:
+                raise SystemExit(f"the initial controller's life is refused: {e}")
+            w, lr = w_prev, lr / 2
+            continue
+        steps += 3 * life_steps
+        cpu = time.process_time() - start
+        if fitness > best["fitness"]:
+            best = {"fitness": fitness, "steps": steps, "cpu_seconds": round(cpu, 2),
+                    "step": t}
+        for mark in marks:
+            if steps <= mark:
+                marks[mark] = best["fitness"]
+        g = grads["controller"]
+        curve.append((t, steps, round(cpu, 2), fitness))
+        if not args.quiet:
+            print(f"step {t:4d}  steps {steps:9d}  cpu {cpu:7.1f} s  fitness {fitness:.4f}  "
+                  f"best {best['fitness']:.4f}  |g| {np.linalg.norm(g):.3g}", flush=True)
+        # Adam ascent.
+        t += 1
+        m = 0.9 * m + 0.1 * g
+        v = 0.999 * v + 0.001 * g * g
+        w_prev = w
+        w = w + lr * (m / (1 - 0.9**t)) / (np.sqrt(v / (1 - 0.999**t)) + 1e-8)
+    print(json.dumps({"method": "gradient-adam", "seed": args.seed, "lr": args.lr,
+                      "treatment": args.treatment, "life_steps": life_steps,
+                      "gradient_steps": len(curve), "steps": steps,
+                      "cpu_seconds": round(time.process_time() - start, 2), "best": best,
+                      "best_by_steps": marks, "curve": curve}))
+
+
+if __name__ == "__main__":
+    main()
