@@ -319,9 +319,10 @@ const CommandHelp kHelp[] = {
      "  plastivox experiment --preset tiny --out smoke --threads 2\n"},
     {"optimize",
      "usage: plastivox optimize ROBOT --out OPTIMISED.json [options]\n"
-     "Gradient ascent of a robot's fitness through its life: each step simulates the robot,\n"
-     "takes the gradient of the same life (docs/gradients.md) and moves the arrays --wrt\n"
-     "names. Writes the best robot seen (--out, the robot writer's format by extension) and\n"
+     "Gradient ascent of a robot's fitness through its life: each step takes the gradient of\n"
+     "the robot's life (docs/gradients.md), judges that life as `simulate` does and moves the\n"
+     "arrays --wrt names. Writes the best robot seen (--out, the robot writer's format by "
+     "extension) and\n"
      "a JSON-lines log: a header (inputs, physics, version, date), one line per step\n"
      "{step, fitness, gradient_norm, seconds}, and a last line {written, step, fitness}:\n"
      "the fitness `plastivox simulate OPTIMISED.json` gives, bit for bit. Progress per step\n"
@@ -340,6 +341,8 @@ const CommandHelp kHelp[] = {
      "                        by about X per s, a weight by about X\n"
      "  --log FILE            the log (default: OUT with .log.jsonl for its extension)\n"
      "  --memory-limit MB     refuse a life whose gradient would need more (default 2048)\n"
+     "  --threads N           threads for the backward pass (default 0 = all cores; it uses\n"
+     "                        at most 2, the same bits on any number)\n"
      "  --treatment T         development (default: the file's own; docs/plasticity.md)\n"
      "  --preset NAME         physics preset gecco2018-code or gecco2018-paper\n"
      "  --duration S          life length in seconds\n"
