@@ -658,9 +658,10 @@ size_t nodes_per_step(const Model& m) {
 }
 
 // One segment of the life recomputed for its reverse sweep: the replica that recorded it, its
-// tape and blocks, the parameters' leaves, the nodes of its first state, and the engine's
-// state at its end to check the replica against. One thread reuses one for every segment
-// (cleared, not freed, so that after the first, the longest but for rounding, no page is
+// tape and blocks, the parameters' leaves, the nodes of its first state, the engine's state
+// at its end to check the replica against, and its nodes' adjoints (zeroed by the recording,
+// so that on two threads the helper, not the sweep, pays for it). One thread reuses one for every
+// segment (cleared, not freed, so that after the first, the longest but for rounding, no page is
 // faulted in again); two alternate two. Not movable: the replica points at its blocks.
 struct Segment {
   Segment(const Model& m, const Plan& p, const State& final) : rep(m), check(final) {
@@ -683,6 +684,7 @@ struct Segment {
   ParamLeaves params;
   std::vector<std::vector<int32_t>> start;
   State check;
+  std::vector<double> adj;
 };
 
 // Recomputes steps [first, end) from `snapshot` on the segment's tape, on the calling thread,
@@ -715,6 +717,7 @@ void record_segment(Segment& sg, const Model& m, const std::vector<uint8_t>& sna
     throw std::logic_error("gradient: the replica left the engine's life in steps " +
                            std::to_string(first) + ".." + std::to_string(end) +
                            " (a stage differs from the engine's; docs/gradients.md)");
+  sg.adj.assign(sg.tape.nodes.size(), 0.0);
 }
 
 // What the reverse sweeps carry from segment to segment: the adjoint of the state between
@@ -722,29 +725,29 @@ void record_segment(Segment& sg, const Model& m, const std::vector<uint8_t>& sna
 // the last to the first whatever the thread count.
 struct Backward {
   std::vector<std::vector<double>> adj_state;
-  std::vector<double> adj, d_gain;
+  std::vector<double> d_gain;
 };
 
 // The reverse sweep of a recorded segment: from the adjoint of its last state, that of its
 // first and its parameters' share, added to g and b.
 void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
   const std::vector<std::vector<int32_t>>& ids = sg.rep.ids();
+  std::vector<double>& adj = sg.adj;
   g.peak_tape_nodes = std::max(g.peak_tape_nodes, sg.tape.nodes.size());
-  b.adj.assign(sg.tape.nodes.size(), 0.0);
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k)
-      if (ids[r][k] >= 0) b.adj[ids[r][k]] += b.adj_state[r][k];
-  sweep(sg.tape, b.adj, sg.blocks, m, sg.rep.bond_io());
+      if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
+  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io());
   for (size_t r = 0; r < ids.size(); ++r)
-    for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = b.adj[sg.start[r][k]];
+    for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
   for (int i = 0; i < m.n; ++i) {
-    g.stiffness[i] += b.adj[sg.params.e0[i]];
-    g.phase[i] += b.adj[sg.params.phase[i]];
-    g.dev_rate[i] += b.adj[sg.params.alpha[i]];
-    b.d_gain[i] += b.adj[sg.params.gain[i]];
+    g.stiffness[i] += adj[sg.params.e0[i]];
+    g.phase[i] += adj[sg.params.phase[i]];
+    g.dev_rate[i] += adj[sg.params.alpha[i]];
+    b.d_gain[i] += adj[sg.params.gain[i]];
   }
   for (size_t k = 0; k < sg.params.weights.size(); ++k)
-    g.controller_weights[k] += b.adj[sg.params.weights[k]];
+    g.controller_weights[k] += adj[sg.params.weights[k]];
 }
 
 }  // namespace
@@ -925,10 +928,11 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     tape.add_shadow(m.e0.data(), e0_ids.data());
     const Adj dt0 = stable_dt_adj(m, m.e0.data());
     g_tape = nullptr;
-    b.adj.assign(tape.nodes.size(), 0.0);
-    if (dt0.id >= 0) b.adj[dt0.id] = b.adj_state[dt_row][0];
-    sweep(tape, b.adj, {}, m, one.rep.bond_io());
-    for (int i = 0; i < m.n; ++i) g.stiffness[i] += b.adj[e0_ids[i]];
+    std::vector<double>& adj = one.adj;
+    adj.assign(tape.nodes.size(), 0.0);
+    if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
+    sweep(tape, adj, {}, m, one.rep.bond_io());
+    for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
   if (!m.act_per_voxel && m.def.act_amplitude != 0) {
