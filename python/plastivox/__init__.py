@@ -452,8 +452,8 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
     names = [str(w) for w in wrt]
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
-    fitness, flat = _core.gradient(robot._core, _physics(physics), _check_treatment(treatment), names,
-                                   threads)
+    fitness, flat = _core.gradient(robot._core, _physics(physics), _check_treatment(treatment),
+                                   names, threads)
     grads = {k: (v if k in ("amplitude", "controller") else _np.reshape(v, robot.shape, order="F"))
              for k, v in flat.items()}
     return fitness, grads
