@@ -1,7 +1,8 @@
 // plastivox optimize: gradient ascent of a robot's fitness through its life (docs/gradients.md,
-// "plastivox optimize"). Each step compiles the robot, simulates it as `simulate` judges it,
-// takes grad::gradient() of the same life and moves the chosen arrays; the best robot seen is
-// written with the robot writer, and a JSON-lines log keeps every step's fitness.
+// "plastivox optimize"). Each step compiles the robot, takes grad::gradient() of its life,
+// judges that life's forward pass as `simulate` judges a life (one life a step, not two) and
+// moves the chosen arrays; the best robot seen is written with the robot writer, and a
+// JSON-lines log keeps every step's fitness.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -127,14 +128,17 @@ struct Judged {
   double fitness = 0;
   std::string failure;  // "" when the life counts
 };
-Judged judged_life(const Model& model, const PhysicsDef& physics) {
-  SimResult r = simulate(model);
-  judge_life(physics, r);
+Judged judged(const SimResult& r) {
   Judged out;
   out.fitness = r.fitness;
   if (r.status != SimStatus::kFinished)
     out.failure = std::string(r.sank ? "life invalid: " : "simulation unstable: ") + r.failure;
   return out;
+}
+Judged judged_life(const Model& model, const PhysicsDef& physics) {
+  SimResult r = simulate(model);
+  judge_life(physics, r);
+  return judged(r);
 }
 
 std::string g6(double v) {
@@ -175,6 +179,7 @@ int cmd_optimize(const Args& in) {
   const std::string out = take_option(args, "--out", "");
   std::string log_path = take_option(args, "--log", "");
   const std::string memory_text = take_option(args, "--memory-limit", "2048");
+  const std::string threads_text = take_option(args, "--threads", "0");
   const std::string treatment = take_option(args, "--treatment", "");
   const std::string preset = take_option(args, "--preset", "");
   const std::string duration = take_option(args, "--duration", "");
@@ -211,6 +216,7 @@ int cmd_optimize(const Args& in) {
   double memory_mb = 0;
   if (!read_number(memory_text, memory_mb) || !(memory_mb > 0))
     throw UsageError{"--memory-limit must be a number of MB > 0, got '" + memory_text + "'"};
+  const int threads = parse_count(threads_text, "--threads");
   PhysicsRequest request;
   request.preset = preset;
   request.fields = overrides;
@@ -251,6 +257,8 @@ int cmd_optimize(const Args& in) {
   // memory than --memory-limit (the plan of the first life; later lives are planned again).
   grad::GradientOptions options;
   options.memory_limit = memory_mb * 1e6;
+  options.threads = threads;
+  options.judge = [&physics](SimResult& r) { judge_life(physics, r); };
   {
     const Model model = compiled(robot);
     const std::string why = grad::unsupported(model);
@@ -290,7 +298,23 @@ int cmd_optimize(const Args& in) {
   for (int k = 0; k <= steps; ++k) {
     const auto started = std::chrono::steady_clock::now();
     const Model model = compiled(robot);
-    const Judged life = judged_life(model, physics);
+    // The gradient's forward life is the step's evaluation, judged as simulate judges it (the
+    // options' judge). The last robot has no gradient to take, and one refused after its life
+    // ran is logged as the life it was: each is simulated alone.
+    std::optional<grad::Gradient> g;
+    std::string refused;
+    if (k < steps) {
+      try {
+        g = grad::gradient(model, options);
+      } catch (const std::exception& e) {
+        // Refused (memory, a tape too long: invalid_argument) or a branch not differentiated
+        // yet (domain_error): the run stops after this step's line. A replica that left the
+        // engine's life (a plain logic_error) is a bug, and propagates.
+        if (k == 0 || typeid(e) == typeid(std::logic_error)) throw;
+        refused = "step " + std::to_string(k) + ": " + e.what();
+      }
+    }
+    const Judged life = g ? judged(g->life) : judged_life(model, physics);
     if (!life.failure.empty()) {
       if (k == 0)
         throw InputError(source +
@@ -303,21 +327,13 @@ int cmd_optimize(const Args& in) {
     json line = {{"step", k}, {"fitness", life.fitness}};
     if (k == 0) first_fitness = life.fitness;
     if (life.fitness > best_fitness) best = robot, best_fitness = life.fitness, best_step = k;
-    if (k < steps) {  // the last robot is only evaluated
-      try {
-        const grad::Gradient g = grad::gradient(model, options);
-        if (g.fitness != life.fitness)  // the same life, bit for bit (docs/gradients.md)
-          throw std::logic_error("optimize: the gradient's life scored " + g6(g.fitness) +
-                                 ", simulate's " + g6(life.fitness));
-        line["gradient_norm"] = ascend(robot, wrt, moments, settings, k + 1, g, model, physics);
-      } catch (const std::exception& e) {
-        // Refused (memory, a tape too long: invalid_argument) or a branch not differentiated
-        // yet (domain_error): the run stops after this step's line. A replica that left the
-        // engine's life (a plain logic_error) is a bug, and propagates.
-        if (k == 0 || typeid(e) == typeid(std::logic_error)) throw;
-        stopped = "step " + std::to_string(k) + ": " + e.what();
-      }
+    if (g) {
+      if (g->fitness != life.fitness)  // the same life, bit for bit (docs/gradients.md)
+        throw std::logic_error("optimize: the gradient's life scored " + g6(g->fitness) +
+                               ", simulate's " + g6(life.fitness));
+      line["gradient_norm"] = ascend(robot, wrt, moments, settings, k + 1, *g, model, physics);
     }
+    stopped = refused;
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     line["seconds"] = seconds;

@@ -1,9 +1,11 @@
 // The gradient's cost against a forward life (docs/gradients.md, "Cost"), one process per run
 // so that farm-bench pairs whole processes and /usr/bin/time -v reads the peak memory:
 //   grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | STRIDE]
+//              [THREADS]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
 // physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
-// fitness, the wall time and, for the gradient, its snapshots and largest tape.
+// fitness, the wall time and, for the gradient, its snapshots and largest tape. THREADS: the
+// gradient's backward pass (GradientOptions::threads; default 0, all cores).
 // check: the gradient against central differences of simulate() (h = 1e-4 of E0, 1e-4 cycles)
 // on every STRIDE-th voxel's E0 and phase (16 unless given): each parameter's relative error,
 // whether the nudged lives took the life's branches, and per kind the cosine between the two
@@ -26,7 +28,7 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | "
-        "STRIDE]\n");
+        "STRIDE] [THREADS]\n");
     return 2;
   }
   const std::string mode = argv[1], body = argv[2];
@@ -53,15 +55,16 @@ int main(int argc, char** argv) {
   } else if (mode == "gradient") {
     grad::GradientOptions o;
     if (argc > 4) o.checkpoint_every = std::atoi(argv[4]);
+    if (argc > 5) o.threads = std::atoi(argv[5]);
     const grad::Gradient g = grad::gradient(m, o);
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf(
         "gradient %s %.3g s: fitness %.17g, %lld steps, %.3f s; %zu snapshots every %d steps "
-        "(%.1f MB), largest tape %zu nodes (%.1f MB)\n",
+        "(%.1f MB), largest tape %zu nodes (%.1f MB), %d threads\n",
         body.c_str(), def.duration, g.fitness, static_cast<long long>(g.steps), s, g.checkpoints,
         g.checkpoint_every, g.checkpoint_bytes / 1e6, g.peak_tape_nodes,
-        g.peak_tape_nodes * 32.0 / 1e6);
+        g.peak_tape_nodes * 32.0 / 1e6, g.threads);
   } else if (mode == "check") {
     const grad::Gradient g = grad::gradient(m);
     const uint64_t events = grad::replicate_life(m).events;

@@ -12,14 +12,16 @@ draws its first generation from (mean 0, sigma 0.5). From zero weights a gradien
 every hidden unit is 0, so only the output bias has a derivative, and that never changes.
 
 Each step is one plastivox.gradient(robot, wrt=["controller"]) call, then an Adam step (beta1
-0.9, beta2 0.999, eps 1e-8) of --lr on the weights. Its cost is counted in full: that call
-simulates the life once to judge it, then the gradient runs the forward life and recomputes
-every step once for the reverse sweep, so a step counts three lives' engine steps; the CPU
-seconds are the process's (time.process_time) from the start of the search, the Python and
-numpy around the calls included. The fitness a gradient returns is the life of the weights it
-was taken at, so every step is also an evaluation; the champion is the best life seen. A life
-the gradient refuses (sank, unstable, a bond it cannot differentiate) counts its judging life,
-returns to the previous weights and halves the learning rate.
+0.9, beta2 0.999, eps 1e-8) of --lr on the weights, on one thread (threads=1). Its cost is
+counted in full: the gradient runs the forward life (judged as simulate judges it) and
+recomputes every step once for the reverse sweep, so a step counts two lives' engine steps
+(three before the gradient's forward life was judged in place of a separate one: the runs in
+docs/gradients.md counted three); the CPU seconds are the process's (time.process_time) from
+the start of the search, the Python and numpy around the calls included. The fitness a gradient
+returns is the life of the weights it was taken at, so every step is also an evaluation; the
+champion is the best life seen. A life the gradient refuses (sank, unstable, a bond it cannot
+differentiate) counts its forward life, returns to the previous weights and halves the
+learning rate.
 
 Runs until the engine steps reach --steps or the CPU seconds --cpu (whichever first). Prints a
 line per step and one JSON line at the end: the champion, when it was found, the best by
@@ -72,16 +74,17 @@ def main():
     curve = []
     while steps < args.steps and time.process_time() - start < args.cpu:
         try:
-            fitness, grads = plastivox.gradient(robot(w), wrt=["controller"], physics=physics)
+            fitness, grads = plastivox.gradient(robot(w), wrt=["controller"], physics=physics,
+                                                threads=1)
         except (ValueError, RuntimeError) as e:
-            steps += life_steps  # the judging life
+            steps += life_steps  # the forward life
             if not args.quiet:
                 print(f"refused: {e}; back to the previous weights, lr {lr / 2:g}", flush=True)
             if t == 0:
                 raise SystemExit(f"the initial controller's life is refused: {e}")
             w, lr = w_prev, lr / 2
             continue
-        steps += 3 * life_steps
+        steps += 2 * life_steps
         cpu = time.process_time() - start
         if fitness > best["fitness"]:
             best = {"fitness": fitness, "steps": steps, "cpu_seconds": round(cpu, 2),

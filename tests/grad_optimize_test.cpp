@@ -71,6 +71,17 @@ TEST_F(Optimize, RaisesTheWalkersFitnessAndTheWrittenRobotReplaysBitForBit) {
     moved += after.robot.phase[s] != before.robot.phase[s];
   }
   EXPECT_GT(moved, 100);
+  // One thread gives the same run, bit for bit: the backward pass's bits do not depend on it.
+  const Output one = cli("optimize " + kWalker + " --wrt phase,stiffness --method adam --steps 2" +
+                         " --lr 0.02 --threads 1" + kShort + " --out " + path("opt1.json"));
+  ASSERT_EQ(one.status, 0) << one.out;
+  const std::vector<nlohmann::json> log1 = lines_of(testing::file_text(path("opt1.log.jsonl")));
+  ASSERT_EQ(log1.size(), 5u);
+  for (int k = 1; k <= 3; ++k) {
+    EXPECT_EQ(log1[k]["fitness"].get<double>(), log[k]["fitness"].get<double>());
+    EXPECT_EQ(log1[k].value("gradient_norm", nlohmann::json()),
+              log[k].value("gradient_norm", nlohmann::json()));
+  }
 }
 
 // A network's weights: a 3x3x3 body driven by a distributed network without a hidden layer
@@ -182,6 +193,11 @@ TEST_F(Optimize, RefusesBadInputInOneLine) {
   r = cli("optimize " + kWalker + " --method newton" + out);
   EXPECT_EQ(r.status, 2);
   one_line(r);
+  r = cli("optimize " + kWalker + " --threads two" + out);
+  EXPECT_EQ(r.status, 2);
+  one_line(r);
+  EXPECT_NE(r.out.find("--threads expects a non-negative integer, got 'two'"), std::string::npos)
+      << r.out;
   EXPECT_FALSE(std::filesystem::exists(path("x.json")));
 }
 

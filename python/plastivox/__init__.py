@@ -434,7 +434,7 @@ def simulate_many(robots, physics=None, threads=0, treatment=None, record_fps=0,
     return [Result(s, t, r) for (s, t), r in zip(lives, robots)]
 
 
-def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None):
+def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, threads=0):
     """The fitness of the robot's life and its derivative with respect to each name in wrt
     (docs/gradients.md), by reverse accumulation through the engine's own discrete life.
     Returns (fitness, grads): fitness is simulate()'s, bit for bit; grads maps each name to
@@ -443,13 +443,17 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None):
     "amplitude" (per unit of physics act_amplitude); or "controller": a flat array shaped like
     robot.controller["weights"], the derivative with respect to each weight of a neural
     controller (biases included, docs/control.md's order). robot, physics and treatment as
-    simulate takes them. Only the walk task and the exact bond model, without an environment,
-    are differentiated yet (ValueError otherwise)."""
+    simulate takes them. threads: for the backward pass (0: all cores; it uses at most 2), the
+    same bits on any number. Only the walk task and the exact bond model, without an
+    environment, are differentiated yet (ValueError otherwise)."""
     robot = _as_robot(robot)
     if isinstance(wrt, str):
         wrt = (wrt,)
     names = [str(w) for w in wrt]
-    fitness, flat = _core.gradient(robot._core, _physics(physics), _check_treatment(treatment), names)
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
+        raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
+    fitness, flat = _core.gradient(robot._core, _physics(physics), _check_treatment(treatment),
+                                   names, threads)
     grads = {k: (v if k in ("amplitude", "controller") else _np.reshape(v, robot.shape, order="F"))
              for k, v in flat.items()}
     return fitness, grads

@@ -23,7 +23,7 @@ constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "amplitude", "
 // layer shapes it like the Robot's arrays), or a float for "amplitude".
 pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
                         const std::optional<std::string>& treatment,
-                        const std::vector<std::string>& wrt) {
+                        const std::vector<std::string>& wrt, int threads) {
   for (const std::string& name : wrt) {
     bool known = false;
     for (const char* k : kWrt) known = known || name == k;
@@ -37,22 +37,26 @@ pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
       throw std::invalid_argument(
           "wrt: 'controller': the robot's controller is the sine, which has no weights "
           "(Robot.with_controller gives it a network)");
+  if (threads < 0)
+    throw std::invalid_argument("threads: expected an integer >= 0 (0: all cores), got " +
+                                std::to_string(threads));
   grad::Gradient g;
   Model model;
   {
     pyb::gil_scoped_release unlocked;
     model = compile(robot.def, physics, limits_from_environment());
-    // The life as simulate judges it first (a fortieth of the gradient's time): one that does
-    // not count (sank under sinking_invalid, or unstable) scores 0 whatever its parameters,
-    // and has no gradient to give.
-    SimResult r = simulate(model);  // not judged here: judge_life below
-    judge_life(physics, r);
-    if (r.status != SimStatus::kFinished)
+    // The gradient's forward life, judged as simulate judges a life: one that does not count
+    // (sank under sinking_invalid, or unstable) scores 0 whatever its parameters, and has no
+    // gradient to give.
+    grad::GradientOptions options;
+    options.threads = threads;
+    options.judge = [&physics](SimResult& r) { judge_life(physics, r); };
+    g = grad::gradient(model, options);
+    if (g.life.status != SimStatus::kFinished)
       throw std::invalid_argument(
           "gradient: the life does not count, so its fitness has no "
           "gradient: " +
-          r.failure);
-    g = grad::gradient(model);
+          g.life.failure);
   }
   const auto on_sites = [&](const std::vector<double>& per_voxel) {
     std::vector<double> sites(robot.def.present.size(), 0.0);
@@ -74,7 +78,7 @@ pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
 
 void bind_gradient(pyb::module_& m) {
   m.def("gradient", &gradient_one, pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"),
-        pyb::arg("wrt"));
+        pyb::arg("wrt"), pyb::arg("threads"));
 }
 
 }  // namespace plastivox::py

@@ -13,8 +13,11 @@
 #include "plastivox/grad/gradient.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <future>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -27,6 +30,7 @@
 #include "develop_body.hpp"
 #include "lanes.hpp"
 #include "network.hpp"
+#include "plastivox/base/parallel.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 #include "plastivox/task.hpp"
@@ -653,6 +657,99 @@ size_t nodes_per_step(const Model& m) {
   return (tape.nodes.size() - leaves) * 6 / 5 + 1;
 }
 
+// One segment of the life recomputed for its reverse sweep: the replica that recorded it, its
+// tape and blocks, the parameters' leaves, the nodes of its first state, the engine's state
+// at its end to check the replica against, and its nodes' adjoints (zeroed by the recording,
+// so that on two threads the helper, not the sweep, pays for it). One thread reuses one for every
+// segment (cleared, not freed, so that after the first, the longest but for rounding, no page is
+// faulted in again); two alternate two. Not movable: the replica points at its blocks.
+struct Segment {
+  Segment(const Model& m, const Plan& p, const State& final) : rep(m), check(final) {
+    const int K = p.checkpoint_every;
+    tape.nodes.reserve(
+        static_cast<size_t>(1.25 * K * (p.tape_bytes_per_step - block_bytes(m)) / kNodeBytes));
+    blocks.bond_values.reserve(static_cast<size_t>(K) *
+                               BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
+    blocks.bond_ids.reserve(blocks.bond_values.capacity());
+    blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
+    blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
+    blocks.order.reserve(static_cast<size_t>(K) * (1 + 2 * m.n));
+    rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
+  }
+  Segment(const Segment&) = delete;
+  Segment& operator=(const Segment&) = delete;
+  Replica rep;
+  Tape tape;
+  Blocks blocks;
+  ParamLeaves params;
+  std::vector<std::vector<int32_t>> start;
+  State check;
+  std::vector<double> adj;
+};
+
+// Recomputes steps [first, end) from `snapshot` on the segment's tape, on the calling thread,
+// and checks that the replica reaches `next` (the engine's state at `end`: the next
+// snapshot's, or the final state when `next_snapshot` is null) bit for bit.
+void record_segment(Segment& sg, const Model& m, const std::vector<uint8_t>& snapshot,
+                    const std::vector<uint8_t>* next_snapshot, const State& final, int64_t first,
+                    int64_t end) {
+  sg.tape.nodes.clear();
+  sg.tape.clear_shadows();
+  sg.blocks.clear();
+  g_tape = &sg.tape;
+  restore_state(sg.rep.state(), snapshot);
+  std::vector<std::vector<int32_t>>& ids = sg.rep.ids();
+  for (auto& row : ids)
+    for (auto& id : row) id = sg.tape.leaf();
+  sg.start = ids;
+  sg.params.make(sg.tape, m);
+  sg.rep.register_arrays(sg.tape);
+  try {
+    while (sg.rep.state().steps < end)
+      if (!sg.rep.step(nullptr)) throw std::domain_error("gradient: the replica went unstable");
+  } catch (...) {
+    g_tape = nullptr;
+    throw;
+  }
+  g_tape = nullptr;
+  if (next_snapshot) restore_state(sg.check, *next_snapshot);
+  if (!physics_equal(sg.rep.state(), next_snapshot ? sg.check : final))
+    throw std::logic_error("gradient: the replica left the engine's life in steps " +
+                           std::to_string(first) + ".." + std::to_string(end) +
+                           " (a stage differs from the engine's; docs/gradients.md)");
+  sg.adj.assign(sg.tape.nodes.size(), 0.0);
+}
+
+// What the reverse sweeps carry from segment to segment: the adjoint of the state between
+// them (each row of kStateFields) and the parameters' sums, added segment by segment from
+// the last to the first whatever the thread count.
+struct Backward {
+  std::vector<std::vector<double>> adj_state;
+  std::vector<double> d_gain;
+};
+
+// The reverse sweep of a recorded segment: from the adjoint of its last state, that of its
+// first and its parameters' share, added to g and b.
+void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
+  const std::vector<std::vector<int32_t>>& ids = sg.rep.ids();
+  std::vector<double>& adj = sg.adj;
+  g.peak_tape_nodes = std::max(g.peak_tape_nodes, sg.tape.nodes.size());
+  for (size_t r = 0; r < ids.size(); ++r)
+    for (size_t k = 0; k < ids[r].size(); ++k)
+      if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
+  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io());
+  for (size_t r = 0; r < ids.size(); ++r)
+    for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
+  for (int i = 0; i < m.n; ++i) {
+    g.stiffness[i] += adj[sg.params.e0[i]];
+    g.phase[i] += adj[sg.params.phase[i]];
+    g.dev_rate[i] += adj[sg.params.alpha[i]];
+    b.d_gain[i] += adj[sg.params.gain[i]];
+  }
+  for (size_t k = 0; k < sg.params.weights.size(); ++k)
+    g.controller_weights[k] += adj[sg.params.weights[k]];
+}
+
 }  // namespace
 
 std::string unsupported(const Model& m) {
@@ -689,6 +786,7 @@ Plan plan(const Model& m, const GradientOptions& options) {
   if (!why.empty()) throw std::invalid_argument("gradient: " + why);
   if (options.checkpoint_every < 0)
     throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
+  if (options.threads < 0) throw std::invalid_argument("gradient: threads must be >= 0");
   Plan p;
   const State initial = make_initial_state(m);
   p.steps = std::ceil(m.def.duration / initial.dt) + 1;  // dt may change: an estimate
@@ -710,7 +808,14 @@ Plan plan(const Model& m, const GradientOptions& options) {
                                 " nodes, more than a tape holds (2^31): take snapshots more often "
                                 "(checkpoint_every)");
   p.checkpoint_every = K;
-  p.estimated_bytes = std::ceil(N / K) * S + K * T;
+  // Two threads keep two segments' tapes (the sweep's and the recomputation's beside it); one
+  // is taken instead when only the second tape would pass the limit. The spacing is the same
+  // on any thread count, so are the bits.
+  const double snapshots = std::ceil(N / K) * S;
+  const bool within = !(options.memory_limit > 0) || snapshots + 2 * K * T <= options.memory_limit;
+  p.threads =
+      (options.threads > 0 ? options.threads : hardware_threads()) >= 2 && N > K && within ? 2 : 1;
+  p.estimated_bytes = snapshots + p.threads * K * T;
   if (options.memory_limit > 0 && p.estimated_bytes > options.memory_limit)
     throw std::invalid_argument(
         "gradient: the life needs about " + std::to_string(p.estimated_bytes / 1e6) + " MB (" +
@@ -742,103 +847,79 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   const Plan p = plan(m, options);
   const int K = p.checkpoint_every;
   g.estimated_bytes = p.estimated_bytes;
+  const auto wall_start = std::chrono::steady_clock::now();
   Simulator sim(m);
   std::vector<std::vector<uint8_t>> snaps;
   while (sim.state().status == SimStatus::kRunning) {
     if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());
     sim.step();
   }
-  if (sim.state().status != SimStatus::kFinished)
-    throw std::domain_error("gradient: the life went unstable (" + sim.state().failure + ")");
-  const SimResult result = sim.result();
-  g.final_state_hash = result.final_state_hash;
+  // simulate()'s summary of the same life (it records no frames here), judged by the caller's
+  // rules: a life that does not count has no backward pass.
+  g.life = sim.result();
+  g.life.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (options.judge) options.judge(g.life);
+  g.final_state_hash = g.life.final_state_hash;
   g.steps = sim.state().steps;
+  if (g.life.status != SimStatus::kFinished) {
+    if (!options.judge)
+      throw std::domain_error("gradient: the life went unstable (" + sim.state().failure + ")");
+    g.fitness = g.life.fitness;
+    return g;
+  }
   g.checkpoint_every = K;
   g.checkpoints = snaps.size();
   for (const auto& s : snaps) g.checkpoint_bytes += s.size();
 
   // ---- Backward: segments last to first ----
-  Replica rep(m);
-  const auto& rows = rep.rows();
-  std::vector<std::vector<double>> adj_state(rows.size());
-  for (size_t r = 0; r < rows.size(); ++r) adj_state[r].assign(rep.ids()[r].size(), 0.0);
-  g.fitness = loss(sim.state(), adj_state);
+  // On two threads, a helper recomputes segment k - 1 while this thread sweeps segment k; the
+  // sweeps run in the same order on the same thread either way, so the sums are the same.
+  g.threads = p.threads >= 2 && snaps.size() > 1 ? 2 : 1;
+  Segment one(m, p, sim.state());
+  std::unique_ptr<Segment> two =
+      g.threads == 2 ? std::make_unique<Segment>(m, p, sim.state()) : nullptr;
+  const auto& rows = one.rep.rows();
+  Backward b;
+  b.adj_state.resize(rows.size());
+  for (size_t r = 0; r < rows.size(); ++r) b.adj_state[r].assign(one.rep.ids()[r].size(), 0.0);
+  g.fitness = loss(sim.state(), b.adj_state);
   for (size_t r = 0; r < rows.size(); ++r)
-    if (adj_state[r].size() != rep.ids()[r].size())
+    if (b.adj_state[r].size() != one.rep.ids()[r].size())
       throw std::invalid_argument(std::string("gradient: the loss's derivative of row '") +
                                   kStateFields[r].name + "' has " +
-                                  std::to_string(adj_state[r].size()) + " values, the row " +
-                                  std::to_string(rep.ids()[r].size()));
+                                  std::to_string(b.adj_state[r].size()) + " values, the row " +
+                                  std::to_string(one.rep.ids()[r].size()));
   g.stiffness.assign(m.n, 0.0);
   g.phase.assign(m.n, 0.0);
   g.dev_rate.assign(m.n, 0.0);
   g.controller_weights.assign(m.controller.weights.size(), 0.0);
-  std::vector<double> d_gain(m.n, 0.0);
-  State next_check = sim.state();
-  // One tape and one adjoint array for every segment: cleared, not freed, so that after the
-  // first (the last segment of the life, the longest but for rounding) no page is faulted in
-  // again.
-  Tape tape;
-  tape.nodes.reserve(
-      static_cast<size_t>(1.25 * K * (p.tape_bytes_per_step - block_bytes(m)) / kNodeBytes));
-  Blocks blocks;
-  blocks.bond_values.reserve(static_cast<size_t>(K) *
-                             BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
-  blocks.bond_ids.reserve(blocks.bond_values.capacity());
-  blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
-  blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
-  blocks.order.reserve(static_cast<size_t>(K) * (1 + 2 * m.n));
-  rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
-  std::vector<double> adj;
+  b.d_gain.assign(m.n, 0.0);
+  const auto record = [&](Segment& sg, size_t seg) {
+    const bool last = seg + 1 == snaps.size();
+    record_segment(sg, m, snaps[seg], last ? nullptr : &snaps[seg + 1], sim.state(),
+                   static_cast<int64_t>(seg) * K,
+                   last ? g.steps : static_cast<int64_t>(seg + 1) * K);
+  };
+  Segment* now = &one;
+  Segment* ahead = two.get();
+  if (ahead) record(*now, snaps.size() - 1);
   for (size_t seg = snaps.size(); seg-- > 0;) {
-    tape.nodes.clear();
-    tape.clear_shadows();
-    blocks.clear();
-    g_tape = &tape;
-    restore_state(rep.state(), snaps[seg]);
-    std::vector<std::vector<int32_t>>& ids = rep.ids();
-    for (auto& row : ids)
-      for (auto& id : row) id = tape.leaf();
-    const std::vector<std::vector<int32_t>> start = ids;
-    ParamLeaves params;
-    params.make(tape, m);
-    rep.register_arrays(tape);
-    const int64_t end = seg + 1 < snaps.size() ? static_cast<int64_t>(seg + 1) * K : g.steps;
-    try {
-      while (rep.state().steps < end)
-        if (!rep.step(nullptr)) throw std::domain_error("gradient: the replica went unstable");
-    } catch (...) {
-      g_tape = nullptr;
-      throw;
-    }
-    g_tape = nullptr;
-    if (seg + 1 < snaps.size()) restore_state(next_check, snaps[seg + 1]);
-    if (!physics_equal(rep.state(), next_check))
-      throw std::logic_error("gradient: the replica left the engine's life in steps " +
-                             std::to_string(seg * K) + ".." + std::to_string(end) +
-                             " (a stage differs from the engine's; docs/gradients.md)");
-    g.peak_tape_nodes = std::max(g.peak_tape_nodes, tape.nodes.size());
-    adj.assign(tape.nodes.size(), 0.0);
-    for (size_t r = 0; r < ids.size(); ++r)
-      for (size_t k = 0; k < ids[r].size(); ++k)
-        if (ids[r][k] >= 0) adj[ids[r][k]] += adj_state[r][k];
-    sweep(tape, adj, blocks, m, rep.bond_io());
-    for (size_t r = 0; r < ids.size(); ++r)
-      for (size_t k = 0; k < ids[r].size(); ++k) adj_state[r][k] = adj[start[r][k]];
-    for (int i = 0; i < m.n; ++i) {
-      g.stiffness[i] += adj[params.e0[i]];
-      g.phase[i] += adj[params.phase[i]];
-      g.dev_rate[i] += adj[params.alpha[i]];
-      d_gain[i] += adj[params.gain[i]];
-    }
-    for (size_t k = 0; k < params.weights.size(); ++k)
-      g.controller_weights[k] += adj[params.weights[k]];
+    std::future<void> helper;  // waited for by its destructor, should the sweep throw
+    if (!ahead)
+      record(*now, seg);
+    else if (seg > 0)
+      helper = std::async(std::launch::async, [&, seg] { record(*ahead, seg - 1); });
+    sweep_segment(*now, m, b, g);
+    if (helper.valid()) helper.get();
+    if (ahead) std::swap(now, ahead);
   }
   // ---- The initial state's dependence on the parameters: stiffness = E0, dt = stable_dt(E0)
   {
     const size_t stiff_row = &state_field("stiffness") - kStateFields.data();
     const size_t dt_row = &state_field("dt") - kStateFields.data();
-    for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj_state[stiff_row][i];
+    for (int i = 0; i < m.n; ++i) g.stiffness[i] += b.adj_state[stiff_row][i];
+    Tape& tape = one.tape;
     tape.nodes.clear();
     tape.clear_shadows();
     g_tape = &tape;
@@ -847,20 +928,21 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     tape.add_shadow(m.e0.data(), e0_ids.data());
     const Adj dt0 = stable_dt_adj(m, m.e0.data());
     g_tape = nullptr;
+    std::vector<double>& adj = one.adj;
     adj.assign(tape.nodes.size(), 0.0);
-    if (dt0.id >= 0) adj[dt0.id] = adj_state[dt_row][0];
-    sweep(tape, adj, {}, m, rep.bond_io());
+    if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
+    sweep(tape, adj, {}, m, one.rep.bond_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
   if (!m.act_per_voxel && m.def.act_amplitude != 0) {
-    for (int i = 0; i < m.n; ++i) g.amplitude += m.act_gain[i] * d_gain[i];
+    for (int i = 0; i < m.n; ++i) g.amplitude += m.act_gain[i] * b.d_gain[i];
     g.amplitude /= m.def.act_amplitude;
   }
   // The initial state: positions (rest_pos) and momenta (zero), velocities being momenta / m.
   {
-    const std::vector<double>& pos = adj_state[&state_field("pos") - kStateFields.data()];
-    const std::vector<double>& mom = adj_state[&state_field("lin_mom") - kStateFields.data()];
+    const std::vector<double>& pos = b.adj_state[&state_field("pos") - kStateFields.data()];
+    const std::vector<double>& mom = b.adj_state[&state_field("lin_mom") - kStateFields.data()];
     g.initial_position.assign(pos.begin(), pos.begin() + 3 * size_t(m.robot_n));
     g.initial_velocity.resize(3 * size_t(m.robot_n));
     for (size_t k = 0; k < g.initial_velocity.size(); ++k) g.initial_velocity[k] = mom[k] * m.mass;

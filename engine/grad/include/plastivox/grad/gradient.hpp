@@ -9,7 +9,9 @@
 // snapshot with the engine's own kernel templates run on a recording number type (the
 // "replica", which checks that it reaches the next snapshot bit for bit), then propagates the
 // adjoint of the segment's last state back to its first. Memory: the snapshots plus one
-// segment's tape; cost: the forward life, the recomputation and the reverse sweep.
+// segment's tape (two on two threads); cost: the forward life, the recomputation and the
+// reverse sweep. On two threads the recomputation of the segment before runs beside the sweep
+// of each segment (a pipeline); every segment's arithmetic is the same, so are the bits.
 //
 // This library depends on the core; the core knows nothing of it.
 #pragma once
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "plastivox/model.hpp"
+#include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 
 namespace plastivox::grad {
@@ -32,6 +35,17 @@ struct GradientOptions {
   // Refuse a life whose estimated memory (snapshots and one segment's tape) exceeds this many
   // bytes, with one line saying so; 0: no limit.
   double memory_limit = 0;
+  // Threads for the backward pass (0: all cores, as elsewhere in the engine). It uses at most
+  // two: one sweeps a segment in reverse while the other recomputes the segment before, which
+  // costs a second segment's tape (plan() counts it, and takes one thread instead when only
+  // the second tape would pass memory_limit). Every thread count gives the same bits.
+  int threads = 0;
+  // Judges the forward life's summary (Gradient::life) before the backward pass, as the
+  // caller's rules judge simulate()'s (judge_life, plastivox/rules/life_rules.hpp). Given a
+  // judge, a life that does not count (it went unstable, or the judge leaves it unfinished)
+  // has no backward pass: gradient() returns it, its derivative arrays empty. Without one, a
+  // life that goes unstable throws std::domain_error.
+  std::function<void(SimResult&)> judge;
 };
 
 struct Gradient {
@@ -52,12 +66,17 @@ struct Gradient {
   std::vector<double> controller_weights;
   double amplitude = 0;  // per unit of physics.act_amplitude (0 when the robot gives its own
                          // amplitudes or actuation is off)
+  // The forward life's summary: simulate()'s for the same model, bit for bit (no recording),
+  // judged by GradientOptions::judge when one is given. A caller judges this life instead of
+  // simulating it again: its fitness is the task's, `fitness` above the loss's.
+  SimResult life;
   // What it cost.
   int checkpoint_every = 0;     // steps per segment
   size_t checkpoints = 0;       // snapshots stored
   size_t checkpoint_bytes = 0;  // their total size
   size_t peak_tape_nodes = 0;   // largest segment's tape (32 bytes a node with its adjoint)
   double estimated_bytes = 0;   // the memory estimate the spacing was chosen by
+  int threads = 1;              // threads the backward pass ran on (1 or 2)
 };
 
 // The reason, in one line, why the gradient of this model's life is not available yet, or ""
@@ -66,15 +85,16 @@ struct Gradient {
 std::string unsupported(const Model& model);
 
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it
-// expects (snapshots and one segment's tape). Throws what gradient() throws before the life
-// runs (an unsupported life, memory_limit, a tape too long).
+// expects (snapshots and one segment's tape a thread). Throws what gradient() throws before the
+// life runs (an unsupported life, memory_limit, a tape too long).
 struct Plan {
   double steps = 0;                // the life's steps, from the initial time step (an estimate
                                    // when development changes dt)
   double snapshot_bytes = 0;       // one snapshot of the State
   double tape_bytes_per_step = 0;  // nodes and adjoints of one step (the first, and a fifth)
   int checkpoint_every = 0;
-  double estimated_bytes = 0;  // snapshots and one segment's tape
+  int threads = 1;             // the backward pass's (GradientOptions::threads)
+  double estimated_bytes = 0;  // snapshots and one segment's tape a thread
 };
 Plan plan(const Model& model, const GradientOptions& options = {});
 
@@ -86,7 +106,7 @@ using FinalLoss = std::function<double(const State& final, std::vector<std::vect
 // The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
 // reason, and std::domain_error when the life takes a branch that is not differentiated yet
 // (a bond the batched kernel hands to the
-// scalar path) or does not finish (unstable).
+// scalar path) or does not finish (unstable; see GradientOptions::judge).
 Gradient gradient(const Model& model, const GradientOptions& options = {});
 
 // The gradient of a loss of the final state instead of the task's fitness (any task): the
