@@ -708,6 +708,7 @@ TEST_F(ExperimentRun, MapElitesStudyReportsEveryRunsArchive) {
       << o.out;
   const std::string report = read_file_bytes(dir + "/report.html");
   EXPECT_NE(report.find("MAP-Elites archives"), std::string::npos);
+  EXPECT_NE(report.find("<th>elites Π / Γ / Υ / other</th>"), std::string::npos);
   EXPECT_NE(report.find("MAP-Elites, 2 lives a generation, archive fill (3 bins) x floor_contact "
                         "(3 bins), 8 lives a run"),
             std::string::npos);

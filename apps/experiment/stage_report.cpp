@@ -10,8 +10,11 @@
 #include <nlohmann/json.hpp>
 #include "experiment_run.hpp"
 
+#include "plastivox/analysis/body_plan.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/analysis/voxel_set.hpp"
 #include "plastivox/evo/map_elites.hpp"
+#include "plastivox/evo/phenotype.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/color_scale.hpp"
@@ -245,16 +248,32 @@ ReportSection archive_section(const StageContext& ctx, const std::vector<std::st
                       c.artifact.empty() ? "" : " (left out by the audit)");
         champion = b;
       }
+    // The elites' body plans by analyze's rule: how many of each, and the best of each.
+    const evo::Expresser ex(run.config.expression());
+    int count[4] = {0, 0, 0, 0};
+    double plan_best[4] = {0, 0, 0, 0};
+    for (const evo::Individual& e : run.archive) {
+      const int k = static_cast<int>(
+          analysis::classify_body_plan(analysis::voxel_set(ex.express(e.genome).robot)).plan);
+      plan_best[k] = count[k]++ == 0 ? e.fitness : std::max(plan_best[k], e.fitness);
+    }
+    std::string plans, plan_bests;
+    for (int k = 0; k < 4; ++k) {
+      char b[32] = "—";
+      if (count[k] > 0) std::snprintf(b, sizeof b, "%.3g", plan_best[k]);
+      plans += (k ? " / " : "") + std::to_string(count[k]);
+      plan_bests += std::string(k ? " / " : "") + b;
+    }
     const double qd = run.history.empty() ? 0 : run.history.back().qd_score;
-    char row[512];
+    char row[768];
     std::snprintf(row, sizeof row,
                   "<tr><td>%s</td><td class=\"num\">%lld</td><td class=\"num\">%zu of %lld "
                   "(%.0f %%)</td><td class=\"num\">%.4g</td><td class=\"num\">%s</td><td>%s</td>"
-                  "</tr>\n",
+                  "<td class=\"num\">%s</td><td class=\"num\">%s</td></tr>\n",
                   label.c_str(), static_cast<long long>(run.births.size()), run.archive.size(),
                   static_cast<long long>(me.cells()),
                   100.0 * static_cast<double>(run.archive.size()) / static_cast<double>(me.cells()),
-                  qd, best_text, champion.c_str());
+                  qd, best_text, champion.c_str(), plans.c_str(), plan_bests.c_str());
     rows += row;
     const std::string dir = "archives/" + label + "/";
     const auto image = [&](const std::string& name, const std::string& caption,
@@ -276,14 +295,17 @@ ReportSection archive_section(const StageContext& ctx, const std::vector<std::st
       "Each run's archive at the end: lives made, cells filled (coverage), QD score (the sum of "
       "the elites' fitness above the offset), its best elite, and the run's champion in the "
       "statistics above (the best elite that counts: the archive admits no life that sank, went "
-      "unstable or scored by rising; the audit replays it like any champion) with its body plan. "
-      "Below, per run: the map on the first two descriptors (a cell shows the best elite over "
+      "unstable or scored by rising; the audit replays it like any champion) with its body plan, "
+      "then the elites by body plan (analyze's rule, docs/analysis.md) and the best fitness "
+      "of each plan's elites. Below, per run: the map on the first two descriptors (a cell shows "
+      "the best elite over "
       "any further axis; empty cells grey), the QD score and coverage after every generation "
       "against the lives made, and its best " +
       std::to_string(kArchiveElites) + " elites (plastivox archive draws the same files).");
   s.raw_html =
       "<table><tr><th>run</th><th>lives</th><th>cells filled</th><th>QD score</th>"
-      "<th>best elite</th><th>champion (fitness, plan)</th></tr>\n" +
+      "<th>best elite</th><th>champion (fitness, plan)</th><th>elites Π / Γ / Υ / other</th>"
+      "<th>best Π / Γ / Υ / other</th></tr>\n" +
       rows + "</table>\n";
   return s;
 }
