@@ -134,12 +134,15 @@ int cmd_experiment(const Args& in) {
                "x (docs/experiment.md, \"Large lattices\")\n";
     std::fprintf(
         stderr,
-        "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, population "
-        "%d, %d generations, %.1f s lives\n%s%s\n%s\nestimate: about %s on disk\n",
+        "plastivox experiment: '%s': %zu treatment%s x %zu seed%s, %s %d, %d generations "
+        "(%lld lives a run), %.1f s lives\n%s%s\n%s\nestimate: about %s on disk\n",
         config.name.c_str(), config.treatments.size(), config.treatments.size() == 1 ? "" : "s",
-        config.seeds.size(), config.seeds.size() == 1 ? "" : "s", config.evolution.population,
-        config.evolution.generations, config.evolution.physics.duration, scaled.c_str(),
-        est.summary().c_str(), plan.summary().c_str(),
+        config.seeds.size(), config.seeds.size() == 1 ? "" : "s",
+        config.evolution.algorithm == evo::Algorithm::kMapElites ? "map-elites, population"
+                                                                 : "population",
+        config.evolution.population, config.evolution.generations,
+        static_cast<long long>(config.lives_per_run()), config.evolution.physics.duration,
+        scaled.c_str(), est.summary().c_str(), plan.summary().c_str(),
         experiment::human_size(experiment::estimate_disk(config, !no_viewer).total()).c_str());
     if (json_out) std::printf("%s\n", plan.json().c_str());
   }

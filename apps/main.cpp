@@ -56,7 +56,7 @@ const char* kUsage =
     "           the life in an interactive 3-D page (opens offline, from file://)\n"
     "  gallery  RESULTS.h5 [RESULTS.h5 ...] --out gallery.png [--size WxH] [--columns N]\n"
     "  archive  RESULTS.h5 --out DIR [--axes X,Y] [--elites N] [--no-gallery]\n"
-    "           a MAP-Elites run's archive: map (SVG, PNG) by fitness, table, elites' gallery\n"
+    "           a MAP-Elites run's archive: map by fitness, QD curve, table, elites' gallery\n"
     "  figures  STATS.json --out DIR [--size WxH] [--format png,svg] [--no-combined]\n"
     "           Fig. 5 panels A-F (PNG and SVG) from plastivox analyze's stats.json\n"
     "  experiment [--config FILE | --preset NAME] --out DIR [--threads N]\n"

@@ -8,6 +8,7 @@ add_library(plastivox_panels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/src/panel_figures.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/battery_heat_map.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/archive_map.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/qd_curve.cpp
 )
 target_include_directories(plastivox_panels PUBLIC ${CMAKE_CURRENT_LIST_DIR}/include)
 target_link_libraries(plastivox_panels PUBLIC plastivox_render nlohmann_json::nlohmann_json

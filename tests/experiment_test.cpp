@@ -7,6 +7,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -85,13 +86,13 @@ TEST(ExperimentConfig, ErrorsNameTheirField) {
   j = micro_config();
   j["evolution"]["seed"] = 3;
   EXPECT_NE(error_of(j.dump()).find("evolution.seed: not allowed here"), std::string::npos);
-  j = micro_config();  // refused before any life (analyze reads such a run's file)
-  j["evolution"]["algorithm"] = "map-elites";
-  j["evolution"]["map_elites"] = {
-      {"descriptors", json::array({{{"name", "fill"}, {"bounds", {0.2, 1}}, {"bins", 2}},
-                                   {{"name", "floor_contact"}, {"bounds", {0, 1}}, {"bins", 2}}})}};
-  EXPECT_NE(error_of(j.dump()).find("study.json: evolution.algorithm: map-elites: the "
-                                    "experiment evolves afpo runs only"),
+  j = micro_config();  // CMA-ES makes no bodies: refused before any life
+  j["evolution"]["algorithm"] = "cma-es";
+  j["evolution"].erase("lattice");
+  j["evolution"]["genome"] = "phase";
+  j["evolution"]["body"] = std::string(PLASTIVOX_SOURCE_DIR) + "/examples/walker.json";
+  EXPECT_NE(error_of(j.dump()).find("study.json: evolution.algorithm: cma-es: the experiment "
+                                    "evolves bodies (afpo or map-elites)"),
             std::string::npos)
       << error_of(j.dump());
   j = micro_config();
@@ -245,6 +246,51 @@ TEST(ExperimentCost, CountsEveryEvaluation) {
   const auto measured = experiment::measure_speed(c, 0.05);
   EXPECT_GT(measured.voxel_steps_per_second, 0);
   EXPECT_GT(measured.steps_per_life, 100);
+}
+
+// A tiny MAP-Elites study: an archive over fill x floor contact, 3 x 3 cells.
+json micro_map_elites() {
+  json j = micro_config();
+  j["treatments"] = json::array({"none", "stress"});
+  j["evolution"]["algorithm"] = "map-elites";
+  j["evolution"]["generations"] = 3;
+  j["evolution"]["map_elites"] = {
+      {"descriptors", json::array({{{"name", "fill"}, {"bounds", {0.2, 1}}, {"bins", 3}},
+                                   {{"name", "floor_contact"}, {"bounds", {0, 1}}, {"bins", 3}}})}};
+  j["rendering"]["video"] = false;
+  return j;
+}
+
+// MAP-Elites' budget is P lives a generation, generation 0 included (docs/evolution.md), not
+// AFPO's P + 1 after generation 0: the estimate counts lives as the evolver makes them.
+TEST(ExperimentCost, CountsMapElitesLivesAsTheEvolverMakesThem) {
+  const auto c = parse_experiment_config(micro_map_elites().dump(), "micro");
+  EXPECT_EQ(c.lives_in_generation(0), 2);
+  EXPECT_EQ(c.lives_in_generation(1), 2);
+  EXPECT_EQ(c.lives_per_run(), 2 * (3 + 1));
+  experiment::SpeedSample s;
+  s.seconds_per_evaluation = 1.0;
+  EXPECT_EQ(experiment::estimate_cost(c, s).evolution_evaluations, 4 * 2 * (3 + 1));
+  const auto afpo = parse_experiment_config(micro_config().dump(), "micro");
+  EXPECT_EQ(afpo.lives_per_run(), 2 + 2 * 3);
+  // The schedule replays those lives: 4 runs x 8, against AFPO's 6 runs x 8.
+  experiment::BodySample sample;
+  sample.bodies = {experiment::Job{0.5, 27, 100}};
+  sample.voxel_steps_per_second = 1e7;
+  const experiment::Layout one{1, 1};
+  EXPECT_EQ(experiment::predict_schedule(c, sample, one).evolution.simulations, 4 * 8);
+  EXPECT_EQ(experiment::predict_schedule(afpo, sample, one).evolution.simulations, 6 * 8);
+  // Its archives are on disk and drawn: more than the same study's figures without them.
+  json no_archive = micro_map_elites();
+  no_archive["rendering"]["figures"] = false;
+  EXPECT_GT(experiment::estimate_disk(c).rendering,
+            experiment::estimate_disk(parse_experiment_config(no_archive.dump(), "m")).rendering);
+  // The shipped study of MAP-Elites and body plans: the default's budget, 90 lives a run.
+  const auto shipped = experiment::read_experiment_config(std::string(PLASTIVOX_SOURCE_DIR) +
+                                                          "/examples/experiment-map-elites.json");
+  EXPECT_EQ(shipped.evolution.algorithm, evo::Algorithm::kMapElites);
+  EXPECT_EQ(shipped.lives_per_run(), experiment::preset_config("default").lives_per_run());
+  EXPECT_EQ(shipped.lives_per_run(), 90);
 }
 
 TEST(ExperimentCost, CalibrationThatGoesUnstableCountsOnlyStepsTaken) {
@@ -647,6 +693,124 @@ TEST_F(ExperimentRun, KilledMidEvolutionAndMidAnalysisResumesToTheSameResults) {
   };
   EXPECT_EQ(undated(read_file_bytes(ref + "/report.html"), ref),
             undated(read_file_bytes(dir + "/report.html"), dir));
+}
+
+// A study on MAP-Elites (docs/experiment.md): every run's archive drawn as plastivox archive
+// draws it (map, QD score and coverage over evaluations, table, elites' gallery) and shown in
+// the report beside the usual analyses; each run's champion is its archive's best elite; a
+// rerun redraws nothing; the report's images all load in headless Chromium (when installed).
+TEST_F(ExperimentRun, MapElitesStudyReportsEveryRunsArchive) {
+  const std::string dir = path("me");
+  const auto o = run("--config " + write_config(micro_map_elites()) + " --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.out;
+  EXPECT_NE(o.out.find("map-elites, population 2, 3 generations (8 lives a run)"),
+            std::string::npos)
+      << o.out;
+  const std::string report = read_file_bytes(dir + "/report.html");
+  EXPECT_NE(report.find("MAP-Elites archives"), std::string::npos);
+  EXPECT_NE(report.find("<th>elites Π / Γ / Υ / other</th>"), std::string::npos);
+  EXPECT_NE(report.find("MAP-Elites, 2 lives a generation, archive fill (3 bins) x floor_contact "
+                        "(3 bins), 8 lives a run"),
+            std::string::npos);
+  const json stats = json::parse(read_file_bytes(dir + "/stats.json"));
+  for (const char* label : {"none-s1", "none-s2", "stress-s1", "stress-s2"}) {
+    const std::string a = dir + "/archives/" + label + "/";
+    for (const char* f :
+         {"archive.svg", "archive.png", "qd.svg", "qd.png", "archive.csv", "elites.png"}) {
+      EXPECT_TRUE(std::filesystem::exists(a + f)) << a + f;
+      if (std::string(f).ends_with(".png")) {
+        EXPECT_NE(report.find("src=\"archives/" + std::string(label) + "/" + f + "\""),
+                  std::string::npos)
+            << label << " " << f;
+      }
+    }
+    // The QD curve has a point a generation in each of its two plots.
+    const std::string qd = read_file_bytes(a + "qd.svg");
+    size_t points = 0;
+    for (size_t at = qd.find("class=\"point\""); at != std::string::npos;
+         at = qd.find("class=\"point\"", at + 1))
+      ++points;
+    EXPECT_EQ(points, 2u * 4) << label;
+    // The champion the study analyses is the archive's best elite (the table's best fitness).
+    std::istringstream csv(read_file_bytes(a + "archive.csv"));
+    std::string line;
+    std::getline(csv, line);
+    double best = -1e300;
+    while (std::getline(csv, line)) {
+      std::vector<std::string> cols;
+      std::stringstream row(line);
+      for (std::string c; std::getline(row, c, ',');) cols.push_back(c);
+      best = std::max(best, std::stod(cols.at(cols.size() - 4)));
+    }
+    bool found = false;
+    for (const auto& c : stats["champions"])
+      if (c["label"] == label) {
+        found = true;
+        EXPECT_EQ(c["fitness"].get<double>(), best) << label;
+        EXPECT_FALSE(c["vertical_exploit"].get<bool>()) << label;
+      }
+    EXPECT_TRUE(found) << label;
+  }
+  // plastivox archive writes the same table from the same run (one library draws both).
+  const auto cmd = shell(kCli + " archive " + dir + "/runs/stress-s2.h5 --out " + path("cmd") +
+                         " --elites 2 --size 480x270 2>&1");
+  ASSERT_EQ(cmd.status, 0) << cmd.out;
+  EXPECT_EQ(read_file_bytes(path("cmd/archive.csv")),
+            read_file_bytes(dir + "/archives/stress-s2/archive.csv"));
+  EXPECT_TRUE(std::filesystem::exists(path("cmd/qd.svg")));
+  // Nothing to redraw on a rerun; a damaged archive picture is drawn again.
+  const auto again = run("--config " + path("micro.json") + " --out " + dir);
+  ASSERT_EQ(again.status, 0) << again.out;
+  EXPECT_NE(again.out.find("archives/none-s1 up to date"), std::string::npos) << again.out;
+  write_file_atomic(dir + "/archives/none-s2/archive.png", "damaged");
+  const auto repaired = run("--config " + path("micro.json") + " --out " + dir);
+  ASSERT_EQ(repaired.status, 0) << repaired.out;
+  EXPECT_NE(repaired.out.find("archives/none-s2: "), std::string::npos) << repaired.out;
+  EXPECT_EQ(read_file_bytes(dir + "/report.html"), report);
+
+  const std::string chromium = testing::headless_chromium(path("profile"));
+  if (chromium.empty())
+    GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium); report not loaded";
+  std::string html = report;
+  html.insert(html.rfind("</body>"), R"(<script>
+window.addEventListener("load", () => setTimeout(() => {
+  const img = [...document.images].filter(i => i.src.includes("archives/"));
+  document.body.setAttribute("data-archives",
+    img.map(i => i.complete && i.naturalWidth > 0 ? "1" : "0").join(""));
+}, 500));
+</script>)");
+  write_file_atomic(dir + "/check.html", html);
+  const auto dom = shell(chromium + "--virtual-time-budget=10000 --dump-dom file://" + dir +
+                         "/check.html 2>/dev/null");
+  ASSERT_EQ(dom.status, 0) << dom.out;
+  EXPECT_EQ(testing::dom_attribute(dom.out, "data-archives"), std::string(4 * 3, '1'))
+      << "every run's archive, QD curve and elites load";
+}
+
+// A killed MAP-Elites study resumes to the results of the uninterrupted one.
+TEST_F(ExperimentRun, KilledMapElitesStudyResumesToTheSameResults) {
+  json j = micro_map_elites();
+  j["evolution"]["generations"] = 8;  // a window to kill it in
+  j["rendering"] = {{"figures", false}, {"galleries", false}, {"video", false}};
+  const std::string cfg = write_config(j);
+  ASSERT_EQ(run("--config " + cfg + " --out " + path("ref") + " --no-viewer").status, 0);
+  const std::string dir = path("killed");
+  const auto k =
+      kill_when("--config " + cfg + " --out " + dir + " --no-viewer", dir + "/runs/stress-s1.h5");
+  EXPECT_EQ(k.status, 9) << "the experiment finished before it could be killed";
+  EXPECT_FALSE(std::filesystem::exists(dir + "/stats.json"));
+  const auto o = run("--config " + cfg + " --out " + dir + " --no-viewer");
+  ASSERT_EQ(o.status, 0) << o.out;
+  for (const char* label : {"none-s1", "none-s2", "stress-s1", "stress-s2"})
+    EXPECT_EQ(digest_of(dir + "/runs/" + label + ".h5"),
+              digest_of(path("ref/runs/") + label + ".h5"))
+        << label;
+  json a = stats_without_date(path("ref")), b = stats_without_date(dir);
+  for (auto* x : {&a, &b})
+    for (auto& in : (*x)["provenance"]["inputs"]) in.erase("file");
+  for (auto* x : {&a, &b})
+    for (auto& c : (*x)["champions"]) c.erase("file");
+  EXPECT_EQ(a, b);
 }
 
 // Three treatments x three seeds, evolution only (no renderings), for comparing run digests.

@@ -37,11 +37,15 @@ DiskEstimate estimate_disk(const ExperimentConfig& config, bool viewer) {
   const evo::EvolveConfig& e = config.evolution;
   const double p = e.population, g = e.generations, runs = config.runs();
   const double sites = static_cast<double>(e.nx) * e.ny * e.nz;
-  const double births = p + g * (p + 1);
+  const double births = static_cast<double>(config.lives_per_run());
+  const bool map_elites = e.algorithm == evo::Algorithm::kMapElites;
+  // MAP-Elites keeps its archive too: at most a genome a cell, and never more than it made.
+  const double elites =
+      map_elites ? std::min(births, static_cast<double>(e.map_elites.cells())) : 0;
   const double run_file =
       kRunFixed + births * kPerBirth + g * (kPerGeneration + p * kPerSurvivor) +
       champions_per_run(e.generations) * (kPerChampion + kPerChampionSite * sites) +
-      p * kPerCheckpointGenome;
+      (p + elites) * kPerCheckpointGenome;
   DiskEstimate d;
   d.evolution = static_cast<uint64_t>(runs * run_file);
   const double draws = config.analysis.robustness_draws;
@@ -57,7 +61,15 @@ DiskEstimate estimate_disk(const ExperimentConfig& config, bool viewer) {
   if (r.video)
     video = r.video_width * r.video_height * kVideoBytesPerPixelFrame * r.video_fps *
             e.physics.duration;
-  d.rendering = static_cast<uint64_t>(figures + galleries + video);
+  // A MAP-Elites run's archive (archives/<run>/): its map and QD curve as figures, its table
+  // (about 100 B an elite) and its elites' gallery.
+  double archives = 0;
+  if (map_elites && r.figures)
+    archives =
+        runs *
+        (2 * (r.figure_width * r.figure_height * kFigureBytesPerPixel + kSvgBytes) + 100 * elites +
+         (r.galleries ? r.gallery_width * r.gallery_height * kGalleryBytesPerPixel : 0));
+  d.rendering = static_cast<uint64_t>(figures + galleries + video + archives);
   if (viewer) {
     const double frames = std::floor(e.physics.duration * render::kViewerFps) + 1;
     const double voxels = kBodyFill * sites;

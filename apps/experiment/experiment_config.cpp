@@ -191,6 +191,15 @@ evo::EvolveConfig ExperimentConfig::run_config(Treatment t, uint64_t seed) const
   return c;
 }
 
+int64_t ExperimentConfig::lives_in_generation(int g) const {
+  const int64_t p = evolution.population;
+  return g == 0 || evolution.algorithm == evo::Algorithm::kMapElites ? p : p + 1;
+}
+
+int64_t ExperimentConfig::lives_through(int g) const {
+  return lives_in_generation(0) + g * lives_in_generation(1);
+}
+
 std::string ExperimentConfig::canonical_json() const {
   return canonical(*this, true).dump();
 }
@@ -284,11 +293,13 @@ ExperimentConfig parse_experiment_config(const std::string& input, const std::st
   evolution["format"] = "plastivox-evolve-config";
   evolution["version"] = evo::kConfigVersion;
   c.evolution = evo::parse_config(evolution.dump(), src + ": evolution");
-  if (c.evolution.algorithm != evo::Algorithm::kAfpo)  // its treatments x seeds are AFPO runs
+  // A study compares treatments over the bodies evolution makes (their robustness, diversity
+  // and plans): AFPO and MAP-Elites make bodies, CMA-ES tunes one fixed body's genome.
+  if (c.evolution.algorithm == evo::Algorithm::kCmaEs)
     fail(src, "evolution.algorithm",
-         std::string(to_string(c.evolution.algorithm)) +
-             ": the experiment evolves afpo runs only (evolve with plastivox evolve, then "
-             "plastivox analyze reads the results files)");
+         "cma-es: the experiment evolves bodies (afpo or map-elites); cma-es searches a genome "
+         "of one fixed body (run it with plastivox evolve, then plastivox analyze reads its "
+         "files)");
   if (c.analysis.generation > c.evolution.generations)
     fail(src, "analysis.generation",
          "generation " + std::to_string(c.analysis.generation) + " is after the last (" +

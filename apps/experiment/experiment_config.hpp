@@ -12,6 +12,8 @@
 namespace plastivox::experiment {
 
 constexpr int kExperimentConfigVersion = 1;
+// A MAP-Elites run's gallery of elites in the study (archives/<run>/elites.png): its best six.
+constexpr int kArchiveElites = 6;
 
 struct AnalysisSettings {
   int generation = -1;                         // champion generation; -1 = the last
@@ -52,6 +54,12 @@ struct ExperimentConfig {
 
   // Number of runs and the config of run (treatment t, seed s).
   int runs() const { return static_cast<int>(treatments.size() * seeds.size()); }
+  // Lives a run makes (individuals created, before cache hits) in generation g, up to and
+  // including generation g, and in all: AFPO makes P in generation 0 and P + 1 (children and
+  // a newcomer) in each later one; MAP-Elites P in every generation (docs/evolution.md).
+  int64_t lives_in_generation(int g) const;
+  int64_t lives_through(int g) const;
+  int64_t lives_per_run() const { return lives_through(evolution.generations); }
   evo::EvolveConfig run_config(Treatment t, uint64_t seed) const;
   // "stress-s3": the run's label and the stem of its results file.
   static std::string run_label(Treatment t, uint64_t seed);

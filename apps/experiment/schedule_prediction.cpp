@@ -37,7 +37,19 @@ double rendering_seconds(const ExperimentConfig& config, double life_seconds, do
     draw +=
         frames * (kFrameSeconds + kFrameSecondsPerMP * mp(r.video_width, r.video_height)) / raster;
   }
-  return draw * kReferenceSpeed / std::max(speed, 1.0) + champions;
+  // A MAP-Elites run's archive: two figures, and its best elites simulated and drawn as a
+  // gallery (archives/<run>/, stage_rendering.cpp).
+  double elites = 0;
+  if (config.evolution.algorithm == evo::Algorithm::kMapElites && r.figures) {
+    draw += config.runs() * 2 * kFigureSecondsPerMP * mp(r.figure_width, r.figure_height);
+    if (r.galleries) {
+      draw += config.runs() *
+              (kGallerySeconds + kGallerySecondsPerMP * mp(r.gallery_width, r.gallery_height)) /
+              raster;
+      elites = config.runs() * kArchiveElites * life_seconds / std::max(threads, 1);
+    }
+  }
+  return draw * kReferenceSpeed / std::max(speed, 1.0) + champions + elites;
 }
 
 SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySample& sample,
@@ -46,7 +58,6 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
   SchedulePrediction p;
   p.layout = layout;
   p.policy = Policy::kPool;  // one process or mpirun: every rank serves the pool
-  const int pop = config.evolution.population;
   Workload w;
   w.runs = config.runs();
   w.generations = config.evolution.generations + 1;
@@ -54,8 +65,8 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
   w.jobs = [&](int run, int gen) {
     std::vector<Job> jobs;
     if (sample.bodies.empty()) return jobs;
-    const int n = gen == 0 ? pop : pop + 1;
-    for (int k = 0; k < n; ++k) {
+    const int64_t n = config.lives_in_generation(gen);
+    for (int64_t k = 0; k < n; ++k) {
       const uint64_t h = evo::mix64(
           evo::mix64(evo::mix64(static_cast<uint64_t>(run)) ^ static_cast<uint64_t>(gen)) ^
           static_cast<uint64_t>(k));
@@ -65,7 +76,9 @@ SchedulePrediction predict_schedule(const ExperimentConfig& config, const BodySa
   };
   // Making and expressing a generation, and recording it (its rows and checkpoint): on every
   // thread of a rank run by run, on the run's own thread in the pool.
-  const double express = (pop + 1) * sample.seconds_per_expression + kGenerationSeconds;
+  const double express =
+      static_cast<double>(config.lives_in_generation(1)) * sample.seconds_per_expression +
+      kGenerationSeconds;
   w.seconds_between_generations = express;
   p.evolution = simulate_schedule(w, layout, p.policy);
   w.seconds_between_generations = express / layout.threads;

@@ -124,8 +124,7 @@ SpeedSample measure_speed(const ExperimentConfig& config, double budget_seconds,
 CostEstimate estimate_cost(const ExperimentConfig& config, const SpeedSample& speed) {
   CostEstimate c;
   c.speed = speed;
-  const int64_t p = config.evolution.population, g = config.evolution.generations;
-  c.evolution_evaluations = config.runs() * (p + g * (p + 1));
+  c.evolution_evaluations = config.runs() * config.lives_per_run();
   c.analysis_evaluations =
       static_cast<int64_t>(config.runs()) * config.analysis.lives_per_champion();
   c.battery_evaluations = static_cast<int64_t>(config.runs()) * config.analysis.battery_lives;

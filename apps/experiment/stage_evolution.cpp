@@ -14,9 +14,7 @@ namespace plastivox::experiment {
 bool stage_evolution(StageContext& ctx) {
   const auto& cfg = ctx.config;
   const size_t runs = ctx.run_files.size();
-  const int64_t p = cfg.evolution.population, g = cfg.evolution.generations;
-  const int64_t per_run = p + g * (p + 1);  // candidates made, before cache hits
-  const int64_t total = per_run * static_cast<int64_t>(runs);
+  const int64_t total = cfg.lives_per_run() * static_cast<int64_t>(runs);  // before cache hits
   const auto t0 = std::chrono::steady_clock::now();
   const bool leader = !ctx.opt.cluster || ctx.opt.cluster->rank() == 0;  // rank 0 talks
   auto log = [&](const std::string& line) {
@@ -34,8 +32,8 @@ bool stage_evolution(StageContext& ctx) {
   // Progress over all runs: candidates made per run, and how many earlier sessions made.
   std::vector<int64_t> made(runs, 0), made_before(runs, -1);
   auto on_generation = [&](size_t r, const evo::RunProgress& rp) {
-    made[r] = p + static_cast<int64_t>(rp.generations_done) * (p + 1);
-    if (made_before[r] < 0) made_before[r] = made[r] - (rp.generations_done > 0 ? p + 1 : p);
+    made[r] = cfg.lives_through(rp.generations_done);
+    if (made_before[r] < 0) made_before[r] = made[r] - cfg.lives_in_generation(rp.generations_done);
     int64_t done = 0, before = 0;
     for (size_t k = 0; k < runs; ++k) {
       done += made[k];

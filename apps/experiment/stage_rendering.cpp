@@ -21,6 +21,7 @@
 #include "plastivox/base/clock.hpp"
 #include "plastivox/base/parallel.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/render/archive_files.hpp"
 #include "plastivox/render/files.hpp"
 #include "plastivox/render/gallery.hpp"
 #include "plastivox/render/panels.hpp"
@@ -311,6 +312,57 @@ std::vector<std::string> render_video(StageContext& ctx, Stamps& stamps) {
   return {file};
 }
 
+// Each MAP-Elites run's archive in archives/<run>/, as plastivox archive draws it
+// (render/archive_files.hpp): its map, its QD score and coverage over evaluations and its table
+// with the figures, the gallery of its best kArchiveElites elites with the galleries. Redrawn
+// when the run's content or the sizes change.
+std::vector<std::string> render_archives(StageContext& ctx, Stamps& stamps) {
+  const auto& r = ctx.config.rendering;
+  std::vector<std::string> out;
+  if (ctx.config.evolution.algorithm != evo::Algorithm::kMapElites || !r.figures) return out;
+  const bool force = ctx.opt.force.count("rendering") > 0;
+  for (const analysis::StudyInput& in : ctx.study->inputs) {
+    const std::string label = ExperimentConfig::run_label(in.treatment, in.seed);
+    const std::string dir = "archives/" + label;
+    std::vector<std::string> files;
+    for (const char* f : {"archive.svg", "archive.png", "qd.svg", "qd.png", "archive.csv"})
+      files.push_back(dir + "/" + f);
+    if (r.galleries) files.push_back(dir + "/elites.png");
+    const std::string key =
+        in.content_digest + " archive " + std::to_string(r.figure_width) + "x" +
+        std::to_string(r.figure_height) +
+        (r.galleries ? " elites " + std::to_string(kArchiveElites) + " " +
+                           std::to_string(r.gallery_width) + "x" + std::to_string(r.gallery_height)
+                     : std::string(" no elites"));
+    const std::string item = "archive_" + label;
+    if (!force && up_to_date(stamps, ctx.progress, "rendering", item, key, files)) {
+      ctx.progress.log("[rendering] " + dir + " up to date");
+      out.insert(out.end(), files.begin(), files.end());
+      continue;
+    }
+    render::ArchiveRequest q;
+    q.elites = r.galleries ? kArchiveElites : 0;
+    q.style.width = r.gallery_width;
+    q.style.height = r.gallery_height;
+    q.figure.width = r.figure_width;
+    q.figure.height = r.figure_height;
+    const auto t0 = WallClock::now();
+    const render::ArchiveFiles a = render::write_archive_files(in.file, ctx.dir + "/" + dir, q);
+    files.clear();
+    for (const std::string& w : a.written)
+      files.push_back(fs::relative(w, ctx.dir).generic_string());
+    stamps.record(item, key, files);
+    out.insert(out.end(), files.begin(), files.end());
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "[rendering] %s: %lld of %lld cells, QD score %.4g, %zu elites drawn in %.1f s",
+                  dir.c_str(), static_cast<long long>(a.filled), static_cast<long long>(a.cells),
+                  a.qd_score, a.elites, seconds_since(t0));
+    ctx.progress.log(buf);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> stage_rendering(StageContext& ctx) {
@@ -320,6 +372,7 @@ std::vector<std::string> stage_rendering(StageContext& ctx) {
     for (const auto& f : render_figures(ctx, stamps)) out.push_back(f);
   const ChampionOutputs champions = render_champions(ctx, stamps);
   for (const auto& f : champions.galleries) out.push_back(f);
+  for (const auto& f : render_archives(ctx, stamps)) out.push_back(f);
   if (ctx.config.rendering.video)
     for (const auto& f : render_video(ctx, stamps)) out.push_back(f);
   for (const auto& f : champions.lives) out.push_back(f);

@@ -10,7 +10,12 @@
 #include <nlohmann/json.hpp>
 #include "experiment_run.hpp"
 
+#include "plastivox/analysis/body_plan.hpp"
 #include "plastivox/analysis/study.hpp"
+#include "plastivox/analysis/voxel_set.hpp"
+#include "plastivox/evo/map_elites.hpp"
+#include "plastivox/evo/phenotype.hpp"
+#include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/offscreen.hpp"
@@ -33,11 +38,19 @@ ReportSection experiment_section(const StageContext& ctx) {
   std::string treatments;
   for (auto t : c.treatments)
     treatments += (treatments.empty() ? "" : ", ") + std::string(to_string(t));
-  char buf[512];
+  std::string search = "AFPO, population " + std::to_string(e.population);
+  if (e.algorithm == evo::Algorithm::kMapElites) {
+    search = "MAP-Elites, " + std::to_string(e.population) + " lives a generation, archive";
+    for (size_t k = 0; k < e.map_elites.axes.size(); ++k)
+      search += std::string(k ? " x " : " ") + to_string(e.map_elites.axes[k].what) + " (" +
+                std::to_string(e.map_elites.axes[k].bins) + " bins)";
+  }
+  search += ", " + std::to_string(c.lives_per_run()) + " lives a run";
+  char buf[768];
   std::snprintf(buf, sizeof buf,
-                "%d runs: treatments %s x %zu seeds; population %d, %d generations%s; lattice "
+                "%d runs: treatments %s x %zu seeds; %s; %d generations%s; lattice "
                 "%dx%dx%d of %.3g m voxels; %.2f s lives (%.2f s settling); E in [%.3g, %.3g] Pa.",
-                c.runs(), treatments.c_str(), c.seeds.size(), e.population, e.generations,
+                c.runs(), treatments.c_str(), c.seeds.size(), search.c_str(), e.generations,
                 e.initial_population == evo::InitialPopulation::kBodyPlans
                     ? " from hand-built Π, Γ, Υ bodies and random ones"
                     : " from random bodies",
@@ -205,6 +218,98 @@ ReportSection activity_section(const StageContext& ctx) {
   return s;
 }
 
+// Each MAP-Elites run's archive (archives/<run>/, drawn by the rendering stage as plastivox
+// archive draws it): a table of what every archive holds at the end beside the run's study
+// champion, then per run its map, its QD score and coverage over evaluations and its elites.
+ReportSection archive_section(const StageContext& ctx, const std::vector<std::string>& outputs) {
+  ReportSection s;
+  if (ctx.config.evolution.algorithm != evo::Algorithm::kMapElites) return s;
+  s.title = "MAP-Elites archives";
+  s.wide = true;
+  const auto has = [&](const std::string& f) {
+    return std::find(outputs.begin(), outputs.end(), f) != outputs.end();
+  };
+  std::string rows;
+  for (const analysis::StudyInput& in : ctx.study->inputs) {
+    const std::string label = ExperimentConfig::run_label(in.treatment, in.seed);
+    const evo::RunState run = evo::read_results(in.file).state;
+    const evo::MapElitesSettings& me = run.config.map_elites;
+    double best = 0;
+    for (size_t k = 0; k < run.archive.size(); ++k)
+      best = k == 0 ? run.archive[k].fitness : std::max(best, run.archive[k].fitness);
+    char best_text[32] = "—";
+    if (!run.archive.empty()) std::snprintf(best_text, sizeof best_text, "%.3g", best);
+    std::string champion = "—";
+    for (const auto& c : ctx.study->champions)
+      if (c.label == label) {
+        char b[160];
+        std::snprintf(b, sizeof b, "%.3g, %s%s", c.fitness,
+                      std::string(analysis::symbol(c.body_plan.plan)).c_str(),
+                      c.artifact.empty() ? "" : " (left out by the audit)");
+        champion = b;
+      }
+    // The elites' body plans by analyze's rule: how many of each, and the best of each.
+    const evo::Expresser ex(run.config.expression());
+    int count[4] = {0, 0, 0, 0};
+    double plan_best[4] = {0, 0, 0, 0};
+    for (const evo::Individual& e : run.archive) {
+      const int k = static_cast<int>(
+          analysis::classify_body_plan(analysis::voxel_set(ex.express(e.genome).robot)).plan);
+      plan_best[k] = count[k]++ == 0 ? e.fitness : std::max(plan_best[k], e.fitness);
+    }
+    std::string plans, plan_bests;
+    for (int k = 0; k < 4; ++k) {
+      char b[32] = "—";
+      if (count[k] > 0) std::snprintf(b, sizeof b, "%.3g", plan_best[k]);
+      plans += (k ? " / " : "") + std::to_string(count[k]);
+      plan_bests += std::string(k ? " / " : "") + b;
+    }
+    const double qd = run.history.empty() ? 0 : run.history.back().qd_score;
+    char row[768];
+    std::snprintf(row, sizeof row,
+                  "<tr><td>%s</td><td class=\"num\">%lld</td><td class=\"num\">%zu of %lld "
+                  "(%.0f %%)</td><td class=\"num\">%.4g</td><td class=\"num\">%s</td><td>%s</td>"
+                  "<td class=\"num\">%s</td><td class=\"num\">%s</td></tr>\n",
+                  label.c_str(), static_cast<long long>(run.births.size()), run.archive.size(),
+                  static_cast<long long>(me.cells()),
+                  100.0 * static_cast<double>(run.archive.size()) / static_cast<double>(me.cells()),
+                  qd, best_text, champion.c_str(), plans.c_str(), plan_bests.c_str());
+    rows += row;
+    const std::string dir = "archives/" + label + "/";
+    const auto image = [&](const std::string& name, const std::string& caption,
+                           const std::string& svg) {
+      if (!has(dir + name)) return;
+      ReportMedia m;
+      m.path = dir + name;
+      m.caption = label + ": " + caption;
+      if (!svg.empty() && has(dir + svg)) m.links.push_back({"SVG", dir + svg});
+      if (name == "archive.png" && has(dir + "archive.csv"))
+        m.links.push_back({"CSV", dir + "archive.csv"});
+      s.media.push_back(m);
+    };
+    image("archive.png", "the archive, each cell coloured by its elite's fitness", "archive.svg");
+    image("qd.png", "QD score and coverage over evaluations", "qd.svg");
+    image("elites.png", "its best elites after settling", "");
+  }
+  s.paragraphs.push_back(
+      "Each run's archive at the end: lives made, cells filled (coverage), QD score (the sum of "
+      "the elites' fitness above the offset), its best elite, and the run's champion in the "
+      "statistics above (the best elite that counts: the archive admits no life that sank, went "
+      "unstable or scored by rising; the audit replays it like any champion) with its body plan, "
+      "then the elites by body plan (analyze's rule, docs/analysis.md) and the best fitness "
+      "of each plan's elites. Below, per run: the map on the first two descriptors (a cell shows "
+      "the best elite over "
+      "any further axis; empty cells grey), the QD score and coverage after every generation "
+      "against the lives made, and its best " +
+      std::to_string(kArchiveElites) + " elites (plastivox archive draws the same files).");
+  s.raw_html =
+      "<table><tr><th>run</th><th>lives</th><th>cells filled</th><th>QD score</th>"
+      "<th>best elite</th><th>champion (fitness, plan)</th><th>elites Π / Γ / Υ / other</th>"
+      "<th>best Π / Γ / Υ / other</th></tr>\n" +
+      rows + "</table>\n";
+  return s;
+}
+
 }  // namespace
 
 std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::string>& outputs) {
@@ -265,6 +370,8 @@ std::vector<std::string> stage_report(StageContext& ctx, const std::vector<std::
     extras.sections.push_back(figures);
   }
   if (!galleries.media.empty()) extras.sections.push_back(galleries);
+  if (ReportSection archives = archive_section(ctx, outputs); !archives.title.empty())
+    extras.sections.push_back(archives);
   // The lives the rendering stage wrote, in champion order (lives/<label>.js).
   std::vector<render::ViewerLink> lives;
   for (const auto& f : outputs)

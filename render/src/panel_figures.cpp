@@ -13,6 +13,7 @@
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/panel_drawing.hpp"
 #include "plastivox/render/panels.hpp"
+#include "plastivox/render/qd_curve.hpp"
 
 namespace plastivox::render {
 namespace {
@@ -106,6 +107,11 @@ std::vector<std::string> write_battery_heat_map(const BatteryHeatMap& map,
 std::vector<std::string> write_archive_map(const ArchiveMap& map, const std::string& out_dir,
                                            const FigureOptions& o) {
   return write_drawing_in(layout_archive_map(map, o.width, o.height), out_dir, "archive", o);
+}
+
+std::vector<std::string> write_qd_curve(const QdCurve& curve, const std::string& out_dir,
+                                        const FigureOptions& o) {
+  return write_drawing_in(layout_qd_curve(curve, o.width, o.height), out_dir, "qd", o);
 }
 
 }  // namespace plastivox::render
