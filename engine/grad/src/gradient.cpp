@@ -577,6 +577,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
            const BondKernelIo& io) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
+  BondStageScratch bond_scratch;
   size_t end = t.nodes.size();
   for (size_t j = blocks.order.size(); j-- > 0;) {
     const auto [kind, index] = blocks.order[j];
@@ -594,16 +595,9 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
       const BondBlock& stage = blocks.bonds[index];
       const uint8_t* valid = nullptr;
       if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
-      for (size_t b = L.nb; b-- > 0;) {
-        const BondArgs a =
-            bond_args(io, L, blocks.bond_values.data() + stage.at,
-                      blocks.bond_ids.data() + stage.at, int(b), stage.all_valid || valid[b]);
-        block_reverse<kBondInputs, kBondOutputs>(a, first + kBondOutputs * b, adj, k,
-                                                 [](auto& a, auto& c, auto* o, auto* in) {
-                                                   if (!bond_reverse(a, c, o, in))
-                                                     bond_reverse_tape(a, c, o, in);
-                                                 });
-      }
+      bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
+                         blocks.bond_ids.data() + stage.at, valid, first, adj.data(), k,
+                         bond_scratch);
     } else if (kind == Blocks::kVoxel)
       block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[index].args, first, adj, k,
                                                  [](auto& a, auto& c, auto* o, auto* in) {

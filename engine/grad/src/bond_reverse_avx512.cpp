@@ -1,0 +1,12 @@
+// The bond stage's reverse (bond_reverse_body.hpp) on AVX-512, eight bonds per lane group, as the
+// engine's kernels_avx512.cpp runs the forward. Compiled with -mavx512f -mavx512vl -mavx512dq
+// (engine/grad/CMakeLists.txt); used only at the engine's SIMD level avx512.
+#include "lanes_avx512.hpp"
+// After the lane type: the vocabulary, then the template written in it (lanes.hpp).
+#include "lanes_simd.hpp"
+
+#include "bond_reverse_body.hpp"
+
+plastivox::grad::BondReverseKernel plastivox::grad::bond_reverse_kernel_avx512() {
+  return &run_bond_reverse<V>;
+}
