@@ -189,13 +189,8 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
                         const int32_t* ids, const uint8_t* valid, size_t first, double* adj,
                         const ModelConstants& k, BondStageScratch& s) {
   const size_t nb = L.nb;
-  // The outputs' adjoints, output by output.
-  s.out.resize(kBondOutputs * nb);
   s.in.resize(kBondInputs * nb);
   s.off.resize(nb);
-  const double* from = adj + first;
-  for (size_t b = 0; b < nb; ++b, from += kBondOutputs)
-    for (int o = 0; o < kBondOutputs; ++o) s.out[o * nb + b] = from[o];
   BondReverseIo r;
   r.bond.bond_a = io.bond_a;
   r.bond.bond_b = io.bond_b;
@@ -208,7 +203,7 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   r.bond.all_valid = valid == nullptr;
   r.damp = values[L.damp()];
   r.nb = nb;
-  r.out_adj = s.out.data();
+  r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
   bond_reverse_kernel()(r, k);
@@ -216,7 +211,7 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   for (size_t b = 0; b < nb; ++b) {
     if (!s.off[b]) continue;
     double out[kBondOutputs], in[kBondInputs] = {};
-    for (int o = 0; o < kBondOutputs; ++o) out[o] = s.out[o * nb + b];
+    for (int o = 0; o < kBondOutputs; ++o) out[o] = r.out_adj[o * nb + b];
     const BondArgs a = bond_args(io, L, values, ids, int(b), !valid || valid[b]);
     bond_reverse_tape(a, k, out, in);
     for (int j = 0; j < kBondInputs; ++j) s.in[j * nb + b] = in[j];

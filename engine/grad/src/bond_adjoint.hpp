@@ -100,13 +100,13 @@ BondReverseKernel bond_reverse_kernel_avx512();
 
 // Scratch arrays of bond_stage_reverse, kept from stage to stage.
 struct BondStageScratch {
-  std::vector<double> out, in, voxel;
+  std::vector<double> in, voxel;
   std::vector<uint8_t> off;
 };
 // A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when
-// all are set): from the adjoints of its outputs, adj[first + kBondOutputs b + o], adds those of
-// its inputs to adj through ids. Bonds off the hand path take bond_reverse_tape. The inputs'
-// adjoints are summed in bond order, the same bits at every SIMD level.
+// all are set): from the adjoints of its outputs, adj[first + o nb + b] for bond b's output o,
+// adds those of its inputs to adj through ids. Bonds off the hand path take bond_reverse_tape. The
+// inputs' adjoints are summed in bond order, the same bits at every SIMD level.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                         const int32_t* ids, const uint8_t* valid, size_t first, double* adj,
                         const ModelConstants& k, BondStageScratch& s);

@@ -39,8 +39,9 @@ namespace {
 
 // The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
 // voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
-// A step's bond stage: its outputs are kBondOutputs leaves a bond, in bond order, from node
-// `first`; its record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
+// A step's bond stage: its outputs are kBondOutputs leaves a bond, output by output (bond b's
+// output o is node first + o nb + b); its record (keep_bond_stage) starts at `at` in
+// Blocks::bond_values and bond_ids.
 struct BondBlock {
   int64_t first;
   size_t at;
@@ -173,10 +174,7 @@ class Replica {
     State& s = s_;
     const Adj dt_old = get(&s.dt);
     // ---- step1: bonds, time step, gather, self-collision ----
-    for (int i = 0; i < m.n; ++i) {
-      const Adj r[4] = {pos(i, 0), pos(i, 1), pos(i, 2), get(s.size.data(), i)};
-      store4(w_.centre_size.data(), i, r);
-    }
+    copy_centres();
     BondKernelIo& io = w_.views.bond;
     io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
     if (nb_ > 0) {
@@ -202,9 +200,7 @@ class Replica {
     self_collisions(events);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
-    for (int k = 0; k < 9; ++k)
-      for (int b = 0; b < nb_; ++b)
-        put(s.bond_prev[k].data(), b, load(w_.bond_prev_next[k].data(), b, Adj{}));
+    for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
     std::memset(s.bond_prev_valid.data(), 1, s.bond_prev_valid.size());
     const Adj dt = dt_next;
     const Adj time = get(&s.time);
@@ -273,6 +269,38 @@ class Replica {
   }
 
  private:
+  // The nodes of an array (its shadow's), or none: when not recording, or a constant array.
+  static int32_t* ids_of(const double* p) { return g_tape ? g_tape->ids_of(p) : nullptr; }
+  // dst[k] = src[k] for k < count, values and nodes (as put(dst, k, load(src, k)), with each
+  // shadow looked up once).
+  static void copy(double* dst, const double* src, size_t count) {
+    std::memcpy(dst, src, count * sizeof(double));
+    const int32_t* from = ids_of(src);
+    if (int32_t* to = ids_of(dst); to && from)
+      std::memcpy(to, from, count * sizeof(int32_t));
+    else if (to)
+      std::fill(to, to + count, -1);
+    else if (from && std::any_of(from, from + count, [](int32_t id) { return id >= 0; }))
+      throw std::logic_error("gradient: a recorded value copied into an array without a shadow");
+  }
+  // Workspace::centre_size: each voxel's centre and actuated size as a record of 4.
+  void copy_centres() {
+    const double* centre = s_.pos.front().data();
+    double* cs = w_.centre_size.data();
+    for (int i = 0; i < m_.n; ++i) {
+      for (int k = 0; k < 3; ++k) cs[4 * i + k] = centre[3 * i + k];
+      cs[4 * i + 3] = s_.size[i];
+    }
+    int32_t* to = ids_of(cs);
+    if (!g_tape) return;
+    if (!to) throw std::logic_error("gradient: the centres are recorded without a shadow");
+    const int32_t *pos_ids = ids_of(centre), *size_ids = ids_of(s_.size.data());
+    for (int i = 0; i < m_.n; ++i) {
+      for (int k = 0; k < 3; ++k) to[4 * i + k] = pos_ids ? pos_ids[3 * i + k] : -1;
+      to[4 * i + 3] = size_ids ? size_ids[i] : -1;
+    }
+  }
+
   // The bond stage on doubles (the engine's kernel set), its input arrays kept and its outputs
   // made leaves of the tape, which the sweep's block reverse gives their adjoints.
   void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
@@ -288,7 +316,7 @@ class Replica {
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
     blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
     blocks_->bonds.push_back(stage);
-    t.nodes.resize(t.nodes.size() + size_t(kBondOutputs) * size_t(nb_), Node{-1, -1, 0.0, 0.0});
+    t.unswept_leaves(size_t(kBondOutputs) * size_t(nb_));
     int32_t* out_ids[3];
     int32_t* next_ids[9];
     for (int v = 0; v < 3; ++v) out_ids[v] = t.ids_of(io.out[v]);
@@ -298,17 +326,22 @@ class Replica {
     int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
     // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
     redo += kernels().bond(io, nb_, m_, damp.v);
+    // Output o of bond b is leaf first + o nb + b: the reverse reads each output's adjoints as
+    // a row, and the next step's reads of a deformation component are consecutive.
+    const auto leaf = [&](int o, int b) {
+      return static_cast<int32_t>(stage.first + int64_t(o) * nb_ + b);
+    };
     for (int b = 0; b < nb_; ++b) {
-      const int32_t first = static_cast<int32_t>(stage.first + int64_t(kBondOutputs) * b);
       for (int v = 0; v < 3; ++v) {
-        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = first + kOut + 3 * v + c;
+        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = leaf(kOut + 3 * v + c, b);
         out_ids[v][4 * size_t(b) + 3] = -1;
       }
-      for (int j = 0; j < 9; ++j) next_ids[j][b] = first + kPrevNext + j;
-      strain_ids[b] = first + kStrain;
-      stress_ids[b] = first + kStress;
-      if (energy_ids) energy_ids[b] = first + kEnergy;
+      strain_ids[b] = leaf(kStrain, b);
+      stress_ids[b] = leaf(kStress, b);
+      if (energy_ids) energy_ids[b] = leaf(kEnergy, b);
     }
+    for (int j = 0; j < 9; ++j)
+      for (int b = 0; b < nb_; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
   }
 
   // The voxel update on doubles, as record_bonds does the bond stage.
@@ -332,9 +365,8 @@ class Replica {
     max_speed2 = summary.max_speed2;
     bad = summary.non_finite;
     for (int i = 0; i < m_.n; ++i) {
-      blocks_->voxels[start + size_t(i)].first = static_cast<int64_t>(t.nodes.size());
-      const int32_t first = static_cast<int32_t>(t.nodes.size());
-      t.nodes.resize(t.nodes.size() + kVoxelOutputs, Node{-1, -1, 0.0, 0.0});
+      const int32_t first = static_cast<int32_t>(t.unswept_leaves(kVoxelOutputs));
+      blocks_->voxels[start + size_t(i)].first = first;
       const size_t v = static_cast<size_t>(i);
       for (int c = 0; c < 3; ++c) {
         pos_ids[3 * v + c] = first + kVOutPos + c;
@@ -377,7 +409,7 @@ class Replica {
       const int32_t first = static_cast<int32_t>(t.nodes.size());
       blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
       blocks_->gathers.push_back({first, a});
-      t.nodes.resize(t.nodes.size() + kGatherOutputs, Node{-1, -1, 0.0, 0.0});
+      t.unswept_leaves(kGatherOutputs);
       for (int c = 0; c < 3; ++c) {
         force_ids[c][v] = first + kGOutForce + c;
         moment_ids[c][v] = first + kGOutMoment + c;
