@@ -206,7 +206,11 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
-  bond_reverse_kernel()(r, k);
+  // Whole lane groups at the SIMD level, then the rest here: a file compiled for an instruction
+  // set may fuse a double's multiply and add (GCC 12 turns alternating adds and subtracts of
+  // products into fused multiply-add-subtracts even with -ffp-contract=off), so every bond
+  // computed one at a time is computed by this file's code, the scalar level's.
+  for (int b = bond_reverse_kernel()(r, k); b < int(nb); ++b) bond_reverse_lanes<double>(r, b, k);
   // Bonds off the hand path, by the kernel recorded on a tape.
   for (size_t b = 0; b < nb; ++b) {
     if (!s.off[b]) continue;

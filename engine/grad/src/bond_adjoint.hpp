@@ -94,8 +94,8 @@ struct BondReverseIo {
   double* in_adj = nullptr;
   uint8_t* off = nullptr;
 };
-using BondReverseKernel = void (*)(const BondReverseIo&, const ModelConstants&);
-BondReverseKernel bond_reverse_kernel_avx2();  // bond_reverse_avx2.cpp
+using BondReverseKernel = int (*)(const BondReverseIo&, const ModelConstants&);  // bonds done
+BondReverseKernel bond_reverse_kernel_avx2();                                    // reverse_avx2.cpp
 BondReverseKernel bond_reverse_kernel_avx512();
 
 // Scratch arrays of bond_stage_reverse, kept from stage to stage.

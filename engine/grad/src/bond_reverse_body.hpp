@@ -1,7 +1,7 @@
 // The bond stage's hand-written reverse (bond_adjoint.hpp) as a template over the lane type
 // (engine/core/src/lanes.hpp), so that it runs on as many bonds at once as the forward kernel
 // (bond_body.hpp): `double` in bond_adjoint.cpp, a vector of four or eight in
-// bond_reverse_avx2.cpp and bond_reverse_avx512.cpp. Every operation is element-wise IEEE
+// reverse_avx2.cpp and reverse_avx512.cpp. Every operation is element-wise IEEE
 // arithmetic in one fixed order (no FMA: -ffp-contract=off), so a bond's adjoints are the same
 // bits whatever the lane width, as the forward kernels' results are.
 //
@@ -97,14 +97,17 @@ inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const Model
   const T v2 = aw * bz_ - ax * by_ + ay * bx_ - az * bw_;
   const T a = aw * bw_ + ax * bx_ + ay * by_ + az * bz_;
   const T bx = sel(v0, v1, v2), by = sel(v1, v2, v0), bz = sel(v2, v0, v1);
-  const T len = root(x * x + y * y + z * z);
-  const T h = len + x;
+  // Lanes off the hand path compute with stand-ins (1 for a divisor, 0 for a series' argument)
+  // so that no lane makes an infinity or a NaN (the tests trap FE_INVALID); the stand-ins never
+  // touch a lane on the path.
+  const T len0 = root(x * x + y * y + z * z), h0 = len0 + x;
+  const auto degenerate = h0 <= 1e-6 * len0;
+  const T h = pick(degenerate, one, h0), len = pick(degenerate, one, len0);
   constexpr double kWide = 0.03956612989658004;  // atan_over_t's tan^2(pi / 16)
-  auto off = h <= 1e-6 * len;                    // degenerate
   const T inv_h = 1.0 / h;
   const T yz2 = y * y + z * z, ih2 = inv_h * inv_h;
-  const T t1sq = yz2 * ih2;
-  off = off | (t1sq >= kWide);
+  const auto wide1 = yz2 * ih2 >= kWide;
+  const T t1sq = pick(wide1, zero, yz2 * ih2);
   const T ratio1 = atan_series(t1sq);
   const T k1 = (ratio1 + ratio1) * inv_h;
   const T t1y = z * k1, t1z = -y * k1;
@@ -113,13 +116,13 @@ inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const Model
   const T y2 = h * by + a * z - y * bx;
   const T z2 = h * bz - a * y - z * bx;
   const T sgn = pick(w2 < 0.0, splat(-1.0, T{}), one);
-  const T ww = w2 * sgn;
-  off = off | (w2 * w2 <= 2e-6 * (len * h));  // the scalar path's (redo)
+  const auto redo = degenerate | (w2 * w2 <= 2e-6 * (len * h));  // the scalar path's
+  const T ww = pick(redo, one, w2 * sgn);
   const T inv_ww = 1.0 / ww;
   const T n2 = x2 * x2 + y2 * y2 + z2 * z2, iw2 = inv_ww * inv_ww;
-  const T t2sq = n2 * iw2;
-  off = off | (t2sq >= kWide);
-  store_flag(io.off, i, off);
+  const auto wide2 = n2 * iw2 >= kWide;
+  const T t2sq = pick(wide2, zero, n2 * iw2);
+  store_flag(io.off, i, redo | wide1 | wide2);
   const T ratio2 = atan_series(t2sq);
   const T k2 = (ratio2 + ratio2) * inv_ww * sgn;
   const T t2x = x2 * k2, t2y = y2 * k2, t2z = z2 * k2;
@@ -276,7 +279,7 @@ inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const Model
   g_h -= g_inv_h * inv_h / h;
   g_len += g_h, g_x += g_h;
   {
-    const T c = pick(len > 0.0, g_len * (0.5 / len), zero);
+    const T c = pick(len0 > 0.0, g_len * (0.5 / len), zero);
     g_x += 2.0 * c * x, g_y += 2.0 * c * y, g_z += 2.0 * c * z;
   }
   // The relative rotation conj(q_a) q_b: g_v[d] = g_bx, g_v[d + 1] = g_by, g_v[d + 2] = g_bz.
@@ -317,11 +320,13 @@ inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const Model
   put_in(kQuatA + 3, g_aw);
 }
 
-// Every bond of a kept stage, by lane groups and then the tail one by one.
+// The whole lane groups of bonds from the first; returns how many bonds that is (the caller
+// takes the rest one by one with its own `double` instance).
 template <class T>
-void run_bond_reverse(const grad::BondReverseIo& io, const ModelConstants& k) {
-  over_lanes<T>(static_cast<int>(io.nb),
-                [&](auto lane, int i) { bond_reverse_lanes<decltype(lane)>(io, i, k); });
+int run_bond_reverse(const grad::BondReverseIo& io, const ModelConstants& k) {
+  int i = 0;
+  for (; i + kLanes<T> <= static_cast<int>(io.nb); i += kLanes<T>) bond_reverse_lanes<T>(io, i, k);
+  return i;
 }
 
 }  // namespace

@@ -47,9 +47,12 @@ struct BondBlock {
   size_t at;
   bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
 };
+// A step's voxel update: its outputs are kVoxelOutputs leaves a voxel, output by output (voxel
+// i's output o is node first + o n + i); its record (keep_voxel_stage) starts at `at` in
+// Blocks::voxel_values and voxel_ids, its flags at 2 n times its index in voxel_flags.
 struct VoxelBlock {
   int64_t first;
-  VoxelArgs args;
+  size_t at;
 };
 struct GatherBlock {
   int64_t first;
@@ -61,13 +64,17 @@ struct Blocks {
   std::vector<int32_t> bond_ids;
   std::vector<uint8_t> bond_valid;  // nb a stage without all_valid, in order
   std::vector<VoxelBlock> voxels;
+  std::vector<double> voxel_values;
+  std::vector<int32_t> voxel_ids;
+  std::vector<uint8_t> voxel_flags;
   std::vector<GatherBlock> gathers;
   // Every block in the order recorded (its kind and its index in that kind's list).
   enum Kind : uint8_t { kBond, kVoxel, kGather };
   std::vector<std::pair<Kind, uint32_t>> order;
   void clear() {
     bonds.clear(), bond_values.clear(), bond_ids.clear(), bond_valid.clear();
-    voxels.clear(), gathers.clear(), order.clear();
+    voxels.clear(), voxel_values.clear(), voxel_ids.clear(), voxel_flags.clear();
+    gathers.clear(), order.clear();
   }
 };
 
@@ -349,32 +356,37 @@ class Replica {
     Tape& t = *g_tape;
     const VoxelKernelIo& io = w_.views.voxel;
     const VoxelStateOut& st = w_.views.voxel_out;
-    const VoxelReads reads = voxel_reads(io, dt.v, dt.id);
+    const size_t n = size_t(m_.n);
+    VoxelBlock stage{0, blocks_->voxel_values.size()};
+    blocks_->voxel_values.resize(stage.at + kVoxelInputs * n);
+    blocks_->voxel_ids.resize(stage.at + kVoxelInputs * n);
+    blocks_->voxel_flags.resize(blocks_->voxel_flags.size() + 2 * n);
+    keep_voxel_stage(io, n, dt.v, dt.id, blocks_->voxel_values.data() + stage.at,
+                     blocks_->voxel_ids.data() + stage.at,
+                     blocks_->voxel_flags.data() + blocks_->voxel_flags.size() - 2 * n);
+    // Updated in place by the engine's own kernel set, after the inputs are kept.
+    const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
+    max_speed2 = summary.max_speed2;
+    bad = summary.non_finite;
+    stage.first = t.unswept_leaves(kVoxelOutputs * n);
+    blocks_->order.push_back({Blocks::kVoxel, uint32_t(blocks_->voxels.size())});
+    blocks_->voxels.push_back(stage);
+    const auto leaf = [&](int o, size_t v) {
+      return static_cast<int32_t>(stage.first + int64_t(o * n + v));
+    };
     int32_t* pos_ids = t.ids_of(st.pos);
     int32_t* lin_ids = t.ids_of(st.lin_mom);
     int32_t* ang_ids = t.ids_of(st.ang_mom);
     int32_t* quat_ids = t.ids_of(st.quat);
     int32_t* normal_ids = io.floor_normal ? t.ids_of(io.floor_normal) : nullptr;
-    const size_t start = blocks_->voxels.size();
-    for (int i = 0; i < m_.n; ++i) {
-      blocks_->order.push_back({Blocks::kVoxel, uint32_t(blocks_->voxels.size())});
-      blocks_->voxels.push_back({0, voxel_args(io, i, reads)});
-    }
-    // Updated in place by the engine's own kernel set, after every voxel's arguments are kept.
-    const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
-    max_speed2 = summary.max_speed2;
-    bad = summary.non_finite;
-    for (int i = 0; i < m_.n; ++i) {
-      const int32_t first = static_cast<int32_t>(t.unswept_leaves(kVoxelOutputs));
-      blocks_->voxels[start + size_t(i)].first = first;
-      const size_t v = static_cast<size_t>(i);
+    for (size_t v = 0; v < n; ++v) {
       for (int c = 0; c < 3; ++c) {
-        pos_ids[3 * v + c] = first + kVOutPos + c;
-        lin_ids[3 * v + c] = first + kVOutLinMom + c;
-        ang_ids[3 * v + c] = first + kVOutAngMom + c;
+        pos_ids[3 * v + c] = leaf(kVOutPos + c, v);
+        lin_ids[3 * v + c] = leaf(kVOutLinMom + c, v);
+        ang_ids[3 * v + c] = leaf(kVOutAngMom + c, v);
       }
-      for (int c = 0; c < 4; ++c) quat_ids[4 * v + c] = first + kVOutQuat + c;
-      if (normal_ids) normal_ids[v] = first + kVOutNormal;
+      for (int c = 0; c < 4; ++c) quat_ids[4 * v + c] = leaf(kVOutQuat + c, v);
+      if (normal_ids) normal_ids[v] = leaf(kVOutNormal, v);
     }
   }
 
@@ -610,6 +622,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
+  VoxelStageScratch voxel_scratch;
   size_t end = t.nodes.size();
   for (size_t j = blocks.order.size(); j-- > 0;) {
     const auto [kind, index] = blocks.order[j];
@@ -618,7 +631,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     if (kind == Blocks::kBond)
       first = size_t(blocks.bonds[index].first), outputs = kBondOutputs * k.bond_count();
     else if (kind == Blocks::kVoxel)
-      first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs;
+      first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs * k.n;
     else
       first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs;
     sweep_nodes(t, adj, first + outputs, end);
@@ -630,13 +643,12 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
       bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
                          blocks.bond_ids.data() + stage.at, valid, first, adj.data(), k,
                          bond_scratch);
-    } else if (kind == Blocks::kVoxel)
-      block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[index].args, first, adj, k,
-                                                 [](auto& a, auto& c, auto* o, auto* in) {
-                                                   if (!voxel_reverse(a, c, o, in))
-                                                     voxel_reverse_tape(a, c, o, in);
-                                                 });
-    else
+    } else if (kind == Blocks::kVoxel) {
+      const size_t at = blocks.voxels[index].at;
+      voxel_stage_reverse(size_t(k.n), blocks.voxel_values.data() + at,
+                          blocks.voxel_ids.data() + at, blocks.voxel_flags.data() + 2 * index * k.n,
+                          first, adj.data(), k, voxel_scratch);
+    } else
       block_reverse<kGatherInputs, kGatherOutputs>(blocks.gathers[index].args, first, adj, k,
                                                    gather_reverse);
   }
@@ -646,12 +658,14 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
 // Bytes a tape node costs: the node and its adjoint.
 constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
-// Bytes the blocks of a step cost (one a bond and one a voxel).
+// Bytes the blocks of a step cost (the bond stage, the update and a gather a voxel).
 double block_bytes(const Model& m) {
   const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
   const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
-  const double order = sizeof(Blocks::order[0]) * double(1 + 2 * m.n);
-  return bond_stage + (sizeof(VoxelBlock) + sizeof(GatherBlock)) * double(m.n) + order;
+  const double voxel_stage =
+      (sizeof(double) + sizeof(int32_t)) * double(kVoxelInputs) * m.n + 2.0 * m.n;
+  const double order = sizeof(Blocks::order[0]) * double(2 + m.n);
+  return bond_stage + voxel_stage + sizeof(VoxelBlock) + sizeof(GatherBlock) * double(m.n) + order;
 }
 
 // The nodes one step records: the first step of the life, and a fifth more for what the first
@@ -811,9 +825,12 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   blocks.bond_values.reserve(static_cast<size_t>(K) *
                              BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
   blocks.bond_ids.reserve(blocks.bond_values.capacity());
-  blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
+  blocks.voxels.reserve(static_cast<size_t>(K));
+  blocks.voxel_values.reserve(static_cast<size_t>(K) * kVoxelInputs * m.n);
+  blocks.voxel_ids.reserve(blocks.voxel_values.capacity());
+  blocks.voxel_flags.reserve(static_cast<size_t>(K) * 2 * m.n);
   blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
-  blocks.order.reserve(static_cast<size_t>(K) * (1 + 2 * m.n));
+  blocks.order.reserve(static_cast<size_t>(K) * (2 + m.n));
   rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   std::vector<double> adj;
   for (size_t seg = snaps.size(); seg-- > 0;) {

@@ -4,11 +4,14 @@
 // read; its outputs are leaves of the tape, and the sweep calls the voxel's reverse there.
 //
 // voxel_reverse_tape records the kernel template on a small tape (the reference, and the path
-// of clamped voxels and of turns past the series' range); voxel_reverse is written by hand for
-// the rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12).
+// of clamped voxels and of turns past the series' range); the other is written by hand for the
+// rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a lane template
+// (voxel_reverse_body.hpp) that voxel_stage_reverse runs over a whole step's update at the
+// engine's SIMD level.
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "kernels.hpp"
 #include "plastivox/model_constants.hpp"
@@ -48,22 +51,46 @@ struct VoxelArgs {
   uint8_t was_held;          // static friction held it last step
 };
 
-// The tape nodes of the arrays the update reads (null: constants), looked up once a step.
-struct VoxelReads {
-  const int32_t *stiff = nullptr, *sqrt_e = nullptr, *force[3] = {}, *lin_mom = nullptr,
-                *pos = nullptr, *size = nullptr, *ang_mom = nullptr, *moment[3] = {},
-                *quat = nullptr;
-  double dt = 0;
-  int32_t dt_id = -1;
+// A step's update as kept for its reverse: the arrays it read, values and tape nodes side by
+// side, input by input (input slot j of voxel i at j n + i; dt repeated), and the voxels' flags
+// (2 n: clamped, then held by static friction the step before). Written before the kernel runs
+// (it updates some in place).
+void keep_voxel_stage(const VoxelKernelIo& io, size_t n, double dt, int32_t dt_id, double* values,
+                      int32_t* ids, uint8_t* flags);
+
+// What the lane template (voxel_reverse_body.hpp) reads and writes for n voxels: a kept
+// update's values and clamp flags, the outputs' adjoints and the inputs', each as
+// kVoxelOutputs (kVoxelInputs) rows of n, and a flag a voxel off the hand path.
+struct VoxelReverseIo {
+  const double* values = nullptr;
+  const uint8_t* fixed = nullptr;
+  size_t n = 0;
+  const double* out_adj = nullptr;
+  double* in_adj = nullptr;
+  uint8_t* off = nullptr;
 };
-VoxelReads voxel_reads(const VoxelKernelIo& io, double dt, int32_t dt_id);
-VoxelArgs voxel_args(const VoxelKernelIo& io, int i, const VoxelReads& r);
+using VoxelReverseKernel = int (*)(const VoxelReverseIo&, const ModelConstants&);  // voxels done
+VoxelReverseKernel voxel_reverse_kernel_avx2();  // reverse_avx2.cpp
+VoxelReverseKernel voxel_reverse_kernel_avx512();
+
+// Scratch arrays of voxel_stage_reverse, kept from stage to stage.
+struct VoxelStageScratch {
+  std::vector<double> in;
+  std::vector<uint8_t> off;
+};
+// A kept update's reverse (its record `values`, `ids` and `flags`): from the adjoints of its
+// outputs, adj[first + o n + i] for voxel i's output o, adds those of its inputs to adj through
+// ids, input by input in voxel order (the same bits at every SIMD level). Voxels off the hand path
+// take voxel_reverse_tape.
+void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, const uint8_t* flags,
+                         size_t first, double* adj, const ModelConstants& k, VoxelStageScratch& s);
 
 // From the adjoints of a voxel's outputs (kVoxelOutputs), adds those of its inputs to in_adj.
 void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                         double* in_adj);
-// The same by hand; returns false, having done nothing, off its path (a clamped voxel, a turn
-// of more than 0.01 rad in the step, a bond model other than the exact one).
+// The same by hand (one voxel of voxel_reverse_body.hpp); returns false, having done nothing,
+// off its path (a clamped voxel, a turn of more than 0.01 rad in the step, a bond model other
+// than the exact one).
 bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                    double* in_adj);
 
