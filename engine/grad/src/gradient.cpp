@@ -54,9 +54,11 @@ struct VoxelBlock {
   int64_t first;
   size_t at;
 };
+// A step's gather: its outputs are kGatherOutputs leaves a voxel, output by output; its record
+// (keep_gather_stage) starts at `at` in Blocks::gather_values and `ids_at` in gather_ids.
 struct GatherBlock {
   int64_t first;
-  GatherArgs args;
+  size_t at, ids_at;
 };
 struct Blocks {
   std::vector<BondBlock> bonds;
@@ -68,13 +70,15 @@ struct Blocks {
   std::vector<int32_t> voxel_ids;
   std::vector<uint8_t> voxel_flags;
   std::vector<GatherBlock> gathers;
+  std::vector<double> gather_values;
+  std::vector<int32_t> gather_ids;
   // Every block in the order recorded (its kind and its index in that kind's list).
   enum Kind : uint8_t { kBond, kVoxel, kGather };
   std::vector<std::pair<Kind, uint32_t>> order;
   void clear() {
     bonds.clear(), bond_values.clear(), bond_ids.clear(), bond_valid.clear();
     voxels.clear(), voxel_values.clear(), voxel_ids.clear(), voxel_flags.clear();
-    gathers.clear(), order.clear();
+    gathers.clear(), gather_values.clear(), gather_ids.clear(), order.clear();
   }
 };
 
@@ -140,6 +144,7 @@ class Replica {
 
   State& state() { return s_; }
   const BondKernelIo& bond_io() const { return w_.views.bond; }
+  const VoxelKernelIo& voxel_io() const { return w_.views.voxel; }
   // Keep the bond stage (one block a step), the gather and the voxel update (one block a voxel
   // each) for their own reverses in `blocks`, or, given null, record them operation by
   // operation on the tape (the reference).
@@ -390,44 +395,31 @@ class Replica {
     }
   }
 
-  // The gather on doubles (the engine's kernel set), one block a voxel (voxel_adjoint.hpp).
+  // The gather on doubles (the engine's kernel set), one block a step (voxel_adjoint.hpp).
   void record_gather() {
     Tape& t = *g_tape;
     const VoxelKernelIo& io = w_.views.voxel;
+    const GatherStageLayout L{size_t(m_.n), size_t(nb_)};
+    GatherBlock stage{0, blocks_->gather_values.size(), blocks_->gather_ids.size()};
+    blocks_->gather_values.resize(stage.at + L.values());
+    blocks_->gather_ids.resize(stage.ids_at + L.ids());
+    keep_gather_stage(io, L, blocks_->gather_values.data() + stage.at,
+                      blocks_->gather_ids.data() + stage.ids_at);
     kernels().gather(io, m_.n, m_);
-    const int32_t* out_ids[3] = {t.ids_of(io.bond_out[0]), t.ids_of(io.bond_out[1]),
-                                 t.ids_of(io.bond_out[2])};
-    const int32_t* lin_ids = t.ids_of(io.lin_mom);
-    const int32_t* stiff_ids = t.ids_of(io.stiff);
-    int32_t* force_ids[3] = {t.ids_of(io.force[0]), t.ids_of(io.force[1]), t.ids_of(io.force[2])};
-    int32_t* moment_ids[3] = {t.ids_of(io.moment[0]), t.ids_of(io.moment[1]),
-                              t.ids_of(io.moment[2])};
-    int32_t* sqrt_ids = t.ids_of(io.sqrt_e);
-    const auto id = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
-    for (int i = 0; i < m_.n; ++i) {
-      const size_t v = static_cast<size_t>(i);
-      GatherArgs a;
-      for (int slot = 0; slot < 6; ++slot) {
-        const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]);
-        for (int c = 0; c < 3; ++c) {
-          a.id[kGSlots + 6 * slot + c] = id(out_ids[0], b + c);
-          a.id[kGSlots + 6 * slot + 3 + c] = id(out_ids[slot & 1 ? 1 : 2], b + c);
-        }
-      }
-      for (int c = 0; c < 3; ++c)
-        a.lin_mom[c] = io.lin_mom[3 * v + c], a.id[kGLinMom + c] = id(lin_ids, 3 * v + c);
-      a.e = io.stiff[v];
-      a.id[kGE] = id(stiff_ids, v);
-      const int32_t first = static_cast<int32_t>(t.nodes.size());
-      blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
-      blocks_->gathers.push_back({first, a});
-      t.unswept_leaves(kGatherOutputs);
-      for (int c = 0; c < 3; ++c) {
-        force_ids[c][v] = first + kGOutForce + c;
-        moment_ids[c][v] = first + kGOutMoment + c;
-      }
-      sqrt_ids[v] = first + kGOutSqrtE;
+    stage.first = t.unswept_leaves(kGatherOutputs * L.n);
+    blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
+    blocks_->gathers.push_back(stage);
+    const auto leaf = [&](int o, size_t v) {
+      return static_cast<int32_t>(stage.first + int64_t(o * L.n + v));
+    };
+    for (int c = 0; c < 3; ++c) {
+      int32_t* force_ids = t.ids_of(io.force[c]);
+      int32_t* moment_ids = t.ids_of(io.moment[c]);
+      for (size_t v = 0; v < L.n; ++v)
+        force_ids[v] = leaf(kGOutForce + c, v), moment_ids[v] = leaf(kGOutMoment + c, v);
     }
+    int32_t* sqrt_ids = t.ids_of(io.sqrt_e);
+    for (size_t v = 0; v < L.n; ++v) sqrt_ids[v] = leaf(kGOutSqrtE, v);
   }
 
   // gather_voxel (voxel_body.hpp) on Adj: bond forces and moments in slot order (the 4-double
@@ -601,24 +593,10 @@ struct ParamLeaves {
   }
 };
 
-// One block's reverse: from the adjoints of its outputs (nodes first..), those of its inputs.
-template <int kIn, int kOut, class Args, class Reverse>
-void block_reverse(const Args& args, size_t first, std::vector<double>& adj,
-                   const ModelConstants& k, Reverse reverse) {
-  const double* out = adj.data() + first;
-  bool any = false;
-  for (int o = 0; o < kOut; ++o) any = any || out[o] != 0;
-  if (!any) return;
-  double in[kIn] = {};
-  reverse(args, k, out, in);
-  for (int i = 0; i < kIn; ++i)
-    if (args.id[i] >= 0) adj[args.id[i]] += in[i];
-}
-
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
 void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
-           const BondKernelIo& io) {
+           const BondKernelIo& io, const VoxelKernelIo& voxel_io) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
@@ -633,7 +611,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     else if (kind == Blocks::kVoxel)
       first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs * k.n;
     else
-      first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs;
+      first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs * k.n;
     sweep_nodes(t, adj, first + outputs, end);
     end = first;
     if (kind == Blocks::kBond) {
@@ -648,9 +626,12 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
       voxel_stage_reverse(size_t(k.n), blocks.voxel_values.data() + at,
                           blocks.voxel_ids.data() + at, blocks.voxel_flags.data() + 2 * index * k.n,
                           first, adj.data(), k, voxel_scratch);
-    } else
-      block_reverse<kGatherInputs, kGatherOutputs>(blocks.gathers[index].args, first, adj, k,
-                                                   gather_reverse);
+    } else {
+      const GatherBlock& stage = blocks.gathers[index];
+      gather_stage_reverse(voxel_io, GatherStageLayout{L.n, L.nb},
+                           blocks.gather_values.data() + stage.at,
+                           blocks.gather_ids.data() + stage.ids_at, first, adj.data(), k);
+    }
   }
   sweep_nodes(t, adj, 0, end);
 }
@@ -658,14 +639,17 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
 // Bytes a tape node costs: the node and its adjoint.
 constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
-// Bytes the blocks of a step cost (the bond stage, the update and a gather a voxel).
+// Bytes the blocks of a step cost (the bond stage, the gather and the update: one each).
 double block_bytes(const Model& m) {
   const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
   const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
   const double voxel_stage =
       (sizeof(double) + sizeof(int32_t)) * double(kVoxelInputs) * m.n + 2.0 * m.n;
-  const double order = sizeof(Blocks::order[0]) * double(2 + m.n);
-  return bond_stage + voxel_stage + sizeof(VoxelBlock) + sizeof(GatherBlock) * double(m.n) + order;
+  const GatherStageLayout G{L.n, L.nb};
+  const double gather_stage =
+      sizeof(double) * double(G.values()) + sizeof(int32_t) * double(G.ids());
+  return bond_stage + voxel_stage + gather_stage + sizeof(BondBlock) + sizeof(VoxelBlock) +
+         sizeof(GatherBlock) + 3 * sizeof(Blocks::order[0]);
 }
 
 // The nodes one step records: the first step of the life, and a fifth more for what the first
@@ -829,8 +813,11 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   blocks.voxel_values.reserve(static_cast<size_t>(K) * kVoxelInputs * m.n);
   blocks.voxel_ids.reserve(blocks.voxel_values.capacity());
   blocks.voxel_flags.reserve(static_cast<size_t>(K) * 2 * m.n);
-  blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
-  blocks.order.reserve(static_cast<size_t>(K) * (2 + m.n));
+  blocks.gathers.reserve(static_cast<size_t>(K));
+  const GatherStageLayout G{size_t(m.n), size_t(m.bond_count())};
+  blocks.gather_values.reserve(static_cast<size_t>(K) * G.values());
+  blocks.gather_ids.reserve(static_cast<size_t>(K) * G.ids());
+  blocks.order.reserve(static_cast<size_t>(K) * 3);
   rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   std::vector<double> adj;
   for (size_t seg = snaps.size(); seg-- > 0;) {
@@ -865,7 +852,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k)
         if (ids[r][k] >= 0) adj[ids[r][k]] += adj_state[r][k];
-    sweep(tape, adj, blocks, m, rep.bond_io());
+    sweep(tape, adj, blocks, m, rep.bond_io(), rep.voxel_io());
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k) adj_state[r][k] = adj[start[r][k]];
     for (int i = 0; i < m.n; ++i) {
@@ -892,7 +879,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     g_tape = nullptr;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = adj_state[dt_row][0];
-    sweep(tape, adj, {}, m, rep.bond_io());
+    sweep(tape, adj, {}, m, rep.bond_io(), rep.voxel_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.

@@ -197,24 +197,50 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
     if (ids[e] >= 0) adj[ids[e]] += s.in[e];
 }
 
-void gather_reverse(const GatherArgs& a, const ModelConstants& k, const double* out_adj,
-                    double* in_adj) {
+void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, double* values,
+                       int32_t* ids) {
+  const auto keep = [&](const double* row, size_t count, double* v, int32_t* id) {
+    if (v) std::copy(row, row + count, v);
+    const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
+    if (row_ids)
+      std::copy(row_ids, row_ids + count, id);
+    else
+      std::fill(id, id + count, -1);
+  };
+  keep(io.stiff, L.n, values, ids);
+  keep(io.lin_mom, 3 * L.n, values + L.lin_mom(), ids + L.lin_mom());
+  for (int v = 0; v < 3; ++v) keep(io.bond_out[v], 4 * (L.nb + 1), nullptr, ids + L.records(v));
+}
+
+void gather_stage_reverse(const VoxelKernelIo& io, const GatherStageLayout& L, const double* values,
+                          const int32_t* ids, size_t first, double* adj, const ModelConstants& k) {
   // force = ((sum_s +-F_s - coef p) + weight) + load, moment = sum_s M_s,
   // coef = global_damping c_lin_unit sqrt(E) / mass.
-  const double se = std::sqrt(a.e);
-  const double coef = (k.def.global_damping * (k.c_lin_unit * se)) / k.mass;
-  double g_coef = 0;
-  for (int c = 0; c < 3; ++c) {
-    const double g_f = out_adj[kGOutForce + c], g_m = out_adj[kGOutMoment + c];
-    for (int slot = 0; slot < 6; ++slot) {
-      in_adj[kGSlots + 6 * slot + c] += slot & 1 ? g_f : -g_f;
-      in_adj[kGSlots + 6 * slot + 3 + c] += g_m;
+  const size_t n = L.n;
+  const double* out = adj + first;
+  const double* lin_mom = values + L.lin_mom();
+  const int32_t* lin_ids = ids + L.lin_mom();
+  const auto add = [&](int32_t id, double v) {
+    if (id >= 0) adj[id] += v;
+  };
+  for (size_t i = 0; i < n; ++i) {
+    const double se = std::sqrt(values[i]);
+    const double coef = (k.def.global_damping * (k.c_lin_unit * se)) / k.mass;
+    double g_coef = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double g_f = out[(kGOutForce + c) * n + i], g_m = out[(kGOutMoment + c) * n + i];
+      for (int slot = 0; slot < 6; ++slot) {
+        const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]) + c;
+        add(ids[L.records(0) + b], slot & 1 ? g_f : -g_f);
+        add(ids[L.records(slot & 1 ? 1 : 2) + b], g_m);
+      }
+      add(lin_ids[3 * i + c], -(g_f * coef));
+      g_coef -= g_f * lin_mom[3 * i + c];
     }
-    in_adj[kGLinMom + c] -= g_f * coef;
-    g_coef -= g_f * a.lin_mom[c];
+    const double g_se =
+        out[kGOutSqrtE * n + i] + g_coef * k.def.global_damping * k.c_lin_unit / k.mass;
+    add(ids[i], se > 0 ? g_se * (0.5 / se) : 0.0);
   }
-  const double g_se = out_adj[kGOutSqrtE] + g_coef * k.def.global_damping * k.c_lin_unit / k.mass;
-  in_adj[kGE] += se > 0 ? g_se * (0.5 / se) : 0.0;
 }
 
 }  // namespace plastivox::grad

@@ -94,26 +94,27 @@ void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const doubl
 bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                    double* in_adj);
 
-// The gather (voxel_body.hpp's gather_voxel and slow_damping_lanes) of voxel i, which is
-// linear but for the slow damping: its inputs are the records its six slots read (force on a,
-// and moment on a or on b, of each slot's bond: 3 each), its momentum and its modulus; its
-// outputs the total force, the total moment and sqrt(E).
-enum GatherIo : int {
-  kGSlots = 0,  // slot s: force at 6 s, moment at 6 s + 3
-  kGLinMom = 36,
-  kGE = 39,
-  kGatherInputs = 40,
-  kGOutForce = 0,
-  kGOutMoment = 3,
-  kGOutSqrtE = 6,
-  kGatherOutputs = 7
+// The gather (voxel_body.hpp's gather_voxel and slow_damping_lanes), which is linear but for
+// the slow damping, as one block a step: its inputs are the records each voxel's six slots read
+// (force on a, and moment on a or on b, of each slot's bond), each voxel's momentum and
+// modulus; its outputs each voxel's total force, total moment and sqrt(E), output by output
+// (voxel i's output o is node first + o n + i).
+enum GatherOutput : int { kGOutForce = 0, kGOutMoment = 3, kGOutSqrtE = 6, kGatherOutputs = 7 };
+// The gather's record for n voxels and nb bonds: the moduli and momenta (values and nodes, as
+// the arrays are laid out), then the nodes of the bond records (Workspace::bond_out, 4 (nb + 1)
+// each, the last a bondless slot's).
+struct GatherStageLayout {
+  size_t n, nb;
+  size_t lin_mom() const { return n; }
+  size_t values() const { return 4 * n; }
+  size_t records(int v) const { return 4 * n + size_t(v) * 4 * (nb + 1); }
+  size_t ids() const { return records(3); }
 };
-struct GatherArgs {
-  int32_t id[kGatherInputs];  // tape nodes (-1: a constant)
-  double lin_mom[3], e;       // the values its derivative needs
-};
-// From the adjoints of the gather's outputs (kGatherOutputs), adds those of its inputs.
-void gather_reverse(const GatherArgs& a, const ModelConstants& k, const double* out_adj,
-                    double* in_adj);
+void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, double* values,
+                       int32_t* ids);
+// From the adjoints of a kept gather's outputs, adds those of its inputs to adj, voxel by voxel
+// (io: the model's slots).
+void gather_stage_reverse(const VoxelKernelIo& io, const GatherStageLayout& L, const double* values,
+                          const int32_t* ids, size_t first, double* adj, const ModelConstants& k);
 
 }  // namespace plastivox::grad
