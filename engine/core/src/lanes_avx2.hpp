@@ -1,7 +1,7 @@
 // The AVX2 lane type (lanes_simd.hpp says what an instruction set's file defines before
 // including it): V, four doubles; M, what comparing two V yields; the square root and the
 // mask's bits by intrinsics. Included first by each file compiled with -mavx2
-// (kernels_avx2.cpp, engine/grad's bond_reverse_avx2.cpp).
+// (kernels_avx2.cpp, engine/grad's reverse_avx2.cpp).
 #pragma once
 
 #if !defined(__AVX2__)

@@ -1,7 +1,7 @@
 // The AVX-512 lane type (lanes_simd.hpp says what an instruction set's file defines before
 // including it): V, eight doubles; M, what comparing two V yields; the square root and the
 // mask's bits by intrinsics. Included first by each file compiled with -mavx512f -mavx512vl
-// -mavx512dq (kernels_avx512.cpp, engine/grad's bond_reverse_avx512.cpp).
+// -mavx512dq (kernels_avx512.cpp, engine/grad's reverse_avx512.cpp).
 #pragma once
 
 #if !defined(__AVX512F__) || !defined(__AVX512VL__) || !defined(__AVX512DQ__)
