@@ -9,12 +9,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "adj.hpp"
 #include "bond_adjoint.hpp"
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/model.hpp"
+#include "plastivox/simd.hpp"
 #include "voxel_adjoint.hpp"
 
 namespace plastivox::grad {
@@ -208,6 +210,41 @@ TEST(StageAdjoints, WholeGradientEqualsTheOperationByOperationTapes) {
     cube.dev_rate[v] = 2.0 + std::cos(1.3 * v);
   }
   same_gradient(compile(cube, develop));
+}
+
+// The bits of a vector of doubles.
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+// The bond stage's reverse runs as many bonds at once as the engine's SIMD level
+// (bond_reverse_body.hpp): the whole gradient is the same bits at every level, on the walker
+// (1296 bonds, whole lane groups) and a developing 3x3x3 cube (54 bonds, a tail of 2 or 6 at
+// four and eight lanes).
+TEST(StageAdjoints, GradientIsTheSameBitsAtEverySimdLevel) {
+  PhysicsDef walk;
+  walk.duration = 0.04;
+  walk.settle_time = 0.02;
+  PhysicsDef develop = walk;
+  develop.treatment = Treatment::kStress;
+  RobotDef cube = demo_cube(3, 1e8);
+  for (int v = 0; v < cube.sites(); ++v) cube.stiffness[v] *= 1.5 + std::sin(1.7 * v + 0.3);
+  const SimdLevel best = simd_level();
+  for (const Model& m : {compile(demo_walker(), walk), compile(cube, develop)}) {
+    set_simd_level(SimdLevel::kScalar);
+    const Gradient scalar = gradient(m);
+    for (int level = 1; level <= static_cast<int>(best); ++level) {
+      set_simd_level(static_cast<SimdLevel>(level));
+      const Gradient g = gradient(m);
+      const char* name = to_string(static_cast<SimdLevel>(level));
+      EXPECT_TRUE(same_bits(g.stiffness, scalar.stiffness)) << name;
+      EXPECT_TRUE(same_bits(g.phase, scalar.phase)) << name;
+      EXPECT_TRUE(same_bits(g.dev_rate, scalar.dev_rate)) << name;
+      EXPECT_TRUE(same_bits(g.initial_position, scalar.initial_position)) << name;
+      EXPECT_TRUE(same_bits(g.initial_velocity, scalar.initial_velocity)) << name;
+    }
+  }
+  set_simd_level(best);
 }
 
 }  // namespace

@@ -1,23 +1,10 @@
 // The kernel set on AVX2: four doubles per lane group. Compiled with -mavx2
 // (engine/CMakeLists.txt); used only when the CPU has it.
-#if !defined(__AVX2__)
-#error "kernels_avx2.cpp must be compiled with -mavx2"
-#endif
-
-#include <immintrin.h>
+#include "lanes_avx2.hpp"
 
 namespace plastivox {
 namespace {
 
-typedef double V __attribute__((vector_size(32)));
-typedef long M __attribute__((vector_size(32)));
-
-inline V root(V v) {
-  return (V)_mm256_sqrt_pd((__m256d)v);
-}
-inline int lane_bits(M c) {
-  return _mm256_movemask_pd((__m256d)c);
-}
 // Four records of 4 doubles (x, y, z, w) transposed: c[0] = the four x, ... c[3] = the four w.
 // Its own inverse, so it also turns four component vectors back into records.
 inline void transpose4x4(__m256d q0, __m256d q1, __m256d q2, __m256d q3, V* c) {

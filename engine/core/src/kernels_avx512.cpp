@@ -1,27 +1,11 @@
 // The kernel set on AVX-512: eight doubles per lane group (and 32 vector registers, so fewer
 // spills than with AVX2). Compiled with -mavx512f -mavx512vl -mavx512dq (engine/CMakeLists.txt);
 // used only when the CPU has them.
-#if !defined(__AVX512F__) || !defined(__AVX512VL__) || !defined(__AVX512DQ__)
-#error "kernels_avx512.cpp must be compiled with -mavx512f -mavx512vl -mavx512dq"
-#endif
-
-// GCC 12 flags _mm512_undefined_pd() inside its own AVX-512 intrinsics as uninitialized
-// (a known false positive of the header's self-initialisation idiom).
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#include <immintrin.h>
+#include "lanes_avx512.hpp"
 
 namespace plastivox {
 namespace {
 
-typedef double V __attribute__((vector_size(64)));
-typedef long M __attribute__((vector_size(64)));
-
-inline V root(V v) {
-  return (V)_mm512_sqrt_pd((__m512d)v);
-}
-inline int lane_bits(M c) {
-  return _mm512_movepi64_mask((__m512i)c);
-}
 // Lane indices of a two-source permute (0-7 the first source, 8-15 the second), lane 0 first.
 inline __m512i idx8(long a, long b, long c, long d, long e, long f, long g, long h) {
   return _mm512_set_epi64(h, g, f, e, d, c, b, a);

@@ -27,6 +27,10 @@ namespace plastivox::grad {
 struct Node {
   int32_t a, b;
   double da, db;
+  // Left unwritten by default: the block stages' output leaves (Tape::unswept_leaves) are made
+  // by the tens of thousands a step and only their adjoints are ever read.
+  Node() {}  // NOLINT(modernize-use-equals-default): = default would zero them in resize
+  Node(int32_t a_, int32_t b_, double da_, double db_) : a(a_), b(b_), da(da_), db(db_) {}
 };
 
 struct Tape {
@@ -44,6 +48,13 @@ struct Tape {
   int32_t leaf() {
     nodes.push_back({-1, -1, 0.0, 0.0});
     return static_cast<int32_t>(nodes.size() - 1);
+  }
+  // `count` leaves whose nodes the sweep never reads (a block stage's outputs, whose adjoints
+  // its own reverse takes), left unwritten; returns the first.
+  int64_t unswept_leaves(size_t count) {
+    const size_t first = nodes.size();
+    nodes.resize(first + count);
+    return static_cast<int64_t>(first);
   }
   static size_t slot_of(const double* base) {
     return static_cast<size_t>((reinterpret_cast<uintptr_t>(base) >> 3) * 0x9e3779b97f4a7c15ull >>

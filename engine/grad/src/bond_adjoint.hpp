@@ -8,11 +8,14 @@
 //
 // Two reverses: bond_reverse_tape records the kernel template on a small tape of its own and
 // sweeps it (the reference, and the path of rotations past pi/16, the arctangent's wide
-// branch); bond_reverse is written by hand for the path nearly every bond takes every step
-// (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12).
+// branch); the other is written by hand for the path nearly every bond takes every step
+// (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a lane template
+// (bond_reverse_body.hpp) that bond_stage_reverse runs over a whole stage at the engine's SIMD
+// level, as the forward kernel runs.
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "kernels.hpp"
 #include "plastivox/model_constants.hpp"
@@ -74,9 +77,38 @@ BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const doubl
 // in_adj (kBondInputs).
 void bond_reverse_tape(const BondArgs& a, const ModelConstants& k, const double* out_adj,
                        double* in_adj);
-// The same by hand; returns false, having done nothing, off its path (a degenerate chord, or a
-// rotation whose arctangent takes the wide branch).
+// The same by hand (one bond of bond_reverse_body.hpp); returns false, having done nothing,
+// off its path (a degenerate chord, or a rotation whose arctangent takes the wide branch).
 bool bond_reverse(const BondArgs& a, const ModelConstants& k, const double* out_adj,
                   double* in_adj);
+
+// What the lane template reads and writes for a stage of nb bonds: the kept stage's arrays as
+// the forward kernel's (bond_a, bond_b, axis_wide the model's; centre_size, quat, stiff, prev
+// and prev_valid the record's), the damping factor, the outputs' adjoints and the inputs',
+// each as kBondOutputs (kBondInputs) rows of nb, and a flag a bond off the hand path.
+struct BondReverseIo {
+  BondKernelIo bond;
+  double damp = 0;
+  size_t nb = 0;
+  const double* out_adj = nullptr;
+  double* in_adj = nullptr;
+  uint8_t* off = nullptr;
+};
+using BondReverseKernel = int (*)(const BondReverseIo&, const ModelConstants&);  // bonds done
+BondReverseKernel bond_reverse_kernel_avx2();                                    // reverse_avx2.cpp
+BondReverseKernel bond_reverse_kernel_avx512();
+
+// Scratch arrays of bond_stage_reverse, kept from stage to stage.
+struct BondStageScratch {
+  std::vector<double> in, voxel;
+  std::vector<uint8_t> off;
+};
+// A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when
+// all are set): from the adjoints of its outputs, adj[first + o nb + b] for bond b's output o,
+// adds those of its inputs to adj through ids. Bonds off the hand path take bond_reverse_tape. The
+// inputs' adjoints are summed in bond order, the same bits at every SIMD level.
+void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
+                        const int32_t* ids, const uint8_t* valid, size_t first, double* adj,
+                        const ModelConstants& k, BondStageScratch& s);
 
 }  // namespace plastivox::grad

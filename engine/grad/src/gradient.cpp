@@ -43,34 +43,70 @@ namespace {
 
 // The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
 // voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
-// A step's bond stage: its outputs are kBondOutputs leaves a bond, in bond order, from node
-// `first`; its record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
+// A step's bond stage: its outputs are kBondOutputs leaves a bond, output by output (bond b's
+// output o is node first + o nb + b); its record (keep_bond_stage) starts at `at` in
+// Blocks::bond_values and bond_ids.
 struct BondBlock {
   int64_t first;
   size_t at;
   bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
 };
+// A step's voxel update: its outputs are kVoxelOutputs leaves a voxel, output by output (voxel
+// i's output o is node first + o n + i); its record (keep_voxel_stage) starts at `at` in
+// Blocks::voxel_values and voxel_ids, its flags at 2 n times its index in voxel_flags.
 struct VoxelBlock {
   int64_t first;
-  VoxelArgs args;
+  size_t at;
 };
+// A step's gather: its outputs are kGatherOutputs leaves a voxel, output by output; its record
+// (keep_gather_stage) starts at `at` in Blocks::gather_values and `ids_at` in gather_ids.
 struct GatherBlock {
   int64_t first;
-  GatherArgs args;
+  size_t at, ids_at;
 };
+// An allocator whose growth leaves the new elements unwritten (default-initialised, not
+// zeroed): the blocks' records grow by a stage at a time and are written whole at once, and
+// zeroing them first was a twentieth of a gradient's time.
+template <class T>
+struct Unwritten : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = Unwritten<U>;
+  };
+  Unwritten() = default;
+  template <class U>
+  Unwritten(const Unwritten<U>&) {}  // NOLINT: as std::allocator's
+  template <class U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+template <class T>
+using Record = std::vector<T, Unwritten<T>>;
+
 struct Blocks {
   std::vector<BondBlock> bonds;
-  std::vector<double> bond_values;
-  std::vector<int32_t> bond_ids;
+  Record<double> bond_values;
+  Record<int32_t> bond_ids;
   std::vector<uint8_t> bond_valid;  // nb a stage without all_valid, in order
   std::vector<VoxelBlock> voxels;
+  Record<double> voxel_values;
+  Record<int32_t> voxel_ids;
+  Record<uint8_t> voxel_flags;
   std::vector<GatherBlock> gathers;
+  Record<double> gather_values;
+  Record<int32_t> gather_ids;
   // Every block in the order recorded (its kind and its index in that kind's list).
   enum Kind : uint8_t { kBond, kVoxel, kGather };
   std::vector<std::pair<Kind, uint32_t>> order;
   void clear() {
     bonds.clear(), bond_values.clear(), bond_ids.clear(), bond_valid.clear();
-    voxels.clear(), gathers.clear(), order.clear();
+    voxels.clear(), voxel_values.clear(), voxel_ids.clear(), voxel_flags.clear();
+    gathers.clear(), gather_values.clear(), gather_ids.clear(), order.clear();
   }
 };
 
@@ -136,6 +172,7 @@ class Replica {
 
   State& state() { return s_; }
   const BondKernelIo& bond_io() const { return w_.views.bond; }
+  const VoxelKernelIo& voxel_io() const { return w_.views.voxel; }
   // Keep the bond stage (one block a step), the gather and the voxel update (one block a voxel
   // each) for their own reverses in `blocks`, or, given null, record them operation by
   // operation on the tape (the reference).
@@ -177,10 +214,7 @@ class Replica {
     State& s = s_;
     const Adj dt_old = get(&s.dt);
     // ---- step1: bonds, time step, gather, self-collision ----
-    for (int i = 0; i < m.n; ++i) {
-      const Adj r[4] = {pos(i, 0), pos(i, 1), pos(i, 2), get(s.size.data(), i)};
-      store4(w_.centre_size.data(), i, r);
-    }
+    copy_centres();
     BondKernelIo& io = w_.views.bond;
     io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
     if (nb_ > 0) {
@@ -206,9 +240,7 @@ class Replica {
     self_collisions(events);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
-    for (int k = 0; k < 9; ++k)
-      for (int b = 0; b < nb_; ++b)
-        put(s.bond_prev[k].data(), b, load(w_.bond_prev_next[k].data(), b, Adj{}));
+    for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
     std::memset(s.bond_prev_valid.data(), 1, s.bond_prev_valid.size());
     const Adj dt = dt_next;
     const Adj time = get(&s.time);
@@ -277,6 +309,38 @@ class Replica {
   }
 
  private:
+  // The nodes of an array (its shadow's), or none: when not recording, or a constant array.
+  static int32_t* ids_of(const double* p) { return g_tape ? g_tape->ids_of(p) : nullptr; }
+  // dst[k] = src[k] for k < count, values and nodes (as put(dst, k, load(src, k)), with each
+  // shadow looked up once).
+  static void copy(double* dst, const double* src, size_t count) {
+    std::memcpy(dst, src, count * sizeof(double));
+    const int32_t* from = ids_of(src);
+    if (int32_t* to = ids_of(dst); to && from)
+      std::memcpy(to, from, count * sizeof(int32_t));
+    else if (to)
+      std::fill(to, to + count, -1);
+    else if (from && std::any_of(from, from + count, [](int32_t id) { return id >= 0; }))
+      throw std::logic_error("gradient: a recorded value copied into an array without a shadow");
+  }
+  // Workspace::centre_size: each voxel's centre and actuated size as a record of 4.
+  void copy_centres() {
+    const double* centre = s_.pos.front().data();
+    double* cs = w_.centre_size.data();
+    for (int i = 0; i < m_.n; ++i) {
+      for (int k = 0; k < 3; ++k) cs[4 * i + k] = centre[3 * i + k];
+      cs[4 * i + 3] = s_.size[i];
+    }
+    int32_t* to = ids_of(cs);
+    if (!g_tape) return;
+    if (!to) throw std::logic_error("gradient: the centres are recorded without a shadow");
+    const int32_t *pos_ids = ids_of(centre), *size_ids = ids_of(s_.size.data());
+    for (int i = 0; i < m_.n; ++i) {
+      for (int k = 0; k < 3; ++k) to[4 * i + k] = pos_ids ? pos_ids[3 * i + k] : -1;
+      to[4 * i + 3] = size_ids ? size_ids[i] : -1;
+    }
+  }
+
   // The bond stage on doubles (the engine's kernel set), its input arrays kept and its outputs
   // made leaves of the tape, which the sweep's block reverse gives their adjoints.
   void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
@@ -292,7 +356,7 @@ class Replica {
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
     blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
     blocks_->bonds.push_back(stage);
-    t.nodes.resize(t.nodes.size() + size_t(kBondOutputs) * size_t(nb_), Node{-1, -1, 0.0, 0.0});
+    t.unswept_leaves(size_t(kBondOutputs) * size_t(nb_));
     int32_t* out_ids[3];
     int32_t* next_ids[9];
     for (int v = 0; v < 3; ++v) out_ids[v] = t.ids_of(io.out[v]);
@@ -302,17 +366,22 @@ class Replica {
     int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
     // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
     redo += kernels().bond(io, nb_, m_, damp.v);
+    // Output o of bond b is leaf first + o nb + b: the reverse reads each output's adjoints as
+    // a row, and the next step's reads of a deformation component are consecutive.
+    const auto leaf = [&](int o, int b) {
+      return static_cast<int32_t>(stage.first + int64_t(o) * nb_ + b);
+    };
     for (int b = 0; b < nb_; ++b) {
-      const int32_t first = static_cast<int32_t>(stage.first + int64_t(kBondOutputs) * b);
       for (int v = 0; v < 3; ++v) {
-        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = first + kOut + 3 * v + c;
+        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = leaf(kOut + 3 * v + c, b);
         out_ids[v][4 * size_t(b) + 3] = -1;
       }
-      for (int j = 0; j < 9; ++j) next_ids[j][b] = first + kPrevNext + j;
-      strain_ids[b] = first + kStrain;
-      stress_ids[b] = first + kStress;
-      if (energy_ids) energy_ids[b] = first + kEnergy;
+      strain_ids[b] = leaf(kStrain, b);
+      stress_ids[b] = leaf(kStress, b);
+      if (energy_ids) energy_ids[b] = leaf(kEnergy, b);
     }
+    for (int j = 0; j < 9; ++j)
+      for (int b = 0; b < nb_; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
   }
 
   // The voxel update on doubles, as record_bonds does the bond stage.
@@ -320,74 +389,65 @@ class Replica {
     Tape& t = *g_tape;
     const VoxelKernelIo& io = w_.views.voxel;
     const VoxelStateOut& st = w_.views.voxel_out;
-    const VoxelReads reads = voxel_reads(io, dt.v, dt.id);
+    const size_t n = size_t(m_.n);
+    VoxelBlock stage{0, blocks_->voxel_values.size()};
+    blocks_->voxel_values.resize(stage.at + kVoxelInputs * n);
+    blocks_->voxel_ids.resize(stage.at + kVoxelInputs * n);
+    blocks_->voxel_flags.resize(blocks_->voxel_flags.size() + 2 * n);
+    keep_voxel_stage(io, n, dt.v, dt.id, blocks_->voxel_values.data() + stage.at,
+                     blocks_->voxel_ids.data() + stage.at,
+                     blocks_->voxel_flags.data() + blocks_->voxel_flags.size() - 2 * n);
+    // Updated in place by the engine's own kernel set, after the inputs are kept.
+    const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
+    max_speed2 = summary.max_speed2;
+    bad = summary.non_finite;
+    stage.first = t.unswept_leaves(kVoxelOutputs * n);
+    blocks_->order.push_back({Blocks::kVoxel, uint32_t(blocks_->voxels.size())});
+    blocks_->voxels.push_back(stage);
+    const auto leaf = [&](int o, size_t v) {
+      return static_cast<int32_t>(stage.first + int64_t(o * n + v));
+    };
     int32_t* pos_ids = t.ids_of(st.pos);
     int32_t* lin_ids = t.ids_of(st.lin_mom);
     int32_t* ang_ids = t.ids_of(st.ang_mom);
     int32_t* quat_ids = t.ids_of(st.quat);
     int32_t* normal_ids = io.floor_normal ? t.ids_of(io.floor_normal) : nullptr;
-    const size_t start = blocks_->voxels.size();
-    for (int i = 0; i < m_.n; ++i) {
-      blocks_->order.push_back({Blocks::kVoxel, uint32_t(blocks_->voxels.size())});
-      blocks_->voxels.push_back({0, voxel_args(io, i, reads)});
-    }
-    // Updated in place by the engine's own kernel set, after every voxel's arguments are kept.
-    const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
-    max_speed2 = summary.max_speed2;
-    bad = summary.non_finite;
-    for (int i = 0; i < m_.n; ++i) {
-      blocks_->voxels[start + size_t(i)].first = static_cast<int64_t>(t.nodes.size());
-      const int32_t first = static_cast<int32_t>(t.nodes.size());
-      t.nodes.resize(t.nodes.size() + kVoxelOutputs, Node{-1, -1, 0.0, 0.0});
-      const size_t v = static_cast<size_t>(i);
+    for (size_t v = 0; v < n; ++v) {
       for (int c = 0; c < 3; ++c) {
-        pos_ids[3 * v + c] = first + kVOutPos + c;
-        lin_ids[3 * v + c] = first + kVOutLinMom + c;
-        ang_ids[3 * v + c] = first + kVOutAngMom + c;
+        pos_ids[3 * v + c] = leaf(kVOutPos + c, v);
+        lin_ids[3 * v + c] = leaf(kVOutLinMom + c, v);
+        ang_ids[3 * v + c] = leaf(kVOutAngMom + c, v);
       }
-      for (int c = 0; c < 4; ++c) quat_ids[4 * v + c] = first + kVOutQuat + c;
-      if (normal_ids) normal_ids[v] = first + kVOutNormal;
+      for (int c = 0; c < 4; ++c) quat_ids[4 * v + c] = leaf(kVOutQuat + c, v);
+      if (normal_ids) normal_ids[v] = leaf(kVOutNormal, v);
     }
   }
 
-  // The gather on doubles (the engine's kernel set), one block a voxel (voxel_adjoint.hpp).
+  // The gather on doubles (the engine's kernel set), one block a step (voxel_adjoint.hpp).
   void record_gather() {
     Tape& t = *g_tape;
     const VoxelKernelIo& io = w_.views.voxel;
+    const GatherStageLayout L{size_t(m_.n), size_t(nb_)};
+    GatherBlock stage{0, blocks_->gather_values.size(), blocks_->gather_ids.size()};
+    blocks_->gather_values.resize(stage.at + L.values());
+    blocks_->gather_ids.resize(stage.ids_at + L.ids());
+    keep_gather_stage(io, L, blocks_->gather_values.data() + stage.at,
+                      blocks_->gather_ids.data() + stage.ids_at);
     kernels().gather(io, m_.n, m_);
-    const int32_t* out_ids[3] = {t.ids_of(io.bond_out[0]), t.ids_of(io.bond_out[1]),
-                                 t.ids_of(io.bond_out[2])};
-    const int32_t* lin_ids = t.ids_of(io.lin_mom);
-    const int32_t* stiff_ids = t.ids_of(io.stiff);
-    int32_t* force_ids[3] = {t.ids_of(io.force[0]), t.ids_of(io.force[1]), t.ids_of(io.force[2])};
-    int32_t* moment_ids[3] = {t.ids_of(io.moment[0]), t.ids_of(io.moment[1]),
-                              t.ids_of(io.moment[2])};
-    int32_t* sqrt_ids = t.ids_of(io.sqrt_e);
-    const auto id = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
-    for (int i = 0; i < m_.n; ++i) {
-      const size_t v = static_cast<size_t>(i);
-      GatherArgs a;
-      for (int slot = 0; slot < 6; ++slot) {
-        const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]);
-        for (int c = 0; c < 3; ++c) {
-          a.id[kGSlots + 6 * slot + c] = id(out_ids[0], b + c);
-          a.id[kGSlots + 6 * slot + 3 + c] = id(out_ids[slot & 1 ? 1 : 2], b + c);
-        }
-      }
-      for (int c = 0; c < 3; ++c)
-        a.lin_mom[c] = io.lin_mom[3 * v + c], a.id[kGLinMom + c] = id(lin_ids, 3 * v + c);
-      a.e = io.stiff[v];
-      a.id[kGE] = id(stiff_ids, v);
-      const int32_t first = static_cast<int32_t>(t.nodes.size());
-      blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
-      blocks_->gathers.push_back({first, a});
-      t.nodes.resize(t.nodes.size() + kGatherOutputs, Node{-1, -1, 0.0, 0.0});
-      for (int c = 0; c < 3; ++c) {
-        force_ids[c][v] = first + kGOutForce + c;
-        moment_ids[c][v] = first + kGOutMoment + c;
-      }
-      sqrt_ids[v] = first + kGOutSqrtE;
+    stage.first = t.unswept_leaves(kGatherOutputs * L.n);
+    blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
+    blocks_->gathers.push_back(stage);
+    const auto leaf = [&](int o, size_t v) {
+      return static_cast<int32_t>(stage.first + int64_t(o * L.n + v));
+    };
+    for (int c = 0; c < 3; ++c) {
+      int32_t* force_ids = t.ids_of(io.force[c]);
+      int32_t* moment_ids = t.ids_of(io.moment[c]);
+      for (size_t v = 0; v < L.n; ++v)
+        force_ids[v] = leaf(kGOutForce + c, v), moment_ids[v] = leaf(kGOutMoment + c, v);
     }
+    int32_t* sqrt_ids = t.ids_of(io.sqrt_e);
+    for (size_t v = 0; v < L.n; ++v) sqrt_ids[v] = leaf(kGOutSqrtE, v);
   }
 
   // gather_voxel (voxel_body.hpp) on Adj: bond forces and moments in slot order (the 4-double
@@ -561,26 +621,14 @@ struct ParamLeaves {
   }
 };
 
-// One block's reverse: from the adjoints of its outputs (nodes first..), those of its inputs.
-template <int kIn, int kOut, class Args, class Reverse>
-void block_reverse(const Args& args, size_t first, std::vector<double>& adj,
-                   const ModelConstants& k, Reverse reverse) {
-  const double* out = adj.data() + first;
-  bool any = false;
-  for (int o = 0; o < kOut; ++o) any = any || out[o] != 0;
-  if (!any) return;
-  double in[kIn] = {};
-  reverse(args, k, out, in);
-  for (int i = 0; i < kIn; ++i)
-    if (args.id[i] >= 0) adj[args.id[i]] += in[i];
-}
-
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
 void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
-           const BondKernelIo& io) {
+           const BondKernelIo& io, const VoxelKernelIo& voxel_io) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
+  BondStageScratch bond_scratch;
+  VoxelStageScratch voxel_scratch;
   size_t end = t.nodes.size();
   for (size_t j = blocks.order.size(); j-- > 0;) {
     const auto [kind, index] = blocks.order[j];
@@ -589,34 +637,29 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     if (kind == Blocks::kBond)
       first = size_t(blocks.bonds[index].first), outputs = kBondOutputs * k.bond_count();
     else if (kind == Blocks::kVoxel)
-      first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs;
+      first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs * k.n;
     else
-      first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs;
+      first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs * k.n;
     sweep_nodes(t, adj, first + outputs, end);
     end = first;
     if (kind == Blocks::kBond) {
       const BondBlock& stage = blocks.bonds[index];
       const uint8_t* valid = nullptr;
       if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
-      for (size_t b = L.nb; b-- > 0;) {
-        const BondArgs a =
-            bond_args(io, L, blocks.bond_values.data() + stage.at,
-                      blocks.bond_ids.data() + stage.at, int(b), stage.all_valid || valid[b]);
-        block_reverse<kBondInputs, kBondOutputs>(a, first + kBondOutputs * b, adj, k,
-                                                 [](auto& a, auto& c, auto* o, auto* in) {
-                                                   if (!bond_reverse(a, c, o, in))
-                                                     bond_reverse_tape(a, c, o, in);
-                                                 });
-      }
-    } else if (kind == Blocks::kVoxel)
-      block_reverse<kVoxelInputs, kVoxelOutputs>(blocks.voxels[index].args, first, adj, k,
-                                                 [](auto& a, auto& c, auto* o, auto* in) {
-                                                   if (!voxel_reverse(a, c, o, in))
-                                                     voxel_reverse_tape(a, c, o, in);
-                                                 });
-    else
-      block_reverse<kGatherInputs, kGatherOutputs>(blocks.gathers[index].args, first, adj, k,
-                                                   gather_reverse);
+      bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
+                         blocks.bond_ids.data() + stage.at, valid, first, adj.data(), k,
+                         bond_scratch);
+    } else if (kind == Blocks::kVoxel) {
+      const size_t at = blocks.voxels[index].at;
+      voxel_stage_reverse(size_t(k.n), blocks.voxel_values.data() + at,
+                          blocks.voxel_ids.data() + at, blocks.voxel_flags.data() + 2 * index * k.n,
+                          first, adj.data(), k, voxel_scratch);
+    } else {
+      const GatherBlock& stage = blocks.gathers[index];
+      gather_stage_reverse(voxel_io, GatherStageLayout{L.n, L.nb},
+                           blocks.gather_values.data() + stage.at,
+                           blocks.gather_ids.data() + stage.ids_at, first, adj.data(), k);
+    }
   }
   sweep_nodes(t, adj, 0, end);
 }
@@ -624,12 +667,17 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
 // Bytes a tape node costs: the node and its adjoint.
 constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
-// Bytes the blocks of a step cost (one a bond and one a voxel).
+// Bytes the blocks of a step cost (the bond stage, the gather and the update: one each).
 double block_bytes(const Model& m) {
   const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
   const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
-  const double order = sizeof(Blocks::order[0]) * double(1 + 2 * m.n);
-  return bond_stage + (sizeof(VoxelBlock) + sizeof(GatherBlock)) * double(m.n) + order;
+  const double voxel_stage =
+      (sizeof(double) + sizeof(int32_t)) * double(kVoxelInputs) * m.n + 2.0 * m.n;
+  const GatherStageLayout G{L.n, L.nb};
+  const double gather_stage =
+      sizeof(double) * double(G.values()) + sizeof(int32_t) * double(G.ids());
+  return bond_stage + voxel_stage + gather_stage + sizeof(BondBlock) + sizeof(VoxelBlock) +
+         sizeof(GatherBlock) + 3 * sizeof(Blocks::order[0]);
 }
 
 // The nodes one step records: the first step of the life, and a fifth more for what the first
@@ -671,9 +719,15 @@ struct Segment {
     blocks.bond_values.reserve(static_cast<size_t>(K) *
                                BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
     blocks.bond_ids.reserve(blocks.bond_values.capacity());
-    blocks.voxels.reserve(static_cast<size_t>(K) * m.n);
-    blocks.gathers.reserve(static_cast<size_t>(K) * m.n);
-    blocks.order.reserve(static_cast<size_t>(K) * (1 + 2 * m.n));
+    blocks.voxels.reserve(static_cast<size_t>(K));
+    blocks.voxel_values.reserve(static_cast<size_t>(K) * kVoxelInputs * m.n);
+    blocks.voxel_ids.reserve(blocks.voxel_values.capacity());
+    blocks.voxel_flags.reserve(static_cast<size_t>(K) * 2 * m.n);
+    blocks.gathers.reserve(static_cast<size_t>(K));
+    const GatherStageLayout G{size_t(m.n), size_t(m.bond_count())};
+    blocks.gather_values.reserve(static_cast<size_t>(K) * G.values());
+    blocks.gather_ids.reserve(static_cast<size_t>(K) * G.ids());
+    blocks.order.reserve(static_cast<size_t>(K) * 3);
     rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   }
   Segment(const Segment&) = delete;
@@ -737,7 +791,7 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k)
       if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
-  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io());
+  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.voxel_io());
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
   for (int i = 0; i < m.n; ++i) {
@@ -931,7 +985,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     std::vector<double>& adj = one.adj;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
-    sweep(tape, adj, {}, m, one.rep.bond_io());
+    sweep(tape, adj, {}, m, one.rep.bond_io(), one.rep.voxel_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.

@@ -1,6 +1,7 @@
 // The voxel update's adjoint (voxel_adjoint.hpp).
 #include "voxel_adjoint.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -8,51 +9,39 @@
 #include "adj_elementary.hpp"
 #include "lanes.hpp"
 // After the lane vocabularies: the kernel template finds them by argument-dependent lookup.
+#include "plastivox/simd.hpp"
 #include "voxel_body.hpp"
+#include "voxel_reverse_body.hpp"
 
 namespace plastivox::grad {
 
-VoxelReads voxel_reads(const VoxelKernelIo& io, double dt, int32_t dt_id) {
-  VoxelReads r;
-  if (g_tape) {
-    r.stiff = g_tape->ids_of(io.stiff);
-    r.sqrt_e = g_tape->ids_of(io.sqrt_e);
-    r.lin_mom = g_tape->ids_of(io.lin_mom);
-    r.pos = g_tape->ids_of(io.pos);
-    r.size = g_tape->ids_of(io.size);
-    r.ang_mom = g_tape->ids_of(io.ang_mom);
-    r.quat = g_tape->ids_of(io.quat);
-    for (int c = 0; c < 3; ++c)
-      r.force[c] = g_tape->ids_of(io.force[c]), r.moment[c] = g_tape->ids_of(io.moment[c]);
-  }
-  r.dt = dt;
-  r.dt_id = dt_id;
-  return r;
-}
-
-VoxelArgs voxel_args(const VoxelKernelIo& io, int i, const VoxelReads& r) {
-  VoxelArgs a;
-  const size_t v = static_cast<size_t>(i);
-  const auto take = [&](int slot, const double* values, const int32_t* ids, size_t k) {
-    a.v[slot] = values[k];
-    a.id[slot] = ids ? ids[k] : -1;
+void keep_voxel_stage(const VoxelKernelIo& io, size_t n, double dt, int32_t dt_id, double* values,
+                      int32_t* ids, uint8_t* flags) {
+  // Component c of records of `width` in `row` as input `slot`'s row.
+  const auto keep = [&](int slot, const double* row, int width, int c) {
+    const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
+    double* v = values + size_t(slot) * n;
+    int32_t* id = ids + size_t(slot) * n;
+    for (size_t i = 0; i < n; ++i) {
+      v[i] = row[width * i + c];
+      id[i] = row_ids ? row_ids[width * i + c] : -1;
+    }
   };
-  take(kVE, io.stiff, r.stiff, v);
-  take(kVSqrtE, io.sqrt_e, r.sqrt_e, v);
+  keep(kVE, io.stiff, 1, 0);
+  keep(kVSqrtE, io.sqrt_e, 1, 0);
   for (int c = 0; c < 3; ++c) {
-    take(kVForce + c, io.force[c], r.force[c], v);
-    take(kVLinMom + c, io.lin_mom, r.lin_mom, 3 * v + c);
-    take(kVPos + c, io.pos, r.pos, 3 * v + c);
-    take(kVAngMom + c, io.ang_mom, r.ang_mom, 3 * v + c);
-    take(kVMoment + c, io.moment[c], r.moment[c], v);
+    keep(kVForce + c, io.force[c], 1, 0);
+    keep(kVLinMom + c, io.lin_mom, 3, c);
+    keep(kVPos + c, io.pos, 3, c);
+    keep(kVAngMom + c, io.ang_mom, 3, c);
+    keep(kVMoment + c, io.moment[c], 1, 0);
   }
-  take(kVSize, io.size, r.size, v);
-  for (int c = 0; c < 4; ++c) take(kVQuat + c, io.quat, r.quat, 4 * v + c);
-  a.v[kVDt] = r.dt;
-  a.id[kVDt] = r.dt_id;
-  a.fixed = io.fixed[i];
-  a.was_held = io.static_friction[i];
-  return a;
+  keep(kVSize, io.size, 1, 0);
+  for (int c = 0; c < 4; ++c) keep(kVQuat + c, io.quat, 4, c);
+  std::fill(values + size_t(kVDt) * n, values + size_t(kVDt + 1) * n, dt);
+  std::fill(ids + size_t(kVDt) * n, ids + size_t(kVDt + 1) * n, dt_id);
+  std::copy(io.fixed, io.fixed + n, flags);
+  std::copy(io.static_friction, io.static_friction + n, flags + n);
 }
 
 namespace {
@@ -135,176 +124,123 @@ void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const doubl
   for (int j = 0; j < kVoxelInputs; ++j) in_adj[j] += adj[leaf[j]];
 }
 
+namespace {
+
+VoxelReverseKernel voxel_reverse_kernel() {
+  switch (simd_level()) {
+    case SimdLevel::kAvx512:
+#if defined(PLASTIVOX_HAVE_AVX512)
+      return voxel_reverse_kernel_avx512();
+#endif
+      [[fallthrough]];
+    case SimdLevel::kAvx2:
+#if defined(PLASTIVOX_HAVE_AVX2)
+      return voxel_reverse_kernel_avx2();
+#endif
+      [[fallthrough]];
+    default:
+      return &run_voxel_reverse<double>;
+  }
+}
+
+}  // namespace
+
 bool voxel_reverse(const VoxelArgs& A, const ModelConstants& k, const double* out_adj,
                    double* in_adj) {
-  if (A.fixed || k.def.bond_model != BondModel::kExact) return false;
-  // ---- The forward again (update_lanes' operations in its order), keeping what the reverse
-  // needs ----
-  const double E = A.v[kVE], se = A.v[kVSqrtE], dt = A.v[kVDt];
-  const double* x0 = A.v + kVPos;
-  const double* h0 = A.v + kVAngMom;
-  const double* mo = A.v + kVMoment;
-  const double* b = A.v + kVQuat;  // x, y, z, w
-  double f[3] = {A.v[kVForce], A.v[kVForce + 1], A.v[kVForce + 2]};
-  double p[3] = {A.v[kVLinMom], A.v[kVLinMom + 1], A.v[kVLinMom + 2]};
-  bool contact = false, slides = false, stops = false, held = false;
-  double pen = 0, normal = 0, vel[3] = {0, 0, 0}, c_col = 0, speed = 0, fric = 0, slide_t[2];
-  if (k.flat_floor) {
-    pen = 0.5 * A.v[kVSize] - x0[2];
-    contact = pen > 0.0;
-    if (contact) {
-      normal = 2.0 * E * k.size * pen;
-      vel[2] = p[2] * k.inv_mass;
-      c_col = k.c_col_unit * se;
-      vel[0] = p[0] * k.inv_mass, vel[1] = p[1] * k.inv_mass;
-      const bool at_rest = vel[0] == 0.0 && vel[1] == 0.0;
-      const bool sticks = std::sqrt(f[0] * f[0] + f[1] * f[1]) < k.def.mu_static * normal;
-      speed = std::sqrt(vel[0] * vel[0] + vel[1] * vel[1]);
-      fric = k.def.mu_kinetic * normal;
-      slides = !at_rest && fric * dt < k.mass * speed;
-      stops = !at_rest && !slides;
-      if (slides)
-        for (int c = 0; c < 2; ++c) slide_t[c] = fric * vel[c] / speed, f[c] = f[c] - slide_t[c];
-      if (stops) p[0] = 0.0, p[1] = 0.0;
-      held = (at_rest && sticks) || stops;
-      f[2] = f[2] + (normal - c_col * vel[2]);
-    }
-  }
-  if (held) f[0] = 0.0, f[1] = 0.0;
-  double pn[3];
-  for (int c = 0; c < 3; ++c) pn[c] = p[c] + f[c] * dt;
-  const double step = dt * k.inv_mass;
-  double hm[3], hd[3];
-  for (int c = 0; c < 3; ++c) hm[c] = h0[c] + mo[c] * dt;
-  const double cc = k.rot_damp * (k.c_rot_unit * se) * k.inv_inertia;
-  const double decay = 1.0 - cc * dt;
-  for (int c = 0; c < 3; ++c) hd[c] = hm[c] * decay;
-  const double turn = dt * k.inv_inertia;
-  const double v[3] = {hd[0] * turn, hd[1] * turn, hd[2] * turn};
-  const double a2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-  const double h2 = 0.25 * a2;
-  if (!(h2 < 2.5e-5)) return false;  // a turn past the series' range: sin_cycles
-  const double rw = 1.0 - h2 * (0.5 - h2 * (1.0 / 24 - h2 * (1.0 / 720 - h2 * (1.0 / 40320))));
-  const double sinc =
-      1.0 - h2 * (1.0 / 6 - h2 * (1.0 / 120 - h2 * (1.0 / 5040 - h2 * (1.0 / 362880))));
-  const double half_sinc = 0.5 * sinc;
-  const double r[3] = {half_sinc * v[0], half_sinc * v[1], half_sinc * v[2]};
-  double q[4];  // x, y, z, w
-  q[0] = (rw * b[0] + r[1] * b[2]) - (r[2] * b[1] - r[0] * b[3]);
-  q[1] = (rw * b[1] + r[1] * b[3]) + (r[2] * b[0] - r[0] * b[2]);
-  q[2] = (rw * b[2] - r[1] * b[0]) + (r[2] * b[3] + r[0] * b[1]);
-  q[3] = (rw * b[3] - r[1] * b[1]) - (r[2] * b[2] + r[0] * b[0]);
-  const double n2 = (q[0] * q[0] + q[2] * q[2]) + (q[1] * q[1] + q[3] * q[3]);
-  if (!(n2 > 0.0)) return false;
-  const double norm = std::sqrt(n2);
-
-  // ---- The reverse: g_* is the adjoint of * ----
-  // Normalisation.
-  double g_q[4], g_n2 = 0;
-  for (int c = 0; c < 4; ++c) {
-    const double g = out_adj[kVOutQuat + c];
-    g_q[c] = g / norm;
-    g_n2 -= g * (q[c] / norm) / norm;
-  }
-  g_n2 *= 0.5 / norm;
-  for (int c = 0; c < 4; ++c) g_q[c] += 2 * g_n2 * q[c];
-  // q = r b (r = (r, rw)).
-  const double g_rw = g_q[0] * b[0] + g_q[1] * b[1] + g_q[2] * b[2] + g_q[3] * b[3];
-  const double g_r[3] = {g_q[0] * b[3] - g_q[1] * b[2] + g_q[2] * b[1] - g_q[3] * b[0],
-                         g_q[0] * b[2] + g_q[1] * b[3] - g_q[2] * b[0] - g_q[3] * b[1],
-                         -g_q[0] * b[1] + g_q[1] * b[0] + g_q[2] * b[3] - g_q[3] * b[2]};
-  in_adj[kVQuat] += g_q[0] * rw + g_q[1] * r[2] - g_q[2] * r[1] - g_q[3] * r[0];
-  in_adj[kVQuat + 1] += -g_q[0] * r[2] + g_q[1] * rw + g_q[2] * r[0] - g_q[3] * r[1];
-  in_adj[kVQuat + 2] += g_q[0] * r[1] - g_q[1] * r[0] + g_q[2] * rw - g_q[3] * r[2];
-  in_adj[kVQuat + 3] += g_q[0] * r[0] + g_q[1] * r[1] + g_q[2] * r[2] + g_q[3] * rw;
-  // The half-angle series.
-  const double g_half_sinc = g_r[0] * v[0] + g_r[1] * v[1] + g_r[2] * v[2];
-  const double rw_slope = -(0.5 - h2 * (2.0 / 24 - h2 * (3.0 / 720 - h2 * (4.0 / 40320))));
-  const double sinc_slope = -(1.0 / 6 - h2 * (2.0 / 120 - h2 * (3.0 / 5040 - h2 * (4.0 / 362880))));
-  const double g_h2 = g_rw * rw_slope + 0.5 * g_half_sinc * sinc_slope;
-  const double g_a2 = 0.25 * g_h2;
-  double g_v[3], g_turn = 0;
-  for (int c = 0; c < 3; ++c) {
-    g_v[c] = g_r[c] * half_sinc + 2 * g_a2 * v[c];
-    g_turn += g_v[c] * hd[c];
-  }
-  double g_dt = g_turn * k.inv_inertia;
-  // Rotational damping and the moment.
-  double g_decay = 0;
-  for (int c = 0; c < 3; ++c) {
-    const double g_hd = out_adj[kVOutAngMom + c] + g_v[c] * turn;
-    g_decay += g_hd * hm[c];
-    const double g_hm = g_hd * decay;
-    in_adj[kVAngMom + c] += g_hm;
-    in_adj[kVMoment + c] += g_hm * dt;
-    g_dt += g_hm * mo[c];
-  }
-  g_dt -= g_decay * cc;
-  double g_se = -g_decay * dt * k.inv_inertia * k.rot_damp * k.c_rot_unit;
-  // Position and momentum.
-  double g_step = 0, g_f[3], g_p[3];
-  for (int c = 0; c < 3; ++c) {
-    const double g_x1 = out_adj[kVOutPos + c];
-    in_adj[kVPos + c] += g_x1;
-    const double g_pn = out_adj[kVOutLinMom + c] + g_x1 * step;
-    g_step += g_x1 * pn[c];
-    g_p[c] = g_pn;
-    g_f[c] = g_pn * dt;
-    g_dt += g_pn * f[c];
-  }
-  g_dt += g_step * k.inv_mass;
-  if (held) g_f[0] = 0.0, g_f[1] = 0.0;
-  // The floor.
-  double g_E = 0, g_pen = 0;
-  if (contact) {
-    double g_normal = out_adj[kVOutNormal] + g_f[2];
-    const double g_vz = -g_f[2] * c_col;
-    g_se += -g_f[2] * vel[2] * k.c_col_unit;
-    double g_vel[2] = {0, 0};
-    if (slides) {
-      double g_fric = 0, g_speed = 0;
-      for (int c = 0; c < 2; ++c) {
-        const double g_t = -g_f[c];
-        g_speed -= g_t * slide_t[c] / speed;
-        g_fric += g_t / speed * vel[c];
-        g_vel[c] += g_t / speed * fric;
-      }
-      g_normal += g_fric * k.def.mu_kinetic;
-      for (int c = 0; c < 2; ++c) g_vel[c] += g_speed * (0.5 / speed) * 2 * vel[c];
-    }
-    if (stops) g_p[0] = 0.0, g_p[1] = 0.0;
-    for (int c = 0; c < 2; ++c) g_p[c] += g_vel[c] * k.inv_mass;
-    g_p[2] += g_vz * k.inv_mass;
-    g_E += g_normal * pen * 2.0 * k.size;
-    g_pen = g_normal * (2.0 * E * k.size);
-  }
-  for (int c = 0; c < 3; ++c) in_adj[kVForce + c] += g_f[c], in_adj[kVLinMom + c] += g_p[c];
-  in_adj[kVSize] += 0.5 * g_pen;
-  in_adj[kVPos + 2] -= g_pen;
-  in_adj[kVE] += g_E;
-  in_adj[kVSqrtE] += g_se;
-  in_adj[kVDt] += g_dt;
+  if (k.def.bond_model != BondModel::kExact) return false;
+  // The voxel as an update of one: its arguments are the record's rows of one.
+  double in[kVoxelInputs];
+  uint8_t off = 0;
+  VoxelReverseIo io;
+  io.values = A.v;
+  io.fixed = &A.fixed;
+  io.n = 1;
+  io.out_adj = out_adj;
+  io.in_adj = in;
+  io.off = &off;
+  voxel_reverse_lanes<double>(io, 0, k);
+  if (off) return false;
+  for (int j = 0; j < kVoxelInputs; ++j) in_adj[j] += in[j];
   return true;
 }
 
-void gather_reverse(const GatherArgs& a, const ModelConstants& k, const double* out_adj,
-                    double* in_adj) {
+void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, const uint8_t* flags,
+                         size_t first, double* adj, const ModelConstants& k, VoxelStageScratch& s) {
+  const uint8_t *fixed = flags, *held = flags + n;
+  s.in.resize(kVoxelInputs * n);
+  s.off.assign(n, 1);
+  VoxelReverseIo r;
+  r.values = values;
+  r.fixed = fixed;
+  r.n = n;
+  r.out_adj = adj + first;
+  r.in_adj = s.in.data();
+  r.off = s.off.data();
+  if (k.def.bond_model == BondModel::kExact) {
+    // Whole lane groups at the SIMD level, then the rest here (see bond_stage_reverse).
+    for (int i = voxel_reverse_kernel()(r, k); i < int(n); ++i)
+      voxel_reverse_lanes<double>(r, i, k);
+  }
+  // Voxels off the hand path, by the kernel recorded on a tape.
+  for (size_t i = 0; i < n; ++i) {
+    if (!s.off[i]) continue;
+    VoxelArgs a;
+    double out[kVoxelOutputs], in[kVoxelInputs] = {};
+    for (int j = 0; j < kVoxelInputs; ++j) a.v[j] = values[j * n + i], a.id[j] = ids[j * n + i];
+    a.fixed = fixed[i];
+    a.was_held = held[i];
+    for (int o = 0; o < kVoxelOutputs; ++o) out[o] = r.out_adj[o * n + i];
+    voxel_reverse_tape(a, k, out, in);
+    for (int j = 0; j < kVoxelInputs; ++j) s.in[j * n + i] = in[j];
+  }
+  for (size_t e = 0; e < kVoxelInputs * n; ++e)
+    if (ids[e] >= 0) adj[ids[e]] += s.in[e];
+}
+
+void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, double* values,
+                       int32_t* ids) {
+  const auto keep = [&](const double* row, size_t count, double* v, int32_t* id) {
+    if (v) std::copy(row, row + count, v);
+    const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
+    if (row_ids)
+      std::copy(row_ids, row_ids + count, id);
+    else
+      std::fill(id, id + count, -1);
+  };
+  keep(io.stiff, L.n, values, ids);
+  keep(io.lin_mom, 3 * L.n, values + L.lin_mom(), ids + L.lin_mom());
+  for (int v = 0; v < 3; ++v) keep(io.bond_out[v], 4 * (L.nb + 1), nullptr, ids + L.records(v));
+}
+
+void gather_stage_reverse(const VoxelKernelIo& io, const GatherStageLayout& L, const double* values,
+                          const int32_t* ids, size_t first, double* adj, const ModelConstants& k) {
   // force = ((sum_s +-F_s - coef p) + weight) + load, moment = sum_s M_s,
   // coef = global_damping c_lin_unit sqrt(E) / mass.
-  const double se = std::sqrt(a.e);
-  const double coef = (k.def.global_damping * (k.c_lin_unit * se)) / k.mass;
-  double g_coef = 0;
-  for (int c = 0; c < 3; ++c) {
-    const double g_f = out_adj[kGOutForce + c], g_m = out_adj[kGOutMoment + c];
-    for (int slot = 0; slot < 6; ++slot) {
-      in_adj[kGSlots + 6 * slot + c] += slot & 1 ? g_f : -g_f;
-      in_adj[kGSlots + 6 * slot + 3 + c] += g_m;
+  const size_t n = L.n;
+  const double* out = adj + first;
+  const double* lin_mom = values + L.lin_mom();
+  const int32_t* lin_ids = ids + L.lin_mom();
+  const auto add = [&](int32_t id, double v) {
+    if (id >= 0) adj[id] += v;
+  };
+  for (size_t i = 0; i < n; ++i) {
+    const double se = std::sqrt(values[i]);
+    const double coef = (k.def.global_damping * (k.c_lin_unit * se)) / k.mass;
+    double g_coef = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double g_f = out[(kGOutForce + c) * n + i], g_m = out[(kGOutMoment + c) * n + i];
+      for (int slot = 0; slot < 6; ++slot) {
+        const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]) + c;
+        add(ids[L.records(0) + b], slot & 1 ? g_f : -g_f);
+        add(ids[L.records(slot & 1 ? 1 : 2) + b], g_m);
+      }
+      add(lin_ids[3 * i + c], -(g_f * coef));
+      g_coef -= g_f * lin_mom[3 * i + c];
     }
-    in_adj[kGLinMom + c] -= g_f * coef;
-    g_coef -= g_f * a.lin_mom[c];
+    const double g_se =
+        out[kGOutSqrtE * n + i] + g_coef * k.def.global_damping * k.c_lin_unit / k.mass;
+    add(ids[i], se > 0 ? g_se * (0.5 / se) : 0.0);
   }
-  const double g_se = out_adj[kGOutSqrtE] + g_coef * k.def.global_damping * k.c_lin_unit / k.mass;
-  in_adj[kGE] += se > 0 ? g_se * (0.5 / se) : 0.0;
 }
 
 }  // namespace plastivox::grad

@@ -4,11 +4,14 @@
 // read; its outputs are leaves of the tape, and the sweep calls the voxel's reverse there.
 //
 // voxel_reverse_tape records the kernel template on a small tape (the reference, and the path
-// of clamped voxels and of turns past the series' range); voxel_reverse is written by hand for
-// the rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12).
+// of clamped voxels and of turns past the series' range); the other is written by hand for the
+// rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a lane template
+// (voxel_reverse_body.hpp) that voxel_stage_reverse runs over a whole step's update at the
+// engine's SIMD level.
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "kernels.hpp"
 #include "plastivox/model_constants.hpp"
@@ -48,45 +51,70 @@ struct VoxelArgs {
   uint8_t was_held;          // static friction held it last step
 };
 
-// The tape nodes of the arrays the update reads (null: constants), looked up once a step.
-struct VoxelReads {
-  const int32_t *stiff = nullptr, *sqrt_e = nullptr, *force[3] = {}, *lin_mom = nullptr,
-                *pos = nullptr, *size = nullptr, *ang_mom = nullptr, *moment[3] = {},
-                *quat = nullptr;
-  double dt = 0;
-  int32_t dt_id = -1;
+// A step's update as kept for its reverse: the arrays it read, values and tape nodes side by
+// side, input by input (input slot j of voxel i at j n + i; dt repeated), and the voxels' flags
+// (2 n: clamped, then held by static friction the step before). Written before the kernel runs
+// (it updates some in place).
+void keep_voxel_stage(const VoxelKernelIo& io, size_t n, double dt, int32_t dt_id, double* values,
+                      int32_t* ids, uint8_t* flags);
+
+// What the lane template (voxel_reverse_body.hpp) reads and writes for n voxels: a kept
+// update's values and clamp flags, the outputs' adjoints and the inputs', each as
+// kVoxelOutputs (kVoxelInputs) rows of n, and a flag a voxel off the hand path.
+struct VoxelReverseIo {
+  const double* values = nullptr;
+  const uint8_t* fixed = nullptr;
+  size_t n = 0;
+  const double* out_adj = nullptr;
+  double* in_adj = nullptr;
+  uint8_t* off = nullptr;
 };
-VoxelReads voxel_reads(const VoxelKernelIo& io, double dt, int32_t dt_id);
-VoxelArgs voxel_args(const VoxelKernelIo& io, int i, const VoxelReads& r);
+using VoxelReverseKernel = int (*)(const VoxelReverseIo&, const ModelConstants&);  // voxels done
+VoxelReverseKernel voxel_reverse_kernel_avx2();  // reverse_avx2.cpp
+VoxelReverseKernel voxel_reverse_kernel_avx512();
+
+// Scratch arrays of voxel_stage_reverse, kept from stage to stage.
+struct VoxelStageScratch {
+  std::vector<double> in;
+  std::vector<uint8_t> off;
+};
+// A kept update's reverse (its record `values`, `ids` and `flags`): from the adjoints of its
+// outputs, adj[first + o n + i] for voxel i's output o, adds those of its inputs to adj through
+// ids, input by input in voxel order (the same bits at every SIMD level). Voxels off the hand path
+// take voxel_reverse_tape.
+void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, const uint8_t* flags,
+                         size_t first, double* adj, const ModelConstants& k, VoxelStageScratch& s);
 
 // From the adjoints of a voxel's outputs (kVoxelOutputs), adds those of its inputs to in_adj.
 void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                         double* in_adj);
-// The same by hand; returns false, having done nothing, off its path (a clamped voxel, a turn
-// of more than 0.01 rad in the step, a bond model other than the exact one).
+// The same by hand (one voxel of voxel_reverse_body.hpp); returns false, having done nothing,
+// off its path (a clamped voxel, a turn of more than 0.01 rad in the step, a bond model other
+// than the exact one).
 bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                    double* in_adj);
 
-// The gather (voxel_body.hpp's gather_voxel and slow_damping_lanes) of voxel i, which is
-// linear but for the slow damping: its inputs are the records its six slots read (force on a,
-// and moment on a or on b, of each slot's bond: 3 each), its momentum and its modulus; its
-// outputs the total force, the total moment and sqrt(E).
-enum GatherIo : int {
-  kGSlots = 0,  // slot s: force at 6 s, moment at 6 s + 3
-  kGLinMom = 36,
-  kGE = 39,
-  kGatherInputs = 40,
-  kGOutForce = 0,
-  kGOutMoment = 3,
-  kGOutSqrtE = 6,
-  kGatherOutputs = 7
+// The gather (voxel_body.hpp's gather_voxel and slow_damping_lanes), which is linear but for
+// the slow damping, as one block a step: its inputs are the records each voxel's six slots read
+// (force on a, and moment on a or on b, of each slot's bond), each voxel's momentum and
+// modulus; its outputs each voxel's total force, total moment and sqrt(E), output by output
+// (voxel i's output o is node first + o n + i).
+enum GatherOutput : int { kGOutForce = 0, kGOutMoment = 3, kGOutSqrtE = 6, kGatherOutputs = 7 };
+// The gather's record for n voxels and nb bonds: the moduli and momenta (values and nodes, as
+// the arrays are laid out), then the nodes of the bond records (Workspace::bond_out, 4 (nb + 1)
+// each, the last a bondless slot's).
+struct GatherStageLayout {
+  size_t n, nb;
+  size_t lin_mom() const { return n; }
+  size_t values() const { return 4 * n; }
+  size_t records(int v) const { return 4 * n + size_t(v) * 4 * (nb + 1); }
+  size_t ids() const { return records(3); }
 };
-struct GatherArgs {
-  int32_t id[kGatherInputs];  // tape nodes (-1: a constant)
-  double lin_mom[3], e;       // the values its derivative needs
-};
-// From the adjoints of the gather's outputs (kGatherOutputs), adds those of its inputs.
-void gather_reverse(const GatherArgs& a, const ModelConstants& k, const double* out_adj,
-                    double* in_adj);
+void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, double* values,
+                       int32_t* ids);
+// From the adjoints of a kept gather's outputs, adds those of its inputs to adj, voxel by voxel
+// (io: the model's slots).
+void gather_stage_reverse(const VoxelKernelIo& io, const GatherStageLayout& L, const double* values,
+                          const int32_t* ids, size_t first, double* adj, const ModelConstants& k);
 
 }  // namespace plastivox::grad
