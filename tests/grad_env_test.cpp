@@ -326,8 +326,8 @@ TEST(GradientEnvironment, PushBoxMatchesCentralDifferences) {
 // A neural controller's touch sensor reads the environment's ground (control.cpp): the
 // replica's does too, so a network's life on rough ground is the engine's (gradient_of checks
 // the replica against it at every snapshot, and throws where they part), and the gradient of
-// its weights agrees with central differences.
-TEST(GradientEnvironment, NetworkOnRoughGroundIsTheEnginesLife) {
+// its weights agrees with central differences. So is its life carrying a payload.
+TEST(GradientEnvironment, NetworkOnRoughGroundAndCarryingIsTheEnginesLife) {
   RobotDef r = cube3();
   r.controller.kind = ControllerKind::kDistributed;
   r.controller.hidden = 2;
@@ -349,6 +349,11 @@ TEST(GradientEnvironment, NetworkOnRoughGroundIsTheEnginesLife) {
     EXPECT_TRUE(testing::RelNear(p.gradient, d.value, 1e-6)) << "weight " << k;
   }
   EXPECT_GE(smooth, 2);
+  // And with carry's payload on its back (the network's sensors see the object's voxels too).
+  const Model carry = compile(r, short_life(Task::kCarry));
+  const CentreLoss payload{carry.robot_n, carry.n};
+  EXPECT_EQ(grad::gradient_of(carry, payload.loss()).final_state_hash,
+            simulate(carry).final_state_hash);
 }
 
 }  // namespace
