@@ -1,6 +1,7 @@
 // How well the gradient of a life in an environment or with a free object agrees with central
-// differences over a longer life (docs/gradients.md, "Environments and free objects"):
-//   grad_env_bench climb|carry DURATION [STRIDE]
+// differences over a longer life, and its cost (docs/gradients.md, "Environments and free
+// objects"):
+//   grad_env_bench check|forward|gradient climb|carry DURATION [STRIDE]
 // The demo walker on the task's default environment (climb: terraces; carry: its payload),
 // default physics but the duration. The loss is a final-state one of the bench's own, not the
 // task's fitness: the x of the centre (the robot's for climb, the payload's for carry) in voxel
@@ -8,7 +9,8 @@
 // compared with plain central differences (h = 1e-4 of E0, 1e-4 cycles); a parameter whose
 // nudged lives take other branches than the life (replicate_life's signature) is marked as
 // crossing a kink. Prints each parameter, then per kind the distribution of relative errors
-// and the cosine between the two vectors, over all and over the smooth ones.
+// and the cosine between the two vectors, over all and over the smooth ones. forward and
+// gradient run the life alone, or its gradient alone, for timing as whole processes.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -79,22 +81,28 @@ struct Comparison {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::fprintf(stderr, "usage: grad_env_bench climb|carry DURATION [STRIDE]\n");
+  if (argc < 4) {
+    std::fprintf(stderr,
+                 "usage: grad_env_bench check|forward|gradient climb|carry DURATION [STRIDE]\n");
     return 2;
   }
-  const std::string task = argv[1];
+  const std::string mode = argv[1], task = argv[2];
+  if (mode != "check" && mode != "forward" && mode != "gradient") {
+    std::fprintf(stderr, "grad_env_bench: the mode must be check, forward or gradient, not %s\n",
+                 argv[1]);
+    return 2;
+  }
   PhysicsDef def;
-  def.duration = std::atof(argv[2]);
+  def.duration = std::atof(argv[3]);
   if (task == "climb") {
     def.task = Task::kClimb;
   } else if (task == "carry") {
     def.task = Task::kCarry;
   } else {
-    std::fprintf(stderr, "grad_env_bench: the task must be climb or carry, not %s\n", argv[1]);
+    std::fprintf(stderr, "grad_env_bench: the task must be climb or carry, not %s\n", argv[2]);
     return 2;
   }
-  const int stride = argc > 3 ? std::max(1, std::atoi(argv[3])) : 16;
+  const int stride = argc > 4 ? std::max(1, std::atoi(argv[4])) : 16;
   const Model m = compile(demo_walker(), def);
   const CentreX centre = task == "climb" ? CentreX{0, m.robot_n, m.size}
                                          : CentreX{m.robot_n, m.object_begin[1], m.size};
@@ -104,7 +112,17 @@ int main(int argc, char** argv) {
       pos[3 * size_t(i)] = 1.0 / (centre.end - centre.first) / centre.size;
     return centre.of(s);
   };
+  if (mode == "forward") {
+    std::printf("%s, demo walker, %.3g s: loss %.17g\n", task.c_str(), def.duration,
+                final_x(m, centre));
+    return 0;
+  }
   const grad::Gradient g = grad::gradient_of(m, loss);
+  if (mode == "gradient") {
+    std::printf("%s, demo walker, %.3g s: loss %.17g, %zu snapshots, largest tape %zu nodes\n",
+                task.c_str(), def.duration, g.fitness, g.checkpoints, g.peak_tape_nodes);
+    return 0;
+  }
   const SimResult r = simulate(m);
   std::printf("%s, demo walker, %.3g s: loss %.17g, %lld steps, forward hash %s simulate's\n",
               task.c_str(), def.duration, g.fitness, static_cast<long long>(g.steps),
