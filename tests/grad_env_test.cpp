@@ -323,6 +323,40 @@ TEST(GradientEnvironment, PushBoxMatchesCentralDifferences) {
   expect_every_kind(check(m, {m.robot_n, m.n}, kVoxels));
 }
 
+// A thin box's stop (terrain.cpp, "Thin boxes"): a body dropped half a metre onto a plate
+// reaches 3 m/s, over a centimetre a step, crosses the grown plate's middle plane within a
+// step and is put back at its face, its vertical momentum zeroed. The replica takes the same
+// stops (gradient_of checks it at every snapshot), and the gradient agrees with central
+// differences through them.
+TEST(GradientEnvironment, ThinBoxStopIsTheEnginesLife) {
+  RobotDef r = make_empty_robot(2, 1, 1);
+  for (int s = 0; s < 2; ++s) r.present[s] = 1, r.stiffness[s] = 1e8, r.phase[s] = 0.3 * s;
+  PhysicsDef def;
+  def.floor = false;
+  def.duration = 0.4;
+  def.settle_time = 0.05;
+  def.environment.obstacles.push_back({{-0.5, -0.5, -0.5}, {0.5, 0.5, -0.499}});
+  const Model m = compile(r, def);
+  // The engine's life stops the voxel: a step ends with it at the plate, its vertical momentum
+  // exactly 0 (no penalty contact gives that).
+  Simulator sim(m);
+  int stops = 0;
+  while (sim.state().status == SimStatus::kRunning) {
+    sim.step();
+    stops += sim.state().pos[0].z() < -0.4 && sim.state().lin_mom[0].z() == 0;
+  }
+  ASSERT_EQ(sim.state().status, SimStatus::kFinished) << sim.state().failure;
+  EXPECT_GT(stops, 0);
+  const CentreLoss loss{0, 1};
+  const Gradient g = grad::gradient_of(m, loss.loss());
+  EXPECT_EQ(g.final_state_hash, sim.result().final_state_hash);
+  for (int k : {0, 2}) {  // a start sideways, and downwards
+    const Param p{"initial_velocity", k, 1e-6, nullptr, g.initial_velocity[k]};
+    const Difference d = central(m, p, p.h, loss, 0);
+    EXPECT_TRUE(testing::RelNear(p.gradient, d.value, 1e-6)) << "initial velocity " << k;
+  }
+}
+
 // A neural controller's touch sensor reads the environment's ground (control.cpp): the
 // replica's does too, so a network's life on rough ground is the engine's (gradient_of checks
 // the replica against it at every snapshot, and throws where they part), and the gradient of
