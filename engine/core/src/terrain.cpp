@@ -30,82 +30,13 @@
 #include <cmath>
 #include <limits>
 
+#include "terrain_body.hpp"
 #include "workspace.hpp"
 
 namespace plastivox {
 namespace {
 
-// A contact's normal: +-axis `axis` exactly (sign +1 or -1), or any unit vector n (axis -1).
-struct Normal {
-  int axis = -1;
-  double sign = 1;
-  double n[3] = {0, 0, 1};
-};
-
-// The tangential part of v: v less its normal part (on an axis: v with that component 0).
-void tangent(const Normal& c, const double v[3], double t[3]) {
-  if (c.axis >= 0) {
-    for (int k = 0; k < 3; ++k) t[k] = k == c.axis ? 0.0 : v[k];
-    return;
-  }
-  const double vn = v[0] * c.n[0] + v[1] * c.n[1] + v[2] * c.n[2];
-  for (int k = 0; k < 3; ++k) t[k] = v[k] - vn * c.n[k];
-}
-
-// v less its tangential part (on an axis: the other components set to 0).
-void drop_tangent(const Normal& c, double v[3]) {
-  if (c.axis >= 0) {
-    for (int k = 0; k < 3; ++k)
-      if (k != c.axis) v[k] = 0;
-    return;
-  }
-  double t[3];
-  tangent(c, v, t);
-  for (int k = 0; k < 3; ++k) v[k] = v[k] - t[k];
-}
-
-// One contact of penetration pen > 0 (m) on a voxel of modulus E (sqrt(E) = se): the normal
-// force, damping and Coulomb friction on its force f (N), a stop on its momentum p (kg m/s);
-// returns the normal force (N) and sets held when static friction holds the voxel or a stop
-// brought it to rest.
-double apply_contact(const Normal& c, double pen, double E, double se, bool was_held,
-                     const ModelConstants& k, double dt, double f[3], double p[3], bool& held) {
-  const double normal = 2.0 * E * k.size * pen;
-  double v[3], vt[3], ft[3];
-  for (int a = 0; a < 3; ++a) v[a] = p[a] * k.inv_mass;
-  const double vn =
-      c.axis >= 0 ? c.sign * v[c.axis] : v[0] * c.n[0] + v[1] * c.n[1] + v[2] * c.n[2];
-  const double c_col = k.c_col_unit * se;
-  tangent(c, v, vt);
-  tangent(c, f, ft);
-  // At rest: stick unless the tangential load exceeds the static limit.
-  const bool still = vt[0] == 0.0 && vt[1] == 0.0 && vt[2] == 0.0;
-  const bool at_rest = still || (c.axis < 0 && was_held);
-  const bool sticks =
-      std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) < k.def.mu_static * normal;
-  // Sliding: kinetic friction against the tangential velocity, or a stop if it would reverse
-  // the motion within this step.
-  const double speed = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-  const double fric = k.def.mu_kinetic * normal;
-  const bool moving = !at_rest;
-  const bool slides = moving && fric * dt < k.mass * speed;
-  const bool stops = moving && !slides;
-  if (slides)
-    for (int a = 0; a < 3; ++a) f[a] = f[a] - fric * vt[a] / speed;
-  if (stops) drop_tangent(c, p);
-  const double push = normal - c_col * vn;
-  if (c.axis >= 0)
-    f[c.axis] = f[c.axis] + c.sign * push;
-  else
-    for (int a = 0; a < 3; ++a) f[a] = f[a] + push * c.n[a];
-  const bool holds = (at_rest && sticks) || stops;
-  if (holds) drop_tangent(c, f);
-  // On a slope a held voxel's tangential momentum is zero only up to rounding: drop it, so it
-  // does not creep. (On an axis it is exactly zero already, as on the floor.)
-  if (holds && c.axis < 0) drop_tangent(c, p);
-  held = held || holds;
-  return normal;
-}
+using Normal = ContactNormal<double>;
 
 // The box b grown by r on every side.
 void grown(const ObstacleBox& b, double r, double lo[3], double hi[3]) {
@@ -124,10 +55,10 @@ Normal nearest_face(const double lo[3], const double hi[3], const double x[3], d
   return c;
 }
 
-// The path x0 -> x1 of a voxel's centre in one step against the grown box [lo, hi]: stops it
-// at the face it entered by when it reaches the box's middle plane (see the top of the file).
-// Returns the axis along which x1 and the momentum were changed, or -1.
-int stop_crossing(const double lo[3], const double hi[3], const double x0[3], double x1[3]) {
+}  // namespace
+
+int crossing_stop(const double lo[3], const double hi[3], const double x0[3], const double x1[3],
+                  int& where) {
   for (int a = 0; a < 3; ++a)  // the path's bounds miss the box
     if (std::max(x0[a], x1[a]) <= lo[a] || std::min(x0[a], x1[a]) >= hi[a]) return -1;
   double t_in = -std::numeric_limits<double>::infinity();
@@ -146,20 +77,30 @@ int stop_crossing(const double lo[3], const double hi[3], const double x0[3], do
   }
   if (!(t_in < t_out) || t_out <= 0 || t_in >= 1) return -1;  // the path misses the box
   int a;
-  double stop;
   if (t_in > 0) {  // from outside, through the face on axis_in facing x0
     a = axis_in;
-    stop = x1[a] > x0[a] ? lo[a] : hi[a];
+    where = x1[a] > x0[a] ? 0 : 1;
   } else {  // from inside: along the axis of the nearest face, back where it was
     double depth;
     a = nearest_face(lo, hi, x0, depth).axis;
-    stop = x0[a];
+    where = 2;
   }
   const double mid = 0.5 * (lo[a] + hi[a]);
   if (x1[a] == x0[a] || (x0[a] - mid) * (x1[a] - mid) > 0) return -1;  // stays on its half
   const double t_mid = (mid - x0[a]) / (x1[a] - x0[a]);
   if (t_mid > t_out) return -1;  // left the box by a side before the middle
-  x1[a] = stop;
+  return a;
+}
+
+namespace {
+
+// The path x0 -> x1 of a voxel's centre in one step against the grown box [lo, hi]: stops it
+// at the face it entered by when it reaches the box's middle plane (see the top of the file).
+// Returns the axis along which x1 and the momentum were changed, or -1.
+int stop_crossing(const double lo[3], const double hi[3], const double x0[3], double x1[3]) {
+  int where = 0;
+  const int a = crossing_stop(lo, hi, x0, x1, where);
+  if (a >= 0) x1[a] = where == 0 ? lo[a] : where == 1 ? hi[a] : x0[a];
   return a;
 }
 

@@ -34,6 +34,7 @@
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 #include "plastivox/task.hpp"
+#include "terrain_adjoint.hpp"
 #include "voxel_adjoint.hpp"
 #include "voxel_body.hpp"
 #include "workspace.hpp"
@@ -237,7 +238,7 @@ class Replica {
       record_gather();
     else
       gather();
-    self_collisions(events);
+    self_collisions(events, dt_next);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
     for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
@@ -260,6 +261,8 @@ class Replica {
     // integrate: floor, friction, Euler update
     if (events && m.flat_floor)
       for (int i = 0; i < m.n; ++i) events->add(0.5 * s.size[i] - s.pos[i].z() > 0.0 ? 1 : 0);
+    // an environment's contacts before and after the update (terrain.cpp)
+    if (m.terrain) terrain_.contacts(m, s, w_, dt, events ? &events->h : nullptr);
     double max_speed2 = 0.0;
     bool bad = false;
     if (g_tape && blocks_) {
@@ -270,6 +273,7 @@ class Replica {
         update_lanes<Adj, bool, Adj>(w_.views.voxel, w_.views.voxel_out, i, m, dt, top, bad);
       max_speed2 = top.v;
     }
+    if (m.terrain) terrain_.after_update(m, s, w_, events ? &events->h : nullptr);
     if (bad || max_speed2 > m.def.max_speed * m.def.max_speed) return false;
     if (events)
       for (int i = 0; i < m.n; ++i) events->add(s.static_friction[i]);
@@ -509,20 +513,23 @@ class Replica {
     }
   }
 
-  // apply_self_collisions (contacts.cpp) for the robot's own voxels: every pair of surface
-  // voxels i < j not near each other in the bond graph, in (i, j) order, as the engine adds
-  // the pairs its candidate lists find (they miss no contact, and the exact test is this one).
-  void self_collisions(Fnv* events) {
+  // apply_self_collisions (contacts.cpp): every pair of surface voxels i < j not near each
+  // other in the bond graph (with self-collision off, those with an object voxel j), in (i, j)
+  // order, as the engine adds the pairs its candidate lists find (they miss no contact, and
+  // the exact test is this one). A free object's contacts are object_contact's.
+  void self_collisions(Fnv* events, Adj dt) {
     const Model& m = m_;
-    if (!m.def.self_collision) return;
+    if (!m.def.self_collision && m.robot_n == m.n) return;
     const State& s = s_;
     const double half_d = 0.5 * m.def.contact_diameter;
+    const double half_d_object = 0.5 * std::min(1.0, m.def.contact_diameter);
     if (!paired_) {  // every pair that may touch, once: (i, j), i < j, in increasing order
       for (int i = 0; i < m.n; ++i) {
         if (!m.surface[i]) continue;
         const std::vector<int>& near = m.near_voxels[i];
         for (int j = i + 1; j < m.n; ++j)
-          if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j))
+          if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j) &&
+              (m.def.self_collision || j >= m.robot_n))
             pair_a_.push_back(i), pair_b_.push_back(j);
       }
       paired_ = true;
@@ -532,10 +539,16 @@ class Replica {
       const int i = pair_a_[near_[c]], j = pair_b_[near_[c]];
       const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
       const double dz = s.pos[j].z() - s.pos[i].z();
-      const double contact = half_d * (s.size[i] + s.size[j]);
+      const bool object = j >= m.robot_n;
+      const double contact = (object ? half_d_object : half_d) * (s.size[i] + s.size[j]);
       const double dist2 = dx * dx + dy * dy + dz * dz;
       if (dist2 >= contact * contact || dist2 == 0) continue;
       if (events) events->add((uint64_t(i) << 32) + uint64_t(j));
+      if (object) {
+        const Adj cont = half_d_object * (get(s.size.data(), i) + get(s.size.data(), j));
+        object_contact_adj(m, s, w_, i, j, cont, dt, events ? &events->h : nullptr);
+        continue;
+      }
       Adj d[3];
       for (int k = 0; k < 3; ++k) d[k] = pos(j, k) - pos(i, k);
       const Adj cont = half_d * (get(s.size.data(), i) + get(s.size.data(), j));
@@ -565,7 +578,8 @@ class Replica {
   std::vector<double> anchor_;  // refresh_near_pairs'
   double size_top_ = 0;
   Blocks* blocks_ = nullptr;
-  NetworkReplica net_;  // the neural controller's call
+  NetworkReplica net_;      // the neural controller's call
+  TerrainReplica terrain_;  // an environment's contacts
 };
 
 // Walk's fitness of a finished life and its derivative with respect to the final positions
@@ -814,8 +828,6 @@ std::string unsupported(const Model& m) {
 std::string unsupported_life(const Model& m) {
   if (m.def.bond_model != BondModel::kExact)
     return "only the exact bond model is differentiated yet (physics.bond_model)";
-  if (m.terrain) return "environments (ground, boxes) are not differentiated yet";
-  if (m.robot_n != m.n) return "free objects are not differentiated yet";
   return "";
 }
 

@@ -104,8 +104,10 @@ class NetworkReplica {
     for (int i = 0; i < n; ++i) {
       row[0][i] =
           m.def.act_frequency != 0 ? sin_cycles(cycles + load(m.phase.data(), i, Adj{})) : Adj(0.0);
-      const double pen = 0.5 * s.size[i] - s.pos[i].z();
-      row[1][i] = m.def.floor && pen > 0 ? 1.0 : 0.0;
+      const bool terrain = m.def.environment.terrain();  // control.cpp's touch
+      const double pen = terrain ? terrain_penetration(m, s.pos[i], 0.5 * s.size[i])
+                                 : 0.5 * s.size[i] - s.pos[i].z();
+      row[1][i] = (m.def.floor || terrain) && pen > 0 ? 1.0 : 0.0;
       row[2][i] = stimulus_lanes<Adj>(w.views.develop, i, m, Treatment::kStrain);
       row[3][i] = stimulus_lanes<Adj>(w.views.develop, i, m, Treatment::kPressure) /
                   load(s.stiffness.data(), i, Adj{});

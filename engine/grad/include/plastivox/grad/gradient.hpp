@@ -80,8 +80,8 @@ struct Gradient {
 };
 
 // The reason, in one line, why the gradient of this model's life is not available yet, or ""
-// when it is (docs/gradients.md, "Not covered yet"): the task must be walk, the bond model
-// exact, no environment, no free objects (any controller: the sine or a network).
+// when it is (docs/gradients.md, "Not covered yet"): the task must be walk and the bond model
+// exact (any environment, free objects, any controller: the sine or a network).
 std::string unsupported(const Model& model);
 
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it

@@ -1,0 +1,43 @@
+// Contact with an environment and with free objects on the recording type (docs/gradients.md,
+// "Environments and free objects"): terrain.cpp's terrain_contacts and terrain_after_update
+// (each contact by the engine's own apply_contact, terrain_body.hpp) and contacts.cpp's
+// object_contact, in the engine's order of operations on Adj, so that the replica computes the
+// engine's bits and the tape records their derivatives (the ground's height and normal under
+// each voxel, the boxes' faces, the contact forces, friction and the stops). The stages are
+// scalar in the engine too; the tape is their adjoint.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "adj.hpp"
+#include "plastivox/model.hpp"
+#include "plastivox/state.hpp"
+#include "workspace.hpp"
+
+namespace plastivox::grad {
+
+// One step's contact with the ground and the boxes (Model::terrain). `events`, when given,
+// receives the branches taken (which surface, which cell of the ground, which face of a box,
+// the friction regime, a stopped crossing): where they change the gradient has a kink.
+class TerrainReplica {
+ public:
+  // terrain_contacts: before the voxel update, the contact forces into the Workspace's forces
+  // and the stops into the State's momenta. dt is this step's.
+  void contacts(const Model& m, State& s, Workspace& w, Adj dt, uint64_t* events);
+  // terrain_after_update: the static friction flags, the stopped crossings of thin boxes and
+  // the normal forces (Workspace::floor_normal, where kept).
+  void after_update(const Model& m, State& s, Workspace& w, uint64_t* events);
+
+ private:
+  std::vector<Adj> prev_;    // 3 per voxel: each centre before the update
+  std::vector<Adj> normal_;  // each voxel's summed normal force
+  std::vector<uint8_t> held_;
+};
+
+// object_contact (contacts.cpp): the contact of voxel i with object voxel j (i < j) whose
+// centres are closer than `contact`, its forces added to the Workspace's. dt is this step's.
+void object_contact_adj(const Model& m, const State& s, Workspace& w, int i, int j, Adj contact,
+                        Adj dt, uint64_t* events);
+
+}  // namespace plastivox::grad
