@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -504,28 +505,16 @@ class Replica {
   NetworkReplica net_;  // the neural controller's call
 };
 
-// Walk's fitness of a finished life and its derivative with respect to the final positions
-// and com_settled (summarise, displacement_since_settling: |(com - com_settled) / L|, dz
-// dropped under xy fitness).
-struct FitnessSeed {
-  double value = 0;
-  std::vector<double> d_pos;  // 3 per voxel
-  double d_com_settled[3] = {0, 0, 0};
-};
-FitnessSeed walk_fitness(const Model& m, const State& s) {
-  FitnessSeed out;
-  const Vec3 com = body_center_of_mass(m, s);
-  const Vec3 settled = s.settled ? s.com_settled : com;
-  const Vec3 d = displacement_since_settling(m, settled, com);
-  out.value = d.norm();
-  out.d_pos.assign(3 * size_t(m.n), 0.0);
-  if (!(out.value > 0) || !s.settled) return out;  // |d| has no derivative at 0
-  for (int k = 0; k < 3; ++k) {
-    const double g = d[k] / out.value / m.size;  // d|d| / d com_k
-    out.d_com_settled[k] = -g;
-    for (int i = 0; i < m.robot_n; ++i) out.d_pos[3 * size_t(i) + k] = g / m.robot_n;
+// A derivative for each row of kStateFields, zero, sized like the row for a floating-point row
+// (as the replica gives them nodes) and empty for the others: what a loss adds its derivative
+// to.
+std::vector<std::vector<double>> zero_rows(const State& s) {
+  std::vector<std::vector<double>> d;
+  for (const StateField& f : kStateFields) {
+    const StateFieldBytes b = f.bytes(s);
+    d.emplace_back(b.kind == 'f' && b.value_bytes == sizeof(double) ? b.count : 0, 0.0);
   }
-  return out;
+  return d;
 }
 
 bool physics_equal(const State& a, const State& b) {
@@ -656,8 +645,8 @@ size_t nodes_per_step(const Model& m) {
 }  // namespace
 
 std::string unsupported(const Model& m) {
-  if (m.def.task != Task::kWalk) return "only the walk task's fitness is differentiated yet";
-  return unsupported_life(m);
+  const std::string why = unsupported_life(m);
+  return why.empty() ? why : std::string("the ") + to_string(m.def.task) + " task's life: " + why;
 }
 
 std::string unsupported_life(const Model& m) {
@@ -675,10 +664,15 @@ ReplicaSummary replicate_life(const Model& m) {
   Replica r(m);
   Fnv events;
   stable_dt_adj(m, m.e0.data(), &events);  // the initial time step's (make_initial_state)
-  while (r.state().status == SimStatus::kRunning)
+  const TrajectoryLoss loss = task_loss(m);
+  loss.see(r.state());
+  while (r.state().status == SimStatus::kRunning) {
     if (!r.step(&events)) throw std::domain_error("gradient: the life went unstable");
+    loss.see(r.state());
+  }
   ReplicaSummary out;
-  out.fitness = walk_fitness(m, r.state()).value;
+  out.fitness = loss.value(r.state());
+  if (loss.branches) events.add(loss.branches());
   out.events = events.h;
   out.steps = r.state().steps;
   return out;
@@ -724,19 +718,29 @@ Plan plan(const Model& m, const GradientOptions& options) {
 Gradient gradient(const Model& m, const GradientOptions& options) {
   const std::string why = unsupported(m);
   if (!why.empty()) throw std::invalid_argument("gradient: " + why);
-  // Walk's fitness of the final state (summarise's), seeding the adjoints of the final
-  // positions and of com_settled.
-  const FinalLoss walk = [&m](const State& s, std::vector<std::vector<double>>& d) {
-    const FitnessSeed seed = walk_fitness(m, s);
-    d[&state_field("pos") - kStateFields.data()] = seed.d_pos;
-    for (int k = 0; k < 3; ++k)
-      d[&state_field("com_settled") - kStateFields.data()][k] = seed.d_com_settled[k];
-    return seed.value;
-  };
-  return gradient_of(m, walk, options);
+  return gradient_of(m, task_loss(m), options);
 }
 
 Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOptions& options) {
+  // A loss of the final state reads the state after the life's last step (its count known
+  // once the forward life is over).
+  auto last = std::make_shared<int64_t>(-1);
+  TrajectoryLoss at_end;
+  at_end.see = [](const State&) {};
+  at_end.value = [&loss, last](const State& final) {
+    *last = final.steps;
+    std::vector<std::vector<double>> d = zero_rows(final);
+    return loss(final, d);
+  };
+  at_end.adjoint = [&loss, last](const State& s, std::vector<std::vector<double>>& d) {
+    if (s.steps != *last) return false;
+    loss(s, d);
+    return true;
+  };
+  return gradient_of(m, at_end, options);
+}
+
+Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientOptions& options) {
   Gradient g;
   // ---- Forward: the engine's own life, with a snapshot every K steps ----
   const Plan p = plan(m, options);
@@ -744,9 +748,11 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   g.estimated_bytes = p.estimated_bytes;
   Simulator sim(m);
   std::vector<std::vector<uint8_t>> snaps;
+  loss.see(sim.state());
   while (sim.state().status == SimStatus::kRunning) {
     if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());
     sim.step();
+    loss.see(sim.state());
   }
   if (sim.state().status != SimStatus::kFinished)
     throw std::domain_error("gradient: the life went unstable (" + sim.state().failure + ")");
@@ -762,13 +768,28 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   const auto& rows = rep.rows();
   std::vector<std::vector<double>> adj_state(rows.size());
   for (size_t r = 0; r < rows.size(); ++r) adj_state[r].assign(rep.ids()[r].size(), 0.0);
-  g.fitness = loss(sim.state(), adj_state);
-  for (size_t r = 0; r < rows.size(); ++r)
-    if (adj_state[r].size() != rep.ids()[r].size())
-      throw std::invalid_argument(std::string("gradient: the loss's derivative of row '") +
-                                  kStateFields[r].name + "' has " +
-                                  std::to_string(adj_state[r].size()) + " values, the row " +
-                                  std::to_string(rep.ids()[r].size()));
+  g.fitness = loss.value(sim.state());
+  // The loss's derivative at the replica's present state, kept as seeds of the nodes that hold
+  // its values (injected when the segment's tape is swept, so the sweep carries them back from
+  // that step on). A value without a node is a constant: its derivative goes nowhere.
+  std::vector<std::vector<double>> d_loss = adj_state;
+  std::vector<std::pair<int32_t, double>> seeds;
+  const auto take_loss_adjoint = [&] {
+    if (!loss.adjoint(rep.state(), d_loss)) return;
+    const std::vector<std::vector<int32_t>>& ids = rep.ids();
+    for (size_t r = 0; r < ids.size(); ++r) {
+      if (d_loss[r].size() != ids[r].size())
+        throw std::invalid_argument(std::string("gradient: the loss's derivative of row '") +
+                                    kStateFields[r].name + "' has " +
+                                    std::to_string(d_loss[r].size()) + " values, the row " +
+                                    std::to_string(ids[r].size()));
+      for (size_t k = 0; k < ids[r].size(); ++k) {
+        if (d_loss[r][k] == 0) continue;
+        if (ids[r][k] >= 0) seeds.emplace_back(ids[r][k], d_loss[r][k]);
+        d_loss[r][k] = 0;
+      }
+    }
+  };
   g.stiffness.assign(m.n, 0.0);
   g.phase.assign(m.n, 0.0);
   g.dev_rate.assign(m.n, 0.0);
@@ -804,9 +825,13 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     params.make(tape, m);
     rep.register_arrays(tape);
     const int64_t end = seg + 1 < snaps.size() ? static_cast<int64_t>(seg + 1) * K : g.steps;
+    seeds.clear();
     try {
-      while (rep.state().steps < end)
+      if (seg == 0) take_loss_adjoint();  // the initial state's
+      while (rep.state().steps < end) {
         if (!rep.step(nullptr)) throw std::domain_error("gradient: the replica went unstable");
+        take_loss_adjoint();
+      }
     } catch (...) {
       g_tape = nullptr;
       throw;
@@ -822,6 +847,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k)
         if (ids[r][k] >= 0) adj[ids[r][k]] += adj_state[r][k];
+    for (const auto& [id, v] : seeds) adj[id] += v;
     sweep(tape, adj, blocks, m, rep.bond_io());
     for (size_t r = 0; r < ids.size(); ++r)
       for (size_t k = 0; k < ids[r].size(); ++k) adj_state[r][k] = adj[start[r][k]];
