@@ -1,13 +1,14 @@
 // The gradient's cost against a forward life (docs/gradients.md, "Cost"), one process per run
 // so that farm-bench pairs whole processes and /usr/bin/time -v reads the peak memory:
-//   grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | STRIDE]
+//   grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | STRIDE] [TASK]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
 // physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
 // fitness, the wall time and, for the gradient, its snapshots and largest tape.
 // check: the gradient against central differences of simulate() (h = 1e-4 of E0, 1e-4 cycles)
 // on every STRIDE-th voxel's E0 and phase (16 unless given): each parameter's relative error,
 // whether the nudged lives took the life's branches, and per kind the cosine between the two
-// vectors (the measured agreement over a whole life, docs/gradients.md).
+// vectors (the measured agreement over a whole life, docs/gradients.md). TASK: the task whose
+// fitness is taken (walk unless given: jump, turn, ...).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +20,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/simulator.hpp"
+#include "plastivox/task.hpp"
 
 int main(int argc, char** argv) {
   using namespace plastivox;
@@ -26,12 +28,13 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | "
-        "STRIDE]\n");
+        "STRIDE] [TASK]\n");
     return 2;
   }
   const std::string mode = argv[1], body = argv[2];
   PhysicsDef def;
   def.duration = std::atof(argv[3]);
+  if (argc > 5) def.task = parse_task(argv[5]);
   RobotDef robot;
   if (body == "walker") {
     robot = demo_walker();
