@@ -113,6 +113,16 @@ def test_any_tasks_fitness_is_simulates_and_the_initial_state_has_its_gradient()
         assert fitness == plastivox.simulate(robot, physics=physics).fitness > 0, task
         assert g["initial_position"].shape == (27, 3) and g["initial_velocity"].shape == (27, 3)
         assert np.any(g["phase"] != 0)
+        site = (1, 0, 0)
+
+        def f(h):
+            shifted = cube3(h, site, stiffer=100 if task == "jump" else 1)
+            return plastivox.simulate(shifted, physics=physics).fitness
+
+        h = 1e-4
+        d1 = (f(h) - f(-h)) / (2 * h)
+        d2 = (f(h / 2) - f(-h / 2)) / h
+        assert g["phase"][site] == pytest.approx((4 * d2 - d1) / 3, rel=1e-6), task
 
 
 def life_of(robot, physics):

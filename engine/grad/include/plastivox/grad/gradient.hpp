@@ -110,7 +110,7 @@ struct TrajectoryLoss {
 // The model's task's fitness (docs/tasks.md) as a TrajectoryLoss: its value is simulate()'s
 // fitness bit for bit, from the physics rows alone (engine/grad/src/task_losses.cpp;
 // docs/gradients.md says which states each task reads and its derivative where it has none).
-// A fresh loss for each life.
+// A fresh loss for each life; it refers to `model`, which must outlive it.
 TrajectoryLoss task_loss(const Model& model);
 
 // The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
