@@ -187,29 +187,34 @@ TEST(Gradient, MatchesCentralDifferencesOnTheDemoWalker) {
 }
 
 // The initial positions and velocities: central differences of lives started from a nudged
-// initial state (a Simulator's state changed before its first step).
+// initial state (a Simulator's state changed before its first step), under walk and turn.
 TEST(Gradient, InitialPositionsAndVelocitiesMatchCentralDifferences) {
-  const Model m = compile(cube3(), short_life(0.2, 0.05));
-  const Gradient g = grad::gradient(m);
-  const auto fitness = [&](int k, double dx, double dv) {
-    Simulator sim(m);
-    sim.mutable_state().pos[k / 3][k % 3] += dx;
-    sim.mutable_state().lin_mom[k / 3][k % 3] += dv * m.mass;
-    while (sim.state().status == SimStatus::kRunning) sim.step();
-    return sim.result().fitness;
-  };
-  // Components of voxels 0, 4, 13 and 20: not the z of a voxel on the floor, which starts
-  // exactly at the floor contact's threshold (a kink: its penetration is 0).
-  for (int k : {1, 12, 40, 62}) {
-    // A velocity of 1e-4 m/s already moves a contact event within the life (the differences
-    // of 1e-3, 1e-4, 1e-5 and 1e-6 m/s approach the gradient only from 1e-5 on): 1e-6.
-    const double hx = 1e-4 * m.size, hv = 1e-6;
-    const double dx1 = (fitness(k, hx, 0) - fitness(k, -hx, 0)) / (2 * hx);
-    const double dx2 = (fitness(k, hx / 2, 0) - fitness(k, -hx / 2, 0)) / hx;
-    const double dv1 = (fitness(k, 0, hv) - fitness(k, 0, -hv)) / (2 * hv);
-    const double dv2 = (fitness(k, 0, hv / 2) - fitness(k, 0, -hv / 2)) / hv;
-    EXPECT_TRUE(RelNear(g.initial_position[k], (4 * dx2 - dx1) / 3, 1e-6)) << k;
-    EXPECT_TRUE(RelNear(g.initial_velocity[k], (4 * dv2 - dv1) / 3, 1e-6)) << k;
+  for (Task task : {Task::kWalk, Task::kTurn}) {
+    SCOPED_TRACE(to_string(task));
+    PhysicsDef def = short_life(0.2, 0.05);
+    def.task = task;
+    const Model m = compile(cube3(), def);
+    const Gradient g = grad::gradient(m);
+    const auto fitness = [&](int k, double dx, double dv) {
+      Simulator sim(m);
+      sim.mutable_state().pos[k / 3][k % 3] += dx;
+      sim.mutable_state().lin_mom[k / 3][k % 3] += dv * m.mass;
+      while (sim.state().status == SimStatus::kRunning) sim.step();
+      return sim.result().fitness;
+    };
+    // Components of voxels 0, 4, 13 and 20: not the z of a voxel on the floor, which starts
+    // exactly at the floor contact's threshold (a kink: its penetration is 0).
+    for (int k : {1, 12, 40, 62}) {
+      // A velocity of 1e-4 m/s already moves a contact event within the life (the differences
+      // of 1e-3, 1e-4, 1e-5 and 1e-6 m/s approach the gradient only from 1e-5 on): 1e-6.
+      const double hx = 1e-4 * m.size, hv = 1e-6;
+      const double dx1 = (fitness(k, hx, 0) - fitness(k, -hx, 0)) / (2 * hx);
+      const double dx2 = (fitness(k, hx / 2, 0) - fitness(k, -hx / 2, 0)) / hx;
+      const double dv1 = (fitness(k, 0, hv) - fitness(k, 0, -hv)) / (2 * hv);
+      const double dv2 = (fitness(k, 0, hv / 2) - fitness(k, 0, -hv / 2)) / hv;
+      EXPECT_TRUE(RelNear(g.initial_position[k], (4 * dx2 - dx1) / 3, 1e-6)) << k;
+      EXPECT_TRUE(RelNear(g.initial_velocity[k], (4 * dv2 - dv1) / 3, 1e-6)) << k;
+    }
   }
 }
 
