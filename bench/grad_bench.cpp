@@ -1,7 +1,7 @@
 // The gradient's cost against a forward life (docs/gradients.md, "Cost"), one process per run
 // so that farm-bench pairs whole processes and /usr/bin/time -v reads the peak memory:
-//   grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | STRIDE]
-//              [THREADS]
+//   grad_bench forward|gradient walker|cube10 DURATION [CHECKPOINT_EVERY] [THREADS]
+//   grad_bench check walker|cube10 DURATION [STRIDE] [TASK] [unclassified]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
 // physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
 // fitness, the wall time and, for the gradient, its snapshots and largest tape. THREADS: the
@@ -9,7 +9,10 @@
 // check: the gradient against central differences of simulate() (h = 1e-4 of E0, 1e-4 cycles)
 // on every STRIDE-th voxel's E0 and phase (16 unless given): each parameter's relative error,
 // whether the nudged lives took the life's branches, and per kind the cosine between the two
-// vectors (the measured agreement over a whole life, docs/gradients.md).
+// vectors (the measured agreement over a whole life, docs/gradients.md). TASK: the task whose
+// fitness is taken (walk unless given: jump, turn, ...). unclassified: check without telling
+// which nudged lives took the life's branches (replicate_life of every nudged life costs far
+// more than the lives themselves: a whole life's check takes minutes instead of an hour).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +24,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/simulator.hpp"
+#include "plastivox/task.hpp"
 
 int main(int argc, char** argv) {
   using namespace plastivox;
@@ -28,12 +32,13 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | "
-        "STRIDE] [THREADS]\n");
+        "STRIDE] [THREADS | TASK] [unclassified] (THREADS for gradient, TASK for check)\n");
     return 2;
   }
   const std::string mode = argv[1], body = argv[2];
   PhysicsDef def;
   def.duration = std::atof(argv[3]);
+  if (argc > 5 && mode == "check") def.task = parse_task(argv[5]);
   RobotDef robot;
   if (body == "walker") {
     robot = demo_walker();
@@ -67,7 +72,8 @@ int main(int argc, char** argv) {
         g.peak_tape_nodes * 32.0 / 1e6, g.threads);
   } else if (mode == "check") {
     const grad::Gradient g = grad::gradient(m);
-    const uint64_t events = grad::replicate_life(m).events;
+    const bool classify = !(argc > 6 && std::string(argv[6]) == "unclassified");
+    const uint64_t events = classify ? grad::replicate_life(m).events : 0;
     const int stride = argc > 4 ? std::max(1, std::atoi(argv[4])) : 16;
     for (int kind = 0; kind < 2; ++kind) {
       double dot = 0, gg = 0, dd = 0, dot_s = 0, gg_s = 0, dd_s = 0;  // all, smooth only
@@ -81,7 +87,7 @@ int main(int argc, char** argv) {
           Model x = m;
           (kind == 0 ? x.e0[i] : x.phase[i]) += k == 0 ? h : -h;
           f[k] = simulate(x).fitness;
-          same = same && grad::replicate_life(x).events == events;
+          same = same && (!classify || grad::replicate_life(x).events == events);
         }
         const double d = (f[0] - f[1]) / (2 * h), a = kind == 0 ? g.stiffness[i] : g.phase[i];
         const double err = std::abs(a - d) / std::max(std::abs(d), 1e-300);
@@ -94,9 +100,10 @@ int main(int argc, char** argv) {
       }
       std::sort(errors.begin(), errors.end());
       std::printf(
-          "%s: %d parameters, %d smooth; relative error median %.2e, 90th percentile "
+          "%s: %d parameters, %d smooth%s; relative error median %.2e, 90th percentile "
           "%.2e, largest %.2e; cosine %.9f (over the smooth ones %.9f)\n",
-          kind == 0 ? "stiffness" : "phase", count, smooth, errors[errors.size() / 2],
+          kind == 0 ? "stiffness" : "phase", count, smooth,
+          classify ? "" : " (unclassified: all taken as smooth)", errors[errors.size() / 2],
           errors[errors.size() * 9 / 10], errors.back(), dot / std::sqrt(gg * dd),
           dot_s / std::sqrt(gg_s * dd_s));
     }

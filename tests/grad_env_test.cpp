@@ -2,8 +2,8 @@
 // docs/gradients.md, "Environments and free objects"): the ground's terraces, ramps and
 // height fields, static blocks, and the payload and box the robot carries or pushes. On short
 // lives the gradient of a loss of the final state of one's own (the robot's or the object's
-// centre) agrees with central differences of the engine's life to 1e-6 on every kind of
-// parameter, and the forward pass is the engine's life bit for bit.
+// centre), and of climb's and carry's own fitness, agrees with central differences of the engine's
+// life to 1e-6 on every kind of parameter, and the forward pass is the engine's life bit for bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +17,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/simulator.hpp"
+#include "plastivox/task.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -66,11 +67,36 @@ struct CentreLoss {
   }
 };
 
-double final_value(const Model& m, const CentreLoss& loss) {
+// What a check differentiates: a loss of one's own (the centre of voxels [first, end) at the
+// end of the life), or the model's task's own fitness (grad::gradient, simulate()'s score).
+struct Objective {
+  Objective(CentreLoss c) : centre(c) {}  // NOLINT: a centre loss is an objective
+  Objective(int first, int end) : centre{first, end} {}
+  // The task's fitness is in voxel lengths, and its derivatives with respect to an initial
+  // velocity are small: at 1e-6 m/s carry's differences sit on their rounding floor (1.4e-6
+  // off; 7e-7 at 1e-5, 2e-5 at 1e-7), so they step 1e-5 m/s.
+  static Objective task_fitness() {
+    Objective o(0, 1);
+    o.task = true;
+    o.velocity_step = 1e-5;
+    return o;
+  }
+  Gradient gradient(const Model& m) const {
+    return task ? grad::gradient(m) : grad::gradient_of(m, centre.loss());
+  }
+  double value(const Simulator& sim) const {
+    return task ? sim.result().fitness : centre.value(sim.state());
+  }
+  CentreLoss centre;
+  bool task = false;
+  double velocity_step = 1e-6;  // m/s, the initial velocity's nudge
+};
+
+double final_value(const Model& m, const Objective& loss) {
   Simulator sim(m);
   while (sim.state().status == SimStatus::kRunning) sim.step();
   EXPECT_EQ(sim.state().status, SimStatus::kFinished) << sim.state().failure;
-  return loss.value(sim.state());
+  return loss.value(sim);
 }
 
 // The branches a life takes (replicate_life's event signature), whatever its task: the
@@ -89,7 +115,8 @@ struct Param {
   double gradient;
 };
 
-std::vector<Param> params_of(const Model& m, const Gradient& g, const std::vector<int>& voxels) {
+std::vector<Param> params_of(const Model& m, const Gradient& g, const std::vector<int>& voxels,
+                             double velocity_step) {
   std::vector<Param> out;
   for (int i : voxels) {
     out.push_back({"stiffness", i, 1e-4 * m.e0[i], [i](Model& x, double h) { x.e0[i] += h; },
@@ -105,11 +132,11 @@ std::vector<Param> params_of(const Model& m, const Gradient& g, const std::vecto
                    x.act_amplitude_max += h;
                  },
                  g.amplitude});
-  // The initial velocity of the middle voxel, along x and z (1e-6 m/s: faster nudges move a
-  // contact event within the life). Not a voxel in contact: its tangential velocity starts at
-  // rest, where the friction's regime changes (sticking, or slipping from rest).
+  // The initial velocity of the middle voxel, along x and z (1e-6 m/s for a loss in metres:
+  // faster nudges move a contact event within the life). Not a voxel in contact: its tangential
+  // velocity starts at rest, where the friction's regime changes (sticking, or slipping from rest).
   for (int k : {39, 41})
-    out.push_back({"initial_velocity", k, 1e-6, nullptr, g.initial_velocity[k]});
+    out.push_back({"initial_velocity", k, velocity_step, nullptr, g.initial_velocity[k]});
   return out;
 }
 
@@ -119,7 +146,7 @@ struct Difference {
   double value = 0;
   bool smooth = true;
 };
-Difference central(const Model& m, const Param& p, double H, const CentreLoss& loss,
+Difference central(const Model& m, const Param& p, double H, const Objective& loss,
                    uint64_t events) {
   Difference d;
   double f[4];
@@ -130,7 +157,7 @@ Difference central(const Model& m, const Param& p, double H, const CentreLoss& l
       Simulator sim(x);
       sim.mutable_state().lin_mom[p.index / 3][p.index % 3] += steps[k] * x.mass;
       while (sim.state().status == SimStatus::kRunning) sim.step();
-      f[k] = loss.value(sim.state());
+      f[k] = loss.value(sim);
       continue;  // (the event signature of a nudged initial state is not replicated)
     }
     p.nudge(x, steps[k]);
@@ -145,7 +172,7 @@ Difference central(const Model& m, const Param& p, double H, const CentreLoss& l
 // The differences at p.h, or where those lives cross a kink at p.h / 10, then p.h / 100: the
 // largest step whose nudged lives are smooth (a life in contact crosses a kink every so often:
 // a voxel passing between two cells of the ground, or its friction changing regime).
-Difference smoothest(const Model& m, const Param& p, const CentreLoss& loss, uint64_t events) {
+Difference smoothest(const Model& m, const Param& p, const Objective& loss, uint64_t events) {
   Difference d;
   for (double H = p.h; H >= 0.99e-2 * p.h; H *= 0.1)
     if ((d = central(m, p, H, loss, events)).smooth) break;
@@ -162,15 +189,15 @@ struct Checked {
 // `voxels` (and the amplitude and an initial velocity): relative error below 1e-6 wherever the
 // nudged lives take the life's branches, against the larger of the difference and 1e-3 of the
 // largest difference of its kind. The forward pass is simulate()'s, bit for bit.
-Checked check(const Model& m, const CentreLoss& loss, const std::vector<int>& voxels) {
-  EXPECT_EQ(grad::unsupported_life(m), "");
-  const Gradient g = grad::gradient_of(m, loss.loss());
+Checked check(const Model& m, const Objective& loss, const std::vector<int>& voxels) {
+  EXPECT_EQ(grad::unsupported(m), "");
+  const Gradient g = loss.gradient(m);
   const SimResult r = simulate(m);
   EXPECT_EQ(g.final_state_hash, r.final_state_hash);
   EXPECT_EQ(g.steps, r.steps);
   EXPECT_EQ(g.fitness, final_value(m, loss));
   const uint64_t events = events_of(m);
-  std::vector<Param> ps = params_of(m, g, voxels);
+  std::vector<Param> ps = params_of(m, g, voxels, loss.velocity_step);
   std::vector<Difference> ds;
   for (const Param& p : ps) ds.push_back(smoothest(m, p, loss, events));
   Checked out;
@@ -321,6 +348,18 @@ TEST(GradientEnvironment, PushBoxMatchesCentralDifferences) {
   ASSERT_TRUE(m.terrain);
   EXPECT_GT(contacts_of(m).object, 0);
   expect_every_kind(check(m, {m.robot_n, m.n}, kVoxels));
+}
+
+// The tasks' own fitness through these lives (grad::gradient, task_losses.cpp): climb's
+// distance plus its weighted height on the task's default terraces, and carry's lesser travel of
+// the payload and the body, against central differences of simulate()'s score.
+TEST(GradientEnvironment, ClimbAndCarryFitnessMatchCentralDifferences) {
+  for (Task t : {Task::kClimb, Task::kCarry}) {
+    const Model m = compile(cube3(), short_life(t));
+    ASSERT_GT(simulate(m).fitness, 0.0) << to_string(t);
+    std::printf(" %s\n", to_string(t));
+    expect_every_kind(check(m, Objective::task_fitness(), {0, 13, 26}));
+  }
 }
 
 // A thin box's stop (terrain.cpp, "Thin boxes"): a body dropped half a metre onto a plate

@@ -14,6 +14,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/simulator.hpp"
+#include "plastivox/task.hpp"
 #include "test_support.hpp"
 
 namespace plastivox {
@@ -104,14 +105,18 @@ Difference central(const Model& m, const Param& p, double h, uint64_t events) {
 // wherever the nudged lives take the life's branches (an error measured against the larger of
 // the difference and 1e-3 of the largest difference of that kind, so a component near zero is
 // held to the kind's scale). Returns how many were checked smooth.
+// A rate is nudged by `rate_h` of itself (where its derivative is small against the fitness,
+// 1e-4 leaves the differences on their rounding floor).
 int check_against_differences(const Model& m, const std::vector<int>& voxels, bool dev_rate,
-                              double tol) {
+                              double tol, double rate_h = 1e-4) {
   const Gradient g = grad::gradient(m);
   const uint64_t events = grad::replicate_life(m).events;
   std::vector<Param> ps = params_of(m, g, voxels, dev_rate);
   std::vector<Difference> ds;
   for (const Param& p : ps) {
-    const double h = p.name == "phase" ? 1e-4 : 1e-4 * std::max(std::abs(p.value), 1e-3);
+    const double h = p.name == "phase"      ? 1e-4
+                     : p.name == "dev_rate" ? rate_h * std::max(std::abs(p.value), 1e-3)
+                                            : 1e-4 * std::max(std::abs(p.value), 1e-3);
     ds.push_back(central(m, p, h, events));
   }
   int smooth = 0;
@@ -182,29 +187,34 @@ TEST(Gradient, MatchesCentralDifferencesOnTheDemoWalker) {
 }
 
 // The initial positions and velocities: central differences of lives started from a nudged
-// initial state (a Simulator's state changed before its first step).
+// initial state (a Simulator's state changed before its first step), under walk and turn.
 TEST(Gradient, InitialPositionsAndVelocitiesMatchCentralDifferences) {
-  const Model m = compile(cube3(), short_life(0.2, 0.05));
-  const Gradient g = grad::gradient(m);
-  const auto fitness = [&](int k, double dx, double dv) {
-    Simulator sim(m);
-    sim.mutable_state().pos[k / 3][k % 3] += dx;
-    sim.mutable_state().lin_mom[k / 3][k % 3] += dv * m.mass;
-    while (sim.state().status == SimStatus::kRunning) sim.step();
-    return sim.result().fitness;
-  };
-  // Components of voxels 0, 4, 13 and 20: not the z of a voxel on the floor, which starts
-  // exactly at the floor contact's threshold (a kink: its penetration is 0).
-  for (int k : {1, 12, 40, 62}) {
-    // A velocity of 1e-4 m/s already moves a contact event within the life (the differences
-    // of 1e-3, 1e-4, 1e-5 and 1e-6 m/s approach the gradient only from 1e-5 on): 1e-6.
-    const double hx = 1e-4 * m.size, hv = 1e-6;
-    const double dx1 = (fitness(k, hx, 0) - fitness(k, -hx, 0)) / (2 * hx);
-    const double dx2 = (fitness(k, hx / 2, 0) - fitness(k, -hx / 2, 0)) / hx;
-    const double dv1 = (fitness(k, 0, hv) - fitness(k, 0, -hv)) / (2 * hv);
-    const double dv2 = (fitness(k, 0, hv / 2) - fitness(k, 0, -hv / 2)) / hv;
-    EXPECT_TRUE(RelNear(g.initial_position[k], (4 * dx2 - dx1) / 3, 1e-6)) << k;
-    EXPECT_TRUE(RelNear(g.initial_velocity[k], (4 * dv2 - dv1) / 3, 1e-6)) << k;
+  for (Task task : {Task::kWalk, Task::kTurn}) {
+    SCOPED_TRACE(to_string(task));
+    PhysicsDef def = short_life(0.2, 0.05);
+    def.task = task;
+    const Model m = compile(cube3(), def);
+    const Gradient g = grad::gradient(m);
+    const auto fitness = [&](int k, double dx, double dv) {
+      Simulator sim(m);
+      sim.mutable_state().pos[k / 3][k % 3] += dx;
+      sim.mutable_state().lin_mom[k / 3][k % 3] += dv * m.mass;
+      while (sim.state().status == SimStatus::kRunning) sim.step();
+      return sim.result().fitness;
+    };
+    // Components of voxels 0, 4, 13 and 20: not the z of a voxel on the floor, which starts
+    // exactly at the floor contact's threshold (a kink: its penetration is 0).
+    for (int k : {1, 12, 40, 62}) {
+      // A velocity of 1e-4 m/s already moves a contact event within the life (the differences
+      // of 1e-3, 1e-4, 1e-5 and 1e-6 m/s approach the gradient only from 1e-5 on): 1e-6.
+      const double hx = 1e-4 * m.size, hv = 1e-6;
+      const double dx1 = (fitness(k, hx, 0) - fitness(k, -hx, 0)) / (2 * hx);
+      const double dx2 = (fitness(k, hx / 2, 0) - fitness(k, -hx / 2, 0)) / hx;
+      const double dv1 = (fitness(k, 0, hv) - fitness(k, 0, -hv)) / (2 * hv);
+      const double dv2 = (fitness(k, 0, hv / 2) - fitness(k, 0, -hv / 2)) / hv;
+      EXPECT_TRUE(RelNear(g.initial_position[k], (4 * dx2 - dx1) / 3, 1e-6)) << k;
+      EXPECT_TRUE(RelNear(g.initial_velocity[k], (4 * dv2 - dv1) / 3, 1e-6)) << k;
+    }
   }
 }
 
@@ -350,6 +360,49 @@ TEST(Gradient, ControllerWeightsMatchCentralDifferences) {
   }
 }
 
+// jump (a maximum over the states after settling) and turn (an angle of the last state's
+// layout against the settled one) on the flat floor, every kind of parameter: E0, the phases
+// and the amplitude (every third voxel), the rates under development (turn, under pressure)
+// and a central network's weights (turn: every other one); relative error below 1e-6 wherever
+// the nudged lives take the life's branches (the loss's own among them: jump's highest step,
+// turn's whole turns). The cube is a hundred times stiffer for jump: at 1e8 Pa its centre
+// never rises above its settled height within 0.2 s (jump's fitness 0). (Under a network the
+// stiff cube's jump crosses a branch at every weight's nudge, and under stress its rates'
+// derivatives, 1e-8 to 1e-9, are on the differences' rounding floor: neither is checked here.)
+TEST(Gradient, JumpAndTurnMatchCentralDifferencesOnA3x3x3Body) {
+  struct Case {
+    Task task;
+    Treatment treatment;
+    double stiffer, duration, settle;
+    bool network;
+  };
+  for (const Case& c : {Case{Task::kJump, Treatment::kNone, 100, 0.1, 0.03, false},
+                        Case{Task::kTurn, Treatment::kPressure, 1, 0.2, 0.05, true}}) {
+    SCOPED_TRACE(to_string(c.task));
+    PhysicsDef def = short_life(c.duration, c.settle, c.treatment);
+    def.task = c.task;
+    RobotDef r = cube3();
+    for (double& e : r.stiffness) e *= c.stiffer;
+    const Model m = compile(r, def);
+    EXPECT_EQ(grad::gradient(m).fitness, simulate(m).fitness);
+    EXPECT_GT(simulate(m).fitness, 0.0);
+    std::vector<int> some;  // every third voxel
+    for (int i = 0; i < m.n; i += 3) some.push_back(i);
+    const bool rates = c.treatment != Treatment::kNone;  // else compile() zeroes them
+    const int count = (rates ? 3 : 2) * static_cast<int>(some.size()) + 1;
+    const int smooth = check_against_differences(m, some, rates, 1e-6, 1e-2);
+    std::printf("%s: %d of %d parameters smooth\n", to_string(c.task), smooth, count);
+    EXPECT_GE(smooth, count * 4 / 5);
+    if (!c.network) continue;
+    def.act_max_rate = 0;
+    RobotDef net = cube3_with_network(ControllerKind::kCentral, 2);
+    net.stiffness = r.stiffness;
+    const Model mn = compile(net, def);
+    const int weights = static_cast<int>(mn.controller.weights.size());
+    EXPECT_GE(check_weights(mn, 1e-6, 2), (weights + 1) / 2 * 3 / 5);  // every other weight
+  }
+}
+
 // Snapshots every step, or few: the same gradient (to rounding: the segments' sums group
 // differently).
 TEST(Gradient, CheckpointSpacingChangesNothingButRounding) {
@@ -370,9 +423,10 @@ TEST(Gradient, CheckpointSpacingChangesNothingButRounding) {
 TEST(Gradient, RefusesWhatItDoesNotDifferentiateInOneLine) {
   PhysicsDef def = short_life(0.1, 0.02);
   def.task = Task::kJump;
+  def.bond_model = BondModel::kVoxelyze09;
   const Model m = compile(cube3(), def);
   const std::string e = error_of([&] { grad::gradient(m); });
-  EXPECT_NE(e.find("walk"), std::string::npos) << e;
+  EXPECT_NE(e.find("jump task's life: only the exact bond model"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos);
   EXPECT_EQ(grad::unsupported(compile(cube3(), short_life(0.1, 0.02))), "");
   // A life whose snapshots and tape would exceed the memory limit is refused before it runs.

@@ -159,12 +159,14 @@ TEST_F(Optimize, RefusesBadInputInOneLine) {
       r.out.find("--wrt: no parameter is called 'mass' (stiffness, phase, dev_rate, controller)"),
       std::string::npos)
       << r.out;
-  // A task whose fitness has no gradient yet: unsupported()'s reason.
+  // A life whose gradient is not built yet: unsupported()'s reason, naming the task.
   r = cli("optimize " + kWalker +
-          " --physics '{\"duration\": 0.1, \"settle_time\": 0.04, \"task\": \"jump\"}'" + out);
+          " --physics '{\"duration\": 0.1, \"settle_time\": 0.04, \"task\": \"jump\", "
+          "\"bond_model\": \"voxelyze09\"}'" +
+          out);
   EXPECT_EQ(r.status, 1);
   one_line(r);
-  EXPECT_NE(r.out.find("no gradient: only the walk task's fitness is differentiated yet"),
+  EXPECT_NE(r.out.find("no gradient: the jump task's life: only the exact bond model"),
             std::string::npos)
       << r.out;
   // A life too long for the memory bound, before anything runs.

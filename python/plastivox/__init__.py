@@ -39,6 +39,7 @@ __all__ = [
     "Study", "load_robot", "demo_walker", "physics", "simulate", "simulate_many",
     "read_results", "read_study", "evolve", "Evolver", "default_config", "render", "sin_cycles",
     "VoxelEnv", "VoxelVecEnv", "controller_weight_count", "analysis", "robustness", "gradient",
+    "gradient_of",
 ]
 
 _TREATMENTS = ("none", "stress", "pressure", "strain", "strain_energy", "contact", "kinetic")
@@ -442,10 +443,13 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
     (per Pa of congenital stiffness), "phase" (per cycle), "dev_rate" (per 1/s); to a float,
     "amplitude" (per unit of physics act_amplitude); or "controller": a flat array shaped like
     robot.controller["weights"], the derivative with respect to each weight of a neural
-    controller (biases included, docs/control.md's order). robot, physics and treatment as
-    simulate takes them. threads: for the backward pass (0: all cores; it uses at most 2), the
-    same bits on any number. Only the walk task and the exact bond model, without an
-    environment, are differentiated yet (ValueError otherwise)."""
+    controller (biases included, docs/control.md's order); "initial_position" and
+    "initial_velocity": (robot_voxels, 3) arrays in voxel order, per m and per m/s of each
+    voxel's starting centre and velocity. robot, physics and treatment as simulate takes them.
+    The fitness is the physics' task's, any task, with its environment and free objects; only
+    the exact bond model is differentiated yet (ValueError otherwise, naming the task).
+    threads: for the backward pass (0: all cores; it uses at most 2), the same bits on any
+    number."""
     robot = _as_robot(robot)
     if isinstance(wrt, str):
         wrt = (wrt,)
@@ -454,9 +458,43 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
         raise ValueError(f"threads: expected an integer >= 0 (0: all cores), got {threads!r}")
     fitness, flat = _core.gradient(robot._core, _physics(physics), _check_treatment(treatment),
                                    names, threads)
-    grads = {k: (v if k in ("amplitude", "controller") else _np.reshape(v, robot.shape, order="F"))
-             for k, v in flat.items()}
-    return fitness, grads
+    return fitness, _shaped_gradients(robot, flat)
+
+
+def _shaped_gradients(robot, flat):
+    """The derivatives per site shaped like the robot's arrays; the others as they come."""
+    return {k: (_np.reshape(v, robot.shape, order="F") if k in ("stiffness", "phase", "dev_rate")
+                else v) for k, v in flat.items()}
+
+
+def gradient_of(robot, loss, steps=None, fields=("pos",), wrt=("stiffness", "phase"),
+                physics=None, treatment=None):
+    """The backward pass for a loss of your own over the states the robot's life passes through
+    (docs/python.md, "Gradients of your own loss"). The life runs once with the states' rows
+    `fields` (names of Simulator.state_fields with float values: "pos", "orient", "lin_mom",
+    "size", "stiffness", "time", "com_settled", ...) recorded at `steps` (state indices: 0 the
+    initial state, k the state after k steps, negative from the end, -1 the last; None: every
+    state). Then loss(states) is called once: states maps each field to a float64 array
+    (len(steps), *shape of Simulator.state[field]) and "steps" to the indices recorded, in
+    increasing order; it returns (value, derivatives): the loss's value and a dict mapping any
+    of the fields to d value / d states[field], shaped alike (a field left out: 0). Returns
+    (value, grads), grads as gradient() gives them for each name in wrt, which may also be
+    "initial_position" and "initial_velocity" ((robot_voxels, 3), per m and m/s). robot,
+    physics and treatment as simulate takes them."""
+    robot = _as_robot(robot)
+    if not callable(loss):
+        raise TypeError(f"loss: expected a function of the recorded states, got {type(loss).__name__}")
+    if isinstance(wrt, str):
+        wrt = (wrt,)
+    if isinstance(fields, str):
+        fields = (fields,)
+    if steps is not None:
+        if isinstance(steps, (int, _np.integer)):
+            steps = (steps,)
+        steps = [int(k) for k in steps]
+    value, flat = _core.gradient_of(robot._core, _physics(physics), _check_treatment(treatment),
+                                    loss, steps, [str(f) for f in fields], [str(w) for w in wrt])
+    return value, _shaped_gradients(robot, flat)
 
 
 def sin_cycles(u):

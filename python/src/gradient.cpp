@@ -1,5 +1,7 @@
-// Gradients of a life for Python (docs/gradients.md): plastivox.gradient. The C++ library
-// engine/grad computes them; this binds one call, with the GIL released.
+// Gradients of a life for Python (docs/gradients.md): plastivox.gradient, and
+// plastivox.gradient_of for a loss of recorded states. The C++ library engine/grad computes
+// them; the life runs with the GIL released.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -8,6 +10,7 @@
 #include "bindings.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/io/limits.hpp"
+#include "plastivox/recording.hpp"
 #include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 
@@ -16,7 +19,48 @@ namespace {
 
 // What `wrt` may name: the Robot's own arrays, the physics' global amplitude and the Robot's
 // controller (its weights).
-constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "amplitude", "controller"};
+constexpr const char* kWrt[] = {"stiffness",       "phase",      "dev_rate",
+                                "amplitude",       "controller", "initial_position",
+                                "initial_velocity"};
+
+void check_wrt(const std::vector<std::string>& wrt) {
+  for (const std::string& name : wrt) {
+    bool known = false;
+    for (const char* k : kWrt) known = known || name == k;
+    if (!known)
+      throw std::invalid_argument("wrt: no parameter is called '" + name +
+                                  "' (stiffness, phase, dev_rate, amplitude, controller, "
+                                  "initial_position, initial_velocity)");
+  }
+}
+
+// The derivatives `wrt` names: per site (a flat array over the lattice's sites, 0 where no
+// voxel is; the Python layer shapes it like the Robot's arrays), a float for "amplitude", the
+// weights in their order, and per robot voxel x, y, z for the initial state.
+pyb::dict derivatives(const PyRobot& robot, const Model& model, const grad::Gradient& g,
+                      const std::vector<std::string>& wrt) {
+  const auto on_sites = [&](const std::vector<double>& per_voxel) {
+    std::vector<double> sites(robot.def.present.size(), 0.0);
+    for (int i = 0; i < model.robot_n; ++i) sites[model.site[i]] = per_voxel[i];
+    return to_array(sites);
+  };
+  const auto per_voxel = [&](const std::vector<double>& xyz) {
+    pyb::array_t<double> a({static_cast<pyb::ssize_t>(model.robot_n), pyb::ssize_t{3}});
+    std::copy(xyz.begin(), xyz.end(), a.mutable_data());
+    return a;
+  };
+  pyb::dict out;
+  for (const std::string& name : wrt) {
+    if (name == "stiffness") out[name.c_str()] = on_sites(g.stiffness);
+    if (name == "phase") out[name.c_str()] = on_sites(g.phase);
+    if (name == "dev_rate") out[name.c_str()] = on_sites(g.dev_rate);
+    if (name == "amplitude") out[name.c_str()] = g.amplitude;
+    if (name == "controller") out[name.c_str()] = to_array(g.controller_weights);
+    if (name == "initial_position") out[name.c_str()] = per_voxel(g.initial_position);
+    if (name == "initial_velocity") out[name.c_str()] = per_voxel(g.initial_velocity);
+  }
+  return out;
+}
 
 // The fitness of the robot's life (as simulate gives it, bit for bit) and, for each name in
 // wrt, its derivative: a flat array over the lattice's sites (0 where no voxel is; the Python
@@ -24,13 +68,7 @@ constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "amplitude", "
 pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
                         const std::optional<std::string>& treatment,
                         const std::vector<std::string>& wrt, int threads) {
-  for (const std::string& name : wrt) {
-    bool known = false;
-    for (const char* k : kWrt) known = known || name == k;
-    if (!known)
-      throw std::invalid_argument("wrt: no parameter is called '" + name +
-                                  "' (stiffness, phase, dev_rate, amplitude, controller)");
-  }
+  check_wrt(wrt);
   const PhysicsDef physics = physics_of_call(robot.physics, physics_arg, treatment, std::nullopt);
   for (const std::string& name : wrt)
     if (name == "controller" && robot.def.controller.weights.empty())
@@ -58,20 +96,162 @@ pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
           "gradient: " +
           g.life.failure);
   }
-  const auto on_sites = [&](const std::vector<double>& per_voxel) {
-    std::vector<double> sites(robot.def.present.size(), 0.0);
-    for (int i = 0; i < model.robot_n; ++i) sites[model.site[i]] = per_voxel[i];
-    return to_array(sites);
-  };
-  pyb::dict out;
-  for (const std::string& name : wrt) {
-    if (name == "stiffness") out[name.c_str()] = on_sites(g.stiffness);
-    if (name == "phase") out[name.c_str()] = on_sites(g.phase);
-    if (name == "dev_rate") out[name.c_str()] = on_sites(g.dev_rate);
-    if (name == "amplitude") out[name.c_str()] = g.amplitude;
-    if (name == "controller") out[name.c_str()] = to_array(g.controller_weights);
+  return pyb::make_tuple(g.fitness, derivatives(robot, model, g, wrt));
+}
+
+// ---- plastivox.gradient_of: a user's loss of the states at chosen steps ----
+
+// The numpy shape of a State row (as Simulator.state gives it): () for one value, (n, width)
+// for a vector per voxel, (count,) otherwise.
+std::vector<pyb::ssize_t> row_shape(const StateField& f, const StateFieldBytes& b) {
+  if (std::string(f.shape) == "1") return {};
+  if (std::string(f.shape).find(" x ") != std::string::npos)
+    return {static_cast<pyb::ssize_t>(b.count / b.width), static_cast<pyb::ssize_t>(b.width)};
+  return {static_cast<pyb::ssize_t>(b.count)};
+}
+
+// The rows a loss reads, and the states recorded at its steps: each row's values at each step,
+// one after the other; then the loss's derivatives, shaped alike (empty: none given).
+struct Recorded {
+  std::vector<size_t> rows;  // indices into kStateFields
+  std::vector<int64_t> steps;
+  std::vector<std::vector<double>> values, derivatives;  // one per row
+  size_t next = 0;                                       // the next step to record
+  int64_t find(int64_t step) const {
+    const auto at = std::lower_bound(steps.begin(), steps.end(), step);
+    return at != steps.end() && *at == step ? at - steps.begin() : -1;
   }
-  return pyb::make_tuple(g.fitness, out);
+};
+
+// The value of the user's loss of the recorded states, and its derivatives kept: `loss(states)`
+// returns (value, {name: d value / d states[name]}).
+double call_loss(const pyb::object& loss, Recorded& rec, const State& shape_of) {
+  pyb::gil_scoped_acquire locked;
+  pyb::dict states;
+  std::vector<std::vector<pyb::ssize_t>> shapes;
+  for (size_t k = 0; k < rec.rows.size(); ++k) {
+    const StateField& f = kStateFields[rec.rows[k]];
+    std::vector<pyb::ssize_t> shape = row_shape(f, f.bytes(shape_of));
+    shape.insert(shape.begin(), static_cast<pyb::ssize_t>(rec.steps.size()));
+    pyb::array_t<double> a(shape);
+    std::copy(rec.values[k].begin(), rec.values[k].end(), a.mutable_data());
+    states[f.name] = a;
+    shapes.push_back(shape);
+  }
+  pyb::array_t<int64_t> steps(static_cast<pyb::ssize_t>(rec.steps.size()));
+  std::copy(rec.steps.begin(), rec.steps.end(), steps.mutable_data());
+  states["steps"] = steps;
+  const pyb::object out = loss(states);
+  if (!pyb::isinstance<pyb::tuple>(out) || pyb::len(out) != 2 ||
+      !pyb::isinstance<pyb::dict>(out.cast<pyb::tuple>()[1]))
+    throw pyb::type_error("loss: must return (value, {field: derivative}), got " +
+                          std::string(pyb::str(out.get_type().attr("__name__"))));
+  const pyb::tuple pair = out.cast<pyb::tuple>();
+  const double value = pair[0].cast<double>();
+  rec.derivatives.assign(rec.rows.size(), {});
+  for (const auto& [key, d] : pair[1].cast<pyb::dict>()) {
+    const std::string name = pyb::str(key);
+    size_t k = 0;
+    while (k < rec.rows.size() && name != kStateFields[rec.rows[k]].name) ++k;
+    if (k == rec.rows.size())
+      throw std::invalid_argument("loss: a derivative of '" + name +
+                                  "', which is not among the fields recorded");
+    const auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(d);
+    if (!a || a.ndim() != static_cast<pyb::ssize_t>(shapes[k].size()) ||
+        !std::equal(shapes[k].begin(), shapes[k].end(), a.shape()))
+      throw std::invalid_argument("loss: the derivative of '" + name +
+                                  "' must be shaped like states['" + name + "'] " +
+                                  std::string(pyb::str(pyb::tuple(pyb::cast(shapes[k])))));
+    rec.derivatives[k].assign(a.data(), a.data() + a.size());
+  }
+  return value;
+}
+
+// gradient_of: the loss of the states at `steps` (every state when empty; negative: from the
+// end, -1 the last), its rows `fields`, and its derivative with respect to `wrt`.
+pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
+                           const std::optional<std::string>& treatment, const pyb::object& loss,
+                           const std::optional<std::vector<int64_t>>& steps,
+                           const std::vector<std::string>& fields,
+                           const std::vector<std::string>& wrt) {
+  check_wrt(wrt);
+  Recorded rec;
+  for (const std::string& name : fields) {
+    size_t r = 0;
+    while (r < kStateFields.size() && name != kStateFields[r].name) ++r;
+    if (r == kStateFields.size() || std::string(kStateFields[r].name) == "task_values")
+      r = kStateFields.size();
+    if (r < kStateFields.size()) {
+      static const State empty{};
+      const StateFieldBytes b = kStateFields[r].bytes(empty);
+      if (b.kind != 'f' || b.value_bytes != sizeof(double)) r = kStateFields.size();
+    }
+    if (r == kStateFields.size())
+      throw std::invalid_argument("fields: '" + name +
+                                  "' is not a floating-point row of the state (Simulator."
+                                  "state_fields; pos, orient, lin_mom, size, stiffness, ...)");
+    if (std::find(rec.rows.begin(), rec.rows.end(), r) == rec.rows.end()) rec.rows.push_back(r);
+  }
+  const PhysicsDef physics = physics_of_call(robot.physics, physics_arg, treatment, std::nullopt);
+  grad::Gradient g;
+  Model model;
+  {
+    pyb::gil_scoped_release unlocked;
+    const Limits limits = limits_from_environment();
+    model = compile(robot.def, physics, limits);
+    // The life as simulate judges it (one that does not count has no gradient), and its
+    // length, which places the steps counted from the end.
+    SimResult r = simulate(model);
+    judge_life(physics, r);
+    if (r.status != SimStatus::kFinished)
+      throw std::invalid_argument("gradient_of: the life does not count, so it has no gradient: " +
+                                  r.failure);
+    if (steps) {
+      for (int64_t k : *steps) {
+        const int64_t at = k < 0 ? r.steps + 1 + k : k;
+        if (at < 0 || at > r.steps)
+          throw std::invalid_argument("steps: " + std::to_string(k) +
+                                      " is outside the life's states 0.." +
+                                      std::to_string(r.steps) + " (-1 the last)");
+        rec.steps.push_back(at);
+      }
+      std::sort(rec.steps.begin(), rec.steps.end());
+      rec.steps.erase(std::unique(rec.steps.begin(), rec.steps.end()), rec.steps.end());
+    } else {
+      for (int64_t k = 0; k <= r.steps; ++k) rec.steps.push_back(k);
+    }
+    const State initial = make_initial_state(model);
+    double bytes = 0;
+    for (size_t row : rec.rows)
+      bytes += 2.0 * static_cast<double>(kStateFields[row].bytes(initial).count * sizeof(double));
+    check_recording_size(bytes * static_cast<double>(rec.steps.size()), "steps",
+                         limits.recording_mb);
+    rec.values.assign(rec.rows.size(), {});
+    grad::TrajectoryLoss user;
+    user.see = [&rec](const State& s) {
+      if (rec.next >= rec.steps.size() || s.steps != rec.steps[rec.next]) return;
+      for (size_t k = 0; k < rec.rows.size(); ++k) {
+        const StateFieldBytes b = kStateFields[rec.rows[k]].bytes(s);
+        const double* v = static_cast<const double*>(b.data);
+        rec.values[k].insert(rec.values[k].end(), v, v + b.count);
+      }
+      ++rec.next;
+    };
+    user.value = [&](const State& final) { return call_loss(loss, rec, final); };
+    user.adjoint = [&rec](const State& s, std::vector<std::vector<double>>& d) {
+      const int64_t at = rec.find(s.steps);
+      if (at < 0) return false;
+      for (size_t k = 0; k < rec.rows.size(); ++k) {
+        if (rec.derivatives[k].empty()) continue;
+        std::vector<double>& row = d[rec.rows[k]];
+        const double* from = rec.derivatives[k].data() + static_cast<size_t>(at) * row.size();
+        for (size_t j = 0; j < row.size(); ++j) row[j] += from[j];
+      }
+      return true;
+    };
+    g = grad::gradient_of(model, user);
+  }
+  return pyb::make_tuple(g.fitness, derivatives(robot, model, g, wrt));
 }
 
 }  // namespace
@@ -79,6 +259,9 @@ pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
 void bind_gradient(pyb::module_& m) {
   m.def("gradient", &gradient_one, pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"),
         pyb::arg("wrt"), pyb::arg("threads"));
+  m.def("gradient_of", &gradient_of_one, pyb::arg("robot"), pyb::arg("physics"),
+        pyb::arg("treatment"), pyb::arg("loss"), pyb::arg("steps"), pyb::arg("fields"),
+        pyb::arg("wrt"));
 }
 
 }  // namespace plastivox::py

@@ -9,10 +9,10 @@ import plastivox
 SHORT = {"duration": 0.2, "settle_time": 0.05}
 
 
-def cube3(phase_shift=0.0, site=None):
+def cube3(phase_shift=0.0, site=None, stiffer=1.0):
     """A 3x3x3 body with distinct stiffness and phases (tests/grad_gradient_test.cpp's)."""
     s = np.arange(27, dtype=np.float64).reshape((3, 3, 3), order="F")
-    stiffness = 1e8 * (1.5 + np.sin(1.7 * s + 0.3))
+    stiffness = stiffer * 1e8 * (1.5 + np.sin(1.7 * s + 0.3))
     phase = 0.37 * np.sin(0.9 * s) + 0.05 * s
     if site is not None:
         phase[site] += phase_shift
@@ -90,8 +90,8 @@ def test_the_documented_ascent_loop_raises_the_fitness():
 def test_bad_input_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass' \(stiffness"):
         plastivox.gradient(cube3(), wrt=["mass"], physics=SHORT)
-    with pytest.raises(ValueError, match="only the walk task"):
-        plastivox.gradient(cube3(), physics=dict(SHORT, task="jump"))
+    with pytest.raises(ValueError, match="the jump task's life: only the exact bond model"):
+        plastivox.gradient(cube3(), physics=dict(SHORT, task="jump", bond_model="voxelyze09"))
 
 
 def test_a_life_that_does_not_count_has_no_gradient():
@@ -120,3 +120,113 @@ def test_one_and_two_threads_give_the_same_bits():
     assert np.any(g1["dev_rate"] != 0)
     with pytest.raises(ValueError, match=r"^threads: expected an integer >= 0"):
         plastivox.gradient(robot, wrt="phase", threads=-1)
+
+
+def test_any_tasks_fitness_is_simulates_and_the_initial_state_has_its_gradient():
+    # jump on a cube a hundred times stiffer: the softer one never rises above its settled height
+    # in so short a life (fitness 0).
+    for task, robot in (("jump", cube3(stiffer=100)), ("turn", cube3())):
+        physics = dict(SHORT, task=task)
+        fitness, g = plastivox.gradient(robot, wrt=["phase", "initial_position", "initial_velocity"],
+                                        physics=physics)
+        assert fitness == plastivox.simulate(robot, physics=physics).fitness > 0, task
+        assert g["initial_position"].shape == (27, 3) and g["initial_velocity"].shape == (27, 3)
+        assert np.any(g["phase"] != 0)
+        site = (1, 0, 0)
+
+        def f(h):
+            shifted = cube3(h, site, stiffer=100 if task == "jump" else 1)
+            return plastivox.simulate(shifted, physics=physics).fitness
+
+        h = 1e-4
+        d1 = (f(h) - f(-h)) / (2 * h)
+        d2 = (f(h / 2) - f(-h / 2)) / h
+        assert g["phase"][site] == pytest.approx((4 * d2 - d1) / 3, rel=1e-6), task
+
+
+def life_of(robot, physics):
+    """Every state's positions and the last state's, stepping a Simulator."""
+    sim = plastivox.Simulator(robot, physics=physics)
+    pos = [sim.state["pos"].copy()]
+    while sim.status == "running":
+        sim.step()
+        pos.append(sim.state["pos"].copy())
+    return np.array(pos)
+
+
+def mean_height_and_final_x(states):
+    """A loss of every recorded state: voxel 13's mean height over the life plus voxel 0's last
+    x, in voxel lengths; and its derivative with respect to states["pos"]."""
+    pos = states["pos"]
+    value = (pos[:, 13, 2].mean() + pos[-1, 0, 0]) / 0.01
+    d = np.zeros_like(pos)
+    d[:, 13, 2] = 1 / len(pos) / 0.01
+    d[-1, 0, 0] += 1 / 0.01
+    return value, {"pos": d}
+
+
+def test_gradient_of_a_loss_over_every_state_agrees_with_central_differences():
+    value, g = plastivox.gradient_of(cube3(), mean_height_and_final_x, wrt=["phase", "stiffness"],
+                                     physics=SHORT)
+    assert value == mean_height_and_final_x({"pos": life_of(cube3(), SHORT)})[0]
+    assert g["phase"].shape == (3, 3, 3)
+    site = (1, 0, 0)
+
+    def f(h):
+        return mean_height_and_final_x({"pos": life_of(cube3(h, site), SHORT)})[0]
+
+    h = 1e-4
+    d1 = (f(h) - f(-h)) / (2 * h)
+    d2 = (f(h / 2) - f(-h / 2)) / h
+    assert g["phase"][site] == pytest.approx((4 * d2 - d1) / 3, rel=1e-6)
+
+
+def test_gradient_of_reads_the_steps_asked_for():
+    # A loss of the initial state alone: its derivative is the initial state's gradient, as given.
+    w = np.arange(27 * 3, dtype=np.float64).reshape(1, 27, 3)
+    seen = {}
+
+    def loss(states):
+        seen.update(states)
+        return float((w * states["pos"]).sum()), {"pos": w, "lin_mom": 2 * w}
+
+    value, g = plastivox.gradient_of(cube3(), loss, steps=[0], fields=["pos", "lin_mom"],
+                                     wrt=["initial_position", "initial_velocity", "phase"],
+                                     physics=SHORT)
+    assert list(seen["steps"]) == [0] and seen["pos"].shape == (1, 27, 3)
+    np.testing.assert_array_equal(g["initial_position"], w[0])
+    mass = float(plastivox.Simulator(cube3(), physics=SHORT).model["mass"])
+    np.testing.assert_allclose(g["initial_velocity"], 2 * w[0] * mass, rtol=1e-15)
+    assert np.all(g["phase"] == 0)
+    # Steps counted from the end, in increasing order, each once.
+    steps = plastivox.simulate(cube3(), physics=SHORT).steps
+    plastivox.gradient_of(cube3(), loss_of_nothing(seen), steps=[-1, 5, 5, 0], physics=SHORT)
+    assert list(seen["steps"]) == [0, 5, steps]
+
+
+def loss_of_nothing(seen):
+    def loss(states):
+        seen.clear()
+        seen.update(states)
+        return 0.0, {}
+    return loss
+
+
+def test_gradient_of_refuses_bad_input_in_one_line():
+    nothing = loss_of_nothing({})
+    with pytest.raises(ValueError, match=r"^fields: 'steps' is not a floating-point row"):
+        plastivox.gradient_of(cube3(), nothing, fields=["steps"], physics=SHORT)
+    with pytest.raises(ValueError, match=r"^fields: 'mass' is not a floating-point row"):
+        plastivox.gradient_of(cube3(), nothing, fields=["mass"], physics=SHORT)
+    with pytest.raises(ValueError, match=r"^steps: 100000 is outside the life's states 0\.\."):
+        plastivox.gradient_of(cube3(), nothing, steps=[100000], physics=SHORT)
+    with pytest.raises(ValueError, match=r"^loss: the derivative of 'pos' must be shaped like"):
+        plastivox.gradient_of(cube3(), lambda s: (0.0, {"pos": np.zeros(3)}), physics=SHORT)
+    with pytest.raises(ValueError, match=r"^loss: a derivative of 'size', which is not among"):
+        plastivox.gradient_of(cube3(), lambda s: (0.0, {"size": 0}), physics=SHORT)
+    with pytest.raises(TypeError, match=r"^loss: must return \(value, \{field: derivative\}\)"):
+        plastivox.gradient_of(cube3(), lambda s: 0.0, physics=SHORT)
+    with pytest.raises(ZeroDivisionError):  # the loss's own error comes through
+        plastivox.gradient_of(cube3(), lambda s: 1 / 0, physics=SHORT)
+    with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass'"):
+        plastivox.gradient_of(cube3(), nothing, wrt=["mass"], physics=SHORT)

@@ -582,28 +582,16 @@ class Replica {
   TerrainReplica terrain_;  // an environment's contacts
 };
 
-// Walk's fitness of a finished life and its derivative with respect to the final positions
-// and com_settled (summarise, displacement_since_settling: |(com - com_settled) / L|, dz
-// dropped under xy fitness).
-struct FitnessSeed {
-  double value = 0;
-  std::vector<double> d_pos;  // 3 per voxel
-  double d_com_settled[3] = {0, 0, 0};
-};
-FitnessSeed walk_fitness(const Model& m, const State& s) {
-  FitnessSeed out;
-  const Vec3 com = body_center_of_mass(m, s);
-  const Vec3 settled = s.settled ? s.com_settled : com;
-  const Vec3 d = displacement_since_settling(m, settled, com);
-  out.value = d.norm();
-  out.d_pos.assign(3 * size_t(m.n), 0.0);
-  if (!(out.value > 0) || !s.settled) return out;  // |d| has no derivative at 0
-  for (int k = 0; k < 3; ++k) {
-    const double g = d[k] / out.value / m.size;  // d|d| / d com_k
-    out.d_com_settled[k] = -g;
-    for (int i = 0; i < m.robot_n; ++i) out.d_pos[3 * size_t(i) + k] = g / m.robot_n;
+// A derivative for each row of kStateFields, zero, sized like the row for a floating-point row
+// (as the replica gives them nodes) and empty for the others: what a loss adds its derivative
+// to.
+std::vector<std::vector<double>> zero_rows(const State& s) {
+  std::vector<std::vector<double>> d;
+  for (const StateField& f : kStateFields) {
+    const StateFieldBytes b = f.bytes(s);
+    d.emplace_back(b.kind == 'f' && b.value_bytes == sizeof(double) ? b.count : 0, 0.0);
   }
-  return out;
+  return d;
 }
 
 bool physics_equal(const State& a, const State& b) {
@@ -751,6 +739,8 @@ struct Segment {
   Blocks blocks;
   ParamLeaves params;
   std::vector<std::vector<int32_t>> start;
+  std::vector<std::pair<int32_t, double>> seeds;  // the loss's derivatives at this segment's states
+  std::vector<std::vector<double>> d_loss;        // the loss's scratch, zero between states
   State check;
   std::vector<double> adj;
 };
@@ -758,7 +748,8 @@ struct Segment {
 // Recomputes steps [first, end) from `snapshot` on the segment's tape, on the calling thread,
 // and checks that the replica reaches `next` (the engine's state at `end`: the next
 // snapshot's, or the final state when `next_snapshot` is null) bit for bit.
-void record_segment(Segment& sg, const Model& m, const std::vector<uint8_t>& snapshot,
+void record_segment(Segment& sg, const Model& m, const TrajectoryLoss& loss,
+                    const std::vector<uint8_t>& snapshot,
                     const std::vector<uint8_t>* next_snapshot, const State& final, int64_t first,
                     int64_t end) {
   sg.tape.nodes.clear();
@@ -772,9 +763,32 @@ void record_segment(Segment& sg, const Model& m, const std::vector<uint8_t>& sna
   sg.start = ids;
   sg.params.make(sg.tape, m);
   sg.rep.register_arrays(sg.tape);
+  sg.seeds.clear();
+  // The loss's derivative at the replica's present state, kept as seeds of the nodes that hold
+  // its values (injected when the segment's tape is swept, so the sweep carries them back from
+  // that step on). A value without a node is a constant: its derivative goes nowhere.
+  const auto take_loss_adjoint = [&] {
+    if (sg.d_loss.empty()) sg.d_loss = zero_rows(sg.rep.state());
+    if (!loss.adjoint(sg.rep.state(), sg.d_loss)) return;
+    for (size_t r = 0; r < ids.size(); ++r) {
+      if (sg.d_loss[r].size() != ids[r].size())
+        throw std::invalid_argument(std::string("gradient: the loss's derivative of row '") +
+                                    kStateFields[r].name + "' has " +
+                                    std::to_string(sg.d_loss[r].size()) + " values, the row " +
+                                    std::to_string(ids[r].size()));
+      for (size_t k = 0; k < ids[r].size(); ++k) {
+        if (sg.d_loss[r][k] == 0) continue;
+        if (ids[r][k] >= 0) sg.seeds.emplace_back(ids[r][k], sg.d_loss[r][k]);
+        sg.d_loss[r][k] = 0;
+      }
+    }
+  };
   try {
-    while (sg.rep.state().steps < end)
+    if (first == 0) take_loss_adjoint();  // the initial state's
+    while (sg.rep.state().steps < end) {
       if (!sg.rep.step(nullptr)) throw std::domain_error("gradient: the replica went unstable");
+      take_loss_adjoint();
+    }
   } catch (...) {
     g_tape = nullptr;
     throw;
@@ -805,6 +819,7 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k)
       if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
+  for (const auto& [id, v] : sg.seeds) adj[id] += v;
   sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.voxel_io());
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
@@ -821,8 +836,8 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
 }  // namespace
 
 std::string unsupported(const Model& m) {
-  if (m.def.task != Task::kWalk) return "only the walk task's fitness is differentiated yet";
-  return unsupported_life(m);
+  const std::string why = unsupported_life(m);
+  return why.empty() ? why : std::string("the ") + to_string(m.def.task) + " task's life: " + why;
 }
 
 std::string unsupported_life(const Model& m) {
@@ -838,10 +853,15 @@ ReplicaSummary replicate_life(const Model& m) {
   Replica r(m);
   Fnv events;
   stable_dt_adj(m, m.e0.data(), &events);  // the initial time step's (make_initial_state)
-  while (r.state().status == SimStatus::kRunning)
+  const TrajectoryLoss loss = task_loss(m);
+  loss.see(r.state());
+  while (r.state().status == SimStatus::kRunning) {
     if (!r.step(&events)) throw std::domain_error("gradient: the life went unstable");
+    loss.see(r.state());
+  }
   ReplicaSummary out;
-  out.fitness = walk_fitness(m, r.state()).value;
+  out.fitness = loss.value(r.state());
+  if (loss.branches) events.add(loss.branches());
   out.events = events.h;
   out.steps = r.state().steps;
   return out;
@@ -895,19 +915,29 @@ Plan plan(const Model& m, const GradientOptions& options) {
 Gradient gradient(const Model& m, const GradientOptions& options) {
   const std::string why = unsupported(m);
   if (!why.empty()) throw std::invalid_argument("gradient: " + why);
-  // Walk's fitness of the final state (summarise's), seeding the adjoints of the final
-  // positions and of com_settled.
-  const FinalLoss walk = [&m](const State& s, std::vector<std::vector<double>>& d) {
-    const FitnessSeed seed = walk_fitness(m, s);
-    d[&state_field("pos") - kStateFields.data()] = seed.d_pos;
-    for (int k = 0; k < 3; ++k)
-      d[&state_field("com_settled") - kStateFields.data()][k] = seed.d_com_settled[k];
-    return seed.value;
-  };
-  return gradient_of(m, walk, options);
+  return gradient_of(m, task_loss(m), options);
 }
 
 Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOptions& options) {
+  // A loss of the final state reads the state after the life's last step (its count known
+  // once the forward life is over).
+  auto last = std::make_shared<int64_t>(-1);
+  TrajectoryLoss at_end;
+  at_end.see = [](const State&) {};
+  at_end.value = [&loss, last](const State& final) {
+    *last = final.steps;
+    std::vector<std::vector<double>> d = zero_rows(final);
+    return loss(final, d);
+  };
+  at_end.adjoint = [&loss, last](const State& s, std::vector<std::vector<double>>& d) {
+    if (s.steps != *last) return false;
+    loss(s, d);
+    return true;
+  };
+  return gradient_of(m, at_end, options);
+}
+
+Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientOptions& options) {
   Gradient g;
   // ---- Forward: the engine's own life, with a snapshot every K steps ----
   const Plan p = plan(m, options);
@@ -916,9 +946,11 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   const auto wall_start = std::chrono::steady_clock::now();
   Simulator sim(m);
   std::vector<std::vector<uint8_t>> snaps;
+  loss.see(sim.state());
   while (sim.state().status == SimStatus::kRunning) {
     if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());
     sim.step();
+    loss.see(sim.state());
   }
   // simulate()'s summary of the same life (it records no frames here), judged by the caller's
   // rules: a life that does not count has no backward pass.
@@ -949,13 +981,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   Backward b;
   b.adj_state.resize(rows.size());
   for (size_t r = 0; r < rows.size(); ++r) b.adj_state[r].assign(one.rep.ids()[r].size(), 0.0);
-  g.fitness = loss(sim.state(), b.adj_state);
-  for (size_t r = 0; r < rows.size(); ++r)
-    if (b.adj_state[r].size() != one.rep.ids()[r].size())
-      throw std::invalid_argument(std::string("gradient: the loss's derivative of row '") +
-                                  kStateFields[r].name + "' has " +
-                                  std::to_string(b.adj_state[r].size()) + " values, the row " +
-                                  std::to_string(one.rep.ids()[r].size()));
+  g.fitness = loss.value(sim.state());
   g.stiffness.assign(m.n, 0.0);
   g.phase.assign(m.n, 0.0);
   g.dev_rate.assign(m.n, 0.0);
@@ -963,7 +989,7 @@ Gradient gradient_of(const Model& m, const FinalLoss& loss, const GradientOption
   b.d_gain.assign(m.n, 0.0);
   const auto record = [&](Segment& sg, size_t seg) {
     const bool last = seg + 1 == snaps.size();
-    record_segment(sg, m, snaps[seg], last ? nullptr : &snaps[seg + 1], sim.state(),
+    record_segment(sg, m, loss, snaps[seg], last ? nullptr : &snaps[seg + 1], sim.state(),
                    static_cast<int64_t>(seg) * K,
                    last ? g.steps : static_cast<int64_t>(seg + 1) * K);
   };

@@ -80,8 +80,9 @@ struct Gradient {
 };
 
 // The reason, in one line, why the gradient of this model's life is not available yet, or ""
-// when it is (docs/gradients.md, "Not covered yet"): the task must be walk and the bond model
-// exact (any environment, free objects, any controller: the sine or a network).
+// when it is (docs/gradients.md, "Not covered yet"): unsupported_life()'s reason, naming the
+// task whose life it is (every task's fitness has its loss, task_loss; the bond model must be
+// exact; any environment, free objects, any controller: the sine or a network).
 std::string unsupported(const Model& model);
 
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it
@@ -103,6 +104,35 @@ Plan plan(const Model& model, const GradientOptions& options = {});
 // sized like the row for a floating-point row and empty for the others, zero on entry).
 using FinalLoss = std::function<double(const State& final, std::vector<std::vector<double>>& d)>;
 
+// A loss of the states the life passes through, any of them, not only the last: a user's
+// scalar function of the trajectory, or a task's fitness (task_loss). Its derivative with
+// respect to the state after step t is added to that state's adjoint when the backward pass
+// reaches step t.
+struct TrajectoryLoss {
+  // Forward: called with the initial state (steps 0) and then the state after every step, in
+  // order: the engine's own states (the watches task_values, task_layout included). The loss
+  // keeps what it reads.
+  std::function<void(const State& s)> see;
+  // After the life: the loss's value (Gradient::fitness).
+  std::function<double(const State& final)> value;
+  // Backward: called once for every state of the life again (the initial one and the one
+  // after every step; segments last to first, each one's steps in order), with the replica's
+  // state, which has the engine's bits in every row but the watches (not kept). Returns false
+  // when the loss does not read this state (d untouched); else adds d loss / d row to d[row],
+  // as FinalLoss does (d zero on entry), and returns true.
+  std::function<bool(const State& s, std::vector<std::vector<double>>& d)> adjoint;
+  // Optional, for tests: a signature of the loss's own non-differentiable choices in the life
+  // it saw (jump's highest step, carry's lesser travel, ...), which replicate_life adds to its
+  // events.
+  std::function<uint64_t()> branches;
+};
+
+// The model's task's fitness (docs/tasks.md) as a TrajectoryLoss: its value is simulate()'s
+// fitness bit for bit, from the physics rows alone (engine/grad/src/task_losses.cpp;
+// docs/gradients.md says which states each task reads and its derivative where it has none).
+// A fresh loss for each life; it refers to `model`, which must outlive it.
+TrajectoryLoss task_loss(const Model& model);
+
 // The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
 // reason, and std::domain_error when the life takes a branch that is not differentiated yet
 // (a bond the batched kernel hands to the
@@ -113,6 +143,11 @@ Gradient gradient(const Model& model, const GradientOptions& options = {});
 // returned fitness is the loss's value. Throws as gradient() does, but for the task, and
 // std::invalid_argument when the loss sizes a derivative unlike its row.
 Gradient gradient_of(const Model& model, const FinalLoss& loss,
+                     const GradientOptions& options = {});
+
+// The gradient of a loss of the life's states (any task): the returned fitness is the
+// loss's value. Throws as gradient_of(FinalLoss) does.
+Gradient gradient_of(const Model& model, const TrajectoryLoss& loss,
                      const GradientOptions& options = {});
 
 // unsupported() without the task: why the life itself cannot be differentiated yet, or "".
