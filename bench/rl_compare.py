@@ -1,15 +1,17 @@
 """PPO against CMA-ES for a fixed body's controller at equal cost (docs/control.md,
-"Learning a controller: PPO vs CMA-ES"); not a test.
+"Learning a controller: CMA-ES, gradient ascent and PPO"); not a test.
 
     PYTHONPATH=build/python python3 bench/rl_compare.py --method cma --seed 1 --steps 1000000 \\
-        --out /tmp/cmp [--treatment none] [--duration 1] [--every 10]
+        --out /tmp/cmp [--treatment none] [--duration 1] [--every 10] [--task walk] [--robot F]
     PYTHONPATH=build/python python3 bench/rl_compare.py --method ppo --seed 1 --steps 1000000 \\
         --out /tmp/cmp [...]
 
-The body is the demo walker (512 voxels) with the given treatment ("none": no development;
-"stress": its own), a life of --duration s after a 0.2 s settle, on walk. Both methods run on
-one thread and stop once the engine steps of every life they simulated (counted the same way:
-each life's own steps, PPO's evaluation lives and partial lives included) reach --steps.
+The body is the demo walker (512 voxels), or --robot's, with the given treatment ("none": no
+development; "stress": the walker's own), a life of --duration s after a 0.2 s settle, on
+--task (default walk; climb and the other tasks with their default environments). Both
+methods run on one thread and stop once the engine steps of every life they simulated
+(counted the same way: each life's own steps, PPO's evaluation lives and partial lives
+included) reach --steps.
 
   cma  the evolver's CMA-ES (full covariance) on the weights of a distributed controller of
        4 hidden units acting every --every steps (95 weights, from 0, sigma 0.5, the default
@@ -17,11 +19,14 @@ each life's own steps, PPO's evaluation lives and partial lives included) reach 
        simulate_many and told as Results (the engine's scoring). The champion is the best
        life sampled.
   ppo  plastivox.ppo: a per-voxel Gaussian MLP policy acting every --every steps on 8
-       environments of a VoxelVecEnv; the champion is the best mean-action life.
+       environments of a VoxelVecEnv; the champion is the best mean-action life, replayed
+       (plastivox.ppo.replay) for its Result.
 
-Prints one JSON line: the champion's fitness, the engine steps and process CPU seconds
-when it was found, and the totals. The CPU seconds include everything in the process after
-start-up (for PPO, torch's forward and backward passes; for CMA-ES, the strategy's update).
+Prints one JSON line: the champion's fitness, whether it met the task's criterion
+(`success`, docs/tasks.md), the engine steps and process CPU seconds when it was found, and
+the totals. The CPU seconds include everything in the process after start-up (for PPO,
+torch's forward and backward passes; for CMA-ES, the strategy's update). evolve_cma() is also
+bench/grad_body.py's CMA-ES.
 """
 
 import argparse
@@ -36,10 +41,39 @@ import plastivox
 
 
 def body(args):
-    robot = plastivox.demo_walker()
+    robot = plastivox.load_robot(args.robot) if args.robot else plastivox.demo_walker()
     if args.treatment:
         robot = robot.with_physics({}, treatment=args.treatment)
     return robot
+
+
+def evolve_cma(config, path, budget, quiet=False):
+    """Runs the evolver's CMA-ES of `config` (results to PATH.h5, started afresh) until the
+    engine steps of its lives reach `budget`. Each generation is asked, simulated by
+    simulate_many on one thread and told as Results. Returns the champion (the best life that
+    counts: fitness, success, engine steps and CPU seconds when found), the totals and the
+    curve [(steps, cpu_seconds, best fitness)] after each generation."""
+    if os.path.exists(path + ".h5"):
+        os.remove(path + ".h5")  # a fresh run: the counters below are not checkpointed
+    start = time.process_time()
+    steps, best, curve = 0, {"fitness": -math.inf}, []
+    with plastivox.Evolver(config, path + ".h5", threads=1, name="rl_compare") as ev:
+        while not ev.finished and steps < budget:
+            robots = ev.ask()
+            lives = plastivox.simulate_many(robots, threads=1)
+            ev.tell(lives)
+            for life in lives:
+                steps += life.steps
+                if life.status == "finished" and life.fitness > best["fitness"]:
+                    best = {"fitness": life.fitness, "success": life.success, "steps": steps,
+                            "cpu_seconds": time.process_time() - start}
+            cpu = time.process_time() - start
+            curve.append((steps, round(cpu, 3), best["fitness"]))
+            if not quiet:
+                print(f"gen {len(curve):4d}  steps {steps:9d}  cpu {cpu:7.1f} s  "
+                      f"best {best['fitness']:.4f}", flush=True)
+    return {"steps": steps, "cpu_seconds": round(time.process_time() - start, 2), "best": best,
+            "curve": curve}
 
 
 def cma(args):
@@ -53,30 +87,12 @@ def cma(args):
     config = {"format": "plastivox-evolve-config", "version": 1, "seed": args.seed,
               "generations": 100000, "algorithm": "cma-es", "body": path + ".json",
               "genome": "controller", "treatment": robot.treatment, "threads": 1,
-              "task": "walk",
+              "task": args.task,
               "physics": {"duration": args.duration, "settle_time": 0.2},
               "cma": {"sigma": 0.5, "covariance": "full"}}
-    if os.path.exists(path + ".h5"):
-        os.remove(path + ".h5")  # a fresh run: the counters below are not checkpointed
-    start = time.process_time()
-    steps, best, log = 0, {"fitness": -math.inf}, []
-    with plastivox.Evolver(config, path + ".h5", threads=1, name="rl_compare") as ev:
-        while not ev.finished and steps < args.steps:
-            robots = ev.ask()
-            lives = plastivox.simulate_many(robots, threads=1)
-            ev.tell(lives)
-            for life in lives:
-                steps += life.steps
-                if life.status == "finished" and life.fitness > best["fitness"]:
-                    best = {"fitness": life.fitness, "steps": steps,
-                            "cpu_seconds": time.process_time() - start}
-            log.append((steps, best["fitness"]))
-            if not args.quiet:
-                print(f"gen {len(log):4d}  steps {steps:9d}  cpu "
-                      f"{time.process_time() - start:7.1f} s  best {best['fitness']:.4f}",
-                      flush=True)
-    return {"method": "cma-es", "seed": args.seed, "steps": steps,
-            "cpu_seconds": round(time.process_time() - start, 2), "best": best}
+    out = evolve_cma(config, path, args.steps, args.quiet)
+    return {"method": "cma-es", "seed": args.seed, "task": args.task, "steps": out["steps"],
+            "cpu_seconds": out["cpu_seconds"], "best": out["best"]}
 
 
 def ppo(args):
@@ -87,11 +103,20 @@ def ppo(args):
             "--duration", str(args.duration), "--every", str(args.every)]
     if args.treatment:
         argv += ["--treatment", args.treatment]
+    if args.robot:
+        argv += ["--robot", args.robot]
+    argv += ["--task", args.task]
     if args.quiet:
         argv.append("--quiet")
-    state = p.train(p.parser().parse_args(argv))
-    return {"method": "ppo", "seed": args.seed, "steps": state["steps"],
-            "cpu_seconds": round(state["cpu_seconds"], 2), "best": state["best"]}
+    ppo_args = p.parser().parse_args(argv)
+    state = p.train(ppo_args)
+    best = {k: v for k, v in state["best"].items() if k != "actions"}
+    life = p.replay(ppo_args, state["best"]["actions"])
+    if life.fitness != best["fitness"]:
+        raise SystemExit(f"the champion's replay scored {life.fitness!r}, not {best['fitness']!r}")
+    best["success"] = life.success
+    return {"method": "ppo", "seed": args.seed, "task": args.task, "steps": state["steps"],
+            "cpu_seconds": round(state["cpu_seconds"], 2), "best": best}
 
 
 def main():
@@ -102,6 +127,8 @@ def main():
     ap.add_argument("--duration", type=float, default=1.0)
     ap.add_argument("--every", type=int, default=10)
     ap.add_argument("--treatment", help="none: no development; default the walker's (stress)")
+    ap.add_argument("--task", default="walk")
+    ap.add_argument("--robot", help="robot file (default: the demo walker)")
     ap.add_argument("--out", required=True)
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args()
