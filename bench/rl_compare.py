@@ -42,6 +42,11 @@ import plastivox
 
 def body(args):
     robot = plastivox.load_robot(args.robot) if args.robot else plastivox.demo_walker()
+    if getattr(args, "dev_rate", None) is not None:  # every voxel's rate, the rest as it was
+        rates = np.where(robot.geometry != 0, args.dev_rate, 0.0)
+        robot = plastivox.Robot.from_arrays(
+            robot.geometry, robot.stiffness, robot.phase, rates, voxel_size=robot.voxel_size,
+            name=robot.name).with_physics(robot.physics)
     if args.treatment:
         robot = robot.with_physics({}, treatment=args.treatment)
     return robot
@@ -129,9 +134,17 @@ def main():
     ap.add_argument("--treatment", help="none: no development; default the walker's (stress)")
     ap.add_argument("--task", default="walk")
     ap.add_argument("--robot", help="robot file (default: the demo walker)")
+    ap.add_argument("--dev-rate", type=float,
+                    help="set every voxel's development rate (1/s); for a body evolved "
+                         "without development, whose rates are 0")
     ap.add_argument("--out", required=True)
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args()
+    if args.dev_rate is not None:  # both methods read the body from a file
+        os.makedirs(args.out, exist_ok=True)
+        path = os.path.join(args.out, "body.json")
+        body(args).save(path)
+        args.robot, args.dev_rate = path, None
     out = cma(args) if args.method == "cma" else ppo(args)
     print(json.dumps(out))
 
