@@ -89,6 +89,9 @@ def gradient(args, robot, path):
     written = lines[-1]
     if written.get("fitness") != best["fitness"]:
         raise SystemExit(f"{out} replays to {written.get('fitness')}, not {best['fitness']}")
+    # optimize judges as simulate does; the evolver would also not count a 3-D walk owed to
+    # rising or falling (docs/evolution.md, "Flagged lives"): say whether the champion is one.
+    best["vertical_exploit"] = plastivox.simulate(plastivox.load_robot(out)).vertical_exploit
     return {"method": "gradient-adam", "wrt": args.wrt, "lr": args.lr, "gradient_steps": n,
             "start": curve[0][2], "steps": steps + best["life_steps"],  # + the replay
             "cpu_seconds": round(cpu_process, 2), "best": best, "curve": curve,
@@ -108,7 +111,8 @@ def cma(args, robot, path):
     out["sigma"] = args.sigma or "default"
     start = plastivox.simulate(robot).fitness
     return {"method": "cma-es", "genome": args.genome, "sigma": out["sigma"], "seed": args.seed,
-            "start": start,
+            "start": start, "best_sampled": out["best_sampled"],
+            "flagged_lives": out["flagged_lives"],
             "steps": out["steps"], "cpu_seconds": out["cpu_seconds"], "best": out["best"],
             "curve": out["curve"]}
 

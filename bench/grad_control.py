@@ -113,6 +113,7 @@ def main():
         raise SystemExit(f"the champion's life scored {champion.fitness!r}, "
                          f"not {best['fitness']!r}")
     best["success"] = champion.success
+    best["vertical_exploit"] = champion.vertical_exploit  # the evolver would not count it
     print(json.dumps({"method": "gradient-adam", "seed": args.seed, "lr": args.lr,
                       "task": args.task, "treatment": args.treatment, "life_steps": life_steps,
                       "gradient_steps": len(curve), "steps": steps,
