@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <ctime>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -126,11 +128,13 @@ json ascend(RobotDef& robot, const std::vector<std::string>& wrt, std::vector<Mo
 // The life as `simulate` judges it: its fitness, or why it does not count.
 struct Judged {
   double fitness = 0;
+  int64_t steps = 0;  // the life's engine steps (the gradient's forward and recomputation: as many)
   std::string failure;  // "" when the life counts
 };
 Judged judged(const SimResult& r) {
   Judged out;
   out.fitness = r.fitness;
+  out.steps = r.steps;
   if (r.status != SimStatus::kFinished)
     out.failure = std::string(r.sank ? "life invalid: " : "simulation unstable: ") + r.failure;
   return out;
@@ -297,6 +301,7 @@ int cmd_optimize(const Args& in) {
   std::string stopped;
   for (int k = 0; k <= steps; ++k) {
     const auto started = std::chrono::steady_clock::now();
+    const std::clock_t cpu_started = std::clock();  // the process's CPU time (one thread)
     const Model model = compiled(robot);
     // The gradient's forward life is the step's evaluation, judged as simulate judges it (the
     // options' judge). The last robot has no gradient to take, and one refused after its life
@@ -337,6 +342,8 @@ int cmd_optimize(const Args& in) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     line["seconds"] = seconds;
+    line["cpu_seconds"] = static_cast<double>(std::clock() - cpu_started) / CLOCKS_PER_SEC;
+    line["life_steps"] = life.steps;
     log_text += line.dump() + "\n";
     write_file_atomic(log_path, log_text);  // a killed run keeps the steps it took
     std::fprintf(stderr, "plastivox optimize: step %d/%d fitness %s%s (%.1f s)\n", k, steps,

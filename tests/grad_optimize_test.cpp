@@ -58,6 +58,10 @@ TEST_F(Optimize, RaisesTheWalkersFitnessAndTheWrittenRobotReplaysBitForBit) {
   const nlohmann::json replay = testing::cli_json("simulate " + path("opt.json") + " --json");
   EXPECT_EQ(replay["fitness"].get<double>(), log[4]["fitness"].get<double>());
   EXPECT_EQ(log[4]["fitness"].get<double>(), last);
+  // Each step's line carries its cost: the judged life's engine steps (the replay's) and the
+  // process's CPU seconds for the step (a life and a gradient: more than nothing).
+  EXPECT_EQ(log[3]["life_steps"].get<int64_t>(), replay["steps"].get<int64_t>());
+  for (int k = 0; k <= 2; ++k) EXPECT_GT(log[1 + k]["cpu_seconds"].get<double>(), 0.0);
   // Every value stays valid: stiffness within the physics' range, phases within half a cycle,
   // and the arrays not optimised untouched.
   const RobotFile before = read_robot_file(kWalker), after = read_robot_file(path("opt.json"));

@@ -313,13 +313,15 @@ def train(args, stop_after=None):
                  "train_fitness": float(fitness.mean()), "policy_loss": losses[0],
                  "value_loss": losses[1], "std": float(torch.exp(agent.log_std))}
         if state["iteration"] % args.eval_every == 0 or state["steps"] >= args.steps:
-            _, best, steps = rollout(agent, probe, feat, gen, deterministic=True)
+            life, best, steps = rollout(agent, probe, feat, gen, deterministic=True)
             state["steps"] += steps
             entry["eval_fitness"] = float(best[0])
             if best[0] > state["best"]["fitness"]:
+                # The actions as sent (float64, clipped), so replay() can run the life again.
+                sent = life["actions"][:, 0].double().clamp(-1, 1)
                 state["best"] = {"fitness": float(best[0]), "steps": state["steps"],
                                  "cpu_seconds": time.process_time() - start_cpu,
-                                 "iteration": state["iteration"]}
+                                 "iteration": state["iteration"], "actions": sent}
         state["cpu_seconds"] = time.process_time() - start_cpu
         entry["cpu_seconds"] = state["cpu_seconds"]
         state["log"].append(entry)
@@ -334,6 +336,21 @@ def train(args, stop_after=None):
     return dict(state, agent=agent.state_dict())
 
 
+def replay(args, actions):
+    """The life of a sequence of actions (one row of the robot's voxels per call, each held
+    args.every steps, as the environments hold them), run again in a Simulator: its Result,
+    which simulate() would give that life (fitness and `success` by the task's criterion).
+    replay(args, state["best"]["actions"]) is the champion's life, bit for bit."""
+    robot = robot_of(args).with_physics(task=args.task)
+    sim = plastivox.Simulator(robot)
+    for row in np.asarray(actions, dtype=np.float64):
+        if sim.status != "running":
+            break
+        sim.set_actuation(row)
+        sim.step(args.every)
+    return sim.result()
+
+
 def main(argv=None):
     args = parser().parse_args(argv)
     for name in ("num_envs", "every", "torch_threads", "steps", "eval_every", "epochs",
@@ -341,8 +358,9 @@ def main(argv=None):
         if getattr(args, name) < 1:
             raise SystemExit(f"--{name.replace('_', '-')}: must be >= 1, got {getattr(args, name)}")
     state = train(args)
+    best = {k: v for k, v in state["best"].items() if k != "actions"}
     print(json.dumps({"method": "ppo", "seed": args.seed, "steps": state["steps"],
-                      "cpu_seconds": round(state["cpu_seconds"], 2), "best": state["best"]}))
+                      "cpu_seconds": round(state["cpu_seconds"], 2), "best": best}))
 
 
 if __name__ == "__main__":

@@ -51,6 +51,11 @@ def test_updates_are_finite_and_a_resumed_run_ends_where_an_unbroken_one_does(tm
         assert np.isfinite(entry["eval_fitness"])
     # whole lives (94 steps each: 2 training, 1 evaluation an iteration), none cut short
     assert whole["steps"] == 2 * 3 * 94 and whole["best"]["fitness"] > 0
+    # The champion's actions, replayed in a Simulator, give its life: its fitness bit for
+    # bit, and the Result (success by the task's criterion) the comparison reports.
+    life = ppo.replay(args_for(tmp_path, "whole.pt"), whole["best"]["actions"])
+    assert life.status == "finished" and life.fitness == whole["best"]["fitness"]
+    assert life.steps == 94
     torch.manual_seed(3)  # the parameters the run started from
     init = ppo.Agent(16).state_dict()
     assert any(not torch.equal(init[k], v) for k, v in whole["agent"].items())
