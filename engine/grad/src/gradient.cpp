@@ -749,9 +749,8 @@ struct Segment {
 // and checks that the replica reaches `next` (the engine's state at `end`: the next
 // snapshot's, or the final state when `next_snapshot` is null) bit for bit.
 void record_segment(Segment& sg, const Model& m, const TrajectoryLoss& loss,
-                    const std::vector<uint8_t>& snapshot,
-                    const std::vector<uint8_t>* next_snapshot, const State& final, int64_t first,
-                    int64_t end) {
+                    const std::vector<uint8_t>& snapshot, const std::vector<uint8_t>* next_snapshot,
+                    const State& final, int64_t first, int64_t end) {
   sg.tape.nodes.clear();
   sg.tape.clear_shadows();
   sg.blocks.clear();
