@@ -186,9 +186,10 @@ TEST(Gradient, MatchesCentralDifferencesOnTheDemoWalker) {
   EXPECT_GE(smooth, 2 * static_cast<int>(some.size()));
 }
 
-// The initial positions and velocities: central differences of lives started from a nudged
-// initial state (a Simulator's state changed before its first step), under walk and turn.
-TEST(Gradient, InitialPositionsAndVelocitiesMatchCentralDifferences) {
+// The initial positions, velocities, orientations and angular velocities: central differences
+// of lives started from a nudged initial state (a Simulator's state changed before its first
+// step), under walk and turn.
+TEST(Gradient, InitialStateMatchesCentralDifferences) {
   for (Task task : {Task::kWalk, Task::kTurn}) {
     SCOPED_TRACE(to_string(task));
     PhysicsDef def = short_life(0.2, 0.05);
@@ -215,7 +216,80 @@ TEST(Gradient, InitialPositionsAndVelocitiesMatchCentralDifferences) {
       EXPECT_TRUE(RelNear(g.initial_position[k], (4 * dx2 - dx1) / 3, 1e-6)) << k;
       EXPECT_TRUE(RelNear(g.initial_velocity[k], (4 * dv2 - dv1) / 3, 1e-6)) << k;
     }
+    // Orientations and angular velocities: a voxel turned by a small angle a about a world
+    // axis (its quaternion (sin(a/2) e, cos(a/2)): d / da is half the gradient's x, y or z;
+    // w's component is projected out) and spinning about it.
+    ASSERT_EQ(g.initial_orientation.size(), 4 * size_t(m.n));
+    ASSERT_EQ(g.initial_angular_velocity.size(), 3 * size_t(m.n));
+    const auto turned = [&](int i, int axis, double turn, double spin) {
+      Simulator sim(m);
+      sim.mutable_state().orient[i] = Quat(Eigen::AngleAxisd(turn, Vec3::Unit(axis)));
+      sim.mutable_state().ang_mom[i][axis] += spin * m.inertia;
+      while (sim.state().status == SimStatus::kRunning) sim.step();
+      return sim.result().fitness;
+    };
+    for (const auto& [i, axis] :
+         {std::pair{0, 0}, std::pair{4, 1}, std::pair{13, 2}, std::pair{20, 0}, std::pair{26, 1}}) {
+      EXPECT_EQ(g.initial_orientation[4 * i + 3], 0.0) << i;
+      const double ha = 1e-4, hw = 1e-4;  // rad, rad/s
+      const double da1 = (turned(i, axis, ha, 0) - turned(i, axis, -ha, 0)) / (2 * ha);
+      const double da2 = (turned(i, axis, ha / 2, 0) - turned(i, axis, -ha / 2, 0)) / ha;
+      const double dw1 = (turned(i, axis, 0, hw) - turned(i, axis, 0, -hw)) / (2 * hw);
+      const double dw2 = (turned(i, axis, 0, hw / 2) - turned(i, axis, 0, -hw / 2)) / hw;
+      EXPECT_NE(da1, 0.0);
+      EXPECT_NE(dw1, 0.0);
+      EXPECT_TRUE(RelNear(0.5 * g.initial_orientation[4 * i + axis], (4 * da2 - da1) / 3, 1e-6))
+          << i << " axis " << axis;
+      EXPECT_TRUE(RelNear(g.initial_angular_velocity[3 * i + axis], (4 * dw2 - dw1) / 3, 1e-6))
+          << i << " axis " << axis;
+    }
   }
+}
+
+// A robot with its own amplitudes (voxcraft's rule) and an actuation scale: the gain of each
+// voxel is their product, and the gradient is with respect to it (Gradient::act_gain); the
+// physics' amplitude then changes nothing (its gradient 0).
+TEST(Gradient, PerVoxelActuationGainsMatchCentralDifferences) {
+  RobotDef r = cube3();
+  r.act_amplitude.assign(r.sites(), 0.0);
+  r.act_scale.assign(r.sites(), 1.0);
+  for (int s = 0; s < r.sites(); ++s) {
+    r.act_amplitude[s] = 0.12 + 0.05 * std::sin(2.3 * s);
+    r.act_scale[s] = s % 4 == 0 ? 0.5 : 1.0;
+  }
+  for (Treatment t : {Treatment::kNone, Treatment::kStress}) {
+    SCOPED_TRACE(to_string(t));
+    const Model m = compile(r, short_life(0.2, 0.05, t));
+    ASSERT_TRUE(m.act_per_voxel);
+    const Gradient g = grad::gradient(m);
+    ASSERT_EQ(g.act_gain.size(), size_t(m.n));
+    EXPECT_EQ(g.amplitude, 0.0);
+    const uint64_t events = grad::replicate_life(m).events;
+    double scale = 0;
+    std::vector<Difference> ds;
+    for (int i = 0; i < m.n; ++i) {
+      const Param p{"act_gain", i, m.act_gain[i], [i](Model& x, double h) { x.act_gain[i] += h; },
+                    g.act_gain[i]};
+      ds.push_back(central(m, p, 1e-4 * m.act_gain[i], events));
+      scale = std::max(scale, std::abs(ds.back().value));
+    }
+    int smooth = 0;
+    for (int i = 0; i < m.n; ++i) {
+      if (!ds[i].smooth) continue;
+      ++smooth;
+      EXPECT_LT(
+          std::abs(g.act_gain[i] - ds[i].value) / std::max(std::abs(ds[i].value), 1e-3 * scale),
+          1e-6)
+          << "act_gain[" << i << "]: gradient " << g.act_gain[i] << ", difference " << ds[i].value;
+    }
+    EXPECT_GT(scale, 0.0);
+    EXPECT_GE(smooth, m.n - 3);
+  }
+  // Actuation off (every gain 0): the stage is skipped, and the gains' gradient is 0.
+  RobotDef still = r;
+  std::fill(still.act_amplitude.begin(), still.act_amplitude.end(), 0.0);
+  const Gradient g0 = grad::gradient(compile(still, short_life(0.1, 0.05)));
+  EXPECT_EQ(g0.act_gain, std::vector<double>(still.sites(), 0.0));
 }
 
 // A loss of the final state of one's own (here a voxel's final x and another's final vertical

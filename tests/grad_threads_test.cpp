@@ -58,6 +58,9 @@ void expect_same_on_1_and_2_threads(const Model& m) {
     EXPECT_TRUE(same_bits(a.dev_rate, b.dev_rate));
     EXPECT_TRUE(same_bits(a.initial_position, b.initial_position));
     EXPECT_TRUE(same_bits(a.initial_velocity, b.initial_velocity));
+    EXPECT_TRUE(same_bits(a.initial_orientation, b.initial_orientation));
+    EXPECT_TRUE(same_bits(a.initial_angular_velocity, b.initial_angular_velocity));
+    EXPECT_TRUE(same_bits(a.act_gain, b.act_gain));
     EXPECT_TRUE(same_bits(a.controller_weights, b.controller_weights));
     EXPECT_TRUE(same_bits(a.amplitude, b.amplitude));
     EXPECT_EQ(a.peak_tape_nodes, b.peak_tape_nodes);

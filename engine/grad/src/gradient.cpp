@@ -1037,7 +1037,18 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
     g.initial_position.assign(pos.begin(), pos.begin() + 3 * size_t(m.robot_n));
     g.initial_velocity.resize(3 * size_t(m.robot_n));
     for (size_t k = 0; k < g.initial_velocity.size(); ++k) g.initial_velocity[k] = mom[k] * m.mass;
+    // Orientations (x, y, z, w), all the identity at the start: the unit quaternions' tangent
+    // space there is x, y, z, so w's share (a change of length, which no turn makes) is
+    // dropped. Angular velocities are angular momenta / the inertia.
+    const std::vector<double>& q = b.adj_state[&state_field("orient") - kStateFields.data()];
+    const std::vector<double>& ang = b.adj_state[&state_field("ang_mom") - kStateFields.data()];
+    g.initial_orientation.assign(q.begin(), q.begin() + 4 * size_t(m.robot_n));
+    for (int i = 0; i < m.robot_n; ++i) g.initial_orientation[4 * size_t(i) + 3] = 0.0;
+    g.initial_angular_velocity.resize(3 * size_t(m.robot_n));
+    for (size_t k = 0; k < g.initial_angular_velocity.size(); ++k)
+      g.initial_angular_velocity[k] = ang[k] * m.inertia;
   }
+  g.act_gain.assign(b.d_gain.begin(), b.d_gain.begin() + m.robot_n);
   g.stiffness.resize(m.robot_n);
   g.phase.resize(m.robot_n);
   g.dev_rate.resize(m.robot_n);

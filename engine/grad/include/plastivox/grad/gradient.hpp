@@ -61,11 +61,24 @@ struct Gradient {
   // d fitness / d initial centre (per m) and velocity (per m/s) of each robot voxel: x, y, z
   // per voxel, voxel order (the life starts at rest at Model::rest_pos).
   std::vector<double> initial_position, initial_velocity;
+  // d fitness / d initial orientation of each robot voxel, per unit of each quaternion
+  // component in the State's order (x, y, z, w per voxel), projected onto the unit quaternions'
+  // tangent space at the start (every voxel starts unturned, w = 1: its w component is 0, and
+  // x, y, z are twice the derivative per rad of a small turn about the world's x, y, z); and
+  // per rad/s of initial angular velocity (x, y, z per voxel, world axes; the life starts
+  // without turning).
+  std::vector<double> initial_orientation, initial_angular_velocity;
   // d fitness / d each weight of a neural controller (Model::controller.weights, in its order:
   // docs/control.md; biases are weights there); empty for the sine.
   std::vector<double> controller_weights;
   double amplitude = 0;  // per unit of physics.act_amplitude (0 when the robot gives its own
                          // amplitudes or actuation is off)
+  // d fitness / d each robot voxel's actuation gain (Model::act_gain, voxel order): with the
+  // robot's own amplitudes (Model::act_per_voxel) the gain is RobotDef::act_amplitude times
+  // RobotDef::act_scale (1 without one), so d / d act_amplitude = act_gain x act_scale; under
+  // the paper's rule the gain is the act_scale, so this is d / d act_scale. 0 everywhere while
+  // actuation is off (no voxel with a gain above 0: the stage is skipped).
+  std::vector<double> act_gain;
   // The forward life's summary: simulate()'s for the same model, bit for bit (no recording),
   // judged by GradientOptions::judge when one is given. A caller judges this life instead of
   // simulating it again: its fitness is the task's, `fitness` above the loss's.
