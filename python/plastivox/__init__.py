@@ -440,12 +440,19 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
     (docs/gradients.md), by reverse accumulation through the engine's own discrete life.
     Returns (fitness, grads): fitness is simulate()'s, bit for bit; grads maps each name to
     numpy arrays shaped like the Robot's own ((nx, ny, nz), 0 where no voxel is): "stiffness"
-    (per Pa of congenital stiffness), "phase" (per cycle), "dev_rate" (per 1/s); to a float,
-    "amplitude" (per unit of physics act_amplitude); or "controller": a flat array shaped like
-    robot.controller["weights"], the derivative with respect to each weight of a neural
-    controller (biases included, docs/control.md's order); "initial_position" and
-    "initial_velocity": (robot_voxels, 3) arrays in voxel order, per m and per m/s of each
-    voxel's starting centre and velocity. robot, physics and treatment as simulate takes them.
+    (per Pa of congenital stiffness), "phase" (per cycle), "dev_rate" (per 1/s),
+    "act_amplitude" (per unit of the robot's own amplitude, Robot.act_amplitude; ValueError for
+    a robot without them); to a float, "amplitude" (per unit of physics act_amplitude; 0 for a
+    robot with its own amplitudes, which do not read it); or "controller": a flat array shaped
+    like robot.controller["weights"], the derivative with respect to each weight of a neural
+    controller (biases included, docs/control.md's order); "initial_position",
+    "initial_velocity" and "initial_angular_velocity": (robot_voxels, 3) arrays in voxel order,
+    per m, per m/s and per rad/s (world axes) of each voxel's starting centre, velocity and
+    spin; "initial_orientation": (robot_voxels, 4), per unit of each component of the voxel's
+    starting quaternion (x, y, z, w), projected onto the unit quaternions' tangent space at the
+    start (w's column is 0; x, y, z are twice the derivative per rad of a small turn about the
+    world's x, y, z). An unknown name is a ValueError. robot, physics and treatment as simulate
+    takes them.
     The fitness is the physics' task's, any task, with its environment and free objects; only
     the exact bond model is differentiated yet (ValueError otherwise, naming the task).
     threads: for the backward pass (0: all cores; it uses at most 2), the same bits on any
@@ -463,8 +470,9 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
 
 def _shaped_gradients(robot, flat):
     """The derivatives per site shaped like the robot's arrays; the others as they come."""
-    return {k: (_np.reshape(v, robot.shape, order="F") if k in ("stiffness", "phase", "dev_rate")
-                else v) for k, v in flat.items()}
+    per_site = ("stiffness", "phase", "dev_rate", "act_amplitude")
+    return {k: (_np.reshape(v, robot.shape, order="F") if k in per_site else v)
+            for k, v in flat.items()}
 
 
 def gradient_of(robot, loss, steps=None, fields=("pos",), wrt=("stiffness", "phase"),
@@ -478,9 +486,12 @@ def gradient_of(robot, loss, steps=None, fields=("pos",), wrt=("stiffness", "pha
     (len(steps), *shape of Simulator.state[field]) and "steps" to the indices recorded, in
     increasing order; it returns (value, derivatives): the loss's value and a dict mapping any
     of the fields to d value / d states[field], shaped alike (a field left out: 0). Returns
-    (value, grads), grads as gradient() gives them for each name in wrt, which may also be
-    "initial_position" and "initial_velocity" ((robot_voxels, 3), per m and m/s). robot,
-    physics and treatment as simulate takes them."""
+    (value, grads), grads as gradient() gives them for each name in wrt (the initial state's
+    among them: "initial_position", "initial_velocity", "initial_orientation",
+    "initial_angular_velocity"). The life is simulated once, as the gradient's own forward pass
+    (the states counted from the end are kept from the last ones as it runs); a step outside
+    the life's states is a ValueError once it is over. robot, physics and treatment as simulate
+    takes them."""
     robot = _as_robot(robot)
     if not callable(loss):
         raise TypeError(f"loss: expected a function of the recorded states, got {type(loss).__name__}")

@@ -2,6 +2,7 @@
 // plastivox.gradient_of for a loss of recorded states. The C++ library engine/grad computes
 // them; the life runs with the GIL released.
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -17,26 +18,39 @@
 namespace plastivox::py {
 namespace {
 
-// What `wrt` may name: the Robot's own arrays, the physics' global amplitude and the Robot's
-// controller (its weights).
-constexpr const char* kWrt[] = {"stiffness",       "phase",      "dev_rate",
-                                "amplitude",       "controller", "initial_position",
-                                "initial_velocity"};
+// What `wrt` may name: the Robot's own arrays (act_amplitude: its own amplitudes), the
+// physics' global amplitude ("amplitude"), the Robot's controller (its weights) and its initial
+// state.
+constexpr const char* kWrt[] = {"stiffness",
+                                "phase",
+                                "dev_rate",
+                                "act_amplitude",
+                                "amplitude",
+                                "controller",
+                                "initial_position",
+                                "initial_velocity",
+                                "initial_orientation",
+                                "initial_angular_velocity"};
 
-void check_wrt(const std::vector<std::string>& wrt) {
+void check_wrt(const PyRobot& robot, const std::vector<std::string>& wrt) {
   for (const std::string& name : wrt) {
     bool known = false;
     for (const char* k : kWrt) known = known || name == k;
     if (!known)
       throw std::invalid_argument("wrt: no parameter is called '" + name +
-                                  "' (stiffness, phase, dev_rate, amplitude, controller, "
-                                  "initial_position, initial_velocity)");
+                                  "' (stiffness, phase, dev_rate, act_amplitude, amplitude, "
+                                  "controller, initial_position, initial_velocity, "
+                                  "initial_orientation, initial_angular_velocity)");
+    if (name == "act_amplitude" && robot.def.act_amplitude.empty())
+      throw std::invalid_argument(
+          "wrt: 'act_amplitude': the robot has no amplitudes of its own (Robot.act_amplitude is "
+          "None: its voxels actuate by physics act_amplitude x xi(E)); 'amplitude' is that one");
   }
 }
 
 // The derivatives `wrt` names: per site (a flat array over the lattice's sites, 0 where no
 // voxel is; the Python layer shapes it like the Robot's arrays), a float for "amplitude", the
-// weights in their order, and per robot voxel x, y, z for the initial state.
+// weights in their order, and per robot voxel x, y, z (x, y, z, w) for the initial state.
 pyb::dict derivatives(const PyRobot& robot, const Model& model, const grad::Gradient& g,
                       const std::vector<std::string>& wrt) {
   const auto on_sites = [&](const std::vector<double>& per_voxel) {
@@ -44,20 +58,31 @@ pyb::dict derivatives(const PyRobot& robot, const Model& model, const grad::Grad
     for (int i = 0; i < model.robot_n; ++i) sites[model.site[i]] = per_voxel[i];
     return to_array(sites);
   };
-  const auto per_voxel = [&](const std::vector<double>& xyz) {
-    pyb::array_t<double> a({static_cast<pyb::ssize_t>(model.robot_n), pyb::ssize_t{3}});
+  const auto per_voxel = [&](const std::vector<double>& xyz, pyb::ssize_t width) {
+    pyb::array_t<double> a({static_cast<pyb::ssize_t>(model.robot_n), width});
     std::copy(xyz.begin(), xyz.end(), a.mutable_data());
     return a;
+  };
+  // The gain is the robot's amplitude times its act_scale (compile()).
+  const auto per_amplitude = [&] {
+    std::vector<double> d = g.act_gain;
+    if (!robot.def.act_scale.empty())
+      for (int i = 0; i < model.robot_n; ++i) d[i] *= robot.def.act_scale[model.site[i]];
+    return d;
   };
   pyb::dict out;
   for (const std::string& name : wrt) {
     if (name == "stiffness") out[name.c_str()] = on_sites(g.stiffness);
     if (name == "phase") out[name.c_str()] = on_sites(g.phase);
     if (name == "dev_rate") out[name.c_str()] = on_sites(g.dev_rate);
+    if (name == "act_amplitude") out[name.c_str()] = on_sites(per_amplitude());
     if (name == "amplitude") out[name.c_str()] = g.amplitude;
     if (name == "controller") out[name.c_str()] = to_array(g.controller_weights);
-    if (name == "initial_position") out[name.c_str()] = per_voxel(g.initial_position);
-    if (name == "initial_velocity") out[name.c_str()] = per_voxel(g.initial_velocity);
+    if (name == "initial_position") out[name.c_str()] = per_voxel(g.initial_position, 3);
+    if (name == "initial_velocity") out[name.c_str()] = per_voxel(g.initial_velocity, 3);
+    if (name == "initial_orientation") out[name.c_str()] = per_voxel(g.initial_orientation, 4);
+    if (name == "initial_angular_velocity")
+      out[name.c_str()] = per_voxel(g.initial_angular_velocity, 3);
   }
   return out;
 }
@@ -68,7 +93,7 @@ pyb::dict derivatives(const PyRobot& robot, const Model& model, const grad::Grad
 pyb::tuple gradient_one(const PyRobot& robot, const pyb::object& physics_arg,
                         const std::optional<std::string>& treatment,
                         const std::vector<std::string>& wrt, int threads) {
-  check_wrt(wrt);
+  check_wrt(robot, wrt);
   const PhysicsDef physics = physics_of_call(robot.physics, physics_arg, treatment, std::nullopt);
   for (const std::string& name : wrt)
     if (name == "controller" && robot.def.controller.weights.empty())
@@ -111,15 +136,76 @@ std::vector<pyb::ssize_t> row_shape(const StateField& f, const StateFieldBytes& 
 }
 
 // The rows a loss reads, and the states recorded at its steps: each row's values at each step,
-// one after the other; then the loss's derivatives, shaped alike (empty: none given).
+// one after the other; then the loss's derivatives, shaped alike (empty: none given). The life
+// runs once: the steps counted from the end are kept from a ring of the last states, and placed
+// once the life is over.
 struct Recorded {
-  std::vector<size_t> rows;  // indices into kStateFields
+  std::vector<size_t> rows;    // indices into kStateFields
+  bool every = false;          // every state (steps None)
+  std::vector<int64_t> asked;  // the steps as given (negative: from the end)
+  std::vector<int64_t> ahead;  // the steps >= 0 asked, increasing: recorded as the life runs
+  size_t next = 0;             // the next of them
+  std::vector<std::vector<double>> kept;               // their values, one per row
+  int64_t tail = 0;                                    // the last states the steps < 0 reach
+  std::vector<std::vector<std::vector<double>>> ring;  // [state % tail][row]
+  double bytes = 0, limit_bytes = 0;  // kept so far; the recording limit (check_recording_size)
+  int64_t limit_mb = 0;
+  // The states the loss is handed (increasing), their values and the loss's derivatives.
   std::vector<int64_t> steps;
   std::vector<std::vector<double>> values, derivatives;  // one per row
-  size_t next = 0;                                       // the next step to record
   int64_t find(int64_t step) const {
     const auto at = std::lower_bound(steps.begin(), steps.end(), step);
     return at != steps.end() && *at == step ? at - steps.begin() : -1;
+  }
+  // Forward: keep the rows of state s where asked.
+  void see(const State& s) {
+    const bool wanted = every || (next < ahead.size() && s.steps == ahead[next]);
+    for (size_t k = 0; k < rows.size(); ++k) {
+      const StateFieldBytes b = kStateFields[rows[k]].bytes(s);
+      const double* v = static_cast<const double*>(b.data);
+      if (wanted) {
+        std::vector<double>& to = every ? values[k] : kept[k];
+        to.insert(to.end(), v, v + b.count);
+        bytes += 2.0 * static_cast<double>(b.count * sizeof(double));
+      }
+      if (tail > 0) ring[static_cast<size_t>(s.steps % tail)][k].assign(v, v + b.count);
+    }
+    if (!wanted) return;
+    if (every)
+      steps.push_back(s.steps);
+    else
+      ++next;
+    // A life longer than planned (development shortens dt): held to the limit as it runs.
+    if (bytes > limit_bytes) check_recording_size(bytes, "steps", limit_mb);
+  }
+  // Once the life's last state (`last` steps) is known: the steps asked, placed and checked,
+  // and their values gathered from those kept and the ring.
+  void place(int64_t last) {
+    if (every) return;
+    for (int64_t k : asked) {
+      const int64_t at = k < 0 ? last + 1 + k : k;
+      if (at < 0 || at > last)
+        throw std::invalid_argument("steps: " + std::to_string(k) +
+                                    " is outside the life's states 0.." + std::to_string(last) +
+                                    " (-1 the last)");
+      steps.push_back(at);
+    }
+    std::sort(steps.begin(), steps.end());
+    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+    values.assign(rows.size(), {});
+    for (int64_t at : steps) {
+      const auto j = std::lower_bound(ahead.begin(), ahead.end(), at);
+      for (size_t k = 0; k < rows.size(); ++k) {
+        if (j != ahead.end() && *j == at) {
+          const size_t width = kept[k].size() / ahead.size();
+          const auto from = kept[k].begin() + static_cast<ptrdiff_t>(width) * (j - ahead.begin());
+          values[k].insert(values[k].end(), from, from + static_cast<ptrdiff_t>(width));
+        } else {
+          const std::vector<double>& from = ring[static_cast<size_t>(at % tail)][k];
+          values[k].insert(values[k].end(), from.begin(), from.end());
+        }
+      }
+    }
   }
 };
 
@@ -174,7 +260,7 @@ pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
                            const std::optional<std::vector<int64_t>>& steps,
                            const std::vector<std::string>& fields,
                            const std::vector<std::string>& wrt) {
-  check_wrt(wrt);
+  check_wrt(robot, wrt);
   Recorded rec;
   for (const std::string& name : fields) {
     size_t r = 0;
@@ -199,45 +285,43 @@ pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
     pyb::gil_scoped_release unlocked;
     const Limits limits = limits_from_environment();
     model = compile(robot.def, physics, limits);
-    // The life as simulate judges it (one that does not count has no gradient), and its
-    // length, which places the steps counted from the end.
-    SimResult r = simulate(model);
-    judge_life(physics, r);
-    if (r.status != SimStatus::kFinished)
-      throw std::invalid_argument("gradient_of: the life does not count, so it has no gradient: " +
-                                  r.failure);
-    if (steps) {
-      for (int64_t k : *steps) {
-        const int64_t at = k < 0 ? r.steps + 1 + k : k;
-        if (at < 0 || at > r.steps)
-          throw std::invalid_argument("steps: " + std::to_string(k) +
-                                      " is outside the life's states 0.." +
-                                      std::to_string(r.steps) + " (-1 the last)");
-        rec.steps.push_back(at);
-      }
-      std::sort(rec.steps.begin(), rec.steps.end());
-      rec.steps.erase(std::unique(rec.steps.begin(), rec.steps.end()), rec.steps.end());
-    } else {
-      for (int64_t k = 0; k <= r.steps; ++k) rec.steps.push_back(k);
-    }
+    // The steps >= 0 are recorded as the life runs; those counted from the end (its length
+    // is known once it is over) from a ring of the last states. The life is the gradient's
+    // own forward pass: simulated once.
     const State initial = make_initial_state(model);
-    double bytes = 0;
+    double state_bytes = 0;
     for (size_t row : rec.rows)
-      bytes += 2.0 * static_cast<double>(kStateFields[row].bytes(initial).count * sizeof(double));
-    check_recording_size(bytes * static_cast<double>(rec.steps.size()), "steps",
-                         limits.recording_mb);
+      state_bytes +=
+          2.0 * static_cast<double>(kStateFields[row].bytes(initial).count * sizeof(double));
+    rec.every = !steps;
+    double planned = 0;  // states the recording will hold
+    if (steps) {
+      rec.asked = *steps;
+      for (int64_t k : *steps) {
+        if (k >= 0)
+          rec.ahead.push_back(k);
+        else
+          rec.tail = std::max(rec.tail, -k);
+      }
+      std::sort(rec.ahead.begin(), rec.ahead.end());
+      rec.ahead.erase(std::unique(rec.ahead.begin(), rec.ahead.end()), rec.ahead.end());
+      planned = static_cast<double>(rec.ahead.size() + 2 * rec.tail);  // the ring, its copies
+    } else {
+      planned = std::ceil(model.def.duration / initial.dt) + 2;  // grad::plan's estimate
+    }
+    check_recording_size(state_bytes * planned, "steps", limits.recording_mb);
+    rec.limit_mb = limits.recording_mb;
+    rec.limit_bytes = static_cast<double>(limits.recording_mb) * (1 << 20);
+    rec.kept.assign(rec.rows.size(), {});
+    rec.ring.assign(static_cast<size_t>(rec.tail),
+                    std::vector<std::vector<double>>(rec.rows.size()));
     rec.values.assign(rec.rows.size(), {});
     grad::TrajectoryLoss user;
-    user.see = [&rec](const State& s) {
-      if (rec.next >= rec.steps.size() || s.steps != rec.steps[rec.next]) return;
-      for (size_t k = 0; k < rec.rows.size(); ++k) {
-        const StateFieldBytes b = kStateFields[rec.rows[k]].bytes(s);
-        const double* v = static_cast<const double*>(b.data);
-        rec.values[k].insert(rec.values[k].end(), v, v + b.count);
-      }
-      ++rec.next;
+    user.see = [&rec](const State& s) { rec.see(s); };
+    user.value = [&](const State& final) {
+      rec.place(final.steps);
+      return call_loss(loss, rec, final);
     };
-    user.value = [&](const State& final) { return call_loss(loss, rec, final); };
     user.adjoint = [&rec](const State& s, std::vector<std::vector<double>>& d) {
       const int64_t at = rec.find(s.steps);
       if (at < 0) return false;
@@ -249,7 +333,13 @@ pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
       }
       return true;
     };
-    g = grad::gradient_of(model, user);
+    // The life as simulate judges it: one that does not count has no gradient.
+    grad::GradientOptions options;
+    options.judge = [&physics](SimResult& r) { judge_life(physics, r); };
+    g = grad::gradient_of(model, user, options);
+    if (g.life.status != SimStatus::kFinished)
+      throw std::invalid_argument("gradient_of: the life does not count, so it has no gradient: " +
+                                  g.life.failure);
   }
   return pyb::make_tuple(g.fitness, derivatives(robot, model, g, wrt));
 }

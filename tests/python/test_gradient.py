@@ -1,6 +1,8 @@
 """plastivox.gradient (docs/gradients.md): simulate()'s fitness bit for bit, derivatives shaped
 like the robot's arrays, agreeing with central differences of simulate(); bad names refused."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -230,3 +232,100 @@ def test_gradient_of_refuses_bad_input_in_one_line():
         plastivox.gradient_of(cube3(), lambda s: 1 / 0, physics=SHORT)
     with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass'"):
         plastivox.gradient_of(cube3(), nothing, wrt=["mass"], physics=SHORT)
+
+
+def robot_with_own_amplitudes(tmp_path, nudge=0.0, site=None):
+    """The 3x3x3 body with amplitudes of its own (voxcraft's rule: a robot file's 7th entry per
+    voxel) and an act_scale of 0.5 at every fourth voxel, from a robot file (json keeps every
+    double exactly); `nudge` added to the amplitude at `site`."""
+    base = cube3()
+    voxels, scale = [], []
+    for k in range(27):
+        x, y, z = k % 3, (k // 3) % 3, k // 9
+        amplitude = 0.12 + 0.05 * np.sin(2.3 * k) + (nudge if (x, y, z) == site else 0.0)
+        voxels.append([x, y, z, float(base.stiffness[x, y, z]), 0.0, float(base.phase[x, y, z]),
+                       float(amplitude)])
+        scale.append(0.5 if k % 4 == 0 else 1.0)
+    path = tmp_path / f"own-{nudge!r}.json"
+    path.write_text(json.dumps({"format": "plastivox-robot", "version": 1,
+                                "lattice": {"nx": 3, "ny": 3, "nz": 3, "voxel_size": 0.01},
+                                "voxels": voxels, "act_scale": scale}))
+    return plastivox.load_robot(str(path))
+
+
+def central(f, h):
+    """Richardson-extrapolated central difference of f at 0 (error O(h^4))."""
+    d1 = (f(h) - f(-h)) / (2 * h)
+    d2 = (f(h / 2) - f(-h / 2)) / h
+    return (4 * d2 - d1) / 3
+
+
+def test_own_amplitudes_and_the_physics_amplitude_agree_with_central_differences(tmp_path):
+    robot = robot_with_own_amplitudes(tmp_path)
+    fitness, g = plastivox.gradient(robot, wrt=["act_amplitude", "amplitude"], physics=SHORT)
+    assert fitness == plastivox.simulate(robot, physics=SHORT).fitness
+    assert g["act_amplitude"].shape == robot.shape
+    assert g["amplitude"] == 0.0  # the robot's own amplitudes do not read the physics'
+    for site in ((0, 0, 0), (1, 1, 1), (2, 0, 1)):  # act_scale 0.5, 1, 1
+        amplitude = robot.act_amplitude[site]
+
+        def f(h):
+            nudged = robot_with_own_amplitudes(tmp_path, h, site)
+            return plastivox.simulate(nudged, physics=SHORT).fitness
+
+        difference = central(f, 1e-4 * amplitude)
+        assert difference != 0
+        assert g["act_amplitude"][site] == pytest.approx(difference, rel=1e-6), site
+    # The physics' amplitude, for a robot of the paper's rule.
+    _, g = plastivox.gradient(cube3(), wrt=["amplitude"], physics=SHORT)
+    a = 0.1447
+
+    def f(h):
+        return plastivox.simulate(cube3(), physics=dict(SHORT, act_amplitude=a + h)).fitness
+
+    assert g["amplitude"] == pytest.approx(central(f, 1e-4 * a), rel=1e-6)
+    with pytest.raises(ValueError, match=r"^wrt: 'act_amplitude': the robot has no amplitudes"):
+        plastivox.gradient(cube3(), wrt=["act_amplitude"], physics=SHORT)
+
+
+def test_initial_orientation_and_angular_velocity():
+    # Through a loss of the initial state: its derivative comes back as the gradient, the
+    # orientation's w column projected out (x, y, z, w) and the angular momentum's scaled to
+    # per rad/s by the inertia; and the task's fitness, whose derivatives are not all 0
+    # (tests/grad_gradient_test.cpp checks them against central differences of nudged lives).
+    wq = np.arange(27 * 4, dtype=np.float64).reshape(1, 27, 4) + 1
+    wl = np.arange(27 * 3, dtype=np.float64).reshape(1, 27, 3) + 1
+
+    def loss(states):
+        return float((wq * states["orient"]).sum()), {"orient": wq, "ang_mom": wl}
+
+    names = ["initial_orientation", "initial_angular_velocity"]
+    _, g = plastivox.gradient_of(cube3(), loss, steps=[0], fields=["orient", "ang_mom"], wrt=names,
+                                 physics=SHORT)
+    assert g["initial_orientation"].shape == (27, 4)
+    np.testing.assert_array_equal(g["initial_orientation"][:, :3], wq[0, :, :3])
+    assert np.all(g["initial_orientation"][:, 3] == 0)
+    inertia = float(plastivox.Simulator(cube3(), physics=SHORT).model["inertia"])
+    np.testing.assert_allclose(g["initial_angular_velocity"], wl[0] * inertia, rtol=1e-15)
+    fitness, g = plastivox.gradient(cube3(), wrt=names, physics=SHORT)
+    assert fitness == plastivox.simulate(cube3(), physics=SHORT).fitness
+    assert g["initial_angular_velocity"].shape == (27, 3)
+    assert np.any(g["initial_orientation"][:, :3] != 0) and np.all(g["initial_orientation"][:, 3] == 0)
+    assert np.any(g["initial_angular_velocity"] != 0)
+    with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'initial_spin'"):
+        plastivox.gradient(cube3(), wrt=["initial_spin"], physics=SHORT)
+
+
+def test_gradient_of_steps_from_the_end_without_a_second_life():
+    # The states counted from the end come from the gradient's own life (no life simulated
+    # before it): the same states a Simulator passes through, among the ones counted from the
+    # start, each once, in increasing order.
+    pos = life_of(cube3(), SHORT)
+    last = len(pos) - 1
+    seen = {}
+    plastivox.gradient_of(cube3(), loss_of_nothing(seen), steps=[-3, 2, -1, last - 2, 0],
+                          physics=SHORT)
+    assert list(seen["steps"]) == [0, 2, last - 2, last]
+    np.testing.assert_array_equal(seen["pos"], pos[[0, 2, last - 2, last]])
+    with pytest.raises(ValueError, match=rf"^steps: -{last + 2} is outside the life's states 0\.\.{last} "):
+        plastivox.gradient_of(cube3(), loss_of_nothing({}), steps=[-(last + 2)], physics=SHORT)
