@@ -34,9 +34,14 @@ namespace {
 
 using nlohmann::json;
 
-// What `--wrt` may name: the robot's arrays and its controller's weights (RobotDef's and
-// Python's Robot's own attribute names).
-constexpr const char* kWrt[] = {"stiffness", "phase", "dev_rate", "controller"};
+// What `--wrt` may name: the robot's arrays (act_amplitude: its own amplitudes), its
+// controller's weights (RobotDef's and Python's Robot's own attribute names) and the physics'
+// global amplitude, "amplitude" (as plastivox.gradient names it).
+constexpr const char* kWrt[] = {"stiffness",     "phase",     "dev_rate",
+                                "act_amplitude", "amplitude", "controller"};
+
+// The largest amplitude the robot format and the physics allow: [0, 0.9).
+const double kAmplitudeTop = std::nextafter(0.9, 0.0);
 
 // Adam's moments for one array, per lattice site or weight.
 struct Moments {
@@ -54,6 +59,7 @@ std::vector<double>& array_of(RobotDef& r, const std::string& name) {
   if (name == "stiffness") return r.stiffness;
   if (name == "phase") return r.phase;
   if (name == "controller") return r.controller.weights;
+  if (name == "act_amplitude") return r.act_amplitude;
   return r.dev_rate;
 }
 
@@ -64,21 +70,25 @@ struct Coordinate {
   double slope;
 };
 
-// The coordinates of `name`: per cycle of phase, per 1/s of rate, per unit of a weight, and
-// per unit of log E for stiffness (a step of lr moves E by about lr of itself, and a modulus
-// spans six decades: the same lr serves every voxel).
+// The coordinates of `name`: per cycle of phase, per 1/s of rate, per unit of a weight or an
+// amplitude, and per unit of log E for stiffness (a step of lr moves E by about lr of itself,
+// and a modulus spans six decades: the same lr serves every voxel).
 std::vector<Coordinate> coordinates(const std::string& name, const grad::Gradient& g,
-                                    const Model& m) {
+                                    const Model& m, const RobotDef& robot) {
   std::vector<Coordinate> out;
+  if (name == "amplitude") return {{0, g.amplitude}};
   if (name == "controller") {
     for (size_t k = 0; k < g.controller_weights.size(); ++k)
       out.push_back({k, g.controller_weights[k]});
     return out;
   }
   for (int i = 0; i < m.robot_n; ++i) {
-    const double d = name == "stiffness" ? g.stiffness[i] * m.e0[i]
-                     : name == "phase"   ? g.phase[i]
-                                         : g.dev_rate[i];
+    // A voxel's gain is its own amplitude times its act_scale (compile()).
+    const double scale = robot.act_scale.empty() ? 1.0 : robot.act_scale[m.site[i]];
+    const double d = name == "stiffness"       ? g.stiffness[i] * m.e0[i]
+                     : name == "phase"         ? g.phase[i]
+                     : name == "act_amplitude" ? g.act_gain[i] * scale
+                                               : g.dev_rate[i];
     out.push_back({static_cast<size_t>(m.site[i]), d});
   }
   return out;
@@ -86,9 +96,12 @@ std::vector<Coordinate> coordinates(const std::string& name, const grad::Gradien
 
 // Moves one value by `step` in its coordinate and keeps it valid for the robot file and the
 // engine: E in [e_min, e_max] (compile() clamps there, so beyond it the fitness is flat), a
-// phase wrapped into [-0.5, 0.5] cycles when it leaves it (the sine has period 1), a rate or
-// a weight anything finite.
+// phase wrapped into [-0.5, 0.5] cycles when it leaves it (the sine has period 1), an
+// amplitude held to [0, 0.9) (the robot format's and the physics' range), a rate or a weight
+// anything finite.
 double moved(const std::string& name, double value, double step, const PhysicsDef& physics) {
+  if (name == "act_amplitude" || name == "amplitude")
+    return std::clamp(value + step, 0.0, kAmplitudeTop);
   if (name == "stiffness")
     return std::clamp(std::exp(std::log(value) + step), physics.e_min, physics.e_max);
   if (name == "phase") {
@@ -98,17 +111,19 @@ double moved(const std::string& name, double value, double step, const PhysicsDe
   return value + step;
 }
 
-// One step of the method on every array `wrt` names (t: the step's number from 1, for Adam's
-// bias correction); returns the gradient's norm per name, for the log.
-json ascend(RobotDef& robot, const std::vector<std::string>& wrt, std::vector<Moments>& moments,
-            const Settings& settings, int t, const grad::Gradient& g, const Model& model,
-            const PhysicsDef& physics) {
+// One step of the method on every array `wrt` names, and the physics' amplitude (t: the
+// step's number from 1, for Adam's bias correction); returns the gradient's norm per name, for
+// the log.
+json ascend(RobotDef& robot, PhysicsDef& physics, const std::vector<std::string>& wrt,
+            std::vector<Moments>& moments, const Settings& settings, int t, const grad::Gradient& g,
+            const Model& model) {
   json norms;
   for (size_t p = 0; p < wrt.size(); ++p) {
-    std::vector<double>& values = array_of(robot, wrt[p]);
+    std::vector<double> global = {physics.act_amplitude};
+    std::vector<double>& values = wrt[p] == "amplitude" ? global : array_of(robot, wrt[p]);
     Moments& mo = moments[p];
     double norm2 = 0;
-    for (const auto& [s, d] : coordinates(wrt[p], g, model)) {
+    for (const auto& [s, d] : coordinates(wrt[p], g, model, robot)) {
       norm2 += d * d;
       double step = settings.lr * d;
       if (settings.method == "adam") {
@@ -120,6 +135,7 @@ json ascend(RobotDef& robot, const std::vector<std::string>& wrt, std::vector<Mo
       }
       values[s] = moved(wrt[p], values[s], step, physics);
     }
+    if (wrt[p] == "amplitude") physics.act_amplitude = global[0];
     norms[wrt[p]] = std::sqrt(norm2);
   }
   return norms;
@@ -203,7 +219,7 @@ int cmd_optimize(const Args& in) {
     for (const char* k : kWrt) known = known || name == k;
     if (!known)
       throw UsageError{"--wrt: no parameter is called '" + name +
-                       "' (stiffness, phase, dev_rate, controller)"};
+                       "' (stiffness, phase, dev_rate, act_amplitude, amplitude, controller)"};
     for (const std::string& w : wrt)
       if (w == name) throw UsageError{"--wrt names '" + name + "' twice"};
     wrt.push_back(name);
@@ -248,7 +264,7 @@ int cmd_optimize(const Args& in) {
   for (const std::string& w : file.warnings)
     std::fprintf(stderr, "plastivox optimize: warning: %s\n", w.c_str());
   RobotDef robot = std::move(file.robot);
-  const PhysicsDef physics = resolve_physics(file.physics, request);
+  PhysicsDef physics = resolve_physics(file.physics, request);  // --wrt amplitude moves it
   const Limits limits = limits_from_environment();
   const auto compiled = [&](const RobotDef& r) {
     try {
@@ -282,6 +298,16 @@ int cmd_optimize(const Args& in) {
         throw UsageError{
             "--wrt controller: the robot's controller is the sine, which has no weights "
             "(docs/control.md gives a robot a network)"};
+    for (const std::string& name : wrt) {
+      if (name == "act_amplitude" && robot.act_amplitude.empty())
+        throw UsageError{
+            "--wrt act_amplitude: the robot has no amplitudes of its own (its voxels actuate by "
+            "physics act_amplitude x xi(E)); --wrt amplitude moves that one"};
+      if (name == "amplitude" && !robot.act_amplitude.empty())
+        throw UsageError{
+            "--wrt amplitude: the robot gives its own amplitudes, which do not read physics "
+            "act_amplitude; --wrt act_amplitude moves them"};
+    }
   }
   // Stiffness starts inside [e_min, e_max], where compile() holds it anyway: the same life.
   for (int s = 0; s < robot.sites(); ++s)
@@ -291,11 +317,12 @@ int cmd_optimize(const Args& in) {
   std::string log_text = log_header(source, wrt, settings, steps, physics, out).dump() + "\n";
   std::vector<Moments> moments(wrt.size());
   for (size_t p = 0; p < wrt.size(); ++p) {
-    const size_t size = array_of(robot, wrt[p]).size();
+    const size_t size = wrt[p] == "amplitude" ? 1 : array_of(robot, wrt[p]).size();
     moments[p].m.assign(size, 0.0);
     moments[p].v.assign(size, 0.0);
   }
   RobotDef best = robot;
+  PhysicsDef best_physics = physics;
   double best_fitness = -HUGE_VAL, first_fitness = 0;
   int best_step = -1;
   std::string stopped;
@@ -331,12 +358,13 @@ int cmd_optimize(const Args& in) {
     }
     json line = {{"step", k}, {"fitness", life.fitness}};
     if (k == 0) first_fitness = life.fitness;
-    if (life.fitness > best_fitness) best = robot, best_fitness = life.fitness, best_step = k;
+    if (life.fitness > best_fitness)
+      best = robot, best_physics = physics, best_fitness = life.fitness, best_step = k;
     if (g) {
       if (g->fitness != life.fitness)  // the same life, bit for bit (docs/gradients.md)
         throw std::logic_error("optimize: the gradient's life scored " + g6(g->fitness) +
                                ", simulate's " + g6(life.fitness));
-      line["gradient_norm"] = ascend(robot, wrt, moments, settings, k + 1, *g, model, physics);
+      line["gradient_norm"] = ascend(robot, physics, wrt, moments, settings, k + 1, *g, model);
     }
     stopped = refused;
     const double seconds =
@@ -357,7 +385,7 @@ int cmd_optimize(const Args& in) {
   // The best robot, written, then replayed from the file as `simulate OUT` reads it: the
   // log's last line is what that replay scores.
   std::vector<std::string> warnings;
-  save_robot(out, best, physics, &warnings);
+  save_robot(out, best, best_physics, &warnings);
   for (const std::string& w : warnings)
     std::fprintf(stderr, "plastivox optimize: warning: %s\n", w.c_str());
   LoadedRobot written = load_robot(out);

@@ -151,6 +151,55 @@ TEST_F(Optimize, StopsWhenALaterLifeIsRefusedAndWritesTheBestSoFar) {
             std::max(log[1]["fitness"].get<double>(), log[2]["fitness"].get<double>()));
 }
 
+// The amplitudes: the physics' (written with the robot) and a robot's own, each moved by its
+// gradient and held to [0, 0.9) (at the bound: the largest double below 0.9, or 0).
+TEST_F(Optimize, MovesTheAmplitudesWithinTheirRange) {
+  const RobotFile before = read_robot_file(kWalker);
+  Output o = cli("optimize " + kWalker + " --wrt amplitude --steps 2 --lr 0.01" + kShort +
+                 " --out " + path("amp.json"));
+  ASSERT_EQ(o.status, 0) << o.out;
+  std::vector<nlohmann::json> log = lines_of(testing::file_text(path("amp.log.jsonl")));
+  ASSERT_EQ(log.size(), 5u);
+  EXPECT_GT(log[1]["gradient_norm"]["amplitude"].get<double>(), 0.0);
+  EXPECT_GT(log[4]["fitness"].get<double>(), log[1]["fitness"].get<double>()) << o.out;
+  RobotFile after = read_robot_file(path("amp.json"));
+  EXPECT_NE(after.physics.act_amplitude, before.physics.act_amplitude);
+  EXPECT_EQ(after.robot.phase, before.robot.phase);
+  EXPECT_EQ(testing::cli_json("simulate " + path("amp.json") + " --json")["fitness"].get<double>(),
+            log[4]["fitness"].get<double>());
+  // At a step far past the range, every value stops at its bound.
+  o = cli("optimize " + kWalker + " --wrt amplitude --method sgd --steps 1 --lr 1e6" + kShort +
+          " --out " + path("top.json"));
+  ASSERT_EQ(o.status, 0) << o.out;
+  log = lines_of(testing::file_text(path("top.log.jsonl")));
+  ASSERT_EQ(log.back()["step"], 1) << o.out;
+  EXPECT_EQ(read_robot_file(path("top.json")).physics.act_amplitude, std::nextafter(0.9, 0.0));
+  // A robot's own amplitudes.
+  RobotDef own = before.robot;
+  own.act_amplitude.assign(own.sites(), 0.0);
+  for (int s = 0; s < own.sites(); ++s) own.act_amplitude[s] = own.present[s] ? 0.1 : 0.0;
+  write_robot_file(path("own.json"), own, &before.physics);
+  o = cli("optimize " + path("own.json") + " --wrt act_amplitude --steps 2 --lr 0.01" + kShort +
+          " --out " + path("own-opt.json"));
+  ASSERT_EQ(o.status, 0) << o.out;
+  log = lines_of(testing::file_text(path("own-opt.log.jsonl")));
+  ASSERT_EQ(log.size(), 5u);
+  EXPECT_GT(log[4]["fitness"].get<double>(), log[1]["fitness"].get<double>()) << o.out;
+  after = read_robot_file(path("own-opt.json"));
+  int moved = 0;
+  for (int s = 0; s < own.sites(); ++s) {
+    if (!own.present[s]) continue;
+    EXPECT_GE(after.robot.act_amplitude[s], 0.0);
+    EXPECT_LT(after.robot.act_amplitude[s], 0.9);
+    moved += after.robot.act_amplitude[s] != 0.1;
+  }
+  EXPECT_GT(moved, 100);
+  EXPECT_EQ(after.physics.act_amplitude, before.physics.act_amplitude);
+  EXPECT_EQ(
+      testing::cli_json("simulate " + path("own-opt.json") + " --json")["fitness"].get<double>(),
+      log[4]["fitness"].get<double>());
+}
+
 TEST_F(Optimize, RefusesBadInputInOneLine) {
   const auto one_line = [](const Output& r) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
@@ -159,9 +208,24 @@ TEST_F(Optimize, RefusesBadInputInOneLine) {
   Output r = cli("optimize " + kWalker + " --wrt phase,mass" + kShort + out);
   EXPECT_EQ(r.status, 2);
   one_line(r);
-  EXPECT_NE(
-      r.out.find("--wrt: no parameter is called 'mass' (stiffness, phase, dev_rate, controller)"),
-      std::string::npos)
+  EXPECT_NE(r.out.find("--wrt: no parameter is called 'mass' (stiffness, phase, dev_rate, "
+                       "act_amplitude, amplitude, controller)"),
+            std::string::npos)
+      << r.out;
+  // The robot's own amplitudes, for a robot without them; the physics' one, for a robot with.
+  r = cli("optimize " + kWalker + " --wrt phase,act_amplitude" + kShort + out);
+  EXPECT_EQ(r.status, 2);
+  one_line(r);
+  EXPECT_NE(r.out.find("--wrt act_amplitude: the robot has no amplitudes of its own"),
+            std::string::npos)
+      << r.out;
+  RobotDef own = read_robot_file(kWalker).robot;
+  own.act_amplitude.assign(own.sites(), 0.1);
+  write_robot_file(path("own.json"), own);
+  r = cli("optimize " + path("own.json") + " --wrt amplitude" + kShort + out);
+  EXPECT_EQ(r.status, 2);
+  one_line(r);
+  EXPECT_NE(r.out.find("--wrt amplitude: the robot gives its own amplitudes"), std::string::npos)
       << r.out;
   // A life whose gradient is not built yet: unsupported()'s reason, naming the task.
   r = cli("optimize " + kWalker +
