@@ -1,7 +1,7 @@
 // Reverse-mode gradients of a life (docs/gradients.md): the derivative of a life's fitness
-// with respect to each voxel's congenital stiffness, actuation phase and development rate, the
-// global actuation amplitude and a neural controller's weights, through the engine's own
-// discrete life.
+// with respect to each voxel's congenital stiffness, actuation phase, development rate and
+// actuation gain, the global actuation amplitude, a neural controller's weights and the initial
+// state, through the engine's own discrete life.
 //
 // The forward pass is the engine's Simulator, unchanged: the fitness and the final state hash
 // are simulate()'s, bit for bit. It stores a snapshot of the State every `checkpoint_every`
