@@ -310,7 +310,8 @@ def test_initial_orientation_and_angular_velocity():
     fitness, g = plastivox.gradient(cube3(), wrt=names, physics=SHORT)
     assert fitness == plastivox.simulate(cube3(), physics=SHORT).fitness
     assert g["initial_angular_velocity"].shape == (27, 3)
-    assert np.any(g["initial_orientation"][:, :3] != 0) and np.all(g["initial_orientation"][:, 3] == 0)
+    turn = g["initial_orientation"]
+    assert np.any(turn[:, :3] != 0) and np.all(turn[:, 3] == 0)
     assert np.any(g["initial_angular_velocity"] != 0)
     with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'initial_spin'"):
         plastivox.gradient(cube3(), wrt=["initial_spin"], physics=SHORT)
@@ -327,5 +328,25 @@ def test_gradient_of_steps_from_the_end_without_a_second_life():
                           physics=SHORT)
     assert list(seen["steps"]) == [0, 2, last - 2, last]
     np.testing.assert_array_equal(seen["pos"], pos[[0, 2, last - 2, last]])
-    with pytest.raises(ValueError, match=rf"^steps: -{last + 2} is outside the life's states 0\.\.{last} "):
+    outside = rf"^steps: -{last + 2} is outside the life's states 0\.\.{last} "
+    with pytest.raises(ValueError, match=outside):
         plastivox.gradient_of(cube3(), loss_of_nothing({}), steps=[-(last + 2)], physics=SHORT)
+
+
+def test_gradient_of_holds_the_recording_to_its_limit(monkeypatch):
+    # 1 MB holds about 800 states of a 27-voxel body's positions and their derivatives. Refused
+    # before the life runs, on the steps the initial time step gives (about 1 060 over 3 s), and
+    # as it runs when development shortens the step: under pressure at rates of 100/s a 0.5 s
+    # life estimated at 177 states takes 1 240.
+    monkeypatch.setenv("PLASTIVOX_MAX_RECORDING_MB", "1")
+    nothing = loss_of_nothing({})
+    with pytest.raises(ValueError, match=r"^steps: the recording would need about 1\.\d+ MB"):
+        plastivox.gradient_of(cube3(), nothing, physics=dict(SHORT, duration=3.0))
+    fast = plastivox.Robot.from_arrays(np.ones((3, 3, 3), dtype=np.uint8), cube3().stiffness,
+                                       cube3().phase, np.full((3, 3, 3), 100.0))
+    physics = dict(SHORT, duration=0.5)
+    assert plastivox.simulate(fast, physics=physics, treatment="pressure").steps > 900
+    over = r"^steps: the recording would need about 1(\.\d+)? MB of memory, more than the limit"
+    with pytest.raises(ValueError, match=over):
+        plastivox.gradient_of(fast, nothing, physics=physics, treatment="pressure")
+    plastivox.gradient_of(fast, nothing, steps=[0, -1], physics=physics, treatment="pressure")
