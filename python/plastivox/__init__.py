@@ -446,8 +446,8 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
     controller (biases included, docs/control.md's order); "initial_position" and
     "initial_velocity": (robot_voxels, 3) arrays in voxel order, per m and per m/s of each
     voxel's starting centre and velocity. robot, physics and treatment as simulate takes them.
-    The fitness is the physics' task's, any task, with its environment and free objects; only
-    the exact bond model is differentiated yet (ValueError otherwise, naming the task).
+    The fitness is the physics' task's, any task, with its environment and free objects, under
+    either bond model.
     threads: for the backward pass (0: all cores; it uses at most 2), the same bits on any
     number."""
     robot = _as_robot(robot)
