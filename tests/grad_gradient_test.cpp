@@ -138,6 +138,13 @@ int check_against_differences(const Model& m, const std::vector<int>& voxels, bo
   return smooth;
 }
 
+// The last state of the engine's life of m.
+State final_state(const Model& m) {
+  Simulator sim(m);
+  while (sim.state().status == SimStatus::kRunning) sim.step();
+  return sim.state();
+}
+
 TEST(Gradient, ForwardIsSimulateBitForBit) {
   const Model m = compile(demo_walker(), short_life(0.1, 0.02));
   const SimResult r = simulate(m);
@@ -229,11 +236,7 @@ TEST(Gradient, OfAUsersLossOfTheFinalStateMatchesCentralDifferences) {
     return value(s);
   };
   const Gradient g = grad::gradient_of(m, loss);
-  const auto final_value = [&](const Model& x) {
-    Simulator sim(x);
-    while (sim.state().status == SimStatus::kRunning) sim.step();
-    return value(sim.state());
-  };
+  const auto final_value = [&](const Model& x) { return value(final_state(x)); };
   EXPECT_EQ(g.fitness, final_value(m));
   for (int i : {1, 2, 13}) {
     const auto difference = [&](double h, bool stiffness) {
@@ -529,11 +532,7 @@ TEST(Gradient, ExactModelsScalarPathMatchesCentralDifferences) {
     return value(s);
   };
   const Gradient gl = grad::gradient_of(m, loss);
-  const auto final_value = [&](const Model& x) {
-    Simulator sim(x);
-    while (sim.state().status == SimStatus::kRunning) sim.step();
-    return value(sim.state());
-  };
+  const auto final_value = [&](const Model& x) { return value(final_state(x)); };
   // Central differences, Richardson-extrapolated, each held to the larger of itself and 1e-3 of
   // the larger of the two (a stiff voxel's is ~1e-6 of its soft neighbour's, at the
   // differences' rounding floor), as check_against_differences does.
