@@ -859,6 +859,8 @@ std::string unsupported(const Model& m) {
   return why.empty() ? why : std::string("the ") + to_string(m.def.task) + " task's life: " + why;
 }
 
+// Every life is differentiated today (both bond models: scalar_bond_adjoint.hpp); the reason
+// stays the one place a life that is not would be refused, before it runs.
 std::string unsupported_life(const Model&) {
   return "";
 }
