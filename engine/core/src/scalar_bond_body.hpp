@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "atan_series.hpp"
@@ -36,10 +37,23 @@ inline double cos_of(double x) {
 inline double value_of(double x) {
   return x;
 }
-// v, a function of x whose derivative is `slope` (the recording type records that slope; a
-// double is v).
-inline double with_slope(double v, double, double) {
+// v, a function of x whose derivative is slope() (the recording type records it; a double is v,
+// and slope() is never called).
+template <class F>
+inline double with_slope(double v, double, F&&) {
   return v;
+}
+
+// Record i of an array of 4-double records (centres and sizes, orientations) as T values: for
+// double the record itself (copying it to the stack cost the engine 6 % of a voxelyze09 life:
+// the copies' wide stores stalled the narrower loads after them), else loaded into scratch.
+inline const double* record_of(const double* p, int i, double*) {
+  return p + 4 * static_cast<size_t>(i);
+}
+template <class T>
+inline const T* record_of(const double* p, int i, T* scratch) {
+  for (int c = 0; c < 4; ++c) scratch[c] = load(p, 4 * i + c, T{});
+  return scratch;
 }
 
 template <class T>
@@ -102,7 +116,7 @@ inline BondV3<T> voxelyze_rotation_vector(T w, T x, T y, T z) {
     // w)), and differentiated as the second form, -k / (2 (1 + w)): the derivative of the
     // first form's operations would carry that error over 1 - w again.
     const double wv = value_of(wc), kv = std::sqrt((2.0 - 2.0 * wv) / value_of(sl));
-    const T k = with_slope(kv, wc, -kv / (2.0 * (1.0 + wv)));
+    const T k = with_slope(kv, wc, [&] { return -kv / (2.0 * (1.0 + wv)); });
     return {x * 2.0 * k, y * 2.0 * k, z * 2.0 * k};
   }
   const T a = acos_of(wc), r = root(sl);
@@ -271,11 +285,11 @@ inline void scalar_bond_lanes(const BondKernelIo& io, const uint8_t* small_in, u
   const int ia = io.bond_a[b], ib = io.bond_b[b], d = static_cast<int>(io.axis_wide[b]);
   bool small = small_in[b] != 0;
   bool damp_ok = io.prev_valid[b] != 0;
-  T ca[4], cb[4], qa[4], qb[4];
-  for (int c = 0; c < 4; ++c) {
-    ca[c] = load(io.centre_size, 4 * ia + c, T{}), cb[c] = load(io.centre_size, 4 * ib + c, T{});
-    qa[c] = load(io.quat, 4 * ia + c, T{}), qb[c] = load(io.quat, 4 * ib + c, T{});
-  }
+  T scratch[4][4];
+  const T* ca = record_of(io.centre_size, ia, scratch[0]);
+  const T* cb = record_of(io.centre_size, ib, scratch[1]);
+  const T* qa = record_of(io.quat, ia, scratch[2]);
+  const T* qb = record_of(io.quat, ib, scratch[3]);
   // a's rotation matrix, column-major, as Eigen's toRotationMatrix computes it.
   T R[9];
   {

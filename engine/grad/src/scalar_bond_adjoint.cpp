@@ -22,8 +22,9 @@ inline Adj cos_of(Adj a) {
 inline double value_of(Adj a) {
   return a.v;
 }
-inline Adj with_slope(double v, Adj x, double slope) {
-  return {v, record(x.id, slope, -1, 0.0)};
+template <class F>
+inline Adj with_slope(double v, Adj x, F&& slope) {
+  return {v, record(x.id, slope(), -1, 0.0)};
 }
 
 }  // namespace plastivox::grad
