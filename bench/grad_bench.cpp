@@ -1,6 +1,7 @@
 // The gradient's cost against a forward life (docs/gradients.md, "Cost"), one process per run
 // so that farm-bench pairs whole processes and /usr/bin/time -v reads the peak memory:
-//   grad_bench forward|gradient walker|cube10 DURATION [CHECKPOINT_EVERY] [THREADS]
+//   grad_bench forward|gradient walker|walker09|cube10 DURATION [CHECKPOINT_EVERY] [THREADS]
+// (walker09: the walker under bond_model voxelyze09)
 //   grad_bench check walker|cube10 DURATION [STRIDE] [TASK] [unclassified]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
 // physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
@@ -40,13 +41,15 @@ int main(int argc, char** argv) {
   def.duration = std::atof(argv[3]);
   if (argc > 5 && mode == "check") def.task = parse_task(argv[5]);
   RobotDef robot;
-  if (body == "walker") {
+  if (body == "walker09") def.bond_model = BondModel::kVoxelyze09;  // every bond's scalar path
+  if (body == "walker" || body == "walker09") {
     robot = demo_walker();
   } else if (body == "cube10") {
     robot = demo_cube(10, 1e10);
     for (int s = 0; s < robot.sites(); ++s) robot.stiffness[s] *= 1.0 + 1e-3 * (s % 7);
   } else {
-    std::fprintf(stderr, "grad_bench: body must be walker or cube10, not %s\n", body.c_str());
+    std::fprintf(stderr, "grad_bench: body must be walker, walker09 or cube10, not %s\n",
+                 body.c_str());
     return 2;
   }
   const Model m = compile(robot, def);

@@ -220,7 +220,8 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 // The bond stage's reverse runs as many bonds at once as the engine's SIMD level
 // (bond_reverse_body.hpp): the whole gradient is the same bits at every level, on the walker
 // (1296 bonds, whole lane groups) and a developing 3x3x3 cube (54 bonds, a tail of 2 or 6 at
-// four and eight lanes).
+// four and eight lanes); the same cube under bond_model voxelyze09 and an irregular body whose
+// bonds bend near half a turn, whose bonds take the scalar path (scalar_bond_adjoint.hpp).
 TEST(StageAdjoints, GradientIsTheSameBitsAtEverySimdLevel) {
   PhysicsDef walk;
   walk.duration = 0.04;
@@ -229,8 +230,14 @@ TEST(StageAdjoints, GradientIsTheSameBitsAtEverySimdLevel) {
   develop.treatment = Treatment::kStress;
   RobotDef cube = demo_cube(3, 1e8);
   for (int v = 0; v < cube.sites(); ++v) cube.stiffness[v] *= 1.5 + std::sin(1.7 * v + 0.3);
+  PhysicsDef voxelyze = develop;
+  voxelyze.bond_model = BondModel::kVoxelyze09;
+  PhysicsDef sinks = walk;
+  sinks.duration = 0.06;
+  sinks.sinking_invalid = false;
   const SimdLevel best = simd_level();
-  for (const Model& m : {compile(demo_walker(), walk), compile(cube, develop)}) {
+  for (const Model& m : {compile(demo_walker(), walk), compile(cube, develop),
+                         compile(cube, voxelyze), compile(demo_irregular(150, 1), sinks)}) {
     set_simd_level(SimdLevel::kScalar);
     const Gradient scalar = gradient(m);
     for (int level = 1; level <= static_cast<int>(best); ++level) {

@@ -227,16 +227,6 @@ TEST_F(Optimize, RefusesBadInputInOneLine) {
   one_line(r);
   EXPECT_NE(r.out.find("--wrt amplitude: the robot gives its own amplitudes"), std::string::npos)
       << r.out;
-  // A life whose gradient is not built yet: unsupported()'s reason, naming the task.
-  r = cli("optimize " + kWalker +
-          " --physics '{\"duration\": 0.1, \"settle_time\": 0.04, \"task\": \"jump\", "
-          "\"bond_model\": \"voxelyze09\"}'" +
-          out);
-  EXPECT_EQ(r.status, 1);
-  one_line(r);
-  EXPECT_NE(r.out.find("no gradient: the jump task's life: only the exact bond model"),
-            std::string::npos)
-      << r.out;
   // A life too long for the memory bound, before anything runs.
   r = cli("optimize " + kWalker + " --memory-limit 1" + out);
   EXPECT_EQ(r.status, 1);

@@ -89,6 +89,15 @@ TEST(GradientThreads, ADevelopingBodyUnderStressGivesTheSameBitsOn1And2Threads) 
   EXPECT_GT(norm, 0.0);
 }
 
+// Under bond_model voxelyze09 every bond takes the scalar path, recorded on the tape.
+TEST(GradientThreads, Voxelyze09GivesTheSameBitsOn1And2Threads) {
+  PhysicsDef def = short_life(0.1, 0.02, Treatment::kStress);
+  def.bond_model = BondModel::kVoxelyze09;
+  RobotDef cube = demo_cube(4, 1e8);
+  for (int v = 0; v < cube.sites(); ++v) cube.stiffness[v] *= 1.5 + std::sin(1.7 * v + 0.3);
+  expect_same_on_1_and_2_threads(compile(cube, def));
+}
+
 // The second thread keeps a second segment's tape: the plan counts it, and takes one thread
 // when only that tape would pass the memory limit.
 TEST(GradientThreads, ThePlanCountsTheSecondTapeAndFallsBackToOneThread) {

@@ -453,8 +453,8 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
     start (w's column is 0; x, y, z are twice the derivative per rad of a small turn about the
     world's x, y, z). An unknown name is a ValueError. robot, physics and treatment as simulate
     takes them.
-    The fitness is the physics' task's, any task, with its environment and free objects; only
-    the exact bond model is differentiated yet (ValueError otherwise, naming the task).
+    The fitness is the physics' task's, any task, with its environment and free objects, under
+    either bond model.
     threads: for the backward pass (0: all cores; it uses at most 2), the same bits on any
     number."""
     robot = _as_robot(robot)

@@ -92,8 +92,6 @@ def test_the_documented_ascent_loop_raises_the_fitness():
 def test_bad_input_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass' \(stiffness"):
         plastivox.gradient(cube3(), wrt=["mass"], physics=SHORT)
-    with pytest.raises(ValueError, match="the jump task's life: only the exact bond model"):
-        plastivox.gradient(cube3(), physics=dict(SHORT, task="jump", bond_model="voxelyze09"))
 
 
 def test_a_life_that_does_not_count_has_no_gradient():

@@ -34,6 +34,7 @@
 #include "plastivox/simulator.hpp"
 #include "plastivox/state.hpp"
 #include "plastivox/task.hpp"
+#include "scalar_bond_adjoint.hpp"
 #include "terrain_adjoint.hpp"
 #include "voxel_adjoint.hpp"
 #include "voxel_body.hpp"
@@ -131,6 +132,13 @@ bool is_watch(const char* name) {
 // With events, the voxels and bonds within the rule's 1e-9 of the stiffest are events: at a tie
 // for the stiffest the time step has no derivative.
 Adj stable_dt_adj(const Model& m, const double* E, Fnv* events = nullptr) {
+  if (m.def.bond_model == BondModel::kVoxelyze09) {
+    std::vector<int> near;
+    const Adj dt = voxelyze_dt_adj(m, E, &near);
+    if (events)
+      for (int b : near) events->add(~uint64_t(b));
+    return dt;
+  }
   const int32_t* ids = g_tape ? g_tape->ids_of(E) : nullptr;
   const auto at = [&](int i) { return Adj(E[i], ids ? ids[i] : -1); };
   Adj e_top = 0.0;
@@ -218,18 +226,26 @@ class Replica {
     copy_centres();
     BondKernelIo& io = w_.views.bond;
     io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
-    if (nb_ > 0) {
+    if (nb_ > 0 && m.def.bond_model == BondModel::kVoxelyze09) {
+      // Its branches are events (its switch of frames, its first-order forms, its rotation
+      // vectors' zero below about 2e-8 rad): scalar_bond_adjoint.hpp.
+      g_branches = events ? &events->h : nullptr;
+      scalar_bonds(m, w_.views, m.bond_damp / dt_old, nullptr, 0);
+      g_branches = nullptr;
+      if (events)
+        for (int b = 0; b < nb_; ++b) events->add(w_.bond_small_angle_next[b]);
+    } else if (nb_ > 0) {
       const Adj damp = m.bond_damp / dt_old;
       int redo = 0;
       if (g_tape && blocks_)
         record_bonds(io, damp, redo);
       else
         for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
-      if (redo > 0)
-        throw std::domain_error("gradient: bond " + std::to_string(w_.redo[0]) + " at step " +
-                                std::to_string(s.steps) +
-                                " has a degenerate chord or a relative rotation near half a "
-                                "turn (the scalar bond path), which is not differentiated yet");
+      // The bonds the kernel handed back, by the scalar path recorded on the tape (their
+      // results replace the kernel's, whose leaves then get no adjoint).
+      g_branches = events ? &events->h : nullptr;
+      scalar_bonds(m, w_.views, damp, w_.redo.data(), redo);
+      g_branches = nullptr;
     }
     const Adj dt_next = m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time
                             ? stable_dt_adj(m, s.stiffness.data(), events)
@@ -242,6 +258,8 @@ class Replica {
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
     for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
+    if (m.def.bond_model == BondModel::kVoxelyze09)
+      std::memcpy(s.bond_small_angle.data(), w_.bond_small_angle_next.data(), size_t(nb_));
     std::memset(s.bond_prev_valid.data(), 1, s.bond_prev_valid.size());
     const Adj dt = dt_next;
     const Adj time = get(&s.time);
@@ -274,6 +292,8 @@ class Replica {
       max_speed2 = top.v;
     }
     if (m.terrain) terrain_.after_update(m, s, w_, events ? &events->h : nullptr);
+    if (events && m.def.bond_model == BondModel::kVoxelyze09)  // its reset of small turns
+      for (int i = 0; i < m.n; ++i) events->add(s.orient[i].vec().isZero(0.0) ? 1 : 0);
     if (bad || max_speed2 > m.def.max_speed * m.def.max_speed) return false;
     if (events)
       for (int i = 0; i < m.n; ++i) events->add(s.static_friction[i]);
@@ -839,9 +859,9 @@ std::string unsupported(const Model& m) {
   return why.empty() ? why : std::string("the ") + to_string(m.def.task) + " task's life: " + why;
 }
 
-std::string unsupported_life(const Model& m) {
-  if (m.def.bond_model != BondModel::kExact)
-    return "only the exact bond model is differentiated yet (physics.bond_model)";
+// Every life is differentiated today (both bond models: scalar_bond_adjoint.hpp); the reason
+// stays the one place a life that is not would be refused, before it runs.
+std::string unsupported_life(const Model&) {
   return "";
 }
 

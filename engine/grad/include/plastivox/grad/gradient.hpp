@@ -94,8 +94,8 @@ struct Gradient {
 
 // The reason, in one line, why the gradient of this model's life is not available yet, or ""
 // when it is (docs/gradients.md, "Not covered yet"): unsupported_life()'s reason, naming the
-// task whose life it is (every task's fitness has its loss, task_loss; the bond model must be
-// exact; any environment, free objects, any controller: the sine or a network).
+// task whose life it is (every task's fitness has its loss, task_loss; either bond model; any
+// environment, free objects, any controller: the sine or a network).
 std::string unsupported(const Model& model);
 
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it
@@ -147,9 +147,8 @@ struct TrajectoryLoss {
 TrajectoryLoss task_loss(const Model& model);
 
 // The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
-// reason, and std::domain_error when the life takes a branch that is not differentiated yet
-// (a bond the batched kernel hands to the
-// scalar path) or does not finish (unstable; see GradientOptions::judge).
+// reason, and std::domain_error when the life does not finish (unstable; see
+// GradientOptions::judge).
 Gradient gradient(const Model& model, const GradientOptions& options = {});
 
 // The gradient of a loss of the final state instead of the task's fitness (any task): the
@@ -171,8 +170,9 @@ std::string unsupported_life(const Model& model);
 // (the voxels that set the time step, each voxel's floor contact and static friction, the
 // pairs in self-contact, every comparison of the actuation and development kernels (their
 // clamps, gates and maxima) and of a network's call (the sign of each softsign input, the rate
-// limit's clamps) at every step, the steps at which settling and the life end): two lives
-// with one signature took the same branches.
+// limit's clamps) at every step, every comparison of the scalar bond path and, under
+// bond_model voxelyze09, each bond's frame and each voxel's reset of a small turn, the steps at
+// which settling and the life end): two lives with one signature took the same branches.
 struct ReplicaSummary {
   double fitness = 0;
   uint64_t events = 0;
