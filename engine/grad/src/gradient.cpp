@@ -44,13 +44,15 @@ namespace {
 
 // The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
 // voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
-// A step's bond stage: its outputs are kBondOutputs leaves a bond, output by output (bond b's
-// output o is node first + o nb + b); its record (keep_bond_stage) starts at `at` in
-// Blocks::bond_values and bond_ids.
+// A step's bond stage: its outputs from kPrevNext on are kBondLeaves leaves a bond, output by
+// output (bond b's output o is node first + (o - kPrevNext) nb + b); its records' adjoints are
+// those of the same step's gather's outputs, from node gather_first (bond_adjoint.hpp); its
+// record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
 struct BondBlock {
   int64_t first;
   size_t at;
   bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
+  int64_t gather_first = -1;
 };
 // A step's voxel update: its outputs are kVoxelOutputs leaves a voxel, output by output (voxel
 // i's output o is node first + o n + i); its record (keep_voxel_stage) starts at `at` in
@@ -173,7 +175,6 @@ class Replica {
 
   State& state() { return s_; }
   const BondKernelIo& bond_io() const { return w_.views.bond; }
-  const VoxelKernelIo& voxel_io() const { return w_.views.voxel; }
   // Keep the bond stage (one block a step), the gather and the voxel update (one block a voxel
   // each) for their own reverses in `blocks`, or, given null, record them operation by
   // operation on the tape (the reference).
@@ -360,26 +361,22 @@ class Replica {
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
     blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
     blocks_->bonds.push_back(stage);
-    t.unswept_leaves(size_t(kBondOutputs) * size_t(nb_));
-    int32_t* out_ids[3];
+    t.unswept_leaves(size_t(kBondLeaves) * size_t(nb_));
     int32_t* next_ids[9];
-    for (int v = 0; v < 3; ++v) out_ids[v] = t.ids_of(io.out[v]);
     for (int j = 0; j < 9; ++j) next_ids[j] = t.ids_of(io.prev_next[j]);
     int32_t* strain_ids = t.ids_of(io.strain);
     int32_t* stress_ids = t.ids_of(io.stress);
     int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
     // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
     redo += kernels().bond(io, nb_, m_, damp.v);
-    // Output o of bond b is leaf first + o nb + b: the reverse reads each output's adjoints as
-    // a row, and the next step's reads of a deformation component are consecutive.
+    // Output o of bond b is leaf first + (o - kPrevNext) nb + b: the reverse reads each output's
+    // adjoints as a row, and the next step's reads of a deformation component are consecutive.
+    // The records (io.out) have no nodes: the gather alone reads them, on doubles
+    // (record_gather), and their adjoints are its outputs' (bond_adjoint.hpp).
     const auto leaf = [&](int o, int b) {
-      return static_cast<int32_t>(stage.first + int64_t(o) * nb_ + b);
+      return static_cast<int32_t>(stage.first + int64_t(o - kPrevNext) * nb_ + b);
     };
     for (int b = 0; b < nb_; ++b) {
-      for (int v = 0; v < 3; ++v) {
-        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = leaf(kOut + 3 * v + c, b);
-        out_ids[v][4 * size_t(b) + 3] = -1;
-      }
       strain_ids[b] = leaf(kStrain, b);
       stress_ids[b] = leaf(kStress, b);
       if (energy_ids) energy_ids[b] = leaf(kEnergy, b);
@@ -431,7 +428,7 @@ class Replica {
   void record_gather() {
     Tape& t = *g_tape;
     const VoxelKernelIo& io = w_.views.voxel;
-    const GatherStageLayout L{size_t(m_.n), size_t(nb_)};
+    const GatherStageLayout L{size_t(m_.n)};
     GatherBlock stage{0, blocks_->gather_values.size(), blocks_->gather_ids.size()};
     blocks_->gather_values.resize(stage.at + L.values());
     blocks_->gather_ids.resize(stage.ids_at + L.ids());
@@ -439,6 +436,12 @@ class Replica {
                       blocks_->gather_ids.data() + stage.ids_at);
     kernels().gather(io, m_.n, m_);
     stage.first = t.unswept_leaves(kGatherOutputs * L.n);
+    // The same step's bond stage takes its records' adjoints from this gather's outputs'.
+    if (nb_ > 0) {
+      if (blocks_->order.empty() || blocks_->order.back().first != Blocks::kBond)
+        throw std::logic_error("gradient: a gather not after its step's bond stage");
+      blocks_->bonds.back().gather_first = stage.first;
+    }
     blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
     blocks_->gathers.push_back(stage);
     const auto leaf = [&](int o, size_t v) {
@@ -626,7 +629,7 @@ struct ParamLeaves {
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
 void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
-           const BondKernelIo& io, const VoxelKernelIo& voxel_io) {
+           const BondKernelIo& io) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
@@ -637,7 +640,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     size_t first = 0;
     int outputs = 0;
     if (kind == Blocks::kBond)
-      first = size_t(blocks.bonds[index].first), outputs = kBondOutputs * k.bond_count();
+      first = size_t(blocks.bonds[index].first), outputs = kBondLeaves * k.bond_count();
     else if (kind == Blocks::kVoxel)
       first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs * k.n;
     else
@@ -646,11 +649,13 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     end = first;
     if (kind == Blocks::kBond) {
       const BondBlock& stage = blocks.bonds[index];
+      static_assert(kGOutMoment == kGOutForce + 3, "bond_reverse reads force and moment rows");
+      if (stage.gather_first < 0) throw std::logic_error("gradient: a bond stage without a gather");
       const uint8_t* valid = nullptr;
       if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
-      bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
-                         blocks.bond_ids.data() + stage.at, valid, first, adj.data(), k,
-                         bond_scratch);
+      bond_stage_reverse(
+          io, L, blocks.bond_values.data() + stage.at, blocks.bond_ids.data() + stage.at, valid,
+          first, adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(), k, bond_scratch);
     } else if (kind == Blocks::kVoxel) {
       const size_t at = blocks.voxels[index].at;
       voxel_stage_reverse(size_t(k.n), blocks.voxel_values.data() + at,
@@ -658,8 +663,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
                           first, adj.data(), k, voxel_scratch);
     } else {
       const GatherBlock& stage = blocks.gathers[index];
-      gather_stage_reverse(voxel_io, GatherStageLayout{L.n, L.nb},
-                           blocks.gather_values.data() + stage.at,
+      gather_stage_reverse(GatherStageLayout{L.n}, blocks.gather_values.data() + stage.at,
                            blocks.gather_ids.data() + stage.ids_at, first, adj.data(), k);
     }
   }
@@ -675,7 +679,7 @@ double block_bytes(const Model& m) {
   const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
   const double voxel_stage =
       (sizeof(double) + sizeof(int32_t)) * double(kVoxelInputs) * m.n + 2.0 * m.n;
-  const GatherStageLayout G{L.n, L.nb};
+  const GatherStageLayout G{L.n};
   const double gather_stage =
       sizeof(double) * double(G.values()) + sizeof(int32_t) * double(G.ids());
   return bond_stage + voxel_stage + gather_stage + sizeof(BondBlock) + sizeof(VoxelBlock) +
@@ -726,7 +730,7 @@ struct Segment {
     blocks.voxel_ids.reserve(blocks.voxel_values.capacity());
     blocks.voxel_flags.reserve(static_cast<size_t>(K) * 2 * m.n);
     blocks.gathers.reserve(static_cast<size_t>(K));
-    const GatherStageLayout G{size_t(m.n), size_t(m.bond_count())};
+    const GatherStageLayout G{size_t(m.n)};
     blocks.gather_values.reserve(static_cast<size_t>(K) * G.values());
     blocks.gather_ids.reserve(static_cast<size_t>(K) * G.ids());
     blocks.order.reserve(static_cast<size_t>(K) * 3);
@@ -819,7 +823,7 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
     for (size_t k = 0; k < ids[r].size(); ++k)
       if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
   for (const auto& [id, v] : sg.seeds) adj[id] += v;
-  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.voxel_io());
+  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io());
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
   for (int i = 0; i < m.n; ++i) {
@@ -1022,7 +1026,7 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
     std::vector<double>& adj = one.adj;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
-    sweep(tape, adj, {}, m, one.rep.bond_io(), one.rep.voxel_io());
+    sweep(tape, adj, {}, m, one.rep.bond_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
