@@ -156,17 +156,11 @@ BondReverseKernel bond_reverse_kernel() {
 
 bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_adj,
                   double* in_adj) {
-  // The bond as a stage of one: bond 0 from voxel 0 to voxel 1 (its records back to back). Its
-  // records' adjoints as the two voxels' (force x, y, z then moment x, y, z, rows of 2): the
-  // force on a as a's alone, the moments as a's and b's.
-  double centre[8], quat[8], in[kBondInputs], voxel_adj[12];
+  // The bond as a stage of one: bond 0 from voxel 0 to voxel 1 (its records back to back).
+  double centre[8], quat[8], in[kBondInputs];
   for (int c = 0; c < 4; ++c) {
     centre[c] = A.v[kCentreA + c], centre[4 + c] = A.v[kCentreB + c];
     quat[c] = A.v[kQuatA + c], quat[4 + c] = A.v[kQuatB + c];
-  }
-  for (int c = 0; c < 3; ++c) {
-    voxel_adj[2 * c] = out_adj[kOut + c], voxel_adj[2 * c + 1] = 0;
-    voxel_adj[6 + 2 * c] = out_adj[kOut + 3 + c], voxel_adj[6 + 2 * c + 1] = out_adj[kOut + 6 + c];
   }
   const int a = 0, b = 1;
   const int64_t axis = A.axis;
@@ -182,8 +176,7 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
   io.bond.prev_valid = &A.valid;
   io.damp = A.v[kDamp];
   io.nb = 1;
-  io.n = 2;
-  io.voxel_adj = voxel_adj;
+  io.records_adj = out_adj + kOut;
   io.out_adj = out_adj + kPrevNext;
   io.in_adj = in;
   io.off = &off;
@@ -212,8 +205,21 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   r.bond.all_valid = valid == nullptr;
   r.damp = values[L.damp()];
   r.nb = nb;
-  r.n = L.n;
-  r.voxel_adj = voxel_adj;
+  // The records' adjoints from the voxels' (force on a: a's total force minus b's).
+  s.records.resize(9 * nb);
+  for (int c = 0; c < 3; ++c) {
+    const double *force = voxel_adj + size_t(c) * L.n, *moment = voxel_adj + size_t(3 + c) * L.n;
+    double* on_a = s.records.data() + size_t(c) * nb;
+    double* moment_a = s.records.data() + size_t(3 + c) * nb;
+    double* moment_b = s.records.data() + size_t(6 + c) * nb;
+    for (size_t b = 0; b < nb; ++b) {
+      const int ia = io.bond_a[b], ib = io.bond_b[b];
+      on_a[b] = force[ia] - force[ib];
+      moment_a[b] = moment[ia];
+      moment_b[b] = moment[ib];
+    }
+  }
+  r.records_adj = s.records.data();
   r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
@@ -226,9 +232,7 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   for (size_t b = 0; b < nb; ++b) {
     if (!s.off[b]) continue;
     double out[kBondOutputs], in[kBondInputs] = {};
-    for (int w = 0; w < 3; ++w)
-      for (int c = 0; c < 3; ++c)
-        out[kOut + 3 * w + c] = record_adjoint(voxel_adj, L.n, io.bond_a[b], io.bond_b[b], w, c);
+    for (int o = kOut; o < kPrevNext; ++o) out[o] = s.records[(o - kOut) * nb + b];
     for (int o = kPrevNext; o < kBondOutputs; ++o) out[o] = r.out_adj[(o - kPrevNext) * nb + b];
     const BondArgs a = bond_args(io, L, values, ids, int(b), !valid || valid[b]);
     bond_reverse_tape(a, k, out, in);

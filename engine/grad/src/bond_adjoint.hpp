@@ -88,15 +88,15 @@ bool bond_reverse(const BondArgs& a, const ModelConstants& k, const double* out_
 
 // What the lane template reads and writes for a stage of nb bonds: the kept stage's arrays as
 // the forward kernel's (bond_a, bond_b, axis_wide the model's; centre_size, quat, stiff, prev
-// and prev_valid the record's), the damping factor, the adjoints of the outputs from kPrevNext
-// on (kBondLeaves rows of nb) and of the voxels' total forces and moments (voxel_adj: force x,
-// y, z then moment x, y, z, rows of n, the gather's outputs, from which the records' adjoints
-// follow), the inputs' adjoints (kBondInputs rows of nb), and a flag a bond off the hand path.
+// and prev_valid the record's), the damping factor, the adjoints of the records (records_adj,
+// the 9 outputs from kOut, rows of nb) and of the outputs from kPrevNext on (out_adj,
+// kBondLeaves rows of nb), the inputs' adjoints (kBondInputs rows of nb), and a flag a bond off
+// the hand path.
 struct BondReverseIo {
   BondKernelIo bond;
   double damp = 0;
-  size_t nb = 0, n = 0;
-  const double* voxel_adj = nullptr;
+  size_t nb = 0;
+  const double* records_adj = nullptr;
   const double* out_adj = nullptr;
   double* in_adj = nullptr;
   uint8_t* off = nullptr;
@@ -107,21 +107,17 @@ BondReverseKernel bond_reverse_kernel_avx512();
 
 // Scratch arrays of bond_stage_reverse, kept from stage to stage.
 struct BondStageScratch {
-  std::vector<double> in, voxel;
+  std::vector<double> in, voxel, records;
   std::vector<uint8_t> off;
 };
-// Bond b's adjoint of its record component c of out[w] (w = 0, 1, 2), from the voxels'
-// (BondReverseIo::voxel_adj, rows of n): force on a, moment on a, moment on b.
-inline double record_adjoint(const double* voxel_adj, size_t n, int a, int b, int w, int c) {
-  if (w == 0) return voxel_adj[c * n + size_t(a)] - voxel_adj[c * n + size_t(b)];
-  return voxel_adj[(3 + c) * n + size_t(w == 1 ? a : b)];
-}
 // A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when
 // all are set): from the adjoints of its outputs, adj[first + (o - kPrevNext) nb + b] for bond
-// b's output o from kPrevNext on, and of the voxels' total forces and moments (voxel_adj, the
-// gather's outputs), adds those of its inputs to adj through ids. Bonds off the hand path take
-// bond_reverse_tape. The inputs' adjoints are summed in bond order, the same bits at every SIMD
-// level.
+// b's output o from kPrevNext on, and of the voxels' total forces and moments (voxel_adj: force
+// x, y, z then moment x, y, z, rows of n; the gather's outputs), adds those of its inputs to adj
+// through ids. A bond's records' adjoints follow from its voxels': the force on a is + in a's
+// total force and - in b's, the moment on a (b) is in a's (b's) total moment. Bonds off the hand
+// path take bond_reverse_tape. The inputs' adjoints are summed in bond order, the same bits at
+// every SIMD level.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                         const int32_t* ids, const uint8_t* valid, size_t first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,

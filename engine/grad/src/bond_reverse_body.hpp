@@ -45,8 +45,8 @@ inline T atan_series_slope(T z) {
   return s;
 }
 
-// Bonds [i, i + kLanes<T>) of a kept stage: from their outputs' adjoints (io.out_adj and
-// io.voxel_adj), their inputs' (io.in_adj), and io.off.
+// Bonds [i, i + kLanes<T>) of a kept stage: from their outputs' adjoints (io.records_adj and
+// io.out_adj), their inputs' (io.in_adj), and io.off.
 template <class T>
 inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const ModelConstants& k) {
   using grad::kCentreA, grad::kCentreB, grad::kQuatA, grad::kQuatB, grad::kStiffA, grad::kStiffB,
@@ -164,14 +164,10 @@ inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const Model
   const T vx[3] = {fx, max, mbx}, vy[3] = {fyv, may, mby}, vz[3] = {fzv, maz, mbz};
 
   // ---- The reverse ----
-  // Outputs from kPrevNext on are rows of the stage's leaves; the records' adjoints are the
-  // voxels' (record_adjoint in bond_adjoint.hpp).
+  // Outputs from kPrevNext on are rows of the stage's leaves, the records' rows of their own.
   const auto out = [&](int o) { return load(io.out_adj + size_t(o - kPrevNext) * nb, i, T{}); };
   const auto record_out = [&](int w, int c) {
-    const double* force = io.voxel_adj + size_t(c) * io.n;
-    const double* moment = io.voxel_adj + size_t(3 + c) * io.n;
-    if (w == 0) return load_indexed(force, ia, 0, T{}) - load_indexed(force, ib, 0, T{});
-    return load_indexed(moment, w == 1 ? ia : ib, 0, T{});
+    return load(io.records_adj + size_t(3 * w + c) * nb, i, T{});
   };
   const auto put_in = [&](int slot, T v) { store(io.in_adj + size_t(slot) * nb, i, v); };
   T g_u[3] = {zero, zero, zero}, g_e1[3] = {zero, zero, zero}, g_e2[3] = {zero, zero, zero};

@@ -100,7 +100,7 @@ bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* ou
 // modulus; its outputs each voxel's total force, total moment and sqrt(E), output by output
 // (voxel i's output o is node first + o n + i). The records are the same step's bond stage's
 // outputs and read by nothing else: their adjoints are not passed through the tape, the bond
-// stage's reverse reads them from the gather's outputs' (bond_adjoint.hpp, record_adjoint).
+// stage's reverse reads them from the gather's outputs' (bond_stage_reverse).
 enum GatherOutput : int { kGOutForce = 0, kGOutMoment = 3, kGOutSqrtE = 6, kGatherOutputs = 7 };
 // The gather's record for n voxels: the moduli and momenta (values and nodes, as the arrays are
 // laid out).
