@@ -16,9 +16,10 @@
 namespace plastivox::grad {
 
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     double* values, int32_t* ids) {
-  const auto keep = [&](size_t at, const double* row, size_t count) {
+                     bool prev_ids, double* values, int32_t* ids) {
+  const auto keep = [&](size_t at, const double* row, size_t count, bool with_ids = true) {
     std::memcpy(values + at, row, count * sizeof(double));
+    if (!with_ids) return;
     const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
     if (row_ids)
       std::memcpy(ids + at, row_ids, count * sizeof(int32_t));
@@ -28,7 +29,7 @@ void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double da
   keep(0, io.centre_size, 4 * L.n);
   keep(L.quat(), io.quat, 4 * L.n);
   keep(L.stiff(), io.stiff, L.n);
-  for (int j = 0; j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb);
+  for (int j = 0; j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb, prev_ids);
   values[L.damp()] = damp;
   ids[L.damp()] = damp_id;
 }
@@ -187,7 +188,7 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
 }
 
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
-                        const int32_t* ids, const uint8_t* valid, size_t first,
+                        const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,
                         BondStageScratch& s) {
   const size_t nb = L.nb;
@@ -259,8 +260,13 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   for (size_t e = 0; e < L.stiff() + L.n; ++e)
     if (ids[e] >= 0) adj[ids[e]] += g[e];
   for (int j = 0; j < 9; ++j) {
-    const int32_t* prev_ids = ids + L.prev(j);
     const double* g_prev = row(kPrev + j);
+    if (prev_first >= 0) {
+      double* to = adj + prev_first + int64_t(j) * int64_t(nb);
+      for (size_t b = 0; b < nb; ++b) to[b] += g_prev[b];
+      continue;
+    }
+    const int32_t* prev_ids = ids + L.prev(j);
     for (size_t b = 0; b < nb; ++b)
       if (prev_ids[b] >= 0) adj[prev_ids[b]] += g_prev[b];
   }

@@ -70,9 +70,11 @@ struct BondStageLayout {
   size_t size() const { return damp() + 1; }
 };
 // Writes the stage's record (L.size() values and nodes; the nodes through the tape's shadows,
-// -1 for an array without one) before the kernel runs.
+// -1 for an array without one) before the kernel runs. Without prev_ids the previous
+// deformations' nodes are left unwritten: they are the previous step's stage's leaves, and the
+// reverse adds to them as rows (bond_stage_reverse's prev_first).
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     double* values, int32_t* ids);
+                     bool prev_ids, double* values, int32_t* ids);
 // Bond b's arguments from a kept stage (valid: its damping flag).
 BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                    const int32_t* ids, int b, bool valid);
@@ -115,11 +117,14 @@ struct BondStageScratch {
 // b's output o from kPrevNext on, and of the voxels' total forces and moments (voxel_adj: force
 // x, y, z then moment x, y, z, rows of n; the gather's outputs), adds those of its inputs to adj
 // through ids. A bond's records' adjoints follow from its voxels': the force on a is + in a's
-// total force and - in b's, the moment on a (b) is in a's (b's) total moment. Bonds off the hand
+// total force and - in b's, the moment on a (b) is in a's (b's) total moment. With prev_first
+// >= 0 the previous deformations are the previous step's stage's next ones, whose adjoints are
+// the rows adj[prev_first + j nb + b] (its leaves from kPrevNext): added there as rows, not
+// through ids. Bonds off the hand
 // path take bond_reverse_tape. The inputs' adjoints are summed in bond order, the same bits at
 // every SIMD level.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
-                        const int32_t* ids, const uint8_t* valid, size_t first,
+                        const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,
                         BondStageScratch& s);
 

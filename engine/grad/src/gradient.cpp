@@ -53,6 +53,9 @@ struct BondBlock {
   size_t at;
   bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
   int64_t gather_first = -1;
+  // The previous step's stage's first leaf (its next deformations are this stage's previous
+  // ones), or -1 at a segment's first step: then they are kept with their nodes.
+  int64_t prev_first = -1;
 };
 // A step's voxel update: its outputs are kVoxelOutputs leaves a voxel, output by output (voxel
 // i's output o is node first + o n + i); its record (keep_voxel_stage) starts at `at` in
@@ -351,12 +354,21 @@ class Replica {
   void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
     Tape& t = *g_tape;
     const BondStageLayout L{size_t(m_.n), size_t(nb_)};
-    const BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
-                          io.all_valid};
+    BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
+                    io.all_valid};
+    // The step's commit copied the previous stage's next deformations, leaves and all, into
+    // bond_prev: this stage's reverse adds to them as rows.
+    if (!blocks_->bonds.empty()) {
+      stage.prev_first = blocks_->bonds.back().first;
+      const int32_t* prev_ids = t.ids_of(io.prev[8]);
+      if (!prev_ids || prev_ids[0] != stage.prev_first + 8 * nb_ ||
+          prev_ids[nb_ - 1] != stage.prev_first + 9 * nb_ - 1)
+        throw std::logic_error("gradient: a bond stage's previous deformations are not the last's");
+    }
     blocks_->bond_values.resize(stage.at + L.size());
     blocks_->bond_ids.resize(stage.at + L.size());
-    keep_bond_stage(io, L, damp.v, damp.id, blocks_->bond_values.data() + stage.at,
-                    blocks_->bond_ids.data() + stage.at);
+    keep_bond_stage(io, L, damp.v, damp.id, stage.prev_first < 0,
+                    blocks_->bond_values.data() + stage.at, blocks_->bond_ids.data() + stage.at);
     if (!io.all_valid)
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
     blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
@@ -653,9 +665,10 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
       if (stage.gather_first < 0) throw std::logic_error("gradient: a bond stage without a gather");
       const uint8_t* valid = nullptr;
       if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
-      bond_stage_reverse(
-          io, L, blocks.bond_values.data() + stage.at, blocks.bond_ids.data() + stage.at, valid,
-          first, adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(), k, bond_scratch);
+      bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
+                         blocks.bond_ids.data() + stage.at, valid, first, stage.prev_first,
+                         adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(), k,
+                         bond_scratch);
     } else if (kind == Blocks::kVoxel) {
       const size_t at = blocks.voxels[index].at;
       voxel_stage_reverse(size_t(k.n), blocks.voxel_values.data() + at,
