@@ -285,6 +285,8 @@ class Replica {
     g_branches = events ? &events->h : nullptr;
     if (s.time < m.def.settle_time || m.act_amplitude_max == 0) {
       for (int i = 0; i < m.n; ++i) put(s.size.data(), i, Adj(m.size));
+    } else if (g_tape && blocks_) {
+      record_actuation();
     } else {
       for (int i = 0; i < m.n; ++i)
         actuate_lanes<Adj>(s.stiffness.data(), s.actuation.data(), m.act_gain.data(), s.size.data(),
@@ -395,6 +397,35 @@ class Replica {
     }
     for (int j = 0; j < 9; ++j)
       for (int b = 0; b < nb_; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
+  }
+
+  // Actuation (actuate_lanes) on doubles, the engine's bits, each voxel's size recorded as two
+  // nodes instead of the kernel's eight or so: size = L max(1 + ((A xi) g) w, least) with
+  // xi = (xi_e_max - E) xi_inv_range + xi_base and w = min(u, wave_max), from E, the gain g and
+  // the signal u (a clamp that holds gives a constant, as pick does on Adj).
+  void record_actuation() {
+    const Model& m = m_;
+    State& s = s_;
+    const double *E = s.stiffness.data(), *u = s.actuation.data(), *gain = m.act_gain.data();
+    const int32_t *E_ids = ids_of(E), *u_ids = ids_of(u), *gain_ids = ids_of(gain);
+    int32_t* size_ids = ids_of(s.size.data());
+    if (!size_ids) throw std::logic_error("gradient: the sizes are recorded without a shadow");
+    const auto id = [](const int32_t* ids, int i) { return ids ? ids[i] : -1; };
+    for (int i = 0; i < m.n; ++i) {
+      actuate_lanes<double>(E, u, gain, s.size.data(), i, m);
+      const double xi = (m.xi_e_max - E[i]) * m.xi_inv_range + m.xi_base;
+      const bool clipped = u[i] > m.act_wave_max;
+      const double w = clipped ? m.act_wave_max : u[i];
+      const double a_xi = m.act_amplitude_xi * xi, a_xi_g = a_xi * gain[i];
+      if (1.0 + a_xi_g * w < m.def.act_min_factor) {
+        size_ids[i] = -1;
+        continue;
+      }
+      const double d_xi = m.size * (m.act_amplitude_xi * (gain[i] * w));
+      const int32_t eg =
+          record(id(E_ids, i), -(d_xi * m.xi_inv_range), id(gain_ids, i), m.size * (a_xi * w));
+      size_ids[i] = record(eg, 1.0, clipped ? -1 : id(u_ids, i), m.size * a_xi_g);
+    }
   }
 
   // The voxel update on doubles, as record_bonds does the bond stage.
