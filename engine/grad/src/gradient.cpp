@@ -258,8 +258,11 @@ class Replica {
         for (int i = 0; i < m.robot_n; ++i) put(s.actuation.data(), i, Adj(0.0));
       } else {
         const Adj cycles = m.def.act_frequency * time;
-        for (int i = 0; i < m.robot_n; ++i)
-          sine_lanes<Adj, Adj>(m.phase.data(), s.actuation.data(), i, cycles);
+        if (g_tape && blocks_)
+          record_sine(cycles);
+        else
+          for (int i = 0; i < m.robot_n; ++i)
+            sine_lanes<Adj, Adj>(m.phase.data(), s.actuation.data(), i, cycles);
       }
     }
     // integrate: floor, friction, Euler update
@@ -397,6 +400,24 @@ class Replica {
     }
     for (int j = 0; j < 9; ++j)
       for (int b = 0; b < nb_; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
+  }
+
+  // The sine controller's signals by the engine's kernel set (its bits at every lane width), each
+  // recorded as one node on the cycles and the phase with the slope 2 pi cos(2 pi u), as
+  // adj_elementary.hpp's sin_cycles, its cosine by the same kernel a quarter cycle on.
+  void record_sine(Adj cycles) {
+    const Model& m = m_;
+    double* signal = s_.actuation.data();
+    kernels().sine(m.phase.data(), signal, m.robot_n, cycles.v);
+    slope_.resize(size_t(m.robot_n));
+    kernels().sine(m.phase.data(), slope_.data(), m.robot_n, cycles.v + 0.25);
+    int32_t* signal_ids = ids_of(signal);
+    if (!signal_ids) throw std::logic_error("gradient: the signals are recorded without a shadow");
+    const int32_t* phase_ids = ids_of(m.phase.data());
+    for (int i = 0; i < m.robot_n; ++i) {
+      const double d = 2.0 * std::numbers::pi * slope_[i];
+      signal_ids[i] = record(cycles.id, d, phase_ids ? phase_ids[i] : -1, d);
+    }
   }
 
   // Actuation (actuate_lanes) on doubles, the engine's bits, each voxel's size recorded as two
@@ -623,6 +644,7 @@ class Replica {
   bool paired_ = false;
   std::vector<double> anchor_;  // refresh_near_pairs'
   double size_top_ = 0;
+  std::vector<double> slope_;  // record_sine's
   Blocks* blocks_ = nullptr;
   NetworkReplica net_;      // the neural controller's call
   TerrainReplica terrain_;  // an environment's contacts
