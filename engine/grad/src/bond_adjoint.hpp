@@ -120,9 +120,8 @@ struct BondStageScratch {
 // total force and - in b's, the moment on a (b) is in a's (b's) total moment. With prev_first
 // >= 0 the previous deformations are the previous step's stage's next ones, whose adjoints are
 // the rows adj[prev_first + j nb + b] (its leaves from kPrevNext): added there as rows, not
-// through ids. Bonds off the hand
-// path take bond_reverse_tape. The inputs' adjoints are summed in bond order, the same bits at
-// every SIMD level.
+// through ids. Bonds off the hand path take bond_reverse_tape. The inputs' adjoints are summed in
+// bond order, the same bits at every SIMD level.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                         const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,
