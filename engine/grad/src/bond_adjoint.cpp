@@ -16,9 +16,10 @@
 namespace plastivox::grad {
 
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     double* values, int32_t* ids) {
-  const auto keep = [&](size_t at, const double* row, size_t count) {
+                     bool prev_ids, double* values, int32_t* ids) {
+  const auto keep = [&](size_t at, const double* row, size_t count, bool with_ids = true) {
     std::memcpy(values + at, row, count * sizeof(double));
+    if (!with_ids) return;
     const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
     if (row_ids)
       std::memcpy(ids + at, row_ids, count * sizeof(int32_t));
@@ -28,7 +29,7 @@ void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double da
   keep(0, io.centre_size, 4 * L.n);
   keep(L.quat(), io.quat, 4 * L.n);
   keep(L.stiff(), io.stiff, L.n);
-  for (int j = 0; j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb);
+  for (int j = 0; j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb, prev_ids);
   values[L.damp()] = damp;
   ids[L.damp()] = damp_id;
 }
@@ -176,7 +177,8 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
   io.bond.prev_valid = &A.valid;
   io.damp = A.v[kDamp];
   io.nb = 1;
-  io.out_adj = out_adj;
+  io.records_adj = out_adj + kOut;
+  io.out_adj = out_adj + kPrevNext;
   io.in_adj = in;
   io.off = &off;
   bond_reverse_lanes<double>(io, 0, k);
@@ -186,8 +188,9 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
 }
 
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
-                        const int32_t* ids, const uint8_t* valid, size_t first, double* adj,
-                        const ModelConstants& k, BondStageScratch& s) {
+                        const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
+                        const double* voxel_adj, double* adj, const ModelConstants& k,
+                        BondStageScratch& s) {
   const size_t nb = L.nb;
   s.in.resize(kBondInputs * nb);
   s.off.resize(nb);
@@ -203,6 +206,21 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   r.bond.all_valid = valid == nullptr;
   r.damp = values[L.damp()];
   r.nb = nb;
+  // The records' adjoints from the voxels' (force on a: a's total force minus b's).
+  s.records.resize(9 * nb);
+  for (int c = 0; c < 3; ++c) {
+    const double *force = voxel_adj + size_t(c) * L.n, *moment = voxel_adj + size_t(3 + c) * L.n;
+    double* on_a = s.records.data() + size_t(c) * nb;
+    double* moment_a = s.records.data() + size_t(3 + c) * nb;
+    double* moment_b = s.records.data() + size_t(6 + c) * nb;
+    for (size_t b = 0; b < nb; ++b) {
+      const int ia = io.bond_a[b], ib = io.bond_b[b];
+      on_a[b] = force[ia] - force[ib];
+      moment_a[b] = moment[ia];
+      moment_b[b] = moment[ib];
+    }
+  }
+  r.records_adj = s.records.data();
   r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
@@ -215,7 +233,8 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   for (size_t b = 0; b < nb; ++b) {
     if (!s.off[b]) continue;
     double out[kBondOutputs], in[kBondInputs] = {};
-    for (int o = 0; o < kBondOutputs; ++o) out[o] = r.out_adj[o * nb + b];
+    for (int o = kOut; o < kPrevNext; ++o) out[o] = s.records[(o - kOut) * nb + b];
+    for (int o = kPrevNext; o < kBondOutputs; ++o) out[o] = r.out_adj[(o - kPrevNext) * nb + b];
     const BondArgs a = bond_args(io, L, values, ids, int(b), !valid || valid[b]);
     bond_reverse_tape(a, k, out, in);
     for (int j = 0; j < kBondInputs; ++j) s.in[j * nb + b] = in[j];
@@ -241,8 +260,13 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   for (size_t e = 0; e < L.stiff() + L.n; ++e)
     if (ids[e] >= 0) adj[ids[e]] += g[e];
   for (int j = 0; j < 9; ++j) {
-    const int32_t* prev_ids = ids + L.prev(j);
     const double* g_prev = row(kPrev + j);
+    if (prev_first >= 0) {
+      double* to = adj + prev_first + int64_t(j) * int64_t(nb);
+      for (size_t b = 0; b < nb; ++b) to[b] += g_prev[b];
+      continue;
+    }
+    const int32_t* prev_ids = ids + L.prev(j);
     for (size_t b = 0; b < nb; ++b)
       if (prev_ids[b] >= 0) adj[prev_ids[b]] += g_prev[b];
   }

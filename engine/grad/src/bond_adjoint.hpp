@@ -45,6 +45,10 @@ enum BondOutput : int {
   kEnergy = 20,
   kBondOutputs = 21
 };
+// A kept stage's outputs that are leaves of the tape: kPrevNext on. The records are read by the
+// gather alone, so their adjoints are not leaves but computed from the gather's outputs' (a
+// bond's force on a is + in voxel a's total force and - in b's, its moments in a's and b's).
+constexpr int kBondLeaves = kBondOutputs - kPrevNext;
 
 struct BondArgs {
   double v[kBondInputs];
@@ -66,9 +70,11 @@ struct BondStageLayout {
   size_t size() const { return damp() + 1; }
 };
 // Writes the stage's record (L.size() values and nodes; the nodes through the tape's shadows,
-// -1 for an array without one) before the kernel runs.
+// -1 for an array without one) before the kernel runs. Without prev_ids the previous
+// deformations' nodes are left unwritten: they are the previous step's stage's leaves, and the
+// reverse adds to them as rows (bond_stage_reverse's prev_first).
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     double* values, int32_t* ids);
+                     bool prev_ids, double* values, int32_t* ids);
 // Bond b's arguments from a kept stage (valid: its damping flag).
 BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                    const int32_t* ids, int b, bool valid);
@@ -84,12 +90,15 @@ bool bond_reverse(const BondArgs& a, const ModelConstants& k, const double* out_
 
 // What the lane template reads and writes for a stage of nb bonds: the kept stage's arrays as
 // the forward kernel's (bond_a, bond_b, axis_wide the model's; centre_size, quat, stiff, prev
-// and prev_valid the record's), the damping factor, the outputs' adjoints and the inputs',
-// each as kBondOutputs (kBondInputs) rows of nb, and a flag a bond off the hand path.
+// and prev_valid the record's), the damping factor, the adjoints of the records (records_adj,
+// the 9 outputs from kOut, rows of nb) and of the outputs from kPrevNext on (out_adj,
+// kBondLeaves rows of nb), the inputs' adjoints (kBondInputs rows of nb), and a flag a bond off
+// the hand path.
 struct BondReverseIo {
   BondKernelIo bond;
   double damp = 0;
   size_t nb = 0;
+  const double* records_adj = nullptr;
   const double* out_adj = nullptr;
   double* in_adj = nullptr;
   uint8_t* off = nullptr;
@@ -100,15 +109,22 @@ BondReverseKernel bond_reverse_kernel_avx512();
 
 // Scratch arrays of bond_stage_reverse, kept from stage to stage.
 struct BondStageScratch {
-  std::vector<double> in, voxel;
+  std::vector<double> in, voxel, records;
   std::vector<uint8_t> off;
 };
 // A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when
-// all are set): from the adjoints of its outputs, adj[first + o nb + b] for bond b's output o,
-// adds those of its inputs to adj through ids. Bonds off the hand path take bond_reverse_tape. The
-// inputs' adjoints are summed in bond order, the same bits at every SIMD level.
+// all are set): from the adjoints of its outputs, adj[first + (o - kPrevNext) nb + b] for bond
+// b's output o from kPrevNext on, and of the voxels' total forces and moments (voxel_adj: force
+// x, y, z then moment x, y, z, rows of n; the gather's outputs), adds those of its inputs to adj
+// through ids. A bond's records' adjoints follow from its voxels': the force on a is + in a's
+// total force and - in b's, the moment on a (b) is in a's (b's) total moment. With prev_first
+// >= 0 the previous deformations are the previous step's stage's next ones, whose adjoints are
+// the rows adj[prev_first + j nb + b] (its leaves from kPrevNext): added there as rows, not
+// through ids. Bonds off the hand path take bond_reverse_tape. The inputs' adjoints are summed in
+// bond order, the same bits at every SIMD level.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
-                        const int32_t* ids, const uint8_t* valid, size_t first, double* adj,
-                        const ModelConstants& k, BondStageScratch& s);
+                        const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
+                        const double* voxel_adj, double* adj, const ModelConstants& k,
+                        BondStageScratch& s);
 
 }  // namespace plastivox::grad

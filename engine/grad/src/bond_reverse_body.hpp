@@ -45,13 +45,12 @@ inline T atan_series_slope(T z) {
   return s;
 }
 
-// Bonds [i, i + kLanes<T>) of a kept stage: from their outputs' adjoints (io.out_adj), their
-// inputs' (io.in_adj), and io.off.
+// Bonds [i, i + kLanes<T>) of a kept stage: from their outputs' adjoints (io.records_adj and
+// io.out_adj), their inputs' (io.in_adj), and io.off.
 template <class T>
 inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const ModelConstants& k) {
   using grad::kCentreA, grad::kCentreB, grad::kQuatA, grad::kQuatB, grad::kStiffA, grad::kStiffB,
-      grad::kPrev, grad::kDamp, grad::kOut, grad::kPrevNext, grad::kStrain, grad::kStress,
-      grad::kEnergy;
+      grad::kPrev, grad::kDamp, grad::kPrevNext, grad::kStrain, grad::kStress, grad::kEnergy;
   const BondKernelIo& bi = io.bond;
   const size_t nb = io.nb;
   const T one = splat(1.0, T{}), zero = splat(0.0, T{});
@@ -165,13 +164,17 @@ inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const Model
   const T vx[3] = {fx, max, mbx}, vy[3] = {fyv, may, mby}, vz[3] = {fzv, maz, mbz};
 
   // ---- The reverse ----
-  const auto out = [&](int o) { return load(io.out_adj + size_t(o) * nb, i, T{}); };
+  // Outputs from kPrevNext on are rows of the stage's leaves, the records' rows of their own.
+  const auto out = [&](int o) { return load(io.out_adj + size_t(o - kPrevNext) * nb, i, T{}); };
+  const auto record_out = [&](int w, int c) {
+    return load(io.records_adj + size_t(3 * w + c) * nb, i, T{});
+  };
   const auto put_in = [&](int slot, T v) { store(io.in_adj + size_t(slot) * nb, i, v); };
   T g_u[3] = {zero, zero, zero}, g_e1[3] = {zero, zero, zero}, g_e2[3] = {zero, zero, zero};
   T g_vx[3] = {zero, zero, zero}, g_vy[3] = {zero, zero, zero}, g_vz[3] = {zero, zero, zero};
   for (int w = 0; w < 3; ++w)
     for (int c = 0; c < 3; ++c) {
-      const T g = out(kOut + 3 * w + c);
+      const T g = record_out(w, c);
       g_u[c] += g * vx[w], g_vx[w] += g * u[c];
       g_e1[c] += g * vy[w], g_vy[w] += g * e1[c];
       g_e2[c] += g * vz[w], g_vz[w] += g * e2[c];

@@ -45,13 +45,18 @@ namespace {
 
 // The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
 // voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
-// A step's bond stage: its outputs are kBondOutputs leaves a bond, output by output (bond b's
-// output o is node first + o nb + b); its record (keep_bond_stage) starts at `at` in
-// Blocks::bond_values and bond_ids.
+// A step's bond stage: its outputs from kPrevNext on are kBondLeaves leaves a bond, output by
+// output (bond b's output o is node first + (o - kPrevNext) nb + b); its records' adjoints are
+// those of the same step's gather's outputs, from node gather_first (bond_adjoint.hpp); its
+// record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
 struct BondBlock {
   int64_t first;
   size_t at;
   bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
+  int64_t gather_first = -1;
+  // The previous step's stage's first leaf (its next deformations are this stage's previous
+  // ones), or -1 at a segment's first step: then they are kept with their nodes.
+  int64_t prev_first = -1;
 };
 // A step's voxel update: its outputs are kVoxelOutputs leaves a voxel, output by output (voxel
 // i's output o is node first + o n + i); its record (keep_voxel_stage) starts at `at` in
@@ -181,7 +186,6 @@ class Replica {
 
   State& state() { return s_; }
   const BondKernelIo& bond_io() const { return w_.views.bond; }
-  const VoxelKernelIo& voxel_io() const { return w_.views.voxel; }
   // Keep the bond stage (one block a step), the gather and the voxel update (one block a voxel
   // each) for their own reverses in `blocks`, or, given null, record them operation by
   // operation on the tape (the reference).
@@ -272,8 +276,11 @@ class Replica {
         for (int i = 0; i < m.robot_n; ++i) put(s.actuation.data(), i, Adj(0.0));
       } else {
         const Adj cycles = m.def.act_frequency * time;
-        for (int i = 0; i < m.robot_n; ++i)
-          sine_lanes<Adj, Adj>(m.phase.data(), s.actuation.data(), i, cycles);
+        if (g_tape && blocks_)
+          record_sine(cycles);
+        else
+          for (int i = 0; i < m.robot_n; ++i)
+            sine_lanes<Adj, Adj>(m.phase.data(), s.actuation.data(), i, cycles);
       }
     }
     // integrate: floor, friction, Euler update
@@ -301,6 +308,8 @@ class Replica {
     g_branches = events ? &events->h : nullptr;
     if (s.time < m.def.settle_time || m.act_amplitude_max == 0) {
       for (int i = 0; i < m.n; ++i) put(s.size.data(), i, Adj(m.size));
+    } else if (g_tape && blocks_) {
+      record_actuation();
     } else {
       for (int i = 0; i < m.n; ++i)
         actuate_lanes<Adj>(s.stiffness.data(), s.actuation.data(), m.act_gain.data(), s.size.data(),
@@ -370,42 +379,94 @@ class Replica {
   void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
     Tape& t = *g_tape;
     const BondStageLayout L{size_t(m_.n), size_t(nb_)};
-    const BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
-                          io.all_valid};
+    BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
+                    io.all_valid};
+    // The step's commit copied the previous stage's next deformations, leaves and all, into
+    // bond_prev: this stage's reverse adds to them as rows.
+    if (!blocks_->bonds.empty()) {
+      stage.prev_first = blocks_->bonds.back().first;
+      const int32_t* prev_ids = t.ids_of(io.prev[8]);
+      if (!prev_ids || prev_ids[0] != stage.prev_first + 8 * nb_ ||
+          prev_ids[nb_ - 1] != stage.prev_first + 9 * nb_ - 1)
+        throw std::logic_error("gradient: a bond stage's previous deformations are not the last's");
+    }
     blocks_->bond_values.resize(stage.at + L.size());
     blocks_->bond_ids.resize(stage.at + L.size());
-    keep_bond_stage(io, L, damp.v, damp.id, blocks_->bond_values.data() + stage.at,
-                    blocks_->bond_ids.data() + stage.at);
+    keep_bond_stage(io, L, damp.v, damp.id, stage.prev_first < 0,
+                    blocks_->bond_values.data() + stage.at, blocks_->bond_ids.data() + stage.at);
     if (!io.all_valid)
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
     blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
     blocks_->bonds.push_back(stage);
-    t.unswept_leaves(size_t(kBondOutputs) * size_t(nb_));
-    int32_t* out_ids[3];
+    t.unswept_leaves(size_t(kBondLeaves) * size_t(nb_));
     int32_t* next_ids[9];
-    for (int v = 0; v < 3; ++v) out_ids[v] = t.ids_of(io.out[v]);
     for (int j = 0; j < 9; ++j) next_ids[j] = t.ids_of(io.prev_next[j]);
     int32_t* strain_ids = t.ids_of(io.strain);
     int32_t* stress_ids = t.ids_of(io.stress);
     int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
     // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
     redo += kernels().bond(io, nb_, m_, damp.v);
-    // Output o of bond b is leaf first + o nb + b: the reverse reads each output's adjoints as
-    // a row, and the next step's reads of a deformation component are consecutive.
+    // Output o of bond b is leaf first + (o - kPrevNext) nb + b: the reverse reads each output's
+    // adjoints as a row, and the next step's reads of a deformation component are consecutive.
+    // The records (io.out) have no nodes: the gather alone reads them, on doubles
+    // (record_gather), and their adjoints are its outputs' (bond_adjoint.hpp).
     const auto leaf = [&](int o, int b) {
-      return static_cast<int32_t>(stage.first + int64_t(o) * nb_ + b);
+      return static_cast<int32_t>(stage.first + int64_t(o - kPrevNext) * nb_ + b);
     };
     for (int b = 0; b < nb_; ++b) {
-      for (int v = 0; v < 3; ++v) {
-        for (int c = 0; c < 3; ++c) out_ids[v][4 * size_t(b) + c] = leaf(kOut + 3 * v + c, b);
-        out_ids[v][4 * size_t(b) + 3] = -1;
-      }
       strain_ids[b] = leaf(kStrain, b);
       stress_ids[b] = leaf(kStress, b);
       if (energy_ids) energy_ids[b] = leaf(kEnergy, b);
     }
     for (int j = 0; j < 9; ++j)
       for (int b = 0; b < nb_; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
+  }
+
+  // The sine controller's signals by the engine's kernel set (its bits at every lane width), each
+  // recorded as one node on the cycles and the phase with the slope 2 pi cos(2 pi u), as
+  // adj_elementary.hpp's sin_cycles, its cosine by the same kernel a quarter cycle on.
+  void record_sine(Adj cycles) {
+    const Model& m = m_;
+    double* signal = s_.actuation.data();
+    kernels().sine(m.phase.data(), signal, m.robot_n, cycles.v);
+    slope_.resize(size_t(m.robot_n));
+    kernels().sine(m.phase.data(), slope_.data(), m.robot_n, cycles.v + 0.25);
+    int32_t* signal_ids = ids_of(signal);
+    if (!signal_ids) throw std::logic_error("gradient: the signals are recorded without a shadow");
+    const int32_t* phase_ids = ids_of(m.phase.data());
+    for (int i = 0; i < m.robot_n; ++i) {
+      const double d = 2.0 * std::numbers::pi * slope_[i];
+      signal_ids[i] = record(cycles.id, d, phase_ids ? phase_ids[i] : -1, d);
+    }
+  }
+
+  // Actuation (actuate_lanes) on doubles, the engine's bits, each voxel's size recorded as two
+  // nodes instead of the kernel's eight or so: size = L max(1 + ((A xi) g) w, least) with
+  // xi = (xi_e_max - E) xi_inv_range + xi_base and w = min(u, wave_max), from E, the gain g and
+  // the signal u (a clamp that holds gives a constant, as pick does on Adj).
+  void record_actuation() {
+    const Model& m = m_;
+    State& s = s_;
+    const double *E = s.stiffness.data(), *u = s.actuation.data(), *gain = m.act_gain.data();
+    const int32_t *E_ids = ids_of(E), *u_ids = ids_of(u), *gain_ids = ids_of(gain);
+    int32_t* size_ids = ids_of(s.size.data());
+    if (!size_ids) throw std::logic_error("gradient: the sizes are recorded without a shadow");
+    const auto id = [](const int32_t* ids, int i) { return ids ? ids[i] : -1; };
+    for (int i = 0; i < m.n; ++i) {
+      actuate_lanes<double>(E, u, gain, s.size.data(), i, m);
+      const double xi = (m.xi_e_max - E[i]) * m.xi_inv_range + m.xi_base;
+      const bool clipped = u[i] > m.act_wave_max;
+      const double w = clipped ? m.act_wave_max : u[i];
+      const double a_xi = m.act_amplitude_xi * xi, a_xi_g = a_xi * gain[i];
+      if (1.0 + a_xi_g * w < m.def.act_min_factor) {
+        size_ids[i] = -1;
+        continue;
+      }
+      const double d_xi = m.size * (m.act_amplitude_xi * (gain[i] * w));
+      const int32_t eg =
+          record(id(E_ids, i), -(d_xi * m.xi_inv_range), id(gain_ids, i), m.size * (a_xi * w));
+      size_ids[i] = record(eg, 1.0, clipped ? -1 : id(u_ids, i), m.size * a_xi_g);
+    }
   }
 
   // The voxel update on doubles, as record_bonds does the bond stage.
@@ -451,7 +512,7 @@ class Replica {
   void record_gather() {
     Tape& t = *g_tape;
     const VoxelKernelIo& io = w_.views.voxel;
-    const GatherStageLayout L{size_t(m_.n), size_t(nb_)};
+    const GatherStageLayout L{size_t(m_.n)};
     GatherBlock stage{0, blocks_->gather_values.size(), blocks_->gather_ids.size()};
     blocks_->gather_values.resize(stage.at + L.values());
     blocks_->gather_ids.resize(stage.ids_at + L.ids());
@@ -459,6 +520,12 @@ class Replica {
                       blocks_->gather_ids.data() + stage.ids_at);
     kernels().gather(io, m_.n, m_);
     stage.first = t.unswept_leaves(kGatherOutputs * L.n);
+    // The same step's bond stage takes its records' adjoints from this gather's outputs'.
+    if (nb_ > 0) {
+      if (blocks_->order.empty() || blocks_->order.back().first != Blocks::kBond)
+        throw std::logic_error("gradient: a gather not after its step's bond stage");
+      blocks_->bonds.back().gather_first = stage.first;
+    }
     blocks_->order.push_back({Blocks::kGather, uint32_t(blocks_->gathers.size())});
     blocks_->gathers.push_back(stage);
     const auto leaf = [&](int o, size_t v) {
@@ -597,6 +664,7 @@ class Replica {
   bool paired_ = false;
   std::vector<double> anchor_;  // refresh_near_pairs'
   double size_top_ = 0;
+  std::vector<double> slope_;  // record_sine's
   Blocks* blocks_ = nullptr;
   NetworkReplica net_;      // the neural controller's call
   TerrainReplica terrain_;  // an environment's contacts
@@ -646,7 +714,7 @@ struct ParamLeaves {
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
 void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
-           const BondKernelIo& io, const VoxelKernelIo& voxel_io) {
+           const BondKernelIo& io) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
@@ -657,7 +725,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     size_t first = 0;
     int outputs = 0;
     if (kind == Blocks::kBond)
-      first = size_t(blocks.bonds[index].first), outputs = kBondOutputs * k.bond_count();
+      first = size_t(blocks.bonds[index].first), outputs = kBondLeaves * k.bond_count();
     else if (kind == Blocks::kVoxel)
       first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs * k.n;
     else
@@ -666,10 +734,13 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     end = first;
     if (kind == Blocks::kBond) {
       const BondBlock& stage = blocks.bonds[index];
+      static_assert(kGOutMoment == kGOutForce + 3, "bond_reverse reads force and moment rows");
+      if (stage.gather_first < 0) throw std::logic_error("gradient: a bond stage without a gather");
       const uint8_t* valid = nullptr;
       if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
       bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
-                         blocks.bond_ids.data() + stage.at, valid, first, adj.data(), k,
+                         blocks.bond_ids.data() + stage.at, valid, first, stage.prev_first,
+                         adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(), k,
                          bond_scratch);
     } else if (kind == Blocks::kVoxel) {
       const size_t at = blocks.voxels[index].at;
@@ -678,8 +749,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
                           first, adj.data(), k, voxel_scratch);
     } else {
       const GatherBlock& stage = blocks.gathers[index];
-      gather_stage_reverse(voxel_io, GatherStageLayout{L.n, L.nb},
-                           blocks.gather_values.data() + stage.at,
+      gather_stage_reverse(GatherStageLayout{L.n}, blocks.gather_values.data() + stage.at,
                            blocks.gather_ids.data() + stage.ids_at, first, adj.data(), k);
     }
   }
@@ -695,7 +765,7 @@ double block_bytes(const Model& m) {
   const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
   const double voxel_stage =
       (sizeof(double) + sizeof(int32_t)) * double(kVoxelInputs) * m.n + 2.0 * m.n;
-  const GatherStageLayout G{L.n, L.nb};
+  const GatherStageLayout G{L.n};
   const double gather_stage =
       sizeof(double) * double(G.values()) + sizeof(int32_t) * double(G.ids());
   return bond_stage + voxel_stage + gather_stage + sizeof(BondBlock) + sizeof(VoxelBlock) +
@@ -746,7 +816,7 @@ struct Segment {
     blocks.voxel_ids.reserve(blocks.voxel_values.capacity());
     blocks.voxel_flags.reserve(static_cast<size_t>(K) * 2 * m.n);
     blocks.gathers.reserve(static_cast<size_t>(K));
-    const GatherStageLayout G{size_t(m.n), size_t(m.bond_count())};
+    const GatherStageLayout G{size_t(m.n)};
     blocks.gather_values.reserve(static_cast<size_t>(K) * G.values());
     blocks.gather_ids.reserve(static_cast<size_t>(K) * G.ids());
     blocks.order.reserve(static_cast<size_t>(K) * 3);
@@ -839,7 +909,7 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
     for (size_t k = 0; k < ids[r].size(); ++k)
       if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
   for (const auto& [id, v] : sg.seeds) adj[id] += v;
-  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.voxel_io());
+  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io());
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
   for (int i = 0; i < m.n; ++i) {
@@ -1042,7 +1112,7 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
     std::vector<double>& adj = one.adj;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
-    sweep(tape, adj, {}, m, one.rep.bond_io(), one.rep.voxel_io());
+    sweep(tape, adj, {}, m, one.rep.bond_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.

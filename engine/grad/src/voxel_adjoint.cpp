@@ -200,7 +200,7 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
 void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, double* values,
                        int32_t* ids) {
   const auto keep = [&](const double* row, size_t count, double* v, int32_t* id) {
-    if (v) std::copy(row, row + count, v);
+    std::copy(row, row + count, v);
     const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
     if (row_ids)
       std::copy(row_ids, row_ids + count, id);
@@ -209,11 +209,10 @@ void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, doub
   };
   keep(io.stiff, L.n, values, ids);
   keep(io.lin_mom, 3 * L.n, values + L.lin_mom(), ids + L.lin_mom());
-  for (int v = 0; v < 3; ++v) keep(io.bond_out[v], 4 * (L.nb + 1), nullptr, ids + L.records(v));
 }
 
-void gather_stage_reverse(const VoxelKernelIo& io, const GatherStageLayout& L, const double* values,
-                          const int32_t* ids, size_t first, double* adj, const ModelConstants& k) {
+void gather_stage_reverse(const GatherStageLayout& L, const double* values, const int32_t* ids,
+                          size_t first, double* adj, const ModelConstants& k) {
   // force = ((sum_s +-F_s - coef p) + weight) + load, moment = sum_s M_s,
   // coef = global_damping c_lin_unit sqrt(E) / mass.
   const size_t n = L.n;
@@ -228,12 +227,7 @@ void gather_stage_reverse(const VoxelKernelIo& io, const GatherStageLayout& L, c
     const double coef = (k.def.global_damping * (k.c_lin_unit * se)) / k.mass;
     double g_coef = 0;
     for (int c = 0; c < 3; ++c) {
-      const double g_f = out[(kGOutForce + c) * n + i], g_m = out[(kGOutMoment + c) * n + i];
-      for (int slot = 0; slot < 6; ++slot) {
-        const size_t b = 4 * static_cast<size_t>(io.slot_bond[slot][i]) + c;
-        add(ids[L.records(0) + b], slot & 1 ? g_f : -g_f);
-        add(ids[L.records(slot & 1 ? 1 : 2) + b], g_m);
-      }
+      const double g_f = out[(kGOutForce + c) * n + i];
       add(lin_ids[3 * i + c], -(g_f * coef));
       g_coef -= g_f * lin_mom[3 * i + c];
     }

@@ -98,23 +98,23 @@ bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* ou
 // the slow damping, as one block a step: its inputs are the records each voxel's six slots read
 // (force on a, and moment on a or on b, of each slot's bond), each voxel's momentum and
 // modulus; its outputs each voxel's total force, total moment and sqrt(E), output by output
-// (voxel i's output o is node first + o n + i).
+// (voxel i's output o is node first + o n + i). The records are the same step's bond stage's
+// outputs and read by nothing else: their adjoints are not passed through the tape, the bond
+// stage's reverse reads them from the gather's outputs' (bond_stage_reverse).
 enum GatherOutput : int { kGOutForce = 0, kGOutMoment = 3, kGOutSqrtE = 6, kGatherOutputs = 7 };
-// The gather's record for n voxels and nb bonds: the moduli and momenta (values and nodes, as
-// the arrays are laid out), then the nodes of the bond records (Workspace::bond_out, 4 (nb + 1)
-// each, the last a bondless slot's).
+// The gather's record for n voxels: the moduli and momenta (values and nodes, as the arrays are
+// laid out).
 struct GatherStageLayout {
-  size_t n, nb;
+  size_t n;
   size_t lin_mom() const { return n; }
   size_t values() const { return 4 * n; }
-  size_t records(int v) const { return 4 * n + size_t(v) * 4 * (nb + 1); }
-  size_t ids() const { return records(3); }
+  size_t ids() const { return 4 * n; }
 };
 void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, double* values,
                        int32_t* ids);
-// From the adjoints of a kept gather's outputs, adds those of its inputs to adj, voxel by voxel
-// (io: the model's slots).
-void gather_stage_reverse(const VoxelKernelIo& io, const GatherStageLayout& L, const double* values,
-                          const int32_t* ids, size_t first, double* adj, const ModelConstants& k);
+// From the adjoints of a kept gather's outputs, adds those of its momenta and moduli to adj,
+// voxel by voxel (the records' are the bond stage's reverse's).
+void gather_stage_reverse(const GatherStageLayout& L, const double* values, const int32_t* ids,
+                          size_t first, double* adj, const ModelConstants& k);
 
 }  // namespace plastivox::grad
