@@ -3,12 +3,12 @@
 // The replica below is one step of Simulator::step2 (engine/core/src/simulator.cpp), stage by
 // stage, with the engine's own kernel templates (bond_body.hpp, voxel_body.hpp,
 // develop_body.hpp) instantiated on the recording type Adj (adj.hpp). The few lines of the
-// stages that are not kernels (the voxel gather, self-collision, stable_dt, the controller's
-// call: the sine here, the networks in network.hpp; time and settling) are written in the
-// engine's order of operations, so the replica computes the engine's bits; gradient() checks
-// it at every snapshot. When recording for gradient(), the bond stage, the gather and the
-// voxel update run on doubles with the engine's kernel set and are kept as blocks with their
-// own reverses (bond_adjoint.hpp, voxel_adjoint.hpp); g_reference_tape records them operation
+// stages that are not kernels (the voxel gather, stable_dt, the controller's call: the sine
+// here, the networks in network.hpp; time and settling; self-collision in collision_adjoint.cpp)
+// are written in the engine's order of operations, so the replica computes the engine's bits;
+// gradient() checks it at every snapshot. When recording for gradient(), the bond stage, the gather
+// and the voxel update run on doubles with the engine's kernel set and are kept as blocks with
+// their own reverses (bond_adjoint.hpp, voxel_adjoint.hpp); g_reference_tape records them operation
 // by operation instead.
 #include "plastivox/grad/gradient.hpp"
 
@@ -27,6 +27,7 @@
 #include "adj_elementary.hpp"
 #include "bond_adjoint.hpp"
 #include "bond_body.hpp"
+#include "collision_adjoint.hpp"
 #include "develop_body.hpp"
 #include "lanes.hpp"
 #include "network.hpp"
@@ -238,7 +239,7 @@ class Replica {
       record_gather();
     else
       gather();
-    self_collisions(events, dt_next);
+    collisions_.apply(m, s, w_, dt_next, events ? &events->h : nullptr);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
     for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
@@ -481,89 +482,6 @@ class Replica {
     }
   }
 
-  // The pairs that can touch until the next refresh, in increasing order: those whose centres
-  // were within reach when the list was made (anchor_ the centres then). A pair touching now is
-  // closer than half_d (size_i + size_j) <= 2 half_d size_top_; while no voxel has moved more
-  // than kDrift L from its anchor and no size has grown past size_top_, its centres were then
-  // closer than that plus 2 kDrift L, which is reach. Otherwise the list is made again.
-  void refresh_near_pairs(double half_d) {
-    static constexpr double kDrift = 0.05;  // of a voxel's edge
-    const Model& m = m_;
-    const State& s = s_;
-    const double drift = kDrift * m.size;
-    double size_top = 0, moved2 = 0;
-    for (int i = 0; i < m.n; ++i) size_top = std::max(size_top, s.size[i]);
-    if (anchor_.size() == 3 * size_t(m.n))
-      for (int i = 0; i < m.n && moved2 <= drift * drift; ++i) {
-        const double* a = &anchor_[3 * size_t(i)];
-        const double dx = s.pos[i].x() - a[0], dy = s.pos[i].y() - a[1], dz = s.pos[i].z() - a[2];
-        moved2 = std::max(moved2, dx * dx + dy * dy + dz * dz);
-      }
-    if (anchor_.size() == 3 * size_t(m.n) && moved2 <= drift * drift && size_top <= size_top_)
-      return;
-    anchor_.resize(3 * size_t(m.n));
-    for (int i = 0; i < m.n; ++i)
-      for (int k = 0; k < 3; ++k) anchor_[3 * size_t(i) + k] = s.pos[i][k];
-    size_top_ = size_top * (1 + 1e-3);
-    const double reach = (2 * half_d * size_top_ + 2 * drift) * (1 + 1e-9);
-    near_.clear();
-    for (size_t p = 0; p < pair_a_.size(); ++p) {
-      const Vec3 d = s.pos[pair_b_[p]] - s.pos[pair_a_[p]];
-      if (d.squaredNorm() < reach * reach) near_.push_back(static_cast<int>(p));
-    }
-  }
-
-  // apply_self_collisions (contacts.cpp): every pair of surface voxels i < j not near each
-  // other in the bond graph (with self-collision off, those with an object voxel j), in (i, j)
-  // order, as the engine adds the pairs its candidate lists find (they miss no contact, and
-  // the exact test is this one). A free object's contacts are object_contact's.
-  void self_collisions(Fnv* events, Adj dt) {
-    const Model& m = m_;
-    if (!m.def.self_collision && m.robot_n == m.n) return;
-    const State& s = s_;
-    const double half_d = 0.5 * m.def.contact_diameter;
-    const double half_d_object = 0.5 * std::min(1.0, m.def.contact_diameter);
-    if (!paired_) {  // every pair that may touch, once: (i, j), i < j, in increasing order
-      for (int i = 0; i < m.n; ++i) {
-        if (!m.surface[i]) continue;
-        const std::vector<int>& near = m.near_voxels[i];
-        for (int j = i + 1; j < m.n; ++j)
-          if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j) &&
-              (m.def.self_collision || j >= m.robot_n))
-            pair_a_.push_back(i), pair_b_.push_back(j);
-      }
-      paired_ = true;
-    }
-    refresh_near_pairs(half_d);
-    for (size_t c = 0; c < near_.size(); ++c) {
-      const int i = pair_a_[near_[c]], j = pair_b_[near_[c]];
-      const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
-      const double dz = s.pos[j].z() - s.pos[i].z();
-      const bool object = j >= m.robot_n;
-      const double contact = (object ? half_d_object : half_d) * (s.size[i] + s.size[j]);
-      const double dist2 = dx * dx + dy * dy + dz * dz;
-      if (dist2 >= contact * contact || dist2 == 0) continue;
-      if (events) events->add((uint64_t(i) << 32) + uint64_t(j));
-      if (object) {
-        const Adj cont = half_d_object * (get(s.size.data(), i) + get(s.size.data(), j));
-        object_contact_adj(m, s, w_, i, j, cont, dt, events ? &events->h : nullptr);
-        continue;
-      }
-      Adj d[3];
-      for (int k = 0; k < 3; ++k) d[k] = pos(j, k) - pos(i, k);
-      const Adj cont = half_d * (get(s.size.data(), i) + get(s.size.data(), j));
-      const Adj dist = root(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      const Adj ei = get(s.stiffness.data(), i), ej = get(s.stiffness.data(), j);
-      const Adj k = 2.0 * ei * ej / (ei + ej) * m.size;
-      const Adj scale = k * (cont - dist) / dist;
-      for (int c = 0; c < 3; ++c) {
-        const Adj f = d[c] * scale;
-        put(w_.force[c].data(), j, load(w_.force[c].data(), j, Adj{}) + f);
-        put(w_.force[c].data(), i, load(w_.force[c].data(), i, Adj{}) - f);
-      }
-    }
-  }
-
   static constexpr size_t kScratch = 6 + 3 * 3 + 9;  // the Workspace arrays with shadows
   const Model& m_;
   State s_;
@@ -572,14 +490,10 @@ class Replica {
   std::vector<StateFieldBytes> rows_;
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
-  // The surface pairs self-collision tests (built on the first step), and those that may touch.
-  std::vector<int> pair_a_, pair_b_, near_;
-  bool paired_ = false;
-  std::vector<double> anchor_;  // refresh_near_pairs'
-  double size_top_ = 0;
   Blocks* blocks_ = nullptr;
-  NetworkReplica net_;      // the neural controller's call
-  TerrainReplica terrain_;  // an environment's contacts
+  NetworkReplica net_;           // the neural controller's call
+  TerrainReplica terrain_;       // an environment's contacts
+  CollisionReplica collisions_;  // self-collision and free objects' contacts
 };
 
 // A derivative for each row of kStateFields, zero, sized like the row for a floating-point row
