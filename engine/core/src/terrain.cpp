@@ -38,23 +38,6 @@ namespace {
 
 using Normal = ContactNormal<double>;
 
-// The box b grown by r on every side.
-void grown(const ObstacleBox& b, double r, double lo[3], double hi[3]) {
-  for (int a = 0; a < 3; ++a) lo[a] = b.min[a] - r, hi[a] = b.max[a] + r;
-}
-
-// The face of the grown box nearest to x inside it: its axis, its outward sign and depth.
-Normal nearest_face(const double lo[3], const double hi[3], const double x[3], double& depth) {
-  Normal c;
-  depth = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) {
-    const double below = x[a] - lo[a], above = hi[a] - x[a];
-    if (below < depth) depth = below, c.axis = a, c.sign = -1;
-    if (above < depth) depth = above, c.axis = a, c.sign = 1;
-  }
-  return c;
-}
-
 }  // namespace
 
 int crossing_stop(const double lo[3], const double hi[3], const double x0[3], const double x1[3],
@@ -161,10 +144,8 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
     }
     for (int box : w.terrain_boxes) {
       double lo[3], hi[3];
-      grown(boxes[box], r, lo, hi);
-      if (!(x.x() > lo[0] && x.x() < hi[0] && x.y() > lo[1] && x.y() < hi[1] && x.z() > lo[2] &&
-            x.z() < hi[2]))
-        continue;
+      grown_box(boxes[box], r, lo, hi);
+      if (!inside_box(lo, hi, x.data())) continue;
       double pen;
       const Normal c = nearest_face(lo, hi, x.data(), pen);
       normal += apply_contact(c, pen, E, se, was_held, k, dt, f, p, held);
@@ -181,10 +162,8 @@ double terrain_penetration(const Model& m, const Vec3& x, double r) {
   if (m.def.floor) total += std::max(0.0, m.ground.penetration(x.x(), x.y(), x.z(), r));
   for (const ObstacleBox& b : m.def.environment.obstacles) {
     double lo[3], hi[3];
-    grown(b, r, lo, hi);
-    if (!(x.x() > lo[0] && x.x() < hi[0] && x.y() > lo[1] && x.y() < hi[1] && x.z() > lo[2] &&
-          x.z() < hi[2]))
-      continue;
+    grown_box(b, r, lo, hi);
+    if (!inside_box(lo, hi, x.data())) continue;
     double pen;
     nearest_face(lo, hi, x.data(), pen);
     total += pen;
@@ -206,7 +185,7 @@ void terrain_after_update(const Model& m, State& s, Workspace& w) {
     const double r = 0.5 * s.size[i];
     for (int box : w.terrain_boxes) {
       double lo[3], hi[3];
-      grown(boxes[box], r, lo, hi);
+      grown_box(boxes[box], r, lo, hi);
       const int a = stop_crossing(lo, hi, w.terrain_prev[i].data(), s.pos[i].data());
       if (a >= 0) s.lin_mom[i][a] = 0;
     }

@@ -1,14 +1,94 @@
-// Contact with an environment (terrain.cpp): one contact's forces and friction for any number
+// Contact with an environment (terrain.cpp): the ground's height and penetration
+// (HeightField), a box's nearest face, and one contact's forces and friction for any number
 // type, so that engine/grad's replica records the engine's own arithmetic (as the kernels'
 // *_body.hpp are instantiated on its recording type), and the stop of a thin box's crossing,
-// apart from its application, so that the replica takes the same decision.
+// apart from its application, so that the replica takes the same decision. A comparison here
+// is of values (the recording type's does not fold its outcome into the replica's event
+// signature outside the stages that ask it to; the replica notes the branches itself).
 #pragma once
 
+#include <algorithm>
+#include <limits>
+
 #include "lanes.hpp"  // root
+#include "plastivox/environment.hpp"
 #include "plastivox/model_constants.hpp"
 
 namespace plastivox {
 namespace {
+
+// A number's value (the recording type's own overload is found by argument-dependent lookup).
+inline double value_of(double v) {
+  return v;
+}
+
+// ---- The ground (HeightField, environment.hpp) ----
+
+// Along one axis of n nodes: the cell index i (node i and i + 1, the latter clamped), the
+// fraction f in it, and whether u lies inside the grid (where the slope is not 0). Past the
+// grid f is a constant.
+template <class T>
+inline void ground_locate(T u, int n, int& i, T& f, bool& inside) {
+  inside = false;
+  if (n == 1 || !(u > 0.0)) {
+    i = 0, f = T(0.0);
+  } else if (u >= static_cast<double>(n - 1)) {
+    i = n - 2, f = T(1.0);
+  } else {
+    i = std::min(static_cast<int>(value_of(u)), n - 2);
+    f = u - static_cast<double>(i);
+    inside = true;
+  }
+}
+
+// The ground's height at (x, y), bilinear in its cell, and when asked its slopes dh/dx, dh/dy
+// (which depend on x and y too: the ground's curvature within a cell) and the cell's indices.
+template <class T>
+inline T ground_height(const HeightField& g, T x, T y, T* gx, T* gy, int* cell = nullptr) {
+  int i, j;
+  T fu, fv;
+  bool in_x, in_y;
+  ground_locate((x - g.x0) / g.cell, g.nx, i, fu, in_x);
+  ground_locate((y - g.y0) / g.cell, g.ny, j, fv, in_y);
+  if (cell) cell[0] = i, cell[1] = j;
+  const int i1 = std::min(i + 1, g.nx - 1), j1 = std::min(j + 1, g.ny - 1);
+  const double h00 = g.h[i + size_t(g.nx) * j], h10 = g.h[i1 + size_t(g.nx) * j];
+  const double h01 = g.h[i + size_t(g.nx) * j1], h11 = g.h[i1 + size_t(g.nx) * j1];
+  if (gx) *gx = in_x ? ((1.0 - fv) * (h10 - h00) + fv * (h11 - h01)) / g.cell : T(0.0);
+  if (gy) *gy = in_y ? ((1.0 - fu) * (h01 - h00) + fu * (h11 - h10)) / g.cell : T(0.0);
+  return (1.0 - fv) * ((1.0 - fu) * h00 + fu * h10) + fv * ((1.0 - fu) * h01 + fu * h11);
+}
+
+// How far a ball of radius r at (x, y, z) presses into the ground: r less the distance from its
+// centre to the tangent plane under it, whose upward unit normal goes to `normal` when asked
+// (exactly (0, 0, 1) where level), the cell under the centre to `cell`.
+template <class T>
+inline T ground_penetration(const HeightField& g, T x, T y, T z, T r, T* normal,
+                            int* cell = nullptr) {
+  T gx(0.0), gy(0.0);
+  const T h = ground_height(g, x, y, &gx, &gy, cell);
+  if (gx == 0.0 && gy == 0.0) {
+    if (normal) normal[0] = T(0.0), normal[1] = T(0.0), normal[2] = T(1.0);
+    return r - (z - h);
+  }
+  const T inv = 1.0 / root(1.0 + gx * gx + gy * gy);
+  if (normal) normal[0] = -gx * inv, normal[1] = -gy * inv, normal[2] = inv;
+  return r - (z - h) * inv;
+}
+
+// ---- The boxes ----
+
+// The box b grown by r on every side.
+template <class T>
+inline void grown_box(const ObstacleBox& b, T r, T lo[3], T hi[3]) {
+  for (int a = 0; a < 3; ++a) lo[a] = b.min[a] - r, hi[a] = b.max[a] + r;
+}
+
+// Whether x lies strictly inside the box [lo, hi].
+inline bool inside_box(const double lo[3], const double hi[3], const double x[3]) {
+  return x[0] > lo[0] && x[0] < hi[0] && x[1] > lo[1] && x[1] < hi[1] && x[2] > lo[2] &&
+         x[2] < hi[2];
+}
 
 // A contact's normal: +-axis `axis` exactly (sign +1 or -1), or any unit vector n (axis -1).
 template <class T>
@@ -40,6 +120,20 @@ inline void drop_tangent(const ContactNormal<T>& c, T v[3]) {
   T t[3];
   tangent(c, v, t);
   for (int k = 0; k < 3; ++k) v[k] = v[k] - t[k];
+}
+
+// The face of the grown box [lo, hi] nearest to x inside it: its axis, its outward sign, and
+// its depth (the penetration).
+template <class T>
+inline ContactNormal<T> nearest_face(const T lo[3], const T hi[3], const T x[3], T& depth) {
+  ContactNormal<T> c;
+  depth = T(std::numeric_limits<double>::infinity());
+  for (int a = 0; a < 3; ++a) {
+    const T below = x[a] - lo[a], above = hi[a] - x[a];
+    if (below < depth) depth = below, c.axis = a, c.sign = -1;
+    if (above < depth) depth = above, c.axis = a, c.sign = 1;
+  }
+  return c;
 }
 
 // One contact of penetration pen > 0 (m) on a voxel of modulus E (sqrt(E) = se): the normal

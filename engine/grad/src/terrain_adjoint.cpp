@@ -1,14 +1,10 @@
-// Contact with an environment and with free objects, recorded (terrain_adjoint.hpp). A
-// contact's forces and friction are the engine's own template (terrain_body.hpp's
-// apply_contact) on Adj; the rest below is its namesake of engine/core/src/terrain.cpp,
-// environment.cpp (the ground's height) or contacts.cpp (object_contact), operation for
-// operation: a change there must be made here too (gradient() checks the replica against the
-// engine's life at every snapshot, and throws where they part).
+// Contact with an environment, recorded (terrain_adjoint.hpp). The ground's height and
+// penetration, a box's nearest face and a contact's forces and friction are the engine's own
+// templates (terrain_body.hpp) on Adj; the loops below are terrain.cpp's, and object_contact_adj
+// is contacts.cpp's object_contact, operation for operation: a change there must be made here too
+// (gradient() checks the replica against the engine's life at every snapshot, and throws where they
+// part).
 #include "terrain_adjoint.hpp"
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
 
 #include "terrain_body.hpp"
 
@@ -24,70 +20,7 @@ Adj pos_of(const State& s, int i, int k) {
   return load(s.pos.front().data(), 3 * i + k, Adj{});
 }
 
-// ---- The ground (HeightField, environment.cpp) ----
-
-// locate: the cell index, the fraction in it (the derivative of u inside the grid, a constant
-// outside it), and whether u lies inside.
-void locate(Adj u, int n, int& i, Adj& f, bool& inside) {
-  inside = false;
-  if (n == 1 || !(u.v > 0)) {
-    i = 0, f = Adj(0.0);
-  } else if (u.v >= n - 1) {
-    i = n - 2, f = Adj(1.0);
-  } else {
-    i = std::min(static_cast<int>(u.v), n - 2);
-    f = u - Adj(static_cast<double>(i));
-    inside = true;
-  }
-}
-
-// HeightField::height with its slopes: bilinear in the cell, so the slopes depend on the
-// position too (the ground's curvature within a cell).
-Adj height(const HeightField& g, Adj x, Adj y, Adj& gx, Adj& gy, uint64_t& cell) {
-  int i, j;
-  Adj fu, fv;
-  bool in_x, in_y;
-  locate((x - Adj(g.x0)) / Adj(g.cell), g.nx, i, fu, in_x);
-  locate((y - Adj(g.y0)) / Adj(g.cell), g.ny, j, fv, in_y);
-  cell = (uint64_t(uint32_t(i)) << 32) + uint32_t(j);
-  const int i1 = std::min(i + 1, g.nx - 1), j1 = std::min(j + 1, g.ny - 1);
-  const double h00 = g.h[i + size_t(g.nx) * j], h10 = g.h[i1 + size_t(g.nx) * j];
-  const double h01 = g.h[i + size_t(g.nx) * j1], h11 = g.h[i1 + size_t(g.nx) * j1];
-  const Adj one = 1.0;
-  gx = in_x ? ((one - fv) * Adj(h10 - h00) + fv * Adj(h11 - h01)) / Adj(g.cell) : Adj(0.0);
-  gy = in_y ? ((one - fu) * Adj(h01 - h00) + fu * Adj(h11 - h10)) / Adj(g.cell) : Adj(0.0);
-  return (one - fv) * ((one - fu) * Adj(h00) + fu * Adj(h10)) +
-         fv * ((one - fu) * Adj(h01) + fu * Adj(h11));
-}
-
 using Normal = ContactNormal<Adj>;
-
-// HeightField::penetration, its normal into c.n and the cell under the centre into `cell`.
-Adj penetration(const HeightField& g, Adj x, Adj y, Adj z, Adj r, Normal& c, uint64_t& cell) {
-  Adj gx, gy;
-  const Adj h = height(g, x, y, gx, gy, cell);
-  if (gx.v == 0 && gy.v == 0) {
-    c.n[0] = Adj(0.0), c.n[1] = Adj(0.0), c.n[2] = Adj(1.0);
-    return r - (z - h);
-  }
-  const Adj inv = Adj(1.0) / root(Adj(1.0) + gx * gx + gy * gy);
-  c.n[0] = -gx * inv, c.n[1] = -gy * inv, c.n[2] = inv;
-  return r - (z - h) * inv;
-}
-
-// ---- The boxes (terrain.cpp) ----
-
-// The face of the grown box [lo, hi] nearest to x inside it; its depth is the penetration.
-Normal nearest_face(const Adj lo[3], const Adj hi[3], const Adj x[3], Adj& depth) {
-  Normal c;
-  depth = Adj(std::numeric_limits<double>::infinity());
-  for (int a = 0; a < 3; ++a) {
-    const Adj below = x[a] - lo[a], above = hi[a] - x[a];
-    if (below.v < depth.v) depth = below, c.axis = a, c.sign = -1;
-    if (above.v < depth.v) depth = above, c.axis = a, c.sign = 1;
-  }
-  return c;
-}
 
 }  // namespace
 
@@ -121,24 +54,23 @@ void TerrainReplica::contacts(const Model& m, State& s, Workspace& w, Adj dt, ui
       // Recorded only in contact (the engine's own function decides, on the same values).
       if (m.ground.penetration(x[0].v, x[1].v, x[2].v, r.v) > 0) {
         Normal c;
-        uint64_t cell = 0;
-        const Adj pen = penetration(m.ground, x[0], x[1], x[2], r, c, cell);
+        int cell[2];
+        const Adj pen = ground_penetration(m.ground, x[0], x[1], x[2], r, c.n, cell);
         // touching, and the cell it touches in (a node between cells: a kink)
         note(events, 0x9000 + uint64_t(i));
-        note(events, cell);
+        note(events, (uint64_t(uint32_t(cell[0])) << 32) + uint32_t(cell[1]));
         if (c.n[0].v == 0 && c.n[1].v == 0) c.axis = 2;
         normal = normal + contact(c, pen);
       }
     }
     for (size_t b = 0; b < boxes.size(); ++b) {
+      // Recorded only inside (decided on the values, as the engine does).
       double lo[3], hi[3];
-      for (int a = 0; a < 3; ++a) lo[a] = boxes[b].min[a] - r.v, hi[a] = boxes[b].max[a] + r.v;
-      if (!(x[0].v > lo[0] && x[0].v < hi[0] && x[1].v > lo[1] && x[1].v < hi[1] &&
-            x[2].v > lo[2] && x[2].v < hi[2]))
-        continue;
+      const double centre[3] = {x[0].v, x[1].v, x[2].v};
+      grown_box(boxes[b], r.v, lo, hi);
+      if (!inside_box(lo, hi, centre)) continue;
       Adj glo[3], ghi[3], pen;
-      for (int a = 0; a < 3; ++a)
-        glo[a] = Adj(boxes[b].min[a]) - r, ghi[a] = Adj(boxes[b].max[a]) + r;
+      grown_box(boxes[b], r, glo, ghi);
       const Normal c = nearest_face(glo, ghi, x, pen);
       note(events, 0xb0000 + 8 * b + 2 * size_t(c.axis) + (c.sign > 0 ? 1 : 0));
       normal = normal + contact(c, pen);
@@ -163,10 +95,9 @@ void TerrainReplica::after_update(const Model& m, State& s, Workspace& w, uint64
     const Adj r = 0.5 * load(s.size.data(), i, Adj{});
     for (size_t b = 0; b < boxes.size(); ++b) {
       double lo[3], hi[3], x0[3], x1[3];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = boxes[b].min[a] - r.v, hi[a] = boxes[b].max[a] + r.v;
+      grown_box(boxes[b], r.v, lo, hi);
+      for (int a = 0; a < 3; ++a)
         x0[a] = prev_[3 * size_t(i) + a].v, x1[a] = pos[3 * size_t(i) + a];
-      }
       int where = 0;
       const int a = crossing_stop(lo, hi, x0, x1, where);
       if (a < 0) continue;

@@ -1,10 +1,10 @@
-// Contact with an environment and with free objects on the recording type (docs/gradients.md,
-// "Environments and free objects"): terrain.cpp's terrain_contacts and terrain_after_update
-// (each contact by the engine's own apply_contact, terrain_body.hpp) and contacts.cpp's
-// object_contact, in the engine's order of operations on Adj, so that the replica computes the
-// engine's bits and the tape records their derivatives (the ground's height and normal under
-// each voxel, the boxes' faces, the contact forces, friction and the stops). The stages are
-// scalar in the engine too; the tape is their adjoint.
+// Contact with an environment on the recording type (docs/gradients.md, "Environments and free
+// objects"): terrain.cpp's terrain_contacts and terrain_after_update (the ground, the boxes and
+// each contact by the engine's own templates, terrain_body.hpp), in the engine's order of
+// operations on Adj, so that the replica computes the engine's bits and the tape records their
+// derivatives (the ground's height and normal under each voxel, the boxes' faces, the contact
+// forces, friction and the stops). The stages are scalar in the engine too; the tape is their
+// adjoint. object_contact_adj is contacts.cpp's object_contact on Adj.
 #pragma once
 
 #include <cstdint>
