@@ -175,6 +175,61 @@ TEST(Gradient, MatchesCentralDifferencesWithDevelopment) {
   EXPECT_GE(smooth, 3 * m.n + 1 - 6);
 }
 
+// An arch of 7 voxels, one bond after another: up a column at (0, 0), across the top to (1, 1)
+// and down a column there. Its legs stand diagonally across an empty cell, centres sqrt(2) L
+// apart, closer than the contact distance (1.5 L) and 4 and 6 bonds apart along the arch
+// (beyond the 3 that exclude a pair): two self-contacts from the start.
+RobotDef arch() {
+  RobotDef r = make_empty_robot(2, 2, 3);
+  r.name = "arch";
+  const int path[7][3] = {{0, 0, 0}, {0, 0, 1}, {0, 0, 2}, {0, 1, 2},
+                          {1, 1, 2}, {1, 1, 1}, {1, 1, 0}};
+  for (int k = 0; k < 7; ++k) {
+    const int s = r.site(path[k][0], path[k][1], path[k][2]);
+    r.present[s] = 1;
+    r.stiffness[s] = 1e8 * (1.5 + std::sin(1.7 * k + 0.3));
+    r.phase[s] = 0.37 * std::sin(0.9 * k) + 0.05 * k;
+    r.dev_rate[s] = 2.0 + std::cos(1.3 * k);
+  }
+  return r;
+}
+
+// Self-contacts over a life: pairs of surface voxels not near in the bond graph whose centres
+// are closer than their contact distance, counted step by step.
+long self_contacts_of(const Model& m) {
+  Simulator sim(m);
+  const State& s = sim.state();
+  long touching = 0;
+  while (s.status == SimStatus::kRunning) {
+    sim.step();
+    for (int i = 0; i < m.n; ++i)
+      for (int j = i + 1; j < m.n; ++j) {
+        const double contact = 0.5 * m.def.contact_diameter * (s.size[i] + s.size[j]);
+        const std::vector<int>& near = m.near_voxels[i];
+        touching += m.surface[i] && m.surface[j] &&
+                    !std::binary_search(near.begin(), near.end(), j) &&
+                    (s.pos[j] - s.pos[i]).squaredNorm() < contact * contact;
+      }
+  }
+  return touching;
+}
+
+// Self-collision (the engine's candidate pairs, each contact's spring recorded): every
+// parameter of a body in self-contact throughout its life, with and without development.
+TEST(Gradient, SelfCollisionMatchesCentralDifferences) {
+  for (Treatment t : {Treatment::kNone, Treatment::kStress}) {
+    SCOPED_TRACE(to_string(t));
+    const Model m = compile(arch(), short_life(0.2, 0.05, t));
+    // Not vacuous: a pair in contact at nearly every step.
+    EXPECT_GT(self_contacts_of(m), simulate(m).steps * 9 / 10);
+    std::vector<int> all(m.n);
+    for (int i = 0; i < m.n; ++i) all[i] = i;
+    const bool dev = t != Treatment::kNone;
+    const int smooth = check_against_differences(m, all, dev, 1e-6);
+    EXPECT_GE(smooth, (dev ? 3 : 2) * m.n + 1 - 2);
+  }
+}
+
 // The walker: a spread of voxels, and the stiffest, which sets dt. That one ties with another
 // voxel of the same stiffness (to the rule's 1e-9), where dt has no derivative: its stiffness
 // differences are reported as crossing a kink, and every other parameter is held to 1e-6.

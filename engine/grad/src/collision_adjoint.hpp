@@ -1,12 +1,13 @@
 // Self-collision on the recording type (docs/gradients.md): contacts.cpp's
-// apply_self_collisions, the pairs of surface voxels not near in the bond graph that touch, in
-// the engine's order of summation, so that the replica computes the engine's bits and the tape
-// records their derivatives. A free object's contacts with the robot (and with each other) are
-// among these pairs (object_contact_adj, terrain_adjoint.hpp).
+// apply_self_collisions with the engine's own pieces, its candidate pairs
+// (self_collision_candidates, on the replica's own Workspace from the same centres: the same
+// pairs) and each pair's contact (collision_body.hpp's pair_contact on Adj), in the engine's
+// order of summation, so that the replica computes the engine's bits and the tape records their
+// derivatives. A free object's contacts with the robot (and with each other) are among these
+// pairs.
 #pragma once
 
 #include <cstdint>
-#include <vector>
 
 #include "adj.hpp"
 #include "plastivox/model.hpp"
@@ -21,15 +22,6 @@ class CollisionReplica {
   // this step's. `events`, when given, receives each touching pair and an object pair's
   // friction regime: where they change the gradient has a kink.
   void apply(const Model& m, const State& s, Workspace& w, Adj dt, uint64_t* events);
-
- private:
-  void refresh_near_pairs(const Model& m, const State& s, double half_d);
-
-  // The surface pairs self-collision tests (built on the first step), and those that may touch.
-  std::vector<int> pair_a_, pair_b_, near_;
-  bool paired_ = false;
-  std::vector<double> anchor_;  // refresh_near_pairs'
-  double size_top_ = 0;
 };
 
 }  // namespace plastivox::grad

@@ -1,9 +1,8 @@
 // Contact with an environment, recorded (terrain_adjoint.hpp). The ground's height and
 // penetration, a box's nearest face and a contact's forces and friction are the engine's own
-// templates (terrain_body.hpp) on Adj; the loops below are terrain.cpp's, and object_contact_adj
-// is contacts.cpp's object_contact, operation for operation: a change there must be made here too
-// (gradient() checks the replica against the engine's life at every snapshot, and throws where they
-// part).
+// templates (terrain_body.hpp) on Adj; the loops below are terrain.cpp's, operation for
+// operation: a change there must be made here too (gradient() checks the replica against the
+// engine's life at every snapshot, and throws where they part).
 #include "terrain_adjoint.hpp"
 
 #include "terrain_body.hpp"
@@ -111,39 +110,6 @@ void TerrainReplica::after_update(const Model& m, State& s, Workspace& w, uint64
   }
   if (!w.floor_normal.empty())
     for (int i = 0; i < m.n; ++i) put(w.floor_normal.data(), i, normal_[i]);
-}
-
-void object_contact_adj(const Model& m, const State& s, Workspace& w, int i, int j, Adj contact,
-                        Adj dt, uint64_t* events) {
-  Adj d[3];
-  for (int c = 0; c < 3; ++c) d[c] = pos_of(s, j, c) - pos_of(s, i, c);
-  const Adj dist = root(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  const Adj ei = load(s.stiffness.data(), i, Adj{}), ej = load(s.stiffness.data(), j, Adj{});
-  const Adj k = 2.0 * ei * ej / (ei + ej) * m.size;
-  const double* mom = s.lin_mom.front().data();
-  Adj n[3], v[3];
-  for (int c = 0; c < 3; ++c) {
-    n[c] = d[c] / dist;
-    v[c] = (load(mom, 3 * j + c, Adj{}) - load(mom, 3 * i + c, Adj{})) / m.mass;
-  }
-  const Adj vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-  const double m_r = 0.5 * m.mass;
-  const Adj normal = k * (contact - dist);
-  const Adj push = normal - m.def.collision_damping * 2.0 * root(m_r * k) * vn;
-  Adj f[3], vt[3];
-  for (int c = 0; c < 3; ++c) f[c] = n[c] * push, vt[c] = v[c] - vn * n[c];
-  const Adj speed = root(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-  if (speed.v > 0) {
-    const Adj kinetic = m.def.mu_kinetic * normal, stop = m_r * speed / dt;
-    const bool stopping = stop.v < kinetic.v;  // std::min(kinetic, stop)
-    note(events, stopping ? 0x0b1 : 0x0b0);
-    const Adj friction = stopping ? stop : kinetic;
-    for (int c = 0; c < 3; ++c) f[c] = f[c] - vt[c] * (friction / speed);
-  }
-  for (int c = 0; c < 3; ++c) {  // f acts on j
-    put(w.force[c].data(), j, load(w.force[c].data(), j, Adj{}) + f[c]);
-    put(w.force[c].data(), i, load(w.force[c].data(), i, Adj{}) - f[c]);
-  }
 }
 
 }  // namespace plastivox::grad

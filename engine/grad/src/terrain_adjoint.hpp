@@ -4,7 +4,7 @@
 // operations on Adj, so that the replica computes the engine's bits and the tape records their
 // derivatives (the ground's height and normal under each voxel, the boxes' faces, the contact
 // forces, friction and the stops). The stages are scalar in the engine too; the tape is their
-// adjoint. object_contact_adj is contacts.cpp's object_contact on Adj.
+// adjoint. Free objects' contacts are collision_adjoint.hpp's.
 #pragma once
 
 #include <cstdint>
@@ -34,10 +34,5 @@ class TerrainReplica {
   std::vector<Adj> normal_;  // each voxel's summed normal force
   std::vector<uint8_t> held_;
 };
-
-// object_contact (contacts.cpp): the contact of voxel i with object voxel j (i < j) whose
-// centres are closer than `contact`, its forces added to the Workspace's. dt is this step's.
-void object_contact_adj(const Model& m, const State& s, Workspace& w, int i, int j, Adj contact,
-                        Adj dt, uint64_t* events);
 
 }  // namespace plastivox::grad
