@@ -23,6 +23,7 @@ namespace {
 using grad::Gradient;
 using plastivox::testing::error_of;
 using plastivox::testing::RelNear;
+using plastivox::testing::self_contacts_of;
 
 // A short life with actuation: settling ends early so the phases matter.
 PhysicsDef short_life(double duration, double settle, Treatment treatment = Treatment::kNone) {
@@ -192,26 +193,6 @@ RobotDef arch() {
     r.dev_rate[s] = 2.0 + std::cos(1.3 * k);
   }
   return r;
-}
-
-// Self-contacts over a life: pairs of surface voxels not near in the bond graph whose centres
-// are closer than their contact distance, counted step by step.
-long self_contacts_of(const Model& m) {
-  Simulator sim(m);
-  const State& s = sim.state();
-  long touching = 0;
-  while (s.status == SimStatus::kRunning) {
-    sim.step();
-    for (int i = 0; i < m.n; ++i)
-      for (int j = i + 1; j < m.n; ++j) {
-        const double contact = 0.5 * m.def.contact_diameter * (s.size[i] + s.size[j]);
-        const std::vector<int>& near = m.near_voxels[i];
-        touching += m.surface[i] && m.surface[j] &&
-                    !std::binary_search(near.begin(), near.end(), j) &&
-                    (s.pos[j] - s.pos[i]).squaredNorm() < contact * contact;
-      }
-  }
-  return touching;
 }
 
 // Self-collision (the engine's candidate pairs, each contact's spring recorded): every
