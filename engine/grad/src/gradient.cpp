@@ -3,12 +3,12 @@
 // The replica below is one step of Simulator::step2 (engine/core/src/simulator.cpp), stage by
 // stage, with the engine's own kernel templates (bond_body.hpp, voxel_body.hpp,
 // develop_body.hpp) instantiated on the recording type Adj (adj.hpp). The few lines of the
-// stages that are not kernels (the voxel gather, stable_dt, the controller's call: the sine
-// here, the networks in network.hpp; time and settling; self-collision in collision_adjoint.cpp)
-// are written in the engine's order of operations, so the replica computes the engine's bits;
-// gradient() checks it at every snapshot. When recording for gradient(), the bond stage, the gather
-// and the voxel update run on doubles with the engine's kernel set and are kept as blocks with
-// their own reverses (bond_adjoint.hpp, voxel_adjoint.hpp); g_reference_tape records them operation
+// stages that are not kernels (the voxel gather, stable_dt, the controller's
+// call: the sine here, the networks in network.hpp; time and settling) are written in the
+// engine's order of operations, so the replica computes the engine's bits; gradient() checks
+// it at every snapshot. When recording for gradient(), the bond stage, the gather and the
+// voxel update run on doubles with the engine's kernel set and are kept as blocks with their
+// own reverses (bond_adjoint.hpp, voxel_adjoint.hpp); g_reference_tape records them operation
 // by operation instead.
 #include "plastivox/grad/gradient.hpp"
 
@@ -490,10 +490,11 @@ class Replica {
   std::vector<StateFieldBytes> rows_;
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
+  // Self-collision and the free objects' contacts (collision_adjoint.hpp).
+  CollisionReplica collisions_;
   Blocks* blocks_ = nullptr;
-  NetworkReplica net_;           // the neural controller's call
-  TerrainReplica terrain_;       // an environment's contacts
-  CollisionReplica collisions_;  // self-collision and free objects' contacts
+  NetworkReplica net_;      // the neural controller's call
+  TerrainReplica terrain_;  // an environment's contacts
 };
 
 // A derivative for each row of kStateFields, zero, sized like the row for a floating-point row
