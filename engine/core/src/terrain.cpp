@@ -34,11 +34,6 @@
 #include "workspace.hpp"
 
 namespace plastivox {
-namespace {
-
-using Normal = ContactNormal<double>;
-
-}  // namespace
 
 int crossing_stop(const double lo[3], const double hi[3], const double x0[3], const double x1[3],
                   int& where) {
@@ -116,8 +111,6 @@ void body_bounds(const State& s, const std::vector<Vec3>* also, Vec3& lo, Vec3& 
 }  // namespace
 
 void terrain_contacts(const Model& m, State& s, Workspace& w) {
-  const ModelConstants& k = m;
-  const double dt = s.dt;
   const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
   if (!boxes.empty()) {
     Vec3 lo, hi;
@@ -127,32 +120,13 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
   }
   for (int i = 0; i < m.n; ++i) {
     const Vec3& x = s.pos[i];
-    const double r = 0.5 * s.size[i];
-    const double E = s.stiffness[i], se = w.sqrt_e[i];
-    const bool was_held = s.static_friction[i];
     double f[3] = {w.force[0][i], w.force[1][i], w.force[2][i]};
-    double* p = s.lin_mom[i].data();
     bool held = false;
-    double normal = 0;
-    if (m.def.floor) {
-      Normal c;
-      const double pen = m.ground.penetration(x.x(), x.y(), x.z(), r, c.n);
-      if (pen > 0) {
-        if (c.n[0] == 0 && c.n[1] == 0) c.axis = 2;
-        normal += apply_contact(c, pen, E, se, was_held, k, dt, f, p, held);
-      }
-    }
-    for (int box : w.terrain_boxes) {
-      double lo[3], hi[3];
-      grown_box(boxes[box], r, lo, hi);
-      if (!inside_box(lo, hi, x.data())) continue;
-      double pen;
-      const Normal c = nearest_face(lo, hi, x.data(), pen);
-      normal += apply_contact(c, pen, E, se, was_held, k, dt, f, p, held);
-    }
+    w.terrain_normal[i] = voxel_terrain_contacts(
+        m, w.terrain_boxes, i, x.data(), 0.5 * s.size[i], s.stiffness[i], w.sqrt_e[i],
+        s.static_friction[i] != 0, s.dt, f, s.lin_mom[i].data(), held, [](uint64_t) {});
     for (int a = 0; a < 3; ++a) w.force[a][i] = f[a];
     w.terrain_held[i] = held;
-    w.terrain_normal[i] = normal;
     w.terrain_prev[i] = x;
   }
 }

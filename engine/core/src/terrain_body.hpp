@@ -8,10 +8,14 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
+#include <type_traits>
+#include <vector>
 
 #include "lanes.hpp"  // root
 #include "plastivox/environment.hpp"
+#include "plastivox/model.hpp"
 #include "plastivox/model_constants.hpp"
 
 namespace plastivox {
@@ -179,6 +183,52 @@ inline T apply_contact(const ContactNormal<T>& c, T pen, T E, T se, bool was_hel
   held = held || holds;
   // (For engine/grad's event signature: held at rest, slipping from rest, sliding, stopped.)
   if (regime) *regime = at_rest ? (sticks ? 1 : 2) : (slides ? 3 : 4);
+  return normal;
+}
+
+// One voxel's contacts with the ground (with m.def.floor) and with the boxes listed in `near`
+// (indices into the environment's boxes, increasing: any list holding every box its centre lies
+// in), in terrain.cpp's order: the ground, then the boxes. x is its centre, r half its actuated
+// size, E its modulus and se sqrt(E); f and p its force and momentum, changed; held as
+// apply_contact's. Returns the summed normal force. A contact is decided on values; on the
+// recording type a voxel out of contact computes nothing. `note` receives each branch taken
+// (engine/grad's event signature: voxel i on the ground and the cell under it, a box's face,
+// each contact's friction regime); the engine's does nothing.
+template <class T, class Note>
+inline T voxel_terrain_contacts(const Model& m, const std::vector<int>& near, int i, const T x[3],
+                                T r, T E, T se, bool was_held, T dt, T f[3], T p[3], bool& held,
+                                Note&& note) {
+  const ModelConstants& k = m;
+  T normal(0.0);
+  const auto contact = [&](const ContactNormal<T>& c, T pen) {
+    int regime = 0;
+    normal = normal + apply_contact(c, pen, E, se, was_held, k, dt, f, p, held, &regime);
+    note(0xc0 + uint64_t(regime));
+  };
+  const double centre[3] = {value_of(x[0]), value_of(x[1]), value_of(x[2])};
+  if (m.def.floor && (std::is_same_v<T, double> ||
+                      m.ground.penetration(centre[0], centre[1], centre[2], value_of(r)) > 0)) {
+    ContactNormal<T> c;
+    int cell[2];
+    const T pen = ground_penetration(m.ground, x[0], x[1], x[2], r, c.n, cell);
+    if (pen > 0.0) {
+      note(0x9000 + uint64_t(i));  // touching, and the cell (between cells: a kink)
+      note((uint64_t(uint32_t(cell[0])) << 32) + uint32_t(cell[1]));
+      if (c.n[0] == 0.0 && c.n[1] == 0.0) c.axis = 2;
+      contact(c, pen);
+    }
+  }
+  for (int b : near) {
+    const ObstacleBox& box = m.def.environment.obstacles[b];
+    double lo[3], hi[3];
+    grown_box(box, value_of(r), lo, hi);
+    if (!inside_box(lo, hi, centre)) continue;
+    T glo[3], ghi[3], pen;
+    grown_box(box, r, glo, ghi);
+    const ContactNormal<T> c = nearest_face(glo, ghi, x, pen);
+    note(0xb0000 + 8 * uint64_t(b) + 2 * uint64_t(c.axis) + (c.sign > 0 ? 1 : 0));
+    contact(c, pen);
+  }
   return normal;
 }
 

@@ -33,6 +33,7 @@ class TerrainReplica {
   std::vector<Adj> prev_;    // 3 per voxel: each centre before the update
   std::vector<Adj> normal_;  // each voxel's summed normal force
   std::vector<uint8_t> held_;
+  std::vector<int> all_boxes_;  // every box's index
 };
 
 }  // namespace plastivox::grad
