@@ -72,16 +72,6 @@ int crossing_stop(const double lo[3], const double hi[3], const double x0[3], co
 
 namespace {
 
-// The path x0 -> x1 of a voxel's centre in one step against the grown box [lo, hi]: stops it
-// at the face it entered by when it reaches the box's middle plane (see the top of the file).
-// Returns the axis along which x1 and the momentum were changed, or -1.
-int stop_crossing(const double lo[3], const double hi[3], const double x0[3], double x1[3]) {
-  int where = 0;
-  const int a = crossing_stop(lo, hi, x0, x1, where);
-  if (a >= 0) x1[a] = where == 0 ? lo[a] : where == 1 ? hi[a] : x0[a];
-  return a;
-}
-
 // The boxes (indices, increasing) that a voxel of half size up to r_max whose centre lies
 // in [lo, hi] may touch: a cheap pass over the boxes once a step, so each voxel tests only
 // the boxes near the body.
@@ -156,13 +146,8 @@ void terrain_after_update(const Model& m, State& s, Workspace& w) {
   for (int i = 0; i < m.n; ++i) {
     if (m.fixed[i]) continue;  // the update kept its flag
     s.static_friction[i] = w.terrain_held[i];
-    const double r = 0.5 * s.size[i];
-    for (int box : w.terrain_boxes) {
-      double lo[3], hi[3];
-      grown_box(boxes[box], r, lo, hi);
-      const int a = stop_crossing(lo, hi, w.terrain_prev[i].data(), s.pos[i].data());
-      if (a >= 0) s.lin_mom[i][a] = 0;
-    }
+    voxel_box_stops(m, w.terrain_boxes, 0.5 * s.size[i], w.terrain_prev[i].data(), s.pos[i].data(),
+                    s.lin_mom[i].data(), [](uint64_t) {});
   }
   if (!w.floor_normal.empty())
     std::copy(w.terrain_normal.begin(), w.terrain_normal.end(), w.floor_normal.begin());

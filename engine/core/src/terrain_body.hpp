@@ -241,4 +241,32 @@ inline T voxel_terrain_contacts(const Model& m, const std::vector<int>& near, in
 int crossing_stop(const double lo[3], const double hi[3], const double x0[3], const double x1[3],
                   int& where);
 
+namespace {
+
+// The stops of a voxel's path x0 -> x1 in one step by the boxes listed in `near` (as in
+// voxel_terrain_contacts), r half its actuated size: where crossing_stop stops it, x1 is put
+// back at the face it entered by, box -+ r, or where it was, x0, and p zeroed along that axis.
+// Returns whether any box stopped it. `note` as voxel_terrain_contacts'.
+template <class T, class Note>
+inline bool voxel_box_stops(const Model& m, const std::vector<int>& near, T r, const T x0[3],
+                            T x1[3], T p[3], Note&& note) {
+  bool stopped = false;
+  for (int b : near) {
+    const ObstacleBox& box = m.def.environment.obstacles[b];
+    double lo[3], hi[3], from[3], to[3];
+    grown_box(box, value_of(r), lo, hi);
+    for (int a = 0; a < 3; ++a) from[a] = value_of(x0[a]), to[a] = value_of(x1[a]);
+    int where = 0;
+    const int a = crossing_stop(lo, hi, from, to, where);
+    if (a < 0) continue;
+    note(0x5700 + 4 * uint64_t(a) + uint64_t(where) + (uint64_t(b) << 16));
+    x1[a] = where == 0 ? box.min[a] - r : where == 1 ? box.max[a] + r : x0[a];
+    p[a] = T(0.0);
+    stopped = true;
+  }
+  return stopped;
+}
+
+}  // namespace
+
 }  // namespace plastivox

@@ -1,10 +1,8 @@
 // Contact with an environment, recorded (terrain_adjoint.hpp). A voxel's contacts with the
-// ground and the boxes (the ground's height and penetration, a box's nearest face, each
-// contact's forces and friction) are the engine's own template (terrain_body.hpp's
-// voxel_terrain_contacts) on Adj, as is the decision to stop a thin box's crossing; what is
-// left below is terrain.cpp's frame around them and the stop's application, operation for
-// operation: a change there must be made here too (gradient() checks the replica against the
-// engine's life at every snapshot, and throws where they part).
+// ground and the boxes and the stops of its path by thin boxes are the engine's own templates
+// (terrain_body.hpp's voxel_terrain_contacts and voxel_box_stops) on Adj; what is left below is
+// terrain.cpp's frame around them: a change there must be made here too (gradient() checks the
+// replica against the engine's life at every snapshot, and throws where they part).
 #include "terrain_adjoint.hpp"
 
 #include "terrain_body.hpp"
@@ -49,31 +47,22 @@ void TerrainReplica::contacts(const Model& m, State& s, Workspace& w, Adj dt, ui
   }
 }
 
-// terrain_after_update, every box tested (as in contacts: the engine's boxes near the paths
+// terrain_after_update, every box listed (as in contacts: the engine's boxes near the paths
 // are a superset of those a path can be stopped by).
 void TerrainReplica::after_update(const Model& m, State& s, Workspace& w, uint64_t* events) {
-  const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
   double* mom = s.lin_mom.front().data();
   double* pos = s.pos.front().data();
   for (int i = 0; i < m.n; ++i) {
     if (m.fixed[i]) continue;
     s.static_friction[i] = held_[i];
-    const Adj r = 0.5 * load(s.size.data(), i, Adj{});
-    for (size_t b = 0; b < boxes.size(); ++b) {
-      double lo[3], hi[3], x0[3], x1[3];
-      grown_box(boxes[b], r.v, lo, hi);
-      for (int a = 0; a < 3; ++a)
-        x0[a] = prev_[3 * size_t(i) + a].v, x1[a] = pos[3 * size_t(i) + a];
-      int where = 0;
-      const int a = crossing_stop(lo, hi, x0, x1, where);
-      if (a < 0) continue;
-      note(events, 0x5700 + 4 * size_t(a) + size_t(where) + (uint64_t(b) << 16));
-      const Adj stop = where == 0   ? Adj(boxes[b].min[a]) - r
-                       : where == 1 ? Adj(boxes[b].max[a]) + r
-                                    : prev_[3 * size_t(i) + a];
-      put(pos, 3 * size_t(i) + a, stop);
-      put(mom, 3 * size_t(i) + a, Adj(0.0));
-    }
+    if (all_boxes_.empty()) continue;
+    Adj x1[3], p[3];
+    for (int a = 0; a < 3; ++a) x1[a] = pos_of(s, i, a), p[a] = load(mom, 3 * i + a, Adj{});
+    if (!voxel_box_stops(m, all_boxes_, 0.5 * load(s.size.data(), i, Adj{}), &prev_[3 * size_t(i)],
+                         x1, p, [events](uint64_t v) { note(events, v); }))
+      continue;
+    for (int a = 0; a < 3; ++a)
+      put(pos, 3 * size_t(i) + a, x1[a]), put(mom, 3 * size_t(i) + a, p[a]);
   }
   if (!w.floor_normal.empty())
     for (int i = 0; i < m.n; ++i) put(w.floor_normal.data(), i, normal_[i]);
