@@ -23,6 +23,7 @@ namespace {
 using grad::Gradient;
 using plastivox::testing::error_of;
 using plastivox::testing::RelNear;
+using plastivox::testing::self_contacts_of;
 
 // A short life with actuation: settling ends early so the phases matter.
 PhysicsDef short_life(double duration, double settle, Treatment treatment = Treatment::kNone) {
@@ -180,6 +181,41 @@ TEST(Gradient, MatchesCentralDifferencesWithDevelopment) {
   for (int i = 0; i < m.n; ++i) all[i] = i;
   const int smooth = check_against_differences(m, all, true, 1e-6);
   EXPECT_GE(smooth, 3 * m.n + 1 - 6);
+}
+
+// An arch of 7 voxels, one bond after another: up a column at (0, 0), across the top to (1, 1)
+// and down a column there. Its legs stand diagonally across an empty cell, centres sqrt(2) L
+// apart, closer than the contact distance (1.5 L) and 4 and 6 bonds apart along the arch
+// (beyond the 3 that exclude a pair): two self-contacts from the start.
+RobotDef arch() {
+  RobotDef r = make_empty_robot(2, 2, 3);
+  r.name = "arch";
+  const int path[7][3] = {{0, 0, 0}, {0, 0, 1}, {0, 0, 2}, {0, 1, 2},
+                          {1, 1, 2}, {1, 1, 1}, {1, 1, 0}};
+  for (int k = 0; k < 7; ++k) {
+    const int s = r.site(path[k][0], path[k][1], path[k][2]);
+    r.present[s] = 1;
+    r.stiffness[s] = 1e8 * (1.5 + std::sin(1.7 * k + 0.3));
+    r.phase[s] = 0.37 * std::sin(0.9 * k) + 0.05 * k;
+    r.dev_rate[s] = 2.0 + std::cos(1.3 * k);
+  }
+  return r;
+}
+
+// Self-collision (the engine's candidate pairs, each contact's spring recorded): every
+// parameter of a body in self-contact throughout its life, with and without development.
+TEST(Gradient, SelfCollisionMatchesCentralDifferences) {
+  for (Treatment t : {Treatment::kNone, Treatment::kStress}) {
+    SCOPED_TRACE(to_string(t));
+    const Model m = compile(arch(), short_life(0.2, 0.05, t));
+    // Not vacuous: a pair in contact at nearly every step.
+    EXPECT_GT(self_contacts_of(m), simulate(m).steps * 9 / 10);
+    std::vector<int> all(m.n);
+    for (int i = 0; i < m.n; ++i) all[i] = i;
+    const bool dev = t != Treatment::kNone;
+    const int smooth = check_against_differences(m, all, dev, 1e-6);
+    EXPECT_GE(smooth, (dev ? 3 : 2) * m.n + 1 - 2);
+  }
 }
 
 // The walker: a spread of voxels, and the stiffest, which sets dt. That one ties with another

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cfenv>
 #include <cstdio>
 #include <exception>
@@ -53,6 +54,24 @@ double task_score_after(const Model& m, const State& first, const std::vector<St
 
 void run_until(Simulator& sim, double t) {
   while (sim.state().time < t && sim.state().status == SimStatus::kRunning) sim.step();
+}
+
+long self_contacts_of(const Model& m) {
+  Simulator sim(m);
+  const State& s = sim.state();
+  long touching = 0;
+  while (s.status == SimStatus::kRunning) {
+    sim.step();
+    for (int i = 0; i < m.n; ++i)
+      for (int j = i + 1; j < m.n; ++j) {
+        const double contact = 0.5 * m.def.contact_diameter * (s.size[i] + s.size[j]);
+        const std::vector<int>& near = m.near_voxels[i];
+        touching += m.surface[i] && m.surface[j] &&
+                    !std::binary_search(near.begin(), near.end(), j) &&
+                    (s.pos[j] - s.pos[i]).squaredNorm() < contact * contact;
+      }
+  }
+  return touching;
 }
 
 std::string data_dir() {

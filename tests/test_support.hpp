@@ -31,6 +31,10 @@ PhysicsDef with_environment(PhysicsDef def, const std::string& environment);
 // Steps the simulator until its time reaches t (or it goes unstable).
 void run_until(Simulator& sim, double t);
 
+// Self-contacts over a whole life, counted step by step: pairs of surface voxels not near in
+// the bond graph whose centres are closer than their contact distance (contacts.cpp).
+long self_contacts_of(const Model& m);
+
 // The task's running values (task_values, task_layout) of `from` put into `to`, as the task's
 // watch would have carried them had the life stepped from `from` to `to`: for feeding a task
 // hand-made states.

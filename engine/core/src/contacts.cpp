@@ -25,11 +25,13 @@
 // Free objects (Model::robot_n) meet the robot, and each other, through the same lists, as
 // the floor meets a voxel (docs/environments.md, "Free objects"): at their mean actuated
 // size (faces touching; contact_diameter when that is smaller), with the spring above, the
-// floor's normal damping and kinetic friction (object_contact). Their contacts run even when
+// floor's normal damping and kinetic friction (collision_body.hpp's pair_contact, which the
+// gradient's replica records on the candidates this file finds). Their contacts run even when
 // self_collision is off; the robot's own pairs then are left out.
 #include <algorithm>
 #include <cmath>
 
+#include "collision_body.hpp"
 #include "kernels.hpp"
 #include "workspace.hpp"
 
@@ -194,35 +196,6 @@ void refresh_partners(const Model& m, const State& s, Workspace& w) {
   }
 }
 
-// The contact of voxel i with object voxel j (i < j) whose centres are dist < contact apart
-// along d (from i to j): the self-contact spring, damped on the normal velocity by
-// collision_damping (2 zeta sqrt(m_r k), m_r = m / 2 the pair's reduced mass), and kinetic
-// friction mu_k N against the pair's relative tangential velocity, capped at the force that
-// stops that sliding within the step (m_r |v_t| / dt), as the floor stops a voxel rather than
-// reverse it. Equal and opposite on the two voxels, so momentum is conserved. dt is this
-// step's (Workspace::dt_next: step1 leaves the State's as it was).
-void object_contact(const Model& m, const State& s, Workspace& w, int i, int j, const Vec3& d,
-                    double dist, double contact) {
-  const double ei = s.stiffness[i], ej = s.stiffness[j];
-  const double k = 2.0 * ei * ej / (ei + ej) * m.size;
-  const Vec3 n = d / dist;
-  const Vec3 v = (s.lin_mom[j] - s.lin_mom[i]) / m.mass;  // j relative to i
-  const double vn = v.dot(n);
-  const double m_r = 0.5 * m.mass;
-  const double normal = k * (contact - dist);
-  Vec3 f = n * (normal - m.def.collision_damping * 2.0 * std::sqrt(m_r * k) * vn);
-  const Vec3 vt = v - vn * n;
-  const double speed = vt.norm();
-  if (speed > 0) {
-    const double friction = std::min(m.def.mu_kinetic * normal, m_r * speed / w.dt_next);
-    f -= vt * (friction / speed);
-  }
-  for (int c3 = 0; c3 < 3; ++c3) {  // f acts on j
-    w.force[c3][j] += f[c3];
-    w.force[c3][i] -= f[c3];
-  }
-}
-
 // The pairs to test each step, from the partner lists: every (i, j), i < j, of the lists, or
 // with self_collision off only those that hold an object voxel (j >= robot_n).
 void list_pairs(const Model& m, ContactGrid& g) {
@@ -241,40 +214,25 @@ void list_pairs(const Model& m, ContactGrid& g) {
 
 }  // namespace
 
-void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
-  if (!m.def.self_collision && m.robot_n == m.n) return;
+int self_collision_candidates(const Model& m, const State& s, Workspace& w) {
+  if (!m.def.self_collision && m.robot_n == m.n) return 0;
   refresh_partners(m, s, w);
   ContactGrid& g = w.contact_grid;
   if (g.pairs_stale) list_pairs(m, g);
-  const double L = m.size;
-  const double half_d = 0.5 * m.def.contact_diameter;
-  const double half_d_object = 0.5 * std::min(1.0, m.def.contact_diameter);
-  // A vectorised pass keeps the pairs that may touch (nearly all do not); each is then
-  // decided exactly, and forces are added pair by pair in (i, j) order, i < j.
-  const int n =
-      kernels().touch_candidates(w.centre_size.data(), g.pair_a.data(), g.pair_b.data(),
-                                 static_cast<int>(g.pair_a.size()), half_d, g.touching.data());
+  // A vectorised pass keeps the pairs that may touch (nearly all do not), at the robot's
+  // contact distance, which is no less than an object's.
+  return kernels().touch_candidates(w.centre_size.data(), g.pair_a.data(), g.pair_b.data(),
+                                    static_cast<int>(g.pair_a.size()), 0.5 * m.def.contact_diameter,
+                                    g.touching.data());
+}
+
+// Each candidate is decided exactly, and forces are added pair by pair in (i, j) order, i < j.
+void apply_self_collisions(const Model& m, const State& s, Workspace& w) {
+  const int n = self_collision_candidates(m, s, w);
+  const ContactGrid& g = w.contact_grid;
   for (int c = 0; c < n; ++c) {
     const int p = g.touching[c];
-    const int i = g.pair_a[p], j = g.pair_b[p];
-    const Vec3 d = s.pos[j] - s.pos[i];
-    const bool object = j >= m.robot_n;
-    const double contact = (object ? half_d_object : half_d) * (s.size[i] + s.size[j]);
-    const double dist2 = d.squaredNorm();
-    if (dist2 >= contact * contact) continue;
-    const double dist = std::sqrt(dist2);
-    if (dist == 0) continue;  // coincident centres: no direction to push along
-    if (object) {
-      object_contact(m, s, w, i, j, d, dist, contact);
-      continue;
-    }
-    const double ei = s.stiffness[i], ej = s.stiffness[j];
-    const double k = 2.0 * ei * ej / (ei + ej) * L;
-    const Vec3 f = d * (k * (contact - dist) / dist);  // pushes j away from i
-    for (int c3 = 0; c3 < 3; ++c3) {
-      w.force[c3][j] += f[c3];
-      w.force[c3][i] -= f[c3];
-    }
+    pair_contact(m, s, w, g.pair_a[p], g.pair_b[p], w.dt_next);
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "plastivox/base/names.hpp"
 #include "plastivox/base/rng.hpp"
+#include "terrain_body.hpp"
 
 namespace plastivox {
 namespace {
@@ -51,47 +52,15 @@ double profile_height(const GroundDef& g, double u) {
   }
 }
 
-// Along one axis of n nodes: the cell index i (node i and i + 1, the latter clamped), the
-// fraction f in it, and whether u lies inside the grid (where the slope is not 0).
-void locate(double u, int n, int& i, double& f, bool& inside) {
-  inside = false;
-  if (n == 1 || !(u > 0)) {
-    i = 0, f = 0;
-  } else if (u >= n - 1) {
-    i = n - 2, f = 1;
-  } else {
-    i = std::min(static_cast<int>(u), n - 2);
-    f = u - i;
-    inside = true;
-  }
-}
-
 }  // namespace
 
+// The engine's and engine/grad's replica's own arithmetic (terrain_body.hpp).
 double HeightField::height(double x, double y, double* gx, double* gy) const {
-  int i, j;
-  double fu, fv;
-  bool in_x, in_y;
-  locate((x - x0) / cell, nx, i, fu, in_x);
-  locate((y - y0) / cell, ny, j, fv, in_y);
-  const int i1 = std::min(i + 1, nx - 1), j1 = std::min(j + 1, ny - 1);
-  const double h00 = h[i + size_t(nx) * j], h10 = h[i1 + size_t(nx) * j];
-  const double h01 = h[i + size_t(nx) * j1], h11 = h[i1 + size_t(nx) * j1];
-  if (gx) *gx = in_x ? ((1 - fv) * (h10 - h00) + fv * (h11 - h01)) / cell : 0.0;
-  if (gy) *gy = in_y ? ((1 - fu) * (h01 - h00) + fu * (h11 - h10)) / cell : 0.0;
-  return (1 - fv) * ((1 - fu) * h00 + fu * h10) + fv * ((1 - fu) * h01 + fu * h11);
+  return ground_height(*this, x, y, gx, gy);
 }
 
 double HeightField::penetration(double x, double y, double z, double r, double* normal) const {
-  double gx, gy;
-  const double h = height(x, y, &gx, &gy);
-  if (gx == 0 && gy == 0) {
-    if (normal) normal[0] = 0, normal[1] = 0, normal[2] = 1;
-    return r - (z - h);
-  }
-  const double inv = 1 / std::sqrt(1 + gx * gx + gy * gy);
-  if (normal) normal[0] = -gx * inv, normal[1] = -gy * inv, normal[2] = inv;
-  return r - (z - h) * inv;
+  return ground_penetration(*this, x, y, z, r, normal);
 }
 
 int64_t ground_nodes(const GroundDef& g) {

@@ -85,6 +85,10 @@ inline double root(double v) {
 inline double pick(bool c, double a, double b) {
   return c ? a : b;
 }
+// A number's value (the recording type's own overload is found by argument-dependent lookup).
+inline double value_of(double v) {
+  return v;
+}
 inline bool any(bool c) {
   return c;
 }

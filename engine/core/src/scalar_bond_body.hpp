@@ -5,9 +5,9 @@
 // operation for operation, and records it. One bond at a time: its branches (the two frames
 // and their switch, the half-turn forms) are the bond's own.
 //
-// T's vocabulary: lanes.hpp's for double (load, store, root), with acos_of, sin_of, cos_of
-// (libm's, which the Voxelyze 0.9 model takes for its frame and rotation vectors), value_of (a
-// value's double) and with_slope below; the recording type brings its own, found by
+// T's vocabulary: lanes.hpp's for double (load, store, root, value_of), with acos_of, sin_of,
+// cos_of (libm's, which the Voxelyze 0.9 model takes for its frame and rotation vectors) and
+// with_slope below; the recording type brings its own, found by
 // argument-dependent lookup. Internal linkage, as every kernel template: see lanes.hpp.
 #pragma once
 
@@ -33,9 +33,6 @@ inline double sin_of(double x) {
 }
 inline double cos_of(double x) {
   return std::cos(x);
-}
-inline double value_of(double x) {
-  return x;
 }
 // v, a function of x whose derivative is slope() (the recording type records it; a double is v,
 // and slope() is never called).

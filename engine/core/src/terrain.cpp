@@ -34,28 +34,6 @@
 #include "workspace.hpp"
 
 namespace plastivox {
-namespace {
-
-using Normal = ContactNormal<double>;
-
-// The box b grown by r on every side.
-void grown(const ObstacleBox& b, double r, double lo[3], double hi[3]) {
-  for (int a = 0; a < 3; ++a) lo[a] = b.min[a] - r, hi[a] = b.max[a] + r;
-}
-
-// The face of the grown box nearest to x inside it: its axis, its outward sign and depth.
-Normal nearest_face(const double lo[3], const double hi[3], const double x[3], double& depth) {
-  Normal c;
-  depth = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) {
-    const double below = x[a] - lo[a], above = hi[a] - x[a];
-    if (below < depth) depth = below, c.axis = a, c.sign = -1;
-    if (above < depth) depth = above, c.axis = a, c.sign = 1;
-  }
-  return c;
-}
-
-}  // namespace
 
 int crossing_stop(const double lo[3], const double hi[3], const double x0[3], const double x1[3],
                   int& where) {
@@ -94,16 +72,6 @@ int crossing_stop(const double lo[3], const double hi[3], const double x0[3], co
 
 namespace {
 
-// The path x0 -> x1 of a voxel's centre in one step against the grown box [lo, hi]: stops it
-// at the face it entered by when it reaches the box's middle plane (see the top of the file).
-// Returns the axis along which x1 and the momentum were changed, or -1.
-int stop_crossing(const double lo[3], const double hi[3], const double x0[3], double x1[3]) {
-  int where = 0;
-  const int a = crossing_stop(lo, hi, x0, x1, where);
-  if (a >= 0) x1[a] = where == 0 ? lo[a] : where == 1 ? hi[a] : x0[a];
-  return a;
-}
-
 // The boxes (indices, increasing) that a voxel of half size up to r_max whose centre lies
 // in [lo, hi] may touch: a cheap pass over the boxes once a step, so each voxel tests only
 // the boxes near the body.
@@ -133,8 +101,6 @@ void body_bounds(const State& s, const std::vector<Vec3>* also, Vec3& lo, Vec3& 
 }  // namespace
 
 void terrain_contacts(const Model& m, State& s, Workspace& w) {
-  const ModelConstants& k = m;
-  const double dt = s.dt;
   const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
   if (!boxes.empty()) {
     Vec3 lo, hi;
@@ -144,34 +110,13 @@ void terrain_contacts(const Model& m, State& s, Workspace& w) {
   }
   for (int i = 0; i < m.n; ++i) {
     const Vec3& x = s.pos[i];
-    const double r = 0.5 * s.size[i];
-    const double E = s.stiffness[i], se = w.sqrt_e[i];
-    const bool was_held = s.static_friction[i];
     double f[3] = {w.force[0][i], w.force[1][i], w.force[2][i]};
-    double* p = s.lin_mom[i].data();
     bool held = false;
-    double normal = 0;
-    if (m.def.floor) {
-      Normal c;
-      const double pen = m.ground.penetration(x.x(), x.y(), x.z(), r, c.n);
-      if (pen > 0) {
-        if (c.n[0] == 0 && c.n[1] == 0) c.axis = 2;
-        normal += apply_contact(c, pen, E, se, was_held, k, dt, f, p, held);
-      }
-    }
-    for (int box : w.terrain_boxes) {
-      double lo[3], hi[3];
-      grown(boxes[box], r, lo, hi);
-      if (!(x.x() > lo[0] && x.x() < hi[0] && x.y() > lo[1] && x.y() < hi[1] && x.z() > lo[2] &&
-            x.z() < hi[2]))
-        continue;
-      double pen;
-      const Normal c = nearest_face(lo, hi, x.data(), pen);
-      normal += apply_contact(c, pen, E, se, was_held, k, dt, f, p, held);
-    }
+    w.terrain_normal[i] = voxel_terrain_contacts(
+        m, w.terrain_boxes, i, x.data(), 0.5 * s.size[i], s.stiffness[i], w.sqrt_e[i],
+        s.static_friction[i] != 0, s.dt, f, s.lin_mom[i].data(), held, [](uint64_t) {});
     for (int a = 0; a < 3; ++a) w.force[a][i] = f[a];
     w.terrain_held[i] = held;
-    w.terrain_normal[i] = normal;
     w.terrain_prev[i] = x;
   }
 }
@@ -181,10 +126,8 @@ double terrain_penetration(const Model& m, const Vec3& x, double r) {
   if (m.def.floor) total += std::max(0.0, m.ground.penetration(x.x(), x.y(), x.z(), r));
   for (const ObstacleBox& b : m.def.environment.obstacles) {
     double lo[3], hi[3];
-    grown(b, r, lo, hi);
-    if (!(x.x() > lo[0] && x.x() < hi[0] && x.y() > lo[1] && x.y() < hi[1] && x.z() > lo[2] &&
-          x.z() < hi[2]))
-      continue;
+    grown_box(b, r, lo, hi);
+    if (!inside_box(lo, hi, x.data())) continue;
     double pen;
     nearest_face(lo, hi, x.data(), pen);
     total += pen;
@@ -203,13 +146,8 @@ void terrain_after_update(const Model& m, State& s, Workspace& w) {
   for (int i = 0; i < m.n; ++i) {
     if (m.fixed[i]) continue;  // the update kept its flag
     s.static_friction[i] = w.terrain_held[i];
-    const double r = 0.5 * s.size[i];
-    for (int box : w.terrain_boxes) {
-      double lo[3], hi[3];
-      grown(boxes[box], r, lo, hi);
-      const int a = stop_crossing(lo, hi, w.terrain_prev[i].data(), s.pos[i].data());
-      if (a >= 0) s.lin_mom[i][a] = 0;
-    }
+    voxel_box_stops(m, w.terrain_boxes, 0.5 * s.size[i], w.terrain_prev[i].data(), s.pos[i].data(),
+                    s.lin_mom[i].data(), [](uint64_t) {});
   }
   if (!w.floor_normal.empty())
     std::copy(w.terrain_normal.begin(), w.terrain_normal.end(), w.floor_normal.begin());

@@ -220,6 +220,10 @@ inline Adj root(Adj a) {
 inline Adj pick(bool c, Adj a, Adj b) {
   return c ? a : b;
 }
+// The value, without its node (terrain_body.hpp's value_of for double: a cell's index).
+inline double value_of(Adj a) {
+  return a.v;
+}
 // One lane of a group: the element itself (the update's rotation of more than 0.01 rad in one
 // step takes its lanes one by one).
 inline Adj lane_get(Adj v, int) {

@@ -3,7 +3,7 @@
 // The replica below is one step of Simulator::step2 (engine/core/src/simulator.cpp), stage by
 // stage, with the engine's own kernel templates (bond_body.hpp, voxel_body.hpp,
 // develop_body.hpp) instantiated on the recording type Adj (adj.hpp). The few lines of the
-// stages that are not kernels (the voxel gather, self-collision, stable_dt, the controller's
+// stages that are not kernels (the voxel gather, stable_dt, the controller's
 // call: the sine here, the networks in network.hpp; time and settling) are written in the
 // engine's order of operations, so the replica computes the engine's bits; gradient() checks
 // it at every snapshot. When recording for gradient(), the bond stage, the gather and the
@@ -27,6 +27,7 @@
 #include "adj_elementary.hpp"
 #include "bond_adjoint.hpp"
 #include "bond_body.hpp"
+#include "collision_adjoint.hpp"
 #include "develop_body.hpp"
 #include "lanes.hpp"
 #include "network.hpp"
@@ -236,14 +237,24 @@ class Replica {
       g_branches = events ? &events->h : nullptr;
       scalar_bonds(m, w_.views, m.bond_damp / dt_old, nullptr, 0);
       g_branches = nullptr;
+      bond_block_ = false;
       if (events)
         for (int b = 0; b < nb_; ++b) events->add(w_.bond_small_angle_next[b]);
     } else if (nb_ > 0) {
       const Adj damp = m.bond_damp / dt_old;
       int redo = 0;
-      if (g_tape && blocks_)
+      // A step whose kernel hands bonds back is recorded operation by operation, gather and
+      // all: the block's reverse takes its records' adjoints from the gather's outputs and
+      // its next deformations' from the next stage as rows, which would reach the kernel's
+      // discarded results instead of the scalar path's (rare: a degenerate chord, a relative
+      // rotation near half a turn).
+      if (g_tape && blocks_) {
         record_bonds(io, damp, redo);
-      else
+        if (redo > 0) drop_bond_block(), redo = 0;
+      } else {
+        bond_block_ = false;
+      }
+      if (!bond_block_)
         for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
       // The bonds the kernel handed back, by the scalar path recorded on the tape (their
       // results replace the kernel's, whose leaves then get no adjoint).
@@ -254,11 +265,12 @@ class Replica {
     const Adj dt_next = m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time
                             ? stable_dt_adj(m, s.stiffness.data(), events)
                             : dt_old;
-    if (g_tape && blocks_)
+    // The gather's block takes its bonds' records as doubles: after a bond block only.
+    if (g_tape && blocks_ && (bond_block_ || nb_ == 0))
       record_gather();
     else
       gather();
-    self_collisions(events, dt_next);
+    collisions_.apply(m, s, w_, dt_next, events ? &events->h : nullptr);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
     for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
@@ -382,8 +394,9 @@ class Replica {
     BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
                     io.all_valid};
     // The step's commit copied the previous stage's next deformations, leaves and all, into
-    // bond_prev: this stage's reverse adds to them as rows.
-    if (!blocks_->bonds.empty()) {
+    // bond_prev: this stage's reverse adds to them as rows (when the previous step's bond stage
+    // was a block: else they are kept with their nodes).
+    if (!blocks_->bonds.empty() && bond_block_) {
       stage.prev_first = blocks_->bonds.back().first;
       const int32_t* prev_ids = t.ids_of(io.prev[8]);
       if (!prev_ids || prev_ids[0] != stage.prev_first + 8 * nb_ ||
@@ -420,6 +433,20 @@ class Replica {
     }
     for (int j = 0; j < 9; ++j)
       for (int b = 0; b < nb_; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
+    bond_block_ = true;
+  }
+
+  // Undoes record_bonds' block (its leaves and record), for the step to be recorded operation by
+  // operation instead.
+  void drop_bond_block() {
+    const BondBlock& stage = blocks_->bonds.back();
+    g_tape->nodes.resize(size_t(stage.first));
+    blocks_->bond_values.resize(stage.at);
+    blocks_->bond_ids.resize(stage.at);
+    if (!stage.all_valid) blocks_->bond_valid.resize(blocks_->bond_valid.size() - size_t(nb_));
+    blocks_->order.pop_back();
+    blocks_->bonds.pop_back();
+    bond_block_ = false;
   }
 
   // The sine controller's signals by the engine's kernel set (its bits at every lane width), each
@@ -568,89 +595,6 @@ class Replica {
     }
   }
 
-  // The pairs that can touch until the next refresh, in increasing order: those whose centres
-  // were within reach when the list was made (anchor_ the centres then). A pair touching now is
-  // closer than half_d (size_i + size_j) <= 2 half_d size_top_; while no voxel has moved more
-  // than kDrift L from its anchor and no size has grown past size_top_, its centres were then
-  // closer than that plus 2 kDrift L, which is reach. Otherwise the list is made again.
-  void refresh_near_pairs(double half_d) {
-    static constexpr double kDrift = 0.05;  // of a voxel's edge
-    const Model& m = m_;
-    const State& s = s_;
-    const double drift = kDrift * m.size;
-    double size_top = 0, moved2 = 0;
-    for (int i = 0; i < m.n; ++i) size_top = std::max(size_top, s.size[i]);
-    if (anchor_.size() == 3 * size_t(m.n))
-      for (int i = 0; i < m.n && moved2 <= drift * drift; ++i) {
-        const double* a = &anchor_[3 * size_t(i)];
-        const double dx = s.pos[i].x() - a[0], dy = s.pos[i].y() - a[1], dz = s.pos[i].z() - a[2];
-        moved2 = std::max(moved2, dx * dx + dy * dy + dz * dz);
-      }
-    if (anchor_.size() == 3 * size_t(m.n) && moved2 <= drift * drift && size_top <= size_top_)
-      return;
-    anchor_.resize(3 * size_t(m.n));
-    for (int i = 0; i < m.n; ++i)
-      for (int k = 0; k < 3; ++k) anchor_[3 * size_t(i) + k] = s.pos[i][k];
-    size_top_ = size_top * (1 + 1e-3);
-    const double reach = (2 * half_d * size_top_ + 2 * drift) * (1 + 1e-9);
-    near_.clear();
-    for (size_t p = 0; p < pair_a_.size(); ++p) {
-      const Vec3 d = s.pos[pair_b_[p]] - s.pos[pair_a_[p]];
-      if (d.squaredNorm() < reach * reach) near_.push_back(static_cast<int>(p));
-    }
-  }
-
-  // apply_self_collisions (contacts.cpp): every pair of surface voxels i < j not near each
-  // other in the bond graph (with self-collision off, those with an object voxel j), in (i, j)
-  // order, as the engine adds the pairs its candidate lists find (they miss no contact, and
-  // the exact test is this one). A free object's contacts are object_contact's.
-  void self_collisions(Fnv* events, Adj dt) {
-    const Model& m = m_;
-    if (!m.def.self_collision && m.robot_n == m.n) return;
-    const State& s = s_;
-    const double half_d = 0.5 * m.def.contact_diameter;
-    const double half_d_object = 0.5 * std::min(1.0, m.def.contact_diameter);
-    if (!paired_) {  // every pair that may touch, once: (i, j), i < j, in increasing order
-      for (int i = 0; i < m.n; ++i) {
-        if (!m.surface[i]) continue;
-        const std::vector<int>& near = m.near_voxels[i];
-        for (int j = i + 1; j < m.n; ++j)
-          if (m.surface[j] && !std::binary_search(near.begin(), near.end(), j) &&
-              (m.def.self_collision || j >= m.robot_n))
-            pair_a_.push_back(i), pair_b_.push_back(j);
-      }
-      paired_ = true;
-    }
-    refresh_near_pairs(half_d);
-    for (size_t c = 0; c < near_.size(); ++c) {
-      const int i = pair_a_[near_[c]], j = pair_b_[near_[c]];
-      const double dx = s.pos[j].x() - s.pos[i].x(), dy = s.pos[j].y() - s.pos[i].y();
-      const double dz = s.pos[j].z() - s.pos[i].z();
-      const bool object = j >= m.robot_n;
-      const double contact = (object ? half_d_object : half_d) * (s.size[i] + s.size[j]);
-      const double dist2 = dx * dx + dy * dy + dz * dz;
-      if (dist2 >= contact * contact || dist2 == 0) continue;
-      if (events) events->add((uint64_t(i) << 32) + uint64_t(j));
-      if (object) {
-        const Adj cont = half_d_object * (get(s.size.data(), i) + get(s.size.data(), j));
-        object_contact_adj(m, s, w_, i, j, cont, dt, events ? &events->h : nullptr);
-        continue;
-      }
-      Adj d[3];
-      for (int k = 0; k < 3; ++k) d[k] = pos(j, k) - pos(i, k);
-      const Adj cont = half_d * (get(s.size.data(), i) + get(s.size.data(), j));
-      const Adj dist = root(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      const Adj ei = get(s.stiffness.data(), i), ej = get(s.stiffness.data(), j);
-      const Adj k = 2.0 * ei * ej / (ei + ej) * m.size;
-      const Adj scale = k * (cont - dist) / dist;
-      for (int c = 0; c < 3; ++c) {
-        const Adj f = d[c] * scale;
-        put(w_.force[c].data(), j, load(w_.force[c].data(), j, Adj{}) + f);
-        put(w_.force[c].data(), i, load(w_.force[c].data(), i, Adj{}) - f);
-      }
-    }
-  }
-
   static constexpr size_t kScratch = 6 + 3 * 3 + 9;  // the Workspace arrays with shadows
   const Model& m_;
   State s_;
@@ -659,12 +603,10 @@ class Replica {
   std::vector<StateFieldBytes> rows_;
   std::vector<std::vector<int32_t>> ids_;
   std::vector<std::vector<int32_t>> scratch_ids_;
-  // The surface pairs self-collision tests (built on the first step), and those that may touch.
-  std::vector<int> pair_a_, pair_b_, near_;
-  bool paired_ = false;
-  std::vector<double> anchor_;  // refresh_near_pairs'
-  double size_top_ = 0;
+  // Self-collision and the free objects' contacts (collision_adjoint.hpp).
+  CollisionReplica collisions_;
   std::vector<double> slope_;  // record_sine's
+  bool bond_block_ = false;    // the last step's bond stage was recorded as a block
   Blocks* blocks_ = nullptr;
   NetworkReplica net_;      // the neural controller's call
   TerrainReplica terrain_;  // an environment's contacts

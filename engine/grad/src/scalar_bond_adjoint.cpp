@@ -19,9 +19,6 @@ inline Adj sin_of(Adj a) {
 inline Adj cos_of(Adj a) {
   return {std::cos(a.v), record(a.id, -std::sin(a.v), -1, 0.0)};
 }
-inline double value_of(Adj a) {
-  return a.v;
-}
 template <class F>
 inline Adj with_slope(double v, Adj x, F&& slope) {
   return {v, record(x.id, slope(), -1, 0.0)};

@@ -1,14 +1,9 @@
-// Contact with an environment and with free objects, recorded (terrain_adjoint.hpp). A
-// contact's forces and friction are the engine's own template (terrain_body.hpp's
-// apply_contact) on Adj; the rest below is its namesake of engine/core/src/terrain.cpp,
-// environment.cpp (the ground's height) or contacts.cpp (object_contact), operation for
-// operation: a change there must be made here too (gradient() checks the replica against the
-// engine's life at every snapshot, and throws where they part).
+// Contact with an environment, recorded (terrain_adjoint.hpp). A voxel's contacts with the
+// ground and the boxes and the stops of its path by thin boxes are the engine's own templates
+// (terrain_body.hpp's voxel_terrain_contacts and voxel_box_stops) on Adj; what is left below is
+// terrain.cpp's frame around them: a change there must be made here too (gradient() checks the
+// replica against the engine's life at every snapshot, and throws where they part).
 #include "terrain_adjoint.hpp"
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
 
 #include "terrain_body.hpp"
 
@@ -24,195 +19,53 @@ Adj pos_of(const State& s, int i, int k) {
   return load(s.pos.front().data(), 3 * i + k, Adj{});
 }
 
-// ---- The ground (HeightField, environment.cpp) ----
-
-// locate: the cell index, the fraction in it (the derivative of u inside the grid, a constant
-// outside it), and whether u lies inside.
-void locate(Adj u, int n, int& i, Adj& f, bool& inside) {
-  inside = false;
-  if (n == 1 || !(u.v > 0)) {
-    i = 0, f = Adj(0.0);
-  } else if (u.v >= n - 1) {
-    i = n - 2, f = Adj(1.0);
-  } else {
-    i = std::min(static_cast<int>(u.v), n - 2);
-    f = u - Adj(static_cast<double>(i));
-    inside = true;
-  }
-}
-
-// HeightField::height with its slopes: bilinear in the cell, so the slopes depend on the
-// position too (the ground's curvature within a cell).
-Adj height(const HeightField& g, Adj x, Adj y, Adj& gx, Adj& gy, uint64_t& cell) {
-  int i, j;
-  Adj fu, fv;
-  bool in_x, in_y;
-  locate((x - Adj(g.x0)) / Adj(g.cell), g.nx, i, fu, in_x);
-  locate((y - Adj(g.y0)) / Adj(g.cell), g.ny, j, fv, in_y);
-  cell = (uint64_t(uint32_t(i)) << 32) + uint32_t(j);
-  const int i1 = std::min(i + 1, g.nx - 1), j1 = std::min(j + 1, g.ny - 1);
-  const double h00 = g.h[i + size_t(g.nx) * j], h10 = g.h[i1 + size_t(g.nx) * j];
-  const double h01 = g.h[i + size_t(g.nx) * j1], h11 = g.h[i1 + size_t(g.nx) * j1];
-  const Adj one = 1.0;
-  gx = in_x ? ((one - fv) * Adj(h10 - h00) + fv * Adj(h11 - h01)) / Adj(g.cell) : Adj(0.0);
-  gy = in_y ? ((one - fu) * Adj(h01 - h00) + fu * Adj(h11 - h10)) / Adj(g.cell) : Adj(0.0);
-  return (one - fv) * ((one - fu) * Adj(h00) + fu * Adj(h10)) +
-         fv * ((one - fu) * Adj(h01) + fu * Adj(h11));
-}
-
-using Normal = ContactNormal<Adj>;
-
-// HeightField::penetration, its normal into c.n and the cell under the centre into `cell`.
-Adj penetration(const HeightField& g, Adj x, Adj y, Adj z, Adj r, Normal& c, uint64_t& cell) {
-  Adj gx, gy;
-  const Adj h = height(g, x, y, gx, gy, cell);
-  if (gx.v == 0 && gy.v == 0) {
-    c.n[0] = Adj(0.0), c.n[1] = Adj(0.0), c.n[2] = Adj(1.0);
-    return r - (z - h);
-  }
-  const Adj inv = Adj(1.0) / root(Adj(1.0) + gx * gx + gy * gy);
-  c.n[0] = -gx * inv, c.n[1] = -gy * inv, c.n[2] = inv;
-  return r - (z - h) * inv;
-}
-
-// ---- The boxes (terrain.cpp) ----
-
-// The face of the grown box [lo, hi] nearest to x inside it; its depth is the penetration.
-Normal nearest_face(const Adj lo[3], const Adj hi[3], const Adj x[3], Adj& depth) {
-  Normal c;
-  depth = Adj(std::numeric_limits<double>::infinity());
-  for (int a = 0; a < 3; ++a) {
-    const Adj below = x[a] - lo[a], above = hi[a] - x[a];
-    if (below.v < depth.v) depth = below, c.axis = a, c.sign = -1;
-    if (above.v < depth.v) depth = above, c.axis = a, c.sign = 1;
-  }
-  return c;
-}
-
 }  // namespace
 
-// terrain_contacts. Every box is tested (the engine tests those boxes_near finds, a superset
-// of those any centre lies in: the same contacts in the same order).
+// terrain_contacts. Every box is listed (the engine lists those boxes_near finds, a superset of
+// those any centre lies in: the same contacts in the same order).
 void TerrainReplica::contacts(const Model& m, State& s, Workspace& w, Adj dt, uint64_t* events) {
-  const ModelConstants& k = m;
-  const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
+  all_boxes_.resize(m.def.environment.obstacles.size());
+  for (size_t b = 0; b < all_boxes_.size(); ++b) all_boxes_[b] = static_cast<int>(b);
   prev_.resize(3 * size_t(m.n));
   normal_.resize(size_t(m.n));
   held_.resize(size_t(m.n));
   double* mom = s.lin_mom.front().data();
   for (int i = 0; i < m.n; ++i) {
     Adj x[3] = {pos_of(s, i, 0), pos_of(s, i, 1), pos_of(s, i, 2)};
-    const Adj r = 0.5 * load(s.size.data(), i, Adj{});
-    const Adj E = load(s.stiffness.data(), i, Adj{}), se = load(w.sqrt_e.data(), i, Adj{});
-    const bool was_held = s.static_friction[i];
     Adj f[3], p[3];
     for (int a = 0; a < 3; ++a) f[a] = load(w.force[a].data(), i, Adj{});
     for (int a = 0; a < 3; ++a) p[a] = load(mom, 3 * i + a, Adj{});
     bool held = false;
-    Adj normal = 0.0;
-    // One contact (the engine's apply_contact), its friction regime noted.
-    const auto contact = [&](const Normal& c, Adj pen) {
-      int regime = 0;
-      const Adj n = apply_contact(c, pen, E, se, was_held, k, dt, f, p, held, &regime);
-      note(events, 0xc0 + uint64_t(regime));
-      return n;
-    };
-    if (m.def.floor) {
-      // Recorded only in contact (the engine's own function decides, on the same values).
-      if (m.ground.penetration(x[0].v, x[1].v, x[2].v, r.v) > 0) {
-        Normal c;
-        uint64_t cell = 0;
-        const Adj pen = penetration(m.ground, x[0], x[1], x[2], r, c, cell);
-        // touching, and the cell it touches in (a node between cells: a kink)
-        note(events, 0x9000 + uint64_t(i));
-        note(events, cell);
-        if (c.n[0].v == 0 && c.n[1].v == 0) c.axis = 2;
-        normal = normal + contact(c, pen);
-      }
-    }
-    for (size_t b = 0; b < boxes.size(); ++b) {
-      double lo[3], hi[3];
-      for (int a = 0; a < 3; ++a) lo[a] = boxes[b].min[a] - r.v, hi[a] = boxes[b].max[a] + r.v;
-      if (!(x[0].v > lo[0] && x[0].v < hi[0] && x[1].v > lo[1] && x[1].v < hi[1] &&
-            x[2].v > lo[2] && x[2].v < hi[2]))
-        continue;
-      Adj glo[3], ghi[3], pen;
-      for (int a = 0; a < 3; ++a)
-        glo[a] = Adj(boxes[b].min[a]) - r, ghi[a] = Adj(boxes[b].max[a]) + r;
-      const Normal c = nearest_face(glo, ghi, x, pen);
-      note(events, 0xb0000 + 8 * b + 2 * size_t(c.axis) + (c.sign > 0 ? 1 : 0));
-      normal = normal + contact(c, pen);
-    }
+    normal_[i] = voxel_terrain_contacts(m, all_boxes_, i, x, 0.5 * load(s.size.data(), i, Adj{}),
+                                        load(s.stiffness.data(), i, Adj{}),
+                                        load(w.sqrt_e.data(), i, Adj{}), s.static_friction[i] != 0,
+                                        dt, f, p, held, [events](uint64_t v) { note(events, v); });
     for (int a = 0; a < 3; ++a) put(w.force[a].data(), i, f[a]);
     for (int a = 0; a < 3; ++a) put(mom, 3 * size_t(i) + a, p[a]);
     held_[i] = held;
-    normal_[i] = normal;
     for (int a = 0; a < 3; ++a) prev_[3 * size_t(i) + a] = x[a];
   }
 }
 
-// terrain_after_update, every box tested (as in contacts: the engine's boxes near the paths
+// terrain_after_update, every box listed (as in contacts: the engine's boxes near the paths
 // are a superset of those a path can be stopped by).
 void TerrainReplica::after_update(const Model& m, State& s, Workspace& w, uint64_t* events) {
-  const std::vector<ObstacleBox>& boxes = m.def.environment.obstacles;
   double* mom = s.lin_mom.front().data();
   double* pos = s.pos.front().data();
   for (int i = 0; i < m.n; ++i) {
     if (m.fixed[i]) continue;
     s.static_friction[i] = held_[i];
-    const Adj r = 0.5 * load(s.size.data(), i, Adj{});
-    for (size_t b = 0; b < boxes.size(); ++b) {
-      double lo[3], hi[3], x0[3], x1[3];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = boxes[b].min[a] - r.v, hi[a] = boxes[b].max[a] + r.v;
-        x0[a] = prev_[3 * size_t(i) + a].v, x1[a] = pos[3 * size_t(i) + a];
-      }
-      int where = 0;
-      const int a = crossing_stop(lo, hi, x0, x1, where);
-      if (a < 0) continue;
-      note(events, 0x5700 + 4 * size_t(a) + size_t(where) + (uint64_t(b) << 16));
-      const Adj stop = where == 0   ? Adj(boxes[b].min[a]) - r
-                       : where == 1 ? Adj(boxes[b].max[a]) + r
-                                    : prev_[3 * size_t(i) + a];
-      put(pos, 3 * size_t(i) + a, stop);
-      put(mom, 3 * size_t(i) + a, Adj(0.0));
-    }
+    if (all_boxes_.empty()) continue;
+    Adj x1[3], p[3];
+    for (int a = 0; a < 3; ++a) x1[a] = pos_of(s, i, a), p[a] = load(mom, 3 * i + a, Adj{});
+    if (!voxel_box_stops(m, all_boxes_, 0.5 * load(s.size.data(), i, Adj{}), &prev_[3 * size_t(i)],
+                         x1, p, [events](uint64_t v) { note(events, v); }))
+      continue;
+    for (int a = 0; a < 3; ++a)
+      put(pos, 3 * size_t(i) + a, x1[a]), put(mom, 3 * size_t(i) + a, p[a]);
   }
   if (!w.floor_normal.empty())
     for (int i = 0; i < m.n; ++i) put(w.floor_normal.data(), i, normal_[i]);
-}
-
-void object_contact_adj(const Model& m, const State& s, Workspace& w, int i, int j, Adj contact,
-                        Adj dt, uint64_t* events) {
-  Adj d[3];
-  for (int c = 0; c < 3; ++c) d[c] = pos_of(s, j, c) - pos_of(s, i, c);
-  const Adj dist = root(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  const Adj ei = load(s.stiffness.data(), i, Adj{}), ej = load(s.stiffness.data(), j, Adj{});
-  const Adj k = 2.0 * ei * ej / (ei + ej) * m.size;
-  const double* mom = s.lin_mom.front().data();
-  Adj n[3], v[3];
-  for (int c = 0; c < 3; ++c) {
-    n[c] = d[c] / dist;
-    v[c] = (load(mom, 3 * j + c, Adj{}) - load(mom, 3 * i + c, Adj{})) / m.mass;
-  }
-  const Adj vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-  const double m_r = 0.5 * m.mass;
-  const Adj normal = k * (contact - dist);
-  const Adj push = normal - m.def.collision_damping * 2.0 * root(m_r * k) * vn;
-  Adj f[3], vt[3];
-  for (int c = 0; c < 3; ++c) f[c] = n[c] * push, vt[c] = v[c] - vn * n[c];
-  const Adj speed = root(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-  if (speed.v > 0) {
-    const Adj kinetic = m.def.mu_kinetic * normal, stop = m_r * speed / dt;
-    const bool stopping = stop.v < kinetic.v;  // std::min(kinetic, stop)
-    note(events, stopping ? 0x0b1 : 0x0b0);
-    const Adj friction = stopping ? stop : kinetic;
-    for (int c = 0; c < 3; ++c) f[c] = f[c] - vt[c] * (friction / speed);
-  }
-  for (int c = 0; c < 3; ++c) {  // f acts on j
-    put(w.force[c].data(), j, load(w.force[c].data(), j, Adj{}) + f[c]);
-    put(w.force[c].data(), i, load(w.force[c].data(), i, Adj{}) - f[c]);
-  }
 }
 
 }  // namespace plastivox::grad

@@ -1,10 +1,10 @@
-// Contact with an environment and with free objects on the recording type (docs/gradients.md,
-// "Environments and free objects"): terrain.cpp's terrain_contacts and terrain_after_update
-// (each contact by the engine's own apply_contact, terrain_body.hpp) and contacts.cpp's
-// object_contact, in the engine's order of operations on Adj, so that the replica computes the
-// engine's bits and the tape records their derivatives (the ground's height and normal under
-// each voxel, the boxes' faces, the contact forces, friction and the stops). The stages are
-// scalar in the engine too; the tape is their adjoint.
+// Contact with an environment on the recording type (docs/gradients.md, "Environments and free
+// objects"): terrain.cpp's terrain_contacts and terrain_after_update (the ground, the boxes and
+// each contact by the engine's own templates, terrain_body.hpp), in the engine's order of
+// operations on Adj, so that the replica computes the engine's bits and the tape records their
+// derivatives (the ground's height and normal under each voxel, the boxes' faces, the contact
+// forces, friction and the stops). The stages are scalar in the engine too; the tape is their
+// adjoint. Free objects' contacts are collision_adjoint.hpp's.
 #pragma once
 
 #include <cstdint>
@@ -33,11 +33,7 @@ class TerrainReplica {
   std::vector<Adj> prev_;    // 3 per voxel: each centre before the update
   std::vector<Adj> normal_;  // each voxel's summed normal force
   std::vector<uint8_t> held_;
+  std::vector<int> all_boxes_;  // every box's index
 };
-
-// object_contact (contacts.cpp): the contact of voxel i with object voxel j (i < j) whose
-// centres are closer than `contact`, its forces added to the Workspace's. dt is this step's.
-void object_contact_adj(const Model& m, const State& s, Workspace& w, int i, int j, Adj contact,
-                        Adj dt, uint64_t* events);
 
 }  // namespace plastivox::grad
