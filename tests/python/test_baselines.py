@@ -85,3 +85,30 @@ def test_plan_counts_leave_out_flagged_and_slow_bodies():
         {"Pi": 2, "Gamma": 0, "Upsilon": 1, "other": 1}
     assert table["Pi"]["best"] == 7.5 and table["Gamma"]["best"] is None
     assert distinct == ["Pi", "Upsilon"]  # "other" is no plan
+
+
+def test_start_target_is_the_fixed_bodys_own_fitness_plus_a_margin():
+    assert baselines.start_target(5.0, 0.1) == pytest.approx(5.5)
+    assert baselines.start_target(2.0, 0.0) == 2.0
+    # a start of nothing (slope's body not yet on a ramp) has no margin to beat
+    assert baselines.start_target(0.0, 0.1) is None
+    assert baselines.start_target(-0.3, 0.1) is None
+    assert baselines.start_target(None, 0.1) is None
+
+
+def test_markdown_cma_row_gives_lives_to_the_start_and_margin():
+    row = {"task": "climb", "algorithm": "cma-es", "runs": 3, "success": 3, "lives": 288,
+           "fitness": {"mean": 6.0, "low": 5.8, "high": 6.2}, "cpu_seconds_mean": 41.0,
+           "cpu_complete": True, "start_fitness": 5.43, "start_margin": 0.1,
+           "lives_to_target": {"text": "16 (3/3 reached)"},
+           "lives_to_start_target": {"text": "48 (2/3 reached)"}}
+    line = baselines.markdown([row]).splitlines()[2]
+    assert line == ("| `climb` | cma-es | 6.00 [5.80, 6.20] (start 5.43) | 3/3 |  | 288 | 41 | "
+                    "16 (3/3 reached); to start + 10 %: 48 (2/3 reached) |")
+
+
+def test_start_margin_is_refused_below_zero():
+    assert baselines.parse(["--out", "x"]).start_margin == 0.1
+    assert baselines.parse(["--out", "x", "--start-margin", "0.2"]).start_margin == 0.2
+    with pytest.raises(SystemExit):
+        baselines.parse(["--out", "x", "--start-margin", "-0.1"])
