@@ -29,15 +29,20 @@ inline void voxel_reverse_lanes(const grad::VoxelReverseIo& io, int i, const Mod
   const auto put_in = [&](int slot, T v) { store(io.in_adj + size_t(slot) * n, i, v); };
 
   // ---- The forward again (update_lanes' operations in its order) ----
-  const T E = in(kVE), se = in(kVSqrtE), dt = in(kVDt);
-  const T x0[3] = {in(kVPos), in(kVPos + 1), in(kVPos + 2)};
+  // The modulus, centre, size and orientation from the rows or from a bond stage's record.
+  const auto record = [&](const double* p, int c) { return load_indexed(p + c, io.four, i, T{}); };
+  const bool kept = io.centre_size != nullptr;
+  const T E = kept ? load(io.stiff, i, T{}) : in(kVE), se = in(kVSqrtE), dt = in(kVDt);
+  T x0[3], b[4];  // b: x, y, z, w
+  for (int c = 0; c < 3; ++c) x0[c] = kept ? record(io.centre_size, c) : in(kVPos + c);
+  const T size = kept ? record(io.centre_size, 3) : in(kVSize);
+  for (int c = 0; c < 4; ++c) b[c] = kept ? record(io.quat, c) : in(kVQuat + c);
   const T h0[3] = {in(kVAngMom), in(kVAngMom + 1), in(kVAngMom + 2)};
   const T mo[3] = {in(kVMoment), in(kVMoment + 1), in(kVMoment + 2)};
-  const T b[4] = {in(kVQuat), in(kVQuat + 1), in(kVQuat + 2), in(kVQuat + 3)};  // x, y, z, w
   T f[3] = {in(kVForce), in(kVForce + 1), in(kVForce + 2)};
   T p[3] = {in(kVLinMom), in(kVLinMom + 1), in(kVLinMom + 2)};
   // The floor's branches (all clear without one).
-  const T pen = 0.5 * in(kVSize)-x0[2];
+  const T pen = 0.5 * size - x0[2];
   const auto never = zero != zero;
   const auto contact = k.flat_floor ? pen > 0.0 : never;
   const T normal = 2.0 * E * k.size * pen;
