@@ -248,11 +248,14 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
     for (size_t b = 0; b < nb; ++b)
       ++s.start[size_t(io.bond_a[b]) + 1], ++s.start[size_t(io.bond_b[b]) + 1];
     for (size_t i = 0; i < L.n; ++i) s.start[i + 1] += s.start[i];
-    s.ends.resize(2 * nb);
+    s.ends.resize(4 * nb);
     std::vector<int32_t> at(s.start.begin(), s.start.end() - 1);
     for (size_t b = 0; b < nb; ++b) {
-      s.ends[size_t(at[size_t(io.bond_a[b])]++)] = int32_t(2 * b);
-      s.ends[size_t(at[size_t(io.bond_b[b])]++)] = int32_t(2 * b + 1);
+      for (int end = 0; end < 2; ++end) {
+        const size_t e = size_t(at[size_t(end ? io.bond_b[b] : io.bond_a[b])]++);
+        s.ends[2 * e] = int32_t(b + size_t(4 * end) * nb);  // in the a end's centre, quat rows
+        s.ends[2 * e + 1] = int32_t(b + size_t(end) * nb);  // in the a end's modulus row
+      }
     }
   }
   s.voxel.resize(L.stiff() + L.n);
@@ -261,6 +264,10 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   const auto row = [&](int slot) { return in + slot * nb; };
   static_assert(kCentreB == kCentreA + 4 && kQuatB == kQuatA + 4 && kStiffB == kStiffA + 1,
                 "a bond's b end's inputs follow its a end's");
+  const double* centre_rows[4] = {row(kCentreA), row(kCentreA + 1), row(kCentreA + 2),
+                                  row(kCentreA + 3)};
+  const double* quat_rows[4] = {row(kQuatA), row(kQuatA + 1), row(kQuatA + 2), row(kQuatA + 3)};
+  const double* stiff_row = row(kStiffA);
   for (size_t i = 0; i < L.n; ++i) {
     double centre[4] = {0, 0, 0, 0}, quat[4] = {0, 0, 0, 0}, stiff = 0;
     if (voxel_in) {
@@ -269,13 +276,9 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
       stiff = update(kVE);
     }
     for (int32_t e = s.start[i]; e < s.start[i + 1]; ++e) {
-      const size_t b = size_t(s.ends[size_t(e)] >> 1);
-      const int end = s.ends[size_t(e)] & 1;
-      for (int c = 0; c < 4; ++c) {
-        centre[c] += row(kCentreA + 4 * end + c)[b];
-        quat[c] += row(kQuatA + 4 * end + c)[b];
-      }
-      stiff += row(kStiffA + end)[b];
+      const int32_t four = s.ends[2 * size_t(e)], one = s.ends[2 * size_t(e) + 1];
+      for (int c = 0; c < 4; ++c) centre[c] += centre_rows[c][four], quat[c] += quat_rows[c][four];
+      stiff += stiff_row[one];
     }
     for (int c = 0; c < 4; ++c) g[4 * i + c] = centre[c], g[L.quat() + 4 * i + c] = quat[c];
     g[L.stiff() + i] = stiff;

@@ -111,8 +111,9 @@ BondReverseKernel bond_reverse_kernel_avx512();
 struct BondStageScratch {
   std::vector<double> in, voxel, records;
   std::vector<uint8_t> off;
-  // Each voxel's bonds in bond order (voxel i's are [start[i], start[i + 1]) of ends: 2 b for
-  // bond b's a end, 2 b + 1 for its b end), built once for a stage's bonds.
+  // Each voxel's bonds in bond order, built once for a stage's bonds: voxel i's are entries
+  // [start[i], start[i + 1]), entry e bond b's offsets in the a end's rows of in (ends[2 e]: in
+  // its centre's and orientation's, b or b + 4 nb; ends[2 e + 1]: in its modulus', b or b + nb).
   std::vector<int32_t> start, ends;
 };
 // A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when

@@ -179,12 +179,7 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
   r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
-  if (shared) {
-    if (s.four.size() < n)
-      for (size_t i = s.four.size(); i < n; ++i) s.four.push_back(int(4 * i));
-    r.centre_size = shared->centre_size, r.quat = shared->quat, r.stiff = shared->stiff;
-    r.four = s.four.data();
-  }
+  if (shared) r.centre_size = shared->centre_size, r.quat = shared->quat, r.stiff = shared->stiff;
   if (k.def.bond_model == BondModel::kExact) {
     // Whole lane groups at the SIMD level, then the rest here (see bond_stage_reverse).
     for (int i = voxel_reverse_kernel()(r, k); i < int(n); ++i)

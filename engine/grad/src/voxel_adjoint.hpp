@@ -79,9 +79,8 @@ struct VoxelReverseIo {
   double* in_adj = nullptr;
   uint8_t* off = nullptr;
   // When set, the moduli, centres, sizes and orientations are read from a bond stage's record
-  // (VoxelSharedInputs) instead of the rows, `four` holding 4 i at i.
+  // (VoxelSharedInputs) instead of the rows.
   const double *centre_size = nullptr, *quat = nullptr, *stiff = nullptr;
-  const int* four = nullptr;
 };
 using VoxelReverseKernel = int (*)(const VoxelReverseIo&, const ModelConstants&);  // voxels done
 VoxelReverseKernel voxel_reverse_kernel_avx2();  // reverse_avx2.cpp
@@ -91,7 +90,6 @@ VoxelReverseKernel voxel_reverse_kernel_avx512();
 struct VoxelStageScratch {
   std::vector<double> in;
   std::vector<uint8_t> off;
-  std::vector<int> four;
 };
 // A kept update's reverse (its record `values`, `ids` and `flags`): from the adjoints of its
 // outputs, adj[first + o n + i] for voxel i's output o, adds those of its inputs to adj through

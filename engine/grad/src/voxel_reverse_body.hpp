@@ -9,12 +9,20 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 
 #include "lanes.hpp"
 #include "voxel_adjoint.hpp"
 
 namespace plastivox {
 namespace {
+
+// Component c of records of 4 of voxels [i, i + kLanes<T>) (a bond stage's kept centres and
+// sizes or orientations), element by element.
+template <class T, size_t... J>
+inline T record_lanes(const double* p, int i, std::index_sequence<J...>) {
+  return T{p[4 * (size_t(i) + J)]...};
+}
 
 // Voxels [i, i + kLanes<T>) of a kept update: from their outputs' adjoints, their inputs'.
 template <class T>
@@ -30,7 +38,9 @@ inline void voxel_reverse_lanes(const grad::VoxelReverseIo& io, int i, const Mod
 
   // ---- The forward again (update_lanes' operations in its order) ----
   // The modulus, centre, size and orientation from the rows or from a bond stage's record.
-  const auto record = [&](const double* p, int c) { return load_indexed(p + c, io.four, i, T{}); };
+  const auto record = [&](const double* p, int c) {
+    return record_lanes<T>(p + c, i, std::make_index_sequence<kLanes<T>>());
+  };
   const bool kept = io.centre_size != nullptr;
   const T E = kept ? load(io.stiff, i, T{}) : in(kVE), se = in(kVSqrtE), dt = in(kVDt);
   T x0[3], b[4];  // b: x, y, z, w
