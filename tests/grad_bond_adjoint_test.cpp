@@ -206,6 +206,12 @@ TEST(StageAdjoints, WholeGradientEqualsTheOperationByOperationTapes) {
   clamped.act_expansion = false;
   clamped.act_min_factor = 0.97;
   same_gradient(compile(demo_walker(), clamped));
+  // Clamped voxels, whose update's reverse is the small tape's: it reads their centres, sizes,
+  // orientations and moduli from the bond stage's record, as the hand path does.
+  RobotDef held = demo_walker();
+  for (int v = 0, k = 0; v < held.sites() && k < 3; ++v)
+    if (held.present[v]) held.fixed_sites.push_back(v), v += 40, ++k;
+  same_gradient(compile(held, walk));
   PhysicsDef develop = walk;  // a developing cube under stress
   develop.duration = 0.1;
   develop.treatment = Treatment::kStress;

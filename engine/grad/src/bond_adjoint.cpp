@@ -12,6 +12,7 @@
 #include "bond_body.hpp"
 #include "bond_reverse_body.hpp"
 #include "plastivox/simd.hpp"
+#include "voxel_adjoint.hpp"
 
 namespace plastivox::grad {
 
@@ -190,7 +191,7 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                         const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,
-                        BondStageScratch& s) {
+                        BondStageScratch& s, const double* voxel_in) {
   const size_t nb = L.nb;
   s.in.resize(kBondInputs * nb);
   s.off.resize(nb);
@@ -239,24 +240,51 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
     bond_reverse_tape(a, k, out, in);
     for (int j = 0; j < kBondInputs; ++j) s.in[j * nb + b] = in[j];
   }
-  // The voxels' inputs summed over their bonds in bond order, then added to their nodes.
-  s.voxel.assign(L.stiff() + L.n, 0.0);
+  // The voxels' inputs summed over their bonds in bond order, then added to their nodes. Summed
+  // voxel by voxel from each voxel's list of bonds (the same additions in the same order as bond
+  // by bond, without a read-modify-write of the sums per bond).
+  if (s.start.size() != L.n + 1) {
+    s.start.assign(L.n + 1, 0);
+    for (size_t b = 0; b < nb; ++b)
+      ++s.start[size_t(io.bond_a[b]) + 1], ++s.start[size_t(io.bond_b[b]) + 1];
+    for (size_t i = 0; i < L.n; ++i) s.start[i + 1] += s.start[i];
+    s.ends.resize(4 * nb);
+    std::vector<int32_t> at(s.start.begin(), s.start.end() - 1);
+    for (size_t b = 0; b < nb; ++b) {
+      for (int end = 0; end < 2; ++end) {
+        const size_t e = size_t(at[size_t(end ? io.bond_b[b] : io.bond_a[b])]++);
+        s.ends[2 * e] = int32_t(b + size_t(4 * end) * nb);  // in the a end's centre, quat rows
+        s.ends[2 * e + 1] = int32_t(b + size_t(end) * nb);  // in the a end's modulus row
+      }
+    }
+  }
+  s.voxel.resize(L.stiff() + L.n);
   double* g = s.voxel.data();
   const double* in = s.in.data();
   const auto row = [&](int slot) { return in + slot * nb; };
-  double g_damp = 0;
-  for (size_t b = 0; b < nb; ++b) {
-    const size_t ia = size_t(io.bond_a[b]), ib = size_t(io.bond_b[b]);
-    for (int c = 0; c < 4; ++c) {
-      g[4 * ia + c] += row(kCentreA + c)[b];
-      g[4 * ib + c] += row(kCentreB + c)[b];
-      g[L.quat() + 4 * ia + c] += row(kQuatA + c)[b];
-      g[L.quat() + 4 * ib + c] += row(kQuatB + c)[b];
+  static_assert(kCentreB == kCentreA + 4 && kQuatB == kQuatA + 4 && kStiffB == kStiffA + 1,
+                "a bond's b end's inputs follow its a end's");
+  const double* centre_rows[4] = {row(kCentreA), row(kCentreA + 1), row(kCentreA + 2),
+                                  row(kCentreA + 3)};
+  const double* quat_rows[4] = {row(kQuatA), row(kQuatA + 1), row(kQuatA + 2), row(kQuatA + 3)};
+  const double* stiff_row = row(kStiffA);
+  for (size_t i = 0; i < L.n; ++i) {
+    double centre[4] = {0, 0, 0, 0}, quat[4] = {0, 0, 0, 0}, stiff = 0;
+    if (voxel_in) {
+      const auto update = [&](int slot) { return voxel_in[size_t(slot) * L.n + i]; };
+      for (int c = 0; c < 4; ++c) centre[c] = update(kVPos + c), quat[c] = update(kVQuat + c);
+      stiff = update(kVE);
     }
-    g[L.stiff() + ia] += row(kStiffA)[b];
-    g[L.stiff() + ib] += row(kStiffB)[b];
-    g_damp += row(kDamp)[b];
+    for (int32_t e = s.start[i]; e < s.start[i + 1]; ++e) {
+      const int32_t four = s.ends[2 * size_t(e)], one = s.ends[2 * size_t(e) + 1];
+      for (int c = 0; c < 4; ++c) centre[c] += centre_rows[c][four], quat[c] += quat_rows[c][four];
+      stiff += stiff_row[one];
+    }
+    for (int c = 0; c < 4; ++c) g[4 * i + c] = centre[c], g[L.quat() + 4 * i + c] = quat[c];
+    g[L.stiff() + i] = stiff;
   }
+  double g_damp = 0;
+  for (size_t b = 0; b < nb; ++b) g_damp += row(kDamp)[b];
   for (size_t e = 0; e < L.stiff() + L.n; ++e)
     if (ids[e] >= 0) adj[ids[e]] += g[e];
   for (int j = 0; j < 9; ++j) {

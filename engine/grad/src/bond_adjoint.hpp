@@ -111,6 +111,10 @@ BondReverseKernel bond_reverse_kernel_avx512();
 struct BondStageScratch {
   std::vector<double> in, voxel, records;
   std::vector<uint8_t> off;
+  // Each voxel's bonds in bond order, built once for a stage's bonds: voxel i's are entries
+  // [start[i], start[i + 1]), entry e bond b's offsets in the a end's rows of in (ends[2 e]: in
+  // its centre's and orientation's, b or b + 4 nb; ends[2 e + 1]: in its modulus', b or b + nb).
+  std::vector<int32_t> start, ends;
 };
 // A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when
 // all are set): from the adjoints of its outputs, adj[first + (o - kPrevNext) nb + b] for bond
@@ -121,10 +125,12 @@ struct BondStageScratch {
 // >= 0 the previous deformations are the previous step's stage's next ones, whose adjoints are
 // the rows adj[prev_first + j nb + b] (its leaves from kPrevNext): added there as rows, not
 // through ids. Bonds off the hand path take bond_reverse_tape. The inputs' adjoints are summed in
-// bond order, the same bits at every SIMD level.
+// bond order, the same bits at every SIMD level. voxel_in, when set, holds the adjoints of the
+// same step's voxel update's inputs it read from this stage's record (voxel_adjoint.hpp's
+// VoxelSharedInputs; rows of n by VoxelInput): each voxel's sum starts from them.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                         const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,
-                        BondStageScratch& s);
+                        BondStageScratch& s, const double* voxel_in = nullptr);
 
 }  // namespace plastivox::grad

@@ -61,10 +61,13 @@ struct BondBlock {
 };
 // A step's voxel update: its outputs are kVoxelOutputs leaves a voxel, output by output (voxel
 // i's output o is node first + o n + i); its record (keep_voxel_stage) starts at `at` in
-// Blocks::voxel_values and voxel_ids, its flags at 2 n times its index in voxel_flags.
+// Blocks::voxel_values and voxel_ids, its flags at 2 n times its index in voxel_flags. With
+// bond >= 0 it reads its moduli, centres, sizes and orientations from that bond block's record
+// (the same step's) and keeps no rows of them (VoxelSharedInputs).
 struct VoxelBlock {
   int64_t first;
   size_t at;
+  int64_t bond = -1;
 };
 // A step's gather: its outputs are kGatherOutputs leaves a voxel, output by output; its record
 // (keep_gather_stage) starts at `at` in Blocks::gather_values and `ids_at` in gather_ids.
@@ -503,12 +506,23 @@ class Replica {
     const VoxelStateOut& st = w_.views.voxel_out;
     const size_t n = size_t(m_.n);
     VoxelBlock stage{0, blocks_->voxel_values.size()};
+    // After this step's bond block, the update reads the arrays it kept (the centres and sizes,
+    // orientations and moduli): nothing between the two stages writes them.
+    if (bond_block_ && nb_ > 0) {
+      stage.bond = int64_t(blocks_->bonds.size()) - 1;
+      const int32_t* kept = blocks_->bond_ids.data() + blocks_->bonds.back().at;
+      const int32_t *pos_ids = t.ids_of(io.pos), *quat_ids = t.ids_of(io.quat);
+      if (!pos_ids || !quat_ids || kept[0] != pos_ids[0] || kept[4 * n - 2] != pos_ids[3 * n - 1] ||
+          kept[4 * n] != quat_ids[0] || kept[8 * n - 1] != quat_ids[4 * n - 1])
+        throw std::logic_error("gradient: the update's centres are not its bond stage's");
+    }
     blocks_->voxel_values.resize(stage.at + kVoxelInputs * n);
     blocks_->voxel_ids.resize(stage.at + kVoxelInputs * n);
     blocks_->voxel_flags.resize(blocks_->voxel_flags.size() + 2 * n);
     keep_voxel_stage(io, n, dt.v, dt.id, blocks_->voxel_values.data() + stage.at,
                      blocks_->voxel_ids.data() + stage.at,
-                     blocks_->voxel_flags.data() + blocks_->voxel_flags.size() - 2 * n);
+                     blocks_->voxel_flags.data() + blocks_->voxel_flags.size() - 2 * n,
+                     stage.bond >= 0);
     // Updated in place by the engine's own kernel set, after the inputs are kept.
     const VoxelUpdateSummary summary = kernels().update(io, st, m_.n, m_, dt.v);
     max_speed2 = summary.max_speed2;
@@ -661,6 +675,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
   VoxelStageScratch voxel_scratch;
+  int64_t pending = -1;  // the bond block whose reverse takes voxel_scratch.in's shared rows
   size_t end = t.nodes.size();
   for (size_t j = blocks.order.size(); j-- > 0;) {
     const auto [kind, index] = blocks.order[j];
@@ -680,21 +695,33 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
       if (stage.gather_first < 0) throw std::logic_error("gradient: a bond stage without a gather");
       const uint8_t* valid = nullptr;
       if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
-      bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
-                         blocks.bond_ids.data() + stage.at, valid, first, stage.prev_first,
-                         adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(), k,
-                         bond_scratch);
+      bond_stage_reverse(
+          io, L, blocks.bond_values.data() + stage.at, blocks.bond_ids.data() + stage.at, valid,
+          first, stage.prev_first, adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(),
+          k, bond_scratch, pending == int64_t(index) ? voxel_scratch.in.data() : nullptr);
+      pending = -1;
     } else if (kind == Blocks::kVoxel) {
-      const size_t at = blocks.voxels[index].at;
-      voxel_stage_reverse(size_t(k.n), blocks.voxel_values.data() + at,
-                          blocks.voxel_ids.data() + at, blocks.voxel_flags.data() + 2 * index * k.n,
-                          first, adj.data(), k, voxel_scratch);
+      const VoxelBlock& stage = blocks.voxels[index];
+      VoxelSharedInputs shared;
+      if (stage.bond >= 0) {
+        const size_t at = blocks.bonds[size_t(stage.bond)].at;
+        const double* v = blocks.bond_values.data() + at;
+        const int32_t* id = blocks.bond_ids.data() + at;
+        shared = {v, v + L.quat(), v + L.stiff(), id, id + L.quat(), id + L.stiff()};
+      }
+      if (pending >= 0) throw std::logic_error("gradient: an update's bond stage was not swept");
+      voxel_stage_reverse(size_t(k.n), blocks.voxel_values.data() + stage.at,
+                          blocks.voxel_ids.data() + stage.at,
+                          blocks.voxel_flags.data() + 2 * index * k.n, first, adj.data(), k,
+                          voxel_scratch, stage.bond >= 0 ? &shared : nullptr);
+      pending = stage.bond;
     } else {
       const GatherBlock& stage = blocks.gathers[index];
       gather_stage_reverse(GatherStageLayout{L.n}, blocks.gather_values.data() + stage.at,
                            blocks.gather_ids.data() + stage.ids_at, first, adj.data(), k);
     }
   }
+  if (pending >= 0) throw std::logic_error("gradient: an update's bond stage was not swept");
   sweep_nodes(t, adj, 0, end);
 }
 

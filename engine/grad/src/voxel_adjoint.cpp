@@ -16,7 +16,7 @@
 namespace plastivox::grad {
 
 void keep_voxel_stage(const VoxelKernelIo& io, size_t n, double dt, int32_t dt_id, double* values,
-                      int32_t* ids, uint8_t* flags) {
+                      int32_t* ids, uint8_t* flags, bool shared) {
   // Component c of records of `width` in `row` as input `slot`'s row.
   const auto keep = [&](int slot, const double* row, int width, int c) {
     const int32_t* row_ids = g_tape ? g_tape->ids_of(row) : nullptr;
@@ -27,17 +27,19 @@ void keep_voxel_stage(const VoxelKernelIo& io, size_t n, double dt, int32_t dt_i
       id[i] = row_ids ? row_ids[width * i + c] : -1;
     }
   };
-  keep(kVE, io.stiff, 1, 0);
   keep(kVSqrtE, io.sqrt_e, 1, 0);
   for (int c = 0; c < 3; ++c) {
     keep(kVForce + c, io.force[c], 1, 0);
     keep(kVLinMom + c, io.lin_mom, 3, c);
-    keep(kVPos + c, io.pos, 3, c);
     keep(kVAngMom + c, io.ang_mom, 3, c);
     keep(kVMoment + c, io.moment[c], 1, 0);
   }
-  keep(kVSize, io.size, 1, 0);
-  for (int c = 0; c < 4; ++c) keep(kVQuat + c, io.quat, 4, c);
+  if (!shared) {
+    keep(kVE, io.stiff, 1, 0);
+    for (int c = 0; c < 3; ++c) keep(kVPos + c, io.pos, 3, c);
+    keep(kVSize, io.size, 1, 0);
+    for (int c = 0; c < 4; ++c) keep(kVQuat + c, io.quat, 4, c);
+  }
   std::fill(values + size_t(kVDt) * n, values + size_t(kVDt + 1) * n, dt);
   std::fill(ids + size_t(kVDt) * n, ids + size_t(kVDt + 1) * n, dt_id);
   std::copy(io.fixed, io.fixed + n, flags);
@@ -165,7 +167,8 @@ bool voxel_reverse(const VoxelArgs& A, const ModelConstants& k, const double* ou
 }
 
 void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, const uint8_t* flags,
-                         size_t first, double* adj, const ModelConstants& k, VoxelStageScratch& s) {
+                         size_t first, double* adj, const ModelConstants& k, VoxelStageScratch& s,
+                         const VoxelSharedInputs* shared) {
   const uint8_t *fixed = flags, *held = flags + n;
   s.in.resize(kVoxelInputs * n);
   s.off.assign(n, 1);
@@ -176,6 +179,7 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
   r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
+  if (shared) r.centre_size = shared->centre_size, r.quat = shared->quat, r.stiff = shared->stiff;
   if (k.def.bond_model == BondModel::kExact) {
     // Whole lane groups at the SIMD level, then the rest here (see bond_stage_reverse).
     for (int i = voxel_reverse_kernel()(r, k); i < int(n); ++i)
@@ -187,14 +191,35 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
     VoxelArgs a;
     double out[kVoxelOutputs], in[kVoxelInputs] = {};
     for (int j = 0; j < kVoxelInputs; ++j) a.v[j] = values[j * n + i], a.id[j] = ids[j * n + i];
+    if (shared) {
+      const auto take = [&](int slot, const double* v, const int32_t* id, size_t at) {
+        a.v[slot] = v[at], a.id[slot] = id[at];
+      };
+      take(kVE, shared->stiff, shared->stiff_ids, i);
+      for (int c = 0; c < 4; ++c) {
+        take(kVPos + c, shared->centre_size, shared->centre_size_ids, 4 * i + c);  // kVSize: c 3
+        take(kVQuat + c, shared->quat, shared->quat_ids, 4 * i + c);
+      }
+    }
     a.fixed = fixed[i];
     a.was_held = held[i];
     for (int o = 0; o < kVoxelOutputs; ++o) out[o] = r.out_adj[o * n + i];
     voxel_reverse_tape(a, k, out, in);
     for (int j = 0; j < kVoxelInputs; ++j) s.in[j * n + i] = in[j];
   }
-  for (size_t e = 0; e < kVoxelInputs * n; ++e)
-    if (ids[e] >= 0) adj[ids[e]] += s.in[e];
+  if (!shared) {
+    for (size_t e = 0; e < kVoxelInputs * n; ++e)
+      if (ids[e] >= 0) adj[ids[e]] += s.in[e];
+    return;
+  }
+  static_assert(kVSize == kVPos + 3, "the shared rows are kVE, kVPos to kVSize and kVQuat on");
+  for (int j = 0; j < kVoxelInputs; ++j) {
+    if (j == kVE || (j >= kVPos && j <= kVSize) || (j >= kVQuat && j < kVQuat + 4)) continue;
+    const int32_t* id = ids + size_t(j) * n;
+    const double* g = s.in.data() + size_t(j) * n;
+    for (size_t i = 0; i < n; ++i)
+      if (id[i] >= 0) adj[id[i]] += g[i];
+  }
 }
 
 void keep_gather_stage(const VoxelKernelIo& io, const GatherStageLayout& L, double* values,

@@ -55,8 +55,18 @@ struct VoxelArgs {
 // side, input by input (input slot j of voxel i at j n + i; dt repeated), and the voxels' flags
 // (2 n: clamped, then held by static friction the step before). Written before the kernel runs
 // (it updates some in place).
+// With `shared`, the rows of the inputs the same step's bond stage kept (kVE, kVPos, kVSize,
+// kVQuat: VoxelSharedInputs) are left unwritten.
 void keep_voxel_stage(const VoxelKernelIo& io, size_t n, double dt, int32_t dt_id, double* values,
-                      int32_t* ids, uint8_t* flags);
+                      int32_t* ids, uint8_t* flags, bool shared = false);
+
+// The same step's bond stage's record of the centres and sizes, orientations (4 a voxel each)
+// and moduli, values and nodes (bond_adjoint.hpp's BondStageLayout): the update reads the same
+// arrays unchanged (nothing between the two stages writes them), so it does not keep them again.
+struct VoxelSharedInputs {
+  const double *centre_size = nullptr, *quat = nullptr, *stiff = nullptr;
+  const int32_t *centre_size_ids = nullptr, *quat_ids = nullptr, *stiff_ids = nullptr;
+};
 
 // What the lane template (voxel_reverse_body.hpp) reads and writes for n voxels: a kept
 // update's values and clamp flags, the outputs' adjoints and the inputs', each as
@@ -68,6 +78,9 @@ struct VoxelReverseIo {
   const double* out_adj = nullptr;
   double* in_adj = nullptr;
   uint8_t* off = nullptr;
+  // When set, the moduli, centres, sizes and orientations are read from a bond stage's record
+  // (VoxelSharedInputs) instead of the rows.
+  const double *centre_size = nullptr, *quat = nullptr, *stiff = nullptr;
 };
 using VoxelReverseKernel = int (*)(const VoxelReverseIo&, const ModelConstants&);  // voxels done
 VoxelReverseKernel voxel_reverse_kernel_avx2();  // reverse_avx2.cpp
@@ -81,9 +94,12 @@ struct VoxelStageScratch {
 // A kept update's reverse (its record `values`, `ids` and `flags`): from the adjoints of its
 // outputs, adj[first + o n + i] for voxel i's output o, adds those of its inputs to adj through
 // ids, input by input in voxel order (the same bits at every SIMD level). Voxels off the hand path
-// take voxel_reverse_tape.
+// take voxel_reverse_tape. With `shared` (its record kept without those rows), the adjoints of
+// the inputs read from the bond stage's record are left in s.in's rows (kVoxelInputs rows of n)
+// for that stage's reverse to add with its own (bond_stage_reverse's voxel_in), not to the tape.
 void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, const uint8_t* flags,
-                         size_t first, double* adj, const ModelConstants& k, VoxelStageScratch& s);
+                         size_t first, double* adj, const ModelConstants& k, VoxelStageScratch& s,
+                         const VoxelSharedInputs* shared = nullptr);
 
 // From the adjoints of a voxel's outputs (kVoxelOutputs), adds those of its inputs to in_adj.
 void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,

@@ -9,12 +9,20 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 
 #include "lanes.hpp"
 #include "voxel_adjoint.hpp"
 
 namespace plastivox {
 namespace {
+
+// Component c of records of 4 of voxels [i, i + kLanes<T>) (a bond stage's kept centres and
+// sizes or orientations), element by element.
+template <class T, size_t... J>
+inline T record_lanes(const double* p, int i, std::index_sequence<J...>) {
+  return T{p[4 * (size_t(i) + J)]...};
+}
 
 // Voxels [i, i + kLanes<T>) of a kept update: from their outputs' adjoints, their inputs'.
 template <class T>
@@ -29,15 +37,22 @@ inline void voxel_reverse_lanes(const grad::VoxelReverseIo& io, int i, const Mod
   const auto put_in = [&](int slot, T v) { store(io.in_adj + size_t(slot) * n, i, v); };
 
   // ---- The forward again (update_lanes' operations in its order) ----
-  const T E = in(kVE), se = in(kVSqrtE), dt = in(kVDt);
-  const T x0[3] = {in(kVPos), in(kVPos + 1), in(kVPos + 2)};
+  // The modulus, centre, size and orientation from the rows or from a bond stage's record.
+  const auto record = [&](const double* p, int c) {
+    return record_lanes<T>(p + c, i, std::make_index_sequence<kLanes<T>>());
+  };
+  const bool kept = io.centre_size != nullptr;
+  const T E = kept ? load(io.stiff, i, T{}) : in(kVE), se = in(kVSqrtE), dt = in(kVDt);
+  T x0[3], b[4];  // b: x, y, z, w
+  for (int c = 0; c < 3; ++c) x0[c] = kept ? record(io.centre_size, c) : in(kVPos + c);
+  const T size = kept ? record(io.centre_size, 3) : in(kVSize);
+  for (int c = 0; c < 4; ++c) b[c] = kept ? record(io.quat, c) : in(kVQuat + c);
   const T h0[3] = {in(kVAngMom), in(kVAngMom + 1), in(kVAngMom + 2)};
   const T mo[3] = {in(kVMoment), in(kVMoment + 1), in(kVMoment + 2)};
-  const T b[4] = {in(kVQuat), in(kVQuat + 1), in(kVQuat + 2), in(kVQuat + 3)};  // x, y, z, w
   T f[3] = {in(kVForce), in(kVForce + 1), in(kVForce + 2)};
   T p[3] = {in(kVLinMom), in(kVLinMom + 1), in(kVLinMom + 2)};
   // The floor's branches (all clear without one).
-  const T pen = 0.5 * in(kVSize)-x0[2];
+  const T pen = 0.5 * size - x0[2];
   const auto never = zero != zero;
   const auto contact = k.flat_floor ? pen > 0.0 : never;
   const T normal = 2.0 * E * k.size * pen;
