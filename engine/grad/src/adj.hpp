@@ -133,11 +133,15 @@ inline Adj operator/(Adj a, Adj b) {
 inline Adj operator-(Adj a) {
   return {-a.v, record(a.id, -1.0, -1, 0.0)};
 }
+// A branch taken, folded into an event signature (the replica's; none when null).
+inline void note(uint64_t* events, uint64_t v) {
+  if (events) *events = (*events ^ v) * 1099511628211ull;
+}
 // When set, every comparison folds its outcome into *g_branches (the replica's event
 // signature, over the stages whose comparisons are all kinks: actuation and development).
 inline thread_local uint64_t* g_branches = nullptr;
 inline bool branch(bool outcome) {
-  if (g_branches) *g_branches = (*g_branches ^ (outcome ? 0x9e37u : 0x7f4au)) * 1099511628211ull;
+  note(g_branches, outcome ? 0x9e37u : 0x7f4au);
   return outcome;
 }
 inline bool operator<(Adj a, Adj b) {

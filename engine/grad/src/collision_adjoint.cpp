@@ -18,11 +18,10 @@ void CollisionReplica::apply(const Model& m, const State& s, Workspace& w, Adj d
     const int p = g.touching[c];
     const int i = g.pair_a[p], j = g.pair_b[p];
     const PairContact what = pair_contact(m, s, w, i, j, dt);
-    if (what == PairContact::kApart || !events) continue;
-    *events = (*events ^ ((uint64_t(i) << 32) + uint64_t(j))) * 1099511628211ull;
+    if (what == PairContact::kApart) continue;
+    note(events, (uint64_t(i) << 32) + uint64_t(j));
     if (what == PairContact::kObjectSliding || what == PairContact::kObjectStopped)
-      *events =
-          (*events ^ (what == PairContact::kObjectStopped ? 0x0b1 : 0x0b0)) * 1099511628211ull;
+      note(events, what == PairContact::kObjectStopped ? 0x0b1 : 0x0b0);
   }
 }
 

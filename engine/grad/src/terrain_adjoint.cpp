@@ -10,11 +10,6 @@
 namespace plastivox::grad {
 namespace {
 
-// A branch taken, folded into the event signature.
-void note(uint64_t* events, uint64_t v) {
-  if (events) *events = (*events ^ v) * 1099511628211ull;
-}
-
 Adj pos_of(const State& s, int i, int k) {
   return load(s.pos.front().data(), 3 * i + k, Adj{});
 }
