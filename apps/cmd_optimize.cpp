@@ -281,8 +281,6 @@ int cmd_optimize(const Args& in) {
   options.judge = [&physics](SimResult& r) { judge_life(physics, r); };
   {
     const Model model = compiled(robot);
-    const std::string why = grad::unsupported(model);
-    if (!why.empty()) throw InputError(source + ": no gradient: " + why);
     try {
       grad::plan(model, options);
     } catch (const std::invalid_argument& e) {

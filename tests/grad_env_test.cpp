@@ -190,7 +190,6 @@ struct Checked {
 // nudged lives take the life's branches, against the larger of the difference and 1e-3 of the
 // largest difference of its kind. The forward pass is simulate()'s, bit for bit.
 Checked check(const Model& m, const Objective& loss, const std::vector<int>& voxels) {
-  EXPECT_EQ(grad::unsupported(m), "");
   const Gradient g = loss.gradient(m);
   const SimResult r = simulate(m);
   EXPECT_EQ(g.final_state_hash, r.final_state_hash);

@@ -453,7 +453,6 @@ TEST(Gradient, ControllerWeightsMatchCentralDifferences) {
     const Model m = compile(cube3_with_network(c.kind, c.hidden), def);
     SCOPED_TRACE(controller_text(m.controller) + ", act_max_rate " + std::to_string(c.max_rate) +
                  ", treatment " + to_string(c.treatment));
-    EXPECT_EQ(grad::unsupported(m), "");
     EXPECT_EQ(grad::replicate_life(m).fitness, simulate(m).fitness);
     const size_t stride = m.controller.weights.size() > 60 ? 4 : 1;  // a quarter of the 105
     const int checked = static_cast<int>((m.controller.weights.size() + stride - 1) / stride);
@@ -546,7 +545,6 @@ PhysicsDef voxelyze09(double duration, double settle, Treatment treatment = Trea
 TEST(Gradient, Voxelyze09ReplicaIsTheEnginesLife) {
   for (Treatment t : {Treatment::kNone, Treatment::kStress}) {
     const Model walker = compile(demo_walker(), voxelyze09(0.1, 0.02, t));
-    EXPECT_EQ(grad::unsupported(walker), "");
     EXPECT_EQ(grad::replicate_life(walker).fitness, simulate(walker).fitness);
     const Model cube = compile(cube3(), voxelyze09(0.2, 0.05, t));
     const SimResult r = simulate(cube);
@@ -600,7 +598,6 @@ std::vector<std::pair<int64_t, int>> scalar_path_bonds(const Model& m) {
 
 // A life whose snapshots and tape would exceed the memory limit is refused before it runs.
 TEST(Gradient, RefusesALifeBeyondItsMemoryInOneLine) {
-  EXPECT_EQ(grad::unsupported(compile(cube3(), short_life(0.1, 0.02))), "");
   grad::GradientOptions tight;
   tight.memory_limit = 1e6;
   const Model walker = compile(demo_walker(), short_life(0.03, 0.02));

@@ -333,7 +333,6 @@ TEST(TaskLoss, GradientTakesTheModelsTaskUnderEitherBondModel) {
   for (Task t : {Task::kWalk, Task::kJump, Task::kTurn, Task::kClimb, Task::kSlope, Task::kRough,
                  Task::kObstacles, Task::kCarry, Task::kPush}) {
     const Model m = compile(block(1e10), life(t, 0.1, 0.03));
-    EXPECT_EQ(grad::unsupported(m), "") << to_string(t);
     const SimResult r = simulate(m);
     const Gradient g = grad::gradient(m);
     EXPECT_EQ(g.fitness, r.fitness) << to_string(t);
@@ -344,7 +343,6 @@ TEST(TaskLoss, GradientTakesTheModelsTaskUnderEitherBondModel) {
   PhysicsDef def = life(Task::kJump, 0.1, 0.03);
   def.bond_model = BondModel::kVoxelyze09;
   const Model m = compile(block(1e10), def);
-  EXPECT_EQ(grad::unsupported(m), "");
   EXPECT_EQ(grad::gradient(m).final_state_hash, simulate(m).final_state_hash);
 }
 

@@ -893,20 +893,7 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
 
 }  // namespace
 
-std::string unsupported(const Model& m) {
-  const std::string why = unsupported_life(m);
-  return why.empty() ? why : std::string("the ") + to_string(m.def.task) + " task's life: " + why;
-}
-
-// Every life is differentiated today (both bond models: scalar_bond_adjoint.hpp); the reason
-// stays the one place a life that is not would be refused, before it runs.
-std::string unsupported_life(const Model&) {
-  return "";
-}
-
 ReplicaSummary replicate_life(const Model& m) {
-  const std::string why = unsupported(m);
-  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
   g_tape = nullptr;
   Replica r(m);
   Fnv events;
@@ -926,8 +913,6 @@ ReplicaSummary replicate_life(const Model& m) {
 }
 
 Plan plan(const Model& m, const GradientOptions& options) {
-  const std::string why = unsupported_life(m);
-  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
   if (options.checkpoint_every < 0)
     throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
   if (options.threads < 0) throw std::invalid_argument("gradient: threads must be >= 0");
@@ -971,8 +956,6 @@ Plan plan(const Model& m, const GradientOptions& options) {
 }
 
 Gradient gradient(const Model& m, const GradientOptions& options) {
-  const std::string why = unsupported(m);
-  if (!why.empty()) throw std::invalid_argument("gradient: " + why);
   return gradient_of(m, task_loss(m), options);
 }
 

@@ -92,15 +92,9 @@ struct Gradient {
   int threads = 1;              // threads the backward pass ran on (1 or 2)
 };
 
-// The reason, in one line, why the gradient of this model's life is not available yet, or ""
-// when it is (docs/gradients.md, "Not covered yet"): unsupported_life()'s reason, naming the
-// task whose life it is (every task's fitness has its loss, task_loss; either bond model; any
-// environment, free objects, any controller: the sine or a network).
-std::string unsupported(const Model& model);
-
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it
 // expects (snapshots and one segment's tape a thread). Throws what gradient() throws before the
-// life runs (an unsupported life, memory_limit, a tape too long).
+// life runs (bad options, memory_limit, a tape too long).
 struct Plan {
   double steps = 0;                // the life's steps, from the initial time step (an estimate
                                    // when development changes dt)
@@ -146,8 +140,9 @@ struct TrajectoryLoss {
 // A fresh loss for each life; it refers to `model`, which must outlive it.
 TrajectoryLoss task_loss(const Model& model);
 
-// The gradient of the life's fitness. Throws std::invalid_argument with unsupported()'s
-// reason, and std::domain_error when the life does not finish (unstable; see
+// The gradient of the life's fitness: any task (each has its loss, task_loss), either bond
+// model, any environment, free objects and controller. Throws std::invalid_argument as plan()
+// does, and std::domain_error when the life does not finish (unstable; see
 // GradientOptions::judge).
 Gradient gradient(const Model& model, const GradientOptions& options = {});
 
@@ -161,9 +156,6 @@ Gradient gradient_of(const Model& model, const FinalLoss& loss,
 // loss's value. Throws as gradient_of(FinalLoss) does.
 Gradient gradient_of(const Model& model, const TrajectoryLoss& loss,
                      const GradientOptions& options = {});
-
-// unsupported() without the task: why the life itself cannot be differentiated yet, or "".
-std::string unsupported_life(const Model& model);
 
 // The replica's forward life alone, without recording (for tests): its fitness, which must
 // equal simulate()'s bit for bit, and a signature of the life's non-differentiable events
