@@ -426,16 +426,20 @@ class Replica {
     // adjoints as a row, and the next step's reads of a deformation component are consecutive.
     // The records (io.out) have no nodes: the gather alone reads them, on doubles
     // (record_gather), and their adjoints are its outputs' (bond_adjoint.hpp).
-    const auto leaf = [&](int o, int b) {
-      return static_cast<int32_t>(stage.first + int64_t(o - kPrevNext) * nb_ + b);
+    // (A local count: the stores of int32 ids could alias the member nb_, which kept these loops
+    // scalar, reloading it each element.)
+    const int nb = nb_;
+    const int64_t first = stage.first;
+    const auto leaf = [first, nb](int o, int b) {
+      return static_cast<int32_t>(first + int64_t(o - kPrevNext) * nb + b);
     };
-    for (int b = 0; b < nb_; ++b) {
+    for (int b = 0; b < nb; ++b) {
       strain_ids[b] = leaf(kStrain, b);
       stress_ids[b] = leaf(kStress, b);
       if (energy_ids) energy_ids[b] = leaf(kEnergy, b);
     }
     for (int j = 0; j < 9; ++j)
-      for (int b = 0; b < nb_; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
+      for (int b = 0; b < nb; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
     bond_block_ = true;
   }
 
