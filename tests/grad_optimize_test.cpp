@@ -226,6 +226,26 @@ TEST_F(Optimize, MovesTheActuationScalesWithinTheirRangeAndWritesThem) {
   EXPECT_EQ(
       testing::cli_json("simulate " + path("scaled.json") + " --json")["fitness"].get<double>(),
       log[4]["fitness"].get<double>());
+  // Amplitudes and scales moved in one step: each one's derivative is read at the robot the
+  // gradient was taken of (the other's chain rule unmoved), so the order of --wrt changes
+  // nothing. Plain steps, whose size is the derivative's (Adam's first is its sign).
+  RobotDef own = read_robot_file(kWalker).robot;
+  own.act_amplitude.assign(own.sites(), 0.1);
+  write_robot_file(path("own.json"), own);
+  double moved_fitness[2] = {0, 0};
+  for (int order = 0; order < 2; ++order) {
+    const std::string name = "both" + std::to_string(order);
+    const Output b =
+        cli("optimize " + path("own.json") + " --wrt " +
+            (order == 0 ? "act_amplitude,act_scale" : "act_scale,act_amplitude") +
+            " --method sgd --steps 1 --lr 10" + kShort + " --out " + path(name + ".json"));
+    ASSERT_EQ(b.status, 0) << b.out;
+    const std::vector<nlohmann::json> l = lines_of(testing::file_text(path(name + ".log.jsonl")));
+    ASSERT_EQ(l.size(), 4u);
+    moved_fitness[order] = l[2]["fitness"];
+    EXPECT_NE(moved_fitness[order], l[1]["fitness"].get<double>());
+  }
+  EXPECT_EQ(moved_fitness[0], moved_fitness[1]);
   // A .vxa cannot hold the scales: refused before anything runs.
   const Output vxa =
       cli("optimize " + kWalker + " --wrt act_scale" + kShort + " --out " + path("scaled.vxa"));
