@@ -34,11 +34,11 @@ namespace {
 
 using nlohmann::json;
 
-// What `--wrt` may name: the robot's arrays (act_amplitude: its own amplitudes), its
-// controller's weights (RobotDef's and Python's Robot's own attribute names) and the physics'
-// global amplitude, "amplitude" (as plastivox.gradient names it).
-constexpr const char* kWrt[] = {"stiffness",     "phase",     "dev_rate",
-                                "act_amplitude", "amplitude", "controller"};
+// What `--wrt` may name: the robot's arrays (act_amplitude: its own amplitudes; act_scale: its
+// actuation scales), its controller's weights (RobotDef's and Python's Robot's own attribute
+// names) and the physics' global amplitude, "amplitude" (as plastivox.gradient names it).
+constexpr const char* kWrt[] = {"stiffness", "phase",     "dev_rate",  "act_amplitude",
+                                "act_scale", "amplitude", "controller"};
 
 // The largest amplitude the robot format and the physics allow: [0, 0.9).
 const double kAmplitudeTop = std::nextafter(0.9, 0.0);
@@ -60,6 +60,7 @@ std::vector<double>& array_of(RobotDef& r, const std::string& name) {
   if (name == "phase") return r.phase;
   if (name == "controller") return r.controller.weights;
   if (name == "act_amplitude") return r.act_amplitude;
+  if (name == "act_scale") return r.act_scale;
   return r.dev_rate;
 }
 
@@ -70,9 +71,9 @@ struct Coordinate {
   double slope;
 };
 
-// The coordinates of `name`: per cycle of phase, per 1/s of rate, per unit of a weight or an
-// amplitude, and per unit of log E for stiffness (a step of lr moves E by about lr of itself,
-// and a modulus spans six decades: the same lr serves every voxel).
+// The coordinates of `name`: per cycle of phase, per 1/s of rate, per unit of a weight, an
+// amplitude or an actuation scale, and per unit of log E for stiffness (a step of lr moves E by
+// about lr of itself, and a modulus spans six decades: the same lr serves every voxel).
 std::vector<Coordinate> coordinates(const std::string& name, const grad::Gradient& g,
                                     const Model& m, const RobotDef& robot) {
   std::vector<Coordinate> out;
@@ -83,11 +84,14 @@ std::vector<Coordinate> coordinates(const std::string& name, const grad::Gradien
     return out;
   }
   for (int i = 0; i < m.robot_n; ++i) {
-    // A voxel's gain is its own amplitude times its act_scale (compile()).
+    // A voxel's gain is its own amplitude (1 under the paper's rule) times its act_scale (1
+    // without the array; compile()).
     const double scale = robot.act_scale.empty() ? 1.0 : robot.act_scale[m.site[i]];
+    const double amplitude = robot.act_amplitude.empty() ? 1.0 : robot.act_amplitude[m.site[i]];
     const double d = name == "stiffness"       ? g.stiffness[i] * m.e0[i]
                      : name == "phase"         ? g.phase[i]
                      : name == "act_amplitude" ? g.act_gain[i] * scale
+                     : name == "act_scale"     ? g.act_gain[i] * amplitude
                                                : g.dev_rate[i];
     out.push_back({static_cast<size_t>(m.site[i]), d});
   }
@@ -97,11 +101,12 @@ std::vector<Coordinate> coordinates(const std::string& name, const grad::Gradien
 // Moves one value by `step` in its coordinate and keeps it valid for the robot file and the
 // engine: E in [e_min, e_max] (compile() clamps there, so beyond it the fitness is flat), a
 // phase wrapped into [-0.5, 0.5] cycles when it leaves it (the sine has period 1), an
-// amplitude held to [0, 0.9) (the robot format's and the physics' range), a rate or a weight
-// anything finite.
+// amplitude held to [0, 0.9) (the robot format's and the physics' range), an actuation scale
+// to [0, 1] (the robot format's), a rate or a weight anything finite.
 double moved(const std::string& name, double value, double step, const PhysicsDef& physics) {
   if (name == "act_amplitude" || name == "amplitude")
     return std::clamp(value + step, 0.0, kAmplitudeTop);
+  if (name == "act_scale") return std::clamp(value + step, 0.0, 1.0);
   if (name == "stiffness")
     return std::clamp(std::exp(std::log(value) + step), physics.e_min, physics.e_max);
   if (name == "phase") {
@@ -118,12 +123,15 @@ json ascend(RobotDef& robot, PhysicsDef& physics, const std::vector<std::string>
             std::vector<Moments>& moments, const Settings& settings, int t, const grad::Gradient& g,
             const Model& model) {
   json norms;
+  // Every derivative is read at the robot the gradient was taken of: moving the amplitudes
+  // first must not change the scales' chain rule, nor the reverse.
+  const RobotDef at = robot;
   for (size_t p = 0; p < wrt.size(); ++p) {
     std::vector<double> global = {physics.act_amplitude};
     std::vector<double>& values = wrt[p] == "amplitude" ? global : array_of(robot, wrt[p]);
     Moments& mo = moments[p];
     double norm2 = 0;
-    for (const auto& [s, d] : coordinates(wrt[p], g, model, robot)) {
+    for (const auto& [s, d] : coordinates(wrt[p], g, model, at)) {
       norm2 += d * d;
       double step = settings.lr * d;
       if (settings.method == "adam") {
@@ -219,7 +227,8 @@ int cmd_optimize(const Args& in) {
     for (const char* k : kWrt) known = known || name == k;
     if (!known)
       throw UsageError{"--wrt: no parameter is called '" + name +
-                       "' (stiffness, phase, dev_rate, act_amplitude, amplitude, controller)"};
+                       "' (stiffness, phase, dev_rate, act_amplitude, act_scale, amplitude, "
+                       "controller)"};
     for (const std::string& w : wrt)
       if (w == name) throw UsageError{"--wrt names '" + name + "' twice"};
     wrt.push_back(name);
@@ -301,6 +310,10 @@ int cmd_optimize(const Args& in) {
         throw UsageError{
             "--wrt act_amplitude: the robot has no amplitudes of its own (its voxels actuate by "
             "physics act_amplitude x xi(E)); --wrt amplitude moves that one"};
+      if (name == "act_scale" && out.ends_with(".vxa"))
+        throw UsageError{
+            "--wrt act_scale: a .vxa file cannot hold per-voxel actuation scales; give --out "
+            "a .json"};
       if (name == "amplitude" && !robot.act_amplitude.empty())
         throw UsageError{
             "--wrt amplitude: the robot gives its own amplitudes, which do not read physics "
@@ -311,6 +324,10 @@ int cmd_optimize(const Args& in) {
   for (int s = 0; s < robot.sites(); ++s)
     if (robot.present[s])
       robot.stiffness[s] = std::clamp(robot.stiffness[s], physics.e_min, physics.e_max);
+  // A robot without act_scale has 1 at every voxel (the same life, bit for bit: compile()
+  // multiplies the gain by 1); --wrt act_scale moves the array it is given, written with it.
+  for (const std::string& name : wrt)
+    if (name == "act_scale" && robot.act_scale.empty()) robot.act_scale.assign(robot.sites(), 1.0);
 
   std::string log_text = log_header(source, wrt, settings, steps, physics, out).dump() + "\n";
   std::vector<Moments> moments(wrt.size());

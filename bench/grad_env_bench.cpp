@@ -2,6 +2,7 @@
 // differences over a longer life, and its cost (docs/gradients.md, "Environments and free
 // objects"):
 //   grad_env_bench check|forward|gradient climb|carry DURATION [STRIDE]
+//   grad_env_bench gradient climb|carry DURATION [CHECKPOINT_EVERY [THREADS]]
 // The demo walker on the task's default environment (climb: terraces; carry: its payload),
 // default physics but the duration. The loss is a final-state one of the bench's own, not the
 // task's fitness: the x of the centre (the robot's for climb, the payload's for carry) in voxel
@@ -10,7 +11,9 @@
 // nudged lives take other branches than the life (replicate_life's signature) is marked as
 // crossing a kink. Prints each parameter, then per kind the distribution of relative errors
 // and the cosine between the two vectors, over all and over the smooth ones. forward and
-// gradient run the life alone, or its gradient alone, for timing as whole processes.
+// gradient run the life alone, or its gradient alone, for timing as whole processes; gradient
+// takes grad_bench's CHECKPOINT_EVERY (0: the default) and THREADS (the backward pass's; 0,
+// the default: all cores).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -83,7 +86,9 @@ struct Comparison {
 int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(stderr,
-                 "usage: grad_env_bench check|forward|gradient climb|carry DURATION [STRIDE]\n");
+                 "usage: grad_env_bench check|forward|gradient climb|carry DURATION [STRIDE]\n"
+                 "       grad_env_bench gradient climb|carry DURATION [CHECKPOINT_EVERY "
+                 "[THREADS]]\n");
     return 2;
   }
   const std::string mode = argv[1], task = argv[2];
@@ -117,10 +122,14 @@ int main(int argc, char** argv) {
                 final_x(m, centre));
     return 0;
   }
-  const grad::Gradient g = grad::gradient_of(m, loss);
+  grad::GradientOptions options;
+  if (mode == "gradient" && argc > 4) options.checkpoint_every = std::atoi(argv[4]);
+  if (mode == "gradient" && argc > 5) options.threads = std::atoi(argv[5]);
+  const grad::Gradient g = grad::gradient_of(m, loss, options);
   if (mode == "gradient") {
-    std::printf("%s, demo walker, %.3g s: loss %.17g, %zu snapshots, largest tape %zu nodes\n",
-                task.c_str(), def.duration, g.fitness, g.checkpoints, g.peak_tape_nodes);
+    std::printf(
+        "%s, demo walker, %.3g s: loss %.17g, %zu snapshots, largest tape %zu nodes, %d threads\n",
+        task.c_str(), def.duration, g.fitness, g.checkpoints, g.peak_tape_nodes, g.threads);
     return 0;
   }
   const SimResult r = simulate(m);

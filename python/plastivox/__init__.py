@@ -203,6 +203,14 @@ class Robot:
         return self._lattice(flat) if len(flat) else None
 
     @property
+    def act_scale(self):
+        """(nx, ny, nz) actuation scale of each voxel in [0, 1] (its amplitude, by either rule,
+        times this; 0: passive tissue), or None: a robot file without act_scale, every voxel
+        at 1 (docs/robot-format.md)."""
+        flat = self._core.act_scale_flat
+        return self._lattice(flat) if len(flat) else None
+
+    @property
     def physics(self):
         """The robot's own physics, a PhysicsDef (a copy: what simulate uses when given none)."""
         return self._core.physics
@@ -442,7 +450,9 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
     numpy arrays shaped like the Robot's own ((nx, ny, nz), 0 where no voxel is): "stiffness"
     (per Pa of congenital stiffness), "phase" (per cycle), "dev_rate" (per 1/s),
     "act_amplitude" (per unit of the robot's own amplitude, Robot.act_amplitude; ValueError for
-    a robot without them); to a float, "amplitude" (per unit of physics act_amplitude; 0 for a
+    a robot without them), "act_scale" (per unit of the voxel's actuation scale,
+    Robot.act_scale; for a robot without one, the derivative at 1, every voxel's scale); to a
+    float, "amplitude" (per unit of physics act_amplitude; 0 for a
     robot with its own amplitudes, which do not read it); or "controller": a flat array shaped
     like robot.controller["weights"], the derivative with respect to each weight of a neural
     controller (biases included, docs/control.md's order); "initial_position",
@@ -470,7 +480,7 @@ def gradient(robot, wrt=("stiffness", "phase"), physics=None, treatment=None, th
 
 def _shaped_gradients(robot, flat):
     """The derivatives per site shaped like the robot's arrays; the others as they come."""
-    per_site = ("stiffness", "phase", "dev_rate", "act_amplitude")
+    per_site = ("stiffness", "phase", "dev_rate", "act_amplitude", "act_scale")
     return {k: (_np.reshape(v, robot.shape, order="F") if k in per_site else v)
             for k, v in flat.items()}
 

@@ -18,13 +18,14 @@
 namespace plastivox::py {
 namespace {
 
-// What `wrt` may name: the Robot's own arrays (act_amplitude: its own amplitudes), the
-// physics' global amplitude ("amplitude"), the Robot's controller (its weights) and its initial
-// state.
+// What `wrt` may name: the Robot's own arrays (act_amplitude: its own amplitudes; act_scale:
+// its actuation scales), the physics' global amplitude ("amplitude"), the Robot's controller
+// (its weights) and its initial state.
 constexpr const char* kWrt[] = {"stiffness",
                                 "phase",
                                 "dev_rate",
                                 "act_amplitude",
+                                "act_scale",
                                 "amplitude",
                                 "controller",
                                 "initial_position",
@@ -38,8 +39,8 @@ void check_wrt(const PyRobot& robot, const std::vector<std::string>& wrt) {
     for (const char* k : kWrt) known = known || name == k;
     if (!known)
       throw std::invalid_argument("wrt: no parameter is called '" + name +
-                                  "' (stiffness, phase, dev_rate, act_amplitude, amplitude, "
-                                  "controller, initial_position, initial_velocity, "
+                                  "' (stiffness, phase, dev_rate, act_amplitude, act_scale, "
+                                  "amplitude, controller, initial_position, initial_velocity, "
                                   "initial_orientation, initial_angular_velocity)");
     if (name == "act_amplitude" && robot.def.act_amplitude.empty())
       throw std::invalid_argument(
@@ -63,11 +64,14 @@ pyb::dict derivatives(const PyRobot& robot, const Model& model, const grad::Grad
     std::copy(xyz.begin(), xyz.end(), a.mutable_data());
     return a;
   };
-  // The gain is the robot's amplitude times its act_scale (compile()).
-  const auto per_amplitude = [&] {
+  // The gain is the robot's amplitude times its act_scale (compile()): d / d amplitude is
+  // act_gain times the scale (1 without an act_scale array), d / d act_scale act_gain times
+  // the amplitude (1 under the paper's rule, whose gain is the scale alone). Without an
+  // act_scale array that is the derivative at 1, the value the robot's voxels have.
+  const auto times = [&](const std::vector<double>& by) {
     std::vector<double> d = g.act_gain;
-    if (!robot.def.act_scale.empty())
-      for (int i = 0; i < model.robot_n; ++i) d[i] *= robot.def.act_scale[model.site[i]];
+    if (!by.empty())
+      for (int i = 0; i < model.robot_n; ++i) d[i] *= by[model.site[i]];
     return d;
   };
   pyb::dict out;
@@ -75,7 +79,8 @@ pyb::dict derivatives(const PyRobot& robot, const Model& model, const grad::Grad
     if (name == "stiffness") out[name.c_str()] = on_sites(g.stiffness);
     if (name == "phase") out[name.c_str()] = on_sites(g.phase);
     if (name == "dev_rate") out[name.c_str()] = on_sites(g.dev_rate);
-    if (name == "act_amplitude") out[name.c_str()] = on_sites(per_amplitude());
+    if (name == "act_amplitude") out[name.c_str()] = on_sites(times(robot.def.act_scale));
+    if (name == "act_scale") out[name.c_str()] = on_sites(times(robot.def.act_amplitude));
     if (name == "amplitude") out[name.c_str()] = g.amplitude;
     if (name == "controller") out[name.c_str()] = to_array(g.controller_weights);
     if (name == "initial_position") out[name.c_str()] = per_voxel(g.initial_position, 3);

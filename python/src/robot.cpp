@@ -360,6 +360,8 @@ void bind_robot(pyb::module_& m) {
       .def_property_readonly("phase_flat", [](const PyRobot& r) { return to_array(r.def.phase); })
       .def_property_readonly("act_amplitude_flat",
                              [](const PyRobot& r) { return to_array(r.def.act_amplitude); })
+      .def_property_readonly("act_scale_flat",
+                             [](const PyRobot& r) { return to_array(r.def.act_scale); })
       .def(
           "with_physics",
           [](const PyRobot& r, const pyb::object& physics,

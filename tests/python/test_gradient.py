@@ -286,6 +286,80 @@ def test_own_amplitudes_and_the_physics_amplitude_agree_with_central_differences
         plastivox.gradient(cube3(), wrt=["act_amplitude"], physics=SHORT)
 
 
+def robot_with_scales(tmp_path, own_amplitudes, scales=True, nudge=0.0, site=None):
+    """The 3x3x3 body from a robot file, actuated by the paper's rule (physics act_amplitude x
+    xi(E)) or, own_amplitudes, by amplitudes of its own (robot_with_own_amplitudes'), with an
+    act_scale of 0.5, 0.7 or 0.9 per voxel (none when not scales); `nudge` added to the scale at
+    `site`."""
+    base = cube3()
+    voxels, scale = [], []
+    for k in range(27):
+        x, y, z = k % 3, (k // 3) % 3, k // 9
+        voxel = [x, y, z, float(base.stiffness[x, y, z]), 0.0, float(base.phase[x, y, z])]
+        if own_amplitudes:
+            voxel.append(float(0.12 + 0.05 * np.sin(2.3 * k)))
+        voxels.append(voxel)
+        scale.append(0.5 + 0.2 * (k % 3) + (nudge if (x, y, z) == site else 0.0))
+    document = {"format": "plastivox-robot", "version": 1,
+                "lattice": {"nx": 3, "ny": 3, "nz": 3, "voxel_size": 0.01}, "voxels": voxels}
+    if scales is not None:
+        document["act_scale"] = scale if scales is True else scales
+    path = tmp_path / f"scales-{own_amplitudes}-{scales is True}-{nudge!r}-{site}.json"
+    path.write_text(json.dumps(document))
+    return plastivox.load_robot(str(path))
+
+
+@pytest.mark.parametrize("own_amplitudes", [False, True])
+def test_act_scale_agrees_with_central_differences(tmp_path, own_amplitudes):
+    # d gain / d act_scale is 1 under the paper's rule (the gain is the scale), the voxel's own
+    # amplitude under voxcraft's: both against differences of lives from nudged robot files.
+    robot = robot_with_scales(tmp_path, own_amplitudes)
+    fitness, g = plastivox.gradient(robot, wrt=["act_scale", "stiffness"], physics=SHORT)
+    assert fitness == plastivox.simulate(robot, physics=SHORT).fitness
+    assert g["act_scale"].shape == robot.shape == robot.act_scale.shape
+    for site in ((0, 0, 0), (1, 1, 1), (2, 0, 1)):  # act_scale 0.5, 0.7, 0.9
+        scale = robot.act_scale[site]
+
+        def f(h):
+            nudged = robot_with_scales(tmp_path, own_amplitudes, nudge=h, site=site)
+            return plastivox.simulate(nudged, physics=SHORT).fitness
+
+        difference = central(f, 1e-4 * scale)
+        assert difference != 0
+        assert g["act_scale"][site] == pytest.approx(difference, rel=1e-6), site
+    if own_amplitudes:  # the chain rule's two ends: amplitude x d/d amplitude = scale x d/d scale
+        _, h = plastivox.gradient(robot, wrt=["act_amplitude"], physics=SHORT)
+        assert np.allclose(robot.act_amplitude * h["act_amplitude"],
+                           robot.act_scale * g["act_scale"], rtol=1e-12, atol=0)
+
+
+def test_act_scale_of_a_robot_without_one_is_the_derivative_at_1(tmp_path):
+    # No act_scale array: every voxel's scale is 1, and the derivative is taken there, shaped
+    # like the robot; the same bits as for the robot with the array of ones.
+    robot = robot_with_scales(tmp_path, own_amplitudes=False, scales=None)
+    assert robot.act_scale is None
+    fitness, g = plastivox.gradient(robot, wrt="act_scale", physics=SHORT)
+    ones = robot_with_scales(tmp_path, own_amplitudes=False, scales=[1.0] * 27)
+    fitness1, g1 = plastivox.gradient(ones, wrt="act_scale", physics=SHORT)
+    assert g["act_scale"].shape == robot.shape
+    assert fitness == fitness1 and g["act_scale"].tobytes() == g1["act_scale"].tobytes()
+    # The robot format stops at 1, so the difference is one-sided there (from below),
+    # Richardson-extrapolated: (f(1) - f(1 - h)) / h has error O(h), 2 D(h/2) - D(h) O(h^2).
+    site = (1, 0, 0)
+    scales = np.ones(27)
+
+    def f(h):
+        nudged = scales.copy()
+        nudged[site[0] + 3 * site[1] + 9 * site[2]] -= h
+        return plastivox.simulate(robot_with_scales(tmp_path, False, scales=list(nudged)),
+                                  physics=SHORT).fitness
+
+    h = 1e-4
+    d1 = (fitness - f(h)) / h
+    d2 = (fitness - f(h / 2)) / (h / 2)
+    assert g["act_scale"][site] == pytest.approx(2 * d2 - d1, rel=1e-6)
+
+
 def test_initial_orientation_and_angular_velocity():
     # Through a loss of the initial state: its derivative comes back as the gradient, the
     # orientation's w column projected out (x, y, z, w) and the angular momentum's scaled to
