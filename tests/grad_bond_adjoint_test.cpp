@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "adj.hpp"
@@ -17,6 +18,7 @@
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/simd.hpp"
+#include "plastivox/simulator.hpp"
 #include "voxel_adjoint.hpp"
 
 namespace plastivox::grad {
@@ -222,6 +224,63 @@ TEST(StageAdjoints, WholeGradientEqualsTheOperationByOperationTapes) {
     cube.dev_rate[v] = 2.0 + std::cos(1.3 * v);
   }
   same_gradient(compile(cube, develop));
+}
+
+// Over the engine's life of m: the bond-steps in Voxelyze 0.9's small-angle frame and in its
+// chord-aligned frame, and the switches between them.
+struct Frames {
+  int64_t small = 0, chord = 0, switches = 0;
+};
+Frames frames(const Model& m) {
+  Frames f;
+  Simulator sim(m);
+  std::vector<uint8_t> last = sim.state().bond_small_angle;
+  while (sim.state().status == SimStatus::kRunning) {
+    sim.step();
+    const std::vector<uint8_t>& now = sim.state().bond_small_angle;
+    for (size_t b = 0; b < now.size(); ++b) {
+      (now[b] ? f.small : f.chord) += 1;
+      f.switches += now[b] != last[b];
+    }
+    last = now;
+  }
+  return f;
+}
+
+// Under Voxelyze 0.9 every bond takes the scalar path: kept as a block on doubles, its reverse
+// the scalar path recorded bond by bond on a small tape of its own. Its gradient equals the one
+// recorded operation by operation on the walker, whose actuated bonds bend past the small-angle
+// limit (both frames and the switch between them, checked on the engine's life), and on a
+// developing cube; and under the exact model, on a body whose bonds bend near half a turn, so
+// that the batched kernel hands bonds back to the scalar path (kept in its block too).
+TEST(StageAdjoints, ScalarPathBlocksEqualTheOperationByOperationTapes) {
+  PhysicsDef walk;
+  walk.duration = 0.06;
+  walk.settle_time = 0.02;
+  walk.bond_model = BondModel::kVoxelyze09;
+  const Model walker = compile(demo_walker(), walk);
+  const Frames f = frames(walker);
+  std::printf("voxelyze09 walker: %lld bond-steps small-angle, %lld chord-aligned, %lld switches\n",
+              static_cast<long long>(f.small), static_cast<long long>(f.chord),
+              static_cast<long long>(f.switches));
+  EXPECT_GT(f.small, 0);
+  EXPECT_GT(f.chord, 0);
+  EXPECT_GT(f.switches, 0);
+  same_gradient(walker);
+  PhysicsDef develop = walk;
+  develop.duration = 0.1;
+  develop.treatment = Treatment::kStress;
+  RobotDef cube = demo_cube(3, 1e8);
+  for (int v = 0; v < cube.sites(); ++v) {
+    cube.stiffness[v] *= 1.5 + std::sin(1.7 * v + 0.3);
+    cube.dev_rate[v] = 2.0 + std::cos(1.3 * v);
+  }
+  same_gradient(compile(cube, develop));
+  PhysicsDef sinks;
+  sinks.duration = 0.06;
+  sinks.settle_time = 0.02;
+  sinks.sinking_invalid = false;
+  same_gradient(compile(demo_irregular(150, 1), sinks));
 }
 
 // The bits of a vector of doubles.
