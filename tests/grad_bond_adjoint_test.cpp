@@ -19,6 +19,7 @@
 #include "plastivox/model.hpp"
 #include "plastivox/simd.hpp"
 #include "plastivox/simulator.hpp"
+#include "scalar_bond_adjoint.hpp"
 #include "voxel_adjoint.hpp"
 
 namespace plastivox::grad {
@@ -105,6 +106,52 @@ TEST(BondAdjoint, LargeRotationsAreLeftToTheTape) {
   // Past pi/16 of relative turn the arctangent takes its wide branch: the hand path declines.
   double out[kBondOutputs] = {1}, in[kBondInputs] = {};
   EXPECT_FALSE(bond_reverse(bond(m, 0, 1.2, 0.4, true), m, out, in));
+  for (double g : in) EXPECT_EQ(g, 0.0);
+}
+
+// Under Voxelyze 0.9 a bond's scalar path reversed by hand (scalar_bond_reverse.cpp) against
+// the same path recorded on a small tape: in either frame as the bond enters the step (small),
+// so with the switch of frames both ways, damping on and off, turns from none to a radian (both
+// forms of its rotation vectors), chords along the axis (the first-order frame) and turned from
+// it (the arccosine's frame).
+TEST(BondAdjoint, Voxelyze09HandWrittenReverseEqualsTheTapes) {
+  PhysicsDef def;
+  def.bond_model = BondModel::kVoxelyze09;
+  const Model m = compile(demo_walker(), def);
+  int taken = 0, cases = 0;
+  BondTape tape;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int valid = 0; valid < 2; ++valid)
+      for (int small = 0; small < 2; ++small)
+        for (double angle : {0.0, 1e-3, 0.012, 0.05, 0.3, 1.0})
+          for (double seed : {0.4, 1.7, 2.9}) {
+            ModelConstants k = m;
+            k.axial_own = seed > 2;
+            BondArgs a = bond(k, axis, angle, seed, valid);
+            if (seed < 1) {  // a unturned, the chord along its axis: the first-order frame
+              turned(a.v + kQuatA, 0.0, seed);
+              for (int c = 0; c < 3; ++c)
+                a.v[kCentreB + c] = a.v[kCentreA + c] + (c == axis ? 1.05 * k.size : 0.0);
+            }
+            double out[kBondOutputs];
+            for (int o = 0; o < kBondOutputs; ++o)
+              out[o] = std::sin(seed + angle + 1.9 * o) * (o < 9 ? 1 : 1e-3);
+            double hand[kBondInputs] = {}, taped[kBondInputs] = {};
+            ++cases;
+            if (!voxelyze_bond_reverse(a, small, k, out, hand)) continue;
+            ++taken;
+            tape.reverse(&scalar_bond_forward, a, small, k, out, taped);
+            const int kinds[][2] = {{kCentreA, 3},     {kCentreB, 3}, {kCentreA + 3, 1},
+                                    {kCentreB + 3, 1}, {kQuatA, 8},   {kStiffA, 2},
+                                    {kPrev, 9},        {kDamp, 1}};
+            for (const auto& [from, count] : kinds) within(hand, taped, from, count);
+          }
+  EXPECT_EQ(taken, cases);
+  // A chord of zero length takes a constant frame: left to the tape.
+  BondArgs crushed = bond(m, 0, 0.05, 0.4, true);
+  for (int c = 0; c < 3; ++c) crushed.v[kCentreB + c] = crushed.v[kCentreA + c];
+  double out[kBondOutputs] = {1}, in[kBondInputs] = {};
+  EXPECT_FALSE(voxelyze_bond_reverse(crushed, false, m, out, in));
   for (double g : in) EXPECT_EQ(g, 0.0);
 }
 

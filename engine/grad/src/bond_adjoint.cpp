@@ -264,18 +264,23 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
-  // Bond b's reverse recorded on the small tape, by the batched kernel or the scalar path.
-  const auto on_tape = [&](size_t b, BondTape::Forward forward, bool small) {
+  // Bond b's reverse one at a time: Voxelyze 0.9's by hand where it can, else recorded on the
+  // small tape, by the batched kernel or the scalar path.
+  const auto one = [&](size_t b, BondTape::Forward forward, bool small, bool by_hand) {
     double out[kBondOutputs], in[kBondInputs] = {};
     for (int o = kOut; o < kPrevNext; ++o) out[o] = s.records[(o - kOut) * nb + b];
     for (int o = kPrevNext; o < kBondOutputs; ++o) out[o] = r.out_adj[(o - kPrevNext) * nb + b];
     const BondArgs a = bond_args(io, L, values, ids, int(b), !valid || valid[b]);
-    s.tape.reverse(forward, a, small, k, out, in);
+    if (!by_hand || !voxelyze_bond_reverse(a, small, k, out, in))
+      s.tape.reverse(forward, a, small, k, out, in);
     for (int j = 0; j < kBondInputs; ++j) s.in[j * nb + b] = in[j];
+  };
+  const auto on_tape = [&](size_t b, BondTape::Forward forward, bool small) {
+    one(b, forward, small, false);
   };
   if (scalar.small) {
     // Voxelyze 0.9: every bond by the scalar path.
-    for (size_t b = 0; b < nb; ++b) on_tape(b, &scalar_bond_forward, scalar.small[b] != 0);
+    for (size_t b = 0; b < nb; ++b) one(b, &scalar_bond_forward, scalar.small[b] != 0, true);
   } else {
     // Whole lane groups at the SIMD level, then the rest here: a file compiled for an
     // instruction set may fuse a double's multiply and add (GCC 12 turns alternating adds and

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "adj.hpp"
+#include "bond_adjoint.hpp"
 #include "plastivox/model.hpp"
 #include "workspace.hpp"
 
@@ -29,6 +30,12 @@ void scalar_bonds(const Model& m, KernelViews& v, double damp, const int* bonds,
 // forward a BondTape records for the reverse of a kept stage's scalar-path bonds.
 void scalar_bond_forward(const BondKernelIo& io, const uint8_t* small_in, uint8_t* small_out,
                          const ModelConstants& k, Adj damp);
+// The same bond's reverse under Voxelyze 0.9 by hand (scalar_bond_reverse.cpp), from the
+// adjoints of its outputs (kBondOutputs) adding those of its inputs to in_adj (kBondInputs), its
+// frame flag `small`; returns false, having done nothing, off its path (a chord of zero length
+// or within 1e-7 rad of backwards: the constant frames), which the BondTape takes.
+bool voxelyze_bond_reverse(const BondArgs& a, bool small, const ModelConstants& k,
+                           const double* out_adj, double* in_adj);
 
 // Voxelyze 0.9's time step (compile.cpp, voxelyze_dt) in its order of operations, on recorded
 // stiffness E: its derivative is the stiffest bond's (the first of a tie, as std::max keeps).
