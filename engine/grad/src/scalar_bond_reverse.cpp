@@ -96,25 +96,14 @@ bool voxelyze_bond_reverse(const BondArgs& A, bool small_in, const ModelConstant
   const double *ca = v + kCentreA, *cb = v + kCentreB, *qa = v + kQuatA, *qb = v + kQuatB;
   // ---- Forward (scalar_bond_lanes's operations, in its order where a branch reads them) ----
   double R[9];
-  const double tx = 2.0 * qa[0], ty = 2.0 * qa[1], tz = 2.0 * qa[2];
-  {
-    const double twx = tx * qa[3], twy = ty * qa[3], twz = tz * qa[3];
-    const double txx = tx * qa[0], txy = ty * qa[0], txz = tz * qa[0];
-    const double tyy = ty * qa[1], tyz = tz * qa[1], tzz = tz * qa[2];
-    R[0] = 1.0 - (tyy + tzz), R[3] = txy - twz, R[6] = txz + twy;
-    R[1] = txy + twz, R[4] = 1.0 - (txx + tzz), R[7] = tyz - twx;
-    R[2] = txz - twy, R[5] = tyz + twx, R[8] = 1.0 - (txx + tyy);
-  }
+  rotation_matrix(qa, R);
   const double dl[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
   const double dx = dl[0], dy = dl[1], dz = dl[2];
   const V3 r = to_axes(d, {R[0] * dx + R[1] * dy + R[2] * dz, R[3] * dx + R[4] * dy + R[5] * dz,
                            R[6] * dx + R[7] * dy + R[8] * dz});
-  const double aw = qa[3], ax = qa[0], ay = qa[1], az = qa[2];
-  const double bw = qb[3], bx = qb[0], by = qb[1], bz = qb[2];
-  const double qw = aw * bw + ax * bx + ay * by + az * bz;
-  const V3 qv =
-      to_axes(d, {aw * bx - ax * bw - ay * bz + az * by, aw * by + ax * bz - ay * bw - az * bx,
-                  aw * bz - ax * by + ay * bx - az * bw});
+  BondV3<double> q_rel;
+  const double qw = relative_rotation(d, qa, qb, q_rel);
+  const V3 qv{q_rel.x, q_rel.y, q_rel.z};
   const double rest = 0.5 * (ca[3] + cb[3]);
   // The frame, as the engine's switch decides it (on r, the relative rotation and rest).
   bool small = small_in, damp_ok = A.valid != 0;
@@ -347,6 +336,8 @@ bool voxelyze_bond_reverse(const BondArgs& A, bool small_in, const ModelConstant
   g_in[kCentreA + 3] += 0.5 * g_rest;
   g_in[kCentreB + 3] += 0.5 * g_rest;
   // The relative rotation conj(qa) qb.
+  const double aw = qa[3], ax = qa[0], ay = qa[1], az = qa[2];
+  const double bw = qb[3], bx = qb[0], by = qb[1], bz = qb[2];
   const V3 gq = from_axes(d, g_qv);
   double* g_qa = g_in + kQuatA;  // x, y, z, w
   double* g_qb = g_in + kQuatB;
@@ -366,7 +357,8 @@ bool voxelyze_bond_reverse(const BondArgs& A, bool small_in, const ModelConstant
     for (int j = 0; j < 3; ++j) gR[3 * j + i] += guu[j] * dl[i], g_dl += R[3 * j + i] * guu[j];
     g_in[kCentreB + i] += g_dl, g_in[kCentreA + i] -= g_dl;
   }
-  // a's rotation matrix from its quaternion (as Eigen's toRotationMatrix).
+  // a's rotation matrix from its quaternion (rotation_matrix).
+  const double tx = 2.0 * qa[0], ty = 2.0 * qa[1], tz = 2.0 * qa[2];
   const double g_tyy = -gR[0] - gR[8], g_tzz = -gR[0] - gR[4], g_txx = -gR[4] - gR[8];
   const double g_txy = gR[3] + gR[1], g_twz = gR[1] - gR[3];
   const double g_txz = gR[6] + gR[2], g_twy = gR[6] - gR[2];
