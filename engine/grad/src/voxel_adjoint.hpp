@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels.hpp"
@@ -87,9 +88,28 @@ VoxelReverseKernel voxel_reverse_kernel_avx2();  // reverse_avx2.cpp
 VoxelReverseKernel voxel_reverse_kernel_avx512();
 
 // Scratch arrays of voxel_stage_reverse, kept from stage to stage.
+// One voxel's update recorded on a small tape of its own and swept (voxel_reverse_tape): its
+// arrays, the tape's shadows and the adjoints' array are kept from voxel to voxel, so that an
+// update whose every voxel takes it (under Voxelyze 0.9, whose rotation has no hand path)
+// allocates nothing a voxel.
+class VoxelTape {
+ public:
+  VoxelTape();
+  ~VoxelTape();
+  VoxelTape(const VoxelTape&) = delete;
+  VoxelTape& operator=(const VoxelTape&) = delete;
+  // From the adjoints of voxel a's outputs (kVoxelOutputs), adds those of its inputs to in_adj.
+  void reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj, double* in_adj);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 struct VoxelStageScratch {
   std::vector<double> in;
   std::vector<uint8_t> off;
+  VoxelTape tape;  // the voxels off the hand path
 };
 // A kept update's reverse (its record `values`, `ids` and `flags`): from the adjoints of its
 // outputs, adj[first + o n + i] for voxel i's output o, adds those of its inputs to adj through
