@@ -204,6 +204,28 @@ TEST(VoxelAdjoint, HandWrittenReverseEqualsTheTapesOnAndOffTheFloor) {
   EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, still, 1e9, 1.0), m));      // slips from rest
 }
 
+// Under Voxelyze 0.9 the update turns a voxel by its first-order step, normalised, and a
+// voxel left within about 3e-8 rad of the lattice not at all: the hand-written reverse takes
+// both, large turns too, on and off the floor.
+TEST(VoxelAdjoint, Voxelyze09HandWrittenReverseEqualsTheTapes) {
+  PhysicsDef def;
+  def.bond_model = BondModel::kVoxelyze09;
+  const Model m = compile(demo_walker(), def);
+  const double L = m.size, mass = m.mass;
+  const double still[3] = {0, 0, 0}, sliding[3] = {0.1 * mass, 0.05 * mass, -0.01 * mass};
+  EXPECT_TRUE(voxel_agree(voxel(m, 2 * L, sliding, 0.01, 1.0), m));    // in the air
+  EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, sliding, 0.01, 1.0), m));  // slides
+  EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, still, 1e9, 1.0), m));     // slips from rest
+  EXPECT_TRUE(voxel_agree(voxel(m, 2 * L, sliding, 0.01, 1e4), m));    // 0.5 rad a step
+  VoxelArgs unturned = voxel(m, 2 * L, sliding, 0.01, 1e-6);           // stays unturned
+  for (int c = 0; c < 4; ++c) unturned.v[kVQuat + c] = c == 3 ? 1.0 : 0.0;
+  EXPECT_TRUE(voxel_agree(unturned, m));
+  VoxelArgs clamped = voxel(m, 2 * L, sliding, 0.01, 1.0);
+  clamped.fixed = 1;
+  double out[kVoxelOutputs] = {1}, in[kVoxelInputs] = {};
+  EXPECT_FALSE(voxel_reverse(clamped, m, out, in));
+}
+
 TEST(VoxelAdjoint, ClampedVoxelsAndLargeTurnsAreLeftToTheTape) {
   const Model m = compile(demo_walker(), PhysicsDef{});
   const double p[3] = {0, 0, 0};

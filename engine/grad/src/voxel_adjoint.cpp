@@ -178,7 +178,6 @@ VoxelReverseKernel voxel_reverse_kernel() {
 
 bool voxel_reverse(const VoxelArgs& A, const ModelConstants& k, const double* out_adj,
                    double* in_adj) {
-  if (k.def.bond_model != BondModel::kExact) return false;
   // The voxel as an update of one: its arguments are the record's rows of one.
   double in[kVoxelInputs];
   uint8_t off = 0;
@@ -209,11 +208,8 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
   r.in_adj = s.in.data();
   r.off = s.off.data();
   if (shared) r.centre_size = shared->centre_size, r.quat = shared->quat, r.stiff = shared->stiff;
-  if (k.def.bond_model == BondModel::kExact) {
-    // Whole lane groups at the SIMD level, then the rest here (see bond_stage_reverse).
-    for (int i = voxel_reverse_kernel()(r, k); i < int(n); ++i)
-      voxel_reverse_lanes<double>(r, i, k);
-  }
+  // Whole lane groups at the SIMD level, then the rest here (see bond_stage_reverse).
+  for (int i = voxel_reverse_kernel()(r, k); i < int(n); ++i) voxel_reverse_lanes<double>(r, i, k);
   // Voxels off the hand path, by the kernel recorded on a tape.
   for (size_t i = 0; i < n; ++i) {
     if (!s.off[i]) continue;
