@@ -4,10 +4,10 @@
 // read; its outputs are leaves of the tape, and the sweep calls the voxel's reverse there.
 //
 // voxel_reverse_tape records the kernel template on a small tape (the reference, and the path
-// of clamped voxels and of turns past the series' range); the other is written by hand for the
-// rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a lane template
-// (voxel_reverse_body.hpp) that voxel_stage_reverse runs over a whole step's update at the
-// engine's SIMD level.
+// of clamped voxels and of the exact model's turns past the series' range); the other is
+// written by hand for the rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a
+// lane template (voxel_reverse_body.hpp) that voxel_stage_reverse runs over a whole step's
+// update at the engine's SIMD level.
 #pragma once
 
 #include <cstdint>
@@ -125,8 +125,7 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
 void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                         double* in_adj);
 // The same by hand (one voxel of voxel_reverse_body.hpp); returns false, having done nothing,
-// off its path (a clamped voxel, a turn of more than 0.01 rad in the step, a bond model other
-// than the exact one).
+// off its path (a clamped voxel, under the exact model a turn of more than 0.01 rad in the step).
 bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                    double* in_adj);
 

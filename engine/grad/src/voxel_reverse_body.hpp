@@ -2,8 +2,10 @@
 // as bond_reverse_body.hpp is the bond stage's: compiled at each SIMD level, element-wise IEEE
 // arithmetic in one order, so a voxel's adjoints are the same bits at every level. The floor's
 // branches (contact, sliding, stopping, held) are per-lane selections of the branch the life
-// took. Lanes off the hand path (a clamped voxel, a turn past the half-angle series' range) are
-// flagged in io.off, their adjoints to be ignored: the caller takes them by voxel_reverse_tape.
+// took; the turn is the exact model's (its half-angle series) or Voxelyze 0.9's (a first-order
+// step, normalised), per model. Lanes off the hand path (a clamped voxel, an exact model's turn
+// past the half-angle series' range) are flagged in io.off, their adjoints to be ignored: the
+// caller takes them by voxel_reverse_tape.
 //
 // Internal linkage (unnamed namespace), as every lane template: see lanes.hpp.
 #pragma once
