@@ -13,7 +13,8 @@
 // (bond_reverse_body.hpp) that bond_stage_reverse runs over a whole stage at the engine's SIMD
 // level, as the forward kernel runs. The bonds that take the engine's scalar path (every bond
 // under Voxelyze 0.9, and the few the batched kernel hands back) are kept in the same block, and
-// their reverse is that path recorded on a small tape of its own (BondTape, ScalarPathBonds).
+// their reverse is Voxelyze 0.9's by hand (scalar_bond_adjoint.hpp, voxelyze_bond_reverse), else
+// that path recorded on a small tape of its own (BondTape, ScalarPathBonds).
 #pragma once
 
 #include <cstdint>
@@ -148,9 +149,9 @@ struct BondStageScratch {
   std::vector<int32_t> start, ends;
 };
 // The bonds of a kept stage that took the engine's scalar path (scalar_bond_body.hpp), whose
-// reverse is that path recorded on a BondTape: every bond under Voxelyze 0.9 (small: their
-// frame flags as the stage read them, nb), or under the exact model the `count` bonds the
-// batched kernel handed back (list), whose results replaced the kernel's.
+// reverse is Voxelyze 0.9's by hand or that path recorded on a BondTape: every bond under
+// Voxelyze 0.9 (small: their frame flags as the stage read them, nb), or under the exact model
+// the `count` bonds the batched kernel handed back (list), whose results replaced the kernel's.
 struct ScalarPathBonds {
   const uint8_t* small = nullptr;
   const int32_t* list = nullptr;

@@ -3,8 +3,9 @@
 // degenerate chord, a relative rotation near half a turn). The replica runs the engine's own
 // template (engine/core/src/scalar_bond_body.hpp), so its forward is the engine's bits. When
 // recording with the stage adjoints, the replica runs it on doubles and keeps the bond stage as a
-// block (bond_adjoint.hpp), whose reverse records each such bond on a small tape of its own and
-// sweeps it (scalar_bond_forward); given no blocks (the reference, or the replica's forward
+// block (bond_adjoint.hpp), whose reverse takes each such bond by hand under Voxelyze 0.9
+// (voxelyze_bond_reverse), else recorded on a small tape of its own and swept
+// (scalar_bond_forward); given no blocks (the reference, or the replica's forward
 // with its events), on the recording type, operation by operation on the tape. Either way the
 // same bits at every SIMD level and on any number of threads. Also Voxelyze 0.9's time step on
 // recorded stiffness.
