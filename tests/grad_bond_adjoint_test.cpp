@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "adj.hpp"
@@ -17,6 +18,8 @@
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/model.hpp"
 #include "plastivox/simd.hpp"
+#include "plastivox/simulator.hpp"
+#include "scalar_bond_adjoint.hpp"
 #include "voxel_adjoint.hpp"
 
 namespace plastivox::grad {
@@ -106,6 +109,52 @@ TEST(BondAdjoint, LargeRotationsAreLeftToTheTape) {
   for (double g : in) EXPECT_EQ(g, 0.0);
 }
 
+// Under Voxelyze 0.9 a bond's scalar path reversed by hand (scalar_bond_reverse.cpp) against
+// the same path recorded on a small tape: in either frame as the bond enters the step (small),
+// so with the switch of frames both ways, damping on and off, turns from none to a radian (both
+// forms of its rotation vectors), chords along the axis (the first-order frame) and turned from
+// it (the arccosine's frame).
+TEST(BondAdjoint, Voxelyze09HandWrittenReverseEqualsTheTapes) {
+  PhysicsDef def;
+  def.bond_model = BondModel::kVoxelyze09;
+  const Model m = compile(demo_walker(), def);
+  int taken = 0, cases = 0;
+  BondTape tape;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int valid = 0; valid < 2; ++valid)
+      for (int small = 0; small < 2; ++small)
+        for (double angle : {0.0, 1e-3, 0.012, 0.05, 0.3, 1.0})
+          for (double seed : {0.4, 1.7, 2.9}) {
+            ModelConstants k = m;
+            k.axial_own = seed > 2;
+            BondArgs a = bond(k, axis, angle, seed, valid);
+            if (seed < 1) {  // a unturned, the chord along its axis: the first-order frame
+              turned(a.v + kQuatA, 0.0, seed);
+              for (int c = 0; c < 3; ++c)
+                a.v[kCentreB + c] = a.v[kCentreA + c] + (c == axis ? 1.05 * k.size : 0.0);
+            }
+            double out[kBondOutputs];
+            for (int o = 0; o < kBondOutputs; ++o)
+              out[o] = std::sin(seed + angle + 1.9 * o) * (o < 9 ? 1 : 1e-3);
+            double hand[kBondInputs] = {}, taped[kBondInputs] = {};
+            ++cases;
+            if (!voxelyze_bond_reverse(a, small, k, out, hand)) continue;
+            ++taken;
+            tape.reverse(&scalar_bond_forward, a, small, k, out, taped);
+            const int kinds[][2] = {{kCentreA, 3},     {kCentreB, 3}, {kCentreA + 3, 1},
+                                    {kCentreB + 3, 1}, {kQuatA, 8},   {kStiffA, 2},
+                                    {kPrev, 9},        {kDamp, 1}};
+            for (const auto& [from, count] : kinds) within(hand, taped, from, count);
+          }
+  EXPECT_EQ(taken, cases);
+  // A chord of zero length takes a constant frame: left to the tape.
+  BondArgs crushed = bond(m, 0, 0.05, 0.4, true);
+  for (int c = 0; c < 3; ++c) crushed.v[kCentreB + c] = crushed.v[kCentreA + c];
+  double out[kBondOutputs] = {1}, in[kBondInputs] = {};
+  EXPECT_FALSE(voxelyze_bond_reverse(crushed, false, m, out, in));
+  for (double g : in) EXPECT_EQ(g, 0.0);
+}
+
 // A voxel of the walker's model at height z (m) with momentum p (kg m/s), lateral force f (N),
 // turning at omega (rad/s); every input a tape node.
 VoxelArgs voxel(const ModelConstants& k, double z, const double* p, double f, double omega) {
@@ -153,6 +202,28 @@ TEST(VoxelAdjoint, HandWrittenReverseEqualsTheTapesOnAndOffTheFloor) {
   EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, creeping, 0.01, 1.0), m));  // stops
   EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, still, 1e-9, 1.0), m));     // held
   EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, still, 1e9, 1.0), m));      // slips from rest
+}
+
+// Under Voxelyze 0.9 the update turns a voxel by its first-order step, normalised, and a
+// voxel left within about 3e-8 rad of the lattice not at all: the hand-written reverse takes
+// both, large turns too, on and off the floor.
+TEST(VoxelAdjoint, Voxelyze09HandWrittenReverseEqualsTheTapes) {
+  PhysicsDef def;
+  def.bond_model = BondModel::kVoxelyze09;
+  const Model m = compile(demo_walker(), def);
+  const double L = m.size, mass = m.mass;
+  const double still[3] = {0, 0, 0}, sliding[3] = {0.1 * mass, 0.05 * mass, -0.01 * mass};
+  EXPECT_TRUE(voxel_agree(voxel(m, 2 * L, sliding, 0.01, 1.0), m));    // in the air
+  EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, sliding, 0.01, 1.0), m));  // slides
+  EXPECT_TRUE(voxel_agree(voxel(m, 0.4 * L, still, 1e9, 1.0), m));     // slips from rest
+  EXPECT_TRUE(voxel_agree(voxel(m, 2 * L, sliding, 0.01, 1e4), m));    // 0.5 rad a step
+  VoxelArgs unturned = voxel(m, 2 * L, sliding, 0.01, 1e-6);           // stays unturned
+  for (int c = 0; c < 4; ++c) unturned.v[kVQuat + c] = c == 3 ? 1.0 : 0.0;
+  EXPECT_TRUE(voxel_agree(unturned, m));
+  VoxelArgs clamped = voxel(m, 2 * L, sliding, 0.01, 1.0);
+  clamped.fixed = 1;
+  double out[kVoxelOutputs] = {1}, in[kVoxelInputs] = {};
+  EXPECT_FALSE(voxel_reverse(clamped, m, out, in));
 }
 
 TEST(VoxelAdjoint, ClampedVoxelsAndLargeTurnsAreLeftToTheTape) {
@@ -222,6 +293,63 @@ TEST(StageAdjoints, WholeGradientEqualsTheOperationByOperationTapes) {
     cube.dev_rate[v] = 2.0 + std::cos(1.3 * v);
   }
   same_gradient(compile(cube, develop));
+}
+
+// Over the engine's life of m: the bond-steps in Voxelyze 0.9's small-angle frame and in its
+// chord-aligned frame, and the switches between them.
+struct Frames {
+  int64_t small = 0, chord = 0, switches = 0;
+};
+Frames frames(const Model& m) {
+  Frames f;
+  Simulator sim(m);
+  std::vector<uint8_t> last = sim.state().bond_small_angle;
+  while (sim.state().status == SimStatus::kRunning) {
+    sim.step();
+    const std::vector<uint8_t>& now = sim.state().bond_small_angle;
+    for (size_t b = 0; b < now.size(); ++b) {
+      (now[b] ? f.small : f.chord) += 1;
+      f.switches += now[b] != last[b];
+    }
+    last = now;
+  }
+  return f;
+}
+
+// Under Voxelyze 0.9 every bond takes the scalar path: kept as a block on doubles, its reverse
+// the scalar path recorded bond by bond on a small tape of its own. Its gradient equals the one
+// recorded operation by operation on the walker, whose actuated bonds bend past the small-angle
+// limit (both frames and the switch between them, checked on the engine's life), and on a
+// developing cube; and under the exact model, on a body whose bonds bend near half a turn, so
+// that the batched kernel hands bonds back to the scalar path (kept in its block too).
+TEST(StageAdjoints, ScalarPathBlocksEqualTheOperationByOperationTapes) {
+  PhysicsDef walk;
+  walk.duration = 0.06;
+  walk.settle_time = 0.02;
+  walk.bond_model = BondModel::kVoxelyze09;
+  const Model walker = compile(demo_walker(), walk);
+  const Frames f = frames(walker);
+  std::printf("voxelyze09 walker: %lld bond-steps small-angle, %lld chord-aligned, %lld switches\n",
+              static_cast<long long>(f.small), static_cast<long long>(f.chord),
+              static_cast<long long>(f.switches));
+  EXPECT_GT(f.small, 0);
+  EXPECT_GT(f.chord, 0);
+  EXPECT_GT(f.switches, 0);
+  same_gradient(walker);
+  PhysicsDef develop = walk;
+  develop.duration = 0.1;
+  develop.treatment = Treatment::kStress;
+  RobotDef cube = demo_cube(3, 1e8);
+  for (int v = 0; v < cube.sites(); ++v) {
+    cube.stiffness[v] *= 1.5 + std::sin(1.7 * v + 0.3);
+    cube.dev_rate[v] = 2.0 + std::cos(1.3 * v);
+  }
+  same_gradient(compile(cube, develop));
+  PhysicsDef sinks;
+  sinks.duration = 0.06;
+  sinks.settle_time = 0.02;
+  sinks.sinking_invalid = false;
+  same_gradient(compile(demo_irregular(150, 1), sinks));
 }
 
 // The bits of a vector of doubles.

@@ -170,6 +170,31 @@ inline void voxelyze_frame(const BondV3<T>& r, BondGeometry<T>& g) {
   g.th1 = voxelyze_rotation_vector(g.fw, T(0.0), g.fy, g.fz);
 }
 
+// The unit quaternion q (x, y, z, w) as a column-major rotation matrix (R[0..2] the first
+// column), as Eigen's toRotationMatrix computes it.
+template <class T>
+inline void rotation_matrix(const T* q, T* R) {
+  const T tx = 2.0 * q[0], ty = 2.0 * q[1], tz = 2.0 * q[2];
+  const T twx = tx * q[3], twy = ty * q[3], twz = tz * q[3];
+  const T txx = tx * q[0], txy = ty * q[0], txz = tz * q[0];
+  const T tyy = ty * q[1], tyz = tz * q[1], tzz = tz * q[2];
+  R[0] = 1.0 - (tyy + tzz), R[3] = txy - twz, R[6] = txz + twy;
+  R[1] = txy + twz, R[4] = 1.0 - (txx + tzz), R[7] = tyz - twx;
+  R[2] = txz - twy, R[5] = tyz + twx, R[8] = 1.0 - (txx + tyy);
+}
+
+// The rotation of b relative to a, conj(q_a) q_b: returns its scalar part, its vector part
+// permuted to qv.
+template <class T>
+inline T relative_rotation(int d, const T* qa, const T* qb, BondV3<T>& qv) {
+  const T aw = qa[3], ax = qa[0], ay = qa[1], az = qa[2];
+  const T bw = qb[3], bx = qb[0], by = qb[1], bz = qb[2];
+  const T qw = aw * bw + ax * bx + ay * by + az * bz;
+  qv = to_bond<T>(d, aw * bx - ax * bw - ay * bz + az * by, aw * by + ax * bz - ay * bw - az * bx,
+                  aw * bz - ax * by + ay * bx - az * bw);
+  return qw;
+}
+
 // d: the bond's lattice axis; R: voxel a's orientation as a column-major rotation matrix
 // (R[0..2] the first column); dl: the chord b - a, world axes; qa, qb: the orientations of a
 // and b (x, y, z, w); size_a, size_b: their actuated sizes.
@@ -183,12 +208,8 @@ inline BondGeometry<T> bond_geometry(int d, const T* R, const T* dl, const T* qa
   g.r = to_bond<T>(d, R[0] * dx + R[1] * dy + R[2] * dz, R[3] * dx + R[4] * dy + R[5] * dz,
                    R[6] * dx + R[7] * dy + R[8] * dz);
   // Rotation of b relative to a: conj(q_a) q_b, vector part permuted.
-  const T aw = qa[3], ax = qa[0], ay = qa[1], az = qa[2];
-  const T bw = qb[3], bx = qb[0], by = qb[1], bz = qb[2];
-  const T qw = aw * bw + ax * bx + ay * by + az * bz;
-  const BondV3<T> qv =
-      to_bond<T>(d, aw * bx - ax * bw - ay * bz + az * by, aw * by + ax * bz - ay * bw - az * bx,
-                 aw * bz - ax * by + ay * bx - az * bw);
+  BondV3<T> qv;
+  const T qw = relative_rotation(d, qa, qb, qv);
   g.q2w = qw;
   // Extension is measured from the actuated rest length (mean of the two current sizes).
   g.rest = 0.5 * (size_a + size_b);
@@ -287,17 +308,8 @@ inline void scalar_bond_lanes(const BondKernelIo& io, const uint8_t* small_in, u
   const T* cb = record_of(io.centre_size, ib, scratch[1]);
   const T* qa = record_of(io.quat, ia, scratch[2]);
   const T* qb = record_of(io.quat, ib, scratch[3]);
-  // a's rotation matrix, column-major, as Eigen's toRotationMatrix computes it.
   T R[9];
-  {
-    const T tx = 2.0 * qa[0], ty = 2.0 * qa[1], tz = 2.0 * qa[2];
-    const T twx = tx * qa[3], twy = ty * qa[3], twz = tz * qa[3];
-    const T txx = tx * qa[0], txy = ty * qa[0], txz = tz * qa[0];
-    const T tyy = ty * qa[1], tyz = tz * qa[1], tzz = tz * qa[2];
-    R[0] = 1.0 - (tyy + tzz), R[3] = txy - twz, R[6] = txz + twy;
-    R[1] = txy + twz, R[4] = 1.0 - (txx + tzz), R[7] = tyz - twx;
-    R[2] = txz - twy, R[5] = tyz + twx, R[8] = 1.0 - (txx + tyy);
-  }
+  rotation_matrix(qa, R);
   const T dl[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
   BondGeometry<T> g = bond_geometry(d, R, dl, qa, qb, ca[3], cb[3], small, voxelyze);
   if (voxelyze) {

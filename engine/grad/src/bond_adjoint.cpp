@@ -12,6 +12,7 @@
 #include "bond_body.hpp"
 #include "bond_reverse_body.hpp"
 #include "plastivox/simd.hpp"
+#include "scalar_bond_adjoint.hpp"
 #include "voxel_adjoint.hpp"
 
 namespace plastivox::grad {
@@ -58,9 +59,8 @@ BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const doubl
   return a;
 }
 
-namespace {
-
-// One bond as the kernel sees it: bond 0 from voxel 0 to voxel 1, in arrays of its own.
+// One bond as the kernel sees it: bond 0 from voxel 0 to voxel 1, in arrays of its own (a
+// BondTape's).
 struct LocalBond {
   double centre[8], quat[8], stiff[2], prev[9], prev_next[9], out[3][4], strain, stress, energy;
   int a = 0, b = 1, redo = 0;
@@ -97,34 +97,54 @@ struct LocalBond {
     t.add_shadow(&stress, &stress_id);
     t.add_shadow(&energy, &energy_id);
   }
+  // The outputs' nodes as none, before the kernel writes them.
+  void unwritten() {
+    for (int j = 0; j < 9; ++j) prev_next_id[j] = -1;
+    for (int v = 0; v < 3; ++v)
+      for (int c = 0; c < 4; ++c) out_id[v][c] = -1;
+    strain_id = stress_id = energy_id = -1;
+  }
 };
 
-}  // namespace
-
-void bond_reverse_tape(const BondArgs& a, const ModelConstants& k, const double* out_adj,
-                       double* in_adj) {
-  LocalBond L;
+struct BondTape::Impl {
+  LocalBond bond;
   Tape tape;
-  L.shadow(tape);
-  int32_t leaf[kBondInputs];
-  for (int j = 0; j < kBondInputs; ++j) leaf[j] = tape.leaf();
+  std::vector<double> adj;
+  uint8_t small = 0, small_next = 0;
+  Impl() { bond.shadow(tape); }
+};
+
+BondTape::BondTape() : impl_(std::make_unique<Impl>()) {}
+BondTape::~BondTape() = default;
+
+void BondTape::reverse(Forward forward, const BondArgs& a, bool small, const ModelConstants& k,
+                       const double* out_adj, double* in_adj) {
+  LocalBond& L = impl_->bond;
+  Tape& tape = impl_->tape;
+  tape.nodes.clear();
+  // Nodes 0 to kBondInputs - 1 are the inputs' leaves, in BondInput's order.
+  for (int j = 0; j < kBondInputs; ++j) tape.leaf();
   for (int c = 0; c < 4; ++c) {
-    L.centre[c] = a.v[kCentreA + c], L.centre_id[c] = leaf[kCentreA + c];
-    L.centre[4 + c] = a.v[kCentreB + c], L.centre_id[4 + c] = leaf[kCentreB + c];
-    L.quat[c] = a.v[kQuatA + c], L.quat_id[c] = leaf[kQuatA + c];
-    L.quat[4 + c] = a.v[kQuatB + c], L.quat_id[4 + c] = leaf[kQuatB + c];
+    L.centre[c] = a.v[kCentreA + c], L.centre_id[c] = kCentreA + c;
+    L.centre[4 + c] = a.v[kCentreB + c], L.centre_id[4 + c] = kCentreB + c;
+    L.quat[c] = a.v[kQuatA + c], L.quat_id[c] = kQuatA + c;
+    L.quat[4 + c] = a.v[kQuatB + c], L.quat_id[4 + c] = kQuatB + c;
   }
-  for (int j = 0; j < 2; ++j) L.stiff[j] = a.v[kStiffA + j], L.stiff_id[j] = leaf[kStiffA + j];
-  for (int j = 0; j < 9; ++j) L.prev[j] = a.v[kPrev + j], L.prev_id[j] = leaf[kPrev + j];
+  for (int j = 0; j < 2; ++j) L.stiff[j] = a.v[kStiffA + j], L.stiff_id[j] = kStiffA + j;
+  for (int j = 0; j < 9; ++j) L.prev[j] = a.v[kPrev + j], L.prev_id[j] = kPrev + j;
+  L.unwritten();
   L.axis = a.axis;
   L.valid = a.valid;
+  L.redo = 0;
+  impl_->small = small ? 1 : 0;
   Tape* const outer = g_tape;
   g_tape = &tape;
-  bond_lanes<Adj, Adj>(L.io, 0, k, Adj(a.v[kDamp], leaf[kDamp]), L.redo);
+  forward(L.io, &impl_->small, &impl_->small_next, k, Adj(a.v[kDamp], kDamp));
   g_tape = outer;
-  std::vector<double> adj(tape.nodes.size(), 0.0);
+  std::vector<double>& adj = impl_->adj;
+  adj.assign(tape.nodes.size(), 0.0);
   const auto seed = [&](int32_t id, double v) {
-    if (id >= 0) adj[id] += v;
+    if (id >= 0) adj[size_t(id)] += v;
   };
   for (int v = 0; v < 3; ++v)
     for (int c = 0; c < 3; ++c) seed(L.out_id[v][c], out_adj[kOut + 3 * v + c]);
@@ -133,8 +153,26 @@ void bond_reverse_tape(const BondArgs& a, const ModelConstants& k, const double*
   seed(L.stress_id, out_adj[kStress]);
   seed(L.energy_id, out_adj[kEnergy]);
   sweep_nodes(tape, adj, 0, tape.nodes.size());
-  for (int j = 0; j < kBondInputs; ++j) in_adj[j] += adj[leaf[j]];
+  for (int j = 0; j < kBondInputs; ++j) in_adj[j] += adj[size_t(j)];
 }
+
+namespace {
+
+// The exact model's batched kernel on one bond (BondTape's forward; it has no frame flags).
+void exact_bond(const BondKernelIo& io, const uint8_t*, uint8_t*, const ModelConstants& k,
+                Adj damp) {
+  int redo = 0;
+  bond_lanes<Adj, Adj>(io, 0, k, damp, redo);
+}
+
+}  // namespace
+
+void bond_reverse_tape(const BondArgs& a, const ModelConstants& k, const double* out_adj,
+                       double* in_adj) {
+  BondTape tape;
+  tape.reverse(&exact_bond, a, false, k, out_adj, in_adj);
+}
+
 namespace {
 
 BondReverseKernel bond_reverse_kernel() {
@@ -191,7 +229,8 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                         const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,
-                        BondStageScratch& s, const double* voxel_in) {
+                        BondStageScratch& s, const double* voxel_in,
+                        const ScalarPathBonds& scalar) {
   const size_t nb = L.nb;
   s.in.resize(kBondInputs * nb);
   s.off.resize(nb);
@@ -225,20 +264,38 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   r.out_adj = adj + first;
   r.in_adj = s.in.data();
   r.off = s.off.data();
-  // Whole lane groups at the SIMD level, then the rest here: a file compiled for an instruction
-  // set may fuse a double's multiply and add (GCC 12 turns alternating adds and subtracts of
-  // products into fused multiply-add-subtracts even with -ffp-contract=off), so every bond
-  // computed one at a time is computed by this file's code, the scalar level's.
-  for (int b = bond_reverse_kernel()(r, k); b < int(nb); ++b) bond_reverse_lanes<double>(r, b, k);
-  // Bonds off the hand path, by the kernel recorded on a tape.
-  for (size_t b = 0; b < nb; ++b) {
-    if (!s.off[b]) continue;
+  // Bond b's reverse one at a time: Voxelyze 0.9's by hand where it can, else recorded on the
+  // small tape, by the batched kernel or the scalar path.
+  const auto one = [&](size_t b, BondTape::Forward forward, bool small, bool by_hand) {
     double out[kBondOutputs], in[kBondInputs] = {};
     for (int o = kOut; o < kPrevNext; ++o) out[o] = s.records[(o - kOut) * nb + b];
     for (int o = kPrevNext; o < kBondOutputs; ++o) out[o] = r.out_adj[(o - kPrevNext) * nb + b];
     const BondArgs a = bond_args(io, L, values, ids, int(b), !valid || valid[b]);
-    bond_reverse_tape(a, k, out, in);
+    if (!by_hand || !voxelyze_bond_reverse(a, small, k, out, in))
+      s.tape.reverse(forward, a, small, k, out, in);
     for (int j = 0; j < kBondInputs; ++j) s.in[j * nb + b] = in[j];
+  };
+  const auto on_tape = [&](size_t b, BondTape::Forward forward, bool small) {
+    one(b, forward, small, false);
+  };
+  if (scalar.small) {
+    // Voxelyze 0.9: every bond by the scalar path.
+    for (size_t b = 0; b < nb; ++b) one(b, &scalar_bond_forward, scalar.small[b] != 0, true);
+  } else {
+    // Whole lane groups at the SIMD level, then the rest here: a file compiled for an
+    // instruction set may fuse a double's multiply and add (GCC 12 turns alternating adds and
+    // subtracts of products into fused multiply-add-subtracts even with -ffp-contract=off), so
+    // every bond computed one at a time is computed by this file's code, the scalar level's.
+    for (int b = bond_reverse_kernel()(r, k); b < int(nb); ++b) bond_reverse_lanes<double>(r, b, k);
+    // The bonds the kernel handed back, by the scalar path (the exact model: no frame flags).
+    for (int e = 0; e < scalar.count; ++e) {
+      const size_t b = size_t(scalar.list[e]);
+      s.off[b] = 0;
+      on_tape(b, &scalar_bond_forward, false);
+    }
+    // Bonds off the hand path, by the kernel recorded on a tape.
+    for (size_t b = 0; b < nb; ++b)
+      if (s.off[b]) on_tape(b, &exact_bond, false);
   }
   // The voxels' inputs summed over their bonds in bond order, then added to their nodes. Summed
   // voxel by voxel from each voxel's list of bonds (the same additions in the same order as bond

@@ -11,10 +11,14 @@
 // branch); the other is written by hand for the path nearly every bond takes every step
 // (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a lane template
 // (bond_reverse_body.hpp) that bond_stage_reverse runs over a whole stage at the engine's SIMD
-// level, as the forward kernel runs.
+// level, as the forward kernel runs. The bonds that take the engine's scalar path (every bond
+// under Voxelyze 0.9, and the few the batched kernel hands back) are kept in the same block, and
+// their reverse is Voxelyze 0.9's by hand (scalar_bond_adjoint.hpp, voxelyze_bond_reverse), else
+// that path recorded on a small tape of its own (BondTape, ScalarPathBonds).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels.hpp"
@@ -79,6 +83,33 @@ void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double da
 BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                    const int32_t* ids, int b, bool valid);
 
+struct Adj;
+
+// One bond recorded on a small tape of its own and swept: the reference reverse
+// (bond_reverse_tape) and the scalar path's (scalar_bond_adjoint.hpp). Its arrays, the tape's
+// shadows and the adjoints' array are kept from bond to bond, so that a stage whose every bond
+// takes it (Voxelyze 0.9) allocates nothing a bond, and its tape (a few hundred nodes) stays in
+// the cache.
+class BondTape {
+ public:
+  // A bond's forward on the recording type: bond 0 of io (from voxel 0 to voxel 1), its frame
+  // flag small_in[0] (the scalar path's: small_out[0] gets the next).
+  using Forward = void (*)(const BondKernelIo& io, const uint8_t* small_in, uint8_t* small_out,
+                           const ModelConstants& k, Adj damp);
+  BondTape();
+  ~BondTape();
+  BondTape(const BondTape&) = delete;
+  BondTape& operator=(const BondTape&) = delete;
+  // From the adjoints of bond a's outputs (kBondOutputs), adds those of its inputs to in_adj
+  // (kBondInputs), its forward being `forward` with the frame flag `small`.
+  void reverse(Forward forward, const BondArgs& a, bool small, const ModelConstants& k,
+               const double* out_adj, double* in_adj);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // From the adjoints of a bond's outputs (kBondOutputs of them), adds those of its inputs to
 // in_adj (kBondInputs).
 void bond_reverse_tape(const BondArgs& a, const ModelConstants& k, const double* out_adj,
@@ -111,11 +142,22 @@ BondReverseKernel bond_reverse_kernel_avx512();
 struct BondStageScratch {
   std::vector<double> in, voxel, records;
   std::vector<uint8_t> off;
+  BondTape tape;  // the bonds off the hand path, and the scalar path's
   // Each voxel's bonds in bond order, built once for a stage's bonds: voxel i's are entries
   // [start[i], start[i + 1]), entry e bond b's offsets in the a end's rows of in (ends[2 e]: in
   // its centre's and orientation's, b or b + 4 nb; ends[2 e + 1]: in its modulus', b or b + nb).
   std::vector<int32_t> start, ends;
 };
+// The bonds of a kept stage that took the engine's scalar path (scalar_bond_body.hpp), whose
+// reverse is Voxelyze 0.9's by hand or that path recorded on a BondTape: every bond under
+// Voxelyze 0.9 (small: their frame flags as the stage read them, nb), or under the exact model
+// the `count` bonds the batched kernel handed back (list), whose results replaced the kernel's.
+struct ScalarPathBonds {
+  const uint8_t* small = nullptr;
+  const int32_t* list = nullptr;
+  int count = 0;
+};
+
 // A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when
 // all are set): from the adjoints of its outputs, adj[first + (o - kPrevNext) nb + b] for bond
 // b's output o from kPrevNext on, and of the voxels' total forces and moments (voxel_adj: force
@@ -127,10 +169,12 @@ struct BondStageScratch {
 // through ids. Bonds off the hand path take bond_reverse_tape. The inputs' adjoints are summed in
 // bond order, the same bits at every SIMD level. voxel_in, when set, holds the adjoints of the
 // same step's voxel update's inputs it read from this stage's record (voxel_adjoint.hpp's
-// VoxelSharedInputs; rows of n by VoxelInput): each voxel's sum starts from them.
+// VoxelSharedInputs; rows of n by VoxelInput): each voxel's sum starts from them. The bonds in
+// `scalar` take the scalar path's reverse (on a BondTape) instead of the batched one.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                         const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
                         const double* voxel_adj, double* adj, const ModelConstants& k,
-                        BondStageScratch& s, const double* voxel_in = nullptr);
+                        BondStageScratch& s, const double* voxel_in = nullptr,
+                        const ScalarPathBonds& scalar = {});
 
 }  // namespace plastivox::grad

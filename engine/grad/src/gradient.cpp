@@ -49,11 +49,16 @@ namespace {
 // A step's bond stage: its outputs from kPrevNext on are kBondLeaves leaves a bond, output by
 // output (bond b's output o is node first + (o - kPrevNext) nb + b); its records' adjoints are
 // those of the same step's gather's outputs, from node gather_first (bond_adjoint.hpp); its
-// record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids.
+// record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids. Its bonds that
+// took the scalar path (every bond under Voxelyze 0.9, whose frame flags are kept from
+// Blocks::bond_small[scalar_at]; under the exact model the scalar_count bonds listed from
+// Blocks::bond_redo[scalar_at]) take that path's reverse (bond_adjoint.hpp, ScalarPathBonds).
 struct BondBlock {
   int64_t first;
   size_t at;
   bool all_valid;  // else its bonds' damping flags are kept in Blocks::bond_valid
+  size_t scalar_at = 0;
+  int scalar_count = 0;
   int64_t gather_first = -1;
   // The previous step's stage's first leaf (its next deformations are this stage's previous
   // ones), or -1 at a segment's first step: then they are kept with their nodes.
@@ -104,6 +109,8 @@ struct Blocks {
   Record<double> bond_values;
   Record<int32_t> bond_ids;
   std::vector<uint8_t> bond_valid;  // nb a stage without all_valid, in order
+  Record<uint8_t> bond_small;       // Voxelyze 0.9: nb a stage, the frame flags it read
+  std::vector<int32_t> bond_redo;   // the exact model: the bonds its kernel handed back
   std::vector<VoxelBlock> voxels;
   Record<double> voxel_values;
   Record<int32_t> voxel_ids;
@@ -116,6 +123,7 @@ struct Blocks {
   std::vector<std::pair<Kind, uint32_t>> order;
   void clear() {
     bonds.clear(), bond_values.clear(), bond_ids.clear(), bond_valid.clear();
+    bond_small.clear(), bond_redo.clear();
     voxels.clear(), voxel_values.clear(), voxel_ids.clear(), voxel_flags.clear();
     gathers.clear(), gather_values.clear(), gather_ids.clear(), order.clear();
   }
@@ -234,36 +242,28 @@ class Replica {
     copy_centres();
     BondKernelIo& io = w_.views.bond;
     io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
-    if (nb_ > 0 && m.def.bond_model == BondModel::kVoxelyze09) {
-      // Its branches are events (its switch of frames, its first-order forms, its rotation
-      // vectors' zero below about 2e-8 rad): scalar_bond_adjoint.hpp.
-      g_branches = events ? &events->h : nullptr;
-      scalar_bonds(m, w_.views, m.bond_damp / dt_old, nullptr, 0);
-      g_branches = nullptr;
-      bond_block_ = false;
-      if (events)
-        for (int b = 0; b < nb_; ++b) events->add(w_.bond_small_angle_next[b]);
-    } else if (nb_ > 0) {
+    const bool voxelyze = m.def.bond_model == BondModel::kVoxelyze09;
+    if (nb_ > 0) {
       const Adj damp = m.bond_damp / dt_old;
-      int redo = 0;
-      // A step whose kernel hands bonds back is recorded operation by operation, gather and
-      // all: the block's reverse takes its records' adjoints from the gather's outputs and
-      // its next deformations' from the next stage as rows, which would reach the kernel's
-      // discarded results instead of the scalar path's (rare: a degenerate chord, a relative
-      // rotation near half a turn).
       if (g_tape && blocks_) {
-        record_bonds(io, damp, redo);
-        if (redo > 0) drop_bond_block(), redo = 0;
+        // On doubles, kept as a block: the batched kernel and the scalar path, or the scalar
+        // path alone under Voxelyze 0.9.
+        record_bonds(io, damp);
       } else {
         bond_block_ = false;
+        int redo = 0;
+        if (!voxelyze)
+          for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
+        // Every bond under Voxelyze 0.9, else the bonds the kernel handed back, by the scalar
+        // path recorded on the tape (their results replace the kernel's). Its branches are
+        // events (Voxelyze 0.9's switch of frames, its first-order forms, its rotation vectors'
+        // zero below about 2e-8 rad): scalar_bond_adjoint.hpp.
+        g_branches = events ? &events->h : nullptr;
+        scalar_bonds(m, w_.views, damp, voxelyze ? nullptr : w_.redo.data(), redo);
+        g_branches = nullptr;
       }
-      if (!bond_block_)
-        for (int b = 0; b < nb_; ++b) bond_lanes<Adj, Adj>(io, b, m, damp, redo);
-      // The bonds the kernel handed back, by the scalar path recorded on the tape (their
-      // results replace the kernel's, whose leaves then get no adjoint).
-      g_branches = events ? &events->h : nullptr;
-      scalar_bonds(m, w_.views, damp, w_.redo.data(), redo);
-      g_branches = nullptr;
+      if (events && voxelyze)
+        for (int b = 0; b < nb_; ++b) events->add(w_.bond_small_angle_next[b]);
     }
     const Adj dt_next = m.def.treatment != Treatment::kNone && s.time >= m.def.settle_time
                             ? stable_dt_adj(m, s.stiffness.data(), events)
@@ -389,9 +389,10 @@ class Replica {
     }
   }
 
-  // The bond stage on doubles (the engine's kernel set), its input arrays kept and its outputs
-  // made leaves of the tape, which the sweep's block reverse gives their adjoints.
-  void record_bonds(const BondKernelIo& io, Adj damp, int& redo) {
+  // The bond stage on doubles (the engine's kernel set, and the scalar path for the bonds it
+  // hands back; under Voxelyze 0.9 the scalar path for every bond), its input arrays kept and
+  // its outputs made leaves of the tape, which the sweep's block reverse gives their adjoints.
+  void record_bonds(const BondKernelIo& io, Adj damp) {
     Tape& t = *g_tape;
     const BondStageLayout L{size_t(m_.n), size_t(nb_)};
     BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
@@ -412,16 +413,28 @@ class Replica {
                     blocks_->bond_values.data() + stage.at, blocks_->bond_ids.data() + stage.at);
     if (!io.all_valid)
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
-    blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
-    blocks_->bonds.push_back(stage);
     t.unswept_leaves(size_t(kBondLeaves) * size_t(nb_));
     int32_t* next_ids[9];
     for (int j = 0; j < 9; ++j) next_ids[j] = t.ids_of(io.prev_next[j]);
     int32_t* strain_ids = t.ids_of(io.strain);
     int32_t* stress_ids = t.ids_of(io.stress);
     int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
-    // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp).
-    redo += kernels().bond(io, nb_, m_, damp.v);
+    if (m_.def.bond_model == BondModel::kVoxelyze09) {
+      // The frames the stage reads (its reverse takes the same branches), then the scalar path.
+      stage.scalar_at = blocks_->bond_small.size();
+      const uint8_t* small = w_.views.small_angle_in_state;
+      blocks_->bond_small.insert(blocks_->bond_small.end(), small, small + nb_);
+      scalar_bonds(m_, w_.views, damp.v, nullptr, 0);
+    } else {
+      // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp);
+      // the bonds it hands back (rare: a degenerate chord, a relative rotation near half a
+      // turn) by the scalar path from the unchanged previous deformation, as the engine does.
+      const int redo = kernels().bond(io, nb_, m_, damp.v);
+      stage.scalar_at = blocks_->bond_redo.size();
+      stage.scalar_count = redo;
+      blocks_->bond_redo.insert(blocks_->bond_redo.end(), w_.redo.data(), w_.redo.data() + redo);
+      scalar_bonds(m_, w_.views, damp.v, w_.redo.data(), redo);
+    }
     // Output o of bond b is leaf first + (o - kPrevNext) nb + b: the reverse reads each output's
     // adjoints as a row, and the next step's reads of a deformation component are consecutive.
     // The records (io.out) have no nodes: the gather alone reads them, on doubles
@@ -440,20 +453,9 @@ class Replica {
     }
     for (int j = 0; j < 9; ++j)
       for (int b = 0; b < nb; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
+    blocks_->order.push_back({Blocks::kBond, uint32_t(blocks_->bonds.size())});
+    blocks_->bonds.push_back(stage);
     bond_block_ = true;
-  }
-
-  // Undoes record_bonds' block (its leaves and record), for the step to be recorded operation by
-  // operation instead.
-  void drop_bond_block() {
-    const BondBlock& stage = blocks_->bonds.back();
-    g_tape->nodes.resize(size_t(stage.first));
-    blocks_->bond_values.resize(stage.at);
-    blocks_->bond_ids.resize(stage.at);
-    if (!stage.all_valid) blocks_->bond_valid.resize(blocks_->bond_valid.size() - size_t(nb_));
-    blocks_->order.pop_back();
-    blocks_->bonds.pop_back();
-    bond_block_ = false;
   }
 
   // The sine controller's signals by the engine's kernel set (its bits at every lane width), each
@@ -699,10 +701,15 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
       if (stage.gather_first < 0) throw std::logic_error("gradient: a bond stage without a gather");
       const uint8_t* valid = nullptr;
       if (!stage.all_valid) valid_at -= L.nb, valid = blocks.bond_valid.data() + valid_at;
+      ScalarPathBonds scalar;
+      if (k.def.bond_model == BondModel::kVoxelyze09)
+        scalar.small = blocks.bond_small.data() + stage.scalar_at;
+      else
+        scalar.list = blocks.bond_redo.data() + stage.scalar_at, scalar.count = stage.scalar_count;
       bond_stage_reverse(
           io, L, blocks.bond_values.data() + stage.at, blocks.bond_ids.data() + stage.at, valid,
           first, stage.prev_first, adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(),
-          k, bond_scratch, pending == int64_t(index) ? voxel_scratch.in.data() : nullptr);
+          k, bond_scratch, pending == int64_t(index) ? voxel_scratch.in.data() : nullptr, scalar);
       pending = -1;
     } else if (kind == Blocks::kVoxel) {
       const VoxelBlock& stage = blocks.voxels[index];
@@ -735,7 +742,9 @@ constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 // Bytes the blocks of a step cost (the bond stage, the gather and the update: one each).
 double block_bytes(const Model& m) {
   const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
-  const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) + double(L.nb);
+  // The stage's record, its damping flags and (Voxelyze 0.9) its frame flags.
+  const double bond_stage = (sizeof(double) + sizeof(int32_t)) * double(L.size()) +
+                            double(L.nb) * (m.def.bond_model == BondModel::kVoxelyze09 ? 2 : 1);
   const double voxel_stage =
       (sizeof(double) + sizeof(int32_t)) * double(kVoxelInputs) * m.n + 2.0 * m.n;
   const GatherStageLayout G{L.n};
@@ -784,6 +793,8 @@ struct Segment {
     blocks.bond_values.reserve(static_cast<size_t>(K) *
                                BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
     blocks.bond_ids.reserve(blocks.bond_values.capacity());
+    if (m.def.bond_model == BondModel::kVoxelyze09)
+      blocks.bond_small.reserve(static_cast<size_t>(K) * size_t(m.bond_count()));
     blocks.voxels.reserve(static_cast<size_t>(K));
     blocks.voxel_values.reserve(static_cast<size_t>(K) * kVoxelInputs * m.n);
     blocks.voxel_ids.reserve(blocks.voxel_values.capacity());

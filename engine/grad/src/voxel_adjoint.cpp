@@ -46,9 +46,8 @@ void keep_voxel_stage(const VoxelKernelIo& io, size_t n, double dt, int32_t dt_i
   std::copy(io.static_friction, io.static_friction + n, flags + n);
 }
 
-namespace {
-
-// One voxel as the update sees it, in arrays of its own (outputs apart from inputs).
+// One voxel as the update sees it, in arrays of its own (outputs apart from inputs): a
+// VoxelTape's.
 struct LocalVoxel {
   double stiff, sqrt_e, force[3], moment[3], lin_mom[3], pos[3], size, ang_mom[3], quat[4];
   double out_pos[3], out_lin_mom[3], out_ang_mom[3], out_quat[4], normal;
@@ -69,13 +68,30 @@ struct LocalVoxel {
     st.pos = out_pos, st.quat = out_quat, st.lin_mom = out_lin_mom, st.ang_mom = out_ang_mom;
     st.static_friction = &held;
   }
-  // Every array as a shadow of `t`, and the inputs as its leaves in VoxelInput's order.
-  void record_inputs(Tape& t, const VoxelArgs& a, int32_t* leaf) {
+  // Every array as a shadow of `t` (once).
+  void shadow(Tape& t) {
+    t.add_shadow(&stiff, &stiff_id);
+    t.add_shadow(&sqrt_e, &sqrt_e_id);
+    for (int c = 0; c < 3; ++c) t.add_shadow(&force[c], &force_id[c]);
+    for (int c = 0; c < 3; ++c) t.add_shadow(&moment[c], &moment_id[c]);
+    t.add_shadow(lin_mom, lin_mom_id);
+    t.add_shadow(pos, pos_id);
+    t.add_shadow(&size, &size_id);
+    t.add_shadow(ang_mom, ang_mom_id);
+    t.add_shadow(quat, quat_id);
+    t.add_shadow(out_pos, out_pos_id);
+    t.add_shadow(out_lin_mom, out_lin_mom_id);
+    t.add_shadow(out_ang_mom, out_ang_mom_id);
+    t.add_shadow(out_quat, out_quat_id);
+    t.add_shadow(&normal, &normal_id);
+  }
+  // The inputs as the leaves of `t`, in VoxelInput's order (nodes 0 to kVoxelInputs - 1), and
+  // the outputs without nodes before the kernel writes them.
+  void record_inputs(Tape& t, const VoxelArgs& a) {
     const auto in = [&](double* value, int32_t* id, int slot, int count) {
-      t.add_shadow(value, id);
-      for (int c = 0; c < count; ++c) value[c] = a.v[slot + c], id[c] = leaf[slot + c];
+      for (int c = 0; c < count; ++c) value[c] = a.v[slot + c], id[c] = slot + c;
     };
-    for (int j = 0; j < kVoxelInputs; ++j) leaf[j] = t.leaf();
+    for (int j = 0; j < kVoxelInputs; ++j) t.leaf();
     in(&stiff, &stiff_id, kVE, 1);
     in(&sqrt_e, &sqrt_e_id, kVSqrtE, 1);
     for (int c = 0; c < 3; ++c) {
@@ -87,31 +103,44 @@ struct LocalVoxel {
     in(&size, &size_id, kVSize, 1);
     in(ang_mom, ang_mom_id, kVAngMom, 3);
     in(quat, quat_id, kVQuat, 4);
-    t.add_shadow(out_pos, out_pos_id);
-    t.add_shadow(out_lin_mom, out_lin_mom_id);
-    t.add_shadow(out_ang_mom, out_ang_mom_id);
-    t.add_shadow(out_quat, out_quat_id);
-    t.add_shadow(&normal, &normal_id);
+    for (int c = 0; c < 3; ++c) out_pos_id[c] = out_lin_mom_id[c] = out_ang_mom_id[c] = -1;
+    for (int c = 0; c < 4; ++c) out_quat_id[c] = -1;
+    normal_id = -1;
     fixed = a.fixed;
     was_held = a.was_held;
   }
 };
 
-}  // namespace
+struct VoxelTape::Impl {
+  LocalVoxel voxel;
+  Tape tape;
+  std::vector<double> adj;
+  Impl() { voxel.shadow(tape); }
+};
+
+VoxelTape::VoxelTape() : impl_(std::make_unique<Impl>()) {}
+VoxelTape::~VoxelTape() = default;
 
 void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                         double* in_adj) {
-  LocalVoxel L;
-  Tape tape;
-  int32_t leaf[kVoxelInputs];
-  L.record_inputs(tape, a, leaf);
+  VoxelTape tape;
+  tape.reverse(a, k, out_adj, in_adj);
+}
+
+void VoxelTape::reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
+                        double* in_adj) {
+  LocalVoxel& L = impl_->voxel;
+  Tape& tape = impl_->tape;
+  tape.nodes.clear();
+  L.record_inputs(tape, a);
   Tape* const outer = g_tape;
   g_tape = &tape;
   Adj max_speed2 = 0.0;
   bool bad = false;
-  update_lanes<Adj, bool, Adj>(L.io, L.st, 0, k, Adj(a.v[kVDt], leaf[kVDt]), max_speed2, bad);
+  update_lanes<Adj, bool, Adj>(L.io, L.st, 0, k, Adj(a.v[kVDt], kVDt), max_speed2, bad);
   g_tape = outer;
-  std::vector<double> adj(tape.nodes.size(), 0.0);
+  std::vector<double>& adj = impl_->adj;
+  adj.assign(tape.nodes.size(), 0.0);
   const auto seed = [&](int32_t id, double v) {
     if (id >= 0) adj[id] += v;
   };
@@ -123,7 +152,7 @@ void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const doubl
   for (int c = 0; c < 4; ++c) seed(L.out_quat_id[c], out_adj[kVOutQuat + c]);
   seed(L.normal_id, out_adj[kVOutNormal]);
   sweep_nodes(tape, adj, 0, tape.nodes.size());
-  for (int j = 0; j < kVoxelInputs; ++j) in_adj[j] += adj[leaf[j]];
+  for (int j = 0; j < kVoxelInputs; ++j) in_adj[j] += adj[size_t(j)];
 }
 
 namespace {
@@ -149,7 +178,6 @@ VoxelReverseKernel voxel_reverse_kernel() {
 
 bool voxel_reverse(const VoxelArgs& A, const ModelConstants& k, const double* out_adj,
                    double* in_adj) {
-  if (k.def.bond_model != BondModel::kExact) return false;
   // The voxel as an update of one: its arguments are the record's rows of one.
   double in[kVoxelInputs];
   uint8_t off = 0;
@@ -180,11 +208,8 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
   r.in_adj = s.in.data();
   r.off = s.off.data();
   if (shared) r.centre_size = shared->centre_size, r.quat = shared->quat, r.stiff = shared->stiff;
-  if (k.def.bond_model == BondModel::kExact) {
-    // Whole lane groups at the SIMD level, then the rest here (see bond_stage_reverse).
-    for (int i = voxel_reverse_kernel()(r, k); i < int(n); ++i)
-      voxel_reverse_lanes<double>(r, i, k);
-  }
+  // Whole lane groups at the SIMD level, then the rest here (see bond_stage_reverse).
+  for (int i = voxel_reverse_kernel()(r, k); i < int(n); ++i) voxel_reverse_lanes<double>(r, i, k);
   // Voxels off the hand path, by the kernel recorded on a tape.
   for (size_t i = 0; i < n; ++i) {
     if (!s.off[i]) continue;
@@ -204,7 +229,7 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
     a.fixed = fixed[i];
     a.was_held = held[i];
     for (int o = 0; o < kVoxelOutputs; ++o) out[o] = r.out_adj[o * n + i];
-    voxel_reverse_tape(a, k, out, in);
+    s.tape.reverse(a, k, out, in);
     for (int j = 0; j < kVoxelInputs; ++j) s.in[j * n + i] = in[j];
   }
   if (!shared) {

@@ -4,13 +4,14 @@
 // read; its outputs are leaves of the tape, and the sweep calls the voxel's reverse there.
 //
 // voxel_reverse_tape records the kernel template on a small tape (the reference, and the path
-// of clamped voxels and of turns past the series' range); the other is written by hand for the
-// rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a lane template
-// (voxel_reverse_body.hpp) that voxel_stage_reverse runs over a whole step's update at the
-// engine's SIMD level.
+// of clamped voxels and of the exact model's turns past the series' range); the other is
+// written by hand for the rest (tests/grad_bond_adjoint_test.cpp holds the two to 1e-12), as a
+// lane template (voxel_reverse_body.hpp) that voxel_stage_reverse runs over a whole step's
+// update at the engine's SIMD level.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels.hpp"
@@ -87,9 +88,28 @@ VoxelReverseKernel voxel_reverse_kernel_avx2();  // reverse_avx2.cpp
 VoxelReverseKernel voxel_reverse_kernel_avx512();
 
 // Scratch arrays of voxel_stage_reverse, kept from stage to stage.
+// One voxel's update recorded on a small tape of its own and swept (voxel_reverse_tape): its
+// arrays, the tape's shadows and the adjoints' array are kept from voxel to voxel, so that an
+// update whose every voxel takes it (under Voxelyze 0.9, whose rotation has no hand path)
+// allocates nothing a voxel.
+class VoxelTape {
+ public:
+  VoxelTape();
+  ~VoxelTape();
+  VoxelTape(const VoxelTape&) = delete;
+  VoxelTape& operator=(const VoxelTape&) = delete;
+  // From the adjoints of voxel a's outputs (kVoxelOutputs), adds those of its inputs to in_adj.
+  void reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj, double* in_adj);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 struct VoxelStageScratch {
   std::vector<double> in;
   std::vector<uint8_t> off;
+  VoxelTape tape;  // the voxels off the hand path
 };
 // A kept update's reverse (its record `values`, `ids` and `flags`): from the adjoints of its
 // outputs, adj[first + o n + i] for voxel i's output o, adds those of its inputs to adj through
@@ -105,8 +125,7 @@ void voxel_stage_reverse(size_t n, const double* values, const int32_t* ids, con
 void voxel_reverse_tape(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                         double* in_adj);
 // The same by hand (one voxel of voxel_reverse_body.hpp); returns false, having done nothing,
-// off its path (a clamped voxel, a turn of more than 0.01 rad in the step, a bond model other
-// than the exact one).
+// off its path (a clamped voxel, under the exact model a turn of more than 0.01 rad in the step).
 bool voxel_reverse(const VoxelArgs& a, const ModelConstants& k, const double* out_adj,
                    double* in_adj);
 

@@ -2,8 +2,10 @@
 // as bond_reverse_body.hpp is the bond stage's: compiled at each SIMD level, element-wise IEEE
 // arithmetic in one order, so a voxel's adjoints are the same bits at every level. The floor's
 // branches (contact, sliding, stopping, held) are per-lane selections of the branch the life
-// took. Lanes off the hand path (a clamped voxel, a turn past the half-angle series' range) are
-// flagged in io.off, their adjoints to be ignored: the caller takes them by voxel_reverse_tape.
+// took; the turn is the exact model's (its half-angle series) or Voxelyze 0.9's (a first-order
+// step, normalised), per model. Lanes off the hand path (a clamped voxel, an exact model's turn
+// past the half-angle series' range) are flagged in io.off, their adjoints to be ignored: the
+// caller takes them by voxel_reverse_tape.
 //
 // Internal linkage (unnamed namespace), as every lane template: see lanes.hpp.
 #pragma once
@@ -86,60 +88,102 @@ inline void voxel_reverse_lanes(const grad::VoxelReverseIo& io, int i, const Mod
   const T decay = 1.0 - cc * dt;
   for (int c = 0; c < 3; ++c) hd[c] = hm[c] * decay;
   const T turn = dt * k.inv_inertia;
-  const T v[3] = {hd[0] * turn, hd[1] * turn, hd[2] * turn};
-  const T a2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-  const auto in_series = 0.25 * a2 < 2.5e-5;
-  const T h2 = pick(in_series, 0.25 * a2, zero);
-  const T rw = 1.0 - h2 * (0.5 - h2 * (1.0 / 24 - h2 * (1.0 / 720 - h2 * (1.0 / 40320))));
-  const T sinc = 1.0 - h2 * (1.0 / 6 - h2 * (1.0 / 120 - h2 * (1.0 / 5040 - h2 * (1.0 / 362880))));
-  const T half_sinc = 0.5 * sinc;
-  const T r[3] = {half_sinc * v[0], half_sinc * v[1], half_sinc * v[2]};
   T q[4];  // x, y, z, w
-  q[0] = (rw * b[0] + r[1] * b[2]) - (r[2] * b[1] - r[0] * b[3]);
-  q[1] = (rw * b[1] + r[1] * b[3]) + (r[2] * b[0] - r[0] * b[2]);
-  q[2] = (rw * b[2] - r[1] * b[0]) + (r[2] * b[3] + r[0] * b[1]);
-  q[3] = (rw * b[3] - r[1] * b[1]) - (r[2] * b[2] + r[0] * b[0]);
-  const T n2 = (q[0] * q[0] + q[2] * q[2]) + (q[1] * q[1] + q[3] * q[3]);
-  const auto oriented = n2 > 0.0;
-  const T norm = root(pick(oriented, n2, splat(1.0, T{})));
-  // Off the hand path: clamped, a turn past the series' range (sin_cycles), no orientation.
-  store_flag(io.off, i, load_flag(io.fixed, i, T{}) | mask_not(in_series) | mask_not(oriented));
+  T norm;
+  // The exact model's turn by the rotation vector v = omega dt (r = (r, rw), its half-angle
+  // series), or Voxelyze 0.9's first-order step q + dt (0, omega / 2) q (half: omega / 2),
+  // normalised, a q whose w is then 1 no turn at all (none).
+  const bool voxelyze = k.def.bond_model == BondModel::kVoxelyze09;
+  T v[3] = {zero, zero, zero}, h2 = zero, rw = zero, half_sinc = zero, r[3] = {zero, zero, zero};
+  T half[3] = {zero, zero, zero};
+  auto none = never;
+  if (!voxelyze) {
+    for (int c = 0; c < 3; ++c) v[c] = hd[c] * turn;
+    const T a2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    const auto in_series = 0.25 * a2 < 2.5e-5;
+    h2 = pick(in_series, 0.25 * a2, zero);
+    rw = 1.0 - h2 * (0.5 - h2 * (1.0 / 24 - h2 * (1.0 / 720 - h2 * (1.0 / 40320))));
+    const T sinc =
+        1.0 - h2 * (1.0 / 6 - h2 * (1.0 / 120 - h2 * (1.0 / 5040 - h2 * (1.0 / 362880))));
+    half_sinc = 0.5 * sinc;
+    for (int c = 0; c < 3; ++c) r[c] = half_sinc * v[c];
+    q[0] = (rw * b[0] + r[1] * b[2]) - (r[2] * b[1] - r[0] * b[3]);
+    q[1] = (rw * b[1] + r[1] * b[3]) + (r[2] * b[0] - r[0] * b[2]);
+    q[2] = (rw * b[2] - r[1] * b[0]) + (r[2] * b[3] + r[0] * b[1]);
+    q[3] = (rw * b[3] - r[1] * b[1]) - (r[2] * b[2] + r[0] * b[0]);
+    const T n2 = (q[0] * q[0] + q[2] * q[2]) + (q[1] * q[1] + q[3] * q[3]);
+    const auto oriented = n2 > 0.0;
+    norm = root(pick(oriented, n2, splat(1.0, T{})));
+    // Off the hand path: clamped, a turn past the series' range (sin_cycles), no orientation.
+    store_flag(io.off, i, load_flag(io.fixed, i, T{}) | mask_not(in_series) | mask_not(oriented));
+  } else {
+    for (int c = 0; c < 3; ++c) half[c] = 0.5 * (hd[c] * k.inv_inertia);
+    q[3] = b[3] + (((zero - half[0] * b[0]) - half[1] * b[1]) - half[2] * b[2]) * dt;
+    q[0] = b[0] + ((half[0] * b[3] + half[1] * b[2]) - half[2] * b[1]) * dt;
+    q[1] = b[1] + ((half[1] * b[3] - half[0] * b[2]) + half[2] * b[0]) * dt;
+    q[2] = b[2] + ((half[0] * b[1] - half[1] * b[0]) + half[2] * b[3]) * dt;
+    const T len = root(((q[0] * q[0] + q[1] * q[1]) + q[2] * q[2]) + q[3] * q[3]);
+    const auto some = len > 0.0;
+    norm = pick(some, len, splat(1.0, T{}));
+    none = mask_not(q[3] * (1.0 / norm) < 1.0);
+    // Off the hand path: clamped, no orientation.
+    store_flag(io.off, i, load_flag(io.fixed, i, T{}) | mask_not(some));
+  }
 
   // ---- The reverse: g_* is the adjoint of * ----
-  // Normalisation.
+  // Normalisation (Voxelyze 0.9's none: a constant).
   T g_q[4], g_n2 = zero;
   for (int c = 0; c < 4; ++c) {
-    const T g = out(kVOutQuat + c);
+    const T g = pick(none, zero, out(kVOutQuat + c));
     g_q[c] = g / norm;
     g_n2 -= g * (q[c] / norm) / norm;
   }
   g_n2 *= 0.5 / norm;
   for (int c = 0; c < 4; ++c) g_q[c] += 2.0 * g_n2 * q[c];
-  // q = r b (r = (r, rw)).
-  const T g_rw = g_q[0] * b[0] + g_q[1] * b[1] + g_q[2] * b[2] + g_q[3] * b[3];
-  const T g_r[3] = {g_q[0] * b[3] - g_q[1] * b[2] + g_q[2] * b[1] - g_q[3] * b[0],
-                    g_q[0] * b[2] + g_q[1] * b[3] - g_q[2] * b[0] - g_q[3] * b[1],
-                    -g_q[0] * b[1] + g_q[1] * b[0] + g_q[2] * b[3] - g_q[3] * b[2]};
-  put_in(kVQuat, g_q[0] * rw + g_q[1] * r[2] - g_q[2] * r[1] - g_q[3] * r[0]);
-  put_in(kVQuat + 1, -g_q[0] * r[2] + g_q[1] * rw + g_q[2] * r[0] - g_q[3] * r[1]);
-  put_in(kVQuat + 2, g_q[0] * r[1] - g_q[1] * r[0] + g_q[2] * rw - g_q[3] * r[2]);
-  put_in(kVQuat + 3, g_q[0] * r[0] + g_q[1] * r[1] + g_q[2] * r[2] + g_q[3] * rw);
-  // The half-angle series.
-  const T g_half_sinc = g_r[0] * v[0] + g_r[1] * v[1] + g_r[2] * v[2];
-  const T rw_slope = -(0.5 - h2 * (2.0 / 24 - h2 * (3.0 / 720 - h2 * (4.0 / 40320))));
-  const T sinc_slope = -(1.0 / 6 - h2 * (2.0 / 120 - h2 * (3.0 / 5040 - h2 * (4.0 / 362880))));
-  const T g_h2 = g_rw * rw_slope + 0.5 * g_half_sinc * sinc_slope;
-  const T g_a2 = 0.25 * g_h2;
-  T g_v[3], g_turn = zero;
-  for (int c = 0; c < 3; ++c) {
-    g_v[c] = g_r[c] * half_sinc + 2.0 * g_a2 * v[c];
-    g_turn += g_v[c] * hd[c];
+  T g_dt = zero, g_turned[3];  // g_turned: the turn's share of hd's adjoint
+  if (!voxelyze) {
+    // q = r b (r = (r, rw)).
+    const T g_rw = g_q[0] * b[0] + g_q[1] * b[1] + g_q[2] * b[2] + g_q[3] * b[3];
+    const T g_r[3] = {g_q[0] * b[3] - g_q[1] * b[2] + g_q[2] * b[1] - g_q[3] * b[0],
+                      g_q[0] * b[2] + g_q[1] * b[3] - g_q[2] * b[0] - g_q[3] * b[1],
+                      -g_q[0] * b[1] + g_q[1] * b[0] + g_q[2] * b[3] - g_q[3] * b[2]};
+    put_in(kVQuat, g_q[0] * rw + g_q[1] * r[2] - g_q[2] * r[1] - g_q[3] * r[0]);
+    put_in(kVQuat + 1, -g_q[0] * r[2] + g_q[1] * rw + g_q[2] * r[0] - g_q[3] * r[1]);
+    put_in(kVQuat + 2, g_q[0] * r[1] - g_q[1] * r[0] + g_q[2] * rw - g_q[3] * r[2]);
+    put_in(kVQuat + 3, g_q[0] * r[0] + g_q[1] * r[1] + g_q[2] * r[2] + g_q[3] * rw);
+    // The half-angle series.
+    const T g_half_sinc = g_r[0] * v[0] + g_r[1] * v[1] + g_r[2] * v[2];
+    const T rw_slope = -(0.5 - h2 * (2.0 / 24 - h2 * (3.0 / 720 - h2 * (4.0 / 40320))));
+    const T sinc_slope = -(1.0 / 6 - h2 * (2.0 / 120 - h2 * (3.0 / 5040 - h2 * (4.0 / 362880))));
+    const T g_h2 = g_rw * rw_slope + 0.5 * g_half_sinc * sinc_slope;
+    const T g_a2 = 0.25 * g_h2;
+    T g_v[3], g_turn = zero;
+    for (int c = 0; c < 3; ++c) {
+      g_v[c] = g_r[c] * half_sinc + 2.0 * g_a2 * v[c];
+      g_turn += g_v[c] * hd[c];
+    }
+    g_dt = g_turn * k.inv_inertia;
+    for (int c = 0; c < 3; ++c) g_turned[c] = g_v[c] * turn;
+  } else {
+    // q = b + dt (0, half) b, half = omega / 2 (x, y, z; w last).
+    put_in(kVQuat, g_q[0] + (-half[0] * g_q[3] + half[2] * g_q[1] - half[1] * g_q[2]) * dt);
+    put_in(kVQuat + 1, g_q[1] + (-half[1] * g_q[3] - half[2] * g_q[0] + half[0] * g_q[2]) * dt);
+    put_in(kVQuat + 2, g_q[2] + (-half[2] * g_q[3] + half[1] * g_q[0] - half[0] * g_q[1]) * dt);
+    put_in(kVQuat + 3, g_q[3] + (half[0] * g_q[0] + half[1] * g_q[1] + half[2] * g_q[2]) * dt);
+    const T g_half[3] = {(-b[0] * g_q[3] + b[3] * g_q[0] - b[2] * g_q[1] + b[1] * g_q[2]) * dt,
+                         (-b[1] * g_q[3] + b[2] * g_q[0] + b[3] * g_q[1] - b[0] * g_q[2]) * dt,
+                         (-b[2] * g_q[3] - b[1] * g_q[0] + b[0] * g_q[1] + b[3] * g_q[2]) * dt};
+    const T dq[4] = {(half[0] * b[3] + half[1] * b[2]) - half[2] * b[1],
+                     (half[1] * b[3] - half[0] * b[2]) + half[2] * b[0],
+                     (half[0] * b[1] - half[1] * b[0]) + half[2] * b[3],
+                     ((zero - half[0] * b[0]) - half[1] * b[1]) - half[2] * b[2]};
+    g_dt = g_q[0] * dq[0] + g_q[1] * dq[1] + g_q[2] * dq[2] + g_q[3] * dq[3];
+    for (int c = 0; c < 3; ++c) g_turned[c] = 0.5 * k.inv_inertia * g_half[c];
   }
-  T g_dt = g_turn * k.inv_inertia;
   // Rotational damping and the moment.
   T g_decay = zero;
   for (int c = 0; c < 3; ++c) {
-    const T g_hd = out(kVOutAngMom + c) + g_v[c] * turn;
+    const T g_hd = out(kVOutAngMom + c) + g_turned[c];
     g_decay += g_hd * hm[c];
     const T g_hm = g_hd * decay;
     put_in(kVAngMom + c, g_hm);
