@@ -18,7 +18,7 @@
 namespace plastivox::grad {
 
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     bool prev_ids, double* values, int32_t* ids) {
+                     bool prev_ids, double* values, int32_t* ids, bool prev_values) {
   const auto keep = [&](size_t at, const double* row, size_t count, bool with_ids = true) {
     std::memcpy(values + at, row, count * sizeof(double));
     if (!with_ids) return;
@@ -31,7 +31,7 @@ void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double da
   keep(0, io.centre_size, 4 * L.n);
   keep(L.quat(), io.quat, 4 * L.n);
   keep(L.stiff(), io.stiff, L.n);
-  for (int j = 0; j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb, prev_ids);
+  for (int j = 0; prev_values && j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb, prev_ids);
   values[L.damp()] = damp;
   ids[L.damp()] = damp_id;
 }

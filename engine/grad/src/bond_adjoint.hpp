@@ -76,9 +76,11 @@ struct BondStageLayout {
 // Writes the stage's record (L.size() values and nodes; the nodes through the tape's shadows,
 // -1 for an array without one) before the kernel runs. Without prev_ids the previous
 // deformations' nodes are left unwritten: they are the previous step's stage's leaves, and the
-// reverse adds to them as rows (bond_stage_reverse's prev_first).
+// reverse adds to them as rows (bond_stage_reverse's prev_first). Without prev_values the
+// previous deformations' values are already in place (the previous stage's kernel wrote them
+// there).
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     bool prev_ids, double* values, int32_t* ids);
+                     bool prev_ids, double* values, int32_t* ids, bool prev_values = true);
 // Bond b's arguments from a kept stage (valid: its damping flag).
 BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                    const int32_t* ids, int b, bool valid);

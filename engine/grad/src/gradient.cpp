@@ -276,7 +276,17 @@ class Replica {
     collisions_.apply(m, s, w_, dt_next, events ? &events->h : nullptr);
     // ---- step2 ----
     put(&s.dt, 0, dt_next);
-    for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
+    if (nb_ > 0 && bond_block_ && g_tape && blocks_) {  // the next deformations are in the record
+      const BondStageLayout L{size_t(m.n), size_t(nb_)};
+      for (int k = 0; k < 9; ++k) {
+        std::memcpy(s.bond_prev[k].data(), blocks_->bond_values.data() + next_at_ + L.prev(k),
+                    size_t(nb_) * sizeof(double));
+        std::memcpy(ids_of(s.bond_prev[k].data()), ids_of(w_.bond_prev_next[k].data()),
+                    size_t(nb_) * sizeof(int32_t));
+      }
+    } else {
+      for (int k = 0; k < 9; ++k) copy(s.bond_prev[k].data(), w_.bond_prev_next[k].data(), nb_);
+    }
     if (m.def.bond_model == BondModel::kVoxelyze09)
       std::memcpy(s.bond_small_angle.data(), w_.bond_small_angle_next.data(), size_t(nb_));
     std::memset(s.bond_prev_valid.data(), 1, s.bond_prev_valid.size());
@@ -395,8 +405,10 @@ class Replica {
   void record_bonds(const BondKernelIo& io, Adj damp) {
     Tape& t = *g_tape;
     const BondStageLayout L{size_t(m_.n), size_t(nb_)};
-    BondBlock stage{static_cast<int64_t>(t.nodes.size()), blocks_->bond_values.size(),
-                    io.all_valid};
+    // After the segment's first stage, this one's record starts where the last one's kernel
+    // wrote its next deformations (next_at_, below).
+    BondBlock stage{static_cast<int64_t>(t.nodes.size()),
+                    blocks_->bonds.empty() ? blocks_->bond_values.size() : next_at_, io.all_valid};
     // The step's commit copied the previous stage's next deformations, leaves and all, into
     // bond_prev: this stage's reverse adds to them as rows (when the previous step's bond stage
     // was a block: else they are kept with their nodes).
@@ -407,10 +419,17 @@ class Replica {
           prev_ids[nb_ - 1] != stage.prev_first + 9 * nb_ - 1)
         throw std::logic_error("gradient: a bond stage's previous deformations are not the last's");
     }
-    blocks_->bond_values.resize(stage.at + L.size());
-    blocks_->bond_ids.resize(stage.at + L.size());
-    keep_bond_stage(io, L, damp.v, damp.id, stage.prev_first < 0,
-                    blocks_->bond_values.data() + stage.at, blocks_->bond_ids.data() + stage.at);
+    // When the previous step's stage was a block, its kernel wrote its next deformations, this
+    // stage's previous ones, straight into this stage's record, which keeps them without a copy.
+    const bool prev_kept = stage.prev_first >= 0;
+    // This stage's record and the next stage's previous deformations, which this stage's kernel
+    // writes (the record's capacity is reserved for a segment: no pointer below moves).
+    next_at_ = stage.at + L.size();
+    blocks_->bond_values.resize(next_at_ + L.damp());
+    blocks_->bond_ids.resize(next_at_ + L.damp());
+    double* values = blocks_->bond_values.data();
+    keep_bond_stage(io, L, damp.v, damp.id, stage.prev_first < 0, values + stage.at,
+                    blocks_->bond_ids.data() + stage.at, !prev_kept);
     if (!io.all_valid)
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
     t.unswept_leaves(size_t(kBondLeaves) * size_t(nb_));
@@ -419,6 +438,10 @@ class Replica {
     int32_t* strain_ids = t.ids_of(io.strain);
     int32_t* stress_ids = t.ids_of(io.stress);
     int32_t* energy_ids = io.energy ? t.ids_of(io.energy) : nullptr;
+    // The kernel and the scalar path write the next deformations into the record (the commit
+    // copies them to the State from there, their nodes from the Workspace's shadow).
+    BondKernelIo& out = w_.views.bond;
+    for (int j = 0; j < 9; ++j) out.prev_next[j] = values + next_at_ + L.prev(j);
     if (m_.def.bond_model == BondModel::kVoxelyze09) {
       // The frames the stage reads (its reverse takes the same branches), then the scalar path.
       stage.scalar_at = blocks_->bond_small.size();
@@ -435,6 +458,7 @@ class Replica {
       blocks_->bond_redo.insert(blocks_->bond_redo.end(), w_.redo.data(), w_.redo.data() + redo);
       scalar_bonds(m_, w_.views, damp.v, w_.redo.data(), redo);
     }
+    for (int j = 0; j < 9; ++j) out.prev_next[j] = w_.bond_prev_next[j].data();
     // Output o of bond b is leaf first + (o - kPrevNext) nb + b: the reverse reads each output's
     // adjoints as a row, and the next step's reads of a deformation component are consecutive.
     // The records (io.out) have no nodes: the gather alone reads them, on doubles
@@ -627,6 +651,7 @@ class Replica {
   CollisionReplica collisions_;
   std::vector<double> slope_;  // record_sine's
   bool bond_block_ = false;    // the last step's bond stage was recorded as a block
+  size_t next_at_ = 0;         // where in bond_values that stage wrote its next deformations
   Blocks* blocks_ = nullptr;
   NetworkReplica net_;      // the neural controller's call
   TerrainReplica terrain_;  // an environment's contacts
@@ -790,8 +815,9 @@ struct Segment {
     const int K = p.checkpoint_every;
     tape.nodes.reserve(
         static_cast<size_t>(1.25 * K * (p.tape_bytes_per_step - block_bytes(m)) / kNodeBytes));
-    blocks.bond_values.reserve(static_cast<size_t>(K) *
-                               BondStageLayout{size_t(m.n), size_t(m.bond_count())}.size());
+    // K stages, and the next deformations the last one writes (record_bonds).
+    const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
+    blocks.bond_values.reserve(static_cast<size_t>(K) * L.size() + L.damp());
     blocks.bond_ids.reserve(blocks.bond_values.capacity());
     if (m.def.bond_model == BondModel::kVoxelyze09)
       blocks.bond_small.reserve(static_cast<size_t>(K) * size_t(m.bond_count()));
