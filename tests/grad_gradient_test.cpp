@@ -614,10 +614,11 @@ TEST(Gradient, RefusesALifeBeyondItsMemoryInOneLine) {
 
 // Under the exact model, the bonds the batched kernel hands to the scalar path (here an
 // irregular 150-voxel body's, bent near half a turn as it sinks through the floor, from step 412
-// on) are differentiated by that path recorded on the tape: the forward is simulate()'s, bit for
-// bit, and the gradient agrees with central differences on both voxels of the first such bond,
-// for the fitness and for a loss of their own final centres (which their bond's forces move
-// directly; the centre of mass feels them only through the floor).
+// on) are differentiated by that path (each on a small tape of its own, in the bond stage's
+// block's reverse): the forward is simulate()'s, bit for bit, and the gradient agrees with
+// central differences on both voxels of the first such bond, for the fitness and for a loss of
+// their own final centres (which their bond's forces move directly; the centre of mass feels
+// them only through the floor).
 TEST(Gradient, ExactModelsScalarPathMatchesCentralDifferences) {
   PhysicsDef def = short_life(0.06, 0.02);
   def.sinking_invalid = false;
