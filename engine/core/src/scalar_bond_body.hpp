@@ -195,6 +195,25 @@ inline T relative_rotation(int d, const T* qa, const T* qb, BondV3<T>& qv) {
   return qw;
 }
 
+// Damping's forces and moments added to a bond's elastic ones (f on b, ma on a, mb on b), from
+// the halves of the changes in deformation dp, d1, d2 and the coefficients sqrt(E) times
+// ModelConstants' geometric constants (c_b1 is c_a1, c_b2h half c_b2).
+template <class T>
+inline void add_bond_damping(BondV3<T>& f, BondV3<T>& ma, BondV3<T>& mb, const BondV3<T>& dp,
+                             const BondV3<T>& d1, const BondV3<T>& d2, T c_a1, T c_b2, T c_a2,
+                             T c_b3, T c_b2h) {
+  const T c_b1 = c_a1;
+  f.x = f.x + c_a1 * dp.x;
+  f.y = f.y + (c_b1 * dp.y - c_b2 * (d1.z + d2.z));
+  f.z = f.z + (c_b1 * dp.z + c_b2 * (d1.y + d2.y));
+  ma.x = ma.x + c_a2 * (d2.x - d1.x);
+  ma.y = ma.y + (-c_b2h * dp.z - c_b3 * (2.0 * d1.y + d2.y));
+  ma.z = ma.z + (c_b2h * dp.y - c_b3 * (2.0 * d1.z + d2.z));
+  mb.x = mb.x + c_a2 * (d1.x - d2.x);
+  mb.y = mb.y + (-c_b2h * dp.z - c_b3 * (d1.y + 2.0 * d2.y));
+  mb.z = mb.z + (c_b2h * dp.y - c_b3 * (d1.z + 2.0 * d2.z));
+}
+
 // d: the bond's lattice axis; R: voxel a's orientation as a column-major rotation matrix
 // (R[0..2] the first column); dl: the chord b - a, world axes; qa, qb: the orientations of a
 // and b (x, y, z, w); size_a, size_b: their actuated sizes.
@@ -362,18 +381,10 @@ inline void scalar_bond_lanes(const BondKernelIo& io, const uint8_t* small_in, u
     const BondV3<T> d2{0.5 * (t2.x - old[6]), 0.5 * (t2.y - old[7]), 0.5 * (t2.z - old[8])};
     // Every coefficient is sqrt(E) times a geometric constant (ModelConstants).
     const T se = root(e) * damp;
-    const T c_a1 = se * mk.damp_a1, c_b1 = c_a1, c_b2 = se * mk.damp_b2;
+    const T c_a1 = se * mk.damp_a1, c_b2 = se * mk.damp_b2;
     const T c_a2 = 0.5 * se * mk.damp_a2, c_b3 = 0.5 * se * mk.damp_b3;
     const T c_b2h = 0.5 * c_b2;
-    f.x = f.x + c_a1 * dp.x;
-    f.y = f.y + (c_b1 * dp.y - c_b2 * (d1.z + d2.z));
-    f.z = f.z + (c_b1 * dp.z + c_b2 * (d1.y + d2.y));
-    ma.x = ma.x + c_a2 * (d2.x - d1.x);
-    ma.y = ma.y + (-c_b2h * dp.z - c_b3 * (2.0 * d1.y + d2.y));
-    ma.z = ma.z + (c_b2h * dp.y - c_b3 * (2.0 * d1.z + d2.z));
-    mb.x = mb.x + c_a2 * (d1.x - d2.x);
-    mb.y = mb.y + (-c_b2h * dp.z - c_b3 * (d1.y + 2.0 * d2.y));
-    mb.z = mb.z + (c_b2h * dp.y - c_b3 * (d1.z + 2.0 * d2.z));
+    add_bond_damping<T>(f, ma, mb, dp, d1, d2, c_a1, c_b2, c_a2, c_b3, c_b2h);
   }
   // The deformation the next step damps against: this one, unless the bond switched frames
   // with a deformation recorded (then the recorded one stays, as in Voxelyze 0.9). Every bond

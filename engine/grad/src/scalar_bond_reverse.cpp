@@ -12,9 +12,7 @@
 namespace plastivox::grad {
 namespace {
 
-struct V3 {
-  double x, y, z;
-};
+using V3 = BondV3<double>;  // scalar_bond_body.hpp's, whose add_bond_damping this file calls
 
 // to_bond and from_bond (scalar_bond_body.hpp) on V3: the cyclic permutation taking lattice
 // axis d onto x, and its inverse. The adjoint of one is the other.
@@ -172,16 +170,7 @@ bool voxelyze_bond_reverse(const BondArgs& A, bool small_in, const ModelConstant
     c_a1 = se * mk.damp_a1, c_b2 = se * mk.damp_b2;
     c_a2 = 0.5 * se * mk.damp_a2, c_b3 = 0.5 * se * mk.damp_b3;
     c_b2h = 0.5 * c_b2;
-    const double c_b1 = c_a1;
-    f.x = f.x + c_a1 * dp.x;
-    f.y = f.y + (c_b1 * dp.y - c_b2 * (d1.z + d2.z));
-    f.z = f.z + (c_b1 * dp.z + c_b2 * (d1.y + d2.y));
-    ma.x = ma.x + c_a2 * (d2.x - d1.x);
-    ma.y = ma.y + (-c_b2h * dp.z - c_b3 * (2.0 * d1.y + d2.y));
-    ma.z = ma.z + (c_b2h * dp.y - c_b3 * (2.0 * d1.z + d2.z));
-    mb.x = mb.x + c_a2 * (d1.x - d2.x);
-    mb.y = mb.y + (-c_b2h * dp.z - c_b3 * (d1.y + 2.0 * d2.y));
-    mb.z = mb.z + (c_b2h * dp.y - c_b3 * (d1.z + 2.0 * d2.z));
+    add_bond_damping<double>(f, ma, mb, dp, d1, d2, c_a1, c_b2, c_a2, c_b3, c_b2h);
   }
   const bool refresh = damp_ok || !A.valid;
 
