@@ -97,25 +97,30 @@ void compute_bond_forces(const Model& m, const State& s, Workspace& w, bool next
     double* r = &w.centre_size[4 * static_cast<size_t>(i)];
     r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = s.size[i];
   }
-  const int nb = m.bond_count();
+  [[maybe_unused]] const int nb = m.bond_count();
   assert(w.bond_out[0].size() == 4 * (static_cast<size_t>(nb) + 1) &&
          w.bond_stress.size() == static_cast<size_t>(nb) + 1 &&
          "the Workspace was built for another Model: build it from the model it runs");
-  BondKernelIo& io = w.views.bond;
+  v.bond.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
   // Damping multiplier 2 sqrt(m) zeta / dt: turns sqrt(k) * (deformation change) into a
   // critical-fraction damping force.
-  const double damp = m.bond_damp / s.dt;
+  run_bond_stage(m, v, m.bond_damp / s.dt);
+}
+
+int run_bond_stage(const Model& m, KernelViews& v, double damp) {
+  BondKernelIo& io = v.bond;
+  const int nb = m.bond_count();
   if (m.def.bond_model == BondModel::kVoxelyze09) {
     for (int b = 0; b < nb; ++b)
       scalar_bond_lanes<double>(io, v.small_angle_in_state, v.small_angle_next, b, m, damp);
-    return;
+    return 0;
   }
-  if (nb == 0) return;
-  io.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
+  if (nb == 0) return 0;
   const int redo = kernels().bond(io, nb, m, damp);
   // From the unchanged previous deformation.
   for (int r = 0; r < redo; ++r)
-    scalar_bond_lanes<double>(io, v.small_angle_in_state, v.small_angle_next, w.redo[r], m, damp);
+    scalar_bond_lanes<double>(io, v.small_angle_in_state, v.small_angle_next, io.redo[r], m, damp);
+  return redo;
 }
 
 // Copies, not swaps: the State's arrays keep their storage for the whole life (the kernels'

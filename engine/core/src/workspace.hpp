@@ -162,6 +162,11 @@ bool views_bound_to(const State& s, const Workspace& w);
 // next_into_state (step(), nothing between the halves) the bond stage writes each bond's next
 // deformation and frame straight into the State's arrays, as the commit would.
 void compute_bond_forces(const Model& m, const State& s, Workspace& w, bool next_into_state);
+// Its work on the views as bound (io.all_valid set, damp = bond_damp / dt): Voxelyze 0.9's
+// scalar path for every bond, else the batched kernel set and the scalar path for the bonds it
+// hands back (listed in io.redo); returns how many it handed back. Also the gradient's replica's
+// bond stage.
+int run_bond_stage(const Model& m, KernelViews& v, double damp);
 // The time step from the stiffness development left, into w.dt_next.
 void follow_stiffness(const Model& m, const State& s, Workspace& w);
 void gather_voxel_forces(const Model& m, const State& s, Workspace& w);

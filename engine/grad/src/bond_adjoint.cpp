@@ -18,7 +18,7 @@
 namespace plastivox::grad {
 
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     bool prev_ids, double* values, int32_t* ids, bool prev_values) {
+                     bool prev, double* values, int32_t* ids) {
   const auto keep = [&](size_t at, const double* row, size_t count, bool with_ids = true) {
     std::memcpy(values + at, row, count * sizeof(double));
     if (!with_ids) return;
@@ -31,7 +31,7 @@ void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double da
   keep(0, io.centre_size, 4 * L.n);
   keep(L.quat(), io.quat, 4 * L.n);
   keep(L.stiff(), io.stiff, L.n);
-  for (int j = 0; prev_values && j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb, prev_ids);
+  for (int j = 0; prev && j < 9; ++j) keep(L.prev(j), io.prev[j], L.nb);
   values[L.damp()] = damp;
   ids[L.damp()] = damp_id;
 }
@@ -275,9 +275,6 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
       s.tape.reverse(forward, a, small, k, out, in);
     for (int j = 0; j < kBondInputs; ++j) s.in[j * nb + b] = in[j];
   };
-  const auto on_tape = [&](size_t b, BondTape::Forward forward, bool small) {
-    one(b, forward, small, false);
-  };
   if (scalar.small) {
     // Voxelyze 0.9: every bond by the scalar path.
     for (size_t b = 0; b < nb; ++b) one(b, &scalar_bond_forward, scalar.small[b] != 0, true);
@@ -291,11 +288,11 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
     for (int e = 0; e < scalar.count; ++e) {
       const size_t b = size_t(scalar.list[e]);
       s.off[b] = 0;
-      on_tape(b, &scalar_bond_forward, false);
+      one(b, &scalar_bond_forward, false, false);
     }
     // Bonds off the hand path, by the kernel recorded on a tape.
     for (size_t b = 0; b < nb; ++b)
-      if (s.off[b]) on_tape(b, &exact_bond, false);
+      if (s.off[b]) one(b, &exact_bond, false, false);
   }
   // The voxels' inputs summed over their bonds in bond order, then added to their nodes. Summed
   // voxel by voxel from each voxel's list of bonds (the same additions in the same order as bond

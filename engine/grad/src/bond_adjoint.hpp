@@ -74,13 +74,12 @@ struct BondStageLayout {
   size_t size() const { return damp() + 1; }
 };
 // Writes the stage's record (L.size() values and nodes; the nodes through the tape's shadows,
-// -1 for an array without one) before the kernel runs. Without prev_ids the previous
-// deformations' nodes are left unwritten: they are the previous step's stage's leaves, and the
-// reverse adds to them as rows (bond_stage_reverse's prev_first). Without prev_values the
-// previous deformations' values are already in place (the previous stage's kernel wrote them
-// there).
+// -1 for an array without one) before the kernel runs. Without prev the previous deformations
+// are left unwritten: they are the previous step's stage's next ones, which its kernel wrote
+// into this record, and their nodes its leaves, to which the reverse adds as rows
+// (bond_stage_reverse's prev_first).
 void keep_bond_stage(const BondKernelIo& io, const BondStageLayout& L, double damp, int32_t damp_id,
-                     bool prev_ids, double* values, int32_t* ids, bool prev_values = true);
+                     bool prev, double* values, int32_t* ids);
 // Bond b's arguments from a kept stage (valid: its damping flag).
 BondArgs bond_args(const BondKernelIo& io, const BondStageLayout& L, const double* values,
                    const int32_t* ids, int b, bool valid);

@@ -419,17 +419,16 @@ class Replica {
           prev_ids[nb_ - 1] != stage.prev_first + 9 * nb_ - 1)
         throw std::logic_error("gradient: a bond stage's previous deformations are not the last's");
     }
-    // When the previous step's stage was a block, its kernel wrote its next deformations, this
-    // stage's previous ones, straight into this stage's record, which keeps them without a copy.
-    const bool prev_kept = stage.prev_first >= 0;
     // This stage's record and the next stage's previous deformations, which this stage's kernel
     // writes (the record's capacity is reserved for a segment: no pointer below moves).
     next_at_ = stage.at + L.size();
     blocks_->bond_values.resize(next_at_ + L.damp());
     blocks_->bond_ids.resize(next_at_ + L.damp());
     double* values = blocks_->bond_values.data();
+    // When the previous step's stage was a block, its kernel wrote its next deformations, this
+    // stage's previous ones, straight into this stage's record: they are not kept again.
     keep_bond_stage(io, L, damp.v, damp.id, stage.prev_first < 0, values + stage.at,
-                    blocks_->bond_ids.data() + stage.at, !prev_kept);
+                    blocks_->bond_ids.data() + stage.at);
     if (!io.all_valid)
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
     t.unswept_leaves(size_t(kBondLeaves) * size_t(nb_));
@@ -442,21 +441,21 @@ class Replica {
     // copies them to the State from there, their nodes from the Workspace's shadow).
     BondKernelIo& out = w_.views.bond;
     for (int j = 0; j < 9; ++j) out.prev_next[j] = values + next_at_ + L.prev(j);
-    if (m_.def.bond_model == BondModel::kVoxelyze09) {
-      // The frames the stage reads (its reverse takes the same branches), then the scalar path.
+    // The engine's own bond stage (run_bond_stage: every lane width computes the same bits),
+    // and what its reverse needs to take the same branches: under Voxelyze 0.9 the frames the
+    // stage reads (every bond takes the scalar path), else the bonds the batched kernel hands
+    // back to the scalar path (rare: a degenerate chord, a relative rotation near half a turn).
+    const bool voxelyze = m_.def.bond_model == BondModel::kVoxelyze09;
+    if (voxelyze) {
       stage.scalar_at = blocks_->bond_small.size();
       const uint8_t* small = w_.views.small_angle_in_state;
       blocks_->bond_small.insert(blocks_->bond_small.end(), small, small + nb_);
-      scalar_bonds(m_, w_.views, damp.v, nullptr, 0);
-    } else {
-      // The engine's own kernel set: every lane width computes the same bits (bond_body.hpp);
-      // the bonds it hands back (rare: a degenerate chord, a relative rotation near half a
-      // turn) by the scalar path from the unchanged previous deformation, as the engine does.
-      const int redo = kernels().bond(io, nb_, m_, damp.v);
+    }
+    const int redo = run_bond_stage(m_, w_.views, damp.v);
+    if (!voxelyze) {
       stage.scalar_at = blocks_->bond_redo.size();
       stage.scalar_count = redo;
-      blocks_->bond_redo.insert(blocks_->bond_redo.end(), w_.redo.data(), w_.redo.data() + redo);
-      scalar_bonds(m_, w_.views, damp.v, w_.redo.data(), redo);
+      blocks_->bond_redo.insert(blocks_->bond_redo.end(), io.redo, io.redo + redo);
     }
     for (int j = 0; j < 9; ++j) out.prev_next[j] = w_.bond_prev_next[j].data();
     // Output o of bond b is leaf first + (o - kPrevNext) nb + b: the reverse reads each output's

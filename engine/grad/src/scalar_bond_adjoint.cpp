@@ -39,13 +39,6 @@ void scalar_bonds(const Model& m, KernelViews& v, Adj damp, const int* bonds, in
                            m, damp);
 }
 
-void scalar_bonds(const Model& m, KernelViews& v, double damp, const int* bonds, int count) {
-  const int n = bonds ? count : m.bond_count();
-  for (int r = 0; r < n; ++r)
-    scalar_bond_lanes<double>(v.bond, v.small_angle_in_state, v.small_angle_next,
-                              bonds ? bonds[r] : r, m, damp);
-}
-
 void scalar_bond_forward(const BondKernelIo& io, const uint8_t* small_in, uint8_t* small_out,
                          const ModelConstants& k, Adj damp) {
   scalar_bond_lanes<Adj>(io, small_in, small_out, 0, k, damp);

@@ -25,8 +25,6 @@ namespace plastivox::grad {
 // compute_bond_forces): the next deformation to io.prev_next, the next frame to
 // small_angle_next.
 void scalar_bonds(const Model& m, KernelViews& v, Adj damp, const int* bonds, int count);
-// The same on doubles (nothing recorded).
-void scalar_bonds(const Model& m, KernelViews& v, double damp, const int* bonds, int count);
 // Bond 0 of io by the scalar path on the recording type, its frame flag small_in[0]: the
 // forward a BondTape records for the reverse of a kept stage's scalar-path bonds.
 void scalar_bond_forward(const BondKernelIo& io, const uint8_t* small_in, uint8_t* small_out,

@@ -87,7 +87,6 @@ using VoxelReverseKernel = int (*)(const VoxelReverseIo&, const ModelConstants&)
 VoxelReverseKernel voxel_reverse_kernel_avx2();  // reverse_avx2.cpp
 VoxelReverseKernel voxel_reverse_kernel_avx512();
 
-// Scratch arrays of voxel_stage_reverse, kept from stage to stage.
 // One voxel's update recorded on a small tape of its own and swept (voxel_reverse_tape): its
 // arrays, the tape's shadows and the adjoints' array are kept from voxel to voxel, so that an
 // update whose every voxel takes it (under Voxelyze 0.9, whose rotation has no hand path)
@@ -106,6 +105,7 @@ class VoxelTape {
   std::unique_ptr<Impl> impl_;
 };
 
+// Scratch arrays of voxel_stage_reverse, kept from stage to stage.
 struct VoxelStageScratch {
   std::vector<double> in;
   std::vector<uint8_t> off;
