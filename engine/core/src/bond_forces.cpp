@@ -97,11 +97,13 @@ void compute_bond_forces(const Model& m, const State& s, Workspace& w, bool next
     double* r = &w.centre_size[4 * static_cast<size_t>(i)];
     r[0] = s.pos[i].x(), r[1] = s.pos[i].y(), r[2] = s.pos[i].z(), r[3] = s.size[i];
   }
-  [[maybe_unused]] const int nb = m.bond_count();
+  const int nb = m.bond_count();
   assert(w.bond_out[0].size() == 4 * (static_cast<size_t>(nb) + 1) &&
          w.bond_stress.size() == static_cast<size_t>(nb) + 1 &&
          "the Workspace was built for another Model: build it from the model it runs");
-  v.bond.all_valid = std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
+  // (No bonds: no array to search, and memchr must not be given a null one.)
+  v.bond.all_valid =
+      nb == 0 || std::memchr(s.bond_prev_valid.data(), 0, s.bond_prev_valid.size()) == nullptr;
   // Damping multiplier 2 sqrt(m) zeta / dt: turns sqrt(k) * (deformation change) into a
   // critical-fraction damping force.
   run_bond_stage(m, v, m.bond_damp / s.dt);
