@@ -604,6 +604,29 @@ class Simulator:
                             f"{type(snapshot).__name__}")
         self._core.restore_state(bytes(snapshot))
 
+    def backward(self, derivatives, steps=None, wrt=("stiffness", "phase")):
+        """The backward pass for a loss of your own over the states this Simulator's life has
+        passed through (docs/python.md, "A Simulator's backward pass"): derivatives maps
+        fields of state_fields with float values ("pos", "orient", "lin_mom", "size", ...) to
+        d loss / d state[field] at `steps` (state indices: 0 the initial state, k the state
+        after k steps, negative from the present one, -1 it; increasing; None: every state
+        0..steps), each an array (len(steps), *state[field].shape). Returns {name: d loss /
+        d name} for each name in wrt, as gradient() gives them. The life is recomputed from its
+        start (the forward pass and the backward pass of gradient_of, over the steps taken so
+        far), which must reach the present state bit for bit: a life steered by
+        set_actuation, set_controller or restore_state is refused (ValueError)."""
+        if isinstance(wrt, str):
+            wrt = (wrt,)
+        if not isinstance(derivatives, dict):
+            raise TypeError(f"derivatives: expected a dict {{field: array}}, got "
+                            f"{type(derivatives).__name__}")
+        if steps is not None:
+            if isinstance(steps, (int, _np.integer)):
+                steps = (steps,)
+            steps = [int(k) for k in steps]
+        flat = self._core.backward(self._robot._core, derivatives, steps, [str(w) for w in wrt])
+        return _shaped_gradients(self._robot, flat)
+
     def sensors(self, names=None):
         """{name: numpy array} of the sensors of the present step (all, or those named: a name
         or a list of names), as copies: shape (n,) or (n, 3) per voxel, (3,) or () for the

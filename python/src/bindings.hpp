@@ -122,5 +122,8 @@ const SensorField& sensor_named(const std::string& name, const std::string& what
 // control.cpp: adds per-step control to the Simulator class (sensors, set_actuation,
 // set_controller, reset) and plastivox._core.sin_cycles.
 void bind_control(pyb::module_& m, const pyb::object& simulator_class, UseSimulator use);
+// gradient.cpp: Simulator.backward, the backward pass for a loss of one's own over the states
+// a Simulator's life passed through.
+void bind_backward(const pyb::object& simulator_class, UseSimulator use);
 
 }  // namespace plastivox::py

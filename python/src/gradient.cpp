@@ -258,6 +258,25 @@ double call_loss(const pyb::object& loss, Recorded& rec, const State& shape_of) 
   return value;
 }
 
+// The index in kStateFields of the floating-point row `name` (a loss may read it), else
+// std::invalid_argument beginning with `what`.
+size_t float_row(const std::string& name, const std::string& what) {
+  size_t r = 0;
+  while (r < kStateFields.size() && name != kStateFields[r].name) ++r;
+  if (r == kStateFields.size() || std::string(kStateFields[r].name) == "task_values")
+    r = kStateFields.size();
+  if (r < kStateFields.size()) {
+    static const State empty{};
+    const StateFieldBytes b = kStateFields[r].bytes(empty);
+    if (b.kind != 'f' || b.value_bytes != sizeof(double)) r = kStateFields.size();
+  }
+  if (r == kStateFields.size())
+    throw std::invalid_argument(what + ": '" + name +
+                                "' is not a floating-point row of the state (Simulator."
+                                "state_fields; pos, orient, lin_mom, size, stiffness, ...)");
+  return r;
+}
+
 // gradient_of: the loss of the states at `steps` (every state when empty; negative: from the
 // end, -1 the last), its rows `fields`, and its derivative with respect to `wrt`.
 pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
@@ -268,19 +287,7 @@ pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
   check_wrt(robot, wrt);
   Recorded rec;
   for (const std::string& name : fields) {
-    size_t r = 0;
-    while (r < kStateFields.size() && name != kStateFields[r].name) ++r;
-    if (r == kStateFields.size() || std::string(kStateFields[r].name) == "task_values")
-      r = kStateFields.size();
-    if (r < kStateFields.size()) {
-      static const State empty{};
-      const StateFieldBytes b = kStateFields[r].bytes(empty);
-      if (b.kind != 'f' || b.value_bytes != sizeof(double)) r = kStateFields.size();
-    }
-    if (r == kStateFields.size())
-      throw std::invalid_argument("fields: '" + name +
-                                  "' is not a floating-point row of the state (Simulator."
-                                  "state_fields; pos, orient, lin_mom, size, stiffness, ...)");
+    const size_t r = float_row(name, "fields");
     if (std::find(rec.rows.begin(), rec.rows.end(), r) == rec.rows.end()) rec.rows.push_back(r);
   }
   const PhysicsDef physics = physics_of_call(robot.physics, physics_arg, treatment, std::nullopt);
@@ -349,7 +356,102 @@ pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
   return pyb::make_tuple(g.fitness, derivatives(robot, model, g, wrt));
 }
 
+// Simulator.backward: the derivatives of a loss of one's own with respect to the states the
+// Simulator's life passed through (`derivatives`: {field: array (len(steps), *row shape)};
+// `steps`: the states', increasing, negative from the present one, -1 it; none: every state
+// 0..steps), carried back to `wrt`. The backward pass recomputes the life from its start, as
+// gradient_of does: its forward runs the same model the same number of steps, and must reach
+// the Simulator's present state bit for bit (else the life was steered: refused).
+pyb::dict backward_of_life(const Simulator& sim, const PyRobot& robot, const pyb::dict& given,
+                           const std::optional<std::vector<int64_t>>& steps_arg,
+                           const std::vector<std::string>& wrt) {
+  check_wrt(robot, wrt);
+  const State& now = sim.state();
+  const Model& model = sim.model();
+  if (now.status == SimStatus::kUnstable)
+    throw std::invalid_argument("backward: the life went unstable (" + now.failure +
+                                "), so it has no gradient");
+  if (now.steps == 0)
+    throw std::invalid_argument("backward: the Simulator has not stepped yet (steps is 0)");
+  std::vector<int64_t> steps;
+  if (steps_arg) {
+    for (const int64_t k : *steps_arg) {
+      const int64_t at = k < 0 ? now.steps + 1 + k : k;
+      if (at < 0 || at > now.steps)
+        throw std::invalid_argument("steps: " + std::to_string(k) +
+                                    " is outside the life's states 0.." +
+                                    std::to_string(now.steps) + " (-1 the present one)");
+      if (!steps.empty() && at <= steps.back())
+        throw std::invalid_argument("steps: the states must increase, as the derivatives' rows do");
+      steps.push_back(at);
+    }
+  } else {
+    for (int64_t k = 0; k <= now.steps; ++k) steps.push_back(k);
+  }
+  // Each derivative as rows of float64, checked against its field's shape.
+  std::vector<size_t> rows;
+  std::vector<std::vector<double>> d_rows;
+  for (const auto& [key, value] : given) {
+    const std::string name = pyb::str(key);
+    const size_t r = float_row(name, "derivatives");
+    const StateField& f = kStateFields[r];
+    std::vector<pyb::ssize_t> shape = row_shape(f, f.bytes(now));
+    shape.insert(shape.begin(), static_cast<pyb::ssize_t>(steps.size()));
+    const auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(value);
+    if (!a || a.ndim() != static_cast<pyb::ssize_t>(shape.size()) ||
+        !std::equal(shape.begin(), shape.end(), a.shape()))
+      throw std::invalid_argument("derivatives: '" + name + "' must be shaped " +
+                                  std::string(pyb::str(pyb::tuple(pyb::cast(shape)))) +
+                                  " (a row for each of the steps, then the field's own shape)");
+    if (std::find(rows.begin(), rows.end(), r) != rows.end())
+      throw std::invalid_argument("derivatives: '" + name + "' given twice");
+    rows.push_back(r);
+    d_rows.emplace_back(a.data(), a.data() + a.size());
+  }
+  grad::Gradient g;
+  {
+    pyb::gil_scoped_release unlocked;
+    grad::TrajectoryLoss user;
+    user.see = [](const State&) {};
+    user.value = [](const State&) { return 0.0; };  // the loss's value is the caller's
+    user.adjoint = [&](const State& s, std::vector<std::vector<double>>& d) {
+      const auto at = std::lower_bound(steps.begin(), steps.end(), s.steps);
+      if (at == steps.end() || *at != s.steps) return false;
+      for (size_t k = 0; k < rows.size(); ++k) {
+        std::vector<double>& row = d[rows[k]];
+        const double* from =
+            d_rows[k].data() + static_cast<size_t>(at - steps.begin()) * row.size();
+        for (size_t j = 0; j < row.size(); ++j) row[j] += from[j];
+      }
+      return true;
+    };
+    grad::GradientOptions options;
+    options.steps = now.steps;
+    g = grad::gradient_of(model, user, options);
+  }
+  if (g.steps != now.steps || g.final_state_hash != state_hash(now))
+    throw std::invalid_argument(
+        "backward: this Simulator's life is not its robot's own from t = 0 (set_actuation, "
+        "set_controller or restore_state steered it): the backward pass recomputes the life "
+        "from its start, so it needs a life that step(), step1() and step2() alone made "
+        "(a new Simulator starts one afresh)");
+  return derivatives(robot, model, g, wrt);
+}
+
 }  // namespace
+
+void bind_backward(const pyb::object& simulator_class, UseSimulator use) {
+  const pyb::handle cls = simulator_class;
+  cls.attr("backward") = pyb::cpp_function(
+      [use](const pyb::handle& self, const PyRobot& robot, const pyb::dict& given,
+            const std::optional<std::vector<int64_t>>& steps, const std::vector<std::string>& wrt) {
+        pyb::dict out;
+        use(self, [&](Simulator& sim) { out = backward_of_life(sim, robot, given, steps, wrt); });
+        return out;
+      },
+      pyb::name("backward"), pyb::is_method(cls), pyb::arg("robot"), pyb::arg("derivatives"),
+      pyb::arg("steps"), pyb::arg("wrt"));
+}
 
 void bind_gradient(pyb::module_& m) {
   m.def("gradient", &gradient_one, pyb::arg("robot"), pyb::arg("physics"), pyb::arg("treatment"),

@@ -356,9 +356,11 @@ void bind_simulate(pyb::module_& m) {
           "model_views",
           [](const pyb::object& self) { return self.cast<const PySimulator&>().model_views(self); })
       .def_static("model_fields", &model_field_table);
-  bind_control(m, simulator, [](const pyb::handle& self, const std::function<void(Simulator&)>& f) {
+  const UseSimulator use = [](const pyb::handle& self, const std::function<void(Simulator&)>& f) {
     self.cast<PySimulator&>().use(f);
-  });
+  };
+  bind_control(m, simulator, use);
+  bind_backward(simulator, use);
 }
 
 }  // namespace plastivox::py

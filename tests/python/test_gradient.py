@@ -204,6 +204,82 @@ def test_gradient_of_reads_the_steps_asked_for():
     assert list(seen["steps"]) == [0, 5, steps]
 
 
+def stepped(robot, steps, physics=SHORT):
+    """A Simulator stepped `steps` times, and its positions at every state it passed through."""
+    sim = plastivox.Simulator(robot, physics=physics)
+    pos = [sim.state["pos"].copy()]
+    for _ in range(steps):
+        sim.step()
+        pos.append(sim.state["pos"].copy())
+    return sim, np.array(pos)
+
+
+def test_simulator_backward_is_gradient_ofs_for_the_life_so_far_and_central_differences():
+    # A Simulator stopped part way (past settling, so the phases act), a loss of the states it
+    # recorded: backward gives gradient_of's derivatives of the same loss of the same states,
+    # bit for bit, and they agree with central differences of Simulators stepped as far.
+    n = 50  # of the life's 70
+    sim, pos = stepped(cube3(), n)
+    assert sim.status == "running" and sim.time > SHORT["settle_time"]
+    value, d = mean_height_and_final_x({"pos": pos})
+    wrt = ["phase", "stiffness", "initial_velocity"]
+    g = sim.backward(d, wrt=wrt)
+    v2, g2 = plastivox.gradient_of(cube3(), mean_height_and_final_x, steps=range(n + 1),
+                                   wrt=wrt, physics=SHORT)
+    assert v2 == value
+    for name in wrt:
+        np.testing.assert_array_equal(g[name], g2[name])
+    assert sim.steps == n and sim.status == "running"  # the Simulator itself did not move
+    site = (1, 0, 0)
+
+    def f(h):
+        return mean_height_and_final_x({"pos": stepped(cube3(h, site), n)[1]})[0]
+
+    h = 1e-4
+    d1 = (f(h) - f(-h)) / (2 * h)
+    d2 = (f(h / 2) - f(-h / 2)) / h
+    assert g["phase"][site] != 0
+    assert g["phase"][site] == pytest.approx((4 * d2 - d1) / 3, rel=1e-6)
+    # Some states only, one counted from the present; step1 and step2 make the same life.
+    sim.step1()
+    sim.step2()
+    w = np.zeros((2,) + pos.shape[1:])
+    w[0, 4, 1] = 1.0
+    w[1, 13, 2] = 2.0
+    g3 = sim.backward({"pos": w}, steps=[30, -1], wrt="phase")
+    v4, g4 = plastivox.gradient_of(
+        cube3(), lambda s: (0.0, {"pos": w}), steps=[30, n + 1], wrt="phase", physics=SHORT)
+    np.testing.assert_array_equal(g3["phase"], g4["phase"])
+
+
+def test_simulator_backward_refuses_a_steered_life_and_bad_input_in_one_line():
+    sim, pos = stepped(cube3(), 40)
+    d = {"pos": np.zeros_like(pos)}
+    with pytest.raises(ValueError, match=r"^derivatives: 'pos' must be shaped \(2, 27, 3\)"):
+        sim.backward(d, steps=[0, 5])
+    with pytest.raises(ValueError, match=r"^steps: the states must increase"):
+        sim.backward({"pos": np.zeros((2, 27, 3))}, steps=[5, 5])
+    with pytest.raises(ValueError, match=r"^steps: 41 is outside the life's states 0\.\.40"):
+        sim.backward({"pos": np.zeros((1, 27, 3))}, steps=[41])
+    with pytest.raises(ValueError, match=r"^derivatives: 'steps' is not a floating-point row"):
+        sim.backward({"steps": np.zeros(41)})
+    with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass'"):
+        sim.backward(d, wrt="mass")
+    with pytest.raises(ValueError, match=r"^backward: the Simulator has not stepped yet"):
+        plastivox.Simulator(cube3(), physics=SHORT).backward({})
+    # A life another signal drove, or restored from another life's state, is not the one the
+    # backward pass recomputes from t = 0.
+    sim.set_actuation(np.full(27, 0.5))
+    sim.step(5)
+    with pytest.raises(ValueError, match=r"^backward: this Simulator's life is not its robot's"):
+        sim.backward({"pos": np.zeros((46, 27, 3))})
+    other, _ = stepped(cube3(0.1, (1, 0, 0)), 40)
+    sim2, _ = stepped(cube3(), 10)
+    sim2.restore_state(other.save_state())
+    with pytest.raises(ValueError, match=r"^backward: this Simulator's life is not its robot's"):
+        sim2.backward({"pos": np.zeros((1, 27, 3))}, steps=[-1])
+
+
 def loss_of_nothing(seen):
     def loss(states):
         seen.clear()

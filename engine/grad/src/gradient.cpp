@@ -956,9 +956,12 @@ Plan plan(const Model& m, const GradientOptions& options) {
   if (options.checkpoint_every < 0)
     throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
   if (options.threads < 0) throw std::invalid_argument("gradient: threads must be >= 0");
+  if (options.steps < -1 || options.steps == 0)
+    throw std::invalid_argument("gradient: steps must be >= 1, or -1 for the whole life");
   Plan p;
   const State initial = make_initial_state(m);
   p.steps = std::ceil(m.def.duration / initial.dt) + 1;  // dt may change: an estimate
+  if (options.steps > 0) p.steps = std::min(p.steps, static_cast<double>(options.steps));
   p.snapshot_bytes = static_cast<double>(save_state(initial).size());
   const double step_nodes = static_cast<double>(nodes_per_step(m));
   p.tape_bytes_per_step = kNodeBytes * step_nodes + block_bytes(m);
@@ -1028,20 +1031,25 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
   Simulator sim(m);
   std::vector<std::vector<uint8_t>> snaps;
   loss.see(sim.state());
-  while (sim.state().status == SimStatus::kRunning) {
+  const auto go_on = [&] {
+    return sim.state().status == SimStatus::kRunning &&
+           (options.steps < 0 || sim.state().steps < options.steps);
+  };
+  while (go_on()) {
     if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());
     sim.step();
     loss.see(sim.state());
   }
+  const bool stopped = sim.state().status == SimStatus::kRunning;  // at options.steps
   // simulate()'s summary of the same life (it records no frames here), judged by the caller's
   // rules: a life that does not count has no backward pass.
   g.life = sim.result();
   g.life.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  if (options.judge) options.judge(g.life);
+  if (options.judge && !stopped) options.judge(g.life);
   g.final_state_hash = g.life.final_state_hash;
   g.steps = sim.state().steps;
-  if (g.life.status != SimStatus::kFinished) {
+  if (g.life.status != SimStatus::kFinished && !stopped) {
     if (!options.judge)
       throw std::domain_error("gradient: the life went unstable (" + sim.state().failure + ")");
     g.fitness = g.life.fitness;

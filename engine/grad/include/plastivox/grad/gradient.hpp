@@ -46,6 +46,10 @@ struct GradientOptions {
   // has no backward pass: gradient() returns it, its derivative arrays empty. Without one, a
   // life that goes unstable throws std::domain_error.
   std::function<void(SimResult&)> judge;
+  // Stop the life after this many steps (a Simulator's life so far: Python's
+  // Simulator.backward), or at its end if sooner; -1: the whole life. A life stopped so is
+  // not judged, and Gradient::life is its summary so far (status running).
+  int64_t steps = -1;
 };
 
 struct Gradient {
