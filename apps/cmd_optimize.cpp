@@ -25,6 +25,7 @@
 #include "plastivox/io/resolve_physics.hpp"
 #include "plastivox/io/robot_file.hpp"
 #include "plastivox/io/robot_io.hpp"
+#include "plastivox/io/vxa.hpp"
 #include "plastivox/rules/life_rules.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox_version.hpp"
@@ -328,6 +329,16 @@ int cmd_optimize(const Args& in) {
   // multiplies the gain by 1); --wrt act_scale moves the array it is given, written with it.
   for (const std::string& name : wrt)
     if (name == "act_scale" && robot.act_scale.empty()) robot.act_scale.assign(robot.sites(), 1.0);
+  // A .vxa that could not hold the robot (its own amplitudes or scales, a network, a task
+  // other than walk, ...) is refused now, not when it is written after the run: the steps move
+  // values the format holds, never what it cannot.
+  if (out.ends_with(".vxa")) {
+    try {
+      (void)write_vxa(robot, physics);
+    } catch (const std::exception& e) {
+      throw UsageError{"--out " + out + ": " + e.what()};
+    }
+  }
 
   std::string log_text = log_header(source, wrt, settings, steps, physics, out).dump() + "\n";
   std::vector<Moments> moments(wrt.size());

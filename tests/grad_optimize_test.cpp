@@ -253,6 +253,19 @@ TEST_F(Optimize, MovesTheActuationScalesWithinTheirRangeAndWritesThem) {
   EXPECT_EQ(std::count(vxa.out.begin(), vxa.out.end(), '\n'), 1) << vxa.out;
   EXPECT_NE(vxa.out.find("--wrt act_scale: a .vxa file cannot hold"), std::string::npos) << vxa.out;
   EXPECT_FALSE(std::filesystem::exists(path("scaled.vxa")));
+  // Nor a robot's own amplitudes or scales whatever --wrt moves: refused before the run too,
+  // rather than after it, when the file is written.
+  for (const std::string& robot : {path("own.json"), path("scaled.json")}) {
+    const Output held =
+        cli("optimize " + robot + " --wrt phase" + kShort + " --out " + path("held.vxa"));
+    EXPECT_EQ(held.status, 2);
+    EXPECT_EQ(std::count(held.out.begin(), held.out.end(), '\n'), 1) << held.out;
+    EXPECT_NE(held.out.find("--out " + path("held.vxa") + ": write_vxa: robot.act_"),
+              std::string::npos)
+        << held.out;
+    EXPECT_FALSE(std::filesystem::exists(path("held.vxa")));
+    EXPECT_FALSE(std::filesystem::exists(path("held.log.jsonl")));
+  }
 }
 
 TEST_F(Optimize, RefusesBadInputInOneLine) {
