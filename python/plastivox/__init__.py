@@ -614,7 +614,8 @@ class Simulator:
         d name} for each name in wrt, as gradient() gives them. The life is recomputed from its
         start (the forward pass and the backward pass of gradient_of, over the steps taken so
         far), which must reach the present state bit for bit: a life steered by
-        set_actuation, set_controller or restore_state is refused (ValueError)."""
+        set_actuation, set_controller or restore_state is refused (ValueError), as is one that
+        went unstable; the life is not judged (result() says whether it counts)."""
         if isinstance(wrt, str):
             wrt = (wrt,)
         if not isinstance(derivatives, dict):
