@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "plastivox/base/hash.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/limits.hpp"
@@ -352,7 +354,67 @@ int cmd_optimize(const Args& in) {
   double best_fitness = -HUGE_VAL, first_fitness = 0;
   int best_step = -1;
   std::string stopped;
-  for (int k = 0; k <= steps; ++k) {
+
+  // Resumable: after every step, what the next steps need (the arrays --wrt moves, Adam's
+  // moments, the best robot so far, the log) is written atomically to OUT.resume.json, and the
+  // same command continues from it after a kill, to the same bits; it is removed once OUT is
+  // written. What fixes the run (the robot as read, the physics, the settings) is its key:
+  // a checkpoint of another run is refused.
+  const std::string resume_path = out + ".resume.json";
+  Hasher key_hash;
+  key_hash.str(robot_to_json(robot, &physics));
+  key_hash.str(json({wrt, method, settings.lr, steps}).dump());
+  const std::string key = key_hash.finish().hex();
+  // The arrays --wrt moves (the physics' amplitude for "amplitude").
+  const auto moved_arrays = [&](RobotDef& r, const PhysicsDef& ph) {
+    json a;
+    for (const std::string& name : wrt)
+      a[name] = name == "amplitude" ? json::array({ph.act_amplitude}) : json(array_of(r, name));
+    return a;
+  };
+  const auto put_arrays = [&](const json& a, RobotDef& r, PhysicsDef& ph) {
+    for (const std::string& name : wrt) {
+      const std::vector<double> v = a.at(name).get<std::vector<double>>();
+      if (name == "amplitude") {
+        ph.act_amplitude = v.at(0);
+        continue;
+      }
+      std::vector<double>& to = array_of(r, name);
+      if (v.size() != to.size()) throw std::invalid_argument("'" + name + "' has the wrong size");
+      to = v;
+    }
+  };
+  int first_step = 0;
+  if (std::filesystem::exists(resume_path)) {
+    try {
+      const json c = json::parse(read_file_bytes(resume_path));
+      if (c.at("format") != "plastivox-optimize-checkpoint" || c.at("key") != key)
+        throw UsageError{resume_path +
+                         ": the checkpoint of another optimize run (another robot, physics, "
+                         "--wrt, --method, --lr or --steps); delete it to start afresh"};
+      put_arrays(c.at("robot"), robot, physics);
+      put_arrays(c.at("best"), best, best_physics);
+      for (size_t p = 0; p < wrt.size(); ++p) {
+        const std::vector<double> m = c.at("moments").at(p).at(0).get<std::vector<double>>();
+        const std::vector<double> v = c.at("moments").at(p).at(1).get<std::vector<double>>();
+        if (m.size() != moments[p].m.size() || v.size() != moments[p].v.size())
+          throw std::invalid_argument("moments of the wrong size");
+        moments[p].m = m, moments[p].v = v;
+      }
+      best_fitness = c.at("best_fitness"), best_step = c.at("best_step");
+      first_fitness = c.at("first_fitness");
+      log_text = c.at("log");
+      first_step = c.at("next");
+    } catch (const UsageError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw InputError(resume_path + ": not a readable optimize checkpoint (" + e.what() +
+                       "); delete it to start afresh");
+    }
+    std::fprintf(stderr, "plastivox optimize: resuming at step %d of %d (%s)\n", first_step, steps,
+                 resume_path.c_str());
+  }
+  for (int k = first_step; k <= steps; ++k) {
     const auto started = std::chrono::steady_clock::now();
     const std::clock_t cpu_started = std::clock();  // the process's CPU time (one thread)
     const Model model = compiled(robot);
@@ -400,6 +462,20 @@ int cmd_optimize(const Args& in) {
     line["life_steps"] = life.steps;
     log_text += line.dump() + "\n";
     write_file_atomic(log_path, log_text);  // a killed run keeps the steps it took
+    if (stopped.empty()) {
+      json c = {{"format", "plastivox-optimize-checkpoint"},
+                {"key", key},
+                {"next", k + 1},
+                {"robot", moved_arrays(robot, physics)},
+                {"best", moved_arrays(best, best_physics)},
+                {"best_fitness", best_fitness},
+                {"best_step", best_step},
+                {"first_fitness", first_fitness},
+                {"log", log_text}};
+      json& m = c["moments"] = json::array();
+      for (const Moments& mo : moments) m.push_back({mo.m, mo.v});
+      write_file_atomic(resume_path, c.dump());
+    }
     std::fprintf(stderr, "plastivox optimize: step %d/%d fitness %s%s (%.1f s)\n", k, steps,
                  g6(life.fitness).c_str(), k < steps ? "" : " (the last robot)", seconds);
     if (!stopped.empty()) break;
@@ -426,6 +502,7 @@ int cmd_optimize(const Args& in) {
   if (!stopped.empty()) result["stopped"] = stopped;
   log_text += result.dump() + "\n";
   write_file_atomic(log_path, log_text);
+  std::filesystem::remove(resume_path);
   std::printf("wrote %s: fitness %s at step %d of %d (from %s at step 0); log %s\n", out.c_str(),
               g6(replay.fitness).c_str(), best_step, steps, g6(first_fitness).c_str(),
               log_path.c_str());
