@@ -3,6 +3,7 @@
 // them; the life runs with the GIL released.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -158,10 +159,6 @@ struct Recorded {
   // The states the loss is handed (increasing), their values and the loss's derivatives.
   std::vector<int64_t> steps;
   std::vector<std::vector<double>> values, derivatives;  // one per row
-  int64_t find(int64_t step) const {
-    const auto at = std::lower_bound(steps.begin(), steps.end(), step);
-    return at != steps.end() && *at == step ? at - steps.begin() : -1;
-  }
   // Forward: keep the rows of state s where asked.
   void see(const State& s) {
     const bool wanted = every || (next < ahead.size() && s.steps == ahead[next]);
@@ -214,6 +211,33 @@ struct Recorded {
   }
 };
 
+// A derivative handed over from Python as float64 values, shaped `shape`; else
+// std::invalid_argument: `what` then the shape it must have.
+std::vector<double> shaped_values(const pyb::handle& given, const std::vector<pyb::ssize_t>& shape,
+                                  const std::string& what) {
+  const auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(given);
+  if (!a || a.ndim() != static_cast<pyb::ssize_t>(shape.size()) ||
+      !std::equal(shape.begin(), shape.end(), a.shape()))
+    throw std::invalid_argument(what + std::string(pyb::str(pyb::tuple(pyb::cast(shape)))));
+  return std::vector<double>(a.data(), a.data() + a.size());
+}
+
+// Adds to d the derivatives given at state s, if s is one of `steps` (increasing): given[k]
+// holds a row of kStateFields[rows[k]] per step (empty: none given). False when s is not.
+bool add_given(const std::vector<int64_t>& steps, const std::vector<size_t>& rows,
+               const std::vector<std::vector<double>>& given, const State& s,
+               std::vector<std::vector<double>>& d) {
+  const auto at = std::lower_bound(steps.begin(), steps.end(), s.steps);
+  if (at == steps.end() || *at != s.steps) return false;
+  for (size_t k = 0; k < rows.size(); ++k) {
+    if (given[k].empty()) continue;
+    std::vector<double>& row = d[rows[k]];
+    const double* from = given[k].data() + static_cast<size_t>(at - steps.begin()) * row.size();
+    for (size_t j = 0; j < row.size(); ++j) row[j] += from[j];
+  }
+  return true;
+}
+
 // The value of the user's loss of the recorded states, and its derivatives kept: `loss(states)`
 // returns (value, {name: d value / d states[name]}).
 double call_loss(const pyb::object& loss, Recorded& rec, const State& shape_of) {
@@ -247,13 +271,9 @@ double call_loss(const pyb::object& loss, Recorded& rec, const State& shape_of) 
     if (k == rec.rows.size())
       throw std::invalid_argument("loss: a derivative of '" + name +
                                   "', which is not among the fields recorded");
-    const auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(d);
-    if (!a || a.ndim() != static_cast<pyb::ssize_t>(shapes[k].size()) ||
-        !std::equal(shapes[k].begin(), shapes[k].end(), a.shape()))
-      throw std::invalid_argument("loss: the derivative of '" + name +
-                                  "' must be shaped like states['" + name + "'] " +
-                                  std::string(pyb::str(pyb::tuple(pyb::cast(shapes[k])))));
-    rec.derivatives[k].assign(a.data(), a.data() + a.size());
+    rec.derivatives[k] = shaped_values(
+        d, shapes[k],
+        "loss: the derivative of '" + name + "' must be shaped like states['" + name + "'] ");
   }
   return value;
 }
@@ -263,8 +283,10 @@ double call_loss(const pyb::object& loss, Recorded& rec, const State& shape_of) 
 size_t float_row(const std::string& name, const std::string& what) {
   size_t r = 0;
   while (r < kStateFields.size() && name != kStateFields[r].name) ++r;
-  if (r == kStateFields.size() || std::string(kStateFields[r].name) == "task_values")
-    r = kStateFields.size();
+  // The watches (the floor's deepest penetration, the task's running values) are not physics:
+  // the backward pass's replica does not keep them, so a derivative of one would go nowhere.
+  for (const char* watch : {"floor_deepest", "floor_deep_most", "task_values", "task_layout"})
+    if (name == watch) r = kStateFields.size();
   if (r < kStateFields.size()) {
     static const State empty{};
     const StateFieldBytes b = kStateFields[r].bytes(empty);
@@ -335,15 +357,7 @@ pyb::tuple gradient_of_one(const PyRobot& robot, const pyb::object& physics_arg,
       return call_loss(loss, rec, final);
     };
     user.adjoint = [&rec](const State& s, std::vector<std::vector<double>>& d) {
-      const int64_t at = rec.find(s.steps);
-      if (at < 0) return false;
-      for (size_t k = 0; k < rec.rows.size(); ++k) {
-        if (rec.derivatives[k].empty()) continue;
-        std::vector<double>& row = d[rec.rows[k]];
-        const double* from = rec.derivatives[k].data() + static_cast<size_t>(at) * row.size();
-        for (size_t j = 0; j < row.size(); ++j) row[j] += from[j];
-      }
-      return true;
+      return add_given(rec.steps, rec.rows, rec.derivatives, s, d);
     };
     // The life as simulate judges it: one that does not count has no gradient.
     grad::GradientOptions options;
@@ -397,44 +411,40 @@ pyb::dict backward_of_life(const Simulator& sim, const PyRobot& robot, const pyb
     const StateField& f = kStateFields[r];
     std::vector<pyb::ssize_t> shape = row_shape(f, f.bytes(now));
     shape.insert(shape.begin(), static_cast<pyb::ssize_t>(steps.size()));
-    const auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(value);
-    if (!a || a.ndim() != static_cast<pyb::ssize_t>(shape.size()) ||
-        !std::equal(shape.begin(), shape.end(), a.shape()))
-      throw std::invalid_argument("derivatives: '" + name + "' must be shaped " +
-                                  std::string(pyb::str(pyb::tuple(pyb::cast(shape)))) +
-                                  " (a row for each of the steps, then the field's own shape)");
     if (std::find(rows.begin(), rows.end(), r) != rows.end())
       throw std::invalid_argument("derivatives: '" + name + "' given twice");
     rows.push_back(r);
-    d_rows.emplace_back(a.data(), a.data() + a.size());
+    d_rows.push_back(shaped_values(value, shape, "derivatives: '" + name + "' must be shaped "));
   }
+  const std::invalid_argument steered(
+      "backward: this Simulator's life is not its robot's own from t = 0 (set_actuation, "
+      "set_controller or restore_state steered it): the backward pass recomputes the life "
+      "from its start, so it needs a life that step(), step1() and step2() alone made "
+      "(a new Simulator starts one afresh)");
   grad::Gradient g;
   {
     pyb::gil_scoped_release unlocked;
     grad::TrajectoryLoss user;
     user.see = [](const State&) {};
-    user.value = [](const State&) { return 0.0; };  // the loss's value is the caller's
+    // Called with the recomputed life's last state before the reverse sweeps: a life that does
+    // not reach the Simulator's present state is refused before they run.
+    user.value = [&](const State& last) {
+      if (last.steps != now.steps || state_hash(last) != state_hash(now)) throw steered;
+      return 0.0;  // the loss's value is the caller's
+    };
     user.adjoint = [&](const State& s, std::vector<std::vector<double>>& d) {
-      const auto at = std::lower_bound(steps.begin(), steps.end(), s.steps);
-      if (at == steps.end() || *at != s.steps) return false;
-      for (size_t k = 0; k < rows.size(); ++k) {
-        std::vector<double>& row = d[rows[k]];
-        const double* from =
-            d_rows[k].data() + static_cast<size_t>(at - steps.begin()) * row.size();
-        for (size_t j = 0; j < row.size(); ++j) row[j] += from[j];
-      }
-      return true;
+      return add_given(steps, rows, d_rows, s, d);
     };
     grad::GradientOptions options;
     options.steps = now.steps;
-    g = grad::gradient_of(model, user, options);
+    try {
+      g = grad::gradient_of(model, user, options);
+    } catch (const std::domain_error& e) {
+      // The Simulator's own life did not go unstable (refused above): this one was not it.
+      if (std::string(e.what()).starts_with("gradient: the life went unstable")) throw steered;
+      throw;
+    }
   }
-  if (g.steps != now.steps || g.final_state_hash != state_hash(now))
-    throw std::invalid_argument(
-        "backward: this Simulator's life is not its robot's own from t = 0 (set_actuation, "
-        "set_controller or restore_state steered it): the backward pass recomputes the life "
-        "from its start, so it needs a life that step(), step1() and step2() alone made "
-        "(a new Simulator starts one afresh)");
   return derivatives(robot, model, g, wrt);
 }
 

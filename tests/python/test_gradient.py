@@ -263,6 +263,8 @@ def test_simulator_backward_refuses_a_steered_life_and_bad_input_in_one_line():
         sim.backward({"pos": np.zeros((1, 27, 3))}, steps=[41])
     with pytest.raises(ValueError, match=r"^derivatives: 'steps' is not a floating-point row"):
         sim.backward({"steps": np.zeros(41)})
+    with pytest.raises(ValueError, match=r"^derivatives: 'floor_deepest' is not a floating-point"):
+        sim.backward({"floor_deepest": np.zeros(41)})  # a watch: the replica does not keep it
     with pytest.raises(ValueError, match=r"^wrt: no parameter is called 'mass'"):
         sim.backward(d, wrt="mass")
     with pytest.raises(ValueError, match=r"^backward: the Simulator has not stepped yet"):
