@@ -368,12 +368,12 @@ int cmd_optimize(const Args& in) {
   const std::string key = key_hash.finish().hex();
   // Doubles as JSON keeps them exactly (a finite one as a number, which round-trips; an
   // infinity or a NaN, which Adam's moments or a fitness may hold, as a string).
-  const auto to_json = [](const std::vector<double>& v) {
+  const auto exact_json = [](const std::vector<double>& v) {
     json a = json::array();
     for (const double x : v) a.push_back(std::isfinite(x) ? json(x) : json(std::to_string(x)));
     return a;
   };
-  const auto from_json = [](const json& a) {
+  const auto doubles_of = [](const json& a) {
     std::vector<double> v;
     for (const json& x : a)
       v.push_back(x.is_string() ? std::stod(x.get<std::string>()) : x.get<double>());
@@ -383,13 +383,13 @@ int cmd_optimize(const Args& in) {
   const auto moved_arrays = [&](RobotDef& r, const PhysicsDef& ph) {
     json a;
     for (const std::string& name : wrt)
-      a[name] =
-          to_json(name == "amplitude" ? std::vector<double>{ph.act_amplitude} : array_of(r, name));
+      a[name] = exact_json(name == "amplitude" ? std::vector<double>{ph.act_amplitude}
+                                               : array_of(r, name));
     return a;
   };
   const auto put_arrays = [&](const json& a, RobotDef& r, PhysicsDef& ph) {
     for (const std::string& name : wrt) {
-      const std::vector<double> v = from_json(a.at(name));
+      const std::vector<double> v = doubles_of(a.at(name));
       if (v.size() != (name == "amplitude" ? 1 : array_of(r, name).size()))
         throw std::invalid_argument("'" + name + "' has the wrong size");
       if (name == "amplitude")
@@ -409,14 +409,14 @@ int cmd_optimize(const Args& in) {
       put_arrays(c.at("robot"), robot, physics);
       put_arrays(c.at("best"), best, best_physics);
       for (size_t p = 0; p < wrt.size(); ++p) {
-        const std::vector<double> m = from_json(c.at("moments").at(p).at(0));
-        const std::vector<double> v = from_json(c.at("moments").at(p).at(1));
+        const std::vector<double> m = doubles_of(c.at("moments").at(p).at(0));
+        const std::vector<double> v = doubles_of(c.at("moments").at(p).at(1));
         if (m.size() != moments[p].m.size() || v.size() != moments[p].v.size())
           throw std::invalid_argument("moments of the wrong size");
         moments[p].m = m, moments[p].v = v;
       }
-      best_fitness = from_json(c.at("best_fitness")).at(0);
-      first_fitness = from_json(c.at("first_fitness")).at(0);
+      best_fitness = doubles_of(c.at("best_fitness")).at(0);
+      first_fitness = doubles_of(c.at("first_fitness")).at(0);
       best_step = c.at("best_step");
       log_text = c.at("log");
       first_step = c.at("next");
@@ -485,12 +485,12 @@ int cmd_optimize(const Args& in) {
                 {"next", k + 1},
                 {"robot", moved_arrays(robot, physics)},
                 {"best", moved_arrays(best, best_physics)},
-                {"best_fitness", to_json({best_fitness})},
+                {"best_fitness", exact_json({best_fitness})},
                 {"best_step", best_step},
-                {"first_fitness", to_json({first_fitness})},
+                {"first_fitness", exact_json({first_fitness})},
                 {"log", log_text}};
       json& m = c["moments"] = json::array();
-      for (const Moments& mo : moments) m.push_back({to_json(mo.m), to_json(mo.v)});
+      for (const Moments& mo : moments) m.push_back({exact_json(mo.m), exact_json(mo.v)});
       write_file_atomic(resume_path, c.dump());
     }
     std::fprintf(stderr, "plastivox optimize: step %d/%d fitness %s%s (%.1f s)\n", k, steps,

@@ -283,10 +283,7 @@ double call_loss(const pyb::object& loss, Recorded& rec, const State& shape_of) 
 size_t float_row(const std::string& name, const std::string& what) {
   size_t r = 0;
   while (r < kStateFields.size() && name != kStateFields[r].name) ++r;
-  // The watches (the floor's deepest penetration, the task's running values) are not physics:
-  // the backward pass's replica does not keep them, so a derivative of one would go nowhere.
-  for (const char* watch : {"floor_deepest", "floor_deep_most", "task_values", "task_layout"})
-    if (name == watch) r = kStateFields.size();
+  if (grad::is_watch(name.c_str())) r = kStateFields.size();  // not kept by the replica
   if (r < kStateFields.size()) {
     static const State empty{};
     const StateFieldBytes b = kStateFields[r].bytes(empty);
@@ -437,14 +434,12 @@ pyb::dict backward_of_life(const Simulator& sim, const PyRobot& robot, const pyb
     };
     grad::GradientOptions options;
     options.steps = now.steps;
-    try {
-      g = grad::gradient_of(model, user, options);
-    } catch (const std::domain_error& e) {
-      // The Simulator's own life did not go unstable (refused above): this one was not it.
-      if (std::string(e.what()).starts_with("gradient: the life went unstable")) throw steered;
-      throw;
-    }
+    // Judged as it is: a recomputation that went unstable returns without a backward pass.
+    options.judge = [](SimResult&) {};
+    g = grad::gradient_of(model, user, options);
   }
+  // The Simulator's own life did not go unstable (refused above): this one was not it.
+  if (g.life.status == SimStatus::kUnstable) throw steered;
   return derivatives(robot, model, g, wrt);
 }
 

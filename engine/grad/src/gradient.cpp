@@ -137,13 +137,6 @@ struct Fnv {
   }
 };
 
-// The watches (the floor's deepest penetration, the task's running values) are not physics:
-// the replica does not keep them, and they are not compared.
-bool is_watch(const char* name) {
-  return !std::strcmp(name, "floor_deepest") || !std::strcmp(name, "floor_deep_most") ||
-         !std::strcmp(name, "task_values") || !std::strcmp(name, "task_layout");
-}
-
 // The stable time step (compile.cpp, stable_dt: the exact model's rule), in the engine's order
 // of operations, on recorded stiffness.
 // With events, the voxels and bonds within the rule's 1e-9 of the stiffest are events: at a tie
@@ -932,6 +925,11 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
 }
 
 }  // namespace
+
+bool is_watch(const char* name) {
+  return !std::strcmp(name, "floor_deepest") || !std::strcmp(name, "floor_deep_most") ||
+         !std::strcmp(name, "task_values") || !std::strcmp(name, "task_layout");
+}
 
 ReplicaSummary replicate_life(const Model& m) {
   g_tape = nullptr;

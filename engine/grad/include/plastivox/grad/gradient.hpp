@@ -176,4 +176,9 @@ struct ReplicaSummary {
 };
 ReplicaSummary replicate_life(const Model& model);
 
+// The watches among the State's rows (kStateFields: the floor's deepest penetration, the
+// task's running values) are not physics: the backward pass's replica does not keep them, so
+// a loss's derivative of one would go nowhere.
+bool is_watch(const char* name);
+
 }  // namespace plastivox::grad
