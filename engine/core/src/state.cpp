@@ -66,7 +66,12 @@ struct SnapshotReader {
 }  // namespace
 
 std::vector<uint8_t> save(const std::vector<View>& rows, std::string_view text) {
+  // Sized once: a snapshot grown by its appends would hold up to twice its bytes (the
+  // gradient keeps hundreds of them).
+  size_t bytes = sizeof kSnapshotMagic + 8 * (2 + 2 * rows.size()) + text.size();
+  for (const View& row : rows) bytes += row.bytes.count * row.bytes.value_bytes;
   std::vector<uint8_t> out;
+  out.reserve(bytes);
   put(out, kSnapshotMagic, sizeof kSnapshotMagic);
   put_u64(out, rows.size());
   for (const View& row : rows) {
@@ -77,6 +82,7 @@ std::vector<uint8_t> save(const std::vector<View>& rows, std::string_view text) 
   }
   put_u64(out, text.size());
   put(out, text.data(), text.size());
+  if (out.size() != bytes) throw std::logic_error("state snapshot: sized wrong");
   return out;
 }
 

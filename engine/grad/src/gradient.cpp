@@ -805,8 +805,10 @@ size_t nodes_per_step(const Model& m) {
 struct Segment {
   Segment(const Model& m, const Plan& p, const State& final) : rep(m), check(final) {
     const int K = p.checkpoint_every;
-    tape.nodes.reserve(
-        static_cast<size_t>(1.25 * K * (p.tape_bytes_per_step - block_bytes(m)) / kNodeBytes));
+    // The adjoints too: the last segment, recorded first, is the shortest, and an array grown
+    // for a longer one would hold both for a moment.
+    tape.nodes.reserve(static_cast<size_t>(p.segment_nodes));
+    adj.reserve(static_cast<size_t>(p.segment_nodes));
     // K stages, and the next deformations the last one writes (record_bonds).
     const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
     blocks.bond_values.reserve(static_cast<size_t>(K) * L.size() + L.damp());
@@ -962,15 +964,17 @@ Plan plan(const Model& m, const GradientOptions& options) {
   if (options.steps > 0) p.steps = std::min(p.steps, static_cast<double>(options.steps));
   p.snapshot_bytes = static_cast<double>(save_state(initial).size());
   const double step_nodes = static_cast<double>(nodes_per_step(m));
-  p.tape_bytes_per_step = kNodeBytes * step_nodes + block_bytes(m);
+  const double blocks = block_bytes(m);
+  p.tape_bytes_per_step = kNodeBytes * step_nodes + blocks;
   // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
   // two equal and their sum, 2 sqrt(N S T), the least.
   const double N = p.steps, S = p.snapshot_bytes, T = p.tape_bytes_per_step;
   const int K = options.checkpoint_every > 0
                     ? options.checkpoint_every
                     : static_cast<int>(std::clamp(std::round(std::sqrt(N * S / T)), 1.0, N));
-  // A node is named by a 32-bit index: one segment's tape must stay below 2^31 nodes.
-  const double segment_nodes = K * step_nodes * 1.25;
+  // A segment's tape is reserved a quarter above the estimate (Segment), which a node names by
+  // a 32-bit index: below 2^31 nodes.
+  const double segment_nodes = std::floor(K * step_nodes * 1.25);
   if (segment_nodes >= 2147483647.0)
     throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
                                 " steps records about " +
@@ -978,14 +982,22 @@ Plan plan(const Model& m, const GradientOptions& options) {
                                 " nodes, more than a tape holds (2^31): take snapshots more often "
                                 "(checkpoint_every)");
   p.checkpoint_every = K;
+  p.segment_nodes = segment_nodes;
   // Two threads keep two segments' tapes (the sweep's and the recomputation's beside it); one
   // is taken instead when only the second tape would pass the limit. The spacing is the same
   // on any thread count, so are the bits.
   const double snapshots = std::ceil(N / K) * S;
-  const bool within = !(options.memory_limit > 0) || snapshots + 2 * K * T <= options.memory_limit;
+  // A thread keeps a segment (its tape's nodes and adjoints as reserved, its blocks) and a
+  // replica (its workspace and its copies of the state: the rows' node ids, the loss's scratch,
+  // the state it is checked against); beside them is the engine's own life. Those copies were
+  // measured at 15 snapshots' bytes on one thread and 23 on two, on the walker and the 10^3
+  // cube (tests/grad_memory_test.cpp); 12 + 8 a thread are counted.
+  p.thread_bytes = segment_nodes * kNodeBytes + K * blocks + 8 * S;
+  const auto bytes = [&](int threads) { return snapshots + threads * p.thread_bytes + 12 * S; };
+  const bool within = !(options.memory_limit > 0) || bytes(2) <= options.memory_limit;
   p.threads =
       (options.threads > 0 ? options.threads : hardware_threads()) >= 2 && N > K && within ? 2 : 1;
-  p.estimated_bytes = snapshots + p.threads * K * T;
+  p.estimated_bytes = bytes(p.threads);
   if (options.memory_limit > 0 && p.estimated_bytes > options.memory_limit)
     throw std::invalid_argument(
         "gradient: the life needs about " + std::to_string(p.estimated_bytes / 1e6) + " MB (" +

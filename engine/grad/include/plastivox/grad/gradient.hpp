@@ -32,8 +32,8 @@ struct GradientOptions {
   // sqrt(steps x snapshot bytes / tape bytes per step), which balances the snapshots' memory
   // against the tape's (their sum is then 2 sqrt(steps x snapshot x tape per step)).
   int checkpoint_every = 0;
-  // Refuse a life whose estimated memory (snapshots and one segment's tape) exceeds this many
-  // bytes, with one line saying so; 0: no limit.
+  // Refuse a life whose estimated memory (Plan::estimated_bytes) exceeds this many bytes, with
+  // one line saying so; 0: no limit.
   double memory_limit = 0;
   // Threads for the backward pass (0: all cores, as elsewhere in the engine). It uses at most
   // two: one sweeps a segment in reverse while the other recomputes the segment before, which
@@ -97,16 +97,18 @@ struct Gradient {
 };
 
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it
-// expects (snapshots and one segment's tape a thread). Throws what gradient() throws before the
-// life runs (bad options, memory_limit, a tape too long).
+// expects (snapshots, and one segment's tape and a replica a thread). Throws what gradient() throws
+// before the life runs (bad options, memory_limit, a tape too long).
 struct Plan {
   double steps = 0;                // the life's steps, from the initial time step (an estimate
                                    // when development changes dt)
   double snapshot_bytes = 0;       // one snapshot of the State
   double tape_bytes_per_step = 0;  // nodes and adjoints of one step (the first, and a fifth)
   int checkpoint_every = 0;
+  double segment_nodes = 0;    // the nodes a segment's tape is reserved for (a quarter more)
+  double thread_bytes = 0;     // what each thread of the backward pass keeps
   int threads = 1;             // the backward pass's (GradientOptions::threads)
-  double estimated_bytes = 0;  // snapshots and one segment's tape a thread
+  double estimated_bytes = 0;  // the heap's peak: snapshots, and a segment and a replica a thread
 };
 Plan plan(const Model& model, const GradientOptions& options = {});
 
