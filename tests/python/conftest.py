@@ -73,6 +73,14 @@ def expect_signals_refused(take, name, n):
     take(np.full(n, 0.5, dtype=np.float32))
 
 
+# Under the sanitizers (python/CMakeLists.txt sets PLASTIVOX_SANITIZED) a whole life costs
+# tens of seconds: the suites that compare whole lives with the command line's shorten them
+# there to QUICK_LIFE's physics (the Release suite runs them whole; the engine's own code is
+# the same at any length).
+SANITIZED = os.environ.get("PLASTIVOX_SANITIZED") == "1"
+QUICK_LIFE = {"duration": 1.0} if SANITIZED else {}
+
+
 def vxa(name):
     return os.path.join(DATA, "vxa", name)
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import plastivox
-from conftest import SOURCE, cli_json, main_thread_turns, run_cli, vxa
+from conftest import QUICK_LIFE, SOURCE, cli_json, main_thread_turns, run_cli, vxa
 
 # The summary keys that are science (the rest are wall time and speed).
 TIMING = {"wall_seconds", "voxel_steps_per_second"}
@@ -28,8 +28,9 @@ def same_science(result, cli):
 @pytest.mark.parametrize("treatment", ["none", "stress", "pressure", "strain", "strain_energy",
                                        "contact", "kinetic"])
 def test_demo_walker_matches_cli(treatment):
-    cli = cli_json("simulate", "--treatment", treatment, "--json")
-    r = plastivox.simulate(plastivox.demo_walker(), treatment=treatment)
+    cli = cli_json("simulate", "--treatment", treatment, "--json", "--physics",
+                   json.dumps(QUICK_LIFE))
+    r = plastivox.simulate(plastivox.demo_walker(), treatment=treatment, physics=QUICK_LIFE)
     same_science(r, cli)
     assert r.source == cli["source"]
     assert r.status == "finished" and r.fitness > 0
@@ -53,10 +54,10 @@ def test_treatment_object_in_physics_is_stimulus_plus_growth():
                                   "settle-cube-1e9.vxa"])
 def test_vxa_samples_match_cli(name):
     path = vxa(name)
-    cli = cli_json("simulate", path, "--json")
+    cli = cli_json("simulate", path, "--json", "--physics", json.dumps(QUICK_LIFE))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the CLI prints the same tag warnings
-        r = plastivox.simulate(plastivox.load_robot(path))
+        r = plastivox.simulate(plastivox.load_robot(path), physics=QUICK_LIFE)
     same_science(r, cli)
     assert r.source == path
 
@@ -489,7 +490,7 @@ def test_a_vxa_file_pressed_into_the_floor_at_its_own_density_is_warned_as_the_c
     # Issue 54: examples/pi.vxa at its own 1e9 kg/m^3 ends penetrating; the warning names the
     # density and the fix, in Python's result as in simulate --json.
     pi = os.path.join(SOURCE, "examples", "pi.vxa")
-    quick = {"duration": 2.0}
+    quick = {"duration": 2.0, **QUICK_LIFE}
     r = plastivox.simulate(pi, physics=quick)
     cli = cli_json("simulate", pi, "--json", "--physics", json.dumps(quick))
     assert r.to_dict()["health"] == "penetrating"
