@@ -1,7 +1,9 @@
 // The gradient's cost against a forward life (docs/gradients.md, "Cost"), one process per run
 // so that farm-bench pairs whole processes and /usr/bin/time -v reads the peak memory:
-//   grad_bench forward|gradient walker|walker09|cube10 DURATION [CHECKPOINT_EVERY] [THREADS]
-// (walker09: the walker under bond_model voxelyze09)
+//   grad_bench forward|gradient walker|walker09|cube10[:TREATMENT] DURATION [CHECKPOINT_EVERY]
+//              [THREADS]
+// (walker09: the walker under bond_model voxelyze09; :stress, :pressure, ...: the body develops
+// under that stimulus)
 //   grad_bench check walker|cube10 DURATION [STRIDE] [TASK] [unclassified]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
 // physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
@@ -32,12 +34,15 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(
         stderr,
-        "usage: grad_bench forward|gradient|check walker|cube10 DURATION [CHECKPOINT_EVERY | "
+        "usage: grad_bench forward|gradient|check walker|walker09|cube10[:TREATMENT] DURATION [CHECKPOINT_EVERY | "
         "STRIDE] [THREADS | TASK] [unclassified] (THREADS for gradient, TASK for check)\n");
     return 2;
   }
-  const std::string mode = argv[1], body = argv[2];
+  const std::string mode = argv[1], named = argv[2];
+  // BODY:TREATMENT develops the body under that stimulus (walker:stress), as the paper's do.
+  const std::string body = named.substr(0, named.find(':'));
   PhysicsDef def;
+  if (body != named) def.treatment = parse_treatment(named.substr(body.size() + 1));
   def.duration = std::atof(argv[3]);
   if (argc > 5 && mode == "check") def.task = parse_task(argv[5]);
   RobotDef robot;

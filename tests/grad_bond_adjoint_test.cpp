@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 #include "adj.hpp"
 #include "bond_adjoint.hpp"
@@ -293,6 +294,51 @@ TEST(StageAdjoints, WholeGradientEqualsTheOperationByOperationTapes) {
     cube.dev_rate[v] = 2.0 + std::cos(1.3 * v);
   }
   same_gradient(compile(cube, develop));
+}
+
+// Development on doubles, each voxel's stimulus, integral and stiffness recorded from its
+// rule's partial derivatives (Replica::record_development), against the kernel recorded
+// operation by operation: every stimulus under both laws, pressure under both axial moduli,
+// and the clamps on a step's change and on the modulus holding for some voxels.
+TEST(StageAdjoints, DevelopmentByItsRuleEqualsTheOperationByOperationTape) {
+  RobotDef cube = demo_cube(3, 1e8);
+  for (int v = 0; v < cube.sites(); ++v) {
+    cube.stiffness[v] *= 1.5 + std::sin(1.7 * v + 0.3);
+    cube.phase[v] = 0.37 * std::sin(0.9 * v);
+    cube.dev_rate[v] = (v % 5 == 0 ? 0.0 : 2.0 + std::cos(1.3 * v)) * (v % 2 ? 1.0 : -1.0);
+  }
+  PhysicsDef base;
+  base.duration = 0.08;
+  base.settle_time = 0.02;
+  for (Treatment t : {Treatment::kStress, Treatment::kStrain, Treatment::kStrainEnergy,
+                      Treatment::kContact, Treatment::kKinetic, Treatment::kPressure}) {
+    for (GrowthModel law : {GrowthModel::kIntegral, GrowthModel::kRate}) {
+      SCOPED_TRACE(std::string(to_string(t)) + " " + to_string(law));
+      PhysicsDef def = base;
+      def.treatment = t;
+      def.growth = law;
+      same_gradient(compile(cube, def));
+    }
+  }
+  PhysicsDef voxel = base;
+  voxel.treatment = Treatment::kPressure;
+  voxel.axial_modulus = AxialModulus::kNegativeVoxel;
+  same_gradient(compile(cube, voxel));
+  // A step's change held for the voxels that develop fastest, the modulus for the stiffest
+  // (each clamp changes the life, so it holds somewhere; d/d dev_rate is not zero, so not
+  // everywhere).
+  PhysicsDef held = base;
+  held.treatment = Treatment::kStress;
+  held.growth = GrowthModel::kRate;
+  PhysicsDef change = held, modulus = held;
+  change.max_change_per_step = 1e4;
+  modulus.e_max = 2.2e8;
+  const uint64_t free = simulate(compile(cube, held)).final_state_hash;
+  ASSERT_NE(simulate(compile(cube, change)).final_state_hash, free);
+  ASSERT_NE(simulate(compile(cube, modulus)).final_state_hash, free);
+  held.max_change_per_step = change.max_change_per_step;
+  held.e_max = modulus.e_max;
+  same_gradient(compile(cube, held));
 }
 
 // Over the engine's life of m: the bond-steps in Voxelyze 0.9's small-angle frame and in its

@@ -335,8 +335,11 @@ class Replica {
     }
     // develop
     if (m.def.treatment != Treatment::kNone && !(s.time < m.def.settle_time)) {
-      for (int i = 0; i < m.n; ++i)
-        develop_lanes<Adj, Adj>(w_.views.develop, i, m, dt, !s.stim_ref_set);
+      if (g_tape && blocks_)
+        record_development(dt, !s.stim_ref_set);
+      else
+        for (int i = 0; i < m.n; ++i)
+          develop_lanes<Adj, Adj>(w_.views.develop, i, m, dt, !s.stim_ref_set);
       s.stim_ref_set = true;
     }
     g_branches = nullptr;
@@ -521,6 +524,144 @@ class Replica {
     }
   }
 
+  // A node of sum_k d_k x_k over the inputs' nodes (-1: a constant, left out): one node for two
+  // inputs, one more for each further input (the tape's nodes take two operands).
+  static int32_t combine(const int32_t* id, const double* d, int count) {
+    int32_t acc = -1, first = -1;
+    double first_d = 0.0;
+    for (int k = 0; k < count; ++k) {
+      if (id[k] < 0) continue;
+      if (first < 0 && acc < 0) {
+        first = id[k], first_d = d[k];
+      } else if (acc < 0) {
+        acc = record(first, first_d, id[k], d[k]);
+      } else {
+        acc = record(acc, 1.0, id[k], d[k]);
+      }
+    }
+    return acc >= 0 ? acc : first >= 0 ? record(first, first_d, -1, 0.0) : -1;
+  }
+
+  // Development (develop_lanes) by the engine's own kernel set on doubles, each voxel's
+  // stimulus, integral and stiffness recorded as a node or a few, from the partial derivatives
+  // of its rule, instead of the kernel's twenty or so. The branches are the kernel's: the
+  // stimulus's largest bond (stress, strain) is the one its comparisons kept, and a clamp that
+  // holds, or a gated voxel, gives what pick gives on Adj (docs/gradients.md).
+  void record_development(Adj dt, bool first) {
+    const Model& m = m_;
+    State& s = s_;
+    const DevelopIo& io = w_.views.develop;
+    const size_t n = size_t(m.n);
+    // The inputs the kernel overwrites, as they were.
+    dev_old_.resize(3 * n);
+    std::memcpy(dev_old_.data(), s.stiffness.data(), n * sizeof(double));
+    std::memcpy(dev_old_.data() + n, s.stim_integral.data(), n * sizeof(double));
+    std::memcpy(dev_old_.data() + 2 * n, s.stim_ref.data(), n * sizeof(double));
+    kernels().develop(io, m.n, m, dt.v, first);
+    const double *e_old = dev_old_.data(), *integral_old = e_old + n, *ref_old = e_old + 2 * n;
+    const auto need = [](int32_t* ids) {
+      if (!ids) throw std::logic_error("gradient: a developing row is recorded without a shadow");
+      return ids;
+    };
+    int32_t* stiff_ids = need(ids_of(s.stiffness.data()));
+    int32_t* stimulus_ids = need(ids_of(s.stimulus.data()));
+    int32_t* integral_ids = need(ids_of(s.stim_integral.data()));
+    int32_t* ref_ids = need(ids_of(s.stim_ref.data()));
+    const int32_t *e0_ids = ids_of(io.e0), *alpha_ids = ids_of(io.alpha);
+    const auto id = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
+    const Treatment which = m.def.treatment;
+    const double* per_bond =
+        which == Treatment::kStress || (which == Treatment::kPressure &&
+                                        m.def.axial_modulus == AxialModulus::kHarmonicMean)
+            ? io.bond_stress
+        : which == Treatment::kStrainEnergy ? io.bond_energy
+                                            : io.bond_strain;
+    const int32_t* bond_ids = ids_of(per_bond);
+    int32_t in[7];
+    double d[7];
+    for (size_t i = 0; i < n; ++i) {
+      // The stimulus's node (stimulus_lanes).
+      int32_t stim_id = -1;
+      const double stim = s.stimulus[i];
+      if (which == Treatment::kStress || which == Treatment::kStrain) {
+        double top = 0.0;  // the running maximum, a constant until a bond exceeds it
+        bool negated = false;
+        for (int slot = 0; slot < 6; ++slot) {
+          const int b = io.slot_bond[slot][i];
+          const double x = per_bond[b];
+          const double v = which == Treatment::kStrain && x < 0.0 ? -x : x;
+          if (top < v) top = v, stim_id = id(bond_ids, size_t(b)), negated = x < 0.0;  // strain
+        }
+        if (negated) stim_id = record(stim_id, -1.0, -1, 0.0);
+      } else if (which == Treatment::kStrainEnergy) {
+        for (int slot = 0; slot < 6; ++slot)
+          in[slot] = id(bond_ids, size_t(io.slot_bond[slot][i])), d[slot] = 0.25;
+        stim_id = combine(in, d, 6);
+      } else if (which == Treatment::kContact) {
+        const double side = io.size[i], normal = io.floor_normal[i];
+        in[0] = id(ids_of(io.floor_normal), i), d[0] = 1.0 / (side * side);
+        in[1] = id(ids_of(io.size), i), d[1] = -2.0 * normal / (side * side * side);
+        stim_id = combine(in, d, 2);
+      } else if (which == Treatment::kKinetic) {
+        const int32_t *p_ids = ids_of(io.lin_mom), *h_ids = ids_of(io.ang_mom);
+        for (int c = 0; c < 3; ++c) {
+          in[c] = id(p_ids, 3 * i + c), d[c] = m.inv_mass * io.lin_mom[3 * i + c] * m.inv_volume;
+          in[3 + c] = id(h_ids, 3 * i + c);
+          d[3 + c] = m.inv_inertia * io.ang_mom[3 * i + c] * m.inv_volume;
+        }
+        stim_id = combine(in, d, 6);
+      } else {  // pressure
+        const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
+        const double scale = (split ? 1.0 : e_old[i]) / m.pressure_denominator;
+        double sum = 0.0;
+        for (int axis = 0; axis < 3; ++axis) {
+          const int neg = io.slot_bond[2 * axis][i], pos = io.slot_bond[2 * axis + 1][i];
+          const double w = neg != io.no_bond && pos != io.no_bond ? 0.5 : 1.0;
+          const double a = per_bond[neg], b = per_bond[pos];
+          sum = sum + (w == 0.5 ? 0.5 * (a + b) : a + b);
+          in[2 * axis] = id(bond_ids, size_t(neg)), d[2 * axis] = -w * scale;
+          in[2 * axis + 1] = id(bond_ids, size_t(pos)), d[2 * axis + 1] = -w * scale;
+        }
+        in[6] = split ? -1 : id(stiff_ids, i), d[6] = -sum / m.pressure_denominator;
+        stim_id = combine(in, d, 7);
+      }
+      stimulus_ids[i] = stim_id;
+      if (first) ref_ids[i] = stim_id;
+      // The rule (develop_lanes): the gate, the law's target, the two clamps.
+      const double e = e_old[i], alpha = io.alpha[i];
+      const int32_t e_id = stiff_ids[i];
+      if (!(e > m.gate) || alpha == 0.0) continue;  // inactive: its rows keep their nodes
+      double target;
+      int32_t law_id;  // the integral's, or the stimulus less its reference
+      double law;
+      if (m.def.growth == GrowthModel::kIntegral) {
+        law = integral_old[i] + stim * dt.v;
+        law_id = record(integral_ids[i], 1.0, record(stim_id, dt.v, dt.id, stim), 1.0);
+        integral_ids[i] = law_id;
+      } else {
+        const double ref = first ? stim : ref_old[i];
+        law = stim - ref;
+        law_id = record(stim_id, 1.0, first ? stim_id : ref_ids[i], -1.0);
+      }
+      target = io.e0[i] + alpha * law;
+      const double most = m.def.max_change_per_step;
+      const double change = target - e;
+      const bool change_held = change < -most || most < change;
+      const double next = e + (change < -most ? -most : most < change ? most : change);
+      if (next < m.def.e_min || m.def.e_max < next) {
+        stiff_ids[i] = -1;
+      } else if (change_held) {
+        stiff_ids[i] = e_id;
+      } else {
+        // next = e + (target - e): its derivative is the target's alone.
+        in[0] = id(e0_ids, i), d[0] = 1.0;
+        in[1] = id(alpha_ids, i), d[1] = law;
+        in[2] = law_id, d[2] = alpha;
+        stiff_ids[i] = combine(in, d, 3);
+      }
+    }
+  }
+
   // The voxel update on doubles, as record_bonds does the bond stage.
   void record_updates(Adj dt, double& max_speed2, bool& bad) {
     Tape& t = *g_tape;
@@ -641,9 +782,10 @@ class Replica {
   std::vector<std::vector<int32_t>> scratch_ids_;
   // Self-collision and the free objects' contacts (collision_adjoint.hpp).
   CollisionReplica collisions_;
-  std::vector<double> slope_;  // record_sine's
-  bool bond_block_ = false;    // the last step's bond stage was recorded as a block
-  size_t next_at_ = 0;         // where in bond_values that stage wrote its next deformations
+  std::vector<double> slope_;    // record_sine's
+  std::vector<double> dev_old_;  // record_development's: the rows its kernel overwrites
+  bool bond_block_ = false;      // the last step's bond stage was recorded as a block
+  size_t next_at_ = 0;           // where in bond_values that stage wrote its next deformations
   Blocks* blocks_ = nullptr;
   NetworkReplica net_;      // the neural controller's call
   TerrainReplica terrain_;  // an environment's contacts
