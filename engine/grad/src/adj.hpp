@@ -98,15 +98,24 @@ inline thread_local bool g_reference_tape = false;
 // The tape being recorded on this thread, or none (values only: the replica's forward).
 inline thread_local Tape* g_tape = nullptr;
 
+// The node of a value with operands a and b (-1: a constant) and partials da and db: none
+// for two constants, the operand's own for one operand with a partial of exactly 1 (x + c,
+// x - c, x * 1: the result's adjoint is the operand's), else the node `add` appends.
+template <class Add>
+[[gnu::always_inline]] inline int32_t node_of(int32_t a, double da, int32_t b, double db, Add add) {
+  if (a < 0 && b < 0) return -1;
+  if (a < 0) a = b, da = db, b = -1, db = 0.0;
+  if (b < 0 && da == 1.0) return a;
+  return add(Node{a, b, da, b < 0 ? 0.0 : db});
+}
+
 // Inlined everywhere: the call, not the work, was a third of a replica's step without a tape.
 [[gnu::always_inline]] inline int32_t record(int32_t a, double da, int32_t b, double db) {
-  if (!g_tape || (a < 0 && b < 0)) return -1;
-  if (a < 0) a = b, da = db, b = -1, db = 0.0;
-  // One recorded operand with a partial of exactly 1 (x + c, x - c, x * 1): the result's
-  // adjoint is the operand's, so it takes the operand's node and no new one.
-  if (b < 0 && da == 1.0) return a;
-  g_tape->nodes.push_back({a, b, da, b < 0 ? 0.0 : db});
-  return static_cast<int32_t>(g_tape->nodes.size() - 1);
+  if (!g_tape) return -1;
+  return node_of(a, da, b, db, [](const Node& n) {
+    g_tape->nodes.push_back(n);
+    return static_cast<int32_t>(g_tape->nodes.size() - 1);
+  });
 }
 
 struct Adj {

@@ -524,22 +524,22 @@ class Replica {
     }
   }
 
-  // A node of sum_k d_k x_k over the inputs' nodes (-1: a constant, left out): one node for two
-  // inputs, one more for each further input (the tape's nodes take two operands).
-  static int32_t combine(const int32_t* id, const double* d, int count) {
+  // A node of sum_k d_k x_k over the inputs' nodes (-1: a constant, left out), made by `rec`
+  // (record's rule): one node for two inputs, one more for each further input (a node takes two
+  // operands), so at most count - 1, or 1 for a lone input.
+  template <class Rec>
+  static int32_t combine(const int32_t* id, const double* d, int count, Rec rec) {
     int32_t acc = -1, first = -1;
     double first_d = 0.0;
     for (int k = 0; k < count; ++k) {
       if (id[k] < 0) continue;
-      if (first < 0 && acc < 0) {
+      if (first < 0) {
         first = id[k], first_d = d[k];
-      } else if (acc < 0) {
-        acc = record(first, first_d, id[k], d[k]);
       } else {
-        acc = record(acc, 1.0, id[k], d[k]);
+        acc = acc < 0 ? rec(first, first_d, id[k], d[k]) : rec(acc, 1.0, id[k], d[k]);
       }
     }
-    return acc >= 0 ? acc : first >= 0 ? record(first, first_d, -1, 0.0) : -1;
+    return acc >= 0 ? acc : first >= 0 ? rec(first, first_d, -1, 0.0) : -1;
   }
 
   // Development (develop_lanes) by the engine's own kernel set on doubles, each voxel's
@@ -559,6 +559,20 @@ class Replica {
     std::memcpy(dev_old_.data() + 2 * n, s.stim_ref.data(), n * sizeof(double));
     kernels().develop(io, m.n, m, dt.v, first);
     const double *e_old = dev_old_.data(), *integral_old = e_old + n, *ref_old = e_old + 2 * n;
+    // The nodes go straight into the tape, at most kNodes a voxel: the stimulus's 6 (pressure's
+    // seven inputs), the integral's 2 (or the rate law's 1) and the stiffness's 2.
+    constexpr size_t kNodes = 10;
+    Tape& t = *g_tape;
+    const size_t base = t.nodes.size();
+    t.nodes.resize(base + kNodes * n);  // unwritten until written below
+    Node* out = t.nodes.data() + base;
+    size_t used = 0;
+    const auto rec = [&](int32_t a, double da, int32_t b, double db) {
+      return node_of(a, da, b, db, [&](const Node& node) {
+        out[used] = node;
+        return static_cast<int32_t>(base + used++);
+      });
+    };
     const auto need = [](int32_t* ids) {
       if (!ids) throw std::logic_error("gradient: a developing row is recorded without a shadow");
       return ids;
@@ -592,16 +606,16 @@ class Replica {
           const double v = which == Treatment::kStrain && x < 0.0 ? -x : x;
           if (top < v) top = v, stim_id = id(bond_ids, size_t(b)), negated = x < 0.0;  // strain
         }
-        if (negated) stim_id = record(stim_id, -1.0, -1, 0.0);
+        if (negated) stim_id = rec(stim_id, -1.0, -1, 0.0);
       } else if (which == Treatment::kStrainEnergy) {
         for (int slot = 0; slot < 6; ++slot)
           in[slot] = id(bond_ids, size_t(io.slot_bond[slot][i])), d[slot] = 0.25;
-        stim_id = combine(in, d, 6);
+        stim_id = combine(in, d, 6, rec);
       } else if (which == Treatment::kContact) {
         const double side = io.size[i], normal = io.floor_normal[i];
         in[0] = id(ids_of(io.floor_normal), i), d[0] = 1.0 / (side * side);
         in[1] = id(ids_of(io.size), i), d[1] = -2.0 * normal / (side * side * side);
-        stim_id = combine(in, d, 2);
+        stim_id = combine(in, d, 2, rec);
       } else if (which == Treatment::kKinetic) {
         const int32_t *p_ids = ids_of(io.lin_mom), *h_ids = ids_of(io.ang_mom);
         for (int c = 0; c < 3; ++c) {
@@ -609,7 +623,7 @@ class Replica {
           in[3 + c] = id(h_ids, 3 * i + c);
           d[3 + c] = m.inv_inertia * io.ang_mom[3 * i + c] * m.inv_volume;
         }
-        stim_id = combine(in, d, 6);
+        stim_id = combine(in, d, 6, rec);
       } else {  // pressure
         const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
         const double scale = (split ? 1.0 : e_old[i]) / m.pressure_denominator;
@@ -623,7 +637,7 @@ class Replica {
           in[2 * axis + 1] = id(bond_ids, size_t(pos)), d[2 * axis + 1] = -w * scale;
         }
         in[6] = split ? -1 : id(stiff_ids, i), d[6] = -sum / m.pressure_denominator;
-        stim_id = combine(in, d, 7);
+        stim_id = combine(in, d, 7, rec);
       }
       stimulus_ids[i] = stim_id;
       if (first) ref_ids[i] = stim_id;
@@ -636,12 +650,12 @@ class Replica {
       double law;
       if (m.def.growth == GrowthModel::kIntegral) {
         law = integral_old[i] + stim * dt.v;
-        law_id = record(integral_ids[i], 1.0, record(stim_id, dt.v, dt.id, stim), 1.0);
+        law_id = rec(integral_ids[i], 1.0, rec(stim_id, dt.v, dt.id, stim), 1.0);
         integral_ids[i] = law_id;
       } else {
         const double ref = first ? stim : ref_old[i];
         law = stim - ref;
-        law_id = record(stim_id, 1.0, first ? stim_id : ref_ids[i], -1.0);
+        law_id = rec(stim_id, 1.0, first ? stim_id : ref_ids[i], -1.0);
       }
       target = io.e0[i] + alpha * law;
       const double most = m.def.max_change_per_step;
@@ -657,9 +671,10 @@ class Replica {
         in[0] = id(e0_ids, i), d[0] = 1.0;
         in[1] = id(alpha_ids, i), d[1] = law;
         in[2] = law_id, d[2] = alpha;
-        stiff_ids[i] = combine(in, d, 3);
+        stiff_ids[i] = combine(in, d, 3, rec);
       }
     }
+    t.nodes.resize(base + used);
   }
 
   // The voxel update on doubles, as record_bonds does the bond stage.
