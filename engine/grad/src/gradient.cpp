@@ -591,6 +591,8 @@ class Replica {
         : which == Treatment::kStrainEnergy ? io.bond_energy
                                             : io.bond_strain;
     const int32_t* bond_ids = ids_of(per_bond);
+    const int32_t *normal_ids = ids_of(io.floor_normal), *size_ids = ids_of(io.size);
+    const int32_t *p_ids = ids_of(io.lin_mom), *h_ids = ids_of(io.ang_mom);
     int32_t in[7];
     double d[7];
     for (size_t i = 0; i < n; ++i) {
@@ -613,11 +615,10 @@ class Replica {
         stim_id = combine(in, d, 6, rec);
       } else if (which == Treatment::kContact) {
         const double side = io.size[i], normal = io.floor_normal[i];
-        in[0] = id(ids_of(io.floor_normal), i), d[0] = 1.0 / (side * side);
-        in[1] = id(ids_of(io.size), i), d[1] = -2.0 * normal / (side * side * side);
+        in[0] = id(normal_ids, i), d[0] = 1.0 / (side * side);
+        in[1] = id(size_ids, i), d[1] = -2.0 * normal / (side * side * side);
         stim_id = combine(in, d, 2, rec);
       } else if (which == Treatment::kKinetic) {
-        const int32_t *p_ids = ids_of(io.lin_mom), *h_ids = ids_of(io.ang_mom);
         for (int c = 0; c < 3; ++c) {
           in[c] = id(p_ids, 3 * i + c), d[c] = m.inv_mass * io.lin_mom[3 * i + c] * m.inv_volume;
           in[3 + c] = id(h_ids, 3 * i + c);
@@ -645,7 +646,6 @@ class Replica {
       const double e = e_old[i], alpha = io.alpha[i];
       const int32_t e_id = stiff_ids[i];
       if (!(e > m.gate) || alpha == 0.0) continue;  // inactive: its rows keep their nodes
-      double target;
       int32_t law_id;  // the integral's, or the stimulus less its reference
       double law;
       if (m.def.growth == GrowthModel::kIntegral) {
@@ -657,7 +657,7 @@ class Replica {
         law = stim - ref;
         law_id = rec(stim_id, 1.0, first ? stim_id : ref_ids[i], -1.0);
       }
-      target = io.e0[i] + alpha * law;
+      const double target = io.e0[i] + alpha * law;
       const double most = m.def.max_change_per_step;
       const double change = target - e;
       const bool change_held = change < -most || most < change;
