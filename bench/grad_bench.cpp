@@ -2,8 +2,8 @@
 // so that farm-bench pairs whole processes and /usr/bin/time -v reads the peak memory:
 //   grad_bench forward|gradient walker|walker09|cube10[:TREATMENT] DURATION [CHECKPOINT_EVERY]
 //              [THREADS]
-// (walker09: the walker under bond_model voxelyze09; :stress, :pressure, ...: the body develops
-// under that stimulus)
+// (walker09: the walker under bond_model voxelyze09; ROBOT.json or .vxa: a robot file, with its
+// own physics but the duration; :stress, :pressure, ...: the body develops under that stimulus)
 //   grad_bench check walker|cube10 DURATION [STRIDE] [TASK] [unclassified]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
 // physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
@@ -26,6 +26,7 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
+#include "plastivox/io/robot_file.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
 
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(
         stderr,
-        "usage: grad_bench forward|gradient|check walker|walker09|cube10[:TREATMENT] DURATION [CHECKPOINT_EVERY | "
+        "usage: grad_bench forward|gradient|check walker|walker09|cube10[:TREATMENT] DURATION "
+        "[CHECKPOINT_EVERY | "
         "STRIDE] [THREADS | TASK] [unclassified] (THREADS for gradient, TASK for check)\n");
     return 2;
   }
@@ -47,13 +49,29 @@ int main(int argc, char** argv) {
   if (argc > 5 && mode == "check") def.task = parse_task(argv[5]);
   RobotDef robot;
   if (body == "walker09") def.bond_model = BondModel::kVoxelyze09;  // every bond's scalar path
-  if (body == "walker" || body == "walker09") {
+  if (body.ends_with(".json") || body.ends_with(".vxa")) {
+    // A robot file (an exported champion) with its own physics; DURATION and TREATMENT still
+    // override them.
+    try {
+      RobotFile file = read_robot_file(body);
+      robot = file.robot;
+      const Treatment treatment = body != named ? def.treatment : file.physics.treatment;
+      const double duration = def.duration;
+      def = file.physics;
+      def.duration = duration;
+      def.treatment = treatment;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "grad_bench: %s\n", e.what());
+      return 2;
+    }
+  } else if (body == "walker" || body == "walker09") {
     robot = demo_walker();
   } else if (body == "cube10") {
     robot = demo_cube(10, 1e10);
     for (int s = 0; s < robot.sites(); ++s) robot.stiffness[s] *= 1.0 + 1e-3 * (s % 7);
   } else {
-    std::fprintf(stderr, "grad_bench: body must be walker, walker09 or cube10, not %s\n",
+    std::fprintf(stderr,
+                 "grad_bench: body must be walker, walker09, cube10 or a robot file, not %s\n",
                  body.c_str());
     return 2;
   }
