@@ -86,16 +86,16 @@ std::vector<Coordinate> coordinates(const std::string& name, const grad::Gradien
       out.push_back({k, g.controller_weights[k]});
     return out;
   }
+  // A voxel's gain is its own amplitude (1 under the paper's rule) times its act_scale.
+  const std::vector<double> gain =
+      name == "act_amplitude" ? grad::gain_factor_derivative(g, m, robot.act_scale)
+      : name == "act_scale"   ? grad::gain_factor_derivative(g, m, robot.act_amplitude)
+                              : std::vector<double>{};
   for (int i = 0; i < m.robot_n; ++i) {
-    // A voxel's gain is its own amplitude (1 under the paper's rule) times its act_scale (1
-    // without the array; compile()).
-    const double scale = robot.act_scale.empty() ? 1.0 : robot.act_scale[m.site[i]];
-    const double amplitude = robot.act_amplitude.empty() ? 1.0 : robot.act_amplitude[m.site[i]];
-    const double d = name == "stiffness"       ? g.stiffness[i] * m.e0[i]
-                     : name == "phase"         ? g.phase[i]
-                     : name == "act_amplitude" ? g.act_gain[i] * scale
-                     : name == "act_scale"     ? g.act_gain[i] * amplitude
-                                               : g.dev_rate[i];
+    const double d = name == "stiffness" ? g.stiffness[i] * m.e0[i]
+                     : name == "phase"   ? g.phase[i]
+                     : !gain.empty()     ? gain[i]
+                                         : g.dev_rate[i];
     out.push_back({static_cast<size_t>(m.site[i]), d});
   }
   return out;

@@ -65,23 +65,16 @@ pyb::dict derivatives(const PyRobot& robot, const Model& model, const grad::Grad
     std::copy(xyz.begin(), xyz.end(), a.mutable_data());
     return a;
   };
-  // The gain is the robot's amplitude times its act_scale (compile()): d / d amplitude is
-  // act_gain times the scale (1 without an act_scale array), d / d act_scale act_gain times
-  // the amplitude (1 under the paper's rule, whose gain is the scale alone). Without an
-  // act_scale array that is the derivative at 1, the value the robot's voxels have.
-  const auto times = [&](const std::vector<double>& by) {
-    std::vector<double> d = g.act_gain;
-    if (!by.empty())
-      for (int i = 0; i < model.robot_n; ++i) d[i] *= by[model.site[i]];
-    return d;
-  };
   pyb::dict out;
   for (const std::string& name : wrt) {
     if (name == "stiffness") out[name.c_str()] = on_sites(g.stiffness);
     if (name == "phase") out[name.c_str()] = on_sites(g.phase);
     if (name == "dev_rate") out[name.c_str()] = on_sites(g.dev_rate);
-    if (name == "act_amplitude") out[name.c_str()] = on_sites(times(robot.def.act_scale));
-    if (name == "act_scale") out[name.c_str()] = on_sites(times(robot.def.act_amplitude));
+    // Without an act_scale array, d / d act_scale is at 1, the value the robot's voxels have.
+    if (name == "act_amplitude")
+      out[name.c_str()] = on_sites(grad::gain_factor_derivative(g, model, robot.def.act_scale));
+    if (name == "act_scale")
+      out[name.c_str()] = on_sites(grad::gain_factor_derivative(g, model, robot.def.act_amplitude));
     if (name == "amplitude") out[name.c_str()] = g.amplitude;
     if (name == "controller") out[name.c_str()] = to_array(g.controller_weights);
     if (name == "initial_position") out[name.c_str()] = per_voxel(g.initial_position, 3);

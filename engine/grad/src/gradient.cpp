@@ -1085,6 +1085,14 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
 
 }  // namespace
 
+std::vector<double> gain_factor_derivative(const Gradient& g, const Model& m,
+                                           const std::vector<double>& other) {
+  std::vector<double> d = g.act_gain;
+  if (!other.empty())
+    for (size_t i = 0; i < d.size(); ++i) d[i] *= other[size_t(m.site[i])];
+  return d;
+}
+
 bool is_watch(const char* name) {
   return !std::strcmp(name, "floor_deepest") || !std::strcmp(name, "floor_deep_most") ||
          !std::strcmp(name, "task_values") || !std::strcmp(name, "task_layout");

@@ -178,6 +178,13 @@ struct ReplicaSummary {
 };
 ReplicaSummary replicate_life(const Model& model);
 
+// d fitness / d one factor of each robot voxel's actuation gain (Gradient::act_gain), in voxel
+// order: the gain is the robot's act_amplitude times its act_scale (compile()), so this is
+// act_gain times the other factor, `other` (RobotDef::act_scale for d / d act_amplitude,
+// RobotDef::act_amplitude for d / d act_scale, on the lattice's sites; empty: 1 everywhere).
+std::vector<double> gain_factor_derivative(const Gradient& g, const Model& model,
+                                           const std::vector<double>& other);
+
 // The watches among the State's rows (kStateFields: the floor's deepest penetration, the
 // task's running values) are not physics: the backward pass's replica does not keep them, so
 // a loss's derivative of one would go nowhere.
