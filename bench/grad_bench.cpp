@@ -4,11 +4,11 @@
 //              [THREADS]
 // (walker09: the walker under bond_model voxelyze09; ROBOT.json or .vxa: a robot file, with its
 // own physics but the duration; :stress, :pressure, ...: the body develops under that stimulus)
-//   grad_bench check walker|cube10 DURATION [STRIDE] [TASK] [unclassified]
+//   grad_bench check BODY DURATION [STRIDE] [TASK] [unclassified]
 // forward: simulate() of the life; gradient: plastivox::grad::gradient of the same life. The
-// physics are the defaults but the duration (settling 0.2 s, as in every preset). Prints the
-// fitness, the wall time and, for the gradient, its snapshots and largest tape. THREADS: the
-// gradient's backward pass (GradientOptions::threads; default 0, all cores).
+// physics are the defaults (a robot file's own) but the duration (settling 0.2 s, as in every
+// preset). Prints the fitness, the wall time and, for the gradient, its snapshots and largest
+// tape. THREADS: the gradient's backward pass (GradientOptions::threads; default 0, all cores).
 // check: the gradient against central differences of simulate() (h = 1e-4 of E0, 1e-4 cycles)
 // on every STRIDE-th voxel's E0 and phase (16 unless given): each parameter's relative error,
 // whether the nudged lives took the life's branches, and per kind the cosine between the two
@@ -42,28 +42,29 @@ int main(int argc, char** argv) {
   }
   const std::string mode = argv[1], named = argv[2];
   // BODY:TREATMENT develops the body under that stimulus (walker:stress), as the paper's do.
-  const std::string body = named.substr(0, named.find(':'));
-  PhysicsDef def;
-  if (body != named) def.treatment = parse_treatment(named.substr(body.size() + 1));
-  def.duration = std::atof(argv[3]);
-  if (argc > 5 && mode == "check") def.task = parse_task(argv[5]);
+  const size_t colon = named.rfind(':');
+  const std::string body = named.substr(0, colon);
   RobotDef robot;
-  if (body == "walker09") def.bond_model = BondModel::kVoxelyze09;  // every bond's scalar path
-  if (body.ends_with(".json") || body.ends_with(".vxa")) {
-    // A robot file (an exported champion) with its own physics; DURATION and TREATMENT still
-    // override them.
-    try {
+  PhysicsDef def;
+  const bool from_file = body.ends_with(".json") || body.ends_with(".vxa");
+  try {
+    if (from_file) {
+      // A robot file (an exported champion) with its own physics, but DURATION, TREATMENT
+      // and TASK.
       RobotFile file = read_robot_file(body);
       robot = file.robot;
-      const Treatment treatment = body != named ? def.treatment : file.physics.treatment;
-      const double duration = def.duration;
       def = file.physics;
-      def.duration = duration;
-      def.treatment = treatment;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "grad_bench: %s\n", e.what());
-      return 2;
     }
+    if (colon != std::string::npos) def.treatment = parse_treatment(named.substr(colon + 1));
+    if (argc > 5 && mode == "check") def.task = parse_task(argv[5]);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "grad_bench: %s\n", e.what());
+    return 2;
+  }
+  def.duration = std::atof(argv[3]);
+  if (body == "walker09") def.bond_model = BondModel::kVoxelyze09;  // every bond's scalar path
+  if (from_file) {
+    // read above
   } else if (body == "walker" || body == "walker09") {
     robot = demo_walker();
   } else if (body == "cube10") {

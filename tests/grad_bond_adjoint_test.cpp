@@ -336,6 +336,8 @@ TEST(StageAdjoints, DevelopmentByItsRuleEqualsTheOperationByOperationTape) {
   const uint64_t free = simulate(compile(cube, held)).final_state_hash;
   ASSERT_NE(simulate(compile(cube, change)).final_state_hash, free);
   ASSERT_NE(simulate(compile(cube, modulus)).final_state_hash, free);
+  same_gradient(compile(cube, change));
+  same_gradient(compile(cube, modulus));
   held.max_change_per_step = change.max_change_per_step;
   held.e_max = modulus.e_max;
   same_gradient(compile(cube, held));

@@ -3,7 +3,7 @@
 // grad::gradient runs, on the threads it would take (two on a 2-core machine, which keeps a
 // second segment's tape), and the peak must stay within both the 2 GB and the plan
 // grad::plan makes before anything runs (snapshots and tapes, which the memory_limit option
-// refuses by). Labelled slow: about ten seconds of CPU in the Release build.
+// refuses by). Labelled slow: about 8 s of CPU in the Release build.
 #include <cstdio>
 
 #include <gtest/gtest.h>

@@ -172,6 +172,10 @@ Adj stable_dt_adj(const Model& m, const double* E, Fnv* events = nullptr) {
   return m.def.dt_frac / (2.0 * std::numbers::pi * root(k_max / m.mass));
 }
 
+// The most nodes Replica::record_development records a voxel: the stimulus's 6 (pressure's seven
+// inputs), the integral's 2 (or the rate law's 1) and the stiffness's 2.
+constexpr size_t kDevelopNodes = 10;
+
 // One life's replica: a State (its values) and the node of every value of its floating-point
 // rows, with the scratch arrays of a step.
 class Replica {
@@ -559,20 +563,6 @@ class Replica {
     std::memcpy(dev_old_.data() + 2 * n, s.stim_ref.data(), n * sizeof(double));
     kernels().develop(io, m.n, m, dt.v, first);
     const double *e_old = dev_old_.data(), *integral_old = e_old + n, *ref_old = e_old + 2 * n;
-    // The nodes go straight into the tape, at most kNodes a voxel: the stimulus's 6 (pressure's
-    // seven inputs), the integral's 2 (or the rate law's 1) and the stiffness's 2.
-    constexpr size_t kNodes = 10;
-    Tape& t = *g_tape;
-    const size_t base = t.nodes.size();
-    t.nodes.resize(base + kNodes * n);  // unwritten until written below
-    Node* out = t.nodes.data() + base;
-    size_t used = 0;
-    const auto rec = [&](int32_t a, double da, int32_t b, double db) {
-      return node_of(a, da, b, db, [&](const Node& node) {
-        out[used] = node;
-        return static_cast<int32_t>(base + used++);
-      });
-    };
     const auto need = [](int32_t* ids) {
       if (!ids) throw std::logic_error("gradient: a developing row is recorded without a shadow");
       return ids;
@@ -581,6 +571,19 @@ class Replica {
     int32_t* stimulus_ids = need(ids_of(s.stimulus.data()));
     int32_t* integral_ids = need(ids_of(s.stim_integral.data()));
     int32_t* ref_ids = need(ids_of(s.stim_ref.data()));
+    // The nodes go straight into the tape, at most kDevelopNodes a voxel (the segment's tape is
+    // reserved for them: nodes_per_step).
+    Tape& t = *g_tape;
+    const size_t base = t.nodes.size();
+    t.nodes.resize(base + kDevelopNodes * n);  // unwritten until written below
+    Node* out = t.nodes.data() + base;
+    size_t used = 0;
+    const auto rec = [&](int32_t a, double da, int32_t b, double db) {
+      return node_of(a, da, b, db, [&](const Node& node) {
+        out[used] = node;
+        return static_cast<int32_t>(base + used++);
+      });
+    };
     const int32_t *e0_ids = ids_of(io.e0), *alpha_ids = ids_of(io.alpha);
     const auto id = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
     const Treatment which = m.def.treatment;
@@ -928,9 +931,10 @@ double block_bytes(const Model& m) {
          sizeof(GatherBlock) + 3 * sizeof(Blocks::order[0]);
 }
 
-// The nodes one step records: the first step of the life, and a fifth more for what the first
-// step lacks (actuation and development start after settling; damping after the first step).
-// Its bond blocks are one a bond.
+// The nodes one step records: the first step of the life, a fifth more for what the first step
+// lacks (actuation starts after settling, damping after the first step), and development's
+// most (Replica::record_development), which also starts after settling. Its bond blocks are
+// one a bond.
 size_t nodes_per_step(const Model& m) {
   Tape tape;
   Replica rep(m);
@@ -950,7 +954,8 @@ size_t nodes_per_step(const Model& m) {
     throw;
   }
   g_tape = nullptr;
-  return (tape.nodes.size() - leaves) * 6 / 5 + 1;
+  const size_t develop = m.def.treatment != Treatment::kNone ? kDevelopNodes * size_t(m.n) : 0;
+  return (tape.nodes.size() - leaves) * 6 / 5 + 1 + develop;
 }
 
 // One segment of the life recomputed for its reverse sweep: the replica that recorded it, its
@@ -1156,9 +1161,9 @@ Plan plan(const Model& m, const GradientOptions& options) {
   // replica (its workspace and its copies of the state: the rows' node ids, the loss's scratch,
   // the state it is checked against); beside them is the engine's own life. Those copies were
   // measured at 15 snapshots' bytes on one thread and 23 on two, on the walker and the 10^3
-  // cube (tests/grad_memory_test.cpp); 12 + 8 a thread are counted.
-  p.thread_bytes = segment_nodes * kNodeBytes + K * blocks + 8 * S;
-  const auto bytes = [&](int threads) { return snapshots + threads * p.thread_bytes + 12 * S; };
+  // cube (tests/grad_memory_test.cpp); 14 + 10 a thread are counted.
+  p.thread_bytes = segment_nodes * kNodeBytes + K * blocks + 10 * S;
+  const auto bytes = [&](int threads) { return snapshots + threads * p.thread_bytes + 14 * S; };
   const bool within = !(options.memory_limit > 0) || bytes(2) <= options.memory_limit;
   p.threads =
       (options.threads > 0 ? options.threads : hardware_threads()) >= 2 && N > K && within ? 2 : 1;
