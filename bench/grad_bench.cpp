@@ -63,14 +63,12 @@ int main(int argc, char** argv) {
   }
   def.duration = std::atof(argv[3]);
   if (body == "walker09") def.bond_model = BondModel::kVoxelyze09;  // every bond's scalar path
-  if (from_file) {
-    // read above
-  } else if (body == "walker" || body == "walker09") {
+  if (body == "walker" || body == "walker09") {
     robot = demo_walker();
   } else if (body == "cube10") {
     robot = demo_cube(10, 1e10);
     for (int s = 0; s < robot.sites(); ++s) robot.stiffness[s] *= 1.0 + 1e-3 * (s % 7);
-  } else {
+  } else if (!from_file) {
     std::fprintf(stderr,
                  "grad_bench: body must be walker, walker09, cube10 or a robot file, not %s\n",
                  body.c_str());

@@ -37,10 +37,6 @@ void counted_delete(void* p, size_t align) noexcept {
 
 namespace plastivox::test {
 
-size_t live_heap_bytes() {
-  return g_live.load();
-}
-
 PeakScope::PeakScope() : base_(g_live.load()) {
   g_peak.store(base_);
 }

@@ -8,8 +8,6 @@
 
 namespace plastivox::test {
 
-size_t live_heap_bytes();
-
 // The peak of live heap bytes since it was constructed, above what was live then.
 class PeakScope {
  public:

@@ -556,13 +556,10 @@ class Replica {
     State& s = s_;
     const DevelopIo& io = w_.views.develop;
     const size_t n = size_t(m.n);
-    // The inputs the kernel overwrites, as they were.
-    dev_old_.resize(3 * n);
-    std::memcpy(dev_old_.data(), s.stiffness.data(), n * sizeof(double));
-    std::memcpy(dev_old_.data() + n, s.stim_integral.data(), n * sizeof(double));
-    std::memcpy(dev_old_.data() + 2 * n, s.stim_ref.data(), n * sizeof(double));
+    // The moduli as they were (the kernel overwrites them; the integral and the reference it
+    // writes are what the rule below reads).
+    e_old_.assign(s.stiffness.begin(), s.stiffness.end());
     kernels().develop(io, m.n, m, dt.v, first);
-    const double *e_old = dev_old_.data(), *integral_old = e_old + n, *ref_old = e_old + 2 * n;
     const auto need = [](int32_t* ids) {
       if (!ids) throw std::logic_error("gradient: a developing row is recorded without a shadow");
       return ids;
@@ -630,7 +627,7 @@ class Replica {
         stim_id = combine(in, d, 6, rec);
       } else {  // pressure
         const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
-        const double scale = (split ? 1.0 : e_old[i]) / m.pressure_denominator;
+        const double scale = (split ? 1.0 : e_old_[i]) / m.pressure_denominator;
         double sum = 0.0;
         for (int axis = 0; axis < 3; ++axis) {
           const int neg = io.slot_bond[2 * axis][i], pos = io.slot_bond[2 * axis + 1][i];
@@ -646,20 +643,17 @@ class Replica {
       stimulus_ids[i] = stim_id;
       if (first) ref_ids[i] = stim_id;
       // The rule (develop_lanes): the gate, the law's target, the two clamps.
-      const double e = e_old[i], alpha = io.alpha[i];
+      const double e = e_old_[i], alpha = io.alpha[i];
       const int32_t e_id = stiff_ids[i];
       if (!(e > m.gate) || alpha == 0.0) continue;  // inactive: its rows keep their nodes
-      int32_t law_id;  // the integral's, or the stimulus less its reference
-      double law;
-      if (m.def.growth == GrowthModel::kIntegral) {
-        law = integral_old[i] + stim * dt.v;
-        law_id = rec(integral_ids[i], 1.0, rec(stim_id, dt.v, dt.id, stim), 1.0);
-        integral_ids[i] = law_id;
-      } else {
-        const double ref = first ? stim : ref_old[i];
-        law = stim - ref;
-        law_id = rec(stim_id, 1.0, first ? stim_id : ref_ids[i], -1.0);
-      }
+      // The integral the kernel wrote, old + stim dt, or the stimulus less its reference (the
+      // stimulus itself on the first step, which ref_ids already names).
+      const bool integral = m.def.growth == GrowthModel::kIntegral;
+      const double law = integral ? s.stim_integral[i] : stim - s.stim_ref[i];
+      const int32_t law_id = integral
+                                 ? rec(integral_ids[i], 1.0, rec(stim_id, dt.v, dt.id, stim), 1.0)
+                                 : rec(stim_id, 1.0, ref_ids[i], -1.0);
+      if (integral) integral_ids[i] = law_id;
       const double target = io.e0[i] + alpha * law;
       const double most = m.def.max_change_per_step;
       const double change = target - e;
@@ -800,10 +794,10 @@ class Replica {
   std::vector<std::vector<int32_t>> scratch_ids_;
   // Self-collision and the free objects' contacts (collision_adjoint.hpp).
   CollisionReplica collisions_;
-  std::vector<double> slope_;    // record_sine's
-  std::vector<double> dev_old_;  // record_development's: the rows its kernel overwrites
-  bool bond_block_ = false;      // the last step's bond stage was recorded as a block
-  size_t next_at_ = 0;           // where in bond_values that stage wrote its next deformations
+  std::vector<double> slope_;  // record_sine's
+  std::vector<double> e_old_;  // record_development's: the moduli before its kernel
+  bool bond_block_ = false;    // the last step's bond stage was recorded as a block
+  size_t next_at_ = 0;         // where in bond_values that stage wrote its next deformations
   Blocks* blocks_ = nullptr;
   NetworkReplica net_;      // the neural controller's call
   TerrainReplica terrain_;  // an environment's contacts
