@@ -447,6 +447,10 @@ int cmd_optimize(const Args& in) {
         // Refused (memory, a tape too long: invalid_argument) or a branch not differentiated
         // yet (domain_error): the run stops after this step's line. A replica that left the
         // engine's life (a plain logic_error) is a bug, and propagates.
+        // The first life's plan passed; a body that stiffens can still pass --memory-limit as
+        // it runs (more steps, so more snapshots, than its initial time step gave).
+        if (k == 0 && typeid(e) == typeid(std::invalid_argument))
+          throw InputError(source + ": " + e.what() + " (--memory-limit)");
         if (k == 0 || typeid(e) == typeid(std::logic_error)) throw;
         refused = "step " + std::to_string(k) + ": " + e.what();
       }

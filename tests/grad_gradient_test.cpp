@@ -612,6 +612,31 @@ TEST(Gradient, RefusesALifeBeyondItsMemoryInOneLine) {
   EXPECT_LT(grad::gradient(walker, tight).estimated_bytes, 1e9);
 }
 
+// A body that stiffens as it develops takes more steps than its initial time step gives, and so
+// more snapshots than plan() counted: under a memory limit the plan passes, the gradient stops
+// with one line once the snapshots pass the limit, not past it silently; a limit that holds the
+// life's own snapshots lets it through.
+TEST(Gradient, RefusesALifeThatStiffensPastItsMemoryInOneLine) {
+  const Model m = compile(demo_walker(), short_life(0.3, 0.02, Treatment::kPressure));
+  grad::GradientOptions o;
+  o.checkpoint_every = 4;
+  o.threads = 1;
+  const grad::Plan p = grad::plan(m, o);
+  const grad::Gradient whole = grad::gradient(m, o);
+  const double planned = std::ceil(p.steps / o.checkpoint_every);
+  ASSERT_GT(static_cast<double>(whole.checkpoints), planned + 2) << whole.steps << " " << p.steps;
+  o.memory_limit = p.estimated_bytes + 0.5 * p.snapshot_bytes;
+  EXPECT_EQ(grad::plan(m, o).estimated_bytes, p.estimated_bytes);
+  const std::string past = error_of([&] { grad::gradient(m, o); });
+  EXPECT_NE(past.find("stiffened"), std::string::npos) << past;
+  EXPECT_NE(past.find("memory_limit"), std::string::npos) << past;
+  EXPECT_EQ(past.find('\n'), std::string::npos);
+  o.memory_limit = p.estimated_bytes + whole.checkpoint_bytes - planned * p.snapshot_bytes;
+  const grad::Gradient held = grad::gradient(m, o);
+  EXPECT_EQ(held.fitness, whole.fitness);
+  EXPECT_EQ(held.stiffness, whole.stiffness);
+}
+
 // Under the exact model, the bonds the batched kernel hands to the scalar path (here an
 // irregular 150-voxel body's, bent near half a turn as it sinks through the floor, from step 412
 // on) are differentiated by that path (each on a small tape of its own, in the bond stage's

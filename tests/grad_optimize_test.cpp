@@ -336,6 +336,20 @@ TEST_F(Optimize, RefusesBadInputInOneLine) {
   one_line(r);
   EXPECT_NE(r.out.find("more than memory_limit 1.0"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("--memory-limit"), std::string::npos) << r.out;
+  // A first life whose plan passes the bound but which, stiffening under pressure, takes more
+  // snapshots than planned as it runs.
+  const std::string grows =
+      " --treatment pressure --physics '{\"duration\": 0.3, \"settle_time\": 0.02}'";
+  r = cli("optimize " + kWalker + grows + " --memory-limit 1" + out);
+  const size_t at = r.out.find("needs about ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const double planned_mb = std::stod(r.out.substr(at + 12));
+  r = cli("optimize " + kWalker + grows + " --memory-limit " + std::to_string(planned_mb + 0.05) +
+          out);
+  EXPECT_EQ(r.status, 1);
+  one_line(r);
+  EXPECT_NE(r.out.find("as it stiffened"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--memory-limit"), std::string::npos) << r.out;
   r = cli("optimize " + kWalker + " --wrt dev_rate --treatment none" + kShort + out);
   EXPECT_EQ(r.status, 2);
   one_line(r);

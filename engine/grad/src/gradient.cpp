@@ -1209,8 +1209,25 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
     return sim.state().status == SimStatus::kRunning &&
            (options.steps < 0 || sim.state().steps < options.steps);
   };
+  // The plan counts the steps from the initial time step; a body that stiffens as it develops
+  // takes more, and so more snapshots. Under a memory limit, the life stops with one line once
+  // the snapshots it has taken pass it, instead of passing the limit silently.
+  const double beside_snapshots = p.estimated_bytes - std::ceil(p.steps / K) * p.snapshot_bytes;
+  double snapshot_bytes = 0;
   while (go_on()) {
-    if (sim.state().steps % K == 0) snaps.push_back(sim.save_state());
+    if (sim.state().steps % K == 0) {
+      snaps.push_back(sim.save_state());
+      snapshot_bytes += static_cast<double>(snaps.back().size());
+      if (options.memory_limit > 0 && beside_snapshots + snapshot_bytes > options.memory_limit)
+        throw std::invalid_argument(
+            "gradient: the life has taken " + std::to_string(sim.state().steps) +
+            " steps by t = " + std::to_string(sim.state().time) + " s, more than the " +
+            std::to_string(static_cast<long long>(p.steps)) +
+            " its initial time step gave (its time step shrank as it stiffened), and its "
+            "snapshots pass memory_limit " +
+            std::to_string(options.memory_limit / 1e6) +
+            " MB: raise the limit or shorten the life");
+    }
     sim.step();
     loss.see(sim.state());
   }
