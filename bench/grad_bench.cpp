@@ -16,6 +16,8 @@
 // fitness is taken (walk unless given: jump, turn, ...). unclassified: check without telling
 // which nudged lives took the life's branches (replicate_life of every nudged life costs far
 // more than the lives themselves: a whole life's check takes minutes instead of an hour).
+// GRAD_BENCH_SIMD=scalar|avx2|avx512 in the environment lowers the kernels' instruction set
+// (set_simd_level), to see how the ratio moves with the lanes' width: the bits do not.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,6 +29,7 @@
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
 #include "plastivox/io/robot_file.hpp"
+#include "plastivox/simd.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
 
@@ -74,14 +77,26 @@ int main(int argc, char** argv) {
                  body.c_str());
     return 2;
   }
+  if (const char* simd = std::getenv("GRAD_BENCH_SIMD")) {
+    const std::string level = simd;
+    if (level != "scalar" && level != "avx2" && level != "avx512") {
+      std::fprintf(stderr, "grad_bench: GRAD_BENCH_SIMD must be scalar, avx2 or avx512, not %s\n",
+                   simd);
+      return 2;
+    }
+    set_simd_level(level == "scalar" ? SimdLevel::kScalar
+                   : level == "avx2" ? SimdLevel::kAvx2
+                                     : SimdLevel::kAvx512);
+  }
   const Model m = compile(robot, def);
   const auto start = std::chrono::steady_clock::now();
   if (mode == "forward") {
     const SimResult r = simulate(m);
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("forward %s %.3g s: fitness %.17g, %lld steps, %.3f s\n", body.c_str(),
-                def.duration, r.fitness, static_cast<long long>(r.steps), s);
+    std::printf("forward %s %.3g s: fitness %.17g, %lld steps, %.3f s, %s\n", body.c_str(),
+                def.duration, r.fitness, static_cast<long long>(r.steps), s,
+                to_string(simd_level()));
   } else if (mode == "gradient") {
     grad::GradientOptions o;
     if (argc > 4) o.checkpoint_every = std::atoi(argv[4]);
@@ -91,10 +106,10 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf(
         "gradient %s %.3g s: fitness %.17g, %lld steps, %.3f s; %zu snapshots every %d steps "
-        "(%.1f MB), largest tape %zu nodes (%.1f MB), %d threads\n",
+        "(%.1f MB), largest tape %zu nodes (%.1f MB), %d threads, %s\n",
         body.c_str(), def.duration, g.fitness, static_cast<long long>(g.steps), s, g.checkpoints,
         g.checkpoint_every, g.checkpoint_bytes / 1e6, g.peak_tape_nodes,
-        g.peak_tape_nodes * 32.0 / 1e6, g.threads);
+        g.peak_tape_nodes * 32.0 / 1e6, g.threads, to_string(simd_level()));
   } else if (mode == "check") {
     const grad::Gradient g = grad::gradient(m);
     const bool classify = !(argc > 6 && std::string(argv[6]) == "unclassified");
