@@ -1212,13 +1212,15 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
   // The plan counts the steps from the initial time step; a body that stiffens as it develops
   // takes more, and so more snapshots. Under a memory limit, the life stops with one line once
   // the snapshots it has taken pass it, instead of passing the limit silently.
-  const double beside_snapshots = p.estimated_bytes - std::ceil(p.steps / K) * p.snapshot_bytes;
+  const double planned_snapshots = std::ceil(p.steps / K);
+  const double beside_snapshots = p.estimated_bytes - planned_snapshots * p.snapshot_bytes;
   double snapshot_bytes = 0;
   while (go_on()) {
     if (sim.state().steps % K == 0) {
       snaps.push_back(sim.save_state());
       snapshot_bytes += static_cast<double>(snaps.back().size());
-      if (options.memory_limit > 0 && beside_snapshots + snapshot_bytes > options.memory_limit)
+      if (options.memory_limit > 0 && static_cast<double>(snaps.size()) > planned_snapshots &&
+          beside_snapshots + snapshot_bytes > options.memory_limit)
         throw std::invalid_argument(
             "gradient: the life has taken " + std::to_string(sim.state().steps) +
             " steps by t = " + std::to_string(sim.state().time) + " s, more than the " +
