@@ -449,7 +449,7 @@ int cmd_optimize(const Args& in) {
         // engine's life (a plain logic_error) is a bug, and propagates.
         // The first life's plan passed; a body that stiffens can still pass --memory-limit as
         // it runs (more steps, so more snapshots, than its initial time step gave).
-        if (k == 0 && typeid(e) == typeid(std::invalid_argument))
+        if (k == 0 && dynamic_cast<const grad::MemoryLimitError*>(&e))
           throw InputError(source + ": " + e.what() + " (--memory-limit)");
         if (k == 0 || typeid(e) == typeid(std::logic_error)) throw;
         refused = "step " + std::to_string(k) + ": " + e.what();

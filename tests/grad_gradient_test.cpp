@@ -613,9 +613,10 @@ TEST(Gradient, RefusesALifeBeyondItsMemoryInOneLine) {
 }
 
 // A body that stiffens as it develops takes more steps than its initial time step gives, and so
-// more snapshots than plan() counted: under a memory limit the plan passes, the gradient stops
-// with one line once the snapshots pass the limit, not past it silently; a limit that holds the
-// life's own snapshots lets it through.
+// more snapshots than plan() counted. Under a memory limit the plan passes: on one thread the
+// gradient stops with one line once the snapshots pass the limit, not past it silently; planned
+// on two threads, it takes one instead (a segment's tape fewer) when that keeps within the limit;
+// a limit that holds the life's own snapshots lets it through. The gradient is the same bits.
 TEST(Gradient, RefusesALifeThatStiffensPastItsMemoryInOneLine) {
   const Model m = compile(demo_walker(), short_life(0.3, 0.02, Treatment::kPressure));
   grad::GradientOptions o;
@@ -624,17 +625,33 @@ TEST(Gradient, RefusesALifeThatStiffensPastItsMemoryInOneLine) {
   const grad::Plan p = grad::plan(m, o);
   const grad::Gradient whole = grad::gradient(m, o);
   const double planned = std::ceil(p.steps / o.checkpoint_every);
+  const double extra = (static_cast<double>(whole.checkpoints) - planned) * p.snapshot_bytes;
   ASSERT_GT(static_cast<double>(whole.checkpoints), planned + 2) << whole.steps << " " << p.steps;
   o.memory_limit = p.estimated_bytes + 0.5 * p.snapshot_bytes;
   EXPECT_EQ(grad::plan(m, o).estimated_bytes, p.estimated_bytes);
+  EXPECT_THROW(grad::gradient(m, o), grad::MemoryLimitError);
   const std::string past = error_of([&] { grad::gradient(m, o); });
   EXPECT_NE(past.find("stiffened"), std::string::npos) << past;
   EXPECT_NE(past.find("memory_limit"), std::string::npos) << past;
   EXPECT_EQ(past.find('\n'), std::string::npos);
-  o.memory_limit = p.estimated_bytes + whole.checkpoint_bytes - planned * p.snapshot_bytes;
+  o.memory_limit = p.estimated_bytes + extra;
   const grad::Gradient held = grad::gradient(m, o);
   EXPECT_EQ(held.fitness, whole.fitness);
   EXPECT_EQ(held.stiffness, whole.stiffness);
+  // Planned on two threads; the extra snapshots fit beside one thread's segment, not two's.
+  o.threads = 2;
+  o.memory_limit = 0;
+  const grad::Plan p2 = grad::plan(m, o);
+  ASSERT_EQ(p2.threads, 2);
+  ASSERT_LT(extra, p2.thread_bytes);
+  o.memory_limit = p2.estimated_bytes + 0.5 * p.snapshot_bytes;
+  ASSERT_EQ(grad::plan(m, o).threads, 2);
+  const grad::Gradient fewer = grad::gradient(m, o);
+  EXPECT_EQ(fewer.threads, 1);
+  EXPECT_EQ(fewer.fitness, whole.fitness);
+  EXPECT_EQ(fewer.stiffness, whole.stiffness);
+  o.memory_limit = p2.estimated_bytes + extra;
+  EXPECT_EQ(grad::gradient(m, o).threads, 2);
 }
 
 // Under the exact model, the bonds the batched kernel hands to the scalar path (here an

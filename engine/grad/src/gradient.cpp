@@ -1163,7 +1163,7 @@ Plan plan(const Model& m, const GradientOptions& options) {
       (options.threads > 0 ? options.threads : hardware_threads()) >= 2 && N > K && within ? 2 : 1;
   p.estimated_bytes = bytes(p.threads);
   if (options.memory_limit > 0 && p.estimated_bytes > options.memory_limit)
-    throw std::invalid_argument(
+    throw MemoryLimitError(
         "gradient: the life needs about " + std::to_string(p.estimated_bytes / 1e6) + " MB (" +
         std::to_string(static_cast<long long>(N)) + " steps, a snapshot every " +
         std::to_string(K) + "), more than memory_limit " +
@@ -1210,25 +1210,34 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
            (options.steps < 0 || sim.state().steps < options.steps);
   };
   // The plan counts the steps from the initial time step; a body that stiffens as it develops
-  // takes more, and so more snapshots. Under a memory limit, the life stops with one line once
-  // the snapshots it has taken pass it, instead of passing the limit silently.
+  // takes more, and so more snapshots. Under a memory limit, once the snapshots and the rest of
+  // the estimate pass it, the backward pass takes one thread (one segment's tape fewer) if
+  // that is within it, else the life stops with one line: the limit is never passed silently.
   const double planned_snapshots = std::ceil(p.steps / K);
   const double beside_snapshots = p.estimated_bytes - planned_snapshots * p.snapshot_bytes;
   double snapshot_bytes = 0;
+  int threads = p.threads;
   while (go_on()) {
     if (sim.state().steps % K == 0) {
       snaps.push_back(sim.save_state());
       snapshot_bytes += static_cast<double>(snaps.back().size());
+      const auto over = [&] {
+        const double threads_fewer = (p.threads - threads) * p.thread_bytes;
+        return beside_snapshots - threads_fewer + snapshot_bytes > options.memory_limit;
+      };
       if (options.memory_limit > 0 && static_cast<double>(snaps.size()) > planned_snapshots &&
-          beside_snapshots + snapshot_bytes > options.memory_limit)
-        throw std::invalid_argument(
-            "gradient: the life has taken " + std::to_string(sim.state().steps) +
-            " steps by t = " + std::to_string(sim.state().time) + " s, more than the " +
-            std::to_string(static_cast<long long>(p.steps)) +
-            " its initial time step gave (its time step shrank as it stiffened), and its "
-            "snapshots pass memory_limit " +
-            std::to_string(options.memory_limit / 1e6) +
-            " MB: raise the limit or shorten the life");
+          over()) {
+        threads = 1;
+        if (over())
+          throw MemoryLimitError(
+              "gradient: the life goes on past step " + std::to_string(sim.state().steps) +
+              " (t = " + std::to_string(sim.state().time) + " s), beyond the " +
+              std::to_string(static_cast<long long>(p.steps)) +
+              " steps its initial time step gave (its time step shrank as it stiffened), and its "
+              "snapshots pass memory_limit " +
+              std::to_string(options.memory_limit / 1e6) +
+              " MB: raise the limit or shorten the life");
+      }
     }
     sim.step();
     loss.see(sim.state());
@@ -1255,7 +1264,7 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
   // ---- Backward: segments last to first ----
   // On two threads, a helper recomputes segment k - 1 while this thread sweeps segment k; the
   // sweeps run in the same order on the same thread either way, so the sums are the same.
-  g.threads = p.threads >= 2 && snaps.size() > 1 ? 2 : 1;
+  g.threads = threads >= 2 && snaps.size() > 1 ? 2 : 1;
   Segment one(m, p, sim.state());
   std::unique_ptr<Segment> two =
       g.threads == 2 ? std::make_unique<Segment>(m, p, sim.state()) : nullptr;

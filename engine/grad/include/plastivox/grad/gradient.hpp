@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,13 +28,22 @@
 
 namespace plastivox::grad {
 
+// A life refused for GradientOptions::memory_limit: before it runs (plan()), or as it runs
+// (a body that stiffens past it).
+struct MemoryLimitError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
 struct GradientOptions {
   // Steps between stored states (the length of a recomputed segment); 0 chooses
   // sqrt(steps x snapshot bytes / tape bytes per step), which balances the snapshots' memory
   // against the tape's (their sum is then 2 sqrt(steps x snapshot x tape per step)).
   int checkpoint_every = 0;
   // Refuse a life whose estimated memory (Plan::estimated_bytes) exceeds this many bytes, with
-  // one line saying so; 0: no limit.
+  // one line saying so (MemoryLimitError); 0: no limit. The estimate counts the life's steps
+  // from its initial time step; a body that stiffens takes more, and more snapshots: the
+  // forward pass then takes one thread for the backward pass if that keeps within the limit,
+  // else stops with MemoryLimitError as it passes it.
   double memory_limit = 0;
   // Threads for the backward pass (0: all cores, as elsewhere in the engine). It uses at most
   // two: one sweeps a segment in reverse while the other recomputes the segment before, which
@@ -98,7 +108,8 @@ struct Gradient {
 
 // How gradient() will store the life, before it runs: the snapshot spacing and the memory it
 // expects (snapshots, and one segment's tape and a replica a thread). Throws what gradient() throws
-// before the life runs (bad options, memory_limit, a tape too long).
+// before the life runs (bad options, a tape too long: std::invalid_argument; memory_limit:
+// MemoryLimitError).
 struct Plan {
   double steps = 0;                // the life's steps, from the initial time step (an estimate
                                    // when development changes dt)
@@ -148,8 +159,8 @@ TrajectoryLoss task_loss(const Model& model);
 
 // The gradient of the life's fitness: any task (each has its loss, task_loss), either bond
 // model, any environment, free objects and controller. Throws std::invalid_argument as plan()
-// does, and std::domain_error when the life does not finish (unstable; see
-// GradientOptions::judge).
+// does, MemoryLimitError also while the life runs (GradientOptions::memory_limit), and
+// std::domain_error when the life does not finish (unstable; see GradientOptions::judge).
 Gradient gradient(const Model& model, const GradientOptions& options = {});
 
 // The gradient of a loss of the final state instead of the task's fitness (any task): the
