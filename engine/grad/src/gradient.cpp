@@ -1116,6 +1116,10 @@ ReplicaSummary replicate_life(const Model& m) {
   return out;
 }
 
+double Plan::bytes(double snapshots, int threads) const {
+  return snapshots + threads * thread_bytes + 14 * snapshot_bytes;  // 14: plan() says why
+}
+
 Plan plan(const Model& m, const GradientOptions& options) {
   if (options.checkpoint_every < 0)
     throw std::invalid_argument("gradient: checkpoint_every must be >= 0");
@@ -1157,11 +1161,10 @@ Plan plan(const Model& m, const GradientOptions& options) {
   // measured at 15 snapshots' bytes on one thread and 23 on two, on the walker and the 10^3
   // cube (tests/grad_memory_test.cpp); 14 + 10 a thread are counted.
   p.thread_bytes = segment_nodes * kNodeBytes + K * blocks + 10 * S;
-  const auto bytes = [&](int threads) { return snapshots + threads * p.thread_bytes + 14 * S; };
-  const bool within = !(options.memory_limit > 0) || bytes(2) <= options.memory_limit;
+  const bool within = !(options.memory_limit > 0) || p.bytes(snapshots, 2) <= options.memory_limit;
   p.threads =
       (options.threads > 0 ? options.threads : hardware_threads()) >= 2 && N > K && within ? 2 : 1;
-  p.estimated_bytes = bytes(p.threads);
+  p.estimated_bytes = p.bytes(snapshots, p.threads);
   if (options.memory_limit > 0 && p.estimated_bytes > options.memory_limit)
     throw MemoryLimitError(
         "gradient: the life needs about " + std::to_string(p.estimated_bytes / 1e6) + " MB (" +
@@ -1210,34 +1213,29 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
            (options.steps < 0 || sim.state().steps < options.steps);
   };
   // The plan counts the steps from the initial time step; a body that stiffens as it develops
-  // takes more, and so more snapshots. Under a memory limit, once the snapshots and the rest of
-  // the estimate pass it, the backward pass takes one thread (one segment's tape fewer) if
-  // that is within it, else the life stops with one line: the limit is never passed silently.
-  const double planned_snapshots = std::ceil(p.steps / K);
-  const double beside_snapshots = p.estimated_bytes - planned_snapshots * p.snapshot_bytes;
-  double snapshot_bytes = 0;
+  // takes more, and so more snapshots. Under a memory limit, once they pass it, the backward
+  // pass takes one thread (a segment's tape fewer) if that keeps within it, else the life stops
+  // with one line: the limit is never passed silently.
+  size_t snapshot_bytes = 0;
   int threads = p.threads;
+  const auto over = [&](int t) {
+    return options.memory_limit > 0 &&
+           p.bytes(static_cast<double>(snapshot_bytes), t) > options.memory_limit;
+  };
   while (go_on()) {
     if (sim.state().steps % K == 0) {
       snaps.push_back(sim.save_state());
-      snapshot_bytes += static_cast<double>(snaps.back().size());
-      const auto over = [&] {
-        const double threads_fewer = (p.threads - threads) * p.thread_bytes;
-        return beside_snapshots - threads_fewer + snapshot_bytes > options.memory_limit;
-      };
-      if (options.memory_limit > 0 && static_cast<double>(snaps.size()) > planned_snapshots &&
-          over()) {
-        threads = 1;
-        if (over())
-          throw MemoryLimitError(
-              "gradient: the life goes on past step " + std::to_string(sim.state().steps) +
-              " (t = " + std::to_string(sim.state().time) + " s), beyond the " +
-              std::to_string(static_cast<long long>(p.steps)) +
-              " steps its initial time step gave (its time step shrank as it stiffened), and its "
-              "snapshots pass memory_limit " +
-              std::to_string(options.memory_limit / 1e6) +
-              " MB: raise the limit or shorten the life");
-      }
+      snapshot_bytes += snaps.back().size();
+      if (over(threads)) threads = 1;
+      if (over(threads))
+        throw MemoryLimitError(
+            "gradient: the life goes on past step " + std::to_string(sim.state().steps) +
+            " (t = " + std::to_string(sim.state().time) + " s), beyond the " +
+            std::to_string(static_cast<long long>(p.steps)) +
+            " steps its initial time step gave (its time step shrank as it stiffened), and its "
+            "snapshots pass memory_limit " +
+            std::to_string(options.memory_limit / 1e6) +
+            " MB: raise the limit or shorten the life");
     }
     sim.step();
     loss.see(sim.state());
@@ -1259,7 +1257,7 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
   }
   g.checkpoint_every = K;
   g.checkpoints = snaps.size();
-  for (const auto& s : snaps) g.checkpoint_bytes += s.size();
+  g.checkpoint_bytes = snapshot_bytes;
 
   // ---- Backward: segments last to first ----
   // On two threads, a helper recomputes segment k - 1 while this thread sweeps segment k; the

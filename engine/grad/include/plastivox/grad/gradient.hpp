@@ -120,6 +120,9 @@ struct Plan {
   double thread_bytes = 0;     // what each thread of the backward pass keeps
   int threads = 1;             // the backward pass's (GradientOptions::threads)
   double estimated_bytes = 0;  // the heap's peak: snapshots, and a segment and a replica a thread
+  // The heap's peak with `snapshots` bytes of snapshots and the backward pass on `threads`
+  // (estimated_bytes is bytes(the planned snapshots, threads)).
+  double bytes(double snapshots, int threads) const;
 };
 Plan plan(const Model& model, const GradientOptions& options = {});
 
