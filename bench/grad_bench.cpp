@@ -28,7 +28,7 @@
 
 #include "plastivox/demo_robots.hpp"
 #include "plastivox/grad/gradient.hpp"
-#include "plastivox/io/robot_file.hpp"
+#include "plastivox/io/robot_io.hpp"
 #include "plastivox/simd.hpp"
 #include "plastivox/simulator.hpp"
 #include "plastivox/task.hpp"
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     if (from_file) {
       // A robot file (an exported champion) with its own physics, but DURATION, TREATMENT
       // and TASK.
-      RobotFile file = read_robot_file(body);
+      LoadedRobot file = load_robot(body);
       robot = file.robot;
       def = file.physics;
     }
