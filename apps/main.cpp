@@ -8,6 +8,7 @@
 
 #include "cli.hpp"
 #include "plastivox/base/one_line.hpp"
+#include "plastivox/io/provenance.hpp"
 #include "plastivox_version.hpp"
 
 namespace {
@@ -165,7 +166,7 @@ int main(int argc, char** argv) {
     for (const Command& c : kCommands)
       if (cmd == c.name) return c.run(args);
     if (cmd == "version" || cmd == "--version") {
-      std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, PLASTIVOX_GIT_COMMIT);
+      std::printf("plastivox %s (commit %s)\n", PLASTIVOX_VERSION, plastivox::build_git_commit());
       return 0;
     }
     if (cmd == "help" || cmd == "--help" || cmd == "-h") {

@@ -12,6 +12,7 @@
 #include "plastivox/evo/run.hpp"
 #include "plastivox/io/atomic_file.hpp"
 #include "plastivox/io/json_input.hpp"
+#include "plastivox/io/provenance.hpp"
 #include "plastivox_version.hpp"
 
 namespace plastivox::experiment {
@@ -46,7 +47,7 @@ std::string claim_folder(const ExperimentConfig& config, const std::string& dir)
   m["format_version"] = 1;
   m["created"] = utc_timestamp();
   m["plastivox_version"] = PLASTIVOX_VERSION;
-  m["git_commit"] = PLASTIVOX_GIT_COMMIT;
+  m["git_commit"] = build_git_commit();
   m["config"] = json::parse(config.canonical_json());
   m["identity"] = identity;
   write_file_atomic(manifest, m.dump(2) + "\n");

@@ -17,6 +17,7 @@
 #include "plastivox/evo/phenotype.hpp"
 #include "plastivox/evo/results_file.hpp"
 #include "plastivox/io/atomic_file.hpp"
+#include "plastivox/io/provenance.hpp"
 #include "plastivox/render/color_scale.hpp"
 #include "plastivox/render/offscreen.hpp"
 #include "plastivox/render/viewer.hpp"
@@ -58,7 +59,7 @@ ReportSection experiment_section(const StageContext& ctx) {
                 e.physics.e_min, e.physics.e_max);
   s.paragraphs.push_back(buf);
   s.paragraphs.push_back("Started " + ctx.manifest_date + " by plastivox " + PLASTIVOX_VERSION +
-                         " (commit " + PLASTIVOX_GIT_COMMIT +
+                         " (commit " + build_git_commit() +
                          "). The full configuration is in "
                          "experiment.json, every session's log in experiment.log.");
   const auto link = [](const std::string& path, const std::string& caption) {

@@ -12,7 +12,7 @@ namespace plastivox {
 Provenance current_provenance(int threads) {
   Provenance p;
   p.plastivox_version = PLASTIVOX_BUILD_VERSION;
-  p.git_commit = PLASTIVOX_BUILD_GIT_COMMIT;
+  p.git_commit = build_git_commit();
   p.compiler = PLASTIVOX_BUILD_COMPILER;
   p.compiler_flags = PLASTIVOX_BUILD_FLAGS;
   p.build_type = PLASTIVOX_BUILD_BUILD_TYPE;

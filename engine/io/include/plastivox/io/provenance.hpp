@@ -10,7 +10,7 @@ namespace plastivox {
 // Where and how a file was produced (root attributes; not part of the content digest).
 struct Provenance {
   std::string plastivox_version;  // PROJECT_VERSION of the writer
-  std::string git_commit;         // commit the writer was configured at
+  std::string git_commit;         // commit the writer was built at (build_git_commit())
   std::string compiler;           // id and version
   std::string compiler_flags;     // C++ flags and compile options of the build
   std::string build_type;
@@ -24,6 +24,12 @@ struct Provenance {
   // written before 2026-12-05 and in files that are not evolutions: built-in.
   std::string fitness_function;
 };
+
+// The commit of the sources this binary was built from, 12 hex digits, with "-dirty" when
+// tracked files differed from it, or "unknown" when built outside a git work tree. Taken at
+// every build, not when CMake configured the build folder (until 2026-12-07 it was the
+// configure-time commit, which a later pull and build kept).
+const char* build_git_commit();
 
 // Calls f(name, member) for every field of p, in the order above; the names are the HDF5
 // root attributes (docs/results-format.md), the JSON keys of `inspect --json` and the Python

@@ -1,0 +1,88 @@
+// The commit in every result file's provenance is the one the sources were at when the binary
+// was built (cmake/commit_stamp.cmake, run at every build), with "-dirty" when tracked files
+// differed from it. Until 2026-12-07 it was taken when CMake configured the build folder, so a
+// pull and a rebuild kept stamping results with the older commit.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "plastivox/io/provenance.hpp"
+#include "test_support.hpp"
+
+namespace plastivox {
+namespace {
+
+std::string first_line(const std::string& s) {
+  return s.substr(0, s.find('\n'));
+}
+
+class CommitStamp : public testing::ScratchDirTest {
+ protected:
+  // Runs the stamp script on `source`; the header it wrote.
+  std::string stamp(const std::string& source) const {
+    const testing::Output o = testing::shell(
+        std::string("'") + PLASTIVOX_CMAKE + "' -DSOURCE_DIR='" + source + "' -DOUT='" +
+        path("commit.hpp") + "' -P '" + PLASTIVOX_SOURCE_DIR + "/cmake/commit_stamp.cmake' 2>&1");
+    EXPECT_EQ(o.status, 0) << o.out;
+    return testing::file_text(path("commit.hpp"));
+  }
+  std::string git(const std::string& args) const {
+    const testing::Output o = testing::shell(
+        "cd '" + path("src") + "' && git -c user.name=t -c user.email=t@t " + args + " 2>&1");
+    EXPECT_EQ(o.status, 0) << args << ": " << o.out;
+    return first_line(o.out);
+  }
+};
+
+TEST_F(CommitStamp, TakesTheCommitAndWhetherTrackedFilesDiffer) {
+  std::filesystem::create_directory(path("src"));
+  // Not a git work tree (a copy of the sources, as pip's build makes): unknown.
+  EXPECT_NE(stamp(path("src")).find("#define PLASTIVOX_BUILD_GIT_COMMIT \"unknown\""),
+            std::string::npos);
+  git("init -q");
+  write("src/a.txt", "one\n");
+  git("add a.txt");
+  git("commit -q -m one");
+  const std::string one = git("rev-parse --short=12 HEAD");
+  ASSERT_EQ(one.size(), 12u);
+  EXPECT_NE(stamp(path("src")).find("\"" + one + "\""), std::string::npos);
+  // An untracked file is not a change; an edit of a tracked one is.
+  write("src/b.txt", "new\n");
+  EXPECT_NE(stamp(path("src")).find("\"" + one + "\""), std::string::npos);
+  write("src/a.txt", "two\n");
+  EXPECT_NE(stamp(path("src")).find("\"" + one + "-dirty\""), std::string::npos);
+  // Committed: the new commit, clean. The header is rewritten only when that changes.
+  git("commit -q -am two");
+  const std::string two = git("rev-parse --short=12 HEAD");
+  EXPECT_NE(two, one);
+  EXPECT_NE(stamp(path("src")).find("\"" + two + "\""), std::string::npos);
+  const auto written = std::filesystem::last_write_time(path("commit.hpp"));
+  std::filesystem::last_write_time(path("commit.hpp"), written - std::chrono::hours(1));
+  stamp(path("src"));
+  EXPECT_EQ(std::filesystem::last_write_time(path("commit.hpp")), written - std::chrono::hours(1))
+      << "rewritten without a change: every build would recompile build_commit.cpp";
+}
+
+// This build's own stamp: the source tree's commit (with "-dirty" if it was edited when built),
+// in every result file's provenance and in `plastivox --version`.
+TEST(Provenance, CommitIsTheSourcesCommitAtBuildTime) {
+  const std::string built = build_git_commit();
+  EXPECT_EQ(current_provenance(1).git_commit, built);
+  const testing::Output head = testing::shell(std::string("git -C '") + PLASTIVOX_SOURCE_DIR +
+                                              "' rev-parse --short=12 HEAD 2>/dev/null");
+  if (head.status != 0) {
+    EXPECT_EQ(built, "unknown");  // sources outside a git work tree
+  } else {
+    const std::string commit = first_line(head.out);
+    EXPECT_TRUE(built == commit || built == commit + "-dirty")
+        << "this binary was built at " << built << ", the sources are at " << commit
+        << ": rebuild before testing";
+  }
+  const testing::Output version = testing::cli("--version");
+  EXPECT_EQ(version.status, 0);
+  EXPECT_NE(version.out.find("(commit " + built + ")"), std::string::npos) << version.out;
+}
+
+}  // namespace
+}  // namespace plastivox
