@@ -2,6 +2,7 @@
 // was built (cmake/commit_stamp.cmake, run at every build), with "-dirty" when tracked files
 // differed from it. Until 2026-12-07 it was taken when CMake configured the build folder, so a
 // pull and a rebuild kept stamping results with the older commit.
+#include <chrono>
 #include <filesystem>
 #include <string>
 
@@ -22,14 +23,21 @@ class CommitStamp : public testing::ScratchDirTest {
   // Runs the stamp script on `source`; the header it wrote.
   std::string stamp(const std::string& source) const {
     const testing::Output o = testing::shell(
-        std::string("'") + PLASTIVOX_CMAKE + "' -DSOURCE_DIR='" + source + "' -DOUT='" +
-        path("commit.hpp") + "' -P '" + PLASTIVOX_SOURCE_DIR + "/cmake/commit_stamp.cmake' 2>&1");
+        std::string("env -u GIT_DIR -u GIT_WORK_TREE -u GIT_INDEX_FILE '") + PLASTIVOX_CMAKE +
+        "' -DSOURCE_DIR='" + source + "' -DOUT='" + path("commit.hpp") + "' -P '" +
+        PLASTIVOX_SOURCE_DIR + "/cmake/commit_stamp.cmake' 2>&1");
     EXPECT_EQ(o.status, 0) << o.out;
     return testing::file_text(path("commit.hpp"));
   }
+  // git in the scratch repository, away from this machine's git settings and any repository
+  // the test runs inside (a hook's GIT_DIR).
   std::string git(const std::string& args) const {
     const testing::Output o = testing::shell(
-        "cd '" + path("src") + "' && git -c user.name=t -c user.email=t@t " + args + " 2>&1");
+        "cd '" + path("src") +
+        "' && env -u GIT_DIR -u GIT_WORK_TREE -u GIT_INDEX_FILE GIT_CONFIG_NOSYSTEM=1 "
+        "GIT_CONFIG_GLOBAL=/dev/null git -c user.name=t -c user.email=t@t -c "
+        "commit.gpgsign=false " +
+        args + " 2>&1");
     EXPECT_EQ(o.status, 0) << args << ": " << o.out;
     return first_line(o.out);
   }
@@ -57,11 +65,16 @@ TEST_F(CommitStamp, TakesTheCommitAndWhetherTrackedFilesDiffer) {
   const std::string two = git("rev-parse --short=12 HEAD");
   EXPECT_NE(two, one);
   EXPECT_NE(stamp(path("src")).find("\"" + two + "\""), std::string::npos);
-  const auto written = std::filesystem::last_write_time(path("commit.hpp"));
-  std::filesystem::last_write_time(path("commit.hpp"), written - std::chrono::hours(1));
+  const std::string header = path("commit.hpp");
+  std::filesystem::last_write_time(
+      header, std::filesystem::last_write_time(header) - std::chrono::hours(1));
+  const auto set = std::filesystem::last_write_time(header);  // as the file system keeps it
   stamp(path("src"));
-  EXPECT_EQ(std::filesystem::last_write_time(path("commit.hpp")), written - std::chrono::hours(1))
+  EXPECT_EQ(std::filesystem::last_write_time(header), set)
       << "rewritten without a change: every build would recompile build_commit.cpp";
+  // A copy of the sources inside another repository is not that repository's commit.
+  std::filesystem::create_directory(path("src/copy"));
+  EXPECT_NE(stamp(path("src/copy")).find("\"unknown\""), std::string::npos);
 }
 
 // This build's own stamp: the source tree's commit (with "-dirty" if it was edited when built),
