@@ -82,24 +82,33 @@ TEST_F(CommitStamp, TakesTheCommitAndWhetherTrackedFilesDiffer) {
 // "-dirty" when tracked files had been edited then), or "unknown" when the sources are not the
 // top of a git work tree.
 TEST(Provenance, CommitIsFromTheSourcesHistory) {
-  const std::string built = build_git_commit();
-  EXPECT_EQ(current_provenance(1).git_commit, built);
   const std::string source = std::filesystem::canonical(PLASTIVOX_SOURCE_DIR).string();
   const testing::Output top =
       testing::shell("git -C '" + source + "' rev-parse --show-toplevel 2>/dev/null");
-  if (top.status != 0 || first_line(top.out) != source) {
-    EXPECT_EQ(built, "unknown");
-  } else {
-    const std::string commit = built.substr(0, built.find("-dirty"));
-    EXPECT_EQ(commit.size(), 12u) << built;
+  const bool repository = top.status == 0 && first_line(top.out) == source;
+  const auto check = [&](const std::string& stamp, const char* whose) {
+    SCOPED_TRACE(whose);
+    if (!repository) {
+      EXPECT_EQ(stamp, "unknown");
+      return;
+    }
+    const std::string commit = stamp.substr(0, stamp.find("-dirty"));
+    EXPECT_EQ(commit.size(), 12u) << stamp;
     const testing::Output ancestor = testing::shell(
         "git -C '" + source + "' merge-base --is-ancestor '" + commit + "' HEAD 2>&1");
-    EXPECT_EQ(ancestor.status, 0) << "this binary was built at " << built
+    EXPECT_EQ(ancestor.status, 0) << "built at " << stamp
                                   << ", not a commit of the sources' history: " << ancestor.out;
-  }
+  };
+  const std::string built = build_git_commit();
+  EXPECT_EQ(current_provenance(1).git_commit, built);
+  check(built, "the library");
+  // The program (a separate link: built with the library, unless only this test was rebuilt).
   const testing::Output version = testing::cli("--version");
-  EXPECT_EQ(version.status, 0);
-  EXPECT_NE(version.out.find("(commit " + built + ")"), std::string::npos) << version.out;
+  ASSERT_EQ(version.status, 0);
+  const size_t at = version.out.find("(commit ");
+  ASSERT_NE(at, std::string::npos) << version.out;
+  const size_t from = at + 8;
+  check(version.out.substr(from, version.out.find(')', from) - from), "plastivox --version");
 }
 
 }  // namespace
