@@ -18,24 +18,24 @@ std::string first_line(const std::string& s) {
   return s.substr(0, s.find('\n'));
 }
 
+// Runs a command away from any repository the test itself runs inside (a git hook's GIT_DIR).
+constexpr const char* kOwnGit = "env -u GIT_DIR -u GIT_WORK_TREE -u GIT_INDEX_FILE ";
+
 class CommitStamp : public testing::ScratchDirTest {
  protected:
   // Runs the stamp script on `source`; the header it wrote.
   std::string stamp(const std::string& source) const {
     const testing::Output o = testing::shell(
-        std::string("env -u GIT_DIR -u GIT_WORK_TREE -u GIT_INDEX_FILE '") + PLASTIVOX_CMAKE +
-        "' -DSOURCE_DIR='" + source + "' -DOUT='" + path("commit.hpp") + "' -P '" +
-        PLASTIVOX_SOURCE_DIR + "/cmake/commit_stamp.cmake' 2>&1");
+        std::string(kOwnGit) + "'" + PLASTIVOX_CMAKE + "' -DSOURCE_DIR='" + source + "' -DOUT='" +
+        path("commit.hpp") + "' -P '" + PLASTIVOX_SOURCE_DIR + "/cmake/commit_stamp.cmake' 2>&1");
     EXPECT_EQ(o.status, 0) << o.out;
     return testing::file_text(path("commit.hpp"));
   }
-  // git in the scratch repository, away from this machine's git settings and any repository
-  // the test runs inside (a hook's GIT_DIR).
+  // git in the scratch repository, away from this machine's git settings.
   std::string git(const std::string& args) const {
     const testing::Output o = testing::shell(
-        "cd '" + path("src") +
-        "' && env -u GIT_DIR -u GIT_WORK_TREE -u GIT_INDEX_FILE GIT_CONFIG_NOSYSTEM=1 "
-        "GIT_CONFIG_GLOBAL=/dev/null git -c user.name=t -c user.email=t@t -c "
+        "cd '" + path("src") + "' && " + kOwnGit +
+        "GIT_CONFIG_NOSYSTEM=1 GIT_CONFIG_GLOBAL=/dev/null git -c user.name=t -c user.email=t@t -c "
         "commit.gpgsign=false " +
         args + " 2>&1");
     EXPECT_EQ(o.status, 0) << args << ": " << o.out;
