@@ -80,6 +80,44 @@ struct GatherBlock {
   int64_t first;
   size_t at, ids_at;
 };
+// A step's development (Replica::record_development): its outputs are kDevelopOutputs leaves a
+// voxel, output by output (kDevStimulus, kDevStiffness, kDevIntegral: voxel i's output o is
+// node first + o n + i); its record starts at `at` in Blocks::develop_values and develop_ids,
+// kDevelopRows rows of n each (DevelopRow). A bond-based stimulus read the per-bond row whose
+// bond b is leaf bond_first + b (the same step's bond stage's); the integral law's dt is
+// (dt, dt_id); e0_ids and alpha_ids are the parameters' leaves.
+struct DevelopBlock {
+  int64_t first;
+  size_t at;
+  int64_t bond_first = -1;
+  double dt = 0.0;
+  int32_t dt_id = -1;
+  const int32_t* e0_ids = nullptr;
+  const int32_t* alpha_ids = nullptr;
+};
+enum DevelopOutput : int {
+  kDevStimulus = 0,
+  kDevStiffness = 1,
+  kDevIntegral = 2,
+  kDevelopOutputs = 3
+};
+// A voxel's record, row by row: values (the law's value; the stimulus; the stimulus's partial
+// derivative with respect to the modulus before the step, pressure's under the voxel's own
+// modulus; the factor of its bonds' values: 1 or -1 for the one a stress or strain took, 0.25
+// for strain energy, pressure's -E / denominator) and ids (the modulus's node before the step;
+// the law's other input, the reference's node under the rate law or the integral's before the
+// step; the stimulus's input, the bond a stress or strain took or the node of a contact or
+// kinetic stimulus, -1 for none; the rule's flags, kDevActive and kDevFree).
+enum DevelopRow : int {
+  kDevLaw = 0,
+  kDevStim = 1,
+  kDevStimDE = 2,
+  kDevBondFactor = 3,
+  kDevelopRows = 4
+};
+enum DevelopIdRow : int { kDevEId = 0, kDevLawIn = 1, kDevStimIn = 2, kDevFlags = 3 };
+constexpr int32_t kDevActive = 1;  // the gate let the voxel develop (its integral moved)
+constexpr int32_t kDevFree = 2;    // its new modulus is the law's target, no clamp holding
 // An allocator whose growth leaves the new elements unwritten (default-initialised, not
 // zeroed): the blocks' records grow by a stage at a time and are written whole at once, and
 // zeroing them first was a twentieth of a gradient's time.
@@ -118,14 +156,18 @@ struct Blocks {
   std::vector<GatherBlock> gathers;
   Record<double> gather_values;
   Record<int32_t> gather_ids;
+  std::vector<DevelopBlock> develops;
+  Record<double> develop_values;
+  Record<int32_t> develop_ids;
   // Every block in the order recorded (its kind and its index in that kind's list).
-  enum Kind : uint8_t { kBond, kVoxel, kGather };
+  enum Kind : uint8_t { kBond, kVoxel, kGather, kDevelop };
   std::vector<std::pair<Kind, uint32_t>> order;
   void clear() {
     bonds.clear(), bond_values.clear(), bond_ids.clear(), bond_valid.clear();
     bond_small.clear(), bond_redo.clear();
     voxels.clear(), voxel_values.clear(), voxel_ids.clear(), voxel_flags.clear();
     gathers.clear(), gather_values.clear(), gather_ids.clear(), order.clear();
+    develops.clear(), develop_values.clear(), develop_ids.clear();
   }
 };
 
@@ -172,9 +214,14 @@ Adj stable_dt_adj(const Model& m, const double* E, Fnv* events = nullptr) {
   return m.def.dt_frac / (2.0 * std::numbers::pi * root(k_max / m.mass));
 }
 
-// The most nodes Replica::record_development records a voxel: the stimulus's 6 (pressure's seven
-// inputs), the integral's 2 (or the rate law's 1) and the stiffness's 2.
-constexpr size_t kDevelopNodes = 10;
+// The most nodes Replica::record_development records a voxel: its block's kDevelopOutputs
+// leaves, and a contact or kinetic stimulus's node of its inputs (at most 5: kinetic's six).
+size_t develop_nodes(const Model& m) {
+  if (m.def.treatment == Treatment::kNone) return 0;
+  const bool node =
+      m.def.treatment == Treatment::kContact || m.def.treatment == Treatment::kKinetic;
+  return (kDevelopOutputs + (node ? 5 : 0)) * size_t(m.n);
+}
 
 // One life's replica: a State (its values) and the node of every value of its floating-point
 // rows, with the scratch arrays of a step.
@@ -195,6 +242,7 @@ class Replica {
 
   State& state() { return s_; }
   const BondKernelIo& bond_io() const { return w_.views.bond; }
+  const DevelopIo& develop_io() const { return w_.views.develop; }
   // Keep the bond stage (one block a step), the gather and the voxel update (one block a voxel
   // each) for their own reverses in `blocks`, or, given null, record them operation by
   // operation on the tape (the reference).
@@ -546,9 +594,11 @@ class Replica {
     return acc >= 0 ? acc : first >= 0 ? rec(first, first_d, -1, 0.0) : -1;
   }
 
-  // Development (develop_lanes) by the engine's own kernel set on doubles, each voxel's
-  // stimulus, integral and stiffness recorded as a node or a few, from the partial derivatives
-  // of its rule, instead of the kernel's twenty or so. The branches are the kernel's: the
+  // Development (develop_lanes) by the engine's own kernel set on doubles, kept as a block
+  // (DevelopBlock): each voxel's stimulus, integral and new modulus are leaves, and the block's
+  // reverse (develop_stage_reverse) gives their inputs the partial derivatives of the rule. A
+  // contact or kinetic stimulus, from the floor's force or the momenta, is recorded as a node of
+  // its inputs first, and the block reads that node. The branches are the kernel's: the
   // stimulus's largest bond (stress, strain) is the one its comparisons kept, and a clamp that
   // holds, or a gated voxel, gives what pick gives on Adj (docs/gradients.md).
   void record_development(Adj dt, bool first) {
@@ -568,110 +618,108 @@ class Replica {
     int32_t* stimulus_ids = need(ids_of(s.stimulus.data()));
     int32_t* integral_ids = need(ids_of(s.stim_integral.data()));
     int32_t* ref_ids = need(ids_of(s.stim_ref.data()));
-    // The nodes go straight into the tape, at most kDevelopNodes a voxel (the segment's tape is
-    // reserved for them: nodes_per_step).
     Tape& t = *g_tape;
-    const size_t base = t.nodes.size();
-    t.nodes.resize(base + kDevelopNodes * n);  // unwritten until written below
-    Node* out = t.nodes.data() + base;
-    size_t used = 0;
-    const auto rec = [&](int32_t a, double da, int32_t b, double db) {
-      return node_of(a, da, b, db, [&](const Node& node) {
-        out[used] = node;
-        return static_cast<int32_t>(base + used++);
-      });
-    };
-    const int32_t *e0_ids = ids_of(io.e0), *alpha_ids = ids_of(io.alpha);
-    const auto id = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
     const Treatment which = m.def.treatment;
-    const double* per_bond =
-        which == Treatment::kStress || (which == Treatment::kPressure &&
-                                        m.def.axial_modulus == AxialModulus::kHarmonicMean)
-            ? io.bond_stress
-        : which == Treatment::kStrainEnergy ? io.bond_energy
-                                            : io.bond_strain;
-    const int32_t* bond_ids = ids_of(per_bond);
+    const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
+    const double* per_bond = which == Treatment::kStress || (which == Treatment::kPressure && split)
+                                 ? io.bond_stress
+                             : which == Treatment::kStrainEnergy ? io.bond_energy
+                                                                 : io.bond_strain;
+    DevelopBlock stage{0, blocks_->develop_values.size()};
+    stage.dt = dt.v, stage.dt_id = dt.id;
+    stage.e0_ids = ids_of(io.e0), stage.alpha_ids = ids_of(io.alpha);
+    const bool by_bonds = which != Treatment::kContact && which != Treatment::kKinetic;
+    if (by_bonds && nb_ > 0) {
+      // The same step's bond stage's leaves, a run (record_bonds).
+      const int32_t* bond_ids = ids_of(per_bond);
+      if (!bond_ids || bond_ids[nb_ - 1] != bond_ids[0] + nb_ - 1)
+        throw std::logic_error("gradient: development's stimulus is not its bond stage's");
+      stage.bond_first = bond_ids[0];
+    }
+    blocks_->develop_values.resize(stage.at + kDevelopRows * n);
+    blocks_->develop_ids.resize(stage.at + kDevelopRows * n);
+    double* value = blocks_->develop_values.data() + stage.at;
+    int32_t* id = blocks_->develop_ids.data() + stage.at;
+    const auto row = [n](auto* p, int r) { return p + size_t(r) * n; };
+    double *law_v = row(value, kDevLaw), *stim_v = row(value, kDevStim);
+    double *de_v = row(value, kDevStimDE), *factor_v = row(value, kDevBondFactor);
+    int32_t *e_in = row(id, kDevEId), *law_in = row(id, kDevLawIn);
+    int32_t *stim_in = row(id, kDevStimIn), *flags = row(id, kDevFlags);
+    // The stimulus's inputs (stimulus_lanes): a contact or kinetic stimulus's node goes on the
+    // tape before the block's leaves.
     const int32_t *normal_ids = ids_of(io.floor_normal), *size_ids = ids_of(io.size);
     const int32_t *p_ids = ids_of(io.lin_mom), *h_ids = ids_of(io.ang_mom);
-    int32_t in[7];
-    double d[7];
+    const auto at = [](const int32_t* ids, size_t k) { return ids ? ids[k] : -1; };
+    int32_t in[6];
+    double d[6];
     for (size_t i = 0; i < n; ++i) {
-      // The stimulus's node (stimulus_lanes).
-      int32_t stim_id = -1;
-      const double stim = s.stimulus[i];
+      stim_v[i] = s.stimulus[i], e_in[i] = stiff_ids[i];
+      de_v[i] = 0.0, factor_v[i] = 0.0, stim_in[i] = -1;
       if (which == Treatment::kStress || which == Treatment::kStrain) {
         double top = 0.0;  // the running maximum, a constant until a bond exceeds it
-        bool negated = false;
         for (int slot = 0; slot < 6; ++slot) {
           const int b = io.slot_bond[slot][i];
           const double x = per_bond[b];
           const double v = which == Treatment::kStrain && x < 0.0 ? -x : x;
-          if (top < v) top = v, stim_id = id(bond_ids, size_t(b)), negated = x < 0.0;  // strain
+          if (top < v) top = v, stim_in[i] = b, factor_v[i] = x < 0.0 ? -1.0 : 1.0;
         }
-        if (negated) stim_id = rec(stim_id, -1.0, -1, 0.0);
       } else if (which == Treatment::kStrainEnergy) {
-        for (int slot = 0; slot < 6; ++slot)
-          in[slot] = id(bond_ids, size_t(io.slot_bond[slot][i])), d[slot] = 0.25;
-        stim_id = combine(in, d, 6, rec);
-      } else if (which == Treatment::kContact) {
-        const double side = io.size[i], normal = io.floor_normal[i];
-        in[0] = id(normal_ids, i), d[0] = 1.0 / (side * side);
-        in[1] = id(size_ids, i), d[1] = -2.0 * normal / (side * side * side);
-        stim_id = combine(in, d, 2, rec);
-      } else if (which == Treatment::kKinetic) {
-        for (int c = 0; c < 3; ++c) {
-          in[c] = id(p_ids, 3 * i + c), d[c] = m.inv_mass * io.lin_mom[3 * i + c] * m.inv_volume;
-          in[3 + c] = id(h_ids, 3 * i + c);
-          d[3 + c] = m.inv_inertia * io.ang_mom[3 * i + c] * m.inv_volume;
-        }
-        stim_id = combine(in, d, 6, rec);
-      } else {  // pressure
-        const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
-        const double scale = (split ? 1.0 : e_old_[i]) / m.pressure_denominator;
+        factor_v[i] = 0.25;
+      } else if (which == Treatment::kPressure) {
         double sum = 0.0;
         for (int axis = 0; axis < 3; ++axis) {
           const int neg = io.slot_bond[2 * axis][i], pos = io.slot_bond[2 * axis + 1][i];
-          const double w = neg != io.no_bond && pos != io.no_bond ? 0.5 : 1.0;
           const double a = per_bond[neg], b = per_bond[pos];
-          sum = sum + (w == 0.5 ? 0.5 * (a + b) : a + b);
-          in[2 * axis] = id(bond_ids, size_t(neg)), d[2 * axis] = -w * scale;
-          in[2 * axis + 1] = id(bond_ids, size_t(pos)), d[2 * axis + 1] = -w * scale;
+          sum = sum + (neg != io.no_bond && pos != io.no_bond ? 0.5 * (a + b) : a + b);
         }
-        in[6] = split ? -1 : id(stiff_ids, i), d[6] = -sum / m.pressure_denominator;
-        stim_id = combine(in, d, 7, rec);
+        factor_v[i] = -(split ? 1.0 : e_old_[i]) / m.pressure_denominator;
+        de_v[i] = split ? 0.0 : -sum / m.pressure_denominator;
+      } else if (which == Treatment::kContact) {
+        const double side = io.size[i], normal = io.floor_normal[i];
+        in[0] = at(normal_ids, i), d[0] = 1.0 / (side * side);
+        in[1] = at(size_ids, i), d[1] = -2.0 * normal / (side * side * side);
+        stim_in[i] = combine(in, d, 2, record);
+      } else {  // kinetic
+        for (int c = 0; c < 3; ++c) {
+          in[c] = at(p_ids, 3 * i + c), d[c] = m.inv_mass * io.lin_mom[3 * i + c] * m.inv_volume;
+          in[3 + c] = at(h_ids, 3 * i + c);
+          d[3 + c] = m.inv_inertia * io.ang_mom[3 * i + c] * m.inv_volume;
+        }
+        stim_in[i] = combine(in, d, 6, record);
       }
-      stimulus_ids[i] = stim_id;
-      if (first) ref_ids[i] = stim_id;
-      // The rule (develop_lanes): the gate, the law's target, the two clamps.
+    }
+    stage.first = t.unswept_leaves(kDevelopOutputs * n);
+    const auto leaf = [&](int o, size_t i) {
+      return static_cast<int32_t>(stage.first + int64_t(o * n + i));
+    };
+    // The rule (develop_lanes): the gate, the law's target, the two clamps. A gated voxel's rows
+    // keep their nodes, as a held change keeps the modulus's.
+    const bool integral = m.def.growth == GrowthModel::kIntegral;
+    const double most = m.def.max_change_per_step;
+    for (size_t i = 0; i < n; ++i) {
+      stimulus_ids[i] = leaf(kDevStimulus, i);
+      if (first) ref_ids[i] = stimulus_ids[i];
+      law_in[i] = integral ? integral_ids[i] : ref_ids[i];
+      flags[i] = 0;
       const double e = e_old_[i], alpha = io.alpha[i];
-      const int32_t e_id = stiff_ids[i];
-      if (!(e > m.gate) || alpha == 0.0) continue;  // inactive: its rows keep their nodes
-      // The integral the kernel wrote, old + stim dt, or the stimulus less its reference (the
-      // stimulus itself on the first step, which ref_ids already names).
-      const bool integral = m.def.growth == GrowthModel::kIntegral;
-      const double law = integral ? s.stim_integral[i] : stim - s.stim_ref[i];
-      const int32_t law_id = integral
-                                 ? rec(integral_ids[i], 1.0, rec(stim_id, dt.v, dt.id, stim), 1.0)
-                                 : rec(stim_id, 1.0, ref_ids[i], -1.0);
-      if (integral) integral_ids[i] = law_id;
-      const double target = io.e0[i] + alpha * law;
-      const double most = m.def.max_change_per_step;
-      const double change = target - e;
+      if (!(e > m.gate) || alpha == 0.0) continue;
+      flags[i] = kDevActive;
+      // The integral the kernel wrote, old + stim dt, or the stimulus less its reference.
+      const double law = integral ? s.stim_integral[i] : s.stimulus[i] - s.stim_ref[i];
+      law_v[i] = law;
+      if (integral) integral_ids[i] = leaf(kDevIntegral, i);
+      const double change = io.e0[i] + alpha * law - e;
       const bool change_held = change < -most || most < change;
       const double next = e + (change < -most ? -most : most < change ? most : change);
       if (next < m.def.e_min || m.def.e_max < next) {
         stiff_ids[i] = -1;
-      } else if (change_held) {
-        stiff_ids[i] = e_id;
-      } else {
-        // next = e + (target - e): its derivative is the target's alone.
-        in[0] = id(e0_ids, i), d[0] = 1.0;
-        in[1] = id(alpha_ids, i), d[1] = law;
-        in[2] = law_id, d[2] = alpha;
-        stiff_ids[i] = combine(in, d, 3, rec);
+      } else if (!change_held) {  // next = e + (target - e): its derivative is the target's
+        stiff_ids[i] = leaf(kDevStiffness, i);
+        flags[i] |= kDevFree;
       }
     }
-    t.nodes.resize(base + used);
+    blocks_->order.push_back({Blocks::kDevelop, uint32_t(blocks_->develops.size())});
+    blocks_->develops.push_back(stage);
   }
 
   // The voxel update on doubles, as record_bonds does the bond stage.
@@ -844,10 +892,73 @@ struct ParamLeaves {
   }
 };
 
+// A development block's reverse (Replica::record_development): from its outputs' adjoints, its
+// inputs'. Voxel by voxel: the new modulus's (where it is the law's target) to E0, the rate
+// alpha and the law; the integral's to the integral before, the stimulus and dt; the law's,
+// under the rate law, to the stimulus and its reference (nothing on the step that takes the
+// reference: the law is then stim - stim); the stimulus's to its bonds' values (or its node)
+// and, for pressure under the voxel's own modulus, to the modulus before the step.
+void develop_stage_reverse(const DevelopBlock& stage, const double* value, const int32_t* id,
+                           const DevelopIo& io, const Model& k, double* adj) {
+  const size_t n = size_t(k.n);
+  const auto row = [n](auto* p, int r) { return p + size_t(r) * n; };
+  const double *law_v = row(value, kDevLaw), *stim_v = row(value, kDevStim);
+  const double *de_v = row(value, kDevStimDE), *factor_v = row(value, kDevBondFactor);
+  const int32_t *e_in = row(id, kDevEId), *law_in = row(id, kDevLawIn);
+  const int32_t *stim_in = row(id, kDevStimIn), *flags = row(id, kDevFlags);
+  const double* g_out = adj + stage.first;
+  const bool integral = k.def.growth == GrowthModel::kIntegral;
+  const Treatment which = k.def.treatment;
+  double* g_bond = stage.bond_first >= 0 ? adj + stage.bond_first : nullptr;
+  double g_dt = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double g_stim = g_out[kDevStimulus * n + i];
+    if (flags[i] & kDevActive) {
+      double g_law = 0.0;
+      if (flags[i] & kDevFree) {
+        const double g = g_out[kDevStiffness * n + i];
+        if (stage.e0_ids) adj[stage.e0_ids[i]] += g;
+        if (stage.alpha_ids) adj[stage.alpha_ids[i]] += g * law_v[i];
+        g_law = g * io.alpha[i];
+      }
+      if (integral) {  // the integral, old + stim dt
+        const double g = g_out[kDevIntegral * n + i] + g_law;
+        if (law_in[i] >= 0) adj[law_in[i]] += g;
+        g_stim += g * stage.dt;
+        g_dt += g * stim_v[i];
+      } else if (law_in[i] != int32_t(stage.first + int64_t(kDevStimulus * n + i))) {
+        g_stim += g_law;  // stim - ref
+        if (law_in[i] >= 0) adj[law_in[i]] -= g_law;
+      }
+    }
+    if (g_stim == 0.0) continue;
+    if (which == Treatment::kContact || which == Treatment::kKinetic) {
+      if (stim_in[i] >= 0) adj[stim_in[i]] += g_stim;
+      continue;
+    }
+    if (!g_bond) continue;
+    if (which == Treatment::kStress || which == Treatment::kStrain) {
+      if (stim_in[i] >= 0) g_bond[stim_in[i]] += factor_v[i] * g_stim;
+      continue;
+    }
+    const double g = factor_v[i] * g_stim;
+    for (int axis = 0; axis < 3; ++axis) {
+      const int neg = io.slot_bond[2 * axis][i], pos = io.slot_bond[2 * axis + 1][i];
+      // Pressure: each axis's mean over its two bonds, or its one bond's value.
+      const double w =
+          which == Treatment::kPressure && neg != io.no_bond && pos != io.no_bond ? 0.5 * g : g;
+      if (neg != io.no_bond) g_bond[neg] += w;
+      if (pos != io.no_bond) g_bond[pos] += w;
+    }
+    if (e_in[i] >= 0 && de_v[i] != 0.0) adj[e_in[i]] += de_v[i] * g_stim;
+  }
+  if (stage.dt_id >= 0) adj[stage.dt_id] += g_dt;
+}
+
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
 void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
-           const BondKernelIo& io) {
+           const BondKernelIo& io, const DevelopIo& dev) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
@@ -862,8 +973,10 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
       first = size_t(blocks.bonds[index].first), outputs = kBondLeaves * k.bond_count();
     else if (kind == Blocks::kVoxel)
       first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs * k.n;
-    else
+    else if (kind == Blocks::kGather)
       first = size_t(blocks.gathers[index].first), outputs = kGatherOutputs * k.n;
+    else
+      first = size_t(blocks.develops[index].first), outputs = kDevelopOutputs * k.n;
     sweep_nodes(t, adj, first + outputs, end);
     end = first;
     if (kind == Blocks::kBond) {
@@ -897,6 +1010,10 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
                           blocks.voxel_flags.data() + 2 * index * k.n, first, adj.data(), k,
                           voxel_scratch, stage.bond >= 0 ? &shared : nullptr);
       pending = stage.bond;
+    } else if (kind == Blocks::kDevelop) {
+      const DevelopBlock& stage = blocks.develops[index];
+      develop_stage_reverse(stage, blocks.develop_values.data() + stage.at,
+                            blocks.develop_ids.data() + stage.at, dev, k, adj.data());
     } else {
       const GatherBlock& stage = blocks.gathers[index];
       gather_stage_reverse(GatherStageLayout{L.n}, blocks.gather_values.data() + stage.at,
@@ -910,7 +1027,8 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
 // Bytes a tape node costs: the node and its adjoint.
 constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
 
-// Bytes the blocks of a step cost (the bond stage, the gather and the update: one each).
+// Bytes the blocks of a step cost (the bond stage, the gather, the update and development: one
+// each).
 double block_bytes(const Model& m) {
   const BondStageLayout L{size_t(m.n), size_t(m.bond_count())};
   // The stage's record, its damping flags and (Voxelyze 0.9) its frame flags.
@@ -921,8 +1039,13 @@ double block_bytes(const Model& m) {
   const GatherStageLayout G{L.n};
   const double gather_stage =
       sizeof(double) * double(G.values()) + sizeof(int32_t) * double(G.ids());
-  return bond_stage + voxel_stage + gather_stage + sizeof(BondBlock) + sizeof(VoxelBlock) +
-         sizeof(GatherBlock) + 3 * sizeof(Blocks::order[0]);
+  const double develop_stage =
+      m.def.treatment == Treatment::kNone
+          ? 0.0
+          : (sizeof(double) + sizeof(int32_t)) * double(kDevelopRows) * m.n + sizeof(DevelopBlock) +
+                sizeof(Blocks::order[0]);
+  return bond_stage + voxel_stage + gather_stage + develop_stage + sizeof(BondBlock) +
+         sizeof(VoxelBlock) + sizeof(GatherBlock) + 3 * sizeof(Blocks::order[0]);
 }
 
 // The nodes one step records: the first step of the life, a fifth more for what the first step
@@ -948,8 +1071,7 @@ size_t nodes_per_step(const Model& m) {
     throw;
   }
   g_tape = nullptr;
-  const size_t develop = m.def.treatment != Treatment::kNone ? kDevelopNodes * size_t(m.n) : 0;
-  return (tape.nodes.size() - leaves) * 6 / 5 + 1 + develop;
+  return (tape.nodes.size() - leaves) * 6 / 5 + 1 + develop_nodes(m);
 }
 
 // One segment of the life recomputed for its reverse sweep: the replica that recorded it, its
@@ -979,7 +1101,12 @@ struct Segment {
     const GatherStageLayout G{size_t(m.n)};
     blocks.gather_values.reserve(static_cast<size_t>(K) * G.values());
     blocks.gather_ids.reserve(static_cast<size_t>(K) * G.ids());
-    blocks.order.reserve(static_cast<size_t>(K) * 3);
+    blocks.order.reserve(static_cast<size_t>(K) * 4);
+    if (m.def.treatment != Treatment::kNone) {
+      blocks.develops.reserve(static_cast<size_t>(K));
+      blocks.develop_values.reserve(static_cast<size_t>(K) * kDevelopRows * m.n);
+      blocks.develop_ids.reserve(blocks.develop_values.capacity());
+    }
     rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   }
   Segment(const Segment&) = delete;
@@ -1069,7 +1196,7 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
     for (size_t k = 0; k < ids[r].size(); ++k)
       if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
   for (const auto& [id, v] : sg.seeds) adj[id] += v;
-  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io());
+  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.develop_io());
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
   for (int i = 0; i < m.n; ++i) {
@@ -1312,7 +1439,7 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
     std::vector<double>& adj = one.adj;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
-    sweep(tape, adj, {}, m, one.rep.bond_io());
+    sweep(tape, adj, {}, m, one.rep.bond_io(), one.rep.develop_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
