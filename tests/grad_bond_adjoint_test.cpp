@@ -296,8 +296,8 @@ TEST(StageAdjoints, WholeGradientEqualsTheOperationByOperationTapes) {
   same_gradient(compile(cube, develop));
 }
 
-// Development on doubles, each voxel's stimulus, integral and stiffness recorded from its
-// rule's partial derivatives (Replica::record_development), against the kernel recorded
+// Development on doubles, kept as a block whose reverse applies each voxel's rule's partial
+// derivatives (Replica::record_development, develop_stage_reverse), against the kernel recorded
 // operation by operation: every stimulus under both laws, pressure under both axial moduli,
 // and the clamps on a step's change and on the modulus holding for some voxels.
 TEST(StageAdjoints, DevelopmentByItsRuleEqualsTheOperationByOperationTape) {
