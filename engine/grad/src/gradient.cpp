@@ -83,15 +83,14 @@ struct GatherBlock {
 // A step's development (Replica::record_development): its outputs are kDevelopOutputs leaves a
 // voxel, output by output (kDevStimulus, kDevStiffness, kDevIntegral: voxel i's output o is
 // node first + o n + i); its record starts at `at` in Blocks::develop_values and develop_ids,
-// kDevelopRows rows of n each (DevelopRow). A bond-based stimulus read the per-bond row whose
-// bond b is leaf bond_first + b (the same step's bond stage's); the integral law's dt is
-// (dt, dt_id); e0_ids and alpha_ids are the parameters' leaves.
+// kDevelopRows rows of n each (DevelopRows). A bond-based stimulus read the per-bond row whose
+// bond b is leaf bond_first + b (the same step's bond stage's); dt is the integral law's;
+// e0_ids and alpha_ids are the parameters' leaves.
 struct DevelopBlock {
   int64_t first;
   size_t at;
   int64_t bond_first = -1;
-  double dt = 0.0;
-  int32_t dt_id = -1;
+  Adj dt{};
   const int32_t* e0_ids = nullptr;
   const int32_t* alpha_ids = nullptr;
 };
@@ -101,21 +100,29 @@ enum DevelopOutput : int {
   kDevIntegral = 2,
   kDevelopOutputs = 3
 };
-// A voxel's record, row by row: values (the law's value; the stimulus; the stimulus's partial
-// derivative with respect to the modulus before the step, pressure's under the voxel's own
-// modulus; the factor of its bonds' values: 1 or -1 for the one a stress or strain took, 0.25
-// for strain energy, pressure's -E / denominator) and ids (the modulus's node before the step;
-// the law's other input, the reference's node under the rate law or the integral's before the
-// step; the stimulus's input, the bond a stress or strain took or the node of a contact or
-// kinetic stimulus, -1 for none; the rule's flags, kDevActive and kDevFree).
-enum DevelopRow : int {
-  kDevLaw = 0,
-  kDevStim = 1,
-  kDevStimDE = 2,
-  kDevBondFactor = 3,
-  kDevelopRows = 4
+// A development block's record, row by row (V: double or const double, I: int32_t or const
+// int32_t). Values: the law's value; the stimulus; the stimulus's partial derivative with
+// respect to the modulus before the step (pressure's, under the voxel's own modulus); the
+// factor of its bonds' values (1 or -1 for the one a stress or strain took, 0.25 for strain
+// energy, pressure's -E / denominator). Ids: the modulus's node before the step; the law's other
+// input (the reference's node under the rate law, the integral's before the step under the
+// integral law); the stimulus's input (the bond a stress or strain took, or the node of a
+// contact or kinetic stimulus; -1 for none); the rule's flags, kDevActive and kDevFree.
+constexpr int kDevelopRows = 4;  // of each kind
+template <class V, class I>
+struct DevelopRows {
+  V *law, *stim, *stim_de, *bond_factor;
+  I *e_id, *law_in, *stim_in, *flags;
+  DevelopRows(V* v, I* id, size_t n)
+      : law(v),
+        stim(v + n),
+        stim_de(v + 2 * n),
+        bond_factor(v + 3 * n),
+        e_id(id),
+        law_in(id + n),
+        stim_in(id + 2 * n),
+        flags(id + 3 * n) {}
 };
-enum DevelopIdRow : int { kDevEId = 0, kDevLawIn = 1, kDevStimIn = 2, kDevFlags = 3 };
 constexpr int32_t kDevActive = 1;  // the gate let the voxel develop (its integral moved)
 constexpr int32_t kDevFree = 2;    // its new modulus is the law's target, no clamp holding
 // An allocator whose growth leaves the new elements unwritten (default-initialised, not
@@ -626,7 +633,7 @@ class Replica {
                              : which == Treatment::kStrainEnergy ? io.bond_energy
                                                                  : io.bond_strain;
     DevelopBlock stage{0, blocks_->develop_values.size()};
-    stage.dt = dt.v, stage.dt_id = dt.id;
+    stage.dt = dt;
     stage.e0_ids = ids_of(io.e0), stage.alpha_ids = ids_of(io.alpha);
     const bool by_bonds = which != Treatment::kContact && which != Treatment::kKinetic;
     if (by_bonds && nb_ > 0) {
@@ -638,13 +645,9 @@ class Replica {
     }
     blocks_->develop_values.resize(stage.at + kDevelopRows * n);
     blocks_->develop_ids.resize(stage.at + kDevelopRows * n);
-    double* value = blocks_->develop_values.data() + stage.at;
-    int32_t* id = blocks_->develop_ids.data() + stage.at;
-    const auto row = [n](auto* p, int r) { return p + size_t(r) * n; };
-    double *law_v = row(value, kDevLaw), *stim_v = row(value, kDevStim);
-    double *de_v = row(value, kDevStimDE), *factor_v = row(value, kDevBondFactor);
-    int32_t *e_in = row(id, kDevEId), *law_in = row(id, kDevLawIn);
-    int32_t *stim_in = row(id, kDevStimIn), *flags = row(id, kDevFlags);
+    const auto [law_v, stim_v, de_v, factor_v, e_in, law_in, stim_in, flags] =
+        DevelopRows<double, int32_t>(blocks_->develop_values.data() + stage.at,
+                                     blocks_->develop_ids.data() + stage.at, n);
     // The stimulus's inputs (stimulus_lanes): a contact or kinetic stimulus's node goes on the
     // tape before the block's leaves.
     const int32_t *normal_ids = ids_of(io.floor_normal), *size_ids = ids_of(io.size);
@@ -901,11 +904,8 @@ struct ParamLeaves {
 void develop_stage_reverse(const DevelopBlock& stage, const double* value, const int32_t* id,
                            const DevelopIo& io, const Model& k, double* adj) {
   const size_t n = size_t(k.n);
-  const auto row = [n](auto* p, int r) { return p + size_t(r) * n; };
-  const double *law_v = row(value, kDevLaw), *stim_v = row(value, kDevStim);
-  const double *de_v = row(value, kDevStimDE), *factor_v = row(value, kDevBondFactor);
-  const int32_t *e_in = row(id, kDevEId), *law_in = row(id, kDevLawIn);
-  const int32_t *stim_in = row(id, kDevStimIn), *flags = row(id, kDevFlags);
+  const auto [law_v, stim_v, de_v, factor_v, e_in, law_in, stim_in, flags] =
+      DevelopRows<const double, const int32_t>(value, id, n);
   const double* g_out = adj + stage.first;
   const bool integral = k.def.growth == GrowthModel::kIntegral;
   const Treatment which = k.def.treatment;
@@ -924,7 +924,7 @@ void develop_stage_reverse(const DevelopBlock& stage, const double* value, const
       if (integral) {  // the integral, old + stim dt
         const double g = g_out[kDevIntegral * n + i] + g_law;
         if (law_in[i] >= 0) adj[law_in[i]] += g;
-        g_stim += g * stage.dt;
+        g_stim += g * stage.dt.v;
         g_dt += g * stim_v[i];
       } else if (law_in[i] != int32_t(stage.first + int64_t(kDevStimulus * n + i))) {
         g_stim += g_law;  // stim - ref
@@ -952,7 +952,7 @@ void develop_stage_reverse(const DevelopBlock& stage, const double* value, const
     }
     if (e_in[i] >= 0 && de_v[i] != 0.0) adj[e_in[i]] += de_v[i] * g_stim;
   }
-  if (stage.dt_id >= 0) adj[stage.dt_id] += g_dt;
+  if (stage.dt.id >= 0) adj[stage.dt.id] += g_dt;
 }
 
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
