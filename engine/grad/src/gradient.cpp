@@ -583,11 +583,11 @@ class Replica {
     }
   }
 
-  // A node of sum_k d_k x_k over the inputs' nodes (-1: a constant, left out), made by `rec`
-  // (record's rule): one node for two inputs, one more for each further input (a node takes two
-  // operands), so at most count - 1, or 1 for a lone input.
-  template <class Rec>
-  static int32_t combine(const int32_t* id, const double* d, int count, Rec rec) {
+  // A node of sum_k d_k x_k over the inputs' nodes (-1: a constant, left out), made by record:
+  // one node for two inputs, one more for each further input (a node takes two operands), so
+  // at most count - 1, or 1 for a lone input. (record is called, not passed: an always_inline
+  // function taken by pointer fails to compile at -O1.)
+  static int32_t combine(const int32_t* id, const double* d, int count) {
     int32_t acc = -1, first = -1;
     double first_d = 0.0;
     for (int k = 0; k < count; ++k) {
@@ -595,10 +595,10 @@ class Replica {
       if (first < 0) {
         first = id[k], first_d = d[k];
       } else {
-        acc = acc < 0 ? rec(first, first_d, id[k], d[k]) : rec(acc, 1.0, id[k], d[k]);
+        acc = acc < 0 ? record(first, first_d, id[k], d[k]) : record(acc, 1.0, id[k], d[k]);
       }
     }
-    return acc >= 0 ? acc : first >= 0 ? rec(first, first_d, -1, 0.0) : -1;
+    return acc >= 0 ? acc : first >= 0 ? record(first, first_d, -1, 0.0) : -1;
   }
 
   // Development (develop_lanes) by the engine's own kernel set on doubles, kept as a block
@@ -681,14 +681,14 @@ class Replica {
         const double side = io.size[i], normal = io.floor_normal[i];
         in[0] = at(normal_ids, i), d[0] = 1.0 / (side * side);
         in[1] = at(size_ids, i), d[1] = -2.0 * normal / (side * side * side);
-        stim_in[i] = combine(in, d, 2, record);
+        stim_in[i] = combine(in, d, 2);
       } else {  // kinetic
         for (int c = 0; c < 3; ++c) {
           in[c] = at(p_ids, 3 * i + c), d[c] = m.inv_mass * io.lin_mom[3 * i + c] * m.inv_volume;
           in[3 + c] = at(h_ids, 3 * i + c);
           d[3 + c] = m.inv_inertia * io.ang_mom[3 * i + c] * m.inv_volume;
         }
-        stim_in[i] = combine(in, d, 6, record);
+        stim_in[i] = combine(in, d, 6);
       }
     }
     stage.first = t.unswept_leaves(kDevelopOutputs * n);
