@@ -6,10 +6,9 @@ SOURCE_DIR's files (as git lists them: tracked and not ignored) are copied to WO
 so nothing of a build tree is near; there `pip wheel --no-index --no-build-isolation` builds
 the wheel (a fresh CMake build of the two targets it needs, at -O1: see main), a fresh
 virtual environment (--system-site-packages, for numpy) installs it, and from / the module
-simulates the demo
-walker (the same fitness and state hash as the build tree's module), renders a frame (its
-shaders found beside it), and `plastivox --help`, `python -m plastivox --help` and
-`plastivox render` run. The same CMake build is also installed with `cmake --install` into a
+simulates the demo walker (the same fitness and state hash as the build tree's module),
+renders a frame (its shaders found beside it), and `plastivox --help`, `python -m plastivox
+--help` and `plastivox render` run. The same CMake build is also installed with `cmake --install` into a
 prefix, whose program and module render too (assets in <prefix>/share/plastivox/assets).
 The copied sources and their build are deleted before anything installed runs.
 """
