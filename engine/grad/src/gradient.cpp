@@ -1026,6 +1026,9 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
 
 // Bytes a tape node costs: the node and its adjoint.
 constexpr double kNodeBytes = sizeof(Node) + sizeof(double);
+// The snapshots' spacing for speed, and the memory it may take (plan()).
+constexpr double kFastSegment = 16;
+constexpr double kFastBudget = 1e9;
 
 // Bytes the blocks of a step cost (the bond stage, the gather, the update and development: one
 // each).
@@ -1262,14 +1265,39 @@ Plan plan(const Model& m, const GradientOptions& options) {
   const double blocks = block_bytes(m);
   p.tape_bytes_per_step = kNodeBytes * step_nodes + blocks;
   // N/K snapshots of S bytes beside K steps of tape of T bytes: K = sqrt(N S / T) makes the
-  // two equal and their sum, 2 sqrt(N S T), the least.
+  // two equal and their sum, 2 sqrt(N S T), the least. Time asks for short segments: a
+  // segment's tape and blocks are written as it is recomputed and read back as it is swept,
+  // and the fewer its steps the more of them are still in the cache. So a longer life, whose
+  // least-memory spacing is above kFastSegment steps, takes kFastSegment while its estimate
+  // (on two threads, so that the spacing is the same on any) stays within kFastBudget bytes,
+  // else the shortest spacing up to the least-memory one that does (docs/gradients.md, "The
+  // snapshots' spacing").
   const double N = p.steps, S = p.snapshot_bytes, T = p.tape_bytes_per_step;
-  const int K = options.checkpoint_every > 0
-                    ? options.checkpoint_every
-                    : static_cast<int>(std::clamp(std::round(std::sqrt(N * S / T)), 1.0, N));
+  // A thread keeps a segment (its tape's nodes and adjoints as reserved, a quarter above the
+  // estimate, its blocks) and a replica (its workspace and its copies of the state: the rows'
+  // node ids, the loss's scratch, the state it is checked against); beside them is the
+  // engine's own life. Those copies were measured at 15 snapshots' bytes on one thread and 23
+  // on two, on the walker and the 10^3 cube (tests/grad_memory_test.cpp); 14 + 10 a thread
+  // are counted (Plan::bytes).
+  const auto segment_nodes_of = [&](double k) { return std::floor(k * step_nodes * 1.25); };
+  const auto thread_bytes_of = [&](double k) {
+    return segment_nodes_of(k) * kNodeBytes + k * blocks + 10 * S;
+  };
+  int K = options.checkpoint_every;
+  if (K <= 0) {
+    const double least = std::clamp(std::round(std::sqrt(N * S / T)), 1.0, N);
+    double k = std::min(least, kFastSegment);
+    const auto two_threads = [&] {
+      Plan at = p;
+      at.thread_bytes = thread_bytes_of(k);
+      return at.bytes(std::ceil(N / k) * S, 2);
+    };
+    while (k < least && two_threads() > kFastBudget) k = std::min(least, std::ceil(k * 1.25));
+    K = static_cast<int>(k);
+  }
   // A segment's tape is reserved a quarter above the estimate (Segment), which a node names by
   // a 32-bit index: below 2^31 nodes.
-  const double segment_nodes = std::floor(K * step_nodes * 1.25);
+  const double segment_nodes = segment_nodes_of(K);
   if (segment_nodes >= 2147483647.0)
     throw std::invalid_argument("gradient: a segment of " + std::to_string(K) +
                                 " steps records about " +
@@ -1282,12 +1310,7 @@ Plan plan(const Model& m, const GradientOptions& options) {
   // is taken instead when only the second tape would pass the limit. The spacing is the same
   // on any thread count, so are the bits.
   const double snapshots = std::ceil(N / K) * S;
-  // A thread keeps a segment (its tape's nodes and adjoints as reserved, its blocks) and a
-  // replica (its workspace and its copies of the state: the rows' node ids, the loss's scratch,
-  // the state it is checked against); beside them is the engine's own life. Those copies were
-  // measured at 15 snapshots' bytes on one thread and 23 on two, on the walker and the 10^3
-  // cube (tests/grad_memory_test.cpp); 14 + 10 a thread are counted.
-  p.thread_bytes = segment_nodes * kNodeBytes + K * blocks + 10 * S;
+  p.thread_bytes = thread_bytes_of(K);
   const bool within = !(options.memory_limit > 0) || p.bytes(snapshots, 2) <= options.memory_limit;
   p.threads =
       (options.threads > 0 ? options.threads : hardware_threads()) >= 2 && N > K && within ? 2 : 1;
