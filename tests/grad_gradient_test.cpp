@@ -381,6 +381,39 @@ TEST(Gradient, A10CubedBodyOverAWholeLifeIsPlannedUnder2GB) {
   EXPECT_GT(p.checkpoint_every, 1);
 }
 
+// The automatic spacing (docs/gradients.md, "The snapshots' spacing"): a short life keeps its
+// least-memory spacing; a longer one takes segments of 16 steps while the estimate on two
+// threads stays within 1 GB; a life too long for that takes the shortest spacing that keeps
+// within it; and the spacing is the same whatever the threads and the memory limit.
+TEST(Gradient, SpacingIsSixteenStepsWhileTheEstimateStaysWithin1GB) {
+  const RobotDef walker = demo_walker();
+  const auto spacing = [&](double duration, const grad::GradientOptions& o = {}) {
+    PhysicsDef phys;
+    phys.duration = duration;
+    return grad::plan(compile(walker, phys), o);
+  };
+  const grad::Plan short_life = spacing(0.2);
+  EXPECT_LT(short_life.checkpoint_every, 16);  // its least-memory spacing, about 8
+  EXPECT_GT(short_life.checkpoint_every, 1);
+  const grad::Plan whole = spacing(5.2);  // least memory would take about 40
+  EXPECT_EQ(whole.checkpoint_every, 16);
+  grad::GradientOptions one_thread_limited;
+  one_thread_limited.threads = 1;
+  one_thread_limited.memory_limit = 1e12;
+  EXPECT_EQ(spacing(5.2, one_thread_limited).checkpoint_every, 16);
+  // 100 s: about 220 000 steps, whose snapshots every 16 steps would pass 1 GB.
+  const grad::Plan is_long = spacing(100);
+  EXPECT_GT(is_long.checkpoint_every, 16);
+  grad::GradientOptions two;
+  two.threads = 2;
+  const grad::Plan is_long_on_two = spacing(100, two);
+  EXPECT_EQ(is_long_on_two.checkpoint_every, is_long.checkpoint_every);
+  EXPECT_LE(is_long_on_two.estimated_bytes, 1e9);
+  grad::GradientOptions shorter = two;
+  shorter.checkpoint_every = is_long.checkpoint_every - 1;  // the shortest within the budget
+  EXPECT_GT(spacing(100, shorter).estimated_bytes, 1e9);
+}
+
 // A body driven by a neural controller (docs/control.md) with distinct weights of both signs.
 RobotDef cube3_with_network(ControllerKind kind, int hidden) {
   RobotDef r = cube3();

@@ -1292,7 +1292,7 @@ Plan plan(const Model& m, const GradientOptions& options) {
       at.thread_bytes = thread_bytes_of(k);
       return at.bytes(std::ceil(N / k) * S, 2);
     };
-    while (k < least && two_threads() > kFastBudget) k = std::min(least, std::ceil(k * 1.25));
+    while (k < least && two_threads() > kFastBudget) ++k;
     K = static_cast<int>(k);
   }
   // A segment's tape is reserved a quarter above the estimate (Segment), which a node names by
