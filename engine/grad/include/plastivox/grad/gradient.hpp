@@ -39,9 +39,10 @@ struct GradientOptions {
   // memory takes sqrt(steps x snapshot bytes / tape bytes per step), which balances the
   // snapshots' memory against the tape's (their sum is then 2 sqrt(steps x snapshot x tape
   // per step)); but shorter segments are faster (more of a segment's tape is still in the
-  // cache when it is swept), so a spacing above 16 steps is cut to 16 while the estimate stays
-  // within 1 GB, else to the shortest that does (docs/gradients.md). The spacing depends on
-  // the model alone, never on the threads or memory_limit.
+  // cache when it is swept), so a spacing above 16 steps is cut to 16 while the estimate (on
+  // two threads) stays within 1 GB, else to the shortest that does, at most the least-memory
+  // one (docs/gradients.md). The spacing depends on the model and the life alone, never on
+  // the threads or memory_limit.
   int checkpoint_every = 0;
   // Refuse a life whose estimated memory (Plan::estimated_bytes) exceeds this many bytes, with
   // one line saying so (MemoryLimitError); 0: no limit. The estimate counts the life's steps
