@@ -877,20 +877,46 @@ bool physics_equal(const State& a, const State& b) {
   return true;
 }
 
+// The same against a snapshot (save_state's bytes), read where it lies rather than restored.
+bool physics_equal(const State& a, const std::vector<uint8_t>& snapshot) {
+  const std::vector<fields::View> rows = fields::views(kStateFields, a);
+  fields::Read read;
+  try {
+    read = fields::check(rows, snapshot);
+  } catch (const std::invalid_argument&) {
+    return false;  // another shape
+  }
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const StateFieldBytes& x = rows[r].bytes;
+    if (!is_watch(rows[r].name) && x.count > 0 &&
+        std::memcmp(x.data, read.from[r], x.count * x.value_bytes) != 0)
+      return false;
+  }
+  return true;
+}
+
+// Makes each of `ids` a fresh leaf of t, left unwritten (Tape::unswept_leaves): a segment's
+// first leaves, below every node the sweep reads (sweep's `begin`).
+void number_leaves(Tape& t, std::vector<int32_t>& ids) {
+  int32_t id = static_cast<int32_t>(t.unswept_leaves(ids.size()));
+  for (int32_t& x : ids) x = id++;
+}
+
 // The parameters as leaves of a tape: one node per value of an array of the Model.
 struct ParamLeaves {
   std::vector<int32_t> e0, phase, alpha, gain, weights;
+  // Unswept leaves (a leaf's node holds nothing the sweep needs): the sweep stops above them.
   void make(Tape& t, const Model& m) {
     for (auto* v : {&e0, &phase, &alpha, &gain}) {
       v->resize(m.n);
-      for (auto& id : *v) id = t.leaf();
+      number_leaves(t, *v);
     }
     t.add_shadow(m.e0.data(), e0.data());
     t.add_shadow(m.phase.data(), phase.data());
     t.add_shadow(m.alpha.data(), alpha.data());
     t.add_shadow(m.act_gain.data(), gain.data());
     weights.resize(m.controller.weights.size());
-    for (auto& id : weights) id = t.leaf();
+    number_leaves(t, weights);
     if (!weights.empty()) t.add_shadow(m.controller.weights.data(), weights.data());
   }
 };
@@ -957,8 +983,9 @@ void develop_stage_reverse(const DevelopBlock& stage, const double* value, const
 
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
-void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const Model& k,
-           const BondKernelIo& io, const DevelopIo& dev) {
+// Nodes below `begin` are leaves, left unswept.
+void sweep(const Tape& t, size_t begin, std::vector<double>& adj, const Blocks& blocks,
+           const Model& k, const BondKernelIo& io, const DevelopIo& dev) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
@@ -1021,7 +1048,7 @@ void sweep(const Tape& t, std::vector<double>& adj, const Blocks& blocks, const 
     }
   }
   if (pending >= 0) throw std::logic_error("gradient: an update's bond stage was not swept");
-  sweep_nodes(t, adj, 0, end);
+  sweep_nodes(t, adj, begin, end);
 }
 
 // Bytes a tape node costs: the node and its adjoint.
@@ -1061,8 +1088,7 @@ size_t nodes_per_step(const Model& m) {
   Blocks blocks;
   rep.record_blocks_into(g_reference_tape ? nullptr : &blocks);
   g_tape = &tape;
-  for (auto& row : rep.ids())
-    for (auto& id : row) id = tape.leaf();
+  for (auto& row : rep.ids()) number_leaves(tape, row);
   ParamLeaves params;
   params.make(tape, m);
   rep.register_arrays(tape);
@@ -1078,13 +1104,13 @@ size_t nodes_per_step(const Model& m) {
 }
 
 // One segment of the life recomputed for its reverse sweep: the replica that recorded it, its
-// tape and blocks, the parameters' leaves, the nodes of its first state, the engine's state
-// at its end to check the replica against, and its nodes' adjoints (zeroed by the recording,
+// tape and blocks, the parameters' leaves, the nodes of its first state and its nodes' adjoints
+// (zeroed by the recording,
 // so that on two threads the helper, not the sweep, pays for it). One thread reuses one for every
 // segment (cleared, not freed, so that after the first, the longest but for rounding, no page is
 // faulted in again); two alternate two. Not movable: the replica points at its blocks.
 struct Segment {
-  Segment(const Model& m, const Plan& p, const State& final) : rep(m), check(final) {
+  Segment(const Model& m, const Plan& p) : rep(m) {
     const int K = p.checkpoint_every;
     // The adjoints too: the last segment, recorded first, is the shortest, and an array grown
     // for a longer one would hold both for a moment.
@@ -1119,9 +1145,10 @@ struct Segment {
   Blocks blocks;
   ParamLeaves params;
   std::vector<std::vector<int32_t>> start;
+  size_t swept_from =
+      0;  // the first node the sweep reads: the first state's and parameters' are leaves
   std::vector<std::pair<int32_t, double>> seeds;  // the loss's derivatives at this segment's states
   std::vector<std::vector<double>> d_loss;        // the loss's scratch, zero between states
-  State check;
   std::vector<double> adj;
 };
 
@@ -1137,10 +1164,10 @@ void record_segment(Segment& sg, const Model& m, const TrajectoryLoss& loss,
   g_tape = &sg.tape;
   restore_state(sg.rep.state(), snapshot);
   std::vector<std::vector<int32_t>>& ids = sg.rep.ids();
-  for (auto& row : ids)
-    for (auto& id : row) id = sg.tape.leaf();
+  for (auto& row : ids) number_leaves(sg.tape, row);
   sg.start = ids;
   sg.params.make(sg.tape, m);
+  sg.swept_from = sg.tape.nodes.size();
   sg.rep.register_arrays(sg.tape);
   sg.seeds.clear();
   // The loss's derivative at the replica's present state, kept as seeds of the nodes that hold
@@ -1173,8 +1200,8 @@ void record_segment(Segment& sg, const Model& m, const TrajectoryLoss& loss,
     throw;
   }
   g_tape = nullptr;
-  if (next_snapshot) restore_state(sg.check, *next_snapshot);
-  if (!physics_equal(sg.rep.state(), next_snapshot ? sg.check : final))
+  if (next_snapshot ? !physics_equal(sg.rep.state(), *next_snapshot)
+                    : !physics_equal(sg.rep.state(), final))
     throw std::logic_error("gradient: the replica left the engine's life in steps " +
                            std::to_string(first) + ".." + std::to_string(end) +
                            " (a stage differs from the engine's; docs/gradients.md)");
@@ -1199,7 +1226,7 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
     for (size_t k = 0; k < ids[r].size(); ++k)
       if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
   for (const auto& [id, v] : sg.seeds) adj[id] += v;
-  sweep(sg.tape, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.develop_io());
+  sweep(sg.tape, sg.swept_from, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.develop_io());
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
   for (int i = 0; i < m.n; ++i) {
@@ -1413,9 +1440,8 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
   // On two threads, a helper recomputes segment k - 1 while this thread sweeps segment k; the
   // sweeps run in the same order on the same thread either way, so the sums are the same.
   g.threads = threads >= 2 && snaps.size() > 1 ? 2 : 1;
-  Segment one(m, p, sim.state());
-  std::unique_ptr<Segment> two =
-      g.threads == 2 ? std::make_unique<Segment>(m, p, sim.state()) : nullptr;
+  Segment one(m, p);
+  std::unique_ptr<Segment> two = g.threads == 2 ? std::make_unique<Segment>(m, p) : nullptr;
   const auto& rows = one.rep.rows();
   Backward b;
   b.adj_state.resize(rows.size());
@@ -1462,7 +1488,7 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
     std::vector<double>& adj = one.adj;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
-    sweep(tape, adj, {}, m, one.rep.bond_io(), one.rep.develop_io());
+    sweep(tape, 0, adj, {}, m, one.rep.bond_io(), one.rep.develop_io());
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
