@@ -217,7 +217,7 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
   io.damp = A.v[kDamp];
   io.nb = 1;
   io.records_adj = out_adj + kOut;
-  io.out_adj = out_adj + kPrevNext;
+  for (int o = kPrevNext; o < kBondOutputs; ++o) io.out_adj[o - kPrevNext] = out_adj + o;
   io.in_adj = in;
   io.off = &off;
   bond_reverse_lanes<double>(io, 0, k);
@@ -227,10 +227,10 @@ bool bond_reverse(const BondArgs& A, const ModelConstants& k, const double* out_
 }
 
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
-                        const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
-                        const double* voxel_adj, double* adj, const ModelConstants& k,
-                        BondStageScratch& s, const double* voxel_in,
-                        const ScalarPathBonds& scalar) {
+                        const int32_t* ids, const uint8_t* valid, size_t first,
+                        const BondLeafRows& rows, int64_t prev_first, const double* voxel_adj,
+                        double* adj, const ModelConstants& k, BondStageScratch& s,
+                        const double* voxel_in, const ScalarPathBonds& scalar) {
   const size_t nb = L.nb;
   s.in.resize(kBondInputs * nb);
   s.off.resize(nb);
@@ -261,7 +261,11 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
     }
   }
   r.records_adj = s.records.data();
-  r.out_adj = adj + first;
+  s.zero.resize(nb);  // zeros: written only here
+  for (int o = kPrevNext; o < kBondOutputs; ++o) {
+    const int row = o < kStrain ? o - kPrevNext : rows.row[o - kStrain];
+    r.out_adj[o - kPrevNext] = row < 0 ? s.zero.data() : adj + first + size_t(row) * nb;
+  }
   r.in_adj = s.in.data();
   r.off = s.off.data();
   // Bond b's reverse one at a time: Voxelyze 0.9's by hand where it can, else recorded on the
@@ -269,7 +273,7 @@ void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const 
   const auto one = [&](size_t b, BondTape::Forward forward, bool small, bool by_hand) {
     double out[kBondOutputs], in[kBondInputs] = {};
     for (int o = kOut; o < kPrevNext; ++o) out[o] = s.records[(o - kOut) * nb + b];
-    for (int o = kPrevNext; o < kBondOutputs; ++o) out[o] = r.out_adj[(o - kPrevNext) * nb + b];
+    for (int o = kPrevNext; o < kBondOutputs; ++o) out[o] = r.out_adj[o - kPrevNext][b];
     const BondArgs a = bond_args(io, L, values, ids, int(b), !valid || valid[b]);
     if (!by_hand || !voxelyze_bond_reverse(a, small, k, out, in))
       s.tape.reverse(forward, a, small, k, out, in);

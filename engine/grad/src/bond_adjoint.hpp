@@ -49,10 +49,18 @@ enum BondOutput : int {
   kEnergy = 20,
   kBondOutputs = 21
 };
-// A kept stage's outputs that are leaves of the tape: kPrevNext on. The records are read by the
-// gather alone, so their adjoints are not leaves but computed from the gather's outputs' (a
+// A kept stage's outputs that may be leaves of the tape: kPrevNext on. The records are read by
+// the gather alone, so their adjoints are not leaves but computed from the gather's outputs' (a
 // bond's force on a is + in voxel a's total force and - in b's, its moments in a's and b's).
+// Strain, stress and their product are read by development (one of them: the body's stimulus)
+// and a network's sensors: a stage makes leaves of the next deformations (9 rows) and of those
+// of the three something reads (BondLeafRows); the others' adjoints are zero.
 constexpr int kBondLeaves = kBondOutputs - kPrevNext;
+// The row among a stage's leaves of its strain, stress and energy (-1: not a leaf).
+struct BondLeafRows {
+  int row[3] = {-1, -1, -1};
+  int count() const { return 9 + (row[0] >= 0) + (row[1] >= 0) + (row[2] >= 0); }
+};
 
 struct BondArgs {
   double v[kBondInputs];
@@ -123,15 +131,15 @@ bool bond_reverse(const BondArgs& a, const ModelConstants& k, const double* out_
 // What the lane template reads and writes for a stage of nb bonds: the kept stage's arrays as
 // the forward kernel's (bond_a, bond_b, axis_wide the model's; centre_size, quat, stiff, prev
 // and prev_valid the record's), the damping factor, the adjoints of the records (records_adj,
-// the 9 outputs from kOut, rows of nb) and of the outputs from kPrevNext on (out_adj,
-// kBondLeaves rows of nb), the inputs' adjoints (kBondInputs rows of nb), and a flag a bond off
-// the hand path.
+// the 9 outputs from kOut, rows of nb) and of the outputs from kPrevNext on (out_adj[o -
+// kPrevNext], a row of nb each), the inputs' adjoints (kBondInputs rows of nb), and a flag a
+// bond off the hand path.
 struct BondReverseIo {
   BondKernelIo bond;
   double damp = 0;
   size_t nb = 0;
   const double* records_adj = nullptr;
-  const double* out_adj = nullptr;
+  const double* out_adj[kBondLeaves] = {};
   double* in_adj = nullptr;
   uint8_t* off = nullptr;
 };
@@ -141,7 +149,7 @@ BondReverseKernel bond_reverse_kernel_avx512();
 
 // Scratch arrays of bond_stage_reverse, kept from stage to stage.
 struct BondStageScratch {
-  std::vector<double> in, voxel, records;
+  std::vector<double> in, voxel, records, zero;  // zero: the rows of outputs without leaves
   std::vector<uint8_t> off;
   BondTape tape;  // the bonds off the hand path, and the scalar path's
   // Each voxel's bonds in bond order, built once for a stage's bonds: voxel i's are entries
@@ -161,9 +169,10 @@ struct ScalarPathBonds {
 
 // A kept stage's reverse (its record `values` and `ids`, the bonds' damping flags or null when
 // all are set): from the adjoints of its outputs, adj[first + (o - kPrevNext) nb + b] for bond
-// b's output o from kPrevNext on, and of the voxels' total forces and moments (voxel_adj: force
-// x, y, z then moment x, y, z, rows of n; the gather's outputs), adds those of its inputs to adj
-// through ids. A bond's records' adjoints follow from its voxels': the force on a is + in a's
+// b's next deformation o and adj[first + rows.row[o - kStrain] nb + b] for its strain, stress and
+// energy (zero for those without a row), and of the voxels' total forces and moments (voxel_adj:
+// force x, y, z then moment x, y, z, rows of n; the gather's outputs), adds those of its inputs to
+// adj through ids. A bond's records' adjoints follow from its voxels': the force on a is + in a's
 // total force and - in b's, the moment on a (b) is in a's (b's) total moment. With prev_first
 // >= 0 the previous deformations are the previous step's stage's next ones, whose adjoints are
 // the rows adj[prev_first + j nb + b] (its leaves from kPrevNext): added there as rows, not
@@ -173,9 +182,9 @@ struct ScalarPathBonds {
 // VoxelSharedInputs; rows of n by VoxelInput): each voxel's sum starts from them. The bonds in
 // `scalar` take the scalar path's reverse (on a BondTape) instead of the batched one.
 void bond_stage_reverse(const BondKernelIo& io, const BondStageLayout& L, const double* values,
-                        const int32_t* ids, const uint8_t* valid, size_t first, int64_t prev_first,
-                        const double* voxel_adj, double* adj, const ModelConstants& k,
-                        BondStageScratch& s, const double* voxel_in = nullptr,
-                        const ScalarPathBonds& scalar = {});
+                        const int32_t* ids, const uint8_t* valid, size_t first,
+                        const BondLeafRows& rows, int64_t prev_first, const double* voxel_adj,
+                        double* adj, const ModelConstants& k, BondStageScratch& s,
+                        const double* voxel_in = nullptr, const ScalarPathBonds& scalar = {});
 
 }  // namespace plastivox::grad

@@ -45,8 +45,7 @@ __attribute__((always_inline)) inline void prefetch_bonds(const grad::BondRevers
   const size_t j = size_t(i) + kAhead;
   if (i % 8 != 0 || j + 8 > io.nb) return;
   for (int r = 0; r < 9; ++r) __builtin_prefetch(io.bond.prev[r] + j);
-  for (int r = 0; r < grad::kBondLeaves; ++r)
-    __builtin_prefetch(io.out_adj + size_t(r) * io.nb + j);
+  for (int r = 0; r < grad::kBondLeaves; ++r) __builtin_prefetch(io.out_adj[r] + j);
   for (size_t b = j; b < j + 8; b += 2)
     for (const int v : {io.bond.bond_a[b], io.bond.bond_b[b]}) {
       __builtin_prefetch(io.bond.centre_size + 4 * v);
@@ -173,7 +172,7 @@ inline void bond_reverse_lanes(const grad::BondReverseIo& io, int i, const Model
 
   // ---- The reverse ----
   // Outputs from kPrevNext on are rows of the stage's leaves, the records' rows of their own.
-  const auto out = [&](int o) { return load(io.out_adj + size_t(o - kPrevNext) * nb, i, T{}); };
+  const auto out = [&](int o) { return load(io.out_adj[o - kPrevNext], i, T{}); };
   const auto record_out = [&](int w, int c) {
     return load(io.records_adj + size_t(3 * w + c) * nb, i, T{});
   };

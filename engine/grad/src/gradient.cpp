@@ -46,13 +46,42 @@ namespace {
 
 // The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
 // voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
-// A step's bond stage: its outputs from kPrevNext on are kBondLeaves leaves a bond, output by
-// output (bond b's output o is node first + (o - kPrevNext) nb + b); its records' adjoints are
+// A step's bond stage: its next deformations are 9 leaves a bond, output by output (bond b's
+// output o is node first + (o - kPrevNext) nb + b), then, if development reads one, the bond's
+// strain, stress or energy (bond_stimulus; node first + 9 nb + b); its records' adjoints are
 // those of the same step's gather's outputs, from node gather_first (bond_adjoint.hpp); its
 // record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids. Its bonds that
 // took the scalar path (every bond under Voxelyze 0.9, whose frame flags are kept from
 // Blocks::bond_small[scalar_at]; under the exact model the scalar_count bonds listed from
 // Blocks::bond_redo[scalar_at]) take that path's reverse (bond_adjoint.hpp, ScalarPathBonds).
+// Which of a bond's strain, stress and energy a bond stage makes leaves of: what development
+// reads (record_development's per_bond), or all three under a network, whose sensors read them.
+BondLeafRows bond_leaf_rows(const Model& m) {
+  BondLeafRows r;
+  if (m.controller.kind != ControllerKind::kSine) {
+    r.row[0] = 9, r.row[1] = 10, r.row[2] = 11;
+    return r;
+  }
+  const bool split = m.def.axial_modulus == AxialModulus::kHarmonicMean;
+  switch (m.def.treatment) {
+    case Treatment::kStress:
+      r.row[kStress - kStrain] = 9;
+      break;
+    case Treatment::kPressure:
+      r.row[(split ? kStress : kStrain) - kStrain] = 9;
+      break;
+    case Treatment::kStrain:
+      r.row[0] = 9;
+      break;
+    case Treatment::kStrainEnergy:
+      r.row[kEnergy - kStrain] = 9;
+      break;
+    default:
+      break;
+  }
+  return r;
+}
+
 struct BondBlock {
   int64_t first;
   size_t at;
@@ -486,7 +515,7 @@ class Replica {
                     blocks_->bond_ids.data() + stage.at);
     if (!io.all_valid)
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
-    t.unswept_leaves(size_t(kBondLeaves) * size_t(nb_));
+    t.unswept_leaves(size_t(bond_leaf_rows(m_).count()) * size_t(nb_));
     int32_t* next_ids[9];
     for (int j = 0; j < 9; ++j) next_ids[j] = t.ids_of(io.prev_next[j]);
     int32_t* strain_ids = t.ids_of(io.strain);
@@ -524,10 +553,13 @@ class Replica {
     const auto leaf = [first, nb](int o, int b) {
       return static_cast<int32_t>(first + int64_t(o - kPrevNext) * nb + b);
     };
-    for (int b = 0; b < nb; ++b) {
-      strain_ids[b] = leaf(kStrain, b);
-      stress_ids[b] = leaf(kStress, b);
-      if (energy_ids) energy_ids[b] = leaf(kEnergy, b);
+    // Strain, stress and energy: leaves where something reads them, else constants.
+    const BondLeafRows rows = bond_leaf_rows(m_);
+    int32_t* const stim_ids[3] = {strain_ids, stress_ids, energy_ids};
+    for (int o = 0; o < 3; ++o) {
+      if (!stim_ids[o]) continue;
+      const int row = rows.row[o];
+      for (int b = 0; b < nb; ++b) stim_ids[o][b] = row < 0 ? -1 : leaf(kPrevNext + row, b);
     }
     for (int j = 0; j < 9; ++j)
       for (int b = 0; b < nb; ++b) next_ids[j][b] = leaf(kPrevNext + j, b);
@@ -987,6 +1019,7 @@ void develop_stage_reverse(const DevelopBlock& stage, const double* value, const
 void sweep(const Tape& t, size_t begin, std::vector<double>& adj, const Blocks& blocks,
            const Model& k, const BondKernelIo& io, const DevelopIo& dev) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
+  const BondLeafRows leaf_rows = bond_leaf_rows(k);
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
   BondStageScratch bond_scratch;
   VoxelStageScratch voxel_scratch;
@@ -997,7 +1030,7 @@ void sweep(const Tape& t, size_t begin, std::vector<double>& adj, const Blocks& 
     size_t first = 0;
     int outputs = 0;
     if (kind == Blocks::kBond)
-      first = size_t(blocks.bonds[index].first), outputs = kBondLeaves * k.bond_count();
+      first = size_t(blocks.bonds[index].first), outputs = leaf_rows.count() * k.bond_count();
     else if (kind == Blocks::kVoxel)
       first = size_t(blocks.voxels[index].first), outputs = kVoxelOutputs * k.n;
     else if (kind == Blocks::kGather)
@@ -1017,10 +1050,11 @@ void sweep(const Tape& t, size_t begin, std::vector<double>& adj, const Blocks& 
         scalar.small = blocks.bond_small.data() + stage.scalar_at;
       else
         scalar.list = blocks.bond_redo.data() + stage.scalar_at, scalar.count = stage.scalar_count;
-      bond_stage_reverse(
-          io, L, blocks.bond_values.data() + stage.at, blocks.bond_ids.data() + stage.at, valid,
-          first, stage.prev_first, adj.data() + stage.gather_first + kGOutForce * k.n, adj.data(),
-          k, bond_scratch, pending == int64_t(index) ? voxel_scratch.in.data() : nullptr, scalar);
+      bond_stage_reverse(io, L, blocks.bond_values.data() + stage.at,
+                         blocks.bond_ids.data() + stage.at, valid, first, leaf_rows,
+                         stage.prev_first, adj.data() + stage.gather_first + kGOutForce * k.n,
+                         adj.data(), k, bond_scratch,
+                         pending == int64_t(index) ? voxel_scratch.in.data() : nullptr, scalar);
       pending = -1;
     } else if (kind == Blocks::kVoxel) {
       const VoxelBlock& stage = blocks.voxels[index];
