@@ -1016,13 +1016,19 @@ void develop_stage_reverse(const DevelopBlock& stage, const double* value, const
 // The whole tape, with each block's reverse where its output leaves begin: by hand where the
 // stage has one for the branch taken, else by the kernel recorded on a small tape.
 // Nodes below `begin` are leaves, left unswept.
+// The stages' reverses' scratch, kept from sweep to sweep (sized for a stage once).
+struct SweepScratch {
+  BondStageScratch bond;
+  VoxelStageScratch voxel;
+};
+
 void sweep(const Tape& t, size_t begin, std::vector<double>& adj, const Blocks& blocks,
-           const Model& k, const BondKernelIo& io, const DevelopIo& dev) {
+           const Model& k, const BondKernelIo& io, const DevelopIo& dev, SweepScratch& scratch) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
   const BondLeafRows leaf_rows = bond_leaf_rows(k);
   size_t valid_at = blocks.bond_valid.size();  // the flags are kept stage by stage, in order
-  BondStageScratch bond_scratch;
-  VoxelStageScratch voxel_scratch;
+  BondStageScratch& bond_scratch = scratch.bond;
+  VoxelStageScratch& voxel_scratch = scratch.voxel;
   int64_t pending = -1;  // the bond block whose reverse takes voxel_scratch.in's shared rows
   size_t end = t.nodes.size();
   for (size_t j = blocks.order.size(); j-- > 0;) {
@@ -1179,8 +1185,9 @@ struct Segment {
   Blocks blocks;
   ParamLeaves params;
   std::vector<std::vector<int32_t>> start;
-  size_t swept_from =
-      0;  // the first node the sweep reads: the first state's and parameters' are leaves
+  // The first node the sweep reads: the first state's and parameters' are leaves below it.
+  size_t swept_from = 0;
+  SweepScratch scratch;
   std::vector<std::pair<int32_t, double>> seeds;  // the loss's derivatives at this segment's states
   std::vector<std::vector<double>> d_loss;        // the loss's scratch, zero between states
   std::vector<double> adj;
@@ -1260,7 +1267,8 @@ void sweep_segment(Segment& sg, const Model& m, Backward& b, Gradient& g) {
     for (size_t k = 0; k < ids[r].size(); ++k)
       if (ids[r][k] >= 0) adj[ids[r][k]] += b.adj_state[r][k];
   for (const auto& [id, v] : sg.seeds) adj[id] += v;
-  sweep(sg.tape, sg.swept_from, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.develop_io());
+  sweep(sg.tape, sg.swept_from, adj, sg.blocks, m, sg.rep.bond_io(), sg.rep.develop_io(),
+        sg.scratch);
   for (size_t r = 0; r < ids.size(); ++r)
     for (size_t k = 0; k < ids[r].size(); ++k) b.adj_state[r][k] = adj[sg.start[r][k]];
   for (int i = 0; i < m.n; ++i) {
@@ -1522,7 +1530,7 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
     std::vector<double>& adj = one.adj;
     adj.assign(tape.nodes.size(), 0.0);
     if (dt0.id >= 0) adj[dt0.id] = b.adj_state[dt_row][0];
-    sweep(tape, 0, adj, {}, m, one.rep.bond_io(), one.rep.develop_io());
+    sweep(tape, 0, adj, {}, m, one.rep.bond_io(), one.rep.develop_io(), one.scratch);
     for (int i = 0; i < m.n; ++i) g.stiffness[i] += adj[e0_ids[i]];
   }
   // The amplitude scales every gain alike: dF/dA = sum_i gain_i dF/dgain_i / A.
