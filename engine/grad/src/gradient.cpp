@@ -586,7 +586,7 @@ class Replica {
     }
   }
 
-  // Actuation (actuate_lanes) on doubles, the engine's bits, each voxel's size recorded as two
+  // Actuation by the engine's kernel set on doubles (its bits), each voxel's size recorded as two
   // nodes instead of the kernel's eight or so: size = L max(1 + ((A xi) g) w, least) with
   // xi = (xi_e_max - E) xi_inv_range + xi_base and w = min(u, wave_max), from E, the gain g and
   // the signal u (a clamp that holds gives a constant, as pick does on Adj).
@@ -598,8 +598,8 @@ class Replica {
     int32_t* size_ids = ids_of(s.size.data());
     if (!size_ids) throw std::logic_error("gradient: the sizes are recorded without a shadow");
     const auto id = [](const int32_t* ids, int i) { return ids ? ids[i] : -1; };
+    kernels().actuate(E, u, gain, s.size.data(), m.n, m);  // the engine's sizes, lanes at a time
     for (int i = 0; i < m.n; ++i) {
-      actuate_lanes<double>(E, u, gain, s.size.data(), i, m);
       const double xi = (m.xi_e_max - E[i]) * m.xi_inv_range + m.xi_base;
       const bool clipped = u[i] > m.act_wave_max;
       const double w = clipped ? m.act_wave_max : u[i];
