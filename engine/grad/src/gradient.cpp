@@ -467,17 +467,18 @@ class Replica {
   }
   // Workspace::centre_size: each voxel's centre and actuated size as a record of 4.
   void copy_centres() {
-    const double* centre = s_.pos.front().data();
+    const double *centre = s_.pos.front().data(), *size = s_.size.data();
     double* cs = w_.centre_size.data();
-    for (int i = 0; i < m_.n; ++i) {
+    const int n = m_.n;  // locals: the stores could alias the members
+    for (int i = 0; i < n; ++i) {
       for (int k = 0; k < 3; ++k) cs[4 * i + k] = centre[3 * i + k];
-      cs[4 * i + 3] = s_.size[i];
+      cs[4 * i + 3] = size[i];
     }
     int32_t* to = ids_of(cs);
     if (!g_tape) return;
     if (!to) throw std::logic_error("gradient: the centres are recorded without a shadow");
-    const int32_t *pos_ids = ids_of(centre), *size_ids = ids_of(s_.size.data());
-    for (int i = 0; i < m_.n; ++i) {
+    const int32_t *pos_ids = ids_of(centre), *size_ids = ids_of(size);
+    for (int i = 0; i < n; ++i) {
       for (int k = 0; k < 3; ++k) to[4 * i + k] = pos_ids ? pos_ids[3 * i + k] : -1;
       to[4 * i + 3] = size_ids ? size_ids[i] : -1;
     }
