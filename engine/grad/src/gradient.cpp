@@ -47,13 +47,13 @@ namespace {
 // The stages kept for their own reverses instead of recorded (bond_adjoint.hpp,
 // voxel_adjoint.hpp): a block's outputs are leaves of the tape from node `first`.
 // A step's bond stage: its next deformations are 9 leaves a bond, output by output (bond b's
-// output o is node first + (o - kPrevNext) nb + b), then, if development reads one, the bond's
-// strain, stress or energy (bond_stimulus; node first + 9 nb + b); its records' adjoints are
-// those of the same step's gather's outputs, from node gather_first (bond_adjoint.hpp); its
-// record (keep_bond_stage) starts at `at` in Blocks::bond_values and bond_ids. Its bonds that
-// took the scalar path (every bond under Voxelyze 0.9, whose frame flags are kept from
-// Blocks::bond_small[scalar_at]; under the exact model the scalar_count bonds listed from
-// Blocks::bond_redo[scalar_at]) take that path's reverse (bond_adjoint.hpp, ScalarPathBonds).
+// output o is node first + (o - kPrevNext) nb + b), then those of its strain, stress and energy
+// something reads (bond_leaf_rows: output o's row r is nodes first + r nb on); its records'
+// adjoints are those of the same step's gather's outputs, from node gather_first
+// (bond_adjoint.hpp); its record (keep_bond_stage) starts at `at` in Blocks::bond_values and
+// bond_ids. Its bonds that took the scalar path (every bond under Voxelyze 0.9, whose frame flags
+// are kept from Blocks::bond_small[scalar_at]; under the exact model the scalar_count bonds listed
+// from Blocks::bond_redo[scalar_at]) take that path's reverse (bond_adjoint.hpp, ScalarPathBonds).
 // Which of a bond's strain, stress and energy a bond stage makes leaves of: what development
 // reads (record_development's per_bond), or all three under a network, whose sensors read them.
 BondLeafRows bond_leaf_rows(const Model& m) {
@@ -516,7 +516,8 @@ class Replica {
                     blocks_->bond_ids.data() + stage.at);
     if (!io.all_valid)
       blocks_->bond_valid.insert(blocks_->bond_valid.end(), io.prev_valid, io.prev_valid + nb_);
-    t.unswept_leaves(size_t(bond_leaf_rows(m_).count()) * size_t(nb_));
+    const BondLeafRows rows = bond_leaf_rows(m_);
+    t.unswept_leaves(size_t(rows.count()) * size_t(nb_));
     int32_t* next_ids[9];
     for (int j = 0; j < 9; ++j) next_ids[j] = t.ids_of(io.prev_next[j]);
     int32_t* strain_ids = t.ids_of(io.strain);
@@ -555,7 +556,6 @@ class Replica {
       return static_cast<int32_t>(first + int64_t(o - kPrevNext) * nb + b);
     };
     // Strain, stress and energy: leaves where something reads them, else constants.
-    const BondLeafRows rows = bond_leaf_rows(m_);
     int32_t* const stim_ids[3] = {strain_ids, stress_ids, energy_ids};
     for (int o = 0; o < 3; ++o) {
       if (!stim_ids[o]) continue;
