@@ -899,18 +899,8 @@ std::vector<std::vector<double>> zero_rows(const State& s) {
   return d;
 }
 
-bool physics_equal(const State& a, const State& b) {
-  for (const StateField& f : kStateFields) {
-    if (is_watch(f.name)) continue;
-    const StateFieldBytes x = f.bytes(a), y = f.bytes(b);
-    if (x.count != y.count ||
-        (x.count > 0 && std::memcmp(x.data, y.data, x.count * x.value_bytes) != 0))
-      return false;
-  }
-  return true;
-}
-
-// The same against a snapshot (save_state's bytes), read where it lies rather than restored.
+// Whether a state's physics (every row but the watches) is a snapshot's (save_state's bytes),
+// read where it lies rather than restored.
 bool physics_equal(const State& a, const std::vector<uint8_t>& snapshot) {
   const std::vector<fields::View> rows = fields::views(kStateFields, a);
   fields::Read read;
@@ -938,7 +928,6 @@ void number_leaves(Tape& t, std::vector<int32_t>& ids) {
 // The parameters as leaves of a tape: one node per value of an array of the Model.
 struct ParamLeaves {
   std::vector<int32_t> e0, phase, alpha, gain, weights;
-  // Unswept leaves (a leaf's node holds nothing the sweep needs): the sweep stops above them.
   void make(Tape& t, const Model& m) {
     for (auto* v : {&e0, &phase, &alpha, &gain}) {
       v->resize(m.n);
@@ -1014,15 +1003,15 @@ void develop_stage_reverse(const DevelopBlock& stage, const double* value, const
   if (stage.dt.id >= 0) adj[stage.dt.id] += g_dt;
 }
 
-// The whole tape, with each block's reverse where its output leaves begin: by hand where the
-// stage has one for the branch taken, else by the kernel recorded on a small tape.
-// Nodes below `begin` are leaves, left unswept.
 // The stages' reverses' scratch, kept from sweep to sweep (sized for a stage once).
 struct SweepScratch {
   BondStageScratch bond;
   VoxelStageScratch voxel;
 };
 
+// The whole tape, with each block's reverse where its output leaves begin: by hand where the
+// stage has one for the branch taken, else by the kernel recorded on a small tape. Nodes below
+// `begin` are leaves, left unswept.
 void sweep(const Tape& t, size_t begin, std::vector<double>& adj, const Blocks& blocks,
            const Model& k, const BondKernelIo& io, const DevelopIo& dev, SweepScratch& scratch) {
   const BondStageLayout L{size_t(k.n), size_t(k.bond_count())};
@@ -1145,11 +1134,11 @@ size_t nodes_per_step(const Model& m) {
 }
 
 // One segment of the life recomputed for its reverse sweep: the replica that recorded it, its
-// tape and blocks, the parameters' leaves, the nodes of its first state and its nodes' adjoints
-// (zeroed by the recording,
-// so that on two threads the helper, not the sweep, pays for it). One thread reuses one for every
-// segment (cleared, not freed, so that after the first, the longest but for rounding, no page is
-// faulted in again); two alternate two. Not movable: the replica points at its blocks.
+// tape and blocks, the parameters' leaves, the nodes of its first state, the reverses' scratch
+// and its nodes' adjoints (zeroed by the recording, so that on two threads the helper, not the
+// sweep, pays for it). One thread reuses one for every segment (cleared, not freed, so that after
+// the first, the longest but for rounding, no page is faulted in again); two alternate two. Not
+// movable: the replica points at its blocks.
 struct Segment {
   Segment(const Model& m, const Plan& p) : rep(m) {
     const int K = p.checkpoint_every;
@@ -1195,11 +1184,11 @@ struct Segment {
 };
 
 // Recomputes steps [first, end) from `snapshot` on the segment's tape, on the calling thread,
-// and checks that the replica reaches `next` (the engine's state at `end`: the next
-// snapshot's, or the final state when `next_snapshot` is null) bit for bit.
+// and checks that the replica reaches `next` (the engine's state at `end`: the next snapshot,
+// or the final state's) bit for bit.
 void record_segment(Segment& sg, const Model& m, const TrajectoryLoss& loss,
-                    const std::vector<uint8_t>& snapshot, const std::vector<uint8_t>* next_snapshot,
-                    const State& final, int64_t first, int64_t end) {
+                    const std::vector<uint8_t>& snapshot, const std::vector<uint8_t>& next,
+                    int64_t first, int64_t end) {
   sg.tape.nodes.clear();
   sg.tape.clear_shadows();
   sg.blocks.clear();
@@ -1242,8 +1231,7 @@ void record_segment(Segment& sg, const Model& m, const TrajectoryLoss& loss,
     throw;
   }
   g_tape = nullptr;
-  if (next_snapshot ? !physics_equal(sg.rep.state(), *next_snapshot)
-                    : !physics_equal(sg.rep.state(), final))
+  if (!physics_equal(sg.rep.state(), next))
     throw std::logic_error("gradient: the replica left the engine's life in steps " +
                            std::to_string(first) + ".." + std::to_string(end) +
                            " (a stage differs from the engine's; docs/gradients.md)");
@@ -1495,9 +1483,10 @@ Gradient gradient_of(const Model& m, const TrajectoryLoss& loss, const GradientO
   g.dev_rate.assign(m.n, 0.0);
   g.controller_weights.assign(m.controller.weights.size(), 0.0);
   b.d_gain.assign(m.n, 0.0);
+  const std::vector<uint8_t> final_state = sim.save_state();  // the last segment's check
   const auto record = [&](Segment& sg, size_t seg) {
     const bool last = seg + 1 == snaps.size();
-    record_segment(sg, m, loss, snaps[seg], last ? nullptr : &snaps[seg + 1], sim.state(),
+    record_segment(sg, m, loss, snaps[seg], last ? final_state : snaps[seg + 1],
                    static_cast<int64_t>(seg) * K,
                    last ? g.steps : static_cast<int64_t>(seg + 1) * K);
   };
